@@ -1,0 +1,108 @@
+#include "icd/object.hpp"
+
+#include <shared_mutex>
+#include <unordered_map>
+
+namespace vkrt {
+namespace {
+
+struct Registry {
+  std::shared_mutex mutex;
+  std::unordered_map<uint64_t, VkObjectType> live;
+};
+
+Registry& registry() {
+  static Registry* r = new Registry;  // never destroyed: objects may outlive static destruction
+  return *r;
+}
+
+}  // namespace
+
+Object::Object(VkObjectType type, Instance* inst, Device* dev) : objectType(type), instance(inst), device(dev) {
+  set_loader_magic_value(&loaderData);
+  Registry& r = registry();
+  std::unique_lock lock(r.mutex);
+  r.live[handleValue()] = type;
+}
+
+Object::~Object() {
+  Registry& r = registry();
+  std::unique_lock lock(r.mutex);
+  r.live.erase(handleValue());
+}
+
+std::string Object::debugName() const {
+  std::lock_guard lock(nameMutex_);
+  return debugName_;
+}
+
+void Object::setDebugName(const char* name) {
+  std::lock_guard lock(nameMutex_);
+  debugName_ = name ? name : "";
+}
+
+Object* findObject(uint64_t handle, VkObjectType type) {
+  if (handle == 0) return nullptr;
+  Registry& r = registry();
+  std::shared_lock lock(r.mutex);
+  auto it = r.live.find(handle);
+  if (it == r.live.end() || it->second != type) return nullptr;
+  return reinterpret_cast<Object*>(handle);
+}
+
+Object* findAnyObject(uint64_t handle) {
+  if (handle == 0) return nullptr;
+  Registry& r = registry();
+  std::shared_lock lock(r.mutex);
+  return r.live.count(handle) ? reinterpret_cast<Object*>(handle) : nullptr;
+}
+
+size_t liveObjectCount() {
+  Registry& r = registry();
+  std::shared_lock lock(r.mutex);
+  return r.live.size();
+}
+
+const char* objectTypeName(VkObjectType type) {
+  switch (type) {
+#define VKRT_OBJECT_NAME(e, s) \
+  case e:                      \
+    return s;
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_INSTANCE, "VkInstance")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PHYSICAL_DEVICE, "VkPhysicalDevice")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEVICE, "VkDevice")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_QUEUE, "VkQueue")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_SEMAPHORE, "VkSemaphore")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_COMMAND_BUFFER, "VkCommandBuffer")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_FENCE, "VkFence")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEVICE_MEMORY, "VkDeviceMemory")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_BUFFER, "VkBuffer")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_IMAGE, "VkImage")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_EVENT, "VkEvent")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_QUERY_POOL, "VkQueryPool")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_BUFFER_VIEW, "VkBufferView")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_IMAGE_VIEW, "VkImageView")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_SHADER_MODULE, "VkShaderModule")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PIPELINE_CACHE, "VkPipelineCache")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PIPELINE_LAYOUT, "VkPipelineLayout")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_RENDER_PASS, "VkRenderPass")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PIPELINE, "VkPipeline")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, "VkDescriptorSetLayout")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_SAMPLER, "VkSampler")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DESCRIPTOR_POOL, "VkDescriptorPool")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DESCRIPTOR_SET, "VkDescriptorSet")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_FRAMEBUFFER, "VkFramebuffer")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_COMMAND_POOL, "VkCommandPool")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_SAMPLER_YCBCR_CONVERSION, "VkSamplerYcbcrConversion")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DESCRIPTOR_UPDATE_TEMPLATE, "VkDescriptorUpdateTemplate")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PRIVATE_DATA_SLOT, "VkPrivateDataSlot")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEBUG_UTILS_MESSENGER_EXT, "VkDebugUtilsMessengerEXT")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR, "VkAccelerationStructureKHR")
+    VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEFERRED_OPERATION_KHR, "VkDeferredOperationKHR")
+#undef VKRT_OBJECT_NAME
+    default:
+      return "VkObject";
+  }
+}
+
+}  // namespace vkrt

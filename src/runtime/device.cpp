@@ -1,0 +1,182 @@
+#include "runtime/device.hpp"
+
+#include <cstring>
+
+#include "runtime/alloc.hpp"
+#include "runtime/instance.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/queue.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
+    : Object(kType, physical->instance, nullptr), physicalDevice(physical) {
+  device = this;
+  for (uint32_t i = 0; i < info.enabledExtensionCount; ++i) enabledExtensions.insert(info.ppEnabledExtensionNames[i]);
+  if (info.pEnabledFeatures) enabled10 = *info.pEnabledFeatures;
+  constexpr size_t header = offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess);
+  auto copy = [&](void* dst, const void* src, size_t size) {
+    std::memcpy(static_cast<char*>(dst) + header, static_cast<const char*>(src) + header, size - header);
+  };
+  for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s; s = s->pNext) {
+    switch (s->sType) {
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2:
+        enabled10 = reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES:
+        copy(&enabled11, s, sizeof(enabled11));
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
+        copy(&enabled12, s, sizeof(enabled12));
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
+        copy(&enabled13, s, sizeof(enabled13));
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES:
+        enabled12.timelineSemaphore |= reinterpret_cast<const VkPhysicalDeviceTimelineSemaphoreFeatures*>(s)->timelineSemaphore;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES: {
+        auto* f = reinterpret_cast<const VkPhysicalDeviceBufferDeviceAddressFeatures*>(s);
+        enabled12.bufferDeviceAddress |= f->bufferDeviceAddress;
+        enabled12.bufferDeviceAddressCaptureReplay |= f->bufferDeviceAddressCaptureReplay;
+        break;
+      }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
+        enabled12.hostQueryReset |= reinterpret_cast<const VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES:
+        enabled13.synchronization2 |= reinterpret_cast<const VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
+        enabled13.maintenance4 |= reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+Device::~Device() = default;
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDevice(VkPhysicalDevice physicalDevice, const VkDeviceCreateInfo* pCreateInfo,
+                                                 const VkAllocationCallbacks* pAllocator, VkDevice* pDevice) {
+  PhysicalDevice* pd = fromHandle<PhysicalDevice>(physicalDevice);
+  if (!pd) return VK_ERROR_INITIALIZATION_FAILED;
+  for (uint32_t i = 0; i < pCreateInfo->enabledExtensionCount; ++i) {
+    if (!pd->supportsExtension(pCreateInfo->ppEnabledExtensionNames[i])) {
+      report(pd, Severity::Error, nullptr, "vkCreateDevice: device extension %s is not supported",
+             pCreateInfo->ppEnabledExtensionNames[i]);
+      return VK_ERROR_EXTENSION_NOT_PRESENT;
+    }
+  }
+  if (const char* bad = pd->firstUnsupportedFeature(*pCreateInfo)) {
+    report(pd, Severity::Error, nullptr, "vkCreateDevice: %s requests a feature vkrt does not support", bad);
+    return VK_ERROR_FEATURE_NOT_PRESENT;
+  }
+  for (uint32_t i = 0; i < pCreateInfo->queueCreateInfoCount; ++i) {
+    const VkDeviceQueueCreateInfo& q = pCreateInfo->pQueueCreateInfos[i];
+    if (q.queueFamilyIndex != 0) {
+      report(pd, Severity::Error, "VUID-VkDeviceQueueCreateInfo-queueFamilyIndex-00381",
+             "vkCreateDevice: pQueueCreateInfos[%u].queueFamilyIndex is %u; vkrt has one queue family (0)", i,
+             q.queueFamilyIndex);
+      return VK_ERROR_INITIALIZATION_FAILED;
+    }
+    if (q.queueCount == 0 || q.queueCount > pd->queueFamily.queueCount) {
+      report(pd, Severity::Error, "VUID-VkDeviceQueueCreateInfo-queueCount-00382",
+             "vkCreateDevice: pQueueCreateInfos[%u].queueCount is %u; family 0 has %u queues", i, q.queueCount,
+             pd->queueFamily.queueCount);
+      return VK_ERROR_INITIALIZATION_FAILED;
+    }
+  }
+  Device* dev = createObject<Device>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, pd, *pCreateInfo);
+  if (!dev) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  dev->allocator = pAllocator;
+  for (uint32_t i = 0; i < pCreateInfo->queueCreateInfoCount; ++i) {
+    const VkDeviceQueueCreateInfo& q = pCreateInfo->pQueueCreateInfos[i];
+    for (uint32_t k = 0; k < q.queueCount; ++k) {
+      Queue* queue = createObject<Queue>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, dev, q.queueFamilyIndex, k,
+                                         q.flags);
+      if (!queue) {
+        for (Queue* made : dev->queues) destroyObject(made, pAllocator);
+        destroyObject(dev, pAllocator);
+        return VK_ERROR_OUT_OF_HOST_MEMORY;
+      }
+      dev->queues.push_back(queue);
+    }
+  }
+  *pDevice = toHandle(dev);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroyDevice(VkDevice device, const VkAllocationCallbacks* pAllocator) {
+  if (!device) return;
+  Device* dev = fromHandle<Device>(device);
+  if (!dev) {
+    report(nullptr, Severity::Error, "VUID-vkDestroyDevice-device-parameter",
+           "vkDestroyDevice: 0x%llx is not a live VkDevice", (unsigned long long)rawHandle(device));
+    return;
+  }
+  for (Queue* q : dev->queues) q->waitIdle();
+  for (Queue* q : dev->queues) destroyObject(q, pAllocator);
+  destroyObject(dev, pAllocator);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceQueue(VkDevice device, uint32_t queueFamilyIndex, uint32_t queueIndex,
+                                               VkQueue* pQueue) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  for (Queue* q : dev->queues) {
+    if (q->family == queueFamilyIndex && q->index == queueIndex && q->flags == 0) {
+      *pQueue = toHandle(q);
+      return;
+    }
+  }
+  report(dev, Severity::Error, "VUID-vkGetDeviceQueue-queueIndex-00385",
+         "vkGetDeviceQueue: no queue (family %u, index %u) was created with flags 0", queueFamilyIndex, queueIndex);
+  *pQueue = VK_NULL_HANDLE;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceQueue2(VkDevice device, const VkDeviceQueueInfo2* pQueueInfo,
+                                                VkQueue* pQueue) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  for (Queue* q : dev->queues) {
+    if (q->family == pQueueInfo->queueFamilyIndex && q->index == pQueueInfo->queueIndex &&
+        q->flags == pQueueInfo->flags) {
+      *pQueue = toHandle(q);
+      return;
+    }
+  }
+  *pQueue = VK_NULL_HANDLE;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_DeviceWaitIdle(VkDevice device) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  for (Queue* q : dev->queues) q->waitIdle();
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_SetDebugUtilsObjectNameEXT(VkDevice device,
+                                                               const VkDebugUtilsObjectNameInfoEXT* pNameInfo) {
+  Object* o = findAnyObject(pNameInfo->objectHandle);
+  if (!o) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-VkDebugUtilsObjectNameInfoEXT-objectType-02590",
+           "vkSetDebugUtilsObjectNameEXT: objectHandle 0x%llx is not a live vkrt object",
+           (unsigned long long)pNameInfo->objectHandle);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  o->setDebugName(pNameInfo->pObjectName);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_SetDebugUtilsObjectTagEXT(VkDevice, const VkDebugUtilsObjectTagInfoEXT*) {
+  return VK_SUCCESS;  // tags carry no meaning for vkrt; accepted as the spec allows
+}
+
+}  // extern "C"

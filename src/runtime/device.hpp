@@ -1,0 +1,41 @@
+// VkDevice: the logical device, its enabled extensions and features, and its queues.
+#pragma once
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "icd/object.hpp"
+
+namespace vkrt {
+
+class PhysicalDevice;
+class Queue;
+
+class Device : public Object {
+ public:
+  using Handle = VkDevice;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_DEVICE;
+
+  Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info);
+  ~Device();
+
+  PhysicalDevice* const physicalDevice;
+  std::set<std::string> enabledExtensions;
+
+  // Enabled features, gathered from pEnabledFeatures, VkPhysicalDeviceFeatures2 and the Vulkan 1.1/1.2/1.3
+  // structures or their extension equivalents in the create info's pNext chain.
+  VkPhysicalDeviceFeatures enabled10{};
+  VkPhysicalDeviceVulkan11Features enabled11{};
+  VkPhysicalDeviceVulkan12Features enabled12{};
+  VkPhysicalDeviceVulkan13Features enabled13{};
+
+  bool extensionEnabled(const char* name) const { return enabledExtensions.count(name) != 0; }
+
+  // Queues by index within family 0.
+  std::vector<Queue*> queues;
+  const VkAllocationCallbacks* allocator = nullptr;
+};
+
+}  // namespace vkrt

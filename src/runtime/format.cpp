@@ -1,0 +1,172 @@
+#include "runtime/format.hpp"
+
+#include <algorithm>
+
+#include "runtime/physical_device.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+namespace {
+
+using N = NumericType;
+
+constexpr FormatInfo kFormats[] = {
+    {VK_FORMAT_R8_UNORM, 1, 1, {8}, N::UNorm, false, false},
+    {VK_FORMAT_R8_SNORM, 1, 1, {8}, N::SNorm, false, false},
+    {VK_FORMAT_R8_UINT, 1, 1, {8}, N::UInt, false, false},
+    {VK_FORMAT_R8_SINT, 1, 1, {8}, N::SInt, false, false},
+    {VK_FORMAT_R8G8_UNORM, 2, 2, {8, 8}, N::UNorm, false, false},
+    {VK_FORMAT_R8G8_SNORM, 2, 2, {8, 8}, N::SNorm, false, false},
+    {VK_FORMAT_R8G8_UINT, 2, 2, {8, 8}, N::UInt, false, false},
+    {VK_FORMAT_R8G8_SINT, 2, 2, {8, 8}, N::SInt, false, false},
+    {VK_FORMAT_R8G8B8A8_UNORM, 4, 4, {8, 8, 8, 8}, N::UNorm, false, false},
+    {VK_FORMAT_R8G8B8A8_SNORM, 4, 4, {8, 8, 8, 8}, N::SNorm, false, false},
+    {VK_FORMAT_R8G8B8A8_UINT, 4, 4, {8, 8, 8, 8}, N::UInt, false, false},
+    {VK_FORMAT_R8G8B8A8_SINT, 4, 4, {8, 8, 8, 8}, N::SInt, false, false},
+    {VK_FORMAT_R8G8B8A8_SRGB, 4, 4, {8, 8, 8, 8}, N::SRGB, false, false},
+    {VK_FORMAT_B8G8R8A8_UNORM, 4, 4, {8, 8, 8, 8}, N::UNorm, true, false},
+    {VK_FORMAT_B8G8R8A8_SRGB, 4, 4, {8, 8, 8, 8}, N::SRGB, true, false},
+    {VK_FORMAT_A2B10G10R10_UNORM_PACK32, 4, 4, {10, 10, 10, 2}, N::UNorm, false, true},
+    {VK_FORMAT_A2B10G10R10_UINT_PACK32, 4, 4, {10, 10, 10, 2}, N::UInt, false, true},
+    {VK_FORMAT_B10G11R11_UFLOAT_PACK32, 4, 3, {11, 11, 10}, N::UFloat, false, true},
+    {VK_FORMAT_R16_UNORM, 2, 1, {16}, N::UNorm, false, false},
+    {VK_FORMAT_R16_UINT, 2, 1, {16}, N::UInt, false, false},
+    {VK_FORMAT_R16_SINT, 2, 1, {16}, N::SInt, false, false},
+    {VK_FORMAT_R16_SFLOAT, 2, 1, {16}, N::SFloat, false, false},
+    {VK_FORMAT_R16G16_UINT, 4, 2, {16, 16}, N::UInt, false, false},
+    {VK_FORMAT_R16G16_SINT, 4, 2, {16, 16}, N::SInt, false, false},
+    {VK_FORMAT_R16G16_SFLOAT, 4, 2, {16, 16}, N::SFloat, false, false},
+    {VK_FORMAT_R16G16B16A16_UNORM, 8, 4, {16, 16, 16, 16}, N::UNorm, false, false},
+    {VK_FORMAT_R16G16B16A16_UINT, 8, 4, {16, 16, 16, 16}, N::UInt, false, false},
+    {VK_FORMAT_R16G16B16A16_SINT, 8, 4, {16, 16, 16, 16}, N::SInt, false, false},
+    {VK_FORMAT_R16G16B16A16_SFLOAT, 8, 4, {16, 16, 16, 16}, N::SFloat, false, false},
+    {VK_FORMAT_R32_UINT, 4, 1, {32}, N::UInt, false, false},
+    {VK_FORMAT_R32_SINT, 4, 1, {32}, N::SInt, false, false},
+    {VK_FORMAT_R32_SFLOAT, 4, 1, {32}, N::SFloat, false, false},
+    {VK_FORMAT_R32G32_UINT, 8, 2, {32, 32}, N::UInt, false, false},
+    {VK_FORMAT_R32G32_SINT, 8, 2, {32, 32}, N::SInt, false, false},
+    {VK_FORMAT_R32G32_SFLOAT, 8, 2, {32, 32}, N::SFloat, false, false},
+    {VK_FORMAT_R32G32B32_UINT, 12, 3, {32, 32, 32}, N::UInt, false, false},
+    {VK_FORMAT_R32G32B32_SINT, 12, 3, {32, 32, 32}, N::SInt, false, false},
+    {VK_FORMAT_R32G32B32_SFLOAT, 12, 3, {32, 32, 32}, N::SFloat, false, false},
+    {VK_FORMAT_R32G32B32A32_UINT, 16, 4, {32, 32, 32, 32}, N::UInt, false, false},
+    {VK_FORMAT_R32G32B32A32_SINT, 16, 4, {32, 32, 32, 32}, N::SInt, false, false},
+    {VK_FORMAT_R32G32B32A32_SFLOAT, 16, 4, {32, 32, 32, 32}, N::SFloat, false, false},
+};
+
+}  // namespace
+
+const FormatInfo* formatInfo(VkFormat format) {
+  for (const FormatInfo& f : kFormats)
+    if (f.format == format) return &f;
+  return nullptr;
+}
+
+VkFormatFeatureFlags formatFeatures(VkFormat format) {
+  const FormatInfo* f = formatInfo(format);
+  if (!f || f->texelSize == 12) return 0;  // three-component 32-bit formats are buffer-only
+  VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
+                               VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_BLIT_SRC_BIT;
+  if (f->type != N::UInt && f->type != N::SInt) flags |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+  if (f->type != N::SRGB) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+  if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)
+    flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_ATOMIC_BIT;
+  return flags;
+}
+
+VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
+  const FormatInfo* f = formatInfo(format);
+  if (!f || f->type == N::SRGB) return 0;
+  VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
+  if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)
+    flags |= VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_ATOMIC_BIT;
+  return flags;
+}
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+extern "C" {
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFormatProperties(VkPhysicalDevice, VkFormat format,
+                                                                  VkFormatProperties* pFormatProperties) {
+  pFormatProperties->linearTilingFeatures = formatFeatures(format);
+  pFormatProperties->optimalTilingFeatures = formatFeatures(format);
+  pFormatProperties->bufferFeatures = bufferFormatFeatures(format);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFormatProperties2(VkPhysicalDevice physicalDevice, VkFormat format,
+                                                                   VkFormatProperties2* pFormatProperties) {
+  vkrt_GetPhysicalDeviceFormatProperties(physicalDevice, format, &pFormatProperties->formatProperties);
+  for (auto* s = static_cast<VkBaseOutStructure*>(pFormatProperties->pNext); s; s = s->pNext) {
+    if (s->sType == VK_STRUCTURE_TYPE_FORMAT_PROPERTIES_3) {
+      auto* p3 = reinterpret_cast<VkFormatProperties3*>(s);
+      p3->linearTilingFeatures = formatFeatures(format);
+      p3->optimalTilingFeatures = formatFeatures(format);
+      p3->bufferFeatures = bufferFormatFeatures(format);
+    }
+  }
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
+    VkPhysicalDevice physicalDevice, VkFormat format, VkImageType type, VkImageTiling tiling, VkImageUsageFlags usage,
+    VkImageCreateFlags flags, VkImageFormatProperties* pProps) {
+  *pProps = {};
+  VkFormatFeatureFlags features = formatFeatures(format);
+  if (!features) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  if ((usage & VK_IMAGE_USAGE_STORAGE_BIT) && !(features & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  if ((usage & VK_IMAGE_USAGE_SAMPLED_BIT) && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  const VkImageUsageFlags supportedUsage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+  if (usage & ~supportedUsage) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  if (flags & (VK_IMAGE_CREATE_SPARSE_BINDING_BIT | VK_IMAGE_CREATE_SPARSE_RESIDENCY_BIT |
+               VK_IMAGE_CREATE_SPARSE_ALIASED_BIT))
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  const VkPhysicalDeviceLimits& l = fromHandleUnchecked<PhysicalDevice>(physicalDevice)->properties10.limits;
+  switch (type) {
+    case VK_IMAGE_TYPE_1D:
+      pProps->maxExtent = {l.maxImageDimension1D, 1, 1};
+      pProps->maxMipLevels = 15;
+      break;
+    case VK_IMAGE_TYPE_2D:
+      pProps->maxExtent = {l.maxImageDimension2D, l.maxImageDimension2D, 1};
+      pProps->maxMipLevels = 15;
+      break;
+    case VK_IMAGE_TYPE_3D:
+      pProps->maxExtent = {l.maxImageDimension3D, l.maxImageDimension3D, l.maxImageDimension3D};
+      pProps->maxMipLevels = 12;
+      break;
+    default:
+      return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  pProps->maxArrayLayers = type == VK_IMAGE_TYPE_3D ? 1 : l.maxImageArrayLayers;
+  pProps->sampleCounts = VK_SAMPLE_COUNT_1_BIT;
+  pProps->maxResourceSize = 1ull << 32;
+  (void)tiling;
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties2(
+    VkPhysicalDevice physicalDevice, const VkPhysicalDeviceImageFormatInfo2* pInfo,
+    VkImageFormatProperties2* pProps) {
+  return vkrt_GetPhysicalDeviceImageFormatProperties(physicalDevice, pInfo->format, pInfo->type, pInfo->tiling,
+                                                     pInfo->usage, pInfo->flags, &pProps->imageFormatProperties);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceSparseImageFormatProperties(VkPhysicalDevice, VkFormat, VkImageType,
+                                                                             VkSampleCountFlagBits, VkImageUsageFlags,
+                                                                             VkImageTiling, uint32_t* pPropertyCount,
+                                                                             VkSparseImageFormatProperties*) {
+  *pPropertyCount = 0;  // no sparse support
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceSparseImageFormatProperties2(
+    VkPhysicalDevice, const VkPhysicalDeviceSparseImageFormatInfo2*, uint32_t* pPropertyCount,
+    VkSparseImageFormatProperties2*) {
+  *pPropertyCount = 0;
+}
+
+}  // extern "C"

@@ -1,0 +1,30 @@
+// The formats vkrt supports, with their texel layout and format features. One table, used by the format
+// queries, image creation and the copy/clear/shader image code.
+#pragma once
+
+#include <cstdint>
+
+#include "icd/vk.hpp"
+
+namespace vkrt {
+
+enum class NumericType : uint8_t { UNorm, SNorm, UInt, SInt, SFloat, SRGB, UFloat };
+
+struct FormatInfo {
+  VkFormat format;
+  uint8_t texelSize;   // bytes per texel
+  uint8_t components;  // 1..4
+  uint8_t bits[4];     // bits per component, in memory order R,G,B,A (B,G,R,A for the BGRA formats)
+  NumericType type;
+  bool bgr;            // components stored as B,G,R(,A)
+  bool packed;         // a packed format (A2B10G10R10, B10G11R11...)
+};
+
+// nullptr when vkrt does not support the format.
+const FormatInfo* formatInfo(VkFormat format);
+
+// Format features vkrt supports for optimal/linear tiling and buffers (identical for both tilings).
+VkFormatFeatureFlags formatFeatures(VkFormat format);
+VkFormatFeatureFlags bufferFormatFeatures(VkFormat format);
+
+}  // namespace vkrt

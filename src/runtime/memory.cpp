@@ -1,0 +1,277 @@
+#include "runtime/memory.hpp"
+
+#include <sys/mman.h>
+
+#include <cstdio>
+#include <map>
+#include <mutex>
+
+#include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+namespace arena {
+namespace {
+
+constexpr uint64_t kHint = 0x200000000000ull;  // 32 TiB: clear of the usual heap, stack and sanitizer ranges
+constexpr VkDeviceSize kCapacity = 64ull << 30;
+constexpr VkDeviceSize kPage = 4096;
+
+struct Arena {
+  std::mutex mutex;
+  uint8_t* base = nullptr;
+  std::map<uint64_t, uint64_t> freeRanges;  // offset -> size, coalesced
+
+  Arena() {
+    void* p = mmap(reinterpret_cast<void*>(kHint), kCapacity, PROT_NONE,
+                   MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_FIXED_NOREPLACE, -1, 0);
+    if (p == MAP_FAILED) {
+      // The fixed range is taken: work anywhere. Opaque capture addresses then differ between processes.
+      p = mmap(nullptr, kCapacity, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    }
+    if (p == MAP_FAILED) return;
+    base = static_cast<uint8_t*>(p);
+    freeRanges[0] = kCapacity;
+  }
+
+  uint8_t* take(uint64_t offset, uint64_t size) {
+    // Precondition: [offset, offset+size) lies in one free range.
+    auto it = std::prev(freeRanges.upper_bound(offset));
+    uint64_t rOff = it->first, rSize = it->second;
+    freeRanges.erase(it);
+    if (offset > rOff) freeRanges[rOff] = offset - rOff;
+    if (offset + size < rOff + rSize) freeRanges[offset + size] = rOff + rSize - (offset + size);
+    uint8_t* p = base + offset;
+    if (mprotect(p, size, PROT_READ | PROT_WRITE) != 0) {
+      give(offset, size);
+      return nullptr;
+    }
+    return p;
+  }
+
+  void give(uint64_t offset, uint64_t size) {
+    auto next = freeRanges.lower_bound(offset);
+    if (next != freeRanges.end() && offset + size == next->first) {
+      size += next->second;
+      next = freeRanges.erase(next);
+    }
+    if (next != freeRanges.begin()) {
+      auto prev = std::prev(next);
+      if (prev->first + prev->second == offset) {
+        prev->second += size;
+        return;
+      }
+    }
+    freeRanges[offset] = size;
+  }
+};
+
+Arena& get() {
+  static Arena* a = new Arena;  // lives as long as the process: memory may be freed during static destruction
+  return *a;
+}
+
+}  // namespace
+
+uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress) {
+  Arena& a = get();
+  if (!a.base || size == 0) return nullptr;
+  uint64_t rounded = (size + kPage - 1) / kPage * kPage;
+  std::lock_guard lock(a.mutex);
+  if (requestedAddress) {
+    uint64_t base = reinterpret_cast<uint64_t>(a.base);
+    if (requestedAddress < base || requestedAddress % kPage || requestedAddress - base + rounded > kCapacity)
+      return nullptr;
+    uint64_t off = requestedAddress - base;
+    auto it = a.freeRanges.upper_bound(off);
+    if (it == a.freeRanges.begin()) return nullptr;
+    --it;
+    if (off + rounded > it->first + it->second) return nullptr;
+    return a.take(off, rounded);
+  }
+  for (auto& [off, sz] : a.freeRanges) {
+    if (sz >= rounded) return a.take(off, rounded);
+  }
+  return nullptr;
+}
+
+void release(uint8_t* p, VkDeviceSize size) {
+  Arena& a = get();
+  uint64_t rounded = (size + kPage - 1) / kPage * kPage;
+  // Give the pages back to the system and make them inaccessible: a stale device address faults.
+  madvise(p, rounded, MADV_DONTNEED);
+  mprotect(p, rounded, PROT_NONE);
+  std::lock_guard lock(a.mutex);
+  a.give(static_cast<uint64_t>(p - a.base), rounded);
+}
+
+bool contains(uint64_t address, VkDeviceSize size) {
+  uint64_t b = reinterpret_cast<uint64_t>(get().base);
+  return address >= b && address + size <= b + kCapacity && address + size >= address;
+}
+
+uint64_t baseAddress() { return reinterpret_cast<uint64_t>(get().base); }
+VkDeviceSize capacity() { return kCapacity; }
+
+}  // namespace arena
+
+Memory::Memory(Device* dev, uint8_t* b, VkDeviceSize s, uint32_t type, VkMemoryAllocateFlags flags)
+    : Object(kType, dev->instance, dev), base(b), size(s), typeIndex(type), allocateFlags(flags) {}
+
+Memory::~Memory() { arena::release(base, size); }
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemoryAllocateInfo* pAllocateInfo,
+                                                   const VkAllocationCallbacks* pAllocator, VkDeviceMemory* pMemory) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  const VkPhysicalDeviceMemoryProperties& props = dev->physicalDevice->memoryProperties;
+  if (pAllocateInfo->memoryTypeIndex >= props.memoryTypeCount) {
+    report(dev, Severity::Error, "VUID-vkAllocateMemory-pAllocateInfo-01714",
+           "vkAllocateMemory: memoryTypeIndex %u is not less than memoryTypeCount %u", pAllocateInfo->memoryTypeIndex,
+           props.memoryTypeCount);
+    return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  }
+  if (pAllocateInfo->allocationSize > props.memoryHeaps[0].size) {
+    report(dev, Severity::Error, "VUID-vkAllocateMemory-pAllocateInfo-01713",
+           "vkAllocateMemory: allocationSize %llu exceeds the heap size %llu",
+           (unsigned long long)pAllocateInfo->allocationSize, (unsigned long long)props.memoryHeaps[0].size);
+    return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  }
+  VkMemoryAllocateFlags flags = 0;
+  uint64_t requested = 0;
+  if (auto* f = findInChain<VkMemoryAllocateFlagsInfo>(pAllocateInfo->pNext,
+                                                       VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO))
+    flags = f->flags;
+  if (auto* c = findInChain<VkMemoryOpaqueCaptureAddressAllocateInfo>(
+          pAllocateInfo->pNext, VK_STRUCTURE_TYPE_MEMORY_OPAQUE_CAPTURE_ADDRESS_ALLOCATE_INFO))
+    requested = c->opaqueCaptureAddress;
+  if (requested && !(flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT)) requested = 0;
+  if ((flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) && !dev->enabled12.bufferDeviceAddressCaptureReplay) {
+    report(dev, Severity::Error, "VUID-VkMemoryAllocateInfo-flags-03331",
+           "vkAllocateMemory: VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT needs the "
+           "bufferDeviceAddressCaptureReplay feature, which is not enabled");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  uint8_t* base = arena::allocate(pAllocateInfo->allocationSize, requested);
+  if (!base) {
+    if (requested) {
+      report(dev, Severity::Error, nullptr,
+             "vkAllocateMemory: opaque capture address 0x%llx (%llu bytes) is not available in this process",
+             (unsigned long long)requested, (unsigned long long)pAllocateInfo->allocationSize);
+      return VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
+    }
+    return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  }
+  Memory* mem = createObject<Memory>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, base,
+                                     pAllocateInfo->allocationSize, pAllocateInfo->memoryTypeIndex, flags);
+  if (!mem) {
+    arena::release(base, pAllocateInfo->allocationSize);
+    return VK_ERROR_OUT_OF_HOST_MEMORY;
+  }
+  *pMemory = toHandle(mem);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_FreeMemory(VkDevice device, VkDeviceMemory memory,
+                                           const VkAllocationCallbacks* pAllocator) {
+  if (!memory) return;
+  Memory* mem = fromHandle<Memory>(memory);
+  if (!mem) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkFreeMemory-memory-parameter",
+           "vkFreeMemory: 0x%llx is not a live VkDeviceMemory", (unsigned long long)rawHandle(memory));
+    return;
+  }
+  destroyObject(mem, pAllocator);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_MapMemory(VkDevice device, VkDeviceMemory memory, VkDeviceSize offset,
+                                              VkDeviceSize size, VkMemoryMapFlags, void** ppData) {
+  Memory* mem = fromHandle<Memory>(memory);
+  if (!mem) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkMapMemory-memory-parameter",
+           "vkMapMemory: 0x%llx is not a live VkDeviceMemory", (unsigned long long)rawHandle(memory));
+    return VK_ERROR_MEMORY_MAP_FAILED;
+  }
+  if (mem->mapped) {
+    report(mem, Severity::Error, "VUID-vkMapMemory-memory-00678", "vkMapMemory: memory is already mapped");
+    return VK_ERROR_MEMORY_MAP_FAILED;
+  }
+  if (offset >= mem->size) {
+    report(mem, Severity::Error, "VUID-vkMapMemory-offset-00679",
+           "vkMapMemory: offset %llu is not less than the allocation size %llu", (unsigned long long)offset,
+           (unsigned long long)mem->size);
+    return VK_ERROR_MEMORY_MAP_FAILED;
+  }
+  if (size != VK_WHOLE_SIZE && (size == 0 || size > mem->size - offset)) {
+    report(mem, Severity::Error, "VUID-vkMapMemory-size-00681",
+           "vkMapMemory: size %llu at offset %llu exceeds the allocation size %llu", (unsigned long long)size,
+           (unsigned long long)offset, (unsigned long long)mem->size);
+    return VK_ERROR_MEMORY_MAP_FAILED;
+  }
+  mem->mapped = true;
+  mem->mappedOffset = offset;
+  mem->mappedSize = size == VK_WHOLE_SIZE ? mem->size - offset : size;
+  *ppData = mem->base + offset;
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_UnmapMemory(VkDevice device, VkDeviceMemory memory) {
+  Memory* mem = fromHandle<Memory>(memory);
+  if (!mem || !mem->mapped) {
+    report(mem ? static_cast<Object*>(mem) : fromHandle<Device>(device), Severity::Error,
+           "VUID-vkUnmapMemory-memory-00689", "vkUnmapMemory: memory 0x%llx is not mapped",
+           (unsigned long long)rawHandle(memory));
+    return;
+  }
+  mem->mapped = false;
+}
+
+static VkResult checkRanges(const char* fn, Device* dev, uint32_t count, const VkMappedMemoryRange* ranges) {
+  for (uint32_t i = 0; i < count; ++i) {
+    Memory* mem = fromHandle<Memory>(ranges[i].memory);
+    if (!mem || !mem->mapped) {
+      report(mem ? static_cast<Object*>(mem) : dev, Severity::Error, "VUID-VkMappedMemoryRange-memory-00684",
+             "%s: pMemoryRanges[%u].memory is not currently mapped", fn, i);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  return VK_SUCCESS;  // memory is coherent: nothing to flush or invalidate
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_FlushMappedMemoryRanges(VkDevice device, uint32_t count,
+                                                            const VkMappedMemoryRange* pMemoryRanges) {
+  return checkRanges("vkFlushMappedMemoryRanges", fromHandleUnchecked<Device>(device), count, pMemoryRanges);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_InvalidateMappedMemoryRanges(VkDevice device, uint32_t count,
+                                                                 const VkMappedMemoryRange* pMemoryRanges) {
+  return checkRanges("vkInvalidateMappedMemoryRanges", fromHandleUnchecked<Device>(device), count, pMemoryRanges);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceMemoryCommitment(VkDevice, VkDeviceMemory memory,
+                                                          VkDeviceSize* pCommittedMemoryInBytes) {
+  Memory* mem = fromHandle<Memory>(memory);
+  *pCommittedMemoryInBytes = mem ? mem->size : 0;
+}
+
+VKAPI_ATTR uint64_t VKAPI_CALL vkrt_GetDeviceMemoryOpaqueCaptureAddress(
+    VkDevice device, const VkDeviceMemoryOpaqueCaptureAddressInfo* pInfo) {
+  Memory* mem = fromHandle<Memory>(pInfo->memory);
+  if (!mem) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-VkDeviceMemoryOpaqueCaptureAddressInfo-memory-parameter",
+           "vkGetDeviceMemoryOpaqueCaptureAddress: 0x%llx is not a live VkDeviceMemory",
+           (unsigned long long)rawHandle(pInfo->memory));
+    return 0;
+  }
+  return reinterpret_cast<uint64_t>(mem->base);
+}
+
+}  // extern "C"

@@ -1,0 +1,43 @@
+// VkDeviceMemory, and the device address arena it is carved from.
+//
+// All device memory lives in one process-wide virtual range reserved at a fixed address, so that a device
+// address is also the host address of the bytes (shaders dereference buffer device addresses directly)
+// and so that a captured opaque address can be given back on replay, in this process or another one.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "icd/object.hpp"
+
+namespace vkrt {
+
+class Memory : public Object {
+ public:
+  using Handle = VkDeviceMemory;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_DEVICE_MEMORY;
+
+  Memory(Device* dev, uint8_t* base, VkDeviceSize size, uint32_t typeIndex, VkMemoryAllocateFlags flags);
+  ~Memory();
+
+  uint8_t* const base;
+  const VkDeviceSize size;
+  const uint32_t typeIndex;
+  const VkMemoryAllocateFlags allocateFlags;
+  bool mapped = false;
+  VkDeviceSize mappedOffset = 0;
+  VkDeviceSize mappedSize = 0;
+};
+
+// The arena. `allocate` returns nullptr when the range is exhausted or, for a requested address, when that
+// range is not free (or not inside the arena).
+namespace arena {
+uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress);
+void release(uint8_t* base, VkDeviceSize size);
+bool contains(uint64_t address, VkDeviceSize size);
+// The fixed address the arena was reserved at (the same in every process unless the hint was refused).
+uint64_t baseAddress();
+VkDeviceSize capacity();
+}  // namespace arena
+
+}  // namespace vkrt

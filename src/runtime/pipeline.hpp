@@ -1,0 +1,26 @@
+// VkPipeline: the base of compute pipelines (src/spirv, src/exec) and ray tracing pipelines (src/rt).
+// vkDestroyPipeline deletes through the virtual destructor.
+#pragma once
+
+#include "icd/object.hpp"
+#include "runtime/device.hpp"
+
+namespace vkrt {
+
+class PipelineLayout;
+
+class Pipeline : public Object {
+ public:
+  using Handle = VkPipeline;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_PIPELINE;
+
+  Pipeline(Device* dev, VkPipelineBindPoint bindPoint, VkPipelineCreateFlags flags, PipelineLayout* layout)
+      : Object(kType, dev->instance, dev), bindPoint(bindPoint), createFlags(flags), layout(layout) {}
+  virtual ~Pipeline() = default;
+
+  const VkPipelineBindPoint bindPoint;
+  const VkPipelineCreateFlags createFlags;
+  PipelineLayout* const layout;
+};
+
+}  // namespace vkrt

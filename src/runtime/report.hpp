@@ -1,0 +1,28 @@
+// The one funnel for everything vkrt reports: Valid Usage violations, bad input, and notes.
+//
+// A report names the object it is about (type, handle, debug name), the rule (a VUID where one applies)
+// and the values involved. It goes to every VK_EXT_debug_utils messenger of the object's instance whose
+// severity and type filters accept it. When the instance has no messenger, it goes to stderr according
+// to VKRT_LOG (see the README): "none", "error", "warning" (the default) or "info".
+#pragma once
+
+#include <cstdarg>
+
+#include "icd/object.hpp"
+
+namespace vkrt {
+
+enum class Severity { Verbose, Info, Warning, Error };
+
+// `about` may be null (for reports before any instance exists). `vuid` may be null when no VUID applies.
+void report(const Object* about, Severity severity, const char* vuid, const char* format, ...)
+    __attribute__((format(printf, 4, 5)));
+
+// The same for an instance that has no Object yet (vkCreateInstance), with its creation-time messengers.
+void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args);
+
+// Shorthands.
+#define VKRT_ERROR(obj, vuid, ...) ::vkrt::report((obj), ::vkrt::Severity::Error, (vuid), __VA_ARGS__)
+#define VKRT_WARN(obj, vuid, ...) ::vkrt::report((obj), ::vkrt::Severity::Warning, (vuid), __VA_ARGS__)
+
+}  // namespace vkrt

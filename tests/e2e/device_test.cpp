@@ -1,0 +1,187 @@
+// Instance, physical device, device, memory and buffers through the loader.
+#include <cstring>
+
+#include "e2e/fixture.hpp"
+
+namespace vkrt::test {
+namespace {
+
+using DeviceTest = VulkanTest;
+
+TEST_F(DeviceTest, PhysicalDeviceIsVkrtCpu) {
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(physicalDevice, &p);
+  EXPECT_STREQ(p.deviceName, "vkrt");
+  EXPECT_EQ(p.deviceType, VK_PHYSICAL_DEVICE_TYPE_CPU);
+  EXPECT_GE(p.apiVersion, VK_API_VERSION_1_3);
+
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &n, nullptr);
+  ASSERT_EQ(n, 1u);
+  VkQueueFamilyProperties q;
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &n, &q);
+  EXPECT_TRUE(q.queueFlags & VK_QUEUE_COMPUTE_BIT);
+  EXPECT_TRUE(q.queueFlags & VK_QUEUE_TRANSFER_BIT);
+  EXPECT_GE(q.queueCount, 1u);
+}
+
+TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {
+  VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+  // An sType vkrt does not know, placed in the middle of the chain: it must be left untouched and the walk
+  // must continue past it.
+  struct Unknown {
+    VkStructureType sType;
+    void* pNext;
+    uint32_t payload;
+  } unknown{static_cast<VkStructureType>(1000999000), &p13, 0xdeadbeef};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &unknown};
+  VkPhysicalDeviceVulkan12Properties p12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES, &driver};
+  VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p12};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+  vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+  EXPECT_STREQ(p2.properties.deviceName, "vkrt");
+  EXPECT_EQ(p11.pNext, &p12);
+  EXPECT_EQ(p12.pNext, &driver);
+  EXPECT_EQ(driver.pNext, &unknown);
+  EXPECT_EQ(unknown.payload, 0xdeadbeefu);
+  EXPECT_EQ(unknown.pNext, &p13);
+  EXPECT_STREQ(driver.driverName, "vkrt");
+  EXPECT_STREQ(p12.driverName, "vkrt");
+  EXPECT_GT(p11.maxMemoryAllocationSize, 0u);
+  EXPECT_GT(p13.maxBufferSize, 0u);
+  EXPECT_EQ(std::memcmp(p11.deviceUUID, p2.properties.pipelineCacheUUID, VK_UUID_SIZE), 0);
+}
+
+TEST_F(DeviceTest, Features2ReportsWhatTheDeviceEnables) {
+  VkPhysicalDeviceBufferDeviceAddressFeatures bda{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES};
+  VkPhysicalDeviceTimelineSemaphoreFeatures ts{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES, &bda};
+  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &ts};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(bda.bufferDeviceAddress);
+  EXPECT_TRUE(bda.bufferDeviceAddressCaptureReplay);
+  EXPECT_TRUE(ts.timelineSemaphore);
+  EXPECT_TRUE(f13.synchronization2);
+  EXPECT_EQ(f13.pNext, &ts);
+}
+
+TEST_F(DeviceTest, UnimplementedOrDisabledEntryPointsAreNull) {
+  // A real command from an extension vkrt does not implement.
+  EXPECT_EQ(vkGetDeviceProcAddr(device, "vkCmdDrawMeshTasksEXT"), nullptr);
+  // Not a command at all.
+  EXPECT_EQ(vkGetDeviceProcAddr(device, "vkNotARealCommand"), nullptr);
+  // Implemented core commands resolve.
+  EXPECT_NE(vkGetDeviceProcAddr(device, "vkCreateBuffer"), nullptr);
+  EXPECT_NE(vkGetDeviceProcAddr(device, "vkGetBufferDeviceAddress"), nullptr);
+}
+
+TEST_F(DeviceTest, MemoryMapsAndKeepsItsBytes) {
+  HostBuffer b = createHostBuffer(4096, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto* bytes = static_cast<uint8_t*>(b.data);
+  for (int i = 0; i < 4096; ++i) EXPECT_EQ(bytes[i], 0) << "fresh memory is zeroed";
+  for (int i = 0; i < 4096; ++i) bytes[i] = static_cast<uint8_t>(i * 7);
+  vkUnmapMemory(device, b.memory);
+  void* again = nullptr;
+  ASSERT_EQ(vkMapMemory(device, b.memory, 1024, 1024, 0, &again), VK_SUCCESS);
+  for (int i = 0; i < 1024; ++i) EXPECT_EQ(static_cast<uint8_t*>(again)[i], static_cast<uint8_t>((i + 1024) * 7));
+  VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, b.memory, 0, VK_WHOLE_SIZE};
+  EXPECT_EQ(vkFlushMappedMemoryRanges(device, 1, &range), VK_SUCCESS);
+  EXPECT_EQ(vkInvalidateMappedMemoryRanges(device, 1, &range), VK_SUCCESS);
+  destroy(b);
+}
+
+TEST_F(DeviceTest, BufferDeviceAddressIsTheBufferStart) {
+  HostBuffer a = createHostBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+  HostBuffer b = createHostBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+  VkBufferDeviceAddressInfo ia{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, a.buffer};
+  VkBufferDeviceAddressInfo ib{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, b.buffer};
+  VkDeviceAddress addrA = vkGetBufferDeviceAddress(device, &ia);
+  VkDeviceAddress addrB = vkGetBufferDeviceAddress(device, &ib);
+  EXPECT_NE(addrA, 0u);
+  EXPECT_NE(addrB, 0u);
+  EXPECT_TRUE(addrB >= addrA + 256 || addrA >= addrB + 256) << "buffers must not overlap";
+  destroy(a);
+  destroy(b);
+}
+
+class BufferCaptureReplayTest : public VulkanTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.bufferDeviceAddressCaptureReplay = true;
+    return o;
+  }
+
+  VkDeviceMemory allocate(VkDeviceSize size, uint64_t captured, VkResult expected) {
+    VkMemoryOpaqueCaptureAddressAllocateInfo cap{VK_STRUCTURE_TYPE_MEMORY_OPAQUE_CAPTURE_ADDRESS_ALLOCATE_INFO};
+    cap.opaqueCaptureAddress = captured;
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO, captured ? &cap : nullptr};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT | VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT;
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags, size, 0};
+    VkDeviceMemory mem = VK_NULL_HANDLE;
+    EXPECT_EQ(vkAllocateMemory(device, &mai, nullptr, &mem), expected);
+    return mem;
+  }
+
+  VkBuffer buffer(VkDeviceMemory mem, VkDeviceSize offset, uint64_t captured) {
+    VkBufferOpaqueCaptureAddressCreateInfo cap{VK_STRUCTURE_TYPE_BUFFER_OPAQUE_CAPTURE_ADDRESS_CREATE_INFO};
+    cap.opaqueCaptureAddress = captured;
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, captured ? &cap : nullptr};
+    bci.flags = VK_BUFFER_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT;
+    bci.size = 1024;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+    VkBuffer b = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateBuffer(device, &bci, nullptr, &b), VK_SUCCESS);
+    EXPECT_EQ(vkBindBufferMemory(device, b, mem, offset), VK_SUCCESS);
+    return b;
+  }
+};
+
+TEST_F(BufferCaptureReplayTest, ReplayedMemoryAndBufferGetTheCapturedAddresses) {
+  VkDeviceMemory mem = allocate(1 << 20, 0, VK_SUCCESS);
+  VkBuffer buf = buffer(mem, 4096, 0);
+  VkDeviceMemoryOpaqueCaptureAddressInfo mi{VK_STRUCTURE_TYPE_DEVICE_MEMORY_OPAQUE_CAPTURE_ADDRESS_INFO, nullptr, mem};
+  uint64_t memCapture = vkGetDeviceMemoryOpaqueCaptureAddress(device, &mi);
+  VkBufferDeviceAddressInfo bi{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, buf};
+  uint64_t bufCapture = vkGetBufferOpaqueCaptureAddress(device, &bi);
+  VkDeviceAddress address = vkGetBufferDeviceAddress(device, &bi);
+  ASSERT_NE(memCapture, 0u);
+  EXPECT_EQ(address, memCapture + 4096);
+  vkDestroyBuffer(device, buf, nullptr);
+  vkFreeMemory(device, mem, nullptr);
+
+  // Something else allocated in between must not take the replayed range.
+  VkDeviceMemory other = allocate(1 << 16, 0, VK_SUCCESS);
+  VkDeviceMemory replayed = allocate(1 << 20, memCapture, VK_SUCCESS);
+  VkBuffer replayedBuf = buffer(replayed, 4096, bufCapture);
+  VkBufferDeviceAddressInfo ri{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, replayedBuf};
+  EXPECT_EQ(vkGetBufferDeviceAddress(device, &ri), address);
+  vkDestroyBuffer(device, replayedBuf, nullptr);
+  vkFreeMemory(device, other, nullptr);
+  vkFreeMemory(device, replayed, nullptr);
+}
+
+class BufferCaptureReplayMisuseTest : public BufferCaptureReplayTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = BufferCaptureReplayTest::options();
+    o.validation = false;  // the range is taken on purpose
+    return o;
+  }
+};
+
+TEST_F(BufferCaptureReplayMisuseTest, AddressAlreadyInUseFailsWithInvalidOpaqueCaptureAddress) {
+  VkDeviceMemory mem = allocate(1 << 16, 0, VK_SUCCESS);
+  VkDeviceMemoryOpaqueCaptureAddressInfo mi{VK_STRUCTURE_TYPE_DEVICE_MEMORY_OPAQUE_CAPTURE_ADDRESS_INFO, nullptr, mem};
+  uint64_t taken = vkGetDeviceMemoryOpaqueCaptureAddress(device, &mi);
+  VkDeviceMemory clash = allocate(1 << 16, taken, VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS);
+  EXPECT_EQ(clash, VK_NULL_HANDLE);
+  auto msgs = vkrtMessages();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_NE(msgs[0].text.find("opaque capture address"), std::string::npos) << msgs[0].text;
+  clearMessages();
+  vkFreeMemory(device, mem, nullptr);
+}
+
+}  // namespace
+}  // namespace vkrt::test
