@@ -44,7 +44,7 @@ void Instance::removeMessenger(DebugMessenger* m) {
 
 bool Instance::hasMessengers() const {
   std::lock_guard lock(messengerMutex_);
-  return !messengers_.empty() || !creationMessengers.empty();
+  return !messengers_.empty() || (inCreateOrDestroy && !creationMessengers.empty());
 }
 
 bool Instance::dispatch(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT type,
@@ -59,6 +59,7 @@ bool Instance::dispatch(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebug
     }
   }
   for (const auto& m : creationMessengers) {
+    if (!inCreateOrDestroy) break;  // VkInstanceCreateInfo's messengers only cover vkCreate/DestroyInstance
     any = true;
     if ((m.messageSeverity & severity) && (m.messageType & type) && m.pfnUserCallback)
       targets.emplace_back(m.pfnUserCallback, m.pUserData);
@@ -131,6 +132,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateInstance(const VkInstanceCreateInfo* p
     destroyObject(inst, pAllocator);
     return VK_ERROR_OUT_OF_HOST_MEMORY;
   }
+  inst->inCreateOrDestroy = false;
   *pInstance = toHandle(inst);
   return VK_SUCCESS;
 }
@@ -143,6 +145,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyInstance(VkInstance instance, const VkAll
            "vkDestroyInstance: 0x%llx is not a live VkInstance", (unsigned long long)rawHandle(instance));
     return;
   }
+  inst->inCreateOrDestroy = true;
   destroyObject(inst->physicalDevice, pAllocator);
   destroyObject(inst, pAllocator);
 }

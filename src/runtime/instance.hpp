@@ -46,6 +46,7 @@ class Instance : public Object {
 
   // Messengers given in VkInstanceCreateInfo::pNext, used during vkCreateInstance/vkDestroyInstance too.
   std::vector<VkDebugUtilsMessengerCreateInfoEXT> creationMessengers;
+  bool inCreateOrDestroy = true;
 
  private:
   mutable std::mutex messengerMutex_;

@@ -353,15 +353,19 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
 }
 
 const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& info) const {
-  auto check = [](const void* requested, const void* supported, size_t offset, size_t size,
+  // `end` is the offset just past the last VkBool32 member (not sizeof: trailing padding is not a feature).
+  auto check = [](const void* requested, const void* supported, size_t offset, size_t end,
                   const char* structName) -> const char* {
     auto* r = reinterpret_cast<const VkBool32*>(static_cast<const char*>(requested) + offset);
     auto* s = reinterpret_cast<const VkBool32*>(static_cast<const char*>(supported) + offset);
-    for (size_t i = 0; i < (size - offset) / sizeof(VkBool32); ++i)
+    for (size_t i = 0; i < (end - offset) / sizeof(VkBool32); ++i)
       if (r[i] && !s[i]) return structName;
     return nullptr;
   };
   constexpr size_t header = offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess);
+  constexpr size_t kEnd11 = offsetof(VkPhysicalDeviceVulkan11Features, shaderDrawParameters) + sizeof(VkBool32);
+  constexpr size_t kEnd12 = offsetof(VkPhysicalDeviceVulkan12Features, subgroupBroadcastDynamicId) + sizeof(VkBool32);
+  constexpr size_t kEnd13 = offsetof(VkPhysicalDeviceVulkan13Features, maintenance4) + sizeof(VkBool32);
   if (info.pEnabledFeatures)
     if (auto* n = check(info.pEnabledFeatures, &features10, 0, sizeof(features10), "VkPhysicalDeviceFeatures"))
       return n;
@@ -373,37 +377,38 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                     sizeof(features10), "VkPhysicalDeviceFeatures2");
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES:
-        bad = check(s, &features11, header, sizeof(features11), "VkPhysicalDeviceVulkan11Features");
+        bad = check(s, &features11, header, kEnd11, "VkPhysicalDeviceVulkan11Features");
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        bad = check(s, &features12, header, sizeof(features12), "VkPhysicalDeviceVulkan12Features");
+        bad = check(s, &features12, header, kEnd12, "VkPhysicalDeviceVulkan12Features");
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        bad = check(s, &features13, header, sizeof(features13), "VkPhysicalDeviceVulkan13Features");
+        bad = check(s, &features13, header, kEnd13, "VkPhysicalDeviceVulkan13Features");
         break;
       default: {
         // Any other feature struct vkrt knows: compare against what fillFeatures reports for it.
         alignas(16) unsigned char supported[512] = {};
-        size_t size = 0;
+        size_t size = 0, end = 0;
         switch (s->sType) {
-#define VKRT_FEATURE_STRUCT(stype, T) \
-  case stype:                         \
-    size = sizeof(T);                 \
+#define VKRT_FEATURE_STRUCT(stype, T, last)                \
+  case stype:                                              \
+    size = sizeof(T);                                      \
+    end = offsetof(T, last) + sizeof(VkBool32);            \
     break;
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES,
-                              VkPhysicalDeviceTimelineSemaphoreFeatures)
+                              VkPhysicalDeviceTimelineSemaphoreFeatures, timelineSemaphore)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES,
-                              VkPhysicalDeviceBufferDeviceAddressFeatures)
+                              VkPhysicalDeviceBufferDeviceAddressFeatures, bufferDeviceAddressMultiDevice)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES,
-                              VkPhysicalDeviceHostQueryResetFeatures)
+                              VkPhysicalDeviceHostQueryResetFeatures, hostQueryReset)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
-                              VkPhysicalDeviceUniformBufferStandardLayoutFeatures)
+                              VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
-                              VkPhysicalDeviceSynchronization2Features)
+                              VkPhysicalDeviceSynchronization2Features, synchronization2)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES,
-                              VkPhysicalDeviceMaintenance4Features)
+                              VkPhysicalDeviceMaintenance4Features, maintenance4)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_CREATION_CACHE_CONTROL_FEATURES,
-                              VkPhysicalDevicePipelineCreationCacheControlFeatures)
+                              VkPhysicalDevicePipelineCreationCacheControlFeatures, pipelineCreationCacheControl)
 #undef VKRT_FEATURE_STRUCT
           default:
             break;
@@ -413,7 +418,7 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
           hdr->sType = s->sType;
           VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, hdr};
           fillFeatures(&f2);
-          bad = check(s, supported, header, size, "a feature structure in VkDeviceCreateInfo::pNext");
+          bad = check(s, supported, header, end, "a feature structure in VkDeviceCreateInfo::pNext");
         }
         break;
       }
