@@ -1,0 +1,47 @@
+// VkDescriptorPool: enforces maxSets and the per-type descriptor counts of pPoolSizes; owns its sets.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <unordered_set>
+
+#include "icd/object.hpp"
+
+namespace vkrt {
+
+class DescriptorSet;
+class DescriptorSetLayout;
+
+class DescriptorPool : public Object {
+ public:
+  using Handle = VkDescriptorPool;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_DESCRIPTOR_POOL;
+
+  DescriptorPool(Device* dev, const VkDescriptorPoolCreateInfo& info);
+  ~DescriptorPool();  // frees every set still allocated
+
+  const VkDescriptorPoolCreateFlags flags;
+  const uint32_t maxSets;
+
+  // Whether a set of `layout` with `variableCount` fits in what is left (counting `pending` sets already
+  // reserved by the same vkAllocateDescriptorSets call).
+  bool fits(const DescriptorSetLayout& layout, uint32_t variableCount, std::map<VkDescriptorType, uint64_t>& pending,
+            uint32_t pendingSets) const;
+  void add(DescriptorSet* set);
+  void free(DescriptorSet* set);  // returns its descriptors to the pool and destroys it
+  void reset();                   // frees every set
+
+  uint32_t liveSets() const { return static_cast<uint32_t>(sets_.size()); }
+  bool owns(DescriptorSet* set) const { return sets_.count(set) != 0; }
+
+ private:
+  std::map<VkDescriptorType, uint64_t> capacity_;  // from pPoolSizes
+  std::map<VkDescriptorType, uint64_t> used_;
+  std::unordered_set<DescriptorSet*> sets_;
+};
+
+// Descriptors of each type a set of `layout` takes from a pool.
+void descriptorDemand(const DescriptorSetLayout& layout, uint32_t variableCount,
+                      std::map<VkDescriptorType, uint64_t>& out);
+
+}  // namespace vkrt

@@ -1,0 +1,423 @@
+#include "runtime/descriptor_set.hpp"
+
+#include <cstring>
+#include <vector>
+
+#include "runtime/alloc.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/descriptor_pool.hpp"
+#include "runtime/device.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+std::atomic<uint64_t (*)(const Object*)> accelerationStructureAddressHook{nullptr};
+
+DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLayout* layout, uint32_t variableCount)
+    : Object(kType, dev->instance, dev),
+      pool(pool),
+      layout(layout),
+      variableCount(layout->hasVariableCount ? variableCount : 0),
+      recordCount(layout->recordCountFor(variableCount)),
+      records_(new DescriptorRecord[recordCount ? recordCount : 1]()) {
+  layout->retain();
+  // Immutable samplers are part of the set from the start.
+  for (const DescriptorBinding& b : layout->bindings) {
+    uint32_t n = elementCount(b);
+    for (uint32_t i = 0; i < n && i < b.immutableSamplers.size(); ++i) records_[b.offset + i].sampler = b.immutableSamplers[i];
+  }
+}
+
+DescriptorSet::~DescriptorSet() { DescriptorSetLayout::release(layout); }
+
+uint32_t DescriptorSet::elementCount(const DescriptorBinding& b) const {
+  return (b.flags & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT) ? variableCount : b.count;
+}
+
+namespace {
+
+bool isBufferType(VkDescriptorType t) {
+  return t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || isDynamicBufferType(t);
+}
+bool isUniform(VkDescriptorType t) {
+  return t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+}
+
+// Element-by-element walk over (binding, arrayElement) and the consecutive bindings after it.
+struct Span {
+  std::vector<const DescriptorBinding*> binding;  // per descriptor
+  uint32_t firstRecord = 0;
+};
+
+// Fills `span` with the `count` descriptors from (binding, arrayElement). Reports with the VUIDs of `vuids`
+// (dstBinding-invalid, type-mismatch, overflow) and returns false on error. `type` may be
+// VK_DESCRIPTOR_TYPE_MAX_ENUM to take the first binding's type.
+struct SpanVuids {
+  const char* noBinding;
+  const char* typeMismatch;
+  const char* overflow;
+  const char* consecutive;
+};
+bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count, VkDescriptorType type,
+          const SpanVuids& v, const char* what, Span& span) {
+  const DescriptorSetLayout& l = *set->layout;
+  const DescriptorBinding* b = l.bindingAt(binding);
+  if (!b || set->elementCount(*b) == 0) {
+    report(set, Severity::Error, v.noBinding, "%s: binding %u does not exist in the set's layout (or has no descriptors)",
+           what, binding);
+    return false;
+  }
+  if (type != VK_DESCRIPTOR_TYPE_MAX_ENUM && b->type != type) {
+    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not %s", what, binding, descriptorTypeName(b->type),
+           descriptorTypeName(type));
+    return false;
+  }
+  span.binding.clear();
+  span.firstRecord = b->offset + arrayElement;
+  size_t idx = static_cast<size_t>(b - l.bindings.data());
+  uint32_t e = arrayElement;
+  for (uint32_t i = 0; i < count; ++i) {
+    while (e >= set->elementCount(l.bindings[idx])) {
+      e -= set->elementCount(l.bindings[idx]);
+      ++idx;
+      if (idx >= l.bindings.size()) {
+        report(set, Severity::Error, v.overflow,
+               "%s: %u descriptors from binding %u element %u run past the end of the set (%u records)", what, count,
+               binding, arrayElement, set->recordCount);
+        return false;
+      }
+      const DescriptorBinding& n = l.bindings[idx];
+      if (set->elementCount(n) && (n.type != b->type || n.stages != b->stages || n.flags != b->flags ||
+                                   n.immutableSamplers.empty() != b->immutableSamplers.empty())) {
+        report(set, Severity::Error, v.consecutive,
+               "%s: the update runs from binding %u into binding %u, whose type, stages, flags or immutable samplers "
+               "differ", what, binding, n.binding);
+        return false;
+      }
+    }
+    span.binding.push_back(&l.bindings[idx]);
+    ++e;
+  }
+  return true;
+}
+
+// Computes descriptor `i`'s record from its source. Reports and returns false on a bad source.
+bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType type, const uint8_t* src, uint32_t i,
+             const char* what, DescriptorRecord& out) {
+  Device* dev = set->device;
+  const VkPhysicalDeviceLimits& lim = dev->physicalDevice->properties10.limits;
+  out = {};
+  if (isBufferType(type)) {
+    auto& bi = *reinterpret_cast<const VkDescriptorBufferInfo*>(src);
+    // VUID-VkDescriptorBufferInfo-buffer-02998
+    if (!bi.buffer) {
+      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-02998",
+             "%s: descriptor %u: buffer is VK_NULL_HANDLE and the nullDescriptor feature is not enabled", what, i);
+      return false;
+    }
+    Buffer* buf = fromHandle<Buffer>(bi.buffer);
+    // VUID-VkDescriptorBufferInfo-buffer-parameter
+    if (!buf) {
+      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-parameter",
+             "%s: descriptor %u: buffer 0x%llx is not a live VkBuffer", what, i, (unsigned long long)rawHandle(bi.buffer));
+      return false;
+    }
+    // VUID-VkDescriptorBufferInfo-offset-00340
+    if (bi.offset >= buf->size) {
+      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-offset-00340",
+             "%s: descriptor %u: offset %llu is not less than the buffer size %llu", what, i,
+             (unsigned long long)bi.offset, (unsigned long long)buf->size);
+      return false;
+    }
+    // VUID-VkDescriptorBufferInfo-range-00341
+    if (bi.range == 0) {
+      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-range-00341", "%s: descriptor %u: range is 0", what, i);
+      return false;
+    }
+    // VUID-VkDescriptorBufferInfo-range-00342
+    if (bi.range != VK_WHOLE_SIZE && bi.range > buf->size - bi.offset) {
+      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-range-00342",
+             "%s: descriptor %u: range %llu at offset %llu exceeds the %llu-byte buffer", what, i,
+             (unsigned long long)bi.range, (unsigned long long)bi.offset, (unsigned long long)buf->size);
+      return false;
+    }
+    VkDeviceSize range = buf->rangeFrom(bi.offset, bi.range);
+    bool uniform = isUniform(type);
+    // VUID-VkWriteDescriptorSet-descriptorType-00330, VUID-VkWriteDescriptorSet-descriptorType-00331
+    VkBufferUsageFlags need = uniform ? VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT : VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if (!(buf->usage & need)) {
+      report(set, Severity::Error,
+             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00330" : "VUID-VkWriteDescriptorSet-descriptorType-00331",
+             "%s: descriptor %u (%s): buffer 0x%llx lacks %s usage (usage 0x%x)", what, i, descriptorTypeName(type),
+             (unsigned long long)rawHandle(bi.buffer),
+             uniform ? "VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT" : "VK_BUFFER_USAGE_STORAGE_BUFFER_BIT", buf->usage);
+      return false;
+    }
+    // VUID-VkWriteDescriptorSet-descriptorType-00327, VUID-VkWriteDescriptorSet-descriptorType-00328
+    VkDeviceSize align = uniform ? lim.minUniformBufferOffsetAlignment : lim.minStorageBufferOffsetAlignment;
+    if (bi.offset % align) {
+      report(set, Severity::Error,
+             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00327" : "VUID-VkWriteDescriptorSet-descriptorType-00328",
+             "%s: descriptor %u: offset %llu is not a multiple of %llu", what, i, (unsigned long long)bi.offset,
+             (unsigned long long)align);
+      return false;
+    }
+    // VUID-VkWriteDescriptorSet-descriptorType-00332, VUID-VkWriteDescriptorSet-descriptorType-00333
+    VkDeviceSize maxRange = uniform ? lim.maxUniformBufferRange : lim.maxStorageBufferRange;
+    if (range > maxRange) {
+      report(set, Severity::Error,
+             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00332" : "VUID-VkWriteDescriptorSet-descriptorType-00333",
+             "%s: descriptor %u: effective range %llu exceeds the limit %llu", what, i, (unsigned long long)range,
+             (unsigned long long)maxRange);
+      return false;
+    }
+    // VUID-VkWriteDescriptorSet-descriptorType-00329
+    if (!buf->memory) {
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00329",
+             "%s: descriptor %u: buffer 0x%llx is not bound to memory", what, i, (unsigned long long)rawHandle(bi.buffer));
+      return false;
+    }
+    out.address = reinterpret_cast<uint64_t>(buf->data() + bi.offset);
+    out.range = range;
+    out.object = buf;
+    return true;
+  }
+  switch (type) {
+    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER: {
+      VkBufferView h = *reinterpret_cast<const VkBufferView*>(src);
+      // VUID-VkWriteDescriptorSet-descriptorType-02995
+      if (!h) {
+        report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02995",
+               "%s: descriptor %u: texel buffer view is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
+        return false;
+      }
+      const Object* view = findObject(rawHandle(h), VK_OBJECT_TYPE_BUFFER_VIEW);
+      // VUID-VkWriteDescriptorSet-descriptorType-02994
+      if (!view) {
+        report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02994",
+               "%s: descriptor %u: 0x%llx is not a live VkBufferView", what, i, (unsigned long long)rawHandle(h));
+        return false;
+      }
+      out.object = view;
+      return true;
+    }
+    case VK_DESCRIPTOR_TYPE_SAMPLER:
+    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+    case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: {
+      auto& ii = *reinterpret_cast<const VkDescriptorImageInfo*>(src);
+      if (type != VK_DESCRIPTOR_TYPE_SAMPLER) {
+        // VUID-VkWriteDescriptorSet-descriptorType-02997
+        if (!ii.imageView) {
+          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02997",
+                 "%s: descriptor %u: imageView is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
+          return false;
+        }
+        out.object = findObject(rawHandle(ii.imageView), VK_OBJECT_TYPE_IMAGE_VIEW);
+        // VUID-VkWriteDescriptorSet-descriptorType-02996
+        if (!out.object) {
+          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02996",
+                 "%s: descriptor %u: imageView 0x%llx is not a live VkImageView", what, i,
+                 (unsigned long long)rawHandle(ii.imageView));
+          return false;
+        }
+      }
+      if (type == VK_DESCRIPTOR_TYPE_SAMPLER || type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) {
+        if (!b.immutableSamplers.empty()) return true;  // the sampler member is ignored; the record keeps its sampler
+        out.sampler = findObject(rawHandle(ii.sampler), VK_OBJECT_TYPE_SAMPLER);
+        // VUID-VkWriteDescriptorSet-descriptorType-00325
+        if (!out.sampler) {
+          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00325",
+                 "%s: descriptor %u: sampler 0x%llx is not a live VkSampler", what, i, (unsigned long long)rawHandle(ii.sampler));
+          return false;
+        }
+      }
+      return true;
+    }
+    case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR: {
+      uint64_t h = *reinterpret_cast<const uint64_t*>(src);
+      // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580
+      if (!h) {
+        report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580",
+               "%s: descriptor %u: acceleration structure is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
+        return false;
+      }
+      const Object* as = findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR);
+      auto hook = accelerationStructureAddressHook.load();
+      // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter
+      if (!as || !hook) {
+        report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter",
+               "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureKHR", what, i, (unsigned long long)h);
+        return false;
+      }
+      out.object = as;
+      out.address = hook(as);
+      return true;
+    }
+    default:
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
+             "%s: descriptor type %d is not supported", what, type);
+      return false;
+  }
+}
+
+}  // namespace
+
+bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
+                      VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what) {
+  Span span;
+  static const SpanVuids kVuids = {"VUID-VkWriteDescriptorSet-dstBinding-00315",
+                                   "VUID-VkWriteDescriptorSet-descriptorType-00319",
+                                   "VUID-VkWriteDescriptorSet-dstArrayElement-00321",
+                                   "VUID-VkWriteDescriptorSet-descriptorCount-00317"};
+  if (!walk(set, binding, arrayElement, count, type, kVuids, what, span)) return false;
+  // VUID-VkWriteDescriptorSet-descriptorType-02752
+  if (type == VK_DESCRIPTOR_TYPE_SAMPLER && !span.binding[0]->immutableSamplers.empty()) {
+    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02752",
+           "%s: binding %u has immutable samplers; VK_DESCRIPTOR_TYPE_SAMPLER descriptors cannot be written to it", what,
+           binding);
+    return false;
+  }
+  for (uint32_t i = 0; i < count; ++i) {
+    DescriptorRecord r;
+    if (!resolve(set, *span.binding[i], type, base + i * stride, i, what, r)) return false;
+    if (apply) {
+      DescriptorRecord& dst = set->records()[span.firstRecord + i];
+      if (!span.binding[i]->immutableSamplers.empty()) r.sampler = dst.sampler;  // immutable: keep
+      dst = r;
+    }
+  }
+  return true;
+}
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+namespace {
+
+// Source array and stride of a VkWriteDescriptorSet, by type. Null with a report when it is missing.
+const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, size_t& stride, const char* what) {
+  if (w.descriptorType == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR) {
+    auto* as = findInChain<VkWriteDescriptorSetAccelerationStructureKHR>(
+        w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR);
+    // VUID-VkWriteDescriptorSet-descriptorType-02382
+    if (!as || as->accelerationStructureCount != w.descriptorCount) {
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02382",
+             "%s: an acceleration structure write needs a VkWriteDescriptorSetAccelerationStructureKHR with %u "
+             "structures in its pNext chain", what, w.descriptorCount);
+      return nullptr;
+    }
+    stride = sizeof(VkAccelerationStructureKHR);
+    return reinterpret_cast<const uint8_t*>(as->pAccelerationStructures);
+  }
+  if (isBufferType(w.descriptorType)) {
+    stride = sizeof(VkDescriptorBufferInfo);
+    return reinterpret_cast<const uint8_t*>(w.pBufferInfo);
+  }
+  if (w.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER ||
+      w.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER) {
+    stride = sizeof(VkBufferView);
+    return reinterpret_cast<const uint8_t*>(w.pTexelBufferView);
+  }
+  stride = sizeof(VkDescriptorImageInfo);
+  return reinterpret_cast<const uint8_t*>(w.pImageInfo);
+}
+
+bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool apply) {
+  char what[64];
+  std::snprintf(what, sizeof what, "vkUpdateDescriptorSets: pDescriptorWrites[%u]", index);
+  DescriptorSet* set = fromHandle<DescriptorSet>(w.dstSet);
+  // VUID-VkWriteDescriptorSet-dstSet-00320
+  if (!set) {
+    report(dev, Severity::Error, "VUID-VkWriteDescriptorSet-dstSet-00320", "%s: dstSet 0x%llx is not a live VkDescriptorSet",
+           what, (unsigned long long)rawHandle(w.dstSet));
+    return false;
+  }
+  size_t stride = 0;
+  const uint8_t* src = writeSource(set, w, stride, what);
+  // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
+  if (!src) {
+    if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR)
+      report(set, Severity::Error, isBufferType(w.descriptorType) ? "VUID-VkWriteDescriptorSet-descriptorType-00324"
+                                                                  : "VUID-VkWriteDescriptorSet-descriptorType-00322",
+             "%s: the descriptor array for %s is null", what, descriptorTypeName(w.descriptorType));
+    return false;
+  }
+  // VUID-VkWriteDescriptorSet-descriptorType-parameter
+  if (!descriptorTypeSupported(dev, w.descriptorType)) {
+    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter", "%s: descriptor type %d is not supported",
+           what, w.descriptorType);
+    return false;
+  }
+  return writeDescriptors(set, w.dstBinding, w.dstArrayElement, w.descriptorCount, w.descriptorType, src, stride,
+                          apply, what);
+}
+
+bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool apply) {
+  char what[64];
+  std::snprintf(what, sizeof what, "vkUpdateDescriptorSets: pDescriptorCopies[%u]", index);
+  DescriptorSet* src = fromHandle<DescriptorSet>(c.srcSet);
+  DescriptorSet* dst = fromHandle<DescriptorSet>(c.dstSet);
+  // VUID-VkCopyDescriptorSet-srcSet-parameter, VUID-VkCopyDescriptorSet-dstSet-parameter
+  if (!src || !dst) {
+    report(dev, Severity::Error, !src ? "VUID-VkCopyDescriptorSet-srcSet-parameter" : "VUID-VkCopyDescriptorSet-dstSet-parameter",
+           "%s: %s 0x%llx is not a live VkDescriptorSet", what, !src ? "srcSet" : "dstSet",
+           (unsigned long long)rawHandle(!src ? c.srcSet : c.dstSet));
+    return false;
+  }
+  Span s, d;
+  static const SpanVuids kSrc = {"VUID-VkCopyDescriptorSet-srcBinding-00345", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+                                 "VUID-VkCopyDescriptorSet-srcArrayElement-00346",
+                                 "VUID-VkCopyDescriptorSet-srcArrayElement-00346"};
+  static const SpanVuids kDst = {"VUID-VkCopyDescriptorSet-dstBinding-00347", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+                                 "VUID-VkCopyDescriptorSet-dstArrayElement-00348",
+                                 "VUID-VkCopyDescriptorSet-dstArrayElement-00348"};
+  if (!walk(src, c.srcBinding, c.srcArrayElement, c.descriptorCount, VK_DESCRIPTOR_TYPE_MAX_ENUM, kSrc, what, s))
+    return false;
+  if (!walk(dst, c.dstBinding, c.dstArrayElement, c.descriptorCount, s.binding[0]->type, kDst, what, d)) return false;
+  // VUID-VkCopyDescriptorSet-dstBinding-02753
+  if (d.binding[0]->type == VK_DESCRIPTOR_TYPE_SAMPLER && !d.binding[0]->immutableSamplers.empty()) {
+    report(dst, Severity::Error, "VUID-VkCopyDescriptorSet-dstBinding-02753",
+           "%s: dstBinding %u has immutable samplers and cannot receive sampler descriptors", what, c.dstBinding);
+    return false;
+  }
+  // VUID-VkCopyDescriptorSet-srcSet-00349
+  if (src == dst && s.firstRecord < d.firstRecord + c.descriptorCount && d.firstRecord < s.firstRecord + c.descriptorCount) {
+    report(dst, Severity::Error, "VUID-VkCopyDescriptorSet-srcSet-00349",
+           "%s: source and destination ranges of the same set overlap", what);
+    return false;
+  }
+  if (apply) {
+    for (uint32_t i = 0; i < c.descriptorCount; ++i) {
+      DescriptorRecord r = src->records()[s.firstRecord + i];
+      DescriptorRecord& out = dst->records()[d.firstRecord + i];
+      if (!d.binding[i]->immutableSamplers.empty()) r.sampler = out.sampler;
+      out = r;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+extern "C" {
+
+VKAPI_ATTR void VKAPI_CALL vkrt_UpdateDescriptorSets(VkDevice device, uint32_t descriptorWriteCount,
+                                                     const VkWriteDescriptorSet* pDescriptorWrites,
+                                                     uint32_t descriptorCopyCount,
+                                                     const VkCopyDescriptorSet* pDescriptorCopies) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  // Everything is checked first, so that a bad write or copy leaves every set as it was.
+  for (uint32_t i = 0; i < descriptorWriteCount; ++i)
+    if (!doWrite(dev, pDescriptorWrites[i], i, false)) return;
+  for (uint32_t i = 0; i < descriptorCopyCount; ++i)
+    if (!doCopy(dev, pDescriptorCopies[i], i, false)) return;
+  for (uint32_t i = 0; i < descriptorWriteCount; ++i) doWrite(dev, pDescriptorWrites[i], i, true);
+  for (uint32_t i = 0; i < descriptorCopyCount; ++i) doCopy(dev, pDescriptorCopies[i], i, true);
+}
+
+}  // extern "C"

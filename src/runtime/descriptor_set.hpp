@@ -1,0 +1,51 @@
+// VkDescriptorSet: a flat array of DescriptorRecord (layout documented in descriptor_set_layout.hpp), and the
+// write/copy machinery shared by vkUpdateDescriptorSets and descriptor update templates.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "runtime/descriptor_set_layout.hpp"
+
+namespace vkrt {
+
+class DescriptorPool;
+
+class DescriptorSet : public Object {
+ public:
+  using Handle = VkDescriptorSet;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_DESCRIPTOR_SET;
+
+  // Takes a reference on `layout` (released by the destructor).
+  DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLayout* layout, uint32_t variableCount);
+  ~DescriptorSet();
+
+  DescriptorPool* const pool;
+  DescriptorSetLayout* const layout;
+  const uint32_t variableCount;  // elements of the variable-sized binding (0 when the layout has none)
+  const uint32_t recordCount;
+
+  // The records compiled code reads: records()[binding.offset + arrayElement].
+  DescriptorRecord* records() { return records_.get(); }
+  const DescriptorRecord* records() const { return records_.get(); }
+  // Elements binding `b` has in this set (the variable count for a variable-sized binding).
+  uint32_t elementCount(const DescriptorBinding& b) const;
+
+ private:
+  std::unique_ptr<DescriptorRecord[]> records_;
+};
+
+// Writes `count` descriptors of `type` starting at (binding, arrayElement), crossing into consecutive bindings
+// as the spec allows. Descriptor i's source is at `base + i * stride`: a VkDescriptorImageInfo, a
+// VkDescriptorBufferInfo, a VkBufferView or a VkAccelerationStructureKHR, by type. With apply=false only checks
+// (reporting the first problem, naming `what`) and returns false on error; with apply=true stores the records.
+bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
+                      VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what);
+
+// Resolves an acceleration structure's object to its 64-bit device address. Installed by the acceleration
+// structure implementation; null until then (the descriptor type is also rejected until the extension exists).
+extern std::atomic<uint64_t (*)(const Object* accelerationStructure)> accelerationStructureAddressHook;
+
+}  // namespace vkrt

@@ -1,0 +1,52 @@
+// VkQueryPool: timestamp queries (VK_QUERY_TYPE_TIMESTAMP). Timestamps are nanoseconds of CLOCK_MONOTONIC
+// (timestampPeriod 1.0, 64 valid bits). Each query is a value and an availability flag; commands write them on
+// the queue worker, the host reads them with vkGetQueryPoolResults.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+
+#include "icd/object.hpp"
+
+namespace vkrt {
+
+class QueryPool : public Object {
+ public:
+  using Handle = VkQueryPool;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_QUERY_POOL;
+
+  QueryPool(Device* dev, const VkQueryPoolCreateInfo& info);
+
+  const VkQueryType type;
+  const uint32_t count;
+
+  void reset(uint32_t first, uint32_t n);
+  void writeTimestamp(uint32_t query);
+  bool available(uint32_t query) const;
+  uint64_t value(uint32_t query) const;
+  // Blocks until `query` is available.
+  void waitAvailable(uint32_t query) const;
+
+  // Writes the results of queries [first, first + n) as vkGetQueryPoolResults / vkCmdCopyQueryPoolResults
+  // define them. `wait` blocks for each query. Returns false when some query was unavailable (VK_NOT_READY).
+  bool copyResults(uint32_t first, uint32_t n, uint8_t* dst, VkDeviceSize stride, VkQueryResultFlags flags) const;
+
+  static uint64_t now();  // CLOCK_MONOTONIC in ns
+
+ private:
+  struct Slot {
+    std::atomic<uint64_t> value{0};
+    std::atomic<uint32_t> available{0};
+  };
+  std::unique_ptr<Slot[]> slots_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable cv_;
+};
+
+// The bytes one query's result takes with `flags` (value plus availability).
+VkDeviceSize queryResultSize(VkQueryResultFlags flags);
+
+}  // namespace vkrt
