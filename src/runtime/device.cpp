@@ -52,7 +52,20 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
         enabled13.maintenance4 |= reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
         break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR: {
+        auto* f = reinterpret_cast<const VkPhysicalDeviceRayTracingPipelineFeaturesKHR*>(s);
+        rayTracing.pipeline = f->rayTracingPipeline;
+        rayTracing.captureReplay = f->rayTracingPipelineShaderGroupHandleCaptureReplay;
+        rayTracing.captureReplayMixed = f->rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
+        rayTracing.traceRaysIndirect = f->rayTracingPipelineTraceRaysIndirect;
+        rayTracing.primitiveCulling = f->rayTraversalPrimitiveCulling;
+        break;
+      }
       default:
+        // (A token newer than the installed headers: not a VkStructureType enumerator, so not a case label.)
+        if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT)
+          rayTracing.libraryGroupHandles =
+              reinterpret_cast<const VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT*>(s)->pipelineLibraryGroupHandles;
         break;
     }
   }

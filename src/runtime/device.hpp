@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
@@ -12,6 +13,9 @@ namespace vkrt {
 
 class PhysicalDevice;
 class Queue;
+namespace rt {
+class GroupRegistry;
+}
 
 class Device : public Object {
  public:
@@ -32,6 +36,20 @@ class Device : public Object {
   VkPhysicalDeviceVulkan13Features enabled13{};
 
   bool extensionEnabled(const char* name) const { return enabledExtensions.count(name) != 0; }
+
+  // Ray tracing features (VkPhysicalDeviceRayTracingPipelineFeaturesKHR and
+  // VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT), read in the constructor; checked by src/rt.
+  struct RayTracingFeatures {
+    bool pipeline = false;
+    bool captureReplay = false;
+    bool captureReplayMixed = false;
+    bool traceRaysIndirect = false;
+    bool primitiveCulling = false;
+    bool libraryGroupHandles = false;
+  } rayTracing;
+  // The device-wide shader-group handle registry (src/rt/group_handles.hpp), created on first use.
+  std::shared_ptr<rt::GroupRegistry> groupRegistry;
+  std::once_flag groupRegistryOnce;
 
   // Queues by index within family 0.
   std::vector<Queue*> queues;

@@ -242,6 +242,25 @@ static VkResult checkRanges(const char* fn, Device* dev, uint32_t count, const V
              "%s: pMemoryRanges[%u].memory is not currently mapped", fn, i);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
+    const VkDeviceSize mapEnd = mem->mappedOffset + mem->mappedSize;
+    if (ranges[i].size == VK_WHOLE_SIZE) {
+      // VUID-VkMappedMemoryRange-size-00686: offset within the mapped range
+      if (ranges[i].offset < mem->mappedOffset || ranges[i].offset >= mapEnd) {
+        report(mem, Severity::Error, "VUID-VkMappedMemoryRange-size-00686",
+               "%s: pMemoryRanges[%u].offset %llu is outside the mapped range [%llu, %llu)", fn, i,
+               (unsigned long long)ranges[i].offset, (unsigned long long)mem->mappedOffset,
+               (unsigned long long)mapEnd);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+    } else if (ranges[i].offset < mem->mappedOffset || ranges[i].size > mapEnd - mem->mappedOffset ||
+               ranges[i].offset - mem->mappedOffset > mapEnd - mem->mappedOffset - ranges[i].size) {
+      // VUID-VkMappedMemoryRange-size-00685: [offset, offset + size) within the mapped range
+      report(mem, Severity::Error, "VUID-VkMappedMemoryRange-size-00685",
+             "%s: pMemoryRanges[%u] [%llu, +%llu) is outside the mapped range [%llu, %llu)", fn, i,
+             (unsigned long long)ranges[i].offset, (unsigned long long)ranges[i].size,
+             (unsigned long long)mem->mappedOffset, (unsigned long long)mapEnd);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
   }
   return VK_SUCCESS;  // memory is coherent: nothing to flush or invalidate
 }

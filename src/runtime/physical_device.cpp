@@ -9,6 +9,7 @@
 
 #include "runtime/alloc.hpp"
 #include "runtime/instance.hpp"
+#include "rt/features.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -60,6 +61,17 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features12.uniformBufferStandardLayout = VK_TRUE;
   features12.separateDepthStencilLayouts = VK_TRUE;
   features12.imagelessFramebuffer = VK_TRUE;
+  // Descriptor binding flags (runtime/descriptor_set_layout.cpp): descriptors are records read when a command
+  // executes, so updating them after binding, leaving some unwritten or sizing the last binding per set works.
+  features12.descriptorBindingUniformBufferUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingStorageImageUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingStorageBufferUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingUniformTexelBufferUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingStorageTexelBufferUpdateAfterBind = VK_TRUE;
+  features12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
+  features12.descriptorBindingPartiallyBound = VK_TRUE;
+  features12.descriptorBindingVariableDescriptorCount = VK_TRUE;
 
   features13.synchronization2 = VK_TRUE;
   features13.pipelineCreationCacheControl = VK_TRUE;
@@ -239,6 +251,8 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_EXTENSION_NAME, VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
   };
+  // Ray tracing pipelines (src/rt/features.cpp): only with VKRT_PREVIEW_RAY_TRACING=1.
+  rt::appendExtensions(extensions_);
 }
 
 bool PhysicalDevice::supportsExtension(const char* name) const {
@@ -288,7 +302,8 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
             features13.pipelineCreationCacheControl;
         break;
       default:
-        break;  // unknown or unsupported structures are left untouched
+        rt::fillFeature(s);  // ray tracing structures (preview only); others are left untouched
+        break;
     }
   }
 }
@@ -345,6 +360,7 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
         break;
       }
       default:
+        rt::fillProperty(s);  // ray tracing properties (preview only)
         break;
     }
     s->pNext = next;  // the memcpy of a whole struct above also copied our null pNext: restore the chain
@@ -411,6 +427,7 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                               VkPhysicalDevicePipelineCreationCacheControlFeatures, pipelineCreationCacheControl)
 #undef VKRT_FEATURE_STRUCT
           default:
+            rt::featureStructLayout(s->sType, &size, &end);  // ray tracing structures (src/rt/features.cpp)
             break;
         }
         if (size && size <= sizeof(supported)) {

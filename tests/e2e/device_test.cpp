@@ -84,7 +84,7 @@ TEST_F(DeviceTest, MemoryMapsAndKeepsItsBytes) {
   void* again = nullptr;
   ASSERT_EQ(vkMapMemory(device, b.memory, 1024, 1024, 0, &again), VK_SUCCESS);
   for (int i = 0; i < 1024; ++i) EXPECT_EQ(static_cast<uint8_t*>(again)[i], static_cast<uint8_t>((i + 1024) * 7));
-  VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, b.memory, 0, VK_WHOLE_SIZE};
+  VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, b.memory, 1024, VK_WHOLE_SIZE};
   EXPECT_EQ(vkFlushMappedMemoryRanges(device, 1, &range), VK_SUCCESS);
   EXPECT_EQ(vkInvalidateMappedMemoryRanges(device, 1, &range), VK_SUCCESS);
   destroy(b);
@@ -101,6 +101,36 @@ TEST_F(DeviceTest, BufferDeviceAddressIsTheBufferStart) {
   EXPECT_NE(addrB, 0u);
   EXPECT_TRUE(addrB >= addrA + 256 || addrA >= addrB + 256) << "buffers must not overlap";
   destroy(a);
+  destroy(b);
+}
+
+class MemoryMisuseTest : public VulkanTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.validation = false;  // rules are broken on purpose; vkrt's own messages are asserted
+    return o;
+  }
+};
+
+TEST_F(MemoryMisuseTest, MappingAndFlushRulesAreReportedByVuid) {
+  HostBuffer b = createHostBuffer(4096, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);  // mapped whole
+  void* p = nullptr;
+  EXPECT_EQ(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &p), VK_ERROR_MEMORY_MAP_FAILED);
+  expectVkrtMessage("VUID-vkMapMemory-memory-00678");
+  vkUnmapMemory(device, b.memory);
+  ASSERT_EQ(vkMapMemory(device, b.memory, 1024, 1024, 0, &p), VK_SUCCESS);
+  VkMappedMemoryRange before{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, b.memory, 0, VK_WHOLE_SIZE};
+  EXPECT_EQ(vkFlushMappedMemoryRanges(device, 1, &before), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkMappedMemoryRange-size-00686");
+  VkMappedMemoryRange past{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, b.memory, 1024, 2048};
+  EXPECT_EQ(vkInvalidateMappedMemoryRanges(device, 1, &past), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkMappedMemoryRange-size-00685");
+  EXPECT_EQ(vkMapMemory(device, b.memory, 8192, VK_WHOLE_SIZE, 0, &p), VK_ERROR_MEMORY_MAP_FAILED);
+  expectVkrtMessage("VUID-vkMapMemory-memory-00678");
+  vkUnmapMemory(device, b.memory);
+  EXPECT_EQ(vkMapMemory(device, b.memory, 8192, VK_WHOLE_SIZE, 0, &p), VK_ERROR_MEMORY_MAP_FAILED);
+  expectVkrtMessage("VUID-vkMapMemory-offset-00679");
   destroy(b);
 }
 

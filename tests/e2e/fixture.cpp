@@ -69,6 +69,15 @@ void VulkanTest::SetUp() {
   f12.bufferDeviceAddress = VK_TRUE;
   f12.hostQueryReset = VK_TRUE;
   f12.bufferDeviceAddressCaptureReplay = opt.bufferDeviceAddressCaptureReplay;
+  if (opt.descriptorBindingFlags) {
+    f12.descriptorBindingUniformBufferUpdateAfterBind = VK_TRUE;
+    f12.descriptorBindingStorageBufferUpdateAfterBind = VK_TRUE;
+    f12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
+    f12.descriptorBindingStorageImageUpdateAfterBind = VK_TRUE;
+    f12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
+    f12.descriptorBindingPartiallyBound = VK_TRUE;
+    f12.descriptorBindingVariableDescriptorCount = VK_TRUE;
+  }
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &f12};
   f13.synchronization2 = VK_TRUE;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};

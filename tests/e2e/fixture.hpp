@@ -31,6 +31,8 @@ struct FixtureOptions {
   VkPhysicalDeviceFeatures features{};
   uint32_t queueCount = 1;
   bool bufferDeviceAddressCaptureReplay = false;
+  // Enables the descriptor binding flag features (update after bind, partially bound, variable count).
+  bool descriptorBindingFlags = false;
 };
 
 class VulkanTest : public ::testing::Test {

@@ -1,0 +1,32 @@
+// What vkrt advertises for ray tracing pipelines: extensions, features and properties, and their pNext
+// structures. Everything here is advertised only while VKRT_PREVIEW_RAY_TRACING=1 is set: tracing itself
+// (vkCmdTraceRaysKHR, acceleration structures) is a later issue, so without the variable vkrt claims none of
+// it (the structures are left untouched, as for any unknown extension).
+#pragma once
+
+#include <vector>
+
+#include "icd/vk.hpp"
+
+namespace vkrt::rt {
+
+// VKRT_PREVIEW_RAY_TRACING=1 (read at each call: tests switch it per process).
+bool previewEnabled();
+
+// Appends VK_KHR_ray_tracing_pipeline, VK_KHR_pipeline_library, VK_EXT_pipeline_library_group_handles and
+// VK_KHR_deferred_host_operations when the preview is enabled.
+void appendExtensions(std::vector<VkExtensionProperties>& out);
+
+// Fills a ray tracing feature / property structure of a VkPhysicalDeviceFeatures2 / Properties2 chain.
+// Returns false (structure untouched) for other structures or when the preview is off.
+bool fillFeature(VkBaseOutStructure* s);
+bool fillProperty(VkBaseOutStructure* s);
+
+// For VkDeviceCreateInfo checking: the size of a ray tracing feature structure and the offset just past its
+// last VkBool32. Returns false for other structures.
+bool featureStructLayout(VkStructureType sType, size_t* size, size_t* end);
+
+// The properties (NVIDIA's values where the spec leaves the choice).
+VkPhysicalDeviceRayTracingPipelinePropertiesKHR properties();
+
+}  // namespace vkrt::rt

@@ -1,0 +1,511 @@
+// vkCreateRayTracingPipelinesKHR: validation (every rule about stages, groups, flags, libraries and
+// capture/replay), then the build — SPIR-V analysis of each stage, group records from the device registry,
+// library linking — run at once or, with a VkDeferredOperationKHR, on the threads that join it.
+#include "rt/rt_pipeline.hpp"
+
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "rt/deferred_operation.hpp"
+#include "rt/library_link.hpp"
+#include "rt/stack_size.hpp"
+#include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/pipeline_cache.hpp"
+#include "runtime/pipeline_layout.hpp"
+#include "runtime/report.hpp"
+#include "runtime/shader_module.hpp"
+#include "spirv/module_info.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt::rt {
+
+RayTracingPipeline::RayTracingPipeline(Device* dev, VkPipelineCreateFlags flags, PipelineLayout* layout)
+    : Pipeline(dev, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, flags, layout) {}
+
+namespace {
+
+constexpr VkShaderStageFlags kRtStages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR |
+                                         VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
+                                         VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR;
+constexpr VkPipelineCreateFlags kFailOnCompile = VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT;
+constexpr VkPipelineCreateFlags kEarlyReturn = VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT;
+
+bool stageIs(const VkRayTracingPipelineCreateInfoKHR& info, uint32_t index, VkShaderStageFlags allowed) {
+  return index < info.stageCount && (info.pStages[index].stage & allowed) && info.pStages[index].stage != 0;
+}
+
+// One create info, prepared synchronously (everything copied out of the application's structures), built
+// later (at once or on joining threads).
+struct Job {
+  uint32_t index = 0;
+  VkPipelineCreateFlags flags = 0;
+  PipelineLayout* layout = nullptr;
+  uint32_t depth = 0;
+  bool hasInterface = false;
+  uint32_t maxPayload = 0, maxHitAttr = 0;
+  bool dynamicStackSize = false;
+  std::vector<std::shared_ptr<ShaderDesc>> stages;
+  struct Group {
+    VkRayTracingShaderGroupTypeKHR type;
+    uint32_t shader[4];
+    bool hasCapture = false;
+    uint8_t capture[kCaptureSize];
+  };
+  std::vector<Group> groups;
+  std::vector<RayTracingPipeline*> libraries;
+  PipelineCache* cache = nullptr;
+  std::string cacheKey;
+  const VkAllocationCallbacks* allocator = nullptr;
+
+  VkResult result = VK_SUCCESS;
+  RayTracingPipeline* pipeline = nullptr;
+};
+
+std::string hex(const Digest& d) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%016llx%016llx", (unsigned long long)d.hi, (unsigned long long)d.lo);
+  return buf;
+}
+
+// The pipeline-cache key: everything the per-stage analysis depends on.
+std::string cacheKeyOf(const Job& j) {
+  std::string s;
+  for (auto& st : j.stages) {
+    GroupDesc g;
+    g.shaders[0] = st;
+    s += canonicalContent(g);
+  }
+  Digest d = hash128(s.data(), s.size(), 0x7274);
+  return "vkrt.rt.pipeline." + hex(d);
+}
+
+// Validation of pCreateInfos[i]; reports the first violation. Fills the job's libraries.
+bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i,
+              const VkRayTracingPipelineCreateInfoKHR* all, Job& job) {
+  auto fail = [&](const Object* about, const char* vuid, const char* fmt, auto... args) {
+    report(about ? about : dev, Severity::Error, vuid, fmt, args...);
+    return false;
+  };
+  // VUID-VkRayTracingPipelineCreateInfoKHR-layout-parameter
+  job.layout = fromHandle<PipelineLayout>(info.layout);
+  if (!job.layout)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-layout-parameter",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", i,
+                (unsigned long long)rawHandle(info.layout));
+  // VUID-vkCreateRayTracingPipelinesKHR-flags-03816
+  if (info.flags & VK_PIPELINE_CREATE_DISPATCH_BASE_BIT)
+    return fail(nullptr, "VUID-vkCreateRayTracingPipelinesKHR-flags-03816",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x contains VK_PIPELINE_CREATE_DISPATCH_BASE", i,
+                info.flags);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905
+  if ((info.flags & (kFailOnCompile | kEarlyReturn)) && !dev->enabled13.pipelineCreationCacheControl)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x uses FAIL_ON_PIPELINE_COMPILE_REQUIRED or "
+                "EARLY_RETURN_ON_FAILURE without the pipelineCreationCacheControl feature",
+                i, info.flags);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-maxPipelineRayRecursionDepth-03589
+  if (info.maxPipelineRayRecursionDepth > 31)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-maxPipelineRayRecursionDepth-03589",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].maxPipelineRayRecursionDepth %u exceeds "
+                "maxRayRecursionDepth 31",
+                i, info.maxPipelineRayRecursionDepth);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-flags-06546
+  const VkPipelineCreateFlags skipBoth =
+      VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR | VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR;
+  if ((info.flags & skipBoth) == skipBoth)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-06546",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags has both SKIP_TRIANGLES and SKIP_AABBS", i);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) && !dev->rayTracing.primitiveCulling)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_AABBS without rayTraversalPrimitiveCulling", i);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) && !dev->rayTracing.primitiveCulling)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_TRIANGLES without rayTraversalPrimitiveCulling",
+                i);
+  const bool captureFlag = info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR;
+  // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598
+  if (captureFlag && !dev->rayTracing.captureReplay)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SHADER_GROUP_HANDLE_CAPTURE_REPLAY but "
+                "rayTracingPipelineShaderGroupHandleCaptureReplay is not enabled",
+                i);
+  // Derivatives.
+  if (info.flags & VK_PIPELINE_CREATE_DERIVATIVE_BIT) {
+    Pipeline* base = nullptr;
+    if (info.basePipelineHandle != VK_NULL_HANDLE) {
+      // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03424
+      if (info.basePipelineIndex != -1)
+        return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03424",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has basePipelineHandle and basePipelineIndex %d "
+                    "(must be -1)",
+                    i, info.basePipelineIndex);
+      base = fromHandle<Pipeline>(info.basePipelineHandle);
+      // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03421
+      if (!asRayTracing(base))
+        return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03421",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].basePipelineHandle 0x%llx is not a live ray "
+                    "tracing pipeline",
+                    i, (unsigned long long)rawHandle(info.basePipelineHandle));
+      // VUID-vkCreateRayTracingPipelinesKHR-flags-03416
+      if (!(base->createFlags & VK_PIPELINE_CREATE_ALLOW_DERIVATIVES_BIT))
+        return fail(base, "VUID-vkCreateRayTracingPipelinesKHR-flags-03416",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u]'s base pipeline was created without "
+                    "VK_PIPELINE_CREATE_ALLOW_DERIVATIVES_BIT",
+                    i);
+    } else {
+      // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03422
+      if (info.basePipelineIndex < 0)
+        return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03422",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] is a derivative with neither basePipelineHandle "
+                    "nor basePipelineIndex (%d)",
+                    i, info.basePipelineIndex);
+      // VUID-vkCreateRayTracingPipelinesKHR-flags-03415
+      if (static_cast<uint32_t>(info.basePipelineIndex) >= i)
+        return fail(nullptr, "VUID-vkCreateRayTracingPipelinesKHR-flags-03415",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].basePipelineIndex %d is not less than %u", i,
+                    info.basePipelineIndex, i);
+      // VUID-vkCreateRayTracingPipelinesKHR-flags-03416
+      if (!(all[info.basePipelineIndex].flags & VK_PIPELINE_CREATE_ALLOW_DERIVATIVES_BIT))
+        return fail(nullptr, "VUID-vkCreateRayTracingPipelinesKHR-flags-03416",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u]'s base pCreateInfos[%d] does not have "
+                    "VK_PIPELINE_CREATE_ALLOW_DERIVATIVES_BIT",
+                    i, info.basePipelineIndex);
+    }
+  } else if (info.basePipelineHandle != VK_NULL_HANDLE && info.basePipelineIndex != -1) {
+    // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03423 (only meaningful for derivatives; both set is wrong)
+  }
+  // Dynamic states. VUID-VkRayTracingPipelineCreateInfoKHR-pDynamicStates-03602
+  if (info.pDynamicState) {
+    for (uint32_t d = 0; d < info.pDynamicState->dynamicStateCount; ++d) {
+      VkDynamicState s = info.pDynamicState->pDynamicStates[d];
+      if (s != VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR)
+        return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pDynamicStates-03602",
+                    "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pDynamicState->pDynamicStates[%u] is %d; only "
+                    "VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR is allowed",
+                    i, d, (int)s);
+      job.dynamicStackSize = true;
+    }
+  }
+  // Stages. VUID-VkRayTracingPipelineCreateInfoKHR-stage-06899
+  for (uint32_t s = 0; s < info.stageCount; ++s) {
+    VkShaderStageFlagBits st = info.pStages[s].stage;
+    if (!(st & kRtStages) || (st & (st - 1)))
+      return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-06899",
+                  "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%u].stage 0x%x is not a ray tracing stage",
+                  i, s, (unsigned)st);
+  }
+  // Groups.
+  const bool mixedOk = dev->rayTracing.captureReplayMixed;
+  for (uint32_t g = 0; g < info.groupCount; ++g) {
+    const VkRayTracingShaderGroupCreateInfoKHR& gr = info.pGroups[g];
+    const char* vuid = nullptr;
+    const char* what = nullptr;
+    switch (gr.type) {
+      case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR:
+        if (!stageIs(info, gr.generalShader, VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
+                                                  VK_SHADER_STAGE_CALLABLE_BIT_KHR)) {
+          vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03474";
+          what = "generalShader is not the index of a raygen, miss or callable stage";
+        } else if (gr.closestHitShader != VK_SHADER_UNUSED_KHR || gr.anyHitShader != VK_SHADER_UNUSED_KHR ||
+                   gr.intersectionShader != VK_SHADER_UNUSED_KHR) {
+          vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03475";
+          what = "a GENERAL group has a closestHitShader, anyHitShader or intersectionShader that is not VK_SHADER_UNUSED_KHR";
+        }
+        break;
+      case VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR:
+        if (!stageIs(info, gr.intersectionShader, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)) {
+          vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03476";
+          what = "intersectionShader of a PROCEDURAL_HIT_GROUP is not the index of an intersection stage";
+        }
+        break;
+      case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR:
+        if (gr.intersectionShader != VK_SHADER_UNUSED_KHR) {
+          vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03477";
+          what = "a TRIANGLES_HIT_GROUP has an intersectionShader";
+        }
+        break;
+      default:
+        vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-parameter";
+        what = "type is not a VkRayTracingShaderGroupTypeKHR value";
+        break;
+    }
+    if (!vuid && gr.type != VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR) {
+      if (gr.closestHitShader != VK_SHADER_UNUSED_KHR &&
+          !stageIs(info, gr.closestHitShader, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR)) {
+        vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-closestHitShader-03478";
+        what = "closestHitShader is neither VK_SHADER_UNUSED_KHR nor the index of a closest-hit stage";
+      } else if (gr.anyHitShader != VK_SHADER_UNUSED_KHR &&
+                 !stageIs(info, gr.anyHitShader, VK_SHADER_STAGE_ANY_HIT_BIT_KHR)) {
+        vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-anyHitShader-03479";
+        what = "anyHitShader is neither VK_SHADER_UNUSED_KHR nor the index of an any-hit stage";
+      } else if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR) &&
+                 gr.anyHitShader == VK_SHADER_UNUSED_KHR) {
+        vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03470";
+        what = "NO_NULL_ANY_HIT_SHADERS is set but the hit group's anyHitShader is VK_SHADER_UNUSED_KHR";
+      } else if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR) &&
+                 gr.closestHitShader == VK_SHADER_UNUSED_KHR) {
+        vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03471";
+        what = "NO_NULL_CLOSEST_HIT_SHADERS is set but the hit group's closestHitShader is VK_SHADER_UNUSED_KHR";
+      }
+    }
+    if (!vuid && gr.pShaderGroupCaptureReplayHandle) {
+      // VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03599
+      if (dev->rayTracing.captureReplay && !captureFlag) {
+        vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03599";
+        what = "pShaderGroupCaptureReplayHandle is given but flags lack SHADER_GROUP_HANDLE_CAPTURE_REPLAY";
+      } else if (captureFlag && !mixedOk && registryOf(dev).anyNonReplayed()) {
+        // VUID-VkRayTracingShaderGroupCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplayMixed-03603
+        vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplayMixed-03603";
+        what = "capture data is given after groups without it were created, and rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not enabled";
+      }
+    }
+    if (vuid)
+      return fail(nullptr, vuid,
+                  "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pGroups[%u] (type %d, general %u, closestHit %u, "
+                  "anyHit %u, intersection %u; stageCount %u): %s",
+                  i, g, (int)gr.type, gr.generalShader, gr.closestHitShader, gr.anyHitShader, gr.intersectionShader,
+                  info.stageCount, what);
+  }
+  if (!checkLibraries(dev, info, i, job.libraries)) return false;
+  // VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425
+  if (!(info.flags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR)) {
+    bool raygen = false;
+    for (uint32_t s = 0; s < info.stageCount; ++s) raygen |= info.pStages[s].stage == VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    for (RayTracingPipeline* l : job.libraries)
+      for (const GroupRecord* r : l->groups)
+        raygen |= r->desc.shaders[kGeneral] && r->desc.shaders[kGeneral]->stage == VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    if (!raygen)
+      return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425",
+                  "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] is not a library and has no raygen stage (%u stages, "
+                  "%zu libraries)",
+                  i, info.stageCount, job.libraries.size());
+  }
+  return true;
+}
+
+// Copies what the build needs out of the create info (code resolved, specialization canonicalized).
+bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i, Job& job) {
+  job.index = i;
+  job.flags = info.flags;
+  job.depth = info.maxPipelineRayRecursionDepth;
+  if (info.pLibraryInterface) {
+    job.hasInterface = true;
+    job.maxPayload = info.pLibraryInterface->maxPipelineRayPayloadSize;
+    job.maxHitAttr = info.pLibraryInterface->maxPipelineRayHitAttributeSize;
+  }
+  for (uint32_t s = 0; s < info.stageCount; ++s) {
+    const VkPipelineShaderStageCreateInfo& st = info.pStages[s];
+    std::vector<uint32_t> storage;
+    const std::vector<uint32_t>* words = nullptr;
+    uint64_t hash = 0;
+    char what[96];
+    std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%u]", i, s);
+    if (!shaderStageCode(dev, st, what, storage, &words, &hash)) return false;
+    auto d = std::make_shared<ShaderDesc>();
+    d->codeHash = hash;
+    d->code = std::make_shared<const std::vector<uint32_t>>(*words);
+    d->entry = st.pName ? st.pName : "";
+    d->stage = st.stage;
+    d->flags = st.flags;
+    d->specialization = canonicalSpecialization(st.pSpecializationInfo);
+    job.stages.push_back(std::move(d));
+  }
+  for (uint32_t g = 0; g < info.groupCount; ++g) {
+    const VkRayTracingShaderGroupCreateInfoKHR& gr = info.pGroups[g];
+    Job::Group jg{gr.type, {gr.generalShader, gr.closestHitShader, gr.anyHitShader, gr.intersectionShader}};
+    if (gr.type != VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR) jg.shader[kGeneral] = VK_SHADER_UNUSED_KHR;
+    if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR) &&
+        gr.pShaderGroupCaptureReplayHandle) {
+      jg.hasCapture = true;
+      std::memcpy(jg.capture, gr.pShaderGroupCaptureReplayHandle, kCaptureSize);
+    }
+    job.groups.push_back(jg);
+  }
+  job.cacheKey = cacheKeyOf(job);
+  return true;
+}
+
+// The build: the "compile" (SPIR-V analysis of every stage, skipped on a pipeline-cache hit), group records,
+// linking. Runs on the calling thread or on a thread joining the deferred operation.
+void build(Device* dev, Job& job) {
+  std::optional<std::string> cached;
+  if (job.cache) cached = job.cache->lookup(job.cacheKey);
+  if (cached && cached->size() == job.stages.size() * 4) {
+    for (size_t s = 0; s < job.stages.size(); ++s) std::memcpy(&job.stages[s]->stackSize, cached->data() + 4 * s, 4);
+  } else if ((job.flags & kFailOnCompile) && !job.stages.empty()) {
+    // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: the stages are not in the cache.
+    job.result = VK_PIPELINE_COMPILE_REQUIRED;
+    return;
+  } else {
+    std::string value;
+    for (size_t s = 0; s < job.stages.size(); ++s) {
+      ShaderDesc& d = *job.stages[s];
+      spirv::ModuleInfo mi;
+      std::string err;
+      const spirv::EntryPointInfo* ep = nullptr;
+      if (spirv::analyzeModule(d.code->data(), d.code->size(), mi, &err))
+        ep = mi.find(d.entry.c_str(), spirv::executionModelForStage(d.stage));
+      // VUID-VkPipelineShaderStageCreateInfo-pName-00707
+      if (!ep) {
+        report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
+               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: no entry point \"%s\" with the "
+               "execution model of stage 0x%x in the module%s%s",
+               job.index, s, d.entry.c_str(), (unsigned)d.stage, err.empty() ? "" : ": ", err.c_str());
+        job.result = VK_ERROR_VALIDATION_FAILED_EXT;
+        return;
+      }
+      d.stackSize = ep->stackSize();
+      value.append(reinterpret_cast<const char*>(&d.stackSize), 4);
+    }
+    if (job.cache) job.cache->insert(job.cacheKey, value);
+  }
+
+  auto* p = createObject<RayTracingPipeline>(job.allocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, job.flags, job.layout);
+  if (!p) {
+    job.result = VK_ERROR_OUT_OF_HOST_MEMORY;
+    return;
+  }
+  p->maxRecursionDepth = job.depth;
+  p->hasInterface = job.hasInterface;
+  p->maxPayloadSize = job.maxPayload;
+  p->maxHitAttributeSize = job.maxHitAttr;
+  p->dynamicStackSize = job.dynamicStackSize;
+  GroupRegistry& reg = registryOf(dev);
+  for (size_t g = 0; g < job.groups.size(); ++g) {
+    const Job::Group& jg = job.groups[g];
+    GroupDesc desc;
+    desc.type = jg.type;
+    for (int k = 0; k < 4; ++k)
+      if (jg.shader[k] != VK_SHADER_UNUSED_KHR) desc.shaders[k] = job.stages[jg.shader[k]];
+    const GroupRecord* r = nullptr;
+    if (jg.hasCapture) {
+      ReplayError e;
+      r = reg.replay(desc, jg.capture, &e);
+      if (!r) {
+        report(dev, Severity::Error, nullptr,
+               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pGroups[%zu].pShaderGroupCaptureReplayHandle is "
+               "refused: %s",
+               job.index, g, e.reason.c_str());
+        destroyObject(p, job.allocator);
+        job.result = VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
+        return;
+      }
+    } else {
+      r = reg.acquire(desc, dev);
+    }
+    p->groups.push_back(r);
+  }
+  p->ownGroupCount = static_cast<uint32_t>(p->groups.size());
+  linkLibraries(job.libraries, p->groups);
+  p->defaultStackSize = defaultPipelineStackSize(p->groups, job.depth);
+  job.pipeline = p;
+}
+
+// Writes pPipelines and returns the command's result once every job ran.
+VkResult finish(std::vector<Job>& jobs, VkPipeline* out) {
+  VkResult firstError = VK_SUCCESS;
+  bool compileRequired = false;
+  for (Job& j : jobs) {
+    if (j.result == VK_PIPELINE_COMPILE_REQUIRED) compileRequired = true;
+    else if (j.result != VK_SUCCESS && firstError == VK_SUCCESS) firstError = j.result;
+  }
+  if (firstError != VK_SUCCESS) {
+    // Any error other than COMPILE_REQUIRED: nothing is created.
+    for (Job& j : jobs) {
+      if (j.pipeline) destroyObject(static_cast<Pipeline*>(j.pipeline), j.allocator);
+      out[j.index] = VK_NULL_HANDLE;
+    }
+    return firstError;
+  }
+  bool stop = false;
+  for (Job& j : jobs) {
+    if (stop && j.pipeline) {
+      destroyObject(static_cast<Pipeline*>(j.pipeline), j.allocator);
+      j.pipeline = nullptr;
+    }
+    out[j.index] = j.pipeline ? toHandle(static_cast<Pipeline*>(j.pipeline)) : VK_NULL_HANDLE;
+    if (j.result == VK_PIPELINE_COMPILE_REQUIRED && (j.flags & kEarlyReturn)) stop = true;
+  }
+  return compileRequired ? VK_PIPELINE_COMPILE_REQUIRED : VK_SUCCESS;
+}
+
+}  // namespace
+}  // namespace vkrt::rt
+
+using namespace vkrt;
+using namespace vkrt::rt;
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
+                                                                 VkPipelineCache pipelineCache, uint32_t createInfoCount,
+                                                                 const VkRayTracingPipelineCreateInfoKHR* pCreateInfos,
+                                                                 const VkAllocationCallbacks* pAllocator,
+                                                                 VkPipeline* pPipelines) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  // VUID-vkCreateRayTracingPipelinesKHR-rayTracingPipeline-03586
+  if (!dev->rayTracing.pipeline) {
+    report(dev, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-rayTracingPipeline-03586",
+           "vkCreateRayTracingPipelinesKHR: the rayTracingPipeline feature is not enabled");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  DeferredOperation* op = nullptr;
+  if (deferredOperation != VK_NULL_HANDLE) {
+    op = fromHandle<DeferredOperation>(deferredOperation);
+    // VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03677
+    if (!op) {
+      report(dev, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03677",
+             "vkCreateRayTracingPipelinesKHR: deferredOperation 0x%llx is not a live VkDeferredOperationKHR",
+             (unsigned long long)rawHandle(deferredOperation));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03678
+    if (!op->complete()) {
+      report(op, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03678",
+             "vkCreateRayTracingPipelinesKHR: deferredOperation is still running a previous operation");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    for (uint32_t i = 0; i < createInfoCount; ++i) {
+      // VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03587
+      if (pCreateInfos[i].flags & VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT) {
+        report(op, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03587",
+               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has EARLY_RETURN_ON_FAILURE with a deferred operation", i);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+    }
+  }
+  PipelineCache* cache = nullptr;
+  if (pipelineCache != VK_NULL_HANDLE) {
+    cache = fromHandle<PipelineCache>(pipelineCache);
+    // VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter
+    if (!cache) {
+      report(dev, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter",
+             "vkCreateRayTracingPipelinesKHR: pipelineCache 0x%llx is not a live VkPipelineCache",
+             (unsigned long long)rawHandle(pipelineCache));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  auto jobs = std::make_shared<std::vector<Job>>(createInfoCount);
+  for (uint32_t i = 0; i < createInfoCount; ++i) {
+    Job& j = (*jobs)[i];
+    j.cache = cache;
+    j.allocator = pAllocator;
+    if (!validate(dev, pCreateInfos[i], i, pCreateInfos, j) || !prepare(dev, pCreateInfos[i], i, j))
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  if (!op) {
+    for (Job& j : *jobs) build(dev, j);
+    return finish(*jobs, pPipelines);
+  }
+  std::vector<std::function<void()>> tasks;
+  for (uint32_t i = 0; i < createInfoCount; ++i) tasks.push_back([dev, jobs, i] { build(dev, (*jobs)[i]); });
+  op->start(std::move(tasks), [jobs, pPipelines] { return finish(*jobs, pPipelines); });
+  return VK_OPERATION_DEFERRED_KHR;
+}
+
+}  // extern "C"

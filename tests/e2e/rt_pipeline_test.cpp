@@ -1,0 +1,828 @@
+// Ray tracing pipelines through the loader (VKRT_PREVIEW_RAY_TRACING=1): handles, capture/replay, libraries,
+// stack sizes, deferred operations, and every Valid Usage rule of the handle/stack-size queries.
+//
+// Validation layer note: VK_KHR_ray_tracing_pipeline requires VK_KHR_acceleration_structure, which vkrt does
+// not have yet. The layer (1.3.239) reports exactly that at vkCreateDevice (VUID-vkCreateDevice-
+// ppEnabledExtensionNames-01387 naming VK_KHR_acceleration_structure), and, being older than
+// VK_EXT_pipeline_library_group_handles, VUID-VkDeviceCreateInfo-pNext-pNext for its feature structure
+// (sType 1000498000), plus the warning "Device Extension VK_EXT_pipeline_library_group_handles is not supported
+// by this layer" (VUID_Undefined); and at every vkCreateRayTracingPipelinesKHR call
+// UNASSIGNED-GeneralParameterError-ExtensionNotEnabled naming VK_KHR_acceleration_structure.
+// RtTest::acceptKnownLayerMessages (after SetUp and before TearDown) accepts exactly those four and fails on
+// any other layer message. The layer also hides vkGetRayTracingShaderGroupHandlesNV (it requires
+// VK_NV_ray_tracing), so the NV alias is tested without the layer (RtMisuseTest.NvAliasResolves), and drops
+// the group-handles feature structure it does not know, so library handle tests run without it (RtLibraryTest).
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "e2e/fixture.hpp"
+#include "icd/vk_compat.h"  // VK_EXT_pipeline_library_group_handles is newer than the installed headers
+#include "h4_ahit.rahit.spv.h"
+#include "h4_call.rcall.spv.h"
+#include "h4_chit.rchit.spv.h"
+#include "h4_chit_callable.rchit.spv.h"
+#include "h4_miss.rmiss.spv.h"
+#include "h4_miss2.rmiss.spv.h"
+#include "h4_miss_spec.rmiss.spv.h"
+#include "h4_raygen.rgen.spv.h"
+#include "h4_raygen_big.rgen.spv.h"
+#include "h4_rint.rint.spv.h"
+
+namespace vkrt::test {
+namespace {
+
+constexpr const char* kExpectedDeviceMessage = "VUID-vkCreateDevice-ppEnabledExtensionNames-01387";
+// The layer (1.3.239) predates VK_EXT_pipeline_library_group_handles: it does not know
+// VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT (sType 1000498000) in VkDeviceCreateInfo::pNext.
+constexpr const char* kUnknownStructMessage = "VUID-VkDeviceCreateInfo-pNext-pNext";
+// Every vkCreateRayTracingPipelinesKHR call: "Attempted to call vkCreateRayTracingPipelinesKHR() but its required
+// extension VK_KHR_acceleration_structure has not been enabled".
+constexpr const char* kExtensionNotEnabledMessage = "UNASSIGNED-GeneralParameterError-ExtensionNotEnabled";
+
+class RtTest : public VulkanTest {
+ protected:
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  bool libraryGroupHandles = true;
+  bool captureReplay = true;
+
+  virtual bool layer() { return true; }
+
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.validation = layer();
+    o.deviceExtensions = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME,
+                          VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+                          VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME};
+    rtf.rayTracingPipeline = VK_TRUE;
+    rtf.rayTracingPipelineShaderGroupHandleCaptureReplay = captureReplay;
+    rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed = captureReplay;
+    rtf.pNext = &lgh;
+    lgh.pipelineLibraryGroupHandles = libraryGroupHandles;
+    o.featureChain = &rtf;
+    return o;
+  }
+
+  void SetUp() override {
+    setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
+    VulkanTest::SetUp();
+    acceptKnownLayerMessages();
+    load(createPipelines, "vkCreateRayTracingPipelinesKHR");
+    load(getHandles, "vkGetRayTracingShaderGroupHandlesKHR");
+    load(getCapture, "vkGetRayTracingCaptureReplayShaderGroupHandlesKHR");
+    load(getStackSize, "vkGetRayTracingShaderGroupStackSizeKHR");
+    load(createOp, "vkCreateDeferredOperationKHR");
+    load(destroyOp, "vkDestroyDeferredOperationKHR");
+    load(joinOp, "vkDeferredOperationJoinKHR");
+    load(opResult, "vkGetDeferredOperationResultKHR");
+    load(opConcurrency, "vkGetDeferredOperationMaxConcurrencyKHR");
+    VkPushConstantRange pc{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, 8};
+    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    lci.pushConstantRangeCount = 1;
+    lci.pPushConstantRanges = &pc;
+    ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
+    raygen = module(kSpv_h4_raygen_rgen, sizeof(kSpv_h4_raygen_rgen));
+    raygenBig = module(kSpv_h4_raygen_big_rgen, sizeof(kSpv_h4_raygen_big_rgen));
+    miss = module(kSpv_h4_miss_rmiss, sizeof(kSpv_h4_miss_rmiss));
+    miss2 = module(kSpv_h4_miss2_rmiss, sizeof(kSpv_h4_miss2_rmiss));
+    missSpec = module(kSpv_h4_miss_spec_rmiss, sizeof(kSpv_h4_miss_spec_rmiss));
+    chit = module(kSpv_h4_chit_rchit, sizeof(kSpv_h4_chit_rchit));
+    chitCall = module(kSpv_h4_chit_callable_rchit, sizeof(kSpv_h4_chit_callable_rchit));
+    ahit = module(kSpv_h4_ahit_rahit, sizeof(kSpv_h4_ahit_rahit));
+    rint = module(kSpv_h4_rint_rint, sizeof(kSpv_h4_rint_rint));
+    call = module(kSpv_h4_call_rcall, sizeof(kSpv_h4_call_rcall));
+  }
+
+  // The layer messages caused by vkrt not having VK_KHR_acceleration_structure yet and by the layer being older
+  // than VK_EXT_pipeline_library_group_handles (see the top of this file): exactly these are accepted.
+  void acceptKnownLayerMessages() {
+    for (const Message& m : layerMessages()) {
+      bool expected =
+          (m.idName == kExpectedDeviceMessage && m.text.find("VK_KHR_acceleration_structure") != std::string::npos) ||
+          (m.idName == kUnknownStructMessage && m.text.find("(1000498000)") != std::string::npos) ||
+          (m.idName == "VUID_Undefined" &&
+           m.text.find("VK_EXT_pipeline_library_group_handles is not supported by this layer") != std::string::npos) ||
+          (m.idName == kExtensionNotEnabledMessage &&
+           m.text.find("its required extension VK_KHR_acceleration_structure has not been enabled") != std::string::npos);
+      EXPECT_TRUE(expected) << "unexpected validation message: " << m.text.substr(0, 300);
+    }
+    auto own = vkrtMessages();
+    clearMessages();
+    for (const Message& m : own) ADD_FAILURE() << "unexpected vkrt report: " << m.text;
+  }
+
+  void TearDown() override {
+    acceptKnownLayerMessages();
+    for (VkPipeline p : pipelines) vkDestroyPipeline(device, p, nullptr);
+    for (VkShaderModule m : modules) vkDestroyShaderModule(device, m, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    VulkanTest::TearDown();
+  }
+
+  template <class F>
+  void load(F& f, const char* name) {
+    f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
+    ASSERT_NE(f, nullptr) << name;
+  }
+
+  VkShaderModule module(const uint32_t* words, size_t bytes) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = words;
+    VkShaderModule m = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateShaderModule(device, &ci, nullptr, &m), VK_SUCCESS);
+    modules.push_back(m);
+    return m;
+  }
+
+  // A pipeline description being built.
+  struct Desc {
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    std::vector<VkRayTracingShaderGroupCreateInfoKHR> groups;
+    std::vector<VkPipeline> libraries;
+    VkPipelineCreateFlags flags = 0;
+    uint32_t depth = 1;
+    std::vector<std::vector<uint8_t>> capture;  // per group, empty for none
+
+    uint32_t stage(VkShaderModule m, VkShaderStageFlagBits s, const VkSpecializationInfo* spec = nullptr) {
+      VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+      st.stage = s;
+      st.module = m;
+      st.pName = "main";
+      st.pSpecializationInfo = spec;
+      stages.push_back(st);
+      return static_cast<uint32_t>(stages.size() - 1);
+    }
+    void group(VkRayTracingShaderGroupTypeKHR type, uint32_t general, uint32_t closest = VK_SHADER_UNUSED_KHR,
+               uint32_t any = VK_SHADER_UNUSED_KHR, uint32_t isect = VK_SHADER_UNUSED_KHR) {
+      VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+      g.type = type;
+      g.generalShader = general;
+      g.closestHitShader = closest;
+      g.anyHitShader = any;
+      g.intersectionShader = isect;
+      groups.push_back(g);
+    }
+    void general(VkShaderModule m, VkShaderStageFlagBits s, const VkSpecializationInfo* spec = nullptr) {
+      group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, stage(m, s, spec));
+    }
+  };
+
+  VkResult create(Desc& d, VkPipeline* out, VkDeferredOperationKHR op = VK_NULL_HANDLE,
+                  VkPipelineCache cache = VK_NULL_HANDLE) {
+    VkPipelineLibraryCreateInfoKHR lib{VK_STRUCTURE_TYPE_PIPELINE_LIBRARY_CREATE_INFO_KHR};
+    lib.libraryCount = static_cast<uint32_t>(d.libraries.size());
+    lib.pLibraries = d.libraries.data();
+    VkRayTracingPipelineInterfaceCreateInfoKHR iface{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_INTERFACE_CREATE_INFO_KHR};
+    iface.maxPipelineRayPayloadSize = 256;
+    iface.maxPipelineRayHitAttributeSize = 8;
+    for (size_t g = 0; g < d.capture.size() && g < d.groups.size(); ++g)
+      d.groups[g].pShaderGroupCaptureReplayHandle = d.capture[g].empty() ? nullptr : d.capture[g].data();
+    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    ci.flags = d.flags;
+    ci.stageCount = static_cast<uint32_t>(d.stages.size());
+    ci.pStages = d.stages.data();
+    ci.groupCount = static_cast<uint32_t>(d.groups.size());
+    ci.pGroups = d.groups.data();
+    ci.maxPipelineRayRecursionDepth = d.depth;
+    bool usesLibraries = !d.libraries.empty() || (d.flags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR);
+    ci.pLibraryInfo = d.libraries.empty() ? nullptr : &lib;
+    ci.pLibraryInterface = usesLibraries ? &iface : nullptr;
+    ci.layout = layout;
+    ci.basePipelineIndex = -1;
+    *out = VK_NULL_HANDLE;
+    VkResult r = createPipelines(device, op, cache, 1, &ci, nullptr, out);
+    if (op == VK_NULL_HANDLE && *out) pipelines.push_back(*out);
+    return r;
+  }
+
+  VkPipeline make(Desc& d) {
+    VkPipeline p = VK_NULL_HANDLE;
+    EXPECT_EQ(create(d, &p), VK_SUCCESS);
+    return p;
+  }
+
+  std::vector<uint8_t> handles(VkPipeline p, uint32_t first, uint32_t count) {
+    std::vector<uint8_t> out(32 * count, 0xcd);
+    EXPECT_EQ(getHandles(device, p, first, count, out.size(), out.data()), VK_SUCCESS);
+    return out;
+  }
+  std::vector<uint8_t> captureData(VkPipeline p, uint32_t count) {
+    std::vector<uint8_t> out(64 * count);
+    EXPECT_EQ(getCapture(device, p, 0, count, out.size(), out.data()), VK_SUCCESS);
+    return out;
+  }
+
+  // The six-group pipeline of the NVIDIA reference: raygen, two miss, triangle hit (chit + ahit), procedural
+  // hit (rint + chit), callable.
+  Desc sixGroups(VkPipelineCreateFlags flags = 0) {
+    Desc d;
+    d.flags = flags;
+    d.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    d.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
+    d.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+    uint32_t c = d.stage(chit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    uint32_t a = d.stage(ahit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, a);
+    uint32_t i = d.stage(rint, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR, i);
+    d.general(call, VK_SHADER_STAGE_CALLABLE_BIT_KHR);
+    return d;
+  }
+
+  PFN_vkCreateRayTracingPipelinesKHR createPipelines = nullptr;
+  PFN_vkGetRayTracingShaderGroupHandlesKHR getHandles = nullptr;
+  PFN_vkGetRayTracingCaptureReplayShaderGroupHandlesKHR getCapture = nullptr;
+  PFN_vkGetRayTracingShaderGroupStackSizeKHR getStackSize = nullptr;
+  PFN_vkCreateDeferredOperationKHR createOp = nullptr;
+  PFN_vkDestroyDeferredOperationKHR destroyOp = nullptr;
+  PFN_vkDeferredOperationJoinKHR joinOp = nullptr;
+  PFN_vkGetDeferredOperationResultKHR opResult = nullptr;
+  PFN_vkGetDeferredOperationMaxConcurrencyKHR opConcurrency = nullptr;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkShaderModule raygen{}, raygenBig{}, miss{}, miss2{}, missSpec{}, chit{}, chitCall{}, ahit{}, rint{}, call{};
+  std::vector<VkShaderModule> modules;
+  std::vector<VkPipeline> pipelines;
+};
+
+std::vector<uint8_t> slice(const std::vector<uint8_t>& v, size_t from, size_t n) {
+  return std::vector<uint8_t>(v.begin() + from, v.begin() + from + n);
+}
+
+std::string hexOf(const std::vector<uint8_t>& v) {
+  std::string s;
+  char b[3];
+  for (uint8_t x : v) {
+    std::snprintf(b, sizeof(b), "%02x", x);
+    s += b;
+  }
+  return s;
+}
+
+std::vector<uint8_t> fromHex(const std::string& s) {
+  std::vector<uint8_t> v;
+  for (size_t i = 0; i + 1 < s.size(); i += 2) v.push_back(static_cast<uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
+  return v;
+}
+
+// Runs this binary again with one helper test and VKRT_H4_OUT=<file>; returns the file's first line.
+std::string runHelper(const char* test, const std::string& extraEnvName = "", const std::string& extraEnvValue = "") {
+  char path[] = "/tmp/vkrt-h4-XXXXXX";
+  int fd = mkstemp(path);
+  EXPECT_GE(fd, 0);
+  close(fd);
+  pid_t pid = fork();
+  if (pid == 0) {
+    setenv("VKRT_H4_OUT", path, 1);
+    if (!extraEnvName.empty()) setenv(extraEnvName.c_str(), extraEnvValue.c_str(), 1);
+    std::string filter = std::string("--gtest_filter=") + test;
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    execl(VKRT_E2E_BINARY, VKRT_E2E_BINARY, filter.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "helper " << test << " failed";
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  unlink(path);
+  return line;
+}
+
+void writeOut(const std::string& text) {
+  std::ofstream out(std::getenv("VKRT_H4_OUT"));
+  out << text << "\n";
+}
+
+TEST_F(RtTest, PropertiesAndFeaturesMatchTheIssue) {
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p};
+  vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+  EXPECT_EQ(p.shaderGroupHandleSize, 32u);
+  EXPECT_EQ(p.shaderGroupBaseAlignment, 64u);
+  EXPECT_EQ(p.shaderGroupHandleAlignment, 32u);
+  EXPECT_EQ(p.maxRayRecursionDepth, 31u);
+  EXPECT_GE(p.maxShaderGroupStride, 4096u);
+  EXPECT_EQ(p.maxRayHitAttributeSize, 32u);
+  EXPECT_EQ(p.shaderGroupHandleCaptureReplaySize, 64u);
+  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT g{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &g};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(f.rayTracingPipeline && f.rayTracingPipelineShaderGroupHandleCaptureReplay &&
+              f.rayTracingPipelineShaderGroupHandleCaptureReplayMixed && f.rayTracingPipelineTraceRaysIndirect &&
+              f.rayTraversalPrimitiveCulling);
+  EXPECT_TRUE(g.pipelineLibraryGroupHandles);
+}
+
+TEST(RtPreview, ExtensionsOnlyWithThePreviewVariable) {
+  auto count = [](bool preview) {
+    if (preview) setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
+    else unsetenv("VKRT_PREVIEW_RAY_TRACING");
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.apiVersion = VK_API_VERSION_1_3;
+    ici.pApplicationInfo = &app;
+    VkInstance inst;
+    EXPECT_EQ(vkCreateInstance(&ici, nullptr, &inst), VK_SUCCESS);
+    uint32_t n = 1;
+    VkPhysicalDevice pd;
+    vkEnumeratePhysicalDevices(inst, &n, &pd);
+    uint32_t e = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &e, nullptr);
+    std::vector<VkExtensionProperties> ext(e);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &e, ext.data());
+    int found = 0;
+    for (auto& x : ext)
+      for (const char* want : {"VK_KHR_ray_tracing_pipeline", "VK_KHR_pipeline_library",
+                               "VK_EXT_pipeline_library_group_handles", "VK_KHR_deferred_host_operations"})
+        found += std::strcmp(x.extensionName, want) == 0;
+    vkDestroyInstance(inst, nullptr);
+    return found;
+  };
+  EXPECT_EQ(count(false), 0);
+  EXPECT_EQ(count(true), 4);
+}
+
+TEST_F(RtTest, HandlesAreDistinctContentDerivedAndSliced) {
+  Desc d = sixGroups();
+  VkPipeline a = make(d);
+  auto all = handles(a, 0, 6);
+  std::set<std::vector<uint8_t>> distinct;
+  for (int g = 0; g < 6; ++g) {
+    auto h = slice(all, 32 * g, 32);
+    EXPECT_NE(h, std::vector<uint8_t>(32, 0));
+    distinct.insert(h);
+  }
+  EXPECT_EQ(distinct.size(), 6u);
+  // The same content in another pipeline: bitwise identical.
+  Desc d2 = sixGroups();
+  VkPipeline b = make(d2);
+  EXPECT_EQ(handles(b, 0, 6), all);
+  // A sub-range is the slice of the full query; bytes past the last handle are untouched.
+  std::vector<uint8_t> buf(3 * 32 + 40, 0xab);
+  ASSERT_EQ(getHandles(device, a, 2, 3, buf.size(), buf.data()), VK_SUCCESS);
+  EXPECT_EQ(slice(buf, 0, 96), slice(all, 64, 96));
+  for (size_t i = 96; i < buf.size(); ++i) ASSERT_EQ(buf[i], 0xab) << i;
+  // A group that does something else gets another handle: miss2 in place of miss.
+  Desc d3;
+  d3.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d3.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline c = make(d3);
+  auto hc = handles(c, 0, 2);
+  EXPECT_EQ(slice(hc, 0, 32), slice(all, 0, 32));
+  EXPECT_EQ(slice(hc, 32, 32), slice(all, 64, 32));
+  EXPECT_NE(slice(hc, 32, 32), slice(all, 32, 32));
+}
+
+TEST_F(RtTest, SpecializationIsPartOfTheHandleAndHundredsOfGroupsAreDistinct) {
+  Desc d;
+  d.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  std::vector<uint32_t> values(300);
+  VkSpecializationMapEntry entry{0, 0, 4};
+  std::vector<VkSpecializationInfo> specs(300);
+  for (uint32_t i = 0; i < 300; ++i) {
+    values[i] = i;
+    specs[i] = {1, &entry, 4, &values[i]};
+  }
+  for (uint32_t i = 0; i < 300; ++i) d.general(missSpec, VK_SHADER_STAGE_MISS_BIT_KHR, &specs[i]);
+  VkPipeline p = make(d);
+  auto all = handles(p, 0, 301);
+  std::set<std::vector<uint8_t>> distinct;
+  for (int g = 0; g < 301; ++g) distinct.insert(slice(all, 32 * g, 32));
+  EXPECT_EQ(distinct.size(), 301u);
+  // Same specialization values again -> same handles.
+  VkPipeline q = make(d);
+  EXPECT_EQ(handles(q, 0, 301), all);
+}
+
+// Helper for the cross-process tests (skipped unless run by them).
+TEST_F(RtTest, HelperWriteHandles) {
+  if (!std::getenv("VKRT_H4_OUT")) GTEST_SKIP() << "helper: run by HandlesAreIdenticalInAnotherProcess";
+  Desc d = sixGroups();
+  writeOut(hexOf(handles(make(d), 0, 6)));
+}
+
+TEST_F(RtTest, HandlesAreIdenticalInAnotherProcess) {
+  // Some unrelated pipeline first, so the registries of the two processes differ in history.
+  Desc other;
+  other.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  make(other);
+  Desc d = sixGroups();
+  auto mine = handles(make(d), 0, 6);
+  EXPECT_EQ(runHelper("RtTest.HelperWriteHandles"), hexOf(mine));
+}
+
+TEST_F(RtTest, HelperWriteCapture) {
+  if (!std::getenv("VKRT_H4_OUT")) GTEST_SKIP() << "helper: run by CaptureInOneProcessReplayInAnother";
+  Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  VkPipeline p = make(d);
+  writeOut(hexOf(handles(p, 0, 6)) + " " + hexOf(captureData(p, 6)));
+}
+
+TEST_F(RtTest, CaptureInOneProcessReplayInAnother) {
+  std::string line = runHelper("RtTest.HelperWriteCapture");
+  auto space = line.find(' ');
+  ASSERT_NE(space, std::string::npos);
+  auto captured = fromHex(line.substr(0, space));
+  auto data = fromHex(line.substr(space + 1));
+  ASSERT_EQ(data.size(), 6u * 64);
+  // Unrelated pipelines first (Mixed).
+  Desc other;
+  other.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  other.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+  make(other);
+  Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  for (int g = 0; g < 6; ++g) d.capture.push_back(slice(data, 64 * g, 64));
+  VkPipeline p = make(d);
+  EXPECT_EQ(handles(p, 0, 6), captured);
+}
+
+TEST_F(RtTest, CaptureDestroyReplayInTheSameProcess) {
+  Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  VkPipeline p = VK_NULL_HANDLE;
+  ASSERT_EQ(create(d, &p), VK_SUCCESS);
+  auto h = handles(p, 0, 6);
+  auto data = captureData(p, 6);
+  vkDestroyPipeline(device, p, nullptr);
+  pipelines.erase(std::find(pipelines.begin(), pipelines.end(), p));
+  Desc other;
+  other.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  make(other);
+  Desc r = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  for (int g = 0; g < 6; ++g) r.capture.push_back(slice(data, 64 * g, 64));
+  EXPECT_EQ(handles(make(r), 0, 6), h);
+}
+
+TEST_F(RtTest, CaptureDataThatDoesNotMatchIsRefused) {
+  Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  auto data = captureData(make(d), 6);
+  struct Case {
+    const char* name;
+    int group;
+    std::vector<uint8_t> bytes;
+    const char* reason;
+  };
+  std::vector<Case> cases;
+  auto corrupt = slice(data, 64, 64);
+  corrupt[12] ^= 0x10;
+  cases.push_back({"corrupt", 1, corrupt, "corrupt"});
+  auto truncated = slice(data, 64, 64);
+  std::fill(truncated.begin() + 32, truncated.end(), 0);
+  cases.push_back({"truncated", 1, truncated, "magic"});
+  cases.push_back({"other shaders", 2, slice(data, 64, 64), "other shaders"});  // miss's data given to miss2
+  for (auto& c : cases) {
+    Desc r = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+    r.capture.resize(6);
+    r.capture[c.group] = c.bytes;
+    VkPipeline p = VK_NULL_HANDLE;
+    EXPECT_EQ(create(r, &p), VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS) << c.name;
+    EXPECT_EQ(p, VK_NULL_HANDLE);
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u) << c.name;
+    EXPECT_NE(msgs[0].text.find("pGroups[" + std::to_string(c.group) + "]"), std::string::npos) << msgs[0].text;
+    EXPECT_NE(msgs[0].text.find(c.reason), std::string::npos) << msgs[0].text;
+    clearMessages();
+  }
+}
+
+// The 1.3.239 layer drops VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT (unknown to it) from the
+// VkDeviceCreateInfo chain it passes down, so pipelineLibraryGroupHandles cannot be enabled through it: the
+// library tests run without the layer.
+class RtLibraryTest : public RtTest {
+ protected:
+  bool layer() override { return false; }
+};
+
+TEST_F(RtLibraryTest, LibrariesKeepTheirHandlesInEveryLinkingOrder) {
+  Desc a;  // library A: raygen + miss
+  a.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
+  a.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  a.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline libA = make(a);
+  Desc b;  // library B: triangle hit group + callable
+  b.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
+  uint32_t c = b.stage(chit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  b.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c);
+  b.general(call, VK_SHADER_STAGE_CALLABLE_BIT_KHR);
+  VkPipeline libB = make(b);
+  auto hA = handles(libA, 0, 2), hB = handles(libB, 0, 2);
+
+  Desc ab;
+  ab.libraries = {libA, libB};
+  auto hAB = handles(make(ab), 0, 4);
+  EXPECT_EQ(slice(hAB, 0, 64), hA);
+  EXPECT_EQ(slice(hAB, 64, 64), hB);
+  Desc ba;
+  ba.libraries = {libB, libA};
+  auto hBA = handles(make(ba), 0, 4);
+  EXPECT_EQ(slice(hBA, 0, 64), hB);
+  EXPECT_EQ(slice(hBA, 64, 64), hA);
+  // Nested: N links A only (no groups of its own); the pipeline links N and B, with its own miss2 group.
+  Desc n;
+  n.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
+  n.libraries = {libA};
+  VkPipeline libN = make(n);
+  EXPECT_EQ(handles(libN, 0, 2), hA);
+  Desc top;
+  top.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+  top.libraries = {libN, libB};
+  VkPipeline t = make(top);
+  auto hT = handles(t, 0, 5);
+  EXPECT_EQ(slice(hT, 32, 64), hA);
+  EXPECT_EQ(slice(hT, 96, 64), hB);
+  // The own group's handle is that of the same group anywhere else.
+  Desc solo;
+  solo.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  solo.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+  EXPECT_EQ(slice(hT, 0, 32), slice(handles(make(solo), 0, 2), 32, 32));
+  // Stack sizes come through linking unchanged (the library's figure, not a re-analysis).
+  EXPECT_EQ(getStackSize(device, t, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR),
+            getStackSize(device, libA, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR));
+  // Libraries may be destroyed after linking: the linked pipeline's handles stay.
+  vkDestroyPipeline(device, libA, nullptr);
+  pipelines.erase(std::find(pipelines.begin(), pipelines.end(), libA));
+  EXPECT_EQ(handles(t, 0, 5), hT);
+}
+
+TEST_F(RtTest, StackSizesPerShader) {
+  Desc d;
+  d.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  uint32_t c = d.stage(chitCall, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  uint32_t a = d.stage(ahit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, a);
+  uint32_t i = d.stage(rint, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, VK_SHADER_UNUSED_KHR,
+          VK_SHADER_UNUSED_KHR, i);
+  d.general(call, VK_SHADER_STAGE_CALLABLE_BIT_KHR);
+  VkPipeline p = make(d);
+  EXPECT_EQ(getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 256u + 16u);  // payload + frame
+  EXPECT_EQ(getStackSize(device, p, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);          // no calls
+  EXPECT_EQ(getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR), 32u);     // uint data + frame
+  EXPECT_EQ(getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_ANY_HIT_KHR), 0u);
+  EXPECT_EQ(getStackSize(device, p, 3, VK_SHADER_GROUP_SHADER_INTERSECTION_KHR), 0u);
+  EXPECT_EQ(getStackSize(device, p, 4, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);
+}
+
+TEST_F(RtTest, DeferredCreationRunsOnJoiningThreads) {
+  VkDeferredOperationKHR op = VK_NULL_HANDLE;
+  ASSERT_EQ(createOp(device, nullptr, &op), VK_SUCCESS);
+  Desc d1 = sixGroups(), d2 = sixGroups(), d3 = sixGroups();
+  d2.groups.pop_back();
+  d3.groups.resize(2);
+  std::vector<VkRayTracingPipelineCreateInfoKHR> cis;
+  for (Desc* d : {&d1, &d2, &d3}) {
+    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    ci.stageCount = static_cast<uint32_t>(d->stages.size());
+    ci.pStages = d->stages.data();
+    ci.groupCount = static_cast<uint32_t>(d->groups.size());
+    ci.pGroups = d->groups.data();
+    ci.maxPipelineRayRecursionDepth = 1;
+    ci.layout = layout;
+    ci.basePipelineIndex = -1;
+    cis.push_back(ci);
+  }
+  VkPipeline out[3] = {};
+  ASSERT_EQ(createPipelines(device, op, VK_NULL_HANDLE, 3, cis.data(), nullptr, out), VK_OPERATION_DEFERRED_KHR);
+  // Nothing ran yet: no thread joined.
+  EXPECT_EQ(opResult(device, op), VK_NOT_READY);
+  EXPECT_EQ(opConcurrency(device, op), 3u);
+  EXPECT_EQ(out[0], VK_NULL_HANDLE);
+  VkResult r1 = VK_ERROR_UNKNOWN, r2 = VK_ERROR_UNKNOWN;
+  std::thread t1([&] { r1 = joinOp(device, op); });
+  std::thread t2([&] { r2 = joinOp(device, op); });
+  t1.join();
+  t2.join();
+  // One joiner completes the operation (VK_SUCCESS); the other may have run out of work first (THREAD_DONE).
+  EXPECT_TRUE(r1 == VK_SUCCESS || r2 == VK_SUCCESS);
+  EXPECT_TRUE((r1 == VK_SUCCESS || r1 == VK_THREAD_DONE_KHR) && (r2 == VK_SUCCESS || r2 == VK_THREAD_DONE_KHR));
+  EXPECT_EQ(opResult(device, op), VK_SUCCESS);
+  EXPECT_EQ(opConcurrency(device, op), 0u);
+  EXPECT_EQ(joinOp(device, op), VK_SUCCESS);  // already complete
+  for (VkPipeline p : out) {
+    ASSERT_NE(p, VK_NULL_HANDLE);
+    pipelines.push_back(p);
+  }
+  Desc ref = sixGroups();
+  EXPECT_EQ(handles(out[0], 0, 6), handles(make(ref), 0, 6));
+  EXPECT_EQ(handles(out[2], 0, 2), slice(handles(out[0], 0, 6), 0, 64));
+  destroyOp(device, op, nullptr);
+}
+
+TEST_F(RtTest, StackSizeCommandAndDynamicStateAreAccepted) {
+  Desc d = sixGroups();
+  VkDynamicState ds = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
+  VkPipelineDynamicStateCreateInfo dsi{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dsi.dynamicStateCount = 1;
+  dsi.pDynamicStates = &ds;
+  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+  ci.stageCount = static_cast<uint32_t>(d.stages.size());
+  ci.pStages = d.stages.data();
+  ci.groupCount = static_cast<uint32_t>(d.groups.size());
+  ci.pGroups = d.groups.data();
+  ci.maxPipelineRayRecursionDepth = 1;
+  ci.pDynamicState = &dsi;
+  ci.layout = layout;
+  ci.basePipelineIndex = -1;
+  VkPipeline p = VK_NULL_HANDLE;
+  ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
+  pipelines.push_back(p);
+  auto setStack = reinterpret_cast<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(
+      vkGetDeviceProcAddr(device, "vkCmdSetRayTracingPipelineStackSizeKHR"));
+  ASSERT_NE(setStack, nullptr);
+  if (!commandPool) GTEST_SKIP() << "command buffers are not implemented yet";
+  VkCommandBuffer cb = beginOneTime();
+  setStack(cb, 4096);
+  submitAndWait(cb);
+}
+
+// Misuse: vkrt's own messages, with the layer off (it would report the same misuse).
+class RtMisuseTest : public RtTest {
+ protected:
+  bool layer() override { return false; }
+};
+
+TEST_F(RtMisuseTest, NvAliasResolves) {
+  // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command.
+  auto nv = reinterpret_cast<PFN_vkGetRayTracingShaderGroupHandlesNV>(
+      vkGetDeviceProcAddr(device, "vkGetRayTracingShaderGroupHandlesNV"));
+  ASSERT_NE(nv, nullptr);
+  Desc d = sixGroups();
+  VkPipeline pl = make(d);
+  std::vector<uint8_t> viaNv(6 * 32);
+  ASSERT_EQ(nv(device, pl, 0, 6, viaNv.size(), viaNv.data()), VK_SUCCESS);
+  EXPECT_EQ(viaNv, handles(pl, 0, 6));
+}
+
+TEST_F(RtMisuseTest, HandleQueryRules) {
+  Desc d = sixGroups();
+  VkPipeline p = make(d);
+  std::vector<uint8_t> buf(6 * 64, 0x5a);
+  const auto untouched = buf;
+  EXPECT_EQ(getHandles(device, p, 6, 1, buf.size(), buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-firstGroup-04050");
+  EXPECT_EQ(getHandles(device, p, 4, 3, buf.size(), buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-firstGroup-02419");
+  EXPECT_EQ(getHandles(device, p, 0, 6, 6 * 32 - 1, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-dataSize-02420");
+  EXPECT_EQ(getHandles(device, p, 0, 0, 0, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-dataSize-arraylength");
+  EXPECT_EQ(getHandles(device, reinterpret_cast<VkPipeline>(layout), 0, 1, 32, buf.data()),
+            VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-parameter");
+  // Capture/replay query on a pipeline created without the flag.
+  EXPECT_EQ(getCapture(device, p, 0, 1, 64, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-03607");
+  Desc c = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  VkPipeline cp = make(c);
+  EXPECT_EQ(getCapture(device, cp, 6, 1, 64, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-firstGroup-04051");
+  EXPECT_EQ(getCapture(device, cp, 5, 2, 128, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-firstGroup-03483");
+  EXPECT_EQ(getCapture(device, cp, 0, 2, 127, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-dataSize-03484");
+  EXPECT_EQ(getCapture(device, cp, 0, 0, 0, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-dataSize-arraylength");
+  EXPECT_EQ(buf, untouched);  // nothing written by any failing call
+  // Stack-size query rules: 0 and a report.
+  EXPECT_EQ(getStackSize(device, p, 6, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupStackSizeKHR-group-03608");
+  EXPECT_EQ(getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR), 0u);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupStackSizeKHR-groupShader-03609");
+  EXPECT_EQ(getStackSize(device, p, 3, VK_SHADER_GROUP_SHADER_INTERSECTION_KHR), 0u);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupStackSizeKHR-groupShader-03609");
+  EXPECT_EQ(getStackSize(device, p, 0, static_cast<VkShaderGroupShaderKHR>(7)), 0u);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupStackSizeKHR-groupShader-parameter");
+  EXPECT_EQ(getStackSize(device, reinterpret_cast<VkPipeline>(layout), 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupStackSizeKHR-pipeline-parameter");
+}
+
+TEST_F(RtMisuseTest, CreationRules) {
+  VkPipeline p = VK_NULL_HANDLE;
+  auto expectRule = [&](Desc& d, const char* vuid) {
+    EXPECT_EQ(create(d, &p), VK_ERROR_VALIDATION_FAILED_EXT) << vuid;
+    EXPECT_EQ(p, VK_NULL_HANDLE);
+    expectVkrtMessage(vuid);
+  };
+  {  // GENERAL group naming a closest-hit stage
+    Desc d = sixGroups();
+    d.groups[1].generalShader = 3;
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03474");
+  }
+  {
+    Desc d = sixGroups();
+    d.groups[0].anyHitShader = 4;
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03475");
+  }
+  {
+    Desc d = sixGroups();
+    d.groups[4].intersectionShader = VK_SHADER_UNUSED_KHR;
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03476");
+  }
+  {
+    Desc d = sixGroups();
+    d.groups[3].intersectionShader = 5;
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03477");
+  }
+  {
+    Desc d = sixGroups();
+    d.groups[3].closestHitShader = 4;  // the any-hit stage
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-closestHitShader-03478");
+  }
+  {
+    Desc d = sixGroups();
+    d.groups[3].anyHitShader = 3;  // the closest-hit stage
+    expectRule(d, "VUID-VkRayTracingShaderGroupCreateInfoKHR-anyHitShader-03479");
+  }
+  {
+    Desc d = sixGroups();
+    d.depth = 32;
+    expectRule(d, "VUID-VkRayTracingPipelineCreateInfoKHR-maxPipelineRayRecursionDepth-03589");
+  }
+  {  // capture data without the flag
+    Desc d = sixGroups();
+    d.capture.assign(6, std::vector<uint8_t>(64, 1));
+    expectRule(d, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03599");
+  }
+  {  // no raygen
+    Desc d;
+    d.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
+    expectRule(d, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425");
+  }
+  {  // a compute stage
+    Desc d = sixGroups();
+    d.stages[5].stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    expectRule(d, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-06899");
+  }
+  {  // entry point absent
+    Desc d = sixGroups();
+    d.stages[1].pName = "nope";
+    expectRule(d, "VUID-VkPipelineShaderStageCreateInfo-pName-00707");
+  }
+  {  // linking a pipeline that is not a library
+    Desc plain = sixGroups();
+    VkPipeline notLib = make(plain);
+    Desc d;
+    d.libraries = {notLib};
+    expectRule(d, "VUID-VkPipelineLibraryCreateInfoKHR-pLibraries-03381");
+  }
+  {  // recursion depth mismatch with a library
+    Desc a;
+    a.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
+    a.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    VkPipeline lib = make(a);
+    Desc d;
+    d.depth = 2;
+    d.libraries = {lib};
+    expectRule(d, "VUID-VkRayTracingPipelineCreateInfoKHR-pLibraries-03591");
+    Desc e;
+    e.flags = VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR;
+    e.libraries = {lib};
+    expectRule(e, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03594");
+  }
+}
+
+// Without pipelineLibraryGroupHandles / capture replay features: the feature-dependent rules.
+class RtNoFeaturesTest : public RtTest {
+ protected:
+  bool layer() override { return false; }
+  FixtureOptions options() override {
+    libraryGroupHandles = false;
+    captureReplay = false;
+    return RtTest::options();
+  }
+};
+
+TEST_F(RtNoFeaturesTest, LibraryAndCaptureQueriesNeedTheirFeatures) {
+  Desc a;
+  a.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
+  a.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  VkPipeline lib = make(a);
+  std::vector<uint8_t> buf(64, 0x11);
+  EXPECT_EQ(getHandles(device, lib, 0, 1, 32, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-07828");
+  Desc d = sixGroups();
+  VkPipeline p = make(d);
+  EXPECT_EQ(getCapture(device, p, 0, 1, 64, buf.data()), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage(
+      "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03606");
+  EXPECT_EQ(buf, std::vector<uint8_t>(64, 0x11));
+  Desc c = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
+  VkPipeline none = VK_NULL_HANDLE;
+  EXPECT_EQ(create(c, &none), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598");
+}
+
+}  // namespace
+}  // namespace vkrt::test

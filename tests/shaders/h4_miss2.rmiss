@@ -1,0 +1,4 @@
+#version 460
+#extension GL_EXT_ray_tracing : require
+layout(location = 0) rayPayloadInEXT vec4 payload;
+void main() { payload = vec4(1.0, 0.0, 0.0, 1.0); }
