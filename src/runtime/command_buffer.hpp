@@ -4,11 +4,20 @@
 // Every vkCmd* entry point: unwraps the command buffer with CommandBuffer::recording() (which checks that it
 // is live and in the recording state, and reports otherwise), validates its arguments, and appends one
 // closure with record(). The closure captures everything it needs by value (object pointers, copied
-// regions): the application may change or free its arrays after the call returns.
+// regions): the application may change or free its arrays after the call returns. An invalid command is
+// reported and not recorded.
+//
+// Lifecycle (the spec's state machine): Initial -> (begin) Recording -> (end) Executable -> (submit) Pending ->
+// (completion) Executable, or Invalid for ONE_TIME_SUBMIT; reset or begin returns to Initial/Recording; a
+// primary that executes a secondary becomes Invalid when that secondary is reset, re-recorded or freed.
+// vkCmdExecuteCommands records a closure that runs the secondary's closures inline, with a fresh ExecState
+// (secondaries inherit no bound state).
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <vector>
 
 #include "icd/object.hpp"
@@ -19,6 +28,7 @@ class CommandPool;
 class DescriptorSet;
 class Pipeline;
 class PipelineLayout;
+class Queue;
 
 // State a command buffer carries from one command to the next while it executes: bound pipelines,
 // descriptor sets and push constants, per bind point.
@@ -34,6 +44,7 @@ struct ExecState {
   BindState rayTracing;
   alignas(16) uint8_t pushConstants[256] = {};
   uint32_t rayTracingStackSize = 0;  // vkCmdSetRayTracingPipelineStackSizeKHR
+  Queue* queue = nullptr;            // the queue executing the commands
 };
 
 using Command = std::function<void(ExecState&)>;
@@ -46,10 +57,10 @@ class CommandBuffer : public Object {
   enum class State { Initial, Recording, Executable, Pending, Invalid };
 
   CommandBuffer(Device* dev, CommandPool* pool, VkCommandBufferLevel level);
+  ~CommandBuffer();  // unlinks from primaries/secondaries (primaries become Invalid)
 
   CommandPool* const pool;
   const VkCommandBufferLevel level;
-  State state = State::Initial;
   VkCommandBufferUsageFlags usage = 0;
   std::vector<Command> commands;
 
@@ -61,6 +72,31 @@ class CommandBuffer : public Object {
 
   // Runs every recorded command in order (on the queue worker).
   void execute(ExecState& state) const;
+
+  // The state as the spec defines it (Pending while any submission is executing).
+  State currentState() const;
+
+  // Back to the initial state (vkResetCommandBuffer, vkResetCommandPool, implicit reset of vkBeginCommandBuffer).
+  void reset(bool releaseResources);
+
+  // --- Used by vkQueueSubmit(2) (runtime/queue.cpp) ---
+  // Checks that the command buffer (and the secondaries it executes) can be submitted to `queue`, counting
+  // uses within this submission in `uses`. Reports (VUIDs of vkQueueSubmit or vkQueueSubmit2) and returns false.
+  bool checkSubmittable(const Queue* queue, bool submit2, uint32_t submitIndex, uint32_t index,
+                        std::map<const CommandBuffer*, uint32_t>& uses) const;
+  // Marks a submission (this and its secondaries become Pending) / its completion.
+  void markSubmitted();
+  void markCompleted();
+
+  // --- Used by the command entry points of runtime/command_buffer.cpp ---
+  State state = State::Initial;                 // guarded by the command-buffer mutex
+  uint32_t pending = 0;                         // submissions not completed yet
+  std::vector<CommandBuffer*> secondaries;      // executed by this primary (vkCmdExecuteCommands)
+  std::vector<CommandBuffer*> primaries;        // primaries that execute this secondary
+  uint32_t labelDepth = 0;                      // open vkCmdBeginDebugUtilsLabelEXT regions
+
+  // The mutex that guards every command buffer's state, pending count and links.
+  static std::mutex& stateMutex();
 };
 
 }  // namespace vkrt

@@ -1,9 +1,38 @@
-// VkQueue.
+// VkQueue: submissions execute in submission order on one worker thread per queue (started on the first
+// submission, joined by the destructor).
+//
+// A batch first waits for its wait semaphores (blocking the worker, so a later batch on this queue cannot
+// overtake it), then runs its command buffers, then signals its semaphores; the fence of a submission is
+// signaled after its last batch.
 #pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "icd/object.hpp"
 
 namespace vkrt {
+
+class CommandBuffer;
+class Fence;
+class Semaphore;
+
+struct SemaphoreOp {
+  Semaphore* semaphore;
+  uint64_t value;  // timeline value (ignored for binary semaphores)
+};
+
+struct Batch {
+  std::vector<SemaphoreOp> waits;
+  std::vector<CommandBuffer*> commandBuffers;
+  std::vector<SemaphoreOp> signals;
+  Fence* fence = nullptr;  // signaled after this batch (the last batch of a submission)
+};
 
 class Queue : public Object {
  public:
@@ -17,8 +46,32 @@ class Queue : public Object {
   const uint32_t index;
   const VkDeviceQueueCreateFlags flags;
 
+  // Starts the worker thread if it is not running yet; false if the thread could not be created.
+  bool startWorker();
+  // Appends batches (already validated and accounted for by the submitting call) to the queue.
+  void enqueue(std::vector<Batch>&& batches);
+
   // Blocks until everything submitted to this queue has executed.
   void waitIdle();
+
+  // True once the destructor runs: a worker blocked on a semaphore or event gives up (read under sync::mutex()).
+  bool abandoning() const { return abandon_; }
+
+  // Debug-utils label stack (vkQueueBegin/EndDebugUtilsLabelEXT), for reports.
+  std::mutex labelMutex;
+  std::vector<std::string> labels;
+
+ private:
+  void run();
+  void execute(Batch& batch);
+
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Batch> pending_;
+  bool busy_ = false;
+  bool stop_ = false;
+  bool abandon_ = false;  // guarded by sync::mutex()
+  std::thread worker_;
 };
 
 }  // namespace vkrt

@@ -1,0 +1,392 @@
+#include "runtime/command_buffer.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "runtime/command_pool.hpp"
+#include "runtime/device.hpp"
+#include "runtime/queue.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+namespace {
+
+const char* stateName(CommandBuffer::State s) {
+  switch (s) {
+    case CommandBuffer::State::Initial: return "initial";
+    case CommandBuffer::State::Recording: return "recording";
+    case CommandBuffer::State::Executable: return "executable";
+    case CommandBuffer::State::Pending: return "pending";
+    case CommandBuffer::State::Invalid: return "invalid";
+  }
+  return "?";
+}
+
+// The spec's state; the caller holds stateMutex().
+CommandBuffer::State observed(const CommandBuffer* cb) {
+  return cb->pending ? CommandBuffer::State::Pending : cb->state;
+}
+
+// Forgets the secondaries this primary executes (caller holds stateMutex()).
+void unlinkSecondaries(CommandBuffer* cb) {
+  for (CommandBuffer* sec : cb->secondaries) std::erase(sec->primaries, cb);
+  cb->secondaries.clear();
+}
+
+// A secondary that is reset, re-recorded or freed invalidates the primaries that execute it (caller holds
+// stateMutex(); such primaries are not pending, or the secondary would be pending too).
+void unlinkPrimaries(CommandBuffer* cb) {
+  for (CommandBuffer* prim : cb->primaries) {
+    std::erase(prim->secondaries, cb);
+    prim->state = CommandBuffer::State::Invalid;
+  }
+  cb->primaries.clear();
+}
+
+}  // namespace
+
+std::mutex& CommandBuffer::stateMutex() {
+  static std::mutex* m = new std::mutex;  // never destroyed: queue workers may outlive static destruction
+  return *m;
+}
+
+CommandBuffer::CommandBuffer(Device* dev, CommandPool* p, VkCommandBufferLevel l)
+    : Object(kType, dev->instance, dev), pool(p), level(l) {}
+
+CommandBuffer::~CommandBuffer() {
+  std::lock_guard lock(stateMutex());
+  unlinkSecondaries(this);
+  unlinkPrimaries(this);
+}
+
+CommandBuffer::State CommandBuffer::currentState() const {
+  std::lock_guard lock(stateMutex());
+  return observed(this);
+}
+
+CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) {
+  CommandBuffer* cb = fromHandle<CommandBuffer>(h);
+  if (!cb) {
+    std::string vuid = std::string("VUID-") + command + "-commandBuffer-parameter";
+    report(nullptr, Severity::Error, vuid.c_str(), "%s: 0x%llx is not a live VkCommandBuffer", command,
+           (unsigned long long)rawHandle(h));
+    return nullptr;
+  }
+  State st;
+  {
+    std::lock_guard lock(stateMutex());
+    st = observed(cb);
+  }
+  // VUID-vkCmd*-commandBuffer-recording
+  if (st != State::Recording) {
+    std::string vuid = std::string("VUID-") + command + "-commandBuffer-recording";
+    report(cb, Severity::Error, vuid.c_str(), "%s: the command buffer is in the %s state, not the recording state",
+           command, stateName(st));
+    return nullptr;
+  }
+  return cb;
+}
+
+void CommandBuffer::execute(ExecState& st) const {
+  for (const Command& c : commands) c(st);
+}
+
+void CommandBuffer::reset(bool releaseResources) {
+  std::vector<Command> old;
+  {
+    std::lock_guard lock(stateMutex());
+    unlinkSecondaries(this);
+    unlinkPrimaries(this);
+    old.swap(commands);
+    if (!releaseResources) commands.reserve(old.capacity());
+    state = State::Initial;
+    usage = 0;
+    labelDepth = 0;
+  }
+  // `old`'s closures are destroyed here, outside the lock.
+}
+
+bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, uint32_t i,
+                                     std::map<const CommandBuffer*, uint32_t>& uses) const {
+  const char* fn = v2 ? "vkQueueSubmit2" : "vkQueueSubmit";
+  // VUID-VkSubmitInfo-pCommandBuffers-00075, VUID-VkCommandBufferSubmitInfo-commandBuffer-03890
+  if (level != VK_COMMAND_BUFFER_LEVEL_PRIMARY) {
+    report(this, Severity::Error,
+           v2 ? "VUID-VkCommandBufferSubmitInfo-commandBuffer-03890" : "VUID-VkSubmitInfo-pCommandBuffers-00075",
+           "%s: pSubmits[%u] command buffer %u is a secondary command buffer", fn, si, i);
+    return false;
+  }
+  // VUID-vkQueueSubmit-pCommandBuffers-00074, VUID-vkQueueSubmit2-commandBuffer-03878
+  if (pool->queueFamilyIndex != queue->family) {
+    report(this, Severity::Error,
+           v2 ? "VUID-vkQueueSubmit2-commandBuffer-03878" : "VUID-vkQueueSubmit-pCommandBuffers-00074",
+           "%s: pSubmits[%u] command buffer %u comes from a pool of queue family %u; the queue is of family %u", fn,
+           si, i, pool->queueFamilyIndex, queue->family);
+    return false;
+  }
+  std::lock_guard lock(stateMutex());
+  State st = observed(this);
+  // VUID-vkQueueSubmit-pCommandBuffers-00070, VUID-vkQueueSubmit2-commandBuffer-03874
+  if (st != State::Executable && st != State::Pending) {
+    report(this, Severity::Error,
+           v2 ? "VUID-vkQueueSubmit2-commandBuffer-03874" : "VUID-vkQueueSubmit-pCommandBuffers-00070",
+           "%s: pSubmits[%u] command buffer %u is in the %s state, not executable or pending", fn, si, i,
+           stateName(st));
+    return false;
+  }
+  // VUID-vkQueueSubmit-pCommandBuffers-00071, VUID-vkQueueSubmit2-commandBuffer-03875
+  if (!(usage & VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT) && (st == State::Pending || uses[this])) {
+    report(this, Severity::Error,
+           v2 ? "VUID-vkQueueSubmit2-commandBuffer-03875" : "VUID-vkQueueSubmit-pCommandBuffers-00071",
+           "%s: pSubmits[%u] command buffer %u is already pending and was not recorded with "
+           "VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT", fn, si, i);
+    return false;
+  }
+  for (const CommandBuffer* sec : secondaries) {
+    State ss = observed(sec);
+    // VUID-vkQueueSubmit-pCommandBuffers-00072, VUID-vkQueueSubmit2-commandBuffer-03876
+    if (ss != State::Executable && ss != State::Pending) {
+      report(sec, Severity::Error,
+             v2 ? "VUID-vkQueueSubmit2-commandBuffer-03876" : "VUID-vkQueueSubmit-pCommandBuffers-00072",
+             "%s: a secondary command buffer executed by pSubmits[%u] command buffer %u is in the %s state", fn, si,
+             i, stateName(ss));
+      return false;
+    }
+    // VUID-vkQueueSubmit-pCommandBuffers-00073, VUID-vkQueueSubmit2-commandBuffer-03877
+    if (!(sec->usage & VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT) && (ss == State::Pending || uses[sec])) {
+      report(sec, Severity::Error,
+             v2 ? "VUID-vkQueueSubmit2-commandBuffer-03877" : "VUID-vkQueueSubmit-pCommandBuffers-00073",
+             "%s: a secondary command buffer executed by pSubmits[%u] command buffer %u is already pending and was "
+             "not recorded with VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT", fn, si, i);
+      return false;
+    }
+  }
+  ++uses[this];
+  for (const CommandBuffer* sec : secondaries) ++uses[sec];
+  return true;
+}
+
+void CommandBuffer::markSubmitted() {
+  std::lock_guard lock(stateMutex());
+  ++pending;
+  if (usage & VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT) state = State::Invalid;  // once execution completes
+  for (CommandBuffer* sec : secondaries) {
+    ++sec->pending;
+    if (sec->usage & VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT) sec->state = State::Invalid;
+  }
+}
+
+void CommandBuffer::markCompleted() {
+  std::lock_guard lock(stateMutex());
+  --pending;
+  for (CommandBuffer* sec : secondaries) --sec->pending;
+}
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+namespace {
+
+CommandBuffer* liveCommandBuffer(VkCommandBuffer h, const char* fn, const char* vuid) {
+  CommandBuffer* cb = fromHandle<CommandBuffer>(h);
+  if (!cb)
+    report(nullptr, Severity::Error, vuid, "%s: 0x%llx is not a live VkCommandBuffer", fn, (unsigned long long)rawHandle(h));
+  return cb;
+}
+
+}  // namespace
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_BeginCommandBuffer(VkCommandBuffer commandBuffer,
+                                                       const VkCommandBufferBeginInfo* pBeginInfo) {
+  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkBeginCommandBuffer",
+                                        "VUID-vkBeginCommandBuffer-commandBuffer-parameter");
+  if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
+  const bool secondary = cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY;
+  CommandBuffer::State st = cb->currentState();
+  // VUID-vkBeginCommandBuffer-commandBuffer-00049
+  if (st == CommandBuffer::State::Recording || st == CommandBuffer::State::Pending) {
+    report(cb, Severity::Error, "VUID-vkBeginCommandBuffer-commandBuffer-00049",
+           "vkBeginCommandBuffer: the command buffer is in the %s state", stateName(st));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkBeginCommandBuffer-commandBuffer-00050
+  if (st != CommandBuffer::State::Initial && !cb->pool->canResetBuffers()) {
+    report(cb, Severity::Error, "VUID-vkBeginCommandBuffer-commandBuffer-00050",
+           "vkBeginCommandBuffer: the command buffer is in the %s state and its pool was created without "
+           "VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, so it cannot be reset implicitly", stateName(st));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkBeginCommandBuffer-commandBuffer-00051
+  if (secondary && !pBeginInfo->pInheritanceInfo) {
+    report(cb, Severity::Error, "VUID-vkBeginCommandBuffer-commandBuffer-00051",
+           "vkBeginCommandBuffer: a secondary command buffer needs pBeginInfo->pInheritanceInfo");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkBeginCommandBuffer-commandBuffer-02840
+  if (!secondary && (pBeginInfo->flags & VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT) &&
+      (pBeginInfo->flags & VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT)) {
+    report(cb, Severity::Error, "VUID-vkBeginCommandBuffer-commandBuffer-02840",
+           "vkBeginCommandBuffer: a primary command buffer cannot be both ONE_TIME_SUBMIT and SIMULTANEOUS_USE");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkCommandBufferBeginInfo-flags-00053: RENDER_PASS_CONTINUE needs a render pass, and vkrt has none
+  if (secondary && (pBeginInfo->flags & VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT)) {
+    report(cb, Severity::Error, "VUID-VkCommandBufferBeginInfo-flags-00053",
+           "vkBeginCommandBuffer: VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT needs a valid render pass in "
+           "pInheritanceInfo; vkrt has no render passes");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  cb->reset(false);
+  std::lock_guard lock(CommandBuffer::stateMutex());
+  cb->state = CommandBuffer::State::Recording;
+  cb->usage = pBeginInfo->flags;
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_EndCommandBuffer(VkCommandBuffer commandBuffer) {
+  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkEndCommandBuffer", "VUID-vkEndCommandBuffer-commandBuffer-parameter");
+  if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
+  std::lock_guard lock(CommandBuffer::stateMutex());
+  CommandBuffer::State st = observed(cb);
+  // VUID-vkEndCommandBuffer-commandBuffer-00059
+  if (st != CommandBuffer::State::Recording) {
+    report(cb, Severity::Error, "VUID-vkEndCommandBuffer-commandBuffer-00059",
+           "vkEndCommandBuffer: the command buffer is in the %s state, not the recording state", stateName(st));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkEndCommandBuffer-commandBuffer-01815
+  if (cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY && cb->labelDepth) {
+    report(cb, Severity::Error, "VUID-vkEndCommandBuffer-commandBuffer-01815",
+           "vkEndCommandBuffer: the secondary command buffer has %u debug label regions still open", cb->labelDepth);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  cb->state = CommandBuffer::State::Executable;
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_ResetCommandBuffer(VkCommandBuffer commandBuffer, VkCommandBufferResetFlags flags) {
+  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkResetCommandBuffer", "VUID-vkResetCommandBuffer-commandBuffer-parameter");
+  if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
+  // VUID-vkResetCommandBuffer-commandBuffer-00045
+  if (cb->currentState() == CommandBuffer::State::Pending) {
+    report(cb, Severity::Error, "VUID-vkResetCommandBuffer-commandBuffer-00045",
+           "vkResetCommandBuffer: the command buffer is pending execution");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkResetCommandBuffer-commandBuffer-00046
+  if (!cb->pool->canResetBuffers()) {
+    report(cb, Severity::Error, "VUID-vkResetCommandBuffer-commandBuffer-00046",
+           "vkResetCommandBuffer: the pool was created without VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  cb->reset((flags & VK_COMMAND_BUFFER_RESET_RELEASE_RESOURCES_BIT) != 0);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdExecuteCommands(VkCommandBuffer commandBuffer, uint32_t commandBufferCount,
+                                                   const VkCommandBuffer* pCommandBuffers) {
+  const char* fn = "vkCmdExecuteCommands";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  // VUID-vkCmdExecuteCommands-bufferlevel
+  if (cb->level != VK_COMMAND_BUFFER_LEVEL_PRIMARY) {
+    report(cb, Severity::Error, "VUID-vkCmdExecuteCommands-bufferlevel",
+           "%s: commandBuffer is a secondary command buffer; only primaries execute secondaries", fn);
+    return;
+  }
+  // VUID-vkCmdExecuteCommands-commandBufferCount-arraylength
+  if (commandBufferCount == 0) {
+    report(cb, Severity::Error, "VUID-vkCmdExecuteCommands-commandBufferCount-arraylength",
+           "%s: commandBufferCount must be greater than 0", fn);
+    return;
+  }
+  std::vector<CommandBuffer*> secs(commandBufferCount);
+  std::lock_guard lock(CommandBuffer::stateMutex());
+  for (uint32_t i = 0; i < commandBufferCount; ++i) {
+    CommandBuffer* sec = fromHandle<CommandBuffer>(pCommandBuffers[i]);
+    if (!sec) {
+      report(cb, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-parameter",
+             "%s: pCommandBuffers[%u] 0x%llx is not a live VkCommandBuffer", fn, i,
+             (unsigned long long)rawHandle(pCommandBuffers[i]));
+      return;
+    }
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00088
+    if (sec->level != VK_COMMAND_BUFFER_LEVEL_SECONDARY) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00088",
+             "%s: pCommandBuffers[%u] is a primary command buffer", fn, i);
+      return;
+    }
+    CommandBuffer::State st = observed(sec);
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00089
+    if (st != CommandBuffer::State::Executable && st != CommandBuffer::State::Pending) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00089",
+             "%s: pCommandBuffers[%u] is in the %s state, not executable or pending", fn, i, stateName(st));
+      return;
+    }
+    const bool simultaneous = sec->usage & VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT;
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00091
+    if (!simultaneous && st == CommandBuffer::State::Pending) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00091",
+             "%s: pCommandBuffers[%u] is pending and was not recorded with SIMULTANEOUS_USE", fn, i);
+      return;
+    }
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00092
+    if (!simultaneous && std::find(cb->secondaries.begin(), cb->secondaries.end(), sec) != cb->secondaries.end()) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00092",
+             "%s: pCommandBuffers[%u] was already recorded into this command buffer and was not recorded with "
+             "SIMULTANEOUS_USE", fn, i);
+      return;
+    }
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00093
+    if (!simultaneous && std::find(secs.begin(), secs.begin() + i, sec) != secs.begin() + i) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00093",
+             "%s: pCommandBuffers[%u] appears more than once and was not recorded with SIMULTANEOUS_USE", fn, i);
+      return;
+    }
+    // VUID-vkCmdExecuteCommands-pCommandBuffers-00094
+    if (sec->pool->queueFamilyIndex != cb->pool->queueFamilyIndex) {
+      report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00094",
+             "%s: pCommandBuffers[%u] comes from a pool of another queue family", fn, i);
+      return;
+    }
+    secs[i] = sec;
+  }
+  for (CommandBuffer* sec : secs) {
+    cb->secondaries.push_back(sec);
+    sec->primaries.push_back(cb);
+    cb->record([sec](ExecState& outer) {
+      ExecState inner;  // secondaries inherit no bound state
+      inner.queue = outer.queue;
+      sec->execute(inner);
+    });
+  }
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBeginDebugUtilsLabelEXT(VkCommandBuffer commandBuffer, const VkDebugUtilsLabelEXT*) {
+  if (CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBeginDebugUtilsLabelEXT")) ++cb->labelDepth;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdEndDebugUtilsLabelEXT(VkCommandBuffer commandBuffer) {
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdEndDebugUtilsLabelEXT");
+  if (!cb) return;
+  if (cb->labelDepth) {
+    --cb->labelDepth;
+    return;
+  }
+  // VUID-vkCmdEndDebugUtilsLabelEXT-commandBuffer-01913 (a primary may close a region opened by an earlier
+  // command buffer on the queue: VUID-vkCmdEndDebugUtilsLabelEXT-commandBuffer-01912 is a submit-time rule)
+  if (cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY)
+    report(cb, Severity::Error, "VUID-vkCmdEndDebugUtilsLabelEXT-commandBuffer-01913",
+           "vkCmdEndDebugUtilsLabelEXT: the secondary command buffer has no open debug label region");
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdInsertDebugUtilsLabelEXT(VkCommandBuffer commandBuffer, const VkDebugUtilsLabelEXT*) {
+  CommandBuffer::recording(commandBuffer, "vkCmdInsertDebugUtilsLabelEXT");  // a label records nothing
+}
+
+}  // extern "C"
