@@ -52,7 +52,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features10.fullDrawIndexUint32 = VK_TRUE;
   features10.independentBlend = VK_FALSE;
   features10.samplerAnisotropy = VK_FALSE;
-  features10.shaderInt64 = VK_FALSE;
+  // 64-bit integers and doubles in shaders: src/spirv (tests/spirv SixtyFourBitIntegersAndDoubles).
+  features10.shaderInt64 = VK_TRUE;
+  features10.shaderFloat64 = VK_TRUE;
 
   features12.timelineSemaphore = VK_TRUE;
   features12.bufferDeviceAddress = VK_TRUE;

@@ -80,6 +80,7 @@ void VulkanTest::SetUp() {
   }
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &f12};
   f13.synchronization2 = VK_TRUE;
+  f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
   f2.features = opt.features;
 

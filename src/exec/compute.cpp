@@ -1,0 +1,205 @@
+#include "exec/compute.hpp"
+
+#include <sys/mman.h>
+#include <ucontext.h>
+
+#include <atomic>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "exec/thread_pool.hpp"
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/common_interface_defs.h>
+#define VKRT_ASAN_FIBERS 1
+#endif
+
+namespace vkrt::exec {
+
+namespace {
+
+using spirv::InvocationContext;
+
+constexpr size_t kFiberStackBytes = 256 * 1024;  // usable bytes; a guard page sits below each stack
+constexpr size_t kGuardBytes = 4096;
+
+struct Scheduler;
+
+struct Fiber {
+  ucontext_t context;
+  uint8_t* stack = nullptr;  // usable stack (the guard page is just below)
+  InvocationContext inv;
+  bool done = false;
+  Scheduler* scheduler = nullptr;
+};
+
+struct Scheduler {
+  ucontext_t main;
+  spirv::ComputeEntry entry = nullptr;
+  const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
+  size_t mainSize = 0;
+};
+
+// Per worker thread: fiber stacks, workgroup memory and the sink, reused from dispatch to dispatch.
+struct WorkerScratch {
+  std::vector<uint8_t*> stacks;  // mmap'd regions (guard page + stack)
+  std::unique_ptr<Fiber[]> fibers;
+  size_t fiberCount = 0;
+  std::vector<uint64_t> workgroupMemory;  // 8-byte aligned; sized in bytes / 8
+  alignas(16) uint8_t sink[spirv::kSinkBytes];
+
+  ~WorkerScratch() {
+    for (uint8_t* s : stacks) munmap(s, kFiberStackBytes + kGuardBytes);
+  }
+  bool ensureFibers(size_t n) {
+    while (stacks.size() < n) {
+      void* p = mmap(nullptr, kFiberStackBytes + kGuardBytes, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+      if (p == MAP_FAILED) return false;
+      mprotect(p, kGuardBytes, PROT_NONE);  // a stack overflow faults instead of corrupting memory
+      stacks.push_back(static_cast<uint8_t*>(p));
+    }
+    if (fiberCount < n) {
+      fibers.reset(new (std::nothrow) Fiber[n]);
+      if (!fibers) return false;
+      fiberCount = n;
+    }
+    return true;
+  }
+};
+
+thread_local Fiber* tlsStarting = nullptr;
+
+void noBarrier(InvocationContext*) {}
+
+void fiberMain() {
+  Fiber* f = tlsStarting;
+#if VKRT_ASAN_FIBERS
+  __sanitizer_finish_switch_fiber(nullptr, &f->scheduler->mainBottom, &f->scheduler->mainSize);
+#endif
+  f->scheduler->entry(&f->inv);
+  f->done = true;
+#if VKRT_ASAN_FIBERS
+  __sanitizer_start_switch_fiber(nullptr, f->scheduler->mainBottom, f->scheduler->mainSize);
+#endif
+  // Returning resumes uc_link: the scheduler.
+}
+
+// OpControlBarrier(Workgroup): back to the scheduler, which runs the other invocations up to the barrier.
+void fiberBarrier(InvocationContext* inv) {
+  Fiber* f = static_cast<Fiber*>(inv->executor);
+  Scheduler* s = f->scheduler;
+#if VKRT_ASAN_FIBERS
+  void* fake = nullptr;
+  __sanitizer_start_switch_fiber(&fake, s->mainBottom, s->mainSize);
+#endif
+  swapcontext(&f->context, &s->main);
+#if VKRT_ASAN_FIBERS
+  __sanitizer_finish_switch_fiber(fake, &s->mainBottom, &s->mainSize);
+#endif
+}
+
+void resume(Scheduler& s, Fiber& f) {
+#if VKRT_ASAN_FIBERS
+  void* fake = nullptr;
+  __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
+#endif
+  tlsStarting = &f;
+  swapcontext(&s.main, &f.context);
+#if VKRT_ASAN_FIBERS
+  __sanitizer_finish_switch_fiber(fake, nullptr, nullptr);
+#endif
+}
+
+void setIds(InvocationContext& inv, const uint32_t wg[3], const uint32_t local[3], const uint32_t size[3]) {
+  for (int i = 0; i < 3; ++i) {
+    inv.workgroupId[i] = wg[i];
+    inv.localId[i] = local[i];
+    inv.globalId[i] = wg[i] * size[i] + local[i];
+  }
+  inv.localIndex = (local[2] * size[1] + local[1]) * size[0] + local[0];
+}
+
+}  // namespace
+
+bool runCompute(const ComputeDispatch& d) {
+  const spirv::CompiledShader& sh = *d.shader;
+  const uint32_t* size = sh.localSize;
+  uint64_t groups = uint64_t(d.count[0]) * d.count[1] * d.count[2];
+  uint64_t invocations = uint64_t(size[0]) * size[1] * size[2];
+  if (groups == 0 || invocations == 0) return true;
+  bool ok = true;
+
+  InvocationContext proto{};
+  for (int i = 0; i < 3; ++i) {
+    proto.numWorkgroups[i] = d.count[i];
+    proto.workgroupSize[i] = size[i];
+  }
+  proto.resources = d.resources;
+  proto.pushConstants = d.pushConstants;
+  proto.barrier = sh.usesBarrier ? fiberBarrier : noBarrier;
+
+  std::atomic<bool> failed{false};
+  ThreadPool::instance().parallelFor(groups, [&](uint64_t g, unsigned) {
+    thread_local WorkerScratch scratch;
+    uint32_t wg[3] = {uint32_t(g % d.count[0]) + d.base[0], uint32_t(g / d.count[0] % d.count[1]) + d.base[1],
+                      uint32_t(g / (uint64_t(d.count[0]) * d.count[1])) + d.base[2]};
+    size_t wgBytes = sh.workgroupMemorySize;
+    if (scratch.workgroupMemory.size() * 8 < wgBytes) scratch.workgroupMemory.resize((wgBytes + 7) / 8);
+    uint8_t* wgMem = reinterpret_cast<uint8_t*>(scratch.workgroupMemory.data());
+    if (wgBytes) std::memset(wgMem, 0, wgBytes);
+
+    if (!sh.usesBarrier) {
+      InvocationContext inv = proto;
+      inv.workgroupMemory = wgMem;
+      inv.sink = scratch.sink;
+      uint32_t local[3];
+      for (local[2] = 0; local[2] < size[2]; ++local[2])
+        for (local[1] = 0; local[1] < size[1]; ++local[1])
+          for (local[0] = 0; local[0] < size[0]; ++local[0]) {
+            setIds(inv, wg, local, size);
+            sh.entry(&inv);
+          }
+      return;
+    }
+
+    if (!scratch.ensureFibers(invocations)) {
+      failed = true;
+      return;
+    }
+    Scheduler s;
+    s.entry = sh.entry;
+    for (uint64_t i = 0; i < invocations; ++i) {
+      Fiber& f = scratch.fibers[i];
+      f.done = false;
+      f.scheduler = &s;
+      f.stack = scratch.stacks[i] + kGuardBytes;
+      f.inv = proto;
+      f.inv.workgroupMemory = wgMem;
+      f.inv.sink = scratch.sink;
+      f.inv.executor = &f;
+      uint32_t local[3] = {uint32_t(i % size[0]), uint32_t(i / size[0] % size[1]), uint32_t(i / (uint64_t(size[0]) * size[1]))};
+      setIds(f.inv, wg, local, size);
+      getcontext(&f.context);
+      f.context.uc_stack.ss_sp = f.stack;
+      f.context.uc_stack.ss_size = kFiberStackBytes;
+      f.context.uc_link = &s.main;
+      makecontext(&f.context, fiberMain, 0);
+    }
+    // Round-robin: each round takes every unfinished invocation to its next barrier (or its end).
+    for (bool again = true; again;) {
+      again = false;
+      for (uint64_t i = 0; i < invocations; ++i) {
+        Fiber& f = scratch.fibers[i];
+        if (f.done) continue;
+        resume(s, f);
+        again |= !f.done;
+      }
+    }
+  });
+  if (failed) ok = false;
+  return ok;
+}
+
+}  // namespace vkrt::exec

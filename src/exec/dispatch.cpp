@@ -1,0 +1,194 @@
+// vkCmdDispatch, vkCmdDispatchBase, vkCmdDispatchIndirect: recorded as closures that, at execution, resolve the
+// bound compute pipeline's resources from the bound descriptor sets and run the workgroups on the thread pool.
+#include <cstring>
+#include <vector>
+
+#include "exec/compute.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/command_buffer.hpp"
+#include "runtime/compute_pipeline.hpp"
+#include "runtime/descriptor_set.hpp"
+#include "runtime/device.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt::exec {
+namespace {
+
+using ull = unsigned long long;
+
+// Runs a dispatch with the state bound when the command executes. `cb` is only used to name reports.
+void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base[3], const uint32_t count[3], const char* fn) {
+  const BindState& bs = st.compute;
+  // VUID-vkCmdDispatch-None-02700 (a compute pipeline must be bound)
+  if (!bs.pipeline || bs.pipeline->bindPoint != VK_PIPELINE_BIND_POINT_COMPUTE) {
+    report(cb, Severity::Error, "VUID-vkCmdDispatch-None-02700", "%s: no compute pipeline is bound; the dispatch is skipped", fn);
+    return;
+  }
+  const auto* pipeline = static_cast<const ComputePipeline*>(bs.pipeline);
+  // VUID-vkCmdDispatchBase-baseGroupX-00427
+  if ((base[0] || base[1] || base[2]) && !(pipeline->createFlags & VK_PIPELINE_CREATE_DISPATCH_BASE_BIT)) {
+    report(cb, Severity::Error, "VUID-vkCmdDispatchBase-baseGroupX-00427",
+           "%s: base workgroup (%u, %u, %u) is not zero but the bound pipeline was created without "
+           "VK_PIPELINE_CREATE_DISPATCH_BASE_BIT; the dispatch is skipped", fn, base[0], base[1], base[2]);
+    return;
+  }
+  const spirv::CompiledShader& sh = *pipeline->shader;
+  // The records of every binding the shader uses; dynamic buffers get copies with their dynamic offset added.
+  std::vector<spirv::ResourceSlot> slots(sh.resources.size());
+  std::vector<std::vector<DescriptorRecord>> dynamicCopies;
+  for (size_t i = 0; i < sh.resources.size(); ++i) {
+    const spirv::ResourceBinding& rb = sh.resources[i];
+    slots[i] = {nullptr, 0};
+    const DescriptorSet* set = rb.set < 8 ? bs.sets[rb.set] : nullptr;
+    const DescriptorBinding* b = set ? set->layout->bindingAt(rb.binding) : nullptr;
+    // VUID-vkCmdDispatch-None-02697 (every set the pipeline uses must be bound)
+    if (!b) {
+      report(cb, Severity::Error, "VUID-vkCmdDispatch-None-02697",
+             "%s: the bound pipeline uses set %u binding %u, but %s; its accesses read zeros and write nothing", fn, rb.set,
+             rb.binding, set ? "the bound set's layout has no such binding" : "no descriptor set is bound there");
+      continue;
+    }
+    uint32_t n = set->elementCount(*b);
+    const DescriptorRecord* records = set->records() + b->offset;
+    if (isDynamicBufferType(b->type)) {
+      const std::vector<uint32_t>& offs = bs.dynamicOffsets[rb.set];
+      std::vector<DescriptorRecord> copy(records, records + n);
+      for (uint32_t e = 0; e < n; ++e) {
+        uint32_t k = b->dynamicIndex + e;
+        if (copy[e].address && k < offs.size()) copy[e].address += offs[k];
+      }
+      dynamicCopies.push_back(std::move(copy));
+      records = dynamicCopies.back().data();
+    }
+    slots[i] = {records, n};
+  }
+  ComputeDispatch d;
+  d.shader = &sh;
+  d.resources = slots.data();
+  d.pushConstants = st.pushConstants;
+  for (int k = 0; k < 3; ++k) {
+    d.base[k] = base[k];
+    d.count[k] = count[k];
+  }
+  if (!runCompute(d)) report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
+}
+
+const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) { return cb->device->physicalDevice->properties10.limits; }
+
+}  // namespace
+}  // namespace vkrt::exec
+
+using namespace vkrt;
+using namespace vkrt::exec;
+
+extern "C" {
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatch(VkCommandBuffer commandBuffer, uint32_t groupCountX, uint32_t groupCountY,
+                                            uint32_t groupCountZ) {
+  const char* fn = "vkCmdDispatch";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  const uint32_t count[3] = {groupCountX, groupCountY, groupCountZ};
+  static const char* const kVuids[3] = {"VUID-vkCmdDispatch-groupCountX-00386", "VUID-vkCmdDispatch-groupCountY-00387",
+                                        "VUID-vkCmdDispatch-groupCountZ-00388"};
+  for (int k = 0; k < 3; ++k) {
+    // VUID-vkCmdDispatch-groupCountX-00386, VUID-vkCmdDispatch-groupCountY-00387, VUID-vkCmdDispatch-groupCountZ-00388
+    if (count[k] > limitsOf(cb).maxComputeWorkGroupCount[k]) {
+      report(cb, Severity::Error, kVuids[k], "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u)", fn, "XYZ"[k], count[k],
+             k, limitsOf(cb).maxComputeWorkGroupCount[k]);
+      return;
+    }
+  }
+  cb->record([cb, x = groupCountX, y = groupCountY, z = groupCountZ](ExecState& st) {
+    const uint32_t base[3] = {0, 0, 0}, count[3] = {x, y, z};
+    executeDispatch(cb, st, base, count, "vkCmdDispatch");
+  });
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchBase(VkCommandBuffer commandBuffer, uint32_t baseGroupX, uint32_t baseGroupY,
+                                                uint32_t baseGroupZ, uint32_t groupCountX, uint32_t groupCountY,
+                                                uint32_t groupCountZ) {
+  const char* fn = "vkCmdDispatchBase";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  const uint32_t base[3] = {baseGroupX, baseGroupY, baseGroupZ};
+  const uint32_t count[3] = {groupCountX, groupCountY, groupCountZ};
+  static const char* const kBaseVuids[3] = {"VUID-vkCmdDispatchBase-baseGroupX-00421", "VUID-vkCmdDispatchBase-baseGroupX-00422",
+                                            "VUID-vkCmdDispatchBase-baseGroupZ-00423"};
+  static const char* const kCountVuids[3] = {"VUID-vkCmdDispatchBase-groupCountX-00424", "VUID-vkCmdDispatchBase-groupCountY-00425",
+                                             "VUID-vkCmdDispatchBase-groupCountZ-00426"};
+  for (int k = 0; k < 3; ++k) {
+    uint32_t max = limitsOf(cb).maxComputeWorkGroupCount[k];
+    // VUID-vkCmdDispatchBase-baseGroupX-00421, VUID-vkCmdDispatchBase-baseGroupX-00422, VUID-vkCmdDispatchBase-baseGroupZ-00423
+    if (base[k] >= max) {
+      report(cb, Severity::Error, kBaseVuids[k], "%s: baseGroup%c (%u) is not less than maxComputeWorkGroupCount[%d] (%u)", fn, "XYZ"[k],
+             base[k], k, max);
+      return;
+    }
+    // VUID-vkCmdDispatchBase-groupCountX-00424, VUID-vkCmdDispatchBase-groupCountY-00425, VUID-vkCmdDispatchBase-groupCountZ-00426
+    if (count[k] > max - base[k]) {
+      report(cb, Severity::Error, kCountVuids[k], "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u) minus baseGroup%c (%u)",
+             fn, "XYZ"[k], count[k], k, max, "XYZ"[k], base[k]);
+      return;
+    }
+  }
+  cb->record([cb, bx = baseGroupX, by = baseGroupY, bz = baseGroupZ, x = groupCountX, y = groupCountY, z = groupCountZ](ExecState& st) {
+    const uint32_t b[3] = {bx, by, bz}, c[3] = {x, y, z};
+    executeDispatch(cb, st, b, c, "vkCmdDispatchBase");
+  });
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchIndirect(VkCommandBuffer commandBuffer, VkBuffer buffer, VkDeviceSize offset) {
+  const char* fn = "vkCmdDispatchIndirect";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  Buffer* buf = fromHandle<Buffer>(buffer);
+  // VUID-vkCmdDispatchIndirect-buffer-parameter
+  if (!buf) {
+    report(cb, Severity::Error, "VUID-vkCmdDispatchIndirect-buffer-parameter", "%s: buffer 0x%llx is not a live VkBuffer", fn,
+           (ull)rawHandle(buffer));
+    return;
+  }
+  // VUID-vkCmdDispatchIndirect-buffer-02709
+  if (!(buf->usage & VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT)) {
+    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-buffer-02709",
+           "%s: buffer was created with usage 0x%x, without VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT", fn, buf->usage);
+    return;
+  }
+  // VUID-vkCmdDispatchIndirect-buffer-02708
+  if (!buf->memory) {
+    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-buffer-02708", "%s: buffer is not bound to memory", fn);
+    return;
+  }
+  // VUID-vkCmdDispatchIndirect-offset-02710
+  if (offset % 4) {
+    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-offset-02710", "%s: offset %llu is not a multiple of 4", fn, (ull)offset);
+    return;
+  }
+  // VUID-vkCmdDispatchIndirect-offset-00407
+  if (offset > buf->size || buf->size - offset < sizeof(VkDispatchIndirectCommand)) {
+    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-offset-00407",
+           "%s: offset %llu + sizeof(VkDispatchIndirectCommand) (12) exceeds the buffer size %llu", fn, (ull)offset, (ull)buf->size);
+    return;
+  }
+  cb->record([cb, buf, offset](ExecState& st) {
+    VkDispatchIndirectCommand c;
+    std::memcpy(&c, buf->data() + offset, sizeof c);
+    const uint32_t base[3] = {0, 0, 0}, count[3] = {c.x, c.y, c.z};
+    static const char* const kVuids[3] = {"VUID-VkDispatchIndirectCommand-x-00417", "VUID-VkDispatchIndirectCommand-y-00418",
+                                          "VUID-VkDispatchIndirectCommand-z-00419"};
+    for (int k = 0; k < 3; ++k) {
+      // VUID-VkDispatchIndirectCommand-x-00417, VUID-VkDispatchIndirectCommand-y-00418, VUID-VkDispatchIndirectCommand-z-00419
+      if (count[k] > limitsOf(cb).maxComputeWorkGroupCount[k]) {
+        report(cb, Severity::Error, kVuids[k], "vkCmdDispatchIndirect: the buffer's %c count (%u) exceeds maxComputeWorkGroupCount[%d] (%u); "
+               "the dispatch is skipped", "xyz"[k], count[k], k, limitsOf(cb).maxComputeWorkGroupCount[k]);
+        return;
+      }
+    }
+    executeDispatch(cb, st, base, count, "vkCmdDispatchIndirect");
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,91 @@
+#include "exec/thread_pool.hpp"
+
+#include <atomic>
+#include <cstdlib>
+
+namespace vkrt::exec {
+
+struct ThreadPool::Job {
+  uint64_t count = 0;
+  const std::function<void(uint64_t, unsigned)>* fn = nullptr;
+  std::atomic<uint64_t> next{0};
+  std::atomic<uint64_t> finished{0};
+  std::mutex doneMutex;
+  std::condition_variable done;
+};
+
+ThreadPool& ThreadPool::instance() {
+  static ThreadPool pool([] {
+    unsigned n = std::thread::hardware_concurrency();
+    if (const char* env = std::getenv("VKRT_THREADS")) {
+      long v = std::strtol(env, nullptr, 10);
+      if (v >= 1 && v <= 256) n = unsigned(v);
+    }
+    // The calling thread works too: N threads in all means N - 1 in the pool.
+    return n > 1 ? n - 1 : 0;
+  }());
+  return pool;
+}
+
+ThreadPool::ThreadPool(unsigned threads) {
+  for (unsigned i = 0; i < threads; ++i) threads_.emplace_back([this, i] { workerMain(i); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+void ThreadPool::runJob(Job& job, unsigned worker) {
+  for (;;) {
+    uint64_t i = job.next.fetch_add(1, std::memory_order_relaxed);
+    if (i >= job.count) return;
+    (*job.fn)(i, worker);
+    if (job.finished.fetch_add(1, std::memory_order_acq_rel) + 1 == job.count) {
+      std::lock_guard<std::mutex> lock(job.doneMutex);
+      job.done.notify_all();
+    }
+  }
+}
+
+void ThreadPool::workerMain(unsigned index) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [&] { return stop_ || !jobs_.empty(); });
+    if (stop_) return;
+    std::shared_ptr<Job> job = jobs_.front();
+    if (job->next.load(std::memory_order_relaxed) >= job->count) {
+      jobs_.pop_front();  // every index is taken: the job needs no more workers
+      continue;
+    }
+    lock.unlock();
+    runJob(*job, index);
+    lock.lock();
+  }
+}
+
+void ThreadPool::parallelFor(uint64_t count, const std::function<void(uint64_t, unsigned)>& fn) {
+  if (count == 0) return;
+  std::lock_guard<std::mutex> slot(callerSlot_);
+  if (threads_.empty() || count == 1) {
+    for (uint64_t i = 0; i < count; ++i) fn(i, threadCount());
+    return;
+  }
+  auto job = std::make_shared<Job>();
+  job->count = count;
+  job->fn = &fn;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    jobs_.push_back(job);
+  }
+  wake_.notify_all();
+  runJob(*job, threadCount());
+  std::unique_lock<std::mutex> lock(job->doneMutex);
+  job->done.wait(lock, [&] { return job->finished.load(std::memory_order_acquire) == job->count; });
+}
+
+}  // namespace vkrt::exec

@@ -1,0 +1,49 @@
+// The process-wide pool of worker threads that runs shader work (compute workgroups now, rays later).
+//
+// Size: VKRT_THREADS if set (1..256), else the number of hardware threads. The thread calling parallelFor()
+// works too, so a pool of N runs N + 1 threads at most; each gets a distinct worker index < workerSlots().
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace vkrt::exec {
+
+class ThreadPool {
+ public:
+  static ThreadPool& instance();
+
+  explicit ThreadPool(unsigned threads);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  // Runs fn(index, worker) for every index in [0, count), spread over the workers and the caller, and returns
+  // when all are done. Calls from several threads are serialized; fn must not call parallelFor itself.
+  void parallelFor(uint64_t count, const std::function<void(uint64_t index, unsigned worker)>& fn);
+
+  unsigned threadCount() const { return unsigned(threads_.size()); }
+  // Distinct worker indices handed to fn: the pool's threads plus one per concurrently calling thread is
+  // bounded by this (callers share the last slot under a lock, see parallelFor).
+  unsigned workerSlots() const { return unsigned(threads_.size()) + 1; }
+
+ private:
+  struct Job;
+  void workerMain(unsigned index);
+  static void runJob(Job& job, unsigned worker);
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::shared_ptr<Job>> jobs_;
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+  std::mutex callerSlot_;  // the caller's worker index (threadCount()) is used by one caller at a time
+};
+
+}  // namespace vkrt::exec

@@ -1,0 +1,282 @@
+#include "runtime/compute_pipeline.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include "runtime/alloc.hpp"
+#include "runtime/descriptor_set_layout.hpp"
+#include "runtime/device.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/pipeline_cache.hpp"
+#include "runtime/pipeline_layout.hpp"
+#include "runtime/report.hpp"
+#include "runtime/shader_module.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+namespace {
+
+struct CacheEntry {
+  std::mutex compileMutex;  // held while this key compiles
+  std::weak_ptr<const spirv::CompiledShader> shader;
+};
+
+std::mutex gCacheMutex;
+std::map<std::pair<const Device*, std::string>, std::shared_ptr<CacheEntry>> gCache;
+std::atomic<uint64_t> gCompiles{0};
+
+}  // namespace
+
+uint64_t shaderCompileCount() { return gCompiles.load(); }
+
+std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, const std::string& key,
+                                                           const spirv::CompileRequest& request, bool mayCompile,
+                                                           std::string* error) {
+  std::shared_ptr<CacheEntry> entry;
+  {
+    std::lock_guard<std::mutex> lock(gCacheMutex);
+    // Drop entries no pipeline uses any more.
+    for (auto it = gCache.begin(); it != gCache.end();) {
+      if (it->second->shader.expired() && it->second.use_count() == 1) {
+        it = gCache.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    auto& slot = gCache[{dev, key}];
+    if (!slot) slot = std::make_shared<CacheEntry>();
+    entry = slot;
+  }
+  std::lock_guard<std::mutex> lock(entry->compileMutex);
+  if (auto live = entry->shader.lock()) return live;
+  if (!mayCompile) return nullptr;
+  std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(request, error);
+  gCompiles.fetch_add(1);
+  if (shader) entry->shader = shader;
+  return shader;
+}
+
+namespace {
+
+constexpr VkPipelineCreateFlags kForbiddenFlags[][2] = {
+    {VK_PIPELINE_CREATE_LIBRARY_BIT_KHR, 3364},
+    {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR, 3365},
+    {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR, 3366},
+    {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR, 3367},
+    {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_INTERSECTION_SHADERS_BIT_KHR, 3368},
+    {VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR, 3369},
+    {VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR, 3370},
+    {VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR, 3576},
+};
+
+// Creates pipeline i; returns its result (pipeline set only on success).
+VkResult createOne(Device* dev, const VkComputePipelineCreateInfo& ci, uint32_t i, const VkAllocationCallbacks* alloc,
+                   VkPipeline* out) {
+  const char* fn = "vkCreateComputePipelines";
+  const auto start = std::chrono::steady_clock::now();
+  for (const auto& f : kForbiddenFlags) {
+    // VUID-VkComputePipelineCreateInfo-flags-03364 .. -03576 (the ray tracing and library flags)
+    if (ci.flags & f[0]) {
+      char vuid[64];
+      std::snprintf(vuid, sizeof vuid, "VUID-VkComputePipelineCreateInfo-flags-0%u", unsigned(f[1]));
+      report(dev, Severity::Error, vuid, "%s: pCreateInfos[%u].flags (0x%x) contains 0x%x, which compute pipelines must not use",
+             fn, i, ci.flags, f[0]);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  // VUID-VkComputePipelineCreateInfo-stage-00701
+  if (ci.stage.stage != VK_SHADER_STAGE_COMPUTE_BIT) {
+    report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-stage-00701",
+           "%s: pCreateInfos[%u].stage.stage is 0x%x, not VK_SHADER_STAGE_COMPUTE_BIT", fn, i, ci.stage.stage);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkComputePipelineCreateInfo-layout-parameter
+  PipelineLayout* layout = fromHandle<PipelineLayout>(ci.layout);
+  if (!layout) {
+    report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-parameter",
+           "%s: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", fn, i, (unsigned long long)rawHandle(ci.layout));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkPipelineShaderStageCreateInfo-pName-parameter
+  if (!ci.stage.pName) {
+    report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-parameter", "%s: pCreateInfos[%u].stage.pName is NULL", fn, i);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  std::vector<uint32_t> storage;
+  const std::vector<uint32_t>* code = nullptr;
+  uint64_t hash = 0;
+  if (!shaderStageCode(dev, ci.stage, fn, storage, &code, &hash)) return VK_ERROR_VALIDATION_FAILED_EXT;
+
+  spirv::CompileRequest req;
+  req.words = code->data();
+  req.wordCount = code->size();
+  req.entryName = ci.stage.pName;
+  req.model = spv::ExecutionModelGLCompute;
+  {
+    spirv::Module m;
+    std::string err;
+    // VUID-VkPipelineShaderStageCreateInfo-pName-00707
+    if (!m.parse(code->data(), code->size(), &err) || !m.findEntryPoint(ci.stage.pName, spv::ExecutionModelGLCompute)) {
+      report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
+             "%s: pCreateInfos[%u].stage.pName \"%s\" is not a GLCompute entry point of the module", fn, i, ci.stage.pName);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  std::string key = std::to_string(hash) + ":" + std::to_string(code->size()) + ":" + ci.stage.pName + ":";
+  if (const VkSpecializationInfo* si = ci.stage.pSpecializationInfo) {
+    for (uint32_t e = 0; e < si->mapEntryCount; ++e) {
+      const VkSpecializationMapEntry& me = si->pMapEntries[e];
+      // VUID-VkSpecializationInfo-offset-00773
+      if (me.offset >= si->dataSize) {
+        report(dev, Severity::Error, "VUID-VkSpecializationInfo-offset-00773",
+               "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u].offset (%u) is not less than dataSize (%zu)", fn, i, e,
+               me.offset, si->dataSize);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+      // VUID-VkSpecializationInfo-pMapEntries-00774
+      if (me.size > si->dataSize - me.offset) {
+        report(dev, Severity::Error, "VUID-VkSpecializationInfo-pMapEntries-00774",
+               "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u].size (%zu) exceeds dataSize (%zu) minus offset (%u)", fn,
+               i, e, me.size, si->dataSize, me.offset);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+      // VUID-VkSpecializationInfo-constantID-04911
+      for (uint32_t k = 0; k < e; ++k) {
+        if (si->pMapEntries[k].constantID == me.constantID) {
+          report(dev, Severity::Error, "VUID-VkSpecializationInfo-constantID-04911",
+                 "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u] and [%u] both specialize constant %u", fn, i, k, e,
+                 me.constantID);
+          return VK_ERROR_VALIDATION_FAILED_EXT;
+        }
+      }
+      const uint8_t* bytes = static_cast<const uint8_t*>(si->pData) + me.offset;
+      req.specialization.push_back({me.constantID, std::vector<uint8_t>(bytes, bytes + me.size)});
+      key += std::to_string(me.constantID) + "=";
+      for (size_t b = 0; b < me.size; ++b) key += char('a' + (bytes[b] >> 4)), key += char('a' + (bytes[b] & 15));
+      key += ";";
+    }
+  }
+
+  bool mayCompile = !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
+  std::string error;
+  std::shared_ptr<const spirv::CompiledShader> shader = compileShared(dev, key, req, mayCompile, &error);
+  if (!shader && !mayCompile) return VK_PIPELINE_COMPILE_REQUIRED;
+  if (!shader) {
+    report(dev, Severity::Error, nullptr, "%s: pCreateInfos[%u]: entry point \"%s\" cannot be compiled: %s", fn, i, ci.stage.pName,
+           error.c_str());
+    return VK_ERROR_UNKNOWN;
+  }
+
+  const VkPhysicalDeviceLimits& lim = dev->physicalDevice->properties10.limits;
+  const uint32_t* ls = shader->localSize;
+  static const char* const kSizeVuids[3] = {"VUID-RuntimeSpirv-x-06429", "VUID-RuntimeSpirv-y-06430", "VUID-RuntimeSpirv-z-06431"};
+  for (int d = 0; d < 3; ++d) {
+    // VUID-RuntimeSpirv-x-06429, VUID-RuntimeSpirv-y-06430, VUID-RuntimeSpirv-z-06431
+    if (ls[d] > lim.maxComputeWorkGroupSize[d] || ls[d] == 0) {
+      report(dev, Severity::Error, kSizeVuids[d], "%s: pCreateInfos[%u]: workgroup size %u in dimension %d is outside 1..%u", fn, i, ls[d],
+             d, lim.maxComputeWorkGroupSize[d]);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  // VUID-RuntimeSpirv-x-06432
+  if (uint64_t(ls[0]) * ls[1] * ls[2] > lim.maxComputeWorkGroupInvocations) {
+    report(dev, Severity::Error, "VUID-RuntimeSpirv-x-06432", "%s: pCreateInfos[%u]: workgroup size %ux%ux%u exceeds %u invocations", fn,
+           i, ls[0], ls[1], ls[2], lim.maxComputeWorkGroupInvocations);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-RuntimeSpirv-Workgroup-06530
+  if (shader->workgroupMemorySize > lim.maxComputeSharedMemorySize) {
+    report(dev, Severity::Error, "VUID-RuntimeSpirv-Workgroup-06530",
+           "%s: pCreateInfos[%u]: the shader uses %u bytes of workgroup memory, more than maxComputeSharedMemorySize (%u)", fn, i,
+           shader->workgroupMemorySize, lim.maxComputeSharedMemorySize);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // Every buffer the shader declares needs a binding of a buffer type in the layout.
+  for (const spirv::ResourceBinding& rb : shader->resources) {
+    const DescriptorBinding* b = rb.set < layout->setLayouts.size() ? layout->setLayouts[rb.set]->bindingAt(rb.binding) : nullptr;
+    // VUID-VkComputePipelineCreateInfo-layout-07988
+    if (!b || !(b->stages & VK_SHADER_STAGE_COMPUTE_BIT)) {
+      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07988",
+             "%s: pCreateInfos[%u]: the shader uses set %u binding %u, which the pipeline layout %s", fn, i, rb.set, rb.binding,
+             b ? "does not make visible to the compute stage" : "does not have");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    bool uniformType = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    bool storageType = b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
+    // VUID-VkComputePipelineCreateInfo-layout-07990
+    if (rb.uniform ? !uniformType : !storageType) {
+      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07990",
+             "%s: pCreateInfos[%u]: the shader uses set %u binding %u as a %s buffer, but the layout declares %s", fn, i, rb.set,
+             rb.binding, rb.uniform ? "uniform" : "storage", descriptorTypeName(b->type));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkComputePipelineCreateInfo-layout-07991
+    if (rb.arraySize > b->count) {
+      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07991",
+             "%s: pCreateInfos[%u]: the shader declares %u descriptors at set %u binding %u, the layout only %u", fn, i, rb.arraySize,
+             rb.set, rb.binding, b->count);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  auto* p = createObject<ComputePipeline>(alloc, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, ci.flags, layout, std::move(shader));
+  if (!p) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took.
+  if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
+    uint64_t ns = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
+    VkPipelineCreationFeedback f{VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT, ns};
+    if (fb->pPipelineCreationFeedback) *fb->pPipelineCreationFeedback = f;
+    for (uint32_t s = 0; s < fb->pipelineStageCreationFeedbackCount && fb->pPipelineStageCreationFeedbacks; ++s)
+      fb->pPipelineStageCreationFeedbacks[s] = f;
+  }
+  *out = toHandle(p);
+  return VK_SUCCESS;
+}
+
+}  // namespace
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPipelineCache pipelineCache, uint32_t createInfoCount,
+                                                           const VkComputePipelineCreateInfo* pCreateInfos,
+                                                           const VkAllocationCallbacks* pAllocator, VkPipeline* pPipelines) {
+  Device* dev = fromHandle<Device>(device);
+  // VUID-vkCreateComputePipelines-device-parameter
+  if (!dev) {
+    report(nullptr, Severity::Error, "VUID-vkCreateComputePipelines-device-parameter",
+           "vkCreateComputePipelines: device 0x%llx is not a live VkDevice", (unsigned long long)rawHandle(device));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkCreateComputePipelines-pipelineCache-parameter
+  if (pipelineCache && !fromHandle<PipelineCache>(pipelineCache)) {
+    report(dev, Severity::Error, "VUID-vkCreateComputePipelines-pipelineCache-parameter",
+           "vkCreateComputePipelines: pipelineCache 0x%llx is not a live VkPipelineCache", (unsigned long long)rawHandle(pipelineCache));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;
+  VkResult result = VK_SUCCESS;
+  for (uint32_t i = 0; i < createInfoCount; ++i) {
+    VkResult r = createOne(dev, pCreateInfos[i], i, pAllocator, &pPipelines[i]);
+    if (r == VK_SUCCESS) continue;
+    if (r == VK_ERROR_VALIDATION_FAILED_EXT || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
+      // A misuse or an allocation failure: the call has no other effect.
+      for (uint32_t k = 0; k < i; ++k) {
+        destroyObject(fromHandleUnchecked<Pipeline>(pPipelines[k]), pAllocator);
+        pPipelines[k] = VK_NULL_HANDLE;
+      }
+      return r;
+    }
+    if (result == VK_SUCCESS) result = r;
+    if (pCreateInfos[i].flags & VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT) break;
+  }
+  return result;
+}
+
+}  // extern "C"

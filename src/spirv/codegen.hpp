@@ -1,0 +1,133 @@
+// SPIR-V -> LLVM IR translation state, shared by the files of src/spirv that generate code (compiler.cpp:
+// types, constants, functions, driver; arithmetic.cpp; control_flow.cpp; memory.cpp; glsl_std450.cpp).
+// Includes LLVM headers: only src/spirv/*.cpp may include it.
+//
+// MEMORY MODEL. Every SPIR-V pointer is a Ptr: a base address, a byte offset and a byte limit. An access of
+// N bytes at base + offset happens only when offset + N <= limit; otherwise loads read zeros and stores go to
+// the invocation's sink (robust buffer access for buffers, and no memory corruption from wild indices into
+// function, private or workgroup arrays). Composites are loaded and stored member by member, at offsets from
+// the explicit layout decorations (Offset, ArrayStride, MatrixStride, RowMajor) where the type has them and
+// from a natural "scalar" layout otherwise.
+#pragma once
+
+#include <llvm/IR/IRBuilder.h>
+#include <llvm/IR/LLVMContext.h>
+#include <llvm/IR/Module.h>
+
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "spirv/compiler.hpp"
+#include "spirv/module.hpp"
+
+namespace vkrt::spirv {
+
+struct Ptr {
+  llvm::Value* base = nullptr;    // i8*
+  llvm::Value* offset = nullptr;  // i64
+  llvm::Value* limit = nullptr;   // i64
+  uint32_t type = 0;              // pointee type id
+  spv::StorageClass storage = spv::StorageClassFunction;
+  uint32_t matrixStride = 0;  // for a matrix (or array of matrices) pointee: 0 = natural layout
+  bool rowMajor = false;
+  uint32_t vecStride = 0;  // for a vector pointee: bytes between components (0 = packed)
+  int slot = -1;           // >= 0: a descriptor array not indexed yet (base/offset/limit unset)
+};
+
+class Codegen {
+ public:
+  Codegen(const Module& m, llvm::LLVMContext& c, llvm::Module& out, CompiledShader& info)
+      : m(m), c(c), out(out), info(info), b(c) {}
+
+  // Generates "vkrt_main" for the entry point. Returns false with `error` set.
+  bool run(const EntryPoint& ep);
+  std::string error;
+
+  // Reports an instruction this compiler cannot translate.
+  bool unsupported(const Instruction& in, const char* detail = nullptr);
+  bool fail(const Instruction& in, const char* what);
+
+  // ---- types and layout (compiler.cpp)
+  llvm::Type* type(uint32_t id);
+  const Type& spvType(uint32_t id) const;
+  uint32_t scalarType(uint32_t id) const;  // the component type of a scalar or vector type
+  bool isFloat(uint32_t typeId) const;
+  bool isSignedInt(uint32_t typeId) const;
+  uint32_t componentCount(uint32_t typeId) const;  // 1 for scalars
+  uint64_t layoutSize(uint32_t typeId, uint32_t matrixStride, bool rowMajor) const;
+  uint64_t layoutAlign(uint32_t typeId) const;
+  uint64_t memberOffset(uint32_t structId, uint32_t member) const;
+  uint64_t arrayStride(uint32_t arrayTypeId, uint32_t matrixStride, bool rowMajor) const;
+  uint32_t naturalMatrixStride(uint32_t matrixTypeId) const;
+
+  // ---- values
+  llvm::Value* value(uint32_t id);  // an SSA value (constants materialized on demand); nullptr if unknown
+  llvm::Constant* constant(uint32_t id);
+  void set(uint32_t id, llvm::Value* v) { values[id] = v; }
+  llvm::Value* i64(uint64_t v) { return b.getInt64(v); }
+  llvm::Value* i32(uint32_t v) { return b.getInt32(v); }
+  llvm::Value* splat(llvm::Value* scalar, llvm::Type* like);  // scalar broadcast to `like`'s shape
+
+  // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
+  bool arithmetic(const Instruction& in, bool& ok);    // arithmetic.cpp
+  bool composite(const Instruction& in, bool& ok);     // arithmetic.cpp
+  bool controlFlow(const Instruction& in, bool& ok);   // control_flow.cpp
+  bool memory(const Instruction& in, bool& ok);        // memory.cpp
+  bool extInst(const Instruction& in, bool& ok);       // glsl_std450.cpp
+
+  // ---- memory (memory.cpp)
+  bool declareGlobals();                                // Private, Workgroup, Input, buffers, push constants
+  bool variablePtr(uint32_t varId, Ptr* out);           // a module-scope variable in the current function
+  llvm::Value* address(const Ptr& p, uint64_t bytes, bool write);
+  llvm::Value* load(const Ptr& p);
+  void store(const Ptr& p, llvm::Value* v);
+  bool resolveDescriptor(Ptr& p, llvm::Value* index);
+  Ptr& ptr(uint32_t id);
+  bool hasPtr(uint32_t id) const { return ptrs.count(id) != 0; }
+
+  // ---- functions (compiler.cpp / control_flow.cpp)
+  bool declareFunctions();
+  bool emitFunction(size_t firstInstruction, size_t* next);
+  void finishPhis();
+
+  const Module& m;
+  llvm::LLVMContext& c;
+  llvm::Module& out;
+  CompiledShader& info;
+  llvm::IRBuilder<> b;
+
+  std::unordered_map<uint32_t, llvm::Value*> values;
+  std::unordered_map<uint32_t, Ptr> ptrs;
+  std::unordered_map<uint32_t, llvm::Type*> typeCache;
+  std::unordered_map<uint32_t, llvm::Function*> functions;
+  std::unordered_map<uint32_t, llvm::BasicBlock*> blocks;      // label -> its first LLVM block
+  std::unordered_map<uint32_t, llvm::BasicBlock*> blockExits;  // label -> the LLVM block it ends in
+  struct PendingPhi {
+    llvm::PHINode* phi;
+    const Instruction* in;
+  };
+  std::vector<PendingPhi> phis;
+
+  // Module-scope variables.
+  struct Global {
+    spv::StorageClass storage;
+    uint64_t offset = 0;  // Private: in the private block; Workgroup: in workgroup memory
+    uint64_t size = 0;
+    int slot = -1;        // buffers: resource slot
+    int builtIn = -1;     // Input
+  };
+  std::unordered_map<uint32_t, Global> globals;
+  uint64_t privateSize = 0;
+  std::vector<std::pair<uint32_t, uint32_t>> privateInits;  // (variable, initializer id)
+
+  // The current function's hidden arguments.
+  llvm::Function* fn = nullptr;
+  llvm::Value* ctxArg = nullptr;
+  llvm::Value* privArg = nullptr;
+  llvm::BasicBlock* allocaBlock = nullptr;
+  llvm::GlobalVariable* zeros = nullptr;  // kSinkBytes of zeros: out-of-bounds loads read here
+  uint32_t glslSet = 0;                   // id of the GLSL.std.450 import
+};
+
+}  // namespace vkrt::spirv

@@ -1,0 +1,362 @@
+// SPIR-V -> LLVM IR: types, layout, constants, functions and the per-instruction dispatch to the op families.
+#include <llvm/IR/Constants.h>
+#include <llvm/IR/Function.h>
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "spirv/codegen.hpp"
+
+namespace vkrt::spirv {
+
+bool Codegen::unsupported(const Instruction& in, const char* detail) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "unsupported instruction %s at word %u%s%s", opName(in.op).c_str(), in.offset,
+                detail ? ": " : "", detail ? detail : "");
+  error = buf;
+  return false;
+}
+
+bool Codegen::fail(const Instruction& in, const char* what) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s (%s at word %u)", what, opName(in.op).c_str(), in.offset);
+  error = buf;
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------- types
+
+const Type& Codegen::spvType(uint32_t id) const {
+  static const Type none;
+  const Type* t = m.type(id);
+  return t ? *t : none;
+}
+
+llvm::Type* Codegen::type(uint32_t id) {
+  auto it = typeCache.find(id);
+  if (it != typeCache.end()) return it->second;
+  const Type& t = spvType(id);
+  llvm::Type* r = nullptr;
+  switch (t.kind) {
+    case Type::Void: r = b.getVoidTy(); break;
+    case Type::Bool: r = b.getInt1Ty(); break;
+    case Type::Int: r = b.getIntNTy(t.width); break;
+    case Type::Float:
+      r = t.width == 16 ? b.getHalfTy() : t.width == 64 ? b.getDoubleTy() : t.width == 32 ? b.getFloatTy() : nullptr;
+      break;
+    case Type::Vector: {
+      llvm::Type* e = type(t.element);
+      if (e) r = llvm::FixedVectorType::get(e, t.count);
+      break;
+    }
+    case Type::Matrix:
+    case Type::Array: {
+      llvm::Type* e = type(t.element);
+      if (e) r = llvm::ArrayType::get(e, t.count);
+      break;
+    }
+    case Type::Struct: {
+      std::vector<llvm::Type*> members;
+      for (uint32_t mt : t.members) {
+        llvm::Type* e = type(mt);
+        if (!e) return nullptr;
+        members.push_back(e);
+      }
+      r = llvm::StructType::get(c, members);
+      break;
+    }
+    case Type::Pointer: r = b.getPtrTy(); break;
+    default: break;
+  }
+  typeCache[id] = r;
+  return r;
+}
+
+uint32_t Codegen::scalarType(uint32_t id) const {
+  const Type& t = spvType(id);
+  return t.kind == Type::Vector ? t.element : id;
+}
+
+bool Codegen::isFloat(uint32_t typeId) const { return spvType(scalarType(typeId)).kind == Type::Float; }
+bool Codegen::isSignedInt(uint32_t typeId) const {
+  const Type& t = spvType(scalarType(typeId));
+  return t.kind == Type::Int && t.isSigned;
+}
+uint32_t Codegen::componentCount(uint32_t typeId) const {
+  const Type& t = spvType(typeId);
+  return t.kind == Type::Vector ? t.count : 1;
+}
+
+static uint64_t roundUp(uint64_t v, uint64_t a) { return a ? (v + a - 1) / a * a : v; }
+
+uint64_t Codegen::layoutAlign(uint32_t id) const {
+  const Type& t = spvType(id);
+  switch (t.kind) {
+    case Type::Bool: return 4;
+    case Type::Int:
+    case Type::Float: return t.width / 8;
+    case Type::Vector:
+    case Type::Matrix:
+    case Type::Array:
+    case Type::RuntimeArray: return layoutAlign(t.element);
+    case Type::Struct: {
+      uint64_t a = 1;
+      for (uint32_t mt : t.members) a = std::max(a, layoutAlign(mt));
+      return a;
+    }
+    default: return 1;
+  }
+}
+
+uint32_t Codegen::naturalMatrixStride(uint32_t matrixTypeId) const {
+  const Type& t = spvType(matrixTypeId);
+  return uint32_t(layoutSize(t.element, 0, false));
+}
+
+uint64_t Codegen::layoutSize(uint32_t id, uint32_t matrixStride, bool rowMajor) const {
+  const Type& t = spvType(id);
+  switch (t.kind) {
+    case Type::Bool: return 4;
+    case Type::Int:
+    case Type::Float: return t.width / 8;
+    case Type::Vector: return t.count * layoutSize(t.element, 0, false);
+    case Type::Matrix: {
+      uint64_t stride = matrixStride ? matrixStride : naturalMatrixStride(id);
+      return (rowMajor ? spvType(t.element).count : t.count) * stride;
+    }
+    case Type::Array: return t.count * arrayStride(id, matrixStride, rowMajor);
+    case Type::RuntimeArray: return 0;
+    case Type::Struct: {
+      uint64_t size = 0;
+      for (uint32_t i = 0; i < t.members.size(); ++i) {
+        const Decorations& d = m.memberDecor(id, i);
+        uint64_t end = memberOffset(id, i) +
+                       layoutSize(t.members[i], d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0, d.rowMajor);
+        size = std::max(size, end);
+      }
+      return roundUp(size, layoutAlign(id));
+    }
+    default: return 0;
+  }
+}
+
+uint64_t Codegen::arrayStride(uint32_t arrayTypeId, uint32_t matrixStride, bool rowMajor) const {
+  const Decorations& d = m.decor(arrayTypeId);
+  if (d.arrayStride > 0) return uint64_t(d.arrayStride);
+  const Type& t = spvType(arrayTypeId);
+  return roundUp(layoutSize(t.element, matrixStride, rowMajor), layoutAlign(t.element));
+}
+
+uint64_t Codegen::memberOffset(uint32_t structId, uint32_t member) const {
+  const Decorations& d = m.memberDecor(structId, member);
+  if (d.offset >= 0) return uint64_t(d.offset);
+  const Type& t = spvType(structId);
+  uint64_t off = 0;
+  for (uint32_t i = 0; i < member && i < t.members.size(); ++i) {
+    const Decorations& di = m.memberDecor(structId, i);
+    off = roundUp(off, layoutAlign(t.members[i]));
+    off += layoutSize(t.members[i], di.matrixStride > 0 ? uint32_t(di.matrixStride) : 0, di.rowMajor);
+  }
+  return member < t.members.size() ? roundUp(off, layoutAlign(t.members[member])) : off;
+}
+
+// ---------------------------------------------------------------------------------------------- values
+
+llvm::Constant* Codegen::constant(uint32_t id) {
+  const Constant* k = m.constant(id);
+  if (!k) return nullptr;
+  llvm::Type* ty = type(k->type);
+  if (!ty) return nullptr;
+  if (k->null) return llvm::Constant::getNullValue(ty);
+  const Type& t = spvType(k->type);
+  if (k->composite) {
+    std::vector<llvm::Constant*> elems;
+    for (uint32_t e : k->elements) {
+      llvm::Constant* v = constant(e);
+      if (!v) return nullptr;
+      elems.push_back(v);
+    }
+    if (t.kind == Type::Vector) return llvm::ConstantVector::get(elems);
+    if (t.kind == Type::Struct) return llvm::ConstantStruct::get(llvm::cast<llvm::StructType>(ty), elems);
+    return llvm::ConstantArray::get(llvm::cast<llvm::ArrayType>(ty), elems);
+  }
+  if (k->words.empty()) return nullptr;
+  uint64_t bits = k->words[0];
+  if (k->words.size() > 1) bits |= uint64_t(k->words[1]) << 32;
+  switch (t.kind) {
+    case Type::Bool: return b.getInt1(bits != 0);
+    case Type::Int: return llvm::ConstantInt::get(ty, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits));
+    case Type::Float: {
+      const llvm::fltSemantics& sem = ty->getFltSemantics();
+      return llvm::ConstantFP::get(c, llvm::APFloat(sem, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits)));
+    }
+    default: return nullptr;
+  }
+}
+
+llvm::Value* Codegen::value(uint32_t id) {
+  auto it = values.find(id);
+  if (it != values.end()) return it->second;
+  if (llvm::Constant* k = constant(id)) {
+    values[id] = k;
+    return k;
+  }
+  const Instruction* in = m.def(id);
+  if (in && in->op == spv::OpUndef) {
+    // Undefined values read as zero: deterministic, and never poison.
+    llvm::Type* ty = type(in->word(1));
+    if (ty) return values[id] = llvm::Constant::getNullValue(ty);
+  }
+  return nullptr;
+}
+
+llvm::Value* Codegen::splat(llvm::Value* scalar, llvm::Type* like) {
+  if (auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(like)) return b.CreateVectorSplat(vt->getNumElements(), scalar);
+  return scalar;
+}
+
+// ---------------------------------------------------------------------------------------------- functions
+
+bool Codegen::declareFunctions() {
+  for (const Instruction& in : m.instructions) {
+    if (in.op != spv::OpFunction) continue;
+    const Type& ft = spvType(in.word(4));
+    std::vector<llvm::Type*> params = {b.getPtrTy(), b.getPtrTy()};
+    for (uint32_t p : ft.members) {
+      if (spvType(p).kind == Type::Pointer) {
+        params.insert(params.end(), {b.getPtrTy(), b.getInt64Ty(), b.getInt64Ty()});
+      } else {
+        llvm::Type* t = type(p);
+        if (!t) return fail(in, "a function parameter has a type the compiler does not support");
+        params.push_back(t);
+      }
+    }
+    llvm::Type* ret = spvType(ft.element).kind == Type::Pointer ? nullptr : type(ft.element);
+    if (!ret) return unsupported(in, "function return type");
+    auto* f = llvm::Function::Create(llvm::FunctionType::get(ret, params, false), llvm::Function::InternalLinkage,
+                                     "spv_" + std::to_string(in.word(2)), out);
+    functions[in.word(2)] = f;
+  }
+  return true;
+}
+
+bool Codegen::emitFunction(size_t first, size_t* next) {
+  const Instruction& fin = m.instructions[first];
+  fn = functions[fin.word(2)];
+  auto arg = fn->arg_begin();
+  ctxArg = &*arg++;
+  privArg = &*arg++;
+  // Pointers to module-scope variables are rematerialized in every function.
+  for (auto& [id, g] : globals) ptrs.erase(id);
+  allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
+  b.SetInsertPoint(allocaBlock);
+  size_t i = first + 1;
+  for (; i < m.instructions.size() && m.instructions[i].op == spv::OpFunctionParameter; ++i) {
+    const Instruction& p = m.instructions[i];
+    const Type& pt = spvType(p.word(1));
+    if (pt.kind == Type::Pointer) {
+      Ptr ptr;
+      ptr.base = &*arg++;
+      ptr.offset = &*arg++;
+      ptr.limit = &*arg++;
+      ptr.type = pt.element;
+      ptr.storage = pt.storage;
+      ptrs[p.word(2)] = ptr;
+    } else {
+      set(p.word(2), &*arg++);
+    }
+  }
+  // Blocks first, so that branches can refer forward.
+  bool firstBlock = true;
+  for (size_t j = i; j < m.instructions.size() && m.instructions[j].op != spv::OpFunctionEnd; ++j) {
+    if (m.instructions[j].op != spv::OpLabel) continue;
+    uint32_t label = m.instructions[j].word(1);
+    auto* bb = llvm::BasicBlock::Create(c, "l" + std::to_string(label), fn);
+    blocks[label] = blockExits[label] = bb;
+    if (firstBlock) {
+      b.CreateBr(bb);
+      firstBlock = false;
+    }
+  }
+  if (firstBlock) return fail(fin, "function without blocks");
+  uint32_t currentLabel = 0;
+  for (; i < m.instructions.size(); ++i) {
+    const Instruction& in = m.instructions[i];
+    if (in.op == spv::OpFunctionEnd) break;
+    switch (in.op) {
+      case spv::OpLabel:
+        currentLabel = in.word(1);
+        b.SetInsertPoint(blocks[currentLabel]);
+        continue;
+      case spv::OpLine:
+      case spv::OpNoLine:
+      case spv::OpNop:
+      case spv::OpSelectionMerge:
+      case spv::OpLoopMerge:
+      case spv::OpMemoryModel:
+        continue;
+      default: break;
+    }
+    bool ok = true;
+    if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok)) {
+      if (!ok) return false;
+      if (currentLabel) blockExits[currentLabel] = b.GetInsertBlock();
+      continue;
+    }
+    return unsupported(in);
+  }
+  *next = i + 1;
+  return true;
+}
+
+bool Codegen::run(const EntryPoint& ep) {
+  for (const auto& [id, name] : m.extInstImports) {
+    if (name == "GLSL.std.450") glslSet = id;
+  }
+  zeros = new llvm::GlobalVariable(out, llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes), true,
+                                   llvm::GlobalValue::PrivateLinkage,
+                                   llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)),
+                                   "vkrt_zeros");
+  zeros->setAlignment(llvm::Align(16));
+  if (!declareGlobals() || !declareFunctions()) return false;
+  for (size_t i = 0; i < m.instructions.size();) {
+    if (m.instructions[i].op != spv::OpFunction) {
+      ++i;
+      continue;
+    }
+    if (!emitFunction(i, &i)) return false;
+  }
+  finishPhis();
+  // The entry wrapper: the invocation's private variables, their initializers, then the entry function.
+  auto* main = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
+                                      llvm::Function::ExternalLinkage, "vkrt_main", out);
+  fn = main;
+  ctxArg = main->getArg(0);
+  allocaBlock = llvm::BasicBlock::Create(c, "entry", main);
+  b.SetInsertPoint(allocaBlock);
+  auto* priv = b.CreateAlloca(b.getInt8Ty(), i64(std::max<uint64_t>(privateSize, 16)));
+  priv->setAlignment(llvm::Align(16));
+  privArg = priv;
+  b.CreateMemSet(priv, b.getInt8(0), i64(std::max<uint64_t>(privateSize, 16)), llvm::MaybeAlign(16));
+  for (auto [var, init] : privateInits) {
+    ptrs.erase(var);
+    Ptr p;
+    if (!variablePtr(var, &p)) return false;
+    llvm::Value* v = value(init);
+    if (v) store(p, v);
+  }
+  auto it = functions.find(ep.function);
+  if (it == functions.end()) {
+    error = "the entry point's function is missing";
+    return false;
+  }
+  if (it->second->arg_size() != 2) {
+    error = "the entry point's function takes parameters";
+    return false;
+  }
+  b.CreateCall(it->second, {ctxArg, privArg});
+  b.CreateRetVoid();
+  return true;
+}
+
+}  // namespace vkrt::spirv

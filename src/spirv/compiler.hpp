@@ -1,0 +1,61 @@
+// The SPIR-V -> native compiler's interface (no LLVM in this header: the runtime includes it).
+//
+// compile() takes validated SPIR-V, applies specialization, simplifies the module with SPIRV-Tools'
+// optimizer, translates the entry point and every function it calls into LLVM IR (one LLVM function per
+// SPIR-V function), optimizes it and JITs it with ORC to native code. Anything not supported yet fails with
+// a message naming the instruction and its word offset in the application's module; LLVM errors (fatal ones
+// included) become messages too, never an abort.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "spirv/abi.hpp"
+#include "spirv/module.hpp"
+
+namespace vkrt::spirv {
+
+struct ResourceBinding {
+  uint32_t set;
+  uint32_t binding;
+  uint32_t arraySize;  // descriptors the shader declares (0: runtime-sized array)
+  bool uniform;        // Uniform storage class with Block (a uniform buffer); else a storage buffer
+};
+
+class CompiledShader {
+ public:
+  CompiledShader();
+  ~CompiledShader();
+  CompiledShader(const CompiledShader&) = delete;
+  CompiledShader& operator=(const CompiledShader&) = delete;
+
+  ComputeEntry entry = nullptr;
+  uint32_t localSize[3] = {1, 1, 1};
+  uint32_t workgroupMemorySize = 0;
+  bool usesBarrier = false;
+  std::vector<ResourceBinding> resources;  // ResourceSlot order
+  uint32_t pushConstantBytes = 0;          // bytes of push constants the shader may read
+  std::string entryName;
+
+  struct Jit;  // the ORC JIT that owns the code (compiler-private)
+  std::unique_ptr<Jit> jit;
+};
+
+struct CompileRequest {
+  const uint32_t* words = nullptr;
+  size_t wordCount = 0;
+  std::string entryName = "main";
+  spv::ExecutionModel model = spv::ExecutionModelGLCompute;
+  std::vector<SpecValue> specialization;
+  // Inline every call with SPIRV-Tools before translation (what pipelines do). Off, each SPIR-V function
+  // becomes its own LLVM function (LLVM may still inline them); the tests use this to exercise calls.
+  bool inlineFunctions = true;
+};
+
+// Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported
+// instructions: "unsupported instruction OpXxx at word N").
+std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error);
+
+}  // namespace vkrt::spirv

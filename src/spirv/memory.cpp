@@ -1,0 +1,497 @@
+// SPIR-V -> LLVM IR: variables, access chains, loads, stores, atomics, descriptors (see codegen.hpp's memory
+// model).
+#include <llvm/IR/Constants.h>
+
+#include "spirv/codegen.hpp"
+
+namespace vkrt::spirv {
+
+namespace {
+
+// Offset of a compute built-in in InvocationContext, and its size; -1 when not supported.
+int builtInOffset(int builtIn, uint32_t* size) {
+  *size = 12;
+  switch (builtIn) {
+    case spv::BuiltInGlobalInvocationId: return offsetof(InvocationContext, globalId);
+    case spv::BuiltInLocalInvocationId: return offsetof(InvocationContext, localId);
+    case spv::BuiltInWorkgroupId: return offsetof(InvocationContext, workgroupId);
+    case spv::BuiltInNumWorkgroups: return offsetof(InvocationContext, numWorkgroups);
+    case spv::BuiltInWorkgroupSize: return offsetof(InvocationContext, workgroupSize);
+    case spv::BuiltInLocalInvocationIndex: *size = 4; return offsetof(InvocationContext, localIndex);
+    default: return -1;
+  }
+}
+
+}  // namespace
+
+bool Codegen::declareGlobals() {
+  uint64_t workgroupSize = 0;
+  for (const Instruction& in : m.instructions) {
+    if (in.op == spv::OpFunction) break;
+    if (in.op != spv::OpVariable) continue;
+    uint32_t id = in.word(2);
+    const Type& pt = spvType(in.word(1));
+    Global g;
+    g.storage = spv::StorageClass(in.word(3));
+    const Decorations& d = m.decor(id);
+    switch (g.storage) {
+      case spv::StorageClassPrivate:
+        g.size = layoutSize(pt.element, 0, false);
+        g.offset = (privateSize + 15) / 16 * 16;
+        privateSize = g.offset + g.size;
+        if (in.count > 4) privateInits.push_back({id, in.word(4)});
+        break;
+      case spv::StorageClassWorkgroup:
+        g.size = layoutSize(pt.element, 0, false);
+        g.offset = (workgroupSize + 15) / 16 * 16;
+        workgroupSize = g.offset + g.size;
+        break;
+      case spv::StorageClassInput:
+        g.builtIn = d.builtIn;
+        break;
+      case spv::StorageClassUniform:
+      case spv::StorageClassStorageBuffer: {
+        const Type& inner = spvType(pt.element);
+        ResourceBinding r;
+        r.set = uint32_t(std::max(d.set, 0));
+        r.binding = uint32_t(std::max(d.binding, 0));
+        r.arraySize = inner.kind == Type::Array ? inner.count : inner.kind == Type::RuntimeArray ? 0 : 1;
+        uint32_t block = inner.kind == Type::Array || inner.kind == Type::RuntimeArray ? inner.element : pt.element;
+        r.uniform = g.storage == spv::StorageClassUniform && !m.decor(block).bufferBlock;
+        g.slot = int(info.resources.size());
+        info.resources.push_back(r);
+        break;
+      }
+      default:
+        break;  // PushConstant needs nothing; other classes fail when used
+    }
+    globals[id] = g;
+  }
+  info.workgroupMemorySize = uint32_t(workgroupSize);
+  return true;
+}
+
+// Loads a pointer-sized field of the invocation context.
+static llvm::Value* ctxField(Codegen& g, unsigned offset) {
+  return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset), llvm::Align(8));
+}
+
+bool Codegen::resolveDescriptor(Ptr& p, llvm::Value* index) {
+  llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
+  llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(p.slot) * sizeof(ResourceSlot));
+  llvm::Value* records = b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8));
+  llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8));
+  index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
+  // An index past the bound descriptors reads a null descriptor: every access through it is out of bounds.
+  llvm::Value* ok = b.CreateICmpULT(index, count);
+  llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
+  rec = b.CreateSelect(ok, rec, zeros);
+  llvm::Value* address = b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8));
+  llvm::Value* range = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8));
+  const Type& t = spvType(p.type);
+  p.base = b.CreateIntToPtr(address, b.getPtrTy());
+  p.offset = i64(0);
+  p.limit = range;
+  p.type = (t.kind == Type::Array || t.kind == Type::RuntimeArray) ? t.element : p.type;
+  p.slot = -1;
+  return true;
+}
+
+bool Codegen::variablePtr(uint32_t id, Ptr* out) {
+  const Instruction* in = m.def(id);
+  auto git = globals.find(id);
+  if (!in || git == globals.end()) return false;
+  const Global& g = git->second;
+  const Type& pt = spvType(in->word(1));
+  // Module-scope pointers are computed once, at the top of the function.
+  llvm::IRBuilderBase::InsertPointGuard guard(b);
+  if (allocaBlock->getTerminator()) {
+    b.SetInsertPoint(allocaBlock->getTerminator());
+  } else {
+    b.SetInsertPoint(allocaBlock);
+  }
+  Ptr p;
+  p.type = pt.element;
+  p.storage = g.storage;
+  p.offset = i64(0);
+  switch (g.storage) {
+    case spv::StorageClassPrivate:
+      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), privArg, g.offset);
+      p.limit = i64(g.size);
+      break;
+    case spv::StorageClassWorkgroup:
+      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxField(*this, offsetof(InvocationContext, workgroupMemory)), g.offset);
+      p.limit = i64(g.size);
+      break;
+    case spv::StorageClassPushConstant:
+      p.base = ctxField(*this, offsetof(InvocationContext, pushConstants));
+      p.limit = i64(kPushConstantBytes);
+      break;
+    case spv::StorageClassInput: {
+      uint32_t size = 0;
+      int off = builtInOffset(g.builtIn, &size);
+      if (off < 0) return unsupported(*in, g.builtIn >= 0 ? "built-in variable not supported for compute" : "input variable");
+      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(off));
+      p.limit = i64(size);
+      break;
+    }
+    case spv::StorageClassUniform:
+    case spv::StorageClassStorageBuffer: {
+      p.slot = g.slot;
+      const Type& inner = spvType(pt.element);
+      if (inner.kind != Type::Array && inner.kind != Type::RuntimeArray) resolveDescriptor(p, i64(0));
+      break;
+    }
+    default:
+      return unsupported(*in, "storage class");
+  }
+  *out = p;
+  return true;
+}
+
+Ptr& Codegen::ptr(uint32_t id) {
+  auto it = ptrs.find(id);
+  if (it != ptrs.end()) return it->second;
+  Ptr p;
+  if (globals.count(id) && variablePtr(id, &p)) return ptrs[id] = p;
+  static thread_local Ptr none;
+  none = Ptr{};
+  return none;
+}
+
+llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
+  llvm::Value* real = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
+  auto* co = llvm::dyn_cast<llvm::ConstantInt>(p.offset);
+  auto* cl = llvm::dyn_cast<llvm::ConstantInt>(p.limit);
+  if (co && cl && cl->getZExtValue() >= bytes && co->getZExtValue() <= cl->getZExtValue() - bytes) return real;
+  llvm::Value* ok = b.CreateAnd(b.CreateICmpUGE(p.limit, i64(bytes)), b.CreateICmpULE(p.offset, b.CreateSub(p.limit, i64(bytes))));
+  llvm::Value* fallback = write ? ctxField(*this, offsetof(InvocationContext, sink)) : static_cast<llvm::Value*>(zeros);
+  return b.CreateSelect(ok, real, fallback);
+}
+
+static Ptr offsetBy(const Ptr& p, Codegen& g, uint64_t bytes, uint32_t type) {
+  Ptr q = p;
+  q.offset = g.b.CreateAdd(p.offset, g.i64(bytes));
+  q.type = type;
+  return q;
+}
+
+llvm::Value* Codegen::load(const Ptr& p) {
+  const Type& t = spvType(p.type);
+  llvm::Type* ty = type(p.type);
+  if (!ty) return nullptr;
+  switch (t.kind) {
+    case Type::Bool:
+      return b.CreateICmpNE(b.CreateAlignedLoad(b.getInt32Ty(), address(p, 4, false), llvm::Align(4)), i32(0));
+    case Type::Int:
+    case Type::Float:
+      return b.CreateAlignedLoad(ty, address(p, t.width / 8, false), llvm::Align(t.width / 8));
+    case Type::Vector: {
+      uint64_t cs = layoutSize(t.element, 0, false);
+      bool isBool = spvType(t.element).kind == Type::Bool;
+      if (p.vecStride == 0 || p.vecStride == cs) {
+        llvm::Type* memTy = isBool ? llvm::FixedVectorType::get(b.getInt32Ty(), t.count) : ty;
+        llvm::Value* v = b.CreateAlignedLoad(memTy, address(p, cs * t.count, false), llvm::Align(cs));
+        return isBool ? b.CreateICmpNE(v, llvm::Constant::getNullValue(memTy)) : v;
+      }
+      llvm::Value* v = llvm::UndefValue::get(ty);
+      for (uint32_t i = 0; i < t.count; ++i) {
+        Ptr q = offsetBy(p, *this, uint64_t(i) * p.vecStride, t.element);
+        q.vecStride = 0;
+        v = b.CreateInsertElement(v, load(q), uint64_t(i));
+      }
+      return v;
+    }
+    case Type::Matrix: {
+      uint32_t stride = p.matrixStride ? p.matrixStride : naturalMatrixStride(p.type);
+      uint64_t cs = layoutSize(scalarType(t.element), 0, false);
+      llvm::Value* v = llvm::UndefValue::get(ty);
+      for (uint32_t i = 0; i < t.count; ++i) {
+        Ptr q = offsetBy(p, *this, p.rowMajor ? i * cs : uint64_t(i) * stride, t.element);
+        q.vecStride = p.rowMajor ? stride : 0;
+        v = b.CreateInsertValue(v, load(q), {i});
+      }
+      return v;
+    }
+    case Type::Array: {
+      uint64_t stride = arrayStride(p.type, p.matrixStride, p.rowMajor);
+      llvm::Value* v = llvm::UndefValue::get(ty);
+      for (uint32_t i = 0; i < t.count; ++i) {
+        llvm::Value* e = load(offsetBy(p, *this, i * stride, t.element));
+        if (!e) return nullptr;
+        v = b.CreateInsertValue(v, e, {i});
+      }
+      return v;
+    }
+    case Type::Struct: {
+      llvm::Value* v = llvm::UndefValue::get(ty);
+      for (uint32_t i = 0; i < t.members.size(); ++i) {
+        const Decorations& d = m.memberDecor(p.type, i);
+        Ptr q = offsetBy(p, *this, memberOffset(p.type, i), t.members[i]);
+        q.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
+        q.rowMajor = d.rowMajor;
+        llvm::Value* e = load(q);
+        if (!e) return nullptr;
+        v = b.CreateInsertValue(v, e, {i});
+      }
+      return v;
+    }
+    default: return nullptr;
+  }
+}
+
+void Codegen::store(const Ptr& p, llvm::Value* v) {
+  const Type& t = spvType(p.type);
+  switch (t.kind) {
+    case Type::Bool:
+      b.CreateAlignedStore(b.CreateZExt(v, b.getInt32Ty()), address(p, 4, true), llvm::Align(4));
+      return;
+    case Type::Int:
+    case Type::Float:
+      b.CreateAlignedStore(v, address(p, t.width / 8, true), llvm::Align(t.width / 8));
+      return;
+    case Type::Vector: {
+      uint64_t cs = layoutSize(t.element, 0, false);
+      bool isBool = spvType(t.element).kind == Type::Bool;
+      if (p.vecStride == 0 || p.vecStride == cs) {
+        if (isBool) v = b.CreateZExt(v, llvm::FixedVectorType::get(b.getInt32Ty(), t.count));
+        b.CreateAlignedStore(v, address(p, cs * t.count, true), llvm::Align(cs));
+        return;
+      }
+      for (uint32_t i = 0; i < t.count; ++i) {
+        Ptr q = offsetBy(p, *this, uint64_t(i) * p.vecStride, t.element);
+        q.vecStride = 0;
+        store(q, b.CreateExtractElement(v, uint64_t(i)));
+      }
+      return;
+    }
+    case Type::Matrix: {
+      uint32_t stride = p.matrixStride ? p.matrixStride : naturalMatrixStride(p.type);
+      uint64_t cs = layoutSize(scalarType(t.element), 0, false);
+      for (uint32_t i = 0; i < t.count; ++i) {
+        Ptr q = offsetBy(p, *this, p.rowMajor ? i * cs : uint64_t(i) * stride, t.element);
+        q.vecStride = p.rowMajor ? stride : 0;
+        store(q, b.CreateExtractValue(v, {i}));
+      }
+      return;
+    }
+    case Type::Array: {
+      uint64_t stride = arrayStride(p.type, p.matrixStride, p.rowMajor);
+      for (uint32_t i = 0; i < t.count; ++i) store(offsetBy(p, *this, i * stride, t.element), b.CreateExtractValue(v, {i}));
+      return;
+    }
+    case Type::Struct:
+      for (uint32_t i = 0; i < t.members.size(); ++i) {
+        const Decorations& d = m.memberDecor(p.type, i);
+        Ptr q = offsetBy(p, *this, memberOffset(p.type, i), t.members[i]);
+        q.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
+        q.rowMajor = d.rowMajor;
+        store(q, b.CreateExtractValue(v, {i}));
+      }
+      return;
+    default: return;
+  }
+}
+
+// A pointer operand (checked: the id must be a pointer this compiler tracks).
+static bool operandPtr(Codegen& g, const Instruction& in, uint32_t id, Ptr* out) {
+  Ptr& p = g.ptr(id);
+  if (!p.base && p.slot < 0) return g.unsupported(in, "pointer operand the compiler does not track (variable pointers?)");
+  *out = p;
+  return true;
+}
+
+bool Codegen::memory(const Instruction& in, bool& ok) {
+  switch (in.op) {
+    case spv::OpVariable: {
+      // Function-scope variable: bytes in the function's entry block.
+      const Type& pt = spvType(in.word(1));
+      if (pt.storage != spv::StorageClassFunction) return (ok = unsupported(in, "storage class in a function")), true;
+      uint64_t size = std::max<uint64_t>(layoutSize(pt.element, 0, false), 1);
+      llvm::IRBuilderBase::InsertPointGuard guard(b);
+      b.SetInsertPoint(allocaBlock->getTerminator());
+      auto* a = b.CreateAlloca(b.getInt8Ty(), i64(size));
+      a->setAlignment(llvm::Align(16));
+      Ptr p;
+      p.base = a;
+      p.offset = i64(0);
+      p.limit = i64(size);
+      p.type = pt.element;
+      ptrs[in.word(2)] = p;
+      if (in.count > 4) {
+        llvm::Value* init = value(in.word(4));
+        if (!init) return (ok = fail(in, "variable initializer is not a constant")), true;
+        store(p, init);
+      }
+      return true;
+    }
+    case spv::OpAccessChain:
+    case spv::OpInBoundsAccessChain: {
+      Ptr p;
+      if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
+      for (uint32_t i = 4; i < in.count; ++i) {
+        uint32_t idx = in.word(i);
+        if (p.slot >= 0) {
+          llvm::Value* iv = value(idx);
+          if (!iv) return (ok = fail(in, "descriptor index has no value")), true;
+          resolveDescriptor(p, iv);
+          continue;
+        }
+        const Type& t = spvType(p.type);
+        uint64_t k = 0;
+        bool isConst = m.constantU64(idx, &k);
+        llvm::Value* iv = nullptr;
+        if (!isConst) {
+          iv = value(idx);
+          if (!iv) return (ok = fail(in, "index has no value")), true;
+          iv = isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, b.getInt64Ty()) : b.CreateZExtOrTrunc(iv, b.getInt64Ty());
+        } else {
+          iv = i64(k);
+          if (isSignedInt(m.constant(idx)->type) && spvType(m.constant(idx)->type).width < 64) {
+            uint32_t w = spvType(m.constant(idx)->type).width;
+            if (k >> (w - 1)) k |= ~((1ull << w) - 1);
+            iv = i64(k);
+          }
+        }
+        switch (t.kind) {
+          case Type::Struct: {
+            if (!isConst || k >= t.members.size()) return (ok = fail(in, "struct index is not a valid constant")), true;
+            const Decorations& d = m.memberDecor(p.type, uint32_t(k));
+            p.offset = b.CreateAdd(p.offset, i64(memberOffset(p.type, uint32_t(k))));
+            p.type = t.members[k];
+            p.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
+            p.rowMajor = d.rowMajor;
+            p.vecStride = 0;
+            break;
+          }
+          case Type::Array:
+          case Type::RuntimeArray:
+            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(arrayStride(p.type, p.matrixStride, p.rowMajor))));
+            p.type = t.element;
+            break;
+          case Type::Matrix: {
+            uint32_t stride = p.matrixStride ? p.matrixStride : naturalMatrixStride(p.type);
+            uint64_t cs = layoutSize(scalarType(t.element), 0, false);
+            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.rowMajor ? cs : stride)));
+            p.vecStride = p.rowMajor ? stride : 0;
+            p.type = t.element;
+            break;
+          }
+          case Type::Vector: {
+            uint64_t cs = layoutSize(t.element, 0, false);
+            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.vecStride ? p.vecStride : cs)));
+            p.vecStride = 0;
+            p.type = t.element;
+            break;
+          }
+          default:
+            return (ok = fail(in, "access chain indexes a non-composite")), true;
+        }
+      }
+      ptrs[in.word(2)] = p;
+      return true;
+    }
+    case spv::OpLoad: {
+      Ptr p;
+      if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
+      if (p.slot >= 0) return (ok = unsupported(in, "load of a whole descriptor array")), true;
+      llvm::Value* v = load(p);
+      if (!v) return (ok = unsupported(in, "loaded type")), true;
+      set(in.word(2), v);
+      return true;
+    }
+    case spv::OpStore: {
+      Ptr p;
+      if (!operandPtr(*this, in, in.word(1), &p)) return (ok = false), true;
+      llvm::Value* v = value(in.word(2));
+      if (!v || p.slot >= 0 || !type(p.type)) return (ok = unsupported(in, "stored value")), true;
+      store(p, v);
+      return true;
+    }
+    case spv::OpCopyMemory: {
+      Ptr dst, src;
+      if (!operandPtr(*this, in, in.word(1), &dst) || !operandPtr(*this, in, in.word(2), &src)) return (ok = false), true;
+      llvm::Value* v = (src.slot < 0) ? load(src) : nullptr;
+      if (!v || dst.slot >= 0) return (ok = unsupported(in, "copied type")), true;
+      store(dst, v);
+      return true;
+    }
+    case spv::OpArrayLength: {
+      Ptr p;
+      if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
+      const Type& st = spvType(p.type);
+      uint32_t member = in.word(4);
+      if (p.slot >= 0 || st.kind != Type::Struct || member >= st.members.size()) return (ok = fail(in, "bad OpArrayLength operand")), true;
+      llvm::Value* start = b.CreateAdd(p.offset, i64(memberOffset(p.type, member)));
+      llvm::Value* stride = i64(arrayStride(st.members[member], 0, false));
+      llvm::Value* bytes = b.CreateSelect(b.CreateICmpUGT(p.limit, start), b.CreateSub(p.limit, start), i64(0));
+      set(in.word(2), b.CreateTrunc(b.CreateUDiv(bytes, stride), b.getInt32Ty()));
+      return true;
+    }
+    case spv::OpAtomicLoad:
+    case spv::OpAtomicStore:
+    case spv::OpAtomicExchange:
+    case spv::OpAtomicCompareExchange:
+    case spv::OpAtomicIIncrement:
+    case spv::OpAtomicIDecrement:
+    case spv::OpAtomicIAdd:
+    case spv::OpAtomicISub:
+    case spv::OpAtomicSMin:
+    case spv::OpAtomicUMin:
+    case spv::OpAtomicSMax:
+    case spv::OpAtomicUMax:
+    case spv::OpAtomicAnd:
+    case spv::OpAtomicOr:
+    case spv::OpAtomicXor: {
+      bool isStore = in.op == spv::OpAtomicStore;
+      Ptr p;
+      if (!operandPtr(*this, in, in.word(isStore ? 1 : 3), &p)) return (ok = false), true;
+      const Type& t = spvType(p.type);
+      if (p.slot >= 0 || t.kind != Type::Int) return (ok = unsupported(in, "atomic on a non-integer")), true;
+      uint64_t bytes = t.width / 8;
+      llvm::Type* ty = type(p.type);
+      auto order = llvm::AtomicOrdering::SequentiallyConsistent;
+      if (in.op == spv::OpAtomicLoad) {
+        auto* l = b.CreateAlignedLoad(ty, address(p, bytes, false), llvm::Align(bytes));
+        l->setAtomic(order);
+        set(in.word(2), l);
+        return true;
+      }
+      llvm::Value* addr = address(p, bytes, true);
+      if (isStore) {
+        auto* s = b.CreateAlignedStore(value(in.word(4)), addr, llvm::Align(bytes));
+        s->setAtomic(order);
+        return true;
+      }
+      if (in.op == spv::OpAtomicCompareExchange) {
+        auto* x = b.CreateAtomicCmpXchg(addr, value(in.word(8)), value(in.word(7)), llvm::MaybeAlign(bytes), order, order);
+        set(in.word(2), b.CreateExtractValue(x, {0}));
+        return true;
+      }
+      llvm::AtomicRMWInst::BinOp op = llvm::AtomicRMWInst::Add;
+      llvm::Value* operand = nullptr;
+      switch (in.op) {
+        case spv::OpAtomicIIncrement: operand = llvm::ConstantInt::get(ty, 1); break;
+        case spv::OpAtomicIDecrement: op = llvm::AtomicRMWInst::Sub; operand = llvm::ConstantInt::get(ty, 1); break;
+        case spv::OpAtomicExchange: op = llvm::AtomicRMWInst::Xchg; break;
+        case spv::OpAtomicISub: op = llvm::AtomicRMWInst::Sub; break;
+        case spv::OpAtomicSMin: op = llvm::AtomicRMWInst::Min; break;
+        case spv::OpAtomicUMin: op = llvm::AtomicRMWInst::UMin; break;
+        case spv::OpAtomicSMax: op = llvm::AtomicRMWInst::Max; break;
+        case spv::OpAtomicUMax: op = llvm::AtomicRMWInst::UMax; break;
+        case spv::OpAtomicAnd: op = llvm::AtomicRMWInst::And; break;
+        case spv::OpAtomicOr: op = llvm::AtomicRMWInst::Or; break;
+        case spv::OpAtomicXor: op = llvm::AtomicRMWInst::Xor; break;
+        default: break;
+      }
+      if (!operand) operand = value(in.word(6));
+      if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
+      set(in.word(2), b.CreateAtomicRMW(op, addr, operand, llvm::MaybeAlign(bytes), order));
+      return true;
+    }
+    default:
+      return false;
+  }
+}
+
+}  // namespace vkrt::spirv

@@ -1,0 +1,87 @@
+// Runs compiled compute shaders below the Vulkan API: buffers are host vectors bound to set 0 by binding
+// number, through hand-made descriptor records (the layout runtime/descriptor_set_layout.hpp documents).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "exec/compute.hpp"
+#include "spirv/compiler.hpp"
+
+namespace vkrt::testing {
+
+struct ComputeHarness {
+  std::map<uint32_t, std::vector<uint64_t>> buffers;  // binding -> storage (8-byte aligned)
+  std::map<uint32_t, size_t> sizes;                   // binding -> bytes
+  // Descriptor arrays: binding -> the keys (of `buffers`) of its elements; those keys are not bindings.
+  std::map<uint32_t, std::vector<uint32_t>> arrays;
+  std::shared_ptr<spirv::CompiledShader> shader;
+  std::string error;
+  alignas(16) uint8_t push[spirv::kPushConstantBytes] = {};
+
+  template <size_t N>
+  bool compile(const uint32_t (&words)[N], std::vector<spirv::SpecValue> spec = {}) {
+    spirv::CompileRequest r;
+    r.words = words;
+    r.wordCount = N;
+    r.specialization = std::move(spec);
+    shader = spirv::compile(r, &error);
+    return shader != nullptr;
+  }
+
+  template <class T>
+  void setBuffer(uint32_t binding, const std::vector<T>& data) {
+    size_t bytes = data.size() * sizeof(T);
+    buffers[binding].assign((bytes + 7) / 8, 0);
+    std::memcpy(buffers[binding].data(), data.data(), bytes);
+    sizes[binding] = bytes;
+  }
+  template <class T>
+  void zeroBuffer(uint32_t binding, size_t count) {
+    setBuffer(binding, std::vector<T>(count));
+  }
+  template <class T>
+  std::vector<T> get(uint32_t binding) const {
+    std::vector<T> out(sizes.at(binding) / sizeof(T));
+    std::memcpy(out.data(), buffers.at(binding).data(), out.size() * sizeof(T));
+    return out;
+  }
+
+  bool run(uint32_t x, uint32_t y = 1, uint32_t z = 1, uint32_t bx = 0, uint32_t by = 0, uint32_t bz = 0) {
+    std::vector<std::vector<DescriptorRecord>> records(shader->resources.size());
+    std::vector<spirv::ResourceSlot> slots(shader->resources.size());
+    for (size_t i = 0; i < shader->resources.size(); ++i) {
+      const spirv::ResourceBinding& rb = shader->resources[i];
+      auto ait = arrays.find(rb.binding);
+      std::vector<uint32_t> keys = ait != arrays.end() ? ait->second : std::vector<uint32_t>{rb.binding};
+      for (uint32_t key : keys) {
+        DescriptorRecord rec{};
+        auto it = buffers.find(key);
+        if (rb.set == 0 && it != buffers.end()) {
+          rec.address = reinterpret_cast<uint64_t>(it->second.data());
+          rec.range = sizes[key];
+        }
+        records[i].push_back(rec);
+      }
+      slots[i] = {records[i].data(), records[i].size()};
+    }
+    exec::ComputeDispatch d;
+    d.shader = shader.get();
+    d.resources = slots.data();
+    d.pushConstants = push;
+    d.count[0] = x;
+    d.count[1] = y;
+    d.count[2] = z;
+    d.base[0] = bx;
+    d.base[1] = by;
+    d.base[2] = bz;
+    return exec::runCompute(d);
+  }
+};
+
+}  // namespace vkrt::testing
