@@ -76,7 +76,7 @@ Arena& get() {
 
 }  // namespace
 
-uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress) {
+uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop) {
   Arena& a = get();
   if (!a.base || size == 0) return nullptr;
   uint64_t rounded = (size + kPage - 1) / kPage * kPage;
@@ -91,6 +91,12 @@ uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress) {
     --it;
     if (off + rounded > it->first + it->second) return nullptr;
     return a.take(off, rounded);
+  }
+  if (fromTop) {
+    for (auto it = a.freeRanges.rbegin(); it != a.freeRanges.rend(); ++it) {
+      if (it->second >= rounded) return a.take(it->first + it->second - rounded, rounded);
+    }
+    return nullptr;
   }
   for (auto& [off, sz] : a.freeRanges) {
     if (sz >= rounded) return a.take(off, rounded);
@@ -160,7 +166,10 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
            "bufferDeviceAddressCaptureReplay feature, which is not enabled");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  uint8_t* base = arena::allocate(pAllocateInfo->allocationSize, requested);
+  // Memory that may be captured is placed top-down, everything else bottom-up, so that the ordinary
+  // allocations of a replaying application do not take the ranges its captured allocations need.
+  uint8_t* base = arena::allocate(pAllocateInfo->allocationSize, requested,
+                                  (flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) != 0);
   if (!base) {
     if (requested) {
       report(dev, Severity::Error, nullptr,

@@ -30,9 +30,10 @@ class Memory : public Object {
 };
 
 // The arena. `allocate` returns nullptr when the range is exhausted or, for a requested address, when that
-// range is not free (or not inside the arena).
+// range is not free (or not inside the arena). Without a requested address it takes the lowest free range,
+// or the highest one when `fromTop` is set.
 namespace arena {
-uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress);
+uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop);
 void release(uint8_t* base, VkDeviceSize size);
 bool contains(uint64_t address, VkDeviceSize size);
 // The fixed address the arena was reserved at (the same in every process unless the hint was refused).

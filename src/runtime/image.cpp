@@ -1,0 +1,280 @@
+#include "runtime/image.hpp"
+
+#include <algorithm>
+
+#include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/memory.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+VkExtent3D mipExtent(VkExtent3D e, uint32_t mip) {
+  return {std::max(1u, e.width >> mip), std::max(1u, e.height >> mip), std::max(1u, e.depth >> mip)};
+}
+
+Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
+    : Object(kType, dev->instance, dev),
+      type(info.imageType),
+      format(info.format),
+      formatInfo(f),
+      extent(info.extent),
+      mipLevels(info.mipLevels),
+      arrayLayers(info.arrayLayers),
+      usage(info.usage),
+      tiling(info.tiling),
+      flags(info.flags) {
+  VkDeviceSize offset = 0;
+  for (uint32_t m = 0; m < mipLevels; ++m) {
+    MipLayout l;
+    l.extent = mipExtent(extent, m);
+    l.offset = offset;
+    l.rowPitch = VkDeviceSize(l.extent.width) * f->texelSize;
+    l.depthPitch = l.rowPitch * l.extent.height;
+    l.arrayPitch = l.depthPitch * l.extent.depth;
+    offset += l.arrayPitch * arrayLayers;
+    mips.push_back(l);
+  }
+  size = offset;
+}
+
+uint8_t* Image::data() const { return memory ? memory->base + memoryOffset : nullptr; }
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+namespace {
+
+uint32_t maxMipLevels(VkExtent3D e) {
+  uint32_t m = std::max({e.width, e.height, e.depth});
+  uint32_t levels = 1;
+  while (m > 1) {
+    m >>= 1;
+    ++levels;
+  }
+  return levels;
+}
+
+// Checks a VkImageCreateInfo; reports and returns the error code, or VK_SUCCESS.
+VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatInfo** formatOut) {
+  const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
+  // VUID-VkImageCreateInfo-extent-00944/00945/00946
+  if (ci.extent.width == 0 || ci.extent.height == 0 || ci.extent.depth == 0) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-extent-00944",
+           "vkCreateImage: extent (%u, %u, %u) has a zero dimension", ci.extent.width, ci.extent.height,
+           ci.extent.depth);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-mipLevels-00947 / arrayLayers-00948
+  if (ci.mipLevels == 0 || ci.arrayLayers == 0) {
+    report(dev, Severity::Error, ci.mipLevels == 0 ? "VUID-VkImageCreateInfo-mipLevels-00947"
+                                                   : "VUID-VkImageCreateInfo-arrayLayers-00948",
+           "vkCreateImage: mipLevels %u and arrayLayers %u must be at least 1", ci.mipLevels, ci.arrayLayers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-imageType-00956 / 00957: 1D images have height and depth 1, 2D depth 1
+  if ((ci.imageType == VK_IMAGE_TYPE_1D && (ci.extent.height != 1 || ci.extent.depth != 1)) ||
+      (ci.imageType == VK_IMAGE_TYPE_2D && ci.extent.depth != 1)) {
+    report(dev, Severity::Error,
+           ci.imageType == VK_IMAGE_TYPE_1D ? "VUID-VkImageCreateInfo-imageType-00956"
+                                            : "VUID-VkImageCreateInfo-imageType-00957",
+           "vkCreateImage: extent (%u, %u, %u) does not fit image type %d", ci.extent.width, ci.extent.height,
+           ci.extent.depth, (int)ci.imageType);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-imageType-00961: 3D images have one layer
+  if (ci.imageType == VK_IMAGE_TYPE_3D && ci.arrayLayers != 1) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageType-00961",
+           "vkCreateImage: a 3D image has arrayLayers %u, not 1", ci.arrayLayers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-mipLevels-00958
+  if (ci.mipLevels > maxMipLevels(ci.extent)) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-mipLevels-00958",
+           "vkCreateImage: mipLevels %u exceeds %u, the full chain for extent (%u, %u, %u)", ci.mipLevels,
+           maxMipLevels(ci.extent), ci.extent.width, ci.extent.height, ci.extent.depth);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-samples-02258
+  if (ci.samples != VK_SAMPLE_COUNT_1_BIT) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-samples-02258",
+           "vkCreateImage: samples %u is not supported (only VK_SAMPLE_COUNT_1_BIT)", (unsigned)ci.samples);
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  uint32_t maxDim = ci.imageType == VK_IMAGE_TYPE_1D   ? l.maxImageDimension1D
+                    : ci.imageType == VK_IMAGE_TYPE_2D ? l.maxImageDimension2D
+                                                       : l.maxImageDimension3D;
+  // VUID-VkImageCreateInfo-extent-02252/02253/02254, arrayLayers-02256
+  if (std::max({ci.extent.width, ci.extent.height, ci.extent.depth}) > maxDim ||
+      ci.arrayLayers > l.maxImageArrayLayers) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-extent-02252",
+           "vkCreateImage: extent (%u, %u, %u) x %u layers exceeds the limits (%u, %u layers)", ci.extent.width,
+           ci.extent.height, ci.extent.depth, ci.arrayLayers, maxDim, l.maxImageArrayLayers);
+    return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  }
+  VkImageFormatProperties props;
+  VkResult r = vkrt_GetPhysicalDeviceImageFormatProperties(toHandle(dev->physicalDevice), ci.format, ci.imageType,
+                                                           ci.tiling, ci.usage, ci.flags, &props);
+  // VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251: format/type/tiling/usage/flags must be supported
+  if (r != VK_SUCCESS) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251",
+           "vkCreateImage: format %d with usage 0x%x, flags 0x%x, type %d is not supported by vkrt", (int)ci.format,
+           ci.usage, ci.flags, (int)ci.imageType);
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  *formatOut = formatInfo(ci.format);
+  return VK_SUCCESS;
+}
+
+void requirementsOf(const Image& img, VkMemoryRequirements* req) {
+  req->size = std::max<VkDeviceSize>(Image::kAlignment,
+                                     (img.size + Image::kAlignment - 1) / Image::kAlignment * Image::kAlignment);
+  req->alignment = Image::kAlignment;
+  req->memoryTypeBits = 1;
+}
+
+VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t index) {
+  Image* img = fromHandle<Image>(info.image);
+  Memory* mem = fromHandle<Memory>(info.memory);
+  if (!img || !mem) {
+    report(dev, Severity::Error, "VUID-VkBindImageMemoryInfo-image-parameter",
+           "vkBindImageMemory: bind %u names an image 0x%llx or memory 0x%llx that is not live", index,
+           (unsigned long long)rawHandle(info.image), (unsigned long long)rawHandle(info.memory));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkBindImageMemoryInfo-image-07460
+  if (img->memory) {
+    report(img, Severity::Error, "VUID-VkBindImageMemoryInfo-image-07460", "vkBindImageMemory: already bound");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  VkMemoryRequirements req;
+  requirementsOf(*img, &req);
+  // VUID-VkBindImageMemoryInfo-memoryOffset-01046 (alignment) and -01049 (size)
+  if (info.memoryOffset % req.alignment || info.memoryOffset >= mem->size || req.size > mem->size - info.memoryOffset) {
+    report(img, Severity::Error,
+           info.memoryOffset % req.alignment ? "VUID-VkBindImageMemoryInfo-memoryOffset-01046"
+                                             : "VUID-VkBindImageMemoryInfo-size-01049",
+           "vkBindImageMemory: %llu bytes at memoryOffset %llu do not fit the %llu-byte memory (alignment %llu)",
+           (unsigned long long)req.size, (unsigned long long)info.memoryOffset, (unsigned long long)mem->size,
+           (unsigned long long)req.alignment);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  img->memory = mem;
+  img->memoryOffset = info.memoryOffset;
+  return VK_SUCCESS;
+}
+
+}  // namespace
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImage(VkDevice device, const VkImageCreateInfo* pCreateInfo,
+                                                const VkAllocationCallbacks* pAllocator, VkImage* pImage) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  const FormatInfo* f = nullptr;
+  VkResult r = checkImageInfo(dev, *pCreateInfo, &f);
+  if (r != VK_SUCCESS) return r;
+  Image* img = createObject<Image>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, f);
+  if (!img) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  *pImage = toHandle(img);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* pAllocator) {
+  if (!image) return;
+  Image* img = fromHandle<Image>(image);
+  if (!img) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyImage-image-parameter",
+           "vkDestroyImage: 0x%llx is not a live VkImage", (unsigned long long)rawHandle(image));
+    return;
+  }
+  destroyObject(img, pAllocator);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetImageMemoryRequirements(VkDevice, VkImage image, VkMemoryRequirements* pReq) {
+  requirementsOf(*fromHandleUnchecked<Image>(image), pReq);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetImageMemoryRequirements2(VkDevice, const VkImageMemoryRequirementsInfo2* pInfo,
+                                                            VkMemoryRequirements2* pReq) {
+  requirementsOf(*fromHandleUnchecked<Image>(pInfo->image), &pReq->memoryRequirements);
+  for (auto* s = static_cast<VkBaseOutStructure*>(pReq->pNext); s; s = s->pNext) {
+    if (s->sType == VK_STRUCTURE_TYPE_MEMORY_DEDICATED_REQUIREMENTS) {
+      auto* d = reinterpret_cast<VkMemoryDedicatedRequirements*>(s);
+      d->prefersDedicatedAllocation = VK_FALSE;
+      d->requiresDedicatedAllocation = VK_FALSE;
+    }
+  }
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceImageMemoryRequirements(VkDevice device,
+                                                                 const VkDeviceImageMemoryRequirements* pInfo,
+                                                                 VkMemoryRequirements2* pReq) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  const FormatInfo* f = formatInfo(pInfo->pCreateInfo->format);
+  if (!f || pInfo->pCreateInfo->mipLevels == 0) {
+    pReq->memoryRequirements = {0, Image::kAlignment, 0};
+    return;
+  }
+  Image probe(dev, *pInfo->pCreateInfo, f);  // computes the layout; never handed out
+  requirementsOf(probe, &pReq->memoryRequirements);
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSparseMemoryRequirements(VkDevice, VkImage, uint32_t* pCount,
+                                                                 VkSparseImageMemoryRequirements*) {
+  *pCount = 0;  // no sparse images
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSparseMemoryRequirements2(VkDevice, const VkImageSparseMemoryRequirementsInfo2*,
+                                                                  uint32_t* pCount,
+                                                                  VkSparseImageMemoryRequirements2*) {
+  *pCount = 0;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceImageSparseMemoryRequirements(VkDevice,
+                                                                       const VkDeviceImageMemoryRequirements*,
+                                                                       uint32_t* pCount,
+                                                                       VkSparseImageMemoryRequirements2*) {
+  *pCount = 0;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_BindImageMemory(VkDevice device, VkImage image, VkDeviceMemory memory,
+                                                    VkDeviceSize memoryOffset) {
+  VkBindImageMemoryInfo info{VK_STRUCTURE_TYPE_BIND_IMAGE_MEMORY_INFO, nullptr, image, memory, memoryOffset};
+  return bindImage(fromHandleUnchecked<Device>(device), info, 0);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_BindImageMemory2(VkDevice device, uint32_t count,
+                                                     const VkBindImageMemoryInfo* pInfos) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  for (uint32_t i = 0; i < count; ++i) {
+    VkResult r = bindImage(dev, pInfos[i], i);
+    if (r != VK_SUCCESS) return r;
+  }
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSubresourceLayout(VkDevice device, VkImage image,
+                                                          const VkImageSubresource* pSubresource,
+                                                          VkSubresourceLayout* pLayout) {
+  Image* img = fromHandle<Image>(image);
+  *pLayout = {};
+  if (!img || pSubresource->mipLevel >= img->mipLevels || pSubresource->arrayLayer >= img->arrayLayers) {
+    report(img ? static_cast<Object*>(img) : fromHandle<Device>(device), Severity::Error,
+           "VUID-vkGetImageSubresourceLayout-mipLevel-01716",
+           "vkGetImageSubresourceLayout: subresource (mip %u, layer %u) is outside the image",
+           pSubresource->mipLevel, pSubresource->arrayLayer);
+    return;
+  }
+  const MipLayout& m = img->mips[pSubresource->mipLevel];
+  pLayout->offset = m.offset + pSubresource->arrayLayer * m.arrayPitch;
+  pLayout->size = m.arrayPitch;
+  pLayout->rowPitch = m.rowPitch;
+  pLayout->depthPitch = m.depthPitch;
+  pLayout->arrayPitch = m.arrayPitch;
+}
+
+}  // extern "C"

@@ -1,0 +1,63 @@
+// VkImage.
+//
+// Memory layout (the same for VK_IMAGE_TILING_LINEAR and OPTIMAL): tightly packed texels, row after row,
+// slice after slice; for each mip level all array layers, mip levels one after the other:
+//   offset(mip, layer, x, y, z) = mipOffset[mip] + layer * arrayPitch[mip]
+//                                 + z * depthPitch[mip] + y * rowPitch[mip] + x * texelSize
+// vkGetImageSubresourceLayout reports exactly these pitches, and shaders (a later issue) address texels
+// the same way.
+#pragma once
+
+#include <vector>
+
+#include "icd/object.hpp"
+#include "runtime/format.hpp"
+
+namespace vkrt {
+
+class Memory;
+
+struct MipLayout {
+  VkExtent3D extent;
+  VkDeviceSize offset;      // of layer 0
+  VkDeviceSize rowPitch;
+  VkDeviceSize depthPitch;  // one slice
+  VkDeviceSize arrayPitch;  // one layer (= depthPitch * depth)
+};
+
+class Image : public Object {
+ public:
+  using Handle = VkImage;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_IMAGE;
+
+  Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* format);
+
+  const VkImageType type;
+  const VkFormat format;
+  const FormatInfo* const formatInfo;
+  const VkExtent3D extent;
+  const uint32_t mipLevels;
+  const uint32_t arrayLayers;
+  const VkImageUsageFlags usage;
+  const VkImageTiling tiling;
+  const VkImageCreateFlags flags;
+  std::vector<MipLayout> mips;
+  VkDeviceSize size = 0;  // bytes of all subresources
+
+  Memory* memory = nullptr;
+  VkDeviceSize memoryOffset = 0;
+
+  uint8_t* data() const;
+  // Address of texel (x, y, z) of (mip, layer); no bounds check.
+  uint8_t* texel(uint32_t mip, uint32_t layer, uint32_t x, uint32_t y, uint32_t z) const {
+    const MipLayout& m = mips[mip];
+    return data() + m.offset + layer * m.arrayPitch + z * m.depthPitch + y * m.rowPitch + x * formatInfo->texelSize;
+  }
+
+  static constexpr VkDeviceSize kAlignment = 64;
+};
+
+// The extent of `extent` at mip level `mip` (each dimension halved, at least 1).
+VkExtent3D mipExtent(VkExtent3D extent, uint32_t mip);
+
+}  // namespace vkrt

@@ -1,0 +1,181 @@
+#include "runtime/image_copy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace vkrt {
+
+VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
+  VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
+  VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
+  VkDeviceSize layers = r.imageSubresource.layerCount;
+  VkDeviceSize lastRow = ((layers - 1) * r.imageExtent.depth + (r.imageExtent.depth - 1)) * imageHeight +
+                         (r.imageExtent.height - 1);
+  return (lastRow * rowLength + r.imageExtent.width) * texelSize;
+}
+
+void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCopy2& r, bool toImage) {
+  const uint32_t t = image.formatInfo->texelSize;
+  const VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
+  const VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
+  const size_t rowBytes = size_t(r.imageExtent.width) * t;
+  for (uint32_t l = 0; l < r.imageSubresource.layerCount; ++l) {
+    for (uint32_t z = 0; z < r.imageExtent.depth; ++z) {
+      for (uint32_t y = 0; y < r.imageExtent.height; ++y) {
+        uint8_t* b = buffer + r.bufferOffset + ((VkDeviceSize(l) * r.imageExtent.depth + z) * imageHeight + y) * rowLength * t;
+        uint8_t* i = image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l,
+                                 uint32_t(r.imageOffset.x), uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
+        if (toImage) {
+          std::memmove(i, b, rowBytes);
+        } else {
+          std::memmove(b, i, rowBytes);
+        }
+      }
+    }
+  }
+}
+
+void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
+  const size_t rowBytes = size_t(r.extent.width) * src.formatInfo->texelSize;
+  for (uint32_t l = 0; l < r.srcSubresource.layerCount; ++l) {
+    for (uint32_t z = 0; z < r.extent.depth; ++z) {
+      for (uint32_t y = 0; y < r.extent.height; ++y) {
+        const uint8_t* s = src.texel(r.srcSubresource.mipLevel, r.srcSubresource.baseArrayLayer + l,
+                                     uint32_t(r.srcOffset.x), uint32_t(r.srcOffset.y) + y, uint32_t(r.srcOffset.z) + z);
+        uint8_t* d = dst.texel(r.dstSubresource.mipLevel, r.dstSubresource.baseArrayLayer + l, uint32_t(r.dstOffset.x),
+                               uint32_t(r.dstOffset.y) + y, uint32_t(r.dstOffset.z) + z);
+        std::memmove(d, s, rowBytes);
+      }
+    }
+  }
+}
+
+uint32_t floatToUnsignedSmallFloat(float f, int mantissaBits) {
+  const uint32_t expMax = 31;
+  if (std::isnan(f)) return (expMax << mantissaBits) | 1u;
+  if (!(f > 0.0f)) return 0;  // negative values and zero clamp to zero
+  if (std::isinf(f)) return expMax << mantissaBits;
+  int e = 0;
+  float m = std::frexp(f, &e);  // f = m * 2^e, m in [0.5, 1)
+  int biased = e - 1 + 15;
+  const uint32_t one = 1u << mantissaBits;
+  if (biased <= 0) {
+    // Denormal: value = M / 2^mantissaBits * 2^-14.
+    uint32_t mant = uint32_t(std::nearbyint(std::ldexp(f, 14 + mantissaBits)));
+    return mant;  // mant == one rolls into the smallest normal exponent by itself
+  }
+  uint32_t mant = uint32_t(std::nearbyint((2.0f * m - 1.0f) * float(one)));
+  if (mant == one) {
+    mant = 0;
+    ++biased;
+  }
+  if (biased >= int(expMax)) return ((expMax - 1) << mantissaBits) | (one - 1);  // largest finite
+  return (uint32_t(biased) << mantissaBits) | mant;
+}
+
+uint16_t floatToHalf(float f) {
+  uint16_t sign = std::signbit(f) ? 0x8000 : 0;
+  if (std::isnan(f)) return 0x7e00;
+  float a = std::fabs(f);
+  if (std::isinf(a) || a >= 65520.0f) return sign | 0x7c00;  // overflow rounds to infinity
+  return sign | uint16_t(floatToUnsignedSmallFloat(a, 10));
+}
+
+namespace {
+
+uint32_t unorm(float f, int bits) {
+  float c = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+  return uint32_t(std::nearbyint(c * float((1ull << bits) - 1)));
+}
+
+uint32_t snorm(float f, int bits) {
+  float c = std::isnan(f) ? 0.0f : std::clamp(f, -1.0f, 1.0f);
+  int32_t v = int32_t(std::nearbyint(c * float((1ll << (bits - 1)) - 1)));
+  return uint32_t(v) & uint32_t((1ull << bits) - 1);
+}
+
+float linearToSrgb(float l) {
+  l = std::isnan(l) ? 0.0f : std::clamp(l, 0.0f, 1.0f);
+  return l <= 0.0031308f ? l * 12.92f : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
+}
+
+}  // namespace
+
+bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint8_t* texel) {
+  std::memset(texel, 0, fi.texelSize);
+  // Component c of memory order takes source channel src[c] (R,G,B,A = 0..3).
+  static constexpr int kRgba[4] = {0, 1, 2, 3};
+  static constexpr int kBgra[4] = {2, 1, 0, 3};
+  const int* src = fi.bgr ? kBgra : kRgba;
+  if (fi.packed) {
+    uint32_t v = 0;
+    if (fi.format == VK_FORMAT_B10G11R11_UFLOAT_PACK32) {
+      v = floatToUnsignedSmallFloat(color.float32[0], 6) | (floatToUnsignedSmallFloat(color.float32[1], 6) << 11) |
+          (floatToUnsignedSmallFloat(color.float32[2], 5) << 22);
+    } else if (fi.format == VK_FORMAT_A2B10G10R10_UNORM_PACK32) {
+      v = unorm(color.float32[0], 10) | (unorm(color.float32[1], 10) << 10) | (unorm(color.float32[2], 10) << 20) |
+          (unorm(color.float32[3], 2) << 30);
+    } else if (fi.format == VK_FORMAT_A2B10G10R10_UINT_PACK32) {
+      v = (color.uint32[0] & 0x3ff) | ((color.uint32[1] & 0x3ff) << 10) | ((color.uint32[2] & 0x3ff) << 20) |
+          ((color.uint32[3] & 0x3) << 30);
+    } else {
+      return false;
+    }
+    std::memcpy(texel, &v, 4);
+    return true;
+  }
+  uint8_t* out = texel;
+  for (int c = 0; c < fi.components; ++c) {
+    const int ch = src[c];
+    const int bits = fi.bits[c];
+    uint64_t v = 0;
+    switch (fi.type) {
+      case NumericType::UNorm:
+        v = unorm(color.float32[ch], bits);
+        break;
+      case NumericType::SNorm:
+        v = snorm(color.float32[ch], bits);
+        break;
+      case NumericType::SRGB:
+        v = unorm(ch == 3 ? color.float32[ch] : linearToSrgb(color.float32[ch]), bits);
+        break;
+      case NumericType::UInt:
+        v = color.uint32[ch] & uint32_t((1ull << bits) - 1);
+        break;
+      case NumericType::SInt:
+        v = uint32_t(color.int32[ch]) & uint32_t((1ull << bits) - 1);
+        break;
+      case NumericType::SFloat:
+        if (bits == 32) {
+          uint32_t u;
+          std::memcpy(&u, &color.float32[ch], 4);
+          v = u;
+        } else {
+          v = floatToHalf(color.float32[ch]);
+        }
+        break;
+      case NumericType::UFloat:
+        return false;
+    }
+    std::memcpy(out, &v, size_t(bits / 8));  // little-endian
+    out += bits / 8;
+  }
+  return true;
+}
+
+void clearImage(const Image& image, const uint8_t* texel, const VkImageSubresourceRange& range) {
+  const uint32_t t = image.formatInfo->texelSize;
+  uint32_t levels = range.levelCount == VK_REMAINING_MIP_LEVELS ? image.mipLevels - range.baseMipLevel : range.levelCount;
+  uint32_t layers =
+      range.layerCount == VK_REMAINING_ARRAY_LAYERS ? image.arrayLayers - range.baseArrayLayer : range.layerCount;
+  for (uint32_t m = range.baseMipLevel; m < range.baseMipLevel + levels; ++m) {
+    const MipLayout& mip = image.mips[m];
+    for (uint32_t l = range.baseArrayLayer; l < range.baseArrayLayer + layers; ++l) {
+      uint8_t* p = image.data() + mip.offset + l * mip.arrayPitch;
+      for (VkDeviceSize i = 0; i < mip.arrayPitch; i += t) std::memcpy(p + i, texel, t);
+    }
+  }
+}
+
+}  // namespace vkrt

@@ -1,0 +1,245 @@
+#include "runtime/image_view.hpp"
+
+#include "runtime/alloc.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/device.hpp"
+#include "runtime/format.hpp"
+#include "runtime/image.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+namespace {
+
+VkImageSubresourceRange resolve(const VkImageSubresourceRange& r, const Image& img) {
+  VkImageSubresourceRange out = r;
+  if (out.levelCount == VK_REMAINING_MIP_LEVELS) out.levelCount = img.mipLevels - r.baseMipLevel;
+  if (out.layerCount == VK_REMAINING_ARRAY_LAYERS) out.layerCount = img.arrayLayers - r.baseArrayLayer;
+  return out;
+}
+
+}  // namespace
+
+ImageView::ImageView(Device* dev, const VkImageViewCreateInfo& info, Image* img)
+    : Object(kType, dev->instance, dev),
+      image(img),
+      viewType(info.viewType),
+      format(info.format),
+      components(info.components),
+      range(resolve(info.subresourceRange, *img)) {}
+
+BufferView::BufferView(Device* dev, const VkBufferViewCreateInfo& info, Buffer* buf, VkDeviceSize r)
+    : Object(kType, dev->instance, dev),
+      buffer(buf),
+      format(info.format),
+      offset(info.offset),
+      range(r),
+      formatInfo(vkrt::formatInfo(info.format)) {}
+
+Sampler::Sampler(Device* dev, const VkSamplerCreateInfo& ci) : Object(kType, dev->instance, dev), info(ci) {
+  info.pNext = nullptr;
+}
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+namespace {
+
+// Which view types an image of a given type supports (VUID-VkImageViewCreateInfo-subResourceRange-01021 and
+// the table under VkImageViewCreateInfo).
+bool viewTypeFits(VkImageType image, VkImageViewType view, VkImageCreateFlags flags) {
+  switch (view) {
+    case VK_IMAGE_VIEW_TYPE_1D:
+    case VK_IMAGE_VIEW_TYPE_1D_ARRAY:
+      return image == VK_IMAGE_TYPE_1D;
+    case VK_IMAGE_VIEW_TYPE_2D:
+    case VK_IMAGE_VIEW_TYPE_2D_ARRAY:
+      return image == VK_IMAGE_TYPE_2D ||
+             (image == VK_IMAGE_TYPE_3D && (flags & VK_IMAGE_CREATE_2D_ARRAY_COMPATIBLE_BIT));
+    case VK_IMAGE_VIEW_TYPE_CUBE:
+    case VK_IMAGE_VIEW_TYPE_CUBE_ARRAY:
+      return image == VK_IMAGE_TYPE_2D && (flags & VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT);
+    case VK_IMAGE_VIEW_TYPE_3D:
+      return image == VK_IMAGE_TYPE_3D;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkImageViewCreateInfo* pCreateInfo,
+                                                    const VkAllocationCallbacks* pAllocator, VkImageView* pView) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  Image* img = fromHandle<Image>(pCreateInfo->image);
+  if (!img) {
+    report(dev, Severity::Error, "VUID-VkImageViewCreateInfo-image-parameter",
+           "vkCreateImageView: image 0x%llx is not a live VkImage", (unsigned long long)rawHandle(pCreateInfo->image));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  const VkImageSubresourceRange& r = pCreateInfo->subresourceRange;
+  // VUID-VkImageViewCreateInfo-subresourceRange-01478 / 01718 / 01480 / 01719
+  uint32_t levels = r.levelCount == VK_REMAINING_MIP_LEVELS ? img->mipLevels - std::min(r.baseMipLevel, img->mipLevels)
+                                                            : r.levelCount;
+  uint32_t layers = r.layerCount == VK_REMAINING_ARRAY_LAYERS
+                        ? img->arrayLayers - std::min(r.baseArrayLayer, img->arrayLayers)
+                        : r.layerCount;
+  if (r.baseMipLevel >= img->mipLevels || levels == 0 || uint64_t(r.baseMipLevel) + levels > img->mipLevels ||
+      r.baseArrayLayer >= img->arrayLayers || layers == 0 || uint64_t(r.baseArrayLayer) + layers > img->arrayLayers) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-subresourceRange-01718",
+           "vkCreateImageView: levels [%u, +%u) and layers [%u, +%u) exceed the image's %u levels and %u layers",
+           r.baseMipLevel, r.levelCount, r.baseArrayLayer, r.layerCount, img->mipLevels, img->arrayLayers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-imageViewType-04973: non-array views have one layer
+  if ((pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_1D || pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_2D ||
+       pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_3D) &&
+      layers != 1) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-imageViewType-04973",
+           "vkCreateImageView: a non-array view type %d covers %u layers", (int)pCreateInfo->viewType, layers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  if (!viewTypeFits(img->type, pCreateInfo->viewType, img->flags)) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-subResourceRange-01021",
+           "vkCreateImageView: view type %d is not compatible with image type %d (flags 0x%x)",
+           (int)pCreateInfo->viewType, (int)img->type, img->flags);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-image-01762: without MUTABLE_FORMAT the view's format is the image's
+  const FormatInfo* vf = formatInfo(pCreateInfo->format);
+  if (!vf || (pCreateInfo->format != img->format &&
+              (!(img->flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT) || vf->texelSize != img->formatInfo->texelSize))) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-image-01762",
+           "vkCreateImageView: format %d is not compatible with the image's format %d (flags 0x%x)",
+           (int)pCreateInfo->format, (int)img->format, img->flags);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  auto* view = createObject<ImageView>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, img);
+  if (!view) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  *pView = toHandle(view);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImageView(VkDevice device, VkImageView view,
+                                                 const VkAllocationCallbacks* pAllocator) {
+  if (!view) return;
+  ImageView* v = fromHandle<ImageView>(view);
+  if (!v) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyImageView-imageView-parameter",
+           "vkDestroyImageView: 0x%llx is not a live VkImageView", (unsigned long long)rawHandle(view));
+    return;
+  }
+  destroyObject(v, pAllocator);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBufferViewCreateInfo* pCreateInfo,
+                                                     const VkAllocationCallbacks* pAllocator, VkBufferView* pView) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  Buffer* buf = fromHandle<Buffer>(pCreateInfo->buffer);
+  if (!buf) {
+    report(dev, Severity::Error, "VUID-VkBufferViewCreateInfo-buffer-parameter",
+           "vkCreateBufferView: buffer 0x%llx is not a live VkBuffer", (unsigned long long)rawHandle(pCreateInfo->buffer));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  const FormatInfo* f = formatInfo(pCreateInfo->format);
+  VkFormatFeatureFlags features = bufferFormatFeatures(pCreateInfo->format);
+  // VUID-VkBufferViewCreateInfo-buffer-00933 / 00934: the format supports the buffer's texel usages
+  bool uniform = buf->usage & VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  bool storage = buf->usage & VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
+  if (!uniform && !storage) {
+    report(buf, Severity::Error, "VUID-VkBufferViewCreateInfo-buffer-00932",
+           "vkCreateBufferView: the buffer has no texel buffer usage (usage 0x%x)", buf->usage);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  if (!f || (uniform && !(features & VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT)) ||
+      (storage && !(features & VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT))) {
+    report(buf, Severity::Error, uniform ? "VUID-VkBufferViewCreateInfo-buffer-00933" : "VUID-VkBufferViewCreateInfo-buffer-00934",
+           "vkCreateBufferView: format %d does not support the buffer's texel usage 0x%x", (int)pCreateInfo->format,
+           buf->usage);
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
+  // VUID-VkBufferViewCreateInfo-offset-00925 / 02749: offset below the size, aligned
+  if (pCreateInfo->offset >= buf->size || pCreateInfo->offset % l.minTexelBufferOffsetAlignment) {
+    report(buf, Severity::Error, "VUID-VkBufferViewCreateInfo-offset-00925",
+           "vkCreateBufferView: offset %llu must be below the buffer size %llu and a multiple of %llu",
+           (unsigned long long)pCreateInfo->offset, (unsigned long long)buf->size,
+           (unsigned long long)l.minTexelBufferOffsetAlignment);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  VkDeviceSize range = pCreateInfo->range;
+  if (range == VK_WHOLE_SIZE) range = (buf->size - pCreateInfo->offset) / f->texelSize * f->texelSize;
+  // VUID-VkBufferViewCreateInfo-range-00928/00929/00930/00931
+  if (range == 0 || range % f->texelSize || range > buf->size - pCreateInfo->offset ||
+      range / f->texelSize > l.maxTexelBufferElements) {
+    report(buf, Severity::Error, "VUID-VkBufferViewCreateInfo-range-00929",
+           "vkCreateBufferView: range %llu at offset %llu is not a non-zero multiple of the %u-byte texel within the "
+           "%llu-byte buffer and %u elements",
+           (unsigned long long)pCreateInfo->range, (unsigned long long)pCreateInfo->offset, f->texelSize,
+           (unsigned long long)buf->size, l.maxTexelBufferElements);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  auto* view = createObject<BufferView>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, buf, range);
+  if (!view) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  *pView = toHandle(view);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBufferView(VkDevice device, VkBufferView view,
+                                                  const VkAllocationCallbacks* pAllocator) {
+  if (!view) return;
+  BufferView* v = fromHandle<BufferView>(view);
+  if (!v) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyBufferView-bufferView-parameter",
+           "vkDestroyBufferView: 0x%llx is not a live VkBufferView", (unsigned long long)rawHandle(view));
+    return;
+  }
+  destroyObject(v, pAllocator);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSamplerCreateInfo* pCreateInfo,
+                                                  const VkAllocationCallbacks* pAllocator, VkSampler* pSampler) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  // VUID-VkSamplerCreateInfo-anisotropyEnable-01070: the samplerAnisotropy feature is not supported
+  if (pCreateInfo->anisotropyEnable) {
+    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-anisotropyEnable-01070",
+           "vkCreateSampler: anisotropyEnable needs the samplerAnisotropy feature, which vkrt does not support");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072..01076
+  if (pCreateInfo->unnormalizedCoordinates &&
+      (pCreateInfo->minFilter != pCreateInfo->magFilter || pCreateInfo->mipmapMode != VK_SAMPLER_MIPMAP_MODE_NEAREST ||
+       pCreateInfo->minLod != 0.0f || pCreateInfo->maxLod != 0.0f ||
+       (pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
+       (pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
+       pCreateInfo->compareEnable)) {
+    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072",
+           "vkCreateSampler: unnormalizedCoordinates requires equal min/mag filters, nearest mipmaps, lod 0, clamped "
+           "U/V addressing and no compare");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  auto* s = createObject<Sampler>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo);
+  if (!s) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  *pSampler = toHandle(s);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroySampler(VkDevice device, VkSampler sampler,
+                                               const VkAllocationCallbacks* pAllocator) {
+  if (!sampler) return;
+  Sampler* s = fromHandle<Sampler>(sampler);
+  if (!s) {
+    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroySampler-sampler-parameter",
+           "vkDestroySampler: 0x%llx is not a live VkSampler", (unsigned long long)rawHandle(sampler));
+    return;
+  }
+  destroyObject(s, pAllocator);
+}
+
+}  // extern "C"

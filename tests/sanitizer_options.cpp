@@ -1,0 +1,15 @@
+// Sanitizer defaults for vkrt's test binaries (used only when they are built with -DVKRT_SANITIZE=ON; the
+// functions are ignored otherwise). Environment variables still override them.
+extern "C" {
+
+__attribute__((visibility("default"))) const char* __asan_default_options() {
+  return "detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0";
+}
+
+// use_tls=0: GCC 12's LeakSanitizer crashes ("Tracer caught signal 11") walking the dynamic TLS of a process
+// whose Vulkan loader has dlclosed a library with thread-local storage; leaks are still found through the
+// heap and the stacks. The suppressions cover the loader's and the validation layer's own allocations.
+__attribute__((visibility("default"))) const char* __lsan_default_options() {
+  return "use_tls=0:print_suppressions=0:suppressions=" VKRT_LSAN_SUPPRESSIONS;
+}
+}
