@@ -63,7 +63,10 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
   // VUID-VkImageCreateInfo-extent-00944/00945/00946
   if (ci.extent.width == 0 || ci.extent.height == 0 || ci.extent.depth == 0) {
-    report(dev, Severity::Error, "VUID-VkImageCreateInfo-extent-00944",
+    report(dev, Severity::Error,
+           ci.extent.width == 0    ? "VUID-VkImageCreateInfo-extent-00944"
+           : ci.extent.height == 0 ? "VUID-VkImageCreateInfo-extent-00945"
+                                   : "VUID-VkImageCreateInfo-extent-00946",
            "vkCreateImage: extent (%u, %u, %u) has a zero dimension", ci.extent.width, ci.extent.height,
            ci.extent.depth);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -91,6 +94,14 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
            "vkCreateImage: a 3D image has arrayLayers %u, not 1", ci.arrayLayers);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
+  // VUID-VkImageCreateInfo-imageType-00954: cube-compatible images are square 2D images with >= 6 layers
+  if ((ci.flags & VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT) &&
+      (ci.imageType != VK_IMAGE_TYPE_2D || ci.extent.width != ci.extent.height || ci.arrayLayers < 6)) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageType-00954",
+           "vkCreateImage: a cube-compatible image of type %d has extent %ux%u and %u layers (square 2D, >= 6 needed)",
+           (int)ci.imageType, ci.extent.width, ci.extent.height, ci.arrayLayers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
   // VUID-VkImageCreateInfo-mipLevels-00958
   if (ci.mipLevels > maxMipLevels(ci.extent)) {
     report(dev, Severity::Error, "VUID-VkImageCreateInfo-mipLevels-00958",
@@ -110,7 +121,9 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
   // VUID-VkImageCreateInfo-extent-02252/02253/02254, arrayLayers-02256
   if (std::max({ci.extent.width, ci.extent.height, ci.extent.depth}) > maxDim ||
       ci.arrayLayers > l.maxImageArrayLayers) {
-    report(dev, Severity::Error, "VUID-VkImageCreateInfo-extent-02252",
+    report(dev, Severity::Error,
+           ci.arrayLayers > l.maxImageArrayLayers ? "VUID-VkImageCreateInfo-arrayLayers-02256"
+                                                  : "VUID-VkImageCreateInfo-extent-02252",
            "vkCreateImage: extent (%u, %u, %u) x %u layers exceeds the limits (%u, %u layers)", ci.extent.width,
            ci.extent.height, ci.extent.depth, ci.arrayLayers, maxDim, l.maxImageArrayLayers);
     return VK_ERROR_OUT_OF_DEVICE_MEMORY;
@@ -136,7 +149,7 @@ void requirementsOf(const Image& img, VkMemoryRequirements* req) {
   req->memoryTypeBits = 1;
 }
 
-VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t index) {
+VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t index, bool bind2) {
   Image* img = fromHandle<Image>(info.image);
   Memory* mem = fromHandle<Memory>(info.memory);
   if (!img || !mem) {
@@ -152,14 +165,18 @@ VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t inde
   }
   VkMemoryRequirements req;
   requirementsOf(*img, &req);
-  // VUID-VkBindImageMemoryInfo-memoryOffset-01046 (alignment) and -01049 (size)
-  if (info.memoryOffset % req.alignment || info.memoryOffset >= mem->size || req.size > mem->size - info.memoryOffset) {
-    report(img, Severity::Error,
-           info.memoryOffset % req.alignment ? "VUID-VkBindImageMemoryInfo-memoryOffset-01046"
-                                             : "VUID-VkBindImageMemoryInfo-size-01049",
-           "vkBindImageMemory: %llu bytes at memoryOffset %llu do not fit the %llu-byte memory (alignment %llu)",
-           (unsigned long long)req.size, (unsigned long long)info.memoryOffset, (unsigned long long)mem->size,
-           (unsigned long long)req.alignment);
+  // VUID-VkBindImageMemoryInfo-memoryOffset-01613: aligned; -01046: inside the memory;
+  // VUID-vkBindImageMemory-size-01049 / VUID-VkBindImageMemoryInfo-pNext-01617: the image fits
+  const char* vuid = info.memoryOffset % req.alignment ? "VUID-VkBindImageMemoryInfo-memoryOffset-01613"
+                     : info.memoryOffset >= mem->size  ? "VUID-VkBindImageMemoryInfo-memoryOffset-01046"
+                     : req.size > mem->size - info.memoryOffset
+                         ? (bind2 ? "VUID-VkBindImageMemoryInfo-pNext-01617" : "VUID-vkBindImageMemory-size-01049")
+                         : nullptr;
+  if (vuid) {
+    report(img, Severity::Error, vuid,
+           "%s: %llu bytes at memoryOffset %llu do not fit the %llu-byte memory (alignment %llu)",
+           bind2 ? "vkBindImageMemory2" : "vkBindImageMemory", (unsigned long long)req.size,
+           (unsigned long long)info.memoryOffset, (unsigned long long)mem->size, (unsigned long long)req.alignment);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   img->memory = mem;
@@ -244,14 +261,14 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceImageSparseMemoryRequirements(VkDevice,
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_BindImageMemory(VkDevice device, VkImage image, VkDeviceMemory memory,
                                                     VkDeviceSize memoryOffset) {
   VkBindImageMemoryInfo info{VK_STRUCTURE_TYPE_BIND_IMAGE_MEMORY_INFO, nullptr, image, memory, memoryOffset};
-  return bindImage(fromHandleUnchecked<Device>(device), info, 0);
+  return bindImage(fromHandleUnchecked<Device>(device), info, 0, false);
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_BindImageMemory2(VkDevice device, uint32_t count,
                                                      const VkBindImageMemoryInfo* pInfos) {
   Device* dev = fromHandleUnchecked<Device>(device);
   for (uint32_t i = 0; i < count; ++i) {
-    VkResult r = bindImage(dev, pInfos[i], i);
+    VkResult r = bindImage(dev, pInfos[i], i, true);
     if (r != VK_SUCCESS) return r;
   }
   return VK_SUCCESS;
@@ -263,8 +280,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSubresourceLayout(VkDevice device, VkIma
   Image* img = fromHandle<Image>(image);
   *pLayout = {};
   if (!img || pSubresource->mipLevel >= img->mipLevels || pSubresource->arrayLayer >= img->arrayLayers) {
+    // VUID-vkGetImageSubresourceLayout-mipLevel-01716 / arrayLayer-01717
     report(img ? static_cast<Object*>(img) : fromHandle<Device>(device), Severity::Error,
-           "VUID-vkGetImageSubresourceLayout-mipLevel-01716",
+           img && pSubresource->mipLevel < img->mipLevels ? "VUID-vkGetImageSubresourceLayout-arrayLayer-01717"
+                                                          : "VUID-vkGetImageSubresourceLayout-mipLevel-01716",
            "vkGetImageSubresourceLayout: subresource (mip %u, layer %u) is outside the image",
            pSubresource->mipLevel, pSubresource->arrayLayer);
     return;

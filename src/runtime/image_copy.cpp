@@ -38,15 +38,21 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
 
 void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
   const size_t rowBytes = size_t(r.extent.width) * src.formatInfo->texelSize;
-  for (uint32_t l = 0; l < r.srcSubresource.layerCount; ++l) {
-    for (uint32_t z = 0; z < r.extent.depth; ++z) {
-      for (uint32_t y = 0; y < r.extent.height; ++y) {
-        const uint8_t* s = src.texel(r.srcSubresource.mipLevel, r.srcSubresource.baseArrayLayer + l,
-                                     uint32_t(r.srcOffset.x), uint32_t(r.srcOffset.y) + y, uint32_t(r.srcOffset.z) + z);
-        uint8_t* d = dst.texel(r.dstSubresource.mipLevel, r.dstSubresource.baseArrayLayer + l, uint32_t(r.dstOffset.x),
-                               uint32_t(r.dstOffset.y) + y, uint32_t(r.dstOffset.z) + z);
-        std::memmove(d, s, rowBytes);
-      }
+  // Planes: the layers of a 2D/1D image, the depth slices of a 3D image (a 3D image copies to and from the
+  // layers of a 2D array image slice by slice).
+  const bool src3d = src.type == VK_IMAGE_TYPE_3D, dst3d = dst.type == VK_IMAGE_TYPE_3D;
+  const uint32_t planes = src3d ? r.extent.depth : r.srcSubresource.layerCount;
+  for (uint32_t p = 0; p < planes; ++p) {
+    const uint32_t srcLayer = r.srcSubresource.baseArrayLayer + (src3d ? 0 : p);
+    const uint32_t srcZ = uint32_t(r.srcOffset.z) + (src3d ? p : 0);
+    const uint32_t dstLayer = r.dstSubresource.baseArrayLayer + (dst3d ? 0 : p);
+    const uint32_t dstZ = uint32_t(r.dstOffset.z) + (dst3d ? p : 0);
+    for (uint32_t y = 0; y < r.extent.height; ++y) {
+      const uint8_t* s = src.texel(r.srcSubresource.mipLevel, srcLayer, uint32_t(r.srcOffset.x),
+                                   uint32_t(r.srcOffset.y) + y, srcZ);
+      uint8_t* d = dst.texel(r.dstSubresource.mipLevel, dstLayer, uint32_t(r.dstOffset.x), uint32_t(r.dstOffset.y) + y,
+                             dstZ);
+      std::memmove(d, s, rowBytes);
     }
   }
 }

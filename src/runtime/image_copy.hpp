@@ -14,7 +14,8 @@ VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize);
 // Copies one region between `buffer` (the bound memory of the buffer, offset 0) and `image`.
 void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCopy2& r, bool toImage);
 
-// Copies one region between two images with the same texel size.
+// Copies one region between two images with the same texel size; the depth slices of a 3D image pair with
+// the layers of a 1D/2D image.
 void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r);
 
 // Encodes a clear color for `format` into `texel` (texelSize bytes). Returns false for unknown formats.

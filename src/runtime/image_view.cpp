@@ -88,9 +88,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
   uint32_t layers = r.layerCount == VK_REMAINING_ARRAY_LAYERS
                         ? img->arrayLayers - std::min(r.baseArrayLayer, img->arrayLayers)
                         : r.layerCount;
-  if (r.baseMipLevel >= img->mipLevels || levels == 0 || uint64_t(r.baseMipLevel) + levels > img->mipLevels ||
-      r.baseArrayLayer >= img->arrayLayers || layers == 0 || uint64_t(r.baseArrayLayer) + layers > img->arrayLayers) {
-    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-subresourceRange-01718",
+  const char* rangeVuid = r.baseMipLevel >= img->mipLevels ? "VUID-VkImageViewCreateInfo-subresourceRange-01478"
+                          : levels == 0 || uint64_t(r.baseMipLevel) + levels > img->mipLevels
+                              ? "VUID-VkImageViewCreateInfo-subresourceRange-01718"
+                          : r.baseArrayLayer >= img->arrayLayers ? "VUID-VkImageViewCreateInfo-subresourceRange-01480"
+                          : layers == 0 || uint64_t(r.baseArrayLayer) + layers > img->arrayLayers
+                              ? "VUID-VkImageViewCreateInfo-subresourceRange-01719"
+                              : nullptr;
+  if (rangeVuid) {
+    report(img, Severity::Error, rangeVuid,
            "vkCreateImageView: levels [%u, +%u) and layers [%u, +%u) exceed the image's %u levels and %u layers",
            r.baseMipLevel, r.levelCount, r.baseArrayLayer, r.layerCount, img->mipLevels, img->arrayLayers);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -103,17 +109,31 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
            "vkCreateImageView: a non-array view type %d covers %u layers", (int)pCreateInfo->viewType, layers);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
+  // VUID-VkImageViewCreateInfo-viewType-01004: cube array views need the imageCubeArray feature
+  if (pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY && !dev->enabled10.imageCubeArray) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-viewType-01004",
+           "vkCreateImageView: VK_IMAGE_VIEW_TYPE_CUBE_ARRAY needs the imageCubeArray feature, which is not enabled");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-image-01003 (cube views need CUBE_COMPATIBLE), otherwise the view type table
+  // (VUID-VkImageViewCreateInfo-subResourceRange-01021)
   if (!viewTypeFits(img->type, pCreateInfo->viewType, img->flags)) {
-    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-subResourceRange-01021",
+    bool cube = pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE || pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+    report(img, Severity::Error,
+           cube && img->type == VK_IMAGE_TYPE_2D ? "VUID-VkImageViewCreateInfo-image-01003"
+                                                 : "VUID-VkImageViewCreateInfo-subResourceRange-01021",
            "vkCreateImageView: view type %d is not compatible with image type %d (flags 0x%x)",
            (int)pCreateInfo->viewType, (int)img->type, img->flags);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  // VUID-VkImageViewCreateInfo-image-01762: without MUTABLE_FORMAT the view's format is the image's
+  // VUID-VkImageViewCreateInfo-image-01019: without MUTABLE_FORMAT the view's format is the image's;
+  // VUID-VkImageViewCreateInfo-image-01018: with it, a compatible format (vkrt: the same texel size)
   const FormatInfo* vf = formatInfo(pCreateInfo->format);
-  if (!vf || (pCreateInfo->format != img->format &&
-              (!(img->flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT) || vf->texelSize != img->formatInfo->texelSize))) {
-    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-image-01762",
+  bool mutableFormat = img->flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+  if (pCreateInfo->format != img->format &&
+      (!mutableFormat || !vf || vf->texelSize != img->formatInfo->texelSize || !formatFeatures(pCreateInfo->format))) {
+    report(img, Severity::Error,
+           mutableFormat ? "VUID-VkImageViewCreateInfo-image-01018" : "VUID-VkImageViewCreateInfo-image-01019",
            "vkCreateImageView: format %d is not compatible with the image's format %d (flags 0x%x)",
            (int)pCreateInfo->format, (int)img->format, img->flags);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -163,20 +183,30 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
-  // VUID-VkBufferViewCreateInfo-offset-00925 / 02749: offset below the size, aligned
+  // VUID-VkBufferViewCreateInfo-offset-00925: below the size; offset-02749: aligned
   if (pCreateInfo->offset >= buf->size || pCreateInfo->offset % l.minTexelBufferOffsetAlignment) {
-    report(buf, Severity::Error, "VUID-VkBufferViewCreateInfo-offset-00925",
+    report(buf, Severity::Error,
+           pCreateInfo->offset >= buf->size ? "VUID-VkBufferViewCreateInfo-offset-00925"
+                                            : "VUID-VkBufferViewCreateInfo-offset-02749",
            "vkCreateBufferView: offset %llu must be below the buffer size %llu and a multiple of %llu",
            (unsigned long long)pCreateInfo->offset, (unsigned long long)buf->size,
            (unsigned long long)l.minTexelBufferOffsetAlignment);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  VkDeviceSize range = pCreateInfo->range;
-  if (range == VK_WHOLE_SIZE) range = (buf->size - pCreateInfo->offset) / f->texelSize * f->texelSize;
-  // VUID-VkBufferViewCreateInfo-range-00928/00929/00930/00931
-  if (range == 0 || range % f->texelSize || range > buf->size - pCreateInfo->offset ||
-      range / f->texelSize > l.maxTexelBufferElements) {
-    report(buf, Severity::Error, "VUID-VkBufferViewCreateInfo-range-00929",
+  const bool whole = pCreateInfo->range == VK_WHOLE_SIZE;
+  const VkDeviceSize range =
+      whole ? (buf->size - pCreateInfo->offset) / f->texelSize * f->texelSize : pCreateInfo->range;
+  // VUID-VkBufferViewCreateInfo-range-00928 (non-zero), range-00929 (texel multiple), offset-00931 (inside the
+  // buffer), range-00930 / range-04059 (at most maxTexelBufferElements)
+  const char* vuid = nullptr;
+  if (!whole && range == 0) vuid = "VUID-VkBufferViewCreateInfo-range-00928";
+  else if (!whole && range % f->texelSize) vuid = "VUID-VkBufferViewCreateInfo-range-00929";
+  else if (!whole && range > buf->size - pCreateInfo->offset) vuid = "VUID-VkBufferViewCreateInfo-offset-00931";
+  else if (range / f->texelSize > l.maxTexelBufferElements)
+    vuid = whole ? "VUID-VkBufferViewCreateInfo-range-04059" : "VUID-VkBufferViewCreateInfo-range-00930";
+  else if (range == 0) vuid = "VUID-VkBufferViewCreateInfo-range-04059";  // VK_WHOLE_SIZE leaves no texel
+  if (vuid) {
+    report(buf, Severity::Error, vuid,
            "vkCreateBufferView: range %llu at offset %llu is not a non-zero multiple of the %u-byte texel within the "
            "%llu-byte buffer and %u elements",
            (unsigned long long)pCreateInfo->range, (unsigned long long)pCreateInfo->offset, f->texelSize,

@@ -1,4 +1,5 @@
 // Descriptor set layouts, pools, sets, updates, update templates and pipeline layouts through the loader.
+#include <cstring>
 #include <vector>
 
 #include "e2e/fixture.hpp"
@@ -7,6 +8,15 @@ namespace vkrt::test {
 namespace {
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+
+// True when the physical device is vkrt. The spec lets a pool serve more descriptors than its pPoolSizes count
+// (an allocation beyond them "may" fail with VK_ERROR_OUT_OF_POOL_MEMORY; NVIDIA's succeeds), and
+// maxVariableDescriptorCount is the driver's own figure: those assertions are about vkrt and run on vkrt only.
+bool isVkrt(VkPhysicalDevice pd) {
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(pd, &p);
+  return std::strcmp(p.deviceName, "vkrt") == 0;
+}
 
 class DescriptorTest : public VulkanTest {
  protected:
@@ -67,8 +77,17 @@ TEST_F(DescriptorTest, AllocateWriteCopyFreeAndReset) {
   VkDescriptorSet a = VK_NULL_HANDLE, b = VK_NULL_HANDLE, c = VK_NULL_HANDLE;
   ASSERT_EQ(allocate(p, l, &a), VK_SUCCESS);
   ASSERT_EQ(allocate(p, l, &b), VK_SUCCESS);
-  // Two sets took all 4 storage buffers: the third does not fit although maxSets (3) would allow it.
-  EXPECT_EQ(allocate(p, l, &c), VK_ERROR_OUT_OF_POOL_MEMORY);
+  // Two sets took all 4 storage buffers: on vkrt the third does not fit although maxSets (3) would allow it.
+  VkResult third = allocate(p, l, &c);
+  if (isVkrt(physicalDevice)) {
+    EXPECT_EQ(third, VK_ERROR_OUT_OF_POOL_MEMORY);
+  } else {
+    // Other drivers may serve it (see isVkrt); then it is freed, for the rest of the test to start alike.
+    EXPECT_TRUE(third == VK_SUCCESS || third == VK_ERROR_OUT_OF_POOL_MEMORY) << third;
+    if (third == VK_SUCCESS) {
+      EXPECT_EQ(vkFreeDescriptorSets(device, p, 1, &c), VK_SUCCESS);
+    }
+  }
 
   VkDescriptorBufferInfo infos[] = {{buf.buffer, 0, 256}, {buf.buffer, 256, VK_WHOLE_SIZE}};
   VkDescriptorBufferInfo ubo{buf.buffer, 512, 64};
@@ -181,7 +200,10 @@ TEST_F(DescriptorIndexingTest, VariableCountPartiallyBoundUpdateAfterBind) {
   VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
   vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
-  EXPECT_EQ(vs.maxVariableDescriptorCount, p11.maxPerSetDescriptors - 1);
+  // vkrt's own figure: every descriptor of a set but the fixed binding's one (NVIDIA reports another).
+  if (isVkrt(physicalDevice)) {
+    EXPECT_EQ(vs.maxVariableDescriptorCount, p11.maxPerSetDescriptors - 1);
+  }
 
   VkDescriptorSetLayout l = layout(bindings, flags, VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT);
   // 1 + 10 storage buffers per set: a 22-descriptor pool holds exactly two such sets.
@@ -194,7 +216,12 @@ TEST_F(DescriptorIndexingTest, VariableCountPartiallyBoundUpdateAfterBind) {
   VkDescriptorSet s1, s2, s3;
   ASSERT_EQ(allocate(p, l, &s1, &v), VK_SUCCESS);
   ASSERT_EQ(allocate(p, l, &s2, &v), VK_SUCCESS);
-  EXPECT_EQ(allocate(p, l, &s3, &v), VK_ERROR_OUT_OF_POOL_MEMORY);
+  VkResult third = allocate(p, l, &s3, &v);
+  if (isVkrt(physicalDevice)) {
+    EXPECT_EQ(third, VK_ERROR_OUT_OF_POOL_MEMORY);
+  } else {
+    EXPECT_TRUE(third == VK_SUCCESS || third == VK_ERROR_OUT_OF_POOL_MEMORY) << third;  // see isVkrt
+  }
 
   HostBuffer buf = createHostBuffer(1024, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   VkDescriptorBufferInfo info{buf.buffer, 0, VK_WHOLE_SIZE};

@@ -12,6 +12,13 @@
 // any other layer message. The layer also hides vkGetRayTracingShaderGroupHandlesNV (it requires
 // VK_NV_ray_tracing), so the NV alias is tested without the layer (RtMisuseTest.NvAliasResolves), and drops
 // the group-handles feature structure it does not know, so library handle tests run without it (RtLibraryTest).
+// The same layer messages come on other drivers (e.g. NVIDIA's), since the fixture does not enable
+// VK_KHR_acceleration_structure there either.
+//
+// On other drivers (device name not "vkrt") the tests of Vulkan behaviour run as well; assertions about vkrt's own
+// choices (exact stack sizes, handles identical across processes, deferred-operation scheduling, vkrt's messages
+// for misuse) are skipped there, each with a comment. The fixture enables only the features the driver reports
+// (NVIDIA has no rayTracingPipelineShaderGroupHandleCaptureReplayMixed); tests that need one skip without it.
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -46,8 +53,21 @@ constexpr const char* kUnknownStructMessage = "VUID-VkDeviceCreateInfo-pNext-pNe
 // extension VK_KHR_acceleration_structure has not been enabled".
 constexpr const char* kExtensionNotEnabledMessage = "UNASSIGNED-GeneralParameterError-ExtensionNotEnabled";
 
+// True when the physical device is vkrt: checks of vkrt's own choices and diagnostics are skipped on other drivers.
+bool isVkrt(VkPhysicalDevice pd) {
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(pd, &p);
+  return std::strcmp(p.deviceName, "vkrt") == 0;
+}
+
 class RtTest : public VulkanTest {
  protected:
+  // The features the driver supports, read by querySupport() before options() is used.
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR supportedRt{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT supportedLgh{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  bool vkrt = false;
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
@@ -62,18 +82,54 @@ class RtTest : public VulkanTest {
     o.deviceExtensions = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME,
                           VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
                           VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME};
-    rtf.rayTracingPipeline = VK_TRUE;
-    rtf.rayTracingPipelineShaderGroupHandleCaptureReplay = captureReplay;
-    rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed = captureReplay;
+    // Only what the driver supports is enabled (enabling an unsupported feature fails vkCreateDevice with
+    // VK_ERROR_FEATURE_NOT_PRESENT).
+    rtf.rayTracingPipeline = supportedRt.rayTracingPipeline;
+    rtf.rayTracingPipelineShaderGroupHandleCaptureReplay =
+        captureReplay && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplay;
+    rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed =
+        captureReplay && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
     rtf.pNext = &lgh;
-    lgh.pipelineLibraryGroupHandles = libraryGroupHandles;
+    lgh.pipelineLibraryGroupHandles = libraryGroupHandles && supportedLgh.pipelineLibraryGroupHandles;
     o.featureChain = &rtf;
     return o;
   }
 
+  // Reads the supported features through an instance of its own (without the layer), before the fixture's
+  // instance and device exist.
+  void querySupport() {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.apiVersion = VK_API_VERSION_1_3;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    VkInstance inst = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateInstance(&ici, nullptr, &inst), VK_SUCCESS);
+    uint32_t n = 1;
+    VkPhysicalDevice pd = VK_NULL_HANDLE;
+    VkResult r = vkEnumeratePhysicalDevices(inst, &n, &pd);  // the first one, as the fixture takes
+    if ((r == VK_SUCCESS || r == VK_INCOMPLETE) && n >= 1) {
+      supportedLgh.pNext = nullptr;
+      supportedRt.pNext = &supportedLgh;
+      VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supportedRt};
+      vkGetPhysicalDeviceFeatures2(pd, &f2);
+      supportedRt.pNext = nullptr;
+      vkrt = isVkrt(pd);
+    }
+    vkDestroyInstance(inst, nullptr);
+    ASSERT_GE(n, 1u) << "no physical device";
+    ASSERT_TRUE(supportedRt.rayTracingPipeline) << "rayTracingPipeline is not supported";
+  }
+
+  // True when the capture/replay tests may interleave replayed pipelines with others.
+  bool mixedEnabled() const { return rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed; }
+
   void SetUp() override {
     setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
+    querySupport();
+    if (HasFatalFailure()) return;
     VulkanTest::SetUp();
+    // A failed SetUp (e.g. vkCreateDevice) must not go on with a null device; TearDown still runs.
+    if (HasFatalFailure()) return;
     acceptKnownLayerMessages();
     load(createPipelines, "vkCreateRayTracingPipelinesKHR");
     load(getHandles, "vkGetRayTracingShaderGroupHandlesKHR");
@@ -120,6 +176,10 @@ class RtTest : public VulkanTest {
   }
 
   void TearDown() override {
+    if (!device) {  // SetUp failed (already reported): only the fixture's own clean-up
+      VulkanTest::TearDown();
+      return;
+    }
     acceptKnownLayerMessages();
     for (VkPipeline p : pipelines) vkDestroyPipeline(device, p, nullptr);
     for (VkShaderModule m : modules) vkDestroyShaderModule(device, m, nullptr);
@@ -286,7 +346,8 @@ std::string runHelper(const char* test, const std::string& extraEnvName = "", co
     std::string filter = std::string("--gtest_filter=") + test;
     int devnull = open("/dev/null", O_WRONLY);
     dup2(devnull, 1);
-    execl(VKRT_E2E_BINARY, VKRT_E2E_BINARY, filter.c_str(), static_cast<char*>(nullptr));
+    // This very binary (VKRT_E2E_BINARY is its build path, absent where a copy runs on another machine).
+    execl("/proc/self/exe", VKRT_E2E_BINARY, filter.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   int status = 0;
@@ -320,13 +381,17 @@ TEST_F(RtTest, PropertiesAndFeaturesMatchTheIssue) {
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f};
   vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
   EXPECT_TRUE(f.rayTracingPipeline && f.rayTracingPipelineShaderGroupHandleCaptureReplay &&
-              f.rayTracingPipelineShaderGroupHandleCaptureReplayMixed && f.rayTracingPipelineTraceRaysIndirect &&
-              f.rayTraversalPrimitiveCulling);
+              f.rayTracingPipelineTraceRaysIndirect && f.rayTraversalPrimitiveCulling);
   EXPECT_TRUE(g.pipelineLibraryGroupHandles);
+  // vkrt supports Mixed capture/replay; NVIDIA's driver does not (the spec makes it optional).
+  if (vkrt) {
+    EXPECT_TRUE(f.rayTracingPipelineShaderGroupHandleCaptureReplayMixed);
+  }
 }
 
 TEST(RtPreview, ExtensionsOnlyWithThePreviewVariable) {
-  auto count = [](bool preview) {
+  bool vkrtDevice = false;
+  auto count = [&](bool preview) {
     if (preview) setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
     else unsetenv("VKRT_PREVIEW_RAY_TRACING");
     VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
@@ -338,6 +403,7 @@ TEST(RtPreview, ExtensionsOnlyWithThePreviewVariable) {
     uint32_t n = 1;
     VkPhysicalDevice pd;
     vkEnumeratePhysicalDevices(inst, &n, &pd);
+    vkrtDevice = isVkrt(pd);
     uint32_t e = 0;
     vkEnumerateDeviceExtensionProperties(pd, nullptr, &e, nullptr);
     std::vector<VkExtensionProperties> ext(e);
@@ -350,7 +416,11 @@ TEST(RtPreview, ExtensionsOnlyWithThePreviewVariable) {
     vkDestroyInstance(inst, nullptr);
     return found;
   };
-  EXPECT_EQ(count(false), 0);
+  int without = count(false);
+  // VKRT_PREVIEW_RAY_TRACING is vkrt's own switch: other drivers expose the extensions regardless.
+  if (vkrtDevice) {
+    EXPECT_EQ(without, 0);
+  }
   EXPECT_EQ(count(true), 4);
 }
 
@@ -380,9 +450,13 @@ TEST_F(RtTest, HandlesAreDistinctContentDerivedAndSliced) {
   d3.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
   VkPipeline c = make(d3);
   auto hc = handles(c, 0, 2);
-  EXPECT_EQ(slice(hc, 0, 32), slice(all, 0, 32));
-  EXPECT_EQ(slice(hc, 32, 32), slice(all, 64, 32));
   EXPECT_NE(slice(hc, 32, 32), slice(all, 32, 32));
+  if (vkrt) {
+    // vkrt's handles depend on group content only, so the same groups in a pipeline of other content keep
+    // their handles. NVIDIA hands out new table indices for a pipeline of different content (seen on 580/H100).
+    EXPECT_EQ(slice(hc, 0, 32), slice(all, 0, 32));
+    EXPECT_EQ(slice(hc, 32, 32), slice(all, 64, 32));
+  }
 }
 
 TEST_F(RtTest, SpecializationIsPartOfTheHandleAndHundredsOfGroupsAreDistinct) {
@@ -414,6 +488,9 @@ TEST_F(RtTest, HelperWriteHandles) {
 }
 
 TEST_F(RtTest, HandlesAreIdenticalInAnotherProcess) {
+  // The spec does not promise handles that are equal across processes (NVIDIA's are indices into a shader table
+  // filled in creation order); vkrt's content-derived handles are.
+  if (!vkrt) GTEST_SKIP() << "cross-process handle identity is vkrt's own choice";
   // Some unrelated pipeline first, so the registries of the two processes differ in history.
   Desc other;
   other.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
@@ -431,6 +508,9 @@ TEST_F(RtTest, HelperWriteCapture) {
 }
 
 TEST_F(RtTest, CaptureInOneProcessReplayInAnother) {
+  // Creating an unrelated pipeline before the replayed one needs rayTracingPipelineShaderGroupHandleCaptureReplayMixed
+  // (VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplayMixed-03603).
+  if (!mixedEnabled()) GTEST_SKIP() << "rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not supported";
   std::string line = runHelper("RtTest.HelperWriteCapture");
   auto space = line.find(' ');
   ASSERT_NE(space, std::string::npos);
@@ -449,6 +529,8 @@ TEST_F(RtTest, CaptureInOneProcessReplayInAnother) {
 }
 
 TEST_F(RtTest, CaptureDestroyReplayInTheSameProcess) {
+  // Replaying after pipelines created without replay handles needs Mixed (VUID-...-03603).
+  if (!mixedEnabled()) GTEST_SKIP() << "rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not supported";
   Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
   VkPipeline p = VK_NULL_HANDLE;
   ASSERT_EQ(create(d, &p), VK_SUCCESS);
@@ -465,6 +547,9 @@ TEST_F(RtTest, CaptureDestroyReplayInTheSameProcess) {
 }
 
 TEST_F(RtTest, CaptureDataThatDoesNotMatchIsRefused) {
+  // Corrupt capture data is invalid usage: the error code and the message are vkrt's own diagnostics.
+  if (!vkrt) GTEST_SKIP() << "vkrt's diagnostics for capture data that does not match";
+  if (!mixedEnabled()) GTEST_SKIP() << "rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not supported";
   Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
   auto data = captureData(make(d), 6);
   struct Case {
@@ -546,9 +631,12 @@ TEST_F(RtLibraryTest, LibrariesKeepTheirHandlesInEveryLinkingOrder) {
   solo.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   solo.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
   EXPECT_EQ(slice(hT, 0, 32), slice(handles(make(solo), 0, 2), 32, 32));
-  // Stack sizes come through linking unchanged (the library's figure, not a re-analysis).
-  EXPECT_EQ(getStackSize(device, t, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR),
-            getStackSize(device, libA, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR));
+  // Stack sizes come through linking unchanged (the library's figure, not a re-analysis): vkrt's choice, the
+  // spec lets a linked pipeline report other sizes (NVIDIA does, for a closest-hit shader).
+  if (vkrt) {
+    EXPECT_EQ(getStackSize(device, t, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR),
+              getStackSize(device, libA, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR));
+  }
   // Libraries may be destroyed after linking: the linked pipeline's handles stay.
   vkDestroyPipeline(device, libA, nullptr);
   pipelines.erase(std::find(pipelines.begin(), pipelines.end(), libA));
@@ -556,6 +644,8 @@ TEST_F(RtLibraryTest, LibrariesKeepTheirHandlesInEveryLinkingOrder) {
 }
 
 TEST_F(RtTest, StackSizesPerShader) {
+  // Stack sizes are implementation-defined (NVIDIA gives 160 for the big-payload raygen): vkrt's figures only.
+  if (!vkrt) GTEST_SKIP() << "exact stack sizes are vkrt's own";
   Desc d;
   d.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   d.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
@@ -594,22 +684,42 @@ TEST_F(RtTest, DeferredCreationRunsOnJoiningThreads) {
     cis.push_back(ci);
   }
   VkPipeline out[3] = {};
-  ASSERT_EQ(createPipelines(device, op, VK_NULL_HANDLE, 3, cis.data(), nullptr, out), VK_OPERATION_DEFERRED_KHR);
-  // Nothing ran yet: no thread joined.
-  EXPECT_EQ(opResult(device, op), VK_NOT_READY);
-  EXPECT_EQ(opConcurrency(device, op), 3u);
-  EXPECT_EQ(out[0], VK_NULL_HANDLE);
-  VkResult r1 = VK_ERROR_UNKNOWN, r2 = VK_ERROR_UNKNOWN;
-  std::thread t1([&] { r1 = joinOp(device, op); });
-  std::thread t2([&] { r2 = joinOp(device, op); });
-  t1.join();
-  t2.join();
-  // One joiner completes the operation (VK_SUCCESS); the other may have run out of work first (THREAD_DONE).
-  EXPECT_TRUE(r1 == VK_SUCCESS || r2 == VK_SUCCESS);
-  EXPECT_TRUE((r1 == VK_SUCCESS || r1 == VK_THREAD_DONE_KHR) && (r2 == VK_SUCCESS || r2 == VK_THREAD_DONE_KHR));
+  VkResult created = createPipelines(device, op, VK_NULL_HANDLE, 3, cis.data(), nullptr, out);
+  if (vkrt) {
+    // vkrt always defers, and nothing runs until a thread joins: vkrt's own scheduling.
+    ASSERT_EQ(created, VK_OPERATION_DEFERRED_KHR);
+    EXPECT_EQ(opResult(device, op), VK_NOT_READY);
+    EXPECT_EQ(opConcurrency(device, op), 3u);
+    EXPECT_EQ(out[0], VK_NULL_HANDLE);
+  } else {
+    // The spec lets a driver complete the work at once (VK_OPERATION_NOT_DEFERRED_KHR).
+    ASSERT_TRUE(created == VK_OPERATION_DEFERRED_KHR || created == VK_OPERATION_NOT_DEFERRED_KHR) << created;
+    // With no thread joined, a pending operation never reports a concurrency of zero (read first: a zero means
+    // it was complete then, so its result is no longer VK_NOT_READY).
+    if (created == VK_OPERATION_DEFERRED_KHR) {
+      uint32_t concurrency = opConcurrency(device, op);
+      EXPECT_TRUE(concurrency >= 1 || opResult(device, op) != VK_NOT_READY);
+    }
+  }
+  if (created == VK_OPERATION_DEFERRED_KHR) {
+    // A joiner that finds no work for now (VK_THREAD_IDLE_KHR) joins again.
+    auto join = [&] {
+      VkResult r;
+      while ((r = joinOp(device, op)) == VK_THREAD_IDLE_KHR) std::this_thread::yield();
+      return r;
+    };
+    VkResult r1 = VK_ERROR_UNKNOWN, r2 = VK_ERROR_UNKNOWN;
+    std::thread t1([&] { r1 = join(); });
+    std::thread t2([&] { r2 = join(); });
+    t1.join();
+    t2.join();
+    // One joiner completes the operation (VK_SUCCESS); the other may have run out of work first (THREAD_DONE).
+    EXPECT_TRUE(r1 == VK_SUCCESS || r2 == VK_SUCCESS);
+    EXPECT_TRUE((r1 == VK_SUCCESS || r1 == VK_THREAD_DONE_KHR) && (r2 == VK_SUCCESS || r2 == VK_THREAD_DONE_KHR));
+    EXPECT_EQ(joinOp(device, op), VK_SUCCESS);  // already complete
+    EXPECT_EQ(opConcurrency(device, op), 0u);   // complete
+  }
   EXPECT_EQ(opResult(device, op), VK_SUCCESS);
-  EXPECT_EQ(opConcurrency(device, op), 0u);
-  EXPECT_EQ(joinOp(device, op), VK_SUCCESS);  // already complete
   for (VkPipeline p : out) {
     ASSERT_NE(p, VK_NULL_HANDLE);
     pipelines.push_back(p);
@@ -651,10 +761,17 @@ TEST_F(RtTest, StackSizeCommandAndDynamicStateAreAccepted) {
 class RtMisuseTest : public RtTest {
  protected:
   bool layer() override { return false; }
+  void SetUp() override {
+    RtTest::SetUp();
+    // These tests break rules on purpose and assert vkrt's messages; other drivers may do anything (undefined
+    // behaviour), so they only run on vkrt.
+    if (!HasFatalFailure() && !vkrt) GTEST_SKIP() << "vkrt's own diagnostics";
+  }
 };
 
 TEST_F(RtMisuseTest, NvAliasResolves) {
-  // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command.
+  // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command (vkrt's choice: the
+  // spec only promises it with VK_NV_ray_tracing enabled; skipped on other drivers by RtMisuseTest).
   auto nv = reinterpret_cast<PFN_vkGetRayTracingShaderGroupHandlesNV>(
       vkGetDeviceProcAddr(device, "vkGetRayTracingShaderGroupHandlesNV"));
   ASSERT_NE(nv, nullptr);
@@ -797,6 +914,11 @@ TEST_F(RtMisuseTest, CreationRules) {
 class RtNoFeaturesTest : public RtTest {
  protected:
   bool layer() override { return false; }
+  void SetUp() override {
+    RtTest::SetUp();
+    // Misuse with vkrt's messages asserted: vkrt only (see RtMisuseTest).
+    if (!HasFatalFailure() && !vkrt) GTEST_SKIP() << "vkrt's own diagnostics";
+  }
   FixtureOptions options() override {
     libraryGroupHandles = false;
     captureReplay = false;
