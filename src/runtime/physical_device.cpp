@@ -16,7 +16,7 @@
 namespace vkrt {
 namespace {
 
-constexpr uint32_t kVendorId = 0x10005;  // VK_VENDOR_ID_MESA-style: a Khronos-registered id for software drivers
+constexpr uint32_t kVendorId = 0;  // vkrt has no registered vendor id (0x10005 would claim to be Mesa)
 constexpr uint32_t kDeviceId = 0x7672;   // "vr"
 constexpr uint8_t kUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'c', 'p', 'u', '-', 'd', 'e', 'v', 0, 0, 0, 1};
 constexpr uint8_t kDriverUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'd', 'r', 'v', 0, 0, 0, 0, 0, 0, 0, 1};

@@ -27,13 +27,10 @@ TEST_F(DeviceTest, PhysicalDeviceIsVkrtCpu) {
 
 TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {
   VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
-  // An sType vkrt does not know, placed in the middle of the chain: it must be left untouched and the walk
-  // must continue past it.
-  struct Unknown {
-    VkStructureType sType;
-    void* pNext;
-    uint32_t payload;
-  } unknown{static_cast<VkStructureType>(1000999000), &p13, 0xdeadbeef};
+  // A structure of an extension vkrt does not implement (mesh shaders), placed in the middle of the chain:
+  // vkrt must leave it untouched and continue the walk past it.
+  VkPhysicalDeviceMeshShaderPropertiesEXT unknown{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT, &p13};
+  unknown.maxTaskWorkGroupTotalCount = 0xdeadbeef;
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &unknown};
   VkPhysicalDeviceVulkan12Properties p12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES, &driver};
   VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p12};
@@ -43,7 +40,8 @@ TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {
   EXPECT_EQ(p11.pNext, &p12);
   EXPECT_EQ(p12.pNext, &driver);
   EXPECT_EQ(driver.pNext, &unknown);
-  EXPECT_EQ(unknown.payload, 0xdeadbeefu);
+  EXPECT_EQ(unknown.maxTaskWorkGroupTotalCount, 0xdeadbeefu);
+  EXPECT_EQ(unknown.maxMeshOutputVertices, 0u);
   EXPECT_EQ(unknown.pNext, &p13);
   EXPECT_STREQ(driver.driverName, "vkrt");
   EXPECT_STREQ(p12.driverName, "vkrt");

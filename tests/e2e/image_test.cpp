@@ -230,10 +230,10 @@ TEST_F(ImageTest, ClearsAreConvertedToTheFormat) {
   VkClearColorValue uints;
   uints.uint32[0] = 7, uints.uint32[1] = 0x12345678, uints.uint32[2] = 0, uints.uint32[3] = 0;
   std::vector<Case> cases = {
-      {VK_FORMAT_R8G8B8A8_UNORM, f4(1.0f, 0.5f, 0.0f, 0.2f), {255, 128, 0, 51}},
-      {VK_FORMAT_B8G8R8A8_UNORM, f4(1.0f, 0.5f, 0.0f, 0.2f), {0, 128, 255, 51}},
-      {VK_FORMAT_R8G8B8A8_SRGB, f4(1.0f, 0.5f, 0.0f, 0.2f), {255, 188, 0, 51}},
-      {VK_FORMAT_R8G8B8A8_SNORM, f4(-1.0f, 0.5f, -0.25f, 2.0f), {0x81, 64, 0xe0, 127}},  // -0.25*127=-31.75
+      {VK_FORMAT_R8G8B8A8_UNORM, f4(1.0f, 0.25f, 0.0f, 0.2f), {255, 64, 0, 51}},
+      {VK_FORMAT_B8G8R8A8_UNORM, f4(1.0f, 0.25f, 0.0f, 0.2f), {0, 64, 255, 51}},
+      {VK_FORMAT_R8G8B8A8_SRGB, f4(1.0f, 0.25f, 0.0f, 0.2f), {255, 137, 0, 51}},
+      {VK_FORMAT_R8G8B8A8_SNORM, f4(-1.0f, 0.25f, -0.25f, 2.0f), {0x81, 32, 0xe0, 127}},  // +-0.25*127=+-31.75
       {VK_FORMAT_R16G16B16A16_SFLOAT, f4(1.0f, -0.5f, 0.0f, 2.0f), {0, 0x3c, 0, 0xb8, 0, 0, 0, 0x40}},
       {VK_FORMAT_A2B10G10R10_UNORM_PACK32, f4(0.0f, 1.0f, 0.0f, 1.0f), {0x00, 0xfc, 0x0f, 0xc0}},
       {VK_FORMAT_B10G11R11_UFLOAT_PACK32, f4(1.0f, 0.0f, 0.0f, 0.0f), {0xc0, 0x03, 0, 0}},

@@ -626,11 +626,14 @@ TEST_F(RtLibraryTest, LibrariesKeepTheirHandlesInEveryLinkingOrder) {
   auto hT = handles(t, 0, 5);
   EXPECT_EQ(slice(hT, 32, 64), hA);
   EXPECT_EQ(slice(hT, 96, 64), hB);
-  // The own group's handle is that of the same group anywhere else.
-  Desc solo;
-  solo.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
-  solo.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
-  EXPECT_EQ(slice(hT, 0, 32), slice(handles(make(solo), 0, 2), 32, 32));
+  // The own group's handle is that of the same group anywhere else: vkrt's handles depend on content only
+  // (NVIDIA gives a group of a new pipeline a new table index).
+  if (vkrt) {
+    Desc solo;
+    solo.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    solo.general(miss2, VK_SHADER_STAGE_MISS_BIT_KHR);
+    EXPECT_EQ(slice(hT, 0, 32), slice(handles(make(solo), 0, 2), 32, 32));
+  }
   // Stack sizes come through linking unchanged (the library's figure, not a re-analysis): vkrt's choice, the
   // spec lets a linked pipeline report other sizes (NVIDIA does, for a closest-hit shader).
   if (vkrt) {
