@@ -274,6 +274,11 @@ TEST_F(ImageTest, ClearsAreConvertedToTheFormat) {
 }
 
 TEST_F(ImageTest, MemoryRequirementsAndSubresourceLayoutDescribeTheLinearLayout) {
+  // The exact pitches are vkrt's documented layout; linear images with several mips and layers are optional in
+  // Vulkan (NVIDIA refuses them), so this test is about vkrt only.
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physicalDevice, &props);
+  if (std::strcmp(props.deviceName, "vkrt") != 0) GTEST_SKIP() << "vkrt's own image layout";
   VkImageCreateInfo ci = imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R16G16B16A16_SFLOAT, {10, 7, 1}, 3, 2);
   ci.tiling = VK_IMAGE_TILING_LINEAR;
   Img img = createImage(ci);
