@@ -1,6 +1,7 @@
 #include "runtime/buffer.hpp"
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
@@ -90,14 +91,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBuffer(VkDevice device, const VkBuffer
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBuffer(VkDevice device, VkBuffer buffer,
                                               const VkAllocationCallbacks* pAllocator) {
-  if (!buffer) return;
-  Buffer* buf = fromHandle<Buffer>(buffer);
-  if (!buf) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyBuffer-buffer-parameter",
-           "vkDestroyBuffer: 0x%llx is not a live VkBuffer", (unsigned long long)rawHandle(buffer));
-    return;
-  }
-  destroyObject(buf, pAllocator);
+  destroyDeviceChild<Buffer>(device, buffer, pAllocator, "vkDestroyBuffer", "VUID-vkDestroyBuffer-buffer-parameter");
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetBufferMemoryRequirements(VkDevice, VkBuffer buffer,

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
@@ -201,14 +202,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImage(VkDevice device, const VkImageCr
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* pAllocator) {
-  if (!image) return;
-  Image* img = fromHandle<Image>(image);
-  if (!img) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyImage-image-parameter",
-           "vkDestroyImage: 0x%llx is not a live VkImage", (unsigned long long)rawHandle(image));
-    return;
-  }
-  destroyObject(img, pAllocator);
+  destroyDeviceChild<Image>(device, image, pAllocator, "vkDestroyImage", "VUID-vkDestroyImage-image-parameter");
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetImageMemoryRequirements(VkDevice, VkImage image, VkMemoryRequirements* pReq) {

@@ -1,6 +1,7 @@
 #include "runtime/image_view.hpp"
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/format.hpp"
@@ -146,14 +147,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImageView(VkDevice device, VkImageView view,
                                                  const VkAllocationCallbacks* pAllocator) {
-  if (!view) return;
-  ImageView* v = fromHandle<ImageView>(view);
-  if (!v) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyImageView-imageView-parameter",
-           "vkDestroyImageView: 0x%llx is not a live VkImageView", (unsigned long long)rawHandle(view));
-    return;
-  }
-  destroyObject(v, pAllocator);
+  destroyDeviceChild<ImageView>(device, view, pAllocator, "vkDestroyImageView",
+                             "VUID-vkDestroyImageView-imageView-parameter");
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBufferViewCreateInfo* pCreateInfo,
@@ -221,14 +216,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBufferView(VkDevice device, VkBufferView view,
                                                   const VkAllocationCallbacks* pAllocator) {
-  if (!view) return;
-  BufferView* v = fromHandle<BufferView>(view);
-  if (!v) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyBufferView-bufferView-parameter",
-           "vkDestroyBufferView: 0x%llx is not a live VkBufferView", (unsigned long long)rawHandle(view));
-    return;
-  }
-  destroyObject(v, pAllocator);
+  destroyDeviceChild<BufferView>(device, view, pAllocator, "vkDestroyBufferView",
+                             "VUID-vkDestroyBufferView-bufferView-parameter");
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSamplerCreateInfo* pCreateInfo,
@@ -262,14 +251,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSampl
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroySampler(VkDevice device, VkSampler sampler,
                                                const VkAllocationCallbacks* pAllocator) {
-  if (!sampler) return;
-  Sampler* s = fromHandle<Sampler>(sampler);
-  if (!s) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroySampler-sampler-parameter",
-           "vkDestroySampler: 0x%llx is not a live VkSampler", (unsigned long long)rawHandle(sampler));
-    return;
-  }
-  destroyObject(s, pAllocator);
+  destroyDeviceChild<Sampler>(device, sampler, pAllocator, "vkDestroySampler",
+                             "VUID-vkDestroySampler-sampler-parameter");
 }
 
 }  // extern "C"

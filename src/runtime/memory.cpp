@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
@@ -191,14 +192,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
 
 VKAPI_ATTR void VKAPI_CALL vkrt_FreeMemory(VkDevice device, VkDeviceMemory memory,
                                            const VkAllocationCallbacks* pAllocator) {
-  if (!memory) return;
-  Memory* mem = fromHandle<Memory>(memory);
-  if (!mem) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkFreeMemory-memory-parameter",
-           "vkFreeMemory: 0x%llx is not a live VkDeviceMemory", (unsigned long long)rawHandle(memory));
-    return;
-  }
-  destroyObject(mem, pAllocator);
+  destroyDeviceChild<Memory>(device, memory, pAllocator, "vkFreeMemory", "VUID-vkFreeMemory-memory-parameter");
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_MapMemory(VkDevice device, VkDeviceMemory memory, VkDeviceSize offset,
