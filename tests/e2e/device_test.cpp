@@ -139,6 +139,19 @@ bool isVkrt(VkPhysicalDevice pd) {
   return std::strcmp(p.deviceName, "vkrt") == 0;
 }
 
+TEST_F(MemoryMisuseTest, StaleHandlesAreReportedNotDereferenced) {
+  HostBuffer b = createHostBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  VkBuffer stale = b.buffer;
+  VkDeviceMemory staleMemory = b.memory;
+  destroy(b);
+  vkDestroyBuffer(device, stale, nullptr);
+  expectVkrtMessage("VUID-vkDestroyBuffer-buffer-parameter");
+  vkFreeMemory(device, staleMemory, nullptr);
+  expectVkrtMessage("VUID-vkFreeMemory-memory-parameter");
+  vkDestroyBuffer(device, VK_NULL_HANDLE, nullptr);  // null is allowed and ignored
+  EXPECT_TRUE(vkrtMessages().empty());
+}
+
 class BufferCaptureReplayTest : public VulkanTest {
  protected:
   FixtureOptions options() override {
