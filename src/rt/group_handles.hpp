@@ -65,6 +65,8 @@ struct ShaderDesc {
   VkPipelineShaderStageCreateFlags flags = 0;
   std::vector<std::pair<uint32_t, std::string>> specialization;  // (constantID, bytes), sorted by id
   uint32_t stackSize = 0;                     // from spirv::EntryPointInfo::stackSize
+  uint32_t payloadBytes = 0;                  // largest ray payload it declares (incoming or outgoing)
+  uint32_t hitAttributeBytes = 0;             // largest hit attribute variable it declares
 };
 
 // Slot order within a group.

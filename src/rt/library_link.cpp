@@ -1,11 +1,91 @@
 #include "rt/library_link.hpp"
 
+#include <algorithm>
+#include <cstdio>
+#include <tuple>
+
+#include "runtime/descriptor_set_layout.hpp"
 #include "runtime/device.hpp"
+#include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
 
 namespace vkrt::rt {
 
-bool checkLibraries(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i,
+LayoutShape shapeOf(const PipelineLayout& layout) {
+  LayoutShape shape;
+  for (const DescriptorSetLayout* l : layout.setLayouts) {
+    LayoutShape::Set set;
+    set.flags = l->flags;
+    for (const DescriptorBinding& b : l->bindings) {
+      LayoutShape::Binding sb;
+      sb.binding = b.binding;
+      sb.type = static_cast<uint32_t>(b.type);
+      sb.count = b.count;
+      sb.stages = b.stages;
+      sb.flags = b.flags;
+      sb.immutableSamplers.assign(b.immutableSamplers.begin(), b.immutableSamplers.end());
+      set.bindings.push_back(std::move(sb));
+    }
+    shape.sets.push_back(std::move(set));
+  }
+  shape.pushConstants = layout.pushConstantRanges;
+  std::sort(shape.pushConstants.begin(), shape.pushConstants.end(),
+            [](const VkPushConstantRange& a, const VkPushConstantRange& b) {
+              return std::tie(a.offset, a.size, a.stageFlags) < std::tie(b.offset, b.size, b.stageFlags);
+            });
+  return shape;
+}
+
+std::string layoutDifference(const LayoutShape& mine, const LayoutShape& lib) {
+  char buf[256];
+  if (mine.sets.size() != lib.sets.size()) {
+    std::snprintf(buf, sizeof(buf), "the pipeline's layout has %zu set layouts, the library's %zu", mine.sets.size(),
+                  lib.sets.size());
+    return buf;
+  }
+  for (size_t s = 0; s < mine.sets.size(); ++s) {
+    const LayoutShape::Set &a = mine.sets[s], &b = lib.sets[s];
+    if (a == b) continue;
+    if (a.flags != b.flags) {
+      std::snprintf(buf, sizeof(buf), "set %zu: set layout flags 0x%x, the library's 0x%x", s, a.flags, b.flags);
+      return buf;
+    }
+    if (a.bindings.size() != b.bindings.size()) {
+      std::snprintf(buf, sizeof(buf), "set %zu: %zu bindings, the library's %zu", s, a.bindings.size(),
+                    b.bindings.size());
+      return buf;
+    }
+    for (size_t k = 0; k < a.bindings.size(); ++k) {
+      const LayoutShape::Binding &x = a.bindings[k], &y = b.bindings[k];
+      if (x == y) continue;
+      std::snprintf(buf, sizeof(buf),
+                    "set %zu: binding %u (type %u, count %u, stages 0x%x, flags 0x%x%s), the library's binding %u "
+                    "(type %u, count %u, stages 0x%x, flags 0x%x%s)",
+                    s, x.binding, x.type, x.count, x.stages, x.flags,
+                    x.immutableSamplers.empty() ? "" : ", immutable samplers", y.binding, y.type, y.count, y.stages,
+                    y.flags, y.immutableSamplers.empty() ? "" : ", immutable samplers");
+      return buf;
+    }
+  }
+  if (mine.pushConstants.size() != lib.pushConstants.size()) {
+    std::snprintf(buf, sizeof(buf), "the pipeline's layout has %zu push-constant ranges, the library's %zu",
+                  mine.pushConstants.size(), lib.pushConstants.size());
+    return buf;
+  }
+  for (size_t r = 0; r < mine.pushConstants.size(); ++r) {
+    const VkPushConstantRange &x = mine.pushConstants[r], &y = lib.pushConstants[r];
+    if (x.offset != y.offset || x.size != y.size || x.stageFlags != y.stageFlags) {
+      std::snprintf(buf, sizeof(buf),
+                    "push-constant range {offset %u, size %u, stages 0x%x}, the library's {offset %u, size %u, "
+                    "stages 0x%x}",
+                    x.offset, x.size, x.stageFlags, y.offset, y.size, y.stageFlags);
+      return buf;
+    }
+  }
+  return {};
+}
+
+bool checkLibraries(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i, const LayoutShape& shape,
                     std::vector<RayTracingPipeline*>& libraries) {
   libraries.clear();
   const VkPipelineLibraryCreateInfoKHR* lib = info.pLibraryInfo;
@@ -93,6 +173,15 @@ bool checkLibraries(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, 
              "maxPipelineRayPayloadSize %u / maxPipelineRayHitAttributeSize %u, the pipeline's interface %u / %u",
              i, l, rp->maxPayloadSize, rp->maxHitAttributeSize, info.pLibraryInterface->maxPipelineRayPayloadSize,
              info.pLibraryInterface->maxPipelineRayHitAttributeSize);
+      return false;
+    }
+    // VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03592
+    std::string diff = layoutDifference(shape, rp->layoutShape);
+    if (!diff.empty()) {
+      report(rp, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03592",
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pLibraryInfo->pLibraries[%u] was created with a layout "
+             "that is not compatible with pCreateInfos[%u].layout: %s",
+             i, l, i, diff.c_str());
       return false;
     }
     // Flags a library must share with the pipeline linking it.

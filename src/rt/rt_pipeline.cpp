@@ -43,6 +43,7 @@ struct Job {
   uint32_t index = 0;
   VkPipelineCreateFlags flags = 0;
   PipelineLayout* layout = nullptr;
+  LayoutShape layoutShape;
   uint32_t depth = 0;
   bool hasInterface = false;
   uint32_t maxPayload = 0, maxHitAttr = 0;
@@ -79,7 +80,7 @@ std::string cacheKeyOf(const Job& j) {
     s += canonicalContent(g);
   }
   Digest d = hash128(s.data(), s.size(), 0x7274);
-  return "vkrt.rt.pipeline." + hex(d);
+  return "vkrt.rt.pipeline.v2." + hex(d);  // v2: 12 bytes per stage (kCachedStageBytes)
 }
 
 // Validation of pCreateInfos[i]; reports the first violation. Fills the job's libraries.
@@ -95,6 +96,7 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-layout-parameter",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", i,
                 (unsigned long long)rawHandle(info.layout));
+  job.layoutShape = shapeOf(*job.layout);
   // VUID-vkCreateRayTracingPipelinesKHR-flags-03816
   if (info.flags & VK_PIPELINE_CREATE_DISPATCH_BASE_BIT)
     return fail(nullptr, "VUID-vkCreateRayTracingPipelinesKHR-flags-03816",
@@ -271,7 +273,7 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
                   i, g, (int)gr.type, gr.generalShader, gr.closestHitShader, gr.anyHitShader, gr.intersectionShader,
                   info.stageCount, what);
   }
-  if (!checkLibraries(dev, info, i, job.libraries)) return false;
+  if (!checkLibraries(dev, info, i, job.layoutShape, job.libraries)) return false;
   // VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425
   if (!(info.flags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR)) {
     bool raygen = false;
@@ -330,19 +332,28 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
   return true;
 }
 
-// The build: the "compile" (SPIR-V analysis of every stage, skipped on a pipeline-cache hit), group records,
-// linking. Runs on the calling thread or on a thread joining the deferred operation.
+// What the pipeline cache keeps per stage: the results of the SPIR-V analysis.
+constexpr size_t kCachedStageBytes = 12;  // stackSize, payloadBytes, hitAttributeBytes (uint32 each)
+
+// The build: the "compile" (SPIR-V analysis of every stage, skipped on a pipeline-cache hit), the interface
+// checks, group records, linking. Runs on the calling thread or on a thread joining the deferred operation.
 void build(Device* dev, Job& job) {
   std::optional<std::string> cached;
   if (job.cache) cached = job.cache->lookup(job.cacheKey);
-  if (cached && cached->size() == job.stages.size() * 4) {
-    for (size_t s = 0; s < job.stages.size(); ++s) std::memcpy(&job.stages[s]->stackSize, cached->data() + 4 * s, 4);
+  const bool hit = cached && cached->size() == job.stages.size() * kCachedStageBytes;
+  std::string value;
+  if (hit) {
+    for (size_t s = 0; s < job.stages.size(); ++s) {
+      const char* at = cached->data() + kCachedStageBytes * s;
+      std::memcpy(&job.stages[s]->stackSize, at, 4);
+      std::memcpy(&job.stages[s]->payloadBytes, at + 4, 4);
+      std::memcpy(&job.stages[s]->hitAttributeBytes, at + 8, 4);
+    }
   } else if ((job.flags & kFailOnCompile) && !job.stages.empty()) {
     // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: the stages are not in the cache.
     job.result = VK_PIPELINE_COMPILE_REQUIRED;
     return;
   } else {
-    std::string value;
     for (size_t s = 0; s < job.stages.size(); ++s) {
       ShaderDesc& d = *job.stages[s];
       spirv::ModuleInfo mi;
@@ -360,10 +371,44 @@ void build(Device* dev, Job& job) {
         return;
       }
       d.stackSize = ep->stackSize();
-      value.append(reinterpret_cast<const char*>(&d.stackSize), 4);
+      d.payloadBytes = ep->payloadSize();
+      d.hitAttributeBytes = ep->hitAttributeSize();
+      for (uint32_t v : {d.stackSize, d.payloadBytes, d.hitAttributeBytes})
+        value.append(reinterpret_cast<const char*>(&v), 4);
     }
-    if (job.cache) job.cache->insert(job.cacheKey, value);
   }
+  // The pipeline interface: VkRayTracingPipelineInterfaceCreateInfoKHR defines maxPipelineRayPayloadSize and
+  // maxPipelineRayHitAttributeSize as the largest payload / hit attribute block any shader of the pipeline
+  // declares. The specification gives this rule no VUID (1.3.239); a shader that declares more than the
+  // interface admits is reported without one. (Libraries' shaders were checked against the library's interface,
+  // which VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03593 makes equal to this one.)
+  if (job.hasInterface) {
+    for (size_t s = 0; s < job.stages.size(); ++s) {
+      const ShaderDesc& d = *job.stages[s];
+      const char *what = nullptr, *member = nullptr;
+      uint32_t declared = 0, limit = 0;
+      if (d.payloadBytes > job.maxPayload) {
+        what = "a ray payload";
+        member = "maxPipelineRayPayloadSize";
+        declared = d.payloadBytes;
+        limit = job.maxPayload;
+      } else if (d.hitAttributeBytes > job.maxHitAttr) {
+        what = "a hit attribute";
+        member = "maxPipelineRayHitAttributeSize";
+        declared = d.hitAttributeBytes;
+        limit = job.maxHitAttr;
+      }
+      if (what) {
+        report(dev, Severity::Error, nullptr,
+               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu] (stage 0x%x, \"%s\") declares %s of "
+               "%u bytes, more than pLibraryInterface->%s %u (the largest any shader of the pipeline uses)",
+               job.index, s, (unsigned)d.stage, d.entry.c_str(), what, declared, member, limit);
+        job.result = VK_ERROR_VALIDATION_FAILED_EXT;
+        return;
+      }
+    }
+  }
+  if (job.cache && !hit && !job.stages.empty()) job.cache->insert(job.cacheKey, value);
 
   auto* p = createObject<RayTracingPipeline>(job.allocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, job.flags, job.layout);
   if (!p) {
@@ -375,6 +420,7 @@ void build(Device* dev, Job& job) {
   p->maxPayloadSize = job.maxPayload;
   p->maxHitAttributeSize = job.maxHitAttr;
   p->dynamicStackSize = job.dynamicStackSize;
+  p->layoutShape = job.layoutShape;
   GroupRegistry& reg = registryOf(dev);
   for (size_t g = 0; g < job.groups.size(); ++g) {
     const Job::Group& jg = job.groups[g];
@@ -499,7 +545,12 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(VkDevice device
       return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   if (!op) {
-    for (Job& j : *jobs) build(dev, j);
+    for (Job& j : *jobs) {
+      build(dev, j);
+      // VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT: the later pipelines are not created (not even built, so
+      // they leave no entries in the cache). finish() writes VK_NULL_HANDLE for them.
+      if (j.result == VK_PIPELINE_COMPILE_REQUIRED && (j.flags & kEarlyReturn)) break;
+    }
     return finish(*jobs, pPipelines);
   }
   std::vector<std::function<void()>> tasks;

@@ -14,6 +14,24 @@
 
 namespace vkrt::rt {
 
+// What pipeline layout compatibility looks at ("identically defined" set layouts and push-constant ranges),
+// copied out of a VkPipelineLayout at creation: a library's layout may be destroyed before it is linked.
+struct LayoutShape {
+  struct Binding {
+    uint32_t binding = 0, type = 0, count = 0, stages = 0, flags = 0;
+    std::vector<const void*> immutableSamplers;
+    bool operator==(const Binding&) const = default;
+  };
+  struct Set {
+    uint32_t flags = 0;
+    std::vector<Binding> bindings;  // by binding number
+    bool operator==(const Set&) const = default;
+  };
+  std::vector<Set> sets;
+  std::vector<VkPushConstantRange> pushConstants;  // sorted by (offset, size, stageFlags)
+};
+LayoutShape shapeOf(const PipelineLayout& layout);
+
 class RayTracingPipeline : public Pipeline {
  public:
   RayTracingPipeline(Device* dev, VkPipelineCreateFlags flags, PipelineLayout* layout);
@@ -26,6 +44,7 @@ class RayTracingPipeline : public Pipeline {
   uint32_t maxHitAttributeSize = 0;
   bool dynamicStackSize = false;  // VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR
   uint64_t defaultStackSize = 0;  // the spec's formula (src/rt/stack_size.hpp)
+  LayoutShape layoutShape;        // of `layout` at creation (compared when the pipeline is linked as a library)
 
   bool isLibrary() const { return (createFlags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR) != 0; }
   uint32_t groupCount() const { return static_cast<uint32_t>(groups.size()); }

@@ -68,9 +68,17 @@ uint32_t EntryPointInfo::bytesIn(uint32_t storageClass) const {
   return sum;
 }
 
+uint32_t EntryPointInfo::largestIn(uint32_t storageClass) const {
+  uint32_t most = 0;
+  for (const InterfaceVariable& v : variables)
+    if (v.storageClass == storageClass) most = std::max(most, v.bytes);
+  return most;
+}
+
 uint32_t EntryPointInfo::stackSize() const {
   if (!tracesRays && !executesCallables) return 0;
-  uint64_t bytes = uint64_t(bytesIn(kStorageRayPayload)) + bytesIn(kStorageCallableData) + localBytes + kCallFrameBytes;
+  uint64_t bytes = uint64_t(bytesIn(kStorageRayPayload)) + bytesIn(kStorageCallableData) +
+                   bytesIn(kStorageHitAttribute) + localBytes + kCallFrameBytes;
   bytes = (bytes + 15) / 16 * 16;
   return bytes > UINT32_MAX ? UINT32_MAX : static_cast<uint32_t>(bytes);
 }

@@ -9,14 +9,18 @@
 //                                       reports 0 for such shaders too);
 //   otherwise align16( payloadBytes     sum of its RayPayloadKHR variables (the outgoing payloads)
 //                    + callableBytes    sum of its CallableDataKHR variables (the outgoing callable data)
+//                    + hitAttrBytes     sum of its HitAttributeKHR variables: the attributes of the hit being
+//                                       shaded live in the traversal state, which a nested traceRayEXT
+//                                       reuses, so a shader that calls keeps its own copy across the call
 //                    + localBytes       sum of the Function-storage variables of every function in its call
 //                                       tree: an upper bound of the locals live across the call
 //                    + kCallFrameBytes) the return record of the call (resume point and ray state).
-// Incoming payload, incoming callable data and hit attributes belong to the caller's frame and are not
-// counted. The figure is derived from the SPIR-V alone; the shader compiler (a later issue) will refine it
-// with real liveness (locals actually live across the call, spilled registers).
+// Incoming payload and incoming callable data belong to the caller's frame and are not counted. The figure is
+// derived from the SPIR-V alone; the shader compiler (a later issue) will refine it with real liveness
+// (locals actually live across the call, spilled registers).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -61,6 +65,12 @@ struct EntryPointInfo {
   uint32_t localBytes = 0;                   // Function-storage variables of every function in the call tree
 
   uint32_t bytesIn(uint32_t storageClass) const;
+  // The largest single variable of `storageClass` (what VkRayTracingPipelineInterfaceCreateInfoKHR's
+  // maxPipelineRayPayloadSize / maxPipelineRayHitAttributeSize must cover).
+  uint32_t largestIn(uint32_t storageClass) const;
+  // The largest RayPayloadKHR or IncomingRayPayloadKHR variable.
+  uint32_t payloadSize() const { return std::max(largestIn(kStorageRayPayload), largestIn(kStorageIncomingRayPayload)); }
+  uint32_t hitAttributeSize() const { return largestIn(kStorageHitAttribute); }
   // The stack-size figure documented at the top of this file.
   uint32_t stackSize() const;
 };
