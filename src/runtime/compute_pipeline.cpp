@@ -28,14 +28,17 @@ struct CacheEntry {
 std::mutex gCacheMutex;
 std::map<std::pair<const Device*, std::string>, std::shared_ptr<CacheEntry>> gCache;
 std::atomic<uint64_t> gCompiles{0};
+std::atomic<uint64_t> gCacheLoads{0};
 
 }  // namespace
 
 uint64_t shaderCompileCount() { return gCompiles.load(); }
+uint64_t shaderCacheLoadCount() { return gCacheLoads.load(); }
 
 std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, const std::string& key,
                                                            const spirv::CompileRequest& request, bool mayCompile,
-                                                           std::string* error) {
+                                                           std::string* error, PipelineCache* cache, bool* cacheHit) {
+  if (cacheHit) *cacheHit = false;
   std::shared_ptr<CacheEntry> entry;
   {
     std::lock_guard<std::mutex> lock(gCacheMutex);
@@ -51,12 +54,44 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
     if (!slot) slot = std::make_shared<CacheEntry>();
     entry = slot;
   }
+  std::string persistentKey = cache ? spirv::cacheKey(request) : std::string();
   std::lock_guard<std::mutex> lock(entry->compileMutex);
-  if (auto live = entry->shader.lock()) return live;
+  if (auto live = entry->shader.lock()) {
+    if (cache) {
+      if (cache->lookup(persistentKey)) {
+        if (cacheHit) *cacheHit = true;
+      } else if (!live->cacheBlob.empty()) {
+        cache->insert(persistentKey, live->cacheBlob);
+      }
+    }
+    return live;
+  }
+  bool damaged = false;
+  if (cache) {
+    if (std::optional<std::string> blob = cache->lookup(persistentKey)) {
+      std::string loadError;
+      std::shared_ptr<const spirv::CompiledShader> loaded = spirv::loadCached(*blob, &loadError);
+      if (loaded) {
+        gCacheLoads.fetch_add(1);
+        entry->shader = loaded;
+        if (cacheHit) *cacheHit = true;
+        return loaded;
+      }
+      // A damaged entry: compiled again below, and replaced.
+      report(cache, Severity::Warning, nullptr, "vkCreateComputePipelines: ignoring a pipeline cache entry: %s", loadError.c_str());
+      damaged = true;
+    }
+  }
   if (!mayCompile) return nullptr;
   std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(request, error);
   gCompiles.fetch_add(1);
-  if (shader) entry->shader = shader;
+  if (shader) {
+    entry->shader = shader;
+    if (cache && !shader->cacheBlob.empty()) {
+      if (damaged) cache->replace(persistentKey, shader->cacheBlob);
+      else cache->insert(persistentKey, shader->cacheBlob);
+    }
+  }
   return shader;
 }
 
@@ -74,8 +109,8 @@ constexpr VkPipelineCreateFlags kForbiddenFlags[][2] = {
 };
 
 // Creates pipeline i; returns its result (pipeline set only on success).
-VkResult createOne(Device* dev, const VkComputePipelineCreateInfo& ci, uint32_t i, const VkAllocationCallbacks* alloc,
-                   VkPipeline* out) {
+VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePipelineCreateInfo& ci, uint32_t i,
+                   const VkAllocationCallbacks* alloc, VkPipeline* out) {
   const char* fn = "vkCreateComputePipelines";
   const auto start = std::chrono::steady_clock::now();
   for (const auto& f : kForbiddenFlags) {
@@ -163,7 +198,9 @@ VkResult createOne(Device* dev, const VkComputePipelineCreateInfo& ci, uint32_t 
 
   bool mayCompile = !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
   std::string error;
-  std::shared_ptr<const spirv::CompiledShader> shader = compileShared(dev, key, req, mayCompile, &error);
+  bool cacheHit = false;
+  std::shared_ptr<const spirv::CompiledShader> shader =
+      compileShared(dev, key, req, mayCompile, &error, fromHandle<PipelineCache>(pipelineCache), &cacheHit);
   if (!shader && !mayCompile) return VK_PIPELINE_COMPILE_REQUIRED;
   if (!shader) {
     report(dev, Severity::Error, nullptr, "%s: pCreateInfos[%u]: entry point \"%s\" cannot be compiled: %s", fn, i, ci.stage.pName,
@@ -207,11 +244,18 @@ VkResult createOne(Device* dev, const VkComputePipelineCreateInfo& ci, uint32_t 
     }
     bool uniformType = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
     bool storageType = b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
+    using RK = spirv::ResourceBinding;
+    bool imageOk = (rb.kind == RK::StorageImage && b->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) ||
+                   (rb.kind == RK::SampledImage &&
+                    (b->type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) ||
+                   (rb.kind == RK::Sampler &&
+                    (b->type == VK_DESCRIPTOR_TYPE_SAMPLER || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) ||
+                   (rb.kind == RK::CombinedImageSampler && b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
     // VUID-VkComputePipelineCreateInfo-layout-07990
-    if (rb.uniform ? !uniformType : !storageType) {
+    if (rb.kind != RK::Buffer ? !imageOk : rb.uniform ? !uniformType : !storageType) {
       report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07990",
-             "%s: pCreateInfos[%u]: the shader uses set %u binding %u as a %s buffer, but the layout declares %s", fn, i, rb.set,
-             rb.binding, rb.uniform ? "uniform" : "storage", descriptorTypeName(b->type));
+             "%s: pCreateInfos[%u]: the shader uses set %u binding %u as a %s descriptor, but the layout declares %s", fn, i, rb.set,
+             rb.binding, rb.kind != RK::Buffer ? "image or sampler" : rb.uniform ? "uniform" : "storage", descriptorTypeName(b->type));
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
     // VUID-VkComputePipelineCreateInfo-layout-07991
@@ -227,7 +271,10 @@ VkResult createOne(Device* dev, const VkComputePipelineCreateInfo& ci, uint32_t 
   // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took.
   if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
     uint64_t ns = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
-    VkPipelineCreationFeedback f{VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT, ns};
+    VkPipelineCreationFeedbackFlags bits = VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT;
+    // The compiled code came from the application's VkPipelineCache.
+    if (cacheHit) bits |= VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT;
+    VkPipelineCreationFeedback f{bits, ns};
     if (fb->pPipelineCreationFeedback) *fb->pPipelineCreationFeedback = f;
     for (uint32_t s = 0; s < fb->pipelineStageCreationFeedbackCount && fb->pPipelineStageCreationFeedbacks; ++s)
       fb->pPipelineStageCreationFeedbacks[s] = f;
@@ -263,7 +310,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPi
   for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;
   VkResult result = VK_SUCCESS;
   for (uint32_t i = 0; i < createInfoCount; ++i) {
-    VkResult r = createOne(dev, pCreateInfos[i], i, pAllocator, &pPipelines[i]);
+    VkResult r = createOne(dev, pipelineCache, pCreateInfos[i], i, pAllocator, &pPipelines[i]);
     if (r == VK_SUCCESS) continue;
     if (r == VK_ERROR_VALIDATION_FAILED_EXT || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
       // A misuse or an allocation failure: the call has no other effect.

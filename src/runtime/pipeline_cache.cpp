@@ -27,6 +27,11 @@ bool PipelineCache::insert(const void* key, size_t keySize, const void* value, s
   return entries_.emplace(std::move(k), std::string(static_cast<const char*>(value), valueSize)).second;
 }
 
+void PipelineCache::replace(const std::string& key, const std::string& value) {
+  std::lock_guard lock(mutex_);
+  entries_.insert_or_assign(key, value);
+}
+
 std::optional<std::string> PipelineCache::lookup(const void* key, size_t keySize) const {
   std::string k(static_cast<const char*>(key), keySize);
   std::lock_guard lock(mutex_);

@@ -34,6 +34,8 @@ class PipelineCache : public Object {
   // stored.
   bool insert(const void* key, size_t keySize, const void* value, size_t valueSize);
   bool insert(const std::string& key, const std::string& value) { return insert(key.data(), key.size(), value.data(), value.size()); }
+  // Stores `value` under `key`, replacing what was there (a damaged entry once its replacement is compiled).
+  void replace(const std::string& key, const std::string& value);
   // The value stored under `key`, if any.
   std::optional<std::string> lookup(const void* key, size_t keySize) const;
   std::optional<std::string> lookup(const std::string& key) const { return lookup(key.data(), key.size()); }

@@ -5,18 +5,29 @@
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/Config/llvm-config.h>
+#include <llvm/IR/LegacyPassManager.h>
 #include <llvm/IR/Verifier.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/ErrorHandling.h>
+#include <llvm/Support/Host.h>
+#include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/SHA256.h>
+#include <llvm/Target/TargetMachine.h>
 #include <llvm/Support/TargetSelect.h>
 #include <llvm/Support/raw_ostream.h>
 #include <spirv-tools/optimizer.hpp>
 #include <spirv/unified1/GLSL.std.450.h>
 
+#include <link.h>
+
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <mutex>
+#include <optional>
 #include <set>
+#include <string_view>
 #include <stdexcept>
 
 #include "spirv/codegen.hpp"
@@ -102,7 +113,7 @@ bool supportedOp(spv::Op op) {
     case spv::OpUnreachable:
       return true;
     default:
-      return false;
+      return extraSupportedOp(op);
   }
 }
 
@@ -113,7 +124,7 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityInt64Atomics:
       return true;
     default:
-      return false;
+      return extraSupportedCapability(cap);
   }
 }
 
@@ -181,6 +192,7 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit) {
   add("memset", static_cast<void* (*)(void*, int, size_t)>(::memset));
   add("memcpy", static_cast<void* (*)(void*, const void*, size_t)>(::memcpy));
   add("memmove", static_cast<void* (*)(void*, const void*, size_t)>(::memmove));
+  for (const RuntimeSymbol* s = imageRuntimeSymbols(); s->name; ++s) add(s->name, s->address);
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }
 
@@ -189,6 +201,193 @@ std::string errText(llvm::Error e) {
   llvm::raw_string_ostream os(s);
   os << e;
   return os.str();
+}
+
+// The host's target description (detected once: CPUID is slow under virtualization).
+std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error) {
+  static std::mutex mutex;
+  static std::optional<llvm::orc::JITTargetMachineBuilder> host;
+  static std::string hostError;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!host && hostError.empty()) {
+    auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
+    if (!jtmb) {
+      hostError = "LLVM: " + errText(jtmb.takeError());
+    } else {
+      jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
+      host = std::move(*jtmb);
+    }
+  }
+  if (!host) *error = hostError;
+  return host;
+}
+
+// Creates the shader's JIT, loads `object` (an ELF relocatable object of vkrt_main and its callees) and
+// resolves the entry point.
+bool loadObject(CompiledShader& shader, std::string_view object, std::string* error) {
+  auto jtmb = hostMachine(error);
+  if (!jtmb) return false;
+  auto lljit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
+  if (!lljit) {
+    *error = "LLVM: " + errText(lljit.takeError());
+    return false;
+  }
+  // Session errors (unresolved symbols...) come back through lookup(); keep them off stderr.
+  (*lljit)->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
+  defineRuntimeSymbols(**lljit);
+  auto buffer = llvm::MemoryBuffer::getMemBufferCopy(llvm::StringRef(object.data(), object.size()), "vkrt_shader.o");
+  if (auto e = (*lljit)->addObjectFile(std::move(buffer))) {
+    *error = "LLVM: " + errText(std::move(e));
+    return false;
+  }
+  auto sym = (*lljit)->lookup("vkrt_main");
+  if (!sym) {
+    *error = "LLVM: " + errText(sym.takeError());
+    return false;
+  }
+  shader.entry = sym->toPtr<ComputeEntry>();
+  shader.jit = std::make_unique<CompiledShader::Jit>();
+  shader.jit->lljit = std::move(*lljit);
+  return true;
+}
+
+// ---- the pipeline cache form of a compiled shader
+//
+//   char magic[8] "VKRTSHD1"; uint8 sha256[32] of the payload; payload:
+//   u32 localSize[3], workgroupMemorySize, usesBarrier, pushConstantBytes; u32 n + entry name;
+//   u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
+// Every field of CompiledShader that describes the code must be here: a new one needs a line in
+// serialize() and deserialize() (the size check below is the reminder).
+static_assert(sizeof(CompiledShader) == 136, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
+
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '1'};
+
+void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+
+std::string serialize(const CompiledShader& s, std::string_view object) {
+  std::string payload;
+  for (uint32_t v : s.localSize) put32(payload, v);
+  put32(payload, s.workgroupMemorySize);
+  put32(payload, s.usesBarrier ? 1 : 0);
+  put32(payload, s.pushConstantBytes);
+  put32(payload, uint32_t(s.entryName.size()));
+  payload += s.entryName;
+  put32(payload, uint32_t(s.resources.size()));
+  for (const ResourceBinding& r : s.resources) {
+    put32(payload, r.set);
+    put32(payload, r.binding);
+    put32(payload, r.arraySize);
+    put32(payload, (r.uniform ? 1u : 0u) | uint32_t(r.kind) << 1);  // bit 0: uniform; bits 1+: kind
+  }
+  payload.append(object.data(), object.size());
+  auto digest = llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
+  std::string blob(kBlobMagic, sizeof kBlobMagic);
+  blob.append(reinterpret_cast<const char*>(digest.data()), digest.size());
+  return blob + payload;
+}
+
+struct Reader {
+  std::string_view rest;
+  bool ok = true;
+  uint32_t u32() {
+    if (rest.size() < 4) {
+      ok = false;
+      return 0;
+    }
+    uint32_t v;
+    std::memcpy(&v, rest.data(), 4);
+    rest.remove_prefix(4);
+    return v;
+  }
+  std::string_view bytes(uint32_t n) {
+    if (rest.size() < n) {
+      ok = false;
+      return {};
+    }
+    std::string_view v = rest.substr(0, n);
+    rest.remove_prefix(n);
+    return v;
+  }
+};
+
+// Fills `s` from a blob's fields; returns the object file, or nullopt when the blob is damaged.
+std::optional<std::string_view> deserialize(std::string_view blob, CompiledShader& s) {
+  if (blob.size() < 40 || std::memcmp(blob.data(), kBlobMagic, 8) != 0) return std::nullopt;
+  std::string_view payload = blob.substr(40);
+  auto digest = llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
+  if (std::memcmp(digest.data(), blob.data() + 8, 32) != 0) return std::nullopt;
+  Reader r{payload};
+  for (uint32_t& v : s.localSize) v = r.u32();
+  s.workgroupMemorySize = r.u32();
+  s.usesBarrier = r.u32() != 0;
+  s.pushConstantBytes = r.u32();
+  uint32_t nameSize = r.u32();
+  s.entryName = std::string(r.bytes(nameSize));
+  uint32_t count = r.u32();
+  if (!r.ok || count > r.rest.size() / 16) return std::nullopt;
+  for (uint32_t i = 0; i < count; ++i) {
+    ResourceBinding b{};
+    b.set = r.u32();
+    b.binding = r.u32();
+    b.arraySize = r.u32();
+    uint32_t flags = r.u32();
+    b.uniform = (flags & 1) != 0;
+    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::CombinedImageSampler));
+    s.resources.push_back(b);
+  }
+  if (!r.ok || r.rest.empty()) return std::nullopt;
+  return r.rest;
+}
+
+// The build id of the binary vkrt's code is in (a rebuilt vkrt may generate different code).
+std::string buildId() {
+  static const std::string id = [] {
+    struct Search {
+      uintptr_t address;
+      std::string id;
+    } search{reinterpret_cast<uintptr_t>(&buildId), {}};
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, size_t, void* data) -> int {
+          auto* s = static_cast<Search*>(data);
+          bool mine = false;
+          for (int i = 0; i < info->dlpi_phnum && !mine; ++i) {
+            const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+            uintptr_t start = info->dlpi_addr + ph.p_vaddr;
+            mine = ph.p_type == PT_LOAD && s->address >= start && s->address < start + ph.p_memsz;
+          }
+          if (!mine) return 0;
+          for (int i = 0; i < info->dlpi_phnum; ++i) {
+            const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+            if (ph.p_type != PT_NOTE) continue;
+            auto* p = reinterpret_cast<const uint8_t*>(info->dlpi_addr + ph.p_vaddr);
+            size_t at = 0;
+            while (at + sizeof(ElfW(Nhdr)) <= ph.p_memsz) {
+              auto* n = reinterpret_cast<const ElfW(Nhdr)*>(p + at);
+              size_t name = at + sizeof(ElfW(Nhdr)), desc = name + ((n->n_namesz + 3) & ~3u);
+              if (n->n_type == NT_GNU_BUILD_ID && n->n_namesz == 4 && std::memcmp(p + name, "GNU", 4) == 0)
+                s->id.assign(reinterpret_cast<const char*>(p + desc), n->n_descsz);
+              at = desc + ((n->n_descsz + 3) & ~3u);
+            }
+          }
+          return 1;
+        },
+        &search);
+    // Without a build id, the time this file was compiled stands in.
+    return search.id.empty() ? std::string(__DATE__ " " __TIME__) : search.id;
+  }();
+  return id;
+}
+
+std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, std::string* error) {
+  auto shader = std::make_shared<CompiledShader>();
+  std::optional<std::string_view> object = deserialize(blob, *shader);
+  if (!object) {
+    *error = "the cached entry is damaged (bad header or checksum)";
+    return nullptr;
+  }
+  if (!loadObject(*shader, *object, error)) return nullptr;
+  shader->cacheBlob = blob;
+  return shader;
 }
 
 std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::string* error) {
@@ -257,12 +456,8 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     return nullptr;
   }
 
-  auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
-  if (!jtmb) {
-    *error = "LLVM: " + errText(jtmb.takeError());
-    return nullptr;
-  }
-  jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
+  auto jtmb = hostMachine(error);
+  if (!jtmb) return nullptr;
   auto tm = jtmb->createTargetMachine();
   if (!tm) {
     *error = "LLVM: " + errText(tm.takeError());
@@ -284,30 +479,76 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2).run(*mod, mam);
   }
 
-  auto lljit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
-  if (!lljit) {
-    *error = "LLVM: " + errText(lljit.takeError());
-    return nullptr;
+  // Code generation to an object file (kept for VkPipelineCache), then loaded into the JIT: the cold and the
+  // cached path run exactly the same bytes.
+  llvm::SmallVector<char, 0> object;
+  {
+    llvm::raw_svector_ostream os(object);
+    llvm::legacy::PassManager pm;
+    if ((*tm)->addPassesToEmitFile(pm, os, nullptr, llvm::CGFT_ObjectFile)) {
+      *error = "LLVM: the target cannot emit object files";
+      return nullptr;
+    }
+    pm.run(*mod);
   }
-  // Session errors (unresolved symbols...) come back through lookup(); keep them off stderr.
-  (*lljit)->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
-  defineRuntimeSymbols(**lljit);
-  if (auto e = (*lljit)->addIRModule(llvm::orc::ThreadSafeModule(std::move(mod), std::move(context)))) {
-    *error = "LLVM: " + errText(std::move(e));
-    return nullptr;
-  }
-  auto sym = (*lljit)->lookup("vkrt_main");
-  if (!sym) {
-    *error = "LLVM: " + errText(sym.takeError());
-    return nullptr;
-  }
-  shader->entry = sym->toPtr<ComputeEntry>();
-  shader->jit = std::make_unique<CompiledShader::Jit>();
-  shader->jit->lljit = std::move(*lljit);
+  mod.reset();
+  context.reset();
+  std::string_view objectBytes(object.data(), object.size());
+  if (!loadObject(*shader, objectBytes, error)) return nullptr;
+  shader->cacheBlob = serialize(*shader, objectBytes);
   return shader;
 }
 
 }  // namespace
+
+std::string cacheKey(const CompileRequest& req) {
+  llvm::SHA256 h;
+  auto add = [&](const void* data, size_t size) {
+    uint64_t n = size;
+    h.update(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(&n), sizeof n));
+    h.update(llvm::ArrayRef<uint8_t>(static_cast<const uint8_t*>(data), size));
+  };
+  auto addStr = [&](const std::string& s) { add(s.data(), s.size()); };
+  addStr("vkrt compiled shader 1");
+  addStr(LLVM_VERSION_STRING);
+  addStr(buildId());
+  static const std::string host = [] {
+    std::string text = llvm::sys::getHostCPUName().str() + ":";
+    llvm::StringMap<bool> features;
+    if (llvm::sys::getHostCPUFeatures(features)) {
+      std::vector<std::string> on;
+      for (auto& f : features)
+        if (f.second) on.push_back(f.first().str());
+      std::sort(on.begin(), on.end());
+      for (auto& f : on) text += f + ",";
+    }
+    return text;
+  }();
+  addStr(host);
+  add(req.words, req.wordCount * sizeof(uint32_t));
+  addStr(req.entryName);
+  uint32_t model = req.model, inl = req.inlineFunctions;
+  add(&model, 4);
+  add(&inl, 4);
+  for (const SpecValue& v : req.specialization) {
+    add(&v.specId, sizeof v.specId);
+    add(v.bytes.data(), v.bytes.size());
+  }
+  auto digest = h.final();
+  return std::string("vkrt-shader:") + std::string(reinterpret_cast<const char*>(digest.data()), digest.size());
+}
+
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, std::string* error) {
+  initLlvm();
+  try {
+    return loadCachedImpl(blob, error);
+  } catch (const LlvmFatal& e) {
+    *error = std::string("LLVM fatal error: ") + e.what();
+  } catch (const std::bad_alloc&) {
+    *error = "out of memory while loading a cached shader";
+  }
+  return nullptr;
+}
 
 std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error) {
   initLlvm();
