@@ -55,6 +55,13 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   // 64-bit integers and doubles in shaders: src/spirv (tests/spirv SixtyFourBitIntegersAndDoubles).
   features10.shaderInt64 = VK_TRUE;
   features10.shaderFloat64 = VK_TRUE;
+  // 8/16-bit integers, 16-bit floats and their storage-buffer access: src/spirv (tests/spirv
+  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest).
+  features10.shaderInt16 = VK_TRUE;
+  features11.storageBuffer16BitAccess = VK_TRUE;
+  features12.storageBuffer8BitAccess = VK_TRUE;
+  features12.shaderInt8 = VK_TRUE;
+  features12.shaderFloat16 = VK_TRUE;
 
   features12.timelineSemaphore = VK_TRUE;
   features12.bufferDeviceAddress = VK_TRUE;
@@ -289,6 +296,27 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
         reinterpret_cast<VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset = features12.hostQueryReset;
         break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_16BIT_STORAGE_FEATURES: {
+        auto* f = reinterpret_cast<VkPhysicalDevice16BitStorageFeatures*>(s);
+        f->storageBuffer16BitAccess = features11.storageBuffer16BitAccess;
+        f->uniformAndStorageBuffer16BitAccess = features11.uniformAndStorageBuffer16BitAccess;
+        f->storagePushConstant16 = features11.storagePushConstant16;
+        f->storageInputOutput16 = features11.storageInputOutput16;
+        break;
+      }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES: {
+        auto* f = reinterpret_cast<VkPhysicalDevice8BitStorageFeatures*>(s);
+        f->storageBuffer8BitAccess = features12.storageBuffer8BitAccess;
+        f->uniformAndStorageBuffer8BitAccess = features12.uniformAndStorageBuffer8BitAccess;
+        f->storagePushConstant8 = features12.storagePushConstant8;
+        break;
+      }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES: {
+        auto* f = reinterpret_cast<VkPhysicalDeviceShaderFloat16Int8Features*>(s);
+        f->shaderFloat16 = features12.shaderFloat16;
+        f->shaderInt8 = features12.shaderInt8;
+        break;
+      }
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
         reinterpret_cast<VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout =
             features12.uniformBufferStandardLayout;
@@ -419,6 +447,12 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                               VkPhysicalDeviceBufferDeviceAddressFeatures, bufferDeviceAddressMultiDevice)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES,
                               VkPhysicalDeviceHostQueryResetFeatures, hostQueryReset)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_16BIT_STORAGE_FEATURES,
+                              VkPhysicalDevice16BitStorageFeatures, storageInputOutput16)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES,
+                              VkPhysicalDevice8BitStorageFeatures, storagePushConstant8)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES,
+                              VkPhysicalDeviceShaderFloat16Int8Features, shaderInt8)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
                               VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "spirv/compiler.hpp"
+#include "spirv/image_runtime.hpp"
 #include "spirv/module.hpp"
 
 namespace vkrt::spirv {
@@ -33,7 +34,13 @@ struct Ptr {
   bool rowMajor = false;
   uint32_t vecStride = 0;  // for a vector pointee: bytes between components (0 = packed)
   int slot = -1;           // >= 0: a descriptor array not indexed yet (base/offset/limit unset)
+  llvm::Value* descIndex = nullptr;  // UniformConstant (image/sampler) descriptors: the array index so far
 };
+
+// What jit.cpp's support check accepts beyond its own lists (the image instructions of image.cpp, the
+// capabilities they and memory.cpp implement).
+bool extraSupportedOp(spv::Op op);
+bool extraSupportedCapability(uint32_t capability);
 
 class Codegen {
  public:
@@ -75,6 +82,7 @@ class Codegen {
   bool controlFlow(const Instruction& in, bool& ok);   // control_flow.cpp
   bool memory(const Instruction& in, bool& ok);        // memory.cpp
   bool extInst(const Instruction& in, bool& ok);       // glsl_std450.cpp
+  bool image(const Instruction& in, bool& ok);         // image.cpp
 
   // ---- memory (memory.cpp)
   bool declareGlobals();                                // Private, Workgroup, Input, buffers, push constants
@@ -83,6 +91,11 @@ class Codegen {
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);
+  // The DescriptorRecord* of element `index` of resource slot `slot` (a zero record past the bound ones).
+  llvm::Value* descriptorRecord(int slot, llvm::Value* index);
+  // Image, sampler and sampled-image values are {image record, sampler record} (image.cpp).
+  bool isImageLike(uint32_t typeId) const;
+  llvm::Type* imageValueType();
   Ptr& ptr(uint32_t id);
   bool hasPtr(uint32_t id) const { return ptrs.count(id) != 0; }
 

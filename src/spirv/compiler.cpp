@@ -66,6 +66,9 @@ llvm::Type* Codegen::type(uint32_t id) {
       break;
     }
     case Type::Pointer: r = b.getPtrTy(); break;
+    case Type::Opaque:
+      if (isImageLike(id)) r = imageValueType();
+      break;
     default: break;
   }
   typeCache[id] = r;
@@ -93,6 +96,7 @@ uint64_t Codegen::layoutAlign(uint32_t id) const {
   const Type& t = spvType(id);
   switch (t.kind) {
     case Type::Bool: return 4;
+    case Type::Pointer: return t.storage == spv::StorageClassPhysicalStorageBuffer ? 8 : 1;
     case Type::Int:
     case Type::Float: return t.width / 8;
     case Type::Vector:
@@ -117,6 +121,7 @@ uint64_t Codegen::layoutSize(uint32_t id, uint32_t matrixStride, bool rowMajor) 
   const Type& t = spvType(id);
   switch (t.kind) {
     case Type::Bool: return 4;
+    case Type::Pointer: return t.storage == spv::StorageClassPhysicalStorageBuffer ? 8 : 0;  // a device address
     case Type::Int:
     case Type::Float: return t.width / 8;
     case Type::Vector: return t.count * layoutSize(t.element, 0, false);
@@ -298,7 +303,8 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
       default: break;
     }
     bool ok = true;
-    if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok)) {
+    if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok) ||
+        image(in, ok)) {
       if (!ok) return false;
       if (currentLabel) blockExits[currentLabel] = b.GetInsertBlock();
       continue;

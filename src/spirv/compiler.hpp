@@ -22,6 +22,9 @@ struct ResourceBinding {
   uint32_t binding;
   uint32_t arraySize;  // descriptors the shader declares (0: runtime-sized array)
   bool uniform;        // Uniform storage class with Block (a uniform buffer); else a storage buffer
+  // Buffer (uniform/storage per `uniform`), or an image/sampler descriptor of a UniformConstant variable.
+  enum Kind : uint8_t { Buffer, StorageImage, SampledImage, Sampler, CombinedImageSampler };
+  Kind kind = Buffer;
 };
 
 class CompiledShader {
@@ -41,6 +44,8 @@ class CompiledShader {
 
   struct Jit;  // the ORC JIT that owns the code (compiler-private)
   std::unique_ptr<Jit> jit;
+  // This shader serialized for VkPipelineCache (object code and the fields above; see loadCached()).
+  std::string cacheBlob;
 };
 
 struct CompileRequest {
@@ -57,5 +62,12 @@ struct CompileRequest {
 // Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported
 // instructions: "unsupported instruction OpXxx at word N").
 std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error);
+
+// The VkPipelineCache key of a compilation: a SHA-256 over the SPIR-V, entry point, stage, specialization
+// bytes, LLVM's version, vkrt's build id and the host CPU (compiled code is only reused where it can run).
+std::string cacheKey(const CompileRequest& request);
+// Loads a shader from a CompiledShader::cacheBlob without running LLVM's optimizer or code generator.
+// Malformed or damaged blobs (checked by a checksum before LLVM sees the object) fail with `error` set.
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, std::string* error);
 
 }  // namespace vkrt::spirv

@@ -29,7 +29,10 @@ void Codegen::finishPhis() {
 bool Codegen::controlFlow(const Instruction& in, bool& ok) {
   switch (in.op) {
     case spv::OpPhi: {
-      if (spvType(in.word(1)).kind == Type::Pointer) return (ok = unsupported(in, "phi of pointers")), true;
+      // PhysicalStorageBuffer pointers are plain addresses; other pointers are not values.
+      const Type& pt = spvType(in.word(1));
+      if (pt.kind == Type::Pointer && pt.storage != spv::StorageClassPhysicalStorageBuffer)
+        return (ok = unsupported(in, "phi of pointers")), true;
       llvm::Type* ty = type(in.word(1));
       if (!ty) return (ok = unsupported(in, "phi type")), true;
       llvm::PHINode* phi = b.CreatePHI(ty, (in.count - 3) / 2);

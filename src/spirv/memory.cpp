@@ -62,6 +62,25 @@ bool Codegen::declareGlobals() {
         info.resources.push_back(r);
         break;
       }
+      case spv::StorageClassUniformConstant: {
+        // Images, samplers and combined image samplers (possibly arrays of them): descriptors.
+        const Type& inner = spvType(pt.element);
+        bool arrayed = inner.kind == Type::Array || inner.kind == Type::RuntimeArray;
+        uint32_t elem = arrayed ? inner.element : pt.element;
+        const Instruction* ti = m.def(elem);
+        if (!ti || !isImageLike(elem)) break;  // fails when used
+        ResourceBinding r;
+        r.set = uint32_t(std::max(d.set, 0));
+        r.binding = uint32_t(std::max(d.binding, 0));
+        r.arraySize = inner.kind == Type::Array ? inner.count : inner.kind == Type::RuntimeArray ? 0 : 1;
+        r.uniform = false;
+        if (ti->op == spv::OpTypeSampler) r.kind = ResourceBinding::Sampler;
+        else if (ti->op == spv::OpTypeSampledImage) r.kind = ResourceBinding::CombinedImageSampler;
+        else r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
+        g.slot = int(info.resources.size());
+        info.resources.push_back(r);
+        break;
+      }
       default:
         break;  // PushConstant needs nothing; other classes fail when used
     }
@@ -74,6 +93,17 @@ bool Codegen::declareGlobals() {
 // Loads a pointer-sized field of the invocation context.
 static llvm::Value* ctxField(Codegen& g, unsigned offset) {
   return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset), llvm::Align(8));
+}
+
+llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index) {
+  llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
+  llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(slot) * sizeof(ResourceSlot));
+  llvm::Value* records = b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8));
+  llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8));
+  index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
+  // An index past the bound descriptors reads a null descriptor (a zero record).
+  llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
+  return b.CreateSelect(b.CreateICmpULT(index, count), rec, zeros);
 }
 
 bool Codegen::resolveDescriptor(Ptr& p, llvm::Value* index) {
@@ -135,6 +165,10 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       p.limit = i64(size);
       break;
     }
+    case spv::StorageClassUniformConstant:
+      if (g.slot < 0) return unsupported(*in, "UniformConstant variable that is not an image or sampler");
+      p.slot = g.slot;
+      break;
     case spv::StorageClassUniform:
     case spv::StorageClassStorageBuffer: {
       p.slot = g.slot;
@@ -154,6 +188,19 @@ Ptr& Codegen::ptr(uint32_t id) {
   if (it != ptrs.end()) return it->second;
   Ptr p;
   if (globals.count(id) && variablePtr(id, &p)) return ptrs[id] = p;
+  // A PhysicalStorageBuffer pointer value (a device address, which in vkrt is the host address): unbounded,
+  // as on any device (an invalid address is the application's undefined behaviour).
+  const Type& pt = spvType(m.typeOf(id));
+  if (pt.kind == Type::Pointer && pt.storage == spv::StorageClassPhysicalStorageBuffer) {
+    if (llvm::Value* v = value(id)) {
+      p.base = v;
+      p.offset = i64(0);
+      p.limit = i64(1ull << 62);
+      p.type = pt.element;
+      p.storage = pt.storage;
+      return ptrs[id] = p;
+    }
+  }
   static thread_local Ptr none;
   none = Ptr{};
   return none;
@@ -186,6 +233,9 @@ llvm::Value* Codegen::load(const Ptr& p) {
     case Type::Int:
     case Type::Float:
       return b.CreateAlignedLoad(ty, address(p, t.width / 8, false), llvm::Align(t.width / 8));
+    case Type::Pointer:
+      if (t.storage != spv::StorageClassPhysicalStorageBuffer) return nullptr;
+      return b.CreateAlignedLoad(b.getPtrTy(), address(p, 8, false), llvm::Align(8));
     case Type::Vector: {
       uint64_t cs = layoutSize(t.element, 0, false);
       bool isBool = spvType(t.element).kind == Type::Bool;
@@ -249,6 +299,9 @@ void Codegen::store(const Ptr& p, llvm::Value* v) {
     case Type::Int:
     case Type::Float:
       b.CreateAlignedStore(v, address(p, t.width / 8, true), llvm::Align(t.width / 8));
+      return;
+    case Type::Pointer:
+      b.CreateAlignedStore(v, address(p, 8, true), llvm::Align(8));
       return;
     case Type::Vector: {
       uint64_t cs = layoutSize(t.element, 0, false);
@@ -326,11 +379,34 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       return true;
     }
     case spv::OpAccessChain:
-    case spv::OpInBoundsAccessChain: {
+    case spv::OpInBoundsAccessChain:
+    case spv::OpPtrAccessChain:
+    case spv::OpInBoundsPtrAccessChain: {
       Ptr p;
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
-      for (uint32_t i = 4; i < in.count; ++i) {
+      bool ptrChain = in.op == spv::OpPtrAccessChain || in.op == spv::OpInBoundsPtrAccessChain;
+      uint32_t firstIndex = 4;
+      if (ptrChain) {
+        // The Element operand steps over whole pointees by the pointer type's ArrayStride.
+        const Decorations& pd = m.decor(m.typeOf(in.word(3)));
+        llvm::Value* e = value(in.word(4));
+        if (!e || pd.arrayStride <= 0 || p.slot >= 0) return (ok = unsupported(in, "element index without an ArrayStride")), true;
+        e = isSignedInt(m.typeOf(in.word(4))) ? b.CreateSExtOrTrunc(e, b.getInt64Ty()) : b.CreateZExtOrTrunc(e, b.getInt64Ty());
+        p.offset = b.CreateAdd(p.offset, b.CreateMul(e, i64(uint64_t(pd.arrayStride))));
+        firstIndex = 5;
+      }
+      for (uint32_t i = firstIndex; i < in.count; ++i) {
         uint32_t idx = in.word(i);
+        if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
+          // An element of an image/sampler descriptor array.
+          llvm::Value* iv = value(idx);
+          const Type& at = spvType(p.type);
+          if (!iv || p.descIndex || (at.kind != Type::Array && at.kind != Type::RuntimeArray))
+            return (ok = fail(in, "bad index into an image or sampler descriptor array")), true;
+          p.descIndex = b.CreateZExtOrTrunc(iv, b.getInt64Ty());
+          p.type = at.element;
+          continue;
+        }
         if (p.slot >= 0) {
           llvm::Value* iv = value(idx);
           if (!iv) return (ok = fail(in, "descriptor index has no value")), true;
@@ -389,11 +465,35 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         }
       }
       ptrs[in.word(2)] = p;
+      // A PhysicalStorageBuffer pointer is also a value (it may be stored, converted or compared).
+      if (p.storage == spv::StorageClassPhysicalStorageBuffer) set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
+      return true;
+    }
+    case spv::OpConvertUToPtr: {
+      llvm::Value* v = value(in.word(3));
+      if (!v) return (ok = fail(in, "operand has no value")), true;
+      set(in.word(2), b.CreateIntToPtr(b.CreateZExtOrTrunc(v, b.getInt64Ty()), b.getPtrTy()));
+      return true;
+    }
+    case spv::OpConvertPtrToU: {
+      llvm::Value* v = value(in.word(3));
+      llvm::Type* rt = type(in.word(1));
+      if (!v || !rt) return (ok = unsupported(in, "pointer operand without a value (not a PhysicalStorageBuffer pointer?)")), true;
+      set(in.word(2), b.CreatePtrToInt(v, rt));
       return true;
     }
     case spv::OpLoad: {
       Ptr p;
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
+      if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
+        // An image, sampler or combined image sampler: its descriptor record, twice (see imageValueType()).
+        if (!isImageLike(p.type)) return (ok = unsupported(in, "load of a whole descriptor array")), true;
+        llvm::Value* rec = descriptorRecord(p.slot, p.descIndex ? p.descIndex : i64(0));
+        llvm::Value* v = llvm::UndefValue::get(imageValueType());
+        v = b.CreateInsertValue(v, rec, {0});
+        set(in.word(2), b.CreateInsertValue(v, rec, {1}));
+        return true;
+      }
       if (p.slot >= 0) return (ok = unsupported(in, "load of a whole descriptor array")), true;
       llvm::Value* v = load(p);
       if (!v) return (ok = unsupported(in, "loaded type")), true;

@@ -284,7 +284,7 @@ TEST_F(ComputeMisuseTest, UnsupportedInstructionFailsCreationWithItsName) {
   EXPECT_EQ(p.pipeline, VK_NULL_HANDLE);
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
-  EXPECT_NE(msgs[0].text.find("unsupported instruction OpTypeImage at word"), std::string::npos) << msgs[0].text;
+  EXPECT_NE(msgs[0].text.find("unsupported instruction OpImageTexelPointer at word"), std::string::npos) << msgs[0].text;
   clearMessages();
   destroy(p);
 }

@@ -69,6 +69,7 @@ void VulkanTest::SetUp() {
   f12.bufferDeviceAddress = VK_TRUE;
   f12.hostQueryReset = VK_TRUE;
   f12.bufferDeviceAddressCaptureReplay = opt.bufferDeviceAddressCaptureReplay;
+  f12.shaderInt8 = f12.shaderFloat16 = f12.storageBuffer8BitAccess = opt.shaderSmallTypes;
   if (opt.descriptorBindingFlags) {
     f12.descriptorBindingUniformBufferUpdateAfterBind = VK_TRUE;
     f12.descriptorBindingStorageBufferUpdateAfterBind = VK_TRUE;
@@ -81,6 +82,7 @@ void VulkanTest::SetUp() {
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &f12};
   f13.synchronization2 = VK_TRUE;
   f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
+  f13.pipelineCreationCacheControl = opt.pipelineCreationCacheControl;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
   f2.features = opt.features;
 

@@ -33,6 +33,10 @@ struct FixtureOptions {
   bool bufferDeviceAddressCaptureReplay = false;
   // Enables the descriptor binding flag features (update after bind, partially bound, variable count).
   bool descriptorBindingFlags = false;
+  // Enables shaderInt8, shaderFloat16 and storageBuffer8BitAccess (VkPhysicalDeviceVulkan12Features).
+  bool shaderSmallTypes = false;
+  // Enables pipelineCreationCacheControl (FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN_ON_FAILURE).
+  bool pipelineCreationCacheControl = false;
 };
 
 class VulkanTest : public ::testing::Test {

@@ -156,10 +156,10 @@ TEST(SpirvAssembly, UnsupportedInstructionNamesItsWordOffset) {
 }
 
 TEST(SpirvAssembly, UnsupportedCapabilityIsNamed) {
-  std::vector<uint32_t> words = assemble("OpCapability StorageBuffer16BitAccess", "");
+  std::vector<uint32_t> words = assemble("OpCapability StoragePushConstant16", "");
   std::string error;
   EXPECT_EQ(compileWords(words, true, &error), nullptr);
-  EXPECT_NE(error.find("unsupported capability 4433 (OpCapability at word"), std::string::npos) << error;
+  EXPECT_NE(error.find("unsupported capability 4435 (OpCapability at word"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -1,0 +1,207 @@
+// SPIR-V -> LLVM IR: images and samplers. Image, sampler and sampled-image values are {image record,
+// sampler record} pairs of DescriptorRecord pointers; the operations call the runtime functions of
+// image_runtime.hpp with their coordinates and texels in small stack buffers (four 32-bit words each).
+#include <llvm/IR/Constants.h>
+
+#include "spirv/codegen.hpp"
+
+namespace vkrt::spirv {
+
+bool extraSupportedOp(spv::Op op) {
+  switch (op) {
+    case spv::OpTypeImage: case spv::OpTypeSampler: case spv::OpTypeSampledImage: case spv::OpSampledImage:
+    case spv::OpImage: case spv::OpImageRead: case spv::OpImageWrite: case spv::OpImageFetch:
+    case spv::OpImageSampleExplicitLod: case spv::OpImageQuerySize: case spv::OpImageQuerySizeLod:
+    case spv::OpImageQueryLevels:
+    case spv::OpTypeForwardPointer: case spv::OpConvertUToPtr: case spv::OpConvertPtrToU: case spv::OpPtrAccessChain:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool extraSupportedCapability(uint32_t cap) {
+  switch (cap) {
+    // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.
+    case spv::CapabilityImageQuery: case spv::CapabilityPhysicalStorageBufferAddresses:
+    case spv::CapabilityStorageBuffer8BitAccess: case spv::CapabilityStorageBuffer16BitAccess:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool Codegen::isImageLike(uint32_t typeId) const {
+  const Instruction* d = m.def(typeId);
+  return d && (d->op == spv::OpTypeImage || d->op == spv::OpTypeSampler || d->op == spv::OpTypeSampledImage);
+}
+
+llvm::Type* Codegen::imageValueType() { return llvm::StructType::get(c, {b.getPtrTy(), b.getPtrTy()}); }
+
+namespace {
+
+// The OpTypeImage behind an image or sampled-image value's type (nullptr for anything else).
+const Instruction* imageTypeOf(const Module& m, uint32_t valueId) {
+  const Instruction* t = m.def(m.typeOf(valueId));
+  if (t && t->op == spv::OpTypeSampledImage) t = m.def(t->word(2));
+  return t && t->op == spv::OpTypeImage ? t : nullptr;
+}
+
+// A 16-byte stack buffer in the function's entry block.
+llvm::Value* scratch(Codegen& g) {
+  llvm::IRBuilderBase::InsertPointGuard guard(g.b);
+  g.b.SetInsertPoint(g.allocaBlock->getTerminator());
+  auto* a = g.b.CreateAlloca(llvm::ArrayType::get(g.b.getInt32Ty(), 4));
+  a->setAlignment(llvm::Align(16));
+  return a;
+}
+
+// Stores the (scalar or vector) value `v` as four 32-bit words: floats as float, integers as i32; missing
+// components are zero.
+llvm::Value* toWords(Codegen& g, llvm::Value* v, bool isFloatValue) {
+  llvm::Value* buf = scratch(g);
+  g.b.CreateStore(llvm::Constant::getNullValue(llvm::ArrayType::get(g.b.getInt32Ty(), 4)), buf);
+  auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(v->getType());
+  unsigned n = vt ? std::min(4u, unsigned(vt->getNumElements())) : 1;
+  for (unsigned i = 0; i < n; ++i) {
+    llvm::Value* e = vt ? g.b.CreateExtractElement(v, uint64_t(i)) : v;
+    if (isFloatValue) e = g.b.CreateBitCast(g.b.CreateFPCast(e, g.b.getFloatTy()), g.b.getInt32Ty());
+    else e = g.b.CreateSExtOrTrunc(e, g.b.getInt32Ty());
+    g.b.CreateStore(e, g.b.CreateConstGEP1_64(g.b.getInt32Ty(), buf, i));
+  }
+  return buf;
+}
+
+// Reads four words back as a value of SPIR-V type `typeId` (scalar or vector of up to 4 components).
+llvm::Value* fromWords(Codegen& g, llvm::Value* buf, uint32_t typeId) {
+  llvm::Type* rt = g.type(typeId);
+  uint32_t st = g.scalarType(typeId);
+  llvm::Type* et = g.type(st);
+  bool fl = g.isFloat(typeId);
+  unsigned n = g.componentCount(typeId);
+  llvm::Value* r = n > 1 ? static_cast<llvm::Value*>(llvm::UndefValue::get(rt)) : nullptr;
+  for (unsigned i = 0; i < n; ++i) {
+    llvm::Value* w = g.b.CreateLoad(g.b.getInt32Ty(), g.b.CreateConstGEP1_64(g.b.getInt32Ty(), buf, i));
+    llvm::Value* e = fl ? g.b.CreateFPCast(g.b.CreateBitCast(w, g.b.getFloatTy()), et)
+                        : (g.isSignedInt(typeId) ? g.b.CreateSExtOrTrunc(w, et) : g.b.CreateZExtOrTrunc(w, et));
+    r = n > 1 ? g.b.CreateInsertElement(r, e, uint64_t(i)) : e;
+  }
+  return r;
+}
+
+llvm::FunctionCallee runtimeFn(Codegen& g, const char* name, llvm::Type* ret, std::vector<llvm::Type*> params) {
+  return g.out.getOrInsertFunction(name, llvm::FunctionType::get(ret, params, false));
+}
+
+}  // namespace
+
+bool Codegen::image(const Instruction& in, bool& ok) {
+  llvm::Type* ptrTy = b.getPtrTy();
+  switch (in.op) {
+    case spv::OpSampledImage:
+    case spv::OpImage: {
+      llvm::Value* img = value(in.word(3));
+      llvm::Value* smp = in.op == spv::OpSampledImage ? value(in.word(4)) : img;
+      if (!img || !smp) return (ok = fail(in, "image or sampler operand has no value")), true;
+      llvm::Value* v = llvm::UndefValue::get(imageValueType());
+      v = b.CreateInsertValue(v, b.CreateExtractValue(img, {0}), {0});
+      set(in.word(2), b.CreateInsertValue(v, b.CreateExtractValue(smp, {in.op == spv::OpSampledImage ? 1u : 0u}), {1}));
+      return true;
+    }
+    case spv::OpImageRead:
+    case spv::OpImageWrite:
+    case spv::OpImageFetch:
+    case spv::OpImageSampleExplicitLod:
+    case spv::OpImageQuerySize:
+    case spv::OpImageQuerySizeLod:
+    case spv::OpImageQueryLevels:
+      break;
+    default:
+      return false;
+  }
+  bool write = in.op == spv::OpImageWrite;
+  uint32_t imageId = in.word(write ? 1 : 3);
+  const Instruction* it = imageTypeOf(m, imageId);
+  llvm::Value* img = value(imageId);
+  if (!it || !img) return (ok = fail(in, "image operand has no value")), true;
+  // Texel buffers, subpass data and multisampled images are not supported yet.
+  if (it->word(3) == spv::DimBuffer || it->word(3) == spv::DimSubpassData || it->word(6) != 0)
+    return (ok = unsupported(in, "texel buffer, subpass or multisampled image")), true;
+  llvm::Value* imgRec = b.CreateExtractValue(img, {0});
+  switch (in.op) {
+    case spv::OpImageQuerySize:
+    case spv::OpImageQuerySizeLod: {
+      llvm::Value* lod = i32(0);
+      if (in.op == spv::OpImageQuerySizeLod) {
+        lod = value(in.word(4));
+        if (!lod) return (ok = fail(in, "level of detail has no value")), true;
+        lod = b.CreateSExtOrTrunc(lod, b.getInt32Ty());
+      }
+      llvm::Value* out = scratch(*this);
+      b.CreateCall(runtimeFn(*this, "vkrt_image_size", b.getVoidTy(), {ptrTy, b.getInt32Ty(), ptrTy}), {imgRec, lod, out});
+      set(in.word(2), fromWords(*this, out, in.word(1)));
+      return true;
+    }
+    case spv::OpImageQueryLevels: {
+      llvm::Value* n = b.CreateCall(runtimeFn(*this, "vkrt_image_levels", b.getInt32Ty(), {ptrTy}), {imgRec});
+      set(in.word(2), b.CreateZExtOrTrunc(n, type(in.word(1))));
+      return true;
+    }
+    default: break;
+  }
+  // Coordinates and image operands.
+  uint32_t coordId = in.word(write ? 2 : 4);
+  llvm::Value* coord = value(coordId);
+  if (!coord) return (ok = fail(in, "coordinate has no value")), true;
+  uint32_t operandsAt = write ? 4 : 5;
+  uint32_t mask = in.count > operandsAt ? in.word(operandsAt) : 0;
+  llvm::Value* lod = nullptr;
+  const uint32_t lodBit = spv::ImageOperandsLodMask;
+  const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
+                             spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
+                             spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
+  if (mask & ~(lodBit | ignorable)) return (ok = unsupported(in, "image operands other than Lod")), true;
+  if (mask & lodBit) {
+    // Lod is the first operand after the mask (no lower bit this compiler accepts takes an operand).
+    lod = value(in.word(operandsAt + 1));
+    if (!lod) return (ok = fail(in, "Lod operand has no value")), true;
+  }
+  llvm::Value* coords = toWords(*this, coord, isFloat(m.typeOf(coordId)));
+  switch (in.op) {
+    case spv::OpImageRead: {
+      llvm::Value* out = scratch(*this);
+      b.CreateCall(runtimeFn(*this, "vkrt_image_read", b.getVoidTy(), {ptrTy, ptrTy, ptrTy}), {imgRec, coords, out});
+      set(in.word(2), fromWords(*this, out, in.word(1)));
+      return true;
+    }
+    case spv::OpImageWrite: {
+      llvm::Value* texel = value(in.word(3));
+      if (!texel) return (ok = fail(in, "texel has no value")), true;
+      llvm::Value* words = toWords(*this, texel, isFloat(m.typeOf(in.word(3))));
+      b.CreateCall(runtimeFn(*this, "vkrt_image_write", b.getVoidTy(), {ptrTy, ptrTy, ptrTy}), {imgRec, coords, words});
+      return true;
+    }
+    case spv::OpImageFetch: {
+      llvm::Value* level = lod ? b.CreateSExtOrTrunc(lod, b.getInt32Ty()) : i32(0);
+      llvm::Value* out = scratch(*this);
+      b.CreateCall(runtimeFn(*this, "vkrt_image_fetch", b.getVoidTy(), {ptrTy, ptrTy, b.getInt32Ty(), ptrTy}),
+                   {imgRec, coords, level, out});
+      set(in.word(2), fromWords(*this, out, in.word(1)));
+      return true;
+    }
+    case spv::OpImageSampleExplicitLod: {
+      if (!lod) return (ok = unsupported(in, "explicit-LOD sampling without a Lod operand (Grad)")), true;
+      if (it->word(3) == spv::DimCube) return (ok = unsupported(in, "cube map sampling")), true;
+      if (!isFloat(m.typeOf(coordId))) return (ok = fail(in, "sampling coordinates are not floats")), true;
+      llvm::Value* smpRec = b.CreateExtractValue(img, {1});
+      llvm::Value* out = scratch(*this);
+      b.CreateCall(runtimeFn(*this, "vkrt_image_sample", b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
+                   {imgRec, smpRec, coords, b.CreateFPCast(lod, b.getFloatTy()), out});
+      set(in.word(2), fromWords(*this, out, in.word(1)));
+      return true;
+    }
+    default: return false;
+  }
+}
+
+}  // namespace vkrt::spirv

@@ -1,0 +1,425 @@
+// The image functions compiled shaders call (see image_runtime.hpp).
+#include "spirv/image_runtime.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "runtime/image.hpp"
+#include "runtime/image_copy.hpp"
+#include "runtime/image_view.hpp"
+
+namespace vkrt::spirv {
+
+namespace {
+
+using N = NumericType;
+
+uint32_t fbits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+float bitsf(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+float halfToFloat(uint32_t h) {
+  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, man = h & 1023;
+  float v;
+  if (exp == 0) v = std::ldexp(float(man), -24);
+  else if (exp == 31) v = man ? NAN : INFINITY;
+  else v = std::ldexp(float(man | 1024), int(exp) - 25);
+  return sign ? -v : v;
+}
+
+// An unsigned small float (B10G11R11): 5-bit exponent, `mb` mantissa bits, no sign.
+float smallFloatToFloat(uint32_t v, int mb) {
+  uint32_t exp = v >> mb, man = v & ((1u << mb) - 1);
+  if (exp == 0) return std::ldexp(float(man), -14 - mb);
+  if (exp == 31) return man ? NAN : INFINITY;
+  return std::ldexp(float(man | (1u << mb)), int(exp) - 15 - mb);
+}
+
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+float linearToSrgb(float c) {
+  c = std::clamp(c, 0.0f, 1.0f);
+  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+uint64_t readBits(const uint8_t* p, unsigned bytes) {
+  uint64_t v = 0;
+  std::memcpy(&v, p, bytes);  // little-endian host
+  return v;
+}
+
+// Decodes one raw component value of `bits` bits.
+uint32_t decodeComponent(N type, uint64_t raw, unsigned bits, bool alpha) {
+  uint64_t maxU = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+  switch (type) {
+    case N::UNorm: return fbits(float(double(raw) / double(maxU)));
+    case N::SRGB: {
+      float f = float(double(raw) / double(maxU));
+      return fbits(alpha ? f : srgbToLinear(f));
+    }
+    case N::SNorm: {
+      int64_t s = int64_t(raw << (64 - bits)) >> (64 - bits);
+      return fbits(std::max(-1.0f, float(double(s) / double((1ll << (bits - 1)) - 1))));
+    }
+    case N::UInt: return uint32_t(raw);
+    case N::SInt: return uint32_t(int32_t(int64_t(raw << (64 - bits)) >> (64 - bits)));
+    case N::SFloat: return bits == 16 ? fbits(halfToFloat(uint32_t(raw))) : uint32_t(raw);
+    case N::UFloat: return fbits(smallFloatToFloat(uint32_t(raw), int(bits) - 5));
+  }
+  return 0;
+}
+
+uint64_t encodeComponent(N type, uint32_t word, unsigned bits, bool alpha) {
+  uint64_t maxU = (1ull << bits) - 1;
+  float f = bitsf(word);
+  switch (type) {
+    case N::UNorm:
+    case N::SRGB: {
+      if (type == N::SRGB && !alpha) f = linearToSrgb(f);
+      f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+      return uint64_t(std::nearbyint(double(f) * double(maxU)));
+    }
+    case N::SNorm: {
+      f = std::isnan(f) ? 0.0f : std::clamp(f, -1.0f, 1.0f);
+      int64_t s = int64_t(std::nearbyint(double(f) * double((1ll << (bits - 1)) - 1)));
+      return uint64_t(s) & maxU;
+    }
+    case N::UInt:
+    case N::SInt: return uint64_t(word) & maxU;  // the low bits (the spec leaves out-of-range values undefined)
+    case N::SFloat: return bits == 16 ? floatToHalf(f) : word;
+    case N::UFloat: return floatToUnsignedSmallFloat(f, int(bits) - 5);
+  }
+  return 0;
+}
+
+bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N::SInt; }
+
+}  // namespace
+
+void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
+  uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
+  if (f.packed) {
+    uint32_t w = uint32_t(readBits(texel, 4));
+    unsigned shift = 0;
+    for (unsigned i = 0; i < f.components; ++i) {
+      uint32_t raw = (w >> shift) & ((1u << f.bits[i]) - 1);
+      c[i] = decodeComponent(f.type, raw, f.bits[i], i == 3);
+      shift += f.bits[i];
+    }
+  } else {
+    unsigned at = 0;
+    for (unsigned i = 0; i < f.components; ++i) {
+      c[i] = decodeComponent(f.type, readBits(texel + at, f.bits[i] / 8), f.bits[i], i == 3);
+      at += f.bits[i] / 8;
+    }
+    if (f.bgr) std::swap(c[0], c[2]);
+  }
+  std::memcpy(out, c, 16);
+}
+
+void encodeTexel(const FormatInfo& f, const uint32_t in[4], uint8_t* texel) {
+  uint32_t c[4] = {in[0], in[1], in[2], in[3]};
+  if (f.packed) {
+    uint32_t w = 0;
+    unsigned shift = 0;
+    for (unsigned i = 0; i < f.components; ++i) {
+      w |= uint32_t(encodeComponent(f.type, c[i], f.bits[i], i == 3)) << shift;
+      shift += f.bits[i];
+    }
+    std::memcpy(texel, &w, 4);
+    return;
+  }
+  if (f.bgr) std::swap(c[0], c[2]);
+  unsigned at = 0;
+  for (unsigned i = 0; i < f.components; ++i) {
+    uint64_t v = encodeComponent(f.type, c[i], f.bits[i], i == 3);
+    std::memcpy(texel + at, &v, f.bits[i] / 8);
+    at += f.bits[i] / 8;
+  }
+}
+
+namespace {
+
+// A view resolved for addressing: texel (x, y, z, layer) of view mip `level` is at image mip base + level.
+struct View {
+  const ImageView* view = nullptr;
+  const Image* image = nullptr;
+  const FormatInfo* format = nullptr;
+  uint8_t* data = nullptr;
+  int dims = 2;         // coordinate components before the layer
+  bool arrayed = false;
+  bool slicesAsLayers = false;  // a 2D (array) view of a 3D image: layers are depth slices
+};
+
+bool resolveView(const DescriptorRecord* rec, View* v) {
+  if (!rec || !rec->object) return false;
+  v->view = static_cast<const ImageView*>(rec->object);
+  v->image = v->view->image;
+  v->format = formatInfo(v->view->format);
+  v->data = v->image ? v->image->data() : nullptr;
+  if (!v->format || !v->data) return false;
+  switch (v->view->viewType) {
+    case VK_IMAGE_VIEW_TYPE_1D: v->dims = 1; break;
+    case VK_IMAGE_VIEW_TYPE_1D_ARRAY: v->dims = 1; v->arrayed = true; break;
+    case VK_IMAGE_VIEW_TYPE_2D: v->dims = 2; break;
+    case VK_IMAGE_VIEW_TYPE_3D: v->dims = 3; break;
+    default: v->dims = 2; v->arrayed = true; break;  // 2D array, cube, cube array: faces are layers
+  }
+  v->slicesAsLayers = v->image->type == VK_IMAGE_TYPE_3D && v->dims == 2;
+  return true;
+}
+
+VkExtent3D levelExtent(const View& v, uint32_t level) {
+  VkExtent3D e = v.image->mips[v.view->range.baseMipLevel + level].extent;
+  if (v.slicesAsLayers) e.depth = 1;
+  return e;
+}
+
+// The texel's address, or nullptr when (x, y, z, layer) is outside mip `level` of the view.
+uint8_t* texelAt(const View& v, uint32_t level, int64_t x, int64_t y, int64_t z, int64_t layer) {
+  if (level >= v.view->range.levelCount) return nullptr;
+  VkExtent3D e = levelExtent(v, level);
+  if (x < 0 || y < 0 || z < 0 || layer < 0 || x >= e.width || y >= e.height || z >= e.depth) return nullptr;
+  if (v.slicesAsLayers) {
+    int64_t slice = int64_t(v.view->range.baseArrayLayer) + layer;
+    if (layer >= int64_t(v.view->range.layerCount) || slice >= v.image->mips[v.view->range.baseMipLevel + level].extent.depth)
+      return nullptr;
+    return v.image->texel(v.view->range.baseMipLevel + level, 0, uint32_t(x), uint32_t(y), uint32_t(slice));
+  }
+  if (layer >= int64_t(v.view->range.layerCount)) return nullptr;
+  return v.image->texel(v.view->range.baseMipLevel + level, v.view->range.baseArrayLayer + uint32_t(layer), uint32_t(x),
+                        uint32_t(y), uint32_t(z));
+}
+
+// Splits view-order coordinates into (x, y, z, layer).
+void splitCoord(const View& v, const int64_t c[4], int64_t out[4]) {
+  out[0] = c[0];
+  out[1] = v.dims >= 2 ? c[1] : 0;
+  out[2] = v.dims >= 3 ? c[2] : 0;
+  out[3] = v.arrayed ? c[v.dims] : 0;
+}
+
+void readTexel(const View& v, uint32_t level, const int64_t xyzl[4], uint32_t out[4]) {
+  const uint8_t* t = texelAt(v, level, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
+  if (!t) {
+    std::memset(out, 0, 16);
+    return;
+  }
+  decodeTexel(*v.format, t, out);
+}
+
+void applySwizzle(const View& v, uint32_t c[4]) {
+  uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
+  uint32_t src[4] = {c[0], c[1], c[2], c[3]};
+  VkComponentSwizzle s[4] = {v.view->components.r, v.view->components.g, v.view->components.b, v.view->components.a};
+  for (int i = 0; i < 4; ++i) {
+    switch (s[i]) {
+      case VK_COMPONENT_SWIZZLE_IDENTITY: c[i] = src[i]; break;
+      case VK_COMPONENT_SWIZZLE_ZERO: c[i] = 0; break;
+      case VK_COMPONENT_SWIZZLE_ONE: c[i] = one; break;
+      case VK_COMPONENT_SWIZZLE_R: c[i] = src[0]; break;
+      case VK_COMPONENT_SWIZZLE_G: c[i] = src[1]; break;
+      case VK_COMPONENT_SWIZZLE_B: c[i] = src[2]; break;
+      case VK_COMPONENT_SWIZZLE_A: c[i] = src[3]; break;
+      default: break;
+    }
+  }
+}
+
+// Applies the address mode to integer texel coordinate i of a dimension with `size` texels; false: border.
+bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
+  switch (mode) {
+    case VK_SAMPLER_ADDRESS_MODE_REPEAT: *out = ((i % size) + size) % size; return true;
+    case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT: {
+      int64_t t = ((i % (2 * size)) + 2 * size) % (2 * size);
+      *out = t < size ? t : 2 * size - 1 - t;
+      return true;
+    }
+    case VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE: *out = std::min(i >= 0 ? i : -(1 + i), size - 1); return true;
+    case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER:
+      *out = i;
+      return i >= 0 && i < size;
+    default: *out = std::clamp<int64_t>(i, 0, size - 1); return true;  // CLAMP_TO_EDGE
+  }
+}
+
+void borderColor(const View& v, VkBorderColor bc, uint32_t out[4]) {
+  bool opaque = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK || bc == VK_BORDER_COLOR_INT_OPAQUE_BLACK;
+  bool white = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE || bc == VK_BORDER_COLOR_INT_OPAQUE_WHITE;
+  uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
+  out[0] = out[1] = out[2] = white ? one : 0;
+  out[3] = (opaque || white) ? one : 0;
+}
+
+// The texel at integer (i, j, k) of `level` after the address modes, as four words.
+void addressedTexel(const View& v, const VkSamplerCreateInfo& s, uint32_t level, int64_t i, int64_t j, int64_t k,
+                    int64_t layer, uint32_t out[4]) {
+  VkExtent3D e = levelExtent(v, level);
+  int64_t c[3];
+  bool inside = wrap(s.addressModeU, i, e.width, &c[0]);
+  if (v.dims >= 2) inside = wrap(s.addressModeV, j, e.height, &c[1]) && inside;
+  else c[1] = 0;
+  if (v.dims >= 3) inside = wrap(s.addressModeW, k, e.depth, &c[2]) && inside;
+  else c[2] = 0;
+  if (!inside) {
+    borderColor(v, s.borderColor, out);
+    return;
+  }
+  int64_t xyzl[4] = {c[0], c[1], c[2], layer};
+  readTexel(v, level, xyzl, out);
+}
+
+// Filters mip `level` at view-order coordinates (normalized unless the sampler says otherwise).
+void filterLevel(const View& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
+                 int64_t layer, float out[4]) {
+  VkExtent3D e = levelExtent(v, level);
+  double size[3] = {double(e.width), double(e.height), double(e.depth)};
+  double u[3] = {0, 0, 0};
+  for (int d = 0; d < v.dims; ++d) u[d] = s.unnormalizedCoordinates ? double(coord[d]) : double(coord[d]) * size[d];
+  bool isInt = isIntFormat(*v.format);
+  if (filter == VK_FILTER_NEAREST || isInt) {
+    int64_t i[3];
+    for (int d = 0; d < 3; ++d) i[d] = int64_t(std::floor(u[d]));
+    uint32_t t[4];
+    addressedTexel(v, s, level, i[0], i[1], i[2], layer, t);
+    std::memcpy(out, t, 16);
+    return;
+  }
+  int64_t i0[3] = {0, 0, 0};
+  double w[3] = {0, 0, 0};
+  for (int d = 0; d < v.dims; ++d) {
+    double f = u[d] - 0.5;
+    i0[d] = int64_t(std::floor(f));
+    w[d] = f - std::floor(f);
+  }
+  double acc[4] = {0, 0, 0, 0};
+  int nk = v.dims >= 3 ? 2 : 1, nj = v.dims >= 2 ? 2 : 1;
+  for (int dk = 0; dk < nk; ++dk)
+    for (int dj = 0; dj < nj; ++dj)
+      for (int di = 0; di < 2; ++di) {
+        double weight = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
+                        (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
+        uint32_t t[4];
+        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t);
+        for (int c = 0; c < 4; ++c) acc[c] += weight * double(bitsf(t[c]));
+      }
+  for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
+}
+
+}  // namespace
+
+}  // namespace vkrt::spirv
+
+using namespace vkrt;
+using namespace vkrt::spirv;
+
+extern "C" {
+
+void vkrt_image_read(const DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v)) return;
+  int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
+  splitCoord(v, c, xyzl);
+  readTexel(v, 0, xyzl, out);
+}
+
+void vkrt_image_write(const DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
+  View v;
+  if (!resolveView(img, &v)) return;
+  int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
+  splitCoord(v, c, xyzl);
+  uint8_t* t = texelAt(v, 0, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
+  if (t) encodeTexel(*v.format, in, t);
+}
+
+void vkrt_image_fetch(const DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || lod < 0) return;
+  int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
+  splitCoord(v, c, xyzl);
+  if (!texelAt(v, uint32_t(lod), xyzl[0], xyzl[1], xyzl[2], xyzl[3])) return;
+  readTexel(v, uint32_t(lod), xyzl, out);
+  applySwizzle(v, out);
+}
+
+void vkrt_image_sample(const DescriptorRecord* img, const DescriptorRecord* smp, const float coord[4], float lod,
+                       uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
+  const VkSamplerCreateInfo& s = static_cast<const Sampler*>(smp->sampler)->info;
+  // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
+  float lambda = std::isnan(lod) ? 0.0f : lod + s.mipLodBias;
+  lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
+  VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
+  float maxLevel = float(v.view->range.levelCount - 1);
+  float d = std::clamp(lambda, 0.0f, maxLevel);
+  int64_t layer = 0;
+  if (v.arrayed) {
+    float l = std::nearbyint(coord[v.dims]);
+    layer = int64_t(std::clamp(l, 0.0f, float(v.view->range.layerCount - 1)));
+  }
+  float result[4];
+  if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
+    // Nearest: level ceil(d + 0.5) - 1, i.e. d rounded with halves going down.
+    uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
+    filterLevel(v, s, filter, level, coord, layer, result);
+  } else {
+    uint32_t lo = uint32_t(std::floor(d));
+    uint32_t hi = std::min(lo + 1, uint32_t(maxLevel));
+    float a[4], bb[4], t = d - std::floor(d);
+    filterLevel(v, s, filter, lo, coord, layer, a);
+    filterLevel(v, s, filter, hi, coord, layer, bb);
+    for (int c = 0; c < 4; ++c) result[c] = a[c] * (1 - t) + bb[c] * t;
+  }
+  std::memcpy(out, result, 16);
+  applySwizzle(v, out);
+}
+
+void vkrt_image_size(const DescriptorRecord* img, int32_t lod, int32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || lod < 0 || uint32_t(lod) >= v.view->range.levelCount) return;
+  VkExtent3D e = levelExtent(v, uint32_t(lod));
+  int32_t dims[3] = {int32_t(e.width), int32_t(e.height), int32_t(e.depth)};
+  for (int i = 0; i < v.dims; ++i) out[i] = dims[i];
+  if (v.arrayed) {
+    uint32_t layers = v.view->range.layerCount;
+    if (v.view->viewType == VK_IMAGE_VIEW_TYPE_CUBE) layers = 0;
+    if (v.view->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY) layers /= 6;
+    if (layers) out[v.dims] = int32_t(layers);
+  }
+}
+
+int32_t vkrt_image_levels(const DescriptorRecord* img) {
+  View v;
+  return resolveView(img, &v) ? int32_t(v.view->range.levelCount) : 0;
+}
+
+}  // extern "C"
+
+namespace vkrt::spirv {
+
+const RuntimeSymbol* imageRuntimeSymbols() {
+  static const RuntimeSymbol symbols[] = {
+      {"vkrt_image_read", reinterpret_cast<void*>(&vkrt_image_read)},
+      {"vkrt_image_write", reinterpret_cast<void*>(&vkrt_image_write)},
+      {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
+      {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
+      {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},
+      {"vkrt_image_levels", reinterpret_cast<void*>(&vkrt_image_levels)},
+      {nullptr, nullptr},
+  };
+  return symbols;
+}
+
+}  // namespace vkrt::spirv

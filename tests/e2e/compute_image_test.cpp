@@ -1,0 +1,597 @@
+// Compute shaders on images and device addresses, end to end with the validation layer on: storage image
+// loads/stores of several formats and dimensions, sampling with samplers of every filter and address mode,
+// texel fetches, size queries, and buffer_reference pointers. Expected values are computed here on the CPU.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <vector>
+
+#include "compute_h9_bda.comp.spv.h"
+#include "compute_h9_sample.comp.spv.h"
+#include "compute_h9_storage.comp.spv.h"
+#include "compute_h9_small_types.comp.spv.h"
+#include "e2e/fixture.hpp"
+#include "spirv/small_types_reference.hpp"
+
+namespace vkrt::test {
+namespace {
+
+class ComputeImageTest : public VulkanTest {
+ protected:
+  struct Tex {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkImageCreateInfo ci{};
+    HostBuffer staging;  // the image's texels in vkrt's order: per mip, per layer, slices, rows
+    uint32_t texelSize = 0;
+    std::vector<VkDeviceSize> mipOffsets;
+  };
+
+  Tex makeTex(VkImageType type, VkImageViewType viewType, VkFormat format, VkExtent3D extent, uint32_t mips,
+              uint32_t layers, uint32_t texelSize, VkImageUsageFlags usage, uint32_t viewBaseLayer = 0,
+              uint32_t viewLayers = VK_REMAINING_ARRAY_LAYERS) {
+    Tex t;
+    t.texelSize = texelSize;
+    t.ci = {VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    t.ci.imageType = type;
+    t.ci.format = format;
+    t.ci.extent = extent;
+    t.ci.mipLevels = mips;
+    t.ci.arrayLayers = layers;
+    t.ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    t.ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    t.ci.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    t.ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    EXPECT_EQ(vkCreateImage(device, &t.ci, nullptr, &t.image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, t.image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
+    EXPECT_EQ(vkAllocateMemory(device, &mai, nullptr, &t.memory), VK_SUCCESS);
+    EXPECT_EQ(vkBindImageMemory(device, t.image, t.memory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = t.image;
+    vi.viewType = viewType;
+    vi.format = format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, viewBaseLayer, viewLayers};
+    EXPECT_EQ(vkCreateImageView(device, &vi, nullptr, &t.view), VK_SUCCESS);
+    VkDeviceSize bytes = 0;
+    for (uint32_t m = 0; m < mips; ++m) {
+      t.mipOffsets.push_back(bytes);
+      VkExtent3D e = mipExtent(extent, m);
+      bytes += VkDeviceSize(e.width) * e.height * e.depth * layers * texelSize;
+    }
+    t.staging = createHostBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    return t;
+  }
+  static VkExtent3D mipExtent(VkExtent3D e, uint32_t m) {
+    return {std::max(1u, e.width >> m), std::max(1u, e.height >> m), std::max(1u, e.depth >> m)};
+  }
+  void destroy(Tex& t) {
+    vkDestroyImageView(device, t.view, nullptr);
+    vkDestroyImage(device, t.image, nullptr);
+    vkFreeMemory(device, t.memory, nullptr);
+    VulkanTest::destroy(t.staging);
+  }
+  using VulkanTest::destroy;
+
+  static void barrier(VkCommandBuffer cb, const Tex& t, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
+                      VkAccessFlags dst, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = src;
+    b.dstAccessMask = dst;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = t.image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+  }
+  void copy(VkCommandBuffer cb, const Tex& t, bool toImage) {
+    std::vector<VkBufferImageCopy> regions;
+    for (uint32_t m = 0; m < t.ci.mipLevels; ++m) {
+      VkBufferImageCopy r{};
+      r.bufferOffset = t.mipOffsets[m];
+      r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, 0, t.ci.arrayLayers};
+      r.imageExtent = mipExtent(t.ci.extent, m);
+      regions.push_back(r);
+    }
+    if (toImage)
+      vkCmdCopyBufferToImage(cb, t.staging.buffer, t.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()),
+                             regions.data());
+    else
+      vkCmdCopyImageToBuffer(cb, t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.staging.buffer, uint32_t(regions.size()),
+                             regions.data());
+  }
+  // Staging -> image, then the image in `layout` for compute shaders.
+  void upload(VkCommandBuffer cb, const Tex& t, VkImageLayout layout) {
+    barrier(cb, t, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    copy(cb, t, true);
+    barrier(cb, t, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, layout, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  }
+  // Image (GENERAL, written by compute) -> staging.
+  void download(VkCommandBuffer cb, const Tex& t) {
+    barrier(cb, t, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
+            VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    copy(cb, t, false);
+  }
+
+  struct Pipeline {
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VkShaderModule module = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkResult result = VK_SUCCESS;
+  };
+  Pipeline makePipeline(const uint32_t* words, size_t bytes, const std::vector<VkDescriptorType>& types, uint32_t pushBytes = 0) {
+    Pipeline p;
+    std::vector<VkDescriptorSetLayoutBinding> bindings;
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (uint32_t i = 0; i < types.size(); ++i) {
+      bindings.push_back({i, types[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+      sizes.push_back({types[i], 1});
+    }
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = uint32_t(bindings.size());
+    dl.pBindings = bindings.data();
+    EXPECT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &p.setLayout), VK_SUCCESS);
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = types.empty() ? 0 : 1;
+    pl.pSetLayouts = &p.setLayout;
+    pl.pushConstantRangeCount = pushBytes ? 1 : 0;
+    pl.pPushConstantRanges = &range;
+    EXPECT_EQ(vkCreatePipelineLayout(device, &pl, nullptr, &p.layout), VK_SUCCESS);
+    if (!types.empty()) {
+      VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+      dp.maxSets = 1;
+      dp.poolSizeCount = uint32_t(sizes.size());
+      dp.pPoolSizes = sizes.data();
+      EXPECT_EQ(vkCreateDescriptorPool(device, &dp, nullptr, &p.pool), VK_SUCCESS);
+      VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+      da.descriptorPool = p.pool;
+      da.descriptorSetCount = 1;
+      da.pSetLayouts = &p.setLayout;
+      EXPECT_EQ(vkAllocateDescriptorSets(device, &da, &p.set), VK_SUCCESS);
+    }
+    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sm.codeSize = bytes;
+    sm.pCode = words;
+    EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &p.module), VK_SUCCESS);
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = p.module;
+    ci.stage.pName = "main";
+    ci.layout = p.layout;
+    p.result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline);
+    return p;
+  }
+  void destroy(Pipeline& p) {
+    vkDestroyPipeline(device, p.pipeline, nullptr);
+    vkDestroyShaderModule(device, p.module, nullptr);
+    if (p.pool) vkDestroyDescriptorPool(device, p.pool, nullptr);
+    vkDestroyPipelineLayout(device, p.layout, nullptr);
+    vkDestroyDescriptorSetLayout(device, p.setLayout, nullptr);
+  }
+  void writeImage(Pipeline& p, uint32_t binding, VkDescriptorType type, VkImageView view, VkSampler sampler,
+                  VkImageLayout layout) {
+    VkDescriptorImageInfo ii{sampler, view, layout};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.set;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = type;
+    w.pImageInfo = &ii;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  }
+  void writeBuffer(Pipeline& p, uint32_t binding, const HostBuffer& b) {
+    VkDescriptorBufferInfo bi{b.buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.set;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  }
+  static void hostBarrier(VkCommandBuffer cb) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &mb, 0, nullptr, 0, nullptr);
+  }
+};
+
+constexpr VkDescriptorType kStorageImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+constexpr VkDescriptorType kStorageBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+
+float halfToFloat(uint16_t h) { return float(*reinterpret_cast<const _Float16*>(&h)); }
+uint16_t floatToHalf(float f) {
+  _Float16 h = _Float16(f);
+  uint16_t u;
+  std::memcpy(&u, &h, 2);
+  return u;
+}
+
+TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
+  Pipeline p = makePipeline(kSpv_compute_h9_storage_comp, sizeof kSpv_compute_h9_storage_comp,
+                            {kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  const VkImageUsageFlags st = VK_IMAGE_USAGE_STORAGE_BIT;
+  Tex rgba8 = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {8, 8, 1}, 1, 1, 4, st);
+  Tex rgba32f = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {8, 8, 1}, 1, 1, 16, st);
+  Tex arr = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D_ARRAY, VK_FORMAT_R32_SFLOAT, {8, 8, 1}, 1, 3, 4, st);
+  Tex vol = makeTex(VK_IMAGE_TYPE_3D, VK_IMAGE_VIEW_TYPE_3D, VK_FORMAT_R32_UINT, {8, 8, 2}, 1, 1, 4, st);
+  Tex half = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R16G16B16A16_SFLOAT, {8, 8, 1}, 1, 1, 8, st);
+  HostBuffer out = createHostBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x7F, 256);
+
+  auto* src8 = static_cast<uint8_t*>(rgba8.staging.data);
+  for (uint32_t i = 0; i < 8 * 8 * 4; ++i) src8[i] = uint8_t(i * 37 + 11);
+  auto* dst32 = static_cast<float*>(rgba32f.staging.data);
+  for (uint32_t i = 0; i < 8 * 8 * 4; ++i) dst32[i] = -5.0f;
+  auto* arrF = static_cast<float*>(arr.staging.data);
+  std::vector<float> arrIn(8 * 8 * 3);
+  for (uint32_t i = 0; i < arrIn.size(); ++i) arrIn[i] = arrF[i] = float(i) * 0.25f - 7.0f;
+  auto* volU = static_cast<uint32_t*>(vol.staging.data);
+  std::vector<uint32_t> volIn(8 * 8 * 2);
+  for (uint32_t i = 0; i < volIn.size(); ++i) volIn[i] = volU[i] = i * 2654435761u;
+  auto* halfH = static_cast<uint16_t*>(half.staging.data);
+  std::vector<uint16_t> halfIn(8 * 8 * 4);
+  for (uint32_t i = 0; i < halfIn.size(); ++i) halfIn[i] = halfH[i] = floatToHalf(float(int(i % 29) - 14) * 0.375f);
+
+  Tex* all[] = {&rgba8, &rgba32f, &arr, &vol, &half};
+  for (uint32_t b = 0; b < 5; ++b) writeImage(p, b, kStorageImage, all[b]->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeBuffer(p, 5, out);
+  VkCommandBuffer cb = beginOneTime();
+  for (Tex* t : all) upload(cb, *t, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 2, 2, 1);
+  for (Tex* t : all) download(cb, *t);
+  hostBarrier(cb);
+  submitAndWait(cb);
+
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x) {
+      uint32_t i = y * 8 + x;
+      float c[4];
+      for (int k = 0; k < 4; ++k) c[k] = float(uint8_t((i * 4 + k) * 37 + 11)) / 255.0f;
+      float expect[4] = {c[0] * 2 + float(x), c[1] * 2 + float(y), c[2] * 2, c[3] * 2};
+      for (int k = 0; k < 4; ++k) EXPECT_NEAR(dst32[i * 4 + k], expect[k], 1e-6) << x << "," << y << " c" << k;
+      for (uint32_t l = 0; l < 3; ++l)
+        EXPECT_EQ(arrF[l * 64 + i], arrIn[l * 64 + i] * 3.0f + float(l)) << x << "," << y << " layer " << l;
+      for (uint32_t z = 0; z < 2; ++z) EXPECT_EQ(volU[z * 64 + i], (volIn[z * 64 + i] ^ 0x5a5a5a5au) + z) << x << "," << y << "," << z;
+      for (int k = 0; k < 4; ++k) {
+        float want = halfToFloat(halfIn[i * 4 + k]) * 0.5f + c[0];
+        EXPECT_EQ(halfH[i * 4 + k], floatToHalf(want)) << x << "," << y << " c" << k;
+      }
+    }
+  const int32_t* sizes = static_cast<const int32_t*>(out.data);
+  const int32_t expectSizes[16] = {8, 8, 0, 0, 8, 8, 3, 0, 8, 8, 2, 0, 8, 8, 0, 0};
+  for (int k = 0; k < 16; ++k) EXPECT_EQ(sizes[k], expectSizes[k]) << k;
+  const uint32_t* oob = static_cast<const uint32_t*>(out.data) + 16;
+  for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;  // vkrt: zeros (robust)
+  for (Tex* t : all) destroy(*t);
+  destroy(out);
+  destroy(p);
+}
+
+// ---- sampling
+
+struct SamplerConfig {
+  VkFilter filter;
+  VkSamplerMipmapMode mipmap;
+  VkSamplerAddressMode mode;
+  VkBorderColor border;
+};
+
+// The sampled image: rgba32f 4x4, 3 mips, 2 layers; texel (x, y) of (mip, layer) holds these values.
+void texelValue(uint32_t mip, uint32_t layer, int x, int y, float out[4]) {
+  out[0] = float(x + 4 * y) + 16.0f * float(mip) + 100.0f * float(layer);
+  out[1] = float(x) * 0.5f;
+  out[2] = float(y) * 0.25f + float(mip);
+  out[3] = 1.0f + float(layer);
+}
+
+// The reference sampler (Vulkan spec "Texel Filtering", written out directly).
+void reference(const SamplerConfig& s, float u, float v, float lod, int layer, float out[4]) {
+  auto size = [](uint32_t mip) { return int(std::max(1u, 4u >> mip)); };
+  auto fetch = [&](uint32_t mip, int i, int j, float t[4]) {
+    int n = size(mip);
+    auto wrapOne = [&](int c, bool* border) {
+      switch (s.mode) {
+        case VK_SAMPLER_ADDRESS_MODE_REPEAT: return ((c % n) + n) % n;
+        case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT: {
+          int m = ((c % (2 * n)) + 2 * n) % (2 * n);
+          return m < n ? m : 2 * n - 1 - m;
+        }
+        case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER:
+          if (c < 0 || c >= n) *border = true;
+          return c;
+        default: return std::clamp(c, 0, n - 1);
+      }
+    };
+    bool border = false;
+    int x = wrapOne(i, &border), y = wrapOne(j, &border);
+    if (border) {
+      float w = s.border == VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE ? 1.0f : 0.0f;
+      float a = s.border == VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK ? 0.0f : 1.0f;
+      t[0] = t[1] = t[2] = w;
+      t[3] = a;
+      return;
+    }
+    texelValue(mip, uint32_t(layer), x, y, t);
+  };
+  auto level = [&](uint32_t mip, VkFilter f, float r[4]) {
+    float n = float(size(mip));
+    if (f == VK_FILTER_NEAREST) {
+      fetch(mip, int(std::floor(u * n)), int(std::floor(v * n)), r);
+      return;
+    }
+    float fu = u * n - 0.5f, fv = v * n - 0.5f;
+    int i0 = int(std::floor(fu)), j0 = int(std::floor(fv));
+    float a = fu - std::floor(fu), b = fv - std::floor(fv);
+    float t00[4], t10[4], t01[4], t11[4];
+    fetch(mip, i0, j0, t00);
+    fetch(mip, i0 + 1, j0, t10);
+    fetch(mip, i0, j0 + 1, t01);
+    fetch(mip, i0 + 1, j0 + 1, t11);
+    for (int k = 0; k < 4; ++k)
+      r[k] = (1 - a) * (1 - b) * t00[k] + a * (1 - b) * t10[k] + (1 - a) * b * t01[k] + a * b * t11[k];
+  };
+  VkFilter f = lod <= 0 ? s.filter : s.filter;  // the configs use one filter for both
+  float d = std::clamp(lod, 0.0f, 2.0f);
+  if (s.mipmap == VK_SAMPLER_MIPMAP_MODE_NEAREST) {
+    level(uint32_t(std::ceil(d + 0.5f) - 1), f, out);
+    return;
+  }
+  uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, 2u);
+  float a[4], b[4], t = d - std::floor(d);
+  level(lo, f, a);
+  level(hi, f, b);
+  for (int k = 0; k < 4; ++k) out[k] = a[k] * (1 - t) + b[k] * t;
+}
+
+TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
+  constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  Pipeline p = makePipeline(kSpv_compute_h9_sample_comp, sizeof kSpv_compute_h9_sample_comp,
+                            {kCombined, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLER, kCombined, kStorageBuffer,
+                             kStorageBuffer, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // One image, viewed as a 2D texture of layer 1 and as a 2D array of both layers.
+  const VkImageUsageFlags sampled = VK_IMAGE_USAGE_SAMPLED_BIT;
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {4, 4, 1}, 3, 2, 16, sampled, 1, 1);
+  VkImageView arrView;
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = img.image;
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+  vi.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 3, 0, 2};
+  ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &arrView), VK_SUCCESS);
+  auto* texels = static_cast<float*>(img.staging.data);
+  for (uint32_t m = 0; m < 3; ++m) {
+    int n = int(4u >> m);
+    for (uint32_t l = 0; l < 2; ++l)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+          texelValue(m, l, x, y, texels + (img.mipOffsets[m] / 4) + ((l * n + y) * n + x) * 4);
+  }
+
+  // Coordinates (u, v, lod, layer): texel centres, edges, halfway points, outside [0, 1], fractional lods.
+  const float coords[][4] = {
+      {0.125f, 0.125f, 0.0f, 0.0f}, {0.375f, 0.625f, 0.0f, 1.0f}, {0.25f, 0.5f, 0.0f, 0.0f},   {0.3f, 0.71f, 0.0f, 1.0f},
+      {-0.2f, 0.4f, 0.0f, 0.0f},    {1.3f, -0.45f, 0.0f, 1.0f},   {0.9f, 1.1f, 1.0f, 0.0f},    {0.6f, 0.3f, 0.5f, 1.6f},
+      {0.45f, 0.55f, 1.7f, 0.0f},   {2.7f, 0.2f, 2.0f, 1.0f},     {0.1f, 0.95f, 5.0f, -3.0f},  {-1.05f, -0.6f, 0.25f, 0.4f},
+      {0.5f, 0.5f, 1.25f, 1.0f},    {0.0f, 1.0f, 0.75f, 0.0f},    {1.0f, 0.0f, 0.0f, 1.0f},    {0.62f, 0.13f, 1.5f, 0.0f},
+  };
+  const uint32_t n = 16;
+  HostBuffer in = createHostBuffer(sizeof coords, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(in.data, coords, sizeof coords);
+  HostBuffer out = createHostBuffer(n * 4 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer info = createHostBuffer(16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffer(p, 4, in);
+  writeBuffer(p, 5, out);
+  writeBuffer(p, 6, info);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, img, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  submitAndWait(cb);
+
+  const SamplerConfig configs[] = {
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER, VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK},
+  };
+  const uint32_t nc = sizeof configs / sizeof configs[0];
+  std::vector<VkSampler> samplers(nc);
+  for (uint32_t c = 0; c < nc; ++c) {
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = configs[c].filter;
+    si.mipmapMode = configs[c].mipmap;
+    si.addressModeU = si.addressModeV = si.addressModeW = configs[c].mode;
+    si.borderColor = configs[c].border;
+    si.maxLod = VK_LOD_CLAMP_NONE;
+    ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &samplers[c]), VK_SUCCESS);
+  }
+  const VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  for (uint32_t round = 0; round < nc; ++round) {
+    uint32_t c0 = round, c1 = (round + 1) % nc, c2 = (round + 2) % nc;
+    writeImage(p, 0, kCombined, img.view, samplers[c0], ro);
+    writeImage(p, 1, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, img.view, VK_NULL_HANDLE, ro);
+    writeImage(p, 2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_NULL_HANDLE, samplers[c1], ro);
+    writeImage(p, 3, kCombined, arrView, samplers[c2], ro);
+    std::memset(out.data, 0x7F, out.size);
+    cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+    vkCmdDispatch(cb, n / 4, 1, 1);
+    hostBarrier(cb);
+    submitAndWait(cb);
+    const float* r = static_cast<const float*>(out.data);
+    for (uint32_t i = 0; i < n; ++i) {
+      const float* q = coords[i];
+      float e0[4], e1[4], e2[4], e3[4];
+      reference(configs[c0], q[0], q[1], q[2], 1, e0);  // the 2D view is layer 1
+      reference(configs[c1], q[0], q[1], q[2], 1, e1);
+      int layer = int(std::clamp(std::nearbyint(q[3]), 0.0f, 1.0f));
+      reference(configs[c2], q[0], q[1], q[2], layer, e2);
+      // texelFetch(tex, ivec2(floor(q.xy)), int(q.z)): inside the level, or zeros (vkrt's robust behaviour).
+      int fx = int(std::floor(q[0])), fy = int(std::floor(q[1])), fl = int(q[2]);
+      int size = fl < 3 ? int(4u >> fl) : 0;
+      if (fl < 3 && fx >= 0 && fy >= 0 && fx < size && fy < size) texelValue(uint32_t(fl), 1, fx, fy, e3);
+      else e3[0] = e3[1] = e3[2] = e3[3] = 0.0f;
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_NEAR(r[(4 * i + 0) * 4 + k], e0[k], 1e-4) << "round " << round << " coord " << i << " combined c" << k;
+        EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], 1e-4) << "round " << round << " coord " << i << " separate c" << k;
+        EXPECT_NEAR(r[(4 * i + 2) * 4 + k], e2[k], 1e-4) << "round " << round << " coord " << i << " array c" << k;
+        EXPECT_EQ(r[(4 * i + 3) * 4 + k], e3[k]) << "round " << round << " coord " << i << " fetch c" << k;
+      }
+    }
+    const int32_t* inf = static_cast<const int32_t*>(info.data);
+    EXPECT_EQ(inf[0], 3);  // levels
+    EXPECT_EQ(inf[1], 2);  // level 1 is 2x2
+    EXPECT_EQ(inf[2], 2);
+    EXPECT_EQ(inf[3], 2);  // layers of the array view
+  }
+  // Hand-checked points: halfway between texels (0,0) and (1,0) of layer 1, level 0, is their average; repeat
+  // wraps 1.125 to 0.125.
+  float h[4];
+  reference(configs[1], 0.25f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 100.5f);
+  reference(configs[1], 1.125f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 100.0f);
+  for (VkSampler s : samplers) vkDestroySampler(device, s, nullptr);
+  vkDestroyImageView(device, arrView, nullptr);
+  destroy(img);
+  destroy(in);
+  destroy(out);
+  destroy(info);
+  destroy(p);
+}
+
+// ---- buffer device address
+
+struct Node {
+  float v[4];
+  uint64_t next;
+  uint32_t tag;
+  uint32_t pad;
+};
+
+class ComputeBdaTest : public ComputeImageTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features.shaderInt64 = VK_TRUE;  // the shader converts pointers to and from uint64_t
+    return o;
+  }
+};
+
+TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
+  Pipeline p = makePipeline(kSpv_compute_h9_bda_comp, sizeof kSpv_compute_h9_bda_comp, {}, 20);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer nodes = createHostBuffer(5 * sizeof(Node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+  const uint32_t count = 45;
+  HostBuffer words = createHostBuffer((2 * count + 4) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = nodes.buffer;
+  uint64_t head = vkGetBufferDeviceAddress(device, &ai);
+  ai.buffer = words.buffer;
+  uint64_t outAddr = vkGetBufferDeviceAddress(device, &ai);
+  auto* list = static_cast<Node*>(nodes.data);
+  for (uint32_t k = 0; k < 5; ++k) list[k] = Node{{float(10 * k + 1), float(k + 7), 0.0f, -1.0f}, head + ((k + 1) % 5) * 32, 100 + k, 0};
+  auto* w = static_cast<uint32_t*>(words.data);
+  for (uint32_t i = 0; i < 2 * count + 4; ++i) w[i] = 0xDEADBEEF;
+  uint8_t push[20];
+  std::memcpy(push, &head, 8);
+  std::memcpy(push + 8, &outAddr, 8);
+  std::memcpy(push + 16, &count, 4);
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 20, push);
+  vkCmdDispatch(cb, 3, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t steps = i % 5, sum = 0;
+    for (uint32_t s = 0; s < steps; ++s) sum += 100 + s;
+    EXPECT_EQ(w[2 * i], sum + 10 * steps + 1) << i;
+    EXPECT_EQ(w[2 * i + 1], (100 + i % 5) * 1000 + (i % 5) + 7) << i;
+  }
+  for (uint32_t i = 2 * count; i < 2 * count + 4; ++i) EXPECT_EQ(w[i], 0xDEADBEEFu);
+  for (uint32_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(list[k].v[3], float(k * 3)) << k;
+    EXPECT_EQ(list[k].next, head + ((k + 1) % 5) * 32);
+  }
+  destroy(nodes);
+  destroy(words);
+  destroy(p);
+}
+
+// ---- 8/16-bit integers and 16-bit floats
+
+class ComputeSmallTypesTest : public ComputeImageTest {
+ protected:
+  VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features.shaderInt16 = VK_TRUE;
+    o.shaderSmallTypes = true;  // shaderInt8, shaderFloat16, storageBuffer8BitAccess
+    f11.storageBuffer16BitAccess = VK_TRUE;
+    o.featureChain = &f11;
+    return o;
+  }
+};
+
+TEST_F(ComputeSmallTypesTest, FeaturesReportedAndShaderRuns) {
+  VkPhysicalDeviceShaderFloat16Int8Features f16{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES};
+  VkPhysicalDevice8BitStorageFeatures s8{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES, &f16};
+  VkPhysicalDevice16BitStorageFeatures s16{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_16BIT_STORAGE_FEATURES, &s8};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &s16};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(f2.features.shaderInt16);
+  EXPECT_TRUE(f16.shaderFloat16);
+  EXPECT_TRUE(f16.shaderInt8);
+  EXPECT_TRUE(s8.storageBuffer8BitAccess);
+  EXPECT_TRUE(s16.storageBuffer16BitAccess);
+
+  using namespace vkrt::testing;
+  Pipeline p = makePipeline(kSpv_compute_h9_small_types_comp, sizeof kSpv_compute_h9_small_types_comp,
+                            {kStorageBuffer, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  SmallIn in = smallInput();
+  HostBuffer inBuf = createHostBuffer(sizeof in, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(inBuf.data, &in, sizeof in);
+  HostBuffer outBuf = createHostBuffer(offsetof(SmallOut, hmathFused), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(outBuf.data, 0, outBuf.size);
+  writeBuffer(p, 0, inBuf);
+  writeBuffer(p, 1, outBuf);
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 2, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  SmallOut got{};
+  std::memcpy(&got, outBuf.data, outBuf.size);
+  expectSmall(got, smallExpected(in));
+  destroy(inBuf);
+  destroy(outBuf);
+  destroy(p);
+}
+
+}  // namespace
+}  // namespace vkrt::test
