@@ -324,8 +324,13 @@ TEST_F(ComputeCacheTest, FailOnCompileRequiredSucceedsFromAWarmCache) {
   Runner second = newDevice();
   VkPipelineCache empty = makeCache(second.dev);
   VkPipelineCache warm = makeCache(second.dev, data);
-  EXPECT_EQ(runPushSpec(second, empty, kSpec, VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT).create,
-            VK_PIPELINE_COMPILE_REQUIRED);
+  VkResult fromEmpty = runPushSpec(second, empty, kSpec, VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT).create;
+  if (onVkrt()) {
+    EXPECT_EQ(fromEmpty, VK_PIPELINE_COMPILE_REQUIRED);
+  } else {
+    // Another driver may find the shader in caches of its own (NVIDIA keeps one on disk), as the spec allows.
+    EXPECT_TRUE(fromEmpty == VK_PIPELINE_COMPILE_REQUIRED || fromEmpty == VK_SUCCESS) << fromEmpty;
+  }
   Result r = runPushSpec(second, warm, kSpec, VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
   EXPECT_EQ(r.create, VK_SUCCESS);
   EXPECT_EQ(r.pipelineFeedback, kValid | kHit);
@@ -336,6 +341,7 @@ TEST_F(ComputeCacheTest, FailOnCompileRequiredSucceedsFromAWarmCache) {
 }
 
 TEST_F(ComputeCacheTest, DamagedEntryIsIgnoredCompiledAgainAndReplaced) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own cache entry format and messages";
   Runner first = fixtureRunner();
   VkPipelineCache cache = makeCache(device);
   Result cold = runPushSpec(first, cache, kSpec);

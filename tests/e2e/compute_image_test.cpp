@@ -224,6 +224,7 @@ uint16_t floatToHalf(float f) {
 }
 
 TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
+  const bool vkrt = onVkrt();
   Pipeline p = makePipeline(kSpv_compute_h9_storage_comp, sizeof kSpv_compute_h9_storage_comp,
                             {kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageBuffer});
   ASSERT_EQ(p.result, VK_SUCCESS);
@@ -274,14 +275,21 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
       for (uint32_t z = 0; z < 2; ++z) EXPECT_EQ(volU[z * 64 + i], (volIn[z * 64 + i] ^ 0x5a5a5a5au) + z) << x << "," << y << "," << z;
       for (int k = 0; k < 4; ++k) {
         float want = halfToFloat(halfIn[i * 4 + k]) * 0.5f + c[0];
-        EXPECT_EQ(halfH[i * 4 + k], floatToHalf(want)) << x << "," << y << " c" << k;
+        if (vkrt) {
+          EXPECT_EQ(halfH[i * 4 + k], floatToHalf(want)) << x << "," << y << " c" << k;  // round to nearest even
+        } else {
+          // The spec leaves the rounding of a float stored to a 16-bit float texel to the driver (RTE or RTZ).
+          EXPECT_LE(std::abs(int(halfH[i * 4 + k]) - int(floatToHalf(want))), 1) << x << "," << y << " c" << k;
+        }
       }
     }
   const int32_t* sizes = static_cast<const int32_t*>(out.data);
   const int32_t expectSizes[16] = {8, 8, 0, 0, 8, 8, 3, 0, 8, 8, 2, 0, 8, 8, 0, 0};
   for (int k = 0; k < 16; ++k) EXPECT_EQ(sizes[k], expectSizes[k]) << k;
   const uint32_t* oob = static_cast<const uint32_t*>(out.data) + 16;
-  for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;  // vkrt: zeros (robust)
+  // Out-of-bounds image reads are undefined without robustImageAccess; vkrt returns zeros.
+  if (vkrt)
+    for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;
   for (Tex* t : all) destroy(*t);
   destroy(out);
   destroy(p);
@@ -364,6 +372,11 @@ void reference(const SamplerConfig& s, float u, float v, float lod, int layer, f
 }
 
 TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
+  const bool vkrt = onVkrt();
+  // vkrt filters in float; a GPU filters with subTexelPrecisionBits of weight precision (NVIDIA: 8).
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physicalDevice, &props);
+  const float tol = vkrt ? 1e-4f : std::ldexp(1.0f, -int(props.limits.subTexelPrecisionBits)) + 1e-3f;
   constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   Pipeline p = makePipeline(kSpv_compute_h9_sample_comp, sizeof kSpv_compute_h9_sample_comp,
                             {kCombined, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLER, kCombined, kStorageBuffer,
@@ -451,13 +464,15 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
       // texelFetch(tex, ivec2(floor(q.xy)), int(q.z)): inside the level, or zeros (vkrt's robust behaviour).
       int fx = int(std::floor(q[0])), fy = int(std::floor(q[1])), fl = int(q[2]);
       int size = fl < 3 ? int(4u >> fl) : 0;
-      if (fl < 3 && fx >= 0 && fy >= 0 && fx < size && fy < size) texelValue(uint32_t(fl), 1, fx, fy, e3);
+      bool inside = fl < 3 && fx >= 0 && fy >= 0 && fx < size && fy < size;
+      if (inside) texelValue(uint32_t(fl), 1, fx, fy, e3);
       else e3[0] = e3[1] = e3[2] = e3[3] = 0.0f;
       for (int k = 0; k < 4; ++k) {
-        EXPECT_NEAR(r[(4 * i + 0) * 4 + k], e0[k], 1e-4) << "round " << round << " coord " << i << " combined c" << k;
-        EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], 1e-4) << "round " << round << " coord " << i << " separate c" << k;
-        EXPECT_NEAR(r[(4 * i + 2) * 4 + k], e2[k], 1e-4) << "round " << round << " coord " << i << " array c" << k;
-        EXPECT_EQ(r[(4 * i + 3) * 4 + k], e3[k]) << "round " << round << " coord " << i << " fetch c" << k;
+        EXPECT_NEAR(r[(4 * i + 0) * 4 + k], e0[k], tol) << "round " << round << " coord " << i << " combined c" << k;
+        EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], tol) << "round " << round << " coord " << i << " separate c" << k;
+        EXPECT_NEAR(r[(4 * i + 2) * 4 + k], e2[k], tol) << "round " << round << " coord " << i << " array c" << k;
+        // An out-of-range texelFetch is undefined without robustImageAccess; vkrt returns zeros.
+        if (inside || vkrt) EXPECT_EQ(r[(4 * i + 3) * 4 + k], e3[k]) << "round " << round << " coord " << i << " fetch c" << k;
       }
     }
     const int32_t* inf = static_cast<const int32_t*>(info.data);
