@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
@@ -41,11 +42,7 @@ using namespace vkrt;
 namespace {
 
 CommandPool* livePool(VkDevice device, VkCommandPool h, const char* fn, const char* vuid) {
-  CommandPool* p = fromHandle<CommandPool>(h);
-  if (!p)
-    report(fromHandle<Device>(device), Severity::Error, vuid, "%s: 0x%llx is not a live VkCommandPool", fn,
-           (unsigned long long)rawHandle(h));
-  return p;
+  return liveOrReport<CommandPool>(fromHandle<Device>(device), h, fn, vuid);
 }
 
 }  // namespace

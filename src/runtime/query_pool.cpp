@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
@@ -99,9 +100,7 @@ bool checkRange(const QueryPool* pool, uint32_t first, uint32_t n, const char* c
 }
 
 QueryPool* livePool(const Object* about, VkQueryPool h, const char* cmd, const char* vuid) {
-  QueryPool* p = fromHandle<QueryPool>(h);
-  if (!p) report(about, Severity::Error, vuid, "%s: 0x%llx is not a live VkQueryPool", cmd, (unsigned long long)rawHandle(h));
-  return p;
+  return liveOrReport<QueryPool>(about, h, cmd, vuid);
 }
 
 // Records a timestamp write after checking the pool type and the query index.

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
 #include "runtime/fence.hpp"
 #include "runtime/report.hpp"
@@ -28,11 +29,7 @@ using namespace vkrt;
 namespace {
 
 Semaphore* liveSemaphore(VkDevice device, VkSemaphore h, const char* fn, const char* vuid) {
-  Semaphore* s = fromHandle<Semaphore>(h);
-  if (!s)
-    report(fromHandle<Device>(device), Severity::Error, vuid, "%s: 0x%llx is not a live VkSemaphore", fn,
-           (unsigned long long)rawHandle(h));
-  return s;
+  return liveOrReport<Semaphore>(fromHandle<Device>(device), h, fn, vuid);
 }
 
 }  // namespace
