@@ -154,6 +154,12 @@ bool runCompute(const ComputeDispatch& d) {
       InvocationContext inv = proto;
       inv.workgroupMemory = wgMem;
       inv.sink = scratch.sink;
+      if (sh.groupEntry) {
+        // One call runs the workgroup: the compiled loop sets the invocation built-ins itself.
+        for (int i = 0; i < 3; ++i) inv.workgroupId[i] = wg[i];
+        sh.groupEntry(&inv);
+        return;
+      }
       uint32_t local[3];
       for (local[2] = 0; local[2] < size[2]; ++local[2])
         for (local[1] = 0; local[1] < size[1]; ++local[1])

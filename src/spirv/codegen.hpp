@@ -49,6 +49,8 @@ class Codegen {
 
   // Generates "vkrt_main" for the entry point. Returns false with `error` set.
   bool run(const EntryPoint& ep);
+  // vkrt_group, the per-workgroup loop around vkrt_main (`main`), for shaders without barriers.
+  void emitGroupEntry(llvm::Function* main);
   std::string error;
 
   // Reports an instruction this compiler cannot translate.

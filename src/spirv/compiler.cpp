@@ -362,7 +362,63 @@ bool Codegen::run(const EntryPoint& ep) {
   }
   b.CreateCall(it->second, {ctxArg, privArg});
   b.CreateRetVoid();
+  if (!info.usesBarrier) emitGroupEntry(main);
   return true;
+}
+
+// vkrt_group(ctx): the whole workgroup in one call, for shaders without barriers (the invocations need not
+// interleave). It copies the context into a local one, then loops over the local ids (x fastest), setting the
+// built-ins and running vkrt_main's body, inlined: LLVM then keeps the built-ins in registers, hoists the
+// descriptor loads out of the loop and may vectorize it.
+void Codegen::emitGroupEntry(llvm::Function* main) {
+  // Only vkrt_group is called then: vkrt_main, internal, is compiled once (inlined) and not kept on its own.
+  main->setLinkage(llvm::Function::InternalLinkage);
+  main->addFnAttr(llvm::Attribute::AlwaysInline);
+  auto* group = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
+                                       llvm::Function::ExternalLinkage, "vkrt_group", out);
+  llvm::Value* ctx = group->getArg(0);
+  auto* entry = llvm::BasicBlock::Create(c, "entry", group);
+  b.SetInsertPoint(entry);
+  auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
+  local->setAlignment(llvm::Align(16));
+  b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
+  llvm::Value* base[3];
+  for (int i = 0; i < 3; ++i) {
+    llvm::Value* wg = b.CreateAlignedLoad(b.getInt32Ty(), field(offsetof(InvocationContext, workgroupId), i), llvm::Align(4));
+    base[i] = b.CreateMul(wg, b.getInt32(info.localSize[i]));
+  }
+  // Three nested counted loops: z outermost, x innermost.
+  llvm::BasicBlock* preheader = entry;
+  llvm::BasicBlock* headers[3];
+  llvm::PHINode* ids[3];
+  for (int i = 2; i >= 0; --i) {
+    headers[i] = llvm::BasicBlock::Create(c, std::string("loop") + char('x' + i), group);
+    b.CreateBr(headers[i]);
+    b.SetInsertPoint(headers[i]);
+    ids[i] = b.CreatePHI(b.getInt32Ty(), 2);
+    ids[i]->addIncoming(b.getInt32(0), preheader);
+    preheader = headers[i];
+  }
+  for (int i = 0; i < 3; ++i) {
+    b.CreateAlignedStore(ids[i], field(offsetof(InvocationContext, localId), i), llvm::Align(4));
+    b.CreateAlignedStore(b.CreateAdd(base[i], ids[i]), field(offsetof(InvocationContext, globalId), i), llvm::Align(4));
+  }
+  llvm::Value* index = b.CreateAdd(
+      b.CreateMul(b.CreateAdd(b.CreateMul(ids[2], b.getInt32(info.localSize[1])), ids[1]), b.getInt32(info.localSize[0])),
+      ids[0]);
+  b.CreateAlignedStore(index, field(offsetof(InvocationContext, localIndex), 0), llvm::Align(4));
+  b.CreateCall(main, {local});
+  // Latches, innermost first: each increments its id and either repeats or falls through to the outer latch.
+  for (int i = 0; i < 3; ++i) {
+    llvm::Value* next = b.CreateAdd(ids[i], b.getInt32(1));
+    llvm::BasicBlock* latch = b.GetInsertBlock();
+    ids[i]->addIncoming(next, latch);
+    auto* exit = llvm::BasicBlock::Create(c, std::string("done") + char('x' + i), group);
+    b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(info.localSize[i])), headers[i], exit);
+    b.SetInsertPoint(exit);
+  }
+  b.CreateRetVoid();
 }
 
 }  // namespace vkrt::spirv

@@ -34,7 +34,11 @@ class CompiledShader {
   CompiledShader(const CompiledShader&) = delete;
   CompiledShader& operator=(const CompiledShader&) = delete;
 
+  // Exactly one of these is set. Shaders with OpControlBarrier get `entry` (vkrt_main), run once per invocation;
+  // the others `groupEntry` (vkrt_group), which runs a whole workgroup in one call: it loops over the local
+  // invocation ids, setting the invocation built-ins in the context (ctx->workgroupId must be set).
   ComputeEntry entry = nullptr;
+  ComputeEntry groupEntry = nullptr;
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t workgroupMemorySize = 0;
   bool usesBarrier = false;

@@ -223,8 +223,8 @@ std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error
 }
 
 // Creates the shader's JIT, loads `object` (an ELF relocatable object of vkrt_main and its callees) and
-// resolves the entry point.
-bool loadObject(CompiledShader& shader, std::string_view object, std::string* error) {
+// resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main).
+bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, std::string* error) {
   auto jtmb = hostMachine(error);
   if (!jtmb) return false;
   auto lljit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
@@ -240,12 +240,12 @@ bool loadObject(CompiledShader& shader, std::string_view object, std::string* er
     *error = "LLVM: " + errText(std::move(e));
     return false;
   }
-  auto sym = (*lljit)->lookup("vkrt_main");
+  auto sym = (*lljit)->lookup(hasGroupEntry ? "vkrt_group" : "vkrt_main");
   if (!sym) {
     *error = "LLVM: " + errText(sym.takeError());
     return false;
   }
-  shader.entry = sym->toPtr<ComputeEntry>();
+  (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<ComputeEntry>();
   shader.jit = std::make_unique<CompiledShader::Jit>();
   shader.jit->lljit = std::move(*lljit);
   return true;
@@ -253,14 +253,14 @@ bool loadObject(CompiledShader& shader, std::string_view object, std::string* er
 
 // ---- the pipeline cache form of a compiled shader
 //
-//   char magic[8] "VKRTSHD1"; uint8 sha256[32] of the payload; payload:
-//   u32 localSize[3], workgroupMemorySize, usesBarrier, pushConstantBytes; u32 n + entry name;
+//   char magic[8] "VKRTSHD2"; uint8 sha256[32] of the payload; payload:
+//   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes; u32 n + entry name;
 //   u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 136, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
+static_assert(sizeof(CompiledShader) == 144, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '1'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '2'};
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -269,6 +269,7 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   for (uint32_t v : s.localSize) put32(payload, v);
   put32(payload, s.workgroupMemorySize);
   put32(payload, s.usesBarrier ? 1 : 0);
+  put32(payload, s.groupEntry ? 1 : 0);
   put32(payload, s.pushConstantBytes);
   put32(payload, uint32_t(s.entryName.size()));
   payload += s.entryName;
@@ -311,7 +312,7 @@ struct Reader {
 };
 
 // Fills `s` from a blob's fields; returns the object file, or nullopt when the blob is damaged.
-std::optional<std::string_view> deserialize(std::string_view blob, CompiledShader& s) {
+std::optional<std::string_view> deserialize(std::string_view blob, CompiledShader& s, bool* hasGroupEntry) {
   if (blob.size() < 40 || std::memcmp(blob.data(), kBlobMagic, 8) != 0) return std::nullopt;
   std::string_view payload = blob.substr(40);
   auto digest = llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
@@ -320,6 +321,7 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   for (uint32_t& v : s.localSize) v = r.u32();
   s.workgroupMemorySize = r.u32();
   s.usesBarrier = r.u32() != 0;
+  *hasGroupEntry = r.u32() != 0;
   s.pushConstantBytes = r.u32();
   uint32_t nameSize = r.u32();
   s.entryName = std::string(r.bytes(nameSize));
@@ -380,12 +382,13 @@ std::string buildId() {
 
 std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, std::string* error) {
   auto shader = std::make_shared<CompiledShader>();
-  std::optional<std::string_view> object = deserialize(blob, *shader);
+  bool hasGroupEntry = false;
+  std::optional<std::string_view> object = deserialize(blob, *shader, &hasGroupEntry);
   if (!object) {
     *error = "the cached entry is damaged (bad header or checksum)";
     return nullptr;
   }
-  if (!loadObject(*shader, *object, error)) return nullptr;
+  if (!loadObject(*shader, *object, hasGroupEntry, error)) return nullptr;
   shader->cacheBlob = blob;
   return shader;
 }
@@ -491,10 +494,11 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     }
     pm.run(*mod);
   }
+  bool hasGroupEntry = mod->getFunction("vkrt_group") != nullptr;
   mod.reset();
   context.reset();
   std::string_view objectBytes(object.data(), object.size());
-  if (!loadObject(*shader, objectBytes, error)) return nullptr;
+  if (!loadObject(*shader, objectBytes, hasGroupEntry, error)) return nullptr;
   shader->cacheBlob = serialize(*shader, objectBytes);
   return shader;
 }
@@ -509,7 +513,7 @@ std::string cacheKey(const CompileRequest& req) {
     h.update(llvm::ArrayRef<uint8_t>(static_cast<const uint8_t*>(data), size));
   };
   auto addStr = [&](const std::string& s) { add(s.data(), s.size()); };
-  addStr("vkrt compiled shader 1");
+  addStr("vkrt compiled shader 2");
   addStr(LLVM_VERSION_STRING);
   addStr(buildId());
   static const std::string host = [] {

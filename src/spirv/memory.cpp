@@ -95,11 +95,18 @@ static llvm::Value* ctxField(Codegen& g, unsigned offset) {
   return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset), llvm::Align(8));
 }
 
+// Descriptor tables and records do not change while a dispatch runs (shaders cannot write them): marked
+// invariant, their loads can leave the per-workgroup loop although the shader stores to buffers in it.
+static llvm::Value* invariant(llvm::LoadInst* load) {
+  load->setMetadata(llvm::LLVMContext::MD_invariant_load, llvm::MDNode::get(load->getContext(), {}));
+  return load;
+}
+
 llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index) {
   llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
   llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(slot) * sizeof(ResourceSlot));
-  llvm::Value* records = b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8));
-  llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8));
+  llvm::Value* records = invariant(b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8)));
+  llvm::Value* count = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
   // An index past the bound descriptors reads a null descriptor (a zero record).
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
@@ -109,15 +116,15 @@ llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index) {
 bool Codegen::resolveDescriptor(Ptr& p, llvm::Value* index) {
   llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
   llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(p.slot) * sizeof(ResourceSlot));
-  llvm::Value* records = b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8));
-  llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8));
+  llvm::Value* records = invariant(b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8)));
+  llvm::Value* count = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
   // An index past the bound descriptors reads a null descriptor: every access through it is out of bounds.
   llvm::Value* ok = b.CreateICmpULT(index, count);
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
   rec = b.CreateSelect(ok, rec, zeros);
-  llvm::Value* address = b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8));
-  llvm::Value* range = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8));
+  llvm::Value* address = invariant(b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8)));
+  llvm::Value* range = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8)));
   const Type& t = spvType(p.type);
   p.base = b.CreateIntToPtr(address, b.getPtrTy());
   p.offset = i64(0);
@@ -231,8 +238,11 @@ llvm::Value* Codegen::load(const Ptr& p) {
     case Type::Bool:
       return b.CreateICmpNE(b.CreateAlignedLoad(b.getInt32Ty(), address(p, 4, false), llvm::Align(4)), i32(0));
     case Type::Int:
-    case Type::Float:
-      return b.CreateAlignedLoad(ty, address(p, t.width / 8, false), llvm::Align(t.width / 8));
+    case Type::Float: {
+      auto* l = b.CreateAlignedLoad(ty, address(p, t.width / 8, false), llvm::Align(t.width / 8));
+      // Push constants do not change while a dispatch runs either: such loads may leave the workgroup loop.
+      return p.storage == spv::StorageClassPushConstant ? invariant(l) : l;
+    }
     case Type::Pointer:
       if (t.storage != spv::StorageClassPhysicalStorageBuffer) return nullptr;
       return b.CreateAlignedLoad(b.getPtrTy(), address(p, 8, false), llvm::Align(8));
