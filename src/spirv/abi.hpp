@@ -1,9 +1,9 @@
 // The calling convention between compiled shaders and the executor (src/exec). No LLVM here.
 //
-// A compiled compute entry point is `void entry(InvocationContext*)`, run once per invocation (`vkrt_main`), or
-// for shaders without barriers once per workgroup (`vkrt_group`: it sets globalId, localId and localIndex itself). Everything
-// it reads from outside comes through the context: built-ins, resources, push constants, workgroup memory,
-// and the barrier callback. The compiler reads these fields at the offsets asserted below.
+// A compiled compute entry point is `void entry(InvocationContext*)`, run once per invocation (`vkrt_main`),
+// or for shaders without barriers once per workgroup (`vkrt_group`: it sets globalId, localId and localIndex
+// itself). Everything it reads from outside comes through the context: built-ins, resources, push constants,
+// workgroup memory, and the barrier callback. The compiler reads these fields at the offsets asserted below.
 #pragma once
 
 #include <cstddef>
