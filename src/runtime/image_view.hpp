@@ -1,4 +1,4 @@
-// VkImageView, VkBufferView and VkSampler: small objects that keep what shaders and descriptors need.
+// VkImageView: an image's subresource range, format and swizzle, kept for image descriptors.
 #pragma once
 
 #include "icd/object.hpp"
@@ -6,8 +6,6 @@
 namespace vkrt {
 
 class Image;
-class Buffer;
-struct FormatInfo;
 
 class ImageView : public Object {
  public:
@@ -21,30 +19,6 @@ class ImageView : public Object {
   const VkFormat format;
   const VkComponentMapping components;
   const VkImageSubresourceRange range;  // VK_REMAINING_* resolved
-};
-
-class BufferView : public Object {
- public:
-  using Handle = VkBufferView;
-  static constexpr VkObjectType kType = VK_OBJECT_TYPE_BUFFER_VIEW;
-
-  BufferView(Device* dev, const VkBufferViewCreateInfo& info, Buffer* buffer, VkDeviceSize range);
-
-  Buffer* const buffer;
-  const VkFormat format;
-  const VkDeviceSize offset;
-  const VkDeviceSize range;  // VK_WHOLE_SIZE resolved
-  const FormatInfo* const formatInfo;
-};
-
-class Sampler : public Object {
- public:
-  using Handle = VkSampler;
-  static constexpr VkObjectType kType = VK_OBJECT_TYPE_SAMPLER;
-
-  Sampler(Device* dev, const VkSamplerCreateInfo& info);
-
-  VkSamplerCreateInfo info;  // pNext cleared; kept for the shader compiler's sampling code
 };
 
 }  // namespace vkrt

@@ -8,6 +8,7 @@
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
 #include "runtime/image_view.hpp"
+#include "runtime/sampler.hpp"
 
 namespace vkrt::spirv {
 

@@ -1,0 +1,56 @@
+#include "runtime/sampler.hpp"
+
+#include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+
+Sampler::Sampler(Device* dev, const VkSamplerCreateInfo& ci) : Object(kType, dev->instance, dev), info(ci) {
+  info.pNext = nullptr;
+}
+
+}  // namespace vkrt
+
+using namespace vkrt;
+
+extern "C" {
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSamplerCreateInfo* pCreateInfo,
+                                                  const VkAllocationCallbacks* pAllocator, VkSampler* pSampler) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  // VUID-VkSamplerCreateInfo-anisotropyEnable-01070: the samplerAnisotropy feature is not supported
+  if (pCreateInfo->anisotropyEnable) {
+    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-anisotropyEnable-01070",
+           "vkCreateSampler: anisotropyEnable needs the samplerAnisotropy feature, which vkrt does not support");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072..01076
+  if (pCreateInfo->unnormalizedCoordinates &&
+      (pCreateInfo->minFilter != pCreateInfo->magFilter || pCreateInfo->mipmapMode != VK_SAMPLER_MIPMAP_MODE_NEAREST ||
+       pCreateInfo->minLod != 0.0f || pCreateInfo->maxLod != 0.0f ||
+       (pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
+       (pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
+       pCreateInfo->compareEnable)) {
+    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072",
+           "vkCreateSampler: unnormalizedCoordinates requires equal min/mag filters, nearest mipmaps, lod 0, clamped "
+           "U/V addressing and no compare");
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  auto* s = createObject<Sampler>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo);
+  if (!s) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  *pSampler = toHandle(s);
+  return VK_SUCCESS;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroySampler(VkDevice device, VkSampler sampler,
+                                               const VkAllocationCallbacks* pAllocator) {
+  destroyDeviceChild<Sampler>(device, sampler, pAllocator, "vkDestroySampler",
+                             "VUID-vkDestroySampler-sampler-parameter");
+}
+
+}  // extern "C"
