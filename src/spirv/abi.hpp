@@ -50,4 +50,98 @@ static_assert(sizeof(ResourceSlot) == 16, "the compiler bakes the resource slot 
 
 using ComputeEntry = void (*)(InvocationContext*);
 
+// ---------------------------------------------------------------------------------------------- ray tracing
+//
+// A compiled ray tracing shader (any of the six stages) is `void vkrt_main(RayInvocation*)`, run once per
+// invocation. The RayInvocation starts with an InvocationContext (resources, push constants, sink: the
+// compute fields are unused) and adds the ray tracing built-ins, the incoming payload or callable data, the
+// hit attributes, the shader record and the runtime the shader calls for OpTraceRayKHR,
+// OpExecuteCallableKHR and OpReportIntersectionKHR. The runtime (the tracing executor; a test runtime in
+// tests/spirv) fills the fields a stage reads before the call; the shader writes only `status` and memory
+// reached through the pointers.
+//
+// Storage classes: RayPayloadKHR, CallableDataKHR and (in intersection shaders) HitAttributeKHR variables
+// live in the invocation's own frame, laid out like Function variables (natural layout, see codegen.hpp);
+// IncomingRayPayloadKHR / IncomingCallableDataKHR read and write `incoming` (the caller's variable, same
+// layout: caller and callee are compiled by the same rules), HitAttributeKHR in any-hit and closest-hit
+// shaders reads `hitAttributes`, ShaderRecordBufferKHR reads `shaderRecord` (explicit layout). Each is bounded
+// by its byte count: a callee declaring a larger payload than its caller passed reads zeros past the end.
+//
+// gl_HitTEXT is RayTmaxKHR (the runtime keeps `rayTmax` at the hit's t in any-hit and closest-hit shaders,
+// at the closest t so far in intersection shaders). ObjectToWorldKHR / WorldToObjectKHR are 4 columns of 3
+// floats, column-major (the transpose of VkTransformMatrixKHR's rows).
+
+struct RayInvocation;
+
+// OpTraceRayKHR's operands, as the shader passes them to RayRuntime::traceRay.
+struct TraceRayArgs {
+  uint64_t accelerationStructure;  // 0   the acceleration structure's device address
+  uint32_t rayFlags;               // 8
+  uint32_t cullMask;               // 12
+  uint32_t sbtOffset;              // 16  SBT record offset
+  uint32_t sbtStride;              // 20  SBT record stride
+  uint32_t missIndex;              // 24
+  float tMin;                      // 28
+  float origin[3];                 // 32
+  float tMax;                      // 44
+  float direction[3];              // 48
+  uint32_t payloadBytes;           // 60  bytes the shader's payload variable has
+  void* payload;                   // 64  the payload variable (RayPayloadKHR or IncomingRayPayloadKHR)
+};
+
+struct RayRuntime {
+  void (*traceRay)(RayInvocation* caller, const TraceRayArgs* args);
+  void (*executeCallable)(RayInvocation* caller, uint32_t sbtIndex, void* data, uint64_t bytes);
+  // Returns 1 when the hit was committed, 0 when it was not (outside [tMin, tMax] or ignored by the any-hit
+  // shader). When the any-hit shader terminated the ray, the runtime also sets caller->status to
+  // kRayStatusTerminate: the intersection shader stops.
+  uint32_t (*reportIntersection)(RayInvocation* caller, float hitT, uint32_t hitKind, const void* attributes,
+                                 uint64_t attributeBytes);
+};
+
+// RayInvocation::status: what ended the shader. 0: it ran to its end (any-hit: the hit is accepted).
+inline constexpr uint32_t kRayStatusIgnore = 1;     // OpIgnoreIntersectionKHR
+inline constexpr uint32_t kRayStatusTerminate = 2;  // OpTerminateRayKHR (or an any-hit shader's, seen by intersection)
+
+struct RayInvocation {
+  InvocationContext base;           // 0
+  uint32_t launchId[4];             // 144  LaunchIdKHR
+  uint32_t launchSize[4];           // 160  LaunchSizeKHR
+  float worldRayOrigin[4];          // 176  WorldRayOriginKHR
+  float worldRayDirection[4];       // 192  WorldRayDirectionKHR
+  float objectRayOrigin[4];         // 208  ObjectRayOriginKHR
+  float objectRayDirection[4];      // 224  ObjectRayDirectionKHR
+  float rayTmin;                    // 240  RayTminKHR
+  float rayTmax;                    // 244  RayTmaxKHR, HitTNV
+  uint32_t incomingRayFlags;        // 248  IncomingRayFlagsKHR
+  uint32_t cullMask;                // 252  CullMaskKHR
+  int32_t instanceCustomIndex;      // 256  InstanceCustomIndexKHR
+  int32_t instanceId;               // 260  InstanceId
+  int32_t primitiveId;              // 264  PrimitiveId
+  int32_t geometryIndex;            // 268  RayGeometryIndexKHR
+  uint32_t hitKind;                 // 272  HitKindKHR
+  uint32_t status;                  // 276  written by the shader: kRayStatus*
+  uint64_t pad0;                    // 280
+  float objectToWorld[4][3];        // 288  ObjectToWorldKHR
+  float worldToObject[4][3];        // 336  WorldToObjectKHR
+  void* incoming;                   // 384  incoming payload or callable data
+  uint64_t incomingBytes;           // 392
+  const void* hitAttributes;        // 400  any-hit / closest-hit: the hit's attributes
+  uint64_t hitAttributeBytes;       // 408
+  uint8_t* shaderRecord;            // 416  ShaderRecordBufferKHR: the record's bytes after the handle
+  uint64_t shaderRecordBytes;       // 424
+  const RayRuntime* runtime;        // 432
+};
+
+static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 && offsetof(TraceRayArgs, payload) == 64,
+              "the compiler bakes these offsets into shader code");
+static_assert(offsetof(RayInvocation, launchId) == 144 && offsetof(RayInvocation, rayTmin) == 240 &&
+                  offsetof(RayInvocation, status) == 276 && offsetof(RayInvocation, objectToWorld) == 288 &&
+                  offsetof(RayInvocation, worldToObject) == 336 && offsetof(RayInvocation, incoming) == 384 &&
+                  offsetof(RayInvocation, shaderRecord) == 416 && offsetof(RayInvocation, runtime) == 432 &&
+                  offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16,
+              "the compiler bakes these offsets into shader code");
+
+using RayEntry = void (*)(RayInvocation*);
+
 }  // namespace vkrt::spirv

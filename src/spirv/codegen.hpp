@@ -41,6 +41,9 @@ struct Ptr {
 // capabilities they and memory.cpp implement).
 bool extraSupportedOp(spv::Op op);
 bool extraSupportedCapability(uint32_t capability);
+// The ray tracing instructions and capabilities of ray_tracing.cpp.
+bool rayTracingOp(spv::Op op);
+bool rayTracingCapability(uint32_t capability);
 
 class Codegen {
  public:
@@ -85,6 +88,7 @@ class Codegen {
   bool memory(const Instruction& in, bool& ok);        // memory.cpp
   bool extInst(const Instruction& in, bool& ok);       // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);         // image.cpp
+  bool rayTracing(const Instruction& in, bool& ok);    // ray_tracing.cpp
 
   // ---- memory (memory.cpp)
   bool declareGlobals();                                // Private, Workgroup, Input, buffers, push constants
@@ -100,6 +104,16 @@ class Codegen {
   llvm::Type* imageValueType();
   Ptr& ptr(uint32_t id);
   bool hasPtr(uint32_t id) const { return ptrs.count(id) != 0; }
+
+  // ---- ray tracing (ray_tracing.cpp)
+  bool isRayTracing() const;  // the entry point is one of the six ray tracing stages
+  bool isAccelerationStructure(uint32_t typeId) const;
+  // Any-hit and intersection shaders stop when `status` is set (by OpIgnoreIntersectionKHR /
+  // OpTerminateRayKHR in a callee, or by the runtime in OpReportIntersectionKHR): returns from the current
+  // function when it is.
+  void returnIfStopped();
+  // Returns from the current function (a zero value for a non-void one).
+  void returnFromFunction();
 
   // ---- functions (compiler.cpp / control_flow.cpp)
   bool declareFunctions();
@@ -131,12 +145,16 @@ class Codegen {
     uint64_t size = 0;
     int slot = -1;        // buffers: resource slot
     int builtIn = -1;     // Input
+    int contextField = -1;  // a pointer the runtime provides: offset of {pointer, uint64 bytes} in RayInvocation
   };
   std::unordered_map<uint32_t, Global> globals;
   uint64_t privateSize = 0;
   std::vector<std::pair<uint32_t, uint32_t>> privateInits;  // (variable, initializer id)
 
   // The current function's hidden arguments.
+  spv::ExecutionModel model = spv::ExecutionModelGLCompute;
+  uint32_t hitAttributeVar = 0;  // intersection shaders: the HitAttributeKHR variable (0: none)
+
   llvm::Function* fn = nullptr;
   llvm::Value* ctxArg = nullptr;
   llvm::Value* privArg = nullptr;

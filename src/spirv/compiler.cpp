@@ -68,6 +68,7 @@ llvm::Type* Codegen::type(uint32_t id) {
     case Type::Pointer: r = b.getPtrTy(); break;
     case Type::Opaque:
       if (isImageLike(id)) r = imageValueType();
+      else if (isAccelerationStructure(id)) r = b.getInt64Ty();  // its device address
       break;
     default: break;
   }
@@ -304,7 +305,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
     }
     bool ok = true;
     if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok) ||
-        image(in, ok)) {
+        image(in, ok) || rayTracing(in, ok)) {
       if (!ok) return false;
       if (currentLabel) blockExits[currentLabel] = b.GetInsertBlock();
       continue;
@@ -316,6 +317,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
 }
 
 bool Codegen::run(const EntryPoint& ep) {
+  model = ep.model;
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;
   }
@@ -362,7 +364,7 @@ bool Codegen::run(const EntryPoint& ep) {
   }
   b.CreateCall(it->second, {ctxArg, privArg});
   b.CreateRetVoid();
-  if (!info.usesBarrier) emitGroupEntry(main);
+  if (!isRayTracing() && !info.usesBarrier) emitGroupEntry(main);
   return true;
 }
 

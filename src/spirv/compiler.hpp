@@ -23,8 +23,29 @@ struct ResourceBinding {
   uint32_t arraySize;  // descriptors the shader declares (0: runtime-sized array)
   bool uniform;        // Uniform storage class with Block (a uniform buffer); else a storage buffer
   // Buffer (uniform/storage per `uniform`), or an image/sampler descriptor of a UniformConstant variable.
-  enum Kind : uint8_t { Buffer, StorageImage, SampledImage, Sampler, CombinedImageSampler };
+  enum Kind : uint8_t { Buffer, StorageImage, SampledImage, Sampler, CombinedImageSampler, AccelerationStructure };
   Kind kind = Buffer;
+};
+
+// What a compiled ray tracing shader tells the pipeline: the sizes its ray tracing variables declare (for
+// VkRayTracingPipelineInterfaceCreateInfoKHR) and the stack it keeps while a shader it calls runs.
+struct RayStageInfo {
+  uint32_t payloadBytes = 0;       // the largest RayPayloadKHR or IncomingRayPayloadKHR variable
+  uint32_t callableDataBytes = 0;  // the largest CallableDataKHR or IncomingCallableDataKHR variable
+  uint32_t hitAttributeBytes = 0;  // the HitAttributeKHR variable
+  uint32_t frameBytes = 0;         // native stack of the compiled code: every function's frame, return address
+                                   // included (outgoing payloads and callable data, locals, spills)
+  bool callsOut = false;           // the code makes OpTraceRayKHR or OpExecuteCallableKHR calls
+  bool readsHitAttributes = false; // any-hit / closest-hit: HitAttributeKHR is the runtime's, read via the context
+
+  // vkGetRayTracingShaderGroupStackSizeKHR's figure: 0 for a shader that calls nothing (none of it is live
+  // while another shader runs); otherwise its frame, plus the hit attributes it reads (the runtime keeps the hit
+  // they belong to while the call runs), rounded up to 16.
+  uint32_t stackSize() const {
+    if (!callsOut) return 0;
+    uint64_t bytes = uint64_t(frameBytes) + (readsHitAttributes ? hitAttributeBytes : 0);
+    return uint32_t((bytes + 15) / 16 * 16);
+  }
 };
 
 class CompiledShader {
@@ -37,8 +58,12 @@ class CompiledShader {
   // Exactly one of these is set. Shaders with OpControlBarrier get `entry` (vkrt_main), run once per invocation;
   // the others `groupEntry` (vkrt_group), which runs a whole workgroup in one call: it loops over the local
   // invocation ids, setting the invocation built-ins in the context (ctx->workgroupId must be set).
+  // Ray tracing stages get `rayEntry` (vkrt_main taking a RayInvocation) instead.
   ComputeEntry entry = nullptr;
   ComputeEntry groupEntry = nullptr;
+  RayEntry rayEntry = nullptr;
+  spv::ExecutionModel model = spv::ExecutionModelGLCompute;
+  RayStageInfo ray;  // ray tracing stages only
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t workgroupMemorySize = 0;
   bool usesBarrier = false;
@@ -56,7 +81,7 @@ struct CompileRequest {
   const uint32_t* words = nullptr;
   size_t wordCount = 0;
   std::string entryName = "main";
-  spv::ExecutionModel model = spv::ExecutionModelGLCompute;
+  spv::ExecutionModel model = spv::ExecutionModelGLCompute;  // GLCompute or one of the six ray tracing models
   std::vector<SpecValue> specialization;
   // Inline every call with SPIRV-Tools before translation (what pipelines do). Off, each SPIR-V function
   // becomes its own LLVM function (LLVM may still inline them); the tests use this to exercise calls.

@@ -96,6 +96,7 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
       }
       llvm::Value* r = b.CreateCall(fit->second, args);
       if (!r->getType()->isVoidTy()) set(in.word(2), r);
+      returnIfStopped();  // the callee ignored the intersection or terminated the ray
       return true;
     }
     case spv::OpControlBarrier: {

@@ -8,6 +8,8 @@
 #include <llvm/Config/llvm-config.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/IR/Verifier.h>
+#include <llvm/Object/ObjectFile.h>
+#include <llvm/Support/LEB128.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/ErrorHandling.h>
 #include <llvm/Support/Host.h>
@@ -113,7 +115,7 @@ bool supportedOp(spv::Op op) {
     case spv::OpUnreachable:
       return true;
     default:
-      return extraSupportedOp(op);
+      return extraSupportedOp(op) || rayTracingOp(op);
   }
 }
 
@@ -124,7 +126,7 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityInt64Atomics:
       return true;
     default:
-      return extraSupportedCapability(cap);
+      return extraSupportedCapability(cap) || rayTracingCapability(cap);
   }
 }
 
@@ -150,11 +152,6 @@ bool checkSupport(const Module& m, std::string* error) {
       *error = buf;
       return false;
     }
-    if (in.op == spv::OpCapability && !supportedCapability(in.word(1))) {
-      std::snprintf(buf, sizeof buf, "unsupported capability %u (OpCapability at word %u)", in.word(1), in.offset);
-      *error = buf;
-      return false;
-    }
     if (in.op == spv::OpExtInst) {
       auto it = m.extInstImports.find(in.word(3));
       bool glsl = it != m.extInstImports.end() && it->second == "GLSL.std.450";
@@ -164,6 +161,14 @@ bool checkSupport(const Module& m, std::string* error) {
         *error = buf;
         return false;
       }
+    }
+  }
+  // Capabilities last: an unsupported instruction is the more precise message.
+  for (const Instruction& in : m.instructions) {
+    if (in.op == spv::OpCapability && !supportedCapability(in.word(1))) {
+      std::snprintf(buf, sizeof buf, "unsupported capability %u (OpCapability at word %u)", in.word(1), in.offset);
+      *error = buf;
+      return false;
     }
   }
   return true;
@@ -215,6 +220,8 @@ std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error
       hostError = "LLVM: " + errText(jtmb.takeError());
     } else {
       jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
+      // Every function's frame size goes into a .stack_sizes section (frameBytes of RayStageInfo).
+      jtmb->getOptions().EmitStackSizeSection = true;
       host = std::move(*jtmb);
     }
   }
@@ -222,8 +229,44 @@ std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error
   return host;
 }
 
+// The native stack the object's code uses: the sum of every function's frame (its .stack_sizes entry: an
+// address, then the size as ULEB128) plus its return address. A sum, not the deepest path: an upper bound, and
+// exact when everything is inlined into vkrt_main (pipelines inline every call).
+uint32_t frameBytesOf(std::string_view object) {
+  auto file = llvm::object::ObjectFile::createObjectFile(llvm::MemoryBufferRef(llvm::StringRef(object.data(), object.size()), "shader"));
+  if (!file) {
+    llvm::consumeError(file.takeError());
+    return 0;
+  }
+  uint64_t total = 0;
+  for (const llvm::object::SectionRef& section : (*file)->sections()) {
+    auto name = section.getName();
+    if (!name || *name != ".stack_sizes") {
+      if (!name) llvm::consumeError(name.takeError());
+      continue;
+    }
+    auto contents = section.getContents();
+    if (!contents) {
+      llvm::consumeError(contents.takeError());
+      continue;
+    }
+    const uint8_t* p = reinterpret_cast<const uint8_t*>(contents->data());
+    const uint8_t* end = p + contents->size();
+    while (end - p > 8) {
+      p += 8;  // the function's address (relocated)
+      unsigned n = 0;
+      const char* err = nullptr;
+      uint64_t size = llvm::decodeULEB128(p, &n, end, &err);
+      if (err) break;
+      p += n;
+      total += size + 8;
+    }
+  }
+  return uint32_t(std::min<uint64_t>(total, UINT32_MAX));
+}
+
 // Creates the shader's JIT, loads `object` (an ELF relocatable object of vkrt_main and its callees) and
-// resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main).
+// resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main, a RayEntry for ray tracing stages).
 bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, std::string* error) {
   auto jtmb = hostMachine(error);
   if (!jtmb) return false;
@@ -245,7 +288,11 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
     *error = "LLVM: " + errText(sym.takeError());
     return false;
   }
-  (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<ComputeEntry>();
+  if (shader.model != spv::ExecutionModelGLCompute) {
+    shader.rayEntry = sym->toPtr<RayEntry>();
+  } else {
+    (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<ComputeEntry>();
+  }
   shader.jit = std::make_unique<CompiledShader::Jit>();
   shader.jit->lljit = std::move(*lljit);
   return true;
@@ -253,14 +300,15 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 
 // ---- the pipeline cache form of a compiled shader
 //
-//   char magic[8] "VKRTSHD2"; uint8 sha256[32] of the payload; payload:
-//   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes; u32 n + entry name;
-//   u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
+//   char magic[8] "VKRTSHD3"; uint8 sha256[32] of the payload; payload:
+//   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes, model;
+//   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
+//   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 144, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
+static_assert(sizeof(CompiledShader) == 176, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '2'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '3'};
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -271,6 +319,9 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   put32(payload, s.usesBarrier ? 1 : 0);
   put32(payload, s.groupEntry ? 1 : 0);
   put32(payload, s.pushConstantBytes);
+  put32(payload, uint32_t(s.model));
+  for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes}) put32(payload, v);
+  put32(payload, (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u));
   put32(payload, uint32_t(s.entryName.size()));
   payload += s.entryName;
   put32(payload, uint32_t(s.resources.size()));
@@ -323,6 +374,14 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   s.usesBarrier = r.u32() != 0;
   *hasGroupEntry = r.u32() != 0;
   s.pushConstantBytes = r.u32();
+  s.model = spv::ExecutionModel(r.u32());
+  s.ray.payloadBytes = r.u32();
+  s.ray.callableDataBytes = r.u32();
+  s.ray.hitAttributeBytes = r.u32();
+  s.ray.frameBytes = r.u32();
+  uint32_t rayFlags = r.u32();
+  s.ray.callsOut = (rayFlags & 1) != 0;
+  s.ray.readsHitAttributes = (rayFlags & 2) != 0;
   uint32_t nameSize = r.u32();
   s.entryName = std::string(r.bytes(nameSize));
   uint32_t count = r.u32();
@@ -334,7 +393,7 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
     b.arraySize = r.u32();
     uint32_t flags = r.u32();
     b.uniform = (flags & 1) != 0;
-    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::CombinedImageSampler));
+    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::AccelerationStructure));
     s.resources.push_back(b);
   }
   if (!r.ok || r.rest.empty()) return std::nullopt;
@@ -393,6 +452,38 @@ std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, std::str
   return shader;
 }
 
+// Removes every OpEntryPoint but the one compiled (and the execution modes of the functions only they named),
+// so that the optimizer drops the other entry points' functions and variables: a module with several shaders
+// compiles each with only its own code, and the ray tracing sizes (RayStageInfo) count only its variables.
+void keepOnlyEntryPoint(std::vector<uint32_t>& words, spv::ExecutionModel model, const std::string& name) {
+  constexpr size_t kHeader = 5;
+  if (words.size() < kHeader) return;
+  std::vector<uint32_t> out(words.begin(), words.begin() + kHeader);
+  std::set<uint32_t> dropped;
+  uint32_t kept = 0;
+  // Two passes: execution modes may only be dropped once every entry point has been seen.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t at = kHeader; at < words.size();) {
+      uint32_t count = words[at] >> 16;
+      auto op = spv::Op(words[at] & 0xffff);
+      if (count == 0 || at + count > words.size()) return;  // malformed: leave the module as it is
+      bool drop = false;
+      if (op == spv::OpEntryPoint && count >= 4) {
+        Instruction in{op, uint32_t(at), count, &words[at]};
+        bool mine = spv::ExecutionModel(words[at + 1]) == model && in.string(3) == name;
+        if (pass == 0 && mine) kept = words[at + 2];
+        if (pass == 0 && !mine) dropped.insert(words[at + 2]);
+        drop = !mine;
+      } else if ((op == spv::OpExecutionMode || op == spv::OpExecutionModeId) && count >= 2) {
+        drop = pass == 1 && words[at + 1] != kept && dropped.count(words[at + 1]);
+      }
+      if (pass == 1 && !drop) out.insert(out.end(), words.begin() + at, words.begin() + at + count);
+      at += count;
+    }
+  }
+  words = std::move(out);
+}
+
 std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::string* error) {
   std::vector<uint32_t> words(req.words, req.words + req.wordCount);
   if (!applySpecialization(words, req.specialization, error)) return nullptr;
@@ -406,7 +497,9 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     if (!checkSupport(original, error)) return nullptr;
   }
 
-  // Freeze specialization constants, fold what depends on them, inline every call into the entry points.
+  keepOnlyEntryPoint(words, req.model, req.entryName);
+  // Freeze specialization constants, fold what depends on them, inline every call into the entry point, drop
+  // what it does not use.
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_3);
   std::string optError;
   opt.SetMessageConsumer([&](spv_message_level_t level, const char*, const spv_position_t& pos, const char* msg) {
@@ -415,7 +508,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   opt.RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
       .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
   if (req.inlineFunctions) opt.RegisterPass(spvtools::CreateInlineExhaustivePass());
-  opt.RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
+  opt.RegisterPass(spvtools::CreateEliminateDeadFunctionsPass()).RegisterPass(spvtools::CreateDeadVariableEliminationPass());
   std::vector<uint32_t> optimized;
   spvtools::OptimizerOptions options;
   options.set_run_validator(false);
@@ -440,6 +533,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
 
   auto shader = std::make_shared<CompiledShader>();
   shader->entryName = req.entryName;
+  shader->model = req.model;
   for (int i = 0; i < 3; ++i) shader->localSize[i] = ep->localSize[i];
   auto context = std::make_unique<llvm::LLVMContext>();
   context->setOpaquePointers(true);
@@ -498,6 +592,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   mod.reset();
   context.reset();
   std::string_view objectBytes(object.data(), object.size());
+  if (req.model != spv::ExecutionModelGLCompute) shader->ray.frameBytes = frameBytesOf(objectBytes);
   if (!loadObject(*shader, objectBytes, hasGroupEntry, error)) return nullptr;
   shader->cacheBlob = serialize(*shader, objectBytes);
   return shader;
@@ -513,7 +608,7 @@ std::string cacheKey(const CompileRequest& req) {
     h.update(llvm::ArrayRef<uint8_t>(static_cast<const uint8_t*>(data), size));
   };
   auto addStr = [&](const std::string& s) { add(s.data(), s.size()); };
-  addStr("vkrt compiled shader 2");
+  addStr("vkrt compiled shader 3");
   addStr(LLVM_VERSION_STRING);
   addStr(buildId());
   static const std::string host = [] {

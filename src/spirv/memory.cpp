@@ -8,16 +8,44 @@ namespace vkrt::spirv {
 
 namespace {
 
-// Offset of a compute built-in in InvocationContext, and its size; -1 when not supported.
-int builtInOffset(int builtIn, uint32_t* size) {
+// Offset of a built-in in the context (InvocationContext for compute, RayInvocation for the ray tracing
+// stages), and its size; -1 when the stage has no such built-in.
+int builtInOffset(int builtIn, bool rayTracing, uint32_t* size) {
   *size = 12;
+  if (!rayTracing) {
+    switch (builtIn) {
+      case spv::BuiltInGlobalInvocationId: return offsetof(InvocationContext, globalId);
+      case spv::BuiltInLocalInvocationId: return offsetof(InvocationContext, localId);
+      case spv::BuiltInWorkgroupId: return offsetof(InvocationContext, workgroupId);
+      case spv::BuiltInNumWorkgroups: return offsetof(InvocationContext, numWorkgroups);
+      case spv::BuiltInWorkgroupSize: return offsetof(InvocationContext, workgroupSize);
+      case spv::BuiltInLocalInvocationIndex: *size = 4; return offsetof(InvocationContext, localIndex);
+      default: return -1;
+    }
+  }
   switch (builtIn) {
-    case spv::BuiltInGlobalInvocationId: return offsetof(InvocationContext, globalId);
-    case spv::BuiltInLocalInvocationId: return offsetof(InvocationContext, localId);
-    case spv::BuiltInWorkgroupId: return offsetof(InvocationContext, workgroupId);
-    case spv::BuiltInNumWorkgroups: return offsetof(InvocationContext, numWorkgroups);
-    case spv::BuiltInWorkgroupSize: return offsetof(InvocationContext, workgroupSize);
-    case spv::BuiltInLocalInvocationIndex: *size = 4; return offsetof(InvocationContext, localIndex);
+    case spv::BuiltInLaunchIdKHR: return offsetof(RayInvocation, launchId);
+    case spv::BuiltInLaunchSizeKHR: return offsetof(RayInvocation, launchSize);
+    case spv::BuiltInWorldRayOriginKHR: return offsetof(RayInvocation, worldRayOrigin);
+    case spv::BuiltInWorldRayDirectionKHR: return offsetof(RayInvocation, worldRayDirection);
+    case spv::BuiltInObjectRayOriginKHR: return offsetof(RayInvocation, objectRayOrigin);
+    case spv::BuiltInObjectRayDirectionKHR: return offsetof(RayInvocation, objectRayDirection);
+    case spv::BuiltInObjectToWorldKHR: *size = 48; return offsetof(RayInvocation, objectToWorld);
+    case spv::BuiltInWorldToObjectKHR: *size = 48; return offsetof(RayInvocation, worldToObject);
+    default: break;
+  }
+  *size = 4;
+  switch (builtIn) {
+    case spv::BuiltInRayTminKHR: return offsetof(RayInvocation, rayTmin);
+    case spv::BuiltInRayTmaxKHR:
+    case spv::BuiltInHitTNV: return offsetof(RayInvocation, rayTmax);
+    case spv::BuiltInIncomingRayFlagsKHR: return offsetof(RayInvocation, incomingRayFlags);
+    case spv::BuiltInCullMaskKHR: return offsetof(RayInvocation, cullMask);
+    case spv::BuiltInInstanceCustomIndexKHR: return offsetof(RayInvocation, instanceCustomIndex);
+    case spv::BuiltInInstanceId: return offsetof(RayInvocation, instanceId);
+    case spv::BuiltInPrimitiveId: return offsetof(RayInvocation, primitiveId);
+    case spv::BuiltInRayGeometryIndexKHR: return offsetof(RayInvocation, geometryIndex);
+    case spv::BuiltInHitKindKHR: return offsetof(RayInvocation, hitKind);
     default: return -1;
   }
 }
@@ -49,6 +77,39 @@ bool Codegen::declareGlobals() {
       case spv::StorageClassInput:
         g.builtIn = d.builtIn;
         break;
+      // Ray tracing storage classes (abi.hpp says where each lives).
+      case spv::StorageClassRayPayloadKHR:
+      case spv::StorageClassCallableDataKHR:
+      case spv::StorageClassHitAttributeKHR:
+      case spv::StorageClassIncomingRayPayloadKHR:
+      case spv::StorageClassIncomingCallableDataKHR: {
+        g.size = layoutSize(pt.element, 0, false);
+        uint32_t bytes = uint32_t(std::min<uint64_t>(g.size, UINT32_MAX));
+        RayStageInfo& r = info.ray;
+        if (g.storage == spv::StorageClassRayPayloadKHR || g.storage == spv::StorageClassIncomingRayPayloadKHR)
+          r.payloadBytes = std::max(r.payloadBytes, bytes);
+        else if (g.storage == spv::StorageClassHitAttributeKHR)
+          r.hitAttributeBytes = std::max(r.hitAttributeBytes, bytes);
+        else
+          r.callableDataBytes = std::max(r.callableDataBytes, bytes);
+        bool own = g.storage == spv::StorageClassRayPayloadKHR || g.storage == spv::StorageClassCallableDataKHR ||
+                   (g.storage == spv::StorageClassHitAttributeKHR && model == spv::ExecutionModelIntersectionKHR);
+        if (own) {
+          // The invocation's own: in its private block.
+          g.offset = (privateSize + 15) / 16 * 16;
+          privateSize = g.offset + g.size;
+          if (g.storage == spv::StorageClassHitAttributeKHR) hitAttributeVar = id;
+        } else if (g.storage == spv::StorageClassHitAttributeKHR) {
+          g.contextField = offsetof(RayInvocation, hitAttributes);
+          r.readsHitAttributes = true;
+        } else {
+          g.contextField = offsetof(RayInvocation, incoming);
+        }
+        break;
+      }
+      case spv::StorageClassShaderRecordBufferKHR:
+        g.contextField = offsetof(RayInvocation, shaderRecord);
+        break;
       case spv::StorageClassUniform:
       case spv::StorageClassStorageBuffer: {
         const Type& inner = spvType(pt.element);
@@ -68,13 +129,14 @@ bool Codegen::declareGlobals() {
         bool arrayed = inner.kind == Type::Array || inner.kind == Type::RuntimeArray;
         uint32_t elem = arrayed ? inner.element : pt.element;
         const Instruction* ti = m.def(elem);
-        if (!ti || !isImageLike(elem)) break;  // fails when used
+        if (!ti || (!isImageLike(elem) && !isAccelerationStructure(elem))) break;  // fails when used
         ResourceBinding r;
         r.set = uint32_t(std::max(d.set, 0));
         r.binding = uint32_t(std::max(d.binding, 0));
         r.arraySize = inner.kind == Type::Array ? inner.count : inner.kind == Type::RuntimeArray ? 0 : 1;
         r.uniform = false;
-        if (ti->op == spv::OpTypeSampler) r.kind = ResourceBinding::Sampler;
+        if (ti->op == spv::OpTypeAccelerationStructureKHR) r.kind = ResourceBinding::AccelerationStructure;
+        else if (ti->op == spv::OpTypeSampler) r.kind = ResourceBinding::Sampler;
         else if (ti->op == spv::OpTypeSampledImage) r.kind = ResourceBinding::CombinedImageSampler;
         else r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
         g.slot = int(info.resources.size());
@@ -151,8 +213,22 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
   p.type = pt.element;
   p.storage = g.storage;
   p.offset = i64(0);
+  if (g.contextField >= 0) {
+    // A block the runtime provides: {pointer, byte count} in the RayInvocation.
+    if (!isRayTracing()) return unsupported(*in, "ray tracing storage class outside a ray tracing stage");
+    p.base = ctxField(*this, unsigned(g.contextField));
+    p.limit = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(g.contextField) + 8),
+                                  llvm::Align(8));
+    *out = p;
+    return true;
+  }
   switch (g.storage) {
     case spv::StorageClassPrivate:
+    case spv::StorageClassRayPayloadKHR:
+    case spv::StorageClassCallableDataKHR:
+    case spv::StorageClassHitAttributeKHR:
+      if (!isRayTracing() && g.storage != spv::StorageClassPrivate)
+        return unsupported(*in, "ray tracing storage class outside a ray tracing stage");
       p.base = b.CreateConstGEP1_64(b.getInt8Ty(), privArg, g.offset);
       p.limit = i64(g.size);
       break;
@@ -166,14 +242,14 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       break;
     case spv::StorageClassInput: {
       uint32_t size = 0;
-      int off = builtInOffset(g.builtIn, &size);
-      if (off < 0) return unsupported(*in, g.builtIn >= 0 ? "built-in variable not supported for compute" : "input variable");
+      int off = builtInOffset(g.builtIn, isRayTracing(), &size);
+      if (off < 0) return unsupported(*in, g.builtIn >= 0 ? "built-in variable not supported in this stage" : "input variable");
       p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(off));
       p.limit = i64(size);
       break;
     }
     case spv::StorageClassUniformConstant:
-      if (g.slot < 0) return unsupported(*in, "UniformConstant variable that is not an image or sampler");
+      if (g.slot < 0) return unsupported(*in, "UniformConstant variable that is not an image, sampler or acceleration structure");
       p.slot = g.slot;
       break;
     case spv::StorageClassUniform:
@@ -496,9 +572,14 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       Ptr p;
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
       if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
+        llvm::Value* rec = descriptorRecord(p.slot, p.descIndex ? p.descIndex : i64(0));
+        if (isAccelerationStructure(p.type)) {
+          // An acceleration structure is its device address (the record's first field).
+          set(in.word(2), invariant(b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8))));
+          return true;
+        }
         // An image, sampler or combined image sampler: its descriptor record, twice (see imageValueType()).
         if (!isImageLike(p.type)) return (ok = unsupported(in, "load of a whole descriptor array")), true;
-        llvm::Value* rec = descriptorRecord(p.slot, p.descIndex ? p.descIndex : i64(0));
         llvm::Value* v = llvm::UndefValue::get(imageValueType());
         v = b.CreateInsertValue(v, rec, {0});
         set(in.word(2), b.CreateInsertValue(v, rec, {1}));

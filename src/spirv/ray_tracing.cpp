@@ -1,0 +1,179 @@
+// SPIR-V -> LLVM IR: the ray tracing instructions. OpTraceRayKHR, OpExecuteCallableKHR and
+// OpReportIntersectionKHR become calls through the invocation's RayRuntime (abi.hpp); OpIgnoreIntersectionKHR and
+// OpTerminateRayKHR set the invocation's status and return, and every caller up the (non-inlined) call tree
+// returns too when it sees the status set.
+#include <llvm/IR/Constants.h>
+
+#include "spirv/codegen.hpp"
+
+namespace vkrt::spirv {
+
+bool rayTracingOp(spv::Op op) {
+  switch (op) {
+    case spv::OpTypeAccelerationStructureKHR: case spv::OpConvertUToAccelerationStructureKHR:
+    case spv::OpTraceRayKHR: case spv::OpExecuteCallableKHR: case spv::OpReportIntersectionKHR:
+    case spv::OpIgnoreIntersectionKHR: case spv::OpTerminateRayKHR:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool rayTracingCapability(uint32_t cap) {
+  // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads.
+  return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR;
+}
+
+bool Codegen::isRayTracing() const {
+  switch (model) {
+    case spv::ExecutionModelRayGenerationKHR: case spv::ExecutionModelIntersectionKHR: case spv::ExecutionModelAnyHitKHR:
+    case spv::ExecutionModelClosestHitKHR: case spv::ExecutionModelMissKHR: case spv::ExecutionModelCallableKHR:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool Codegen::isAccelerationStructure(uint32_t typeId) const {
+  const Instruction* d = m.def(typeId);
+  return d && d->op == spv::OpTypeAccelerationStructureKHR;
+}
+
+void Codegen::returnFromFunction() {
+  llvm::Type* rt = fn->getReturnType();
+  if (rt->isVoidTy()) {
+    b.CreateRetVoid();
+  } else {
+    b.CreateRet(llvm::Constant::getNullValue(rt));
+  }
+}
+
+namespace {
+
+llvm::Value* ctxAt(Codegen& g, size_t offset) { return g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset); }
+
+// The RayRuntime function at `offset`.
+llvm::Value* runtimeFunction(Codegen& g, size_t offset) {
+  llvm::Value* rt = g.b.CreateAlignedLoad(g.b.getPtrTy(), ctxAt(g, offsetof(RayInvocation, runtime)), llvm::Align(8));
+  return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), rt, offset), llvm::Align(8));
+}
+
+// A payload or callable data operand: the variable's address and its bytes.
+bool blockOperand(Codegen& g, const Instruction& in, uint32_t id, llvm::Value** address, llvm::Value** bytes) {
+  Ptr& p = g.ptr(id);
+  if (!p.base || p.slot >= 0) return g.fail(in, "the payload or callable data operand is not a variable");
+  *address = g.b.CreateGEP(g.b.getInt8Ty(), p.base, p.offset);
+  *bytes = g.b.CreateSelect(g.b.CreateICmpUGT(p.limit, p.offset), g.b.CreateSub(p.limit, p.offset), g.i64(0));
+  return true;
+}
+
+// A 32-bit scalar operand.
+llvm::Value* scalar32(Codegen& g, uint32_t id) {
+  llvm::Value* v = g.value(id);
+  return v && v->getType()->isIntegerTy(32) ? v : nullptr;
+}
+
+}  // namespace
+
+void Codegen::returnIfStopped() {
+  if (model != spv::ExecutionModelAnyHitKHR && model != spv::ExecutionModelIntersectionKHR) return;
+  llvm::Value* status = b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+  auto* stopped = llvm::BasicBlock::Create(c, "stopped", fn);
+  auto* resume = llvm::BasicBlock::Create(c, "resume", fn);
+  b.CreateCondBr(b.CreateICmpNE(status, i32(0)), stopped, resume);
+  b.SetInsertPoint(stopped);
+  returnFromFunction();
+  b.SetInsertPoint(resume);
+}
+
+bool Codegen::rayTracing(const Instruction& in, bool& ok) {
+  if (!rayTracingOp(in.op) || in.op == spv::OpTypeAccelerationStructureKHR) return false;
+  if (!isRayTracing()) return (ok = unsupported(in, "ray tracing instruction outside a ray tracing stage")), true;
+  switch (in.op) {
+    case spv::OpConvertUToAccelerationStructureKHR: {
+      // A 64-bit address, or two 32-bit halves (uvec2: low word first).
+      llvm::Value* v = value(in.word(3));
+      if (!v) return (ok = fail(in, "operand has no value")), true;
+      if (v->getType()->isVectorTy()) v = b.CreateBitCast(v, b.getInt64Ty());
+      if (!v->getType()->isIntegerTy(64)) return (ok = fail(in, "operand is neither a 64-bit integer nor a uvec2")), true;
+      set(in.word(2), v);
+      return true;
+    }
+    case spv::OpTraceRayKHR: {
+      llvm::Value* accel = value(in.word(1));
+      llvm::Value* ints[5];
+      for (int i = 0; i < 5; ++i) ints[i] = scalar32(*this, in.word(2 + i));
+      llvm::Value* origin = value(in.word(7));
+      llvm::Value* tMin = value(in.word(8));
+      llvm::Value* direction = value(in.word(9));
+      llvm::Value* tMax = value(in.word(10));
+      llvm::Value *payload = nullptr, *payloadBytes = nullptr;
+      if (!accel || !accel->getType()->isIntegerTy(64) || !ints[0] || !ints[1] || !ints[2] || !ints[3] || !ints[4] ||
+          !origin || !tMin || !direction || !tMax)
+        return (ok = fail(in, "an operand has no value")), true;
+      if (!blockOperand(*this, in, in.word(11), &payload, &payloadBytes)) return (ok = false), true;
+      llvm::AllocaInst* args;
+      {
+        llvm::IRBuilderBase::InsertPointGuard guard(b);
+        b.SetInsertPoint(allocaBlock->getTerminator());
+        args = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(TraceRayArgs)));
+        args->setAlignment(llvm::Align(16));
+      }
+      auto at = [&](size_t offset) { return b.CreateConstGEP1_64(b.getInt8Ty(), args, offset); };
+      b.CreateAlignedStore(accel, at(offsetof(TraceRayArgs, accelerationStructure)), llvm::Align(8));
+      const size_t intFields[5] = {offsetof(TraceRayArgs, rayFlags), offsetof(TraceRayArgs, cullMask),
+                                   offsetof(TraceRayArgs, sbtOffset), offsetof(TraceRayArgs, sbtStride),
+                                   offsetof(TraceRayArgs, missIndex)};
+      for (int i = 0; i < 5; ++i) b.CreateAlignedStore(ints[i], at(intFields[i]), llvm::Align(4));
+      b.CreateAlignedStore(tMin, at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
+      b.CreateAlignedStore(tMax, at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
+      for (unsigned i = 0; i < 3; ++i) {
+        b.CreateAlignedStore(b.CreateExtractElement(origin, uint64_t(i)), at(offsetof(TraceRayArgs, origin) + 4 * i), llvm::Align(4));
+        b.CreateAlignedStore(b.CreateExtractElement(direction, uint64_t(i)), at(offsetof(TraceRayArgs, direction) + 4 * i),
+                             llvm::Align(4));
+      }
+      b.CreateAlignedStore(b.CreateTrunc(payloadBytes, b.getInt32Ty()), at(offsetof(TraceRayArgs, payloadBytes)), llvm::Align(4));
+      b.CreateAlignedStore(payload, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
+      auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy()}, false);
+      b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, traceRay)), {ctxArg, args});
+      info.ray.callsOut = true;
+      return true;
+    }
+    case spv::OpExecuteCallableKHR: {
+      llvm::Value* index = scalar32(*this, in.word(1));
+      llvm::Value *data = nullptr, *bytes = nullptr;
+      if (!index) return (ok = fail(in, "the SBT index has no value")), true;
+      if (!blockOperand(*this, in, in.word(2), &data, &bytes)) return (ok = false), true;
+      auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
+      b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, executeCallable)), {ctxArg, index, data, bytes});
+      info.ray.callsOut = true;
+      return true;
+    }
+    case spv::OpReportIntersectionKHR: {
+      llvm::Value* hitT = value(in.word(3));
+      llvm::Value* hitKind = scalar32(*this, in.word(4));
+      if (!hitT || !hitT->getType()->isFloatTy() || !hitKind) return (ok = fail(in, "an operand has no value")), true;
+      llvm::Value* attrs = llvm::ConstantPointerNull::get(b.getPtrTy());
+      llvm::Value* attrBytes = i64(0);
+      if (hitAttributeVar && !blockOperand(*this, in, hitAttributeVar, &attrs, &attrBytes)) return (ok = false), true;
+      auto* ty = llvm::FunctionType::get(b.getInt32Ty(), {b.getPtrTy(), b.getFloatTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()},
+                                         false);
+      llvm::Value* committed =
+          b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, reportIntersection)), {ctxArg, hitT, hitKind, attrs, attrBytes});
+      set(in.word(2), b.CreateICmpNE(committed, i32(0)));
+      returnIfStopped();  // the any-hit shader terminated the ray
+      return true;
+    }
+    case spv::OpIgnoreIntersectionKHR:
+    case spv::OpTerminateRayKHR: {
+      uint32_t status = in.op == spv::OpIgnoreIntersectionKHR ? kRayStatusIgnore : kRayStatusTerminate;
+      b.CreateAlignedStore(i32(status), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+      returnFromFunction();
+      return true;
+    }
+    default:
+      return false;
+  }
+}
+
+}  // namespace vkrt::spirv

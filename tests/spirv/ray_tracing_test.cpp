@@ -1,0 +1,283 @@
+// The ray tracing stages of the compiler, below the Vulkan API: GLSL shaders of all six stages (compiled by glslc
+// at build time) run against the test runtime of ray_runtime.hpp on a small scene, and every value they write is
+// compared with one computed here from the scene's geometry. Also: the stack-size facts of each compiled stage,
+// and the refusal of the VK_NV_ray_tracing instructions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "rt_ahit.rahit.spv.h"
+#include "rt_call.rcall.spv.h"
+#include "rt_chit.rchit.spv.h"
+#include "rt_miss.rmiss.spv.h"
+#include "rt_miss_secondary.rmiss.spv.h"
+#include "rt_nv_trace.rgen.spv.h"
+#include "rt_raygen.rgen.spv.h"
+#include "rt_rint.rint.spv.h"
+#include "spirv/ray_runtime.hpp"
+
+namespace vkrt::testing {
+namespace {
+
+template <size_t N>
+std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model, bool inlineCalls,
+                                                    std::string* error) {
+  spirv::CompileRequest r;
+  r.words = words;
+  r.wordCount = N;
+  r.model = model;
+  r.inlineFunctions = inlineCalls;
+  return spirv::compile(r, error);
+}
+
+template <class T>
+std::vector<uint8_t> bytesOf(const T& v) {
+  std::vector<uint8_t> out(sizeof v);
+  std::memcpy(out.data(), &v, sizeof v);
+  return out;
+}
+
+struct Payload {
+  float a[4], b[4], c[4];
+  uint32_t d[4];
+  float e[4];
+};
+static_assert(sizeof(Payload) == 80);
+
+constexpr uint32_t kWidth = 8, kHeight = 4;
+constexpr uint64_t kAccel = 0xa5a5a000;
+
+struct Stages {
+  std::shared_ptr<spirv::CompiledShader> raygen, miss, missSecondary, chit, ahit, rint, call;
+};
+
+Stages compileAll(bool inlineCalls) {
+  Stages s;
+  std::string e;
+  s.raygen = compileStage(kSpv_rt_raygen_rgen, spv::ExecutionModelRayGenerationKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.raygen) << e;
+  s.miss = compileStage(kSpv_rt_miss_rmiss, spv::ExecutionModelMissKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.miss) << e;
+  s.missSecondary = compileStage(kSpv_rt_miss_secondary_rmiss, spv::ExecutionModelMissKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.missSecondary) << e;
+  s.chit = compileStage(kSpv_rt_chit_rchit, spv::ExecutionModelClosestHitKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.chit) << e;
+  s.ahit = compileStage(kSpv_rt_ahit_rahit, spv::ExecutionModelAnyHitKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.ahit) << e;
+  s.rint = compileStage(kSpv_rt_rint_rint, spv::ExecutionModelIntersectionKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.rint) << e;
+  s.call = compileStage(kSpv_rt_call_rcall, spv::ExecutionModelCallableKHR, inlineCalls, &e);
+  EXPECT_TRUE(s.call) << e;
+  return s;
+}
+
+// Instance 0 (translated by z + 1, custom index 7, SBT offset 0): geometry 0 holds two triangles at object z = 1
+// splitting the square [0,4]x[0,4]; geometry 1 one triangle at object z = 0.5 over the second half. Instance 1
+// (translated to (6, 2, 3), custom index 9, SBT offset 2): a procedural sphere of radius 1.5 (from its record).
+RayScene scene() {
+  RayScene s;
+  RayScene::Instance tris;
+  tris.translation = {0, 0, 1};
+  tris.customIndex = 7;
+  RayScene::Geometry g0, g1;
+  g0.triangles = {{{{0, 0, 1}, {4, 0, 1}, {0, 4, 1}}}, {{{4, 0, 1}, {4, 4, 1}, {0, 4, 1}}}};
+  g1.triangles = {{{{4, 0, 0.5f}, {4, 4, 0.5f}, {0, 4, 0.5f}}}};
+  tris.geometries = {g0, g1};
+  RayScene::Instance sphere;
+  sphere.translation = {6, 2, 3};
+  sphere.customIndex = 9;
+  sphere.sbtOffset = 2;
+  RayScene::Geometry proc;
+  proc.procedural = true;
+  sphere.geometries = {proc};
+  s.instances = {tris, sphere};
+  return s;
+}
+
+// What one pixel must get, from the scene's geometry (not from the runtime's traversal).
+struct Expected {
+  enum Kind { Miss, Triangle, Sphere } kind = Miss;
+  uint32_t geometry = 0, primitive = 0;
+  float u = 0, v = 0, t = 0;
+};
+
+Expected expect(uint32_t x, uint32_t y) {
+  float px = float(x) + 0.25f, py = float(y) + 0.5f;
+  Expected e;
+  if (px < 4) {
+    if (px + py < 4) {
+      // Triangle 0 of geometry 0: (u, v) = (px, py) / 4. The any-hit shader ignores u < 1/8: nothing else is there.
+      float u = px / 4, v = py / 4;
+      if (u < 0.125f) return e;
+      return {Expected::Triangle, 0, 0, u, v, 2.0f};
+    }
+    // Triangle 1 of geometry 0 (t = 2), then geometry 1's triangle in front of it (t = 1.5), same (u, v).
+    float v = (4 - px) / 4, u = (py - 4 + px) / 4;
+    bool ignored = u < 0.125f;
+    bool terminated = !ignored && px > 3;  // the any-hit shader commits at once: geometry 1 is never tested
+    if (terminated) return {Expected::Triangle, 0, 1, u, v, 2.0f};
+    return {Expected::Triangle, 1, 0, u, v, 1.5f};
+  }
+  float dx = px - 6, dy = py - 2;
+  if (dx * dx + dy * dy >= 2.25f) return e;
+  e.kind = Expected::Sphere;
+  e.t = 3 - std::sqrt(2.25f - dx * dx - dy * dy);
+  e.u = dx / 1.5f;
+  e.v = dy / 1.5f;
+  return e;
+}
+
+void traceScene(bool inlineCalls) {
+  Stages s = compileAll(inlineCalls);
+  ASSERT_TRUE(s.raygen && s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
+  RaySbt sbt;
+  float tint0[4] = {0, 0, 0, 0.5f}, tint1[4] = {0, 0, 0, 0.75f}, sphere[4] = {0, 0, 0, 1.5f};
+  uint32_t factor = 3;
+  sbt.hitGroups = {{nullptr, s.chit, s.ahit, nullptr, bytesOf(tint0)},
+                   {nullptr, s.chit, nullptr, nullptr, bytesOf(tint1)},
+                   {nullptr, s.chit, nullptr, s.rint, bytesOf(sphere)}};
+  sbt.miss = {{s.miss, nullptr, nullptr, nullptr, {}}, {s.missSecondary, nullptr, nullptr, nullptr, {}}};
+  sbt.callable = {{s.call, nullptr, nullptr, nullptr, bytesOf(factor)}};
+  RayScene sc = scene();
+  RayTestRuntime rt(sc, sbt, kAccel);
+  std::vector<Payload> results(kWidth * kHeight);
+  std::vector<uint32_t> answers(kWidth * kHeight * 2);
+  rt.bindings[0] = DescriptorRecord{kAccel, 0, nullptr, nullptr};
+  rt.bindings[1] = DescriptorRecord{reinterpret_cast<uint64_t>(results.data()), results.size() * sizeof(Payload), nullptr, nullptr};
+  rt.bindings[2] = DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
+  rt.launch(s.raygen, {}, kWidth, kHeight);
+  EXPECT_TRUE(rt.errors.empty()) << rt.errors.front();
+  EXPECT_EQ(rt.maxDepth, 2u);  // the sphere's closest-hit shader traced a secondary ray
+
+  const float eps = 1e-5f;
+  int hits = 0, misses = 0, spheres = 0;
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+      const Payload& p = results[y * kWidth + x];
+      Expected e = expect(x, y);
+      float px = float(x) + 0.25f, py = float(y) + 0.5f;
+      if (e.kind == Expected::Miss) {
+        ++misses;
+        EXPECT_EQ(p.a[0], 0.0f);
+        EXPECT_EQ(p.a[2], 1.0f);  // gl_WorldRayDirectionEXT
+        EXPECT_FLOAT_EQ(p.a[3], 0.01f);  // gl_RayTminEXT
+        EXPECT_EQ(p.b[0], px);  // gl_WorldRayOriginEXT
+        EXPECT_EQ(p.b[1], py);
+        EXPECT_EQ(p.b[3], 100.0f);  // gl_RayTmaxEXT
+        EXPECT_EQ(p.d[0], 1000u);   // 1000 + gl_IncomingRayFlagsEXT (none)
+        EXPECT_EQ(p.d[1], x);       // gl_LaunchIDEXT.x
+        EXPECT_EQ(p.d[2], kHeight); // gl_LaunchSizeEXT.y
+        EXPECT_EQ(p.d[3], 7u);
+        EXPECT_EQ(p.e[0], -1.0f);  // written by raygen before the trace, untouched by the miss shader
+        EXPECT_EQ(answers[(y * kWidth + x) * 2], 0u);
+        EXPECT_EQ(answers[(y * kWidth + x) * 2 + 1], 0u);
+        continue;
+      }
+      ++hits;
+      bool isSphere = e.kind == Expected::Sphere;
+      spheres += isSphere;
+      EXPECT_NEAR(p.a[0], e.u, eps);  // hit attributes
+      EXPECT_NEAR(p.a[1], e.v, eps);
+      EXPECT_NEAR(p.a[2], e.t, eps);  // gl_HitTEXT
+      EXPECT_FLOAT_EQ(p.a[3], 0.01f);
+      const float* tr = isSphere ? sc.instances[1].translation.data() : sc.instances[0].translation.data();
+      EXPECT_EQ(p.b[0], px - tr[0]);  // gl_ObjectRayOriginEXT
+      EXPECT_EQ(p.b[1], py - tr[1]);
+      EXPECT_EQ(p.b[2], -tr[2]);
+      EXPECT_EQ(p.b[3], float(e.primitive));  // gl_PrimitiveID
+      EXPECT_EQ(p.c[0], tr[0]);               // gl_ObjectToWorldEXT[3]
+      EXPECT_EQ(p.c[1], tr[1]);
+      EXPECT_EQ(p.c[2], tr[2]);
+      EXPECT_EQ(p.c[3], isSphere ? 1.5f : e.geometry ? 0.75f : 0.5f);  // the hit group's shader record
+      EXPECT_EQ(p.d[0], isSphere ? 9u : 7u);                             // gl_InstanceCustomIndexEXT
+      EXPECT_EQ(p.d[1], isSphere ? 1u : 0u);                             // gl_InstanceID
+      EXPECT_EQ(p.d[2], e.geometry);                                     // gl_GeometryIndexEXT
+      EXPECT_EQ(p.d[3], isSphere ? 5u : 0xFEu);                          // gl_HitKindEXT
+      EXPECT_EQ(p.e[0], float((e.primitive + 10) * factor + 1));         // the callable's answer
+      EXPECT_EQ(p.e[1], isSphere ? 0.25f - 1.0f : -1.0f);                // the secondary ray's miss shader
+      EXPECT_EQ(p.e[2], -tr[2]);                                         // gl_WorldToObjectEXT[3].z
+      EXPECT_NEAR(p.e[3], e.u, eps);                                     // attributes read after the calls
+      // The intersection shader's three reports for the primary ray: far (accepted), near (accepted), far again
+      // (refused). It runs for the secondary ray too (traced from the sphere's surface away from it, opaque):
+      // there all three are refused (behind or within tMin).
+      EXPECT_EQ(answers[(y * kWidth + x) * 2], isSphere ? 8u + 3u : 0u);
+      EXPECT_EQ(answers[(y * kWidth + x) * 2 + 1], isSphere ? 8u : 0u);
+    }
+  }
+  // The scene covers every case: misses, both triangle geometries, a terminated ray, the sphere.
+  EXPECT_GT(misses, 0);
+  EXPECT_GT(spheres, 0);
+  EXPECT_GT(hits - spheres, 0);
+}
+
+TEST(SpirvRayTracing, AllSixStagesTraceASceneThroughTheRuntime) { traceScene(true); }
+
+// Without inlining, ignoreIntersectionEXT runs in a function the any-hit shader calls: the status it sets must
+// make the caller return too.
+TEST(SpirvRayTracing, TerminatorsInCalledFunctionsStopTheShader) { traceScene(false); }
+
+TEST(SpirvRayTracing, StackFactsOfEachStage) {
+  Stages s = compileAll(true);
+  ASSERT_TRUE(s.raygen && s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
+  auto align16 = [](uint64_t v) { return uint32_t((v + 15) / 16 * 16); };
+  // raygen: an 80-byte outgoing payload kept in its frame across the trace, with the trace's arguments.
+  const spirv::RayStageInfo& rg = s.raygen->ray;
+  EXPECT_TRUE(rg.callsOut);
+  EXPECT_EQ(rg.payloadBytes, sizeof(Payload));
+  EXPECT_GE(rg.frameBytes, sizeof(Payload) + sizeof(spirv::TraceRayArgs));
+  EXPECT_LT(rg.frameBytes, 1024u);
+  EXPECT_EQ(rg.stackSize(), align16(rg.frameBytes));
+  // closest hit: traces and calls; reads 8 bytes of hit attributes after the calls.
+  const spirv::RayStageInfo& ch = s.chit->ray;
+  EXPECT_TRUE(ch.callsOut);
+  EXPECT_TRUE(ch.readsHitAttributes);
+  EXPECT_EQ(ch.payloadBytes, sizeof(Payload));  // the incoming payload is the largest
+  EXPECT_EQ(ch.callableDataBytes, 4u);
+  EXPECT_EQ(ch.hitAttributeBytes, 8u);
+  EXPECT_GE(ch.frameBytes, 4u + 4u + sizeof(spirv::TraceRayArgs));
+  EXPECT_EQ(ch.stackSize(), align16(ch.frameBytes + 8));
+  // The others call nothing: 0, whatever their frame.
+  for (const auto* sh : {s.miss.get(), s.ahit.get(), s.rint.get(), s.call.get(), s.missSecondary.get()}) {
+    EXPECT_FALSE(sh->ray.callsOut);
+    EXPECT_EQ(sh->ray.stackSize(), 0u);
+  }
+  EXPECT_EQ(s.rint->ray.hitAttributeBytes, 8u);
+  EXPECT_FALSE(s.rint->ray.readsHitAttributes);  // an intersection shader's attributes are its own
+  EXPECT_EQ(s.call->ray.callableDataBytes, 4u);
+  EXPECT_EQ(s.missSecondary->ray.payloadBytes, 4u);
+}
+
+TEST(SpirvRayTracing, CompiledStagesRoundTripThroughTheCacheBlob) {
+  Stages s = compileAll(true);
+  ASSERT_TRUE(s.chit);
+  std::string error;
+  auto loaded = spirv::loadCached(s.chit->cacheBlob, &error);
+  ASSERT_TRUE(loaded) << error;
+  EXPECT_EQ(loaded->model, spv::ExecutionModelClosestHitKHR);
+  EXPECT_NE(loaded->rayEntry, nullptr);
+  EXPECT_EQ(loaded->entry, nullptr);
+  EXPECT_EQ(loaded->ray.frameBytes, s.chit->ray.frameBytes);
+  EXPECT_EQ(loaded->ray.stackSize(), s.chit->ray.stackSize());
+  EXPECT_EQ(loaded->ray.payloadBytes, s.chit->ray.payloadBytes);
+  EXPECT_EQ(loaded->ray.callableDataBytes, s.chit->ray.callableDataBytes);
+  EXPECT_EQ(loaded->ray.hitAttributeBytes, s.chit->ray.hitAttributeBytes);
+  EXPECT_EQ(loaded->ray.readsHitAttributes, s.chit->ray.readsHitAttributes);
+  ASSERT_EQ(loaded->resources.size(), s.chit->resources.size());
+  EXPECT_EQ(loaded->resources[0].kind, spirv::ResourceBinding::AccelerationStructure);
+}
+
+TEST(SpirvRayTracing, NvRayTracingInstructionsAreRefusedWithTheirOffset) {
+  // Where OpTraceNV (5337) stands in the module, found here by walking the words.
+  const uint32_t* w = kSpv_rt_nv_trace_rgen;
+  size_t n = sizeof(kSpv_rt_nv_trace_rgen) / 4, at = 5;
+  while (at < n && (w[at] & 0xffff) != 5337) at += w[at] >> 16;
+  ASSERT_LT(at, n);
+  std::string error;
+  EXPECT_FALSE(compileStage(kSpv_rt_nv_trace_rgen, spv::ExecutionModelRayGenerationKHR, true, &error));
+  EXPECT_EQ(error, "unsupported instruction OpTraceNV at word " + std::to_string(at));
+}
+
+}  // namespace
+}  // namespace vkrt::testing
