@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "icd/vk.hpp"
+#include "spirv/compiler.hpp"
 
 namespace vkrt {
 class Object;
@@ -64,9 +65,12 @@ struct ShaderDesc {
   VkShaderStageFlagBits stage = VkShaderStageFlagBits(0);
   VkPipelineShaderStageCreateFlags flags = 0;
   std::vector<std::pair<uint32_t, std::string>> specialization;  // (constantID, bytes), sorted by id
-  uint32_t stackSize = 0;                     // from spirv::EntryPointInfo::stackSize
-  uint32_t payloadBytes = 0;                  // largest ray payload it declares (incoming or outgoing)
-  uint32_t hitAttributeBytes = 0;             // largest hit attribute variable it declares
+  // The compiled code, shared with every pipeline and library that uses the same shader (set by the build;
+  // not part of the group's content: it is derived from the fields above).
+  std::shared_ptr<const spirv::CompiledShader> compiled;
+
+  // vkGetRayTracingShaderGroupStackSizeKHR's figure (spirv::RayStageInfo::stackSize says how it is derived).
+  uint32_t stackSize() const { return compiled ? compiled->ray.stackSize() : 0; }
 };
 
 // Slot order within a group.

@@ -17,7 +17,8 @@
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
 #include "runtime/shader_module.hpp"
-#include "spirv/module_info.hpp"
+#include "runtime/shader_cache.hpp"
+#include "spirv/module.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt::rt {
@@ -32,6 +33,17 @@ constexpr VkShaderStageFlags kRtStages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHA
                                          VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR;
 constexpr VkPipelineCreateFlags kFailOnCompile = VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT;
 constexpr VkPipelineCreateFlags kEarlyReturn = VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT;
+
+spv::ExecutionModel executionModelOf(VkShaderStageFlagBits stage) {
+  switch (stage) {
+    case VK_SHADER_STAGE_RAYGEN_BIT_KHR: return spv::ExecutionModelRayGenerationKHR;
+    case VK_SHADER_STAGE_INTERSECTION_BIT_KHR: return spv::ExecutionModelIntersectionKHR;
+    case VK_SHADER_STAGE_ANY_HIT_BIT_KHR: return spv::ExecutionModelAnyHitKHR;
+    case VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR: return spv::ExecutionModelClosestHitKHR;
+    case VK_SHADER_STAGE_MISS_BIT_KHR: return spv::ExecutionModelMissKHR;
+    default: return spv::ExecutionModelCallableKHR;  // validate() admits only the six ray tracing stages
+  }
+}
 
 bool stageIs(const VkRayTracingPipelineCreateInfoKHR& info, uint32_t index, VkShaderStageFlags allowed) {
   return index < info.stageCount && (info.pStages[index].stage & allowed) && info.pStages[index].stage != 0;
@@ -49,6 +61,7 @@ struct Job {
   uint32_t maxPayload = 0, maxHitAttr = 0;
   bool dynamicStackSize = false;
   std::vector<std::shared_ptr<ShaderDesc>> stages;
+  std::vector<spirv::CompileRequest> requests;  // per stage, filled by the build
   struct Group {
     VkRayTracingShaderGroupTypeKHR type;
     uint32_t shader[4];
@@ -58,7 +71,6 @@ struct Job {
   std::vector<Group> groups;
   std::vector<RayTracingPipeline*> libraries;
   PipelineCache* cache = nullptr;
-  std::string cacheKey;
   const VkAllocationCallbacks* allocator = nullptr;
 
   VkResult result = VK_SUCCESS;
@@ -69,18 +81,6 @@ std::string hex(const Digest& d) {
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%016llx%016llx", (unsigned long long)d.hi, (unsigned long long)d.lo);
   return buf;
-}
-
-// The pipeline-cache key: everything the per-stage analysis depends on.
-std::string cacheKeyOf(const Job& j) {
-  std::string s;
-  for (auto& st : j.stages) {
-    GroupDesc g;
-    g.shaders[0] = st;
-    s += canonicalContent(g);
-  }
-  Digest d = hash128(s.data(), s.size(), 0x7274);
-  return "vkrt.rt.pipeline.v2." + hex(d);  // v2: 12 bytes per stage (kCachedStageBytes)
 }
 
 // Validation of pCreateInfos[i]; reports the first violation. Fills the job's libraries.
@@ -328,53 +328,67 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
     }
     job.groups.push_back(jg);
   }
-  job.cacheKey = cacheKeyOf(job);
   return true;
 }
 
-// What the pipeline cache keeps per stage: the results of the SPIR-V analysis.
-constexpr size_t kCachedStageBytes = 12;  // stackSize, payloadBytes, hitAttributeBytes (uint32 each)
-
-// The build: the "compile" (SPIR-V analysis of every stage, skipped on a pipeline-cache hit), the interface
-// checks, group records, linking. Runs on the calling thread or on a thread joining the deferred operation.
-void build(Device* dev, Job& job) {
-  std::optional<std::string> cached;
-  if (job.cache) cached = job.cache->lookup(job.cacheKey);
-  const bool hit = cached && cached->size() == job.stages.size() * kCachedStageBytes;
-  std::string value;
-  if (hit) {
-    for (size_t s = 0; s < job.stages.size(); ++s) {
-      const char* at = cached->data() + kCachedStageBytes * s;
-      std::memcpy(&job.stages[s]->stackSize, at, 4);
-      std::memcpy(&job.stages[s]->payloadBytes, at + 4, 4);
-      std::memcpy(&job.stages[s]->hitAttributeBytes, at + 8, 4);
+// The compiled code of stage `s`, shared through the device (runtime/shader_cache.hpp): compiled, found live, or
+// loaded from the job's VkPipelineCache. Sets job.result and returns false when it cannot be had.
+bool compileStage(Device* dev, Job& job, size_t s) {
+  ShaderDesc& d = *job.stages[s];
+  spirv::CompileRequest req;
+  req.words = d.code->data();
+  req.wordCount = d.code->size();
+  req.entryName = d.entry;
+  req.model = executionModelOf(d.stage);
+  for (const auto& [id, bytes] : d.specialization)
+    req.specialization.push_back({id, std::vector<uint8_t>(bytes.begin(), bytes.end())});
+  job.requests.push_back(req);
+  {
+    spirv::Module m;
+    std::string err;
+    // VUID-VkPipelineShaderStageCreateInfo-pName-00707
+    if (!m.parse(req.words, req.wordCount, &err) || !m.findEntryPoint(d.entry.c_str(), req.model)) {
+      report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: no entry point \"%s\" with the "
+             "execution model of stage 0x%x in the module%s%s",
+             job.index, s, d.entry.c_str(), (unsigned)d.stage, err.empty() ? "" : ": ", err.c_str());
+      job.result = VK_ERROR_VALIDATION_FAILED_EXT;
+      return false;
     }
-  } else if ((job.flags & kFailOnCompile) && !job.stages.empty()) {
-    // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: the stages are not in the cache.
+  }
+  const bool mayCompile = !(job.flags & kFailOnCompile);
+  std::string error;
+  d.compiled = compileShared(dev, shaderKey(d.codeHash, req), req, mayCompile, &error, job.cache, nullptr,
+                             "vkCreateRayTracingPipelinesKHR");
+  if (d.compiled) return true;
+  if (!mayCompile) {
+    // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: neither the device nor the cache has the code.
     job.result = VK_PIPELINE_COMPILE_REQUIRED;
-    return;
-  } else {
-    for (size_t s = 0; s < job.stages.size(); ++s) {
-      ShaderDesc& d = *job.stages[s];
-      spirv::ModuleInfo mi;
-      std::string err;
-      const spirv::EntryPointInfo* ep = nullptr;
-      if (spirv::analyzeModule(d.code->data(), d.code->size(), mi, &err))
-        ep = mi.find(d.entry.c_str(), spirv::executionModelForStage(d.stage));
-      // VUID-VkPipelineShaderStageCreateInfo-pName-00707
-      if (!ep) {
-        report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
-               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: no entry point \"%s\" with the "
-               "execution model of stage 0x%x in the module%s%s",
-               job.index, s, d.entry.c_str(), (unsigned)d.stage, err.empty() ? "" : ": ", err.c_str());
-        job.result = VK_ERROR_VALIDATION_FAILED_EXT;
-        return;
-      }
-      d.stackSize = ep->stackSize();
-      d.payloadBytes = ep->payloadSize();
-      d.hitAttributeBytes = ep->hitAttributeSize();
-      for (uint32_t v : {d.stackSize, d.payloadBytes, d.hitAttributeBytes})
-        value.append(reinterpret_cast<const char*>(&v), 4);
+    return false;
+  }
+  report(dev, Severity::Error, nullptr,
+         "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: entry point \"%s\" (stage 0x%x) cannot be compiled: %s",
+         job.index, s, d.entry.c_str(), (unsigned)d.stage, error.c_str());
+  job.result = VK_ERROR_UNKNOWN;
+  return false;
+}
+
+// The build: the stages' code (compiled once per device and shared, or found in the pipeline cache), the
+// layout and interface checks, group records, linking. Runs on the calling thread or on a thread joining the
+// deferred operation.
+void build(Device* dev, Job& job) {
+  for (size_t s = 0; s < job.stages.size(); ++s)
+    if (!compileStage(dev, job, s)) return;
+  // VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427: the layout provides every resource of every stage.
+  for (size_t s = 0; s < job.stages.size(); ++s) {
+    const ShaderDesc& d = *job.stages[s];
+    std::string detail;
+    if (checkLayoutProvides(*job.layout, *d.compiled, d.stage, &detail) != LayoutMismatch::None) {
+      report(dev, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427",
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu] (stage 0x%x, \"%s\"): %s", job.index, s,
+             (unsigned)d.stage, d.entry.c_str(), detail.c_str());
+      job.result = VK_ERROR_VALIDATION_FAILED_EXT;
+      return;
     }
   }
   // The pipeline interface: VkRayTracingPipelineInterfaceCreateInfoKHR defines maxPipelineRayPayloadSize and
@@ -387,15 +401,16 @@ void build(Device* dev, Job& job) {
       const ShaderDesc& d = *job.stages[s];
       const char *what = nullptr, *member = nullptr;
       uint32_t declared = 0, limit = 0;
-      if (d.payloadBytes > job.maxPayload) {
+      const spirv::RayStageInfo& ray = d.compiled->ray;
+      if (ray.payloadBytes > job.maxPayload) {
         what = "a ray payload";
         member = "maxPipelineRayPayloadSize";
-        declared = d.payloadBytes;
+        declared = ray.payloadBytes;
         limit = job.maxPayload;
-      } else if (d.hitAttributeBytes > job.maxHitAttr) {
+      } else if (ray.hitAttributeBytes > job.maxHitAttr) {
         what = "a hit attribute";
         member = "maxPipelineRayHitAttributeSize";
-        declared = d.hitAttributeBytes;
+        declared = ray.hitAttributeBytes;
         limit = job.maxHitAttr;
       }
       if (what) {
@@ -408,8 +423,6 @@ void build(Device* dev, Job& job) {
       }
     }
   }
-  if (job.cache && !hit && !job.stages.empty()) job.cache->insert(job.cacheKey, value);
-
   auto* p = createObject<RayTracingPipeline>(job.allocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, job.flags, job.layout);
   if (!p) {
     job.result = VK_ERROR_OUT_OF_HOST_MEMORY;
@@ -449,6 +462,7 @@ void build(Device* dev, Job& job) {
   p->ownGroupCount = static_cast<uint32_t>(p->groups.size());
   linkLibraries(job.libraries, p->groups);
   p->defaultStackSize = defaultPipelineStackSize(p->groups, job.depth);
+  for (size_t s = 0; s < job.stages.size(); ++s) storeInCache(job.cache, job.requests[s], *job.stages[s]->compiled);
   job.pipeline = p;
 }
 

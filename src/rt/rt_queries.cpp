@@ -188,7 +188,7 @@ VKAPI_ATTR VkDeviceSize VKAPI_CALL vkrt_GetRayTracingShaderGroupStackSizeKHR(VkD
            group, kNames[groupShader]);
     return 0;
   }
-  return s->stackSize;
+  return s->stackSize();
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetRayTracingPipelineStackSizeKHR(VkCommandBuffer commandBuffer,

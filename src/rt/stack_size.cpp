@@ -5,7 +5,7 @@
 namespace vkrt::rt {
 
 void StageStackMax::add(const ShaderDesc& s) {
-  uint64_t v = s.stackSize;
+  uint64_t v = s.stackSize();
   switch (s.stage) {
     case VK_SHADER_STAGE_RAYGEN_BIT_KHR:
       rayGen = std::max(rayGen, v);

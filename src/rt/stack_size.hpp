@@ -1,7 +1,7 @@
 // Ray tracing pipeline stack sizes.
 //
-// Per shader: spirv::EntryPointInfo::stackSize (src/spirv/module_info.hpp says how the figure is derived),
-// kept in each group's ShaderDesc and reported by vkGetRayTracingShaderGroupStackSizeKHR.
+// Per shader: spirv::RayStageInfo::stackSize of its compiled code (src/spirv/compiler.hpp says how the figure is
+// derived), reached through each group's ShaderDesc and reported by vkGetRayTracingShaderGroupStackSizeKHR.
 // Per pipeline: the default stack size of the spec's "Ray Tracing Pipeline Stack" section:
 //   rayGenStackMax
 //   + min(1, maxPipelineRayRecursionDepth) * max(closestHitStackMax, missStackMax,

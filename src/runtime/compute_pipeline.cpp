@@ -1,10 +1,7 @@
 #include "runtime/compute_pipeline.hpp"
 
-#include <atomic>
 #include <chrono>
 #include <cstring>
-#include <map>
-#include <mutex>
 
 #include "runtime/alloc.hpp"
 #include "runtime/descriptor_set_layout.hpp"
@@ -17,83 +14,6 @@
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
-
-namespace {
-
-struct CacheEntry {
-  std::mutex compileMutex;  // held while this key compiles
-  std::weak_ptr<const spirv::CompiledShader> shader;
-};
-
-std::mutex gCacheMutex;
-std::map<std::pair<const Device*, std::string>, std::shared_ptr<CacheEntry>> gCache;
-std::atomic<uint64_t> gCompiles{0};
-std::atomic<uint64_t> gCacheLoads{0};
-
-}  // namespace
-
-uint64_t shaderCompileCount() { return gCompiles.load(); }
-uint64_t shaderCacheLoadCount() { return gCacheLoads.load(); }
-
-std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, const std::string& key,
-                                                           const spirv::CompileRequest& request, bool mayCompile,
-                                                           std::string* error, PipelineCache* cache, bool* cacheHit) {
-  if (cacheHit) *cacheHit = false;
-  std::shared_ptr<CacheEntry> entry;
-  {
-    std::lock_guard<std::mutex> lock(gCacheMutex);
-    // Drop entries no pipeline uses any more.
-    for (auto it = gCache.begin(); it != gCache.end();) {
-      if (it->second->shader.expired() && it->second.use_count() == 1) {
-        it = gCache.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    auto& slot = gCache[{dev, key}];
-    if (!slot) slot = std::make_shared<CacheEntry>();
-    entry = slot;
-  }
-  std::string persistentKey = cache ? spirv::cacheKey(request) : std::string();
-  std::lock_guard<std::mutex> lock(entry->compileMutex);
-  if (auto live = entry->shader.lock()) {
-    if (cache) {
-      if (cache->lookup(persistentKey)) {
-        if (cacheHit) *cacheHit = true;
-      } else if (!live->cacheBlob.empty()) {
-        cache->insert(persistentKey, live->cacheBlob);
-      }
-    }
-    return live;
-  }
-  bool damaged = false;
-  if (cache) {
-    if (std::optional<std::string> blob = cache->lookup(persistentKey)) {
-      std::string loadError;
-      std::shared_ptr<const spirv::CompiledShader> loaded = spirv::loadCached(*blob, &loadError);
-      if (loaded) {
-        gCacheLoads.fetch_add(1);
-        entry->shader = loaded;
-        if (cacheHit) *cacheHit = true;
-        return loaded;
-      }
-      // A damaged entry: compiled again below, and replaced.
-      report(cache, Severity::Warning, nullptr, "vkCreateComputePipelines: ignoring a pipeline cache entry: %s", loadError.c_str());
-      damaged = true;
-    }
-  }
-  if (!mayCompile) return nullptr;
-  std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(request, error);
-  gCompiles.fetch_add(1);
-  if (shader) {
-    entry->shader = shader;
-    if (cache && !shader->cacheBlob.empty()) {
-      if (damaged) cache->replace(persistentKey, shader->cacheBlob);
-      else cache->insert(persistentKey, shader->cacheBlob);
-    }
-  }
-  return shader;
-}
 
 namespace {
 
@@ -161,7 +81,6 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
-  std::string key = std::to_string(hash) + ":" + std::to_string(code->size()) + ":" + ci.stage.pName + ":";
   if (const VkSpecializationInfo* si = ci.stage.pSpecializationInfo) {
     for (uint32_t e = 0; e < si->mapEntryCount; ++e) {
       const VkSpecializationMapEntry& me = si->pMapEntries[e];
@@ -190,11 +109,9 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
       }
       const uint8_t* bytes = static_cast<const uint8_t*>(si->pData) + me.offset;
       req.specialization.push_back({me.constantID, std::vector<uint8_t>(bytes, bytes + me.size)});
-      key += std::to_string(me.constantID) + "=";
-      for (size_t b = 0; b < me.size; ++b) key += char('a' + (bytes[b] >> 4)), key += char('a' + (bytes[b] & 15));
-      key += ";";
     }
   }
+  const std::string key = shaderKey(hash, req);
 
   bool mayCompile = !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
   std::string error;
@@ -232,42 +149,19 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
            shader->workgroupMemorySize, lim.maxComputeSharedMemorySize);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  // Every buffer the shader declares needs a binding of a buffer type in the layout.
-  for (const spirv::ResourceBinding& rb : shader->resources) {
-    const DescriptorBinding* b = rb.set < layout->setLayouts.size() ? layout->setLayouts[rb.set]->bindingAt(rb.binding) : nullptr;
-    // VUID-VkComputePipelineCreateInfo-layout-07988
-    if (!b || !(b->stages & VK_SHADER_STAGE_COMPUTE_BIT)) {
-      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07988",
-             "%s: pCreateInfos[%u]: the shader uses set %u binding %u, which the pipeline layout %s", fn, i, rb.set, rb.binding,
-             b ? "does not make visible to the compute stage" : "does not have");
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-    }
-    bool uniformType = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-    bool storageType = b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
-    using RK = spirv::ResourceBinding;
-    bool imageOk = (rb.kind == RK::StorageImage && b->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) ||
-                   (rb.kind == RK::SampledImage &&
-                    (b->type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) ||
-                   (rb.kind == RK::Sampler &&
-                    (b->type == VK_DESCRIPTOR_TYPE_SAMPLER || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) ||
-                   (rb.kind == RK::CombinedImageSampler && b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
-    // VUID-VkComputePipelineCreateInfo-layout-07990
-    if (rb.kind != RK::Buffer ? !imageOk : rb.uniform ? !uniformType : !storageType) {
-      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07990",
-             "%s: pCreateInfos[%u]: the shader uses set %u binding %u as a %s descriptor, but the layout declares %s", fn, i, rb.set,
-             rb.binding, rb.kind != RK::Buffer ? "image or sampler" : rb.uniform ? "uniform" : "storage", descriptorTypeName(b->type));
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-    }
-    // VUID-VkComputePipelineCreateInfo-layout-07991
-    if (rb.arraySize > b->count) {
-      report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-07991",
-             "%s: pCreateInfos[%u]: the shader declares %u descriptors at set %u binding %u, the layout only %u", fn, i, rb.arraySize,
-             rb.set, rb.binding, b->count);
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-    }
+  // Every resource the shader uses needs a binding of its type in the layout, visible to the compute stage.
+  std::string detail;
+  static const char* const kLayoutVuids[] = {nullptr, "VUID-VkComputePipelineCreateInfo-layout-07988",
+                                             "VUID-VkComputePipelineCreateInfo-layout-07990",
+                                             "VUID-VkComputePipelineCreateInfo-layout-07991"};
+  // VUID-VkComputePipelineCreateInfo-layout-07988, -07990, -07991
+  if (LayoutMismatch m = checkLayoutProvides(*layout, *shader, VK_SHADER_STAGE_COMPUTE_BIT, &detail); m != LayoutMismatch::None) {
+    report(dev, Severity::Error, kLayoutVuids[int(m)], "%s: pCreateInfos[%u]: %s", fn, i, detail.c_str());
+    return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  auto* p = createObject<ComputePipeline>(alloc, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, ci.flags, layout, std::move(shader));
+  auto* p = createObject<ComputePipeline>(alloc, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, ci.flags, layout, shader);
   if (!p) return VK_ERROR_OUT_OF_HOST_MEMORY;
+  storeInCache(fromHandle<PipelineCache>(pipelineCache), req, *shader);
   // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took.
   if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
     uint64_t ns = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());

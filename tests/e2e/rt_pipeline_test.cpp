@@ -293,8 +293,9 @@ TEST_F(RtLibraryTest, LibrariesKeepTheirHandlesInEveryLinkingOrder) {
 }
 
 TEST_F(RtTest, StackSizesPerShader) {
-  // Stack sizes are implementation-defined (NVIDIA gives 160 for the big-payload raygen): vkrt's figures only.
-  if (!vkrt) GTEST_SKIP() << "exact stack sizes are vkrt's own";
+  // Stack sizes are implementation-defined (NVIDIA gives 160 for the big-payload raygen): vkrt's figures only
+  // (spirv::RayStageInfo::stackSize).
+  if (!vkrt) GTEST_SKIP() << "stack sizes are vkrt's own";
   Desc d;
   d.general(raygenBig, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   d.general(miss, VK_SHADER_STAGE_MISS_BIT_KHR);
@@ -306,9 +307,17 @@ TEST_F(RtTest, StackSizesPerShader) {
           VK_SHADER_UNUSED_KHR, i);
   d.general(call, VK_SHADER_STAGE_CALLABLE_BIT_KHR);
   VkPipeline p = make(d);
-  EXPECT_EQ(getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 256u + 16u);  // payload + frame
-  EXPECT_EQ(getStackSize(device, p, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);          // no calls
-  EXPECT_EQ(getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR), 32u);     // uint data + frame
+  // The compiled frame of a shader that calls: raygen keeps its 256-byte payload and the trace's 72 bytes of
+  // arguments; the closest-hit shader its 4-byte callable data.
+  VkDeviceSize raygenStack = getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
+  EXPECT_GE(raygenStack, 256u + 72u);
+  EXPECT_LE(raygenStack, 1024u);
+  EXPECT_EQ(raygenStack % 16, 0u);
+  EXPECT_EQ(getStackSize(device, p, 1, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);  // no calls
+  VkDeviceSize chitStack = getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR);
+  EXPECT_GE(chitStack, 16u);
+  EXPECT_LE(chitStack, 256u);
+  EXPECT_EQ(chitStack % 16, 0u);
   EXPECT_EQ(getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_ANY_HIT_KHR), 0u);
   EXPECT_EQ(getStackSize(device, p, 3, VK_SHADER_GROUP_SHADER_INTERSECTION_KHR), 0u);
   EXPECT_EQ(getStackSize(device, p, 4, VK_SHADER_GROUP_SHADER_GENERAL_KHR), 0u);

@@ -1,5 +1,5 @@
-// Unit tests of the ray tracing core: SPIR-V analysis and stack sizes, handle derivation and the registry,
-// capture/replay encoding, the default stack-size formula, deferred operations.
+// Unit tests of the ray tracing core: handle derivation and the registry, capture/replay encoding, the default
+// stack-size formula, deferred operations. (Per-shader stack sizes are the compiler's: tests/spirv.)
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -20,18 +20,9 @@
 #include "rt/group_handles.hpp"
 #include "rt/stack_size.hpp"
 #include "runtime/shader_module.hpp"
-#include "spirv/module_info.hpp"
 
 namespace vkrt::rt {
 namespace {
-
-template <size_t N>
-spirv::ModuleInfo analyze(const uint32_t (&words)[N]) {
-  spirv::ModuleInfo mi;
-  std::string err;
-  EXPECT_TRUE(spirv::analyzeModule(words, N, mi, &err)) << err;
-  return mi;
-}
 
 template <size_t N>
 std::shared_ptr<ShaderDesc> shader(const uint32_t (&words)[N], VkShaderStageFlagBits stage,
@@ -50,57 +41,6 @@ GroupDesc general(std::shared_ptr<ShaderDesc> s) {
   g.type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
   g.shaders[kGeneral] = std::move(s);
   return g;
-}
-
-TEST(ModuleInfo, EntryPointsModelsAndInterface) {
-  auto rg = analyze(kSpv_h4_raygen_big_rgen);
-  ASSERT_EQ(rg.entryPoints.size(), 1u);
-  const spirv::EntryPointInfo* e = rg.find("main", spirv::kModelRayGeneration);
-  ASSERT_NE(e, nullptr);
-  EXPECT_EQ(rg.find("main", spirv::kModelMiss), nullptr);
-  EXPECT_EQ(rg.find("other", spirv::kModelRayGeneration), nullptr);
-  EXPECT_TRUE(e->tracesRays);
-  EXPECT_FALSE(e->executesCallables);
-  EXPECT_EQ(e->bytesIn(spirv::kStorageRayPayload), 256u);
-
-  auto ch = analyze(kSpv_h4_chit_rchit);
-  const spirv::EntryPointInfo* c = ch.find("main", spirv::kModelClosestHit);
-  ASSERT_NE(c, nullptr);
-  EXPECT_EQ(c->bytesIn(spirv::kStorageIncomingRayPayload), 16u);
-  EXPECT_EQ(c->bytesIn(spirv::kStorageHitAttribute), 8u);
-  EXPECT_FALSE(c->tracesRays);
-
-  auto cc = analyze(kSpv_h4_chit_callable_rchit);
-  const spirv::EntryPointInfo* cl = cc.find("main", spirv::kModelClosestHit);
-  ASSERT_NE(cl, nullptr);
-  EXPECT_TRUE(cl->executesCallables);
-  EXPECT_EQ(cl->bytesIn(spirv::kStorageCallableData), 4u);
-}
-
-TEST(ModuleInfo, StackSizes) {
-  // No trace/callable call: 0 (as NVIDIA reports).
-  EXPECT_EQ(analyze(kSpv_h4_miss_rmiss).find("main", spirv::kModelMiss)->stackSize(), 0u);
-  EXPECT_EQ(analyze(kSpv_h4_ahit_rahit).find("main", spirv::kModelAnyHit)->stackSize(), 0u);
-  EXPECT_EQ(analyze(kSpv_h4_rint_rint).find("main", spirv::kModelIntersection)->stackSize(), 0u);
-  EXPECT_EQ(analyze(kSpv_h4_call_rcall).find("main", spirv::kModelCallable)->stackSize(), 0u);
-  // 256-byte payload + call frame, 16-aligned.
-  EXPECT_EQ(analyze(kSpv_h4_raygen_big_rgen).find("main", spirv::kModelRayGeneration)->stackSize(),
-            256u + spirv::kCallFrameBytes);
-  EXPECT_EQ(analyze(kSpv_h4_raygen_rgen).find("main", spirv::kModelRayGeneration)->stackSize(),
-            16u + spirv::kCallFrameBytes);
-  // uint callable data (4) + frame (16) -> 32.
-  EXPECT_EQ(analyze(kSpv_h4_chit_callable_rchit).find("main", spirv::kModelClosestHit)->stackSize(), 32u);
-}
-
-TEST(ModuleInfo, MalformedStreamsAreRefused) {
-  spirv::ModuleInfo mi;
-  std::string err;
-  uint32_t junk[6] = {0x12345678, 0, 0, 0, 0, 0};
-  EXPECT_FALSE(spirv::analyzeModule(junk, 6, mi, &err));
-  std::vector<uint32_t> cut(kSpv_h4_miss_rmiss, kSpv_h4_miss_rmiss + 8);
-  cut.push_back(0xffff0000u | 15);  // an instruction claiming 65535 words
-  EXPECT_FALSE(spirv::analyzeModule(cut.data(), cut.size(), mi, &err));
-  EXPECT_NE(err.find("truncated"), std::string::npos);
 }
 
 constexpr uint64_t kGoldenLo = 0x956ff948b28d0801ull, kGoldenHi = 0x6e71d46811854c04ull;

@@ -7,6 +7,14 @@
 #include <cmath>
 #include <cstring>
 
+#include "h4_ahit.rahit.spv.h"
+#include "h4_call.rcall.spv.h"
+#include "h4_chit.rchit.spv.h"
+#include "h4_chit_callable.rchit.spv.h"
+#include "h4_miss.rmiss.spv.h"
+#include "h4_raygen.rgen.spv.h"
+#include "h4_raygen_big.rgen.spv.h"
+#include "h4_rint.rint.spv.h"
 #include "rt_ahit.rahit.spv.h"
 #include "rt_call.rcall.spv.h"
 #include "rt_chit.rchit.spv.h"
@@ -247,6 +255,39 @@ TEST(SpirvRayTracing, StackFactsOfEachStage) {
   EXPECT_FALSE(s.rint->ray.readsHitAttributes);  // an intersection shader's attributes are its own
   EXPECT_EQ(s.call->ray.callableDataBytes, 4u);
   EXPECT_EQ(s.missSecondary->ray.payloadBytes, 4u);
+}
+
+// The shaders the pipeline tests use: the sizes their variables declare, and 0 for those that call nothing.
+TEST(SpirvRayTracing, FactsOfThePipelineTestShaders) {
+  std::string e;
+  auto big = compileStage(kSpv_h4_raygen_big_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
+  ASSERT_TRUE(big) << e;
+  EXPECT_TRUE(big->ray.callsOut);
+  EXPECT_EQ(big->ray.payloadBytes, 256u);  // vec4[16]
+  EXPECT_GE(big->ray.stackSize(), 256u + sizeof(spirv::TraceRayArgs));
+  auto small = compileStage(kSpv_h4_raygen_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
+  ASSERT_TRUE(small) << e;
+  EXPECT_EQ(small->ray.payloadBytes, 16u);
+  EXPECT_GE(big->ray.stackSize(), small->ray.stackSize() + 240u);  // the payloads' difference at least
+  auto chit = compileStage(kSpv_h4_chit_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
+  ASSERT_TRUE(chit) << e;
+  EXPECT_EQ(chit->ray.payloadBytes, 16u);
+  EXPECT_EQ(chit->ray.hitAttributeBytes, 8u);
+  EXPECT_EQ(chit->ray.stackSize(), 0u);
+  auto callable = compileStage(kSpv_h4_chit_callable_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
+  ASSERT_TRUE(callable) << e;
+  EXPECT_TRUE(callable->ray.callsOut);
+  EXPECT_EQ(callable->ray.callableDataBytes, 4u);
+  EXPECT_GE(callable->ray.stackSize(), 16u);
+  auto miss = compileStage(kSpv_h4_miss_rmiss, spv::ExecutionModelMissKHR, true, &e);
+  auto ahit = compileStage(kSpv_h4_ahit_rahit, spv::ExecutionModelAnyHitKHR, true, &e);
+  auto rint = compileStage(kSpv_h4_rint_rint, spv::ExecutionModelIntersectionKHR, true, &e);
+  auto call = compileStage(kSpv_h4_call_rcall, spv::ExecutionModelCallableKHR, true, &e);
+  ASSERT_TRUE(miss && ahit && rint && call) << e;
+  for (const auto* sh : {miss.get(), ahit.get(), rint.get(), call.get()}) EXPECT_EQ(sh->ray.stackSize(), 0u);
+  // An entry point is looked up with its execution model.
+  EXPECT_FALSE(compileStage(kSpv_h4_miss_rmiss, spv::ExecutionModelClosestHitKHR, true, &e));
+  EXPECT_EQ(e, "the module has no entry point \"main\" for this stage");
 }
 
 TEST(SpirvRayTracing, CompiledStagesRoundTripThroughTheCacheBlob) {
