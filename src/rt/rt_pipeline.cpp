@@ -3,6 +3,7 @@
 // library linking — run at once or, with a VkDeferredOperationKHR, on the threads that join it.
 #include "rt/rt_pipeline.hpp"
 
+#include <chrono>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -62,6 +63,9 @@ struct Job {
   bool dynamicStackSize = false;
   std::vector<std::shared_ptr<ShaderDesc>> stages;
   std::vector<spirv::CompileRequest> requests;  // per stage, filled by the build
+  // VkPipelineCreationFeedbackCreateInfo (core in Vulkan 1.3), written once the pipeline is built.
+  const VkPipelineCreationFeedbackCreateInfo* feedback = nullptr;
+  std::vector<VkPipelineCreationFeedback> stageFeedback;  // per stage, filled by the build
   struct Group {
     VkRayTracingShaderGroupTypeKHR type;
     uint32_t shader[4];
@@ -273,6 +277,14 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
                   i, g, (int)gr.type, gr.generalShader, gr.closestHitShader, gr.anyHitShader, gr.intersectionShader,
                   info.stageCount, what);
   }
+  // VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652
+  job.feedback = findInChain<VkPipelineCreationFeedbackCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO);
+  if (job.feedback && job.feedback->pipelineStageCreationFeedbackCount != 0 &&
+      job.feedback->pipelineStageCreationFeedbackCount != info.stageCount)
+    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u]: VkPipelineCreationFeedbackCreateInfo::"
+                "pipelineStageCreationFeedbackCount %u is neither 0 nor stageCount %u",
+                i, job.feedback->pipelineStageCreationFeedbackCount, info.stageCount);
   if (!checkLibraries(dev, info, i, job.layoutShape, job.libraries)) return false;
   // VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425
   if (!(info.flags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR)) {
@@ -358,8 +370,14 @@ bool compileStage(Device* dev, Job& job, size_t s) {
   }
   const bool mayCompile = !(job.flags & kFailOnCompile);
   std::string error;
-  d.compiled = compileShared(dev, shaderKey(d.codeHash, req), req, mayCompile, &error, job.cache, nullptr,
+  bool cacheHit = false;
+  const auto start = std::chrono::steady_clock::now();
+  d.compiled = compileShared(dev, shaderKey(d.codeHash, req), req, mayCompile, &error, job.cache, &cacheHit,
                              "vkCreateRayTracingPipelinesKHR");
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+  job.stageFeedback.push_back({VkPipelineCreationFeedbackFlags(VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT |
+                                                               (cacheHit ? VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT : 0)),
+                               uint64_t(ns)});
   if (d.compiled) return true;
   if (!mayCompile) {
     // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: neither the device nor the cache has the code.
@@ -377,6 +395,7 @@ bool compileStage(Device* dev, Job& job, size_t s) {
 // layout and interface checks, group records, linking. Runs on the calling thread or on a thread joining the
 // deferred operation.
 void build(Device* dev, Job& job) {
+  const auto start = std::chrono::steady_clock::now();
   for (size_t s = 0; s < job.stages.size(); ++s)
     if (!compileStage(dev, job, s)) return;
   // VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427: the layout provides every resource of every stage.
@@ -463,6 +482,20 @@ void build(Device* dev, Job& job) {
   linkLibraries(job.libraries, p->groups);
   p->defaultStackSize = defaultPipelineStackSize(p->groups, job.depth);
   for (size_t s = 0; s < job.stages.size(); ++s) storeInCache(job.cache, job.requests[s], *job.stages[s]->compiled);
+  if (job.feedback) {
+    // The pipeline hit the application's cache when every stage did (a pipeline of libraries only has none).
+    bool allHit = !job.stageFeedback.empty();
+    for (const VkPipelineCreationFeedback& f : job.stageFeedback)
+      allHit &= (f.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT) != 0;
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+    if (job.feedback->pPipelineCreationFeedback)
+      *job.feedback->pPipelineCreationFeedback = {
+          VkPipelineCreationFeedbackFlags(VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT |
+                                          (allHit ? VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT : 0)),
+          uint64_t(ns)};
+    for (uint32_t s = 0; s < job.feedback->pipelineStageCreationFeedbackCount && job.feedback->pPipelineStageCreationFeedbacks; ++s)
+      job.feedback->pPipelineStageCreationFeedbacks[s] = job.stageFeedback[s];
+  }
   job.pipeline = p;
 }
 

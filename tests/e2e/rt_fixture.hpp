@@ -216,6 +216,7 @@ class RtTest : public VulkanTest {
     int64_t maxPayload = -1, maxHitAttr = -1;
     bool omitInterface = false;
     VkPipelineLayout layout = VK_NULL_HANDLE;  // the fixture's when null
+    const void* pNext = nullptr;               // the create info's chain
 
     uint32_t stage(VkShaderModule m, VkShaderStageFlagBits s, const VkSpecializationInfo* spec = nullptr) {
       VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -251,7 +252,7 @@ class RtTest : public VulkanTest {
     iface.maxPipelineRayHitAttributeSize = 8;
     for (size_t g = 0; g < d.capture.size() && g < d.groups.size(); ++g)
       d.groups[g].pShaderGroupCaptureReplayHandle = d.capture[g].empty() ? nullptr : d.capture[g].data();
-    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR, d.pNext};
     ci.flags = d.flags;
     ci.stageCount = static_cast<uint32_t>(d.stages.size());
     ci.pStages = d.stages.data();

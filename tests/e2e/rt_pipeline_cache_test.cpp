@@ -178,6 +178,32 @@ TEST_F(RtCacheTest, CacheDataCarriesTheStagesIntoANewCache) {
   EXPECT_NE(p, VK_NULL_HANDLE);
 }
 
+TEST_F(RtCacheTest, CreationFeedbackReportsEachStageAndTheCacheHits) {
+  VkPipelineCache cache = newCache();
+  Desc d = sixGroups();
+  std::vector<VkPipelineCreationFeedback> stages(d.stages.size(), VkPipelineCreationFeedback{0, 0});
+  VkPipelineCreationFeedback whole{0, 0};
+  VkPipelineCreationFeedbackCreateInfo fb{VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO};
+  fb.pPipelineCreationFeedback = &whole;
+  fb.pipelineStageCreationFeedbackCount = static_cast<uint32_t>(stages.size());
+  fb.pPipelineStageCreationFeedbacks = stages.data();
+  d.pNext = &fb;
+  VkPipeline p = VK_NULL_HANDLE;
+  ASSERT_EQ(create(d, &p, VK_NULL_HANDLE, cache), VK_SUCCESS);
+  EXPECT_TRUE(whole.flags & VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT);
+  for (const VkPipelineCreationFeedback& f : stages) EXPECT_TRUE(f.flags & VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT);
+  if (vkrt) {  // the first creation compiled: no hit; the second finds every stage in the cache
+    EXPECT_FALSE(whole.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT);
+    EXPECT_GT(whole.duration, 0u);
+    for (const VkPipelineCreationFeedback& f : stages)
+      EXPECT_FALSE(f.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT);
+    ASSERT_EQ(create(d, &p, VK_NULL_HANDLE, cache), VK_SUCCESS);
+    EXPECT_TRUE(whole.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT);
+    for (const VkPipelineCreationFeedback& f : stages)
+      EXPECT_TRUE(f.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT);
+  }
+}
+
 // Helper for CacheDataCarriesTheStagesIntoAnotherProcess (skipped unless run by it): loads the cache file named by
 // VKRT_H7_CACHE, creates the six-group pipeline with FAIL_ON_PIPELINE_COMPILE_REQUIRED from it and from an empty
 // cache, and writes "<result with data> <result without> <handles hex>".

@@ -427,6 +427,21 @@ class RtMisuseTest : public RtTest {
   }
 };
 
+TEST_F(RtMisuseTest, CreationFeedbackCountMustMatchTheStages) {
+  Desc d = sixGroups();
+  VkPipelineCreationFeedback whole{}, one{};
+  VkPipelineCreationFeedbackCreateInfo fb{VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO};
+  fb.pPipelineCreationFeedback = &whole;
+  fb.pipelineStageCreationFeedbackCount = 1;  // neither 0 nor the 7 stages
+  fb.pPipelineStageCreationFeedbacks = &one;
+  d.pNext = &fb;
+  VkPipeline p = VK_NULL_HANDLE;
+  EXPECT_EQ(create(d, &p), VK_ERROR_VALIDATION_FAILED_EXT);
+  EXPECT_EQ(p, VK_NULL_HANDLE);
+  EXPECT_EQ(whole.flags, 0u);  // nothing written
+  expectVkrtMessage("VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652");
+}
+
 TEST_F(RtMisuseTest, NvAliasResolves) {
   // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command (vkrt's choice: the
   // spec only promises it with VK_NV_ray_tracing enabled; skipped on other drivers by RtMisuseTest).
