@@ -9,6 +9,7 @@
 #include "e2e/rt_fixture.hpp"
 #include "h7_chit_trace.rchit.spv.h"
 #include "h7_chit_trace_attr.rchit.spv.h"
+#include "rt_rint.rint.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -29,9 +30,10 @@ class RtInterfaceTest : public RtTest {
     RtTest::TearDown();
   }
 
-  // A set layout with one binding 0 of `type`, visible to raygen.
-  VkDescriptorSetLayout setLayout(VkDescriptorType type) {
-    VkDescriptorSetLayoutBinding b{0, type, 1, VK_SHADER_STAGE_RAYGEN_BIT_KHR, nullptr};
+  // A set layout with one binding (0 unless given) of `type`, visible to `stages` (raygen unless given).
+  VkDescriptorSetLayout setLayout(VkDescriptorType type, uint32_t binding = 0,
+                                  VkShaderStageFlags stages = VK_SHADER_STAGE_RAYGEN_BIT_KHR) {
+    VkDescriptorSetLayoutBinding b{binding, type, 1, stages, nullptr};
     VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     ci.bindingCount = 1;
     ci.pBindings = &b;
@@ -97,6 +99,31 @@ class RtInterfaceMisuseTest : public RtInterfaceTest {
     return msgs[0].text;
   }
 };
+
+TEST_F(RtInterfaceMisuseTest, LayoutMustProvideTheShadersResources) {
+  // rt_rint.rint writes a storage buffer at set 0 binding 2.
+  VkShaderModule sphere = module(kSpv_rt_rint_rint, sizeof(kSpv_rt_rint_rint));
+  auto withSphere = [&](VkPipelineLayout l) {
+    Desc d;
+    d.layout = l;
+    d.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    uint32_t c = d.stage(chit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    uint32_t i = d.stage(sphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR, i);
+    return d;
+  };
+  const char* vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427";
+  Desc none = withSphere(layout);  // the fixture's layout has no set
+  expectRefused(none, {vuid, "pStages[2]", "set 0 binding 2", "does not have"});
+  Desc uniform = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
+  expectRefused(uniform, {vuid, "pStages[2]", "storage buffer descriptor", "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER"});
+  Desc hidden = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_RAYGEN_BIT_KHR)}));
+  expectRefused(hidden, {vuid, "pStages[2]", "does not make visible"});
+  Desc right = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
+  VkPipeline p = VK_NULL_HANDLE;
+  EXPECT_EQ(create(right, &p), VK_SUCCESS);
+  EXPECT_NE(p, VK_NULL_HANDLE);
+}
 
 TEST_F(RtInterfaceTest, InterfaceCoveringEveryShaderIsAccepted) {
   // The six-group pipeline declares payloads of 16 bytes (raygen, miss, closest hit) and hit attributes of 8

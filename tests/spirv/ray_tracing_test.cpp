@@ -62,21 +62,18 @@ struct Stages {
 
 Stages compileAll(bool inlineCalls) {
   Stages s;
-  std::string e;
-  s.raygen = compileStage(kSpv_rt_raygen_rgen, spv::ExecutionModelRayGenerationKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.raygen) << e;
-  s.miss = compileStage(kSpv_rt_miss_rmiss, spv::ExecutionModelMissKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.miss) << e;
-  s.missSecondary = compileStage(kSpv_rt_miss_secondary_rmiss, spv::ExecutionModelMissKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.missSecondary) << e;
-  s.chit = compileStage(kSpv_rt_chit_rchit, spv::ExecutionModelClosestHitKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.chit) << e;
-  s.ahit = compileStage(kSpv_rt_ahit_rahit, spv::ExecutionModelAnyHitKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.ahit) << e;
-  s.rint = compileStage(kSpv_rt_rint_rint, spv::ExecutionModelIntersectionKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.rint) << e;
-  s.call = compileStage(kSpv_rt_call_rcall, spv::ExecutionModelCallableKHR, inlineCalls, &e);
-  EXPECT_TRUE(s.call) << e;
+  auto one = [&](auto& words, spv::ExecutionModel model, std::shared_ptr<spirv::CompiledShader>& out) {
+    std::string e;
+    out = compileStage(words, model, inlineCalls, &e);
+    EXPECT_TRUE(out) << e;
+  };
+  one(kSpv_rt_raygen_rgen, spv::ExecutionModelRayGenerationKHR, s.raygen);
+  one(kSpv_rt_miss_rmiss, spv::ExecutionModelMissKHR, s.miss);
+  one(kSpv_rt_miss_secondary_rmiss, spv::ExecutionModelMissKHR, s.missSecondary);
+  one(kSpv_rt_chit_rchit, spv::ExecutionModelClosestHitKHR, s.chit);
+  one(kSpv_rt_ahit_rahit, spv::ExecutionModelAnyHitKHR, s.ahit);
+  one(kSpv_rt_rint_rint, spv::ExecutionModelIntersectionKHR, s.rint);
+  one(kSpv_rt_call_rcall, spv::ExecutionModelCallableKHR, s.call);
   return s;
 }
 
