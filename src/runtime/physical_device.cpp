@@ -56,10 +56,15 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features10.shaderInt64 = VK_TRUE;
   features10.shaderFloat64 = VK_TRUE;
   // 8/16-bit integers, 16-bit floats and their storage-buffer access: src/spirv (tests/spirv
-  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest).
+  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest); in uniform and push-constant blocks too
+  // (tests/e2e ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).
   features10.shaderInt16 = VK_TRUE;
   features11.storageBuffer16BitAccess = VK_TRUE;
+  features11.uniformAndStorageBuffer16BitAccess = VK_TRUE;
+  features11.storagePushConstant16 = VK_TRUE;
   features12.storageBuffer8BitAccess = VK_TRUE;
+  features12.uniformAndStorageBuffer8BitAccess = VK_TRUE;
+  features12.storagePushConstant8 = VK_TRUE;
   features12.shaderInt8 = VK_TRUE;
   features12.shaderFloat16 = VK_TRUE;
 

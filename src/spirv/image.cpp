@@ -25,6 +25,10 @@ bool extraSupportedCapability(uint32_t cap) {
     // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.
     case spv::CapabilityImageQuery: case spv::CapabilityPhysicalStorageBufferAddresses:
     case spv::CapabilityStorageBuffer8BitAccess: case spv::CapabilityStorageBuffer16BitAccess:
+    // 8/16-bit members of uniform and push-constant blocks: memory.cpp loads every scalar at its own width
+    // and offset whatever the storage class (tests/spirv/small_uniform_test.cpp).
+    case spv::CapabilityUniformAndStorageBuffer8BitAccess: case spv::CapabilityUniformAndStorageBuffer16BitAccess:
+    case spv::CapabilityStoragePushConstant8: case spv::CapabilityStoragePushConstant16:
       return true;
     default:
       return false;
