@@ -86,6 +86,18 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
   features12.descriptorBindingPartiallyBound = VK_TRUE;
   features12.descriptorBindingVariableDescriptorCount = VK_TRUE;
+  // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
+  // SpirvDescriptorIndexing, tests/e2e ComputeFeaturesTest and ComputeImageIndexingTest). Texel buffers are not
+  // compiled yet, so neither their indexing features nor the descriptorIndexing aggregate are advertised.
+  features10.shaderUniformBufferArrayDynamicIndexing = VK_TRUE;
+  features10.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
+  features10.shaderStorageBufferArrayDynamicIndexing = VK_TRUE;
+  features10.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
+  features12.shaderUniformBufferArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
+  features12.runtimeDescriptorArray = VK_TRUE;
 
   features13.synchronization2 = VK_TRUE;
   features13.pipelineCreationCacheControl = VK_TRUE;
@@ -322,6 +334,16 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
         f->shaderInt8 = features12.shaderInt8;
         break;
       }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES: {
+        // The promoted structure's members are those of VkPhysicalDeviceVulkan12Features, in the same order.
+        constexpr size_t first = offsetof(VkPhysicalDeviceVulkan12Features, shaderInputAttachmentArrayDynamicIndexing);
+        constexpr size_t end = offsetof(VkPhysicalDeviceVulkan12Features, runtimeDescriptorArray) + sizeof(VkBool32);
+        static_assert(end - first == offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray) + sizeof(VkBool32) -
+                                         offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, shaderInputAttachmentArrayDynamicIndexing));
+        std::memcpy(&reinterpret_cast<VkPhysicalDeviceDescriptorIndexingFeatures*>(s)->shaderInputAttachmentArrayDynamicIndexing,
+                    reinterpret_cast<const char*>(&features12) + first, end - first);
+        break;
+      }
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
         reinterpret_cast<VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout =
             features12.uniformBufferStandardLayout;
@@ -458,6 +480,8 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                               VkPhysicalDevice8BitStorageFeatures, storagePushConstant8)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES,
                               VkPhysicalDeviceShaderFloat16Int8Features, shaderInt8)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES,
+                              VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
                               VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,

@@ -1,8 +1,10 @@
 // Compute features of the shader compiler end to end, with the features enabled and the validation layer on:
-// 8/16-bit members of uniform and push-constant blocks. Expected values are computed here on the CPU.
+// 8/16-bit members of uniform and push-constant blocks, buffer descriptor arrays indexed per invocation.
+// Expected values are computed here on the CPU.
 #include <cstring>
 #include <vector>
 
+#include "compute_nonuniform_buffers.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -20,56 +22,10 @@ class ComputeFeaturesTest : public VulkanTest {
     o.featureChain = &f11;
     VkPhysicalDeviceVulkan12Features& f12 = o.features12;
     f12.storageBuffer8BitAccess = f12.uniformAndStorageBuffer8BitAccess = f12.storagePushConstant8 = VK_TRUE;
+    enableDescriptorIndexing(o);
     return o;
   }
 
-  struct Binding {
-    VkDescriptorType type;
-    uint32_t count = 1;
-  };
-  // Set 0 with binding i of bindings[i] (arrays where count > 1), a push-constant range, one set allocated.
-  ComputePipeline makePipeline(const uint32_t* words, size_t bytes, const std::vector<Binding>& bindings, uint32_t pushBytes = 0) {
-    ComputePipeline p;
-    std::vector<VkDescriptorSetLayoutBinding> lb;
-    std::vector<VkDescriptorPoolSize> sizes;
-    for (uint32_t i = 0; i < bindings.size(); ++i) {
-      lb.push_back({i, bindings[i].type, bindings[i].count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-      sizes.push_back({bindings[i].type, bindings[i].count});
-    }
-    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dl.bindingCount = uint32_t(lb.size());
-    dl.pBindings = lb.data();
-    EXPECT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &p.setLayout), VK_SUCCESS);
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.setLayoutCount = 1;
-    pl.pSetLayouts = &p.setLayout;
-    pl.pushConstantRangeCount = pushBytes ? 1 : 0;
-    pl.pPushConstantRanges = &range;
-    EXPECT_EQ(vkCreatePipelineLayout(device, &pl, nullptr, &p.layout), VK_SUCCESS);
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = uint32_t(sizes.size());
-    dp.pPoolSizes = sizes.data();
-    EXPECT_EQ(vkCreateDescriptorPool(device, &dp, nullptr, &p.pool), VK_SUCCESS);
-    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    da.descriptorPool = p.pool;
-    da.descriptorSetCount = 1;
-    da.pSetLayouts = &p.setLayout;
-    EXPECT_EQ(vkAllocateDescriptorSets(device, &da, &p.set), VK_SUCCESS);
-    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    sm.codeSize = bytes;
-    sm.pCode = words;
-    EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &p.module), VK_SUCCESS);
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = p.module;
-    ci.stage.pName = "main";
-    ci.layout = p.layout;
-    p.result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline);
-    return p;
-  }
   // Buffers into consecutive elements of a binding, from element 0.
   void writeBuffers(const ComputePipeline& p, uint32_t binding, VkDescriptorType type, const std::vector<const HostBuffer*>& buffers) {
     std::vector<VkDescriptorBufferInfo> infos;
@@ -121,8 +77,8 @@ TEST_F(ComputeFeaturesTest, EightAndSixteenBitUniformAndPushConstantMembers) {
   using namespace vkrt::testing;
   SmallUniformValues v;
   std::vector<uint8_t> push = smallPushBlock(v);
-  ComputePipeline p = makePipeline(kSpv_compute_small_uniform_push_comp, sizeof kSpv_compute_small_uniform_push_comp,
-                                   {{kUniform}, {kStorage}, {kStorage}}, uint32_t(push.size()));
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_small_uniform_push_comp, sizeof kSpv_compute_small_uniform_push_comp,
+                                                    {{kUniform}, {kStorage}, {kStorage}}, uint32_t(push.size()));
   ASSERT_EQ(p.result, VK_SUCCESS);
   HostBuffer ubo = bufferWith(smallUniformBlock(v), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   HostBuffer ints = bufferWith(std::vector<int32_t>(kSmallUniformInvocations * kSmallUniformInts, 0x5a5a5a5a), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -139,6 +95,70 @@ TEST_F(ComputeFeaturesTest, EightAndSixteenBitUniformAndPushConstantMembers) {
   destroy(ubo);
   destroy(ints);
   destroy(floats);
+  destroyComputePipeline(device, p);
+}
+
+TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
+  VkPhysicalDeviceVulkan12Features r12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceDescriptorIndexingFeatures di{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &r12};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(f2.features.shaderStorageBufferArrayDynamicIndexing && f2.features.shaderUniformBufferArrayDynamicIndexing);
+  EXPECT_TRUE(r12.runtimeDescriptorArray && r12.shaderStorageBufferArrayNonUniformIndexing &&
+              r12.shaderUniformBufferArrayNonUniformIndexing);
+  f2.pNext = &di;
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_EQ(di.runtimeDescriptorArray, r12.runtimeDescriptorArray) << "the 1.2 struct and the promoted one agree";
+  EXPECT_EQ(di.shaderStorageImageArrayNonUniformIndexing, r12.shaderStorageImageArrayNonUniformIndexing);
+
+  constexpr uint32_t kN = 16, kBuffers = 5;
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_buffers_comp, sizeof kSpv_compute_nonuniform_buffers_comp,
+                                                    {{kStorage, kBuffers}, {kUniform, 3}, {kStorage}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // Storage buffer k: {head = 0, v[kN + k]}, v[j] = 100 * k + j.
+  std::vector<std::vector<uint32_t>> data(kBuffers);
+  std::vector<HostBuffer> buffers;
+  for (uint32_t k = 0; k < kBuffers; ++k) {
+    data[k].assign(1 + kN + k, 0);
+    for (uint32_t j = 0; j < kN + k; ++j) data[k][1 + j] = 100 * k + j;
+    buffers.push_back(bufferWith(data[k], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
+  }
+  uint32_t params[3][4] = {{7, 0xf0, 0x0f, 11}, {9, 0x33, 0x55, 22}, {13, 0x1234, 0x4321, 33}};
+  std::vector<HostBuffer> ubos;
+  for (auto& q : params) ubos.push_back(bufferWith(std::vector<uint32_t>(q, q + 4), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT));
+  HostBuffer out = bufferWith(std::vector<uint32_t>(kN * 4, 0xdeadbeef), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::vector<const HostBuffer*> sb, ub;
+  for (auto& b : buffers) sb.push_back(&b);
+  for (auto& b : ubos) ub.push_back(&b);
+  writeBuffers(p, 0, kStorage, sb);
+  writeBuffers(p, 1, kUniform, ub);
+  writeBuffers(p, 2, kStorage, {&out});
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, kN / 8, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  const auto* o = static_cast<const uint32_t*>(out.data);
+  std::vector<uint32_t> count(kBuffers, 0);
+  for (uint32_t i = 0; i < kN; ++i) {
+    uint32_t b = i * 7 % 5, u = (i + i / 3) % 3;
+    ++count[b];
+    EXPECT_EQ(o[i * 4], data[b][1 + i]) << "storage buffer " << b << " read by invocation " << i;
+    EXPECT_EQ(o[i * 4 + 1], params[u][1] ^ params[u][2]) << "uniform buffer " << u << " read by invocation " << i;
+    EXPECT_EQ(o[i * 4 + 2], kN + b) << "length() of storage buffer " << b;
+    EXPECT_EQ(o[i * 4 + 3], params[i % 3][3] + b * 1000) << i;
+  }
+  for (uint32_t k = 0; k < kBuffers; ++k) {
+    const auto* got = static_cast<const uint32_t*>(buffers[k].data);
+    EXPECT_EQ(got[0], count[k]) << "atomic count in storage buffer " << k;
+    for (uint32_t j = 0; j < kN + k; ++j) {
+      bool written = j < kN && j * 7 % 5 == k;
+      uint32_t u = (j + j / 3) % 3;
+      EXPECT_EQ(got[1 + j], written ? data[k][1 + j] * 3 + params[u][0] : data[k][1 + j]) << "buffer " << k << " element " << j;
+    }
+  }
+  for (auto& b : buffers) destroy(b);
+  for (auto& b : ubos) destroy(b);
+  destroy(out);
   destroyComputePipeline(device, p);
 }
 
