@@ -73,6 +73,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features12.bufferDeviceAddressCaptureReplay = VK_TRUE;
   features12.hostQueryReset = VK_TRUE;
   features12.uniformBufferStandardLayout = VK_TRUE;
+  // Scalar block layout: the compiler follows the Offset/ArrayStride decorations, shader modules are validated
+  // with the scalar rules when the feature is enabled (tests/spirv SpirvBlockLayout, tests/e2e ComputeFeaturesTest).
+  features12.scalarBlockLayout = VK_TRUE;
   features12.separateDepthStencilLayouts = VK_TRUE;
   features12.imagelessFramebuffer = VK_TRUE;
   // Descriptor binding flags (runtime/descriptor_set_layout.cpp): descriptors are records read when a command
@@ -275,6 +278,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_COPY_COMMANDS_2_EXTENSION_NAME, VK_KHR_COPY_COMMANDS_2_SPEC_VERSION},
       {VK_EXT_HOST_QUERY_RESET_EXTENSION_NAME, VK_EXT_HOST_QUERY_RESET_SPEC_VERSION},
       {VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_EXTENSION_NAME, VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_SPEC_VERSION},
+      {VK_EXT_SCALAR_BLOCK_LAYOUT_EXTENSION_NAME, VK_EXT_SCALAR_BLOCK_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
   };
   // Ray tracing pipelines (src/rt/features.cpp): only with VKRT_PREVIEW_RAY_TRACING=1.
@@ -344,6 +348,9 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
                     reinterpret_cast<const char*>(&features12) + first, end - first);
         break;
       }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
+        reinterpret_cast<VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout = features12.scalarBlockLayout;
+        break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
         reinterpret_cast<VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout =
             features12.uniformBufferStandardLayout;
@@ -482,6 +489,8 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                               VkPhysicalDeviceShaderFloat16Int8Features, shaderInt8)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES,
                               VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
+                              VkPhysicalDeviceScalarBlockLayoutFeatures, scalarBlockLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
                               VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,

@@ -1,13 +1,16 @@
 // Compute features of the shader compiler end to end, with the features enabled and the validation layer on:
-// 8/16-bit members of uniform and push-constant blocks, buffer descriptor arrays indexed per invocation.
+// 8/16-bit members of uniform and push-constant blocks, buffer descriptor arrays indexed per invocation, scalar
+// block layout.
 // Expected values are computed here on the CPU.
 #include <cstring>
 #include <vector>
 
 #include "compute_nonuniform_buffers.comp.spv.h"
+#include "compute_scalar_layout.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
+#include "spirv/scalar_layout_reference.hpp"
 #include "spirv/small_uniform_reference.hpp"
 
 namespace vkrt::test {
@@ -23,6 +26,7 @@ class ComputeFeaturesTest : public VulkanTest {
     VkPhysicalDeviceVulkan12Features& f12 = o.features12;
     f12.storageBuffer8BitAccess = f12.uniformAndStorageBuffer8BitAccess = f12.storagePushConstant8 = VK_TRUE;
     enableDescriptorIndexing(o);
+    f12.scalarBlockLayout = VK_TRUE;
     return o;
   }
 
@@ -160,6 +164,60 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   for (auto& b : ubos) destroy(b);
   destroy(out);
   destroyComputePipeline(device, p);
+}
+
+TEST_F(ComputeFeaturesTest, ScalarBlockLayoutReadAndWritten) {
+  VkPhysicalDeviceScalarBlockLayoutFeatures sbl{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &sbl};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(sbl.scalarBlockLayout);
+
+  using namespace vkrt::testing;
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_scalar_layout_comp, sizeof kSpv_compute_scalar_layout_comp,
+                                                    {{kStorage}, {kUniform}, {kStorage}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  ScalarLayoutValues v;
+  HostBuffer in = bufferWith(scalarInBlock(v), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer ubo = bufferWith(scalarUniformBlock(v), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  HostBuffer out = bufferWith(std::vector<uint8_t>(kScalarOutBytes, 0xcd), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffers(p, 0, kStorage, {&in});
+  writeBuffers(p, 1, kUniform, {&ubo});
+  writeBuffers(p, 2, kStorage, {&out});
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, kScalarInvocations / 4, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  std::vector<uint8_t> want = scalarExpectedOut(v, 0xcd);
+  const auto* got = static_cast<const uint8_t*>(out.data);
+  for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(int(got[i]), int(want[i])) << "byte " << i;
+  destroy(in);
+  destroy(ubo);
+  destroy(out);
+  destroyComputePipeline(device, p);
+}
+
+// Without scalarBlockLayout the scalar offsets break the standard layout rules: vkrt validates the module with
+// the rules the device's features allow.
+class ComputeFeaturesMisuseTest : public VulkanTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.validation = false;
+    return o;
+  }
+};
+
+TEST_F(ComputeFeaturesMisuseTest, ScalarLayoutWithoutTheFeatureIsRejected) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own message";
+  VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  sm.codeSize = sizeof kSpv_compute_scalar_layout_comp;
+  sm.pCode = kSpv_compute_scalar_layout_comp;
+  VkShaderModule module = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &module), VK_ERROR_INVALID_SHADER_NV);
+  auto msgs = vkrtMessages();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_NE(msgs[0].text.find("stride 12 not satisfying alignment to 16"), std::string::npos) << msgs[0].text;
+  expectVkrtMessage("VUID-VkShaderModuleCreateInfo-pCode-01378");
 }
 
 }  // namespace
