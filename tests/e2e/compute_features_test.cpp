@@ -7,6 +7,7 @@
 
 #include "compute_nonuniform_buffers.comp.spv.h"
 #include "compute_scalar_layout.comp.spv.h"
+#include "compute_std430_uniform.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -196,8 +197,44 @@ TEST_F(ComputeFeaturesTest, ScalarBlockLayoutReadAndWritten) {
   destroyComputePipeline(device, p);
 }
 
-// Without scalarBlockLayout the scalar offsets break the standard layout rules: vkrt validates the module with
-// the rules the device's features allow.
+// A std430 uniform block with only uniformBufferStandardLayout enabled (not scalarBlockLayout).
+class ComputeStandardLayoutTest : public ComputeFeaturesTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features12.uniformBufferStandardLayout = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(ComputeStandardLayoutTest, Std430UniformBlock) {
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_std430_uniform_comp, sizeof kSpv_compute_std430_uniform_comp,
+                                                    {{kUniform}, {kStorage}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  std::vector<uint32_t> block(10);
+  for (uint32_t i = 0; i < 8; ++i) {
+    float f = float(i) * 0.5f - 1.0f;
+    std::memcpy(&block[i], &f, 4);
+  }
+  block[8] = 3;
+  block[9] = 100;
+  HostBuffer ubo = bufferWith(block, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  HostBuffer out = bufferWith(std::vector<float>(8, -1.0f), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffers(p, 0, kUniform, {&ubo});
+  writeBuffers(p, 1, kStorage, {&out});
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, 1, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  const auto* o = static_cast<const float*>(out.data);
+  for (uint32_t i = 0; i < 8; ++i) EXPECT_EQ(o[i], (float(i) * 0.5f - 1.0f) * 3.0f + 100.0f) << i;  // exact either way
+  destroy(ubo);
+  destroy(out);
+  destroyComputePipeline(device, p);
+}
+
+// Without scalarBlockLayout (or uniformBufferStandardLayout) the offsets break the standard layout rules: vkrt
+// validates modules with the rules the device's features allow.
 class ComputeFeaturesMisuseTest : public VulkanTest {
  protected:
   FixtureOptions options() override {
@@ -217,6 +254,10 @@ TEST_F(ComputeFeaturesMisuseTest, ScalarLayoutWithoutTheFeatureIsRejected) {
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
   EXPECT_NE(msgs[0].text.find("stride 12 not satisfying alignment to 16"), std::string::npos) << msgs[0].text;
+  expectVkrtMessage("VUID-VkShaderModuleCreateInfo-pCode-01378");
+  sm.codeSize = sizeof kSpv_compute_std430_uniform_comp;
+  sm.pCode = kSpv_compute_std430_uniform_comp;
+  EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &module), VK_ERROR_INVALID_SHADER_NV) << "std430 uniform block";
   expectVkrtMessage("VUID-VkShaderModuleCreateInfo-pCode-01378");
 }
 
