@@ -12,8 +12,10 @@
 #include "compute_h9_storage.comp.spv.h"
 #include "compute_h9_small_types.comp.spv.h"
 #include "compute_nonuniform_images.comp.spv.h"
+#include "dxc_compute.spvasm.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
+#include "spirv/dxc_reference.hpp"
 #include "spirv/small_types_reference.hpp"
 
 namespace vkrt::test {
@@ -501,6 +503,59 @@ TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
   }
   destroy(nodes);
   destroy(words);
+  destroy(p);
+}
+
+// ---- a module in the shape DXC emits (tests/shaders/dxc_compute.spvasm), with a real image to query
+
+TEST_F(ComputeImageTest, DxcShapedHlslComputeModule) {
+  using namespace vkrt::testing;
+  Pipeline p = makePipeline(kSpv_dxc_compute_spvasm, sizeof kSpv_dxc_compute_spvasm,
+                            {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStorageBuffer, kStorageBuffer, kStorageImage, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  DxcParams params = dxcParams();
+  std::vector<uint32_t> raw = dxcRaw();
+  HostBuffer cbuf = createHostBuffer(sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  std::memcpy(cbuf.data, &params, sizeof params);
+  HostBuffer out = createHostBuffer(kDxcVectors * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::vector<float> outInit(kDxcVectors * 4, -7.0f);
+  std::memcpy(out.data, outInit.data(), out.size);
+  HostBuffer rawBuf = createHostBuffer(raw.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(rawBuf.data, raw.data(), rawBuf.size);
+  HostBuffer dst = createHostBuffer(kDxcVectors * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::vector<uint32_t> dstInit(kDxcVectors * 2, 0xdeadbeefu);
+  std::memcpy(dst.data, dstInit.data(), dst.size);
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {7, 3, 1}, 1, 1, 16,
+                    VK_IMAGE_USAGE_STORAGE_BIT);
+  VkDescriptorBufferInfo cbi{cbuf.buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = p.set;
+  w.dstBinding = 0;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  w.pBufferInfo = &cbi;
+  vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  writeBuffer(p, 1, out);
+  writeBuffer(p, 2, rawBuf);
+  writeImage(p, 3, kStorageImage, img.view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeBuffer(p, 4, dst);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, img, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, kDxcInvocations / 8, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  std::vector<float> wantOut;
+  std::vector<uint32_t> wantDst;
+  const uint32_t dims[2] = {7, 3};
+  dxcExpected(params, raw, dims, -7.0f, 0xdeadbeefu, &wantOut, &wantDst);
+  expectDxc(static_cast<const float*>(out.data), static_cast<const uint32_t*>(dst.data), wantOut, wantDst);
+  destroy(img);
+  destroy(cbuf);
+  destroy(out);
+  destroy(rawBuf);
+  destroy(dst);
   destroy(p);
 }
 
