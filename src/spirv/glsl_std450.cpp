@@ -141,18 +141,21 @@ struct Std {
       auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(ft);
       if (!vt) return one(x, ei);
       llvm::Value* r = llvm::UndefValue::get(ft);
-      for (unsigned i = 0; i < vt->getNumElements(); ++i)
-        r = b.CreateInsertElement(r, one(b.CreateExtractElement(x, uint64_t(i)), b.CreateExtractElement(ei, uint64_t(i))), uint64_t(i));
+      for (unsigned i = 0; i < vt->getNumElements(); ++i) {
+        llvm::Value* c = one(b.CreateExtractElement(x, uint64_t(i)), b.CreateExtractElement(ei, uint64_t(i)));
+        r = b.CreateInsertElement(r, c, uint64_t(i));
+      }
       return r;
     }
-    // float: |exponents| <= 149 + 127, times 2^[-400, 400], stays normal in double; half in float likewise.
+    // A float lies in [2^-149, 2^128): times 2^[-400, 400] it is a normal double, exact. A half (2^-24 to
+    // 2^16) times 2^[-60, 60] is an exact float.
     unsigned ww = w == 32 ? 64 : 32;
     int64_t lim = w == 32 ? 400 : 60;
     unsigned wmant = ww == 64 ? 52 : 23;
     uint64_t wbias = ww == 64 ? 1023 : 127;
     llvm::Type* wt = shaped(ft, ww == 64 ? b.getDoubleTy() : b.getFloatTy());
     llvm::Type* wit = shaped(ft, b.getIntNTy(ww));
-    llvm::Value* biased = b.CreateAdd(b.CreateSExt(clampE(lim), wit), iconst(wit, wbias));
+    llvm::Value* biased = b.CreateAdd(b.CreateSExtOrTrunc(clampE(lim), wit), iconst(wit, wbias));
     llvm::Value* pow2 = b.CreateBitCast(b.CreateShl(biased, iconst(wit, wmant)), wt);
     return b.CreateFPTrunc(b.CreateFMul(b.CreateFPExt(x, wt), pow2), ft);
   }
@@ -333,7 +336,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       if (n < 2 || n > 4) return (ok = fail(in, "determinant/inverse of a matrix that is not 2x2, 3x3 or 4x4")), true;
       std::vector<std::vector<Value*>> elems(n, std::vector<Value*>(n));
       for (unsigned col = 0; col < n; ++col)
-        for (unsigned row = 0; row < n; ++row) elems[col][row] = b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row));
+        for (unsigned row = 0; row < n; ++row)
+          elems[col][row] = b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row));
       auto e = [&](unsigned col, unsigned row) { return elems[col][row]; };
       std::vector<unsigned> all(n);
       for (unsigned i = 0; i < n; ++i) all[i] = i;
@@ -385,7 +389,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450UnpackUnorm2x16: r = s.unpackNorm(arg(0), false, 16, rt); break;
     case GLSLstd450PackHalf2x16: {
       // Each component converted to half (round to nearest even), the first in the low 16 bits.
-      Value* h = b.CreateBitCast(b.CreateFPTrunc(arg(0), FixedVectorType::get(b.getHalfTy(), 2)), FixedVectorType::get(b.getInt16Ty(), 2));
+      auto* h2 = FixedVectorType::get(b.getHalfTy(), 2);
+      Value* h = b.CreateBitCast(b.CreateFPTrunc(arg(0), h2), FixedVectorType::get(b.getInt16Ty(), 2));
       Value* lo = b.CreateZExt(b.CreateExtractElement(h, uint64_t(0)), b.getInt32Ty());
       Value* hi = b.CreateZExt(b.CreateExtractElement(h, uint64_t(1)), b.getInt32Ty());
       r = b.CreateOr(lo, b.CreateShl(hi, b.getInt32(16)));
@@ -394,7 +399,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450UnpackHalf2x16: {
       Value* lo = b.CreateTrunc(arg(0), b.getInt16Ty());
       Value* hi = b.CreateTrunc(b.CreateLShr(arg(0), b.getInt32(16)), b.getInt16Ty());
-      Value* h = b.CreateInsertElement(b.CreateInsertElement(UndefValue::get(FixedVectorType::get(b.getInt16Ty(), 2)), lo, uint64_t(0)), hi, uint64_t(1));
+      Value* h = UndefValue::get(FixedVectorType::get(b.getInt16Ty(), 2));
+      h = b.CreateInsertElement(b.CreateInsertElement(h, lo, uint64_t(0)), hi, uint64_t(1));
       r = b.CreateFPExt(b.CreateBitCast(h, FixedVectorType::get(b.getHalfTy(), 2)), rt);
       break;
     }
