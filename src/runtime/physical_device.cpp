@@ -56,10 +56,15 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features10.shaderInt64 = VK_TRUE;
   features10.shaderFloat64 = VK_TRUE;
   // 8/16-bit integers, 16-bit floats and their storage-buffer access: src/spirv (tests/spirv
-  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest).
+  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest); in uniform and push-constant blocks too
+  // (tests/e2e ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).
   features10.shaderInt16 = VK_TRUE;
   features11.storageBuffer16BitAccess = VK_TRUE;
+  features11.uniformAndStorageBuffer16BitAccess = VK_TRUE;
+  features11.storagePushConstant16 = VK_TRUE;
   features12.storageBuffer8BitAccess = VK_TRUE;
+  features12.uniformAndStorageBuffer8BitAccess = VK_TRUE;
+  features12.storagePushConstant8 = VK_TRUE;
   features12.shaderInt8 = VK_TRUE;
   features12.shaderFloat16 = VK_TRUE;
 
@@ -68,6 +73,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features12.bufferDeviceAddressCaptureReplay = VK_TRUE;
   features12.hostQueryReset = VK_TRUE;
   features12.uniformBufferStandardLayout = VK_TRUE;
+  // Scalar block layout: the compiler follows the Offset/ArrayStride decorations, shader modules are validated
+  // with the scalar rules when the feature is enabled (tests/spirv SpirvBlockLayout, tests/e2e ComputeFeaturesTest).
+  features12.scalarBlockLayout = VK_TRUE;
   features12.separateDepthStencilLayouts = VK_TRUE;
   features12.imagelessFramebuffer = VK_TRUE;
   // Descriptor binding flags (runtime/descriptor_set_layout.cpp): descriptors are records read when a command
@@ -81,6 +89,18 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   features12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
   features12.descriptorBindingPartiallyBound = VK_TRUE;
   features12.descriptorBindingVariableDescriptorCount = VK_TRUE;
+  // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
+  // SpirvDescriptorIndexing, tests/e2e ComputeFeaturesTest and ComputeImageIndexingTest). Texel buffers are not
+  // compiled yet, so neither their indexing features nor the descriptorIndexing aggregate are advertised.
+  features10.shaderUniformBufferArrayDynamicIndexing = VK_TRUE;
+  features10.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
+  features10.shaderStorageBufferArrayDynamicIndexing = VK_TRUE;
+  features10.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
+  features12.shaderUniformBufferArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
+  features12.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
+  features12.runtimeDescriptorArray = VK_TRUE;
 
   features13.synchronization2 = VK_TRUE;
   features13.pipelineCreationCacheControl = VK_TRUE;
@@ -258,6 +278,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_COPY_COMMANDS_2_EXTENSION_NAME, VK_KHR_COPY_COMMANDS_2_SPEC_VERSION},
       {VK_EXT_HOST_QUERY_RESET_EXTENSION_NAME, VK_EXT_HOST_QUERY_RESET_SPEC_VERSION},
       {VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_EXTENSION_NAME, VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_SPEC_VERSION},
+      {VK_EXT_SCALAR_BLOCK_LAYOUT_EXTENSION_NAME, VK_EXT_SCALAR_BLOCK_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
   };
   // Ray tracing pipelines (src/rt/features.cpp): only with VKRT_PREVIEW_RAY_TRACING=1.
@@ -317,6 +338,19 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
         f->shaderInt8 = features12.shaderInt8;
         break;
       }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES: {
+        // The promoted structure's members are those of VkPhysicalDeviceVulkan12Features, in the same order.
+        constexpr size_t first = offsetof(VkPhysicalDeviceVulkan12Features, shaderInputAttachmentArrayDynamicIndexing);
+        constexpr size_t end = offsetof(VkPhysicalDeviceVulkan12Features, runtimeDescriptorArray) + sizeof(VkBool32);
+        static_assert(end - first == offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray) + sizeof(VkBool32) -
+                                         offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, shaderInputAttachmentArrayDynamicIndexing));
+        std::memcpy(&reinterpret_cast<VkPhysicalDeviceDescriptorIndexingFeatures*>(s)->shaderInputAttachmentArrayDynamicIndexing,
+                    reinterpret_cast<const char*>(&features12) + first, end - first);
+        break;
+      }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
+        reinterpret_cast<VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout = features12.scalarBlockLayout;
+        break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
         reinterpret_cast<VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout =
             features12.uniformBufferStandardLayout;
@@ -453,6 +487,10 @@ const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& in
                               VkPhysicalDevice8BitStorageFeatures, storagePushConstant8)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES,
                               VkPhysicalDeviceShaderFloat16Int8Features, shaderInt8)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES,
+                              VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray)
+          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
+                              VkPhysicalDeviceScalarBlockLayoutFeatures, scalarBlockLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
                               VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
           VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,

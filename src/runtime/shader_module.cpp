@@ -27,7 +27,7 @@ ShaderModule::ShaderModule(Device* dev, std::vector<uint32_t> code)
       words(std::move(code)),
       contentHash(hashBytes(words.data(), words.size() * sizeof(uint32_t))) {}
 
-bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message) {
+bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message, const Device* device) {
   spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_3);
   std::string first;
   tools.SetMessageConsumer([&](spv_message_level_t level, const char*, const spv_position_t& pos, const char* msg) {
@@ -37,6 +37,10 @@ bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message
     first = std::string(where) + (msg ? msg : "");
   });
   spvtools::ValidatorOptions options;
+  // The layouts the device's features allow (the compiler follows the explicit Offset/ArrayStride decorations
+  // whatever the rules they were chosen by).
+  if (device && device->enabled12.scalarBlockLayout) options.SetScalarBlockLayout(true);
+  if (device && device->enabled12.uniformBufferStandardLayout) options.SetUniformBufferStandardLayout(true);
   bool ok = tools.Validate(words, wordCount, options);
   if (!ok && message) *message = first.empty() ? "SPIRV-Tools rejected the module" : first;
   return ok;
@@ -64,7 +68,8 @@ bool checkShaderModuleCreateInfo(const Object* about, const VkShaderModuleCreate
   }
   std::string message;
   // VUID-VkShaderModuleCreateInfo-pCode-01378
-  if (!validateSpirv(info.pCode, info.codeSize / 4, &message)) {
+  const Device* device = about && about->objectType == VK_OBJECT_TYPE_DEVICE ? static_cast<const Device*>(about) : about ? about->device : nullptr;
+  if (!validateSpirv(info.pCode, info.codeSize / 4, &message, device)) {
     report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-pCode-01378",
            "%s: invalid SPIR-V for Vulkan 1.3: %s", what, message.c_str());
     return false;

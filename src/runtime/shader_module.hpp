@@ -22,8 +22,9 @@ class ShaderModule : public Object {
 };
 
 // Validates SPIR-V for the Vulkan 1.3 environment. Returns true when valid; otherwise fills `message` with
-// the validator's diagnostic (instruction and word offset included).
-bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message);
+// the validator's diagnostic (instruction and word offset included). Block layouts follow the standard rules,
+// relaxed where `device` enabled scalarBlockLayout or uniformBufferStandardLayout.
+bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message, const Device* device = nullptr);
 
 uint64_t hashBytes(const void* data, size_t size, uint64_t seed = 0xcbf29ce484222325ull);
 

@@ -1,8 +1,11 @@
 // SPIR-V -> LLVM IR: the GLSL.std.450 extended instruction set. Functions LLVM has intrinsics for use them;
-// the others call the C library's math functions component by component.
+// the others call the C library's math functions component by component, or work on the bits (frexp, ldexp,
+// the pack/unpack family).
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/Intrinsics.h>
 #include <spirv/unified1/GLSL.std.450.h>
+
+#include <cmath>
 
 #include "spirv/codegen.hpp"
 
@@ -52,6 +55,126 @@ struct Std {
   llvm::Value* length(llvm::Value* x) { return intr(llvm::Intrinsic::sqrt, dot(x, x)); }
   llvm::Value* clampF(llvm::Value* x, llvm::Value* lo, llvm::Value* hi) {
     return intr2(llvm::Intrinsic::minnum, intr2(llvm::Intrinsic::maxnum, x, lo), hi);
+  }
+  // `t` with its scalar type replaced by `s` (same number of components).
+  llvm::Type* shaped(llvm::Type* t, llvm::Type* s) {
+    if (auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(t)) return llvm::FixedVectorType::get(s, vt->getNumElements());
+    return s;
+  }
+  llvm::Value* iconst(llvm::Type* like, uint64_t v) { return llvm::ConstantInt::get(like, v); }
+
+  // frexp on the bits: {significand in [0.5, 1), exponent of type `expTy`}. Zeros, infinities and NaNs give
+  // {x, 0}; denormals are first scaled into the normal range by 2^(mantissa + 1), exact in every format.
+  std::pair<llvm::Value*, llvm::Value*> frexp(llvm::Value* x, llvm::Type* expTy) {
+    llvm::Type* ft = x->getType();
+    unsigned w = ft->getScalarSizeInBits();
+    unsigned mant = w == 16 ? 10 : w == 32 ? 23 : 52;
+    uint64_t emax = (1ull << (w - mant - 1)) - 1, bias = emax / 2;
+    llvm::Type* it = shaped(ft, b.getIntNTy(w));
+    auto field = [&](llvm::Value* bits) { return b.CreateAnd(b.CreateLShr(bits, iconst(it, mant)), iconst(it, emax)); };
+    llvm::Value* bits = b.CreateBitCast(x, it);
+    llvm::Value* e = field(bits);
+    llvm::Value* magnitude = b.CreateAnd(bits, iconst(it, ~0ull >> (65 - w)));
+    llvm::Value* zeroField = b.CreateICmpEQ(e, iconst(it, 0));
+    llvm::Value* special = b.CreateOr(b.CreateICmpEQ(e, iconst(it, emax)), b.CreateICmpEQ(magnitude, iconst(it, 0)));
+    llvm::Value* scaled = b.CreateBitCast(b.CreateFMul(x, fconst(ft, std::ldexp(1.0, int(mant) + 1))), it);
+    llvm::Value* nb = b.CreateSelect(zeroField, scaled, bits);
+    llvm::Value* exp = b.CreateSub(field(nb), b.CreateSelect(zeroField, iconst(it, bias - 1 + mant + 1), iconst(it, bias - 1)));
+    llvm::Value* sig = b.CreateOr(b.CreateAnd(nb, iconst(it, ~(emax << mant))), iconst(it, (bias - 1) << mant));
+    sig = b.CreateSelect(special, x, b.CreateBitCast(sig, ft));
+    exp = b.CreateSelect(special, llvm::Constant::getNullValue(it), exp);
+    return {sig, b.CreateSExtOrTrunc(exp, expTy)};
+  }
+
+  // packSnorm/packUnorm: each component clamped to [-1, 1] (snorm) or [0, 1] (unorm), scaled by 2^(bits-1) - 1
+  // or 2^bits - 1, rounded to nearest (ties to even), packed from the least significant bits up. A NaN packs
+  // as 0 (vkrt's choice: the result is undefined).
+  llvm::Value* packNorm(llvm::Value* v, bool isSigned, unsigned bits) {
+    llvm::Type* ft = v->getType();
+    unsigned n = unsigned(llvm::cast<llvm::FixedVectorType>(ft)->getNumElements());
+    double scale = isSigned ? double((1u << (bits - 1)) - 1) : double((1u << bits) - 1);
+    v = b.CreateSelect(b.CreateFCmpUNO(v, v), llvm::Constant::getNullValue(ft), v);
+    v = clampF(v, fconst(ft, isSigned ? -1.0 : 0.0), fconst(ft, 1.0));
+    v = intr(llvm::Intrinsic::roundeven, b.CreateFMul(v, fconst(ft, scale)));
+    llvm::Type* it = shaped(ft, b.getInt32Ty());
+    llvm::Value* ints = isSigned ? b.CreateFPToSI(v, it) : b.CreateFPToUI(v, it);
+    llvm::Value* r = b.getInt32(0);
+    for (unsigned i = 0; i < n; ++i) {
+      llvm::Value* c = b.CreateAnd(b.CreateExtractElement(ints, uint64_t(i)), b.getInt32((1u << bits) - 1));
+      r = b.CreateOr(r, b.CreateShl(c, b.getInt32(i * bits)));
+    }
+    return r;
+  }
+  // unpackSnorm/unpackUnorm: the `bits`-bit fields of `p`, least significant first, as c / (2^(bits-1) - 1)
+  // clamped to [-1, 1] (snorm) or c / (2^bits - 1) (unorm).
+  llvm::Value* unpackNorm(llvm::Value* p, bool isSigned, unsigned bits, llvm::Type* rt) {
+    unsigned n = 32 / bits;
+    llvm::Type* ft = rt->getScalarType();
+    double scale = isSigned ? double((1u << (bits - 1)) - 1) : double((1u << bits) - 1);
+    llvm::Value* r = llvm::UndefValue::get(rt);
+    for (unsigned i = 0; i < n; ++i) {
+      llvm::Value* c = b.CreateTrunc(b.CreateLShr(p, b.getInt32(i * bits)), b.getIntNTy(bits));
+      llvm::Value* f = isSigned ? b.CreateSIToFP(c, ft) : b.CreateUIToFP(c, ft);
+      f = b.CreateFDiv(f, fconst(ft, scale));
+      if (isSigned) f = intr2(llvm::Intrinsic::maxnum, f, fconst(ft, -1.0));  // -128 / 127 -> -1
+      r = b.CreateInsertElement(r, f, uint64_t(i));
+    }
+    return r;
+  }
+
+  // ldexp(x, e) = x * 2^e, rounded once. Float and half are computed exactly in a wider type (e clamped to a
+  // range past which every result is 0 or infinite) and rounded by the final conversion; doubles call libm.
+  llvm::Value* ldexp(llvm::Value* x, llvm::Value* e) {
+    llvm::Type* ft = x->getType();
+    unsigned w = ft->getScalarSizeInBits();
+    llvm::Type* et = e->getType();
+    auto clampE = [&](int64_t lim) {
+      llvm::Type* wide = shaped(et, b.getInt64Ty());
+      llvm::Value* c = b.CreateSExtOrTrunc(e, wide);
+      c = intr2(llvm::Intrinsic::smin, intr2(llvm::Intrinsic::smax, c, iconst(wide, uint64_t(-lim))), iconst(wide, uint64_t(lim)));
+      return b.CreateTrunc(c, shaped(et, b.getInt32Ty()));
+    };
+    if (w == 64) {
+      llvm::FunctionCallee f = g.out.getOrInsertFunction("ldexp", b.getDoubleTy(), b.getDoubleTy(), b.getInt32Ty());
+      llvm::Value* ei = clampE(4000);
+      auto one = [&](llvm::Value* xs, llvm::Value* es) { return b.CreateCall(f, {xs, es}); };
+      auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(ft);
+      if (!vt) return one(x, ei);
+      llvm::Value* r = llvm::UndefValue::get(ft);
+      for (unsigned i = 0; i < vt->getNumElements(); ++i) {
+        llvm::Value* c = one(b.CreateExtractElement(x, uint64_t(i)), b.CreateExtractElement(ei, uint64_t(i)));
+        r = b.CreateInsertElement(r, c, uint64_t(i));
+      }
+      return r;
+    }
+    // A float lies in [2^-149, 2^128): times 2^[-400, 400] it is a normal double, exact. A half (2^-24 to
+    // 2^16) times 2^[-60, 60] is an exact float.
+    unsigned ww = w == 32 ? 64 : 32;
+    int64_t lim = w == 32 ? 400 : 60;
+    unsigned wmant = ww == 64 ? 52 : 23;
+    uint64_t wbias = ww == 64 ? 1023 : 127;
+    llvm::Type* wt = shaped(ft, ww == 64 ? b.getDoubleTy() : b.getFloatTy());
+    llvm::Type* wit = shaped(ft, b.getIntNTy(ww));
+    llvm::Value* biased = b.CreateAdd(b.CreateSExtOrTrunc(clampE(lim), wit), iconst(wit, wbias));
+    llvm::Value* pow2 = b.CreateBitCast(b.CreateShl(biased, iconst(wit, wmant)), wt);
+    return b.CreateFPTrunc(b.CreateFMul(b.CreateFPExt(x, wt), pow2), ft);
+  }
+
+  // The determinant of the square sub-matrix of `e(column, row)` on the given columns and rows (Laplace
+  // expansion along its first row; matrices are at most 4x4).
+  template <class E>
+  llvm::Value* minorDet(E& e, const std::vector<unsigned>& cols, const std::vector<unsigned>& rows) {
+    if (cols.size() == 1) return e(cols[0], rows[0]);
+    std::vector<unsigned> subRows(rows.begin() + 1, rows.end());
+    llvm::Value* sum = nullptr;
+    for (size_t j = 0; j < cols.size(); ++j) {
+      std::vector<unsigned> subCols;
+      for (size_t k = 0; k < cols.size(); ++k)
+        if (k != j) subCols.push_back(cols[k]);
+      llvm::Value* term = b.CreateFMul(e(cols[j], rows[0]), minorDet(e, subCols, subRows));
+      sum = !sum ? term : j % 2 ? b.CreateFSub(sum, term) : b.CreateFAdd(sum, term);
+    }
+    return sum;
   }
 };
 
@@ -136,14 +259,7 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       break;
     }
     case GLSLstd450Fma: r = b.CreateIntrinsic(Intrinsic::fma, {rt}, {arg(0), arg(1), arg(2)}); break;
-    case GLSLstd450Ldexp: {
-      // ldexp(x, e) = x * 2^e, exact for results in range.
-      Value* e = arg(1);
-      llvm::Type* et = b.getInt32Ty();
-      if (auto* vt = dyn_cast<FixedVectorType>(e->getType())) et = FixedVectorType::get(b.getInt32Ty(), vt->getNumElements());
-      r = b.CreateFMul(arg(0), s.intr(Intrinsic::exp2, b.CreateSIToFP(b.CreateSExtOrTrunc(e, et), rt)));
-      break;
-    }
+    case GLSLstd450Ldexp: r = s.ldexp(arg(0), arg(1)); break;
     case GLSLstd450Length: r = s.length(arg(0)); break;
     case GLSLstd450Distance: r = s.length(b.CreateFSub(arg(0), arg(1))); break;
     case GLSLstd450Normalize: {
@@ -217,41 +333,89 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       Value* mtx = arg(0);
       auto* at = cast<ArrayType>(mtx->getType());
       unsigned n = unsigned(at->getNumElements());
-      auto e = [&](unsigned col, unsigned row) { return b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row)); };
-      if (n != 2 && n != 3) return (ok = unsupported(in, "determinant/inverse of this size")), true;
-      if (n == 2) {
-        Value* det = b.CreateFSub(b.CreateFMul(e(0, 0), e(1, 1)), b.CreateFMul(e(1, 0), e(0, 1)));
-        if (inst == GLSLstd450Determinant) {
-          r = det;
-          break;
-        }
-        Value* inv = b.CreateFDiv(s.fconst(det->getType(), 1), det);
-        Value* c0 = UndefValue::get(at->getElementType());
-        Value* c1 = c0;
-        c0 = b.CreateInsertElement(c0, b.CreateFMul(e(1, 1), inv), uint64_t(0));
-        c0 = b.CreateInsertElement(c0, b.CreateFNeg(b.CreateFMul(e(0, 1), inv)), uint64_t(1));
-        c1 = b.CreateInsertElement(c1, b.CreateFNeg(b.CreateFMul(e(1, 0), inv)), uint64_t(0));
-        c1 = b.CreateInsertElement(c1, b.CreateFMul(e(0, 0), inv), uint64_t(1));
-        r = b.CreateInsertValue(b.CreateInsertValue(UndefValue::get(at), c0, {0}), c1, {1});
-        break;
-      }
-      // 3x3: cofactors.
-      auto cof = [&](unsigned c, unsigned rr) {
-        unsigned c1 = (c + 1) % 3, c2 = (c + 2) % 3, r1 = (rr + 1) % 3, r2 = (rr + 2) % 3;
-        return b.CreateFSub(b.CreateFMul(e(c1, r1), e(c2, r2)), b.CreateFMul(e(c2, r1), e(c1, r2)));
-      };
-      Value* det = b.CreateFAdd(b.CreateFAdd(b.CreateFMul(e(0, 0), cof(0, 0)), b.CreateFMul(e(1, 0), cof(1, 0))), b.CreateFMul(e(2, 0), cof(2, 0)));
+      if (n < 2 || n > 4) return (ok = fail(in, "determinant/inverse of a matrix that is not 2x2, 3x3 or 4x4")), true;
+      std::vector<std::vector<Value*>> elems(n, std::vector<Value*>(n));
+      for (unsigned col = 0; col < n; ++col)
+        for (unsigned row = 0; row < n; ++row)
+          elems[col][row] = b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row));
+      auto e = [&](unsigned col, unsigned row) { return elems[col][row]; };
+      std::vector<unsigned> all(n);
+      for (unsigned i = 0; i < n; ++i) all[i] = i;
+      Value* det = s.minorDet(e, all, all);
       if (inst == GLSLstd450Determinant) {
         r = det;
         break;
       }
+      // inverse = adjugate / det: element (column c, row r) is the cofactor of (column r, row c).
       Value* inv = b.CreateFDiv(s.fconst(det->getType(), 1), det);
       r = UndefValue::get(at);
-      for (unsigned c = 0; c < 3; ++c) {
-        Value* col = UndefValue::get(at->getElementType());
-        for (unsigned rr = 0; rr < 3; ++rr) col = b.CreateInsertElement(col, b.CreateFMul(cof(rr, c), inv), uint64_t(rr));
-        r = b.CreateInsertValue(r, col, {c});
+      for (unsigned col = 0; col < n; ++col) {
+        Value* column = UndefValue::get(at->getElementType());
+        for (unsigned row = 0; row < n; ++row) {
+          std::vector<unsigned> cols, rows;
+          for (unsigned i = 0; i < n; ++i) {
+            if (i != row) cols.push_back(i);
+            if (i != col) rows.push_back(i);
+          }
+          Value* cof = s.minorDet(e, cols, rows);
+          if ((row + col) % 2) cof = b.CreateFNeg(cof);
+          column = b.CreateInsertElement(column, b.CreateFMul(cof, inv), uint64_t(row));
+        }
+        r = b.CreateInsertValue(r, column, {col});
       }
+      break;
+    }
+    case GLSLstd450Frexp:
+    case GLSLstd450FrexpStruct: {
+      if (inst == GLSLstd450Frexp) {
+        Ptr& p = ptr(in.word(6));
+        if (!p.base || p.slot >= 0) return (ok = fail(in, "frexp's pointer operand is not tracked")), true;
+        auto [sig, exp] = s.frexp(arg(0), type(p.type));
+        store(p, exp);
+        r = sig;
+      } else {
+        auto [sig, exp] = s.frexp(arg(0), cast<StructType>(rt)->getElementType(1));
+        r = b.CreateInsertValue(b.CreateInsertValue(UndefValue::get(rt), sig, {0}), exp, {1});
+      }
+      break;
+    }
+    case GLSLstd450PackSnorm4x8: r = s.packNorm(arg(0), true, 8); break;
+    case GLSLstd450PackUnorm4x8: r = s.packNorm(arg(0), false, 8); break;
+    case GLSLstd450PackSnorm2x16: r = s.packNorm(arg(0), true, 16); break;
+    case GLSLstd450PackUnorm2x16: r = s.packNorm(arg(0), false, 16); break;
+    case GLSLstd450UnpackSnorm4x8: r = s.unpackNorm(arg(0), true, 8, rt); break;
+    case GLSLstd450UnpackUnorm4x8: r = s.unpackNorm(arg(0), false, 8, rt); break;
+    case GLSLstd450UnpackSnorm2x16: r = s.unpackNorm(arg(0), true, 16, rt); break;
+    case GLSLstd450UnpackUnorm2x16: r = s.unpackNorm(arg(0), false, 16, rt); break;
+    case GLSLstd450PackHalf2x16: {
+      // Each component converted to half (round to nearest even), the first in the low 16 bits.
+      auto* h2 = FixedVectorType::get(b.getHalfTy(), 2);
+      Value* h = b.CreateBitCast(b.CreateFPTrunc(arg(0), h2), FixedVectorType::get(b.getInt16Ty(), 2));
+      Value* lo = b.CreateZExt(b.CreateExtractElement(h, uint64_t(0)), b.getInt32Ty());
+      Value* hi = b.CreateZExt(b.CreateExtractElement(h, uint64_t(1)), b.getInt32Ty());
+      r = b.CreateOr(lo, b.CreateShl(hi, b.getInt32(16)));
+      break;
+    }
+    case GLSLstd450UnpackHalf2x16: {
+      Value* lo = b.CreateTrunc(arg(0), b.getInt16Ty());
+      Value* hi = b.CreateTrunc(b.CreateLShr(arg(0), b.getInt32(16)), b.getInt16Ty());
+      Value* h = UndefValue::get(FixedVectorType::get(b.getInt16Ty(), 2));
+      h = b.CreateInsertElement(b.CreateInsertElement(h, lo, uint64_t(0)), hi, uint64_t(1));
+      r = b.CreateFPExt(b.CreateBitCast(h, FixedVectorType::get(b.getHalfTy(), 2)), rt);
+      break;
+    }
+    case GLSLstd450PackDouble2x32: {
+      // The first component is the low word.
+      Value* lo = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(0)), b.getInt64Ty());
+      Value* hi = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(1)), b.getInt64Ty());
+      r = b.CreateBitCast(b.CreateOr(lo, b.CreateShl(hi, b.getInt64(32))), rt);
+      break;
+    }
+    case GLSLstd450UnpackDouble2x32: {
+      Value* bits = b.CreateBitCast(arg(0), b.getInt64Ty());
+      Value* lo = b.CreateTrunc(bits, b.getInt32Ty());
+      Value* hi = b.CreateTrunc(b.CreateLShr(bits, b.getInt64(32)), b.getInt32Ty());
+      r = b.CreateInsertElement(b.CreateInsertElement(UndefValue::get(rt), lo, uint64_t(0)), hi, uint64_t(1));
       break;
     }
     default:

@@ -25,6 +25,18 @@ bool extraSupportedCapability(uint32_t cap) {
     // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.
     case spv::CapabilityImageQuery: case spv::CapabilityPhysicalStorageBufferAddresses:
     case spv::CapabilityStorageBuffer8BitAccess: case spv::CapabilityStorageBuffer16BitAccess:
+    // 8/16-bit members of uniform and push-constant blocks: memory.cpp loads every scalar at its own width
+    // and offset whatever the storage class (tests/spirv/small_uniform_test.cpp).
+    case spv::CapabilityUniformAndStorageBuffer8BitAccess: case spv::CapabilityUniformAndStorageBuffer16BitAccess:
+    case spv::CapabilityStoragePushConstant8: case spv::CapabilityStoragePushConstant16:
+    // Descriptor arrays of buffers and images indexed by any value, per invocation (every access resolves its
+    // own descriptor record); tests/spirv/descriptor_indexing_test.cpp. Texel buffers and input attachments
+    // are not compiled at all, so their indexing capabilities stay refused.
+    case spv::CapabilityShaderNonUniform: case spv::CapabilityRuntimeDescriptorArray:
+    case spv::CapabilityUniformBufferArrayDynamicIndexing: case spv::CapabilitySampledImageArrayDynamicIndexing:
+    case spv::CapabilityStorageBufferArrayDynamicIndexing: case spv::CapabilityStorageImageArrayDynamicIndexing:
+    case spv::CapabilityUniformBufferArrayNonUniformIndexing: case spv::CapabilitySampledImageArrayNonUniformIndexing:
+    case spv::CapabilityStorageBufferArrayNonUniformIndexing: case spv::CapabilityStorageImageArrayNonUniformIndexing:
       return true;
     default:
       return false;

@@ -11,8 +11,11 @@
 #include "compute_h9_sample.comp.spv.h"
 #include "compute_h9_storage.comp.spv.h"
 #include "compute_h9_small_types.comp.spv.h"
+#include "compute_nonuniform_images.comp.spv.h"
+#include "dxc_compute.spvasm.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
+#include "spirv/dxc_reference.hpp"
 #include "spirv/small_types_reference.hpp"
 
 namespace vkrt::test {
@@ -129,11 +132,12 @@ class ComputeImageTest : public VulkanTest {
   }
   void destroy(Pipeline& p) { destroyComputePipeline(device, p); }
   void writeImage(Pipeline& p, uint32_t binding, VkDescriptorType type, VkImageView view, VkSampler sampler,
-                  VkImageLayout layout) {
+                  VkImageLayout layout, uint32_t arrayElement = 0) {
     VkDescriptorImageInfo ii{sampler, view, layout};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = p.set;
     w.dstBinding = binding;
+    w.dstArrayElement = arrayElement;
     w.descriptorCount = 1;
     w.descriptorType = type;
     w.pImageInfo = &ii;
@@ -499,6 +503,154 @@ TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
   }
   destroy(nodes);
   destroy(words);
+  destroy(p);
+}
+
+// ---- a module in the shape DXC emits (tests/shaders/dxc_compute.spvasm), with a real image to query
+
+TEST_F(ComputeImageTest, DxcShapedHlslComputeModule) {
+  using namespace vkrt::testing;
+  Pipeline p = makePipeline(kSpv_dxc_compute_spvasm, sizeof kSpv_dxc_compute_spvasm,
+                            {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStorageBuffer, kStorageBuffer, kStorageImage, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  DxcParams params = dxcParams();
+  std::vector<uint32_t> raw = dxcRaw();
+  HostBuffer cbuf = createHostBuffer(sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  std::memcpy(cbuf.data, &params, sizeof params);
+  HostBuffer out = createHostBuffer(kDxcVectors * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::vector<float> outInit(kDxcVectors * 4, -7.0f);
+  std::memcpy(out.data, outInit.data(), out.size);
+  HostBuffer rawBuf = createHostBuffer(raw.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(rawBuf.data, raw.data(), rawBuf.size);
+  HostBuffer dst = createHostBuffer(kDxcVectors * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::vector<uint32_t> dstInit(kDxcVectors * 2, 0xdeadbeefu);
+  std::memcpy(dst.data, dstInit.data(), dst.size);
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {7, 3, 1}, 1, 1, 16,
+                    VK_IMAGE_USAGE_STORAGE_BIT);
+  VkDescriptorBufferInfo cbi{cbuf.buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = p.set;
+  w.dstBinding = 0;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  w.pBufferInfo = &cbi;
+  vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  writeBuffer(p, 1, out);
+  writeBuffer(p, 2, rawBuf);
+  writeImage(p, 3, kStorageImage, img.view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeBuffer(p, 4, dst);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, img, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, kDxcInvocations / 8, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  std::vector<float> wantOut;
+  std::vector<uint32_t> wantDst;
+  const uint32_t dims[2] = {7, 3};
+  dxcExpected(params, raw, dims, -7.0f, 0xdeadbeefu, &wantOut, &wantDst);
+  expectDxc(static_cast<const float*>(out.data), static_cast<const uint32_t*>(dst.data), wantOut, wantDst);
+  destroy(img);
+  destroy(cbuf);
+  destroy(out);
+  destroy(rawBuf);
+  destroy(dst);
+  destroy(p);
+}
+
+// ---- image descriptor arrays indexed per invocation
+
+class ComputeImageIndexingTest : public ComputeImageTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    enableDescriptorIndexing(o);
+    return o;
+  }
+};
+
+TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
+  constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  constexpr uint32_t kTex = 4, kImg = 3, kW = 4, kH = 2;
+  Pipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_images_comp, sizeof kSpv_compute_nonuniform_images_comp,
+                                             {{kCombined, kTex}, {kStorageImage, kImg}, {kStorageBuffer}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // Sampled texture t, texel (x, y): {100 t + x + 4 y, t, x / 2, y}; 4x2 and 8x2 alternately (textureSize differs).
+  auto texel = [](uint32_t t, uint32_t x, uint32_t y, float out[4]) {
+    out[0] = float(100 * t + x + 4 * y);
+    out[1] = float(t);
+    out[2] = float(x) * 0.5f;
+    out[3] = float(y);
+  };
+  std::vector<Tex> tex, img;
+  VkCommandBuffer cb = beginOneTime();
+  for (uint32_t t = 0; t < kTex; ++t) {
+    uint32_t w = kW * (1 + t % 2);
+    tex.push_back(makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {w, kH, 1}, 1, 1, 16,
+                          VK_IMAGE_USAGE_SAMPLED_BIT));
+    auto* f = static_cast<float*>(tex.back().staging.data);
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < w; ++x) texel(t, x, y, f + (y * w + x) * 4);
+    upload(cb, tex.back(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  }
+  // Storage image s (4x2, 5x2, 6x2): texel (x, y) = 1000 s + x + 4 y.
+  for (uint32_t s = 0; s < kImg; ++s) {
+    img.push_back(makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32_UINT, {kW + s, kH, 1}, 1, 1, 4,
+                          VK_IMAGE_USAGE_STORAGE_BIT));
+    auto* u = static_cast<uint32_t*>(img.back().staging.data);
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < kW + s; ++x) u[y * (kW + s) + x] = 1000 * s + x + 4 * y;
+    upload(cb, img.back(), VK_IMAGE_LAYOUT_GENERAL);
+  }
+  submitAndWait(cb);
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+  for (uint32_t t = 0; t < kTex; ++t) writeImage(p, 0, kCombined, tex[t].view, sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, t);
+  for (uint32_t s = 0; s < kImg; ++s) writeImage(p, 1, kStorageImage, img[s].view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL, s);
+  HostBuffer out = createHostBuffer(kW * kH * 3 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x7f, out.size);
+  writeBuffer(p, 2, out);
+  cb = beginOneTime();
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 1, 1, 1);
+  for (Tex& t : img) download(cb, t);
+  hostBarrier(cb);
+  submitAndWait(cb);
+
+  const auto* o = static_cast<const float*>(out.data);
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x) {
+      uint32_t i = y * kW + x, t = (i * 5 + 1) % 4, s = (i + y) % 3;
+      SCOPED_TRACE("invocation " + std::to_string(i) + ": texture " + std::to_string(t) + ", image " + std::to_string(s));
+      float want[4];
+      texel(t, x, y, want);
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(o[i * 12 + k], want[k]) << "texelFetch component " << k;
+      // textureLod at u = (x + 0.5) / 4: texel x of a 4-wide texture, texel floor(8u) = 2x + 1 of an 8-wide one.
+      texel(t, t % 2 ? 2 * x + 1 : x, y, want);
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(o[i * 12 + 4 + k], want[k]) << "textureLod component " << k;
+      EXPECT_EQ(o[i * 12 + 8], float(1000 * s + x + 4 * y)) << "imageLoad";
+      EXPECT_EQ(o[i * 12 + 9], float(kW + s)) << "imageSize().x";
+      EXPECT_EQ(o[i * 12 + 10], float(kH)) << "imageSize().y";
+      EXPECT_EQ(o[i * 12 + 11], float(kW * (1 + t % 2))) << "textureSize().x";
+    }
+  for (uint32_t s = 0; s < kImg; ++s) {
+    const auto* u = static_cast<const uint32_t*>(img[s].staging.data);
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < kW + s; ++x) {
+        uint32_t old = 1000 * s + x + 4 * y, i = y * kW + x;
+        bool written = x < kW && (i + y) % 3 == s;
+        EXPECT_EQ(u[y * (kW + s) + x], written ? old * 2 + i : old) << "storage image " << s << " texel " << x << "," << y;
+      }
+  }
+  vkDestroySampler(device, sampler, nullptr);
+  for (Tex& t : tex) destroy(t);
+  for (Tex& t : img) destroy(t);
+  destroy(out);
   destroy(p);
 }
 

@@ -1,5 +1,6 @@
 // Building a compute pipeline for the end-to-end tests: set 0 with one binding per descriptor type (binding i
-// of types[i]), a push-constant range, a descriptor pool with one set allocated, and the pipeline itself.
+// of types[i], or of an array of them), a push-constant range, a descriptor pool with one set allocated, and the
+// pipeline itself.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,6 +8,8 @@
 
 #include <cstdint>
 #include <vector>
+
+#include "e2e/fixture.hpp"
 
 namespace vkrt::test {
 
@@ -20,30 +23,36 @@ struct ComputePipeline {
   VkResult result = VK_SUCCESS;  // of vkCreateComputePipelines
 };
 
-// With no descriptor types the pipeline layout has no set and no pool is made.
-inline ComputePipeline makeComputePipeline(VkDevice device, const uint32_t* words, size_t bytes,
-                                           const std::vector<VkDescriptorType>& types, uint32_t pushBytes = 0,
-                                           const VkSpecializationInfo* spec = nullptr,
-                                           VkPipelineCreateFlags flags = 0) {
+// Binding i of bindings[i].type, an array of bindings[i].count descriptors.
+struct DescriptorArray {
+  VkDescriptorType type;
+  uint32_t count = 1;
+};
+
+// With no bindings the pipeline layout has no set and no pool is made.
+inline ComputePipeline makeComputePipelineWithArrays(VkDevice device, const uint32_t* words, size_t bytes,
+                                                     const std::vector<DescriptorArray>& bindings, uint32_t pushBytes = 0,
+                                                     const VkSpecializationInfo* spec = nullptr,
+                                                     VkPipelineCreateFlags flags = 0) {
   ComputePipeline p;
-  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
   std::vector<VkDescriptorPoolSize> sizes;
-  for (uint32_t i = 0; i < types.size(); ++i) {
-    bindings.push_back({i, types[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-    sizes.push_back({types[i], 1});
+  for (uint32_t i = 0; i < bindings.size(); ++i) {
+    layoutBindings.push_back({i, bindings[i].type, bindings[i].count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    sizes.push_back({bindings[i].type, bindings[i].count});
   }
   VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  dl.bindingCount = uint32_t(bindings.size());
-  dl.pBindings = bindings.data();
+  dl.bindingCount = uint32_t(layoutBindings.size());
+  dl.pBindings = layoutBindings.data();
   EXPECT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &p.setLayout), VK_SUCCESS);
   VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
   VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  pl.setLayoutCount = types.empty() ? 0 : 1;
+  pl.setLayoutCount = bindings.empty() ? 0 : 1;
   pl.pSetLayouts = &p.setLayout;
   pl.pushConstantRangeCount = pushBytes ? 1 : 0;
   pl.pPushConstantRanges = &range;
   EXPECT_EQ(vkCreatePipelineLayout(device, &pl, nullptr, &p.layout), VK_SUCCESS);
-  if (!types.empty()) {
+  if (!bindings.empty()) {
     VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dp.maxSets = 1;
     dp.poolSizeCount = uint32_t(sizes.size());
@@ -69,6 +78,26 @@ inline ComputePipeline makeComputePipeline(VkDevice device, const uint32_t* word
   ci.layout = p.layout;
   p.result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline);
   return p;
+}
+
+// One descriptor per binding.
+inline ComputePipeline makeComputePipeline(VkDevice device, const uint32_t* words, size_t bytes,
+                                           const std::vector<VkDescriptorType>& types, uint32_t pushBytes = 0,
+                                           const VkSpecializationInfo* spec = nullptr,
+                                           VkPipelineCreateFlags flags = 0) {
+  std::vector<DescriptorArray> bindings;
+  for (VkDescriptorType t : types) bindings.push_back({t, 1});
+  return makeComputePipelineWithArrays(device, words, bytes, bindings, pushBytes, spec, flags);
+}
+
+// Enables the descriptor-indexing features vkrt's compiler implements (all but texel buffers and input
+// attachments): dynamic and non-uniform indices into buffer and image arrays, runtime-sized arrays.
+inline void enableDescriptorIndexing(FixtureOptions& o) {
+  o.features.shaderUniformBufferArrayDynamicIndexing = o.features.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
+  o.features.shaderStorageBufferArrayDynamicIndexing = o.features.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
+  VkPhysicalDeviceVulkan12Features& f = o.features12;
+  f.runtimeDescriptorArray = f.shaderUniformBufferArrayNonUniformIndexing = f.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
+  f.shaderSampledImageArrayNonUniformIndexing = f.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
 }
 
 inline void destroyComputePipeline(VkDevice device, ComputePipeline& p) {

@@ -1,5 +1,7 @@
 #include "e2e/fixture.hpp"
 
+#include <cstddef>
+
 namespace vkrt::test {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL VulkanTest::onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -78,6 +80,15 @@ void VulkanTest::SetUp() {
     f12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
     f12.descriptorBindingPartiallyBound = VK_TRUE;
     f12.descriptorBindingVariableDescriptorCount = VK_TRUE;
+  }
+  {
+    constexpr size_t first = offsetof(VkPhysicalDeviceVulkan12Features, samplerMirrorClampToEdge);
+    constexpr size_t end = offsetof(VkPhysicalDeviceVulkan12Features, subgroupBroadcastDynamicId) + sizeof(VkBool32);
+    for (size_t at = first; at < end; at += sizeof(VkBool32)) {
+      VkBool32 extra;
+      std::memcpy(&extra, reinterpret_cast<const char*>(&opt.features12) + at, sizeof extra);
+      if (extra) std::memcpy(reinterpret_cast<char*>(&f12) + at, &extra, sizeof extra);
+    }
   }
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &f12};
   f13.synchronization2 = VK_TRUE;

@@ -37,6 +37,9 @@ struct FixtureOptions {
   bool shaderSmallTypes = false;
   // Enables pipelineCreationCacheControl (FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN_ON_FAILURE).
   bool pipelineCreationCacheControl = false;
+  // More Vulkan 1.2 features: each VK_TRUE member is also enabled in the fixture's own structure (a second
+  // VkPhysicalDeviceVulkan12Features may not be chained).
+  VkPhysicalDeviceVulkan12Features features12{};
 };
 
 class VulkanTest : public ::testing::Test {
