@@ -6,9 +6,9 @@
 // N bytes at base + offset happens only when offset + N <= limit; otherwise loads read zeros, stores are
 // dropped and atomics act on the invocation's sink (robust buffer access for buffers, and no memory corruption
 // from wild indices into function, private or workgroup arrays). Loads and stores branch around the access
-// (guardedLoad/guardedStore), which LLVM turns into masked vector loads and stores in a vectorized loop. Composites are loaded and stored member by member, at offsets from
-// the explicit layout decorations (Offset, ArrayStride, MatrixStride, RowMajor) where the type has them and
-// from a natural "scalar" layout otherwise.
+// (guardedLoad/guardedStore), which LLVM turns into masked vector loads and stores in a vectorized loop.
+// Composites are loaded and stored member by member, at offsets from the explicit layout decorations (Offset,
+// ArrayStride, MatrixStride, RowMajor) where the type has them and from a natural "scalar" layout otherwise.
 #pragma once
 
 #include <llvm/IR/IRBuilder.h>
