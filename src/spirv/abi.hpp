@@ -33,7 +33,7 @@ struct InvocationContext {
   uint8_t* workgroupMemory;       // 112  CompiledShader::workgroupMemorySize bytes, shared by the workgroup
   void (*barrier)(InvocationContext*);  // 120  OpControlBarrier with Workgroup scope
   void* executor;                       // 128  the executor's per-invocation state
-  uint8_t* sink;                        // 136  kSinkBytes bytes: out-of-bounds stores land here
+  uint8_t* sink;                        // 136  kSinkBytes bytes: out-of-bounds atomics land here
 };
 
 inline constexpr uint32_t kPushConstantBytes = 256;

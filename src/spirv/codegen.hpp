@@ -3,11 +3,12 @@
 // Includes LLVM headers: only src/spirv/*.cpp may include it.
 //
 // MEMORY MODEL. Every SPIR-V pointer is a Ptr: a base address, a byte offset and a byte limit. An access of
-// N bytes at base + offset happens only when offset + N <= limit; otherwise loads read zeros and stores go to
-// the invocation's sink (robust buffer access for buffers, and no memory corruption from wild indices into
-// function, private or workgroup arrays). Composites are loaded and stored member by member, at offsets from
-// the explicit layout decorations (Offset, ArrayStride, MatrixStride, RowMajor) where the type has them and
-// from a natural "scalar" layout otherwise.
+// N bytes at base + offset happens only when offset + N <= limit; otherwise loads read zeros, stores are
+// dropped and atomics act on the invocation's sink (robust buffer access for buffers, and no memory corruption
+// from wild indices into function, private or workgroup arrays). Loads and stores branch around the access
+// (guardedLoad/guardedStore), which LLVM turns into masked vector loads and stores in a vectorized loop.
+// Composites are loaded and stored member by member, at offsets from the explicit layout decorations (Offset,
+// ArrayStride, MatrixStride, RowMajor) where the type has them and from a natural "scalar" layout otherwise.
 #pragma once
 
 #include <llvm/IR/IRBuilder.h>
@@ -93,7 +94,13 @@ class Codegen {
   // ---- memory (memory.cpp)
   bool declareGlobals();                                // Private, Workgroup, Input, buffers, push constants
   bool variablePtr(uint32_t varId, Ptr* out);           // a module-scope variable in the current function
+  // The in-bounds condition of an access of `bytes` at p (nullptr: in bounds by construction).
+  llvm::Value* inBounds(const Ptr& p, uint64_t bytes);
+  // The address an atomic uses: p's, or the zeros / the sink when out of bounds.
   llvm::Value* address(const Ptr& p, uint64_t bytes, bool write);
+  // A load that reads zeros out of bounds, and a store that is dropped there (branches around the access).
+  llvm::Value* guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align, bool isInvariant = false);
+  void guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align);
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);

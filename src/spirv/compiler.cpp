@@ -370,8 +370,15 @@ bool Codegen::run(const EntryPoint& ep) {
 
 // vkrt_group(ctx): the whole workgroup in one call, for shaders without barriers (the invocations need not
 // interleave). It copies the context into a local one, then loops over the local ids (x fastest), setting the
-// built-ins and running vkrt_main's body, inlined: LLVM then keeps the built-ins in registers, hoists the
-// descriptor loads out of the loop and may vectorize it.
+// built-ins and running vkrt_main's body, inlined: LLVM then keeps the built-ins in registers and may vectorize
+// the loop.
+//
+// The local context also points to local copies of what the shader reads through it that cannot change during
+// the dispatch: the push constants, the resource table and, for buffer bindings that are not arrays, their
+// descriptor record (a null record where nothing is bound, with a count of 0, as the shader code expects).
+// Their loads then read memory LLVM knows it may read anywhere (allocas), so that it can hoist them out of
+// the loop even where the shader reads them under a condition (an `if` around the buffer accesses), and
+// forward them as values; reading the application's descriptor memory itself would have to stay inside.
 void Codegen::emitGroupEntry(llvm::Function* main) {
   // Only vkrt_group is called then: vkrt_main, internal, is compiled once (inlined) and not kept on its own.
   main->setLinkage(llvm::Function::InternalLinkage);
@@ -385,6 +392,41 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
   auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
+  auto ctxPointer = [&](size_t offset) {
+    return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctx, offset), llvm::Align(8));
+  };
+  // Push constants: kPushConstantBytes bytes.
+  auto* push = b.CreateAlloca(b.getInt8Ty(), i64(kPushConstantBytes));
+  push->setAlignment(llvm::Align(16));
+  b.CreateMemCpy(push, llvm::MaybeAlign(16), ctxPointer(offsetof(InvocationContext, pushConstants)), llvm::MaybeAlign(1),
+                 i64(kPushConstantBytes));
+  b.CreateAlignedStore(push, field(offsetof(InvocationContext, pushConstants), 0), llvm::Align(8));
+  // Resources: the slot table, and element 0 of each buffer binding that is not an array.
+  if (size_t n = info.resources.size()) {
+    llvm::Value* table = ctxPointer(offsetof(InvocationContext, resources));
+    auto* slots = b.CreateAlloca(b.getInt8Ty(), i64(n * sizeof(ResourceSlot)));
+    slots->setAlignment(llvm::Align(16));
+    auto* records = b.CreateAlloca(b.getInt8Ty(), i64(n * sizeof(DescriptorRecord)));
+    records->setAlignment(llvm::Align(alignof(DescriptorRecord)));
+    for (size_t i = 0; i < n; ++i) {
+      llvm::Value* from = b.CreateConstGEP1_64(b.getInt8Ty(), table, i * sizeof(ResourceSlot));
+      llvm::Value* to = b.CreateConstGEP1_64(b.getInt8Ty(), slots, i * sizeof(ResourceSlot));
+      llvm::Value* rec = b.CreateAlignedLoad(b.getPtrTy(), from, llvm::Align(8));
+      llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), from, 8), llvm::Align(8));
+      const ResourceBinding& r = info.resources[i];
+      if (r.kind == ResourceBinding::Buffer && r.arraySize == 1) {
+        llvm::Value* bound = b.CreateICmpNE(count, i64(0));
+        llvm::Value* copy = b.CreateConstGEP1_64(b.getInt8Ty(), records, i * sizeof(DescriptorRecord));
+        b.CreateMemCpy(copy, llvm::MaybeAlign(alignof(DescriptorRecord)), b.CreateSelect(bound, rec, zeros),
+                       llvm::MaybeAlign(8), i64(sizeof(DescriptorRecord)));
+        rec = copy;
+        count = b.CreateZExt(bound, b.getInt64Ty());
+      }
+      b.CreateAlignedStore(rec, to, llvm::Align(8));
+      b.CreateAlignedStore(count, b.CreateConstGEP1_64(b.getInt8Ty(), to, 8), llvm::Align(8));
+    }
+    b.CreateAlignedStore(slots, field(offsetof(InvocationContext, resources), 0), llvm::Align(8));
+  }
   llvm::Value* base[3];
   for (int i = 0; i < 3; ++i) {
     llvm::Value* wg = b.CreateAlignedLoad(b.getInt32Ty(), field(offsetof(InvocationContext, workgroupId), i), llvm::Align(4));

@@ -1,6 +1,7 @@
 // SPIR-V -> LLVM IR: variables, access chains, loads, stores, atomics, descriptors (see codegen.hpp's memory
 // model).
 #include <llvm/IR/Constants.h>
+#include <llvm/IR/MDBuilder.h>
 
 #include "spirv/codegen.hpp"
 
@@ -289,14 +290,72 @@ Ptr& Codegen::ptr(uint32_t id) {
   return none;
 }
 
-llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
-  llvm::Value* real = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
+llvm::Value* Codegen::inBounds(const Ptr& p, uint64_t bytes) {
   auto* co = llvm::dyn_cast<llvm::ConstantInt>(p.offset);
   auto* cl = llvm::dyn_cast<llvm::ConstantInt>(p.limit);
-  if (co && cl && cl->getZExtValue() >= bytes && co->getZExtValue() <= cl->getZExtValue() - bytes) return real;
-  llvm::Value* ok = b.CreateAnd(b.CreateICmpUGE(p.limit, i64(bytes)), b.CreateICmpULE(p.offset, b.CreateSub(p.limit, i64(bytes))));
+  if (co && cl && cl->getZExtValue() >= bytes && co->getZExtValue() <= cl->getZExtValue() - bytes) return nullptr;
+  // offset + bytes <= limit without overflow: offset < limit - (bytes - 1), the subtraction saturating at 0
+  // (nothing fits in a smaller limit). One comparison with a value that is invariant where the limit is.
+  llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, p.limit, i64(bytes ? bytes - 1 : 0));
+  return b.CreateICmpULT(p.offset, end);
+}
+
+llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
+  llvm::Value* real = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
+  llvm::Value* ok = inBounds(p, bytes);
+  if (!ok) return real;
   llvm::Value* fallback = write ? ctxField(*this, offsetof(InvocationContext, sink)) : static_cast<llvm::Value*>(zeros);
   return b.CreateSelect(ok, real, fallback);
+}
+
+// Branches on `ok` to a new block, where the builder is left; returns the block that the access skips to, which
+// the caller enters once the access is emitted.
+static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok) {
+  llvm::Function* f = g.b.GetInsertBlock()->getParent();
+  auto* then = llvm::BasicBlock::Create(g.c, "inbounds", f);
+  auto* join = llvm::BasicBlock::Create(g.c, "inbounds.join", f);
+  // Out-of-bounds accesses are the exception: the weights make the in-bounds path the straight one.
+  g.b.CreateCondBr(ok, then, join, llvm::MDBuilder(g.c).createBranchWeights(1u << 20, 1));
+  g.b.SetInsertPoint(then);
+  return join;
+}
+
+// A load that reads zeros out of bounds. It branches around the load rather than selecting the address, so
+// that a loop of such loads keeps consecutive addresses: LLVM can vectorize it with masked loads.
+llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align, bool isInvariant) {
+  // Where the block is closed already (code placed before its terminator), the address is selected instead.
+  bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
+  llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
+  llvm::LoadInst* l = nullptr;
+  if (!ok) {
+    l = b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+    return isInvariant ? invariant(l) : l;
+  }
+  llvm::BasicBlock* from = b.GetInsertBlock();
+  llvm::BasicBlock* join = beginGuarded(*this, ok);
+  l = b.CreateAlignedLoad(ty, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+  if (isInvariant) invariant(l);
+  llvm::BasicBlock* then = b.GetInsertBlock();
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+  llvm::PHINode* phi = b.CreatePHI(ty, 2);
+  phi->addIncoming(l, then);
+  phi->addIncoming(llvm::Constant::getNullValue(ty), from);
+  return phi;
+}
+
+// A store that is dropped out of bounds (a branch around it, see guardedLoad).
+void Codegen::guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align) {
+  bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
+  llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
+  if (!ok) {
+    b.CreateAlignedStore(v, closed ? address(p, bytes, true) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+    return;
+  }
+  llvm::BasicBlock* join = beginGuarded(*this, ok);
+  b.CreateAlignedStore(v, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
 }
 
 static Ptr offsetBy(const Ptr& p, Codegen& g, uint64_t bytes, uint32_t type) {
@@ -312,22 +371,21 @@ llvm::Value* Codegen::load(const Ptr& p) {
   if (!ty) return nullptr;
   switch (t.kind) {
     case Type::Bool:
-      return b.CreateICmpNE(b.CreateAlignedLoad(b.getInt32Ty(), address(p, 4, false), llvm::Align(4)), i32(0));
+      return b.CreateICmpNE(guardedLoad(p, b.getInt32Ty(), 4, llvm::Align(4)), i32(0));
     case Type::Int:
     case Type::Float: {
-      auto* l = b.CreateAlignedLoad(ty, address(p, t.width / 8, false), llvm::Align(t.width / 8));
       // Push constants do not change while a dispatch runs either: such loads may leave the workgroup loop.
-      return p.storage == spv::StorageClassPushConstant ? invariant(l) : l;
+      return guardedLoad(p, ty, t.width / 8, llvm::Align(t.width / 8), p.storage == spv::StorageClassPushConstant);
     }
     case Type::Pointer:
       if (t.storage != spv::StorageClassPhysicalStorageBuffer) return nullptr;
-      return b.CreateAlignedLoad(b.getPtrTy(), address(p, 8, false), llvm::Align(8));
+      return guardedLoad(p, b.getPtrTy(), 8, llvm::Align(8));
     case Type::Vector: {
       uint64_t cs = layoutSize(t.element, 0, false);
       bool isBool = spvType(t.element).kind == Type::Bool;
       if (p.vecStride == 0 || p.vecStride == cs) {
         llvm::Type* memTy = isBool ? llvm::FixedVectorType::get(b.getInt32Ty(), t.count) : ty;
-        llvm::Value* v = b.CreateAlignedLoad(memTy, address(p, cs * t.count, false), llvm::Align(cs));
+        llvm::Value* v = guardedLoad(p, memTy, cs * t.count, llvm::Align(cs));
         return isBool ? b.CreateICmpNE(v, llvm::Constant::getNullValue(memTy)) : v;
       }
       llvm::Value* v = llvm::UndefValue::get(ty);
@@ -380,21 +438,21 @@ void Codegen::store(const Ptr& p, llvm::Value* v) {
   const Type& t = spvType(p.type);
   switch (t.kind) {
     case Type::Bool:
-      b.CreateAlignedStore(b.CreateZExt(v, b.getInt32Ty()), address(p, 4, true), llvm::Align(4));
+      guardedStore(p, b.CreateZExt(v, b.getInt32Ty()), 4, llvm::Align(4));
       return;
     case Type::Int:
     case Type::Float:
-      b.CreateAlignedStore(v, address(p, t.width / 8, true), llvm::Align(t.width / 8));
+      guardedStore(p, v, t.width / 8, llvm::Align(t.width / 8));
       return;
     case Type::Pointer:
-      b.CreateAlignedStore(v, address(p, 8, true), llvm::Align(8));
+      guardedStore(p, v, 8, llvm::Align(8));
       return;
     case Type::Vector: {
       uint64_t cs = layoutSize(t.element, 0, false);
       bool isBool = spvType(t.element).kind == Type::Bool;
       if (p.vecStride == 0 || p.vecStride == cs) {
         if (isBool) v = b.CreateZExt(v, llvm::FixedVectorType::get(b.getInt32Ty(), t.count));
-        b.CreateAlignedStore(v, address(p, cs * t.count, true), llvm::Align(cs));
+        guardedStore(p, v, cs * t.count, llvm::Align(cs));
         return;
       }
       for (uint32_t i = 0; i < t.count; ++i) {
