@@ -81,12 +81,6 @@ struct Job {
   RayTracingPipeline* pipeline = nullptr;
 };
 
-std::string hex(const Digest& d) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%016llx%016llx", (unsigned long long)d.hi, (unsigned long long)d.lo);
-  return buf;
-}
-
 // Validation of pCreateInfos[i]; reports the first violation. Fills the job's libraries.
 bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i,
               const VkRayTracingPipelineCreateInfoKHR* all, Job& job) {

@@ -238,8 +238,9 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
   for (int k = 0; k < 16; ++k) EXPECT_EQ(sizes[k], expectSizes[k]) << k;
   const uint32_t* oob = static_cast<const uint32_t*>(out.data) + 16;
   // Out-of-bounds image reads are undefined without robustImageAccess; vkrt returns zeros.
-  if (vkrt)
+  if (vkrt) {
     for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;
+  }
   for (Tex* t : all) destroy(*t);
   destroy(out);
   destroy(p);
@@ -422,7 +423,9 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
         EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], tol) << "round " << round << " coord " << i << " separate c" << k;
         EXPECT_NEAR(r[(4 * i + 2) * 4 + k], e2[k], tol) << "round " << round << " coord " << i << " array c" << k;
         // An out-of-range texelFetch is undefined without robustImageAccess; vkrt returns zeros.
-        if (inside || vkrt) EXPECT_EQ(r[(4 * i + 3) * 4 + k], e3[k]) << "round " << round << " coord " << i << " fetch c" << k;
+        if (inside || vkrt) {
+          EXPECT_EQ(r[(4 * i + 3) * 4 + k], e3[k]) << "round " << round << " coord " << i << " fetch c" << k;
+        }
       }
     }
     const int32_t* inf = static_cast<const int32_t*>(info.data);
