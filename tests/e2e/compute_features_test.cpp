@@ -12,6 +12,7 @@
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
 #include "spirv/scalar_layout_reference.hpp"
+#include "spirv/nonuniform_buffers_reference.hpp"
 #include "spirv/small_uniform_reference.hpp"
 
 namespace vkrt::test {
@@ -116,21 +117,16 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   EXPECT_EQ(di.runtimeDescriptorArray, r12.runtimeDescriptorArray) << "the 1.2 struct and the promoted one agree";
   EXPECT_EQ(di.shaderStorageImageArrayNonUniformIndexing, r12.shaderStorageImageArrayNonUniformIndexing);
 
-  constexpr uint32_t kN = 16, kBuffers = 5;
+  using vkrt::testing::NonUniformBuffers;
+  NonUniformBuffers ref;
+  constexpr uint32_t kN = NonUniformBuffers::kN, kBuffers = NonUniformBuffers::kBuffers;
   ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_buffers_comp, sizeof kSpv_compute_nonuniform_buffers_comp,
                                                     {{kStorage, kBuffers}, {kUniform, 3}, {kStorage}});
   ASSERT_EQ(p.result, VK_SUCCESS);
-  // Storage buffer k: {head = 0, v[kN + k]}, v[j] = 100 * k + j.
-  std::vector<std::vector<uint32_t>> data(kBuffers);
   std::vector<HostBuffer> buffers;
-  for (uint32_t k = 0; k < kBuffers; ++k) {
-    data[k].assign(1 + kN + k, 0);
-    for (uint32_t j = 0; j < kN + k; ++j) data[k][1 + j] = 100 * k + j;
-    buffers.push_back(bufferWith(data[k], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
-  }
-  uint32_t params[3][4] = {{7, 0xf0, 0x0f, 11}, {9, 0x33, 0x55, 22}, {13, 0x1234, 0x4321, 33}};
+  for (uint32_t k = 0; k < kBuffers; ++k) buffers.push_back(bufferWith(ref.data[k], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
   std::vector<HostBuffer> ubos;
-  for (auto& q : params) ubos.push_back(bufferWith(std::vector<uint32_t>(q, q + 4), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT));
+  for (auto& q : ref.params) ubos.push_back(bufferWith(std::vector<uint32_t>(q, q + 4), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT));
   HostBuffer out = bufferWith(std::vector<uint32_t>(kN * 4, 0xdeadbeef), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<const HostBuffer*> sb, ub;
   for (auto& b : buffers) sb.push_back(&b);
@@ -142,25 +138,7 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   vkCmdDispatch(cb, kN / 8, 1, 1);
   hostBarrier(cb);
   submitAndWait(cb);
-  const auto* o = static_cast<const uint32_t*>(out.data);
-  std::vector<uint32_t> count(kBuffers, 0);
-  for (uint32_t i = 0; i < kN; ++i) {
-    uint32_t b = i * 7 % 5, u = (i + i / 3) % 3;
-    ++count[b];
-    EXPECT_EQ(o[i * 4], data[b][1 + i]) << "storage buffer " << b << " read by invocation " << i;
-    EXPECT_EQ(o[i * 4 + 1], params[u][1] ^ params[u][2]) << "uniform buffer " << u << " read by invocation " << i;
-    EXPECT_EQ(o[i * 4 + 2], kN + b) << "length() of storage buffer " << b;
-    EXPECT_EQ(o[i * 4 + 3], params[i % 3][3] + b * 1000) << i;
-  }
-  for (uint32_t k = 0; k < kBuffers; ++k) {
-    const auto* got = static_cast<const uint32_t*>(buffers[k].data);
-    EXPECT_EQ(got[0], count[k]) << "atomic count in storage buffer " << k;
-    for (uint32_t j = 0; j < kN + k; ++j) {
-      bool written = j < kN && j * 7 % 5 == k;
-      uint32_t u = (j + j / 3) % 3;
-      EXPECT_EQ(got[1 + j], written ? data[k][1 + j] * 3 + params[u][0] : data[k][1 + j]) << "buffer " << k << " element " << j;
-    }
-  }
+  ref.expect(static_cast<const uint32_t*>(out.data), [&](uint32_t k) { return static_cast<const uint32_t*>(buffers[k].data); });
   for (auto& b : buffers) destroy(b);
   for (auto& b : ubos) destroy(b);
   destroy(out);
