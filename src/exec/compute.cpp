@@ -19,7 +19,7 @@ namespace vkrt::exec {
 
 namespace {
 
-using spirv::InvocationContext;
+using abi::InvocationContext;
 
 constexpr size_t kFiberStackBytes = 256 * 1024;  // usable bytes; a guard page sits below each stack
 constexpr size_t kGuardBytes = 4096;
@@ -36,7 +36,7 @@ struct Fiber {
 
 struct Scheduler {
   ucontext_t main;
-  spirv::ComputeEntry entry = nullptr;
+  abi::ComputeEntry entry = nullptr;
   const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
   size_t mainSize = 0;
 };
@@ -47,7 +47,7 @@ struct WorkerScratch {
   std::unique_ptr<Fiber[]> fibers;
   size_t fiberCount = 0;
   std::vector<uint64_t> workgroupMemory;  // 8-byte aligned; sized in bytes / 8
-  alignas(16) uint8_t sink[spirv::kSinkBytes];
+  alignas(16) uint8_t sink[abi::kSinkBytes];
 
   ~WorkerScratch() {
     for (uint8_t* s : stacks) munmap(s, kFiberStackBytes + kGuardBytes);
@@ -124,7 +124,7 @@ void setIds(InvocationContext& inv, const uint32_t wg[3], const uint32_t local[3
 }  // namespace
 
 bool runCompute(const ComputeDispatch& d) {
-  const spirv::CompiledShader& sh = *d.shader;
+  const ComputeKernel& sh = d.kernel;
   const uint32_t* size = sh.localSize;
   uint64_t groups = uint64_t(d.count[0]) * d.count[1] * d.count[2];
   uint64_t invocations = uint64_t(size[0]) * size[1] * size[2];

@@ -6,14 +6,23 @@
 
 #include <cstdint>
 
-#include "spirv/compiler.hpp"
+#include "abi/abi.hpp"
 
 namespace vkrt::exec {
 
+// The compiled shader, as far as running it goes (src/spirv's CompiledShader has these fields).
+struct ComputeKernel {
+  abi::ComputeEntry entry = nullptr;       // vkrt_main, once per invocation: shaders with barriers
+  abi::ComputeEntry groupEntry = nullptr;  // vkrt_group, once per workgroup: the others (or null)
+  uint32_t localSize[3] = {1, 1, 1};
+  uint32_t workgroupMemorySize = 0;  // bytes
+  bool usesBarrier = false;
+};
+
 struct ComputeDispatch {
-  const spirv::CompiledShader* shader = nullptr;
-  const spirv::ResourceSlot* resources = nullptr;  // shader->resources.size() entries
-  const uint8_t* pushConstants = nullptr;          // spirv::kPushConstantBytes bytes
+  ComputeKernel kernel;
+  const abi::ResourceSlot* resources = nullptr;  // one per resource the shader uses, in the compiler's order
+  const uint8_t* pushConstants = nullptr;        // abi::kPushConstantBytes bytes
   uint32_t base[3] = {0, 0, 0};                    // vkCmdDispatchBase's first workgroup
   uint32_t count[3] = {1, 1, 1};                   // workgroups
 };

@@ -13,7 +13,7 @@
 #include <mutex>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt::rt {
 

@@ -30,7 +30,8 @@
 #include <string>
 #include <vector>
 
-#include "icd/vk.hpp"
+#include "runtime/ray_tracing_features.hpp"
+#include "runtime/vk.hpp"
 #include "spirv/compiler.hpp"
 
 namespace vkrt {
@@ -40,8 +41,8 @@ class Device;
 
 namespace vkrt::rt {
 
-constexpr uint32_t kHandleSize = 32;
-constexpr uint32_t kCaptureSize = 64;
+constexpr uint32_t kHandleSize = kShaderGroupHandleSize;  // runtime/ray_tracing_features.hpp: what vkrt reports
+constexpr uint32_t kCaptureSize = kShaderGroupCaptureReplaySize;
 constexpr uint32_t kHandleMagic = 0x48526b76;   // "vkRH" little-endian
 constexpr uint32_t kCaptureMagic = 0x52436b76;  // "vkCR" little-endian
 constexpr uint32_t kHandleVersion = 1;

@@ -4,7 +4,7 @@
 #include <new>
 #include <utility>
 
-#include "icd/vk.hpp"
+#include "runtime/vk.hpp"
 
 namespace vkrt {
 

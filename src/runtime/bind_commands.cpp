@@ -172,7 +172,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
         }
         const DescriptorRecord& r = s->records()[b.offset + e];
         if (!r.object) continue;  // not written (partially bound)
-        const Buffer* buf = static_cast<const Buffer*>(r.object);
+        const Buffer* buf = recordObject<Buffer>(r.object);
         const uint64_t start = r.address - reinterpret_cast<uint64_t>(buf->data());
         // VUID-vkCmdBindDescriptorSets-pDescriptorSets-01979
         if (start + off + r.range > buf->size) {

@@ -1,7 +1,7 @@
 // VkBuffer.
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

@@ -1,7 +1,7 @@
 // VkBufferView: a formatted range of a buffer, kept for texel-buffer descriptors.
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

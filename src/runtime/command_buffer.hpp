@@ -20,7 +20,7 @@
 #include <mutex>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

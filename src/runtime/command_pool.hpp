@@ -3,7 +3,7 @@
 
 #include <set>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

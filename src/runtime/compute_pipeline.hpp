@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "exec/compute.hpp"
 #include "runtime/pipeline.hpp"
 #include "runtime/shader_cache.hpp"
 #include "spirv/compiler.hpp"
@@ -20,5 +21,16 @@ class ComputePipeline : public Pipeline {
 
   const std::shared_ptr<const spirv::CompiledShader> shader;
 };
+
+// What the compute executor runs of a compiled compute shader.
+inline exec::ComputeKernel computeKernel(const spirv::CompiledShader& shader) {
+  exec::ComputeKernel k;
+  k.entry = shader.entry;
+  k.groupEntry = shader.groupEntry;
+  for (int i = 0; i < 3; ++i) k.localSize[i] = shader.localSize[i];
+  k.workgroupMemorySize = shader.workgroupMemorySize;
+  k.usesBarrier = shader.usesBarrier;
+  return k;
+}
 
 }  // namespace vkrt

@@ -5,7 +5,7 @@
 #include <map>
 #include <unordered_set>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

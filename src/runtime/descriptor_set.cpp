@@ -181,7 +181,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     }
     out.address = reinterpret_cast<uint64_t>(buf->data() + bi.offset);
     out.range = range;
-    out.object = buf;
+    out.object = static_cast<const Object*>(buf);
     return true;
   }
   switch (type) {

@@ -1,49 +1,29 @@
-// VkDescriptorSetLayout, and the in-memory descriptor format every descriptor set uses.
+// VkDescriptorSetLayout, and where each binding's descriptors live in a set's storage.
 //
-// DESCRIPTOR STORAGE (what compiled shaders load from)
-// ----------------------------------------------------
-// A descriptor set is one flat, 32-byte aligned array of DescriptorRecord (32 bytes each), one record per
-// array element of every binding, bindings in increasing binding number. Binding b's element i lives at
-// record index `layout->bindingAt(b)->offset + i` (offsets are precomputed at layout creation; a compiler
-// bakes them into the code as constants). A binding with VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT
+// A descriptor set is one flat array of abi::DescriptorRecord (src/abi/abi.hpp documents the record and what
+// each descriptor type puts in it). Binding b's element i lives at record index `layout->bindingAt(b)->offset + i`
+// (offsets are precomputed at layout creation). A binding with VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT
 // is always the highest binding, so it is last, and a set allocated with a smaller variable count simply has
-// fewer records.
-//
-// Record contents by descriptor type (fields not listed are zero):
-//   UNIFORM_BUFFER, STORAGE_BUFFER          address = device address of byte `offset` of the buffer,
-//                                           range   = bytes in range (VK_WHOLE_SIZE already resolved),
-//                                           object  = the Buffer
-//   UNIFORM/STORAGE_BUFFER_DYNAMIC          the same; the shader adds the bound dynamic offset, found at
-//                                           BindState::dynamicOffsets[set][binding.dynamicIndex + i]
-//   UNIFORM/STORAGE_TEXEL_BUFFER            object  = the VkBufferView's vkrt object (const BufferView*)
-//   SAMPLED_IMAGE, STORAGE_IMAGE            object  = the VkImageView's vkrt object (const ImageView*)
-//   COMBINED_IMAGE_SAMPLER                  object  = image view, sampler = the VkSampler's vkrt object
-//                                           (from pImmutableSamplers when the binding has them)
-//   SAMPLER                                 sampler = the VkSampler's vkrt object
-//   ACCELERATION_STRUCTURE_KHR              address = the acceleration structure's device address
-//                                           (vkGetAccelerationStructureDeviceAddressKHR), object = its object
-// A record of all zeros is an unwritten descriptor. `object` and `sampler` point at the Object base of the
-// vkrt object (what a handle points at): convert with static_cast<const ImageView*>(...) etc.
+// fewer records. A record's `object` and `sampler` point at the Object base of the vkrt object (what a handle
+// points at); recordObject<T>() converts back.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "abi/abi.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 
-struct alignas(32) DescriptorRecord {
-  uint64_t address;      // byte 0
-  uint64_t range;        // byte 8
-  const Object* object;  // byte 16
-  const Object* sampler; // byte 24
-};
-static_assert(sizeof(DescriptorRecord) == 32, "compiled shaders rely on 32-byte descriptor records");
-static_assert(offsetof(DescriptorRecord, address) == 0 && offsetof(DescriptorRecord, range) == 8 &&
-                  offsetof(DescriptorRecord, object) == 16 && offsetof(DescriptorRecord, sampler) == 24,
-              "descriptor record layout is part of the compiled-code ABI");
+using abi::DescriptorRecord;
+
+// The object a descriptor record points at (`object` or `sampler`), as its vkrt type.
+template <class T>
+const T* recordObject(const void* p) {
+  return static_cast<const T*>(static_cast<const Object*>(p));
+}
 
 struct DescriptorBinding {
   uint32_t binding = 0;

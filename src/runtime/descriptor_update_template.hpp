@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

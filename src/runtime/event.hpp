@@ -6,7 +6,7 @@
 // worker until the event is set (by the host or by another queue).
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

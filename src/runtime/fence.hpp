@@ -10,7 +10,7 @@
 #include <functional>
 #include <mutex>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

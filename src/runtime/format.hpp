@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "icd/vk.hpp"
+#include "runtime/vk.hpp"
 
 namespace vkrt {
 

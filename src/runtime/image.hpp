@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 #include "runtime/format.hpp"
 
 namespace vkrt {

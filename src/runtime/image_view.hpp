@@ -1,7 +1,7 @@
 // VkImageView: an image's subresource range, format and swizzle, kept for image descriptors.
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

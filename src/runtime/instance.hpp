@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

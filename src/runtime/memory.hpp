@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

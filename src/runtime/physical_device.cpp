@@ -9,7 +9,7 @@
 
 #include "runtime/alloc.hpp"
 #include "runtime/instance.hpp"
-#include "rt/features.hpp"
+#include "runtime/ray_tracing_features.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 

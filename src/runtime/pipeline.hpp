@@ -2,7 +2,7 @@
 // vkDestroyPipeline deletes through the virtual destructor.
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 #include "runtime/device.hpp"
 
 namespace vkrt {

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

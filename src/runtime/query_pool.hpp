@@ -9,7 +9,7 @@
 #include <memory>
 #include <mutex>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

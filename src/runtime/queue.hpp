@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

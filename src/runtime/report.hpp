@@ -8,7 +8,7 @@
 
 #include <cstdarg>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

@@ -1,7 +1,7 @@
 // VkSampler: the create info, kept for the shader compiler's sampling code.
 #pragma once
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

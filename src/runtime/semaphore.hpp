@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <set>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

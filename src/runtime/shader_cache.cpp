@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "runtime/descriptor_set_layout.hpp"
+#include "runtime/image_functions.hpp"
 #include "runtime/pipeline_cache.hpp"
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
@@ -70,7 +71,7 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
   if (cache) {
     if (std::optional<std::string> blob = cache->lookup(persistentKey)) {
       std::string loadError;
-      std::shared_ptr<const spirv::CompiledShader> loaded = spirv::loadCached(*blob, &loadError);
+      std::shared_ptr<const spirv::CompiledShader> loaded = spirv::loadCached(*blob, imageFunctionSymbols(), &loadError);
       if (loaded) {
         gCacheLoads.fetch_add(1);
         entry->shader = loaded;
@@ -82,7 +83,9 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
     }
   }
   if (!mayCompile) return nullptr;
-  std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(request, error);
+  spirv::CompileRequest withHost = request;
+  withHost.hostSymbols = imageFunctionSymbols();  // the runtime's image functions (abi/image_functions.hpp)
+  std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(withHost, error);
   gCompiles.fetch_add(1);
   if (shader) entry->shader = shader;
   return shader;

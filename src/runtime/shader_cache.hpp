@@ -17,7 +17,7 @@
 #include <memory>
 #include <string>
 
-#include "icd/vk.hpp"
+#include "runtime/vk.hpp"
 #include "spirv/compiler.hpp"
 
 namespace vkrt {

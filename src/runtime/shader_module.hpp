@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

@@ -19,11 +19,23 @@
 #include <unordered_map>
 #include <vector>
 
+#include "abi/image_functions.hpp"
 #include "spirv/compiler.hpp"
-#include "spirv/image_runtime.hpp"
 #include "spirv/module.hpp"
 
 namespace vkrt::spirv {
+
+// The compiled-code ABI (src/abi) by its short names: the code generator lays out and calls against these.
+using abi::DescriptorRecord;
+using abi::InvocationContext;
+using abi::kPushConstantBytes;
+using abi::kRayStatusIgnore;
+using abi::kRayStatusTerminate;
+using abi::kSinkBytes;
+using abi::RayInvocation;
+using abi::RayRuntime;
+using abi::ResourceSlot;
+using abi::TraceRayArgs;
 
 struct Ptr {
   llvm::Value* base = nullptr;    // i8*

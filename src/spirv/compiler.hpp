@@ -12,7 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "spirv/abi.hpp"
+#include "abi/abi.hpp"
+#include "abi/image_functions.hpp"
 #include "spirv/module.hpp"
 
 namespace vkrt::spirv {
@@ -59,15 +60,15 @@ class CompiledShader {
   // the others `groupEntry` (vkrt_group), which runs a whole workgroup in one call: it loops over the local
   // invocation ids, setting the invocation built-ins in the context (ctx->workgroupId must be set).
   // Ray tracing stages get `rayEntry` (vkrt_main taking a RayInvocation) instead.
-  ComputeEntry entry = nullptr;
-  ComputeEntry groupEntry = nullptr;
-  RayEntry rayEntry = nullptr;
+  abi::ComputeEntry entry = nullptr;
+  abi::ComputeEntry groupEntry = nullptr;
+  abi::RayEntry rayEntry = nullptr;
   spv::ExecutionModel model = spv::ExecutionModelGLCompute;
   RayStageInfo ray;  // ray tracing stages only
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t workgroupMemorySize = 0;
   bool usesBarrier = false;
-  std::vector<ResourceBinding> resources;  // ResourceSlot order
+  std::vector<ResourceBinding> resources;  // abi::ResourceSlot order
   uint32_t pushConstantBytes = 0;          // bytes of push constants the shader may read
   std::string entryName;
 
@@ -86,6 +87,9 @@ struct CompileRequest {
   // Inline every call with SPIRV-Tools before translation (what pipelines do). Off, each SPIR-V function
   // becomes its own LLVM function (LLVM may still inline them); the tests use this to exercise calls.
   bool inlineFunctions = true;
+  // The functions outside the shader its code may call (the image functions of abi/image_functions.hpp),
+  // null-terminated; the runtime supplies its own. Code calling a function missing here fails to load.
+  const abi::HostSymbol* hostSymbols = nullptr;
 };
 
 // Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported
@@ -97,6 +101,6 @@ std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::stri
 std::string cacheKey(const CompileRequest& request);
 // Loads a shader from a CompiledShader::cacheBlob without running LLVM's optimizer or code generator.
 // Malformed or damaged blobs (checked by a checksum before LLVM sees the object) fail with `error` set.
-std::shared_ptr<CompiledShader> loadCached(const std::string& blob, std::string* error);
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error);
 
 }  // namespace vkrt::spirv

@@ -174,7 +174,7 @@ bool checkSupport(const Module& m, std::string* error) {
 
 // The C library functions generated code may call, resolved to vkrt's own imports (the application's
 // global symbol scope need not contain libm).
-void defineRuntimeSymbols(llvm::orc::LLJIT& jit) {
+void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymbols) {
   llvm::orc::SymbolMap map;
   auto add = [&](const char* name, auto* fn) {
     map[jit.mangleAndIntern(name)] = llvm::JITEvaluatedSymbol(llvm::pointerToJITTargetAddress(fn), llvm::JITSymbolFlags::Exported);
@@ -196,7 +196,7 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit) {
   add("memset", static_cast<void* (*)(void*, int, size_t)>(::memset));
   add("memcpy", static_cast<void* (*)(void*, const void*, size_t)>(::memcpy));
   add("memmove", static_cast<void* (*)(void*, const void*, size_t)>(::memmove));
-  for (const RuntimeSymbol* s = imageRuntimeSymbols(); s->name; ++s) add(s->name, s->address);
+  for (const abi::HostSymbol* s = hostSymbols; s && s->name; ++s) add(s->name, s->address);
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }
 
@@ -266,7 +266,8 @@ uint32_t frameBytesOf(std::string_view object) {
 
 // Creates the shader's JIT, loads `object` (an ELF relocatable object of vkrt_main and its callees) and
 // resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main, a RayEntry for ray tracing stages).
-bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, std::string* error) {
+bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, const abi::HostSymbol* hostSymbols,
+                std::string* error) {
   auto jtmb = hostMachine(error);
   if (!jtmb) return false;
   auto lljit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
@@ -274,9 +275,14 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
     *error = "LLVM: " + errText(lljit.takeError());
     return false;
   }
-  // Session errors (unresolved symbols...) come back through lookup(); keep them off stderr.
-  (*lljit)->getExecutionSession().setErrorReporter([](llvm::Error e) { llvm::consumeError(std::move(e)); });
-  defineRuntimeSymbols(**lljit);
+  // Session errors (unresolved symbols...) are kept off stderr; the first one is added to lookup()'s message,
+  // which names only the symbol that could not be materialized.
+  auto sessionError = std::make_shared<std::string>();
+  (*lljit)->getExecutionSession().setErrorReporter([sessionError](llvm::Error e) {
+    std::string text = errText(std::move(e));
+    if (sessionError->empty()) *sessionError = text;
+  });
+  defineRuntimeSymbols(**lljit, hostSymbols);
   auto buffer = llvm::MemoryBuffer::getMemBufferCopy(llvm::StringRef(object.data(), object.size()), "vkrt_shader.o");
   if (auto e = (*lljit)->addObjectFile(std::move(buffer))) {
     *error = "LLVM: " + errText(std::move(e));
@@ -285,12 +291,13 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
   auto sym = (*lljit)->lookup(hasGroupEntry ? "vkrt_group" : "vkrt_main");
   if (!sym) {
     *error = "LLVM: " + errText(sym.takeError());
+    if (!sessionError->empty()) *error += " (" + *sessionError + ")";
     return false;
   }
   if (shader.model != spv::ExecutionModelGLCompute) {
-    shader.rayEntry = sym->toPtr<RayEntry>();
+    shader.rayEntry = sym->toPtr<abi::RayEntry>();
   } else {
-    (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<ComputeEntry>();
+    (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<abi::ComputeEntry>();
   }
   shader.jit = std::make_unique<CompiledShader::Jit>();
   shader.jit->lljit = std::move(*lljit);
@@ -438,7 +445,7 @@ std::string buildId() {
   return id;
 }
 
-std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, std::string* error) {
+std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error) {
   auto shader = std::make_shared<CompiledShader>();
   bool hasGroupEntry = false;
   std::optional<std::string_view> object = deserialize(blob, *shader, &hasGroupEntry);
@@ -446,7 +453,7 @@ std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, std::str
     *error = "the cached entry is damaged (bad header or checksum)";
     return nullptr;
   }
-  if (!loadObject(*shader, *object, hasGroupEntry, error)) return nullptr;
+  if (!loadObject(*shader, *object, hasGroupEntry, hostSymbols, error)) return nullptr;
   shader->cacheBlob = blob;
   return shader;
 }
@@ -592,7 +599,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   context.reset();
   std::string_view objectBytes(object.data(), object.size());
   if (req.model != spv::ExecutionModelGLCompute) shader->ray.frameBytes = frameBytesOf(objectBytes);
-  if (!loadObject(*shader, objectBytes, hasGroupEntry, error)) return nullptr;
+  if (!loadObject(*shader, objectBytes, hasGroupEntry, req.hostSymbols, error)) return nullptr;
   shader->cacheBlob = serialize(*shader, objectBytes);
   return shader;
 }
@@ -636,10 +643,10 @@ std::string cacheKey(const CompileRequest& req) {
   return std::string("vkrt-shader:") + std::string(reinterpret_cast<const char*>(digest.data()), digest.size());
 }
 
-std::shared_ptr<CompiledShader> loadCached(const std::string& blob, std::string* error) {
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error) {
   initLlvm();
   try {
-    return loadCachedImpl(blob, error);
+    return loadCachedImpl(blob, hostSymbols, error);
   } catch (const LlvmFatal& e) {
     *error = std::string("LLVM fatal error: ") + e.what();
   } catch (const std::bad_alloc&) {

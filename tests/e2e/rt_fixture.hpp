@@ -31,7 +31,7 @@
 #include <thread>
 
 #include "e2e/fixture.hpp"
-#include "icd/vk_compat.h"  // VK_EXT_pipeline_library_group_handles is newer than the installed headers
+#include "runtime/vk_compat.h"  // VK_EXT_pipeline_library_group_handles is newer than the installed headers
 #include "h4_ahit.rahit.spv.h"
 #include "h4_call.rcall.spv.h"
 #include "h4_chit.rchit.spv.h"

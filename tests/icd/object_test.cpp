@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "icd/entrypoint_table.hpp"
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
 

@@ -1,5 +1,5 @@
 // Runs compiled compute shaders below the Vulkan API: buffers are host vectors bound to set 0 by binding
-// number, through hand-made descriptor records (the layout runtime/descriptor_set_layout.hpp documents).
+// number, through hand-made descriptor records (the layout abi/abi.hpp documents).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,7 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "exec/compute.hpp"
+#include "runtime/compute_pipeline.hpp"
+#include "runtime/image_functions.hpp"
 #include "spirv/compiler.hpp"
 
 namespace vkrt::testing {
@@ -22,7 +23,7 @@ struct ComputeHarness {
   std::map<uint32_t, std::vector<uint32_t>> arrays;
   std::shared_ptr<spirv::CompiledShader> shader;
   std::string error;
-  alignas(16) uint8_t push[spirv::kPushConstantBytes] = {};
+  alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
 
   template <size_t N>
   bool compile(const uint32_t (&words)[N], std::vector<spirv::SpecValue> spec = {}) {
@@ -30,6 +31,7 @@ struct ComputeHarness {
     r.words = words;
     r.wordCount = N;
     r.specialization = std::move(spec);
+    r.hostSymbols = imageFunctionSymbols();
     shader = spirv::compile(r, &error);
     return shader != nullptr;
   }
@@ -53,14 +55,14 @@ struct ComputeHarness {
   }
 
   bool run(uint32_t x, uint32_t y = 1, uint32_t z = 1, uint32_t bx = 0, uint32_t by = 0, uint32_t bz = 0) {
-    std::vector<std::vector<DescriptorRecord>> records(shader->resources.size());
-    std::vector<spirv::ResourceSlot> slots(shader->resources.size());
+    std::vector<std::vector<abi::DescriptorRecord>> records(shader->resources.size());
+    std::vector<abi::ResourceSlot> slots(shader->resources.size());
     for (size_t i = 0; i < shader->resources.size(); ++i) {
       const spirv::ResourceBinding& rb = shader->resources[i];
       auto ait = arrays.find(rb.binding);
       std::vector<uint32_t> keys = ait != arrays.end() ? ait->second : std::vector<uint32_t>{rb.binding};
       for (uint32_t key : keys) {
-        DescriptorRecord rec{};
+        abi::DescriptorRecord rec{};
         auto it = buffers.find(key);
         if (rb.set == 0 && it != buffers.end()) {
           rec.address = reinterpret_cast<uint64_t>(it->second.data());
@@ -71,7 +73,7 @@ struct ComputeHarness {
       slots[i] = {records[i].data(), records[i].size()};
     }
     exec::ComputeDispatch d;
-    d.shader = shader.get();
+    d.kernel = computeKernel(*shader);
     d.resources = slots.data();
     d.pushConstants = push;
     d.count[0] = x;

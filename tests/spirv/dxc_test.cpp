@@ -19,6 +19,7 @@ TEST(SpirvDxc, HlslComputeShape) {
     r.words = kSpv_dxc_compute_spvasm;
     r.wordCount = sizeof kSpv_dxc_compute_spvasm / 4;
     r.inlineFunctions = inl;
+    r.hostSymbols = imageFunctionSymbols();
     h.shader = spirv::compile(r, &h.error);
     ASSERT_NE(h.shader, nullptr) << h.error;
     EXPECT_EQ(h.shader->localSize[0], 8u);

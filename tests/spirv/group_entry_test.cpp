@@ -73,7 +73,7 @@ TEST(SpirvGroupEntry, ShadersWithBarriersHaveNone) {
   EXPECT_EQ(h.shader->groupEntry, nullptr);
   EXPECT_NE(h.shader->entry, nullptr);
   std::string error;
-  auto cached = spirv::loadCached(h.shader->cacheBlob, &error);
+  auto cached = spirv::loadCached(h.shader->cacheBlob, nullptr, &error);
   ASSERT_NE(cached, nullptr) << error;
   EXPECT_EQ(cached->groupEntry, nullptr);
   EXPECT_NE(cached->entry, nullptr);
@@ -83,7 +83,7 @@ TEST(SpirvGroupEntry, SurvivesThePipelineCache) {
   ComputeHarness h;
   ASSERT_TRUE(h.compile(kSpv_h10_group_builtins_comp)) << h.error;
   std::string error;
-  auto cached = spirv::loadCached(h.shader->cacheBlob, &error);
+  auto cached = spirv::loadCached(h.shader->cacheBlob, nullptr, &error);
   ASSERT_NE(cached, nullptr) << error;
   ASSERT_NE(cached->groupEntry, nullptr);
   EXPECT_EQ(cached->entry, nullptr);
@@ -136,23 +136,23 @@ class FencedBuffer {
 // Runs `shader` with set 0's bindings taken from `buffers` (by binding number; a missing one is unbound).
 bool dispatchFenced(const spirv::CompiledShader& shader, const std::map<uint32_t, FencedBuffer*>& buffers,
                     const void* push, size_t pushBytes, uint32_t x, uint32_t y) {
-  std::vector<DescriptorRecord> records(shader.resources.size());
-  std::vector<spirv::ResourceSlot> slots(shader.resources.size());
+  std::vector<abi::DescriptorRecord> records(shader.resources.size());
+  std::vector<abi::ResourceSlot> slots(shader.resources.size());
   for (size_t i = 0; i < shader.resources.size(); ++i) {
     auto it = buffers.find(shader.resources[i].binding);
     if (it == buffers.end()) {
       slots[i] = {nullptr, 0};  // nothing bound
       continue;
     }
-    records[i] = DescriptorRecord{};
+    records[i] = abi::DescriptorRecord{};
     records[i].address = reinterpret_cast<uint64_t>(it->second->as<uint8_t>());
     records[i].range = it->second->bytes();
     slots[i] = {&records[i], 1};
   }
-  alignas(16) uint8_t pushData[spirv::kPushConstantBytes] = {};
+  alignas(16) uint8_t pushData[abi::kPushConstantBytes] = {};
   std::memcpy(pushData, push, pushBytes);
   exec::ComputeDispatch d;
-  d.shader = &shader;
+  d.kernel = computeKernel(shader);
   d.resources = slots.data();
   d.pushConstants = pushData;
   d.count[0] = x;

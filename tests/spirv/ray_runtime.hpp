@@ -54,7 +54,7 @@ class RayTestRuntime {
   RayTestRuntime(const RayScene& scene, RaySbt& sbt, uint64_t accelAddress) : scene(scene), sbt(sbt), accel(accelAddress) {}
 
   // Descriptors by binding (set 0, one element each) and push constants, for every shader of the launch.
-  std::map<uint32_t, DescriptorRecord> bindings;
+  std::map<uint32_t, abi::DescriptorRecord> bindings;
   const uint8_t* pushConstants = nullptr;
 
   uint32_t maxDepth = 0;            // deepest traceRay nesting seen
@@ -81,7 +81,7 @@ class RayTestRuntime {
  private:
   struct Traversal;
   // What the runtime passes to a shader: the ABI's RayInvocation, then the runtime's own state.
-  struct Invocation : spirv::RayInvocation {
+  struct Invocation : abi::RayInvocation {
     RayTestRuntime* runtime = nullptr;
     Traversal* traversal = nullptr;
     uint32_t depth = 0;
@@ -93,7 +93,7 @@ class RayTestRuntime {
     uint64_t attributeBytes = 0;
   };
   struct Traversal {
-    const spirv::TraceRayArgs* args;
+    const abi::TraceRayArgs* args;
     float tMax;
     std::optional<Hit> committed;
     bool stop = false;
@@ -102,12 +102,12 @@ class RayTestRuntime {
 
   // Calls a shader with its own resource table (one slot per ResourceBinding, in its order).
   void run(const spirv::CompiledShader& shader, Invocation& inv) {
-    std::vector<spirv::ResourceSlot>& slots = tables[&shader];
+    std::vector<abi::ResourceSlot>& slots = tables[&shader];
     if (slots.size() != shader.resources.size()) {
       slots.clear();
       for (const spirv::ResourceBinding& rb : shader.resources) {
         auto it = bindings.find(rb.binding);
-        slots.push_back(it != bindings.end() ? spirv::ResourceSlot{&it->second, 1} : spirv::ResourceSlot{nullptr, 0});
+        slots.push_back(it != bindings.end() ? abi::ResourceSlot{&it->second, 1} : abi::ResourceSlot{nullptr, 0});
       }
     }
     inv.base.resources = slots.data();
@@ -121,8 +121,8 @@ class RayTestRuntime {
     inv.base.sink = sink;
     inv.runtime = this;
     inv.depth = caller ? caller->depth : 0;
-    static const spirv::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection};
-    inv.spirv::RayInvocation::runtime = &table;
+    static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection};
+    inv.abi::RayInvocation::runtime = &table;
     if (caller) {
       std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
       std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
@@ -131,7 +131,7 @@ class RayTestRuntime {
   }
 
   // The ray and hit fields of a shader run for `hit` (or for the ray alone when hit is null).
-  void describe(Invocation& inv, const spirv::TraceRayArgs& a, const Hit* hit, float tMax) {
+  void describe(Invocation& inv, const abi::TraceRayArgs& a, const Hit* hit, float tMax) {
     for (int i = 0; i < 3; ++i) {
       inv.worldRayOrigin[i] = a.origin[i];
       inv.worldRayDirection[i] = a.direction[i];
@@ -156,7 +156,7 @@ class RayTestRuntime {
     inv.hitKind = hit->hitKind;
   }
 
-  const RaySbt::Record* hitGroup(const spirv::TraceRayArgs& a, const Hit& h) {
+  const RaySbt::Record* hitGroup(const abi::TraceRayArgs& a, const Hit& h) {
     uint64_t index = uint64_t(scene.instances[h.instance].sbtOffset) + a.sbtOffset + uint64_t(h.geometry) * a.sbtStride;
     if (index >= sbt.hitGroups.size()) {
       errors.push_back("hit group index " + std::to_string(index) + " out of range");
@@ -167,7 +167,7 @@ class RayTestRuntime {
 
   // Offers a candidate hit: any-hit (unless opaque), then commits. Returns whether it was committed.
   bool offer(Invocation& from, Traversal& tr, const Hit& h, const RaySbt::Record& group) {
-    const spirv::TraceRayArgs& a = *tr.args;
+    const abi::TraceRayArgs& a = *tr.args;
     if (h.t < a.tMin || h.t > tr.tMax) return false;
     bool opaque = a.rayFlags & 1u;  // gl_RayFlagsOpaqueEXT
     if (group.anyHit && !opaque) {
@@ -178,8 +178,8 @@ class RayTestRuntime {
       inv.shaderRecord = const_cast<uint8_t*>(group.data.data());
       inv.shaderRecordBytes = group.data.size();
       run(*group.anyHit, inv);
-      if (inv.status == spirv::kRayStatusIgnore) return false;
-      if (inv.status == spirv::kRayStatusTerminate) tr.stop = true;
+      if (inv.status == abi::kRayStatusIgnore) return false;
+      if (inv.status == abi::kRayStatusTerminate) tr.stop = true;
     }
     tr.committed = h;
     tr.tMax = h.t;
@@ -187,7 +187,7 @@ class RayTestRuntime {
     return true;
   }
 
-  static void traceRay(spirv::RayInvocation* callerBase, const spirv::TraceRayArgs* a) {
+  static void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* a) {
     auto* caller = static_cast<Invocation*>(callerBase);
     RayTestRuntime& rt = *caller->runtime;
     if (a->accelerationStructure != rt.accel) rt.errors.push_back("traceRay with an unknown acceleration structure");
@@ -260,7 +260,7 @@ class RayTestRuntime {
     rt.run(*miss.general, inv);
   }
 
-  static uint32_t reportIntersection(spirv::RayInvocation* callerBase, float hitT, uint32_t hitKind, const void* attrs,
+  static uint32_t reportIntersection(abi::RayInvocation* callerBase, float hitT, uint32_t hitKind, const void* attrs,
                                      uint64_t bytes) {
     auto* caller = static_cast<Invocation*>(callerBase);
     RayTestRuntime& rt = *caller->runtime;
@@ -275,11 +275,11 @@ class RayTestRuntime {
     bool committed = rt.offer(*caller, tr, h, *group);
     // The intersection shader now sees the new closest t; a terminated ray stops it.
     caller->rayTmax = tr.tMax;
-    if (committed && tr.stop) caller->status = spirv::kRayStatusTerminate;
+    if (committed && tr.stop) caller->status = abi::kRayStatusTerminate;
     return committed ? 1 : 0;
   }
 
-  static void executeCallable(spirv::RayInvocation* callerBase, uint32_t index, void* data, uint64_t bytes) {
+  static void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data, uint64_t bytes) {
     auto* caller = static_cast<Invocation*>(callerBase);
     RayTestRuntime& rt = *caller->runtime;
     if (index >= rt.sbt.callable.size()) {
@@ -317,8 +317,8 @@ class RayTestRuntime {
   const RayScene& scene;
   RaySbt& sbt;
   uint64_t accel;
-  std::map<const spirv::CompiledShader*, std::vector<spirv::ResourceSlot>> tables;
-  alignas(16) uint8_t sink[spirv::kSinkBytes] = {};
+  std::map<const spirv::CompiledShader*, std::vector<abi::ResourceSlot>> tables;
+  alignas(16) uint8_t sink[abi::kSinkBytes] = {};
 };
 
 }  // namespace vkrt::testing

@@ -148,9 +148,9 @@ void traceScene(bool inlineCalls) {
   RayTestRuntime rt(sc, sbt, kAccel);
   std::vector<Payload> results(kWidth * kHeight);
   std::vector<uint32_t> answers(kWidth * kHeight * 2);
-  rt.bindings[0] = DescriptorRecord{kAccel, 0, nullptr, nullptr};
-  rt.bindings[1] = DescriptorRecord{reinterpret_cast<uint64_t>(results.data()), results.size() * sizeof(Payload), nullptr, nullptr};
-  rt.bindings[2] = DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
+  rt.bindings[0] = abi::DescriptorRecord{kAccel, 0, nullptr, nullptr};
+  rt.bindings[1] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(results.data()), results.size() * sizeof(Payload), nullptr, nullptr};
+  rt.bindings[2] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
   rt.launch(s.raygen, {}, kWidth, kHeight);
   EXPECT_TRUE(rt.errors.empty()) << rt.errors.front();
   EXPECT_EQ(rt.maxDepth, 2u);  // the sphere's closest-hit shader traced a secondary ray
@@ -231,7 +231,7 @@ TEST(SpirvRayTracing, StackFactsOfEachStage) {
   const spirv::RayStageInfo& rg = s.raygen->ray;
   EXPECT_TRUE(rg.callsOut);
   EXPECT_EQ(rg.payloadBytes, sizeof(Payload));
-  EXPECT_GE(rg.frameBytes, sizeof(Payload) + sizeof(spirv::TraceRayArgs));
+  EXPECT_GE(rg.frameBytes, sizeof(Payload) + sizeof(abi::TraceRayArgs));
   EXPECT_LT(rg.frameBytes, 1024u);
   EXPECT_EQ(rg.stackSize(), align16(rg.frameBytes));
   // closest hit: traces and calls; reads 8 bytes of hit attributes after the calls.
@@ -241,7 +241,7 @@ TEST(SpirvRayTracing, StackFactsOfEachStage) {
   EXPECT_EQ(ch.payloadBytes, sizeof(Payload));  // the incoming payload is the largest
   EXPECT_EQ(ch.callableDataBytes, 4u);
   EXPECT_EQ(ch.hitAttributeBytes, 8u);
-  EXPECT_GE(ch.frameBytes, 4u + 4u + sizeof(spirv::TraceRayArgs));
+  EXPECT_GE(ch.frameBytes, 4u + 4u + sizeof(abi::TraceRayArgs));
   EXPECT_EQ(ch.stackSize(), align16(ch.frameBytes + 8));
   // The others call nothing: 0, whatever their frame.
   for (const auto* sh : {s.miss.get(), s.ahit.get(), s.rint.get(), s.call.get(), s.missSecondary.get()}) {
@@ -261,7 +261,7 @@ TEST(SpirvRayTracing, FactsOfThePipelineTestShaders) {
   ASSERT_TRUE(big) << e;
   EXPECT_TRUE(big->ray.callsOut);
   EXPECT_EQ(big->ray.payloadBytes, 256u);  // vec4[16]
-  EXPECT_GE(big->ray.stackSize(), 256u + sizeof(spirv::TraceRayArgs));
+  EXPECT_GE(big->ray.stackSize(), 256u + sizeof(abi::TraceRayArgs));
   auto small = compileStage(kSpv_h4_raygen_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
   ASSERT_TRUE(small) << e;
   EXPECT_EQ(small->ray.payloadBytes, 16u);
@@ -291,7 +291,7 @@ TEST(SpirvRayTracing, CompiledStagesRoundTripThroughTheCacheBlob) {
   Stages s = compileAll(true);
   ASSERT_TRUE(s.chit);
   std::string error;
-  auto loaded = spirv::loadCached(s.chit->cacheBlob, &error);
+  auto loaded = spirv::loadCached(s.chit->cacheBlob, nullptr, &error);
   ASSERT_TRUE(loaded) << error;
   EXPECT_EQ(loaded->model, spv::ExecutionModelClosestHitKHR);
   EXPECT_NE(loaded->rayEntry, nullptr);

@@ -1,16 +1,17 @@
-// The image functions compiled shaders call (see image_runtime.hpp).
-#include "spirv/image_runtime.hpp"
+// The image functions compiled shaders call (abi/image_functions.hpp), on vkrt's image views and samplers.
+#include "runtime/image_functions.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
+#include "runtime/descriptor_set_layout.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
 #include "runtime/image_view.hpp"
 #include "runtime/sampler.hpp"
 
-namespace vkrt::spirv {
+namespace vkrt {
 
 namespace {
 
@@ -159,9 +160,9 @@ struct View {
   bool slicesAsLayers = false;  // a 2D (array) view of a 3D image: layers are depth slices
 };
 
-bool resolveView(const DescriptorRecord* rec, View* v) {
+bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   if (!rec || !rec->object) return false;
-  v->view = static_cast<const ImageView*>(rec->object);
+  v->view = recordObject<ImageView>(rec->object);
   v->image = v->view->image;
   v->format = formatInfo(v->view->format);
   v->data = v->image ? v->image->data() : nullptr;
@@ -316,14 +317,13 @@ void filterLevel(const View& v, const VkSamplerCreateInfo& s, VkFilter filter, u
 
 }  // namespace
 
-}  // namespace vkrt::spirv
+}  // namespace vkrt
 
 using namespace vkrt;
-using namespace vkrt::spirv;
 
 extern "C" {
 
-void vkrt_image_read(const DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]) {
+void vkrt_image_read(const abi::DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v)) return;
@@ -332,7 +332,7 @@ void vkrt_image_read(const DescriptorRecord* img, const int32_t coord[4], uint32
   readTexel(v, 0, xyzl, out);
 }
 
-void vkrt_image_write(const DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
+void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
   View v;
   if (!resolveView(img, &v)) return;
   int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
@@ -341,7 +341,7 @@ void vkrt_image_write(const DescriptorRecord* img, const int32_t coord[4], const
   if (t) encodeTexel(*v.format, in, t);
 }
 
-void vkrt_image_fetch(const DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]) {
+void vkrt_image_fetch(const abi::DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || lod < 0) return;
@@ -352,12 +352,12 @@ void vkrt_image_fetch(const DescriptorRecord* img, const int32_t coord[4], int32
   applySwizzle(v, out);
 }
 
-void vkrt_image_sample(const DescriptorRecord* img, const DescriptorRecord* smp, const float coord[4], float lod,
+void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4], float lod,
                        uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
-  const VkSamplerCreateInfo& s = static_cast<const Sampler*>(smp->sampler)->info;
+  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
   // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
   float lambda = std::isnan(lod) ? 0.0f : lod + s.mipLodBias;
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
@@ -386,7 +386,7 @@ void vkrt_image_sample(const DescriptorRecord* img, const DescriptorRecord* smp,
   applySwizzle(v, out);
 }
 
-void vkrt_image_size(const DescriptorRecord* img, int32_t lod, int32_t out[4]) {
+void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || lod < 0 || uint32_t(lod) >= v.view->range.levelCount) return;
@@ -401,17 +401,17 @@ void vkrt_image_size(const DescriptorRecord* img, int32_t lod, int32_t out[4]) {
   }
 }
 
-int32_t vkrt_image_levels(const DescriptorRecord* img) {
+int32_t vkrt_image_levels(const abi::DescriptorRecord* img) {
   View v;
   return resolveView(img, &v) ? int32_t(v.view->range.levelCount) : 0;
 }
 
 }  // extern "C"
 
-namespace vkrt::spirv {
+namespace vkrt {
 
-const RuntimeSymbol* imageRuntimeSymbols() {
-  static const RuntimeSymbol symbols[] = {
+const abi::HostSymbol* imageFunctionSymbols() {
+  static const abi::HostSymbol symbols[] = {
       {"vkrt_image_read", reinterpret_cast<void*>(&vkrt_image_read)},
       {"vkrt_image_write", reinterpret_cast<void*>(&vkrt_image_write)},
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
@@ -423,4 +423,4 @@ const RuntimeSymbol* imageRuntimeSymbols() {
   return symbols;
 }
 
-}  // namespace vkrt::spirv
+}  // namespace vkrt

@@ -1,4 +1,4 @@
-#include "icd/object.hpp"
+#include "runtime/object.hpp"
 
 #include <shared_mutex>
 #include <unordered_map>

@@ -1,4 +1,9 @@
-// The calling convention between compiled shaders and the executor (src/exec). No LLVM here.
+// The compiled-code ABI: the calling convention between compiled shaders (src/spirv) and the code that runs
+// them (src/exec, src/runtime), and the memory they share (descriptor records). Plain data: no Vulkan objects,
+// no LLVM. Everything here is baked into compiled code, and compiled code is stored in pipeline caches: a
+// change to a layout or an offset must change the cache format version (src/spirv/jit.cpp).
+//
+// ---------------------------------------------------------------------------------------------- compute
 //
 // A compiled compute entry point is `void entry(InvocationContext*)`, run once per invocation (`vkrt_main`),
 // or for shaders without barriers once per workgroup (`vkrt_group`: it sets globalId, localId and localIndex
@@ -9,9 +14,40 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "runtime/descriptor_set_layout.hpp"
+namespace vkrt::abi {
 
-namespace vkrt::spirv {
+// DESCRIPTOR STORAGE (what compiled shaders load from)
+// ----------------------------------------------------
+// A descriptor set is one flat, 32-byte aligned array of DescriptorRecord (32 bytes each), one record per
+// array element of every binding, bindings in increasing binding number. Binding b's element i lives at a
+// record index the set layout fixes (src/runtime/descriptor_set_layout.hpp); a compiled shader receives each
+// binding it uses as a ResourceSlot (below) and indexes its elements.
+//
+// Record contents by descriptor type (fields not listed are zero):
+//   UNIFORM_BUFFER, STORAGE_BUFFER          address = device address of byte `offset` of the buffer,
+//                                           range   = bytes in range (VK_WHOLE_SIZE already resolved),
+//                                           object  = the buffer
+//   UNIFORM/STORAGE_BUFFER_DYNAMIC          the same; the dynamic offset bound with the set is added to
+//                                           `address` in the records a dispatch hands to the shader
+//   UNIFORM/STORAGE_TEXEL_BUFFER            object  = the buffer view
+//   SAMPLED_IMAGE, STORAGE_IMAGE            object  = the image view
+//   COMBINED_IMAGE_SAMPLER                  object  = the image view, sampler = the sampler
+//                                           (from pImmutableSamplers when the binding has them)
+//   SAMPLER                                 sampler = the sampler
+//   ACCELERATION_STRUCTURE_KHR              address = the acceleration structure's device address
+//                                           (vkGetAccelerationStructureDeviceAddressKHR), object = the object
+// A record of all zeros is an unwritten descriptor. `object` and `sampler` are opaque to compiled code: they
+// point at the runtime's objects, which only the runtime's functions (image_functions.hpp) look into.
+struct alignas(32) DescriptorRecord {
+  uint64_t address;     // byte 0
+  uint64_t range;       // byte 8
+  const void* object;   // byte 16
+  const void* sampler;  // byte 24
+};
+static_assert(sizeof(DescriptorRecord) == 32 && offsetof(DescriptorRecord, address) == 0 &&
+                  offsetof(DescriptorRecord, range) == 8 && offsetof(DescriptorRecord, object) == 16 &&
+                  offsetof(DescriptorRecord, sampler) == 24,
+              "the compiler bakes the descriptor record layout into shader code");
 
 // One resource the shader uses (a buffer binding, possibly an array of descriptors): the executor resolves it
 // per dispatch to the bound set's records for that binding.
@@ -28,9 +64,9 @@ struct InvocationContext {
   uint32_t workgroupSize[4];  // 64  WorkgroupSize
   uint32_t localIndex;        // 80  LocalInvocationIndex
   uint32_t pad0[3];
-  const ResourceSlot* resources;  // 96   by slot (CompiledShader::resources order)
+  const ResourceSlot* resources;  // 96   by slot, in the order the compiler lists the shader's resources
   const uint8_t* pushConstants;   // 104  kPushConstantBytes bytes
-  uint8_t* workgroupMemory;       // 112  CompiledShader::workgroupMemorySize bytes, shared by the workgroup
+  uint8_t* workgroupMemory;       // 112  the shader's workgroup memory, shared by the workgroup
   void (*barrier)(InvocationContext*);  // 120  OpControlBarrier with Workgroup scope
   void* executor;                       // 128  the executor's per-invocation state
   uint8_t* sink;                        // 136  kSinkBytes bytes: out-of-bounds atomics land here
@@ -144,4 +180,4 @@ static_assert(offsetof(RayInvocation, launchId) == 144 && offsetof(RayInvocation
 
 using RayEntry = void (*)(RayInvocation*);
 
-}  // namespace vkrt::spirv
+}  // namespace vkrt::abi

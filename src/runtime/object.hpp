@@ -13,7 +13,7 @@
 #include <mutex>
 #include <string>
 
-#include "icd/vk.hpp"
+#include "runtime/vk.hpp"
 
 namespace vkrt {
 

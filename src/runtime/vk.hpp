@@ -2,7 +2,7 @@
 // interface, and the compat tokens newer than the installed headers.
 #pragma once
 
-#include "icd/vk_compat.h"
+#include "runtime/vk_compat.h"
 
 #include <vulkan/vk_icd.h>
 #include <vulkan/vulkan.h>

@@ -4,9 +4,10 @@
 // it (the structures are left untouched, as for any unknown extension).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
-#include "icd/vk.hpp"
+#include "runtime/vk.hpp"
 
 namespace vkrt::rt {
 
@@ -25,6 +26,10 @@ bool fillProperty(VkBaseOutStructure* s);
 // For VkDeviceCreateInfo checking: the size of a ray tracing feature structure and the offset just past its
 // last VkBool32. Returns false for other structures.
 bool featureStructLayout(VkStructureType sType, size_t* size, size_t* end);
+
+// Sizes of a shader-group handle and of its capture/replay data (src/rt/group_handles.hpp defines their contents).
+inline constexpr uint32_t kShaderGroupHandleSize = 32;
+inline constexpr uint32_t kShaderGroupCaptureReplaySize = 64;
 
 // The properties (NVIDIA's values where the spec leaves the choice).
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR properties();

@@ -1,9 +1,8 @@
-#include "rt/features.hpp"
+#include "runtime/ray_tracing_features.hpp"
 
 #include <cstdlib>
 #include <cstring>
 
-#include "rt/group_handles.hpp"
 
 namespace vkrt::rt {
 
@@ -22,11 +21,11 @@ void appendExtensions(std::vector<VkExtensionProperties>& out) {
 
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR properties() {
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
-  p.shaderGroupHandleSize = kHandleSize;
+  p.shaderGroupHandleSize = kShaderGroupHandleSize;
   p.maxRayRecursionDepth = 31;
   p.maxShaderGroupStride = 4096;
   p.shaderGroupBaseAlignment = 64;
-  p.shaderGroupHandleCaptureReplaySize = kCaptureSize;
+  p.shaderGroupHandleCaptureReplaySize = kShaderGroupCaptureReplaySize;
   p.maxRayDispatchInvocationCount = 1u << 30;
   p.shaderGroupHandleAlignment = 32;
   p.maxRayHitAttributeSize = 32;

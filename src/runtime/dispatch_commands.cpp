@@ -1,19 +1,19 @@
 // vkCmdDispatch, vkCmdDispatchBase, vkCmdDispatchIndirect: recorded as closures that, at execution, resolve the
-// bound compute pipeline's resources from the bound descriptor sets and run the workgroups on the thread pool.
+// bound compute pipeline's resources from the bound descriptor sets and run the workgroups on the executor
+// (src/exec/compute.hpp).
 #include <cstring>
-#include <vector>
 
 #include "exec/compute.hpp"
+#include "runtime/bound_resources.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/compute_pipeline.hpp"
-#include "runtime/descriptor_set.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
-namespace vkrt::exec {
+namespace vkrt {
 namespace {
 
 using ull = unsigned long long;
@@ -35,53 +35,25 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
     return;
   }
   const spirv::CompiledShader& sh = *pipeline->shader;
-  // The records of every binding the shader uses; dynamic buffers get copies with their dynamic offset added.
-  std::vector<spirv::ResourceSlot> slots(sh.resources.size());
-  std::vector<std::vector<DescriptorRecord>> dynamicCopies;
-  for (size_t i = 0; i < sh.resources.size(); ++i) {
-    const spirv::ResourceBinding& rb = sh.resources[i];
-    slots[i] = {nullptr, 0};
-    const DescriptorSet* set = rb.set < 8 ? bs.sets[rb.set] : nullptr;
-    const DescriptorBinding* b = set ? set->layout->bindingAt(rb.binding) : nullptr;
-    // VUID-vkCmdDispatch-None-02697 (every set the pipeline uses must be bound)
-    if (!b) {
-      report(cb, Severity::Error, "VUID-vkCmdDispatch-None-02697",
-             "%s: the bound pipeline uses set %u binding %u, but %s; its accesses read zeros and write nothing", fn, rb.set,
-             rb.binding, set ? "the bound set's layout has no such binding" : "no descriptor set is bound there");
-      continue;
-    }
-    uint32_t n = set->elementCount(*b);
-    const DescriptorRecord* records = set->records() + b->offset;
-    if (isDynamicBufferType(b->type)) {
-      const std::vector<uint32_t>& offs = bs.dynamicOffsets[rb.set];
-      std::vector<DescriptorRecord> copy(records, records + n);
-      for (uint32_t e = 0; e < n; ++e) {
-        uint32_t k = b->dynamicIndex + e;
-        if (copy[e].address && k < offs.size()) copy[e].address += offs[k];
-      }
-      dynamicCopies.push_back(std::move(copy));
-      records = dynamicCopies.back().data();
-    }
-    slots[i] = {records, n};
-  }
-  ComputeDispatch d;
-  d.shader = &sh;
-  d.resources = slots.data();
+  BoundResources resources;
+  resources.resolve(sh, bs, cb, fn, "VUID-vkCmdDispatch-None-02697");
+  exec::ComputeDispatch d;
+  d.kernel = computeKernel(sh);
+  d.resources = resources.slots();
   d.pushConstants = st.pushConstants;
   for (int k = 0; k < 3; ++k) {
     d.base[k] = base[k];
     d.count[k] = count[k];
   }
-  if (!runCompute(d)) report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
+  if (!exec::runCompute(d)) report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
 }
 
 const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) { return cb->device->physicalDevice->properties10.limits; }
 
 }  // namespace
-}  // namespace vkrt::exec
+}  // namespace vkrt
 
 using namespace vkrt;
-using namespace vkrt::exec;
 
 extern "C" {
 

@@ -1,0 +1,43 @@
+// The image functions compiled shaders call (OpImageRead/Write/Fetch/SampleExplicitLod/Query*), by symbol
+// name: the compiler emits calls to these names, and whoever runs compiled code supplies their addresses
+// (HostSymbol lists, given to the compiler; the runtime's implementation is src/runtime/image_functions.cpp,
+// which reads its image view and sampler objects through the descriptor records' opaque pointers).
+//
+// `img` is the record holding the image view (`object`), `smp` the record holding the sampler (`sampler`); for
+// a combined image sampler both are the same record. A null record object (unwritten descriptor, index past the
+// bound descriptors) reads zeros and writes nothing, as do coordinates outside the view.
+//
+// Texels travel as four 32-bit words: floats for float/normalized formats, integers for integer formats;
+// components a format lacks read as G = B = 0, A = 1. Coordinates travel as four values in the order of the
+// view type: 1D (x), 1D array (x, layer), 2D (x, y), 2D array / cube (x, y, layer), 3D (x, y, z).
+#pragma once
+
+#include <cstdint>
+
+#include "abi/abi.hpp"
+
+namespace vkrt::abi {
+
+// A function compiled code may call, by the symbol name the compiler emits.
+struct HostSymbol {
+  const char* name;
+  void* address;
+};
+
+}  // namespace vkrt::abi
+
+extern "C" {
+// OpImageRead on a storage image.
+void vkrt_image_read(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]);
+// OpImageWrite on a storage image.
+void vkrt_image_write(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]);
+// OpImageFetch: texel `coord` of mip `lod` (relative to the view's base level), view swizzle applied.
+void vkrt_image_fetch(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]);
+// OpImageSampleExplicitLod with a Lod operand: filtered with the sampler of `smp`, view swizzle applied.
+void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp, const float coord[4],
+                       float lod, uint32_t out[4]);
+// OpImageQuerySize(Lod): the view's size at mip `lod` in view-type order (x, y, z or layers); zeros when null.
+void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
+// OpImageQueryLevels.
+int32_t vkrt_image_levels(const vkrt::abi::DescriptorRecord* img);
+}
