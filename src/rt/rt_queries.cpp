@@ -1,6 +1,4 @@
-// Queries on ray tracing pipelines (group handles, capture/replay data, stack sizes), the stack-size command,
-// and vkDestroyPipeline (vkrt's one destroy for every pipeline kind: it deletes through Pipeline's virtual
-// destructor; it lives here until the compute pipelines bring src/runtime/pipeline.cpp).
+// Queries on ray tracing pipelines (group handles, capture/replay data, stack sizes) and the stack-size command.
 #include <cstring>
 
 #include "rt/group_handles.hpp"
@@ -197,19 +195,6 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetRayTracingPipelineStackSizeKHR(VkCommandBu
   if (!cb) return;
   // Kept for trace time: the tracing issue checks it against the bound pipeline (VUID-...-03610).
   cb->record([pipelineStackSize](ExecState& s) { s.rayTracingStackSize = pipelineStackSize; });
-}
-
-VKAPI_ATTR void VKAPI_CALL vkrt_DestroyPipeline(VkDevice device, VkPipeline pipeline,
-                                                const VkAllocationCallbacks* pAllocator) {
-  if (!pipeline) return;
-  Pipeline* p = fromHandle<Pipeline>(pipeline);
-  // VUID-vkDestroyPipeline-pipeline-parameter
-  if (!p) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyPipeline-pipeline-parameter",
-           "vkDestroyPipeline: 0x%llx is not a live VkPipeline", (unsigned long long)rawHandle(pipeline));
-    return;
-  }
-  destroyObject(p, pAllocator);
 }
 
 }  // extern "C"

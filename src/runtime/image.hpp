@@ -4,8 +4,8 @@
 // slice after slice; for each mip level all array layers, mip levels one after the other:
 //   offset(mip, layer, x, y, z) = mipOffset[mip] + layer * arrayPitch[mip]
 //                                 + z * depthPitch[mip] + y * rowPitch[mip] + x * texelSize
-// vkGetImageSubresourceLayout reports exactly these pitches, and shaders (a later issue) address texels
-// the same way.
+// vkGetImageSubresourceLayout reports exactly these pitches, and the image functions compiled shaders call
+// (runtime/image_functions.cpp) address texels the same way.
 #pragma once
 
 #include <vector>

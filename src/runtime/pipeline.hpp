@@ -1,5 +1,5 @@
-// VkPipeline: the base of compute pipelines (src/spirv, src/exec) and ray tracing pipelines (src/rt).
-// vkDestroyPipeline deletes through the virtual destructor.
+// VkPipeline: the base of compute pipelines (runtime/compute_pipeline.hpp) and ray tracing pipelines
+// (src/rt/rt_pipeline.hpp). vkDestroyPipeline (pipeline.cpp) deletes through the virtual destructor.
 #pragma once
 
 #include "runtime/object.hpp"

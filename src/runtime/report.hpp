@@ -18,11 +18,7 @@ enum class Severity { Verbose, Info, Warning, Error };
 void report(const Object* about, Severity severity, const char* vuid, const char* format, ...)
     __attribute__((format(printf, 4, 5)));
 
-// The same for an instance that has no Object yet (vkCreateInstance), with its creation-time messengers.
+// The same with the arguments as a va_list.
 void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args);
-
-// Shorthands.
-#define VKRT_ERROR(obj, vuid, ...) ::vkrt::report((obj), ::vkrt::Severity::Error, (vuid), __VA_ARGS__)
-#define VKRT_WARN(obj, vuid, ...) ::vkrt::report((obj), ::vkrt::Severity::Warning, (vuid), __VA_ARGS__)
 
 }  // namespace vkrt
