@@ -1,0 +1,201 @@
+// Acceleration structures and their traversal, on Embree 3: plain C++, no Vulkan types (the runtime converts
+// Vulkan build inputs into the types here, and the trace executor drives the traversal).
+//
+// A bottom-level structure (Blas) owns copies of its geometries: triangles (float vertices, 32-bit indices) and
+// axis-aligned boxes, each with its geometry flags. A top-level structure (Tlas) owns its instances, each holding
+// the Blas it instantiates (shared: the Blas lives as long as a Tlas that was built with it, whatever happens to
+// the Vulkan object it came from). Geometry index = position in the Blas, primitive index = position in its
+// geometry, instance index = position in the Tlas: they are what the shaders' built-ins report.
+//
+// Traversal follows the ray traversal rules of the Vulkan specification ("Ray Traversal"): instance masks, ray
+// flags, instance flags, geometry flags, triangle facing, opacity, the any-hit and intersection shaders (through
+// a HitHandler), closest-hit commitment and termination. Builds and traversal are thread-safe: any number of
+// threads may traverse one structure at once.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vkrt::accel {
+
+// The values of VkGeometryFlagBitsKHR.
+enum GeometryFlag : uint32_t { kGeometryOpaque = 0x1, kGeometryNoDuplicateAnyHit = 0x2 };
+
+// The values of VkGeometryInstanceFlagBitsKHR.
+enum InstanceFlag : uint32_t {
+  kInstanceTriangleFacingCullDisable = 0x1,
+  kInstanceTriangleFlipFacing = 0x2,
+  kInstanceForceOpaque = 0x4,
+  kInstanceForceNoOpaque = 0x8,
+};
+
+// The values of the SPIR-V RayFlags operand (gl_RayFlags*EXT).
+enum RayFlag : uint32_t {
+  kRayOpaque = 0x1,
+  kRayNoOpaque = 0x2,
+  kRayTerminateOnFirstHit = 0x4,
+  kRaySkipClosestHitShader = 0x8,
+  kRayCullBackFacingTriangles = 0x10,
+  kRayCullFrontFacingTriangles = 0x20,
+  kRayCullOpaque = 0x40,
+  kRayCullNoOpaque = 0x80,
+  kRaySkipTriangles = 0x100,
+  kRaySkipAabbs = 0x200,
+};
+
+// gl_HitKindEXT of triangle hits.
+inline constexpr uint32_t kHitKindFrontFacingTriangle = 0xFE;
+inline constexpr uint32_t kHitKindBackFacingTriangle = 0xFF;
+
+struct TriangleGeometry {
+  std::vector<float> vertices;    // x, y, z per vertex, in the Blas's space (any build transform applied)
+  std::vector<uint32_t> indices;  // three per triangle (the runtime expands non-indexed geometry)
+  uint32_t flags = 0;             // GeometryFlag
+};
+
+struct AabbGeometry {
+  std::vector<float> boxes;  // min x, y, z, max x, y, z per primitive
+  uint32_t flags = 0;        // GeometryFlag
+};
+
+struct Geometry {
+  enum Kind : uint8_t { Triangles, Aabbs } kind = Triangles;
+  TriangleGeometry triangles;  // kind == Triangles
+  AabbGeometry aabbs;          // kind == Aabbs
+};
+
+// Inactive primitives (Vulkan: a triangle whose first vertex has a NaN x, a box whose min x is NaN) are kept in
+// place, so that the indices of the others do not move, and are never hit.
+
+class Blas;
+
+struct Instance {
+  float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // object to world, rows (VkTransformMatrixKHR)
+  uint32_t customIndex = 0;  // 24 bits: gl_InstanceCustomIndexEXT
+  uint32_t mask = 0xFF;      // 8 bits: the instance is skipped by rays whose cull mask shares no bit with it
+  uint32_t sbtOffset = 0;    // 24 bits: instanceShaderBindingTableRecordOffset
+  uint32_t flags = 0;        // InstanceFlag
+  std::shared_ptr<const Blas> blas;  // null: an inactive instance (reference 0), never hit
+};
+
+// How a structure is built (VkBuildAccelerationStructureFlagBitsKHR, as far as Embree can honour them).
+struct BuildOptions {
+  bool preferFastTrace = false;
+  bool preferFastBuild = false;
+  bool allowUpdate = false;    // keeps what a later update() needs
+  bool lowMemory = false;
+};
+
+class Blas {
+ public:
+  // Builds from `geometries` (taken over). Fails, with `error` set, when Embree cannot build (out of memory).
+  static std::shared_ptr<Blas> build(std::vector<Geometry> geometries, const BuildOptions& options, std::string* error);
+  ~Blas();
+
+  // An update (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR): the same geometries with new vertex positions
+  // or boxes (same counts, kinds, indices and flags as this one; the caller checks). The result is a new Blas
+  // refitted from this one's hierarchy; this one is unchanged (it may be traversed meanwhile).
+  std::shared_ptr<Blas> update(std::vector<Geometry> geometries, std::string* error) const;
+
+  const std::vector<Geometry>& geometries() const;
+  const BuildOptions& options() const;
+  uint64_t primitiveCount() const;
+
+  // The bytes the structure occupies (its copies of the inputs and Embree's hierarchy, estimated): what the
+  // runtime reports as its compacted size.
+  uint64_t nativeBytes() const;
+
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
+class Tlas {
+ public:
+  static std::shared_ptr<Tlas> build(std::vector<Instance> instances, const BuildOptions& options, std::string* error);
+  ~Tlas();
+  std::shared_ptr<Tlas> update(std::vector<Instance> instances, std::string* error) const;
+
+  const std::vector<Instance>& instances() const;
+  const BuildOptions& options() const;
+  uint64_t nativeBytes() const;
+
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
+// ------------------------------------------------------------------------------------------------ traversal
+
+struct Ray {
+  float origin[3] = {0, 0, 0};
+  float tMin = 0;
+  float direction[3] = {0, 0, 1};
+  float tMax = 0;
+  uint32_t flags = 0;       // RayFlag (the pipeline's SKIP_TRIANGLES / SKIP_AABBS flags already or-ed in)
+  uint32_t cullMask = 0xFF;
+};
+
+// A hit, candidate or committed: what the any-hit, intersection and closest-hit shaders' built-ins read.
+struct HitInfo {
+  float t = 0;
+  uint32_t instanceIndex = 0;   // gl_InstanceID
+  uint32_t customIndex = 0;     // gl_InstanceCustomIndexEXT
+  uint32_t sbtOffset = 0;       // the instance's SBT record offset
+  uint32_t geometryIndex = 0;   // gl_GeometryIndexEXT
+  uint32_t primitiveIndex = 0;  // gl_PrimitiveID
+  uint32_t hitKind = 0;         // triangles: kHitKind*; boxes: what the intersection shader reported
+  bool triangle = true;
+  float barycentrics[2] = {0, 0};  // triangles: the weights of vertices 1 and 2
+  // The instance's transform (rows) and its inverse, kept by the Tlas (valid while it lives).
+  const float (*objectToWorld)[4] = nullptr;
+  const float (*worldToObject)[4] = nullptr;
+  float objectRayOrigin[3] = {};     // the ray in the instance's object space
+  float objectRayDirection[3] = {};
+};
+
+enum class AnyHitResult { Accept, Ignore, AcceptAndTerminate };
+
+// A box primitive under test: the intersection shader's view of the traversal. Valid only during
+// HitHandler::intersect.
+class ProceduralCandidate {
+ public:
+  virtual ~ProceduralCandidate() = default;
+  virtual const HitInfo& info() const = 0;  // t and hitKind unset
+  virtual float tMin() const = 0;
+  virtual float tMax() const = 0;      // the closest committed hit so far, or the ray's tMax
+  virtual bool opaque() const = 0;     // after geometry, instance and ray flags
+  // Commits a hit of this primitive at `t` with `hitKind` (the caller has run the any-hit shader, if any, and
+  // checked tMin() <= t <= tMax()). `terminate`: the traversal stops after it (an any-hit shader's
+  // terminateRayEXT, or kRayTerminateOnFirstHit).
+  virtual void commit(float t, uint32_t hitKind, bool terminate) = 0;
+};
+
+// What the traversal calls while it runs; implemented by the trace executor (the shaders).
+class HitHandler {
+ public:
+  virtual ~HitHandler() = default;
+  // A candidate triangle hit that is not opaque (the any-hit shader decides), inside [tMin, closest so far].
+  virtual AnyHitResult anyHit(const HitInfo& candidate) = 0;
+  // A box primitive whose box the ray enters (the intersection shader runs; it may commit hits).
+  virtual void intersect(ProceduralCandidate& candidate) = 0;
+};
+
+// Traces `ray` through `tlas`. Returns true with the committed hit in `hit` when there is one. The handler is
+// called only for candidates that need a shader; a ray that meets only opaque triangles runs at Embree's speed
+// (no filter callback at all where no ray flag or instance flag asks for one).
+bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
+
+// ------------------------------------------------------------------------------------------ serialization
+//
+// The opaque part of a serialized structure (the runtime writes the header the Vulkan specification defines
+// before it, with the bottom-level references). A Tlas's instances are written with the index of their Blas in
+// `blasRefs` (filled by serialize, in first-use order) and resolved through `resolve` on deserialize.
+std::vector<uint8_t> serialize(const Blas& blas);
+std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasRefs);
+std::shared_ptr<Blas> deserializeBlas(const uint8_t* data, size_t size, std::string* error);
+std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
+                                      const std::vector<std::shared_ptr<const Blas>>& blasRefs, std::string* error);
+
+}  // namespace vkrt::accel
