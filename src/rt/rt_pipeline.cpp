@@ -9,7 +9,7 @@
 #include <memory>
 #include <optional>
 
-#include "rt/deferred_operation.hpp"
+#include "runtime/deferred_operation.hpp"
 #include "rt/library_link.hpp"
 #include "rt/stack_size.hpp"
 #include "runtime/alloc.hpp"

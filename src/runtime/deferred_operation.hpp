@@ -1,6 +1,6 @@
 // VkDeferredOperationKHR (VK_KHR_deferred_host_operations).
 //
-// A deferred command (vkCreateRayTracingPipelinesKHR) validates its arguments at once, then hands the
+// A deferred command (vkCreateRayTracingPipelinesKHR, the host acceleration structure commands) validates its arguments at once, then hands the
 // operation a list of tasks and returns VK_OPERATION_DEFERRED_KHR. The tasks run only on the threads that
 // call vkDeferredOperationJoinKHR: each joining thread takes the next task until none is left. Join returns
 //   VK_SUCCESS          when the operation is complete (this thread finished the last task, or it was done),
@@ -15,7 +15,7 @@
 
 #include "runtime/object.hpp"
 
-namespace vkrt::rt {
+namespace vkrt {
 
 class DeferredOperation : public Object {
  public:
@@ -45,4 +45,4 @@ class DeferredOperation : public Object {
   VkResult result_ = VK_SUCCESS;
 };
 
-}  // namespace vkrt::rt
+}  // namespace vkrt

@@ -1,11 +1,11 @@
-#include "rt/deferred_operation.hpp"
+#include "runtime/deferred_operation.hpp"
 
 #include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
-namespace vkrt::rt {
+namespace vkrt {
 
 DeferredOperation::DeferredOperation(Device* dev) : Object(kType, dev->instance, dev) {}
 
@@ -58,10 +58,9 @@ bool DeferredOperation::complete() const {
   return !active_;
 }
 
-}  // namespace vkrt::rt
+}  // namespace vkrt
 
 using namespace vkrt;
-using vkrt::rt::DeferredOperation;
 
 extern "C" {
 
