@@ -120,6 +120,21 @@ bool contains(uint64_t address, VkDeviceSize size) {
   return address >= b && address + size <= b + kCapacity && address + size >= address;
 }
 
+bool accessible(uint64_t address, VkDeviceSize size) {
+  if (!contains(address, size)) return false;
+  Arena& a = get();
+  uint64_t off = address - reinterpret_cast<uint64_t>(a.base);
+  std::lock_guard lock(a.mutex);
+  // Allocated memory is what lies between free ranges: the free range at or before `off` must end by `off`,
+  // and the next one must start at or after the end of the range.
+  auto next = a.freeRanges.upper_bound(off);
+  if (next != a.freeRanges.begin()) {
+    auto prev = std::prev(next);
+    if (prev->first + prev->second > off) return false;
+  }
+  return next == a.freeRanges.end() || next->first >= off + size;
+}
+
 uint64_t baseAddress() { return reinterpret_cast<uint64_t>(get().base); }
 VkDeviceSize capacity() { return kCapacity; }
 

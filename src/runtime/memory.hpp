@@ -36,6 +36,8 @@ namespace arena {
 uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop);
 void release(uint8_t* base, VkDeviceSize size);
 bool contains(uint64_t address, VkDeviceSize size);
+// Whether every byte of [address, address + size) belongs to allocated device memory (so reading it cannot fault).
+bool accessible(uint64_t address, VkDeviceSize size);
 // The fixed address the arena was reserved at (the same in every process unless the hint was refused).
 uint64_t baseAddress();
 VkDeviceSize capacity();
