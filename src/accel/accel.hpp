@@ -96,8 +96,9 @@ class Blas {
   ~Blas();
 
   // An update (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR): the same geometries with new vertex positions
-  // or boxes (same counts, kinds, indices and flags as this one; the caller checks). The result is a new Blas
-  // refitted from this one's hierarchy; this one is unchanged (it may be traversed meanwhile).
+  // or boxes (same counts, kinds, indices and flags as this one; the caller checks). The result is a new Blas;
+  // this one is unchanged (it may be traversed meanwhile). Embree refits only a scene in place, so the new Blas
+  // is built afresh, with this one's options.
   std::shared_ptr<Blas> update(std::vector<Geometry> geometries, std::string* error) const;
 
   const std::vector<Geometry>& geometries() const;
