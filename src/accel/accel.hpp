@@ -195,6 +195,8 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 // `blasRefs` (filled by serialize, in first-use order) and resolved through `resolve` on deserialize.
 std::vector<uint8_t> serialize(const Blas& blas);
 std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasRefs);
+// Whether serialized data (as serialize() writes it) holds a top-level structure; false for anything else.
+bool serializedTopLevel(const uint8_t* data, size_t size);
 std::shared_ptr<Blas> deserializeBlas(const uint8_t* data, size_t size, std::string* error);
 std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
                                       const std::vector<std::shared_ptr<const Blas>>& blasRefs, std::string* error);

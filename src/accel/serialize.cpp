@@ -148,6 +148,13 @@ std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasR
   return std::move(w.out);
 }
 
+bool serializedTopLevel(const uint8_t* data, size_t size) {
+  uint32_t kind = 0;
+  if (size < sizeof kMagic + 8 || std::memcmp(data, kMagic, sizeof kMagic) != 0) return false;
+  std::memcpy(&kind, data + sizeof kMagic + 4, 4);
+  return kind == 1;
+}
+
 std::shared_ptr<Blas> deserializeBlas(const uint8_t* data, size_t size, std::string* error) {
   Reader r(data, size);
   BuildOptions options;

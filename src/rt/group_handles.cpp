@@ -192,9 +192,10 @@ void GroupRegistry::makeHandle(GroupRecord& r) const {
   put32(h + 28, kHandleMagic);
 }
 
-const GroupRecord* GroupRegistry::acquire(const GroupDesc& g, const Object* about) {
+const GroupRecord* GroupRegistry::acquire(const GroupDesc& g, const Object* about, uint64_t pipeline) {
   nonReplayed_.store(true);
   auto rec = std::make_unique<GroupRecord>();
+  rec->firstPipeline = pipeline;
   rec->desc = g;
   rec->content = canonicalContent(g);
   rec->contentDigest = hash128(rec->content.data(), rec->content.size());
@@ -271,8 +272,9 @@ bool GroupRegistry::checkCapture(const GroupDesc& g, const Digest& contentDigest
   return true;
 }
 
-const GroupRecord* GroupRegistry::replay(const GroupDesc& g, const uint8_t* c, ReplayError* error) {
+const GroupRecord* GroupRegistry::replay(const GroupDesc& g, const uint8_t* c, ReplayError* error, uint64_t pipeline) {
   auto rec = std::make_unique<GroupRecord>();
+  rec->firstPipeline = pipeline;
   rec->desc = g;
   rec->content = canonicalContent(g);
   rec->contentDigest = hash128(rec->content.data(), rec->content.size());

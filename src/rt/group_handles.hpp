@@ -98,6 +98,8 @@ struct GroupRecord {
   bool replayed = false;
   std::array<uint8_t, kHandleSize> handle{};
 
+  uint64_t firstPipeline = 0;  // the pipeline (handle value) the group was first created in, for reports
+
   uint32_t check() const { return static_cast<uint32_t>(digest.hi >> 32); }
   // The 64 bytes vkGetRayTracingCaptureReplayShaderGroupHandlesKHR writes for this group.
   std::array<uint8_t, kCaptureSize> captureData() const;
@@ -114,12 +116,12 @@ class GroupRegistry {
   ~GroupRegistry();
 
   // The record of a group created without capture data: the existing one for the same content, or a new
-  // one. `about` receives collision reports.
-  const GroupRecord* acquire(const GroupDesc& g, const Object* about);
+  // one (noting `pipeline` as the one it was first created in). `about` receives collision reports.
+  const GroupRecord* acquire(const GroupDesc& g, const Object* about, uint64_t pipeline = 0);
   // The record of a group created with capture data. Returns nullptr and fills `error` when the data does
   // not belong to this group (bad magic or version, corrupt, other group type, other content) or its handle
   // is taken by another group.
-  const GroupRecord* replay(const GroupDesc& g, const uint8_t capture[kCaptureSize], ReplayError* error);
+  const GroupRecord* replay(const GroupDesc& g, const uint8_t capture[kCaptureSize], ReplayError* error, uint64_t pipeline = 0);
 
   // Trace-time decode: the group a handle denotes, or nullptr for a handle this device never gave out.
   // O(1): three table lookups and a check-value comparison.

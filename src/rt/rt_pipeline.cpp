@@ -457,7 +457,7 @@ void build(Device* dev, Job& job) {
     const GroupRecord* r = nullptr;
     if (jg.hasCapture) {
       ReplayError e;
-      r = reg.replay(desc, jg.capture, &e);
+      r = reg.replay(desc, jg.capture, &e, p->handleValue());
       if (!r) {
         report(dev, Severity::Error, nullptr,
                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pGroups[%zu].pShaderGroupCaptureReplayHandle is "
@@ -468,7 +468,7 @@ void build(Device* dev, Job& job) {
         return;
       }
     } else {
-      r = reg.acquire(desc, dev);
+      r = reg.acquire(desc, dev, p->handleValue());
     }
     p->groups.push_back(r);
   }

@@ -3,6 +3,7 @@
 #include <cstring>
 #include <vector>
 
+#include "runtime/acceleration_structure.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/descriptor_pool.hpp"
@@ -12,8 +13,6 @@
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
-
-std::atomic<uint64_t (*)(const Object*)> accelerationStructureAddressHook{nullptr};
 
 DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLayout* layout, uint32_t variableCount)
     : Object(kType, dev->instance, dev),
@@ -246,15 +245,14 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
         return false;
       }
       const Object* as = findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR);
-      auto hook = accelerationStructureAddressHook.load();
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter
-      if (!as || !hook) {
+      if (!as) {
         report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter",
                "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureKHR", what, i, (unsigned long long)h);
         return false;
       }
       out.object = as;
-      out.address = hook(as);
+      out.address = static_cast<const AccelerationStructure*>(as)->address;
       return true;
     }
     default:

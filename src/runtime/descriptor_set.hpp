@@ -44,8 +44,4 @@ class DescriptorSet : public Object {
 bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
                       VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what);
 
-// Resolves an acceleration structure's object to its 64-bit device address. Installed by the acceleration
-// structure implementation; null until then (the descriptor type is also rejected until the extension exists).
-extern std::atomic<uint64_t (*)(const Object* accelerationStructure)> accelerationStructureAddressHook;
-
 }  // namespace vkrt

@@ -68,6 +68,19 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
         rayTracing.primitiveCulling = f->rayTraversalPrimitiveCulling;
         break;
       }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR: {
+        auto* f = reinterpret_cast<const VkPhysicalDeviceAccelerationStructureFeaturesKHR*>(s);
+        accelerationStructure.structures = f->accelerationStructure;
+        accelerationStructure.captureReplay = f->accelerationStructureCaptureReplay;
+        accelerationStructure.indirectBuild = f->accelerationStructureIndirectBuild;
+        accelerationStructure.hostCommands = f->accelerationStructureHostCommands;
+        accelerationStructure.updateAfterBind = f->descriptorBindingAccelerationStructureUpdateAfterBind;
+        break;
+      }
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_MAINTENANCE_1_FEATURES_KHR:
+        rayTracing.traceRaysIndirect2 =
+            reinterpret_cast<const VkPhysicalDeviceRayTracingMaintenance1FeaturesKHR*>(s)->rayTracingPipelineTraceRaysIndirect2;
+        break;
       default:
         // (A token newer than the installed headers: not a VkStructureType enumerator, so not a case label.)
         if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT)

@@ -1,6 +1,7 @@
 // VkDevice: the logical device, its enabled extensions and features, and its queues.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -11,6 +12,7 @@
 
 namespace vkrt {
 
+class AccelerationStructure;
 class PhysicalDevice;
 class Queue;
 namespace rt {
@@ -46,7 +48,20 @@ class Device : public Object {
     bool traceRaysIndirect = false;
     bool primitiveCulling = false;
     bool libraryGroupHandles = false;
+    bool traceRaysIndirect2 = false;  // VkPhysicalDeviceRayTracingMaintenance1FeaturesKHR
   } rayTracing;
+  // VkPhysicalDeviceAccelerationStructureFeaturesKHR, read in the constructor.
+  struct AccelerationStructureFeatures {
+    bool structures = false;
+    bool captureReplay = false;
+    bool indirectBuild = false;
+    bool hostCommands = false;
+    bool updateAfterBind = false;
+  } accelerationStructure;
+  // Live acceleration structures by device address (runtime/acceleration_structure.cpp): the most recently
+  // created or built one at each address.
+  std::mutex accelerationStructuresMutex;
+  std::map<uint64_t, AccelerationStructure*> accelerationStructures;
   // The device-wide shader-group handle registry (src/rt/group_handles.hpp), created on first use.
   std::shared_ptr<rt::GroupRegistry> groupRegistry;
   std::once_flag groupRegistryOnce;

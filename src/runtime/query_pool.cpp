@@ -31,10 +31,12 @@ void QueryPool::reset(uint32_t first, uint32_t n) {
   }
 }
 
-void QueryPool::writeTimestamp(uint32_t query) {
+void QueryPool::writeTimestamp(uint32_t query) { writeValue(query, now()); }
+
+void QueryPool::writeValue(uint32_t query, uint64_t value) {
   {
     std::lock_guard lock(mutex_);
-    slots_[query].value.store(now(), std::memory_order_relaxed);
+    slots_[query].value.store(value, std::memory_order_relaxed);
     slots_[query].available.store(1, std::memory_order_release);
   }
   cv_.notify_all();
@@ -134,6 +136,20 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateQueryPool(VkDevice device, const VkQue
   switch (pCreateInfo->queryType) {
     case VK_QUERY_TYPE_TIMESTAMP:
       break;
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR:
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR:
+      if (dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME)) break;
+      // VUID-VkQueryPoolCreateInfo-queryType-parameter
+      report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",
+             "vkCreateQueryPool: queryType %d needs VK_KHR_acceleration_structure enabled", pCreateInfo->queryType);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SIZE_KHR:
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_BOTTOM_LEVEL_POINTERS_KHR:
+      if (dev->extensionEnabled(VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME)) break;
+      // VUID-VkQueryPoolCreateInfo-queryType-parameter
+      report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",
+             "vkCreateQueryPool: queryType %d needs VK_KHR_ray_tracing_maintenance1 enabled", pCreateInfo->queryType);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
     case VK_QUERY_TYPE_PIPELINE_STATISTICS:
       // VUID-VkQueryPoolCreateInfo-queryType-00791
       report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-00791",

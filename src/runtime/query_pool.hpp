@@ -1,4 +1,5 @@
-// VkQueryPool: timestamp queries (VK_QUERY_TYPE_TIMESTAMP). Timestamps are nanoseconds of CLOCK_MONOTONIC
+// VkQueryPool: timestamp queries (VK_QUERY_TYPE_TIMESTAMP) and acceleration structure property queries
+// (compacted size, serialization size, size, bottom-level pointers). Timestamps are nanoseconds of CLOCK_MONOTONIC
 // (timestampPeriod 1.0, 64 valid bits). Each query is a value and an availability flag; commands write them on
 // the queue worker, the host reads them with vkGetQueryPoolResults.
 #pragma once
@@ -25,6 +26,8 @@ class QueryPool : public Object {
 
   void reset(uint32_t first, uint32_t n);
   void writeTimestamp(uint32_t query);
+  // Makes `query` available with `value` (acceleration structure property queries).
+  void writeValue(uint32_t query, uint64_t value);
   bool available(uint32_t query) const;
   uint64_t value(uint32_t query) const;
   // Blocks until `query` is available.

@@ -33,5 +33,6 @@ inline constexpr uint32_t kShaderGroupCaptureReplaySize = 64;
 
 // The properties (NVIDIA's values where the spec leaves the choice).
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR properties();
+VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperties();
 
 }  // namespace vkrt::rt

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
+#include "runtime/acceleration_structure.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/descriptor_set.hpp"
 #include "runtime/descriptor_set_layout.hpp"
@@ -30,7 +31,9 @@ class DescriptorStorage : public ::testing::Test {
     // Built directly (not with vkCreateDevice) so that VK_KHR_acceleration_structure can be "enabled" before
     // vkrt advertises it: the descriptor storage for it exists already.
     const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME};
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR fas{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    fas.accelerationStructure = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &fas};
     f12.descriptorBindingPartiallyBound = VK_TRUE;
     f12.descriptorBindingVariableDescriptorCount = VK_TRUE;
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
@@ -257,15 +260,18 @@ TEST_F(DescriptorStorage, ImmutableSamplersImagesAndTemplates) {
   vkrt_DestroyDescriptorPool(device, pool, nullptr);
 }
 
-uint64_t fakeAddress(const Object* as) { return 0xabc0000ull + (reinterpret_cast<uintptr_t>(as) & 0xff); }
-
 TEST_F(DescriptorStorage, AccelerationStructureDescriptorsStoreTheAddress) {
-  Object as(VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR, nullptr, dev);
-  auto previous = accelerationStructureAddressHook.exchange(&fakeAddress);
+  Buffer* storage = makeBuffer(4096, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
+  VkAccelerationStructureCreateInfoKHR aci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+  aci.buffer = toHandle(storage);
+  aci.offset = 512;
+  aci.size = 1024;
+  aci.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+  VkAccelerationStructureKHR h = VK_NULL_HANDLE;
+  ASSERT_EQ(vkrt_CreateAccelerationStructureKHR(device, &aci, nullptr, &h), VK_SUCCESS);
   VkDescriptorSetLayout l = makeLayout({{0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, kCompute, nullptr}});
   VkDescriptorPool pool = makePool();
   DescriptorSet* set = allocate(pool, l);
-  VkAccelerationStructureKHR h = reinterpret_cast<VkAccelerationStructureKHR>(as.handleValue());
   VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
   asw.accelerationStructureCount = 1;
   asw.pAccelerationStructures = &h;
@@ -274,11 +280,12 @@ TEST_F(DescriptorStorage, AccelerationStructureDescriptorsStoreTheAddress) {
   w.descriptorCount = 1;
   w.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
   vkrt_UpdateDescriptorSets(device, 1, &w, 0, nullptr);
-  EXPECT_EQ(set->records()[0].address, fakeAddress(&as));
-  EXPECT_EQ(set->records()[0].object, &as);
-  accelerationStructureAddressHook.store(previous);
+  // The record holds the structure's device address: its buffer's address plus the offset.
+  EXPECT_EQ(set->records()[0].address, reinterpret_cast<uint64_t>(storage->data()) + 512);
+  EXPECT_EQ(set->records()[0].object, static_cast<const Object*>(fromHandle<AccelerationStructure>(h)));
   vkrt_DestroyDescriptorPool(device, pool, nullptr);
   vkrt_DestroyDescriptorSetLayout(device, l, nullptr);
+  vkrt_DestroyAccelerationStructureKHR(device, h, nullptr);
 }
 
 TEST_F(DescriptorStorage, PipelineLayoutKeepsSetLayoutsAndDynamicOffsetStarts) {

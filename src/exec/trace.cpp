@@ -1,0 +1,398 @@
+#include "exec/trace.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <memory>
+#include <mutex>
+
+#include "exec/thread_pool.hpp"
+
+namespace vkrt::exec {
+
+namespace {
+
+constexpr uint64_t kHandleBytes = 32;         // shaderGroupHandleSize: the record's bytes before its shader data
+constexpr uint64_t kMaxCachedRecords = 1u << 20;  // per region; records past it are resolved at each use
+constexpr uint32_t kTile = 8;                 // launch indices per tile side
+constexpr uint32_t kMaxAttributeBytes = 32;   // maxRayHitAttributeSize
+constexpr uint32_t kMaxChain = 64;            // shaders named in a stack report
+
+// Per-region cache of resolved records: null = not resolved yet, kInvalid = reported, never run.
+const RayGroup kInvalidGroup{};
+const RayGroup* const kInvalid = &kInvalidGroup;
+
+class RecordCache {
+ public:
+  void init(const SbtRange& range) {
+    range_ = range;
+    count_ = range.stride ? range.size / range.stride : (range.size ? 1 : 0);
+    // A record must hold a handle: with a zero stride only index 0 exists.
+    cached_ = std::min(count_, kMaxCachedRecords);
+    slots_.reset(cached_ ? new std::atomic<const RayGroup*>[cached_] : nullptr);
+    for (uint64_t i = 0; i < cached_; ++i) slots_[i].store(nullptr, std::memory_order_relaxed);
+  }
+  // The group of record `index`, or null (reported) when it lies outside the region or denotes no group.
+  const RayGroup* get(SbtRegion region, uint64_t index, LaunchResolver& resolver, const uint8_t** record) {
+    if (index >= count_ || (range_.stride == 0 && index > 0) || index * range_.stride + kHandleBytes > range_.size) {
+      resolver.recordOutsideRegion(region, index, range_.stride, range_.size);
+      return nullptr;
+    }
+    *record = range_.base + index * range_.stride;
+    if (index < cached_) {
+      const RayGroup* g = slots_[index].load(std::memory_order_acquire);
+      if (!g) {
+        g = resolver.group(region, index, *record);
+        if (!g) g = kInvalid;
+        slots_[index].store(g, std::memory_order_release);
+      }
+      return g == kInvalid ? nullptr : g;
+    }
+    return resolver.group(region, index, *record);
+  }
+  // The shader-record bytes after the handle of a record (the stride's worth, or what is left of the region).
+  uint64_t dataBytes(uint64_t index) const {
+    uint64_t start = index * range_.stride + kHandleBytes;
+    uint64_t end = range_.stride ? std::min(start - kHandleBytes + range_.stride, range_.size) : range_.size;
+    return end > start ? end - start : 0;
+  }
+
+ private:
+  SbtRange range_;
+  uint64_t count_ = 0, cached_ = 0;
+  std::unique_ptr<std::atomic<const RayGroup*>[]> slots_;
+};
+
+// The launch's shared state: the SBT caches and the acceleration structures met so far.
+struct LaunchState {
+  const RayLaunch* launch = nullptr;
+  RecordCache miss, hit, callable;
+
+  static constexpr uint32_t kCachedStructures = 16;
+  std::atomic<uint64_t> asAddress[kCachedStructures];
+  std::atomic<const accel::Tlas*> asTlas[kCachedStructures];
+  std::atomic<uint32_t> asCount{0};
+  std::mutex asMutex;
+
+  const accel::Tlas* topLevel(uint64_t address) {
+    uint32_t n = asCount.load(std::memory_order_acquire);
+    for (uint32_t i = 0; i < n; ++i)
+      if (asAddress[i].load(std::memory_order_relaxed) == address) return asTlas[i].load(std::memory_order_relaxed);
+    std::lock_guard<std::mutex> lock(asMutex);
+    n = asCount.load(std::memory_order_relaxed);
+    for (uint32_t i = 0; i < n; ++i)
+      if (asAddress[i].load(std::memory_order_relaxed) == address) return asTlas[i].load(std::memory_order_relaxed);
+    const accel::Tlas* t = launch->resolver->topLevel(address);
+    if (n < kCachedStructures) {
+      asAddress[n].store(address, std::memory_order_relaxed);
+      asTlas[n].store(t, std::memory_order_relaxed);
+      asCount.store(n + 1, std::memory_order_release);
+    }
+    return t;
+  }
+};
+
+struct TraceFrame;
+
+// What the executor passes to a shader: the ABI's RayInvocation, then the executor's own state.
+struct Invocation : abi::RayInvocation {
+  LaunchState* state = nullptr;
+  const Invocation* parent = nullptr;  // the invocation that called this one (for stack reports)
+  const RayShader* shader = nullptr;
+  uint32_t depth = 0;                  // traceRayEXT nesting: raygen 0
+  uint64_t stackUsed = 0;              // the stack sizes of this shader and its callers
+  TraceFrame* frame = nullptr;         // intersection shaders: the traversal they serve
+  accel::ProceduralCandidate* candidate = nullptr;
+};
+
+thread_local uint8_t tlsSink[abi::kSinkBytes];
+
+void traceRay(abi::RayInvocation* caller, const abi::TraceRayArgs* args);
+void executeCallable(abi::RayInvocation* caller, uint32_t index, void* data, uint64_t bytes);
+uint32_t reportIntersection(abi::RayInvocation* caller, float t, uint32_t hitKind, const void* attributes, uint64_t bytes);
+
+const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection};
+
+// A new invocation called by `caller` (null for raygen): launch index, push constants, runtime.
+void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
+  inv.state = state;
+  inv.parent = caller;
+  inv.base.pushConstants = state->launch->pushConstants;
+  inv.base.sink = tlsSink;
+  inv.runtime = &kRuntime;
+  if (caller) {
+    std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
+    std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
+    inv.depth = caller->depth;
+    inv.stackUsed = caller->stackUsed;
+  }
+}
+
+// Runs `shader` for `inv` unless it would take the chain's stack past the pipeline stack size (reported).
+bool run(Invocation& inv, const RayShader& shader) {
+  if (!shader.entry) return false;
+  const RayLaunch& launch = *inv.state->launch;
+  uint64_t needed = inv.stackUsed + shader.stackSize;
+  if (needed > launch.stackSize) {
+    const RayShader* chain[kMaxChain];
+    uint32_t n = 0;
+    chain[n++] = &shader;
+    for (const Invocation* p = inv.parent; p && n < kMaxChain; p = p->parent)
+      if (p->shader) chain[n++] = p->shader;
+    std::reverse(chain, chain + n);
+    launch.resolver->stackExceeded(chain, n, needed, launch.stackSize);
+    return false;
+  }
+  inv.stackUsed = needed;
+  inv.shader = &shader;
+  inv.base.resources = shader.resources;
+  shader.entry(&inv);
+  return true;
+}
+
+void setRay(Invocation& inv, const abi::TraceRayArgs& a, float tMax) {
+  for (int i = 0; i < 3; ++i) {
+    inv.worldRayOrigin[i] = a.origin[i];
+    inv.worldRayDirection[i] = a.direction[i];
+  }
+  inv.rayTmin = a.tMin;
+  inv.rayTmax = tMax;
+  inv.incomingRayFlags = a.rayFlags;
+  inv.cullMask = a.cullMask & 0xFF;
+}
+
+void setHit(Invocation& inv, const accel::HitInfo& h) {
+  inv.instanceCustomIndex = int32_t(h.customIndex);
+  inv.instanceId = int32_t(h.instanceIndex);
+  inv.geometryIndex = int32_t(h.geometryIndex);
+  inv.primitiveId = int32_t(h.primitiveIndex);
+  inv.hitKind = h.hitKind;
+  for (int i = 0; i < 3; ++i) {
+    inv.objectRayOrigin[i] = h.objectRayOrigin[i];
+    inv.objectRayDirection[i] = h.objectRayDirection[i];
+  }
+  // The ABI's matrices are 4 columns of 3 floats: the transpose of the rows the Tlas keeps.
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r) {
+      inv.objectToWorld[c][r] = h.objectToWorld ? h.objectToWorld[r][c] : (c == r ? 1.0f : 0.0f);
+      inv.worldToObject[c][r] = h.worldToObject ? h.worldToObject[r][c] : (c == r ? 1.0f : 0.0f);
+    }
+}
+
+// One traceRayEXT: the traversal's HitHandler (any-hit and intersection shaders), then closest-hit or miss.
+struct TraceFrame final : accel::HitHandler {
+  Invocation& caller;
+  const abi::TraceRayArgs& args;
+  LaunchState& state;
+  uint8_t committedAttributes[kMaxAttributeBytes] = {};  // of the procedural hit committed last
+  uint64_t committedAttributeBytes = 0;
+
+  TraceFrame(Invocation& caller, const abi::TraceRayArgs& args) : caller(caller), args(args), state(*caller.state) {}
+
+  uint64_t recordIndex(const accel::HitInfo& h) const {
+    return uint64_t(h.sbtOffset) + args.sbtOffset + uint64_t(args.sbtStride) * h.geometryIndex;
+  }
+
+  // The hit group for `h`, checked against the geometry kind; null when there is none to run.
+  const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {
+    *index = recordIndex(h);
+    const RayGroup* g = state.hit.get(SbtRegion::Hit, *index, *state.launch->resolver, record);
+    if (!g || g->type == RayGroup::Empty) return nullptr;
+    bool triangles = g->type == RayGroup::Triangles;
+    if (g->type == RayGroup::General || triangles != h.triangle) {
+      state.launch->resolver->hitGroupMismatch(*index, *g, h.triangle);
+      return nullptr;
+    }
+    return g;
+  }
+
+  void hitInvocation(Invocation& inv, const accel::HitInfo& h, const uint8_t* record, uint64_t index, float tMax) {
+    begin(inv, &state, &caller);
+    inv.depth = caller.depth + 1;
+    setRay(inv, args, tMax);
+    setHit(inv, h);
+    inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
+    inv.shaderRecordBytes = state.hit.dataBytes(index);
+  }
+
+  accel::AnyHitResult runAnyHit(const accel::HitInfo& h, const void* attributes, uint64_t attributeBytes) {
+    const uint8_t* record;
+    uint64_t index;
+    const RayGroup* g = hitGroup(h, &record, &index);
+    if (!g || !g->anyHit.entry) return accel::AnyHitResult::Accept;
+    Invocation inv{};
+    hitInvocation(inv, h, record, index, h.t);
+    inv.incoming = args.payload;
+    inv.incomingBytes = args.payloadBytes;
+    inv.hitAttributes = attributes;
+    inv.hitAttributeBytes = attributeBytes;
+    if (!run(inv, g->anyHit)) return accel::AnyHitResult::Accept;
+    if (inv.status == abi::kRayStatusIgnore) return accel::AnyHitResult::Ignore;
+    if (inv.status == abi::kRayStatusTerminate) return accel::AnyHitResult::AcceptAndTerminate;
+    return accel::AnyHitResult::Accept;
+  }
+
+  accel::AnyHitResult anyHit(const accel::HitInfo& candidate) override {
+    return runAnyHit(candidate, candidate.barycentrics, sizeof candidate.barycentrics);
+  }
+
+  void intersect(accel::ProceduralCandidate& c) override {
+    const accel::HitInfo& h = c.info();
+    const uint8_t* record;
+    uint64_t index;
+    const RayGroup* g = hitGroup(h, &record, &index);
+    if (!g || !g->intersection.entry) return;
+    Invocation inv{};
+    hitInvocation(inv, h, record, index, c.tMax());
+    inv.hitKind = 0;
+    inv.frame = this;
+    inv.candidate = &c;
+    run(inv, g->intersection);
+  }
+
+  // reportIntersectionEXT from the intersection shader `inv`.
+  uint32_t report(Invocation& inv, float t, uint32_t hitKind, const void* attributes, uint64_t bytes) {
+    accel::ProceduralCandidate& c = *inv.candidate;
+    if (!(t >= c.tMin() && t <= c.tMax())) return 0;  // NaN fails too
+    accel::HitInfo h = c.info();
+    h.t = t;
+    h.hitKind = hitKind;
+    bytes = std::min<uint64_t>(bytes, kMaxAttributeBytes);
+    uint8_t candidateAttributes[kMaxAttributeBytes] = {};
+    if (attributes && bytes) std::memcpy(candidateAttributes, attributes, bytes);
+    accel::AnyHitResult r = c.opaque() ? accel::AnyHitResult::Accept : runAnyHit(h, candidateAttributes, bytes);
+    if (r == accel::AnyHitResult::Ignore) return 0;
+    bool terminate = r == accel::AnyHitResult::AcceptAndTerminate || (args.rayFlags & accel::kRayTerminateOnFirstHit);
+    c.commit(t, hitKind, terminate);
+    std::memcpy(committedAttributes, candidateAttributes, kMaxAttributeBytes);
+    committedAttributeBytes = bytes;
+    inv.rayTmax = c.tMax();
+    if (terminate) inv.status = abi::kRayStatusTerminate;
+    return 1;
+  }
+
+  void closestHit(const accel::HitInfo& h) {
+    if (args.rayFlags & accel::kRaySkipClosestHitShader) return;
+    const uint8_t* record;
+    uint64_t index;
+    const RayGroup* g = hitGroup(h, &record, &index);
+    if (!g || !g->closestHit.entry) return;
+    Invocation inv{};
+    hitInvocation(inv, h, record, index, h.t);
+    inv.incoming = args.payload;
+    inv.incomingBytes = args.payloadBytes;
+    if (h.triangle) {
+      inv.hitAttributes = h.barycentrics;
+      inv.hitAttributeBytes = sizeof h.barycentrics;
+    } else {
+      inv.hitAttributes = committedAttributes;
+      inv.hitAttributeBytes = committedAttributeBytes;
+    }
+    run(inv, g->closestHit);
+  }
+
+  void miss() {
+    const uint8_t* record;
+    const RayGroup* g = state.miss.get(SbtRegion::Miss, args.missIndex, *state.launch->resolver, &record);
+    if (!g || !g->general.entry) return;
+    Invocation inv{};
+    begin(inv, &state, &caller);
+    inv.depth = caller.depth + 1;
+    setRay(inv, args, args.tMax);
+    inv.incoming = args.payload;
+    inv.incomingBytes = args.payloadBytes;
+    inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
+    inv.shaderRecordBytes = state.miss.dataBytes(args.missIndex);
+    run(inv, g->general);
+  }
+};
+
+void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
+  Invocation& caller = *static_cast<Invocation*>(callerBase);
+  LaunchState& state = *caller.state;
+  const RayLaunch& launch = *state.launch;
+  if (caller.depth + 1 > launch.maxRecursionDepth) {
+    launch.resolver->recursionTooDeep(caller.depth + 1, launch.maxRecursionDepth, *caller.shader);
+    return;
+  }
+  TraceFrame frame(caller, *args);
+  const accel::Tlas* tlas = state.topLevel(args->accelerationStructure);
+  accel::HitInfo hit;
+  bool found = false;
+  if (tlas) {
+    accel::Ray ray;
+    for (int i = 0; i < 3; ++i) {
+      ray.origin[i] = args->origin[i];
+      ray.direction[i] = args->direction[i];
+    }
+    ray.tMin = args->tMin;
+    ray.tMax = args->tMax;
+    ray.flags = args->rayFlags | launch.pipelineRayFlags;
+    ray.cullMask = args->cullMask & 0xFF;
+    found = accel::trace(*tlas, ray, frame, &hit);
+  }
+  if (found) {
+    frame.closestHit(hit);
+  } else {
+    frame.miss();
+  }
+}
+
+void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data, uint64_t bytes) {
+  Invocation& caller = *static_cast<Invocation*>(callerBase);
+  LaunchState& state = *caller.state;
+  const uint8_t* record;
+  const RayGroup* g = state.callable.get(SbtRegion::Callable, index, *state.launch->resolver, &record);
+  if (!g || !g->general.entry) return;
+  Invocation inv{};
+  begin(inv, &state, &caller);
+  inv.incoming = data;
+  inv.incomingBytes = bytes;
+  inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
+  inv.shaderRecordBytes = state.callable.dataBytes(index);
+  run(inv, g->general);
+}
+
+uint32_t reportIntersection(abi::RayInvocation* callerBase, float t, uint32_t hitKind, const void* attributes,
+                            uint64_t bytes) {
+  Invocation& inv = *static_cast<Invocation*>(callerBase);
+  if (!inv.frame || !inv.candidate) return 0;  // only intersection shaders report (the compiler ensures it)
+  return inv.frame->report(inv, t, hitKind, attributes, bytes);
+}
+
+}  // namespace
+
+void runRays(const RayLaunch& launch) {
+  if (!launch.raygenGroup || !launch.raygenGroup->general.entry) return;
+  const uint64_t w = launch.size[0], h = launch.size[1], d = launch.size[2];
+  if (w == 0 || h == 0 || d == 0) return;
+  LaunchState state;
+  state.launch = &launch;
+  state.miss.init(launch.miss);
+  state.hit.init(launch.hit);
+  state.callable.init(launch.callable);
+  const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
+  const RayShader& raygen = launch.raygenGroup->general;
+  const uint64_t raygenBytes = launch.raygen.size > kHandleBytes ? launch.raygen.size - kHandleBytes : 0;
+  ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
+    const uint32_t z = uint32_t(tile / (tilesX * tilesY));
+    const uint64_t inLayer = tile % (tilesX * tilesY);
+    const uint32_t x0 = uint32_t(inLayer % tilesX) * kTile, y0 = uint32_t(inLayer / tilesX) * kTile;
+    const uint32_t x1 = uint32_t(std::min<uint64_t>(x0 + kTile, w)), y1 = uint32_t(std::min<uint64_t>(y0 + kTile, h));
+    for (uint32_t y = y0; y < y1; ++y) {
+      for (uint32_t x = x0; x < x1; ++x) {
+        Invocation inv{};
+        begin(inv, &state, nullptr);
+        inv.launchId[0] = x;
+        inv.launchId[1] = y;
+        inv.launchId[2] = z;
+        for (int i = 0; i < 3; ++i) inv.launchSize[i] = launch.size[i];
+        inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
+        inv.shaderRecordBytes = raygenBytes;
+        run(inv, raygen);
+      }
+    }
+  });
+}
+
+}  // namespace vkrt::exec

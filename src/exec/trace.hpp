@@ -1,0 +1,85 @@
+// Running a ray tracing launch (vkCmdTraceRaysKHR): the launch grid spread over the thread pool in tiles, the
+// raygen shader once per launch index, and the RayRuntime (abi.hpp) the compiled shaders call: traceRayEXT
+// through accel::trace with the any-hit and intersection shaders of the shader binding table (SBT), then the
+// closest-hit or miss shader; executeCallableEXT; reportIntersectionEXT.
+//
+// No Vulkan object here: the caller (src/rt) resolves the pipeline's groups, the bound resources and the SBT
+// regions into a RayLaunch, and answers, through a LaunchResolver, what needs the device: which group an SBT
+// record's handle denotes, which acceleration structure an address is, and the reports. Each record and each
+// address is resolved once per launch (cached here); the per-ray path allocates nothing, takes no lock and makes
+// no hash lookup.
+//
+// SBT record index of a hit (the specification's formula): instance SBT offset + the trace's sbtRecordOffset +
+// sbtRecordStride x geometry index. A record whose handle is all zeros is a group with no shaders (a miss or
+// hit that does nothing). Recursion deeper than the pipeline's maxPipelineRayRecursionDepth, and a call chain
+// whose shaders' stack sizes add up to more than the pipeline stack size, are reported and not run.
+#pragma once
+
+#include <cstdint>
+
+#include "abi/abi.hpp"
+#include "accel/accel.hpp"
+
+namespace vkrt::exec {
+
+// A compiled ray tracing shader as a launch runs it.
+struct RayShader {
+  abi::RayEntry entry = nullptr;                 // null: no shader
+  const abi::ResourceSlot* resources = nullptr;  // resolved for this launch, in the shader's resource order
+  uint32_t stackSize = 0;                        // vkGetRayTracingShaderGroupStackSizeKHR's figure
+  const char* name = "";                         // for reports: entry point and stage
+};
+
+// A shader group as an SBT record denotes it.
+struct RayGroup {
+  enum Type : uint8_t { General, Triangles, Procedural, Empty } type = Empty;  // Empty: a zero handle
+  RayShader general, closestHit, anyHit, intersection;
+  const void* id = nullptr;  // the caller's group (for reports)
+};
+
+enum class SbtRegion : uint8_t { Raygen, Miss, Hit, Callable };
+
+struct SbtRange {
+  const uint8_t* base = nullptr;  // host address of the region (device addresses are host addresses)
+  uint64_t stride = 0;
+  uint64_t size = 0;
+};
+
+// What the executor asks the caller while a launch runs. Calls come from any worker thread, at most once per
+// record or address per launch (results are cached), and the report methods are for rules the executor
+// finds; the caller reports each rule once per launch.
+class LaunchResolver {
+ public:
+  virtual ~LaunchResolver() = default;
+  // The group of the record at `record` (index `index` of `region`, inside the region), or null after reporting
+  // when the handle denotes no group of the bound pipeline or its libraries.
+  virtual const RayGroup* group(SbtRegion region, uint64_t index, const uint8_t* record) = 0;
+  // The top-level acceleration structure at `address`, or null after reporting (no acceleration structure
+  // there, or a bottom-level one). The structure stays alive until the launch ends.
+  virtual const accel::Tlas* topLevel(uint64_t address) = 0;
+
+  // A record index past the end of its region.
+  virtual void recordOutsideRegion(SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) = 0;
+  // A hit group whose type does not match the geometry it was used for.
+  virtual void hitGroupMismatch(uint64_t index, const RayGroup& group, bool triangles) = 0;
+  // A traceRayEXT at `depth` beyond the pipeline's maximum recursion depth.
+  virtual void recursionTooDeep(uint32_t depth, uint32_t maxDepth, const RayShader& caller) = 0;
+  // A shader that would take the call chain's stack past the pipeline stack size.
+  virtual void stackExceeded(const RayShader* const* chain, uint32_t chainLength, uint64_t needed, uint64_t stackSize) = 0;
+};
+
+struct RayLaunch {
+  uint32_t size[3] = {1, 1, 1};
+  SbtRange raygen, miss, hit, callable;
+  const RayGroup* raygenGroup = nullptr;  // resolved by the caller (the launch is skipped without one)
+  uint32_t maxRecursionDepth = 1;
+  uint64_t stackSize = 0;                 // the pipeline stack size (default or dynamic)
+  uint32_t pipelineRayFlags = 0;          // accel::kRaySkipTriangles / kRaySkipAabbs from the pipeline flags
+  const uint8_t* pushConstants = nullptr; // abi::kPushConstantBytes bytes
+  LaunchResolver* resolver = nullptr;
+};
+
+// Runs the launch to completion on the thread pool (the calling thread works too).
+void runRays(const RayLaunch& launch);
+
+}  // namespace vkrt::exec

@@ -1,0 +1,529 @@
+// vkCmdTraceRaysKHR, vkCmdTraceRaysIndirectKHR, vkCmdTraceRaysIndirect2KHR: the shader binding table (SBT)
+// regions are checked when the command is recorded (or, for the indirect form 2, when its parameters are read),
+// and at execution a Launch resolves the bound pipeline's groups and resources and runs the launch on the trace
+// executor (src/exec/trace.hpp), answering its questions about SBT records and acceleration structures.
+//
+// Every record a launch uses is checked once per launch: its handle must decode to a group of the bound pipeline
+// or of one of its libraries, of the kind its region holds (raygen, miss, hit, callable), not null where the
+// pipeline's NO_NULL_* flags forbid it, and a hit group's type must match the geometry it is used for. A
+// violation is reported once per launch and rule, naming the region, record index and address, and (where the
+// handle is one this device gave out) the group and the pipeline it was created in; that shader is not run.
+#include <algorithm>
+#include <atomic>
+#include <cinttypes>
+#include <cstring>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "exec/trace.hpp"
+#include "rt/group_handles.hpp"
+#include "rt/rt_pipeline.hpp"
+#include "runtime/acceleration_structure.hpp"
+#include "runtime/bound_resources.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/command_buffer.hpp"
+#include "runtime/device.hpp"
+#include "runtime/memory.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/ray_tracing_features.hpp"
+#include "runtime/report.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt::rt {
+namespace {
+
+using ull = unsigned long long;
+
+const char* const kRegionNames[4] = {"raygen", "miss", "hit", "callable"};
+
+// The four regions of a trace command, in exec::SbtRegion order.
+struct SbtRegions {
+  VkStridedDeviceAddressRegionKHR r[4] = {};
+};
+
+// The VUIDs of the region rules for one command (vkCmdTraceRaysKHR, ...IndirectKHR, VkTraceRaysIndirectCommand2KHR).
+struct RegionVuids {
+  const char* baseAlign[4];  // deviceAddress multiple of shaderGroupBaseAlignment
+  const char* strideAlign[4];  // stride multiple of shaderGroupHandleAlignment (miss, hit, callable)
+  const char* strideMax[4];    // stride <= maxShaderGroupStride
+  const char* memory[4];       // the region lies in device memory bound to a buffer
+  const char* raygenSize;      // raygen size == stride
+  const char* size[3];         // width, height, depth limits
+  const char* invocations;     // width * height * depth limit
+};
+
+#define VKRT_REGION_VUIDS(P)                                                                                           \
+  {{P "-pRayGenShaderBindingTable-03682", P "-pMissShaderBindingTable-03685", P "-pHitShaderBindingTable-03689",     \
+    P "-pCallableShaderBindingTable-03693"},                                                                         \
+   {nullptr, P "-stride-03686", P "-stride-03690", P "-stride-03694"},                                               \
+   {nullptr, P "-stride-04029", P "-stride-04035", P "-stride-04041"},                                               \
+   {P "-pRayGenShaderBindingTable-03680", P "-pMissShaderBindingTable-03683", P "-pHitShaderBindingTable-03687",     \
+    P "-pCallableShaderBindingTable-03691"},                                                                         \
+   P "-size-04023",                                                                                                  \
+   {P "-width-03638", P "-height-03639", P "-depth-03640"},                                                          \
+   P "-width-03641"}
+
+const RegionVuids kDirectVuids = VKRT_REGION_VUIDS("VUID-vkCmdTraceRaysKHR");
+const RegionVuids kIndirectVuids = VKRT_REGION_VUIDS("VUID-vkCmdTraceRaysIndirectKHR");
+const RegionVuids kIndirect2Vuids = VKRT_REGION_VUIDS("VUID-VkTraceRaysIndirectCommand2KHR");
+#undef VKRT_REGION_VUIDS
+
+// The record-time (for the indirect form 2: read-time) rules of the SBT regions. Reports against `about`.
+bool checkRegions(const Object* about, const char* fn, const SbtRegions& s, const RegionVuids& v) {
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR props = rt::properties();
+  for (int i = 0; i < 4; ++i) {
+    const VkStridedDeviceAddressRegionKHR& r = s.r[i];
+    if (r.deviceAddress == 0 && i != 0) continue;  // an unused region (raygen is always used)
+    if (r.deviceAddress % props.shaderGroupBaseAlignment) {
+      report(about, Severity::Error, v.baseAlign[i], "%s: the %s region's deviceAddress 0x%llx is not a multiple of shaderGroupBaseAlignment (%u)",
+             fn, kRegionNames[i], (ull)r.deviceAddress, props.shaderGroupBaseAlignment);
+      return false;
+    }
+    if (i != 0 && r.stride % props.shaderGroupHandleAlignment) {
+      report(about, Severity::Error, v.strideAlign[i], "%s: the %s region's stride %llu is not a multiple of shaderGroupHandleAlignment (%u)",
+             fn, kRegionNames[i], (ull)r.stride, props.shaderGroupHandleAlignment);
+      return false;
+    }
+    if (i != 0 && r.stride > props.maxShaderGroupStride) {
+      report(about, Severity::Error, v.strideMax[i], "%s: the %s region's stride %llu exceeds maxShaderGroupStride (%u)", fn,
+             kRegionNames[i], (ull)r.stride, props.maxShaderGroupStride);
+      return false;
+    }
+    if (i == 0 && r.size != r.stride) {
+      report(about, Severity::Error, v.raygenSize, "%s: the raygen region's size (%llu) is not equal to its stride (%llu)", fn,
+             (ull)r.size, (ull)r.stride);
+      return false;
+    }
+    // The executor reads the records: every byte of the region must be device memory (a wild address is
+    // reported here instead of faulting on a worker thread).
+    if (r.size && !arena::accessible(r.deviceAddress, r.size)) {
+      report(about, Severity::Error, v.memory[i],
+             "%s: the %s region [0x%llx, 0x%llx) is not inside device memory bound to a buffer; the launch is skipped", fn,
+             kRegionNames[i], (ull)r.deviceAddress, (ull)(r.deviceAddress + r.size));
+      return false;
+    }
+  }
+  return true;
+}
+
+bool checkLaunchSize(const Object* about, const char* fn, const uint32_t size[3], const RegionVuids& v, const Device* dev) {
+  const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
+  for (int k = 0; k < 3; ++k) {
+    uint64_t max = uint64_t(l.maxComputeWorkGroupCount[k]) * l.maxComputeWorkGroupSize[k];
+    if (size[k] > max) {
+      report(about, Severity::Error, v.size[k], "%s: %s (%u) exceeds maxComputeWorkGroupCount[%d] x maxComputeWorkGroupSize[%d] (%llu)",
+             fn, k == 0 ? "width" : k == 1 ? "height" : "depth", size[k], k, k, (ull)max);
+      return false;
+    }
+  }
+  uint64_t n = uint64_t(size[0]) * size[1] * size[2];
+  if (n > rt::properties().maxRayDispatchInvocationCount) {
+    report(about, Severity::Error, v.invocations, "%s: width x height x depth (%llu) exceeds maxRayDispatchInvocationCount (%u)", fn,
+           (ull)n, rt::properties().maxRayDispatchInvocationCount);
+    return false;
+  }
+  return true;
+}
+
+// A short description of a group for reports: its type and its shaders' entry points.
+std::string describe(const GroupRecord& g) {
+  static const char* const kTypes[] = {"general", "triangles hit", "procedural hit"};
+  static const char* const kSlots[] = {"general", "closest-hit", "any-hit", "intersection"};
+  std::string s = std::string(kTypes[std::min<uint32_t>(g.desc.type, 2)]) + " group (";
+  bool first = true;
+  for (int k = 0; k < 4; ++k) {
+    if (!g.desc.shaders[k]) continue;
+    s += (first ? "" : ", ") + std::string(kSlots[k]) + " \"" + g.desc.shaders[k]->entry + "\"";
+    first = false;
+  }
+  return s + ")";
+}
+
+// One execution of a trace command: the pipeline's groups with this launch's resources, the resolver the
+// executor calls, and the report-once bookkeeping.
+class Launch final : public exec::LaunchResolver {
+ public:
+  Launch(const CommandBuffer* cb, const char* fn, RayTracingPipeline* pipeline)
+      : cb_(cb), fn_(fn), pipeline_(pipeline), dev_(cb->device) {}
+
+  void run(const ExecState& st, const SbtRegions& sbt, const uint32_t size[3]);
+
+  const exec::RayGroup* group(exec::SbtRegion region, uint64_t index, const uint8_t* record) override;
+  const accel::Tlas* topLevel(uint64_t address) override;
+  void recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) override;
+  void hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) override;
+  void recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) override;
+  void stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) override;
+
+ private:
+  enum Rule { kUnknownHandle, kForeignHandle, kWrongKind, kNullShader, kOutside, kMismatch, kRecursion, kStack,
+              kNoStructure, kRuleCount };
+  // True the first time `rule` is reported in this launch.
+  bool first(Rule rule) { return !reported_[rule].exchange(true); }
+  void prepareGroups(const BindState& bs);
+  exec::RayShader shaderOf(const std::shared_ptr<const ShaderDesc>& d, const BindState& bs);
+  const exec::RayGroup* checkKind(exec::SbtRegion region, uint64_t index, const uint8_t* record, uint32_t g);
+
+  const CommandBuffer* cb_;
+  const char* fn_;
+  RayTracingPipeline* pipeline_;
+  Device* dev_;
+  std::vector<exec::RayGroup> groups_;                      // by pipeline group index
+  std::unordered_map<const GroupRecord*, uint32_t> index_;  // group record -> pipeline group index
+  std::unordered_map<const spirv::CompiledShader*, BoundResources> resources_;
+  std::deque<std::string> names_;                           // RayShader::name storage
+  std::mutex mutex_;                                        // structures_
+  std::vector<std::shared_ptr<const accel::Tlas>> structures_;  // kept alive while the launch runs
+  std::atomic<bool> reported_[kRuleCount] = {};
+};
+
+exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, const BindState& bs) {
+  exec::RayShader s;
+  if (!d || !d->compiled) return s;
+  const spirv::CompiledShader& code = *d->compiled;
+  auto [it, fresh] = resources_.try_emplace(&code);
+  if (fresh) it->second.resolve(code, bs, cb_, fn_, "VUID-vkCmdTraceRaysKHR-None-02697");
+  s.entry = code.rayEntry;
+  s.resources = it->second.slots();
+  s.stackSize = d->stackSize();
+  names_.push_back("\"" + d->entry + "\" (stage 0x" + std::to_string(unsigned(d->stage)) + ")");
+  s.name = names_.back().c_str();
+  return s;
+}
+
+void Launch::prepareGroups(const BindState& bs) {
+  groups_.resize(pipeline_->groups.size());
+  for (uint32_t i = 0; i < pipeline_->groups.size(); ++i) {
+    const GroupRecord* r = pipeline_->groups[i];
+    index_.emplace(r, i);
+    exec::RayGroup& g = groups_[i];
+    g.id = r;
+    switch (r->desc.type) {
+      case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR: g.type = exec::RayGroup::General; break;
+      case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR: g.type = exec::RayGroup::Triangles; break;
+      default: g.type = exec::RayGroup::Procedural; break;
+    }
+    g.general = shaderOf(r->desc.shaders[kGeneral], bs);
+    g.closestHit = shaderOf(r->desc.shaders[kClosestHit], bs);
+    g.anyHit = shaderOf(r->desc.shaders[kAnyHit], bs);
+    g.intersection = shaderOf(r->desc.shaders[kIntersection], bs);
+  }
+}
+
+void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size[3]) {
+  prepareGroups(st.rayTracing);
+  exec::RayLaunch l;
+  for (int k = 0; k < 3; ++k) l.size[k] = size[k];
+  exec::SbtRange* ranges[4] = {&l.raygen, &l.miss, &l.hit, &l.callable};
+  for (int i = 0; i < 4; ++i) {
+    ranges[i]->base = reinterpret_cast<const uint8_t*>(sbt.r[i].deviceAddress);
+    ranges[i]->stride = sbt.r[i].stride;
+    ranges[i]->size = sbt.r[i].deviceAddress ? sbt.r[i].size : 0;
+  }
+  // The raygen record: one record, resolved before the launch (no raygen, no launch).
+  if (sbt.r[0].size < kHandleSize) {
+    report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-size-04023",
+           "%s: the raygen region (%llu bytes) cannot hold a shader group handle (%u bytes); the launch is skipped", fn_,
+           (ull)sbt.r[0].size, kHandleSize);
+    return;
+  }
+  l.raygenGroup = group(exec::SbtRegion::Raygen, 0, l.raygen.base);
+  if (!l.raygenGroup) return;
+  l.maxRecursionDepth = pipeline_->maxRecursionDepth;
+  l.stackSize = pipeline_->dynamicStackSize ? st.rayTracingStackSize : pipeline_->defaultStackSize;
+  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) l.pipelineRayFlags |= accel::kRaySkipTriangles;
+  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) l.pipelineRayFlags |= accel::kRaySkipAabbs;
+  l.pushConstants = st.pushConstants;
+  l.resolver = this;
+  exec::runRays(l);
+}
+
+const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, const uint8_t* record, uint32_t g) {
+  const exec::RayGroup& group = groups_[g];
+  const GroupRecord& r = *pipeline_->groups[g];
+  static const VkShaderStageFlagBits kGeneralStage[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
+                                                        VkShaderStageFlagBits(0), VK_SHADER_STAGE_CALLABLE_BIT_KHR};
+  const int ri = int(region);
+  bool ok = region == exec::SbtRegion::Hit
+                ? group.type != exec::RayGroup::General
+                : group.type == exec::RayGroup::General && r.desc.shaders[kGeneral] && r.desc.shaders[kGeneral]->stage == kGeneralStage[ri];
+  if (!ok) {
+    if (first(kWrongKind))
+      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+             "%s: %s record %llu at 0x%llx holds the handle of pipeline group %u, a %s, which does not belong in the %s "
+             "region; it is not run",
+             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record), g, describe(r).c_str(), kRegionNames[ri]);
+    return nullptr;
+  }
+  // VUID-vkCmdTraceRaysKHR-flags-03512, -03513, -03514: no null any-hit / closest-hit / intersection shaders.
+  if (region == exec::SbtRegion::Hit) {
+    const VkPipelineCreateFlags f = pipeline_->createFlags;
+    const char* vuid = nullptr;
+    const char* what = nullptr;
+    if ((f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR) && !group.anyHit.entry) {
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03512";
+      what = "any-hit";
+    } else if ((f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR) && !group.closestHit.entry) {
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03513";
+      what = "closest-hit";
+    } else if ((f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_INTERSECTION_SHADERS_BIT_KHR) &&
+               group.type == exec::RayGroup::Procedural && !group.intersection.entry) {
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03514";
+      what = "intersection";
+    }
+    if (vuid) {
+      if (first(kNullShader))
+        report(cb_, Severity::Error, vuid, "%s: hit record %llu holds pipeline group %u, a %s without a %s shader, but the "
+               "pipeline was created with NO_NULL_%s_SHADERS; it is not run",
+               fn_, (ull)index, g, describe(r).c_str(), what,
+               what[0] == 'a' ? "ANY_HIT" : what[0] == 'c' ? "CLOSEST_HIT" : "INTERSECTION");
+      return nullptr;
+    }
+  }
+  return &group;
+}
+
+const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, const uint8_t* record) {
+  static const exec::RayGroup kEmpty{};
+  const int ri = int(region);
+  static const uint8_t kZero[kHandleSize] = {};
+  if (std::memcmp(record, kZero, kHandleSize) == 0) {
+    // A zero handle: no shader. Not allowed for raygen, nor where NO_NULL_* flags forbid it.
+    const VkPipelineCreateFlags f = pipeline_->createFlags;
+    const char* vuid = nullptr;
+    if (region == exec::SbtRegion::Raygen) vuid = "VUID-vkCmdTraceRaysKHR-None-03429";
+    if (region == exec::SbtRegion::Miss && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR))
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03511";
+    if (region == exec::SbtRegion::Hit && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR))
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03513";
+    if (region == exec::SbtRegion::Hit && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR))
+      vuid = "VUID-vkCmdTraceRaysKHR-flags-03512";
+    if (!vuid) return &kEmpty;
+    if (first(kNullShader))
+      report(cb_, Severity::Error, vuid, "%s: %s record %llu at 0x%llx holds a zero (null) handle, which the %s; it is not run", fn_,
+             kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record),
+             region == exec::SbtRegion::Raygen ? "raygen region may not hold" : "bound pipeline's NO_NULL_* flags forbid");
+    return nullptr;
+  }
+  const GroupRecord* r = registryOf(dev_).decode(record);
+  if (!r) {
+    if (first(kUnknownHandle)) {
+      char bytes[2 * 8 + 1];
+      for (int k = 0; k < 8; ++k) std::snprintf(bytes + 2 * k, 3, "%02x", record[k]);
+      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+             "%s: %s record %llu at 0x%llx (region stride %s) does not hold a shader group handle of this device (first "
+             "bytes %s...): it was not written from vkGetRayTracingShaderGroupHandlesKHR, or is corrupt; it is not run",
+             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record),
+             region == exec::SbtRegion::Raygen ? "n/a" : "as given", bytes);
+    }
+    return nullptr;
+  }
+  auto it = index_.find(r);
+  if (it == index_.end()) {
+    if (first(kForeignHandle)) {
+      uint64_t origin = r->firstPipeline;
+      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+             "%s: %s record %llu at 0x%llx holds the handle of a %s created in pipeline 0x%llx, which is neither the bound "
+             "pipeline 0x%llx nor one of its libraries; it is not run",
+             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record), describe(*r).c_str(), (ull)origin,
+             (ull)pipeline_->handleValue());
+    }
+    return nullptr;
+  }
+  return checkKind(region, index, record, it->second);
+}
+
+const accel::Tlas* Launch::topLevel(uint64_t address) {
+  std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
+  if (!t) {
+    if (first(kNoStructure))
+      report(cb_, Severity::Error, nullptr,
+             "%s: traceRayEXT was given the acceleration structure address 0x%llx, which is not the address of a built "
+             "top-level acceleration structure of this device; those rays miss",
+             fn_, (ull)address);
+    return nullptr;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  structures_.push_back(t);
+  return t.get();
+}
+
+void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {
+  if (!first(kOutside)) return;
+  report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+         "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
+         "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
+         fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
+}
+
+void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) {
+  if (!first(kMismatch)) return;
+  const GroupRecord* r = static_cast<const GroupRecord*>(group.id);
+  report(cb_, Severity::Error,
+         triangles ? "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735" : "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04736",
+         "%s: hit record %llu, used for a hit on %s geometry, holds a %s; it is not run", fn_, (ull)index,
+         triangles ? "triangle" : "AABB", r ? describe(*r).c_str() : "group of another kind");
+}
+
+void Launch::recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) {
+  if (!first(kRecursion)) return;
+  report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679",
+         "%s: shader %s calls traceRayEXT at recursion depth %u, deeper than the bound pipeline's "
+         "maxPipelineRayRecursionDepth (%u); that trace is not run",
+         fn_, caller.name, depth, maxDepth);
+}
+
+void Launch::stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) {
+  if (!first(kStack)) return;
+  std::string text;
+  for (uint32_t i = 0; i < n; ++i) text += (i ? " -> " : "") + std::string(chain[i]->name) + " [" + std::to_string(chain[i]->stackSize) + "]";
+  report(cb_, Severity::Error,
+         pipeline_->dynamicStackSize ? "VUID-vkCmdSetRayTracingPipelineStackSizeKHR-pipelineStackSize-03610" : nullptr,
+         "%s: the call chain %s (depth %u) needs %llu bytes of stack, more than the pipeline stack size %llu (%s); the last "
+         "shader is not run",
+         fn_, text.c_str(), n, (ull)needed, (ull)stackSize,
+         pipeline_->dynamicStackSize ? "set with vkCmdSetRayTracingPipelineStackSizeKHR" : "the pipeline's default");
+}
+
+// Executes a trace command with the state bound at execution.
+void execute(const CommandBuffer* cb, const ExecState& st, const SbtRegions& sbt, const uint32_t size[3], const char* fn) {
+  RayTracingPipeline* p = asRayTracing(st.rayTracing.pipeline);
+  // VUID-vkCmdTraceRaysKHR-None-02700
+  if (!p) {
+    report(cb, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-02700", "%s: no ray tracing pipeline is bound; the launch is skipped", fn);
+    return;
+  }
+  if (size[0] == 0 || size[1] == 0 || size[2] == 0) return;
+  Launch launch(cb, fn, p);
+  launch.run(st, sbt, size);
+}
+
+SbtRegions regionsOf(const VkStridedDeviceAddressRegionKHR* raygen, const VkStridedDeviceAddressRegionKHR* miss,
+                     const VkStridedDeviceAddressRegionKHR* hit, const VkStridedDeviceAddressRegionKHR* callable) {
+  SbtRegions s;
+  const VkStridedDeviceAddressRegionKHR* in[4] = {raygen, miss, hit, callable};
+  for (int i = 0; i < 4; ++i)
+    if (in[i]) s.r[i] = *in[i];
+  return s;
+}
+
+// The checks of an indirect command's address (VkTraceRaysIndirectCommandKHR or ...2KHR, `bytes` long).
+bool checkIndirect(CommandBuffer* cb, const char* fn, const char* vuidPrefix, VkDeviceAddress address, uint64_t bytes,
+                   const char* featureVuid, bool enabled) {
+  if (!enabled) {
+    report(cb, Severity::Error, featureVuid, "%s: the feature it needs is not enabled", fn);
+    return false;
+  }
+  // VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03634
+  if (address % 4) {
+    report(cb, Severity::Error, (std::string(vuidPrefix) + "-indirectDeviceAddress-03634").c_str(),
+           "%s: indirectDeviceAddress 0x%llx is not a multiple of 4", fn, (ull)address);
+    return false;
+  }
+  // VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03636
+  if (!arena::accessible(address, bytes)) {
+    report(cb, Severity::Error, (std::string(vuidPrefix) + "-indirectDeviceAddress-03636").c_str(),
+           "%s: the %llu bytes at indirectDeviceAddress 0x%llx are not inside device memory bound to a buffer", fn,
+           (ull)bytes, (ull)address);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+}  // namespace vkrt::rt
+
+using namespace vkrt;
+using namespace vkrt::rt;
+
+extern "C" {
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysKHR(VkCommandBuffer commandBuffer, const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
+                                                const VkStridedDeviceAddressRegionKHR* pMissShaderBindingTable,
+                                                const VkStridedDeviceAddressRegionKHR* pHitShaderBindingTable,
+                                                const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable, uint32_t width,
+                                                uint32_t height, uint32_t depth) {
+  const char* fn = "vkCmdTraceRaysKHR";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable, pCallableShaderBindingTable);
+  const uint32_t size[3] = {width, height, depth};
+  if (!checkRegions(cb, fn, sbt, kDirectVuids) || !checkLaunchSize(cb, fn, size, kDirectVuids, cb->device)) return;
+  cb->record([cb, sbt, w = width, h = height, d = depth](ExecState& st) {
+    const uint32_t s[3] = {w, h, d};
+    execute(cb, st, sbt, s, "vkCmdTraceRaysKHR");
+  });
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(VkCommandBuffer commandBuffer,
+                                                        const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
+                                                        const VkStridedDeviceAddressRegionKHR* pMissShaderBindingTable,
+                                                        const VkStridedDeviceAddressRegionKHR* pHitShaderBindingTable,
+                                                        const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable,
+                                                        VkDeviceAddress indirectDeviceAddress) {
+  const char* fn = "vkCmdTraceRaysIndirectKHR";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable, pCallableShaderBindingTable);
+  // VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637
+  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirectKHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommandKHR),
+                     "VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637",
+                     cb->device->rayTracing.traceRaysIndirect) ||
+      !checkRegions(cb, fn, sbt, kIndirectVuids))
+    return;
+  cb->record([cb, sbt, indirectDeviceAddress](ExecState& st) {
+    const char* fn = "vkCmdTraceRaysIndirectKHR";
+    if (!arena::accessible(indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommandKHR))) {
+      report(cb, Severity::Error, "VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03636",
+             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn, (ull)indirectDeviceAddress);
+      return;
+    }
+    VkTraceRaysIndirectCommandKHR c;
+    std::memcpy(&c, reinterpret_cast<const void*>(indirectDeviceAddress), sizeof c);
+    const uint32_t s[3] = {c.width, c.height, c.depth};
+    static const RegionVuids kCommandVuids = [] {
+      RegionVuids v = kIndirectVuids;
+      v.size[0] = "VUID-VkTraceRaysIndirectCommandKHR-width-03638";
+      v.size[1] = "VUID-VkTraceRaysIndirectCommandKHR-height-03639";
+      v.size[2] = "VUID-VkTraceRaysIndirectCommandKHR-depth-03640";
+      v.invocations = "VUID-VkTraceRaysIndirectCommandKHR-width-03641";
+      return v;
+    }();
+    if (!checkLaunchSize(cb, fn, s, kCommandVuids, cb->device)) return;
+    execute(cb, st, sbt, s, fn);
+  });
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer commandBuffer, VkDeviceAddress indirectDeviceAddress) {
+  const char* fn = "vkCmdTraceRaysIndirect2KHR";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirect2KHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommand2KHR),
+                     "VUID-vkCmdTraceRaysIndirect2KHR-rayTracingPipelineTraceRaysIndirect2-03637",
+                     cb->device->rayTracing.traceRaysIndirect2))
+    return;
+  cb->record([cb, indirectDeviceAddress](ExecState& st) {
+    const char* fn = "vkCmdTraceRaysIndirect2KHR";
+    if (!arena::accessible(indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommand2KHR))) {
+      report(cb, Severity::Error, "VUID-vkCmdTraceRaysIndirect2KHR-indirectDeviceAddress-03636",
+             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn, (ull)indirectDeviceAddress);
+      return;
+    }
+    VkTraceRaysIndirectCommand2KHR c;
+    std::memcpy(&c, reinterpret_cast<const void*>(indirectDeviceAddress), sizeof c);
+    SbtRegions sbt;
+    sbt.r[0] = {c.raygenShaderRecordAddress, c.raygenShaderRecordSize, c.raygenShaderRecordSize};
+    sbt.r[1] = {c.missShaderBindingTableAddress, c.missShaderBindingTableStride, c.missShaderBindingTableSize};
+    sbt.r[2] = {c.hitShaderBindingTableAddress, c.hitShaderBindingTableStride, c.hitShaderBindingTableSize};
+    sbt.r[3] = {c.callableShaderBindingTableAddress, c.callableShaderBindingTableStride, c.callableShaderBindingTableSize};
+    const uint32_t s[3] = {c.width, c.height, c.depth};
+    if (!checkRegions(cb, fn, sbt, kIndirect2Vuids) || !checkLaunchSize(cb, fn, s, kIndirect2Vuids, cb->device)) return;
+    execute(cb, st, sbt, s, fn);
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,86 @@
+// VkAccelerationStructureKHR (VK_KHR_acceleration_structure): a range of a buffer that holds a built structure.
+//
+// The built content lives in host memory that the object owns (an accel::Blas or accel::Tlas, shared): the bytes of
+// the buffer range are not used, and their size only has to satisfy the application's bookkeeping
+// (vkGetAccelerationStructureBuildSizesKHR reports a small figure: see requiredSize()). The device address of the
+// structure is the buffer's address plus the offset; a top-level structure's instances refer to bottom-level ones
+// by that address, resolved through the device's registry when the top level is built (never per ray).
+//
+// A build replaces the content atomically: a launch or build that already holds the previous content keeps it
+// until it ends. A top-level structure keeps the bottom-level contents it was built from alive.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "accel/accel.hpp"
+#include "runtime/object.hpp"
+
+namespace vkrt {
+
+class Buffer;
+
+class AccelerationStructure : public Object {
+ public:
+  using Handle = VkAccelerationStructureKHR;
+  static constexpr VkObjectType kType = VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR;
+
+  AccelerationStructure(Device* dev, const VkAccelerationStructureCreateInfoKHR& info, Buffer* buffer);
+  ~AccelerationStructure();
+
+  Buffer* const buffer;
+  const VkDeviceSize offset;
+  const VkDeviceSize size;
+  const VkAccelerationStructureTypeKHR type;
+  const uint64_t address;  // buffer address + offset
+
+  // What a build (or copy, or deserialization) produced.
+  struct Content {
+    VkAccelerationStructureTypeKHR type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+    VkBuildAccelerationStructureFlagsKHR flags = 0;
+    std::shared_ptr<const accel::Blas> blas;
+    std::shared_ptr<const accel::Tlas> tlas;
+    std::vector<uint64_t> blasAddresses;  // top level: the address each instance referred to (0: inactive)
+    // Bottom level: the build's shape, for the update rules (per geometry: type, flags, primitive count, first
+    // vertex, index type, vertex format).
+    struct GeometryShape {
+      VkGeometryTypeKHR type;
+      VkGeometryFlagsKHR flags;
+      uint32_t primitiveCount, firstVertex;
+      VkIndexType indexType;
+      VkFormat vertexFormat;
+      bool hasTransform;
+      bool operator==(const GeometryShape&) const = default;
+    };
+    std::vector<GeometryShape> shape;
+    uint32_t instanceCount = 0;
+  };
+  std::shared_ptr<const Content> content() const;
+  void setContent(std::shared_ptr<const Content> c);
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const Content> content_;
+};
+
+// The live acceleration structure registered at `address` on `dev` (the last one created or built there), or
+// null. The caller must not keep the pointer past the call that resolved it (use its content()).
+AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
+// The built top-level content at `address`, or null (nothing there, not built, or a bottom-level structure).
+std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);
+
+// The size an acceleration structure of `primitives` primitives (or instances) needs in its buffer, as
+// vkGetAccelerationStructureBuildSizesKHR reports it, and the scratch size of builds and updates.
+VkDeviceSize requiredSize(uint64_t primitives);
+inline constexpr VkDeviceSize kScratchSize = 256;
+
+// Converts a build's flags to accel's options.
+accel::BuildOptions buildOptions(VkBuildAccelerationStructureFlagsKHR flags);
+
+// The version data that identifies vkrt's serialized structures on `dev`: the driver UUID, then a compatibility
+// UUID that changes with the serialization format (2 x VK_UUID_SIZE bytes).
+void accelerationStructureVersion(const Device* dev, uint8_t out[2 * VK_UUID_SIZE]);
+
+}  // namespace vkrt

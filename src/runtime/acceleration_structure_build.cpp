@@ -1,0 +1,504 @@
+// Acceleration structure build inputs: checks at record time, reading and converting at build time.
+//
+// Addressing (the specification's "Acceleration Structure Build" rules, per geometry and its build range):
+//   triangles, no indices: vertex k of primitive p at vertexData + primitiveOffset + (firstVertex + 3p + k) * stride
+//   triangles, indexed:    index k of primitive p at indexData + primitiveOffset + (3p + k) * indexSize,
+//                          its vertex at vertexData + (firstVertex + index) * stride (at most maxVertex)
+//   transformData:         a VkTransformMatrixKHR at transformData + transformOffset, applied to the vertices
+//   AABBs:                 primitive p at data + primitiveOffset + p * stride (a VkAabbPositionsKHR)
+//   instances:             instance p at data + primitiveOffset + p * 64, or through the pointer at
+//                          data + primitiveOffset + p * 8 (arrayOfPointers)
+// Device builds read device memory: every range is checked to lie in allocated device memory first, so garbage
+// addresses are reported instead of faulting. Host builds read the application's host pointers as given.
+#include "runtime/acceleration_structure_build.hpp"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstring>
+
+#include "runtime/buffer.hpp"
+#include "runtime/device.hpp"
+#include "runtime/memory.hpp"
+#include "runtime/ray_tracing_features.hpp"
+#include "runtime/report.hpp"
+
+namespace vkrt {
+
+namespace {
+
+using ull = unsigned long long;
+
+float halfToFloat(uint16_t h) {
+  const uint32_t sign = h >> 15, exp = (h >> 10) & 31, man = h & 1023;
+  float v = exp == 0 ? std::ldexp(float(man), -24) : exp == 31 ? (man ? NAN : INFINITY) : std::ldexp(float(man | 1024), int(exp) - 25);
+  return sign ? -v : v;
+}
+
+template <class T>
+T load(const uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  return buf;
+}
+
+// Reads memory the build was pointed at: device builds check that [address, address + bytes) is device memory.
+class Source {
+ public:
+  explicit Source(bool host) : host_(host) {}
+  const uint8_t* at(uint64_t address, uint64_t bytes, const char* what, uint32_t geometry, BuildError* e) const {
+    if (bytes == 0) return reinterpret_cast<const uint8_t*>(address);
+    if (!address || (!host_ && !arena::accessible(address, bytes))) {
+      e->vuid = host_ ? nullptr : "VUID-vkCmdBuildAccelerationStructuresKHR-geometry-03673";
+      e->message = format("pGeometries[%u]: the %s (%" PRIu64 " bytes at 0x%llx) is not in %s memory", geometry, what, bytes,
+                          (ull)address, host_ ? "host" : "device");
+      return nullptr;
+    }
+    return reinterpret_cast<const uint8_t*>(address);
+  }
+
+ private:
+  bool host_;
+};
+
+uint32_t indexSize(VkIndexType t) {
+  switch (t) {
+    case VK_INDEX_TYPE_UINT16: return 2;
+    case VK_INDEX_TYPE_UINT32: return 4;
+    case VK_INDEX_TYPE_UINT8_EXT: return 1;
+    default: return 0;
+  }
+}
+
+bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrianglesDataKHR& t,
+                   const VkAccelerationStructureBuildRangeInfoKHR& r, uint32_t g, accel::TriangleGeometry* out, BuildError* e) {
+  const uint64_t n = r.primitiveCount, stride = t.vertexStride;
+  const uint32_t isz = indexSize(t.indexType);
+  // The vertices used, as absolute vertex numbers [lo, hi], and the geometry's indices relative to lo.
+  uint64_t lo = 0, hi = 0;
+  std::vector<uint64_t> absolute(n * 3);
+  if (isz) {
+    const uint8_t* idx = src.at(t.indexData.deviceAddress + r.primitiveOffset, n * 3 * isz, "index data", g, e);
+    if (!idx && n) return false;
+    for (uint64_t i = 0; i < n * 3; ++i) {
+      uint32_t v = isz == 4 ? load<uint32_t>(idx + i * 4) : isz == 2 ? load<uint16_t>(idx + i * 2) : idx[i];
+      absolute[i] = uint64_t(r.firstVertex) + v;
+    }
+  } else {
+    for (uint64_t i = 0; i < n * 3; ++i) absolute[i] = uint64_t(r.firstVertex) + i;
+  }
+  if (n) {
+    lo = hi = absolute[0];
+    for (uint64_t v : absolute) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-maxVertex: indices address at most maxVertex.
+    if (isz && hi > t.maxVertex) {
+      e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03712";
+      e->message = format("pGeometries[%u]: a triangle addresses vertex %llu (firstVertex %u + index), beyond maxVertex %u", g,
+                          (ull)hi, r.firstVertex, t.maxVertex);
+      return false;
+    }
+  }
+  const uint64_t base = t.vertexData.deviceAddress + (isz ? 0 : r.primitiveOffset);
+  const uint64_t count = n ? hi - lo + 1 : 0;
+  const uint8_t* v = count ? src.at(base + lo * stride, (count - 1) * stride + 12, "vertex data", g, e) : nullptr;
+  if (count && !v) return false;
+  float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+  const bool transformed = t.transformData.deviceAddress != 0;
+  if (transformed) {
+    const uint8_t* tp = src.at(t.transformData.deviceAddress + r.transformOffset, sizeof(VkTransformMatrixKHR), "transform data", g, e);
+    if (!tp) return false;
+    std::memcpy(m, tp, sizeof m);
+  }
+  out->vertices.resize(count * 3);
+  for (uint64_t i = 0; i < count; ++i) {
+    float p[3];
+    decodeVertex(t.vertexFormat, v + i * stride, p);
+    float* o = out->vertices.data() + i * 3;
+    if (transformed) {
+      for (int k = 0; k < 3; ++k) o[k] = m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + m[k][3];
+    } else {
+      o[0] = p[0], o[1] = p[1], o[2] = p[2];
+    }
+  }
+  out->indices.resize(n * 3);
+  for (uint64_t i = 0; i < n * 3; ++i) out->indices[i] = uint32_t(absolute[i] - lo);
+  return true;
+}
+
+bool readAabbs(const Source& src, const VkAccelerationStructureGeometryAabbsDataKHR& a, const VkAccelerationStructureBuildRangeInfoKHR& r,
+               uint32_t g, accel::AabbGeometry* out, BuildError* e) {
+  const uint64_t n = r.primitiveCount;
+  const uint8_t* p = n ? src.at(a.data.deviceAddress + r.primitiveOffset, (n - 1) * a.stride + 24, "AABB data", g, e) : nullptr;
+  if (n && !p) return false;
+  out->boxes.resize(n * 6);
+  for (uint64_t i = 0; i < n; ++i) std::memcpy(out->boxes.data() + i * 6, p + i * a.stride, 24);
+  return true;
+}
+
+// Resolves an instance's accelerationStructureReference: a device address (device builds) or a handle (host).
+std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool host, uint32_t instance, BuildError* e) {
+  if (ref == 0) return nullptr;
+  std::shared_ptr<const AccelerationStructure::Content> c;
+  const AccelerationStructure* as = nullptr;
+  if (host) {
+    as = fromHandle<AccelerationStructure>(reinterpret_cast<VkAccelerationStructureKHR>(ref));
+    if (as) c = as->content();
+  } else {
+    std::lock_guard lock(dev->accelerationStructuresMutex);
+    auto it = dev->accelerationStructures.find(ref);
+    if (it != dev->accelerationStructures.end()) {
+      as = it->second;
+      c = as->content();
+    }
+  }
+  if (!c || !c->blas) {
+    e->vuid = host ? "VUID-vkBuildAccelerationStructuresKHR-pInfos-03779" : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-06707";
+    e->message = format("instance %u refers to %s 0x%llx, which is %s", instance, host ? "acceleration structure" : "address", (ull)ref,
+                        !as ? (host ? "not a live acceleration structure (destroyed?)" : "not the address of a live acceleration structure (destroyed?)")
+                        : !c ? "an acceleration structure that was never built"
+                             : "a top-level acceleration structure (instances refer to bottom-level ones)");
+    return nullptr;
+  }
+  return c->blas;
+}
+
+bool readInstances(Device* dev, const Source& src, const VkAccelerationStructureGeometryInstancesDataKHR& d,
+                   const VkAccelerationStructureBuildRangeInfoKHR& r, bool host, std::vector<accel::Instance>* out,
+                   std::vector<uint64_t>* refs, BuildError* e) {
+  const uint64_t n = r.primitiveCount;
+  const uint64_t each = d.arrayOfPointers ? 8 : sizeof(VkAccelerationStructureInstanceKHR);
+  const uint8_t* p = n ? src.at(d.data.deviceAddress + r.primitiveOffset, n * each, "instance data", 0, e) : nullptr;
+  if (n && !p) return false;
+  out->resize(n);
+  refs->resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint8_t* ip = p + i * each;
+    if (d.arrayOfPointers) {
+      ip = src.at(load<uint64_t>(ip), sizeof(VkAccelerationStructureInstanceKHR), "instance pointed to", 0, e);
+      if (!ip) return false;
+    }
+    VkAccelerationStructureInstanceKHR in;
+    std::memcpy(&in, ip, sizeof in);
+    accel::Instance& o = (*out)[i];
+    std::memcpy(o.transform, in.transform.matrix, sizeof o.transform);
+    o.customIndex = in.instanceCustomIndex;
+    o.mask = in.mask;
+    o.sbtOffset = in.instanceShaderBindingTableRecordOffset;
+    o.flags = in.flags;
+    (*refs)[i] = in.accelerationStructureReference;
+    o.blas = resolveBlas(dev, in.accelerationStructureReference, host, uint32_t(i), e);
+    if (!o.blas && in.accelerationStructureReference) return false;
+  }
+  return true;
+}
+
+// The update rules that need the source's last build: same geometry count, types, flags, primitive counts.
+bool checkUpdate(const BuildJob& job, const AccelerationStructure::Content& prev, BuildError* e) {
+  if (!(prev.flags & VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR)) {
+    e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03667";
+    e->message = "the source was not built with VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR";
+    return false;
+  }
+  if (prev.flags != job.flags) {
+    e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03759";
+    e->message = format("flags 0x%x differ from the source's last build (0x%x)", job.flags, prev.flags);
+    return false;
+  }
+  if (prev.type != job.type) {
+    e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03760";
+    e->message = "the type differs from the source's last build";
+    return false;
+  }
+  if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
+    if (job.ranges.empty() || job.ranges[0].primitiveCount != prev.instanceCount) {
+      e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-primitiveCount-03769";
+      e->message = format("the instance count differs from the source's last build (%u)", prev.instanceCount);
+      return false;
+    }
+    return true;
+  }
+  if (job.geometries.size() != prev.shape.size()) {
+    e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03758";
+    e->message = format("geometryCount %zu differs from the source's last build (%zu)", job.geometries.size(), prev.shape.size());
+    return false;
+  }
+  for (size_t g = 0; g < job.geometries.size(); ++g) {
+    const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
+    const AccelerationStructure::Content::GeometryShape& s = prev.shape[g];
+    const char* vuid = nullptr;
+    if (geo.geometryType != s.type) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03761";
+    else if (geo.flags != s.flags) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03762";
+    else if (job.ranges[g].primitiveCount != s.primitiveCount) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-primitiveCount-03769";
+    else if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
+      const auto& t = geo.geometry.triangles;
+      if (t.vertexFormat != s.vertexFormat) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03763";
+      else if (t.indexType != s.indexType) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03765";
+      else if ((t.transformData.deviceAddress != 0) != s.hasTransform) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03767";
+      else if (t.indexType != VK_INDEX_TYPE_NONE_KHR && job.ranges[g].firstVertex != s.firstVertex)
+        vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-firstVertex-03770";
+    }
+    if (vuid) {
+      e->vuid = vuid;
+      e->message = format("pGeometries[%zu] differs from the source's last build (type, flags, primitive count, vertex format, "
+                          "index type, transform or firstVertex)", g);
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool accelerationStructureVertexFormat(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_R32G32_SFLOAT:
+    case VK_FORMAT_R32G32B32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R16G16_SFLOAT:
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R16G16_SNORM:
+    case VK_FORMAT_R16G16B16A16_SNORM:
+    case VK_FORMAT_R16G16_UNORM:
+    case VK_FORMAT_R16G16B16A16_UNORM:
+    case VK_FORMAT_R8G8_SNORM:
+    case VK_FORMAT_R8G8B8A8_SNORM:
+    case VK_FORMAT_R8G8_UNORM:
+    case VK_FORMAT_R8G8B8A8_UNORM:
+      return true;
+    default:
+      return false;
+  }
+}
+
+void decodeVertex(VkFormat f, const uint8_t* p, float out[3]) {
+  out[0] = out[1] = out[2] = 0;
+  auto snorm16 = [](int16_t v) { return std::max(-1.0f, float(v) / 32767.0f); };
+  auto snorm8 = [](int8_t v) { return std::max(-1.0f, float(v) / 127.0f); };
+  switch (f) {
+    case VK_FORMAT_R32G32B32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_SFLOAT: std::memcpy(out, p, 12); break;
+    case VK_FORMAT_R32G32_SFLOAT: std::memcpy(out, p, 8); break;
+    case VK_FORMAT_R16G16B16A16_SFLOAT: out[2] = halfToFloat(load<uint16_t>(p + 4)); [[fallthrough]];
+    case VK_FORMAT_R16G16_SFLOAT:
+      out[0] = halfToFloat(load<uint16_t>(p));
+      out[1] = halfToFloat(load<uint16_t>(p + 2));
+      break;
+    case VK_FORMAT_R16G16B16A16_SNORM: out[2] = snorm16(load<int16_t>(p + 4)); [[fallthrough]];
+    case VK_FORMAT_R16G16_SNORM:
+      out[0] = snorm16(load<int16_t>(p));
+      out[1] = snorm16(load<int16_t>(p + 2));
+      break;
+    case VK_FORMAT_R16G16B16A16_UNORM: out[2] = float(load<uint16_t>(p + 4)) / 65535.0f; [[fallthrough]];
+    case VK_FORMAT_R16G16_UNORM:
+      out[0] = float(load<uint16_t>(p)) / 65535.0f;
+      out[1] = float(load<uint16_t>(p + 2)) / 65535.0f;
+      break;
+    case VK_FORMAT_R8G8B8A8_SNORM: out[2] = snorm8(int8_t(p[2])); [[fallthrough]];
+    case VK_FORMAT_R8G8_SNORM:
+      out[0] = snorm8(int8_t(p[0]));
+      out[1] = snorm8(int8_t(p[1]));
+      break;
+    case VK_FORMAT_R8G8B8A8_UNORM: out[2] = float(p[2]) / 255.0f; [[fallthrough]];
+    case VK_FORMAT_R8G8_UNORM:
+      out[0] = float(p[0]) / 255.0f;
+      out[1] = float(p[1]) / 255.0f;
+      break;
+    default: break;
+  }
+}
+
+bool makeJob(const Object* about, const char* fn, uint32_t i, const VkAccelerationStructureBuildGeometryInfoKHR& info,
+             const VkAccelerationStructureBuildRangeInfoKHR* ranges, bool host, BuildJob* job) {
+  job->index = i;
+  job->type = info.type;
+  job->flags = info.flags;
+  job->mode = info.mode;
+  job->host = host;
+  job->dst = fromHandle<AccelerationStructure>(info.dstAccelerationStructure);
+  // VUID-vkCmdBuildAccelerationStructuresKHR-dstAccelerationStructure-03800
+  if (!job->dst) {
+    report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-dstAccelerationStructure-03800",
+           "%s: pInfos[%u].dstAccelerationStructure 0x%llx is not a live VkAccelerationStructureKHR", fn, i,
+           (ull)rawHandle(info.dstAccelerationStructure));
+    return false;
+  }
+  if (info.mode == VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) {
+    job->src = fromHandle<AccelerationStructure>(info.srcAccelerationStructure);
+    // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630, VUID-vkCmdBuildAccelerationStructuresKHR-srcAccelerationStructure-04629
+    if (!job->src) {
+      report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630",
+             "%s: pInfos[%u] is an update, but srcAccelerationStructure 0x%llx is not a live VkAccelerationStructureKHR", fn, i,
+             (ull)rawHandle(info.srcAccelerationStructure));
+      return false;
+    }
+  }
+  job->geometries.resize(info.geometryCount);
+  for (uint32_t g = 0; g < info.geometryCount; ++g) {
+    job->geometries[g] = info.pGeometries ? info.pGeometries[g] : *info.ppGeometries[g];
+    job->geometries[g].pNext = nullptr;
+  }
+  if (ranges) job->ranges.assign(ranges, ranges + info.geometryCount);
+  return true;
+}
+
+bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const Device* dev) {
+  const uint32_t i = job.index;
+  auto fail = [&](const char* vuid, const std::string& what) {
+    report(about, Severity::Error, vuid, "%s: pInfos[%u]: %s", fn, i, what.c_str());
+    return false;
+  };
+  // VUID-vkCmdBuildAccelerationStructuresKHR-mode-04628
+  if (job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR && job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR)
+    return fail("VUID-vkCmdBuildAccelerationStructuresKHR-mode-04628", format("mode %d is not a valid value", int(job.mode)));
+  // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03654
+  if (job.type != VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR && job.type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR)
+    return fail("VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03654", "type must be TOP_LEVEL or BOTTOM_LEVEL");
+  // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03699, VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03700
+  if (job.dst->type != VK_ACCELERATION_STRUCTURE_TYPE_GENERIC_KHR && job.dst->type != job.type)
+    return fail(job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03699"
+                                                                         : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03700",
+                "dstAccelerationStructure was created with another type than the build's");
+  const bool top = job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+  // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03790
+  if (top && job.geometries.size() != 1)
+    return fail("VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03790",
+                format("a top-level build has %zu geometries; it must have exactly one", job.geometries.size()));
+  uint64_t primitives = 0;
+  for (size_t g = 0; g < job.geometries.size(); ++g) {
+    const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
+    // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03789, -03791
+    if (top != (geo.geometryType == VK_GEOMETRY_TYPE_INSTANCES_KHR))
+      return fail(top ? "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03789" : "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03791",
+                  format("pGeometries[%zu] has geometryType %d, which a %s-level build does not take", g, int(geo.geometryType), top ? "top" : "bottom"));
+    if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
+      const auto& t = geo.geometry.triangles;
+      // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexFormat-03797
+      if (!accelerationStructureVertexFormat(t.vertexFormat))
+        return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexFormat-03797",
+                    format("pGeometries[%zu].geometry.triangles.vertexFormat %d has no VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR", g,
+                           int(t.vertexFormat)));
+      // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-indexType-03798
+      if (t.indexType != VK_INDEX_TYPE_NONE_KHR && t.indexType != VK_INDEX_TYPE_UINT16 && t.indexType != VK_INDEX_TYPE_UINT32)
+        return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-indexType-03798",
+                    format("pGeometries[%zu].geometry.triangles.indexType %d is not UINT16, UINT32 or NONE_KHR", g, int(t.indexType)));
+      // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735
+      if (t.vertexStride % (t.vertexFormat == VK_FORMAT_R8G8_SNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_SNORM ||
+                                    t.vertexFormat == VK_FORMAT_R8G8_UNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_UNORM
+                                ? 1
+                            : t.vertexFormat == VK_FORMAT_R32G32_SFLOAT || t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT ||
+                                    t.vertexFormat == VK_FORMAT_R32G32B32A32_SFLOAT
+                                ? 4
+                                : 2))
+        return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735",
+                    format("pGeometries[%zu].geometry.triangles.vertexStride %llu is not a multiple of the vertex format's component size", g,
+                           (ull)t.vertexStride));
+      // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03810
+      if (t.transformData.deviceAddress % 16)
+        return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03810",
+                    format("pGeometries[%zu].geometry.triangles.transformData 0x%llx is not aligned to 16 bytes", g, (ull)t.transformData.deviceAddress));
+    } else if (geo.geometryType == VK_GEOMETRY_TYPE_AABBS_KHR) {
+      const auto& a = geo.geometry.aabbs;
+      // VUID-VkAccelerationStructureGeometryAabbsDataKHR-stride-03545
+      if (a.stride % 8)
+        return fail("VUID-VkAccelerationStructureGeometryAabbsDataKHR-stride-03545",
+                    format("pGeometries[%zu].geometry.aabbs.stride %llu is not a multiple of 8", g, (ull)a.stride));
+      // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03714
+      if (a.data.deviceAddress % 8)
+        return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03714",
+                    format("pGeometries[%zu].geometry.aabbs.data 0x%llx is not aligned to 8 bytes", g, (ull)a.data.deviceAddress));
+    } else if (geo.geometryType == VK_GEOMETRY_TYPE_INSTANCES_KHR) {
+      const auto& d = geo.geometry.instances;
+      // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03715, VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03716
+      if (d.data.deviceAddress % (d.arrayOfPointers ? 8 : 16))
+        return fail(d.arrayOfPointers ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03716" : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03715",
+                    format("geometry.instances.data 0x%llx is not aligned to %d bytes", (ull)d.data.deviceAddress, d.arrayOfPointers ? 8 : 16));
+    } else {
+      return fail("VUID-VkAccelerationStructureGeometryKHR-geometryType-parameter",
+                  format("pGeometries[%zu].geometryType %d is not a valid value", g, int(geo.geometryType)));
+    }
+    if (g < job.ranges.size()) {
+      primitives += job.ranges[g].primitiveCount;
+      // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03801
+      if (top && job.ranges[g].primitiveCount > rt::accelerationStructureProperties().maxInstanceCount)
+        return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03801",
+                    format("%u instances exceed maxInstanceCount", job.ranges[g].primitiveCount));
+    }
+  }
+  // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03675
+  if (!job.ranges.empty() && job.dst->size < requiredSize(primitives))
+    return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03675",
+                format("dstAccelerationStructure has %llu bytes, less than the %llu vkGetAccelerationStructureBuildSizesKHR reports for %llu "
+                       "primitives", (ull)job.dst->size, (ull)requiredSize(primitives), (ull)primitives));
+  (void)dev;
+  return true;
+}
+
+bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
+  std::shared_ptr<const AccelerationStructure::Content> prev;
+  if (job.mode == VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) {
+    prev = job.src->content();
+    if (!prev) {
+      e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03667";
+      e->message = "the update's source was never built";
+      return false;
+    }
+    if (!checkUpdate(job, *prev, e)) return false;
+  }
+  Source src(job.host);
+  auto content = std::make_shared<AccelerationStructure::Content>();
+  content->type = job.type;
+  content->flags = job.flags;
+  std::string error;
+  if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
+    std::vector<accel::Instance> instances;
+    if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances, &content->blasAddresses, e))
+      return false;
+    content->instanceCount = uint32_t(instances.size());
+    content->tlas = prev && prev->tlas ? prev->tlas->update(std::move(instances), &error)
+                                       : accel::Tlas::build(std::move(instances), buildOptions(job.flags), &error);
+  } else {
+    std::vector<accel::Geometry> geometries(job.geometries.size());
+    for (uint32_t g = 0; g < job.geometries.size(); ++g) {
+      const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
+      const VkAccelerationStructureBuildRangeInfoKHR& r = job.ranges[g];
+      AccelerationStructure::Content::GeometryShape shape{geo.geometryType, geo.flags, r.primitiveCount, r.firstVertex,
+                                                          VK_INDEX_TYPE_NONE_KHR, VK_FORMAT_UNDEFINED, false};
+      if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
+        geometries[g].kind = accel::Geometry::Triangles;
+        geometries[g].triangles.flags = geo.flags;
+        if (!readTriangles(src, geo.geometry.triangles, r, g, &geometries[g].triangles, e)) return false;
+        shape.indexType = geo.geometry.triangles.indexType;
+        shape.vertexFormat = geo.geometry.triangles.vertexFormat;
+        shape.hasTransform = geo.geometry.triangles.transformData.deviceAddress != 0;
+      } else {
+        geometries[g].kind = accel::Geometry::Aabbs;
+        geometries[g].aabbs.flags = geo.flags;
+        if (!readAabbs(src, geo.geometry.aabbs, r, g, &geometries[g].aabbs, e)) return false;
+      }
+      content->shape.push_back(shape);
+    }
+    content->blas = prev && prev->blas ? prev->blas->update(std::move(geometries), &error)
+                                       : accel::Blas::build(std::move(geometries), buildOptions(job.flags), &error);
+  }
+  if (!content->blas && !content->tlas) {
+    e->vuid = nullptr;
+    e->message = "the build failed: " + error;
+    return false;
+  }
+  job.dst->setContent(std::move(content));
+  return true;
+}
+
+}  // namespace vkrt
