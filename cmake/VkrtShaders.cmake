@@ -10,6 +10,9 @@ function(vkrt_embed_shaders target out_dir)
   set(headers)
   foreach(shader ${ARGN})
     get_filename_component(fname ${shader} NAME)
+    # Headers a GLSL shader may #include (GL_GOOGLE_include_directive) from its own folder.
+    get_filename_component(folder ${shader} DIRECTORY)
+    file(GLOB includes CONFIGURE_DEPENDS ${folder}/*.glsl)
     set(spv ${out_dir}/${fname}.spv)
     set(hdr ${out_dir}/${fname}.spv.h)
     string(MAKE_C_IDENTIFIER ${fname} ident)
@@ -23,7 +26,7 @@ function(vkrt_embed_shaders target out_dir)
       OUTPUT ${hdr}
       ${build}
       COMMAND Python3::Interpreter ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py ${spv} ${hdr} kSpv_${ident}
-      DEPENDS ${shader} ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py
+      DEPENDS ${shader} ${includes} ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py
       COMMENT "${fname}")
     list(APPEND headers ${hdr})
   endforeach()

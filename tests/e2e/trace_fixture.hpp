@@ -1,0 +1,361 @@
+// The tracing e2e fixture (TraceTest): RtTest's device with VK_KHR_acceleration_structure, helpers that build
+// bottom- and top-level acceleration structures on the device (or the host), write a shader binding table from
+// group handles, and trace a launch whose results (one TracePayload per launch index, tests/shaders/trace_*.r*)
+// come back to the test. Everything goes through the public API, so the tests of Vulkan behaviour run on other
+// drivers too (NVIDIA's); the validation layer is on.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <vector>
+
+#include "e2e/rt_fixture.hpp"
+#include "trace_ahit.rahit.spv.h"
+#include "trace_chit.rchit.spv.h"
+#include "trace_miss.rmiss.spv.h"
+#include "trace_raygen.rgen.spv.h"
+#include "trace_sphere.rint.spv.h"
+
+namespace vkrt::test {
+
+// tests/shaders/trace_payload.glsl
+struct TracePayload {
+  float hit[4];
+  uint32_t ids[4];
+  uint32_t extra[4];
+};
+static_assert(sizeof(TracePayload) == 48);
+
+// tests/shaders/trace_raygen.rgen's push constants.
+struct TraceParams {
+  uint32_t rayFlags = 0, cullMask = 0xff, sbtOffset = 0, sbtStride = 1, missIndex = 0;
+  float originZ = -10, dirZ = 1, tmax = 100;
+};
+
+// A shader binding table record: a group of the pipeline and the data after its handle.
+struct SbtRecord {
+  int32_t group = -1;  // -1: a zero (null) handle
+  std::vector<uint32_t> data;
+};
+
+class TraceTest : public RtTest {
+ protected:
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+
+  FixtureOptions options() override {
+    FixtureOptions o = RtTest::options();
+    o.deviceExtensions.push_back(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
+    asf.accelerationStructure = VK_TRUE;
+    asf.accelerationStructureHostCommands = supportedAs.accelerationStructureHostCommands;
+    asf.accelerationStructureIndirectBuild = supportedAs.accelerationStructureIndirectBuild;
+    lgh.pNext = &asf;
+    return o;
+  }
+
+  void SetUp() override {
+    // The acceleration structure features the driver has (host commands: vkrt yes, NVIDIA no).
+    {
+      VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+      app.apiVersion = VK_API_VERSION_1_3;
+      VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+      ici.pApplicationInfo = &app;
+      VkInstance inst = VK_NULL_HANDLE;
+      setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
+      ASSERT_EQ(vkCreateInstance(&ici, nullptr, &inst), VK_SUCCESS);
+      uint32_t n = 1;
+      VkPhysicalDevice pd = VK_NULL_HANDLE;
+      vkEnumeratePhysicalDevices(inst, &n, &pd);
+      VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supportedAs};
+      if (n) vkGetPhysicalDeviceFeatures2(pd, &f2);
+      supportedAs.pNext = nullptr;
+      vkDestroyInstance(inst, nullptr);
+    }
+    RtTest::SetUp();
+    if (HasFatalFailure() || !device) return;
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rtProps};
+    vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+    load(createAs, "vkCreateAccelerationStructureKHR");
+    load(destroyAs, "vkDestroyAccelerationStructureKHR");
+    load(buildSizes, "vkGetAccelerationStructureBuildSizesKHR");
+    load(cmdBuild, "vkCmdBuildAccelerationStructuresKHR");
+    load(asAddress, "vkGetAccelerationStructureDeviceAddressKHR");
+    load(cmdTrace, "vkCmdTraceRaysKHR");
+    VkDescriptorSetLayoutBinding b[3] = {
+        {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, kRtStages, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = 3;
+    dl.pBindings = b;
+    ASSERT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &setLayout), VK_SUCCESS);
+    VkPushConstantRange pc{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(TraceParams)};
+    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    lci.setLayoutCount = 1;
+    lci.pSetLayouts = &setLayout;
+    lci.pushConstantRangeCount = 1;
+    lci.pPushConstantRanges = &pc;
+    ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &traceLayout), VK_SUCCESS);
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 4}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
+    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pci.maxSets = 4;
+    pci.poolSizeCount = 2;
+    pci.pPoolSizes = sizes;
+    ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &pool), VK_SUCCESS);
+    rgen = module(kSpv_trace_raygen_rgen, sizeof kSpv_trace_raygen_rgen);
+    tchit = module(kSpv_trace_chit_rchit, sizeof kSpv_trace_chit_rchit);
+    tmiss = module(kSpv_trace_miss_rmiss, sizeof kSpv_trace_miss_rmiss);
+    tahit = module(kSpv_trace_ahit_rahit, sizeof kSpv_trace_ahit_rahit);
+    tsphere = module(kSpv_trace_sphere_rint, sizeof kSpv_trace_sphere_rint);
+    spheres = createHostBuffer(4096, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  }
+
+  void TearDown() override {
+    if (device) {
+      vkDeviceWaitIdle(device);
+      for (auto& s : structures) destroyAs(device, s, nullptr);
+      for (auto& b : buffers) destroy(b);
+      destroy(spheres);
+      if (pool) vkDestroyDescriptorPool(device, pool, nullptr);
+      if (traceLayout) vkDestroyPipelineLayout(device, traceLayout, nullptr);
+      if (setLayout) vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+    }
+    RtTest::TearDown();
+  }
+
+  static constexpr VkShaderStageFlags kRtStages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+                                                  VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR |
+                                                  VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR;
+
+  // A buffer with a device address, kept until the test ends.
+  HostBuffer& buffer(VkDeviceSize size, VkBufferUsageFlags usage) {
+    buffers.push_back(createHostBuffer(size, usage, true));
+    return buffers.back();
+  }
+  VkDeviceAddress addressOf(const HostBuffer& b) {
+    VkBufferDeviceAddressInfo i{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    i.buffer = b.buffer;
+    return vkGetBufferDeviceAddress(device, &i);
+  }
+  template <class T>
+  VkDeviceAddress upload(const std::vector<T>& data) {
+    HostBuffer& b = buffer(std::max<size_t>(64, data.size() * sizeof(T)),
+                           VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    std::memcpy(b.data, data.data(), data.size() * sizeof(T));
+    return addressOf(b);
+  }
+
+  struct Geometry {
+    VkAccelerationStructureGeometryKHR geometry{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    uint32_t primitives = 0;
+  };
+  // Triangles, float3 vertices, 32-bit indices.
+  Geometry triangles(const std::vector<float>& vertices, const std::vector<uint32_t>& indices, VkGeometryFlagsKHR flags) {
+    Geometry g;
+    g.geometry.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    g.geometry.flags = flags;
+    auto& t = g.geometry.geometry.triangles;
+    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    t.vertexData.deviceAddress = upload(vertices);
+    t.vertexStride = 12;
+    t.maxVertex = uint32_t(vertices.size() / 3 - 1);
+    t.indexType = VK_INDEX_TYPE_UINT32;
+    t.indexData.deviceAddress = upload(indices);
+    g.primitives = uint32_t(indices.size() / 3);
+    return g;
+  }
+  Geometry aabbs(const std::vector<VkAabbPositionsKHR>& boxes, VkGeometryFlagsKHR flags) {
+    Geometry g;
+    g.geometry.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;
+    g.geometry.flags = flags;
+    auto& a = g.geometry.geometry.aabbs;
+    a.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
+    a.data.deviceAddress = upload(boxes);
+    a.stride = sizeof(VkAabbPositionsKHR);
+    g.primitives = uint32_t(boxes.size());
+    return g;
+  }
+
+  // Builds (on the device) an acceleration structure of `type` from `geometries`; returns it.
+  VkAccelerationStructureKHR build(VkAccelerationStructureTypeKHR type, const std::vector<Geometry>& geometries,
+                                   VkBuildAccelerationStructureFlagsKHR flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR) {
+    std::vector<VkAccelerationStructureGeometryKHR> gs;
+    std::vector<uint32_t> counts;
+    std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
+    for (const Geometry& g : geometries) {
+      gs.push_back(g.geometry);
+      counts.push_back(g.primitives);
+      ranges.push_back({g.primitives, 0, 0, 0});
+    }
+    VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    info.type = type;
+    info.flags = flags;
+    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    info.geometryCount = uint32_t(gs.size());
+    info.pGeometries = gs.data();
+    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    buildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, counts.data(), &sizes);
+    HostBuffer& storage = buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.buffer = storage.buffer;
+    ci.size = sizes.accelerationStructureSize;
+    ci.type = type;
+    VkAccelerationStructureKHR as = VK_NULL_HANDLE;
+    EXPECT_EQ(createAs(device, &ci, nullptr, &as), VK_SUCCESS);
+    structures.push_back(as);
+    HostBuffer& scratch = buffer(sizes.buildScratchSize + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    info.dstAccelerationStructure = as;
+    info.scratchData.deviceAddress = (addressOf(scratch) + 255) / 256 * 256;
+    const VkAccelerationStructureBuildRangeInfoKHR* pr = ranges.data();
+    VkCommandBuffer cb = beginOneTime();
+    cmdBuild(cb, 1, &info, &pr);
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+    mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, 0, 1, &mb,
+                         0, nullptr, 0, nullptr);
+    submitAndWait(cb);
+    return as;
+  }
+  VkAccelerationStructureKHR blas(const std::vector<Geometry>& geometries) {
+    return build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometries);
+  }
+  VkDeviceAddress addressOf(VkAccelerationStructureKHR as) {
+    VkAccelerationStructureDeviceAddressInfoKHR i{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+    i.accelerationStructure = as;
+    return asAddress(device, &i);
+  }
+  // An instance of `blas` moved by (tx, ty, tz).
+  VkAccelerationStructureInstanceKHR instance(VkAccelerationStructureKHR blas, float tx = 0, float ty = 0, float tz = 0,
+                                              uint32_t customIndex = 0, uint32_t sbtOffset = 0, uint32_t mask = 0xff,
+                                              VkGeometryInstanceFlagsKHR flags = 0) {
+    VkAccelerationStructureInstanceKHR in{};
+    in.transform.matrix[0][0] = in.transform.matrix[1][1] = in.transform.matrix[2][2] = 1;
+    in.transform.matrix[0][3] = tx;
+    in.transform.matrix[1][3] = ty;
+    in.transform.matrix[2][3] = tz;
+    in.instanceCustomIndex = customIndex;
+    in.mask = mask;
+    in.instanceShaderBindingTableRecordOffset = sbtOffset;
+    in.flags = flags;
+    in.accelerationStructureReference = blas ? addressOf(blas) : 0;
+    return in;
+  }
+  VkAccelerationStructureKHR tlas(const std::vector<VkAccelerationStructureInstanceKHR>& instances) {
+    Geometry g;
+    g.geometry.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+    auto& d = g.geometry.geometry.instances;
+    d.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    d.arrayOfPointers = VK_FALSE;
+    d.data.deviceAddress = upload(instances);
+    g.primitives = uint32_t(instances.size());
+    return build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {g});
+  }
+
+  // The shader binding table: each region's records, laid out with the driver's alignments.
+  struct Sbt {
+    VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
+  };
+  Sbt sbt(VkPipeline p, uint32_t groupCount, const SbtRecord& raygenRecord, const std::vector<SbtRecord>& missRecords,
+          const std::vector<SbtRecord>& hitRecords, const std::vector<SbtRecord>& callableRecords = {}) {
+    std::vector<uint8_t> h = handles(p, 0, groupCount);
+    const uint32_t hs = rtProps.shaderGroupHandleSize;
+    auto align = [](uint64_t v, uint64_t a) { return (v + a - 1) / a * a; };
+    auto strideOf = [&](const std::vector<SbtRecord>& rs) {
+      size_t data = 0;
+      for (const SbtRecord& r : rs) data = std::max(data, r.data.size() * 4);
+      return align(hs + data, rtProps.shaderGroupHandleAlignment);
+    };
+    const std::vector<SbtRecord>* regions[4] = {nullptr, &missRecords, &hitRecords, &callableRecords};
+    std::vector<SbtRecord> raygenVec{raygenRecord};
+    regions[0] = &raygenVec;
+    uint64_t offsets[4], strides[4], total = 0;
+    for (int i = 0; i < 4; ++i) {
+      strides[i] = strideOf(*regions[i]);
+      if (i == 0) strides[i] = align(strides[i], rtProps.shaderGroupBaseAlignment);
+      offsets[i] = align(total, rtProps.shaderGroupBaseAlignment);
+      total = offsets[i] + strides[i] * regions[i]->size();
+    }
+    HostBuffer& b = buffer(total + rtProps.shaderGroupBaseAlignment, VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR);
+    const VkDeviceAddress base = align(addressOf(b), rtProps.shaderGroupBaseAlignment);
+    uint8_t* bytes = static_cast<uint8_t*>(b.data) + (base - addressOf(b));
+    std::memset(bytes, 0, total);
+    Sbt s;
+    VkStridedDeviceAddressRegionKHR* out[4] = {&s.raygen, &s.miss, &s.hit, &s.callable};
+    for (int i = 0; i < 4; ++i) {
+      for (size_t k = 0; k < regions[i]->size(); ++k) {
+        const SbtRecord& r = (*regions[i])[k];
+        uint8_t* rec = bytes + offsets[i] + k * strides[i];
+        if (r.group >= 0) std::memcpy(rec, h.data() + size_t(r.group) * hs, hs);
+        if (!r.data.empty()) std::memcpy(rec + hs, r.data.data(), r.data.size() * 4);
+      }
+      if (!regions[i]->empty()) *out[i] = {base + offsets[i], strides[i], strides[i] * regions[i]->size()};
+    }
+    return s;
+  }
+
+  // Traces a width x height launch of `p` over `tlas`; returns the payloads.
+  std::vector<TracePayload> trace(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR tlas, uint32_t width, uint32_t height,
+                                  const TraceParams& params = {}) {
+    HostBuffer& out = buffer(sizeof(TracePayload) * width * height, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    std::memset(out.data, 0xee, out.size);
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &setLayout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    EXPECT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
+    VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+    asw.accelerationStructureCount = 1;
+    asw.pAccelerationStructures = &tlas;
+    VkDescriptorBufferInfo bo{out.buffer, 0, VK_WHOLE_SIZE}, bs{spheres.buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    for (uint32_t i = 0; i < 3; ++i) {
+      w[i].dstSet = set;
+      w[i].dstBinding = i;
+      w[i].descriptorCount = 1;
+    }
+    w[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    w[1].descriptorType = w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w[1].pBufferInfo = &bo;
+    w[2].pBufferInfo = &bs;
+    vkUpdateDescriptorSets(device, 3, w, 0, nullptr);
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, traceLayout, 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cb, traceLayout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof params, &params);
+    cmdTrace(cb, &s.raygen, &s.miss, &s.hit, &s.callable, width, height, 1);
+    submitAndWait(cb);
+    vkFreeDescriptorSets(device, pool, 1, &set);
+    std::vector<TracePayload> r(width * height);
+    std::memcpy(r.data(), out.data, r.size() * sizeof(TracePayload));
+    return r;
+  }
+
+  // The spheres trace_sphere.rint intersects (object-space centre and radius per primitive).
+  void setSpheres(const std::vector<std::array<float, 4>>& s) { std::memcpy(spheres.data, s.data(), s.size() * 16); }
+
+  PFN_vkCreateAccelerationStructureKHR createAs = nullptr;
+  PFN_vkDestroyAccelerationStructureKHR destroyAs = nullptr;
+  PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes = nullptr;
+  PFN_vkCmdBuildAccelerationStructuresKHR cmdBuild = nullptr;
+  PFN_vkGetAccelerationStructureDeviceAddressKHR asAddress = nullptr;
+  PFN_vkCmdTraceRaysKHR cmdTrace = nullptr;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkPipelineLayout traceLayout = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkShaderModule rgen{}, tchit{}, tmiss{}, tahit{}, tsphere{};
+  HostBuffer spheres;
+  std::deque<HostBuffer> buffers;  // a deque: references returned by buffer() stay valid
+  std::vector<VkAccelerationStructureKHR> structures;
+};
+
+}  // namespace vkrt::test
