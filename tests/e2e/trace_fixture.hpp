@@ -49,6 +49,7 @@ class TraceTest : public RtTest {
   FixtureOptions options() override {
     FixtureOptions o = RtTest::options();
     o.deviceExtensions.push_back(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
+    rtf.rayTraversalPrimitiveCulling = supportedRt.rayTraversalPrimitiveCulling;
     asf.accelerationStructure = VK_TRUE;
     asf.accelerationStructureHostCommands = supportedAs.accelerationStructureHostCommands;
     asf.accelerationStructureIndirectBuild = supportedAs.accelerationStructureIndirectBuild;

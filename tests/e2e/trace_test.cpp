@@ -77,3 +77,164 @@ TEST_F(TraceBasics, TrianglesThroughInstancesWithTransformsCustomIndicesAndSbtOf
 
 }  // namespace
 }  // namespace vkrt::test
+
+namespace vkrt::test {
+namespace {
+
+// A pipeline of trace_raygen, two miss shaders (tags in their records) and a triangle hit group with closest-hit
+// and (optionally) any-hit shaders, over one quad at z = 5 (an instance of `quadBlas` with `flags`, `mask`).
+class TraceFlags : public TraceTest {
+ protected:
+  VkPipeline pipeline(bool anyHit) {
+    Desc d;
+    d.layout = traceLayout;
+    d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+    uint32_t c = d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    uint32_t a = anyHit ? d.stage(tahit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR) : VK_SHADER_UNUSED_KHR;
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, a);
+    return make(d);
+  }
+  // The centre pixel of a 4 x 4 launch: the ray at (-0.5, -0.5) hits triangle 0 of a quad at the origin.
+  TracePayload centre(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR top, const TraceParams& params) {
+    return trace(p, s, top, 4, 4, params)[1 * 4 + 1];
+  }
+};
+
+TEST_F(TraceFlags, RayFlagsInstanceFlagsMasksAndMissIndex) {
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR plain = tlas({instance(quad, 0, 0, 5, 1, 0, 0x01)});
+  VkAccelerationStructureKHR flipped = tlas({instance(quad, 0, 0, 5, 2, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FLIP_FACING_BIT_KHR)});
+  VkAccelerationStructureKHR noCull = tlas({instance(quad, 0, 0, 5, 3, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)});
+  VkPipeline p = pipeline(false);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}, {1, {8}}}, {{2, {100}}});
+  auto hits = [](const TracePayload& r) { return r.hit[0] > 0; };
+  TraceParams t;
+  TracePayload r = centre(p, s, plain, t);
+  ASSERT_TRUE(hits(r));
+  EXPECT_EQ(r.hit[3], 255.0f) << "back-facing: the ray runs along the normal";
+  t.cullMask = 0x02;
+  EXPECT_FALSE(hits(centre(p, s, plain, t))) << "cull mask 0x02 against instance mask 0x01";
+  t.cullMask = 0xff;
+  t.missIndex = 1;
+  r = centre(p, s, plain, {t.rayFlags, 0x02, 0, 1, 1});
+  EXPECT_EQ(r.extra[0], 8u) << "missIndex 1 selects the second miss record";
+  t.missIndex = 0;
+  t.rayFlags = 0x10;  // gl_RayFlagsCullBackFacingTrianglesEXT
+  r = centre(p, s, plain, t);
+  EXPECT_FALSE(hits(r));
+  EXPECT_EQ(r.hit[3], 16.0f) << "gl_IncomingRayFlagsEXT in the miss shader";
+  EXPECT_TRUE(hits(centre(p, s, noCull, t))) << "TRIANGLE_FACING_CULL_DISABLE";
+  r = centre(p, s, flipped, t);
+  ASSERT_TRUE(hits(r)) << "TRIANGLE_FLIP_FACING makes it front-facing";
+  EXPECT_EQ(r.hit[3], 254.0f);
+  t.rayFlags = 0x20;  // gl_RayFlagsCullFrontFacingTrianglesEXT
+  EXPECT_TRUE(hits(centre(p, s, plain, t)));
+  EXPECT_FALSE(hits(centre(p, s, flipped, t)));
+  t.rayFlags = 0x40;  // gl_RayFlagsCullOpaqueEXT: the geometry is opaque
+  EXPECT_FALSE(hits(centre(p, s, plain, t)));
+  t.rayFlags = 0x80;  // gl_RayFlagsCullNoOpaqueEXT
+  EXPECT_TRUE(hits(centre(p, s, plain, t)));
+  if (rtf.rayTraversalPrimitiveCulling) {
+    t.rayFlags = 0x100;  // gl_RayFlagsSkipTrianglesEXT
+    EXPECT_FALSE(hits(centre(p, s, plain, t)));
+    t.rayFlags = 0x200;  // gl_RayFlagsSkipAABBEXT
+    EXPECT_TRUE(hits(centre(p, s, plain, t)));
+  }
+  t.rayFlags = 0;
+  t.tmax = 14.0f;  // the quad is at t = 15
+  r = centre(p, s, plain, t);
+  EXPECT_FALSE(hits(r));
+  EXPECT_EQ(r.hit[2], 14.0f);
+}
+
+TEST_F(TraceFlags, AnyHitAcceptIgnoreTerminateAndOpacity) {
+  // Two non-opaque quads, geometry 0 at z = 3 and geometry 1 at z = 5, one record each (sbtStride 1).
+  std::vector<float> q5 = kQuad;
+  for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
+  std::vector<float> q3 = kQuad;
+  for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
+  VkAccelerationStructureKHR b = blas({triangles(q3, kQuadIndices, 0), triangles(q5, kQuadIndices, VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(b)});
+  VkPipeline p = pipeline(true);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  for (uint32_t mode : {0u, 1u, 2u}) {
+    SCOPED_TRACE("any-hit mode " + std::to_string(mode));
+    Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100, mode}}, {2, {101, mode}}});
+    TracePayload r = centre(p, s, top, {});
+    if (mode == 0) {
+      EXPECT_NEAR(r.hit[0], 13.0f, 1e-4f) << "accepted: the nearer quad";
+      EXPECT_EQ(r.ids[3], 0u);
+      EXPECT_GE(r.extra[1], 1u);
+      EXPECT_LE(r.extra[1], 2u);
+    } else if (mode == 1) {
+      EXPECT_EQ(r.hit[0], -2.0f) << "every candidate ignored: a miss";
+      EXPECT_EQ(r.extra[1], 2u) << "one any-hit per quad";
+    } else {
+      EXPECT_EQ(r.extra[1], 1u) << "terminateRayEXT in the first any-hit";
+      ASSERT_GT(r.hit[0], 0.0f);
+      EXPECT_EQ(r.extra[0], r.ids[3] == 0 ? 100u : 101u) << "the closest-hit shader of the terminating candidate runs";
+    }
+    TraceParams opaque;
+    opaque.rayFlags = 0x1;  // gl_RayFlagsOpaqueEXT: no any-hit
+    r = centre(p, s, top, opaque);
+    EXPECT_EQ(r.extra[1], 0u);
+    EXPECT_NEAR(r.hit[0], 13.0f, 1e-4f);
+  }
+}
+
+TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
+  // Two spheres (radius 0.5) in their boxes: primitive 0 centred at (-1, -1, 4), primitive 1 at (1, 1, 6); in an
+  // instance moved by +1 along z.
+  setSpheres({{-1, -1, 4, 0.5f}, {1, 1, 6, 0.5f}});
+  VkAccelerationStructureKHR b = blas({aabbs({{-1.5f, -1.5f, 3.5f, -0.5f, -0.5f, 4.5f}, {0.5f, 0.5f, 5.5f, 1.5f, 1.5f, 6.5f}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(b, 0, 0, 1, 9)});
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  uint32_t c = d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  uint32_t i = d.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR, i);
+  d.maxHitAttr = 8;
+  d.maxPayload = sizeof(TracePayload);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {300}}});
+  const uint32_t n = 16;
+  std::vector<TracePayload> r = trace(p, s, top, n, n);
+  int hits = 0;
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+      const TracePayload& q = r[y * n + x];
+      int prim = -1;
+      float t = 0;
+      const float centres[2][3] = {{-1, -1, 5}, {1, 1, 7}};  // world space (instance moved +1 along z)
+      for (int k = 0; k < 2; ++k) {
+        float dx = wx - centres[k][0], dy = wy - centres[k][1], r2 = dx * dx + dy * dy;
+        if (r2 < 0.25f) {
+          prim = k;
+          t = centres[k][2] - std::sqrt(0.25f - r2) + 10;  // from z = -10
+        }
+      }
+      if (prim < 0) {
+        EXPECT_EQ(q.hit[0], -2.0f);
+        continue;
+      }
+      ++hits;
+      EXPECT_NEAR(q.hit[0], t, 1e-3f);
+      EXPECT_EQ(q.hit[1], float(prim)) << "hit attribute x";
+      EXPECT_EQ(q.hit[2], 0.5f);
+      EXPECT_EQ(q.hit[3], 5.0f) << "the hit kind the intersection shader reported";
+      EXPECT_EQ(q.ids[2], uint32_t(prim));
+      EXPECT_EQ(q.ids[0], 9u);
+      EXPECT_EQ(q.extra[0], 300u);
+    }
+  EXPECT_GT(hits, 4);
+}
+
+}  // namespace
+}  // namespace vkrt::test
