@@ -129,6 +129,17 @@ bool checkLaunchSize(const Object* about, const char* fn, const uint32_t size[3]
   return true;
 }
 
+const char* stageName(VkShaderStageFlagBits stage) {
+  switch (stage) {
+    case VK_SHADER_STAGE_RAYGEN_BIT_KHR: return "raygen";
+    case VK_SHADER_STAGE_MISS_BIT_KHR: return "miss";
+    case VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR: return "closest-hit";
+    case VK_SHADER_STAGE_ANY_HIT_BIT_KHR: return "any-hit";
+    case VK_SHADER_STAGE_INTERSECTION_BIT_KHR: return "intersection";
+    default: return "callable";
+  }
+}
+
 // A short description of a group for reports: its type and its shaders' entry points.
 std::string describe(const GroupRecord& g) {
   static const char* const kTypes[] = {"general", "triangles hit", "procedural hit"};
@@ -190,7 +201,7 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   s.entry = code.rayEntry;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();
-  names_.push_back("\"" + d->entry + "\" (stage 0x" + std::to_string(unsigned(d->stage)) + ")");
+  names_.push_back(std::string(stageName(d->stage)) + " shader \"" + d->entry + "\"");
   s.name = names_.back().c_str();
   return s;
 }

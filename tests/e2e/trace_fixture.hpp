@@ -266,7 +266,11 @@ class TraceTest : public RtTest {
   };
   Sbt sbt(VkPipeline p, uint32_t groupCount, const SbtRecord& raygenRecord, const std::vector<SbtRecord>& missRecords,
           const std::vector<SbtRecord>& hitRecords, const std::vector<SbtRecord>& callableRecords = {}) {
-    std::vector<uint8_t> h = handles(p, 0, groupCount);
+    return sbtFrom(handles(p, 0, groupCount), raygenRecord, missRecords, hitRecords, callableRecords);
+  }
+  // The same from handle bytes (groupCount x shaderGroupHandleSize) obtained elsewhere: a library, another process.
+  Sbt sbtFrom(const std::vector<uint8_t>& h, const SbtRecord& raygenRecord, const std::vector<SbtRecord>& missRecords,
+              const std::vector<SbtRecord>& hitRecords, const std::vector<SbtRecord>& callableRecords = {}) {
     const uint32_t hs = rtProps.shaderGroupHandleSize;
     auto align = [](uint64_t v, uint64_t a) { return (v + a - 1) / a * a; };
     auto strideOf = [&](const std::vector<SbtRecord>& rs) {
@@ -303,8 +307,10 @@ class TraceTest : public RtTest {
   }
 
   // Traces a width x height launch of `p` over `tlas`; returns the payloads.
+  // With `dynamicStackSize` >= 0, vkCmdSetRayTracingPipelineStackSizeKHR sets it (the pipeline must have the
+  // dynamic state).
   std::vector<TracePayload> trace(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR tlas, uint32_t width, uint32_t height,
-                                  const TraceParams& params = {}) {
+                                  const TraceParams& params = {}, int64_t dynamicStackSize = -1) {
     HostBuffer& out = buffer(sizeof(TracePayload) * width * height, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memset(out.data, 0xee, out.size);
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -333,6 +339,11 @@ class TraceTest : public RtTest {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, traceLayout, 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cb, traceLayout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof params, &params);
+    if (dynamicStackSize >= 0) {
+      auto setStack = reinterpret_cast<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(
+          vkGetDeviceProcAddr(device, "vkCmdSetRayTracingPipelineStackSizeKHR"));
+      setStack(cb, uint32_t(dynamicStackSize));
+    }
     cmdTrace(cb, &s.raygen, &s.miss, &s.hit, &s.callable, width, height, 1);
     submitAndWait(cb);
     vkFreeDescriptorSets(device, pool, 1, &set);

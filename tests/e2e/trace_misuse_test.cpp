@@ -1,0 +1,166 @@
+// Misuse of tracing that vkrt diagnoses: the SBT holding what the bound pipeline cannot run, an undersized
+// pipeline stack, instances referring to structures that do not exist. Each is reported with its VUID, naming
+// what it is about, and the launch goes on without running the bad record (no crash). The validation layer is off:
+// it would report (or not see) the same misuse.
+#include <cstdlib>
+
+#include "e2e/trace_fixture.hpp"
+
+namespace vkrt::test {
+namespace {
+
+const std::vector<float> kQuad = {-1, -1, 0, 1, -1, 0, -1, 1, 0, 1, 1, 0};
+const std::vector<uint32_t> kQuadIndices = {0, 1, 2, 2, 1, 3};
+
+class TraceMisuseTest : public TraceTest {
+ protected:
+  bool layer() override { return false; }
+  void SetUp() override {
+    TraceTest::SetUp();
+    if (HasFatalFailure() || !device) return;
+    if (!onVkrt()) GTEST_SKIP() << "vkrt's own diagnostics";
+    quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+    top = tlas({instance(quad, 0, 0, 5)});
+  }
+  // raygen, miss, triangle hit group: the pipeline every test here traces with.
+  VkPipeline basic(VkPipelineCreateFlags flags = 0, const void* pNext = nullptr) {
+    Desc d;
+    d.layout = traceLayout;
+    d.flags = flags;
+    d.pNext = pNext;
+    d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+    return make(d);
+  }
+  // Asserts one vkrt report naming `vuid` (null: a report without one) whose text contains each of `parts`.
+  void expectReport(const char* vuid, std::initializer_list<const char*> parts) {
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u) << "expected one report naming " << (vuid ? vuid : "no VUID") << (msgs.empty() ? "" : ", first: " + msgs[0].text);
+    EXPECT_EQ(msgs[0].idName, vuid ? vuid : "vkrt") << msgs[0].text;
+    for (const char* p : parts) EXPECT_NE(msgs[0].text.find(p), std::string::npos) << "missing \"" << p << "\" in: " << msgs[0].text;
+    clearMessages();
+  }
+  VkAccelerationStructureKHR quad = VK_NULL_HANDLE, top = VK_NULL_HANDLE;
+};
+
+TEST_F(TraceMisuseTest, AHandleOfAnotherPipelineInTheSbtIsReportedWithItsGroupAndPipeline) {
+  VkPipeline p = basic();
+  // Another pipeline whose third group (a procedural hit group) the first one does not have.
+  Desc other;
+  other.layout = traceLayout;
+  other.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  other.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  other.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+              other.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR), VK_SHADER_UNUSED_KHR,
+              other.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR));
+  VkPipeline q = make(other);
+  std::vector<uint8_t> h = handles(p, 0, 3);
+  std::vector<uint8_t> foreign = handles(q, 2, 1);
+  std::copy(foreign.begin(), foreign.end(), h.begin() + 64);
+  Sbt s = sbtFrom(h, {0}, {{1, {7}}}, {{2, {100}}});
+  clearMessages();
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  char pipe[32];
+  std::snprintf(pipe, sizeof pipe, "0x%llx", (unsigned long long)reinterpret_cast<uintptr_t>(q));
+  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 0", "procedural hit group", "\"main\"", pipe, "neither the bound pipeline"});
+  EXPECT_EQ(r[5].hit[0], -1.0f) << "the hit's closest-hit shader did not run (the payload is as raygen set it)";
+}
+
+TEST_F(TraceMisuseTest, GarbageInTheSbtIsReportedOnceAndNotRun) {
+  VkPipeline p = basic();
+  std::vector<uint8_t> h = handles(p, 0, 3);
+  for (int k = 64; k < 96; ++k) h[k] = uint8_t(k * 37 + 11);
+  Sbt s = sbtFrom(h, {0}, {{1, {7}}}, {{2, {100}}});
+  clearMessages();
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 0", "does not hold a shader group handle of this device"});
+  EXPECT_EQ(r[5].hit[0], -1.0f);
+  EXPECT_EQ(r[0].hit[0], -2.0f) << "rays that miss still run the miss shader";
+}
+
+TEST_F(TraceMisuseTest, ARecordPastItsRegionIsReported) {
+  VkPipeline p = basic();
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  clearMessages();
+  TraceParams t;
+  t.sbtOffset = 3;  // hit record 3 of a one-record region
+  trace(p, s, top, 4, 4, t);
+  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 3", "outside its region"});
+}
+
+TEST_F(TraceMisuseTest, AProceduralHitGroupUsedForTrianglesIsReported) {
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR),
+          VK_SHADER_UNUSED_KHR, d.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR));
+  VkPipeline p = make(d);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  clearMessages();
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  expectReport("VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735", {"hit record 0", "triangle", "procedural hit group"});
+  EXPECT_EQ(r[5].hit[0], -1.0f);
+}
+
+TEST_F(TraceMisuseTest, AnUndersizedDynamicStackIsReportedWithTheShaderChain) {
+  VkDynamicState dyn = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
+  VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  ds.dynamicStateCount = 1;
+  ds.pDynamicStates = &dyn;
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  VkRayTracingPipelineCreateInfoKHR* unused = nullptr;
+  (void)unused;
+  d.pNext = nullptr;
+  // The dynamic state goes in pDynamicState; Desc has no member for it, so it is created here.
+  VkPipeline p = VK_NULL_HANDLE;
+  {
+    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    ci.stageCount = uint32_t(d.stages.size());
+    ci.pStages = d.stages.data();
+    ci.groupCount = uint32_t(d.groups.size());
+    ci.pGroups = d.groups.data();
+    ci.maxPipelineRayRecursionDepth = 1;
+    ci.pDynamicState = &ds;
+    ci.layout = traceLayout;
+    ci.basePipelineIndex = -1;
+    ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
+    pipelines.push_back(p);
+  }
+  const VkDeviceSize raygenStack = getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
+  ASSERT_GT(raygenStack, 0u) << "trace_raygen calls traceRayEXT: its stack size is not 0";
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  clearMessages();
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4, {}, int64_t(raygenStack) - 1);
+  expectReport("VUID-vkCmdSetRayTracingPipelineStackSizeKHR-pipelineStackSize-03610", {"call chain", "raygen shader \"main\"", "more than the pipeline stack size"});
+  EXPECT_EQ(r[0].ids[0], 0xeeeeeeeeu) << "the raygen shader did not run: the output keeps its fill pattern";
+  // With exactly the raygen shader's stack size, the launch runs.
+  r = trace(p, s, top, 4, 4, {}, int64_t(raygenStack));
+  EXPECT_TRUE(vkrtMessages().empty());
+  EXPECT_EQ(r[0].hit[0], -2.0f);
+}
+
+TEST_F(TraceMisuseTest, AnInstanceOfADestroyedBottomLevelStructureIsReportedAndTheLaunchMisses) {
+  VkAccelerationStructureKHR doomed = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureInstanceKHR in = instance(doomed, 0, 0, 5);
+  destroyAs(device, doomed, nullptr);
+  structures.erase(std::find(structures.begin(), structures.end(), doomed));
+  clearMessages();
+  VkAccelerationStructureKHR broken = tlas({in});
+  char address[32];
+  std::snprintf(address, sizeof address, "0x%llx", (unsigned long long)in.accelerationStructureReference);
+  expectReport("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-06707", {"instance 0", address, "destroyed"});
+  VkPipeline p = basic();
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  std::vector<TracePayload> r = trace(p, s, broken, 4, 4);
+  expectReport(nullptr, {"not the address of a built top-level acceleration structure", "those rays miss"});
+  EXPECT_EQ(r[5].hit[0], -2.0f);
+}
+
+}  // namespace
+}  // namespace vkrt::test
