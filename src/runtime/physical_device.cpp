@@ -281,7 +281,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_EXT_SCALAR_BLOCK_LAYOUT_EXTENSION_NAME, VK_EXT_SCALAR_BLOCK_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
   };
-  // Ray tracing pipelines (src/rt/features.cpp): only with VKRT_PREVIEW_RAY_TRACING=1.
+  // Ray tracing (runtime/ray_tracing_features.cpp).
   rt::appendExtensions(extensions_);
 }
 
@@ -366,7 +366,7 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
             features13.pipelineCreationCacheControl;
         break;
       default:
-        rt::fillFeature(s);  // ray tracing structures (preview only); others are left untouched
+        rt::fillFeature(s);  // ray tracing structures; others are left untouched
         break;
     }
   }
@@ -424,7 +424,7 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
         break;
       }
       default:
-        rt::fillProperty(s);  // ray tracing properties (preview only)
+        rt::fillProperty(s);  // ray tracing properties
         break;
     }
     s->pNext = next;  // the memcpy of a whole struct above also copied our null pNext: restore the chain

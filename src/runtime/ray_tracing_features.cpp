@@ -1,18 +1,11 @@
 #include "runtime/ray_tracing_features.hpp"
 
-#include <cstdlib>
 #include <cstring>
 
 
 namespace vkrt::rt {
 
-bool previewEnabled() {
-  const char* v = std::getenv("VKRT_PREVIEW_RAY_TRACING");
-  return v && std::strcmp(v, "1") == 0;
-}
-
 void appendExtensions(std::vector<VkExtensionProperties>& out) {
-  if (!previewEnabled()) return;
   out.push_back({VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_ACCELERATION_STRUCTURE_SPEC_VERSION});
   out.push_back({VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_DEFERRED_HOST_OPERATIONS_SPEC_VERSION});
   out.push_back({VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_SPEC_VERSION});
@@ -35,7 +28,6 @@ VkPhysicalDeviceRayTracingPipelinePropertiesKHR properties() {
 }
 
 bool fillFeature(VkBaseOutStructure* s) {
-  if (!previewEnabled()) return false;
   switch (static_cast<uint32_t>(s->sType)) {
     case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR: {
       auto* f = reinterpret_cast<VkPhysicalDeviceRayTracingPipelineFeaturesKHR*>(s);
@@ -84,7 +76,6 @@ VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperti
 }
 
 bool fillProperty(VkBaseOutStructure* s) {
-  if (!previewEnabled()) return false;
   VkBaseOutStructure* next = s->pNext;
   if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR) {
     auto p = properties();

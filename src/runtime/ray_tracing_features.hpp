@@ -1,7 +1,6 @@
-// What vkrt advertises for ray tracing pipelines: extensions, features and properties, and their pNext
-// structures. Everything here is advertised only while VKRT_PREVIEW_RAY_TRACING=1 is set: tracing itself
-// (vkCmdTraceRaysKHR, acceleration structures) is a later issue, so without the variable vkrt claims none of
-// it (the structures are left untouched, as for any unknown extension).
+// What vkrt advertises for ray tracing: the extensions (VK_KHR_acceleration_structure, VK_KHR_ray_tracing_pipeline,
+// VK_KHR_ray_tracing_maintenance1, VK_KHR_pipeline_library, VK_EXT_pipeline_library_group_handles,
+// VK_KHR_deferred_host_operations), their features and properties, and their pNext structures.
 #pragma once
 
 #include <cstdint>
@@ -11,15 +10,11 @@
 
 namespace vkrt::rt {
 
-// VKRT_PREVIEW_RAY_TRACING=1 (read at each call: tests switch it per process).
-bool previewEnabled();
-
-// Appends VK_KHR_ray_tracing_pipeline, VK_KHR_pipeline_library, VK_EXT_pipeline_library_group_handles and
-// VK_KHR_deferred_host_operations when the preview is enabled.
+// Appends the ray tracing extensions.
 void appendExtensions(std::vector<VkExtensionProperties>& out);
 
 // Fills a ray tracing feature / property structure of a VkPhysicalDeviceFeatures2 / Properties2 chain.
-// Returns false (structure untouched) for other structures or when the preview is off.
+// Returns false (structure untouched) for other structures.
 bool fillFeature(VkBaseOutStructure* s);
 bool fillProperty(VkBaseOutStructure* s);
 

@@ -1,18 +1,15 @@
-// The ray tracing e2e fixture (RtTest) shared by tests/e2e/rt_*_test.cpp, and helpers for cross-process tests.
+// The ray tracing e2e fixture (RtTest) shared by tests/e2e/rt_*_test.cpp and trace_*_test.cpp, and helpers for
+// cross-process tests.
 //
-// Validation layer note: VK_KHR_ray_tracing_pipeline requires VK_KHR_acceleration_structure, which vkrt does
-// not have yet. The layer (1.3.239) reports exactly that at vkCreateDevice (VUID-vkCreateDevice-
-// ppEnabledExtensionNames-01387 naming VK_KHR_acceleration_structure), and, being older than
-// VK_EXT_pipeline_library_group_handles, VUID-VkDeviceCreateInfo-pNext-pNext for its feature structure
-// (sType 1000498000), plus the warning "Device Extension VK_EXT_pipeline_library_group_handles is not supported
-// by this layer" (VUID_Undefined); and at every vkCreateRayTracingPipelinesKHR call
-// UNASSIGNED-GeneralParameterError-ExtensionNotEnabled naming VK_KHR_acceleration_structure.
-// RtTest::acceptKnownLayerMessages (after SetUp and before TearDown) accepts exactly those four and fails on
-// any other layer message. The layer also hides vkGetRayTracingShaderGroupHandlesNV (it requires
-// VK_NV_ray_tracing), so the NV alias is tested without the layer (RtMisuseTest.NvAliasResolves), and drops
-// the group-handles feature structure it does not know, so library handle tests run without it (RtLibraryTest).
-// The same layer messages come on other drivers (e.g. NVIDIA's), since the fixture does not enable
-// VK_KHR_acceleration_structure there either.
+// The device has VK_KHR_acceleration_structure, VK_KHR_ray_tracing_pipeline, VK_KHR_pipeline_library,
+// VK_EXT_pipeline_library_group_handles and VK_KHR_deferred_host_operations. Validation layer note: the layer
+// (1.3.239) is older than VK_EXT_pipeline_library_group_handles, so it reports VUID-VkDeviceCreateInfo-pNext-pNext
+// for its feature structure (sType 1000498000) and the warning "Device Extension
+// VK_EXT_pipeline_library_group_handles is not supported by this layer" (VUID_Undefined) at vkCreateDevice.
+// RtTest::acceptKnownLayerMessages (after SetUp and before TearDown) accepts exactly those two and fails on any
+// other layer message. The layer also hides vkGetRayTracingShaderGroupHandlesNV (it requires
+// VK_NV_ray_tracing), so the NV alias is tested without the layer (RtMisuseTest.NvAliasResolves), and drops the
+// group-handles feature structure it does not know, so library handle tests run without it (RtLibraryTest).
 //
 // On other drivers (device name not "vkrt") the tests of Vulkan behaviour run as well; assertions about vkrt's own
 // choices (exact stack sizes, handles identical across processes, deferred-operation scheduling, vkrt's messages
@@ -45,13 +42,9 @@
 
 namespace vkrt::test {
 
-inline constexpr const char* kExpectedDeviceMessage = "VUID-vkCreateDevice-ppEnabledExtensionNames-01387";
 // The layer (1.3.239) predates VK_EXT_pipeline_library_group_handles: it does not know
 // VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT (sType 1000498000) in VkDeviceCreateInfo::pNext.
 inline constexpr const char* kUnknownStructMessage = "VUID-VkDeviceCreateInfo-pNext-pNext";
-// Every vkCreateRayTracingPipelinesKHR call: "Attempted to call vkCreateRayTracingPipelinesKHR() but its required
-// extension VK_KHR_acceleration_structure has not been enabled".
-inline constexpr const char* kExtensionNotEnabledMessage = "UNASSIGNED-GeneralParameterError-ExtensionNotEnabled";
 
 // True when the physical device is vkrt: checks of vkrt's own choices and diagnostics are skipped on other drivers.
 inline bool isVkrt(VkPhysicalDevice pd) {
@@ -71,6 +64,7 @@ class RtTest : public VulkanTest {
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   bool libraryGroupHandles = true;
   bool captureReplay = true;
 
@@ -80,7 +74,7 @@ class RtTest : public VulkanTest {
     FixtureOptions o;
     o.validation = layer();
     o.deviceExtensions = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME,
-                          VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+                          VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
                           VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME};
     // Only what the driver supports is enabled (enabling an unsupported feature fails vkCreateDevice with
     // VK_ERROR_FEATURE_NOT_PRESENT).
@@ -91,6 +85,8 @@ class RtTest : public VulkanTest {
         captureReplay && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
     rtf.pNext = &lgh;
     lgh.pipelineLibraryGroupHandles = libraryGroupHandles && supportedLgh.pipelineLibraryGroupHandles;
+    lgh.pNext = &asf;
+    asf.accelerationStructure = VK_TRUE;
     o.featureChain = &rtf;
     return o;
   }
@@ -124,7 +120,6 @@ class RtTest : public VulkanTest {
   bool mixedEnabled() const { return rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed; }
 
   void SetUp() override {
-    setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
     querySupport();
     if (HasFatalFailure()) return;
     VulkanTest::SetUp();
@@ -157,17 +152,14 @@ class RtTest : public VulkanTest {
     call = module(kSpv_h4_call_rcall, sizeof(kSpv_h4_call_rcall));
   }
 
-  // The layer messages caused by vkrt not having VK_KHR_acceleration_structure yet and by the layer being older
-  // than VK_EXT_pipeline_library_group_handles (see the top of this file): exactly these are accepted.
+  // The layer messages caused by the layer being older than VK_EXT_pipeline_library_group_handles (see the top of
+  // this file): exactly these are accepted.
   void acceptKnownLayerMessages() {
     for (const Message& m : layerMessages()) {
       bool expected =
-          (m.idName == kExpectedDeviceMessage && m.text.find("VK_KHR_acceleration_structure") != std::string::npos) ||
           (m.idName == kUnknownStructMessage && m.text.find("(1000498000)") != std::string::npos) ||
           (m.idName == "VUID_Undefined" &&
-           m.text.find("VK_EXT_pipeline_library_group_handles is not supported by this layer") != std::string::npos) ||
-          (m.idName == kExtensionNotEnabledMessage &&
-           m.text.find("its required extension VK_KHR_acceleration_structure has not been enabled") != std::string::npos);
+           m.text.find("VK_EXT_pipeline_library_group_handles is not supported by this layer") != std::string::npos);
       EXPECT_TRUE(expected) << "unexpected validation message: " << m.text.substr(0, 300);
     }
     auto own = vkrtMessages();

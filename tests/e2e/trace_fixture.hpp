@@ -1,4 +1,4 @@
-// The tracing e2e fixture (TraceTest): RtTest's device with VK_KHR_acceleration_structure, helpers that build
+// The tracing e2e fixture (TraceTest): RtTest's device (with VK_KHR_acceleration_structure), helpers that build
 // bottom- and top-level acceleration structures on the device (or the host), write a shader binding table from
 // group handles, and trace a launch whose results (one TracePayload per launch index, tests/shaders/trace_*.r*)
 // come back to the test. Everything goes through the public API, so the tests of Vulkan behaviour run on other
@@ -43,17 +43,13 @@ struct SbtRecord {
 class TraceTest : public RtTest {
  protected:
   VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
 
   FixtureOptions options() override {
     FixtureOptions o = RtTest::options();
-    o.deviceExtensions.push_back(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     rtf.rayTraversalPrimitiveCulling = supportedRt.rayTraversalPrimitiveCulling;
-    asf.accelerationStructure = VK_TRUE;
     asf.accelerationStructureHostCommands = supportedAs.accelerationStructureHostCommands;
     asf.accelerationStructureIndirectBuild = supportedAs.accelerationStructureIndirectBuild;
-    lgh.pNext = &asf;
     return o;
   }
 
@@ -65,7 +61,6 @@ class TraceTest : public RtTest {
       VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
       ici.pApplicationInfo = &app;
       VkInstance inst = VK_NULL_HANDLE;
-      setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
       ASSERT_EQ(vkCreateInstance(&ici, nullptr, &inst), VK_SUCCESS);
       uint32_t n = 1;
       VkPhysicalDevice pd = VK_NULL_HANDLE;

@@ -18,7 +18,6 @@ namespace {
 class RtCompileSharing : public ::testing::Test {
  protected:
   void SetUp() override {
-    setenv("VKRT_PREVIEW_RAY_TRACING", "1", 1);
     VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
     uint32_t n = 1;
