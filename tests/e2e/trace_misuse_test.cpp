@@ -9,9 +9,6 @@
 namespace vkrt::test {
 namespace {
 
-const std::vector<float> kQuad = {-1, -1, 0, 1, -1, 0, -1, 1, 0, 1, 1, 0};
-const std::vector<uint32_t> kQuadIndices = {0, 1, 2, 2, 1, 3};
-
 class TraceMisuseTest : public TraceTest {
  protected:
   bool layer() override { return false; }
@@ -22,15 +19,9 @@ class TraceMisuseTest : public TraceTest {
     quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
     top = tlas({instance(quad, 0, 0, 5)});
   }
-  // raygen, miss, triangle hit group: the pipeline every test here traces with.
-  VkPipeline basic(VkPipelineCreateFlags flags = 0, const void* pNext = nullptr) {
-    Desc d;
-    d.layout = traceLayout;
-    d.flags = flags;
-    d.pNext = pNext;
-    d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
-    d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  // raygen, miss, triangle hit group: the pipeline most tests here trace with.
+  VkPipeline basic() {
+    Desc d = basicDesc();
     return make(d);
   }
   // Asserts one vkrt report naming `vuid` (null: a report without one) whose text contains each of `parts`.
