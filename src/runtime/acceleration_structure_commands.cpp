@@ -59,8 +59,8 @@ std::vector<uint8_t> serializeContent(const Device* dev, const AccelerationStruc
   accelerationStructureVersion(dev, out.data());
   uint64_t sizes[3] = {out.size(), requiredSize(primitives), refs.size()};
   std::memcpy(out.data() + 2 * VK_UUID_SIZE, sizes, sizeof sizes);
-  std::memcpy(out.data() + kHeaderBytes, refs.data(), refs.size() * 8);
-  std::memcpy(out.data() + kHeaderBytes + refs.size() * 8, body.data(), body.size());
+  if (!refs.empty()) std::memcpy(out.data() + kHeaderBytes, refs.data(), refs.size() * 8);
+  if (!body.empty()) std::memcpy(out.data() + kHeaderBytes + refs.size() * 8, body.data(), body.size());
   return out;
 }
 
@@ -90,7 +90,7 @@ std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, 
     return nullptr;
   }
   std::vector<uint64_t> refs(count);
-  std::memcpy(refs.data(), p + kHeaderBytes, count * 8);
+  if (count) std::memcpy(refs.data(), p + kHeaderBytes, count * 8);
   const uint8_t* body = p + kHeaderBytes + count * 8;
   const size_t bodyBytes = total - kHeaderBytes - count * 8;
   auto c = std::make_shared<AccelerationStructure::Content>();

@@ -1,0 +1,254 @@
+// Acceleration structure operations, checked by tracing: a compacted copy, a serialize/deserialize round trip with
+// patched bottom-level references, an update that moves the geometry, and builds on the host (with a deferred
+// operation joined by several threads) all trace the scene their inputs describe.
+#include <thread>
+
+#include "e2e/trace_fixture.hpp"
+
+namespace vkrt::test {
+namespace {
+
+class TraceAsTest : public TraceTest {
+ protected:
+  void SetUp() override {
+    TraceTest::SetUp();
+    if (HasFatalFailure() || !device) return;
+    load(cmdWriteProps, "vkCmdWriteAccelerationStructuresPropertiesKHR");
+    load(cmdCopy, "vkCmdCopyAccelerationStructureKHR");
+    load(cmdToMemory, "vkCmdCopyAccelerationStructureToMemoryKHR");
+    load(cmdFromMemory, "vkCmdCopyMemoryToAccelerationStructureKHR");
+    load(compatibility, "vkGetDeviceAccelerationStructureCompatibilityKHR");
+    p = make(desc = basicDesc());
+    ASSERT_NE(p, VK_NULL_HANDLE);
+    s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}, {2, {101}}});
+  }
+  // A property of `as` read through a query pool on the device.
+  VkDeviceSize property(VkAccelerationStructureKHR as, VkQueryType type) {
+    VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qci.queryType = type;
+    qci.queryCount = 1;
+    VkQueryPool pool = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateQueryPool(device, &qci, nullptr, &pool), VK_SUCCESS);
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdResetQueryPool(cb, pool, 0, 1);
+    cmdWriteProps(cb, 1, &as, type, pool, 0);
+    submitAndWait(cb);
+    VkDeviceSize v = 0;
+    EXPECT_EQ(vkGetQueryPoolResults(device, pool, 0, 1, sizeof v, &v, sizeof v, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT), VK_SUCCESS);
+    vkDestroyQueryPool(device, pool, nullptr);
+    return v;
+  }
+  // An empty acceleration structure of `type` and `size` (its own buffer).
+  VkAccelerationStructureKHR empty(VkAccelerationStructureTypeKHR type, VkDeviceSize size) {
+    HostBuffer& storage = buffer(size, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.buffer = storage.buffer;
+    ci.size = size;
+    ci.type = type;
+    VkAccelerationStructureKHR as = VK_NULL_HANDLE;
+    EXPECT_EQ(createAs(device, &ci, nullptr, &as), VK_SUCCESS);
+    structures.push_back(as);
+    return as;
+  }
+  void barrier(VkCommandBuffer cb) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR | VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  }
+
+  PFN_vkCmdWriteAccelerationStructuresPropertiesKHR cmdWriteProps = nullptr;
+  PFN_vkCmdCopyAccelerationStructureKHR cmdCopy = nullptr;
+  PFN_vkCmdCopyAccelerationStructureToMemoryKHR cmdToMemory = nullptr;
+  PFN_vkCmdCopyMemoryToAccelerationStructureKHR cmdFromMemory = nullptr;
+  PFN_vkGetDeviceAccelerationStructureCompatibilityKHR compatibility = nullptr;
+  Desc desc;
+  VkPipeline p = VK_NULL_HANDLE;
+  Sbt s;
+};
+
+TEST_F(TraceAsTest, ACompactedCopyTracesTheSame) {
+  VkAccelerationStructureKHR quad = build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+                                          {triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)},
+                                          VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+                                              VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR);
+  const VkDeviceSize compacted = property(quad, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR);
+  ASSERT_GT(compacted, 0u);
+  VkAccelerationStructureKHR small = empty(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, compacted);
+  VkCommandBuffer cb = beginOneTime();
+  VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
+  copy.src = quad;
+  copy.dst = small;
+  copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
+  cmdCopy(cb, &copy);
+  barrier(cb);
+  submitAndWait(cb);
+  // The original is destroyed: the top level refers to the compacted copy alone.
+  destroyAs(device, quad, nullptr);
+  structures.erase(std::find(structures.begin(), structures.end(), quad));
+  VkAccelerationStructureKHR top = tlas({instance(small, 0.1f, 0, 5, 10, 0), instance(small, 1.6f, 0, 2, 20, 1)});
+  expectBasicScene(trace(p, s, top, 8, 8), 8);
+}
+
+TEST_F(TraceAsTest, SerializedAndDeserializedStructuresTraceTheSame) {
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});
+  const VkDeviceSize blasBytes = property(quad, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR);
+  const VkDeviceSize tlasBytes = property(top, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR);
+  ASSERT_GT(blasBytes, 56u);
+  ASSERT_GT(tlasBytes, 56u);
+  HostBuffer& blasData = buffer(blasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer& tlasData = buffer(tlasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const VkDeviceAddress blasAt = (addressOf(blasData) + 255) / 256 * 256, tlasAt = (addressOf(tlasData) + 255) / 256 * 256;
+  VkCommandBuffer cb = beginOneTime();
+  VkCopyAccelerationStructureToMemoryInfoKHR out{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_TO_MEMORY_INFO_KHR};
+  out.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_SERIALIZE_KHR;
+  out.src = quad;
+  out.dst.deviceAddress = blasAt;
+  cmdToMemory(cb, &out);
+  out.src = top;
+  out.dst.deviceAddress = tlasAt;
+  cmdToMemory(cb, &out);
+  barrier(cb);
+  submitAndWait(cb);
+  auto* blasHeader = static_cast<uint8_t*>(blasData.data) + (blasAt - addressOf(blasData));
+  auto* tlasHeader = static_cast<uint8_t*>(tlasData.data) + (tlasAt - addressOf(tlasData));
+  // The header: driverUUID and compatibility UUID, which this device accepts.
+  VkAccelerationStructureVersionInfoKHR version{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_VERSION_INFO_KHR};
+  version.pVersionData = blasHeader;
+  VkAccelerationStructureCompatibilityKHR compat = VK_ACCELERATION_STRUCTURE_COMPATIBILITY_INCOMPATIBLE_KHR;
+  compatibility(device, &version, &compat);
+  EXPECT_EQ(compat, VK_ACCELERATION_STRUCTURE_COMPATIBILITY_COMPATIBLE_KHR);
+  VkDeviceSize sizes[3];
+  std::memcpy(sizes, blasHeader + 32, sizeof sizes);
+  EXPECT_EQ(sizes[0], blasBytes) << "serialized size";
+  EXPECT_EQ(sizes[2], 0u) << "a bottom level refers to nothing";
+  std::memcpy(sizes, tlasHeader + 32, sizeof sizes);
+  EXPECT_EQ(sizes[0], tlasBytes);
+  // Deserialize the bottom level into a new structure, then patch the top level's references to it.
+  VkDeviceSize blasSize = 0;
+  std::memcpy(&blasSize, blasHeader + 40, 8);
+  VkAccelerationStructureKHR quad2 = empty(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, std::max<VkDeviceSize>(blasSize, 256));
+  VkDeviceSize tlasSize = 0;
+  std::memcpy(&tlasSize, tlasHeader + 40, 8);
+  VkAccelerationStructureKHR top2 = empty(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::max<VkDeviceSize>(tlasSize, 256));
+  for (uint64_t i = 0; i < sizes[2]; ++i) {
+    uint64_t ref;
+    std::memcpy(&ref, tlasHeader + 56 + i * 8, 8);
+    EXPECT_EQ(ref, addressOf(quad));
+    ref = addressOf(quad2);
+    std::memcpy(tlasHeader + 56 + i * 8, &ref, 8);
+  }
+  cb = beginOneTime();
+  VkCopyMemoryToAccelerationStructureInfoKHR in{VK_STRUCTURE_TYPE_COPY_MEMORY_TO_ACCELERATION_STRUCTURE_INFO_KHR};
+  in.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_DESERIALIZE_KHR;
+  in.src.deviceAddress = blasAt;
+  in.dst = quad2;
+  cmdFromMemory(cb, &in);
+  barrier(cb);
+  in.src.deviceAddress = tlasAt;
+  in.dst = top2;
+  cmdFromMemory(cb, &in);
+  barrier(cb);
+  submitAndWait(cb);
+  // The originals are gone: the deserialized pair alone is traced.
+  for (VkAccelerationStructureKHR gone : {top, quad}) {
+    destroyAs(device, gone, nullptr);
+    structures.erase(std::find(structures.begin(), structures.end(), gone));
+  }
+  expectBasicScene(trace(p, s, top2, 8, 8), 8);
+}
+
+TEST_F(TraceAsTest, AnUpdateMovesTheGeometry) {
+  // The quad is built for update, then updated in place 1 unit further along z.
+  Geometry g = triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR);
+  const VkBuildAccelerationStructureFlagsKHR flags = VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR;
+  VkAccelerationStructureKHR quad = build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, flags);
+  std::vector<float> moved = kQuad;
+  for (size_t i = 2; i < moved.size(); i += 3) moved[i] += 1;
+  Geometry g2 = triangles(moved, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR);
+  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  info.flags = flags;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
+  info.srcAccelerationStructure = quad;
+  info.dstAccelerationStructure = quad;
+  info.geometryCount = 1;
+  info.pGeometries = &g2.geometry;
+  uint32_t count = 2;
+  VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+  buildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &count, &sizes);
+  HostBuffer& scratch = buffer(sizes.updateScratchSize + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  info.scratchData.deviceAddress = (addressOf(scratch) + 255) / 256 * 256;
+  VkAccelerationStructureBuildRangeInfoKHR range{2, 0, 0, 0};
+  const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+  VkCommandBuffer cb = beginOneTime();
+  cmdBuild(cb, 1, &info, &pr);
+  barrier(cb);
+  submitAndWait(cb);
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0)});
+  std::vector<TracePayload> r = trace(p, s, top, 8, 8);
+  const TracePayload& centre = r[3 * 8 + 3];
+  EXPECT_NEAR(centre.hit[0], 16.0f, 1e-4f) << "the quad now sits at z = 6";
+}
+
+TEST_F(TraceAsTest, HostBuildsWithADeferredOperationTraceTheSame) {
+  if (!asf.accelerationStructureHostCommands) GTEST_SKIP() << "accelerationStructureHostCommands is not supported";
+  PFN_vkBuildAccelerationStructuresKHR hostBuild = nullptr;
+  load(hostBuild, "vkBuildAccelerationStructuresKHR");
+  // Inputs in host memory: host builds read host addresses, and instances refer to bottom levels by handle.
+  auto hostBuildOf = [&](VkAccelerationStructureTypeKHR type, VkAccelerationStructureGeometryKHR g, uint32_t primitives,
+                         VkDeferredOperationKHR op) {
+    VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    info.type = type;
+    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    info.geometryCount = 1;
+    info.pGeometries = &g;
+    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    buildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_HOST_KHR, &info, &primitives, &sizes);
+    VkAccelerationStructureKHR as = empty(type, sizes.accelerationStructureSize);
+    std::vector<uint8_t> scratch(sizes.buildScratchSize + 256);
+    info.dstAccelerationStructure = as;
+    info.scratchData.hostAddress = scratch.data();
+    VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
+    const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+    VkResult r = hostBuild(device, op, 1, &info, &pr);
+    if (op) {
+      EXPECT_EQ(r, VK_OPERATION_DEFERRED_KHR);
+      std::thread helper([&] { joinOp(device, op); });
+      VkResult j;
+      while ((j = joinOp(device, op)) == VK_THREAD_IDLE_KHR) {}
+      helper.join();
+      EXPECT_EQ(opResult(device, op), VK_SUCCESS);
+    } else {
+      EXPECT_EQ(r, VK_SUCCESS);
+    }
+    return as;
+  };
+  VkAccelerationStructureGeometryKHR tg{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  tg.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+  tg.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+  auto& t = tg.geometry.triangles;
+  t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+  t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+  t.vertexData.hostAddress = kQuad.data();
+  t.vertexStride = 12;
+  t.maxVertex = 3;
+  t.indexType = VK_INDEX_TYPE_UINT32;
+  t.indexData.hostAddress = kQuadIndices.data();
+  VkAccelerationStructureKHR quad = hostBuildOf(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, tg, 2, VK_NULL_HANDLE);
+  std::vector<VkAccelerationStructureInstanceKHR> instances = {instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)};
+  for (auto& in : instances) in.accelerationStructureReference = reinterpret_cast<uint64_t>(quad);
+  VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+  ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+  ig.geometry.instances.data.hostAddress = instances.data();
+  VkDeferredOperationKHR op = VK_NULL_HANDLE;
+  ASSERT_EQ(createOp(device, nullptr, &op), VK_SUCCESS);
+  VkAccelerationStructureKHR top = hostBuildOf(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 2, op);
+  destroyOp(device, op, nullptr);
+  expectBasicScene(trace(p, s, top, 8, 8), 8);
+}
+
+}  // namespace
+}  // namespace vkrt::test
