@@ -8,7 +8,7 @@ packages=(
   libvulkan-dev libvulkan1 vulkan-tools vulkan-validationlayers
   spirv-headers spirv-tools glslang-tools glslc
   llvm-15-dev libembree-dev libtbb-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libstb-dev
 )
 
 missing=()
