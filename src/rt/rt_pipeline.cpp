@@ -101,7 +101,7 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x contains VK_PIPELINE_CREATE_DISPATCH_BASE", i,
                 info.flags);
   // VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905
-  if ((info.flags & (kFailOnCompile | kEarlyReturn)) && !dev->enabled13.pipelineCreationCacheControl)
+  if ((info.flags & (kFailOnCompile | kEarlyReturn)) && !dev->enabled(Feature::pipelineCreationCacheControl))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x uses FAIL_ON_PIPELINE_COMPILE_REQUIRED or "
                 "EARLY_RETURN_ON_FAILURE without the pipelineCreationCacheControl feature",
@@ -119,17 +119,17 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-06546",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags has both SKIP_TRIANGLES and SKIP_AABBS", i);
   // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596
-  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) && !dev->rayTracing.primitiveCulling)
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) && !dev->enabled(Feature::rayTraversalPrimitiveCulling))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_AABBS without rayTraversalPrimitiveCulling", i);
   // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597
-  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) && !dev->rayTracing.primitiveCulling)
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) && !dev->enabled(Feature::rayTraversalPrimitiveCulling))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_TRIANGLES without rayTraversalPrimitiveCulling",
                 i);
   const bool captureFlag = info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR;
   // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598
-  if (captureFlag && !dev->rayTracing.captureReplay)
+  if (captureFlag && !dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplay))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SHADER_GROUP_HANDLE_CAPTURE_REPLAY but "
                 "rayTracingPipelineShaderGroupHandleCaptureReplay is not enabled",
@@ -200,7 +200,7 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
                   i, s, (unsigned)st);
   }
   // Groups.
-  const bool mixedOk = dev->rayTracing.captureReplayMixed;
+  const bool mixedOk = dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplayMixed);
   for (uint32_t g = 0; g < info.groupCount; ++g) {
     const VkRayTracingShaderGroupCreateInfoKHR& gr = info.pGroups[g];
     const char* vuid = nullptr;
@@ -255,7 +255,7 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
     }
     if (!vuid && gr.pShaderGroupCaptureReplayHandle) {
       // VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03599
-      if (dev->rayTracing.captureReplay && !captureFlag) {
+      if (dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplay) && !captureFlag) {
         vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03599";
         what = "pShaderGroupCaptureReplayHandle is given but flags lack SHADER_GROUP_HANDLE_CAPTURE_REPLAY";
       } else if (captureFlag && !mixedOk && registryOf(dev).anyNonReplayed()) {
@@ -536,7 +536,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(VkDevice device
                                                                  VkPipeline* pPipelines) {
   Device* dev = fromHandleUnchecked<Device>(device);
   // VUID-vkCreateRayTracingPipelinesKHR-rayTracingPipeline-03586
-  if (!dev->rayTracing.pipeline) {
+  if (!dev->enabled(Feature::rayTracingPipeline)) {
     report(dev, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-rayTracingPipeline-03586",
            "vkCreateRayTracingPipelinesKHR: the rayTracingPipeline feature is not enabled");
     return VK_ERROR_VALIDATION_FAILED_EXT;

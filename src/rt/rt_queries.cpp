@@ -47,7 +47,7 @@ RayTracingPipeline* checkHandleQuery(Device* dev, VkPipeline pipeline, uint32_t 
   }
   if (capture) {
     // VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03606
-    if (!dev->rayTracing.captureReplay) {
+    if (!dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplay)) {
       report(p, Severity::Error,
              "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03606",
              "%s: the rayTracingPipelineShaderGroupHandleCaptureReplay feature is not enabled", cmd);
@@ -63,7 +63,7 @@ RayTracingPipeline* checkHandleQuery(Device* dev, VkPipeline pipeline, uint32_t 
     }
   }
   // VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-07828 / VUID-...CaptureReplay...-pipeline-07829
-  if (p->isLibrary() && !dev->rayTracing.libraryGroupHandles) {
+  if (p->isLibrary() && !dev->enabled(Feature::pipelineLibraryGroupHandles)) {
     report(p, Severity::Error,
            capture ? "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-07829"
                    : "VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-07828",

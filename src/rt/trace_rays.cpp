@@ -74,7 +74,7 @@ const RegionVuids kIndirect2Vuids = VKRT_REGION_VUIDS("VUID-VkTraceRaysIndirectC
 
 // The record-time (for the indirect form 2: read-time) rules of the SBT regions. Reports against `about`.
 bool checkRegions(const Object* about, const char* fn, const SbtRegions& s, const RegionVuids& v) {
-  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR props = rt::properties();
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR props = rayTracingPipelineProperties();
   for (int i = 0; i < 4; ++i) {
     const VkStridedDeviceAddressRegionKHR& r = s.r[i];
     if (r.deviceAddress == 0 && i != 0) continue;  // an unused region (raygen is always used)
@@ -121,9 +121,9 @@ bool checkLaunchSize(const Object* about, const char* fn, const uint32_t size[3]
     }
   }
   uint64_t n = uint64_t(size[0]) * size[1] * size[2];
-  if (n > rt::properties().maxRayDispatchInvocationCount) {
+  if (n > rayTracingPipelineProperties().maxRayDispatchInvocationCount) {
     report(about, Severity::Error, v.invocations, "%s: width x height x depth (%llu) exceeds maxRayDispatchInvocationCount (%u)", fn,
-           (ull)n, rt::properties().maxRayDispatchInvocationCount);
+           (ull)n, rayTracingPipelineProperties().maxRayDispatchInvocationCount);
     return false;
   }
   return true;
@@ -483,7 +483,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(VkCommandBuffer commandB
   // VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637
   if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirectKHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommandKHR),
                      "VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637",
-                     cb->device->rayTracing.traceRaysIndirect) ||
+                     cb->device->enabled(Feature::rayTracingPipelineTraceRaysIndirect)) ||
       !checkRegions(cb, fn, sbt, kIndirectVuids))
     return;
   cb->record([cb, sbt, indirectDeviceAddress](ExecState& st) {
@@ -515,7 +515,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer command
   if (!cb) return;
   if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirect2KHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommand2KHR),
                      "VUID-vkCmdTraceRaysIndirect2KHR-rayTracingPipelineTraceRaysIndirect2-03637",
-                     cb->device->rayTracing.traceRaysIndirect2))
+                     cb->device->enabled(Feature::rayTracingPipelineTraceRaysIndirect2)))
     return;
   cb->record([cb, indirectDeviceAddress](ExecState& st) {
     const char* fn = "vkCmdTraceRaysIndirect2KHR";

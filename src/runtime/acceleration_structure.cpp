@@ -103,7 +103,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice devi
   Device* dev = fromHandleUnchecked<Device>(device);
   const VkAccelerationStructureCreateInfoKHR& ci = *pCreateInfo;
   // VUID-vkCreateAccelerationStructureKHR-accelerationStructure-03611
-  if (!dev->accelerationStructure.structures) {
+  if (!dev->enabled(Feature::accelerationStructure)) {
     report(dev, Severity::Error, "VUID-vkCreateAccelerationStructureKHR-accelerationStructure-03611",
            "%s: the accelerationStructure feature is not enabled", fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -144,7 +144,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice devi
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkAccelerationStructureCreateInfoKHR-createFlags-03613
-  if (replay && !dev->accelerationStructure.captureReplay) {
+  if (replay && !dev->enabled(Feature::accelerationStructureCaptureReplay)) {
     report(dev, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-createFlags-03613",
            "%s: DEVICE_ADDRESS_CAPTURE_REPLAY is set but the accelerationStructureCaptureReplay feature is not enabled", fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -195,7 +195,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(VkDevice d
   pSizeInfo->accelerationStructureSize = 0;
   pSizeInfo->buildScratchSize = pSizeInfo->updateScratchSize = 0;
   // VUID-vkGetAccelerationStructureBuildSizesKHR-rayTracingPipeline-03617
-  if (!dev->rayTracing.pipeline) {
+  if (!dev->enabled(Feature::rayTracingPipeline)) {
     report(dev, Severity::Error, "VUID-vkGetAccelerationStructureBuildSizesKHR-rayTracingPipeline-03617",
            "%s: neither the rayTracingPipeline nor the rayQuery feature is enabled", fn);
     return;

@@ -431,7 +431,7 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
     if (g < job.ranges.size()) {
       primitives += job.ranges[g].primitiveCount;
       // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03801
-      if (top && job.ranges[g].primitiveCount > rt::accelerationStructureProperties().maxInstanceCount)
+      if (top && job.ranges[g].primitiveCount > accelerationStructureProperties().maxInstanceCount)
         return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03801",
                     format("%u instances exceed maxInstanceCount", job.ranges[g].primitiveCount));
     }

@@ -171,7 +171,7 @@ bool queryValue(const Device* dev, const AccelerationStructure& as, VkQueryType 
 // ------------------------------------------------------------------------------------------------------ helpers
 
 bool checkScratch(const Object* about, const char* fn, uint32_t i, VkDeviceAddress scratch) {
-  const uint32_t align = rt::accelerationStructureProperties().minAccelerationStructureScratchOffsetAlignment;
+  const uint32_t align = accelerationStructureProperties().minAccelerationStructureScratchOffsetAlignment;
   // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03710
   if (scratch % align) {
     report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03710",
@@ -253,7 +253,7 @@ bool checkDeferred(Device* dev, VkDeferredOperationKHR deferred, const char* fn)
 }
 
 bool checkHostFeature(Device* dev, const char* fn, const char* vuid) {
-  if (!dev->accelerationStructure.hostCommands) {
+  if (!dev->enabled(Feature::accelerationStructureHostCommands)) {
     report(dev, Severity::Error, vuid, "%s: the accelerationStructureHostCommands feature is not enabled", fn);
     return false;
   }
@@ -358,7 +358,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(VkComm
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
   // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650
-  if (!cb->device->accelerationStructure.indirectBuild) {
+  if (!cb->device->enabled(Feature::accelerationStructureIndirectBuild)) {
     report(cb, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650",
            "%s: the accelerationStructureIndirectBuild feature is not enabled", fn);
     return;

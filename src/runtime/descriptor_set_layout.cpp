@@ -128,7 +128,7 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
     if (!quiet) report(dev, Severity::Error, vuid, __VA_ARGS__); \
     return false;                                        \
   } while (0)
-  const VkPhysicalDeviceVulkan12Features& f = dev->enabled12;
+  auto on = [dev](Feature f) { return dev->enabled(f); };
   auto* bf = findInChain<VkDescriptorSetLayoutBindingFlagsCreateInfo>(
       info.pNext, VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO);
   // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-bindingCount-03002
@@ -172,21 +172,21 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
       anyUpdateAfterBind = true;
       struct Req { VkDescriptorType type; VkBool32 enabled; const char* vuid; };
       const Req reqs[] = {
-          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, f.descriptorBindingUniformBufferUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, on(Feature::descriptorBindingUniformBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUniformBufferUpdateAfterBind-03005"},
-          {VK_DESCRIPTOR_TYPE_SAMPLER, f.descriptorBindingSampledImageUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_SAMPLER, on(Feature::descriptorBindingSampledImageUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingSampledImageUpdateAfterBind-03006"},
-          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, f.descriptorBindingSampledImageUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, on(Feature::descriptorBindingSampledImageUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingSampledImageUpdateAfterBind-03006"},
-          {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, f.descriptorBindingSampledImageUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, on(Feature::descriptorBindingSampledImageUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingSampledImageUpdateAfterBind-03006"},
-          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, f.descriptorBindingStorageImageUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, on(Feature::descriptorBindingStorageImageUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingStorageImageUpdateAfterBind-03007"},
-          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.descriptorBindingStorageBufferUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, on(Feature::descriptorBindingStorageBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingStorageBufferUpdateAfterBind-03008"},
-          {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, f.descriptorBindingUniformTexelBufferUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, on(Feature::descriptorBindingUniformTexelBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUniformTexelBufferUpdateAfterBind-03009"},
-          {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, f.descriptorBindingStorageTexelBufferUpdateAfterBind,
+          {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, on(Feature::descriptorBindingStorageTexelBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingStorageTexelBufferUpdateAfterBind-03010"},
           {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_FALSE,
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingAccelerationStructureUpdateAfterBind-03570"},
@@ -202,17 +202,17 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
              descriptorTypeName(b.descriptorType));
     }
     // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUpdateUnusedWhilePending-03012
-    if ((fl & VK_DESCRIPTOR_BINDING_UPDATE_UNUSED_WHILE_PENDING_BIT) && !f.descriptorBindingUpdateUnusedWhilePending)
+    if ((fl & VK_DESCRIPTOR_BINDING_UPDATE_UNUSED_WHILE_PENDING_BIT) && !on(Feature::descriptorBindingUpdateUnusedWhilePending))
       FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUpdateUnusedWhilePending-03012",
            "%s: pBindingFlags[%u] has UPDATE_UNUSED_WHILE_PENDING but descriptorBindingUpdateUnusedWhilePending is "
            "not enabled", cmd, i);
     // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingPartiallyBound-03013
-    if ((fl & VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT) && !f.descriptorBindingPartiallyBound)
+    if ((fl & VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT) && !on(Feature::descriptorBindingPartiallyBound))
       FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingPartiallyBound-03013",
            "%s: pBindingFlags[%u] has PARTIALLY_BOUND but descriptorBindingPartiallyBound is not enabled", cmd, i);
     if (fl & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT) {
       // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingVariableDescriptorCount-03014
-      if (!f.descriptorBindingVariableDescriptorCount)
+      if (!on(Feature::descriptorBindingVariableDescriptorCount))
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingVariableDescriptorCount-03014",
              "%s: pBindingFlags[%u] has VARIABLE_DESCRIPTOR_COUNT but descriptorBindingVariableDescriptorCount is "
              "not enabled", cmd, i);

@@ -15,80 +15,7 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
     : Object(kType, physical->instance, nullptr), physicalDevice(physical) {
   device = this;
   for (uint32_t i = 0; i < info.enabledExtensionCount; ++i) enabledExtensions.insert(info.ppEnabledExtensionNames[i]);
-  if (info.pEnabledFeatures) enabled10 = *info.pEnabledFeatures;
-  constexpr size_t header = offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess);
-  auto copy = [&](void* dst, const void* src, size_t size) {
-    std::memcpy(static_cast<char*>(dst) + header, static_cast<const char*>(src) + header, size - header);
-  };
-  for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s; s = s->pNext) {
-    switch (s->sType) {
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2:
-        enabled10 = reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES:
-        copy(&enabled11, s, sizeof(enabled11));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        copy(&enabled12, s, sizeof(enabled12));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        copy(&enabled13, s, sizeof(enabled13));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES:
-        enabled12.timelineSemaphore |= reinterpret_cast<const VkPhysicalDeviceTimelineSemaphoreFeatures*>(s)->timelineSemaphore;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES: {
-        auto* f = reinterpret_cast<const VkPhysicalDeviceBufferDeviceAddressFeatures*>(s);
-        enabled12.bufferDeviceAddress |= f->bufferDeviceAddress;
-        enabled12.bufferDeviceAddressCaptureReplay |= f->bufferDeviceAddressCaptureReplay;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
-        enabled12.hostQueryReset |= reinterpret_cast<const VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
-        enabled12.scalarBlockLayout |= reinterpret_cast<const VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
-        enabled12.uniformBufferStandardLayout |=
-            reinterpret_cast<const VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES:
-        enabled13.synchronization2 |= reinterpret_cast<const VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
-        enabled13.maintenance4 |= reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR: {
-        auto* f = reinterpret_cast<const VkPhysicalDeviceRayTracingPipelineFeaturesKHR*>(s);
-        rayTracing.pipeline = f->rayTracingPipeline;
-        rayTracing.captureReplay = f->rayTracingPipelineShaderGroupHandleCaptureReplay;
-        rayTracing.captureReplayMixed = f->rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
-        rayTracing.traceRaysIndirect = f->rayTracingPipelineTraceRaysIndirect;
-        rayTracing.primitiveCulling = f->rayTraversalPrimitiveCulling;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR: {
-        auto* f = reinterpret_cast<const VkPhysicalDeviceAccelerationStructureFeaturesKHR*>(s);
-        accelerationStructure.structures = f->accelerationStructure;
-        accelerationStructure.captureReplay = f->accelerationStructureCaptureReplay;
-        accelerationStructure.indirectBuild = f->accelerationStructureIndirectBuild;
-        accelerationStructure.hostCommands = f->accelerationStructureHostCommands;
-        accelerationStructure.updateAfterBind = f->descriptorBindingAccelerationStructureUpdateAfterBind;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_MAINTENANCE_1_FEATURES_KHR:
-        rayTracing.traceRaysIndirect2 =
-            reinterpret_cast<const VkPhysicalDeviceRayTracingMaintenance1FeaturesKHR*>(s)->rayTracingPipelineTraceRaysIndirect2;
-        break;
-      default:
-        // (A token newer than the installed headers: not a VkStructureType enumerator, so not a case label.)
-        if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT)
-          rayTracing.libraryGroupHandles =
-              reinterpret_cast<const VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT*>(s)->pipelineLibraryGroupHandles;
-        break;
-    }
-  }
+  features = enabledFeatures(info);
 }
 
 Device::~Device() = default;
@@ -110,8 +37,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDevice(VkPhysicalDevice physicalDevice
       return VK_ERROR_EXTENSION_NOT_PRESENT;
     }
   }
-  if (const char* bad = pd->firstUnsupportedFeature(*pCreateInfo)) {
-    report(pd, Severity::Error, nullptr, "vkCreateDevice: %s requests a feature vkrt does not support", bad);
+  if (std::string bad = pd->firstUnsupportedFeature(*pCreateInfo); !bad.empty()) {
+    // VUID-VkDeviceCreateInfo-pNext-... : every requested feature must be supported (VK_ERROR_FEATURE_NOT_PRESENT)
+    report(pd, Severity::Error, nullptr, "vkCreateDevice: %s is requested, but vkrt does not support it", bad.c_str());
     return VK_ERROR_FEATURE_NOT_PRESENT;
   }
   for (uint32_t i = 0; i < pCreateInfo->queueCreateInfoCount; ++i) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "runtime/object.hpp"
+#include "runtime/supported_features.hpp"
 
 namespace vkrt {
 
@@ -30,34 +31,12 @@ class Device : public Object {
   PhysicalDevice* const physicalDevice;
   std::set<std::string> enabledExtensions;
 
-  // Enabled features, gathered from pEnabledFeatures, VkPhysicalDeviceFeatures2 and the Vulkan 1.1/1.2/1.3
-  // structures or their extension equivalents in the create info's pNext chain.
-  VkPhysicalDeviceFeatures enabled10{};
-  VkPhysicalDeviceVulkan11Features enabled11{};
-  VkPhysicalDeviceVulkan12Features enabled12{};
-  VkPhysicalDeviceVulkan13Features enabled13{};
-
+  // The features enabled at creation (pEnabledFeatures and every feature structure of the create info's chain,
+  // through the tables generated from vk.xml).
+  FeatureSet features;
+  bool enabled(Feature f) const { return features[size_t(f)]; }
   bool extensionEnabled(const char* name) const { return enabledExtensions.count(name) != 0; }
 
-  // Ray tracing features (VkPhysicalDeviceRayTracingPipelineFeaturesKHR and
-  // VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT), read in the constructor; checked by src/rt.
-  struct RayTracingFeatures {
-    bool pipeline = false;
-    bool captureReplay = false;
-    bool captureReplayMixed = false;
-    bool traceRaysIndirect = false;
-    bool primitiveCulling = false;
-    bool libraryGroupHandles = false;
-    bool traceRaysIndirect2 = false;  // VkPhysicalDeviceRayTracingMaintenance1FeaturesKHR
-  } rayTracing;
-  // VkPhysicalDeviceAccelerationStructureFeaturesKHR, read in the constructor.
-  struct AccelerationStructureFeatures {
-    bool structures = false;
-    bool captureReplay = false;
-    bool indirectBuild = false;
-    bool hostCommands = false;
-    bool updateAfterBind = false;
-  } accelerationStructure;
   // Live acceleration structures by device address (runtime/acceleration_structure.cpp): the most recently
   // created or built one at each address.
   std::mutex accelerationStructuresMutex;

@@ -89,7 +89,7 @@ bool checkDependencyInfo(CommandBuffer* cb, const VkDependencyInfo* dep, const c
 
 // The synchronization2 feature gate of the *2 commands.
 bool checkSync2(CommandBuffer* cb, const char* fn, const char* vuid) {
-  if (cb->device->enabled13.synchronization2) return true;
+  if (cb->device->enabled(Feature::synchronization2)) return true;
   report(cb, Severity::Error, vuid, "%s: the synchronization2 feature is not enabled", fn);
   return false;
 }

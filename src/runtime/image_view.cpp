@@ -98,7 +98,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkImageViewCreateInfo-viewType-01004: cube array views need the imageCubeArray feature
-  if (pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY && !dev->enabled10.imageCubeArray) {
+  if (pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY && !dev->enabled(Feature::imageCubeArray)) {
     report(img, Severity::Error, "VUID-VkImageViewCreateInfo-viewType-01004",
            "vkCreateImageView: VK_IMAGE_VIEW_TYPE_CUBE_ARRAY needs the imageCubeArray feature, which is not enabled");
     return VK_ERROR_VALIDATION_FAILED_EXT;

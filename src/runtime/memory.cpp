@@ -176,7 +176,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
           pAllocateInfo->pNext, VK_STRUCTURE_TYPE_MEMORY_OPAQUE_CAPTURE_ADDRESS_ALLOCATE_INFO))
     requested = c->opaqueCaptureAddress;
   if (requested && !(flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT)) requested = 0;
-  if ((flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) && !dev->enabled12.bufferDeviceAddressCaptureReplay) {
+  if ((flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) && !dev->enabled(Feature::bufferDeviceAddressCaptureReplay)) {
     report(dev, Severity::Error, "VUID-VkMemoryAllocateInfo-flags-03331",
            "vkAllocateMemory: VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT needs the "
            "bufferDeviceAddressCaptureReplay feature, which is not enabled");

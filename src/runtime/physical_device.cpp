@@ -10,6 +10,7 @@
 #include "runtime/alloc.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/ray_tracing_features.hpp"
+#include "runtime/supported_features.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -29,12 +30,6 @@ VkDeviceSize heapSize() {
   return std::min<VkDeviceSize>(total / 2, 32ull << 30);
 }
 
-// Copies the VkBool32 members that follow sType/pNext from one feature struct to another of the same type.
-void copyBools(void* dst, const void* src, size_t size) {
-  constexpr size_t header = offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess);
-  std::memcpy(static_cast<char*>(dst) + header, static_cast<const char*>(src) + header, size - header);
-}
-
 }  // namespace
 
 unsigned workerThreadCount() {
@@ -47,66 +42,6 @@ unsigned workerThreadCount() {
 }
 
 PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
-  // Features. Only what works; the shader compiler and ray tracing turn on their own.
-  features10.robustBufferAccess = VK_TRUE;
-  features10.fullDrawIndexUint32 = VK_TRUE;
-  features10.independentBlend = VK_FALSE;
-  features10.samplerAnisotropy = VK_FALSE;
-  // 64-bit integers and doubles in shaders: src/spirv (tests/spirv SixtyFourBitIntegersAndDoubles).
-  features10.shaderInt64 = VK_TRUE;
-  features10.shaderFloat64 = VK_TRUE;
-  // 8/16-bit integers, 16-bit floats and their storage-buffer access: src/spirv (tests/spirv
-  // SpirvCompilerSmallTypes, tests/e2e ComputeSmallTypesTest); in uniform and push-constant blocks too
-  // (tests/e2e ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).
-  features10.shaderInt16 = VK_TRUE;
-  features11.storageBuffer16BitAccess = VK_TRUE;
-  features11.uniformAndStorageBuffer16BitAccess = VK_TRUE;
-  features11.storagePushConstant16 = VK_TRUE;
-  features12.storageBuffer8BitAccess = VK_TRUE;
-  features12.uniformAndStorageBuffer8BitAccess = VK_TRUE;
-  features12.storagePushConstant8 = VK_TRUE;
-  features12.shaderInt8 = VK_TRUE;
-  features12.shaderFloat16 = VK_TRUE;
-
-  features12.timelineSemaphore = VK_TRUE;
-  features12.bufferDeviceAddress = VK_TRUE;
-  features12.bufferDeviceAddressCaptureReplay = VK_TRUE;
-  features12.hostQueryReset = VK_TRUE;
-  features12.uniformBufferStandardLayout = VK_TRUE;
-  // Scalar block layout: the compiler follows the Offset/ArrayStride decorations, shader modules are validated
-  // with the scalar rules when the feature is enabled (tests/spirv SpirvBlockLayout, tests/e2e ComputeFeaturesTest).
-  features12.scalarBlockLayout = VK_TRUE;
-  features12.separateDepthStencilLayouts = VK_TRUE;
-  features12.imagelessFramebuffer = VK_TRUE;
-  // Descriptor binding flags (runtime/descriptor_set_layout.cpp): descriptors are records read when a command
-  // executes, so updating them after binding, leaving some unwritten or sizing the last binding per set works.
-  features12.descriptorBindingUniformBufferUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingSampledImageUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingStorageImageUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingStorageBufferUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingUniformTexelBufferUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingStorageTexelBufferUpdateAfterBind = VK_TRUE;
-  features12.descriptorBindingUpdateUnusedWhilePending = VK_TRUE;
-  features12.descriptorBindingPartiallyBound = VK_TRUE;
-  features12.descriptorBindingVariableDescriptorCount = VK_TRUE;
-  // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
-  // SpirvDescriptorIndexing, tests/e2e ComputeFeaturesTest and ComputeImageIndexingTest). Texel buffers are not
-  // compiled yet, so neither their indexing features nor the descriptorIndexing aggregate are advertised.
-  features10.shaderUniformBufferArrayDynamicIndexing = VK_TRUE;
-  features10.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
-  features10.shaderStorageBufferArrayDynamicIndexing = VK_TRUE;
-  features10.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
-  features12.shaderUniformBufferArrayNonUniformIndexing = VK_TRUE;
-  features12.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
-  features12.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
-  features12.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
-  features12.runtimeDescriptorArray = VK_TRUE;
-
-  features13.synchronization2 = VK_TRUE;
-  features13.pipelineCreationCacheControl = VK_TRUE;
-  features13.privateData = VK_FALSE;
-  features13.maintenance4 = VK_TRUE;
-
   // Properties.
   VkPhysicalDeviceLimits& l = properties10.limits;
   properties10.apiVersion = VK_MAKE_API_VERSION(0, 1, 3, VK_HEADER_VERSION);
@@ -282,7 +217,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
   };
   // Ray tracing (runtime/ray_tracing_features.cpp).
-  rt::appendExtensions(extensions_);
+  appendRayTracingExtensions(extensions_);
+  rayTracingProperties = rayTracingPipelineProperties();
+  accelerationStructureProperties = vkrt::accelerationStructureProperties();
 }
 
 bool PhysicalDevice::supportsExtension(const char* name) const {
@@ -290,233 +227,104 @@ bool PhysicalDevice::supportsExtension(const char* name) const {
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
+bool PhysicalDevice::available(const char* extension, uint32_t version) const {
+  // Core structures and those promoted to Vulkan 1.1-1.3 exist on a 1.3 device; the others with their extension.
+  return !extension || version >= 10 || supportsExtension(extension);
+}
+
+VkPhysicalDeviceFeatures PhysicalDevice::features10() const {
+  VkPhysicalDeviceFeatures f{};
+  writeFeatures(kFeatureStructs[0], &f);
+  return f;
+}
+
+void PhysicalDevice::writeFeatures(const FeatureStruct& fs, void* out) const {
+  for (uint32_t i = 0; i < fs.count; ++i) {
+    VkBool32 v = supported[size_t(fs.members[i].feature)] ? VK_TRUE : VK_FALSE;
+    std::memcpy(static_cast<char*>(out) + fs.members[i].offset, &v, sizeof v);
+  }
+}
+
 void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
-  out->features = features10;
+  out->features = features10();
   for (auto* s = static_cast<VkBaseOutStructure*>(out->pNext); s; s = s->pNext) {
-    switch (s->sType) {
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES:
-        copyBools(s, &features11, sizeof(features11));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        copyBools(s, &features12, sizeof(features12));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        copyBools(s, &features13, sizeof(features13));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceTimelineSemaphoreFeatures*>(s)->timelineSemaphore =
-            features12.timelineSemaphore;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES: {
-        auto* f = reinterpret_cast<VkPhysicalDeviceBufferDeviceAddressFeatures*>(s);
-        f->bufferDeviceAddress = features12.bufferDeviceAddress;
-        f->bufferDeviceAddressCaptureReplay = features12.bufferDeviceAddressCaptureReplay;
-        f->bufferDeviceAddressMultiDevice = features12.bufferDeviceAddressMultiDevice;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset = features12.hostQueryReset;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_16BIT_STORAGE_FEATURES: {
-        auto* f = reinterpret_cast<VkPhysicalDevice16BitStorageFeatures*>(s);
-        f->storageBuffer16BitAccess = features11.storageBuffer16BitAccess;
-        f->uniformAndStorageBuffer16BitAccess = features11.uniformAndStorageBuffer16BitAccess;
-        f->storagePushConstant16 = features11.storagePushConstant16;
-        f->storageInputOutput16 = features11.storageInputOutput16;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES: {
-        auto* f = reinterpret_cast<VkPhysicalDevice8BitStorageFeatures*>(s);
-        f->storageBuffer8BitAccess = features12.storageBuffer8BitAccess;
-        f->uniformAndStorageBuffer8BitAccess = features12.uniformAndStorageBuffer8BitAccess;
-        f->storagePushConstant8 = features12.storagePushConstant8;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES: {
-        auto* f = reinterpret_cast<VkPhysicalDeviceShaderFloat16Int8Features*>(s);
-        f->shaderFloat16 = features12.shaderFloat16;
-        f->shaderInt8 = features12.shaderInt8;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES: {
-        // The promoted structure's members are those of VkPhysicalDeviceVulkan12Features, in the same order.
-        constexpr size_t first = offsetof(VkPhysicalDeviceVulkan12Features, shaderInputAttachmentArrayDynamicIndexing);
-        constexpr size_t end = offsetof(VkPhysicalDeviceVulkan12Features, runtimeDescriptorArray) + sizeof(VkBool32);
-        static_assert(end - first == offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray) + sizeof(VkBool32) -
-                                         offsetof(VkPhysicalDeviceDescriptorIndexingFeatures, shaderInputAttachmentArrayDynamicIndexing));
-        std::memcpy(&reinterpret_cast<VkPhysicalDeviceDescriptorIndexingFeatures*>(s)->shaderInputAttachmentArrayDynamicIndexing,
-                    reinterpret_cast<const char*>(&features12) + first, end - first);
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout = features12.scalarBlockLayout;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceUniformBufferStandardLayoutFeatures*>(s)->uniformBufferStandardLayout =
-            features12.uniformBufferStandardLayout;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2 = features13.synchronization2;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
-        reinterpret_cast<VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4 = features13.maintenance4;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_CREATION_CACHE_CONTROL_FEATURES:
-        reinterpret_cast<VkPhysicalDevicePipelineCreationCacheControlFeatures*>(s)->pipelineCreationCacheControl =
-            features13.pipelineCreationCacheControl;
-        break;
-      default:
-        rt::fillFeature(s);  // ray tracing structures; others are left untouched
-        break;
-    }
+    const FeatureStruct* fs = featureStruct(s->sType);
+    // Structures of other extensions are left untouched, as the specification requires of unknown ones.
+    if (fs && available(fs->extension, fs->version)) writeFeatures(*fs, s);
   }
 }
 
 void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
   out->properties = properties10;
+  const void* core[4] = {nullptr, &properties11, &properties12, &properties13};
   for (auto* s = static_cast<VkBaseOutStructure*>(out->pNext); s; s = s->pNext) {
+    const PropertyStruct* ps = propertyStruct(s->sType);
+    if (!ps || !available(ps->extension, ps->version)) continue;
     VkBaseOutStructure* next = s->pNext;
+    const void* whole = nullptr;
     switch (s->sType) {
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES:
-        std::memcpy(s, &properties11, sizeof(properties11));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES:
-        std::memcpy(s, &properties12, sizeof(properties12));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES:
-        std::memcpy(s, &properties13, sizeof(properties13));
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES: {
-        auto* p = reinterpret_cast<VkPhysicalDeviceIDProperties*>(s);
-        std::memcpy(p->deviceUUID, properties11.deviceUUID, VK_UUID_SIZE);
-        std::memcpy(p->driverUUID, properties11.driverUUID, VK_UUID_SIZE);
-        p->deviceNodeMask = properties11.deviceNodeMask;
-        p->deviceLUIDValid = VK_FALSE;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES: {
-        auto* p = reinterpret_cast<VkPhysicalDeviceDriverProperties*>(s);
-        p->driverID = properties12.driverID;
-        std::memcpy(p->driverName, properties12.driverName, VK_MAX_DRIVER_NAME_SIZE);
-        std::memcpy(p->driverInfo, properties12.driverInfo, VK_MAX_DRIVER_INFO_SIZE);
-        p->conformanceVersion = properties12.conformanceVersion;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES: {
-        auto* p = reinterpret_cast<VkPhysicalDeviceMaintenance3Properties*>(s);
-        p->maxPerSetDescriptors = properties11.maxPerSetDescriptors;
-        p->maxMemoryAllocationSize = properties11.maxMemoryAllocationSize;
-        break;
-      }
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES:
-        reinterpret_cast<VkPhysicalDeviceMaintenance4Properties*>(s)->maxBufferSize = properties13.maxBufferSize;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_PROPERTIES:
-        reinterpret_cast<VkPhysicalDeviceTimelineSemaphoreProperties*>(s)->maxTimelineSemaphoreValueDifference =
-            properties12.maxTimelineSemaphoreValueDifference;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES: {
-        auto* p = reinterpret_cast<VkPhysicalDeviceSubgroupProperties*>(s);
-        p->subgroupSize = properties11.subgroupSize;
-        p->supportedStages = properties11.subgroupSupportedStages;
-        p->supportedOperations = properties11.subgroupSupportedOperations;
-        p->quadOperationsInAllStages = properties11.subgroupQuadOperationsInAllStages;
-        break;
-      }
-      default:
-        rt::fillProperty(s);  // ray tracing properties
-        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES: whole = &properties11; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES: whole = &properties12; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES: whole = &properties13; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR: whole = &rayTracingProperties; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR: whole = &accelerationStructureProperties; break;
+      default: break;
     }
-    s->pNext = next;  // the memcpy of a whole struct above also copied our null pNext: restore the chain
+    if (whole) {
+      std::memcpy(s, whole, ps->size);
+    } else {
+      // A structure promoted to Vulkan 1.1-1.3: each member from the core structure that took it over.
+      for (uint32_t i = 0; i < ps->count; ++i) {
+        const PropertyCopy& c = ps->copies[i];
+        std::memcpy(reinterpret_cast<char*>(s) + c.offset, static_cast<const char*>(core[c.source - 10]) + c.sourceOffset, c.size);
+      }
+    }
+    s->sType = static_cast<VkStructureType>(ps->sType);
+    s->pNext = next;
   }
-  // The memcpy above also overwrote sType with the same value; nothing else to restore.
 }
 
-const char* PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& info) const {
-  // `end` is the offset just past the last VkBool32 member (not sizeof: trailing padding is not a feature).
-  auto check = [](const void* requested, const void* supported, size_t offset, size_t end,
-                  const char* structName) -> const char* {
-    auto* r = reinterpret_cast<const VkBool32*>(static_cast<const char*>(requested) + offset);
-    auto* s = reinterpret_cast<const VkBool32*>(static_cast<const char*>(supported) + offset);
-    for (size_t i = 0; i < (end - offset) / sizeof(VkBool32); ++i)
-      if (r[i] && !s[i]) return structName;
-    return nullptr;
-  };
-  constexpr size_t header = offsetof(VkPhysicalDeviceVulkan11Features, storageBuffer16BitAccess);
-  constexpr size_t kEnd11 = offsetof(VkPhysicalDeviceVulkan11Features, shaderDrawParameters) + sizeof(VkBool32);
-  constexpr size_t kEnd12 = offsetof(VkPhysicalDeviceVulkan12Features, subgroupBroadcastDynamicId) + sizeof(VkBool32);
-  constexpr size_t kEnd13 = offsetof(VkPhysicalDeviceVulkan13Features, maintenance4) + sizeof(VkBool32);
-  if (info.pEnabledFeatures)
-    if (auto* n = check(info.pEnabledFeatures, &features10, 0, sizeof(features10), "VkPhysicalDeviceFeatures"))
-      return n;
-  for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s; s = s->pNext) {
-    const char* bad = nullptr;
-    switch (s->sType) {
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2:
-        bad = check(&reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features, &features10, 0,
-                    sizeof(features10), "VkPhysicalDeviceFeatures2");
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES:
-        bad = check(s, &features11, header, kEnd11, "VkPhysicalDeviceVulkan11Features");
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        bad = check(s, &features12, header, kEnd12, "VkPhysicalDeviceVulkan12Features");
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        bad = check(s, &features13, header, kEnd13, "VkPhysicalDeviceVulkan13Features");
-        break;
-      default: {
-        // Any other feature struct vkrt knows: compare against what fillFeatures reports for it.
-        alignas(16) unsigned char supported[512] = {};
-        size_t size = 0, end = 0;
-        switch (s->sType) {
-#define VKRT_FEATURE_STRUCT(stype, T, last)                \
-  case stype:                                              \
-    size = sizeof(T);                                      \
-    end = offsetof(T, last) + sizeof(VkBool32);            \
-    break;
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TIMELINE_SEMAPHORE_FEATURES,
-                              VkPhysicalDeviceTimelineSemaphoreFeatures, timelineSemaphore)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES,
-                              VkPhysicalDeviceBufferDeviceAddressFeatures, bufferDeviceAddressMultiDevice)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES,
-                              VkPhysicalDeviceHostQueryResetFeatures, hostQueryReset)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_16BIT_STORAGE_FEATURES,
-                              VkPhysicalDevice16BitStorageFeatures, storageInputOutput16)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES,
-                              VkPhysicalDevice8BitStorageFeatures, storagePushConstant8)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES,
-                              VkPhysicalDeviceShaderFloat16Int8Features, shaderInt8)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES,
-                              VkPhysicalDeviceDescriptorIndexingFeatures, runtimeDescriptorArray)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
-                              VkPhysicalDeviceScalarBlockLayoutFeatures, scalarBlockLayout)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_UNIFORM_BUFFER_STANDARD_LAYOUT_FEATURES,
-                              VkPhysicalDeviceUniformBufferStandardLayoutFeatures, uniformBufferStandardLayout)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
-                              VkPhysicalDeviceSynchronization2Features, synchronization2)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES,
-                              VkPhysicalDeviceMaintenance4Features, maintenance4)
-          VKRT_FEATURE_STRUCT(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_CREATION_CACHE_CONTROL_FEATURES,
-                              VkPhysicalDevicePipelineCreationCacheControlFeatures, pipelineCreationCacheControl)
-#undef VKRT_FEATURE_STRUCT
-          default:
-            rt::featureStructLayout(s->sType, &size, &end);  // ray tracing structures (src/rt/features.cpp)
-            break;
-        }
-        if (size && size <= sizeof(supported)) {
-          auto* hdr = reinterpret_cast<VkBaseOutStructure*>(supported);
-          hdr->sType = s->sType;
-          VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, hdr};
-          fillFeatures(&f2);
-          bad = check(s, supported, header, end, "a feature structure in VkDeviceCreateInfo::pNext");
-        }
-        break;
-      }
+std::string PhysicalDevice::firstUnsupportedFeature(const VkDeviceCreateInfo& info) const {
+  auto check = [&](const FeatureStruct& fs, const void* requested) -> std::string {
+    for (uint32_t i = 0; i < fs.count; ++i) {
+      VkBool32 v;
+      std::memcpy(&v, static_cast<const char*>(requested) + fs.members[i].offset, sizeof v);
+      if (v && !supported[size_t(fs.members[i].feature)]) return std::string(fs.name) + "::" + fs.members[i].name;
     }
-    if (bad) return bad;
+    return {};
+  };
+  if (info.pEnabledFeatures)
+    if (std::string bad = check(kFeatureStructs[0], info.pEnabledFeatures); !bad.empty()) return bad;
+  for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s; s = s->pNext) {
+    std::string bad;
+    if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2) {
+      bad = check(kFeatureStructs[0], &reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features);
+    } else if (const FeatureStruct* fs = featureStruct(s->sType)) {
+      bad = check(*fs, s);
+    }
+    if (!bad.empty()) return bad;
   }
-  return nullptr;
+  return {};
+}
+
+FeatureSet enabledFeatures(const VkDeviceCreateInfo& info) {
+  FeatureSet set;
+  auto gather = [&](const FeatureStruct& fs, const void* p) {
+    for (uint32_t i = 0; i < fs.count; ++i) {
+      VkBool32 v;
+      std::memcpy(&v, static_cast<const char*>(p) + fs.members[i].offset, sizeof v);
+      if (v) set.set(size_t(fs.members[i].feature));
+    }
+  };
+  if (info.pEnabledFeatures) gather(kFeatureStructs[0], info.pEnabledFeatures);
+  for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s; s = s->pNext) {
+    if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2) {
+      gather(kFeatureStructs[0], &reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features);
+    } else if (const FeatureStruct* fs = featureStruct(s->sType)) {
+      gather(*fs, s);
+    }
+  }
+  return set;
 }
 
 }  // namespace vkrt
@@ -543,7 +351,7 @@ extern "C" {
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFeatures(VkPhysicalDevice physicalDevice,
                                                           VkPhysicalDeviceFeatures* pFeatures) {
-  *pFeatures = pd(physicalDevice)->features10;
+  *pFeatures = pd(physicalDevice)->features10();
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFeatures2(VkPhysicalDevice physicalDevice,

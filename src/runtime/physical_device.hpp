@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "runtime/object.hpp"
+#include "runtime/supported_features.hpp"
 
 namespace vkrt {
 
@@ -15,16 +16,17 @@ class PhysicalDevice : public Object {
 
   explicit PhysicalDevice(Instance* inst);
 
-  // What vkrt supports. Feature structs are kept with sType set and pNext null.
-  VkPhysicalDeviceFeatures features10{};
-  VkPhysicalDeviceVulkan11Features features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  // What vkrt supports (runtime/supported_features.cpp), and VkPhysicalDeviceFeatures of it.
+  const FeatureSet& supported = supportedFeatures();
+  VkPhysicalDeviceFeatures features10() const;
 
   VkPhysicalDeviceProperties properties10{};
   VkPhysicalDeviceVulkan11Properties properties11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
   VkPhysicalDeviceVulkan12Properties properties12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
   VkPhysicalDeviceVulkan13Properties properties13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+  // The properties of the extensions that are not promoted to core (runtime/ray_tracing_features.cpp).
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingProperties{};
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperties{};
 
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkQueueFamilyProperties queueFamily{};
@@ -33,18 +35,24 @@ class PhysicalDevice : public Object {
   const std::vector<VkExtensionProperties>& extensions() const { return extensions_; }
   bool supportsExtension(const char* name) const;
 
-  // Fills every structure vkrt knows in a VkPhysicalDeviceFeatures2/Properties2 chain; unknown ones are left
-  // as they are, as the spec requires.
+  // Fills every structure of a VkPhysicalDeviceFeatures2/Properties2 chain that the generated tables know and that
+  // exists on this device (core, promoted to core, or of an advertised extension); others are left as they are,
+  // as the spec requires.
   void fillFeatures(VkPhysicalDeviceFeatures2* out) const;
   void fillProperties(VkPhysicalDeviceProperties2* out) const;
 
-  // Checks that every feature requested in a VkDeviceCreateInfo is supported. Returns the name of the first
-  // unsupported feature, or nullptr.
-  const char* firstUnsupportedFeature(const VkDeviceCreateInfo& info) const;
+  // Checks that every feature requested in a VkDeviceCreateInfo is supported. Returns "Structure::member" of the
+  // first unsupported one, or an empty string.
+  std::string firstUnsupportedFeature(const VkDeviceCreateInfo& info) const;
 
  private:
+  bool available(const char* extension, uint32_t version) const;
+  void writeFeatures(const FeatureStruct& fs, void* out) const;
   std::vector<VkExtensionProperties> extensions_;
 };
+
+// The features a VkDeviceCreateInfo enables (pEnabledFeatures and every feature structure of its chain).
+FeatureSet enabledFeatures(const VkDeviceCreateInfo& info);
 
 // Number of worker threads vkrt uses (VKRT_THREADS, or the number of cores).
 unsigned workerThreadCount();

@@ -129,7 +129,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreatePipelineCache(VkDevice device, const V
   Device* dev = fromHandleUnchecked<Device>(device);
   // VUID-VkPipelineCacheCreateInfo-pipelineCreationCacheControl-02892
   if ((pCreateInfo->flags & VK_PIPELINE_CACHE_CREATE_EXTERNALLY_SYNCHRONIZED_BIT) &&
-      !dev->enabled13.pipelineCreationCacheControl) {
+      !dev->enabled(Feature::pipelineCreationCacheControl)) {
     report(dev, Severity::Error, "VUID-VkPipelineCacheCreateInfo-pipelineCreationCacheControl-02892",
            "vkCreatePipelineCache: VK_PIPELINE_CACHE_CREATE_EXTERNALLY_SYNCHRONIZED_BIT needs the "
            "pipelineCreationCacheControl feature");

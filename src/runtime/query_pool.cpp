@@ -196,7 +196,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_ResetQueryPool(VkDevice device, VkQueryPool quer
   QueryPool* pool = livePool(dev, queryPool, "vkResetQueryPool", "VUID-vkResetQueryPool-queryPool-parameter");
   if (!pool) return;
   // VUID-vkResetQueryPool-None-02665
-  if (!dev->enabled12.hostQueryReset) {
+  if (!dev->enabled(Feature::hostQueryReset)) {
     report(pool, Severity::Error, "VUID-vkResetQueryPool-None-02665",
            "vkResetQueryPool: the hostQueryReset feature is not enabled");
     return;
@@ -278,7 +278,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteTimestamp2(VkCommandBuffer commandBuffer
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdWriteTimestamp2");
   if (!cb) return;
   // VUID-vkCmdWriteTimestamp2-synchronization2-03858
-  if (!cb->device->enabled13.synchronization2) {
+  if (!cb->device->enabled(Feature::synchronization2)) {
     report(cb, Severity::Error, "VUID-vkCmdWriteTimestamp2-synchronization2-03858",
            "vkCmdWriteTimestamp2: the synchronization2 feature is not enabled");
     return;

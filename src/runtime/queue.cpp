@@ -324,7 +324,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueSubmit2(VkQueue queue, uint32_t submitC
   Queue* q = liveQueue(queue, fn, "VUID-vkQueueSubmit2-queue-parameter");
   if (!q) return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-vkQueueSubmit2-synchronization2-03866
-  if (!q->device->enabled13.synchronization2) {
+  if (!q->device->enabled(Feature::synchronization2)) {
     report(q, Severity::Error, "VUID-vkQueueSubmit2-synchronization2-03866",
            "%s: the synchronization2 feature is not enabled", fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;

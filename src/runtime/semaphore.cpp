@@ -47,7 +47,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSemaphore(VkDevice device, const VkSem
     type = t->semaphoreType;
     initial = t->initialValue;
     // VUID-VkSemaphoreTypeCreateInfo-timelineSemaphore-03252
-    if (type == VK_SEMAPHORE_TYPE_TIMELINE && !dev->enabled12.timelineSemaphore) {
+    if (type == VK_SEMAPHORE_TYPE_TIMELINE && !dev->enabled(Feature::timelineSemaphore)) {
       report(dev, Severity::Error, "VUID-VkSemaphoreTypeCreateInfo-timelineSemaphore-03252",
              "vkCreateSemaphore: a timeline semaphore needs the timelineSemaphore feature, which is not enabled");
       return VK_ERROR_VALIDATION_FAILED_EXT;

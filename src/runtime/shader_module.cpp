@@ -39,8 +39,8 @@ bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message
   spvtools::ValidatorOptions options;
   // The layouts the device's features allow (the compiler follows the explicit Offset/ArrayStride decorations
   // whatever the rules they were chosen by).
-  if (device && device->enabled12.scalarBlockLayout) options.SetScalarBlockLayout(true);
-  if (device && device->enabled12.uniformBufferStandardLayout) options.SetUniformBufferStandardLayout(true);
+  if (device && device->enabled(Feature::scalarBlockLayout)) options.SetScalarBlockLayout(true);
+  if (device && device->enabled(Feature::uniformBufferStandardLayout)) options.SetUniformBufferStandardLayout(true);
   bool ok = tools.Validate(words, wordCount, options);
   if (!ok && message) *message = first.empty() ? "SPIRV-Tools rejected the module" : first;
   return ok;

@@ -1,0 +1,90 @@
+// What vkrt supports: each feature with the reason it works (where it is implemented and tested). A feature
+// that is not listed is reported VK_FALSE in every structure that has it, and requesting it fails vkCreateDevice.
+#include "runtime/supported_features.hpp"
+
+#include <unordered_map>
+
+namespace vkrt {
+
+namespace {
+
+using F = Feature;
+
+constexpr F kSupported[] = {
+    // Bounds-checked buffer access in compiled shaders (src/spirv/memory.cpp).
+    F::robustBufferAccess,
+    // Index values are only read by draws, which vkrt does not have; the limit is the full range.
+    F::fullDrawIndexUint32,
+    // 64-bit integers and floats, 8/16-bit integers and 16-bit floats in shaders, and their storage-buffer, uniform
+    // and push-constant access (src/spirv; tests/spirv SixtyFourBitIntegersAndDoubles, SpirvCompilerSmallTypes,
+    // tests/e2e ComputeSmallTypesTest, ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).
+    F::shaderInt64, F::shaderFloat64, F::shaderInt16, F::shaderInt8, F::shaderFloat16,
+    F::storageBuffer16BitAccess, F::uniformAndStorageBuffer16BitAccess, F::storagePushConstant16,
+    F::storageBuffer8BitAccess, F::uniformAndStorageBuffer8BitAccess, F::storagePushConstant8,
+    // Timeline semaphores (runtime/semaphore.cpp), host query reset (runtime/query_pool.cpp).
+    F::timelineSemaphore, F::hostQueryReset,
+    // Device addresses are host addresses of the arena (runtime/memory.cpp), reproducible for capture/replay.
+    F::bufferDeviceAddress, F::bufferDeviceAddressCaptureReplay,
+    // Block layouts: the compiler follows Offset/ArrayStride; modules are validated with the enabled rules.
+    F::uniformBufferStandardLayout, F::scalarBlockLayout,
+    // Layout-only features of images and framebuffers that a compute/ray tracing device honours trivially.
+    F::separateDepthStencilLayouts, F::imagelessFramebuffer,
+    // Descriptor binding flags: descriptors are records read when a command executes (runtime/descriptor_set.cpp).
+    F::descriptorBindingUniformBufferUpdateAfterBind, F::descriptorBindingSampledImageUpdateAfterBind,
+    F::descriptorBindingStorageImageUpdateAfterBind, F::descriptorBindingStorageBufferUpdateAfterBind,
+    F::descriptorBindingUniformTexelBufferUpdateAfterBind, F::descriptorBindingStorageTexelBufferUpdateAfterBind,
+    F::descriptorBindingUpdateUnusedWhilePending, F::descriptorBindingPartiallyBound,
+    F::descriptorBindingVariableDescriptorCount,
+    // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
+    // SpirvDescriptorIndexing). Texel buffers are not compiled yet: neither their indexing nor descriptorIndexing.
+    F::shaderUniformBufferArrayDynamicIndexing, F::shaderSampledImageArrayDynamicIndexing,
+    F::shaderStorageBufferArrayDynamicIndexing, F::shaderStorageImageArrayDynamicIndexing,
+    F::shaderUniformBufferArrayNonUniformIndexing, F::shaderSampledImageArrayNonUniformIndexing,
+    F::shaderStorageBufferArrayNonUniformIndexing, F::shaderStorageImageArrayNonUniformIndexing, F::runtimeDescriptorArray,
+    // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
+    F::synchronization2, F::pipelineCreationCacheControl, F::maintenance4,
+    // Ray tracing pipelines (src/rt): handles, capture/replay (also mixed with non-replayed pipelines: handles are
+    // content-derived), indirect traces, primitive culling flags, library group handles (tests/e2e rt_*, trace_*).
+    F::rayTracingPipeline, F::rayTracingPipelineShaderGroupHandleCaptureReplay,
+    F::rayTracingPipelineShaderGroupHandleCaptureReplayMixed, F::rayTracingPipelineTraceRaysIndirect,
+    F::rayTraversalPrimitiveCulling, F::pipelineLibraryGroupHandles,
+    F::rayTracingMaintenance1, F::rayTracingPipelineTraceRaysIndirect2,
+    // Acceleration structures on src/accel: capture/replay at the buffer's address, indirect and host builds (the
+    // device's memory is host memory), update-after-bind descriptors (tests/e2e trace_as_test.cpp).
+    F::accelerationStructure, F::accelerationStructureCaptureReplay, F::accelerationStructureIndirectBuild,
+    F::accelerationStructureHostCommands, F::descriptorBindingAccelerationStructureUpdateAfterBind,
+};
+
+}  // namespace
+
+const FeatureSet& supportedFeatures() {
+  static const FeatureSet set = [] {
+    FeatureSet s;
+    for (F f : kSupported) s.set(size_t(f));
+    return s;
+  }();
+  return set;
+}
+
+const FeatureStruct* featureStruct(VkStructureType sType) {
+  static const auto* index = [] {
+    auto* m = new std::unordered_map<uint32_t, const FeatureStruct*>;
+    for (size_t i = 0; i < kFeatureStructCount; ++i)
+      if (kFeatureStructs[i].sType) (*m)[uint32_t(kFeatureStructs[i].sType)] = &kFeatureStructs[i];
+    return m;
+  }();
+  auto it = index->find(uint32_t(sType));
+  return it == index->end() ? nullptr : it->second;
+}
+
+const PropertyStruct* propertyStruct(VkStructureType sType) {
+  static const auto* index = [] {
+    auto* m = new std::unordered_map<uint32_t, const PropertyStruct*>;
+    for (size_t i = 0; i < kPropertyStructCount; ++i) (*m)[uint32_t(kPropertyStructs[i].sType)] = &kPropertyStructs[i];
+    return m;
+  }();
+  auto it = index->find(uint32_t(sType));
+  return it == index->end() ? nullptr : it->second;
+}
+
+}  // namespace vkrt
