@@ -101,20 +101,6 @@ Digest hash128(const void* data, size_t size, uint64_t seed) {
   return {h1, h2};
 }
 
-std::vector<std::pair<uint32_t, std::string>> canonicalSpecialization(const VkSpecializationInfo* info) {
-  std::vector<std::pair<uint32_t, std::string>> out;
-  if (!info) return out;
-  for (uint32_t i = 0; i < info->mapEntryCount; ++i) {
-    const VkSpecializationMapEntry& e = info->pMapEntries[i];
-    std::string bytes;
-    if (info->pData && e.offset + e.size <= info->dataSize)
-      bytes.assign(static_cast<const char*>(info->pData) + e.offset, e.size);
-    out.emplace_back(e.constantID, std::move(bytes));
-  }
-  std::stable_sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.first < b.first; });
-  return out;
-}
-
 std::string canonicalContent(const GroupDesc& g) {
   std::string s = "vkrt-group-v1";
   append32(s, static_cast<uint32_t>(g.type));

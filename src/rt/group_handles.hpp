@@ -84,8 +84,6 @@ struct GroupDesc {
 
 // The canonical serialization of a group's behaviour (what the digest is taken of).
 std::string canonicalContent(const GroupDesc& g);
-// Canonical specialization: entries sorted by constantID, each with its bytes from pData.
-std::vector<std::pair<uint32_t, std::string>> canonicalSpecialization(const VkSpecializationInfo* info);
 
 // A group known to the device. Records live as long as the device (a handle stays decodable and
 // replayable after its pipeline is destroyed).

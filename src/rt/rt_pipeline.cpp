@@ -17,8 +17,8 @@
 #include "runtime/pipeline_cache.hpp"
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
-#include "runtime/shader_module.hpp"
 #include "runtime/shader_cache.hpp"
+#include "runtime/shader_stage.hpp"
 #include "spirv/module.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -62,7 +62,7 @@ struct Job {
   uint32_t maxPayload = 0, maxHitAttr = 0;
   bool dynamicStackSize = false;
   std::vector<std::shared_ptr<ShaderDesc>> stages;
-  std::vector<spirv::CompileRequest> requests;  // per stage, filled by the build
+  std::vector<PreparedStage> prepared;  // per stage: the checked code and compile request (runtime/shader_stage.hpp)
   // VkPipelineCreationFeedbackCreateInfo (core in Vulkan 1.3), written once the pipeline is built.
   const VkPipelineCreationFeedbackCreateInfo* feedback = nullptr;
   std::vector<VkPipelineCreationFeedback> stageFeedback;  // per stage, filled by the build
@@ -308,20 +308,21 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
   }
   for (uint32_t s = 0; s < info.stageCount; ++s) {
     const VkPipelineShaderStageCreateInfo& st = info.pStages[s];
-    std::vector<uint32_t> storage;
-    const std::vector<uint32_t>* words = nullptr;
-    uint64_t hash = 0;
     char what[96];
     std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%u]", i, s);
-    if (!shaderStageCode(dev, st, what, storage, &words, &hash)) return false;
+    PreparedStage ps;
+    if (!prepareStage(dev, st, executionModelOf(st.stage), what, &ps)) return false;
     auto d = std::make_shared<ShaderDesc>();
-    d->codeHash = hash;
-    d->code = std::make_shared<const std::vector<uint32_t>>(*words);
-    d->entry = st.pName ? st.pName : "";
+    d->codeHash = ps.codeHash;
+    d->code = ps.code;
+    d->entry = st.pName;
     d->stage = st.stage;
     d->flags = st.flags;
-    d->specialization = canonicalSpecialization(st.pSpecializationInfo);
+    // The group's content names the specialization checked and sorted by prepareStage.
+    for (const spirv::SpecValue& v : ps.request.specialization)
+      d->specialization.emplace_back(v.specId, std::string(v.bytes.begin(), v.bytes.end()));
     job.stages.push_back(std::move(d));
+    job.prepared.push_back(std::move(ps));
   }
   for (uint32_t g = 0; g < info.groupCount; ++g) {
     const VkRayTracingShaderGroupCreateInfoKHR& gr = info.pGroups[g];
@@ -341,48 +342,13 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
 // loaded from the job's VkPipelineCache. Sets job.result and returns false when it cannot be had.
 bool compileStage(Device* dev, Job& job, size_t s) {
   ShaderDesc& d = *job.stages[s];
-  spirv::CompileRequest req;
-  req.words = d.code->data();
-  req.wordCount = d.code->size();
-  req.entryName = d.entry;
-  req.model = executionModelOf(d.stage);
-  for (const auto& [id, bytes] : d.specialization)
-    req.specialization.push_back({id, std::vector<uint8_t>(bytes.begin(), bytes.end())});
-  job.requests.push_back(req);
-  {
-    spirv::Module m;
-    std::string err;
-    // VUID-VkPipelineShaderStageCreateInfo-pName-00707
-    if (!m.parse(req.words, req.wordCount, &err) || !m.findEntryPoint(d.entry.c_str(), req.model)) {
-      report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
-             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: no entry point \"%s\" with the "
-             "execution model of stage 0x%x in the module%s%s",
-             job.index, s, d.entry.c_str(), (unsigned)d.stage, err.empty() ? "" : ": ", err.c_str());
-      job.result = VK_ERROR_VALIDATION_FAILED_EXT;
-      return false;
-    }
-  }
-  const bool mayCompile = !(job.flags & kFailOnCompile);
-  std::string error;
-  bool cacheHit = false;
-  const auto start = std::chrono::steady_clock::now();
-  d.compiled = compileShared(dev, shaderKey(d.codeHash, req), req, mayCompile, &error, job.cache, &cacheHit,
-                             "vkCreateRayTracingPipelinesKHR");
-  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
-  job.stageFeedback.push_back({VkPipelineCreationFeedbackFlags(VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT |
-                                                               (cacheHit ? VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT : 0)),
-                               uint64_t(ns)});
-  if (d.compiled) return true;
-  if (!mayCompile) {
-    // VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT: neither the device nor the cache has the code.
-    job.result = VK_PIPELINE_COMPILE_REQUIRED;
-    return false;
-  }
-  report(dev, Severity::Error, nullptr,
-         "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]: entry point \"%s\" (stage 0x%x) cannot be compiled: %s",
-         job.index, s, d.entry.c_str(), (unsigned)d.stage, error.c_str());
-  job.result = VK_ERROR_UNKNOWN;
-  return false;
+  char what[96];
+  std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]", job.index, s);
+  CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache, "vkCreateRayTracingPipelinesKHR", what);
+  job.stageFeedback.push_back(c.feedback);
+  d.compiled = c.shader;
+  job.result = c.result;
+  return c.result == VK_SUCCESS;
 }
 
 // The build: the stages' code (compiled once per device and shared, or found in the pipeline cache), the
@@ -475,7 +441,7 @@ void build(Device* dev, Job& job) {
   p->ownGroupCount = static_cast<uint32_t>(p->groups.size());
   linkLibraries(job.libraries, p->groups);
   p->defaultStackSize = defaultPipelineStackSize(p->groups, job.depth);
-  for (size_t s = 0; s < job.stages.size(); ++s) storeInCache(job.cache, job.requests[s], *job.stages[s]->compiled);
+  for (size_t s = 0; s < job.stages.size(); ++s) storeInCache(job.cache, job.prepared[s].request, *job.stages[s]->compiled);
   if (job.feedback) {
     // The pipeline hit the application's cache when every stage did (a pipeline of libraries only has none).
     bool allHit = !job.stageFeedback.empty();

@@ -11,6 +11,7 @@
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
 #include "runtime/shader_module.hpp"
+#include "runtime/shader_stage.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -56,74 +57,15 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
            "%s: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", fn, i, (unsigned long long)rawHandle(ci.layout));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  // VUID-VkPipelineShaderStageCreateInfo-pName-parameter
-  if (!ci.stage.pName) {
-    report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-parameter", "%s: pCreateInfos[%u].stage.pName is NULL", fn, i);
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  std::vector<uint32_t> storage;
-  const std::vector<uint32_t>* code = nullptr;
-  uint64_t hash = 0;
-  if (!shaderStageCode(dev, ci.stage, fn, storage, &code, &hash)) return VK_ERROR_VALIDATION_FAILED_EXT;
-
-  spirv::CompileRequest req;
-  req.words = code->data();
-  req.wordCount = code->size();
-  req.entryName = ci.stage.pName;
-  req.model = spv::ExecutionModelGLCompute;
-  {
-    spirv::Module m;
-    std::string err;
-    // VUID-VkPipelineShaderStageCreateInfo-pName-00707
-    if (!m.parse(code->data(), code->size(), &err) || !m.findEntryPoint(ci.stage.pName, spv::ExecutionModelGLCompute)) {
-      report(dev, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-00707",
-             "%s: pCreateInfos[%u].stage.pName \"%s\" is not a GLCompute entry point of the module", fn, i, ci.stage.pName);
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-    }
-  }
-  if (const VkSpecializationInfo* si = ci.stage.pSpecializationInfo) {
-    for (uint32_t e = 0; e < si->mapEntryCount; ++e) {
-      const VkSpecializationMapEntry& me = si->pMapEntries[e];
-      // VUID-VkSpecializationInfo-offset-00773
-      if (me.offset >= si->dataSize) {
-        report(dev, Severity::Error, "VUID-VkSpecializationInfo-offset-00773",
-               "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u].offset (%u) is not less than dataSize (%zu)", fn, i, e,
-               me.offset, si->dataSize);
-        return VK_ERROR_VALIDATION_FAILED_EXT;
-      }
-      // VUID-VkSpecializationInfo-pMapEntries-00774
-      if (me.size > si->dataSize - me.offset) {
-        report(dev, Severity::Error, "VUID-VkSpecializationInfo-pMapEntries-00774",
-               "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u].size (%zu) exceeds dataSize (%zu) minus offset (%u)", fn,
-               i, e, me.size, si->dataSize, me.offset);
-        return VK_ERROR_VALIDATION_FAILED_EXT;
-      }
-      // VUID-VkSpecializationInfo-constantID-04911
-      for (uint32_t k = 0; k < e; ++k) {
-        if (si->pMapEntries[k].constantID == me.constantID) {
-          report(dev, Severity::Error, "VUID-VkSpecializationInfo-constantID-04911",
-                 "%s: pCreateInfos[%u].stage.pSpecializationInfo->pMapEntries[%u] and [%u] both specialize constant %u", fn, i, k, e,
-                 me.constantID);
-          return VK_ERROR_VALIDATION_FAILED_EXT;
-        }
-      }
-      const uint8_t* bytes = static_cast<const uint8_t*>(si->pData) + me.offset;
-      req.specialization.push_back({me.constantID, std::vector<uint8_t>(bytes, bytes + me.size)});
-    }
-  }
-  const std::string key = shaderKey(hash, req);
-
-  bool mayCompile = !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
-  std::string error;
-  bool cacheHit = false;
-  std::shared_ptr<const spirv::CompiledShader> shader =
-      compileShared(dev, key, req, mayCompile, &error, fromHandle<PipelineCache>(pipelineCache), &cacheHit);
-  if (!shader && !mayCompile) return VK_PIPELINE_COMPILE_REQUIRED;
-  if (!shader) {
-    report(dev, Severity::Error, nullptr, "%s: pCreateInfos[%u]: entry point \"%s\" cannot be compiled: %s", fn, i, ci.stage.pName,
-           error.c_str());
-    return VK_ERROR_UNKNOWN;
-  }
+  char what[64];
+  std::snprintf(what, sizeof what, "%s: pCreateInfos[%u].stage", fn, i);
+  PreparedStage stage;
+  if (!prepareStage(dev, ci.stage, spv::ExecutionModelGLCompute, what, &stage)) return VK_ERROR_VALIDATION_FAILED_EXT;
+  PipelineCache* cache = fromHandle<PipelineCache>(pipelineCache);
+  CompiledStage compiled =
+      compileStage(dev, stage, !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT), cache, fn, what);
+  if (compiled.result != VK_SUCCESS) return compiled.result;
+  const std::shared_ptr<const spirv::CompiledShader>& shader = compiled.shader;
 
   const VkPhysicalDeviceLimits& lim = dev->physicalDevice->properties10.limits;
   const uint32_t* ls = shader->localSize;
@@ -161,14 +103,12 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
   }
   auto* p = createObject<ComputePipeline>(alloc, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, ci.flags, layout, shader);
   if (!p) return VK_ERROR_OUT_OF_HOST_MEMORY;
-  storeInCache(fromHandle<PipelineCache>(pipelineCache), req, *shader);
-  // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took.
+  storeInCache(cache, stage.request, *shader);
+  // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took; the stage's from its
+  // compilation (with the cache hit bit when the code came from the application's VkPipelineCache).
   if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
     uint64_t ns = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
-    VkPipelineCreationFeedbackFlags bits = VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT;
-    // The compiled code came from the application's VkPipelineCache.
-    if (cacheHit) bits |= VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT;
-    VkPipelineCreationFeedback f{bits, ns};
+    VkPipelineCreationFeedback f{compiled.feedback.flags, ns};
     if (fb->pPipelineCreationFeedback) *fb->pPipelineCreationFeedback = f;
     for (uint32_t s = 0; s < fb->pipelineStageCreationFeedbackCount && fb->pPipelineStageCreationFeedbacks; ++s)
       fb->pPipelineStageCreationFeedbacks[s] = f;

@@ -429,6 +429,47 @@ TEST_F(RtMisuseTest, CreationFeedbackCountMustMatchTheStages) {
   expectVkrtMessage("VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652");
 }
 
+// The VkSpecializationInfo rules hold for ray tracing stages as for compute ones (runtime/shader_stage.cpp): each
+// broken rule fails creation with its VUID, naming the stage, and creates nothing.
+TEST_F(RtMisuseTest, SpecializationRulesAreCheckedForRayTracingStages) {
+  const uint32_t data[2] = {7, 9};
+  struct Case {
+    VkSpecializationMapEntry entries[2];
+    uint32_t count;
+    const char* vuid;
+  } cases[] = {
+      {{{0, 8, 4}}, 1, "VUID-VkSpecializationInfo-offset-00773"},             // offset past dataSize (8)
+      {{{0, 4, 8}}, 1, "VUID-VkSpecializationInfo-pMapEntries-00774"},        // offset + size past dataSize
+      {{{0, 0, 4}, {0, 4, 4}}, 2, "VUID-VkSpecializationInfo-constantID-04911"}, // constant 0 twice
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.vuid);
+    VkSpecializationInfo spec{c.count, c.entries, sizeof data, data};
+    Desc d;
+    d.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    d.general(missSpec, VK_SHADER_STAGE_MISS_BIT_KHR, &spec);
+    VkPipeline p = VK_NULL_HANDLE;
+    EXPECT_EQ(create(d, &p), VK_ERROR_VALIDATION_FAILED_EXT);
+    EXPECT_EQ(p, VK_NULL_HANDLE);
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u);
+    EXPECT_NE(msgs[0].text.find("pCreateInfos[0].pStages[1].pSpecializationInfo"), std::string::npos) << msgs[0].text;
+    expectVkrtMessage(c.vuid);
+  }
+  // The same module with valid specialization creates, and the constant's bytes are part of the group's handle.
+  VkSpecializationMapEntry one{0, 0, 4};
+  VkSpecializationInfo a{1, &one, 4, &data[0]}, b{1, &one, 4, &data[1]};
+  Desc da, db;
+  da.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  da.general(missSpec, VK_SHADER_STAGE_MISS_BIT_KHR, &a);
+  db.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  db.general(missSpec, VK_SHADER_STAGE_MISS_BIT_KHR, &b);
+  VkPipeline pa = make(da), pb = make(db);
+  ASSERT_TRUE(pa && pb);
+  EXPECT_NE(handles(pa, 1, 1), handles(pb, 1, 1));
+  EXPECT_EQ(handles(pa, 0, 1), handles(pb, 0, 1));
+}
+
 TEST_F(RtMisuseTest, NvAliasResolves) {
   // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command (vkrt's choice: the
   // spec only promises it with VK_NV_ray_tracing enabled; skipped on other drivers by RtMisuseTest).
