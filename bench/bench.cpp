@@ -25,9 +25,9 @@ namespace {
   std::fprintf(stderr, "vkrt_bench: %s failed (VkResult %d)\n", what, int(r));
   std::exit(1);
 }
-#define CHECK(call)                      \
-  do {                                   \
-    VkResult r_ = (call);                \
+#define CHECK(call)                        \
+  do {                                     \
+    VkResult r_ = (call);                  \
     if (r_ != VK_SUCCESS) fail(#call, r_); \
   } while (0)
 
@@ -95,7 +95,9 @@ struct Buffer {
     vkGetPhysicalDeviceMemoryProperties(ctx().physical, &mp);
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     uint32_t type = 0;
-    while (type < mp.memoryTypeCount && !((req.memoryTypeBits >> type & 1) && (mp.memoryTypes[type].propertyFlags & want) == want)) ++type;
+    while (type < mp.memoryTypeCount &&
+           !((req.memoryTypeBits >> type & 1) && (mp.memoryTypes[type].propertyFlags & want) == want))
+      ++type;
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = type;
@@ -108,7 +110,9 @@ struct Buffer {
     vkFreeMemory(ctx().device, memory, nullptr);
   }
   template <class T>
-  T* as() { return static_cast<T*>(data); }
+  T* as() {
+    return static_cast<T*>(data);
+  }
 };
 
 // A compute pipeline whose set 0 has `bindings` storage buffers, with `pushBytes` of push constants.
@@ -124,7 +128,8 @@ struct Kernel {
   Kernel(const uint32_t* words, size_t bytes, uint32_t bindings, uint32_t pushBytes) {
     VkDevice d = ctx().device;
     std::vector<VkDescriptorSetLayoutBinding> b;
-    for (uint32_t i = 0; i < bindings; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    for (uint32_t i = 0; i < bindings; ++i)
+      b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = bindings;
     dl.pBindings = b.data();
@@ -245,7 +250,8 @@ void BM_Saxpy_vkrt(benchmark::State& state) {
   k.run();
   std::vector<float> want = y;
   saxpy(1.5f, x.data(), want.data(), kSaxpyN);
-  if (std::memcmp(want.data(), by.data, kSaxpyN * 4) != 0) return mismatch(state, "SAXPY results differ from the native kernel");
+  if (std::memcmp(want.data(), by.data, kSaxpyN * 4) != 0)
+    return mismatch(state, "SAXPY results differ from the native kernel");
   for (auto _ : state) k.run();
   state.SetBytesProcessed(int64_t(state.iterations()) * kSaxpyN * 12);
 }
@@ -291,9 +297,11 @@ void BM_Matmul_vkrt(benchmark::State& state) {
   std::vector<float> want(kMatN * kMatN);
   matmul(a.data(), b.data(), want.data(), kMatN);
   // The values are exact multiples of 1/32 with small sums: any summation order gives the same floats.
-  if (std::memcmp(want.data(), bc.data, bytes) != 0) return mismatch(state, "matmul results differ from the native kernel");
+  if (std::memcmp(want.data(), bc.data, bytes) != 0)
+    return mismatch(state, "matmul results differ from the native kernel");
   for (auto _ : state) k.run();
-  state.counters["GFLOPS"] = benchmark::Counter(double(state.iterations()) * 2.0 * kMatN * kMatN * kMatN * 1e-9, benchmark::Counter::kIsRate);
+  state.counters["GFLOPS"] =
+      benchmark::Counter(double(state.iterations()) * 2.0 * kMatN * kMatN * kMatN * 1e-9, benchmark::Counter::kIsRate);
 }
 
 void BM_Matmul_native(benchmark::State& state) {
@@ -304,7 +312,8 @@ void BM_Matmul_native(benchmark::State& state) {
     benchmark::DoNotOptimize(c.data());
     benchmark::ClobberMemory();
   }
-  state.counters["GFLOPS"] = benchmark::Counter(double(state.iterations()) * 2.0 * kMatN * kMatN * kMatN * 1e-9, benchmark::Counter::kIsRate);
+  state.counters["GFLOPS"] =
+      benchmark::Counter(double(state.iterations()) * 2.0 * kMatN * kMatN * kMatN * 1e-9, benchmark::Counter::kIsRate);
 }
 
 // ---- Mandelbrot, 512x512, 256 iterations

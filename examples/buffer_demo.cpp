@@ -13,13 +13,13 @@
 
 namespace {
 
-#define CHECK(call)                                                              \
-  do {                                                                           \
-    VkResult r_ = (call);                                                        \
-    if (r_ != VK_SUCCESS) {                                                      \
+#define CHECK(call)                                                             \
+  do {                                                                          \
+    VkResult r_ = (call);                                                       \
+    if (r_ != VK_SUCCESS) {                                                     \
       std::fprintf(stderr, "buffer_demo: %s failed with %d\n", #call, (int)r_); \
-      std::exit(1);                                                              \
-    }                                                                            \
+      std::exit(1);                                                             \
+    }                                                                           \
   } while (0)
 
 struct HostBuffer {

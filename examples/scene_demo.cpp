@@ -29,13 +29,13 @@
 
 namespace {
 
-#define CHECK(call)                                                                   \
-  do {                                                                                \
-    VkResult r_ = (call);                                                             \
-    if (r_ != VK_SUCCESS) {                                                           \
+#define CHECK(call)                                                                     \
+  do {                                                                                  \
+    VkResult r_ = (call);                                                               \
+    if (r_ != VK_SUCCESS) {                                                             \
       std::fprintf(stderr, "scene_demo: %s failed with VkResult %d\n", #call, (int)r_); \
-      std::exit(1);                                                                   \
-    }                                                                                 \
+      std::exit(1);                                                                     \
+    }                                                                                   \
   } while (0)
 
 template <class F>
@@ -62,7 +62,8 @@ struct Context {
   VkDevice device = VK_NULL_HANDLE;
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool pool = VK_NULL_HANDLE;
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
   std::vector<Buffer> buffers;
   PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes;
   PFN_vkCreateAccelerationStructureKHR createAs;
@@ -152,9 +153,11 @@ void createDevice(Context& c) {
   std::printf("scene_demo: device %s\n", p2.properties.deviceName);
   const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
                         VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   asf.accelerationStructure = VK_TRUE;
-  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &asf};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR,
+                                                    &asf};
   rtf.rayTracingPipeline = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &rtf};
   f12.bufferDeviceAddress = VK_TRUE;
@@ -174,10 +177,12 @@ void createDevice(Context& c) {
   c.buildSizes = load<PFN_vkGetAccelerationStructureBuildSizesKHR>(c.device, "vkGetAccelerationStructureBuildSizesKHR");
   c.createAs = load<PFN_vkCreateAccelerationStructureKHR>(c.device, "vkCreateAccelerationStructureKHR");
   c.cmdBuild = load<PFN_vkCmdBuildAccelerationStructuresKHR>(c.device, "vkCmdBuildAccelerationStructuresKHR");
-  c.asAddress = load<PFN_vkGetAccelerationStructureDeviceAddressKHR>(c.device, "vkGetAccelerationStructureDeviceAddressKHR");
+  c.asAddress =
+      load<PFN_vkGetAccelerationStructureDeviceAddressKHR>(c.device, "vkGetAccelerationStructureDeviceAddressKHR");
   c.createPipelines = load<PFN_vkCreateRayTracingPipelinesKHR>(c.device, "vkCreateRayTracingPipelinesKHR");
   c.groupHandles = load<PFN_vkGetRayTracingShaderGroupHandlesKHR>(c.device, "vkGetRayTracingShaderGroupHandlesKHR");
-  c.groupStackSize = load<PFN_vkGetRayTracingShaderGroupStackSizeKHR>(c.device, "vkGetRayTracingShaderGroupStackSizeKHR");
+  c.groupStackSize =
+      load<PFN_vkGetRayTracingShaderGroupStackSizeKHR>(c.device, "vkGetRayTracingShaderGroupStackSizeKHR");
   c.setStackSize = load<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(c.device, "vkCmdSetRayTracingPipelineStackSizeKHR");
   c.traceRays = load<PFN_vkCmdTraceRaysKHR>(c.device, "vkCmdTraceRaysKHR");
 }
@@ -185,9 +190,9 @@ void createDevice(Context& c) {
 // ------------------------------------------------------------------------------------------------- the scene
 
 struct Mesh {
-  std::vector<float> vertices;     // xyz
+  std::vector<float> vertices;  // xyz
   std::vector<uint32_t> indices;
-  std::vector<float> triangles;    // per triangle: object-space normal xyz, material
+  std::vector<float> triangles;  // per triangle: object-space normal xyz, material
   void quad(const float a[3], const float b[3], const float c[3], const float d[3], uint32_t material) {
     // a b c d counter-clockwise seen from the side the normal points to.
     uint32_t base = uint32_t(vertices.size() / 3);
@@ -199,7 +204,8 @@ struct Mesh {
   }
   void box(float sx, float sy, float sz, uint32_t material) {  // centred on x and z, from y = 0 to sy
     const float x = sx / 2, z = sz / 2;
-    const float p[8][3] = {{-x, 0, -z}, {x, 0, -z}, {x, sy, -z}, {-x, sy, -z}, {-x, 0, z}, {x, 0, z}, {x, sy, z}, {-x, sy, z}};
+    const float p[8][3] = {{-x, 0, -z}, {x, 0, -z}, {x, sy, -z}, {-x, sy, -z},
+                           {-x, 0, z},  {x, 0, z},  {x, sy, z},  {-x, sy, z}};
     quad(p[4], p[5], p[6], p[7], material);  // front (+z)
     quad(p[1], p[0], p[3], p[2], material);  // back
     quad(p[5], p[1], p[2], p[6], material);  // right
@@ -210,15 +216,16 @@ struct Mesh {
 };
 
 enum Material : uint32_t { kWhite, kRed, kGreen, kMirror, kBlue, kYellow };
-const float kMaterials[][4] = {{0.75f, 0.75f, 0.72f, 0}, {0.75f, 0.12f, 0.1f, 0}, {0.15f, 0.6f, 0.15f, 0},
-                               {0.9f, 0.9f, 0.9f, 0.85f}, {0.15f, 0.3f, 0.8f, 0}, {0.85f, 0.7f, 0.1f, 0}};
+const float kMaterials[][4] = {{0.75f, 0.75f, 0.72f, 0},  {0.75f, 0.12f, 0.1f, 0}, {0.15f, 0.6f, 0.15f, 0},
+                               {0.9f, 0.9f, 0.9f, 0.85f}, {0.15f, 0.3f, 0.8f, 0},  {0.85f, 0.7f, 0.1f, 0}};
 
 struct Built {
   VkAccelerationStructureKHR as;
   VkDeviceAddress address;
 };
 
-Built build(Context& c, VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g, uint32_t primitives) {
+Built build(Context& c, VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
+            uint32_t primitives) {
   VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   info.type = type;
   info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
@@ -254,11 +261,13 @@ Built buildMesh(Context& c, const Mesh& m, bool opaque) {
   auto& t = g.geometry.triangles;
   t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
   t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-  t.vertexData.deviceAddress = c.upload(m.vertices, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
+  t.vertexData.deviceAddress =
+      c.upload(m.vertices, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
   t.vertexStride = 12;
   t.maxVertex = uint32_t(m.vertices.size() / 3 - 1);
   t.indexType = VK_INDEX_TYPE_UINT32;
-  t.indexData.deviceAddress = c.upload(m.indices, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
+  t.indexData.deviceAddress =
+      c.upload(m.indices, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
   return build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, uint32_t(m.indices.size() / 3));
 }
 
@@ -278,14 +287,16 @@ VkAccelerationStructureInstanceKHR instanceOf(const Built& b, float angle, float
 // Builds the scene; fills the triangle table (normal + material per triangle, by instance) and the sphere table.
 VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTable, std::vector<float>* sphereTable) {
   Mesh room, block, panel;
-  const float f[8][3] = {{-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, {-1, 2, -1}};
+  const float f[8][3] = {{-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1},
+                         {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, {-1, 2, -1}};
   room.quad(f[0], f[1], f[2], f[3], kWhite);  // floor, normal up
   room.quad(f[7], f[6], f[5], f[4], kWhite);  // ceiling, normal down
   room.quad(f[3], f[2], f[6], f[7], kWhite);  // back wall, normal +z
   room.quad(f[0], f[3], f[7], f[4], kRed);    // left wall, normal +x
   room.quad(f[2], f[1], f[5], f[6], kGreen);  // right wall, normal -x
   block.box(0.5f, 1.1f, 0.5f, kWhite);
-  const float p[4][3] = {{0.05f, 0.75f, -0.35f}, {0.85f, 0.75f, -0.35f}, {0.85f, 1.65f, -0.35f}, {0.05f, 1.65f, -0.35f}};
+  const float p[4][3] = {
+      {0.05f, 0.75f, -0.35f}, {0.85f, 0.75f, -0.35f}, {0.85f, 1.65f, -0.35f}, {0.05f, 1.65f, -0.35f}};
   panel.quad(p[0], p[1], p[2], p[3], kYellow);
   // The triangle table: room, block, panel, each instance's custom index the offset of its first triangle.
   uint32_t offsets[3], at = 0, k = 0;
@@ -302,7 +313,9 @@ VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTa
   g.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;
   g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
   g.geometry.aabbs.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
-  g.geometry.aabbs.data.deviceAddress = c.upload(std::vector<VkAabbPositionsKHR>{box}, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
+  g.geometry.aabbs.data.deviceAddress = c.upload(std::vector<VkAabbPositionsKHR>{box},
+                                                 VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR)
+                                            .address;
   g.geometry.aabbs.stride = sizeof(VkAabbPositionsKHR);
   Built sphereAs = build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, 1);
   // SBT hit records: 0 opaque triangles, 1 the alpha-tested panel, 2 spheres.
@@ -316,7 +329,8 @@ VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTa
   VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
   ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
-  ig.geometry.instances.data.deviceAddress = c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
+  ig.geometry.instances.data.deviceAddress =
+      c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
   return build(c, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, uint32_t(instances.size())).as;
 }
 
@@ -340,8 +354,9 @@ struct Pipeline {
 
 Pipeline createPipeline(Context& c) {
   Pipeline p{};
-  const VkShaderStageFlags all = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR |
-                                 VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
+  const VkShaderStageFlags all = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+                                 VK_SHADER_STAGE_ANY_HIT_BIT_KHR | VK_SHADER_STAGE_INTERSECTION_BIT_KHR |
+                                 VK_SHADER_STAGE_MISS_BIT_KHR;
   VkDescriptorSetLayoutBinding b[5] = {{0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, all, nullptr},
                                        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
                                        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, nullptr},
@@ -384,7 +399,8 @@ Pipeline createPipeline(Context& c) {
     return r;
   };
   const uint32_t U = VK_SHADER_UNUSED_KHR;
-  const auto G = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR, T = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR,
+  const auto G = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
+             T = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR,
              P = VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR;
   // Groups: 0 raygen, 1 miss, 2 shadow miss, 3 opaque triangles, 4 alpha-tested triangles, 5 spheres.
   VkRayTracingShaderGroupCreateInfoKHR groups[] = {group(G, 0, U, U, U), group(G, 1, U, U, U), group(G, 2, U, U, U),
@@ -408,11 +424,15 @@ Pipeline createPipeline(Context& c) {
   // shadow rays: closest-hit or miss).
   auto stack = [&](uint32_t g, VkShaderGroupShaderKHR s) { return c.groupStackSize(c.device, p.pipeline, g, s); };
   const uint64_t raygen = stack(0, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
-  const uint64_t closestHit = std::max({stack(3, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR), stack(5, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR)});
-  const uint64_t miss = std::max(stack(1, VK_SHADER_GROUP_SHADER_GENERAL_KHR), stack(2, VK_SHADER_GROUP_SHADER_GENERAL_KHR));
-  const uint64_t isectAny = stack(5, VK_SHADER_GROUP_SHADER_INTERSECTION_KHR) + stack(4, VK_SHADER_GROUP_SHADER_ANY_HIT_KHR);
+  const uint64_t closestHit =
+      std::max({stack(3, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR), stack(5, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR)});
+  const uint64_t miss =
+      std::max(stack(1, VK_SHADER_GROUP_SHADER_GENERAL_KHR), stack(2, VK_SHADER_GROUP_SHADER_GENERAL_KHR));
+  const uint64_t isectAny =
+      stack(5, VK_SHADER_GROUP_SHADER_INTERSECTION_KHR) + stack(4, VK_SHADER_GROUP_SHADER_ANY_HIT_KHR);
   const uint32_t depth = 3;
-  p.stackSize = raygen + std::min(1u, depth) * std::max({closestHit, miss, isectAny}) + (depth - 1) * std::max(closestHit, miss);
+  p.stackSize =
+      raygen + std::min(1u, depth) * std::max({closestHit, miss, isectAny}) + (depth - 1) * std::max(closestHit, miss);
   return p;
 }
 
@@ -423,9 +443,12 @@ int main(int argc, char** argv) {
   std::string out = "scene.png";
   for (int i = 1; i + 1 < argc; i += 2) {
     std::string a = argv[i];
-    if (a == "--width") width = uint32_t(std::atoi(argv[i + 1]));
-    else if (a == "--height") height = uint32_t(std::atoi(argv[i + 1]));
-    else if (a == "--out") out = argv[i + 1];
+    if (a == "--width")
+      width = uint32_t(std::atoi(argv[i + 1]));
+    else if (a == "--height")
+      height = uint32_t(std::atoi(argv[i + 1]));
+    else if (a == "--out")
+      out = argv[i + 1];
   }
   if (width == 0 || height == 0) {
     std::fprintf(stderr, "usage: scene_demo [--width W] [--height H] [--out file.png]\n");
@@ -443,7 +466,8 @@ int main(int argc, char** argv) {
   const uint32_t hs = c.rt.shaderGroupHandleSize, groups = 6;
   std::vector<uint8_t> handles(size_t(hs) * groups);
   CHECK(c.groupHandles(c.device, p.pipeline, 0, groups, handles.size(), handles.data()));
-  const uint64_t stride = (hs + c.rt.shaderGroupHandleAlignment - 1) / c.rt.shaderGroupHandleAlignment * c.rt.shaderGroupHandleAlignment;
+  const uint64_t stride =
+      (hs + c.rt.shaderGroupHandleAlignment - 1) / c.rt.shaderGroupHandleAlignment * c.rt.shaderGroupHandleAlignment;
   const uint64_t base = c.rt.shaderGroupBaseAlignment;
   const uint64_t raygenAt = 0, missAt = base, hitAt = 2 * base;
   Buffer sbt = c.buffer(4 * base, VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR);
@@ -452,8 +476,9 @@ int main(int argc, char** argv) {
   std::memcpy(bytes + raygenAt, handles.data(), hs);
   for (uint32_t k = 0; k < 2; ++k) std::memcpy(bytes + missAt + k * stride, handles.data() + (1 + k) * hs, hs);
   for (uint32_t k = 0; k < 3; ++k) std::memcpy(bytes + hitAt + k * stride, handles.data() + (3 + k) * hs, hs);
-  VkStridedDeviceAddressRegionKHR raygenRegion{sbtBase + raygenAt, stride, stride}, missRegion{sbtBase + missAt, stride, 2 * stride},
-      hitRegion{sbtBase + hitAt, stride, 3 * stride}, callableRegion{};
+  VkStridedDeviceAddressRegionKHR raygenRegion{sbtBase + raygenAt, stride, stride},
+      missRegion{sbtBase + missAt, stride, 2 * stride}, hitRegion{sbtBase + hitAt, stride, 3 * stride},
+      callableRegion{};
 
   // Resources: the image (RGBA8 words), the triangle, sphere and material tables.
   Buffer image = c.buffer(uint64_t(width) * height * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -461,7 +486,8 @@ int main(int argc, char** argv) {
   Buffer spheres = c.upload(sphereTable, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<float> materials(&kMaterials[0][0], &kMaterials[0][0] + sizeof kMaterials / sizeof(float));
   Buffer mats = c.upload(materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
   VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   dpci.maxSets = 1;
   dpci.poolSizeCount = 2;
@@ -477,7 +503,9 @@ int main(int argc, char** argv) {
   VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
   asw.accelerationStructureCount = 1;
   asw.pAccelerationStructures = &tlas;
-  VkDescriptorBufferInfo infos[4] = {{image.buffer, 0, VK_WHOLE_SIZE}, {tris.buffer, 0, VK_WHOLE_SIZE}, {spheres.buffer, 0, VK_WHOLE_SIZE},
+  VkDescriptorBufferInfo infos[4] = {{image.buffer, 0, VK_WHOLE_SIZE},
+                                     {tris.buffer, 0, VK_WHOLE_SIZE},
+                                     {spheres.buffer, 0, VK_WHOLE_SIZE},
                                      {mats.buffer, 0, VK_WHOLE_SIZE}};
   VkWriteDescriptorSet w[5];
   for (uint32_t i = 0; i < 5; ++i) {
@@ -506,9 +534,10 @@ int main(int argc, char** argv) {
   }
   const double trace = std::chrono::duration<double>(t3 - t2).count();
   const double setup = std::chrono::duration<double>(t1 - t0).count();
-  std::printf("scene_demo: %ux%u, 4 camera rays a pixel, traced in %.3f s (%.2f M camera rays/s); acceleration structures "
-              "and pipeline in %.3f s\n",
-              width, height, trace, 4.0 * width * height / trace / 1e6, setup);
+  std::printf(
+      "scene_demo: %ux%u, 4 camera rays a pixel, traced in %.3f s (%.2f M camera rays/s); acceleration structures "
+      "and pipeline in %.3f s\n",
+      width, height, trace, 4.0 * width * height / trace / 1e6, setup);
   std::printf("scene_demo: wrote %s\n", out.c_str());
   return 0;
 }

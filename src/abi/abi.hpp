@@ -64,9 +64,9 @@ struct InvocationContext {
   uint32_t workgroupSize[4];  // 64  WorkgroupSize
   uint32_t localIndex;        // 80  LocalInvocationIndex
   uint32_t pad0[3];
-  const ResourceSlot* resources;  // 96   by slot, in the order the compiler lists the shader's resources
-  const uint8_t* pushConstants;   // 104  kPushConstantBytes bytes
-  uint8_t* workgroupMemory;       // 112  the shader's workgroup memory, shared by the workgroup
+  const ResourceSlot* resources;        // 96   by slot, in the order the compiler lists the shader's resources
+  const uint8_t* pushConstants;         // 104  kPushConstantBytes bytes
+  uint8_t* workgroupMemory;             // 112  the shader's workgroup memory, shared by the workgroup
   void (*barrier)(InvocationContext*);  // 120  OpControlBarrier with Workgroup scope
   void* executor;                       // 128  the executor's per-invocation state
   uint8_t* sink;                        // 136  kSinkBytes bytes: out-of-bounds atomics land here
@@ -140,36 +140,37 @@ inline constexpr uint32_t kRayStatusIgnore = 1;     // OpIgnoreIntersectionKHR
 inline constexpr uint32_t kRayStatusTerminate = 2;  // OpTerminateRayKHR (or an any-hit shader's, seen by intersection)
 
 struct RayInvocation {
-  InvocationContext base;           // 0
-  uint32_t launchId[4];             // 144  LaunchIdKHR
-  uint32_t launchSize[4];           // 160  LaunchSizeKHR
-  float worldRayOrigin[4];          // 176  WorldRayOriginKHR
-  float worldRayDirection[4];       // 192  WorldRayDirectionKHR
-  float objectRayOrigin[4];         // 208  ObjectRayOriginKHR
-  float objectRayDirection[4];      // 224  ObjectRayDirectionKHR
-  float rayTmin;                    // 240  RayTminKHR
-  float rayTmax;                    // 244  RayTmaxKHR, HitTNV
-  uint32_t incomingRayFlags;        // 248  IncomingRayFlagsKHR
-  uint32_t cullMask;                // 252  CullMaskKHR
-  int32_t instanceCustomIndex;      // 256  InstanceCustomIndexKHR
-  int32_t instanceId;               // 260  InstanceId
-  int32_t primitiveId;              // 264  PrimitiveId
-  int32_t geometryIndex;            // 268  RayGeometryIndexKHR
-  uint32_t hitKind;                 // 272  HitKindKHR
-  uint32_t status;                  // 276  written by the shader: kRayStatus*
-  uint64_t pad0;                    // 280
-  float objectToWorld[4][3];        // 288  ObjectToWorldKHR
-  float worldToObject[4][3];        // 336  WorldToObjectKHR
-  void* incoming;                   // 384  incoming payload or callable data
-  uint64_t incomingBytes;           // 392
-  const void* hitAttributes;        // 400  any-hit / closest-hit: the hit's attributes
-  uint64_t hitAttributeBytes;       // 408
-  uint8_t* shaderRecord;            // 416  ShaderRecordBufferKHR: the record's bytes after the handle
-  uint64_t shaderRecordBytes;       // 424
-  const RayRuntime* runtime;        // 432
+  InvocationContext base;       // 0
+  uint32_t launchId[4];         // 144  LaunchIdKHR
+  uint32_t launchSize[4];       // 160  LaunchSizeKHR
+  float worldRayOrigin[4];      // 176  WorldRayOriginKHR
+  float worldRayDirection[4];   // 192  WorldRayDirectionKHR
+  float objectRayOrigin[4];     // 208  ObjectRayOriginKHR
+  float objectRayDirection[4];  // 224  ObjectRayDirectionKHR
+  float rayTmin;                // 240  RayTminKHR
+  float rayTmax;                // 244  RayTmaxKHR, HitTNV
+  uint32_t incomingRayFlags;    // 248  IncomingRayFlagsKHR
+  uint32_t cullMask;            // 252  CullMaskKHR
+  int32_t instanceCustomIndex;  // 256  InstanceCustomIndexKHR
+  int32_t instanceId;           // 260  InstanceId
+  int32_t primitiveId;          // 264  PrimitiveId
+  int32_t geometryIndex;        // 268  RayGeometryIndexKHR
+  uint32_t hitKind;             // 272  HitKindKHR
+  uint32_t status;              // 276  written by the shader: kRayStatus*
+  uint64_t pad0;                // 280
+  float objectToWorld[4][3];    // 288  ObjectToWorldKHR
+  float worldToObject[4][3];    // 336  WorldToObjectKHR
+  void* incoming;               // 384  incoming payload or callable data
+  uint64_t incomingBytes;       // 392
+  const void* hitAttributes;    // 400  any-hit / closest-hit: the hit's attributes
+  uint64_t hitAttributeBytes;   // 408
+  uint8_t* shaderRecord;        // 416  ShaderRecordBufferKHR: the record's bytes after the handle
+  uint64_t shaderRecordBytes;   // 424
+  const RayRuntime* runtime;    // 432
 };
 
-static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 && offsetof(TraceRayArgs, payload) == 64,
+static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 &&
+                  offsetof(TraceRayArgs, payload) == 64,
               "the compiler bakes these offsets into shader code");
 static_assert(offsetof(RayInvocation, launchId) == 144 && offsetof(RayInvocation, rayTmin) == 240 &&
                   offsetof(RayInvocation, status) == 276 && offsetof(RayInvocation, objectToWorld) == 288 &&

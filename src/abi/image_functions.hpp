@@ -34,8 +34,8 @@ void vkrt_image_write(const vkrt::abi::DescriptorRecord* img, const int32_t coor
 // OpImageFetch: texel `coord` of mip `lod` (relative to the view's base level), view swizzle applied.
 void vkrt_image_fetch(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]);
 // OpImageSampleExplicitLod with a Lod operand: filtered with the sampler of `smp`, view swizzle applied.
-void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp, const float coord[4],
-                       float lod, uint32_t out[4]);
+void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                       const float coord[4], float lod, uint32_t out[4]);
 // OpImageQuerySize(Lod): the view's size at mip `lod` in view-type order (x, y, z or layers); zeros when null.
 void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
 // OpImageQueryLevels.

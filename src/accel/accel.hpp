@@ -74,10 +74,10 @@ class Blas;
 
 struct Instance {
   float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // object to world, rows (VkTransformMatrixKHR)
-  uint32_t customIndex = 0;  // 24 bits: gl_InstanceCustomIndexEXT
-  uint32_t mask = 0xFF;      // 8 bits: the instance is skipped by rays whose cull mask shares no bit with it
-  uint32_t sbtOffset = 0;    // 24 bits: instanceShaderBindingTableRecordOffset
-  uint32_t flags = 0;        // InstanceFlag
+  uint32_t customIndex = 0;                                            // 24 bits: gl_InstanceCustomIndexEXT
+  uint32_t mask = 0xFF;              // 8 bits: the instance is skipped by rays whose cull mask shares no bit with it
+  uint32_t sbtOffset = 0;            // 24 bits: instanceShaderBindingTableRecordOffset
+  uint32_t flags = 0;                // InstanceFlag
   std::shared_ptr<const Blas> blas;  // null: an inactive instance (reference 0), never hit
 };
 
@@ -85,7 +85,7 @@ struct Instance {
 struct BuildOptions {
   bool preferFastTrace = false;
   bool preferFastBuild = false;
-  bool allowUpdate = false;    // keeps what a later update() needs
+  bool allowUpdate = false;  // keeps what a later update() needs
   bool lowMemory = false;
 };
 
@@ -134,7 +134,7 @@ struct Ray {
   float tMin = 0;
   float direction[3] = {0, 0, 1};
   float tMax = 0;
-  uint32_t flags = 0;       // RayFlag (the pipeline's SKIP_TRIANGLES / SKIP_AABBS flags already or-ed in)
+  uint32_t flags = 0;  // RayFlag (the pipeline's SKIP_TRIANGLES / SKIP_AABBS flags already or-ed in)
   uint32_t cullMask = 0xFF;
 };
 
@@ -152,7 +152,7 @@ struct HitInfo {
   // The instance's transform (rows) and its inverse, kept by the Tlas (valid while it lives).
   const float (*objectToWorld)[4] = nullptr;
   const float (*worldToObject)[4] = nullptr;
-  float objectRayOrigin[3] = {};     // the ray in the instance's object space
+  float objectRayOrigin[3] = {};  // the ray in the instance's object space
   float objectRayDirection[3] = {};
 };
 
@@ -165,8 +165,8 @@ class ProceduralCandidate {
   virtual ~ProceduralCandidate() = default;
   virtual const HitInfo& info() const = 0;  // t and hitKind unset
   virtual float tMin() const = 0;
-  virtual float tMax() const = 0;      // the closest committed hit so far, or the ray's tMax
-  virtual bool opaque() const = 0;     // after geometry, instance and ray flags
+  virtual float tMax() const = 0;   // the closest committed hit so far, or the ray's tMax
+  virtual bool opaque() const = 0;  // after geometry, instance and ray flags
   // Commits a hit of this primitive at `t` with `hitKind` (the caller has run the any-hit shader, if any, and
   // checked tMin() <= t <= tMax()). `terminate`: the traversal stops after it (an any-hit shader's
   // terminateRayEXT, or kRayTerminateOnFirstHit).

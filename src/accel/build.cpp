@@ -22,7 +22,8 @@ namespace {
 thread_local std::string tlsError;
 
 void onEmbreeError(void*, RTCError code, const char* message) {
-  if (tlsError.empty()) tlsError = std::string("Embree error ") + std::to_string(int(code)) + ": " + (message ? message : "");
+  if (tlsError.empty())
+    tlsError = std::string("Embree error ") + std::to_string(int(code)) + ": " + (message ? message : "");
 }
 
 RTCBuildQuality qualityFor(const BuildOptions& o, bool noDuplicates) {
@@ -117,7 +118,8 @@ bool attachTriangles(RTCScene scene, const TriangleGeometry& t, unsigned id, RTC
   return true;
 }
 
-bool attachBoxes(RTCScene scene, const AabbGeometry& a, unsigned id, RTCBuildQuality quality, RTCIntersectFunctionN intersect) {
+bool attachBoxes(RTCScene scene, const AabbGeometry& a, unsigned id, RTCBuildQuality quality,
+                 RTCIntersectFunctionN intersect) {
   RTCGeometry geom = rtcNewGeometry(embreeDevice(), RTC_GEOMETRY_TYPE_USER);
   if (!geom) return false;
   rtcSetGeometryUserPrimitiveCount(geom, unsigned(a.boxes.size() / 6));
@@ -134,7 +136,8 @@ bool attachBoxes(RTCScene scene, const AabbGeometry& a, unsigned id, RTCBuildQua
 
 // The inverse of an affine 3x4 (rows); false when singular.
 bool invert(const float m[3][4], float out[3][4]) {
-  const double a = m[0][0], b = m[0][1], c = m[0][2], d = m[1][0], e = m[1][1], f = m[1][2], g = m[2][0], h = m[2][1], i = m[2][2];
+  const double a = m[0][0], b = m[0][1], c = m[0][2], d = m[1][0], e = m[1][1], f = m[1][2], g = m[2][0], h = m[2][1],
+               i = m[2][2];
   const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
   if (!(std::fabs(det) > 0) || !std::isfinite(det)) return false;
   const double r[3][3] = {{(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det},
@@ -287,7 +290,8 @@ std::shared_ptr<Tlas> Tlas::build(std::vector<Instance> instances, const BuildOp
     const bool forceOpaque = in.flags & kInstanceForceOpaque, forceNoOpaque = in.flags & kInstanceForceNoOpaque;
     t.anyTriangles |= d.blas->anyTriangles;
     t.anyAabbs |= d.blas->anyAabbs;
-    t.mayMeetNonOpaqueTriangles |= d.blas->anyTriangles && (forceNoOpaque || (!forceOpaque && d.blas->anyNonOpaqueTriangles));
+    t.mayMeetNonOpaqueTriangles |=
+        d.blas->anyTriangles && (forceNoOpaque || (!forceOpaque && d.blas->anyNonOpaqueTriangles));
     t.data.push_back(d);
   }
   rtcCommitScene(scene);

@@ -66,7 +66,7 @@ struct Tlas::Impl {
   std::vector<Instance> instances;  // the inputs, as given
   BuildOptions options;
   SceneRef scene;
-  std::vector<InstanceData> data;   // by Embree geometry id of the instance
+  std::vector<InstanceData> data;  // by Embree geometry id of the instance
   // Whether a ray without flags may meet a non-opaque triangle (so needs the filter), or boxes.
   bool mayMeetNonOpaqueTriangles = false;
   bool anyTriangles = false;

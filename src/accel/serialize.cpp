@@ -58,7 +58,8 @@ class Reader {
 };
 
 uint32_t optionBits(const BuildOptions& o) {
-  return (o.preferFastTrace ? 1u : 0) | (o.preferFastBuild ? 2u : 0) | (o.allowUpdate ? 4u : 0) | (o.lowMemory ? 8u : 0);
+  return (o.preferFastTrace ? 1u : 0) | (o.preferFastBuild ? 2u : 0) | (o.allowUpdate ? 4u : 0) |
+         (o.lowMemory ? 8u : 0);
 }
 BuildOptions optionsOf(uint32_t bits) {
   BuildOptions o;
@@ -85,7 +86,8 @@ bool readHeader(Reader& r, uint32_t kind, BuildOptions* o, uint32_t* count, std:
     return false;
   }
   if (!r.get(&version) || version != kVersion) {
-    *error = "vkrt acceleration structure data of format version " + std::to_string(version) + ", not " + std::to_string(kVersion);
+    *error = "vkrt acceleration structure data of format version " + std::to_string(version) + ", not " +
+             std::to_string(kVersion);
     return false;
   }
   if (!r.get(&k) || k != kind) {
@@ -187,8 +189,8 @@ std::shared_ptr<Blas> deserializeBlas(const uint8_t* data, size_t size, std::str
   return Blas::build(std::move(gs), options, error);
 }
 
-std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size, const std::vector<std::shared_ptr<const Blas>>& blasRefs,
-                                      std::string* error) {
+std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
+                                      const std::vector<std::shared_ptr<const Blas>>& blasRefs, std::string* error) {
   Reader r(data, size);
   BuildOptions options;
   uint32_t count = 0;
@@ -197,8 +199,8 @@ std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size, const st
   for (uint32_t i = 0; i < count; ++i) {
     Instance in;
     uint32_t ref = 0;
-    if (!r.get(&in.transform) || !r.get(&in.customIndex) || !r.get(&in.mask) || !r.get(&in.sbtOffset) || !r.get(&in.flags) ||
-        !r.get(&ref)) {
+    if (!r.get(&in.transform) || !r.get(&in.customIndex) || !r.get(&in.mask) || !r.get(&in.sbtOffset) ||
+        !r.get(&in.flags) || !r.get(&ref)) {
       *error = "instance " + std::to_string(i) + " is truncated";
       return nullptr;
     }

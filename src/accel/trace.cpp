@@ -68,7 +68,8 @@ uint32_t triangleHitKind(const InstanceData& inst, uint32_t geometry, uint32_t p
   return front ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
 }
 
-void describe(const TraceContext& ctx, const InstanceData& inst, uint32_t geometry, uint32_t primitive, float t, HitInfo* h) {
+void describe(const TraceContext& ctx, const InstanceData& inst, uint32_t geometry, uint32_t primitive, float t,
+              HitInfo* h) {
   h->t = t;
   h->instanceIndex = inst.index;
   h->customIndex = inst.customIndex;
@@ -219,7 +220,8 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   rh.ray.dir_z = ray.direction[2];
   rh.ray.time = 0;
   rh.ray.tfar = ray.tMax;
-  rh.ray.mask = (ray.cullMask & 0xFF) | ((f & kRaySkipTriangles) ? 0 : kMaskTriangles) | ((f & kRaySkipAabbs) ? 0 : kMaskAabbs);
+  rh.ray.mask =
+      (ray.cullMask & 0xFF) | ((f & kRaySkipTriangles) ? 0 : kMaskTriangles) | ((f & kRaySkipAabbs) ? 0 : kMaskAabbs);
   rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;

@@ -185,7 +185,8 @@ bool runCompute(const ComputeDispatch& d) {
       f.inv.workgroupMemory = wgMem;
       f.inv.sink = scratch.sink;
       f.inv.executor = &f;
-      uint32_t local[3] = {uint32_t(i % size[0]), uint32_t(i / size[0] % size[1]), uint32_t(i / (uint64_t(size[0]) * size[1]))};
+      uint32_t local[3] = {uint32_t(i % size[0]), uint32_t(i / size[0] % size[1]),
+                           uint32_t(i / (uint64_t(size[0]) * size[1]))};
       setIds(f.inv, wg, local, size);
       getcontext(&f.context);
       f.context.uc_stack.ss_sp = f.stack;

@@ -23,8 +23,8 @@ struct ComputeDispatch {
   ComputeKernel kernel;
   const abi::ResourceSlot* resources = nullptr;  // one per resource the shader uses, in the compiler's order
   const uint8_t* pushConstants = nullptr;        // abi::kPushConstantBytes bytes
-  uint32_t base[3] = {0, 0, 0};                    // vkCmdDispatchBase's first workgroup
-  uint32_t count[3] = {1, 1, 1};                   // workgroups
+  uint32_t base[3] = {0, 0, 0};                  // vkCmdDispatchBase's first workgroup
+  uint32_t count[3] = {1, 1, 1};                 // workgroups
 };
 
 // Runs the dispatch to completion. Returns false when fiber stacks could not be allocated (the workgroups that

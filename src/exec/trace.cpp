@@ -12,11 +12,11 @@ namespace vkrt::exec {
 
 namespace {
 
-constexpr uint64_t kHandleBytes = 32;         // shaderGroupHandleSize: the record's bytes before its shader data
+constexpr uint64_t kHandleBytes = 32;             // shaderGroupHandleSize: the record's bytes before its shader data
 constexpr uint64_t kMaxCachedRecords = 1u << 20;  // per region; records past it are resolved at each use
-constexpr uint32_t kTile = 8;                 // launch indices per tile side
-constexpr uint32_t kMaxAttributeBytes = 32;   // maxRayHitAttributeSize
-constexpr uint32_t kMaxChain = 64;            // shaders named in a stack report
+constexpr uint32_t kTile = 8;                     // launch indices per tile side
+constexpr uint32_t kMaxAttributeBytes = 32;       // maxRayHitAttributeSize
+constexpr uint32_t kMaxChain = 64;                // shaders named in a stack report
 
 // Per-region cache of resolved records: null = not resolved yet, kInvalid = reported, never run.
 const RayGroup kInvalidGroup{};
@@ -99,9 +99,9 @@ struct Invocation : abi::RayInvocation {
   LaunchState* state = nullptr;
   const Invocation* parent = nullptr;  // the invocation that called this one (for stack reports)
   const RayShader* shader = nullptr;
-  uint32_t depth = 0;                  // traceRayEXT nesting: raygen 0
-  uint64_t stackUsed = 0;              // the stack sizes of this shader and its callers
-  TraceFrame* frame = nullptr;         // intersection shaders: the traversal they serve
+  uint32_t depth = 0;           // traceRayEXT nesting: raygen 0
+  uint64_t stackUsed = 0;       // the stack sizes of this shader and its callers
+  TraceFrame* frame = nullptr;  // intersection shaders: the traversal they serve
   accel::ProceduralCandidate* candidate = nullptr;
 };
 
@@ -109,7 +109,8 @@ thread_local uint8_t tlsSink[abi::kSinkBytes];
 
 void traceRay(abi::RayInvocation* caller, const abi::TraceRayArgs* args);
 void executeCallable(abi::RayInvocation* caller, uint32_t index, void* data, uint64_t bytes);
-uint32_t reportIntersection(abi::RayInvocation* caller, float t, uint32_t hitKind, const void* attributes, uint64_t bytes);
+uint32_t reportIntersection(abi::RayInvocation* caller, float t, uint32_t hitKind, const void* attributes,
+                            uint64_t bytes);
 
 const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection};
 

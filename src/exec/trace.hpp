@@ -65,7 +65,8 @@ class LaunchResolver {
   // A traceRayEXT at `depth` beyond the pipeline's maximum recursion depth.
   virtual void recursionTooDeep(uint32_t depth, uint32_t maxDepth, const RayShader& caller) = 0;
   // A shader that would take the call chain's stack past the pipeline stack size.
-  virtual void stackExceeded(const RayShader* const* chain, uint32_t chainLength, uint64_t needed, uint64_t stackSize) = 0;
+  virtual void stackExceeded(const RayShader* const* chain, uint32_t chainLength, uint64_t needed,
+                             uint64_t stackSize) = 0;
 };
 
 struct RayLaunch {
@@ -73,9 +74,9 @@ struct RayLaunch {
   SbtRange raygen, miss, hit, callable;
   const RayGroup* raygenGroup = nullptr;  // resolved by the caller (the launch is skipped without one)
   uint32_t maxRecursionDepth = 1;
-  uint64_t stackSize = 0;                 // the pipeline stack size (default or dynamic)
-  uint32_t pipelineRayFlags = 0;          // accel::kRaySkipTriangles / kRaySkipAabbs from the pipeline flags
-  const uint8_t* pushConstants = nullptr; // abi::kPushConstantBytes bytes
+  uint64_t stackSize = 0;                  // the pipeline stack size (default or dynamic)
+  uint32_t pipelineRayFlags = 0;           // accel::kRaySkipTriangles / kRaySkipAabbs from the pipeline flags
+  const uint8_t* pushConstants = nullptr;  // abi::kPushConstantBytes bytes
   LaunchResolver* resolver = nullptr;
 };
 

@@ -59,14 +59,10 @@ uint32_t perturbSlot(const Digest& d, uint32_t attempt) {
 
 const char* typeName(VkRayTracingShaderGroupTypeKHR t) {
   switch (t) {
-    case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR:
-      return "GENERAL";
-    case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR:
-      return "TRIANGLES_HIT_GROUP";
-    case VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR:
-      return "PROCEDURAL_HIT_GROUP";
-    default:
-      return "unknown";
+    case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR: return "GENERAL";
+    case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR: return "TRIANGLES_HIT_GROUP";
+    case VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR: return "PROCEDURAL_HIT_GROUP";
+    default: return "unknown";
   }
 }
 
@@ -199,8 +195,8 @@ const GroupRecord* GroupRegistry::acquire(const GroupDesc& g, const Object* abou
         report(about, Severity::Info, nullptr,
                "shader group handles: content digest %016llx%016llx of a %s group collides with another group's; "
                "this group's handle digest is perturbed (attempt %u)",
-               (unsigned long long)rec->contentDigest.hi, (unsigned long long)rec->contentDigest.lo,
-               typeName(g.type), attempt);
+               (unsigned long long)rec->contentDigest.hi, (unsigned long long)rec->contentDigest.lo, typeName(g.type),
+               attempt);
         rec->digest = d;
         break;
       }
@@ -240,7 +236,8 @@ bool GroupRegistry::checkCapture(const GroupDesc& g, const Digest& contentDigest
     std::snprintf(buf, sizeof(buf), "corrupt capture data: checksum 0x%08x, the bytes give 0x%08x", get32(c + 60), sum);
     return fail(buf);
   }
-  if (get32(c + 28) != kHandleMagic || (get32(c + 24) >> 8) != kHandleVersion) return fail("corrupt capture data: the handle it carries is not a vkrt handle");
+  if (get32(c + 28) != kHandleMagic || (get32(c + 24) >> 8) != kHandleVersion)
+    return fail("corrupt capture data: the handle it carries is not a vkrt handle");
   if (get32(c + 56) != static_cast<uint32_t>(g.type)) {
     std::snprintf(buf, sizeof(buf), "captured from a %s group, given to a %s group",
                   typeName(VkRayTracingShaderGroupTypeKHR(get32(c + 56))), typeName(g.type));
@@ -251,8 +248,8 @@ bool GroupRegistry::checkCapture(const GroupDesc& g, const Digest& contentDigest
     std::snprintf(buf, sizeof(buf),
                   "captured from a group with other shaders (content digest %016llx%016llx; this group's is "
                   "%016llx%016llx): different SPIR-V, entry point, stage flags or specialization",
-                  (unsigned long long)captured.hi, (unsigned long long)captured.lo, (unsigned long long)contentDigest.hi,
-                  (unsigned long long)contentDigest.lo);
+                  (unsigned long long)captured.hi, (unsigned long long)captured.lo,
+                  (unsigned long long)contentDigest.hi, (unsigned long long)contentDigest.lo);
     return fail(buf);
   }
   return true;

@@ -37,7 +37,7 @@
 namespace vkrt {
 class Object;
 class Device;
-}
+}  // namespace vkrt
 
 namespace vkrt::rt {
 
@@ -60,7 +60,7 @@ Digest hash128(const void* data, size_t size, uint64_t seed = 0);
 
 // One shader of a group as the application gave it, already resolved to code.
 struct ShaderDesc {
-  uint64_t codeHash = 0;                      // ShaderModule::contentHash (or the chained create info's)
+  uint64_t codeHash = 0;                              // ShaderModule::contentHash (or the chained create info's)
   std::shared_ptr<const std::vector<uint32_t>> code;  // the SPIR-V, kept for trace time
   std::string entry;
   VkShaderStageFlagBits stage = VkShaderStageFlagBits(0);
@@ -119,7 +119,8 @@ class GroupRegistry {
   // The record of a group created with capture data. Returns nullptr and fills `error` when the data does
   // not belong to this group (bad magic or version, corrupt, other group type, other content) or its handle
   // is taken by another group.
-  const GroupRecord* replay(const GroupDesc& g, const uint8_t capture[kCaptureSize], ReplayError* error, uint64_t pipeline = 0);
+  const GroupRecord* replay(const GroupDesc& g, const uint8_t capture[kCaptureSize], ReplayError* error,
+                            uint64_t pipeline = 0);
 
   // Trace-time decode: the group a handle denotes, or nullptr for a handle this device never gave out.
   // O(1): three table lookups and a check-value comparison.

@@ -108,7 +108,8 @@ bool checkLibraries(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, 
   if (info.pLibraryInterface) {
     // VUID-VkRayTracingPipelineInterfaceCreateInfoKHR-maxPipelineRayHitAttributeSize-03605
     if (info.pLibraryInterface->maxPipelineRayHitAttributeSize > 32) {
-      report(dev, Severity::Error, "VUID-VkRayTracingPipelineInterfaceCreateInfoKHR-maxPipelineRayHitAttributeSize-03605",
+      report(dev, Severity::Error,
+             "VUID-VkRayTracingPipelineInterfaceCreateInfoKHR-maxPipelineRayHitAttributeSize-03605",
              "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pLibraryInterface->maxPipelineRayHitAttributeSize %u "
              "exceeds maxRayHitAttributeSize 32",
              i, info.pLibraryInterface->maxPipelineRayHitAttributeSize);
@@ -120,13 +121,15 @@ bool checkLibraries(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, 
     // VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03600
     if (info.stageCount == 0) {
       report(dev, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03600",
-             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has pLibraryInfo with libraryCount 0 and stageCount 0", i);
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has pLibraryInfo with libraryCount 0 and stageCount 0",
+             i);
       return false;
     }
     // VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03601
     if (info.groupCount == 0) {
       report(dev, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoKHR-pLibraryInfo-03601",
-             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has pLibraryInfo with libraryCount 0 and groupCount 0", i);
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has pLibraryInfo with libraryCount 0 and groupCount 0",
+             i);
       return false;
     }
     return true;

@@ -9,10 +9,10 @@
 #include <memory>
 #include <optional>
 
-#include "runtime/deferred_operation.hpp"
 #include "rt/library_link.hpp"
 #include "rt/stack_size.hpp"
 #include "runtime/alloc.hpp"
+#include "runtime/deferred_operation.hpp"
 #include "runtime/device.hpp"
 #include "runtime/pipeline_cache.hpp"
 #include "runtime/pipeline_layout.hpp"
@@ -98,8 +98,8 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
   // VUID-vkCreateRayTracingPipelinesKHR-flags-03816
   if (info.flags & VK_PIPELINE_CREATE_DISPATCH_BASE_BIT)
     return fail(nullptr, "VUID-vkCreateRayTracingPipelinesKHR-flags-03816",
-                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x contains VK_PIPELINE_CREATE_DISPATCH_BASE", i,
-                info.flags);
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags 0x%x contains VK_PIPELINE_CREATE_DISPATCH_BASE",
+                i, info.flags);
   // VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905
   if ((info.flags & (kFailOnCompile | kEarlyReturn)) && !dev->enabled(Feature::pipelineCreationCacheControl))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905",
@@ -119,14 +119,17 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-flags-06546",
                 "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].flags has both SKIP_TRIANGLES and SKIP_AABBS", i);
   // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596
-  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) && !dev->enabled(Feature::rayTraversalPrimitiveCulling))
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) &&
+      !dev->enabled(Feature::rayTraversalPrimitiveCulling))
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03596",
-                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_AABBS without rayTraversalPrimitiveCulling", i);
-  // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597
-  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) && !dev->enabled(Feature::rayTraversalPrimitiveCulling))
-    return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597",
-                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_TRIANGLES without rayTraversalPrimitiveCulling",
+                "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_AABBS without rayTraversalPrimitiveCulling",
                 i);
+  // VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597
+  if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) &&
+      !dev->enabled(Feature::rayTraversalPrimitiveCulling))
+    return fail(
+        nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-rayTraversalPrimitiveCulling-03597",
+        "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has SKIP_TRIANGLES without rayTraversalPrimitiveCulling", i);
   const bool captureFlag = info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR;
   // VUID-VkRayTracingPipelineCreateInfoKHR-flags-03598
   if (captureFlag && !dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplay))
@@ -207,14 +210,17 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
     const char* what = nullptr;
     switch (gr.type) {
       case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR:
-        if (!stageIs(info, gr.generalShader, VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
-                                                  VK_SHADER_STAGE_CALLABLE_BIT_KHR)) {
+        if (!stageIs(
+                info, gr.generalShader,
+                VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR)) {
           vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03474";
           what = "generalShader is not the index of a raygen, miss or callable stage";
         } else if (gr.closestHitShader != VK_SHADER_UNUSED_KHR || gr.anyHitShader != VK_SHADER_UNUSED_KHR ||
                    gr.intersectionShader != VK_SHADER_UNUSED_KHR) {
           vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03475";
-          what = "a GENERAL group has a closestHitShader, anyHitShader or intersectionShader that is not VK_SHADER_UNUSED_KHR";
+          what =
+              "a GENERAL group has a closestHitShader, anyHitShader or intersectionShader that is not "
+              "VK_SHADER_UNUSED_KHR";
         }
         break;
       case VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR:
@@ -261,7 +267,9 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
       } else if (captureFlag && !mixedOk && registryOf(dev).anyNonReplayed()) {
         // VUID-VkRayTracingShaderGroupCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplayMixed-03603
         vuid = "VUID-VkRayTracingShaderGroupCreateInfoKHR-rayTracingPipelineShaderGroupHandleCaptureReplayMixed-03603";
-        what = "capture data is given after groups without it were created, and rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not enabled";
+        what =
+            "capture data is given after groups without it were created, and "
+            "rayTracingPipelineShaderGroupHandleCaptureReplayMixed is not enabled";
       }
     }
     if (vuid)
@@ -272,7 +280,8 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
                   info.stageCount, what);
   }
   // VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652
-  job.feedback = findInChain<VkPipelineCreationFeedbackCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO);
+  job.feedback = findInChain<VkPipelineCreationFeedbackCreateInfo>(
+      info.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO);
   if (job.feedback && job.feedback->pipelineStageCreationFeedbackCount != 0 &&
       job.feedback->pipelineStageCreationFeedbackCount != info.stageCount)
     return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652",
@@ -288,10 +297,11 @@ bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32
       for (const GroupRecord* r : l->groups)
         raygen |= r->desc.shaders[kGeneral] && r->desc.shaders[kGeneral]->stage == VK_SHADER_STAGE_RAYGEN_BIT_KHR;
     if (!raygen)
-      return fail(nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425",
-                  "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] is not a library and has no raygen stage (%u stages, "
-                  "%zu libraries)",
-                  i, info.stageCount, job.libraries.size());
+      return fail(
+          nullptr, "VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425",
+          "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] is not a library and has no raygen stage (%u stages, "
+          "%zu libraries)",
+          i, info.stageCount, job.libraries.size());
   }
   return true;
 }
@@ -344,7 +354,8 @@ bool compileStage(Device* dev, Job& job, size_t s) {
   ShaderDesc& d = *job.stages[s];
   char what[96];
   std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]", job.index, s);
-  CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache, "vkCreateRayTracingPipelinesKHR", what);
+  CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache,
+                                       "vkCreateRayTracingPipelinesKHR", what);
   job.stageFeedback.push_back(c.feedback);
   d.compiled = c.shader;
   job.result = c.result;
@@ -402,7 +413,8 @@ void build(Device* dev, Job& job) {
       }
     }
   }
-  auto* p = createObject<RayTracingPipeline>(job.allocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, job.flags, job.layout);
+  auto* p =
+      createObject<RayTracingPipeline>(job.allocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, job.flags, job.layout);
   if (!p) {
     job.result = VK_ERROR_OUT_OF_HOST_MEMORY;
     return;
@@ -441,19 +453,23 @@ void build(Device* dev, Job& job) {
   p->ownGroupCount = static_cast<uint32_t>(p->groups.size());
   linkLibraries(job.libraries, p->groups);
   p->defaultStackSize = defaultPipelineStackSize(p->groups, job.depth);
-  for (size_t s = 0; s < job.stages.size(); ++s) storeInCache(job.cache, job.prepared[s].request, *job.stages[s]->compiled);
+  for (size_t s = 0; s < job.stages.size(); ++s)
+    storeInCache(job.cache, job.prepared[s].request, *job.stages[s]->compiled);
   if (job.feedback) {
     // The pipeline hit the application's cache when every stage did (a pipeline of libraries only has none).
     bool allHit = !job.stageFeedback.empty();
     for (const VkPipelineCreationFeedback& f : job.stageFeedback)
       allHit &= (f.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT) != 0;
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+    const auto ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
     if (job.feedback->pPipelineCreationFeedback)
       *job.feedback->pPipelineCreationFeedback = {
-          VkPipelineCreationFeedbackFlags(VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT |
-                                          (allHit ? VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT : 0)),
+          VkPipelineCreationFeedbackFlags(
+              VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT |
+              (allHit ? VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT : 0)),
           uint64_t(ns)};
-    for (uint32_t s = 0; s < job.feedback->pipelineStageCreationFeedbackCount && job.feedback->pPipelineStageCreationFeedbacks; ++s)
+    for (uint32_t s = 0;
+         s < job.feedback->pipelineStageCreationFeedbackCount && job.feedback->pPipelineStageCreationFeedbacks; ++s)
       job.feedback->pPipelineStageCreationFeedbacks[s] = job.stageFeedback[s];
   }
   job.pipeline = p;
@@ -464,8 +480,10 @@ VkResult finish(std::vector<Job>& jobs, VkPipeline* out) {
   VkResult firstError = VK_SUCCESS;
   bool compileRequired = false;
   for (Job& j : jobs) {
-    if (j.result == VK_PIPELINE_COMPILE_REQUIRED) compileRequired = true;
-    else if (j.result != VK_SUCCESS && firstError == VK_SUCCESS) firstError = j.result;
+    if (j.result == VK_PIPELINE_COMPILE_REQUIRED)
+      compileRequired = true;
+    else if (j.result != VK_SUCCESS && firstError == VK_SUCCESS)
+      firstError = j.result;
   }
   if (firstError != VK_SUCCESS) {
     // Any error other than COMPILE_REQUIRED: nothing is created.
@@ -495,11 +513,10 @@ using namespace vkrt::rt;
 
 extern "C" {
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
-                                                                 VkPipelineCache pipelineCache, uint32_t createInfoCount,
-                                                                 const VkRayTracingPipelineCreateInfoKHR* pCreateInfos,
-                                                                 const VkAllocationCallbacks* pAllocator,
-                                                                 VkPipeline* pPipelines) {
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(
+    VkDevice device, VkDeferredOperationKHR deferredOperation, VkPipelineCache pipelineCache, uint32_t createInfoCount,
+    const VkRayTracingPipelineCreateInfoKHR* pCreateInfos, const VkAllocationCallbacks* pAllocator,
+    VkPipeline* pPipelines) {
   Device* dev = fromHandleUnchecked<Device>(device);
   // VUID-vkCreateRayTracingPipelinesKHR-rayTracingPipeline-03586
   if (!dev->enabled(Feature::rayTracingPipeline)) {
@@ -527,7 +544,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(VkDevice device
       // VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03587
       if (pCreateInfos[i].flags & VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT) {
         report(op, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-deferredOperation-03587",
-               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has EARLY_RETURN_ON_FAILURE with a deferred operation", i);
+               "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u] has EARLY_RETURN_ON_FAILURE with a deferred operation",
+               i);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
     }

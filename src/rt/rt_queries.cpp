@@ -17,7 +17,8 @@ namespace {
 // The checks shared by both handle queries; `capture` selects the capture/replay variant's VUIDs.
 RayTracingPipeline* checkHandleQuery(Device* dev, VkPipeline pipeline, uint32_t firstGroup, uint32_t groupCount,
                                      size_t dataSize, bool capture) {
-  const char* cmd = capture ? "vkGetRayTracingCaptureReplayShaderGroupHandlesKHR" : "vkGetRayTracingShaderGroupHandlesKHR";
+  const char* cmd =
+      capture ? "vkGetRayTracingCaptureReplayShaderGroupHandlesKHR" : "vkGetRayTracingShaderGroupHandlesKHR";
   Pipeline* base = fromHandle<Pipeline>(pipeline);
   // VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-parameter / ...CaptureReplay...-pipeline-parameter
   if (!base) {
@@ -49,16 +50,18 @@ RayTracingPipeline* checkHandleQuery(Device* dev, VkPipeline pipeline, uint32_t 
     // VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03606
     if (!dev->enabled(Feature::rayTracingPipelineShaderGroupHandleCaptureReplay)) {
       report(p, Severity::Error,
-             "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-03606",
+             "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-rayTracingPipelineShaderGroupHandleCaptureReplay-"
+             "03606",
              "%s: the rayTracingPipelineShaderGroupHandleCaptureReplay feature is not enabled", cmd);
       return nullptr;
     }
     // VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-03607
     if (!(p->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR)) {
-      report(p, Severity::Error, "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-03607",
-             "%s: pipeline was created without VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR "
-             "(flags 0x%x)",
-             cmd, p->createFlags);
+      report(
+          p, Severity::Error, "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-03607",
+          "%s: pipeline was created without VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR "
+          "(flags 0x%x)",
+          cmd, p->createFlags);
       return nullptr;
     }
   }
@@ -126,10 +129,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetRayTracingShaderGroupHandlesKHR(VkDevice 
   return VK_SUCCESS;
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetRayTracingCaptureReplayShaderGroupHandlesKHR(VkDevice device, VkPipeline pipeline,
-                                                                                    uint32_t firstGroup,
-                                                                                    uint32_t groupCount,
-                                                                                    size_t dataSize, void* pData) {
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetRayTracingCaptureReplayShaderGroupHandlesKHR(
+    VkDevice device, VkPipeline pipeline, uint32_t firstGroup, uint32_t groupCount, size_t dataSize, void* pData) {
   Device* dev = fromHandleUnchecked<Device>(device);
   RayTracingPipeline* p = checkHandleQuery(dev, pipeline, firstGroup, groupCount, dataSize, true);
   if (!p) return VK_ERROR_VALIDATION_FAILED_EXT;

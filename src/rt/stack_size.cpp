@@ -7,26 +7,13 @@ namespace vkrt::rt {
 void StageStackMax::add(const ShaderDesc& s) {
   uint64_t v = s.stackSize();
   switch (s.stage) {
-    case VK_SHADER_STAGE_RAYGEN_BIT_KHR:
-      rayGen = std::max(rayGen, v);
-      break;
-    case VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR:
-      closestHit = std::max(closestHit, v);
-      break;
-    case VK_SHADER_STAGE_MISS_BIT_KHR:
-      miss = std::max(miss, v);
-      break;
-    case VK_SHADER_STAGE_INTERSECTION_BIT_KHR:
-      intersection = std::max(intersection, v);
-      break;
-    case VK_SHADER_STAGE_ANY_HIT_BIT_KHR:
-      anyHit = std::max(anyHit, v);
-      break;
-    case VK_SHADER_STAGE_CALLABLE_BIT_KHR:
-      callable = std::max(callable, v);
-      break;
-    default:
-      break;
+    case VK_SHADER_STAGE_RAYGEN_BIT_KHR: rayGen = std::max(rayGen, v); break;
+    case VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR: closestHit = std::max(closestHit, v); break;
+    case VK_SHADER_STAGE_MISS_BIT_KHR: miss = std::max(miss, v); break;
+    case VK_SHADER_STAGE_INTERSECTION_BIT_KHR: intersection = std::max(intersection, v); break;
+    case VK_SHADER_STAGE_ANY_HIT_BIT_KHR: anyHit = std::max(anyHit, v); break;
+    case VK_SHADER_STAGE_CALLABLE_BIT_KHR: callable = std::max(callable, v); break;
+    default: break;
   }
 }
 

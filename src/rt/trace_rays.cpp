@@ -47,7 +47,7 @@ struct SbtRegions {
 
 // The VUIDs of the region rules for one command (vkCmdTraceRaysKHR, ...IndirectKHR, VkTraceRaysIndirectCommand2KHR).
 struct RegionVuids {
-  const char* baseAlign[4];  // deviceAddress multiple of shaderGroupBaseAlignment
+  const char* baseAlign[4];    // deviceAddress multiple of shaderGroupBaseAlignment
   const char* strideAlign[4];  // stride multiple of shaderGroupHandleAlignment (miss, hit, callable)
   const char* strideMax[4];    // stride <= maxShaderGroupStride
   const char* memory[4];       // the region lies in device memory bound to a buffer
@@ -56,16 +56,16 @@ struct RegionVuids {
   const char* invocations;     // width * height * depth limit
 };
 
-#define VKRT_REGION_VUIDS(P)                                                                                           \
-  {{P "-pRayGenShaderBindingTable-03682", P "-pMissShaderBindingTable-03685", P "-pHitShaderBindingTable-03689",     \
-    P "-pCallableShaderBindingTable-03693"},                                                                         \
-   {nullptr, P "-stride-03686", P "-stride-03690", P "-stride-03694"},                                               \
-   {nullptr, P "-stride-04029", P "-stride-04035", P "-stride-04041"},                                               \
-   {P "-pRayGenShaderBindingTable-03680", P "-pMissShaderBindingTable-03683", P "-pHitShaderBindingTable-03687",     \
-    P "-pCallableShaderBindingTable-03691"},                                                                         \
-   P "-size-04023",                                                                                                  \
-   {P "-width-03638", P "-height-03639", P "-depth-03640"},                                                          \
-   P "-width-03641"}
+#define VKRT_REGION_VUIDS(P)                                                                                          \
+  {                                                                                                                   \
+    {P "-pRayGenShaderBindingTable-03682", P "-pMissShaderBindingTable-03685", P "-pHitShaderBindingTable-03689",     \
+     P "-pCallableShaderBindingTable-03693"},                                                                         \
+        {nullptr, P "-stride-03686", P "-stride-03690", P "-stride-03694"},                                           \
+        {nullptr, P "-stride-04029", P "-stride-04035", P "-stride-04041"},                                           \
+        {P "-pRayGenShaderBindingTable-03680", P "-pMissShaderBindingTable-03683", P "-pHitShaderBindingTable-03687", \
+         P "-pCallableShaderBindingTable-03691"},                                                                     \
+        P "-size-04023", {P "-width-03638", P "-height-03639", P "-depth-03640"}, P "-width-03641"                    \
+  }
 
 const RegionVuids kDirectVuids = VKRT_REGION_VUIDS("VUID-vkCmdTraceRaysKHR");
 const RegionVuids kIndirectVuids = VKRT_REGION_VUIDS("VUID-vkCmdTraceRaysIndirectKHR");
@@ -79,51 +79,60 @@ bool checkRegions(const Object* about, const char* fn, const SbtRegions& s, cons
     const VkStridedDeviceAddressRegionKHR& r = s.r[i];
     if (r.deviceAddress == 0 && i != 0) continue;  // an unused region (raygen is always used)
     if (r.deviceAddress % props.shaderGroupBaseAlignment) {
-      report(about, Severity::Error, v.baseAlign[i], "%s: the %s region's deviceAddress 0x%llx is not a multiple of shaderGroupBaseAlignment (%u)",
-             fn, kRegionNames[i], (ull)r.deviceAddress, props.shaderGroupBaseAlignment);
+      report(about, Severity::Error, v.baseAlign[i],
+             "%s: the %s region's deviceAddress 0x%llx is not a multiple of shaderGroupBaseAlignment (%u)", fn,
+             kRegionNames[i], (ull)r.deviceAddress, props.shaderGroupBaseAlignment);
       return false;
     }
     if (i != 0 && r.stride % props.shaderGroupHandleAlignment) {
-      report(about, Severity::Error, v.strideAlign[i], "%s: the %s region's stride %llu is not a multiple of shaderGroupHandleAlignment (%u)",
-             fn, kRegionNames[i], (ull)r.stride, props.shaderGroupHandleAlignment);
+      report(about, Severity::Error, v.strideAlign[i],
+             "%s: the %s region's stride %llu is not a multiple of shaderGroupHandleAlignment (%u)", fn,
+             kRegionNames[i], (ull)r.stride, props.shaderGroupHandleAlignment);
       return false;
     }
     if (i != 0 && r.stride > props.maxShaderGroupStride) {
-      report(about, Severity::Error, v.strideMax[i], "%s: the %s region's stride %llu exceeds maxShaderGroupStride (%u)", fn,
-             kRegionNames[i], (ull)r.stride, props.maxShaderGroupStride);
+      report(about, Severity::Error, v.strideMax[i],
+             "%s: the %s region's stride %llu exceeds maxShaderGroupStride (%u)", fn, kRegionNames[i], (ull)r.stride,
+             props.maxShaderGroupStride);
       return false;
     }
     if (i == 0 && r.size != r.stride) {
-      report(about, Severity::Error, v.raygenSize, "%s: the raygen region's size (%llu) is not equal to its stride (%llu)", fn,
-             (ull)r.size, (ull)r.stride);
+      report(about, Severity::Error, v.raygenSize,
+             "%s: the raygen region's size (%llu) is not equal to its stride (%llu)", fn, (ull)r.size, (ull)r.stride);
       return false;
     }
     // The executor reads the records: every byte of the region must be device memory (a wild address is
     // reported here instead of faulting on a worker thread).
     if (r.size && !arena::accessible(r.deviceAddress, r.size)) {
       report(about, Severity::Error, v.memory[i],
-             "%s: the %s region [0x%llx, 0x%llx) is not inside device memory bound to a buffer; the launch is skipped", fn,
-             kRegionNames[i], (ull)r.deviceAddress, (ull)(r.deviceAddress + r.size));
+             "%s: the %s region [0x%llx, 0x%llx) is not inside device memory bound to a buffer; the launch is skipped",
+             fn, kRegionNames[i], (ull)r.deviceAddress, (ull)(r.deviceAddress + r.size));
       return false;
     }
   }
   return true;
 }
 
-bool checkLaunchSize(const Object* about, const char* fn, const uint32_t size[3], const RegionVuids& v, const Device* dev) {
+bool checkLaunchSize(const Object* about, const char* fn, const uint32_t size[3], const RegionVuids& v,
+                     const Device* dev) {
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
   for (int k = 0; k < 3; ++k) {
     uint64_t max = uint64_t(l.maxComputeWorkGroupCount[k]) * l.maxComputeWorkGroupSize[k];
     if (size[k] > max) {
-      report(about, Severity::Error, v.size[k], "%s: %s (%u) exceeds maxComputeWorkGroupCount[%d] x maxComputeWorkGroupSize[%d] (%llu)",
-             fn, k == 0 ? "width" : k == 1 ? "height" : "depth", size[k], k, k, (ull)max);
+      report(about, Severity::Error, v.size[k],
+             "%s: %s (%u) exceeds maxComputeWorkGroupCount[%d] x maxComputeWorkGroupSize[%d] (%llu)", fn,
+             k == 0   ? "width"
+             : k == 1 ? "height"
+                      : "depth",
+             size[k], k, k, (ull)max);
       return false;
     }
   }
   uint64_t n = uint64_t(size[0]) * size[1] * size[2];
   if (n > rayTracingPipelineProperties().maxRayDispatchInvocationCount) {
-    report(about, Severity::Error, v.invocations, "%s: width x height x depth (%llu) exceeds maxRayDispatchInvocationCount (%u)", fn,
-           (ull)n, rayTracingPipelineProperties().maxRayDispatchInvocationCount);
+    report(about, Severity::Error, v.invocations,
+           "%s: width x height x depth (%llu) exceeds maxRayDispatchInvocationCount (%u)", fn, (ull)n,
+           rayTracingPipelineProperties().maxRayDispatchInvocationCount);
     return false;
   }
   return true;
@@ -171,8 +180,18 @@ class Launch final : public exec::LaunchResolver {
   void stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) override;
 
  private:
-  enum Rule { kUnknownHandle, kForeignHandle, kWrongKind, kNullShader, kOutside, kMismatch, kRecursion, kStack,
-              kNoStructure, kRuleCount };
+  enum Rule {
+    kUnknownHandle,
+    kForeignHandle,
+    kWrongKind,
+    kNullShader,
+    kOutside,
+    kMismatch,
+    kRecursion,
+    kStack,
+    kNoStructure,
+    kRuleCount
+  };
   // True the first time `rule` is reported in this launch.
   bool first(Rule rule) { return !reported_[rule].exchange(true); }
   void prepareGroups(const BindState& bs);
@@ -186,8 +205,8 @@ class Launch final : public exec::LaunchResolver {
   std::vector<exec::RayGroup> groups_;                      // by pipeline group index
   std::unordered_map<const GroupRecord*, uint32_t> index_;  // group record -> pipeline group index
   std::unordered_map<const spirv::CompiledShader*, BoundResources> resources_;
-  std::deque<std::string> names_;                           // RayShader::name storage
-  std::mutex mutex_;                                        // structures_
+  std::deque<std::string> names_;                               // RayShader::name storage
+  std::mutex mutex_;                                            // structures_
   std::vector<std::shared_ptr<const accel::Tlas>> structures_;  // kept alive while the launch runs
   std::atomic<bool> reported_[kRuleCount] = {};
 };
@@ -238,16 +257,18 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
   // The raygen record: one record, resolved before the launch (no raygen, no launch).
   if (sbt.r[0].size < kHandleSize) {
     report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-size-04023",
-           "%s: the raygen region (%llu bytes) cannot hold a shader group handle (%u bytes); the launch is skipped", fn_,
-           (ull)sbt.r[0].size, kHandleSize);
+           "%s: the raygen region (%llu bytes) cannot hold a shader group handle (%u bytes); the launch is skipped",
+           fn_, (ull)sbt.r[0].size, kHandleSize);
     return;
   }
   l.raygenGroup = group(exec::SbtRegion::Raygen, 0, l.raygen.base);
   if (!l.raygenGroup) return;
   l.maxRecursionDepth = pipeline_->maxRecursionDepth;
   l.stackSize = pipeline_->dynamicStackSize ? st.rayTracingStackSize : pipeline_->defaultStackSize;
-  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR) l.pipelineRayFlags |= accel::kRaySkipTriangles;
-  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR) l.pipelineRayFlags |= accel::kRaySkipAabbs;
+  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR)
+    l.pipelineRayFlags |= accel::kRaySkipTriangles;
+  if (pipeline_->createFlags & VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR)
+    l.pipelineRayFlags |= accel::kRaySkipAabbs;
   l.pushConstants = st.pushConstants;
   l.resolver = this;
   exec::runRays(l);
@@ -259,15 +280,17 @@ const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, 
   static const VkShaderStageFlagBits kGeneralStage[] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
                                                         VkShaderStageFlagBits(0), VK_SHADER_STAGE_CALLABLE_BIT_KHR};
   const int ri = int(region);
-  bool ok = region == exec::SbtRegion::Hit
-                ? group.type != exec::RayGroup::General
-                : group.type == exec::RayGroup::General && r.desc.shaders[kGeneral] && r.desc.shaders[kGeneral]->stage == kGeneralStage[ri];
+  bool ok = region == exec::SbtRegion::Hit ? group.type != exec::RayGroup::General
+                                           : group.type == exec::RayGroup::General && r.desc.shaders[kGeneral] &&
+                                                 r.desc.shaders[kGeneral]->stage == kGeneralStage[ri];
   if (!ok) {
     if (first(kWrongKind))
-      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
-             "%s: %s record %llu at 0x%llx holds the handle of pipeline group %u, a %s, which does not belong in the %s "
-             "region; it is not run",
-             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record), g, describe(r).c_str(), kRegionNames[ri]);
+      report(
+          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          "%s: %s record %llu at 0x%llx holds the handle of pipeline group %u, a %s, which does not belong in the %s "
+          "region; it is not run",
+          fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record), g, describe(r).c_str(),
+          kRegionNames[ri]);
     return nullptr;
   }
   // VUID-vkCmdTraceRaysKHR-flags-03512, -03513, -03514: no null any-hit / closest-hit / intersection shaders.
@@ -288,10 +311,13 @@ const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, 
     }
     if (vuid) {
       if (first(kNullShader))
-        report(cb_, Severity::Error, vuid, "%s: hit record %llu holds pipeline group %u, a %s without a %s shader, but the "
+        report(cb_, Severity::Error, vuid,
+               "%s: hit record %llu holds pipeline group %u, a %s without a %s shader, but the "
                "pipeline was created with NO_NULL_%s_SHADERS; it is not run",
                fn_, (ull)index, g, describe(r).c_str(), what,
-               what[0] == 'a' ? "ANY_HIT" : what[0] == 'c' ? "CLOSEST_HIT" : "INTERSECTION");
+               what[0] == 'a'   ? "ANY_HIT"
+               : what[0] == 'c' ? "CLOSEST_HIT"
+                                : "INTERSECTION");
       return nullptr;
     }
   }
@@ -315,9 +341,11 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
       vuid = "VUID-vkCmdTraceRaysKHR-flags-03512";
     if (!vuid) return &kEmpty;
     if (first(kNullShader))
-      report(cb_, Severity::Error, vuid, "%s: %s record %llu at 0x%llx holds a zero (null) handle, which the %s; it is not run", fn_,
-             kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record),
-             region == exec::SbtRegion::Raygen ? "raygen region may not hold" : "bound pipeline's NO_NULL_* flags forbid");
+      report(
+          cb_, Severity::Error, vuid,
+          "%s: %s record %llu at 0x%llx holds a zero (null) handle, which the %s; it is not run", fn_, kRegionNames[ri],
+          (ull)index, (ull) reinterpret_cast<uintptr_t>(record),
+          region == exec::SbtRegion::Raygen ? "raygen region may not hold" : "bound pipeline's NO_NULL_* flags forbid");
     return nullptr;
   }
   const GroupRecord* r = registryOf(dev_).decode(record);
@@ -325,11 +353,12 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
     if (first(kUnknownHandle)) {
       char bytes[2 * 8 + 1];
       for (int k = 0; k < 8; ++k) std::snprintf(bytes + 2 * k, 3, "%02x", record[k]);
-      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
-             "%s: %s record %llu at 0x%llx (region stride %s) does not hold a shader group handle of this device (first "
-             "bytes %s...): it was not written from vkGetRayTracingShaderGroupHandlesKHR, or is corrupt; it is not run",
-             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record),
-             region == exec::SbtRegion::Raygen ? "n/a" : "as given", bytes);
+      report(
+          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          "%s: %s record %llu at 0x%llx (region stride %s) does not hold a shader group handle of this device (first "
+          "bytes %s...): it was not written from vkGetRayTracingShaderGroupHandlesKHR, or is corrupt; it is not run",
+          fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record),
+          region == exec::SbtRegion::Raygen ? "n/a" : "as given", bytes);
     }
     return nullptr;
   }
@@ -338,10 +367,11 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
     if (first(kForeignHandle)) {
       uint64_t origin = r->firstPipeline;
       report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
-             "%s: %s record %llu at 0x%llx holds the handle of a %s created in pipeline 0x%llx, which is neither the bound "
+             "%s: %s record %llu at 0x%llx holds the handle of a %s created in pipeline 0x%llx, which is neither the "
+             "bound "
              "pipeline 0x%llx nor one of its libraries; it is not run",
-             fn_, kRegionNames[ri], (ull)index, (ull)reinterpret_cast<uintptr_t>(record), describe(*r).c_str(), (ull)origin,
-             (ull)pipeline_->handleValue());
+             fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record), describe(*r).c_str(),
+             (ull)origin, (ull)pipeline_->handleValue());
     }
     return nullptr;
   }
@@ -365,17 +395,19 @@ const accel::Tlas* Launch::topLevel(uint64_t address) {
 
 void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {
   if (!first(kOutside)) return;
-  report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
-         "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
-         "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
-         fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
+  report(
+      cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+      "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
+      "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
+      fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
 }
 
 void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) {
   if (!first(kMismatch)) return;
   const GroupRecord* r = static_cast<const GroupRecord*>(group.id);
   report(cb_, Severity::Error,
-         triangles ? "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735" : "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04736",
+         triangles ? "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735"
+                   : "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04736",
          "%s: hit record %llu, used for a hit on %s geometry, holds a %s; it is not run", fn_, (ull)index,
          triangles ? "triangle" : "AABB", r ? describe(*r).c_str() : "group of another kind");
 }
@@ -391,21 +423,25 @@ void Launch::recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::Ray
 void Launch::stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) {
   if (!first(kStack)) return;
   std::string text;
-  for (uint32_t i = 0; i < n; ++i) text += (i ? " -> " : "") + std::string(chain[i]->name) + " [" + std::to_string(chain[i]->stackSize) + "]";
+  for (uint32_t i = 0; i < n; ++i)
+    text += (i ? " -> " : "") + std::string(chain[i]->name) + " [" + std::to_string(chain[i]->stackSize) + "]";
   report(cb_, Severity::Error,
          pipeline_->dynamicStackSize ? "VUID-vkCmdSetRayTracingPipelineStackSizeKHR-pipelineStackSize-03610" : nullptr,
-         "%s: the call chain %s (depth %u) needs %llu bytes of stack, more than the pipeline stack size %llu (%s); the last "
+         "%s: the call chain %s (depth %u) needs %llu bytes of stack, more than the pipeline stack size %llu (%s); the "
+         "last "
          "shader is not run",
          fn_, text.c_str(), n, (ull)needed, (ull)stackSize,
          pipeline_->dynamicStackSize ? "set with vkCmdSetRayTracingPipelineStackSizeKHR" : "the pipeline's default");
 }
 
 // Executes a trace command with the state bound at execution.
-void execute(const CommandBuffer* cb, const ExecState& st, const SbtRegions& sbt, const uint32_t size[3], const char* fn) {
+void execute(const CommandBuffer* cb, const ExecState& st, const SbtRegions& sbt, const uint32_t size[3],
+             const char* fn) {
   RayTracingPipeline* p = asRayTracing(st.rayTracing.pipeline);
   // VUID-vkCmdTraceRaysKHR-None-02700
   if (!p) {
-    report(cb, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-02700", "%s: no ray tracing pipeline is bound; the launch is skipped", fn);
+    report(cb, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-02700",
+           "%s: no ray tracing pipeline is bound; the launch is skipped", fn);
     return;
   }
   if (size[0] == 0 || size[1] == 0 || size[2] == 0) return;
@@ -453,15 +489,17 @@ using namespace vkrt::rt;
 
 extern "C" {
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysKHR(VkCommandBuffer commandBuffer, const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysKHR(VkCommandBuffer commandBuffer,
+                                                const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
                                                 const VkStridedDeviceAddressRegionKHR* pMissShaderBindingTable,
                                                 const VkStridedDeviceAddressRegionKHR* pHitShaderBindingTable,
-                                                const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable, uint32_t width,
-                                                uint32_t height, uint32_t depth) {
+                                                const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable,
+                                                uint32_t width, uint32_t height, uint32_t depth) {
   const char* fn = "vkCmdTraceRaysKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable, pCallableShaderBindingTable);
+  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable,
+                             pCallableShaderBindingTable);
   const uint32_t size[3] = {width, height, depth};
   if (!checkRegions(cb, fn, sbt, kDirectVuids) || !checkLaunchSize(cb, fn, size, kDirectVuids, cb->device)) return;
   cb->record([cb, sbt, w = width, h = height, d = depth](ExecState& st) {
@@ -470,18 +508,19 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysKHR(VkCommandBuffer commandBuffer, c
   });
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(VkCommandBuffer commandBuffer,
-                                                        const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
-                                                        const VkStridedDeviceAddressRegionKHR* pMissShaderBindingTable,
-                                                        const VkStridedDeviceAddressRegionKHR* pHitShaderBindingTable,
-                                                        const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable,
-                                                        VkDeviceAddress indirectDeviceAddress) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(
+    VkCommandBuffer commandBuffer, const VkStridedDeviceAddressRegionKHR* pRaygenShaderBindingTable,
+    const VkStridedDeviceAddressRegionKHR* pMissShaderBindingTable,
+    const VkStridedDeviceAddressRegionKHR* pHitShaderBindingTable,
+    const VkStridedDeviceAddressRegionKHR* pCallableShaderBindingTable, VkDeviceAddress indirectDeviceAddress) {
   const char* fn = "vkCmdTraceRaysIndirectKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable, pCallableShaderBindingTable);
+  SbtRegions sbt = regionsOf(pRaygenShaderBindingTable, pMissShaderBindingTable, pHitShaderBindingTable,
+                             pCallableShaderBindingTable);
   // VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637
-  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirectKHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommandKHR),
+  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirectKHR", indirectDeviceAddress,
+                     sizeof(VkTraceRaysIndirectCommandKHR),
                      "VUID-vkCmdTraceRaysIndirectKHR-rayTracingPipelineTraceRaysIndirect-03637",
                      cb->device->enabled(Feature::rayTracingPipelineTraceRaysIndirect)) ||
       !checkRegions(cb, fn, sbt, kIndirectVuids))
@@ -490,7 +529,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(VkCommandBuffer commandB
     const char* fn = "vkCmdTraceRaysIndirectKHR";
     if (!arena::accessible(indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommandKHR))) {
       report(cb, Severity::Error, "VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03636",
-             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn, (ull)indirectDeviceAddress);
+             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn,
+             (ull)indirectDeviceAddress);
       return;
     }
     VkTraceRaysIndirectCommandKHR c;
@@ -509,11 +549,13 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirectKHR(VkCommandBuffer commandB
   });
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer commandBuffer, VkDeviceAddress indirectDeviceAddress) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer commandBuffer,
+                                                         VkDeviceAddress indirectDeviceAddress) {
   const char* fn = "vkCmdTraceRaysIndirect2KHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirect2KHR", indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommand2KHR),
+  if (!checkIndirect(cb, fn, "VUID-vkCmdTraceRaysIndirect2KHR", indirectDeviceAddress,
+                     sizeof(VkTraceRaysIndirectCommand2KHR),
                      "VUID-vkCmdTraceRaysIndirect2KHR-rayTracingPipelineTraceRaysIndirect2-03637",
                      cb->device->enabled(Feature::rayTracingPipelineTraceRaysIndirect2)))
     return;
@@ -521,7 +563,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer command
     const char* fn = "vkCmdTraceRaysIndirect2KHR";
     if (!arena::accessible(indirectDeviceAddress, sizeof(VkTraceRaysIndirectCommand2KHR))) {
       report(cb, Severity::Error, "VUID-vkCmdTraceRaysIndirect2KHR-indirectDeviceAddress-03636",
-             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn, (ull)indirectDeviceAddress);
+             "%s: the parameters at 0x%llx are no longer in device memory; the launch is skipped", fn,
+             (ull)indirectDeviceAddress);
       return;
     }
     VkTraceRaysIndirectCommand2KHR c;
@@ -530,7 +573,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer command
     sbt.r[0] = {c.raygenShaderRecordAddress, c.raygenShaderRecordSize, c.raygenShaderRecordSize};
     sbt.r[1] = {c.missShaderBindingTableAddress, c.missShaderBindingTableStride, c.missShaderBindingTableSize};
     sbt.r[2] = {c.hitShaderBindingTableAddress, c.hitShaderBindingTableStride, c.hitShaderBindingTableSize};
-    sbt.r[3] = {c.callableShaderBindingTableAddress, c.callableShaderBindingTableStride, c.callableShaderBindingTableSize};
+    sbt.r[3] = {c.callableShaderBindingTableAddress, c.callableShaderBindingTableStride,
+                c.callableShaderBindingTableSize};
     const uint32_t s[3] = {c.width, c.height, c.depth};
     if (!checkRegions(cb, fn, sbt, kIndirect2Vuids) || !checkLaunchSize(cb, fn, s, kIndirect2Vuids, cb->device)) return;
     execute(cb, st, sbt, s, fn);

@@ -17,7 +17,8 @@ namespace {
 using ull = unsigned long long;
 
 // Changes whenever accel's serialized format or the header vkrt writes before it changes.
-constexpr uint8_t kCompatibilityUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'a', 's', '-', 's', 'e', 'r', 0, 0, 0, 0, 1};
+constexpr uint8_t kCompatibilityUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'a', 's', '-',
+                                                      's', 'e', 'r', 0,   0,   0,   0,   1};
 
 void registerAt(Device* dev, uint64_t address, AccelerationStructure* as) {
   std::lock_guard lock(dev->accelerationStructuresMutex);
@@ -96,9 +97,9 @@ using namespace vkrt;
 
 extern "C" {
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice device, const VkAccelerationStructureCreateInfoKHR* pCreateInfo,
-                                                                   const VkAllocationCallbacks* pAllocator,
-                                                                   VkAccelerationStructureKHR* pAccelerationStructure) {
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(
+    VkDevice device, const VkAccelerationStructureCreateInfoKHR* pCreateInfo, const VkAllocationCallbacks* pAllocator,
+    VkAccelerationStructureKHR* pAccelerationStructure) {
   const char* fn = "vkCreateAccelerationStructureKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
   const VkAccelerationStructureCreateInfoKHR& ci = *pCreateInfo;
@@ -119,34 +120,37 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice devi
   }
   // VUID-VkAccelerationStructureCreateInfoKHR-offset-03734
   if (ci.offset % 256) {
-    report(buf, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-offset-03734", "%s: offset %llu is not a multiple of 256", fn,
-           (ull)ci.offset);
+    report(buf, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-offset-03734",
+           "%s: offset %llu is not a multiple of 256", fn, (ull)ci.offset);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkAccelerationStructureCreateInfoKHR-offset-03616
   if (ci.offset > buf->size || ci.size > buf->size - ci.offset) {
     report(buf, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-offset-03616",
-           "%s: offset %llu + size %llu exceeds the buffer's size %llu", fn, (ull)ci.offset, (ull)ci.size, (ull)buf->size);
+           "%s: offset %llu + size %llu exceeds the buffer's size %llu", fn, (ull)ci.offset, (ull)ci.size,
+           (ull)buf->size);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkAccelerationStructureCreateInfoKHR-type-parameter
   if (ci.type > VK_ACCELERATION_STRUCTURE_TYPE_GENERIC_KHR) {
-    report(dev, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-type-parameter", "%s: type %d is not a valid value", fn,
-           int(ci.type));
+    report(dev, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-type-parameter",
+           "%s: type %d is not a valid value", fn, int(ci.type));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   const bool replay = ci.createFlags & VK_ACCELERATION_STRUCTURE_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT_KHR;
   // VUID-VkAccelerationStructureCreateInfoKHR-deviceAddress-03612
   if (ci.deviceAddress && !replay) {
     report(dev, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-deviceAddress-03612",
-           "%s: deviceAddress 0x%llx is given without VK_ACCELERATION_STRUCTURE_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT_KHR", fn,
-           (ull)ci.deviceAddress);
+           "%s: deviceAddress 0x%llx is given without "
+           "VK_ACCELERATION_STRUCTURE_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT_KHR",
+           fn, (ull)ci.deviceAddress);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkAccelerationStructureCreateInfoKHR-createFlags-03613
   if (replay && !dev->enabled(Feature::accelerationStructureCaptureReplay)) {
     report(dev, Severity::Error, "VUID-VkAccelerationStructureCreateInfoKHR-createFlags-03613",
-           "%s: DEVICE_ADDRESS_CAPTURE_REPLAY is set but the accelerationStructureCaptureReplay feature is not enabled", fn);
+           "%s: DEVICE_ADDRESS_CAPTURE_REPLAY is set but the accelerationStructureCaptureReplay feature is not enabled",
+           fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   if (!buf->memory) {
@@ -160,7 +164,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice devi
   // replayed address must be exactly where the buffer range now is.
   if (ci.deviceAddress && ci.deviceAddress != address) {
     report(buf, Severity::Error, nullptr,
-           "%s: the captured deviceAddress 0x%llx cannot be reproduced: buffer + offset is 0x%llx (replay the buffer's memory at "
+           "%s: the captured deviceAddress 0x%llx cannot be reproduced: buffer + offset is 0x%llx (replay the buffer's "
+           "memory at "
            "its captured opaque address first)",
            fn, (ull)ci.deviceAddress, (ull)address);
     return VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
@@ -171,25 +176,28 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(VkDevice devi
   return VK_SUCCESS;
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_DestroyAccelerationStructureKHR(VkDevice device, VkAccelerationStructureKHR accelerationStructure,
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroyAccelerationStructureKHR(VkDevice device,
+                                                                VkAccelerationStructureKHR accelerationStructure,
                                                                 const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<AccelerationStructure>(device, accelerationStructure, pAllocator, "vkDestroyAccelerationStructureKHR",
+  destroyDeviceChild<AccelerationStructure>(device, accelerationStructure, pAllocator,
+                                            "vkDestroyAccelerationStructureKHR",
                                             "VUID-vkDestroyAccelerationStructureKHR-accelerationStructure-parameter");
 }
 
-VKAPI_ATTR VkDeviceAddress VKAPI_CALL vkrt_GetAccelerationStructureDeviceAddressKHR(VkDevice device,
-                                                                                    const VkAccelerationStructureDeviceAddressInfoKHR* pInfo) {
+VKAPI_ATTR VkDeviceAddress VKAPI_CALL vkrt_GetAccelerationStructureDeviceAddressKHR(
+    VkDevice device, const VkAccelerationStructureDeviceAddressInfoKHR* pInfo) {
   Device* dev = fromHandleUnchecked<Device>(device);
   // VUID-VkAccelerationStructureDeviceAddressInfoKHR-accelerationStructure-parameter
-  auto* as = liveOrReport<AccelerationStructure>(dev, pInfo->accelerationStructure, "vkGetAccelerationStructureDeviceAddressKHR",
-                                                 "VUID-VkAccelerationStructureDeviceAddressInfoKHR-accelerationStructure-parameter");
+  auto* as = liveOrReport<AccelerationStructure>(
+      dev, pInfo->accelerationStructure, "vkGetAccelerationStructureDeviceAddressKHR",
+      "VUID-VkAccelerationStructureDeviceAddressInfoKHR-accelerationStructure-parameter");
   return as ? as->address : 0;
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(VkDevice device, VkAccelerationStructureBuildTypeKHR buildType,
-                                                                      const VkAccelerationStructureBuildGeometryInfoKHR* pBuildInfo,
-                                                                      const uint32_t* pMaxPrimitiveCounts,
-                                                                      VkAccelerationStructureBuildSizesInfoKHR* pSizeInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(
+    VkDevice device, VkAccelerationStructureBuildTypeKHR buildType,
+    const VkAccelerationStructureBuildGeometryInfoKHR* pBuildInfo, const uint32_t* pMaxPrimitiveCounts,
+    VkAccelerationStructureBuildSizesInfoKHR* pSizeInfo) {
   Device* dev = fromHandleUnchecked<Device>(device);
   const char* fn = "vkGetAccelerationStructureBuildSizesKHR";
   pSizeInfo->accelerationStructureSize = 0;
@@ -213,9 +221,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(VkDevice d
   (void)buildType;
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceAccelerationStructureCompatibilityKHR(VkDevice device,
-                                                                               const VkAccelerationStructureVersionInfoKHR* pVersionInfo,
-                                                                               VkAccelerationStructureCompatibilityKHR* pCompatibility) {
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceAccelerationStructureCompatibilityKHR(
+    VkDevice device, const VkAccelerationStructureVersionInfoKHR* pVersionInfo,
+    VkAccelerationStructureCompatibilityKHR* pCompatibility) {
   uint8_t ours[2 * VK_UUID_SIZE];
   accelerationStructureVersion(fromHandleUnchecked<Device>(device), ours);
   *pCompatibility = std::memcmp(ours, pVersionInfo->pVersionData, sizeof ours) == 0

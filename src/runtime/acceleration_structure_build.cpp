@@ -30,7 +30,9 @@ using ull = unsigned long long;
 
 float halfToFloat(uint16_t h) {
   const uint32_t sign = h >> 15, exp = (h >> 10) & 31, man = h & 1023;
-  float v = exp == 0 ? std::ldexp(float(man), -24) : exp == 31 ? (man ? NAN : INFINITY) : std::ldexp(float(man | 1024), int(exp) - 25);
+  float v = exp == 0    ? std::ldexp(float(man), -24)
+            : exp == 31 ? (man ? NAN : INFINITY)
+                        : std::ldexp(float(man | 1024), int(exp) - 25);
   return sign ? -v : v;
 }
 
@@ -59,8 +61,8 @@ class Source {
     if (bytes == 0) return reinterpret_cast<const uint8_t*>(address);
     if (!address || (!host_ && !arena::accessible(address, bytes))) {
       e->vuid = host_ ? nullptr : "VUID-vkCmdBuildAccelerationStructuresKHR-geometry-03673";
-      e->message = format("pGeometries[%u]: the %s (%" PRIu64 " bytes at 0x%llx) is not in %s memory", geometry, what, bytes,
-                          (ull)address, host_ ? "host" : "device");
+      e->message = format("pGeometries[%u]: the %s (%" PRIu64 " bytes at 0x%llx) is not in %s memory", geometry, what,
+                          bytes, (ull)address, host_ ? "host" : "device");
       return nullptr;
     }
     return reinterpret_cast<const uint8_t*>(address);
@@ -80,7 +82,8 @@ uint32_t indexSize(VkIndexType t) {
 }
 
 bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrianglesDataKHR& t,
-                   const VkAccelerationStructureBuildRangeInfoKHR& r, uint32_t g, accel::TriangleGeometry* out, BuildError* e) {
+                   const VkAccelerationStructureBuildRangeInfoKHR& r, uint32_t g, accel::TriangleGeometry* out,
+                   BuildError* e) {
   const uint64_t n = r.primitiveCount, stride = t.vertexStride;
   const uint32_t isz = indexSize(t.indexType);
   // The vertices used, as absolute vertex numbers [lo, hi], and the geometry's indices relative to lo.
@@ -105,8 +108,9 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
     // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-maxVertex: indices address at most maxVertex.
     if (isz && hi > t.maxVertex) {
       e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03712";
-      e->message = format("pGeometries[%u]: a triangle addresses vertex %llu (firstVertex %u + index), beyond maxVertex %u", g,
-                          (ull)hi, r.firstVertex, t.maxVertex);
+      e->message =
+          format("pGeometries[%u]: a triangle addresses vertex %llu (firstVertex %u + index), beyond maxVertex %u", g,
+                 (ull)hi, r.firstVertex, t.maxVertex);
       return false;
     }
   }
@@ -117,7 +121,8 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
   float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
   const bool transformed = t.transformData.deviceAddress != 0;
   if (transformed) {
-    const uint8_t* tp = src.at(t.transformData.deviceAddress + r.transformOffset, sizeof(VkTransformMatrixKHR), "transform data", g, e);
+    const uint8_t* tp =
+        src.at(t.transformData.deviceAddress + r.transformOffset, sizeof(VkTransformMatrixKHR), "transform data", g, e);
     if (!tp) return false;
     std::memcpy(m, tp, sizeof m);
   }
@@ -137,10 +142,11 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
   return true;
 }
 
-bool readAabbs(const Source& src, const VkAccelerationStructureGeometryAabbsDataKHR& a, const VkAccelerationStructureBuildRangeInfoKHR& r,
-               uint32_t g, accel::AabbGeometry* out, BuildError* e) {
+bool readAabbs(const Source& src, const VkAccelerationStructureGeometryAabbsDataKHR& a,
+               const VkAccelerationStructureBuildRangeInfoKHR& r, uint32_t g, accel::AabbGeometry* out, BuildError* e) {
   const uint64_t n = r.primitiveCount;
-  const uint8_t* p = n ? src.at(a.data.deviceAddress + r.primitiveOffset, (n - 1) * a.stride + 24, "AABB data", g, e) : nullptr;
+  const uint8_t* p =
+      n ? src.at(a.data.deviceAddress + r.primitiveOffset, (n - 1) * a.stride + 24, "AABB data", g, e) : nullptr;
   if (n && !p) return false;
   out->boxes.resize(n * 6);
   for (uint64_t i = 0; i < n; ++i) std::memcpy(out->boxes.data() + i * 6, p + i * a.stride, 24);
@@ -164,9 +170,12 @@ std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool h
     }
   }
   if (!c || !c->blas) {
-    e->vuid = host ? "VUID-vkBuildAccelerationStructuresKHR-pInfos-03779" : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-06707";
-    e->message = format("instance %u refers to %s 0x%llx, which is %s", instance, host ? "acceleration structure" : "address", (ull)ref,
-                        !as ? (host ? "not a live acceleration structure (destroyed?)" : "not the address of a live acceleration structure (destroyed?)")
+    e->vuid = host ? "VUID-vkBuildAccelerationStructuresKHR-pInfos-03779"
+                   : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-06707";
+    e->message = format("instance %u refers to %s 0x%llx, which is %s", instance,
+                        host ? "acceleration structure" : "address", (ull)ref,
+                        !as  ? (host ? "not a live acceleration structure (destroyed?)"
+                                     : "not the address of a live acceleration structure (destroyed?)")
                         : !c ? "an acceleration structure that was never built"
                              : "a top-level acceleration structure (instances refer to bottom-level ones)");
     return nullptr;
@@ -231,28 +240,37 @@ bool checkUpdate(const BuildJob& job, const AccelerationStructure::Content& prev
   }
   if (job.geometries.size() != prev.shape.size()) {
     e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03758";
-    e->message = format("geometryCount %zu differs from the source's last build (%zu)", job.geometries.size(), prev.shape.size());
+    e->message = format("geometryCount %zu differs from the source's last build (%zu)", job.geometries.size(),
+                        prev.shape.size());
     return false;
   }
   for (size_t g = 0; g < job.geometries.size(); ++g) {
     const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
     const AccelerationStructure::Content::GeometryShape& s = prev.shape[g];
     const char* vuid = nullptr;
-    if (geo.geometryType != s.type) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03761";
-    else if (geo.flags != s.flags) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03762";
-    else if (job.ranges[g].primitiveCount != s.primitiveCount) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-primitiveCount-03769";
+    if (geo.geometryType != s.type)
+      vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03761";
+    else if (geo.flags != s.flags)
+      vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03762";
+    else if (job.ranges[g].primitiveCount != s.primitiveCount)
+      vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-primitiveCount-03769";
     else if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
       const auto& t = geo.geometry.triangles;
-      if (t.vertexFormat != s.vertexFormat) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03763";
-      else if (t.indexType != s.indexType) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03765";
-      else if ((t.transformData.deviceAddress != 0) != s.hasTransform) vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03767";
+      if (t.vertexFormat != s.vertexFormat)
+        vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03763";
+      else if (t.indexType != s.indexType)
+        vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03765";
+      else if ((t.transformData.deviceAddress != 0) != s.hasTransform)
+        vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03767";
       else if (t.indexType != VK_INDEX_TYPE_NONE_KHR && job.ranges[g].firstVertex != s.firstVertex)
         vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-firstVertex-03770";
     }
     if (vuid) {
       e->vuid = vuid;
-      e->message = format("pGeometries[%zu] differs from the source's last build (type, flags, primitive count, vertex format, "
-                          "index type, transform or firstVertex)", g);
+      e->message = format(
+          "pGeometries[%zu] differs from the source's last build (type, flags, primitive count, vertex format, "
+          "index type, transform or firstVertex)",
+          g);
       return false;
     }
   }
@@ -275,10 +293,8 @@ bool accelerationStructureVertexFormat(VkFormat f) {
     case VK_FORMAT_R8G8_SNORM:
     case VK_FORMAT_R8G8B8A8_SNORM:
     case VK_FORMAT_R8G8_UNORM:
-    case VK_FORMAT_R8G8B8A8_UNORM:
-      return true;
-    default:
-      return false;
+    case VK_FORMAT_R8G8B8A8_UNORM: return true;
+    default: return false;
   }
 }
 
@@ -336,11 +352,13 @@ bool makeJob(const Object* about, const char* fn, uint32_t i, const VkAccelerati
   }
   if (info.mode == VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) {
     job->src = fromHandle<AccelerationStructure>(info.srcAccelerationStructure);
-    // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630, VUID-vkCmdBuildAccelerationStructuresKHR-srcAccelerationStructure-04629
+    // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630,
+    // VUID-vkCmdBuildAccelerationStructuresKHR-srcAccelerationStructure-04629
     if (!job->src) {
-      report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630",
-             "%s: pInfos[%u] is an update, but srcAccelerationStructure 0x%llx is not a live VkAccelerationStructureKHR", fn, i,
-             (ull)rawHandle(info.srcAccelerationStructure));
+      report(
+          about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-04630",
+          "%s: pInfos[%u] is an update, but srcAccelerationStructure 0x%llx is not a live VkAccelerationStructureKHR",
+          fn, i, (ull)rawHandle(info.srcAccelerationStructure));
       return false;
     }
   }
@@ -360,15 +378,20 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
     return false;
   };
   // VUID-vkCmdBuildAccelerationStructuresKHR-mode-04628
-  if (job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR && job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR)
-    return fail("VUID-vkCmdBuildAccelerationStructuresKHR-mode-04628", format("mode %d is not a valid value", int(job.mode)));
+  if (job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR &&
+      job.mode != VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR)
+    return fail("VUID-vkCmdBuildAccelerationStructuresKHR-mode-04628",
+                format("mode %d is not a valid value", int(job.mode)));
   // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03654
-  if (job.type != VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR && job.type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR)
-    return fail("VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03654", "type must be TOP_LEVEL or BOTTOM_LEVEL");
+  if (job.type != VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR &&
+      job.type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR)
+    return fail("VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03654",
+                "type must be TOP_LEVEL or BOTTOM_LEVEL");
   // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03699, VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03700
   if (job.dst->type != VK_ACCELERATION_STRUCTURE_TYPE_GENERIC_KHR && job.dst->type != job.type)
-    return fail(job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03699"
-                                                                         : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03700",
+    return fail(job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR
+                    ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03699"
+                    : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03700",
                 "dstAccelerationStructure was created with another type than the build's");
   const bool top = job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
   // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03790
@@ -380,34 +403,42 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
     const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
     // VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03789, -03791
     if (top != (geo.geometryType == VK_GEOMETRY_TYPE_INSTANCES_KHR))
-      return fail(top ? "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03789" : "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03791",
-                  format("pGeometries[%zu] has geometryType %d, which a %s-level build does not take", g, int(geo.geometryType), top ? "top" : "bottom"));
+      return fail(top ? "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03789"
+                      : "VUID-VkAccelerationStructureBuildGeometryInfoKHR-type-03791",
+                  format("pGeometries[%zu] has geometryType %d, which a %s-level build does not take", g,
+                         int(geo.geometryType), top ? "top" : "bottom"));
     if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
       const auto& t = geo.geometry.triangles;
       // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexFormat-03797
       if (!accelerationStructureVertexFormat(t.vertexFormat))
         return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexFormat-03797",
-                    format("pGeometries[%zu].geometry.triangles.vertexFormat %d has no VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR", g,
-                           int(t.vertexFormat)));
+                    format("pGeometries[%zu].geometry.triangles.vertexFormat %d has no "
+                           "VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR",
+                           g, int(t.vertexFormat)));
       // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-indexType-03798
-      if (t.indexType != VK_INDEX_TYPE_NONE_KHR && t.indexType != VK_INDEX_TYPE_UINT16 && t.indexType != VK_INDEX_TYPE_UINT32)
+      if (t.indexType != VK_INDEX_TYPE_NONE_KHR && t.indexType != VK_INDEX_TYPE_UINT16 &&
+          t.indexType != VK_INDEX_TYPE_UINT32)
         return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-indexType-03798",
-                    format("pGeometries[%zu].geometry.triangles.indexType %d is not UINT16, UINT32 or NONE_KHR", g, int(t.indexType)));
+                    format("pGeometries[%zu].geometry.triangles.indexType %d is not UINT16, UINT32 or NONE_KHR", g,
+                           int(t.indexType)));
       // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735
       if (t.vertexStride % (t.vertexFormat == VK_FORMAT_R8G8_SNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_SNORM ||
                                     t.vertexFormat == VK_FORMAT_R8G8_UNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_UNORM
                                 ? 1
-                            : t.vertexFormat == VK_FORMAT_R32G32_SFLOAT || t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT ||
+                            : t.vertexFormat == VK_FORMAT_R32G32_SFLOAT ||
+                                    t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT ||
                                     t.vertexFormat == VK_FORMAT_R32G32B32A32_SFLOAT
                                 ? 4
                                 : 2))
         return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735",
-                    format("pGeometries[%zu].geometry.triangles.vertexStride %llu is not a multiple of the vertex format's component size", g,
-                           (ull)t.vertexStride));
+                    format("pGeometries[%zu].geometry.triangles.vertexStride %llu is not a multiple of the vertex "
+                           "format's component size",
+                           g, (ull)t.vertexStride));
       // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03810
       if (t.transformData.deviceAddress % 16)
         return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03810",
-                    format("pGeometries[%zu].geometry.triangles.transformData 0x%llx is not aligned to 16 bytes", g, (ull)t.transformData.deviceAddress));
+                    format("pGeometries[%zu].geometry.triangles.transformData 0x%llx is not aligned to 16 bytes", g,
+                           (ull)t.transformData.deviceAddress));
     } else if (geo.geometryType == VK_GEOMETRY_TYPE_AABBS_KHR) {
       const auto& a = geo.geometry.aabbs;
       // VUID-VkAccelerationStructureGeometryAabbsDataKHR-stride-03545
@@ -417,13 +448,16 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
       // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03714
       if (a.data.deviceAddress % 8)
         return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03714",
-                    format("pGeometries[%zu].geometry.aabbs.data 0x%llx is not aligned to 8 bytes", g, (ull)a.data.deviceAddress));
+                    format("pGeometries[%zu].geometry.aabbs.data 0x%llx is not aligned to 8 bytes", g,
+                           (ull)a.data.deviceAddress));
     } else if (geo.geometryType == VK_GEOMETRY_TYPE_INSTANCES_KHR) {
       const auto& d = geo.geometry.instances;
       // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03715, VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03716
       if (d.data.deviceAddress % (d.arrayOfPointers ? 8 : 16))
-        return fail(d.arrayOfPointers ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03716" : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03715",
-                    format("geometry.instances.data 0x%llx is not aligned to %d bytes", (ull)d.data.deviceAddress, d.arrayOfPointers ? 8 : 16));
+        return fail(d.arrayOfPointers ? "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03716"
+                                      : "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03715",
+                    format("geometry.instances.data 0x%llx is not aligned to %d bytes", (ull)d.data.deviceAddress,
+                           d.arrayOfPointers ? 8 : 16));
     } else {
       return fail("VUID-VkAccelerationStructureGeometryKHR-geometryType-parameter",
                   format("pGeometries[%zu].geometryType %d is not a valid value", g, int(geo.geometryType)));
@@ -439,8 +473,10 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
   // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03675
   if (!job.ranges.empty() && job.dst->size < requiredSize(primitives))
     return fail("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03675",
-                format("dstAccelerationStructure has %llu bytes, less than the %llu vkGetAccelerationStructureBuildSizesKHR reports for %llu "
-                       "primitives", (ull)job.dst->size, (ull)requiredSize(primitives), (ull)primitives));
+                format("dstAccelerationStructure has %llu bytes, less than the %llu "
+                       "vkGetAccelerationStructureBuildSizesKHR reports for %llu "
+                       "primitives",
+                       (ull)job.dst->size, (ull)requiredSize(primitives), (ull)primitives));
   (void)dev;
   return true;
 }
@@ -463,7 +499,8 @@ bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
   std::string error;
   if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
     std::vector<accel::Instance> instances;
-    if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances, &content->blasAddresses, e))
+    if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances,
+                       &content->blasAddresses, e))
       return false;
     content->instanceCount = uint32_t(instances.size());
     content->tlas = prev && prev->tlas ? prev->tlas->update(std::move(instances), &error)
@@ -473,8 +510,9 @@ bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
     for (uint32_t g = 0; g < job.geometries.size(); ++g) {
       const VkAccelerationStructureGeometryKHR& geo = job.geometries[g];
       const VkAccelerationStructureBuildRangeInfoKHR& r = job.ranges[g];
-      AccelerationStructure::Content::GeometryShape shape{geo.geometryType, geo.flags, r.primitiveCount, r.firstVertex,
-                                                          VK_INDEX_TYPE_NONE_KHR, VK_FORMAT_UNDEFINED, false};
+      AccelerationStructure::Content::GeometryShape shape{
+          geo.geometryType,    geo.flags, r.primitiveCount, r.firstVertex, VK_INDEX_TYPE_NONE_KHR,
+          VK_FORMAT_UNDEFINED, false};
       if (geo.geometryType == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
         geometries[g].kind = accel::Geometry::Triangles;
         geometries[g].triangles.flags = geo.flags;

@@ -1,6 +1,6 @@
-// Acceleration structure builds (vkCmdBuildAccelerationStructuresKHR, ...IndirectKHR, vkBuildAccelerationStructuresKHR):
-// what a build info is copied into when the command is recorded, and the conversion of the application's
-// geometry (read from device or host memory when the build runs) into accel's inputs.
+// Acceleration structure builds (vkCmdBuildAccelerationStructuresKHR, ...IndirectKHR,
+// vkBuildAccelerationStructuresKHR): what a build info is copied into when the command is recorded, and the conversion
+// of the application's geometry (read from device or host memory when the build runs) into accel's inputs.
 #pragma once
 
 #include <string>
@@ -18,10 +18,10 @@ struct BuildJob {
   VkBuildAccelerationStructureModeKHR mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
   AccelerationStructure* dst = nullptr;
   AccelerationStructure* src = nullptr;
-  std::vector<VkAccelerationStructureGeometryKHR> geometries;  // pNext cleared
+  std::vector<VkAccelerationStructureGeometryKHR> geometries;    // pNext cleared
   std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;  // one per geometry (indirect builds: read later)
-  bool host = false;  // addresses are host pointers; instance references are VkAccelerationStructureKHR handles
-  uint32_t index = 0; // in pInfos, for reports
+  bool host = false;   // addresses are host pointers; instance references are VkAccelerationStructureKHR handles
+  uint32_t index = 0;  // in pInfos, for reports
 };
 
 // A rule a build broke, found when its inputs were read.

@@ -64,11 +64,13 @@ std::vector<uint8_t> serializeContent(const Device* dev, const AccelerationStruc
   return out;
 }
 
-uint64_t serializedSize(const Device* dev, const AccelerationStructure::Content& c) { return serializeContent(dev, c).size(); }
+uint64_t serializedSize(const Device* dev, const AccelerationStructure::Content& c) {
+  return serializeContent(dev, c).size();
+}
 
 // Reads serialized data at `src` (device memory unless `host`). Returns the content, or null with `error` set.
-std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, uint64_t src, bool host, std::string* error,
-                                                                   const char** vuid) {
+std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, uint64_t src, bool host,
+                                                                   std::string* error, const char** vuid) {
   *vuid = "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-src-04960";
   if (!host && !arena::accessible(src, kHeaderBytes)) {
     *error = "the serialized header is not in device memory";
@@ -79,7 +81,9 @@ std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, 
   accelerationStructureVersion(dev, ours);
   if (std::memcmp(p, ours, sizeof ours) != 0) {
     *vuid = "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-pInfo-03414";
-    *error = "the data's driver or compatibility UUID is not vkrt's (vkGetDeviceAccelerationStructureCompatibilityKHR says incompatible)";
+    *error =
+        "the data's driver or compatibility UUID is not vkrt's (vkGetDeviceAccelerationStructureCompatibilityKHR says "
+        "incompatible)";
     return nullptr;
   }
   uint64_t sizes[3];
@@ -131,8 +135,8 @@ std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, 
 
 // ----------------------------------------------------------------------------------------------------- queries
 
-bool queryValue(const Device* dev, const AccelerationStructure& as, VkQueryType type, uint64_t* value, const char** vuid,
-                std::string* why) {
+bool queryValue(const Device* dev, const AccelerationStructure& as, VkQueryType type, uint64_t* value,
+                const char** vuid, std::string* why) {
   auto c = as.content();
   if (!c) {
     *vuid = "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-pAccelerationStructures-04964";
@@ -150,9 +154,7 @@ bool queryValue(const Device* dev, const AccelerationStructure& as, VkQueryType 
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SIZE_KHR:
       *value = requiredSize(c->tlas ? c->tlas->instances().size() : c->blas->primitiveCount());
       return true;
-    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR:
-      *value = serializedSize(dev, *c);
-      return true;
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR: *value = serializedSize(dev, *c); return true;
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_BOTTOM_LEVEL_POINTERS_KHR: {
       std::set<const accel::Blas*> distinct;
       if (c->tlas)
@@ -175,15 +177,16 @@ bool checkScratch(const Object* about, const char* fn, uint32_t i, VkDeviceAddre
   // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03710
   if (scratch % align) {
     report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03710",
-           "%s: pInfos[%u].scratchData.deviceAddress 0x%llx is not a multiple of minAccelerationStructureScratchOffsetAlignment (%u)", fn, i,
-           (ull)scratch, align);
+           "%s: pInfos[%u].scratchData.deviceAddress 0x%llx is not a multiple of "
+           "minAccelerationStructureScratchOffsetAlignment (%u)",
+           fn, i, (ull)scratch, align);
     return false;
   }
   // VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03671 (vkrt uses none of it, but it must be there)
   if (!arena::accessible(scratch, kScratchSize)) {
     report(about, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03671",
-           "%s: pInfos[%u].scratchData.deviceAddress 0x%llx is not %llu bytes of device memory (buildScratchSize)", fn, i, (ull)scratch,
-           (ull)kScratchSize);
+           "%s: pInfos[%u].scratchData.deviceAddress 0x%llx is not %llu bytes of device memory (buildScratchSize)", fn,
+           i, (ull)scratch, (ull)kScratchSize);
     return false;
   }
   return true;
@@ -219,7 +222,8 @@ bool runAndReport(const Object* about, const char* fn, const BuildJob& job) {
 }
 
 // Host commands: runs `tasks` now, or defers them to `op`'s joining threads. Returns the command's result.
-VkResult runHost(Device* dev, VkDeferredOperationKHR deferred, const char* fn, std::vector<std::function<bool()>> tasks) {
+VkResult runHost(Device* dev, VkDeferredOperationKHR deferred, const char* fn,
+                 std::vector<std::function<bool()>> tasks) {
   if (!deferred) {
     bool ok = true;
     for (auto& t : tasks) ok &= t();
@@ -233,7 +237,8 @@ VkResult runHost(Device* dev, VkDeferredOperationKHR deferred, const char* fn, s
       if (!t()) failed->store(true);
     });
   // VUID-vkBuildAccelerationStructuresKHR-deferredOperation-03678
-  if (!op->start(std::move(wrapped), [failed] { return failed->load() ? VK_ERROR_VALIDATION_FAILED_EXT : VK_SUCCESS; })) {
+  if (!op->start(std::move(wrapped),
+                 [failed] { return failed->load() ? VK_ERROR_VALIDATION_FAILED_EXT : VK_SUCCESS; })) {
     report(op, Severity::Error, "VUID-vkBuildAccelerationStructuresKHR-deferredOperation-03678",
            "%s: the deferred operation is still running a previous command", fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -263,30 +268,38 @@ bool checkHostFeature(Device* dev, const char* fn, const char* vuid) {
 // vkCmdCopyAccelerationStructureKHR / vkCopyAccelerationStructureKHR checks; returns src and dst.
 bool checkCopy(Device* dev, const char* fn, const VkCopyAccelerationStructureInfoKHR& info, AccelerationStructure** src,
                AccelerationStructure** dst) {
-  *src = liveOrReport<AccelerationStructure>(dev, info.src, fn, "VUID-VkCopyAccelerationStructureInfoKHR-src-parameter");
-  *dst = liveOrReport<AccelerationStructure>(dev, info.dst, fn, "VUID-VkCopyAccelerationStructureInfoKHR-dst-parameter");
+  *src =
+      liveOrReport<AccelerationStructure>(dev, info.src, fn, "VUID-VkCopyAccelerationStructureInfoKHR-src-parameter");
+  *dst =
+      liveOrReport<AccelerationStructure>(dev, info.dst, fn, "VUID-VkCopyAccelerationStructureInfoKHR-dst-parameter");
   if (!*src || !*dst) return false;
   // VUID-VkCopyAccelerationStructureInfoKHR-mode-03410
-  if (info.mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_CLONE_KHR && info.mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR) {
-    report(dev, Severity::Error, "VUID-VkCopyAccelerationStructureInfoKHR-mode-03410", "%s: mode %d is neither CLONE nor COMPACT", fn,
-           int(info.mode));
+  if (info.mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_CLONE_KHR &&
+      info.mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR) {
+    report(dev, Severity::Error, "VUID-VkCopyAccelerationStructureInfoKHR-mode-03410",
+           "%s: mode %d is neither CLONE nor COMPACT", fn, int(info.mode));
     return false;
   }
   return true;
 }
 
 // Executes a copy: the destination shares the source's (immutable) content.
-bool runCopy(const Object* about, const char* fn, AccelerationStructure* src, AccelerationStructure* dst, VkCopyAccelerationStructureModeKHR mode) {
+bool runCopy(const Object* about, const char* fn, AccelerationStructure* src, AccelerationStructure* dst,
+             VkCopyAccelerationStructureModeKHR mode) {
   auto c = src->content();
   // VUID-VkCopyAccelerationStructureInfoKHR-src-04963
   if (!c) {
-    report(about, Severity::Error, "VUID-VkCopyAccelerationStructureInfoKHR-src-04963", "%s: the source was never built; nothing is copied", fn);
+    report(about, Severity::Error, "VUID-VkCopyAccelerationStructureInfoKHR-src-04963",
+           "%s: the source was never built; nothing is copied", fn);
     return false;
   }
   // VUID-VkCopyAccelerationStructureInfoKHR-src-03411
-  if (mode == VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR && !(c->flags & VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR)) {
+  if (mode == VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR &&
+      !(c->flags & VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR)) {
     report(about, Severity::Error, "VUID-VkCopyAccelerationStructureInfoKHR-src-03411",
-           "%s: COMPACT copy of a structure built without VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR; nothing is copied", fn);
+           "%s: COMPACT copy of a structure built without VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR; "
+           "nothing is copied",
+           fn);
     return false;
   }
   dst->setContent(c);
@@ -297,14 +310,16 @@ bool runSerialize(const Object* about, const char* fn, AccelerationStructure* sr
   auto c = src->content();
   // VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-04959
   if (!c) {
-    report(about, Severity::Error, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-04959", "%s: the source was never built", fn);
+    report(about, Severity::Error, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-04959",
+           "%s: the source was never built", fn);
     return false;
   }
   std::vector<uint8_t> bytes = serializeContent(src->device, *c);
   // VUID-VkCopyAccelerationStructureToMemoryInfoKHR-dst-03561
   if (!host && !arena::accessible(dst, bytes.size())) {
     report(about, Severity::Error, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-dst-03561",
-           "%s: the destination 0x%llx does not have the %zu bytes of the serialization size in device memory", fn, (ull)dst, bytes.size());
+           "%s: the destination 0x%llx does not have the %zu bytes of the serialization size in device memory", fn,
+           (ull)dst, bytes.size());
     return false;
   }
   std::memcpy(reinterpret_cast<void*>(dst), bytes.data(), bytes.size());
@@ -316,7 +331,8 @@ bool runDeserialize(const Object* about, const char* fn, uint64_t src, Accelerat
   const char* vuid = nullptr;
   auto c = deserializeContent(dst->device, src, host, &error, &vuid);
   if (!c) {
-    report(about, Severity::Error, vuid, "%s: the serialized data at 0x%llx is refused: %s", fn, (ull)src, error.c_str());
+    report(about, Severity::Error, vuid, "%s: the serialized data at 0x%llx is refused: %s", fn, (ull)src,
+           error.c_str());
     return false;
   }
   dst->setContent(std::move(c));
@@ -331,16 +347,16 @@ using namespace vkrt;
 
 extern "C" {
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(VkCommandBuffer commandBuffer, uint32_t infoCount,
-                                                                  const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
-                                                                  const VkAccelerationStructureBuildRangeInfoKHR* const* ppBuildRangeInfos) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(
+    VkCommandBuffer commandBuffer, uint32_t infoCount, const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
+    const VkAccelerationStructureBuildRangeInfoKHR* const* ppBuildRangeInfos) {
   const char* fn = "vkCmdBuildAccelerationStructuresKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
   std::vector<BuildJob> jobs(infoCount);
   for (uint32_t i = 0; i < infoCount; ++i) {
-    if (!makeJob(cb, fn, i, pInfos[i], ppBuildRangeInfos[i], false, &jobs[i]) || !checkBuild(cb, fn, jobs[i], cb->device) ||
-        !checkScratch(cb, fn, i, pInfos[i].scratchData.deviceAddress))
+    if (!makeJob(cb, fn, i, pInfos[i], ppBuildRangeInfos[i], false, &jobs[i]) ||
+        !checkBuild(cb, fn, jobs[i], cb->device) || !checkScratch(cb, fn, i, pInfos[i].scratchData.deviceAddress))
       return;
   }
   if (!checkDistinct(cb, fn, jobs)) return;
@@ -349,17 +365,17 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(VkCommandBuffe
   });
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(VkCommandBuffer commandBuffer, uint32_t infoCount,
-                                                                          const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
-                                                                          const VkDeviceAddress* pIndirectDeviceAddresses,
-                                                                          const uint32_t* pIndirectStrides,
-                                                                          const uint32_t* const* ppMaxPrimitiveCounts) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(
+    VkCommandBuffer commandBuffer, uint32_t infoCount, const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
+    const VkDeviceAddress* pIndirectDeviceAddresses, const uint32_t* pIndirectStrides,
+    const uint32_t* const* ppMaxPrimitiveCounts) {
   const char* fn = "vkCmdBuildAccelerationStructuresIndirectKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
   // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650
   if (!cb->device->enabled(Feature::accelerationStructureIndirectBuild)) {
-    report(cb, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650",
+    report(cb, Severity::Error,
+           "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650",
            "%s: the accelerationStructureIndirectBuild feature is not enabled", fn);
     return;
   }
@@ -382,8 +398,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(VkComm
     // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectDeviceAddresses-03648, -pIndirectStrides-03787
     if (pIndirectDeviceAddresses[i] % 4 || pIndirectStrides[i] % 4) {
       report(cb, Severity::Error,
-             pIndirectDeviceAddresses[i] % 4 ? "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectDeviceAddresses-03648"
-                                             : "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectStrides-03787",
+             pIndirectDeviceAddresses[i] % 4
+                 ? "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectDeviceAddresses-03648"
+                 : "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectStrides-03787",
              "%s: pIndirectDeviceAddresses[%u] 0x%llx and pIndirectStrides[%u] %u must be multiples of 4", fn, i,
              (ull)pIndirectDeviceAddresses[i], i, pIndirectStrides[i]);
       return;
@@ -399,19 +416,22 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(VkComm
     for (Indirect it : items) {
       const size_t n = it.job.geometries.size();
       // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectDeviceAddresses-03646
-      if (n && !arena::accessible(it.address, (n - 1) * uint64_t(it.stride) + sizeof(VkAccelerationStructureBuildRangeInfoKHR))) {
+      if (n && !arena::accessible(it.address,
+                                  (n - 1) * uint64_t(it.stride) + sizeof(VkAccelerationStructureBuildRangeInfoKHR))) {
         report(cb, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-pIndirectDeviceAddresses-03646",
-               "%s: pInfos[%u]: the build ranges at 0x%llx are not in device memory; that build is skipped", fn, it.job.index,
-               (ull)it.address);
+               "%s: pInfos[%u]: the build ranges at 0x%llx are not in device memory; that build is skipped", fn,
+               it.job.index, (ull)it.address);
         continue;
       }
       bool ok = true;
       for (size_t g = 0; g < n && ok; ++g) {
-        std::memcpy(&it.job.ranges[g], reinterpret_cast<const void*>(it.address + g * it.stride), sizeof(VkAccelerationStructureBuildRangeInfoKHR));
+        std::memcpy(&it.job.ranges[g], reinterpret_cast<const void*>(it.address + g * it.stride),
+                    sizeof(VkAccelerationStructureBuildRangeInfoKHR));
         // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-ppMaxPrimitiveCounts-03653
         if (it.job.ranges[g].primitiveCount > it.maxCounts[g]) {
           report(cb, Severity::Error, "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-ppMaxPrimitiveCounts-03653",
-                 "%s: pInfos[%u] geometry %zu: primitiveCount %u read from memory exceeds ppMaxPrimitiveCounts (%u); that build is skipped",
+                 "%s: pInfos[%u] geometry %zu: primitiveCount %u read from memory exceeds ppMaxPrimitiveCounts (%u); "
+                 "that build is skipped",
                  fn, it.job.index, g, it.job.ranges[g].primitiveCount, it.maxCounts[g]);
           ok = false;
         }
@@ -421,9 +441,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(VkComm
   });
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_BuildAccelerationStructuresKHR(VkDevice device, VkDeferredOperationKHR deferredOperation, uint32_t infoCount,
-                                                                   const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
-                                                                   const VkAccelerationStructureBuildRangeInfoKHR* const* ppBuildRangeInfos) {
+VKAPI_ATTR VkResult VKAPI_CALL
+vkrt_BuildAccelerationStructuresKHR(VkDevice device, VkDeferredOperationKHR deferredOperation, uint32_t infoCount,
+                                    const VkAccelerationStructureBuildGeometryInfoKHR* pInfos,
+                                    const VkAccelerationStructureBuildRangeInfoKHR* const* ppBuildRangeInfos) {
   const char* fn = "vkBuildAccelerationStructuresKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
   if (!checkHostFeature(dev, fn, "VUID-vkBuildAccelerationStructuresKHR-accelerationStructureHostCommands-03581") ||
@@ -437,20 +458,25 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_BuildAccelerationStructuresKHR(VkDevice devi
   // The inputs are the application's host memory, which it may change once the call returns: deferred builds read
   // them when they run, as the specification allows until the operation completes.
   std::vector<std::function<bool()>> tasks;
-  for (BuildJob& job : jobs) tasks.push_back([dev, job] { return runAndReport(dev, "vkBuildAccelerationStructuresKHR", job); });
+  for (BuildJob& job : jobs)
+    tasks.push_back([dev, job] { return runAndReport(dev, "vkBuildAccelerationStructuresKHR", job); });
   return runHost(dev, deferredOperation, fn, std::move(tasks));
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureKHR(VkCommandBuffer commandBuffer, const VkCopyAccelerationStructureInfoKHR* pInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureKHR(VkCommandBuffer commandBuffer,
+                                                                const VkCopyAccelerationStructureInfoKHR* pInfo) {
   const char* fn = "vkCmdCopyAccelerationStructureKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
   AccelerationStructure *src, *dst;
   if (!checkCopy(cb->device, fn, *pInfo, &src, &dst)) return;
-  cb->record([cb, src, dst, mode = pInfo->mode](ExecState&) { runCopy(cb, "vkCmdCopyAccelerationStructureKHR", src, dst, mode); });
+  cb->record([cb, src, dst, mode = pInfo->mode](ExecState&) {
+    runCopy(cb, "vkCmdCopyAccelerationStructureKHR", src, dst, mode);
+  });
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyAccelerationStructureKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyAccelerationStructureKHR(VkDevice device,
+                                                                 VkDeferredOperationKHR deferredOperation,
                                                                  const VkCopyAccelerationStructureInfoKHR* pInfo) {
   const char* fn = "vkCopyAccelerationStructureKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
@@ -458,43 +484,52 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyAccelerationStructureKHR(VkDevice device
   if (!checkHostFeature(dev, fn, "VUID-vkCopyAccelerationStructureKHR-accelerationStructureHostCommands-03582") ||
       !checkDeferred(dev, deferredOperation, fn) || !checkCopy(dev, fn, *pInfo, &src, &dst))
     return VK_ERROR_VALIDATION_FAILED_EXT;
-  return runHost(dev, deferredOperation, fn, {[dev, src, dst, mode = pInfo->mode] { return runCopy(dev, "vkCopyAccelerationStructureKHR", src, dst, mode); }});
+  return runHost(dev, deferredOperation, fn, {[dev, src, dst, mode = pInfo->mode] {
+                   return runCopy(dev, "vkCopyAccelerationStructureKHR", src, dst, mode);
+                 }});
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureToMemoryKHR(VkCommandBuffer commandBuffer,
-                                                                        const VkCopyAccelerationStructureToMemoryInfoKHR* pInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureToMemoryKHR(
+    VkCommandBuffer commandBuffer, const VkCopyAccelerationStructureToMemoryInfoKHR* pInfo) {
   const char* fn = "vkCmdCopyAccelerationStructureToMemoryKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  auto* src = liveOrReport<AccelerationStructure>(cb, pInfo->src, fn, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-parameter");
+  auto* src = liveOrReport<AccelerationStructure>(cb, pInfo->src, fn,
+                                                  "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-parameter");
   if (!src) return;
   // VUID-VkCopyAccelerationStructureToMemoryInfoKHR-mode-03412
   if (pInfo->mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_SERIALIZE_KHR) {
-    report(cb, Severity::Error, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-mode-03412", "%s: mode %d is not SERIALIZE", fn, int(pInfo->mode));
+    report(cb, Severity::Error, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-mode-03412",
+           "%s: mode %d is not SERIALIZE", fn, int(pInfo->mode));
     return;
   }
   // VUID-vkCmdCopyAccelerationStructureToMemoryKHR-pInfo-03740
   if (pInfo->dst.deviceAddress % 256) {
-    report(cb, Severity::Error, "VUID-vkCmdCopyAccelerationStructureToMemoryKHR-pInfo-03740", "%s: dst.deviceAddress 0x%llx is not aligned to 256 bytes",
-           fn, (ull)pInfo->dst.deviceAddress);
+    report(cb, Severity::Error, "VUID-vkCmdCopyAccelerationStructureToMemoryKHR-pInfo-03740",
+           "%s: dst.deviceAddress 0x%llx is not aligned to 256 bytes", fn, (ull)pInfo->dst.deviceAddress);
     return;
   }
-  cb->record([cb, src, dst = pInfo->dst.deviceAddress](ExecState&) { runSerialize(cb, "vkCmdCopyAccelerationStructureToMemoryKHR", src, dst, false); });
+  cb->record([cb, src, dst = pInfo->dst.deviceAddress](ExecState&) {
+    runSerialize(cb, "vkCmdCopyAccelerationStructureToMemoryKHR", src, dst, false);
+  });
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyAccelerationStructureToMemoryKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
-                                                                         const VkCopyAccelerationStructureToMemoryInfoKHR* pInfo) {
+VKAPI_ATTR VkResult VKAPI_CALL
+vkrt_CopyAccelerationStructureToMemoryKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
+                                          const VkCopyAccelerationStructureToMemoryInfoKHR* pInfo) {
   const char* fn = "vkCopyAccelerationStructureToMemoryKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
-  if (!checkHostFeature(dev, fn, "VUID-vkCopyAccelerationStructureToMemoryKHR-accelerationStructureHostCommands-03584") ||
+  if (!checkHostFeature(dev, fn,
+                        "VUID-vkCopyAccelerationStructureToMemoryKHR-accelerationStructureHostCommands-03584") ||
       !checkDeferred(dev, deferredOperation, fn))
     return VK_ERROR_VALIDATION_FAILED_EXT;
-  auto* src = liveOrReport<AccelerationStructure>(dev, pInfo->src, fn, "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-parameter");
+  auto* src = liveOrReport<AccelerationStructure>(dev, pInfo->src, fn,
+                                                  "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-parameter");
   if (!src) return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-vkCopyAccelerationStructureToMemoryKHR-pInfo-03751
   if (!pInfo->dst.hostAddress || reinterpret_cast<uintptr_t>(pInfo->dst.hostAddress) % 16) {
-    report(dev, Severity::Error, "VUID-vkCopyAccelerationStructureToMemoryKHR-pInfo-03751", "%s: dst.hostAddress %p is null or not aligned to 16 bytes",
-           fn, pInfo->dst.hostAddress);
+    report(dev, Severity::Error, "VUID-vkCopyAccelerationStructureToMemoryKHR-pInfo-03751",
+           "%s: dst.hostAddress %p is null or not aligned to 16 bytes", fn, pInfo->dst.hostAddress);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   return runHost(dev, deferredOperation, fn, {[dev, src, dst = reinterpret_cast<uint64_t>(pInfo->dst.hostAddress)] {
@@ -502,40 +537,47 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyAccelerationStructureToMemoryKHR(VkDevic
                  }});
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyMemoryToAccelerationStructureKHR(VkCommandBuffer commandBuffer,
-                                                                        const VkCopyMemoryToAccelerationStructureInfoKHR* pInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyMemoryToAccelerationStructureKHR(
+    VkCommandBuffer commandBuffer, const VkCopyMemoryToAccelerationStructureInfoKHR* pInfo) {
   const char* fn = "vkCmdCopyMemoryToAccelerationStructureKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  auto* dst = liveOrReport<AccelerationStructure>(cb, pInfo->dst, fn, "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-dst-parameter");
+  auto* dst = liveOrReport<AccelerationStructure>(cb, pInfo->dst, fn,
+                                                  "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-dst-parameter");
   if (!dst) return;
   // VUID-VkCopyMemoryToAccelerationStructureInfoKHR-mode-03413
   if (pInfo->mode != VK_COPY_ACCELERATION_STRUCTURE_MODE_DESERIALIZE_KHR) {
-    report(cb, Severity::Error, "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-mode-03413", "%s: mode %d is not DESERIALIZE", fn, int(pInfo->mode));
+    report(cb, Severity::Error, "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-mode-03413",
+           "%s: mode %d is not DESERIALIZE", fn, int(pInfo->mode));
     return;
   }
   // VUID-vkCmdCopyMemoryToAccelerationStructureKHR-pInfo-03743
   if (pInfo->src.deviceAddress % 256) {
-    report(cb, Severity::Error, "VUID-vkCmdCopyMemoryToAccelerationStructureKHR-pInfo-03743", "%s: src.deviceAddress 0x%llx is not aligned to 256 bytes",
-           fn, (ull)pInfo->src.deviceAddress);
+    report(cb, Severity::Error, "VUID-vkCmdCopyMemoryToAccelerationStructureKHR-pInfo-03743",
+           "%s: src.deviceAddress 0x%llx is not aligned to 256 bytes", fn, (ull)pInfo->src.deviceAddress);
     return;
   }
-  cb->record([cb, src = pInfo->src.deviceAddress, dst](ExecState&) { runDeserialize(cb, "vkCmdCopyMemoryToAccelerationStructureKHR", src, dst, false); });
+  cb->record([cb, src = pInfo->src.deviceAddress, dst](ExecState&) {
+    runDeserialize(cb, "vkCmdCopyMemoryToAccelerationStructureKHR", src, dst, false);
+  });
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyMemoryToAccelerationStructureKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
-                                                                         const VkCopyMemoryToAccelerationStructureInfoKHR* pInfo) {
+VKAPI_ATTR VkResult VKAPI_CALL
+vkrt_CopyMemoryToAccelerationStructureKHR(VkDevice device, VkDeferredOperationKHR deferredOperation,
+                                          const VkCopyMemoryToAccelerationStructureInfoKHR* pInfo) {
   const char* fn = "vkCopyMemoryToAccelerationStructureKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
-  if (!checkHostFeature(dev, fn, "VUID-vkCopyMemoryToAccelerationStructureKHR-accelerationStructureHostCommands-03583") ||
+  if (!checkHostFeature(dev, fn,
+                        "VUID-vkCopyMemoryToAccelerationStructureKHR-accelerationStructureHostCommands-03583") ||
       !checkDeferred(dev, deferredOperation, fn))
     return VK_ERROR_VALIDATION_FAILED_EXT;
-  auto* dst = liveOrReport<AccelerationStructure>(dev, pInfo->dst, fn, "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-dst-parameter");
+  auto* dst = liveOrReport<AccelerationStructure>(dev, pInfo->dst, fn,
+                                                  "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-dst-parameter");
   if (!dst) return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-vkCopyMemoryToAccelerationStructureKHR-pInfo-03750
   if (!pInfo->src.hostAddress || reinterpret_cast<uintptr_t>(pInfo->src.hostAddress) % 16) {
-    report(dev, Severity::Error, "VUID-vkCopyMemoryToAccelerationStructureKHR-pInfo-03750", "%s: src.hostAddress %p is null or not aligned to 16 bytes",
-           fn, pInfo->src.hostAddress);
+    report(dev, Severity::Error, "VUID-vkCopyMemoryToAccelerationStructureKHR-pInfo-03750",
+           "%s: src.hostAddress %p is null or not aligned to 16 bytes", fn, pInfo->src.hostAddress);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   return runHost(dev, deferredOperation, fn, {[dev, src = reinterpret_cast<uint64_t>(pInfo->src.hostAddress), dst] {
@@ -543,13 +585,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CopyMemoryToAccelerationStructureKHR(VkDevic
                  }});
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteAccelerationStructuresPropertiesKHR(VkCommandBuffer commandBuffer, uint32_t accelerationStructureCount,
-                                                                            const VkAccelerationStructureKHR* pAccelerationStructures,
-                                                                            VkQueryType queryType, VkQueryPool queryPool, uint32_t firstQuery) {
+VKAPI_ATTR void VKAPI_CALL
+vkrt_CmdWriteAccelerationStructuresPropertiesKHR(VkCommandBuffer commandBuffer, uint32_t accelerationStructureCount,
+                                                 const VkAccelerationStructureKHR* pAccelerationStructures,
+                                                 VkQueryType queryType, VkQueryPool queryPool, uint32_t firstQuery) {
   const char* fn = "vkCmdWriteAccelerationStructuresPropertiesKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
-  auto* pool = liveOrReport<QueryPool>(cb, queryPool, fn, "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-queryPool-parameter");
+  auto* pool = liveOrReport<QueryPool>(cb, queryPool, fn,
+                                       "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-queryPool-parameter");
   if (!pool) return;
   // VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-queryPool-02493
   if (pool->type != queryType) {
@@ -560,13 +604,15 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteAccelerationStructuresPropertiesKHR(VkCo
   // VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-query-04880
   if (uint64_t(firstQuery) + accelerationStructureCount > pool->count) {
     report(pool, Severity::Error, "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-query-04880",
-           "%s: firstQuery %u + %u structures exceeds the pool's %u queries", fn, firstQuery, accelerationStructureCount, pool->count);
+           "%s: firstQuery %u + %u structures exceeds the pool's %u queries", fn, firstQuery,
+           accelerationStructureCount, pool->count);
     return;
   }
   std::vector<AccelerationStructure*> structures;
   for (uint32_t i = 0; i < accelerationStructureCount; ++i) {
-    auto* as = liveOrReport<AccelerationStructure>(cb, pAccelerationStructures[i], fn,
-                                                   "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-pAccelerationStructures-parameter");
+    auto* as = liveOrReport<AccelerationStructure>(
+        cb, pAccelerationStructures[i], fn,
+        "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-pAccelerationStructures-parameter");
     if (!as) return;
     structures.push_back(as);
   }
@@ -576,7 +622,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteAccelerationStructuresPropertiesKHR(VkCo
       const char* vuid = nullptr;
       std::string why;
       if (!queryValue(cb->device, *structures[i], queryType, &v, &vuid, &why)) {
-        report(cb, Severity::Error, vuid, "vkCmdWriteAccelerationStructuresPropertiesKHR: pAccelerationStructures[%u] %s; its query reads 0", i,
+        report(cb, Severity::Error, vuid,
+               "vkCmdWriteAccelerationStructuresPropertiesKHR: pAccelerationStructures[%u] %s; its query reads 0", i,
                why.c_str());
       }
       pool->writeValue(firstQuery + i, v);
@@ -584,27 +631,30 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteAccelerationStructuresPropertiesKHR(VkCo
   });
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_WriteAccelerationStructuresPropertiesKHR(VkDevice device, uint32_t accelerationStructureCount,
-                                                                             const VkAccelerationStructureKHR* pAccelerationStructures,
-                                                                             VkQueryType queryType, size_t dataSize, void* pData, size_t stride) {
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_WriteAccelerationStructuresPropertiesKHR(
+    VkDevice device, uint32_t accelerationStructureCount, const VkAccelerationStructureKHR* pAccelerationStructures,
+    VkQueryType queryType, size_t dataSize, void* pData, size_t stride) {
   const char* fn = "vkWriteAccelerationStructuresPropertiesKHR";
   Device* dev = fromHandleUnchecked<Device>(device);
-  if (!checkHostFeature(dev, fn, "VUID-vkWriteAccelerationStructuresPropertiesKHR-accelerationStructureHostCommands-03585"))
+  if (!checkHostFeature(dev, fn,
+                        "VUID-vkWriteAccelerationStructuresPropertiesKHR-accelerationStructureHostCommands-03585"))
     return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-vkWriteAccelerationStructuresPropertiesKHR-queryType-03448 (and -03450, -06731, -06733)
   if (stride % sizeof(VkDeviceSize)) {
-    report(dev, Severity::Error, "VUID-vkWriteAccelerationStructuresPropertiesKHR-queryType-03448", "%s: stride %zu is not a multiple of 8", fn, stride);
+    report(dev, Severity::Error, "VUID-vkWriteAccelerationStructuresPropertiesKHR-queryType-03448",
+           "%s: stride %zu is not a multiple of 8", fn, stride);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-vkWriteAccelerationStructuresPropertiesKHR-dataSize-03452
   if (dataSize < uint64_t(accelerationStructureCount) * stride) {
-    report(dev, Severity::Error, "VUID-vkWriteAccelerationStructuresPropertiesKHR-dataSize-03452", "%s: dataSize %zu is less than %u x stride %zu", fn,
-           dataSize, accelerationStructureCount, stride);
+    report(dev, Severity::Error, "VUID-vkWriteAccelerationStructuresPropertiesKHR-dataSize-03452",
+           "%s: dataSize %zu is less than %u x stride %zu", fn, dataSize, accelerationStructureCount, stride);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   for (uint32_t i = 0; i < accelerationStructureCount; ++i) {
-    auto* as = liveOrReport<AccelerationStructure>(dev, pAccelerationStructures[i], fn,
-                                                   "VUID-vkWriteAccelerationStructuresPropertiesKHR-pAccelerationStructures-parameter");
+    auto* as = liveOrReport<AccelerationStructure>(
+        dev, pAccelerationStructures[i], fn,
+        "VUID-vkWriteAccelerationStructuresPropertiesKHR-pAccelerationStructures-parameter");
     if (!as) return VK_ERROR_VALIDATION_FAILED_EXT;
     uint64_t v = 0;
     const char* vuid = nullptr;

@@ -71,11 +71,12 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindPipeline(VkCommandBuffer commandBuffer, V
   // VUID-vkCmdBindPipeline-pipelineBindPoint-00779, VUID-vkCmdBindPipeline-pipelineBindPoint-02392
   if (p->bindPoint != pipelineBindPoint) {
     const bool compute = pipelineBindPoint == VK_PIPELINE_BIND_POINT_COMPUTE;
-    report(p, Severity::Error,
-           compute ? "VUID-vkCmdBindPipeline-pipelineBindPoint-00779" : "VUID-vkCmdBindPipeline-pipelineBindPoint-02392",
-           "%s: pipelineBindPoint is %s but the pipeline is not a %s pipeline", fn,
-           compute ? "VK_PIPELINE_BIND_POINT_COMPUTE" : "VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR",
-           compute ? "compute" : "ray tracing");
+    report(
+        p, Severity::Error,
+        compute ? "VUID-vkCmdBindPipeline-pipelineBindPoint-00779" : "VUID-vkCmdBindPipeline-pipelineBindPoint-02392",
+        "%s: pipelineBindPoint is %s but the pipeline is not a %s pipeline", fn,
+        compute ? "VK_PIPELINE_BIND_POINT_COMPUTE" : "VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR",
+        compute ? "compute" : "ray tracing");
     return;
   }
   // VUID-vkCmdBindPipeline-pipeline-03382
@@ -136,7 +137,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
     if (!sameDefinition(s->layout, pl->setLayouts[firstSet + i])) {
       report(s, Severity::Error, "VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358",
              "%s: pDescriptorSets[%u] was allocated with a set layout that does not match set %u of the pipeline "
-             "layout", fn, i, firstSet + i);
+             "layout",
+             fn, i, firstSet + i);
       return;
     }
     sets[i] = s;
@@ -145,7 +147,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
   // VUID-vkCmdBindDescriptorSets-dynamicOffsetCount-00359
   if (dynamicOffsetCount != dynamicTotal) {
     report(cb, Severity::Error, "VUID-vkCmdBindDescriptorSets-dynamicOffsetCount-00359",
-           "%s: dynamicOffsetCount is %u but the sets have %u dynamic descriptors", fn, dynamicOffsetCount, dynamicTotal);
+           "%s: dynamicOffsetCount is %u but the sets have %u dynamic descriptors", fn, dynamicOffsetCount,
+           dynamicTotal);
     return;
   }
   const VkPhysicalDeviceLimits& limits = cb->device->physicalDevice->properties10.limits;
@@ -157,7 +160,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
     for (const DescriptorBinding& b : s->layout->bindings) {
       if (!isDynamicBufferType(b.type)) continue;
       const bool uniform = b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-      const VkDeviceSize align = uniform ? limits.minUniformBufferOffsetAlignment : limits.minStorageBufferOffsetAlignment;
+      const VkDeviceSize align =
+          uniform ? limits.minUniformBufferOffsetAlignment : limits.minStorageBufferOffsetAlignment;
       for (uint32_t e = 0; e < s->elementCount(b); ++e) {
         const uint32_t index = next + b.dynamicIndex + e;
         const uint32_t off = pDynamicOffsets[index];
@@ -178,7 +182,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
         if (start + off + r.range > buf->size) {
           report(s, Severity::Error, "VUID-vkCmdBindDescriptorSets-pDescriptorSets-01979",
                  "%s: binding %u element %u: offset %llu + dynamic offset %u + range %llu exceeds the buffer size "
-                 "%llu", fn, b.binding, e, (ull)start, off, (ull)r.range, (ull)buf->size);
+                 "%llu",
+                 fn, b.binding, e, (ull)start, off, (ull)r.range, (ull)buf->size);
           return;
         }
       }
@@ -219,7 +224,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdPushConstants(VkCommandBuffer commandBuffer, 
   }
   // VUID-vkCmdPushConstants-offset-00368
   if (offset % 4) {
-    report(cb, Severity::Error, "VUID-vkCmdPushConstants-offset-00368", "%s: offset %u is not a multiple of 4", fn, offset);
+    report(cb, Severity::Error, "VUID-vkCmdPushConstants-offset-00368", "%s: offset %u is not a multiple of 4", fn,
+           offset);
     return;
   }
   // VUID-vkCmdPushConstants-size-00369
@@ -237,8 +243,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdPushConstants(VkCommandBuffer commandBuffer, 
   }
   // VUID-vkCmdPushConstants-size-00371
   if (size > maxSize - offset) {
-    report(cb, Severity::Error, "VUID-vkCmdPushConstants-size-00371",
-           "%s: [%u, +%u) exceeds maxPushConstantsSize %u", fn, offset, size, maxSize);
+    report(cb, Severity::Error, "VUID-vkCmdPushConstants-size-00371", "%s: [%u, +%u) exceeds maxPushConstantsSize %u",
+           fn, offset, size, maxSize);
     return;
   }
   for (uint32_t byte = offset; byte < offset + size; byte += 4) {
@@ -248,9 +254,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdPushConstants(VkCommandBuffer commandBuffer, 
       covering |= r.stageFlags;
       // VUID-vkCmdPushConstants-offset-01796
       if ((r.stageFlags & stageFlags) != r.stageFlags) {
-        report(pl, Severity::Error, "VUID-vkCmdPushConstants-offset-01796",
-               "%s: byte %u lies in a push constant range of stages 0x%x, but stageFlags 0x%x does not include them all",
-               fn, byte, r.stageFlags, stageFlags);
+        report(
+            pl, Severity::Error, "VUID-vkCmdPushConstants-offset-01796",
+            "%s: byte %u lies in a push constant range of stages 0x%x, but stageFlags 0x%x does not include them all",
+            fn, byte, r.stageFlags, stageFlags);
         return;
       }
     }

@@ -16,8 +16,9 @@ void BoundResources::resolve(const spirv::CompiledShader& shader, const BindStat
     // VUID-vkCmdDispatch-None-02697, VUID-vkCmdTraceRaysKHR-None-02697 (every set the pipeline uses is bound)
     if (!b) {
       report(cb, Severity::Error, unboundVuid,
-             "%s: the bound pipeline uses set %u binding %u, but %s; its accesses read zeros and write nothing", command,
-             rb.set, rb.binding, set ? "the bound set's layout has no such binding" : "no descriptor set is bound there");
+             "%s: the bound pipeline uses set %u binding %u, but %s; its accesses read zeros and write nothing",
+             command, rb.set, rb.binding,
+             set ? "the bound set's layout has no such binding" : "no descriptor set is bound there");
       continue;
     }
     uint32_t n = set->elementCount(*b);

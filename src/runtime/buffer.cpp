@@ -1,8 +1,8 @@
 #include "runtime/buffer.hpp"
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"

@@ -31,7 +31,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
   Buffer* buf = fromHandle<Buffer>(pCreateInfo->buffer);
   if (!buf) {
     report(dev, Severity::Error, "VUID-VkBufferViewCreateInfo-buffer-parameter",
-           "vkCreateBufferView: buffer 0x%llx is not a live VkBuffer", (unsigned long long)rawHandle(pCreateInfo->buffer));
+           "vkCreateBufferView: buffer 0x%llx is not a live VkBuffer",
+           (unsigned long long)rawHandle(pCreateInfo->buffer));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   const FormatInfo* f = formatInfo(pCreateInfo->format);
@@ -46,7 +47,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
   }
   if (!f || (uniform && !(features & VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT)) ||
       (storage && !(features & VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT))) {
-    report(buf, Severity::Error, uniform ? "VUID-VkBufferViewCreateInfo-buffer-00933" : "VUID-VkBufferViewCreateInfo-buffer-00934",
+    report(buf, Severity::Error,
+           uniform ? "VUID-VkBufferViewCreateInfo-buffer-00933" : "VUID-VkBufferViewCreateInfo-buffer-00934",
            "vkCreateBufferView: format %d does not support the buffer's texel usage 0x%x", (int)pCreateInfo->format,
            buf->usage);
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
@@ -68,12 +70,16 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
   // VUID-VkBufferViewCreateInfo-range-00928 (non-zero), range-00929 (texel multiple), offset-00931 (inside the
   // buffer), range-00930 / range-04059 (at most maxTexelBufferElements)
   const char* vuid = nullptr;
-  if (!whole && range == 0) vuid = "VUID-VkBufferViewCreateInfo-range-00928";
-  else if (!whole && range % f->texelSize) vuid = "VUID-VkBufferViewCreateInfo-range-00929";
-  else if (!whole && range > buf->size - pCreateInfo->offset) vuid = "VUID-VkBufferViewCreateInfo-offset-00931";
+  if (!whole && range == 0)
+    vuid = "VUID-VkBufferViewCreateInfo-range-00928";
+  else if (!whole && range % f->texelSize)
+    vuid = "VUID-VkBufferViewCreateInfo-range-00929";
+  else if (!whole && range > buf->size - pCreateInfo->offset)
+    vuid = "VUID-VkBufferViewCreateInfo-offset-00931";
   else if (range / f->texelSize > l.maxTexelBufferElements)
     vuid = whole ? "VUID-VkBufferViewCreateInfo-range-04059" : "VUID-VkBufferViewCreateInfo-range-00930";
-  else if (range == 0) vuid = "VUID-VkBufferViewCreateInfo-range-04059";  // VK_WHOLE_SIZE leaves no texel
+  else if (range == 0)
+    vuid = "VUID-VkBufferViewCreateInfo-range-04059";  // VK_WHOLE_SIZE leaves no texel
   if (vuid) {
     report(buf, Severity::Error, vuid,
            "vkCreateBufferView: range %llu at offset %llu is not a non-zero multiple of the %u-byte texel within the "
@@ -91,7 +97,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBufferView(VkDevice device, VkBufferView view,
                                                   const VkAllocationCallbacks* pAllocator) {
   destroyDeviceChild<BufferView>(device, view, pAllocator, "vkDestroyBufferView",
-                             "VUID-vkDestroyBufferView-bufferView-parameter");
+                                 "VUID-vkDestroyBufferView-bufferView-parameter");
 }
 
 }  // extern "C"

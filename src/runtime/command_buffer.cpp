@@ -122,8 +122,8 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
   if (pool->queueFamilyIndex != queue->family) {
     report(this, Severity::Error,
            v2 ? "VUID-vkQueueSubmit2-commandBuffer-03878" : "VUID-vkQueueSubmit-pCommandBuffers-00074",
-           "%s: pSubmits[%u] command buffer %u comes from a pool of queue family %u; the queue is of family %u", fn,
-           si, i, pool->queueFamilyIndex, queue->family);
+           "%s: pSubmits[%u] command buffer %u comes from a pool of queue family %u; the queue is of family %u", fn, si,
+           i, pool->queueFamilyIndex, queue->family);
     return false;
   }
   std::lock_guard lock(stateMutex());
@@ -141,7 +141,8 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
     report(this, Severity::Error,
            v2 ? "VUID-vkQueueSubmit2-commandBuffer-03875" : "VUID-vkQueueSubmit-pCommandBuffers-00071",
            "%s: pSubmits[%u] command buffer %u is already pending and was not recorded with "
-           "VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT", fn, si, i);
+           "VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT",
+           fn, si, i);
     return false;
   }
   for (const CommandBuffer* sec : secondaries) {
@@ -150,8 +151,8 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
     if (ss != State::Executable && ss != State::Pending) {
       report(sec, Severity::Error,
              v2 ? "VUID-vkQueueSubmit2-commandBuffer-03876" : "VUID-vkQueueSubmit-pCommandBuffers-00072",
-             "%s: a secondary command buffer executed by pSubmits[%u] command buffer %u is in the %s state", fn, si,
-             i, stateName(ss));
+             "%s: a secondary command buffer executed by pSubmits[%u] command buffer %u is in the %s state", fn, si, i,
+             stateName(ss));
       return false;
     }
     // VUID-vkQueueSubmit-pCommandBuffers-00073, VUID-vkQueueSubmit2-commandBuffer-03877
@@ -159,7 +160,8 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
       report(sec, Severity::Error,
              v2 ? "VUID-vkQueueSubmit2-commandBuffer-03877" : "VUID-vkQueueSubmit-pCommandBuffers-00073",
              "%s: a secondary command buffer executed by pSubmits[%u] command buffer %u is already pending and was "
-             "not recorded with VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT", fn, si, i);
+             "not recorded with VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT",
+             fn, si, i);
       return false;
     }
   }
@@ -193,7 +195,8 @@ namespace {
 CommandBuffer* liveCommandBuffer(VkCommandBuffer h, const char* fn, const char* vuid) {
   CommandBuffer* cb = fromHandle<CommandBuffer>(h);
   if (!cb)
-    report(nullptr, Severity::Error, vuid, "%s: 0x%llx is not a live VkCommandBuffer", fn, (unsigned long long)rawHandle(h));
+    report(nullptr, Severity::Error, vuid, "%s: 0x%llx is not a live VkCommandBuffer", fn,
+           (unsigned long long)rawHandle(h));
   return cb;
 }
 
@@ -203,8 +206,8 @@ extern "C" {
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_BeginCommandBuffer(VkCommandBuffer commandBuffer,
                                                        const VkCommandBufferBeginInfo* pBeginInfo) {
-  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkBeginCommandBuffer",
-                                        "VUID-vkBeginCommandBuffer-commandBuffer-parameter");
+  CommandBuffer* cb =
+      liveCommandBuffer(commandBuffer, "vkBeginCommandBuffer", "VUID-vkBeginCommandBuffer-commandBuffer-parameter");
   if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
   const bool secondary = cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY;
   CommandBuffer::State st = cb->currentState();
@@ -218,7 +221,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_BeginCommandBuffer(VkCommandBuffer commandBu
   if (st != CommandBuffer::State::Initial && !cb->pool->canResetBuffers()) {
     report(cb, Severity::Error, "VUID-vkBeginCommandBuffer-commandBuffer-00050",
            "vkBeginCommandBuffer: the command buffer is in the %s state and its pool was created without "
-           "VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, so it cannot be reset implicitly", stateName(st));
+           "VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, so it cannot be reset implicitly",
+           stateName(st));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-vkBeginCommandBuffer-commandBuffer-00051
@@ -249,7 +253,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_BeginCommandBuffer(VkCommandBuffer commandBu
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_EndCommandBuffer(VkCommandBuffer commandBuffer) {
-  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkEndCommandBuffer", "VUID-vkEndCommandBuffer-commandBuffer-parameter");
+  CommandBuffer* cb =
+      liveCommandBuffer(commandBuffer, "vkEndCommandBuffer", "VUID-vkEndCommandBuffer-commandBuffer-parameter");
   if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
   std::lock_guard lock(CommandBuffer::stateMutex());
   CommandBuffer::State st = observed(cb);
@@ -270,7 +275,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_EndCommandBuffer(VkCommandBuffer commandBuff
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_ResetCommandBuffer(VkCommandBuffer commandBuffer, VkCommandBufferResetFlags flags) {
-  CommandBuffer* cb = liveCommandBuffer(commandBuffer, "vkResetCommandBuffer", "VUID-vkResetCommandBuffer-commandBuffer-parameter");
+  CommandBuffer* cb =
+      liveCommandBuffer(commandBuffer, "vkResetCommandBuffer", "VUID-vkResetCommandBuffer-commandBuffer-parameter");
   if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-vkResetCommandBuffer-commandBuffer-00045
   if (cb->currentState() == CommandBuffer::State::Pending) {
@@ -339,7 +345,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdExecuteCommands(VkCommandBuffer commandBuffer
     if (!simultaneous && std::find(cb->secondaries.begin(), cb->secondaries.end(), sec) != cb->secondaries.end()) {
       report(sec, Severity::Error, "VUID-vkCmdExecuteCommands-pCommandBuffers-00092",
              "%s: pCommandBuffers[%u] was already recorded into this command buffer and was not recorded with "
-             "SIMULTANEOUS_USE", fn, i);
+             "SIMULTANEOUS_USE",
+             fn, i);
       return;
     }
     // VUID-vkCmdExecuteCommands-pCommandBuffers-00093
@@ -385,7 +392,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdEndDebugUtilsLabelEXT(VkCommandBuffer command
            "vkCmdEndDebugUtilsLabelEXT: the secondary command buffer has no open debug label region");
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdInsertDebugUtilsLabelEXT(VkCommandBuffer commandBuffer, const VkDebugUtilsLabelEXT*) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdInsertDebugUtilsLabelEXT(VkCommandBuffer commandBuffer,
+                                                            const VkDebugUtilsLabelEXT*) {
   CommandBuffer::recording(commandBuffer, "vkCmdInsertDebugUtilsLabelEXT");  // a label records nothing
 }
 

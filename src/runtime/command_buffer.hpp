@@ -89,11 +89,11 @@ class CommandBuffer : public Object {
   void markCompleted();
 
   // --- Used by the command entry points of runtime/command_buffer.cpp ---
-  State state = State::Initial;                 // guarded by the command-buffer mutex
-  uint32_t pending = 0;                         // submissions not completed yet
-  std::vector<CommandBuffer*> secondaries;      // executed by this primary (vkCmdExecuteCommands)
-  std::vector<CommandBuffer*> primaries;        // primaries that execute this secondary
-  uint32_t labelDepth = 0;                      // open vkCmdBeginDebugUtilsLabelEXT regions
+  State state = State::Initial;             // guarded by the command-buffer mutex
+  uint32_t pending = 0;                     // submissions not completed yet
+  std::vector<CommandBuffer*> secondaries;  // executed by this primary (vkCmdExecuteCommands)
+  std::vector<CommandBuffer*> primaries;    // primaries that execute this secondary
+  uint32_t labelDepth = 0;                  // open vkCmdBeginDebugUtilsLabelEXT regions
 
   // The mutex that guards every command buffer's state, pending count and links.
   static std::mutex& stateMutex();

@@ -3,9 +3,9 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -67,7 +67,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateCommandPool(VkDevice device, const VkC
            "does not support");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  CommandPool* p = createObject<CommandPool>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, pAllocator);
+  CommandPool* p =
+      createObject<CommandPool>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, pAllocator);
   if (!p) return VK_ERROR_OUT_OF_HOST_MEMORY;
   *pCommandPool = toHandle(p);
   return VK_SUCCESS;
@@ -76,7 +77,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateCommandPool(VkDevice device, const VkC
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyCommandPool(VkDevice device, VkCommandPool commandPool,
                                                    const VkAllocationCallbacks* pAllocator) {
   if (!commandPool) return;
-  CommandPool* p = livePool(device, commandPool, "vkDestroyCommandPool", "VUID-vkDestroyCommandPool-commandPool-parameter");
+  CommandPool* p =
+      livePool(device, commandPool, "vkDestroyCommandPool", "VUID-vkDestroyCommandPool-commandPool-parameter");
   if (!p) return;
   CommandBuffer* busy = nullptr;
   // VUID-vkDestroyCommandPool-commandPool-00041
@@ -121,14 +123,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateCommandBuffers(VkDevice device,
                             "VUID-VkCommandBufferAllocateInfo-commandPool-parameter");
   if (!p) return VK_ERROR_VALIDATION_FAILED_EXT;
   // VUID-VkCommandBufferAllocateInfo-level-parameter
-  if (pAllocateInfo->level != VK_COMMAND_BUFFER_LEVEL_PRIMARY && pAllocateInfo->level != VK_COMMAND_BUFFER_LEVEL_SECONDARY) {
+  if (pAllocateInfo->level != VK_COMMAND_BUFFER_LEVEL_PRIMARY &&
+      pAllocateInfo->level != VK_COMMAND_BUFFER_LEVEL_SECONDARY) {
     report(p, Severity::Error, "VUID-VkCommandBufferAllocateInfo-level-parameter",
            "vkAllocateCommandBuffers: level %d is not a VkCommandBufferLevel", (int)pAllocateInfo->level);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   for (uint32_t i = 0; i < pAllocateInfo->commandBufferCount; ++i) {
-    CommandBuffer* cb = createObject<CommandBuffer>(p->alloc(), VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, p,
-                                                    pAllocateInfo->level);
+    CommandBuffer* cb =
+        createObject<CommandBuffer>(p->alloc(), VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, p, pAllocateInfo->level);
     if (!cb) {
       for (uint32_t k = 0; k < i; ++k) {
         p->freeBuffer(fromHandleUnchecked<CommandBuffer>(pCommandBuffers[k]));
@@ -143,8 +146,10 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateCommandBuffers(VkDevice device,
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_FreeCommandBuffers(VkDevice device, VkCommandPool commandPool,
-                                                   uint32_t commandBufferCount, const VkCommandBuffer* pCommandBuffers) {
-  CommandPool* p = livePool(device, commandPool, "vkFreeCommandBuffers", "VUID-vkFreeCommandBuffers-commandPool-parameter");
+                                                   uint32_t commandBufferCount,
+                                                   const VkCommandBuffer* pCommandBuffers) {
+  CommandPool* p =
+      livePool(device, commandPool, "vkFreeCommandBuffers", "VUID-vkFreeCommandBuffers-commandPool-parameter");
   if (!p) return;
   std::vector<CommandBuffer*> cbs;
   for (uint32_t i = 0; i < commandBufferCount; ++i) {
@@ -152,10 +157,11 @@ VKAPI_ATTR void VKAPI_CALL vkrt_FreeCommandBuffers(VkDevice device, VkCommandPoo
     CommandBuffer* cb = fromHandle<CommandBuffer>(pCommandBuffers[i]);
     // VUID-vkFreeCommandBuffers-pCommandBuffers-00048, VUID-vkFreeCommandBuffers-pCommandBuffers-parent
     if (!cb || cb->pool != p) {
-      report(p, Severity::Error, cb ? "VUID-vkFreeCommandBuffers-pCommandBuffers-parent"
-                                    : "VUID-vkFreeCommandBuffers-pCommandBuffers-00048",
-             "vkFreeCommandBuffers: pCommandBuffers[%u] 0x%llx is not a live command buffer of this pool", i,
-             (unsigned long long)rawHandle(pCommandBuffers[i]));
+      report(
+          p, Severity::Error,
+          cb ? "VUID-vkFreeCommandBuffers-pCommandBuffers-parent" : "VUID-vkFreeCommandBuffers-pCommandBuffers-00048",
+          "vkFreeCommandBuffers: pCommandBuffers[%u] 0x%llx is not a live command buffer of this pool", i,
+          (unsigned long long)rawHandle(pCommandBuffers[i]));
       return;
     }
     // VUID-vkFreeCommandBuffers-pCommandBuffers-00047

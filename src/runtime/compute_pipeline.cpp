@@ -39,8 +39,9 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
     if (ci.flags & f[0]) {
       char vuid[64];
       std::snprintf(vuid, sizeof vuid, "VUID-VkComputePipelineCreateInfo-flags-0%u", unsigned(f[1]));
-      report(dev, Severity::Error, vuid, "%s: pCreateInfos[%u].flags (0x%x) contains 0x%x, which compute pipelines must not use",
-             fn, i, ci.flags, f[0]);
+      report(dev, Severity::Error, vuid,
+             "%s: pCreateInfos[%u].flags (0x%x) contains 0x%x, which compute pipelines must not use", fn, i, ci.flags,
+             f[0]);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
@@ -54,7 +55,8 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
   PipelineLayout* layout = fromHandle<PipelineLayout>(ci.layout);
   if (!layout) {
     report(dev, Severity::Error, "VUID-VkComputePipelineCreateInfo-layout-parameter",
-           "%s: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", fn, i, (unsigned long long)rawHandle(ci.layout));
+           "%s: pCreateInfos[%u].layout 0x%llx is not a live VkPipelineLayout", fn, i,
+           (unsigned long long)rawHandle(ci.layout));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   char what[64];
@@ -69,26 +71,30 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
 
   const VkPhysicalDeviceLimits& lim = dev->physicalDevice->properties10.limits;
   const uint32_t* ls = shader->localSize;
-  static const char* const kSizeVuids[3] = {"VUID-RuntimeSpirv-x-06429", "VUID-RuntimeSpirv-y-06430", "VUID-RuntimeSpirv-z-06431"};
+  static const char* const kSizeVuids[3] = {"VUID-RuntimeSpirv-x-06429", "VUID-RuntimeSpirv-y-06430",
+                                            "VUID-RuntimeSpirv-z-06431"};
   for (int d = 0; d < 3; ++d) {
     // VUID-RuntimeSpirv-x-06429, VUID-RuntimeSpirv-y-06430, VUID-RuntimeSpirv-z-06431
     if (ls[d] > lim.maxComputeWorkGroupSize[d] || ls[d] == 0) {
-      report(dev, Severity::Error, kSizeVuids[d], "%s: pCreateInfos[%u]: workgroup size %u in dimension %d is outside 1..%u", fn, i, ls[d],
-             d, lim.maxComputeWorkGroupSize[d]);
+      report(dev, Severity::Error, kSizeVuids[d],
+             "%s: pCreateInfos[%u]: workgroup size %u in dimension %d is outside 1..%u", fn, i, ls[d], d,
+             lim.maxComputeWorkGroupSize[d]);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
   // VUID-RuntimeSpirv-x-06432
   if (uint64_t(ls[0]) * ls[1] * ls[2] > lim.maxComputeWorkGroupInvocations) {
-    report(dev, Severity::Error, "VUID-RuntimeSpirv-x-06432", "%s: pCreateInfos[%u]: workgroup size %ux%ux%u exceeds %u invocations", fn,
-           i, ls[0], ls[1], ls[2], lim.maxComputeWorkGroupInvocations);
+    report(dev, Severity::Error, "VUID-RuntimeSpirv-x-06432",
+           "%s: pCreateInfos[%u]: workgroup size %ux%ux%u exceeds %u invocations", fn, i, ls[0], ls[1], ls[2],
+           lim.maxComputeWorkGroupInvocations);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-RuntimeSpirv-Workgroup-06530
   if (shader->workgroupMemorySize > lim.maxComputeSharedMemorySize) {
-    report(dev, Severity::Error, "VUID-RuntimeSpirv-Workgroup-06530",
-           "%s: pCreateInfos[%u]: the shader uses %u bytes of workgroup memory, more than maxComputeSharedMemorySize (%u)", fn, i,
-           shader->workgroupMemorySize, lim.maxComputeSharedMemorySize);
+    report(
+        dev, Severity::Error, "VUID-RuntimeSpirv-Workgroup-06530",
+        "%s: pCreateInfos[%u]: the shader uses %u bytes of workgroup memory, more than maxComputeSharedMemorySize (%u)",
+        fn, i, shader->workgroupMemorySize, lim.maxComputeSharedMemorySize);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // Every resource the shader uses needs a binding of its type in the layout, visible to the compute stage.
@@ -97,7 +103,8 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
                                              "VUID-VkComputePipelineCreateInfo-layout-07990",
                                              "VUID-VkComputePipelineCreateInfo-layout-07991"};
   // VUID-VkComputePipelineCreateInfo-layout-07988, -07990, -07991
-  if (LayoutMismatch m = checkLayoutProvides(*layout, *shader, VK_SHADER_STAGE_COMPUTE_BIT, &detail); m != LayoutMismatch::None) {
+  if (LayoutMismatch m = checkLayoutProvides(*layout, *shader, VK_SHADER_STAGE_COMPUTE_BIT, &detail);
+      m != LayoutMismatch::None) {
     report(dev, Severity::Error, kLayoutVuids[int(m)], "%s: pCreateInfos[%u]: %s", fn, i, detail.c_str());
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
@@ -106,8 +113,10 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
   storeInCache(cache, stage.request, *shader);
   // Pipeline creation feedback (core in Vulkan 1.3): valid, with the time this pipeline took; the stage's from its
   // compilation (with the cache hit bit when the code came from the application's VkPipelineCache).
-  if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
-    uint64_t ns = uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
+  if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(
+          ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
+    uint64_t ns = uint64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
     VkPipelineCreationFeedback f{compiled.feedback.flags, ns};
     if (fb->pPipelineCreationFeedback) *fb->pPipelineCreationFeedback = f;
     for (uint32_t s = 0; s < fb->pipelineStageCreationFeedbackCount && fb->pPipelineStageCreationFeedbacks; ++s)
@@ -125,9 +134,11 @@ using namespace vkrt;
 
 extern "C" {
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPipelineCache pipelineCache, uint32_t createInfoCount,
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPipelineCache pipelineCache,
+                                                           uint32_t createInfoCount,
                                                            const VkComputePipelineCreateInfo* pCreateInfos,
-                                                           const VkAllocationCallbacks* pAllocator, VkPipeline* pPipelines) {
+                                                           const VkAllocationCallbacks* pAllocator,
+                                                           VkPipeline* pPipelines) {
   Device* dev = fromHandle<Device>(device);
   // VUID-vkCreateComputePipelines-device-parameter
   if (!dev) {
@@ -138,7 +149,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPi
   // VUID-vkCreateComputePipelines-pipelineCache-parameter
   if (pipelineCache && !fromHandle<PipelineCache>(pipelineCache)) {
     report(dev, Severity::Error, "VUID-vkCreateComputePipelines-pipelineCache-parameter",
-           "vkCreateComputePipelines: pipelineCache 0x%llx is not a live VkPipelineCache", (unsigned long long)rawHandle(pipelineCache));
+           "vkCreateComputePipelines: pipelineCache 0x%llx is not a live VkPipelineCache",
+           (unsigned long long)rawHandle(pipelineCache));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;

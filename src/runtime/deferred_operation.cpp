@@ -122,7 +122,8 @@ VKAPI_ATTR uint32_t VKAPI_CALL vkrt_GetDeferredOperationMaxConcurrencyKHR(VkDevi
                                                                           VkDeferredOperationKHR operation) {
   DeferredOperation* op = fromHandle<DeferredOperation>(operation);
   if (!op) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkGetDeferredOperationMaxConcurrencyKHR-operation-parameter",
+    report(fromHandle<Device>(device), Severity::Error,
+           "VUID-vkGetDeferredOperationMaxConcurrencyKHR-operation-parameter",
            "vkGetDeferredOperationMaxConcurrencyKHR: 0x%llx is not a live VkDeferredOperationKHR",
            (unsigned long long)rawHandle(operation));
     return 0;

@@ -1,8 +1,9 @@
 // VkDeferredOperationKHR (VK_KHR_deferred_host_operations).
 //
-// A deferred command (vkCreateRayTracingPipelinesKHR, the host acceleration structure commands) validates its arguments at once, then hands the
-// operation a list of tasks and returns VK_OPERATION_DEFERRED_KHR. The tasks run only on the threads that
-// call vkDeferredOperationJoinKHR: each joining thread takes the next task until none is left. Join returns
+// A deferred command (vkCreateRayTracingPipelinesKHR, the host acceleration structure commands) validates its arguments
+// at once, then hands the operation a list of tasks and returns VK_OPERATION_DEFERRED_KHR. The tasks run only on the
+// threads that call vkDeferredOperationJoinKHR: each joining thread takes the next task until none is left. Join
+// returns
 //   VK_SUCCESS          when the operation is complete (this thread finished the last task, or it was done),
 //   VK_THREAD_DONE_KHR  when no task is left for this thread but others are still running some,
 //   VK_THREAD_IDLE_KHR  never in practice (vkrt never holds work back), reserved by the spec.

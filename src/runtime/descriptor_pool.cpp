@@ -20,7 +20,8 @@ void descriptorDemand(const DescriptorSetLayout& layout, uint32_t variableCount,
 
 DescriptorPool::DescriptorPool(Device* dev, const VkDescriptorPoolCreateInfo& info)
     : Object(kType, dev->instance, dev), flags(info.flags), maxSets(info.maxSets) {
-  for (uint32_t i = 0; i < info.poolSizeCount; ++i) capacity_[info.pPoolSizes[i].type] += info.pPoolSizes[i].descriptorCount;
+  for (uint32_t i = 0; i < info.poolSizeCount; ++i)
+    capacity_[info.pPoolSizes[i].type] += info.pPoolSizes[i].descriptorCount;
 }
 
 DescriptorPool::~DescriptorPool() { reset(); }
@@ -91,7 +92,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorPool(VkDevice device, const 
     if (!descriptorTypeSupported(dev, s.type)) {
       report(dev, Severity::Error, "VUID-VkDescriptorPoolSize-type-parameter",
              "vkCreateDescriptorPool: pPoolSizes[%u].type is %s (%d), which this device does not support or whose "
-             "extension is not enabled", i, descriptorTypeName(s.type), s.type);
+             "extension is not enabled",
+             i, descriptorTypeName(s.type), s.type);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
@@ -108,7 +110,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyDescriptorPool(VkDevice device, VkDescrip
   // VUID-vkDestroyDescriptorPool-descriptorPool-parameter
   if (!pool) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyDescriptorPool-descriptorPool-parameter",
-           "vkDestroyDescriptorPool: 0x%llx is not a live VkDescriptorPool", (unsigned long long)rawHandle(descriptorPool));
+           "vkDestroyDescriptorPool: 0x%llx is not a live VkDescriptorPool",
+           (unsigned long long)rawHandle(descriptorPool));
     return;
   }
   destroyObject(pool, pAllocator);
@@ -120,7 +123,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_ResetDescriptorPool(VkDevice device, VkDescr
   // VUID-vkResetDescriptorPool-descriptorPool-parameter
   if (!pool) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-vkResetDescriptorPool-descriptorPool-parameter",
-           "vkResetDescriptorPool: 0x%llx is not a live VkDescriptorPool", (unsigned long long)rawHandle(descriptorPool));
+           "vkResetDescriptorPool: 0x%llx is not a live VkDescriptorPool",
+           (unsigned long long)rawHandle(descriptorPool));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   pool->reset();
@@ -147,7 +151,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateDescriptorSets(VkDevice device,
   if (var && var->descriptorSetCount && var->descriptorSetCount != n) {
     report(pool, Severity::Error, "VUID-VkDescriptorSetVariableDescriptorCountAllocateInfo-descriptorSetCount-03045",
            "vkAllocateDescriptorSets: VkDescriptorSetVariableDescriptorCountAllocateInfo::descriptorSetCount is %u "
-           "but %u sets are allocated", var->descriptorSetCount, n);
+           "but %u sets are allocated",
+           var->descriptorSetCount, n);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   std::vector<DescriptorSetLayout*> layouts(n);
@@ -166,7 +171,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateDescriptorSets(VkDevice device,
         !(pool->flags & VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT)) {
       report(pool, Severity::Error, "VUID-VkDescriptorSetAllocateInfo-pSetLayouts-03044",
              "vkAllocateDescriptorSets: pSetLayouts[%u] is an update-after-bind layout but the pool was not created "
-             "with VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT", i);
+             "with VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT",
+             i);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
     if (var && var->descriptorSetCount && layouts[i]->hasVariableCount) {
@@ -175,7 +181,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateDescriptorSets(VkDevice device,
       if (variable[i] > layouts[i]->bindings.back().count) {
         report(pool, Severity::Error, "VUID-VkDescriptorSetVariableDescriptorCountAllocateInfo-pSetLayouts-03046",
                "vkAllocateDescriptorSets: pDescriptorCounts[%u] is %u but the variable-sized binding %u holds at most "
-               "%u descriptors", i, variable[i], layouts[i]->bindings.back().binding, layouts[i]->bindings.back().count);
+               "%u descriptors",
+               i, variable[i], layouts[i]->bindings.back().binding, layouts[i]->bindings.back().count);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
     }
@@ -186,7 +193,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateDescriptorSets(VkDevice device,
   for (uint32_t i = 0; i < n; ++i)
     if (!pool->fits(*layouts[i], variable[i], pending, i)) return VK_ERROR_OUT_OF_POOL_MEMORY;
   for (uint32_t i = 0; i < n; ++i) {
-    auto* set = createObject<DescriptorSet>(nullptr, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, pool, layouts[i], variable[i]);
+    auto* set =
+        createObject<DescriptorSet>(nullptr, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, pool, layouts[i], variable[i]);
     if (!set) {
       for (uint32_t k = 0; k < i; ++k) {
         pool->free(fromHandleUnchecked<DescriptorSet>(pDescriptorSets[k]));
@@ -208,7 +216,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_FreeDescriptorSets(VkDevice device, VkDescri
   // VUID-vkFreeDescriptorSets-descriptorPool-parameter
   if (!pool) {
     report(dev, Severity::Error, "VUID-vkFreeDescriptorSets-descriptorPool-parameter",
-           "vkFreeDescriptorSets: 0x%llx is not a live VkDescriptorPool", (unsigned long long)rawHandle(descriptorPool));
+           "vkFreeDescriptorSets: 0x%llx is not a live VkDescriptorPool",
+           (unsigned long long)rawHandle(descriptorPool));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-vkFreeDescriptorSets-descriptorPool-00312

@@ -25,7 +25,8 @@ DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLay
   // Immutable samplers are part of the set from the start.
   for (const DescriptorBinding& b : layout->bindings) {
     uint32_t n = elementCount(b);
-    for (uint32_t i = 0; i < n && i < b.immutableSamplers.size(); ++i) records_[b.offset + i].sampler = b.immutableSamplers[i];
+    for (uint32_t i = 0; i < n && i < b.immutableSamplers.size(); ++i)
+      records_[b.offset + i].sampler = b.immutableSamplers[i];
   }
 }
 
@@ -64,13 +65,13 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
   const DescriptorSetLayout& l = *set->layout;
   const DescriptorBinding* b = l.bindingAt(binding);
   if (!b || set->elementCount(*b) == 0) {
-    report(set, Severity::Error, v.noBinding, "%s: binding %u does not exist in the set's layout (or has no descriptors)",
-           what, binding);
+    report(set, Severity::Error, v.noBinding,
+           "%s: binding %u does not exist in the set's layout (or has no descriptors)", what, binding);
     return false;
   }
   if (type != VK_DESCRIPTOR_TYPE_MAX_ENUM && b->type != type) {
-    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not %s", what, binding, descriptorTypeName(b->type),
-           descriptorTypeName(type));
+    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not %s", what, binding,
+           descriptorTypeName(b->type), descriptorTypeName(type));
     return false;
   }
   span.binding.clear();
@@ -92,7 +93,8 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
                                    n.immutableSamplers.empty() != b->immutableSamplers.empty())) {
         report(set, Severity::Error, v.consecutive,
                "%s: the update runs from binding %u into binding %u, whose type, stages, flags or immutable samplers "
-               "differ", what, binding, n.binding);
+               "differ",
+               what, binding, n.binding);
         return false;
       }
     }
@@ -120,7 +122,8 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     // VUID-VkDescriptorBufferInfo-buffer-parameter
     if (!buf) {
       report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-parameter",
-             "%s: descriptor %u: buffer 0x%llx is not a live VkBuffer", what, i, (unsigned long long)rawHandle(bi.buffer));
+             "%s: descriptor %u: buffer 0x%llx is not a live VkBuffer", what, i,
+             (unsigned long long)rawHandle(bi.buffer));
       return false;
     }
     // VUID-VkDescriptorBufferInfo-offset-00340
@@ -147,35 +150,39 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     // VUID-VkWriteDescriptorSet-descriptorType-00330, VUID-VkWriteDescriptorSet-descriptorType-00331
     VkBufferUsageFlags need = uniform ? VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT : VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     if (!(buf->usage & need)) {
-      report(set, Severity::Error,
-             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00330" : "VUID-VkWriteDescriptorSet-descriptorType-00331",
-             "%s: descriptor %u (%s): buffer 0x%llx lacks %s usage (usage 0x%x)", what, i, descriptorTypeName(type),
-             (unsigned long long)rawHandle(bi.buffer),
-             uniform ? "VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT" : "VK_BUFFER_USAGE_STORAGE_BUFFER_BIT", buf->usage);
+      report(
+          set, Severity::Error,
+          uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00330" : "VUID-VkWriteDescriptorSet-descriptorType-00331",
+          "%s: descriptor %u (%s): buffer 0x%llx lacks %s usage (usage 0x%x)", what, i, descriptorTypeName(type),
+          (unsigned long long)rawHandle(bi.buffer),
+          uniform ? "VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT" : "VK_BUFFER_USAGE_STORAGE_BUFFER_BIT", buf->usage);
       return false;
     }
     // VUID-VkWriteDescriptorSet-descriptorType-00327, VUID-VkWriteDescriptorSet-descriptorType-00328
     VkDeviceSize align = uniform ? lim.minUniformBufferOffsetAlignment : lim.minStorageBufferOffsetAlignment;
     if (bi.offset % align) {
-      report(set, Severity::Error,
-             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00327" : "VUID-VkWriteDescriptorSet-descriptorType-00328",
-             "%s: descriptor %u: offset %llu is not a multiple of %llu", what, i, (unsigned long long)bi.offset,
-             (unsigned long long)align);
+      report(
+          set, Severity::Error,
+          uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00327" : "VUID-VkWriteDescriptorSet-descriptorType-00328",
+          "%s: descriptor %u: offset %llu is not a multiple of %llu", what, i, (unsigned long long)bi.offset,
+          (unsigned long long)align);
       return false;
     }
     // VUID-VkWriteDescriptorSet-descriptorType-00332, VUID-VkWriteDescriptorSet-descriptorType-00333
     VkDeviceSize maxRange = uniform ? lim.maxUniformBufferRange : lim.maxStorageBufferRange;
     if (range > maxRange) {
-      report(set, Severity::Error,
-             uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00332" : "VUID-VkWriteDescriptorSet-descriptorType-00333",
-             "%s: descriptor %u: effective range %llu exceeds the limit %llu", what, i, (unsigned long long)range,
-             (unsigned long long)maxRange);
+      report(
+          set, Severity::Error,
+          uniform ? "VUID-VkWriteDescriptorSet-descriptorType-00332" : "VUID-VkWriteDescriptorSet-descriptorType-00333",
+          "%s: descriptor %u: effective range %llu exceeds the limit %llu", what, i, (unsigned long long)range,
+          (unsigned long long)maxRange);
       return false;
     }
     // VUID-VkWriteDescriptorSet-descriptorType-00329
     if (!buf->memory) {
       report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00329",
-             "%s: descriptor %u: buffer 0x%llx is not bound to memory", what, i, (unsigned long long)rawHandle(bi.buffer));
+             "%s: descriptor %u: buffer 0x%llx is not bound to memory", what, i,
+             (unsigned long long)rawHandle(bi.buffer));
       return false;
     }
     out.address = reinterpret_cast<uint64_t>(buf->data() + bi.offset);
@@ -230,7 +237,8 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
         // VUID-VkWriteDescriptorSet-descriptorType-00325
         if (!out.sampler) {
           report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00325",
-                 "%s: descriptor %u: sampler 0x%llx is not a live VkSampler", what, i, (unsigned long long)rawHandle(ii.sampler));
+                 "%s: descriptor %u: sampler 0x%llx is not a live VkSampler", what, i,
+                 (unsigned long long)rawHandle(ii.sampler));
           return false;
         }
       }
@@ -241,13 +249,15 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580
       if (!h) {
         report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580",
-               "%s: descriptor %u: acceleration structure is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
+               "%s: descriptor %u: acceleration structure is VK_NULL_HANDLE and nullDescriptor is not enabled", what,
+               i);
         return false;
       }
       const Object* as = findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR);
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter
       if (!as) {
-        report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter",
+        report(set, Severity::Error,
+               "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter",
                "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureKHR", what, i, (unsigned long long)h);
         return false;
       }
@@ -267,16 +277,15 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
 bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
                       VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what) {
   Span span;
-  static const SpanVuids kVuids = {"VUID-VkWriteDescriptorSet-dstBinding-00315",
-                                   "VUID-VkWriteDescriptorSet-descriptorType-00319",
-                                   "VUID-VkWriteDescriptorSet-dstArrayElement-00321",
-                                   "VUID-VkWriteDescriptorSet-descriptorCount-00317"};
+  static const SpanVuids kVuids = {
+      "VUID-VkWriteDescriptorSet-dstBinding-00315", "VUID-VkWriteDescriptorSet-descriptorType-00319",
+      "VUID-VkWriteDescriptorSet-dstArrayElement-00321", "VUID-VkWriteDescriptorSet-descriptorCount-00317"};
   if (!walk(set, binding, arrayElement, count, type, kVuids, what, span)) return false;
   // VUID-VkWriteDescriptorSet-descriptorType-02752
   if (type == VK_DESCRIPTOR_TYPE_SAMPLER && !span.binding[0]->immutableSamplers.empty()) {
     report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02752",
-           "%s: binding %u has immutable samplers; VK_DESCRIPTOR_TYPE_SAMPLER descriptors cannot be written to it", what,
-           binding);
+           "%s: binding %u has immutable samplers; VK_DESCRIPTOR_TYPE_SAMPLER descriptors cannot be written to it",
+           what, binding);
     return false;
   }
   for (uint32_t i = 0; i < count; ++i) {
@@ -306,7 +315,8 @@ const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, si
     if (!as || as->accelerationStructureCount != w.descriptorCount) {
       report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02382",
              "%s: an acceleration structure write needs a VkWriteDescriptorSetAccelerationStructureKHR with %u "
-             "structures in its pNext chain", what, w.descriptorCount);
+             "structures in its pNext chain",
+             what, w.descriptorCount);
       return nullptr;
     }
     stride = sizeof(VkAccelerationStructureKHR);
@@ -331,8 +341,8 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
   DescriptorSet* set = fromHandle<DescriptorSet>(w.dstSet);
   // VUID-VkWriteDescriptorSet-dstSet-00320
   if (!set) {
-    report(dev, Severity::Error, "VUID-VkWriteDescriptorSet-dstSet-00320", "%s: dstSet 0x%llx is not a live VkDescriptorSet",
-           what, (unsigned long long)rawHandle(w.dstSet));
+    report(dev, Severity::Error, "VUID-VkWriteDescriptorSet-dstSet-00320",
+           "%s: dstSet 0x%llx is not a live VkDescriptorSet", what, (unsigned long long)rawHandle(w.dstSet));
     return false;
   }
   size_t stride = 0;
@@ -340,19 +350,20 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
   // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
   if (!src) {
     if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR)
-      report(set, Severity::Error, isBufferType(w.descriptorType) ? "VUID-VkWriteDescriptorSet-descriptorType-00324"
-                                                                  : "VUID-VkWriteDescriptorSet-descriptorType-00322",
+      report(set, Severity::Error,
+             isBufferType(w.descriptorType) ? "VUID-VkWriteDescriptorSet-descriptorType-00324"
+                                            : "VUID-VkWriteDescriptorSet-descriptorType-00322",
              "%s: the descriptor array for %s is null", what, descriptorTypeName(w.descriptorType));
     return false;
   }
   // VUID-VkWriteDescriptorSet-descriptorType-parameter
   if (!descriptorTypeSupported(dev, w.descriptorType)) {
-    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter", "%s: descriptor type %d is not supported",
-           what, w.descriptorType);
+    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
+           "%s: descriptor type %d is not supported", what, w.descriptorType);
     return false;
   }
-  return writeDescriptors(set, w.dstBinding, w.dstArrayElement, w.descriptorCount, w.descriptorType, src, stride,
-                          apply, what);
+  return writeDescriptors(set, w.dstBinding, w.dstArrayElement, w.descriptorCount, w.descriptorType, src, stride, apply,
+                          what);
 }
 
 bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool apply) {
@@ -362,18 +373,19 @@ bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool appl
   DescriptorSet* dst = fromHandle<DescriptorSet>(c.dstSet);
   // VUID-VkCopyDescriptorSet-srcSet-parameter, VUID-VkCopyDescriptorSet-dstSet-parameter
   if (!src || !dst) {
-    report(dev, Severity::Error, !src ? "VUID-VkCopyDescriptorSet-srcSet-parameter" : "VUID-VkCopyDescriptorSet-dstSet-parameter",
+    report(dev, Severity::Error,
+           !src ? "VUID-VkCopyDescriptorSet-srcSet-parameter" : "VUID-VkCopyDescriptorSet-dstSet-parameter",
            "%s: %s 0x%llx is not a live VkDescriptorSet", what, !src ? "srcSet" : "dstSet",
            (unsigned long long)rawHandle(!src ? c.srcSet : c.dstSet));
     return false;
   }
   Span s, d;
-  static const SpanVuids kSrc = {"VUID-VkCopyDescriptorSet-srcBinding-00345", "VUID-VkCopyDescriptorSet-dstBinding-02632",
-                                 "VUID-VkCopyDescriptorSet-srcArrayElement-00346",
-                                 "VUID-VkCopyDescriptorSet-srcArrayElement-00346"};
-  static const SpanVuids kDst = {"VUID-VkCopyDescriptorSet-dstBinding-00347", "VUID-VkCopyDescriptorSet-dstBinding-02632",
-                                 "VUID-VkCopyDescriptorSet-dstArrayElement-00348",
-                                 "VUID-VkCopyDescriptorSet-dstArrayElement-00348"};
+  static const SpanVuids kSrc = {
+      "VUID-VkCopyDescriptorSet-srcBinding-00345", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+      "VUID-VkCopyDescriptorSet-srcArrayElement-00346", "VUID-VkCopyDescriptorSet-srcArrayElement-00346"};
+  static const SpanVuids kDst = {
+      "VUID-VkCopyDescriptorSet-dstBinding-00347", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+      "VUID-VkCopyDescriptorSet-dstArrayElement-00348", "VUID-VkCopyDescriptorSet-dstArrayElement-00348"};
   if (!walk(src, c.srcBinding, c.srcArrayElement, c.descriptorCount, VK_DESCRIPTOR_TYPE_MAX_ENUM, kSrc, what, s))
     return false;
   if (!walk(dst, c.dstBinding, c.dstArrayElement, c.descriptorCount, s.binding[0]->type, kDst, what, d)) return false;
@@ -384,7 +396,8 @@ bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool appl
     return false;
   }
   // VUID-VkCopyDescriptorSet-srcSet-00349
-  if (src == dst && s.firstRecord < d.firstRecord + c.descriptorCount && d.firstRecord < s.firstRecord + c.descriptorCount) {
+  if (src == dst && s.firstRecord < d.firstRecord + c.descriptorCount &&
+      d.firstRecord < s.firstRecord + c.descriptorCount) {
     report(dst, Severity::Error, "VUID-VkCopyDescriptorSet-srcSet-00349",
            "%s: source and destination ranges of the same set overlap", what);
     return false;

@@ -45,12 +45,10 @@ bool descriptorTypeSupported(const Device* dev, VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
-      return true;
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC: return true;
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR:
       return dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
-    default:
-      return false;  // input attachments (no graphics), inline uniform blocks (feature not exposed), others
+    default: return false;  // input attachments (no graphics), inline uniform blocks (feature not exposed), others
   }
 }
 
@@ -72,7 +70,8 @@ DescriptorSetLayout::DescriptorSetLayout(Device* dev, const VkDescriptorSetLayou
     d.stages = b.stageFlags;
     d.flags = (bf && bf->bindingCount) ? bf->pBindingFlags[i] : 0;
     if (b.pImmutableSamplers && b.descriptorCount &&
-        (b.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER || b.descriptorType == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) {
+        (b.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER ||
+         b.descriptorType == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)) {
       for (uint32_t k = 0; k < b.descriptorCount; ++k)
         d.immutableSamplers.push_back(findObject(rawHandle(b.pImmutableSamplers[k]), VK_OBJECT_TYPE_SAMPLER));
     }
@@ -123,10 +122,10 @@ namespace {
 
 // Checks a VkDescriptorSetLayoutCreateInfo. Reports the first problem (unless `quiet`) and returns false.
 bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bool quiet, const char* cmd) {
-#define FAIL(vuid, ...)                                  \
-  do {                                                   \
+#define FAIL(vuid, ...)                                          \
+  do {                                                           \
     if (!quiet) report(dev, Severity::Error, vuid, __VA_ARGS__); \
-    return false;                                        \
+    return false;                                                \
   } while (0)
   auto on = [dev](Feature f) { return dev->enabled(f); };
   auto* bf = findInChain<VkDescriptorSetLayoutBindingFlagsCreateInfo>(
@@ -158,7 +157,8 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
            "extension is not enabled",
            cmd, i, b.binding, descriptorTypeName(b.descriptorType), b.descriptorType);
     // VUID-VkDescriptorSetLayoutBinding-descriptorType-00282
-    if ((b.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER || b.descriptorType == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) &&
+    if ((b.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER ||
+         b.descriptorType == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) &&
         b.descriptorCount && b.pImmutableSamplers)
       for (uint32_t k = 0; k < b.descriptorCount; ++k)
         if (!findObject(rawHandle(b.pImmutableSamplers[k]), VK_OBJECT_TYPE_SAMPLER))
@@ -170,7 +170,11 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
     if (!fl) continue;
     if (fl & VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT) {
       anyUpdateAfterBind = true;
-      struct Req { VkDescriptorType type; VkBool32 enabled; const char* vuid; };
+      struct Req {
+        VkDescriptorType type;
+        VkBool32 enabled;
+        const char* vuid;
+      };
       const Req reqs[] = {
           {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, on(Feature::descriptorBindingUniformBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUniformBufferUpdateAfterBind-03005"},
@@ -189,12 +193,15 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
           {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, on(Feature::descriptorBindingStorageTexelBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingStorageTexelBufferUpdateAfterBind-03010"},
           {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_FALSE,
-           "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingAccelerationStructureUpdateAfterBind-03570"},
+           "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingAccelerationStructureUpdateAfterBind-"
+           "03570"},
       };
       for (const Req& r : reqs)
         if (r.type == b.descriptorType && !r.enabled)
-          FAIL(r.vuid, "%s: pBindings[%u] (%s) has VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT but the feature is "
-               "not enabled", cmd, i, descriptorTypeName(b.descriptorType));
+          FAIL(r.vuid,
+               "%s: pBindings[%u] (%s) has VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT but the feature is "
+               "not enabled",
+               cmd, i, descriptorTypeName(b.descriptorType));
       // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-None-03011
       if (isDynamicBufferType(b.descriptorType))
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-None-03011",
@@ -202,10 +209,12 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
              descriptorTypeName(b.descriptorType));
     }
     // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUpdateUnusedWhilePending-03012
-    if ((fl & VK_DESCRIPTOR_BINDING_UPDATE_UNUSED_WHILE_PENDING_BIT) && !on(Feature::descriptorBindingUpdateUnusedWhilePending))
+    if ((fl & VK_DESCRIPTOR_BINDING_UPDATE_UNUSED_WHILE_PENDING_BIT) &&
+        !on(Feature::descriptorBindingUpdateUnusedWhilePending))
       FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUpdateUnusedWhilePending-03012",
            "%s: pBindingFlags[%u] has UPDATE_UNUSED_WHILE_PENDING but descriptorBindingUpdateUnusedWhilePending is "
-           "not enabled", cmd, i);
+           "not enabled",
+           cmd, i);
     // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingPartiallyBound-03013
     if ((fl & VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT) && !on(Feature::descriptorBindingPartiallyBound))
       FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingPartiallyBound-03013",
@@ -215,7 +224,8 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
       if (!on(Feature::descriptorBindingVariableDescriptorCount))
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingVariableDescriptorCount-03014",
              "%s: pBindingFlags[%u] has VARIABLE_DESCRIPTOR_COUNT but descriptorBindingVariableDescriptorCount is "
-             "not enabled", cmd, i);
+             "not enabled",
+             cmd, i);
       // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-pBindingFlags-03015
       if (isDynamicBufferType(b.descriptorType))
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-pBindingFlags-03015",
@@ -226,14 +236,16 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
         if (info.pBindings[j].binding > b.binding)
           FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-pBindingFlags-03004",
                "%s: binding %u has VARIABLE_DESCRIPTOR_COUNT but is not the highest binding (pBindings[%u] is "
-               "binding %u)", cmd, b.binding, j, info.pBindings[j].binding);
+               "binding %u)",
+               cmd, b.binding, j, info.pBindings[j].binding);
     }
   }
   // VUID-VkDescriptorSetLayoutCreateInfo-flags-03000
   if (anyUpdateAfterBind && !(info.flags & VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT))
     FAIL("VUID-VkDescriptorSetLayoutCreateInfo-flags-03000",
          "%s: a binding has VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT but flags lack "
-         "VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT", cmd);
+         "VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT",
+         cmd);
   // VUID-VkDescriptorSetLayoutCreateInfo-descriptorType-03001
   if (anyUpdateAfterBind && anyDynamic)
     FAIL("VUID-VkDescriptorSetLayoutCreateInfo-descriptorType-03001",
@@ -252,8 +264,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorSetLayout(VkDevice device,
                                                               VkDescriptorSetLayout* pSetLayout) {
   Device* dev = fromHandleUnchecked<Device>(device);
   if (!validateLayout(dev, *pCreateInfo, false, "vkCreateDescriptorSetLayout")) return VK_ERROR_VALIDATION_FAILED_EXT;
-  auto* l = createObject<DescriptorSetLayout>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo,
-                                              pAllocator);
+  auto* l =
+      createObject<DescriptorSetLayout>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, pAllocator);
   if (!l) return VK_ERROR_OUT_OF_HOST_MEMORY;
   *pSetLayout = toHandle(l);
   return VK_SUCCESS;
@@ -265,7 +277,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyDescriptorSetLayout(VkDevice device, VkDe
   DescriptorSetLayout* l = fromHandle<DescriptorSetLayout>(descriptorSetLayout);
   // VUID-vkDestroyDescriptorSetLayout-descriptorSetLayout-parameter
   if (!l || l->destroyedByApp.exchange(true)) {
-    report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyDescriptorSetLayout-descriptorSetLayout-parameter",
+    report(fromHandle<Device>(device), Severity::Error,
+           "VUID-vkDestroyDescriptorSetLayout-descriptorSetLayout-parameter",
            "vkDestroyDescriptorSetLayout: 0x%llx is not a live VkDescriptorSetLayout",
            (unsigned long long)rawHandle(descriptorSetLayout));
     return;

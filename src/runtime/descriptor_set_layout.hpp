@@ -31,8 +31,8 @@ struct DescriptorBinding {
   uint32_t count = 0;  // for a variable-count binding: the upper bound
   VkShaderStageFlags stages = 0;
   VkDescriptorBindingFlags flags = 0;
-  uint32_t offset = 0;        // first record of this binding within the set
-  uint32_t dynamicIndex = 0;  // dynamic buffers: index of element 0 in the set's dynamic offsets
+  uint32_t offset = 0;                           // first record of this binding within the set
+  uint32_t dynamicIndex = 0;                     // dynamic buffers: index of element 0 in the set's dynamic offsets
   std::vector<const Object*> immutableSamplers;  // empty, or `count` samplers
 };
 
@@ -45,9 +45,9 @@ class DescriptorSetLayout : public Object {
 
   VkDescriptorSetLayoutCreateFlags flags = 0;
   std::vector<DescriptorBinding> bindings;  // sorted by binding number
-  uint32_t recordCount = 0;                  // records of a set (variable binding at its upper bound)
-  uint32_t dynamicCount = 0;                 // dynamic uniform + storage buffer descriptors
-  bool hasVariableCount = false;             // the last binding is variable-sized
+  uint32_t recordCount = 0;                 // records of a set (variable binding at its upper bound)
+  uint32_t dynamicCount = 0;                // dynamic uniform + storage buffer descriptors
+  bool hasVariableCount = false;            // the last binding is variable-sized
 
   // The binding with number `binding`, or nullptr if the layout has none.
   const DescriptorBinding* bindingAt(uint32_t binding) const;

@@ -52,20 +52,24 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorUpdateTemplate(
     if (!b || b->type != e.descriptorType) {
       report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateEntry-dstBinding-00354",
              "vkCreateDescriptorUpdateTemplate: pDescriptorUpdateEntries[%u] names binding %u (%s), which the layout "
-             "does not have with that type", i, e.dstBinding, descriptorTypeName(e.descriptorType));
+             "does not have with that type",
+             i, e.dstBinding, descriptorTypeName(e.descriptorType));
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
     // VUID-VkDescriptorUpdateTemplateEntry-dstArrayElement-00355 (checked against the largest set; a set with a
     // smaller variable count is checked again at update time)
     uint64_t end = uint64_t(b->offset) + e.dstArrayElement + e.descriptorCount;
     if (end > layout->recordCount) {
-      report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateEntry-dstArrayElement-00355",
-             "vkCreateDescriptorUpdateTemplate: pDescriptorUpdateEntries[%u]: %u descriptors from element %u of binding "
-             "%u run past the end of the set", i, e.descriptorCount, e.dstArrayElement, e.dstBinding);
+      report(
+          dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateEntry-dstArrayElement-00355",
+          "vkCreateDescriptorUpdateTemplate: pDescriptorUpdateEntries[%u]: %u descriptors from element %u of binding "
+          "%u run past the end of the set",
+          i, e.descriptorCount, e.dstArrayElement, e.dstBinding);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
-  auto* t = createObject<DescriptorUpdateTemplate>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, layout);
+  auto* t =
+      createObject<DescriptorUpdateTemplate>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, layout);
   if (!t) return VK_ERROR_OUT_OF_HOST_MEMORY;
   *pDescriptorUpdateTemplate = toHandle(t);
   return VK_SUCCESS;

@@ -63,8 +63,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDevice(VkPhysicalDevice physicalDevice
   for (uint32_t i = 0; i < pCreateInfo->queueCreateInfoCount; ++i) {
     const VkDeviceQueueCreateInfo& q = pCreateInfo->pQueueCreateInfos[i];
     for (uint32_t k = 0; k < q.queueCount; ++k) {
-      Queue* queue = createObject<Queue>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, dev, q.queueFamilyIndex, k,
-                                         q.flags);
+      Queue* queue =
+          createObject<Queue>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, dev, q.queueFamilyIndex, k, q.flags);
       if (!queue) {
         for (Queue* made : dev->queues) destroyObject(made, pAllocator);
         destroyObject(dev, pAllocator);

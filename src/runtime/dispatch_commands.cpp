@@ -19,11 +19,13 @@ namespace {
 using ull = unsigned long long;
 
 // Runs a dispatch with the state bound when the command executes. `cb` is only used to name reports.
-void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base[3], const uint32_t count[3], const char* fn) {
+void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base[3], const uint32_t count[3],
+                     const char* fn) {
   const BindState& bs = st.compute;
   // VUID-vkCmdDispatch-None-02700 (a compute pipeline must be bound)
   if (!bs.pipeline || bs.pipeline->bindPoint != VK_PIPELINE_BIND_POINT_COMPUTE) {
-    report(cb, Severity::Error, "VUID-vkCmdDispatch-None-02700", "%s: no compute pipeline is bound; the dispatch is skipped", fn);
+    report(cb, Severity::Error, "VUID-vkCmdDispatch-None-02700",
+           "%s: no compute pipeline is bound; the dispatch is skipped", fn);
     return;
   }
   const auto* pipeline = static_cast<const ComputePipeline*>(bs.pipeline);
@@ -31,7 +33,8 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
   if ((base[0] || base[1] || base[2]) && !(pipeline->createFlags & VK_PIPELINE_CREATE_DISPATCH_BASE_BIT)) {
     report(cb, Severity::Error, "VUID-vkCmdDispatchBase-baseGroupX-00427",
            "%s: base workgroup (%u, %u, %u) is not zero but the bound pipeline was created without "
-           "VK_PIPELINE_CREATE_DISPATCH_BASE_BIT; the dispatch is skipped", fn, base[0], base[1], base[2]);
+           "VK_PIPELINE_CREATE_DISPATCH_BASE_BIT; the dispatch is skipped",
+           fn, base[0], base[1], base[2]);
     return;
   }
   const spirv::CompiledShader& sh = *pipeline->shader;
@@ -45,10 +48,13 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
     d.base[k] = base[k];
     d.count[k] = count[k];
   }
-  if (!exec::runCompute(d)) report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
+  if (!exec::runCompute(d))
+    report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
 }
 
-const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) { return cb->device->physicalDevice->properties10.limits; }
+const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) {
+  return cb->device->physicalDevice->properties10.limits;
+}
 
 }  // namespace
 }  // namespace vkrt
@@ -68,8 +74,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatch(VkCommandBuffer commandBuffer, uint3
   for (int k = 0; k < 3; ++k) {
     // VUID-vkCmdDispatch-groupCountX-00386, VUID-vkCmdDispatch-groupCountY-00387, VUID-vkCmdDispatch-groupCountZ-00388
     if (count[k] > limitsOf(cb).maxComputeWorkGroupCount[k]) {
-      report(cb, Severity::Error, kVuids[k], "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u)", fn, "XYZ"[k], count[k],
-             k, limitsOf(cb).maxComputeWorkGroupCount[k]);
+      report(cb, Severity::Error, kVuids[k], "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u)", fn,
+             "XYZ"[k], count[k], k, limitsOf(cb).maxComputeWorkGroupCount[k]);
       return;
     }
   }
@@ -87,40 +93,47 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchBase(VkCommandBuffer commandBuffer, u
   if (!cb) return;
   const uint32_t base[3] = {baseGroupX, baseGroupY, baseGroupZ};
   const uint32_t count[3] = {groupCountX, groupCountY, groupCountZ};
-  static const char* const kBaseVuids[3] = {"VUID-vkCmdDispatchBase-baseGroupX-00421", "VUID-vkCmdDispatchBase-baseGroupX-00422",
+  static const char* const kBaseVuids[3] = {"VUID-vkCmdDispatchBase-baseGroupX-00421",
+                                            "VUID-vkCmdDispatchBase-baseGroupX-00422",
                                             "VUID-vkCmdDispatchBase-baseGroupZ-00423"};
-  static const char* const kCountVuids[3] = {"VUID-vkCmdDispatchBase-groupCountX-00424", "VUID-vkCmdDispatchBase-groupCountY-00425",
+  static const char* const kCountVuids[3] = {"VUID-vkCmdDispatchBase-groupCountX-00424",
+                                             "VUID-vkCmdDispatchBase-groupCountY-00425",
                                              "VUID-vkCmdDispatchBase-groupCountZ-00426"};
   for (int k = 0; k < 3; ++k) {
     uint32_t max = limitsOf(cb).maxComputeWorkGroupCount[k];
-    // VUID-vkCmdDispatchBase-baseGroupX-00421, VUID-vkCmdDispatchBase-baseGroupX-00422, VUID-vkCmdDispatchBase-baseGroupZ-00423
+    // VUID-vkCmdDispatchBase-baseGroupX-00421, VUID-vkCmdDispatchBase-baseGroupX-00422,
+    // VUID-vkCmdDispatchBase-baseGroupZ-00423
     if (base[k] >= max) {
-      report(cb, Severity::Error, kBaseVuids[k], "%s: baseGroup%c (%u) is not less than maxComputeWorkGroupCount[%d] (%u)", fn, "XYZ"[k],
-             base[k], k, max);
+      report(cb, Severity::Error, kBaseVuids[k],
+             "%s: baseGroup%c (%u) is not less than maxComputeWorkGroupCount[%d] (%u)", fn, "XYZ"[k], base[k], k, max);
       return;
     }
-    // VUID-vkCmdDispatchBase-groupCountX-00424, VUID-vkCmdDispatchBase-groupCountY-00425, VUID-vkCmdDispatchBase-groupCountZ-00426
+    // VUID-vkCmdDispatchBase-groupCountX-00424, VUID-vkCmdDispatchBase-groupCountY-00425,
+    // VUID-vkCmdDispatchBase-groupCountZ-00426
     if (count[k] > max - base[k]) {
-      report(cb, Severity::Error, kCountVuids[k], "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u) minus baseGroup%c (%u)",
-             fn, "XYZ"[k], count[k], k, max, "XYZ"[k], base[k]);
+      report(cb, Severity::Error, kCountVuids[k],
+             "%s: groupCount%c (%u) exceeds maxComputeWorkGroupCount[%d] (%u) minus baseGroup%c (%u)", fn, "XYZ"[k],
+             count[k], k, max, "XYZ"[k], base[k]);
       return;
     }
   }
-  cb->record([cb, bx = baseGroupX, by = baseGroupY, bz = baseGroupZ, x = groupCountX, y = groupCountY, z = groupCountZ](ExecState& st) {
+  cb->record([cb, bx = baseGroupX, by = baseGroupY, bz = baseGroupZ, x = groupCountX, y = groupCountY,
+              z = groupCountZ](ExecState& st) {
     const uint32_t b[3] = {bx, by, bz}, c[3] = {x, y, z};
     executeDispatch(cb, st, b, c, "vkCmdDispatchBase");
   });
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchIndirect(VkCommandBuffer commandBuffer, VkBuffer buffer, VkDeviceSize offset) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchIndirect(VkCommandBuffer commandBuffer, VkBuffer buffer,
+                                                    VkDeviceSize offset) {
   const char* fn = "vkCmdDispatchIndirect";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
   Buffer* buf = fromHandle<Buffer>(buffer);
   // VUID-vkCmdDispatchIndirect-buffer-parameter
   if (!buf) {
-    report(cb, Severity::Error, "VUID-vkCmdDispatchIndirect-buffer-parameter", "%s: buffer 0x%llx is not a live VkBuffer", fn,
-           (ull)rawHandle(buffer));
+    report(cb, Severity::Error, "VUID-vkCmdDispatchIndirect-buffer-parameter",
+           "%s: buffer 0x%llx is not a live VkBuffer", fn, (ull)rawHandle(buffer));
     return;
   }
   // VUID-vkCmdDispatchIndirect-buffer-02709
@@ -136,26 +149,32 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchIndirect(VkCommandBuffer commandBuffe
   }
   // VUID-vkCmdDispatchIndirect-offset-02710
   if (offset % 4) {
-    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-offset-02710", "%s: offset %llu is not a multiple of 4", fn, (ull)offset);
+    report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-offset-02710", "%s: offset %llu is not a multiple of 4",
+           fn, (ull)offset);
     return;
   }
   // VUID-vkCmdDispatchIndirect-offset-00407
   if (offset > buf->size || buf->size - offset < sizeof(VkDispatchIndirectCommand)) {
     report(buf, Severity::Error, "VUID-vkCmdDispatchIndirect-offset-00407",
-           "%s: offset %llu + sizeof(VkDispatchIndirectCommand) (12) exceeds the buffer size %llu", fn, (ull)offset, (ull)buf->size);
+           "%s: offset %llu + sizeof(VkDispatchIndirectCommand) (12) exceeds the buffer size %llu", fn, (ull)offset,
+           (ull)buf->size);
     return;
   }
   cb->record([cb, buf, offset](ExecState& st) {
     VkDispatchIndirectCommand c;
     std::memcpy(&c, buf->data() + offset, sizeof c);
     const uint32_t base[3] = {0, 0, 0}, count[3] = {c.x, c.y, c.z};
-    static const char* const kVuids[3] = {"VUID-VkDispatchIndirectCommand-x-00417", "VUID-VkDispatchIndirectCommand-y-00418",
+    static const char* const kVuids[3] = {"VUID-VkDispatchIndirectCommand-x-00417",
+                                          "VUID-VkDispatchIndirectCommand-y-00418",
                                           "VUID-VkDispatchIndirectCommand-z-00419"};
     for (int k = 0; k < 3; ++k) {
-      // VUID-VkDispatchIndirectCommand-x-00417, VUID-VkDispatchIndirectCommand-y-00418, VUID-VkDispatchIndirectCommand-z-00419
+      // VUID-VkDispatchIndirectCommand-x-00417, VUID-VkDispatchIndirectCommand-y-00418,
+      // VUID-VkDispatchIndirectCommand-z-00419
       if (count[k] > limitsOf(cb).maxComputeWorkGroupCount[k]) {
-        report(cb, Severity::Error, kVuids[k], "vkCmdDispatchIndirect: the buffer's %c count (%u) exceeds maxComputeWorkGroupCount[%d] (%u); "
-               "the dispatch is skipped", "xyz"[k], count[k], k, limitsOf(cb).maxComputeWorkGroupCount[k]);
+        report(cb, Severity::Error, kVuids[k],
+               "vkCmdDispatchIndirect: the buffer's %c count (%u) exceeds maxComputeWorkGroupCount[%d] (%u); "
+               "the dispatch is skipped",
+               "xyz"[k], count[k], k, limitsOf(cb).maxComputeWorkGroupCount[k]);
         return;
       }
     }

@@ -23,7 +23,8 @@ namespace {
 
 Event* liveEvent(const Object* about, VkEvent h, const char* fn, const char* vuid) {
   Event* e = fromHandle<Event>(h);
-  if (!e) report(about, Severity::Error, vuid, "%s: 0x%llx is not a live VkEvent", fn, (unsigned long long)rawHandle(h));
+  if (!e)
+    report(about, Severity::Error, vuid, "%s: 0x%llx is not a live VkEvent", fn, (unsigned long long)rawHandle(h));
   return e;
 }
 
@@ -54,27 +55,31 @@ bool checkBufferBarriers(CommandBuffer* cb, uint32_t count, const Barrier* barri
     const Barrier& b = barriers[i];
     Buffer* buf = fromHandle<Buffer>(b.buffer);
     if (!buf) {
-      report(cb, Severity::Error, v2 ? "VUID-VkBufferMemoryBarrier2-buffer-parameter" : "VUID-VkBufferMemoryBarrier-buffer-parameter",
+      report(cb, Severity::Error,
+             v2 ? "VUID-VkBufferMemoryBarrier2-buffer-parameter" : "VUID-VkBufferMemoryBarrier-buffer-parameter",
              "%s: pBufferMemoryBarriers[%u].buffer 0x%llx is not a live VkBuffer", fn, i,
              (unsigned long long)rawHandle(b.buffer));
       return false;
     }
     // VUID-VkBufferMemoryBarrier-offset-01187, VUID-VkBufferMemoryBarrier2-offset-01187
     if (b.offset >= buf->size) {
-      report(buf, Severity::Error, v2 ? "VUID-VkBufferMemoryBarrier2-offset-01187" : "VUID-VkBufferMemoryBarrier-offset-01187",
+      report(buf, Severity::Error,
+             v2 ? "VUID-VkBufferMemoryBarrier2-offset-01187" : "VUID-VkBufferMemoryBarrier-offset-01187",
              "%s: pBufferMemoryBarriers[%u].offset %llu is not less than the buffer size %llu", fn, i,
              (unsigned long long)b.offset, (unsigned long long)buf->size);
       return false;
     }
     // VUID-VkBufferMemoryBarrier-size-01188, VUID-VkBufferMemoryBarrier2-size-01188
     if (b.size == 0) {
-      report(buf, Severity::Error, v2 ? "VUID-VkBufferMemoryBarrier2-size-01188" : "VUID-VkBufferMemoryBarrier-size-01188",
+      report(buf, Severity::Error,
+             v2 ? "VUID-VkBufferMemoryBarrier2-size-01188" : "VUID-VkBufferMemoryBarrier-size-01188",
              "%s: pBufferMemoryBarriers[%u].size is 0", fn, i);
       return false;
     }
     // VUID-VkBufferMemoryBarrier-size-01189, VUID-VkBufferMemoryBarrier2-size-01189
     if (b.size != VK_WHOLE_SIZE && b.size > buf->size - b.offset) {
-      report(buf, Severity::Error, v2 ? "VUID-VkBufferMemoryBarrier2-size-01189" : "VUID-VkBufferMemoryBarrier-size-01189",
+      report(buf, Severity::Error,
+             v2 ? "VUID-VkBufferMemoryBarrier2-size-01189" : "VUID-VkBufferMemoryBarrier-size-01189",
              "%s: pBufferMemoryBarriers[%u] [%llu, +%llu) exceeds the buffer size %llu", fn, i,
              (unsigned long long)b.offset, (unsigned long long)b.size, (unsigned long long)buf->size);
       return false;

@@ -65,12 +65,11 @@ const FormatInfo* formatInfo(VkFormat format) {
 VkFormatFeatureFlags formatFeatures(VkFormat format) {
   const FormatInfo* f = formatInfo(format);
   if (!f || f->texelSize == 12) return 0;  // three-component 32-bit formats are buffer-only
-  VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
-                               VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+  VkFormatFeatureFlags flags =
+      VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
   if (f->type != N::UInt && f->type != N::SInt) flags |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if (f->type != N::SRGB) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
-  if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)
-    flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_ATOMIC_BIT;
+  if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_ATOMIC_BIT;
   return flags;
 }
 
@@ -122,8 +121,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
   const VkImageUsageFlags supportedUsage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
   if (usage & ~supportedUsage) return VK_ERROR_FORMAT_NOT_SUPPORTED;
-  if (flags & (VK_IMAGE_CREATE_SPARSE_BINDING_BIT | VK_IMAGE_CREATE_SPARSE_RESIDENCY_BIT |
-               VK_IMAGE_CREATE_SPARSE_ALIASED_BIT))
+  if (flags &
+      (VK_IMAGE_CREATE_SPARSE_BINDING_BIT | VK_IMAGE_CREATE_SPARSE_RESIDENCY_BIT | VK_IMAGE_CREATE_SPARSE_ALIASED_BIT))
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   const VkPhysicalDeviceLimits& l = fromHandleUnchecked<PhysicalDevice>(physicalDevice)->properties10.limits;
   switch (type) {
@@ -139,8 +138,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
       pProps->maxExtent = {l.maxImageDimension3D, l.maxImageDimension3D, l.maxImageDimension3D};
       pProps->maxMipLevels = 12;
       break;
-    default:
-      return VK_ERROR_FORMAT_NOT_SUPPORTED;
+    default: return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   pProps->maxArrayLayers = type == VK_IMAGE_TYPE_3D ? 1 : l.maxImageArrayLayers;
   pProps->sampleCounts = VK_SAMPLE_COUNT_1_BIT;
@@ -150,8 +148,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties2(
-    VkPhysicalDevice physicalDevice, const VkPhysicalDeviceImageFormatInfo2* pInfo,
-    VkImageFormatProperties2* pProps) {
+    VkPhysicalDevice physicalDevice, const VkPhysicalDeviceImageFormatInfo2* pInfo, VkImageFormatProperties2* pProps) {
   return vkrt_GetPhysicalDeviceImageFormatProperties(physicalDevice, pInfo->format, pInfo->type, pInfo->tiling,
                                                      pInfo->usage, pInfo->flags, &pProps->imageFormatProperties);
 }
@@ -163,9 +160,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceSparseImageFormatProperties(VkP
   *pPropertyCount = 0;  // no sparse support
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceSparseImageFormatProperties2(
-    VkPhysicalDevice, const VkPhysicalDeviceSparseImageFormatInfo2*, uint32_t* pPropertyCount,
-    VkSparseImageFormatProperties2*) {
+VKAPI_ATTR void VKAPI_CALL
+vkrt_GetPhysicalDeviceSparseImageFormatProperties2(VkPhysicalDevice, const VkPhysicalDeviceSparseImageFormatInfo2*,
+                                                   uint32_t* pPropertyCount, VkSparseImageFormatProperties2*) {
   *pPropertyCount = 0;
 }
 

@@ -16,8 +16,8 @@ struct FormatInfo {
   uint8_t components;  // 1..4
   uint8_t bits[4];     // bits per component, in memory order R,G,B,A (B,G,R,A for the BGRA formats)
   NumericType type;
-  bool bgr;            // components stored as B,G,R(,A)
-  bool packed;         // a packed format (A2B10G10R10, B10G11R11...)
+  bool bgr;     // components stored as B,G,R(,A)
+  bool packed;  // a packed format (A2B10G10R10, B10G11R11...)
 };
 
 // nullptr when vkrt does not support the format.

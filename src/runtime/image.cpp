@@ -3,8 +3,8 @@
 #include <algorithm>
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
@@ -74,8 +74,8 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
   }
   // VUID-VkImageCreateInfo-mipLevels-00947 / arrayLayers-00948
   if (ci.mipLevels == 0 || ci.arrayLayers == 0) {
-    report(dev, Severity::Error, ci.mipLevels == 0 ? "VUID-VkImageCreateInfo-mipLevels-00947"
-                                                   : "VUID-VkImageCreateInfo-arrayLayers-00948",
+    report(dev, Severity::Error,
+           ci.mipLevels == 0 ? "VUID-VkImageCreateInfo-mipLevels-00947" : "VUID-VkImageCreateInfo-arrayLayers-00948",
            "vkCreateImage: mipLevels %u and arrayLayers %u must be at least 1", ci.mipLevels, ci.arrayLayers);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
@@ -240,13 +240,11 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSparseMemoryRequirements(VkDevice, VkIma
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSparseMemoryRequirements2(VkDevice, const VkImageSparseMemoryRequirementsInfo2*,
-                                                                  uint32_t* pCount,
-                                                                  VkSparseImageMemoryRequirements2*) {
+                                                                  uint32_t* pCount, VkSparseImageMemoryRequirements2*) {
   *pCount = 0;
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceImageSparseMemoryRequirements(VkDevice,
-                                                                       const VkDeviceImageMemoryRequirements*,
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceImageSparseMemoryRequirements(VkDevice, const VkDeviceImageMemoryRequirements*,
                                                                        uint32_t* pCount,
                                                                        VkSparseImageMemoryRequirements2*) {
   *pCount = 0;
@@ -278,8 +276,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSubresourceLayout(VkDevice device, VkIma
     report(img ? static_cast<Object*>(img) : fromHandle<Device>(device), Severity::Error,
            img && pSubresource->mipLevel < img->mipLevels ? "VUID-vkGetImageSubresourceLayout-arrayLayer-01717"
                                                           : "VUID-vkGetImageSubresourceLayout-mipLevel-01716",
-           "vkGetImageSubresourceLayout: subresource (mip %u, layer %u) is outside the image",
-           pSubresource->mipLevel, pSubresource->arrayLayer);
+           "vkGetImageSubresourceLayout: subresource (mip %u, layer %u) is outside the image", pSubresource->mipLevel,
+           pSubresource->arrayLayer);
     return;
   }
   const MipLayout& m = img->mips[pSubresource->mipLevel];

@@ -10,8 +10,8 @@
 
 #include <vector>
 
-#include "runtime/object.hpp"
 #include "runtime/format.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 
@@ -19,7 +19,7 @@ class Memory;
 
 struct MipLayout {
   VkExtent3D extent;
-  VkDeviceSize offset;      // of layer 0
+  VkDeviceSize offset;  // of layer 0
   VkDeviceSize rowPitch;
   VkDeviceSize depthPitch;  // one slice
   VkDeviceSize arrayPitch;  // one layer (= depthPitch * depth)

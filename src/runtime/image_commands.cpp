@@ -1,6 +1,7 @@
 // Image transfer commands: vkCmdCopyBufferToImage(2), vkCmdCopyImageToBuffer(2), vkCmdCopyImage(2),
-// vkCmdClearColorImage (vkCmdBlitImage is not implemented: no format claims BLIT_SRC/BLIT_DST). Each validates its regions (reporting the VUID and recording nothing when one is
-// invalid) and records a closure that runs the routines of runtime/image_copy.hpp.
+// vkCmdClearColorImage (vkCmdBlitImage is not implemented: no format claims BLIT_SRC/BLIT_DST). Each validates its
+// regions (reporting the VUID and recording nothing when one is invalid) and records a closure that runs the routines
+// of runtime/image_copy.hpp.
 #include <vector>
 
 #include "runtime/buffer.hpp"
@@ -20,20 +21,20 @@ using ull = unsigned long long;
 // The VUIDs one command reports (they differ between the 1 and 2 versions of each command).
 struct Vuids {
   const char* fn;
-  const char* usage;       // image transfer usage
-  const char* bound;       // image bound to memory
-  const char* layout;      // image layout
-  const char* mip;         // subresource mip level
-  const char* layers;      // subresource layers
-  const char* bounds;      // region inside the (mip of the) image
-  const char* aspect;      // color aspect only
+  const char* usage;   // image transfer usage
+  const char* bound;   // image bound to memory
+  const char* layout;  // image layout
+  const char* mip;     // subresource mip level
+  const char* layers;  // subresource layers
+  const char* bounds;  // region inside the (mip of the) image
+  const char* aspect;  // color aspect only
   // Buffer <-> image only:
   const char* bufUsage;
   const char* bufBound;
-  const char* bufOffset;   // multiple of the texel size
-  const char* bufSize;     // buffer large enough
-  const char* rowLength;   // bufferRowLength >= width
-  const char* imageHeight; // bufferImageHeight >= height
+  const char* bufOffset;    // multiple of the texel size
+  const char* bufSize;      // buffer large enough
+  const char* rowLength;    // bufferRowLength >= width
+  const char* imageHeight;  // bufferImageHeight >= height
 };
 
 constexpr Vuids kBufferToImage{"vkCmdCopyBufferToImage",
@@ -93,26 +94,46 @@ constexpr Vuids kImageToBuffer2{"vkCmdCopyImageToBuffer2",
                                 "VUID-VkBufferImageCopy2-bufferRowLength-00195",
                                 "VUID-VkBufferImageCopy2-bufferImageHeight-00196"};
 // vkCmdCopyImage(2): one table for the source and one for the destination image.
-constexpr Vuids kCopySrc{"vkCmdCopyImage", "VUID-vkCmdCopyImage-srcImage-00126", "VUID-vkCmdCopyImage-srcImage-00127",
-                         "VUID-vkCmdCopyImage-srcImageLayout-01917", "VUID-vkCmdCopyImage-srcSubresource-01696",
-                         "VUID-vkCmdCopyImage-srcSubresource-01698", "VUID-vkCmdCopyImage-srcOffset-00144",
+constexpr Vuids kCopySrc{"vkCmdCopyImage",
+                         "VUID-vkCmdCopyImage-srcImage-00126",
+                         "VUID-vkCmdCopyImage-srcImage-00127",
+                         "VUID-vkCmdCopyImage-srcImageLayout-01917",
+                         "VUID-vkCmdCopyImage-srcSubresource-01696",
+                         "VUID-vkCmdCopyImage-srcSubresource-01698",
+                         "VUID-vkCmdCopyImage-srcOffset-00144",
                          "VUID-vkCmdCopyImage-aspectMask-00142"};
-constexpr Vuids kCopyDst{"vkCmdCopyImage", "VUID-vkCmdCopyImage-dstImage-00131", "VUID-vkCmdCopyImage-dstImage-00132",
-                         "VUID-vkCmdCopyImage-dstImageLayout-01395", "VUID-vkCmdCopyImage-dstSubresource-01697",
-                         "VUID-vkCmdCopyImage-dstSubresource-01699", "VUID-vkCmdCopyImage-dstOffset-00150",
+constexpr Vuids kCopyDst{"vkCmdCopyImage",
+                         "VUID-vkCmdCopyImage-dstImage-00131",
+                         "VUID-vkCmdCopyImage-dstImage-00132",
+                         "VUID-vkCmdCopyImage-dstImageLayout-01395",
+                         "VUID-vkCmdCopyImage-dstSubresource-01697",
+                         "VUID-vkCmdCopyImage-dstSubresource-01699",
+                         "VUID-vkCmdCopyImage-dstOffset-00150",
                          "VUID-vkCmdCopyImage-aspectMask-00143"};
-constexpr Vuids kCopySrc2{"vkCmdCopyImage2", "VUID-VkCopyImageInfo2-srcImage-00126",
-                          "VUID-VkCopyImageInfo2-srcImage-00127", "VUID-VkCopyImageInfo2-srcImageLayout-01917",
-                          "VUID-VkCopyImageInfo2-srcSubresource-01696", "VUID-VkCopyImageInfo2-srcSubresource-01698",
-                          "VUID-VkCopyImageInfo2-srcOffset-00144", "VUID-VkCopyImageInfo2-aspectMask-00142"};
-constexpr Vuids kCopyDst2{"vkCmdCopyImage2", "VUID-VkCopyImageInfo2-dstImage-00131",
-                          "VUID-VkCopyImageInfo2-dstImage-00132", "VUID-VkCopyImageInfo2-dstImageLayout-01395",
-                          "VUID-VkCopyImageInfo2-dstSubresource-01697", "VUID-VkCopyImageInfo2-dstSubresource-01699",
-                          "VUID-VkCopyImageInfo2-dstOffset-00150", "VUID-VkCopyImageInfo2-aspectMask-00143"};
-constexpr Vuids kClear{"vkCmdClearColorImage", "VUID-vkCmdClearColorImage-image-00002",
-                       "VUID-vkCmdClearColorImage-image-00003", "VUID-vkCmdClearColorImage-imageLayout-01394",
-                       "VUID-vkCmdClearColorImage-baseMipLevel-01470", "VUID-vkCmdClearColorImage-baseArrayLayer-01472",
-                       "VUID-vkCmdClearColorImage-pRanges-01692", "VUID-vkCmdClearColorImage-aspectMask-02498"};
+constexpr Vuids kCopySrc2{"vkCmdCopyImage2",
+                          "VUID-VkCopyImageInfo2-srcImage-00126",
+                          "VUID-VkCopyImageInfo2-srcImage-00127",
+                          "VUID-VkCopyImageInfo2-srcImageLayout-01917",
+                          "VUID-VkCopyImageInfo2-srcSubresource-01696",
+                          "VUID-VkCopyImageInfo2-srcSubresource-01698",
+                          "VUID-VkCopyImageInfo2-srcOffset-00144",
+                          "VUID-VkCopyImageInfo2-aspectMask-00142"};
+constexpr Vuids kCopyDst2{"vkCmdCopyImage2",
+                          "VUID-VkCopyImageInfo2-dstImage-00131",
+                          "VUID-VkCopyImageInfo2-dstImage-00132",
+                          "VUID-VkCopyImageInfo2-dstImageLayout-01395",
+                          "VUID-VkCopyImageInfo2-dstSubresource-01697",
+                          "VUID-VkCopyImageInfo2-dstSubresource-01699",
+                          "VUID-VkCopyImageInfo2-dstOffset-00150",
+                          "VUID-VkCopyImageInfo2-aspectMask-00143"};
+constexpr Vuids kClear{"vkCmdClearColorImage",
+                       "VUID-vkCmdClearColorImage-image-00002",
+                       "VUID-vkCmdClearColorImage-image-00003",
+                       "VUID-vkCmdClearColorImage-imageLayout-01394",
+                       "VUID-vkCmdClearColorImage-baseMipLevel-01470",
+                       "VUID-vkCmdClearColorImage-baseArrayLayer-01472",
+                       "VUID-vkCmdClearColorImage-pRanges-01692",
+                       "VUID-vkCmdClearColorImage-aspectMask-02498"};
 
 bool layoutOk(VkImageLayout l, bool dst) {
   return l == VK_IMAGE_LAYOUT_GENERAL || l == VK_IMAGE_LAYOUT_SHARED_PRESENT_KHR ||
@@ -129,8 +150,9 @@ Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layou
   }
   // VUID ...-dstImage-00177 / srcImage-00186 / image-00002 etc.: transfer usage
   if (!(img->usage & (dst ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_TRANSFER_SRC_BIT))) {
-    report(img, Severity::Error, v.usage, "%s: the image was created without VK_IMAGE_USAGE_TRANSFER_%s_BIT (usage 0x%x)",
-           v.fn, dst ? "DST" : "SRC", img->usage);
+    report(img, Severity::Error, v.usage,
+           "%s: the image was created without VK_IMAGE_USAGE_TRANSFER_%s_BIT (usage 0x%x)", v.fn, dst ? "DST" : "SRC",
+           img->usage);
     return nullptr;
   }
   // VUID ...-00178 / 00187 / 00127 / 00132 / image-00003: bound to memory
@@ -174,8 +196,8 @@ bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffs
   auto fits = [](int32_t o, uint32_t e, uint32_t size) { return o >= 0 && e > 0 && uint64_t(o) + e <= size; };
   if (!fits(off.x, ext.width, m.width) || !fits(off.y, ext.height, m.height) || !fits(off.z, ext.depth, m.depth)) {
     report(&img, Severity::Error, v.bounds,
-           "%s: pRegions[%u] offset (%d, %d, %d) extent (%u, %u, %u) exceeds mip %u's extent (%u, %u, %u)", v.fn,
-           index, off.x, off.y, off.z, ext.width, ext.height, ext.depth, sub.mipLevel, m.width, m.height, m.depth);
+           "%s: pRegions[%u] offset (%d, %d, %d) extent (%u, %u, %u) exceeds mip %u's extent (%u, %u, %u)", v.fn, index,
+           off.x, off.y, off.z, ext.width, ext.height, ext.depth, sub.mipLevel, m.width, m.height, m.depth);
     return false;
   }
   return true;
@@ -217,15 +239,17 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
     }
     // VUID ...-bufferOffset-00193: a multiple of the texel size
     if (r.bufferOffset % t) {
-      report(buf, Severity::Error, v.bufOffset, "%s: pRegions[%u].bufferOffset %llu is not a multiple of the %u-byte texel",
-             v.fn, i, (ull)r.bufferOffset, t);
+      report(buf, Severity::Error, v.bufOffset,
+             "%s: pRegions[%u].bufferOffset %llu is not a multiple of the %u-byte texel", v.fn, i, (ull)r.bufferOffset,
+             t);
       return;
     }
     // VUID ...-pRegions-00171 / 00183: the buffer holds every addressed texel
     VkDeviceSize need = bufferFootprint(r, t);
     if (r.bufferOffset > buf->size || need > buf->size - r.bufferOffset) {
-      report(buf, Severity::Error, v.bufSize, "%s: pRegions[%u] needs %llu bytes at bufferOffset %llu; the buffer has %llu",
-             v.fn, i, (ull)need, (ull)r.bufferOffset, (ull)buf->size);
+      report(buf, Severity::Error, v.bufSize,
+             "%s: pRegions[%u] needs %llu bytes at bufferOffset %llu; the buffer has %llu", v.fn, i, (ull)need,
+             (ull)r.bufferOffset, (ull)buf->size);
       return;
     }
   }
@@ -235,8 +259,14 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
 }
 
 VkBufferImageCopy2 toCopy2(const VkBufferImageCopy& r) {
-  return {VK_STRUCTURE_TYPE_BUFFER_IMAGE_COPY_2, nullptr, r.bufferOffset, r.bufferRowLength, r.bufferImageHeight,
-          r.imageSubresource, r.imageOffset, r.imageExtent};
+  return {VK_STRUCTURE_TYPE_BUFFER_IMAGE_COPY_2,
+          nullptr,
+          r.bufferOffset,
+          r.bufferRowLength,
+          r.bufferImageHeight,
+          r.imageSubresource,
+          r.imageOffset,
+          r.imageExtent};
 }
 
 void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkImage dstH, VkImageLayout dstLayout,
@@ -254,12 +284,14 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
   for (uint32_t i = 0; i < regions.size(); ++i) {
     VkImageCopy2& r = regions[i];
     // A 3D image's slices correspond to the layers of a 2D image: the 3D side has one layer and a depth.
-    if (src->type == VK_IMAGE_TYPE_3D && dst->type != VK_IMAGE_TYPE_3D && r.extent.depth != r.dstSubresource.layerCount) {
+    if (src->type == VK_IMAGE_TYPE_3D && dst->type != VK_IMAGE_TYPE_3D &&
+        r.extent.depth != r.dstSubresource.layerCount) {
       report(dst, Severity::Error, layerVuid, "%s: pRegions[%u] copies %u slices into %u layers", vs.fn, i,
              r.extent.depth, r.dstSubresource.layerCount);
       return;
     }
-    if (src->type != VK_IMAGE_TYPE_3D && dst->type == VK_IMAGE_TYPE_3D && r.extent.depth != r.srcSubresource.layerCount) {
+    if (src->type != VK_IMAGE_TYPE_3D && dst->type == VK_IMAGE_TYPE_3D &&
+        r.extent.depth != r.srcSubresource.layerCount) {
       report(dst, Severity::Error, layerVuid, "%s: pRegions[%u] copies %u layers into %u slices", vs.fn, i,
              r.srcSubresource.layerCount, r.extent.depth);
       return;
@@ -360,8 +392,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
   std::vector<VkImageSubresourceRange> ranges(pRanges, pRanges + rangeCount);
   for (uint32_t i = 0; i < rangeCount; ++i) {
     const VkImageSubresourceRange& r = ranges[i];
-    uint32_t levels = r.levelCount == VK_REMAINING_MIP_LEVELS ? img->mipLevels - std::min(r.baseMipLevel, img->mipLevels)
-                                                              : r.levelCount;
+    uint32_t levels = r.levelCount == VK_REMAINING_MIP_LEVELS
+                          ? img->mipLevels - std::min(r.baseMipLevel, img->mipLevels)
+                          : r.levelCount;
     uint32_t layers = r.layerCount == VK_REMAINING_ARRAY_LAYERS
                           ? img->arrayLayers - std::min(r.baseArrayLayer, img->arrayLayers)
                           : r.layerCount;
@@ -376,10 +409,11 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
                            ? "VUID-vkCmdClearColorImage-pRanges-01693"
                            : nullptr;
     if (vuid) {
-      report(img, Severity::Error, vuid,
-             "%s: pRanges[%u] (aspect 0x%x, mips [%u, +%u), layers [%u, +%u)) is outside the image (%u mips, %u layers)",
-             fn, i, r.aspectMask, r.baseMipLevel, r.levelCount, r.baseArrayLayer, r.layerCount, img->mipLevels,
-             img->arrayLayers);
+      report(
+          img, Severity::Error, vuid,
+          "%s: pRanges[%u] (aspect 0x%x, mips [%u, +%u), layers [%u, +%u)) is outside the image (%u mips, %u layers)",
+          fn, i, r.aspectMask, r.baseMipLevel, r.levelCount, r.baseArrayLayer, r.layerCount, img->mipLevels,
+          img->arrayLayers);
       return;
     }
   }

@@ -10,8 +10,8 @@ VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
   VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
   VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
   VkDeviceSize layers = r.imageSubresource.layerCount;
-  VkDeviceSize lastRow = ((layers - 1) * r.imageExtent.depth + (r.imageExtent.depth - 1)) * imageHeight +
-                         (r.imageExtent.height - 1);
+  VkDeviceSize lastRow =
+      ((layers - 1) * r.imageExtent.depth + (r.imageExtent.depth - 1)) * imageHeight + (r.imageExtent.height - 1);
   return (lastRow * rowLength + r.imageExtent.width) * texelSize;
 }
 
@@ -23,9 +23,11 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
   for (uint32_t l = 0; l < r.imageSubresource.layerCount; ++l) {
     for (uint32_t z = 0; z < r.imageExtent.depth; ++z) {
       for (uint32_t y = 0; y < r.imageExtent.height; ++y) {
-        uint8_t* b = buffer + r.bufferOffset + ((VkDeviceSize(l) * r.imageExtent.depth + z) * imageHeight + y) * rowLength * t;
-        uint8_t* i = image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l,
-                                 uint32_t(r.imageOffset.x), uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
+        uint8_t* b =
+            buffer + r.bufferOffset + ((VkDeviceSize(l) * r.imageExtent.depth + z) * imageHeight + y) * rowLength * t;
+        uint8_t* i =
+            image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l, uint32_t(r.imageOffset.x),
+                        uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
         if (toImage) {
           std::memmove(i, b, rowBytes);
         } else {
@@ -48,10 +50,10 @@ void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
     const uint32_t dstLayer = r.dstSubresource.baseArrayLayer + (dst3d ? 0 : p);
     const uint32_t dstZ = uint32_t(r.dstOffset.z) + (dst3d ? p : 0);
     for (uint32_t y = 0; y < r.extent.height; ++y) {
-      const uint8_t* s = src.texel(r.srcSubresource.mipLevel, srcLayer, uint32_t(r.srcOffset.x),
-                                   uint32_t(r.srcOffset.y) + y, srcZ);
-      uint8_t* d = dst.texel(r.dstSubresource.mipLevel, dstLayer, uint32_t(r.dstOffset.x), uint32_t(r.dstOffset.y) + y,
-                             dstZ);
+      const uint8_t* s =
+          src.texel(r.srcSubresource.mipLevel, srcLayer, uint32_t(r.srcOffset.x), uint32_t(r.srcOffset.y) + y, srcZ);
+      uint8_t* d =
+          dst.texel(r.dstSubresource.mipLevel, dstLayer, uint32_t(r.dstOffset.x), uint32_t(r.dstOffset.y) + y, dstZ);
       std::memmove(d, s, rowBytes);
     }
   }
@@ -137,21 +139,11 @@ bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint
     const int bits = fi.bits[c];
     uint64_t v = 0;
     switch (fi.type) {
-      case NumericType::UNorm:
-        v = unorm(color.float32[ch], bits);
-        break;
-      case NumericType::SNorm:
-        v = snorm(color.float32[ch], bits);
-        break;
-      case NumericType::SRGB:
-        v = unorm(ch == 3 ? color.float32[ch] : linearToSrgb(color.float32[ch]), bits);
-        break;
-      case NumericType::UInt:
-        v = color.uint32[ch] & uint32_t((1ull << bits) - 1);
-        break;
-      case NumericType::SInt:
-        v = uint32_t(color.int32[ch]) & uint32_t((1ull << bits) - 1);
-        break;
+      case NumericType::UNorm: v = unorm(color.float32[ch], bits); break;
+      case NumericType::SNorm: v = snorm(color.float32[ch], bits); break;
+      case NumericType::SRGB: v = unorm(ch == 3 ? color.float32[ch] : linearToSrgb(color.float32[ch]), bits); break;
+      case NumericType::UInt: v = color.uint32[ch] & uint32_t((1ull << bits) - 1); break;
+      case NumericType::SInt: v = uint32_t(color.int32[ch]) & uint32_t((1ull << bits) - 1); break;
       case NumericType::SFloat:
         if (bits == 32) {
           uint32_t u;
@@ -161,8 +153,7 @@ bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint
           v = floatToHalf(color.float32[ch]);
         }
         break;
-      case NumericType::UFloat:
-        return false;
+      case NumericType::UFloat: return false;
     }
     std::memcpy(out, &v, size_t(bits / 8));  // little-endian
     out += bits / 8;
@@ -172,7 +163,8 @@ bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint
 
 void clearImage(const Image& image, const uint8_t* texel, const VkImageSubresourceRange& range) {
   const uint32_t t = image.formatInfo->texelSize;
-  uint32_t levels = range.levelCount == VK_REMAINING_MIP_LEVELS ? image.mipLevels - range.baseMipLevel : range.levelCount;
+  uint32_t levels =
+      range.levelCount == VK_REMAINING_MIP_LEVELS ? image.mipLevels - range.baseMipLevel : range.levelCount;
   uint32_t layers =
       range.layerCount == VK_REMAINING_ARRAY_LAYERS ? image.arrayLayers - range.baseArrayLayer : range.layerCount;
   for (uint32_t m = range.baseMipLevel; m < range.baseMipLevel + levels; ++m) {

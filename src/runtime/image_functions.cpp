@@ -31,9 +31,12 @@ float bitsf(uint32_t u) {
 float halfToFloat(uint32_t h) {
   uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, man = h & 1023;
   float v;
-  if (exp == 0) v = std::ldexp(float(man), -24);
-  else if (exp == 31) v = man ? NAN : INFINITY;
-  else v = std::ldexp(float(man | 1024), int(exp) - 25);
+  if (exp == 0)
+    v = std::ldexp(float(man), -24);
+  else if (exp == 31)
+    v = man ? NAN : INFINITY;
+  else
+    v = std::ldexp(float(man | 1024), int(exp) - 25);
   return sign ? -v : v;
 }
 
@@ -155,7 +158,7 @@ struct View {
   const Image* image = nullptr;
   const FormatInfo* format = nullptr;
   uint8_t* data = nullptr;
-  int dims = 2;         // coordinate components before the layer
+  int dims = 2;  // coordinate components before the layer
   bool arrayed = false;
   bool slicesAsLayers = false;  // a 2D (array) view of a 3D image: layers are depth slices
 };
@@ -169,10 +172,16 @@ bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   if (!v->format || !v->data) return false;
   switch (v->view->viewType) {
     case VK_IMAGE_VIEW_TYPE_1D: v->dims = 1; break;
-    case VK_IMAGE_VIEW_TYPE_1D_ARRAY: v->dims = 1; v->arrayed = true; break;
+    case VK_IMAGE_VIEW_TYPE_1D_ARRAY:
+      v->dims = 1;
+      v->arrayed = true;
+      break;
     case VK_IMAGE_VIEW_TYPE_2D: v->dims = 2; break;
     case VK_IMAGE_VIEW_TYPE_3D: v->dims = 3; break;
-    default: v->dims = 2; v->arrayed = true; break;  // 2D array, cube, cube array: faces are layers
+    default:
+      v->dims = 2;
+      v->arrayed = true;
+      break;  // 2D array, cube, cube array: faces are layers
   }
   v->slicesAsLayers = v->image->type == VK_IMAGE_TYPE_3D && v->dims == 2;
   return true;
@@ -191,7 +200,8 @@ uint8_t* texelAt(const View& v, uint32_t level, int64_t x, int64_t y, int64_t z,
   if (x < 0 || y < 0 || z < 0 || layer < 0 || x >= e.width || y >= e.height || z >= e.depth) return nullptr;
   if (v.slicesAsLayers) {
     int64_t slice = int64_t(v.view->range.baseArrayLayer) + layer;
-    if (layer >= int64_t(v.view->range.layerCount) || slice >= v.image->mips[v.view->range.baseMipLevel + level].extent.depth)
+    if (layer >= int64_t(v.view->range.layerCount) ||
+        slice >= v.image->mips[v.view->range.baseMipLevel + level].extent.depth)
       return nullptr;
     return v.image->texel(v.view->range.baseMipLevel + level, 0, uint32_t(x), uint32_t(y), uint32_t(slice));
   }
@@ -245,9 +255,7 @@ bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
       return true;
     }
     case VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE: *out = std::min(i >= 0 ? i : -(1 + i), size - 1); return true;
-    case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER:
-      *out = i;
-      return i >= 0 && i < size;
+    case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER: *out = i; return i >= 0 && i < size;
     default: *out = std::clamp<int64_t>(i, 0, size - 1); return true;  // CLAMP_TO_EDGE
   }
 }
@@ -266,10 +274,14 @@ void addressedTexel(const View& v, const VkSamplerCreateInfo& s, uint32_t level,
   VkExtent3D e = levelExtent(v, level);
   int64_t c[3];
   bool inside = wrap(s.addressModeU, i, e.width, &c[0]);
-  if (v.dims >= 2) inside = wrap(s.addressModeV, j, e.height, &c[1]) && inside;
-  else c[1] = 0;
-  if (v.dims >= 3) inside = wrap(s.addressModeW, k, e.depth, &c[2]) && inside;
-  else c[2] = 0;
+  if (v.dims >= 2)
+    inside = wrap(s.addressModeV, j, e.height, &c[1]) && inside;
+  else
+    c[1] = 0;
+  if (v.dims >= 3)
+    inside = wrap(s.addressModeW, k, e.depth, &c[2]) && inside;
+  else
+    c[2] = 0;
   if (!inside) {
     borderColor(v, s.borderColor, out);
     return;
@@ -352,8 +364,8 @@ void vkrt_image_fetch(const abi::DescriptorRecord* img, const int32_t coord[4], 
   applySwizzle(v, out);
 }
 
-void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4], float lod,
-                       uint32_t out[4]) {
+void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       float lod, uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;

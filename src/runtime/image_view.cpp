@@ -40,8 +40,7 @@ namespace {
 bool viewTypeFits(VkImageType image, VkImageViewType view, VkImageCreateFlags flags) {
   switch (view) {
     case VK_IMAGE_VIEW_TYPE_1D:
-    case VK_IMAGE_VIEW_TYPE_1D_ARRAY:
-      return image == VK_IMAGE_TYPE_1D;
+    case VK_IMAGE_VIEW_TYPE_1D_ARRAY: return image == VK_IMAGE_TYPE_1D;
     case VK_IMAGE_VIEW_TYPE_2D:
     case VK_IMAGE_VIEW_TYPE_2D_ARRAY:
       return image == VK_IMAGE_TYPE_2D ||
@@ -49,10 +48,8 @@ bool viewTypeFits(VkImageType image, VkImageViewType view, VkImageCreateFlags fl
     case VK_IMAGE_VIEW_TYPE_CUBE:
     case VK_IMAGE_VIEW_TYPE_CUBE_ARRAY:
       return image == VK_IMAGE_TYPE_2D && (flags & VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT);
-    case VK_IMAGE_VIEW_TYPE_3D:
-      return image == VK_IMAGE_TYPE_3D;
-    default:
-      return false;
+    case VK_IMAGE_VIEW_TYPE_3D: return image == VK_IMAGE_TYPE_3D;
+    default: return false;
   }
 }
 
@@ -106,7 +103,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
   // VUID-VkImageViewCreateInfo-image-01003 (cube views need CUBE_COMPATIBLE), otherwise the view type table
   // (VUID-VkImageViewCreateInfo-subResourceRange-01021)
   if (!viewTypeFits(img->type, pCreateInfo->viewType, img->flags)) {
-    bool cube = pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE || pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+    bool cube =
+        pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE || pCreateInfo->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
     report(img, Severity::Error,
            cube && img->type == VK_IMAGE_TYPE_2D ? "VUID-VkImageViewCreateInfo-image-01003"
                                                  : "VUID-VkImageViewCreateInfo-subResourceRange-01021",
@@ -135,7 +133,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImageView(VkDevice device, VkImageView view,
                                                  const VkAllocationCallbacks* pAllocator) {
   destroyDeviceChild<ImageView>(device, view, pAllocator, "vkDestroyImageView",
-                             "VUID-vkDestroyImageView-imageView-parameter");
+                                "VUID-vkDestroyImageView-imageView-parameter");
 }
 
 }  // extern "C"

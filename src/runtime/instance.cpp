@@ -55,7 +55,8 @@ bool Instance::dispatch(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebug
     std::lock_guard lock(messengerMutex_);
     for (const DebugMessenger* m : messengers_) {
       any = true;
-      if ((m->severities & severity) && (m->types & type) && m->callback) targets.emplace_back(m->callback, m->userData);
+      if ((m->severities & severity) && (m->types & type) && m->callback)
+        targets.emplace_back(m->callback, m->userData);
     }
   }
   for (const auto& m : creationMessengers) {

@@ -21,8 +21,8 @@ T* liveOrReport(const Object* reportTo, typename T::Handle h, const char* fn, co
 // The body of vkDestroyXxx/vkFreeXxx for a device child: VK_NULL_HANDLE is ignored, a handle that is not a
 // live T is reported (about the device), anything else is destroyed with the application's allocator.
 template <class T>
-void destroyDeviceChild(VkDevice device, typename T::Handle h, const VkAllocationCallbacks* allocator,
-                        const char* fn, const char* vuid) {
+void destroyDeviceChild(VkDevice device, typename T::Handle h, const VkAllocationCallbacks* allocator, const char* fn,
+                        const char* vuid) {
   if (!h) return;
   if (T* obj = liveOrReport<T>(fromHandle<Device>(device), h, fn, vuid)) destroyObject(obj, allocator);
 }

@@ -7,8 +7,8 @@
 #include <mutex>
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -169,14 +169,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
   }
   VkMemoryAllocateFlags flags = 0;
   uint64_t requested = 0;
-  if (auto* f = findInChain<VkMemoryAllocateFlagsInfo>(pAllocateInfo->pNext,
-                                                       VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO))
+  if (auto* f =
+          findInChain<VkMemoryAllocateFlagsInfo>(pAllocateInfo->pNext, VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO))
     flags = f->flags;
   if (auto* c = findInChain<VkMemoryOpaqueCaptureAddressAllocateInfo>(
           pAllocateInfo->pNext, VK_STRUCTURE_TYPE_MEMORY_OPAQUE_CAPTURE_ADDRESS_ALLOCATE_INFO))
     requested = c->opaqueCaptureAddress;
   if (requested && !(flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT)) requested = 0;
-  if ((flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) && !dev->enabled(Feature::bufferDeviceAddressCaptureReplay)) {
+  if ((flags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) &&
+      !dev->enabled(Feature::bufferDeviceAddressCaptureReplay)) {
     report(dev, Severity::Error, "VUID-VkMemoryAllocateInfo-flags-03331",
            "vkAllocateMemory: VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT needs the "
            "bufferDeviceAddressCaptureReplay feature, which is not enabled");
@@ -266,8 +267,7 @@ static VkResult checkRanges(const char* fn, Device* dev, uint32_t count, const V
       if (ranges[i].offset < mem->mappedOffset || ranges[i].offset >= mapEnd) {
         report(mem, Severity::Error, "VUID-VkMappedMemoryRange-size-00686",
                "%s: pMemoryRanges[%u].offset %llu is outside the mapped range [%llu, %llu)", fn, i,
-               (unsigned long long)ranges[i].offset, (unsigned long long)mem->mappedOffset,
-               (unsigned long long)mapEnd);
+               (unsigned long long)ranges[i].offset, (unsigned long long)mem->mappedOffset, (unsigned long long)mapEnd);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
     } else if (ranges[i].offset < mem->mappedOffset || ranges[i].size > mapEnd - mem->mappedOffset ||
@@ -299,8 +299,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceMemoryCommitment(VkDevice, VkDeviceMemo
   *pCommittedMemoryInBytes = mem ? mem->size : 0;
 }
 
-VKAPI_ATTR uint64_t VKAPI_CALL vkrt_GetDeviceMemoryOpaqueCaptureAddress(
-    VkDevice device, const VkDeviceMemoryOpaqueCaptureAddressInfo* pInfo) {
+VKAPI_ATTR uint64_t VKAPI_CALL
+vkrt_GetDeviceMemoryOpaqueCaptureAddress(VkDevice device, const VkDeviceMemoryOpaqueCaptureAddressInfo* pInfo) {
   Memory* mem = fromHandle<Memory>(pInfo->memory);
   if (!mem) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-VkDeviceMemoryOpaqueCaptureAddressInfo-memory-parameter",

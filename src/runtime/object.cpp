@@ -66,8 +66,7 @@ size_t liveObjectCount() {
 const char* objectTypeName(VkObjectType type) {
   switch (type) {
 #define VKRT_OBJECT_NAME(e, s) \
-  case e:                      \
-    return s;
+  case e: return s;
     VKRT_OBJECT_NAME(VK_OBJECT_TYPE_INSTANCE, "VkInstance")
     VKRT_OBJECT_NAME(VK_OBJECT_TYPE_PHYSICAL_DEVICE, "VkPhysicalDevice")
     VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEVICE, "VkDevice")
@@ -100,8 +99,7 @@ const char* objectTypeName(VkObjectType type) {
     VKRT_OBJECT_NAME(VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR, "VkAccelerationStructureKHR")
     VKRT_OBJECT_NAME(VK_OBJECT_TYPE_DEFERRED_OPERATION_KHR, "VkDeferredOperationKHR")
 #undef VKRT_OBJECT_NAME
-    default:
-      return "VkObject";
+    default: return "VkObject";
   }
 }
 

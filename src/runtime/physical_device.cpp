@@ -10,15 +10,15 @@
 #include "runtime/alloc.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/ray_tracing_features.hpp"
-#include "runtime/supported_features.hpp"
 #include "runtime/report.hpp"
+#include "runtime/supported_features.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
 namespace {
 
-constexpr uint32_t kVendorId = 0;  // vkrt has no registered vendor id (0x10005 would claim to be Mesa)
-constexpr uint32_t kDeviceId = 0x7672;   // "vr"
+constexpr uint32_t kVendorId = 0;       // vkrt has no registered vendor id (0x10005 would claim to be Mesa)
+constexpr uint32_t kDeviceId = 0x7672;  // "vr"
 constexpr uint8_t kUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'c', 'p', 'u', '-', 'd', 'e', 'v', 0, 0, 0, 1};
 constexpr uint8_t kDriverUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'd', 'r', 'v', 0, 0, 0, 0, 0, 0, 0, 1};
 
@@ -267,7 +267,9 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES: whole = &properties12; break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES: whole = &properties13; break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR: whole = &rayTracingProperties; break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR: whole = &accelerationStructureProperties; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR:
+        whole = &accelerationStructureProperties;
+        break;
       default: break;
     }
     if (whole) {
@@ -276,7 +278,8 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
       // A structure promoted to Vulkan 1.1-1.3: each member from the core structure that took it over.
       for (uint32_t i = 0; i < ps->count; ++i) {
         const PropertyCopy& c = ps->copies[i];
-        std::memcpy(reinterpret_cast<char*>(s) + c.offset, static_cast<const char*>(core[c.source - 10]) + c.sourceOffset, c.size);
+        std::memcpy(reinterpret_cast<char*>(s) + c.offset,
+                    static_cast<const char*>(core[c.source - 10]) + c.sourceOffset, c.size);
       }
     }
     s->sType = static_cast<VkStructureType>(ps->sType);

@@ -2,8 +2,8 @@
 // (src/rt/rt_pipeline.hpp). vkDestroyPipeline (pipeline.cpp) deletes through the virtual destructor.
 #pragma once
 
-#include "runtime/object.hpp"
 #include "runtime/device.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 

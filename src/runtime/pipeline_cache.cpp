@@ -14,7 +14,9 @@ namespace {
 void put32(std::vector<uint8_t>& out, uint32_t v) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
-uint32_t get32(const uint8_t* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24; }
+uint32_t get32(const uint8_t* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
 size_t pad4(size_t n) { return (n + 3) & ~size_t(3); }
 }  // namespace
 
@@ -154,7 +156,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyPipelineCache(VkDevice device, VkPipeline
   // VUID-vkDestroyPipelineCache-pipelineCache-parameter
   if (!c) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyPipelineCache-pipelineCache-parameter",
-           "vkDestroyPipelineCache: 0x%llx is not a live VkPipelineCache", (unsigned long long)rawHandle(pipelineCache));
+           "vkDestroyPipelineCache: 0x%llx is not a live VkPipelineCache",
+           (unsigned long long)rawHandle(pipelineCache));
     return;
   }
   destroyObject(c, pAllocator);
@@ -166,7 +169,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPipelineCacheData(VkDevice device, VkPipe
   // VUID-vkGetPipelineCacheData-pipelineCache-parameter
   if (!c) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-vkGetPipelineCacheData-pipelineCache-parameter",
-           "vkGetPipelineCacheData: 0x%llx is not a live VkPipelineCache", (unsigned long long)rawHandle(pipelineCache));
+           "vkGetPipelineCacheData: 0x%llx is not a live VkPipelineCache",
+           (unsigned long long)rawHandle(pipelineCache));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   std::vector<uint8_t> bytes;
@@ -193,7 +197,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_MergePipelineCaches(VkDevice device, VkPipel
   // VUID-vkMergePipelineCaches-dstCache-parameter
   if (!dst) {
     report(dev, Severity::Error, "VUID-vkMergePipelineCaches-dstCache-parameter",
-           "vkMergePipelineCaches: dstCache 0x%llx is not a live VkPipelineCache", (unsigned long long)rawHandle(dstCache));
+           "vkMergePipelineCaches: dstCache 0x%llx is not a live VkPipelineCache",
+           (unsigned long long)rawHandle(dstCache));
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   for (uint32_t i = 0; i < srcCacheCount; ++i) {

@@ -33,7 +33,9 @@ class PipelineCache : public Object {
   // Stores `value` under `key` unless the key is present already (the first value wins). Returns true when
   // stored.
   bool insert(const void* key, size_t keySize, const void* value, size_t valueSize);
-  bool insert(const std::string& key, const std::string& value) { return insert(key.data(), key.size(), value.data(), value.size()); }
+  bool insert(const std::string& key, const std::string& value) {
+    return insert(key.data(), key.size(), value.data(), value.size());
+  }
   // Stores `value` under `key`, replacing what was there (a damaged entry once its replacement is compiled).
   void replace(const std::string& key, const std::string& value);
   // The value stored under `key`, if any.

@@ -92,15 +92,20 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreatePipelineLayout(VkDevice device, const 
     // VUID-VkPushConstantRange-stageFlags-requiredbitmask
     if (r.stageFlags == 0) vuid = "VUID-VkPushConstantRange-stageFlags-requiredbitmask";
     // VUID-VkPushConstantRange-offset-00294
-    else if (r.offset >= maxPush) vuid = "VUID-VkPushConstantRange-offset-00294";
+    else if (r.offset >= maxPush)
+      vuid = "VUID-VkPushConstantRange-offset-00294";
     // VUID-VkPushConstantRange-offset-00295
-    else if (r.offset % 4) vuid = "VUID-VkPushConstantRange-offset-00295";
+    else if (r.offset % 4)
+      vuid = "VUID-VkPushConstantRange-offset-00295";
     // VUID-VkPushConstantRange-size-00296
-    else if (r.size == 0) vuid = "VUID-VkPushConstantRange-size-00296";
+    else if (r.size == 0)
+      vuid = "VUID-VkPushConstantRange-size-00296";
     // VUID-VkPushConstantRange-size-00297
-    else if (r.size % 4) vuid = "VUID-VkPushConstantRange-size-00297";
+    else if (r.size % 4)
+      vuid = "VUID-VkPushConstantRange-size-00297";
     // VUID-VkPushConstantRange-size-00298
-    else if (r.size > maxPush - r.offset) vuid = "VUID-VkPushConstantRange-size-00298";
+    else if (r.size > maxPush - r.offset)
+      vuid = "VUID-VkPushConstantRange-size-00298";
     if (vuid) {
       report(dev, Severity::Error, vuid,
              "%s: pPushConstantRanges[%u] (offset %u, size %u, stageFlags 0x%x) is invalid: offset and size must be "
@@ -131,7 +136,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyPipelineLayout(VkDevice device, VkPipelin
   // VUID-vkDestroyPipelineLayout-pipelineLayout-parameter
   if (!pl) {
     report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroyPipelineLayout-pipelineLayout-parameter",
-           "vkDestroyPipelineLayout: 0x%llx is not a live VkPipelineLayout", (unsigned long long)rawHandle(pipelineLayout));
+           "vkDestroyPipelineLayout: 0x%llx is not a live VkPipelineLayout",
+           (unsigned long long)rawHandle(pipelineLayout));
     return;
   }
   destroyObject(pl, pAllocator);

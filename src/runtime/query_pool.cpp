@@ -5,17 +5,20 @@
 #include <cstring>
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
 
 QueryPool::QueryPool(Device* dev, const VkQueryPoolCreateInfo& info)
-    : Object(kType, dev->instance, dev), type(info.queryType), count(info.queryCount), slots_(new Slot[info.queryCount]) {}
+    : Object(kType, dev->instance, dev),
+      type(info.queryType),
+      count(info.queryCount),
+      slots_(new Slot[info.queryCount]) {}
 
 uint64_t QueryPool::now() {
   timespec ts{};
@@ -72,8 +75,10 @@ bool QueryPool::copyResults(uint32_t first, uint32_t n, uint8_t* dst, VkDeviceSi
     if (flags & VK_QUERY_RESULT_WAIT_BIT) waitAvailable(q);
     bool avail = available(q);
     uint8_t* p = dst + i * stride;
-    if (avail) put(p, value(q));  // unavailable: the value is not written (PARTIAL is invalid for timestamps)
-    else all = false;
+    if (avail)
+      put(p, value(q));  // unavailable: the value is not written (PARTIAL is invalid for timestamps)
+    else
+      all = false;
     if (flags & VK_QUERY_RESULT_WITH_AVAILABILITY_BIT) put(p + (is64 ? 8 : 4), avail ? 1 : 0);
   }
   return all;
@@ -94,8 +99,8 @@ bool checkRange(const QueryPool* pool, uint32_t first, uint32_t n, const char* c
     return false;
   }
   if (uint64_t(first) + n > pool->count) {
-    report(pool, Severity::Error, vuidSum, "%s: firstQuery %u + queryCount %u exceeds the pool's %u queries", cmd, first,
-           n, pool->count);
+    report(pool, Severity::Error, vuidSum, "%s: firstQuery %u + queryCount %u exceeds the pool's %u queries", cmd,
+           first, n, pool->count);
     return false;
   }
   return true;
@@ -109,7 +114,8 @@ QueryPool* livePool(const Object* about, VkQueryPool h, const char* cmd, const c
 void recordTimestamp(CommandBuffer* cb, QueryPool* pool, uint32_t query, const char* cmd, const char* vuidType,
                      const char* vuidQuery) {
   if (pool->type != VK_QUERY_TYPE_TIMESTAMP) {
-    report(pool, Severity::Error, vuidType, "%s: the pool's queryType is %d, not VK_QUERY_TYPE_TIMESTAMP", cmd, pool->type);
+    report(pool, Severity::Error, vuidType, "%s: the pool's queryType is %d, not VK_QUERY_TYPE_TIMESTAMP", cmd,
+           pool->type);
     return;
   }
   if (query >= pool->count) {
@@ -134,8 +140,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateQueryPool(VkDevice device, const VkQue
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   switch (pCreateInfo->queryType) {
-    case VK_QUERY_TYPE_TIMESTAMP:
-      break;
+    case VK_QUERY_TYPE_TIMESTAMP: break;
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR:
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR:
       if (dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME)) break;
@@ -230,7 +235,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetQueryPoolResults(VkDevice device, VkQuery
   // VUID-vkGetQueryPoolResults-flags-00815, VUID-vkGetQueryPoolResults-flags-02828
   VkDeviceSize align = is64 ? 8 : 4;
   if (stride % align || reinterpret_cast<uintptr_t>(pData) % align) {
-    report(pool, Severity::Error, is64 ? "VUID-vkGetQueryPoolResults-flags-00815" : "VUID-vkGetQueryPoolResults-flags-02828",
+    report(pool, Severity::Error,
+           is64 ? "VUID-vkGetQueryPoolResults-flags-00815" : "VUID-vkGetQueryPoolResults-flags-02828",
            "%s: pData %p and stride %llu must be multiples of %llu", cmd, pData, (unsigned long long)stride,
            (unsigned long long)align);
     return VK_ERROR_VALIDATION_FAILED_EXT;
@@ -310,8 +316,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyQueryPoolResults(VkCommandBuffer commandB
   Buffer* buf = fromHandle<Buffer>(dstBuffer);
   // VUID-vkCmdCopyQueryPoolResults-dstBuffer-parameter
   if (!buf) {
-    report(cb, Severity::Error, "VUID-vkCmdCopyQueryPoolResults-dstBuffer-parameter", "%s: dstBuffer 0x%llx is not a live VkBuffer",
-           cmd, (unsigned long long)rawHandle(dstBuffer));
+    report(cb, Severity::Error, "VUID-vkCmdCopyQueryPoolResults-dstBuffer-parameter",
+           "%s: dstBuffer 0x%llx is not a live VkBuffer", cmd, (unsigned long long)rawHandle(dstBuffer));
     return;
   }
   // VUID-vkCmdCopyQueryPoolResults-firstQuery-00820, VUID-vkCmdCopyQueryPoolResults-firstQuery-00821
@@ -332,7 +338,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyQueryPoolResults(VkCommandBuffer commandB
   }
   // VUID-vkCmdCopyQueryPoolResults-dstBuffer-00826
   if (!buf->memory) {
-    report(buf, Severity::Error, "VUID-vkCmdCopyQueryPoolResults-dstBuffer-00826", "%s: dstBuffer is not bound to memory", cmd);
+    report(buf, Severity::Error, "VUID-vkCmdCopyQueryPoolResults-dstBuffer-00826",
+           "%s: dstBuffer is not bound to memory", cmd);
     return;
   }
   // VUID-vkCmdCopyQueryPoolResults-dstOffset-00819
@@ -345,7 +352,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyQueryPoolResults(VkCommandBuffer commandB
   const bool is64 = flags & VK_QUERY_RESULT_64_BIT;
   // VUID-vkCmdCopyQueryPoolResults-flags-00822, VUID-vkCmdCopyQueryPoolResults-flags-00823
   if (dstOffset % (is64 ? 8 : 4) || stride % (is64 ? 8 : 4)) {
-    report(buf, Severity::Error, is64 ? "VUID-vkCmdCopyQueryPoolResults-flags-00823" : "VUID-vkCmdCopyQueryPoolResults-flags-00822",
+    report(buf, Severity::Error,
+           is64 ? "VUID-vkCmdCopyQueryPoolResults-flags-00823" : "VUID-vkCmdCopyQueryPoolResults-flags-00822",
            "%s: dstOffset %llu and stride %llu must be multiples of %d", cmd, (unsigned long long)dstOffset,
            (unsigned long long)stride, is64 ? 8 : 4);
     return;

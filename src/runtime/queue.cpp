@@ -85,8 +85,10 @@ void Queue::execute(Batch& batch) {
       try {
         cb->execute(st);
       } catch (const std::exception& e) {
-        report(cb, Severity::Error, nullptr, "queue execution: a command failed (%s); the rest of the command buffer "
-               "was skipped", e.what());
+        report(cb, Severity::Error, nullptr,
+               "queue execution: a command failed (%s); the rest of the command buffer "
+               "was skipped",
+               e.what());
       }
     }
   }
@@ -170,8 +172,9 @@ VkResult submit(Queue* q, std::vector<Batch>& batches, VkFence fenceHandle, bool
       bool& signaled = binaryState(s);
       // VUID-vkQueueSubmit-pWaitSemaphores-03238, VUID-vkQueueSubmit2-semaphore-03873
       if (!signaled) {
-        report(s, Severity::Error, v2 ? "VUID-vkQueueSubmit2-semaphore-03873" : "VUID-vkQueueSubmit-pWaitSemaphores-03238",
-               "%s: pSubmits[%u] wait %u: the binary semaphore has no submitted signal operation to wait for", fn, si, i);
+        report(
+            s, Severity::Error, v2 ? "VUID-vkQueueSubmit2-semaphore-03873" : "VUID-vkQueueSubmit-pWaitSemaphores-03238",
+            "%s: pSubmits[%u] wait %u: the binary semaphore has no submitted signal operation to wait for", fn, si, i);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
       signaled = false;
@@ -184,7 +187,8 @@ VkResult submit(Queue* q, std::vector<Batch>& batches, VkFence fenceHandle, bool
           report(op.semaphore, Severity::Error,
                  v2 ? "VUID-VkSubmitInfo2-semaphore-03882" : "VUID-VkSubmitInfo-pSignalSemaphores-03242",
                  "%s: pSubmits[%u] signal %u: value %llu is not greater than the timeline semaphore's current value "
-                 "%llu", fn, si, i, (unsigned long long)op.value, (unsigned long long)op.semaphore->value);
+                 "%llu",
+                 fn, si, i, (unsigned long long)op.value, (unsigned long long)op.semaphore->value);
           return VK_ERROR_VALIDATION_FAILED_EXT;
         }
         continue;
@@ -195,7 +199,8 @@ VkResult submit(Queue* q, std::vector<Batch>& batches, VkFence fenceHandle, bool
         report(op.semaphore, Severity::Error,
                v2 ? "VUID-vkQueueSubmit2-semaphore-03868" : "VUID-vkQueueSubmit-pSignalSemaphores-00067",
                "%s: pSubmits[%u] signal %u: the binary semaphore is already signaled (or has a pending signal that "
-               "no wait consumes)", fn, si, i);
+               "no wait consumes)",
+               fn, si, i);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
       signaled = true;
@@ -222,7 +227,8 @@ VkResult submit(Queue* q, std::vector<Batch>& batches, VkFence fenceHandle, bool
   return VK_SUCCESS;
 }
 
-Semaphore* liveSemaphore(const Object* about, VkSemaphore h, const char* fn, const char* vuid, uint32_t si, uint32_t i) {
+Semaphore* liveSemaphore(const Object* about, VkSemaphore h, const char* fn, const char* vuid, uint32_t si,
+                         uint32_t i) {
   Semaphore* s = fromHandle<Semaphore>(h);
   if (!s)
     report(about, Severity::Error, vuid, "%s: pSubmits[%u] semaphore %u (0x%llx) is not a live VkSemaphore", fn, si, i,
@@ -241,7 +247,8 @@ CommandBuffer* liveCommandBuffer(const Object* about, VkCommandBuffer h, const c
 
 Queue* liveQueue(VkQueue h, const char* fn, const char* vuid) {
   Queue* q = fromHandle<Queue>(h);
-  if (!q) report(nullptr, Severity::Error, vuid, "%s: 0x%llx is not a live VkQueue", fn, (unsigned long long)rawHandle(h));
+  if (!q)
+    report(nullptr, Severity::Error, vuid, "%s: 0x%llx is not a live VkQueue", fn, (unsigned long long)rawHandle(h));
   return q;
 }
 
@@ -260,7 +267,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueSubmit(VkQueue queue, uint32_t submitCo
     Batch& b = batches[si];
     auto* tl = findInChain<VkTimelineSemaphoreSubmitInfo>(info.pNext, VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
     for (uint32_t i = 0; i < info.waitSemaphoreCount; ++i) {
-      Semaphore* s = liveSemaphore(q, info.pWaitSemaphores[i], fn, "VUID-VkSubmitInfo-pWaitSemaphores-parameter", si, i);
+      Semaphore* s =
+          liveSemaphore(q, info.pWaitSemaphores[i], fn, "VUID-VkSubmitInfo-pWaitSemaphores-parameter", si, i);
       if (!s) return VK_ERROR_VALIDATION_FAILED_EXT;
       // VUID-VkSubmitInfo-pWaitDstStageMask-00078
       if (info.pWaitDstStageMask[i] & VK_PIPELINE_STAGE_HOST_BIT) {
@@ -288,12 +296,14 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueSubmit(VkQueue queue, uint32_t submitCo
       b.waits.push_back({s, value});
     }
     for (uint32_t i = 0; i < info.commandBufferCount; ++i) {
-      CommandBuffer* cb = liveCommandBuffer(q, info.pCommandBuffers[i], fn, "VUID-VkSubmitInfo-pCommandBuffers-parameter", si, i);
+      CommandBuffer* cb =
+          liveCommandBuffer(q, info.pCommandBuffers[i], fn, "VUID-VkSubmitInfo-pCommandBuffers-parameter", si, i);
       if (!cb) return VK_ERROR_VALIDATION_FAILED_EXT;
       b.commandBuffers.push_back(cb);
     }
     for (uint32_t i = 0; i < info.signalSemaphoreCount; ++i) {
-      Semaphore* s = liveSemaphore(q, info.pSignalSemaphores[i], fn, "VUID-VkSubmitInfo-pSignalSemaphores-parameter", si, i);
+      Semaphore* s =
+          liveSemaphore(q, info.pSignalSemaphores[i], fn, "VUID-VkSubmitInfo-pSignalSemaphores-parameter", si, i);
       if (!s) return VK_ERROR_VALIDATION_FAILED_EXT;
       uint64_t value = 0;
       if (s->timeline()) {

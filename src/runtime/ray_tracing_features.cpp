@@ -2,7 +2,6 @@
 
 #include <cstring>
 
-
 namespace vkrt {
 
 void appendRayTracingExtensions(std::vector<VkExtensionProperties>& out) {
@@ -11,11 +10,13 @@ void appendRayTracingExtensions(std::vector<VkExtensionProperties>& out) {
   out.push_back({VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_SPEC_VERSION});
   out.push_back({VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_SPEC_VERSION});
   out.push_back({VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME, VK_KHR_RAY_TRACING_MAINTENANCE_1_SPEC_VERSION});
-  out.push_back({VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME, VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_SPEC_VERSION});
+  out.push_back(
+      {VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME, VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_SPEC_VERSION});
 }
 
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingPipelineProperties() {
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
   p.shaderGroupHandleSize = kShaderGroupHandleSize;
   p.maxRayRecursionDepth = 31;
   p.maxShaderGroupStride = 4096;
@@ -28,7 +29,8 @@ VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingPipelineProperties() {
 }
 
 VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperties() {
-  VkPhysicalDeviceAccelerationStructurePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR p{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
   p.maxGeometryCount = (1u << 24) - 1;
   p.maxInstanceCount = (1u << 24) - 1;
   p.maxPrimitiveCount = (1u << 29) - 1;
@@ -39,6 +41,5 @@ VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperti
   p.minAccelerationStructureScratchOffsetAlignment = 128;
   return p;
 }
-
 
 }  // namespace vkrt

@@ -27,28 +27,20 @@ Severity stderrThreshold(bool* silent) {
 
 VkDebugUtilsMessageSeverityFlagBitsEXT toVk(Severity s) {
   switch (s) {
-    case Severity::Verbose:
-      return VK_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT;
-    case Severity::Info:
-      return VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT;
-    case Severity::Warning:
-      return VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-    case Severity::Error:
-      break;
+    case Severity::Verbose: return VK_DEBUG_UTILS_MESSAGE_SEVERITY_VERBOSE_BIT_EXT;
+    case Severity::Info: return VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT;
+    case Severity::Warning: return VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+    case Severity::Error: break;
   }
   return VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
 }
 
 const char* severityWord(Severity s) {
   switch (s) {
-    case Severity::Verbose:
-      return "verbose";
-    case Severity::Info:
-      return "info";
-    case Severity::Warning:
-      return "warning";
-    case Severity::Error:
-      break;
+    case Severity::Verbose: return "verbose";
+    case Severity::Info: return "info";
+    case Severity::Warning: return "warning";
+    case Severity::Error: break;
   }
   return "error";
 }
@@ -85,8 +77,8 @@ void reportV(const Object* about, Severity severity, const char* vuid, const cha
     data.pMessage = message.c_str();
     data.objectCount = 1;
     data.pObjects = &object;
-    VkDebugUtilsMessageTypeFlagsEXT type = vuid ? VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT
-                                                : VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+    VkDebugUtilsMessageTypeFlagsEXT type =
+        vuid ? VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT : VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
     inst->dispatch(toVk(severity), type, data);
     delivered = true;
   }

@@ -3,9 +3,9 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
-#include "runtime/lookup.hpp"
 #include "runtime/device.hpp"
 #include "runtime/fence.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -37,13 +37,12 @@ Semaphore* liveSemaphore(VkDevice device, VkSemaphore h, const char* fn, const c
 extern "C" {
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSemaphore(VkDevice device, const VkSemaphoreCreateInfo* pCreateInfo,
-                                                    const VkAllocationCallbacks* pAllocator,
-                                                    VkSemaphore* pSemaphore) {
+                                                    const VkAllocationCallbacks* pAllocator, VkSemaphore* pSemaphore) {
   Device* dev = fromHandleUnchecked<Device>(device);
   VkSemaphoreType type = VK_SEMAPHORE_TYPE_BINARY;
   uint64_t initial = 0;
-  if (auto* t = findInChain<VkSemaphoreTypeCreateInfo>(pCreateInfo->pNext,
-                                                       VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO)) {
+  if (auto* t =
+          findInChain<VkSemaphoreTypeCreateInfo>(pCreateInfo->pNext, VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO)) {
     type = t->semaphoreType;
     initial = t->initialValue;
     // VUID-VkSemaphoreTypeCreateInfo-timelineSemaphore-03252
@@ -88,8 +87,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroySemaphore(VkDevice device, VkSemaphore se
   destroyObject(s, pAllocator);
 }
 
-VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetSemaphoreCounterValue(VkDevice device, VkSemaphore semaphore,
-                                                             uint64_t* pValue) {
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetSemaphoreCounterValue(VkDevice device, VkSemaphore semaphore, uint64_t* pValue) {
   Semaphore* s = liveSemaphore(device, semaphore, "vkGetSemaphoreCounterValue",
                                "VUID-vkGetSemaphoreCounterValue-semaphore-parameter");
   if (!s) return VK_ERROR_VALIDATION_FAILED_EXT;

@@ -71,7 +71,8 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
   if (cache) {
     if (std::optional<std::string> blob = cache->lookup(persistentKey)) {
       std::string loadError;
-      std::shared_ptr<const spirv::CompiledShader> loaded = spirv::loadCached(*blob, imageFunctionSymbols(), &loadError);
+      std::shared_ptr<const spirv::CompiledShader> loaded =
+          spirv::loadCached(*blob, imageFunctionSymbols(), &loadError);
       if (loaded) {
         gCacheLoads.fetch_add(1);
         entry->shader = loaded;
@@ -107,15 +108,18 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
   using RK = spirv::ResourceBinding;
   char buf[256];
   for (const RK& rb : shader.resources) {
-    const DescriptorBinding* b = rb.set < layout.setLayouts.size() ? layout.setLayouts[rb.set]->bindingAt(rb.binding) : nullptr;
+    const DescriptorBinding* b =
+        rb.set < layout.setLayouts.size() ? layout.setLayouts[rb.set]->bindingAt(rb.binding) : nullptr;
     if (!b || !(b->stages & stage)) {
-      std::snprintf(buf, sizeof buf, "the shader uses set %u binding %u, which the pipeline layout %s", rb.set, rb.binding,
-                    b ? "does not make visible to its stage" : "does not have");
+      std::snprintf(buf, sizeof buf, "the shader uses set %u binding %u, which the pipeline layout %s", rb.set,
+                    rb.binding, b ? "does not make visible to its stage" : "does not have");
       *detail = buf;
       return LayoutMismatch::Missing;
     }
-    bool uniformType = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-    bool storageType = b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
+    bool uniformType =
+        b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    bool storageType =
+        b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
     bool ok = false;
     const char* what = "storage buffer";
     switch (rb.kind) {
@@ -123,7 +127,10 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
         ok = rb.uniform ? uniformType : storageType;
         what = rb.uniform ? "uniform buffer" : "storage buffer";
         break;
-      case RK::StorageImage: ok = b->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE; what = "storage image"; break;
+      case RK::StorageImage:
+        ok = b->type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        what = "storage image";
+        break;
       case RK::SampledImage:
         ok = b->type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         what = "sampled image";
@@ -132,21 +139,24 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
         ok = b->type == VK_DESCRIPTOR_TYPE_SAMPLER || b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         what = "sampler";
         break;
-      case RK::CombinedImageSampler: ok = b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER; what = "combined image sampler"; break;
+      case RK::CombinedImageSampler:
+        ok = b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        what = "combined image sampler";
+        break;
       case RK::AccelerationStructure:
         ok = b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
         what = "acceleration structure";
         break;
     }
     if (!ok) {
-      std::snprintf(buf, sizeof buf, "the shader uses set %u binding %u as a %s descriptor, but the layout declares %s", rb.set,
-                    rb.binding, what, descriptorTypeName(b->type));
+      std::snprintf(buf, sizeof buf, "the shader uses set %u binding %u as a %s descriptor, but the layout declares %s",
+                    rb.set, rb.binding, what, descriptorTypeName(b->type));
       *detail = buf;
       return LayoutMismatch::Type;
     }
     if (rb.arraySize > b->count) {
-      std::snprintf(buf, sizeof buf, "the shader declares %u descriptors at set %u binding %u, the layout only %u", rb.arraySize,
-                    rb.set, rb.binding, b->count);
+      std::snprintf(buf, sizeof buf, "the shader declares %u descriptors at set %u binding %u, the layout only %u",
+                    rb.arraySize, rb.set, rb.binding, b->count);
       *detail = buf;
       return LayoutMismatch::Count;
     }

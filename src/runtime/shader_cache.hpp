@@ -32,7 +32,8 @@ std::string shaderKey(uint64_t codeHash, const spirv::CompileRequest& request);
 std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, const std::string& key,
                                                            const spirv::CompileRequest& request, bool mayCompile,
                                                            std::string* error, PipelineCache* cache = nullptr,
-                                                           bool* cacheHit = nullptr, const char* command = "vkCreateComputePipelines");
+                                                           bool* cacheHit = nullptr,
+                                                           const char* command = "vkCreateComputePipelines");
 // Stores the compiled code in `cache` under its request's key, unless it is there already (a damaged entry is
 // replaced). Does nothing without a cache.
 void storeInCache(PipelineCache* cache, const spirv::CompileRequest& request, const spirv::CompiledShader& shader);

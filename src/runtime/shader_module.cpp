@@ -49,8 +49,8 @@ bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message
 bool checkShaderModuleCreateInfo(const Object* about, const VkShaderModuleCreateInfo& info, const char* what) {
   // VUID-VkShaderModuleCreateInfo-codeSize-01085
   if (info.codeSize == 0) {
-    report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-codeSize-01085", "%s: codeSize must be greater than 0",
-           what);
+    report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-codeSize-01085",
+           "%s: codeSize must be greater than 0", what);
     return false;
   }
   // VUID-VkShaderModuleCreateInfo-pCode-01376
@@ -63,15 +63,18 @@ bool checkShaderModuleCreateInfo(const Object* about, const VkShaderModuleCreate
   if (info.codeSize < 20 || !info.pCode || info.pCode[0] != 0x07230203u) {
     report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-pCode-01377",
            "%s: pCode is not SPIR-V (first word 0x%08x, %zu bytes; SPIR-V starts with magic 0x07230203 and a "
-           "5-word header)", what, info.pCode && info.codeSize >= 4 ? info.pCode[0] : 0u, info.codeSize);
+           "5-word header)",
+           what, info.pCode && info.codeSize >= 4 ? info.pCode[0] : 0u, info.codeSize);
     return false;
   }
   std::string message;
   // VUID-VkShaderModuleCreateInfo-pCode-01378
-  const Device* device = about && about->objectType == VK_OBJECT_TYPE_DEVICE ? static_cast<const Device*>(about) : about ? about->device : nullptr;
+  const Device* device = about && about->objectType == VK_OBJECT_TYPE_DEVICE ? static_cast<const Device*>(about)
+                         : about                                             ? about->device
+                                                                             : nullptr;
   if (!validateSpirv(info.pCode, info.codeSize / 4, &message, device)) {
-    report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-pCode-01378",
-           "%s: invalid SPIR-V for Vulkan 1.3: %s", what, message.c_str());
+    report(about, Severity::Error, "VUID-VkShaderModuleCreateInfo-pCode-01378", "%s: invalid SPIR-V for Vulkan 1.3: %s",
+           what, message.c_str());
     return false;
   }
   return true;

@@ -29,8 +29,8 @@ struct PreparedStage {
 };
 
 // Returns false after reporting against `about`.
-bool prepareStage(const Object* about, const VkPipelineShaderStageCreateInfo& stage, spv::ExecutionModel model, const char* what,
-                  PreparedStage* out);
+bool prepareStage(const Object* about, const VkPipelineShaderStageCreateInfo& stage, spv::ExecutionModel model,
+                  const char* what, PreparedStage* out);
 
 struct CompiledStage {
   std::shared_ptr<const spirv::CompiledShader> shader;  // null when the result is not VK_SUCCESS
@@ -38,7 +38,7 @@ struct CompiledStage {
   VkPipelineCreationFeedback feedback{};                // VALID, the cache hit bit, the duration
 };
 
-CompiledStage compileStage(Device* dev, const PreparedStage& stage, bool mayCompile, PipelineCache* cache, const char* command,
-                           const char* what);
+CompiledStage compileStage(Device* dev, const PreparedStage& stage, bool mayCompile, PipelineCache* cache,
+                           const char* command, const char* what);
 
 }  // namespace vkrt

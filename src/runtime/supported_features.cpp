@@ -18,41 +18,71 @@ constexpr F kSupported[] = {
     // 64-bit integers and floats, 8/16-bit integers and 16-bit floats in shaders, and their storage-buffer, uniform
     // and push-constant access (src/spirv; tests/spirv SixtyFourBitIntegersAndDoubles, SpirvCompilerSmallTypes,
     // tests/e2e ComputeSmallTypesTest, ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).
-    F::shaderInt64, F::shaderFloat64, F::shaderInt16, F::shaderInt8, F::shaderFloat16,
-    F::storageBuffer16BitAccess, F::uniformAndStorageBuffer16BitAccess, F::storagePushConstant16,
-    F::storageBuffer8BitAccess, F::uniformAndStorageBuffer8BitAccess, F::storagePushConstant8,
+    F::shaderInt64,
+    F::shaderFloat64,
+    F::shaderInt16,
+    F::shaderInt8,
+    F::shaderFloat16,
+    F::storageBuffer16BitAccess,
+    F::uniformAndStorageBuffer16BitAccess,
+    F::storagePushConstant16,
+    F::storageBuffer8BitAccess,
+    F::uniformAndStorageBuffer8BitAccess,
+    F::storagePushConstant8,
     // Timeline semaphores (runtime/semaphore.cpp), host query reset (runtime/query_pool.cpp).
-    F::timelineSemaphore, F::hostQueryReset,
+    F::timelineSemaphore,
+    F::hostQueryReset,
     // Device addresses are host addresses of the arena (runtime/memory.cpp), reproducible for capture/replay.
-    F::bufferDeviceAddress, F::bufferDeviceAddressCaptureReplay,
+    F::bufferDeviceAddress,
+    F::bufferDeviceAddressCaptureReplay,
     // Block layouts: the compiler follows Offset/ArrayStride; modules are validated with the enabled rules.
-    F::uniformBufferStandardLayout, F::scalarBlockLayout,
+    F::uniformBufferStandardLayout,
+    F::scalarBlockLayout,
     // Layout-only features of images and framebuffers that a compute/ray tracing device honours trivially.
-    F::separateDepthStencilLayouts, F::imagelessFramebuffer,
+    F::separateDepthStencilLayouts,
+    F::imagelessFramebuffer,
     // Descriptor binding flags: descriptors are records read when a command executes (runtime/descriptor_set.cpp).
-    F::descriptorBindingUniformBufferUpdateAfterBind, F::descriptorBindingSampledImageUpdateAfterBind,
-    F::descriptorBindingStorageImageUpdateAfterBind, F::descriptorBindingStorageBufferUpdateAfterBind,
-    F::descriptorBindingUniformTexelBufferUpdateAfterBind, F::descriptorBindingStorageTexelBufferUpdateAfterBind,
-    F::descriptorBindingUpdateUnusedWhilePending, F::descriptorBindingPartiallyBound,
+    F::descriptorBindingUniformBufferUpdateAfterBind,
+    F::descriptorBindingSampledImageUpdateAfterBind,
+    F::descriptorBindingStorageImageUpdateAfterBind,
+    F::descriptorBindingStorageBufferUpdateAfterBind,
+    F::descriptorBindingUniformTexelBufferUpdateAfterBind,
+    F::descriptorBindingStorageTexelBufferUpdateAfterBind,
+    F::descriptorBindingUpdateUnusedWhilePending,
+    F::descriptorBindingPartiallyBound,
     F::descriptorBindingVariableDescriptorCount,
     // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
     // SpirvDescriptorIndexing). Texel buffers are not compiled yet: neither their indexing nor descriptorIndexing.
-    F::shaderUniformBufferArrayDynamicIndexing, F::shaderSampledImageArrayDynamicIndexing,
-    F::shaderStorageBufferArrayDynamicIndexing, F::shaderStorageImageArrayDynamicIndexing,
-    F::shaderUniformBufferArrayNonUniformIndexing, F::shaderSampledImageArrayNonUniformIndexing,
-    F::shaderStorageBufferArrayNonUniformIndexing, F::shaderStorageImageArrayNonUniformIndexing, F::runtimeDescriptorArray,
+    F::shaderUniformBufferArrayDynamicIndexing,
+    F::shaderSampledImageArrayDynamicIndexing,
+    F::shaderStorageBufferArrayDynamicIndexing,
+    F::shaderStorageImageArrayDynamicIndexing,
+    F::shaderUniformBufferArrayNonUniformIndexing,
+    F::shaderSampledImageArrayNonUniformIndexing,
+    F::shaderStorageBufferArrayNonUniformIndexing,
+    F::shaderStorageImageArrayNonUniformIndexing,
+    F::runtimeDescriptorArray,
     // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
-    F::synchronization2, F::pipelineCreationCacheControl, F::maintenance4,
+    F::synchronization2,
+    F::pipelineCreationCacheControl,
+    F::maintenance4,
     // Ray tracing pipelines (src/rt): handles, capture/replay (also mixed with non-replayed pipelines: handles are
     // content-derived), indirect traces, primitive culling flags, library group handles (tests/e2e rt_*, trace_*).
-    F::rayTracingPipeline, F::rayTracingPipelineShaderGroupHandleCaptureReplay,
-    F::rayTracingPipelineShaderGroupHandleCaptureReplayMixed, F::rayTracingPipelineTraceRaysIndirect,
-    F::rayTraversalPrimitiveCulling, F::pipelineLibraryGroupHandles,
-    F::rayTracingMaintenance1, F::rayTracingPipelineTraceRaysIndirect2,
+    F::rayTracingPipeline,
+    F::rayTracingPipelineShaderGroupHandleCaptureReplay,
+    F::rayTracingPipelineShaderGroupHandleCaptureReplayMixed,
+    F::rayTracingPipelineTraceRaysIndirect,
+    F::rayTraversalPrimitiveCulling,
+    F::pipelineLibraryGroupHandles,
+    F::rayTracingMaintenance1,
+    F::rayTracingPipelineTraceRaysIndirect2,
     // Acceleration structures on src/accel: capture/replay at the buffer's address, indirect and host builds (the
     // device's memory is host memory), update-after-bind descriptors (tests/e2e trace_as_test.cpp).
-    F::accelerationStructure, F::accelerationStructureCaptureReplay, F::accelerationStructureIndirectBuild,
-    F::accelerationStructureHostCommands, F::descriptorBindingAccelerationStructureUpdateAfterBind,
+    F::accelerationStructure,
+    F::accelerationStructureCaptureReplay,
+    F::accelerationStructureIndirectBuild,
+    F::accelerationStructureHostCommands,
+    F::descriptorBindingAccelerationStructureUpdateAfterBind,
 };
 
 }  // namespace

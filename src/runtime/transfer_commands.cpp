@@ -130,7 +130,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBuffer(VkCommandBuffer commandBuffer, VkB
   recordCopy(cb, srcBuffer, dstBuffer, regionCount, pRegions, "vkCmdCopyBuffer", CopyVuids{"VUID-vkCmdCopyBuffer-"});
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBuffer2(VkCommandBuffer commandBuffer, const VkCopyBufferInfo2* pCopyBufferInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBuffer2(VkCommandBuffer commandBuffer,
+                                               const VkCopyBufferInfo2* pCopyBufferInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyBuffer2");
   if (!cb) return;
   recordCopy(cb, pCopyBufferInfo->srcBuffer, pCopyBufferInfo->dstBuffer, pCopyBufferInfo->regionCount,
@@ -215,7 +216,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdUpdateBuffer(VkCommandBuffer commandBuffer, V
   }
   // VUID-vkCmdUpdateBuffer-dataSize-arraylength
   if (dataSize == 0) {
-    report(dst, Severity::Error, "VUID-vkCmdUpdateBuffer-dataSize-arraylength", "%s: dataSize must be greater than 0", fn);
+    report(dst, Severity::Error, "VUID-vkCmdUpdateBuffer-dataSize-arraylength", "%s: dataSize must be greater than 0",
+           fn);
     return;
   }
   // VUID-vkCmdUpdateBuffer-dataSize-00037

@@ -75,8 +75,9 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
           llvm::Value* rem = b.CreateSRem(a, safe);
           if (in.op == spv::OpSMod) {
             // The result takes the divisor's sign.
-            llvm::Value* fix = b.CreateAnd(b.CreateICmpNE(rem, zeroLike(t)),
-                                           b.CreateICmpNE(b.CreateICmpSLT(rem, zeroLike(t)), b.CreateICmpSLT(d, zeroLike(t))));
+            llvm::Value* fix =
+                b.CreateAnd(b.CreateICmpNE(rem, zeroLike(t)),
+                            b.CreateICmpNE(b.CreateICmpSLT(rem, zeroLike(t)), b.CreateICmpSLT(d, zeroLike(t))));
             rem = b.CreateSelect(fix, b.CreateAdd(rem, d), rem);
           }
           r = b.CreateSelect(minus1, zeroLike(t), rem);
@@ -148,8 +149,10 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       return true;
     }
     case spv::OpBitCount:
-      return unaryOp([&](llvm::Value* a) { return b.CreateZExtOrTrunc(b.CreateUnaryIntrinsic(llvm::Intrinsic::ctpop, a), rt); });
-    case spv::OpBitReverse: return unaryOp([&](llvm::Value* a) { return b.CreateUnaryIntrinsic(llvm::Intrinsic::bitreverse, a); });
+      return unaryOp(
+          [&](llvm::Value* a) { return b.CreateZExtOrTrunc(b.CreateUnaryIntrinsic(llvm::Intrinsic::ctpop, a), rt); });
+    case spv::OpBitReverse:
+      return unaryOp([&](llvm::Value* a) { return b.CreateUnaryIntrinsic(llvm::Intrinsic::bitreverse, a); });
     case spv::OpBitFieldInsert:
     case spv::OpBitFieldSExtract:
     case spv::OpBitFieldUExtract: {
@@ -162,11 +165,14 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       llvm::Value* cnt = splat(b.CreateZExtOrTrunc(operand(insert ? 6 : 5), t->getScalarType()), t);
       // mask = count == w ? ~0 : (1 << count) - 1, with the shift made total.
       llvm::Value* full = b.CreateICmpUGE(cnt, intLike(t, w));
-      llvm::Value* mask = b.CreateSelect(full, onesLike(t), b.CreateSub(b.CreateShl(intLike(t, 1), b.CreateAnd(cnt, intLike(t, w - 1))), intLike(t, 1)));
+      llvm::Value* mask =
+          b.CreateSelect(full, onesLike(t),
+                         b.CreateSub(b.CreateShl(intLike(t, 1), b.CreateAnd(cnt, intLike(t, w - 1))), intLike(t, 1)));
       llvm::Value* offM = b.CreateAnd(off, intLike(t, w - 1));
       if (insert) {
         llvm::Value* m2 = b.CreateShl(mask, offM);
-        set(result, b.CreateOr(b.CreateAnd(operand(3), b.CreateNot(m2)), b.CreateAnd(b.CreateShl(operand(4), offM), m2)));
+        set(result,
+            b.CreateOr(b.CreateAnd(operand(3), b.CreateNot(m2)), b.CreateAnd(b.CreateShl(operand(4), offM), m2)));
       } else {
         llvm::Value* v = b.CreateAnd(b.CreateLShr(operand(3), offM), mask);
         if (in.op == spv::OpBitFieldSExtract) {
@@ -199,7 +205,8 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
         unsigned w = t->getScalarSizeInBits();
         llvm::Type* wide = t->getWithNewBitWidth(2 * w);
         bool s = in.op == spv::OpSMulExtended;
-        llvm::Value* p = b.CreateMul(s ? b.CreateSExt(a, wide) : b.CreateZExt(a, wide), s ? b.CreateSExt(c2, wide) : b.CreateZExt(c2, wide));
+        llvm::Value* p = b.CreateMul(s ? b.CreateSExt(a, wide) : b.CreateZExt(a, wide),
+                                     s ? b.CreateSExt(c2, wide) : b.CreateZExt(c2, wide));
         lo = b.CreateTrunc(p, t);
         hi = b.CreateTrunc(b.CreateLShr(p, intLike(wide, w)), t);
       }
@@ -240,7 +247,9 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
     }
     // ---- vectors and matrices
     case spv::OpDot:
-      return binary([&](llvm::Value* x, llvm::Value* y) { return b.CreateFAddReduce(llvm::ConstantFP::get(rt, 0.0), b.CreateFMul(x, y)); });
+      return binary([&](llvm::Value* x, llvm::Value* y) {
+        return b.CreateFAddReduce(llvm::ConstantFP::get(rt, 0.0), b.CreateFMul(x, y));
+      });
     case spv::OpVectorTimesScalar:
       return binary([&](llvm::Value* v, llvm::Value* s) { return b.CreateFMul(v, splat(s, v->getType())); });
     case spv::OpMatrixTimesScalar:
@@ -258,7 +267,8 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
         unsigned cols = llvm::cast<llvm::ArrayType>(mat->getType())->getNumElements();
         llvm::Value* r = nullptr;
         for (unsigned i = 0; i < cols; ++i) {
-          llvm::Value* term = b.CreateFMul(b.CreateExtractValue(mat, {i}), splat(b.CreateExtractElement(v, uint64_t(i)), rt));
+          llvm::Value* term =
+              b.CreateFMul(b.CreateExtractValue(mat, {i}), splat(b.CreateExtractElement(v, uint64_t(i)), rt));
           r = r ? b.CreateFAdd(r, term) : term;
         }
         return r;
@@ -268,7 +278,8 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
         unsigned cols = llvm::cast<llvm::ArrayType>(mat->getType())->getNumElements();
         llvm::Value* r = llvm::UndefValue::get(rt);
         for (unsigned i = 0; i < cols; ++i) {
-          llvm::Value* d = b.CreateFAddReduce(llvm::ConstantFP::get(rt->getScalarType(), 0.0), b.CreateFMul(v, b.CreateExtractValue(mat, {i})));
+          llvm::Value* d = b.CreateFAddReduce(llvm::ConstantFP::get(rt->getScalarType(), 0.0),
+                                              b.CreateFMul(v, b.CreateExtractValue(mat, {i})));
           r = b.CreateInsertElement(r, d, uint64_t(i));
         }
         return r;
@@ -294,23 +305,26 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       return binary([&](llvm::Value* x, llvm::Value* y) {
         unsigned cols = llvm::cast<llvm::ArrayType>(rt)->getNumElements();
         llvm::Value* r = llvm::UndefValue::get(rt);
-        for (unsigned i = 0; i < cols; ++i) r = b.CreateInsertValue(r, b.CreateFMul(x, splat(b.CreateExtractElement(y, uint64_t(i)), x->getType())), {i});
+        for (unsigned i = 0; i < cols; ++i)
+          r = b.CreateInsertValue(r, b.CreateFMul(x, splat(b.CreateExtractElement(y, uint64_t(i)), x->getType())), {i});
         return r;
       });
     case spv::OpTranspose:
       return unaryOp([&](llvm::Value* mat) {
         unsigned cols = llvm::cast<llvm::ArrayType>(rt)->getNumElements();
-        unsigned rows = llvm::cast<llvm::FixedVectorType>(llvm::cast<llvm::ArrayType>(rt)->getElementType())->getNumElements();
+        unsigned rows =
+            llvm::cast<llvm::FixedVectorType>(llvm::cast<llvm::ArrayType>(rt)->getElementType())->getNumElements();
         llvm::Value* r = llvm::UndefValue::get(rt);
         for (unsigned i = 0; i < cols; ++i) {
           llvm::Value* col = llvm::UndefValue::get(llvm::cast<llvm::ArrayType>(rt)->getElementType());
-          for (unsigned j = 0; j < rows; ++j) col = b.CreateInsertElement(col, b.CreateExtractElement(b.CreateExtractValue(mat, {j}), uint64_t(i)), uint64_t(j));
+          for (unsigned j = 0; j < rows; ++j)
+            col = b.CreateInsertElement(col, b.CreateExtractElement(b.CreateExtractValue(mat, {j}), uint64_t(i)),
+                                        uint64_t(j));
           r = b.CreateInsertValue(r, col, {i});
         }
         return r;
       });
-    default:
-      return false;
+    default: return false;
   }
 }
 
@@ -382,9 +396,9 @@ bool Codegen::composite(const Instruction& in, bool& ok) {
       for (uint32_t i = 5; i < in.count; ++i) {
         uint32_t k = in.word(i);
         llvm::Value* e = k == 0xffffffffu ? llvm::Constant::getNullValue(v1->getType()->getScalarType())
-                         : k < n1          ? b.CreateExtractElement(v1, uint64_t(k))
-                         : k < n1 + n2     ? b.CreateExtractElement(v2, uint64_t(k - n1))
-                                           : nullptr;
+                         : k < n1         ? b.CreateExtractElement(v1, uint64_t(k))
+                         : k < n1 + n2    ? b.CreateExtractElement(v2, uint64_t(k - n1))
+                                          : nullptr;
         if (!e) return (ok = fail(in, "component index out of range")), true;
         r = b.CreateInsertElement(r, e, uint64_t(i - 5));
       }
@@ -405,8 +419,7 @@ bool Codegen::composite(const Instruction& in, bool& ok) {
       set(result, insert ? b.CreateInsertElement(v, comp, idx) : b.CreateExtractElement(v, idx));
       return true;
     }
-    default:
-      return false;
+    default: return false;
   }
 }
 

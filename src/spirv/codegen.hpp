@@ -45,8 +45,8 @@ struct Ptr {
   spv::StorageClass storage = spv::StorageClassFunction;
   uint32_t matrixStride = 0;  // for a matrix (or array of matrices) pointee: 0 = natural layout
   bool rowMajor = false;
-  uint32_t vecStride = 0;  // for a vector pointee: bytes between components (0 = packed)
-  int slot = -1;           // >= 0: a descriptor array not indexed yet (base/offset/limit unset)
+  uint32_t vecStride = 0;            // for a vector pointee: bytes between components (0 = packed)
+  int slot = -1;                     // >= 0: a descriptor array not indexed yet (base/offset/limit unset)
   llvm::Value* descIndex = nullptr;  // UniformConstant (image/sampler) descriptors: the array index so far
 };
 
@@ -95,17 +95,17 @@ class Codegen {
   llvm::Value* splat(llvm::Value* scalar, llvm::Type* like);  // scalar broadcast to `like`'s shape
 
   // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
-  bool arithmetic(const Instruction& in, bool& ok);    // arithmetic.cpp
-  bool composite(const Instruction& in, bool& ok);     // arithmetic.cpp
-  bool controlFlow(const Instruction& in, bool& ok);   // control_flow.cpp
-  bool memory(const Instruction& in, bool& ok);        // memory.cpp
-  bool extInst(const Instruction& in, bool& ok);       // glsl_std450.cpp
-  bool image(const Instruction& in, bool& ok);         // image.cpp
-  bool rayTracing(const Instruction& in, bool& ok);    // ray_tracing.cpp
+  bool arithmetic(const Instruction& in, bool& ok);   // arithmetic.cpp
+  bool composite(const Instruction& in, bool& ok);    // arithmetic.cpp
+  bool controlFlow(const Instruction& in, bool& ok);  // control_flow.cpp
+  bool memory(const Instruction& in, bool& ok);       // memory.cpp
+  bool extInst(const Instruction& in, bool& ok);      // glsl_std450.cpp
+  bool image(const Instruction& in, bool& ok);        // image.cpp
+  bool rayTracing(const Instruction& in, bool& ok);   // ray_tracing.cpp
 
   // ---- memory (memory.cpp)
-  bool declareGlobals();                                // Private, Workgroup, Input, buffers, push constants
-  bool variablePtr(uint32_t varId, Ptr* out);           // a module-scope variable in the current function
+  bool declareGlobals();                       // Private, Workgroup, Input, buffers, push constants
+  bool variablePtr(uint32_t varId, Ptr* out);  // a module-scope variable in the current function
   // The in-bounds condition of an access of `bytes` at p (nullptr: in bounds by construction).
   llvm::Value* inBounds(const Ptr& p, uint64_t bytes);
   // The address an atomic uses: p's, or the zeros / the sink when out of bounds.
@@ -162,8 +162,8 @@ class Codegen {
     spv::StorageClass storage;
     uint64_t offset = 0;  // Private: in the private block; Workgroup: in workgroup memory
     uint64_t size = 0;
-    int slot = -1;        // buffers: resource slot
-    int builtIn = -1;     // Input
+    int slot = -1;          // buffers: resource slot
+    int builtIn = -1;       // Input
     int contextField = -1;  // a pointer the runtime provides: offset of {pointer, uint64 bytes} in RayInvocation
   };
   std::unordered_map<uint32_t, Global> globals;

@@ -67,8 +67,10 @@ llvm::Type* Codegen::type(uint32_t id) {
     }
     case Type::Pointer: r = b.getPtrTy(); break;
     case Type::Opaque:
-      if (isImageLike(id)) r = imageValueType();
-      else if (isAccelerationStructure(id)) r = b.getInt64Ty();  // its device address
+      if (isImageLike(id))
+        r = imageValueType();
+      else if (isAccelerationStructure(id))
+        r = b.getInt64Ty();  // its device address
       break;
     default: break;
   }
@@ -191,10 +193,12 @@ llvm::Constant* Codegen::constant(uint32_t id) {
   if (k->words.size() > 1) bits |= uint64_t(k->words[1]) << 32;
   switch (t.kind) {
     case Type::Bool: return b.getInt1(bits != 0);
-    case Type::Int: return llvm::ConstantInt::get(ty, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits));
+    case Type::Int:
+      return llvm::ConstantInt::get(ty, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits));
     case Type::Float: {
       const llvm::fltSemantics& sem = ty->getFltSemantics();
-      return llvm::ConstantFP::get(c, llvm::APFloat(sem, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits)));
+      return llvm::ConstantFP::get(
+          c, llvm::APFloat(sem, llvm::APInt(t.width, t.width < 64 ? bits & ((1ull << t.width) - 1) : bits)));
     }
     default: return nullptr;
   }
@@ -299,8 +303,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
       case spv::OpNop:
       case spv::OpSelectionMerge:
       case spv::OpLoopMerge:
-      case spv::OpMemoryModel:
-        continue;
+      case spv::OpMemoryModel: continue;
       default: break;
     }
     bool ok = true;
@@ -321,10 +324,9 @@ bool Codegen::run(const EntryPoint& ep) {
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;
   }
-  zeros = new llvm::GlobalVariable(out, llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes), true,
-                                   llvm::GlobalValue::PrivateLinkage,
-                                   llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)),
-                                   "vkrt_zeros");
+  zeros = new llvm::GlobalVariable(
+      out, llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes), true, llvm::GlobalValue::PrivateLinkage,
+      llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)), "vkrt_zeros");
   zeros->setAlignment(llvm::Align(16));
   if (!declareGlobals() || !declareFunctions()) return false;
   for (size_t i = 0; i < m.instructions.size();) {
@@ -398,8 +400,8 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   // Push constants: kPushConstantBytes bytes.
   auto* push = b.CreateAlloca(b.getInt8Ty(), i64(kPushConstantBytes));
   push->setAlignment(llvm::Align(16));
-  b.CreateMemCpy(push, llvm::MaybeAlign(16), ctxPointer(offsetof(InvocationContext, pushConstants)), llvm::MaybeAlign(1),
-                 i64(kPushConstantBytes));
+  b.CreateMemCpy(push, llvm::MaybeAlign(16), ctxPointer(offsetof(InvocationContext, pushConstants)),
+                 llvm::MaybeAlign(1), i64(kPushConstantBytes));
   b.CreateAlignedStore(push, field(offsetof(InvocationContext, pushConstants), 0), llvm::Align(8));
   // Resources: the slot table, and element 0 of each buffer binding that is not an array.
   if (size_t n = info.resources.size()) {
@@ -412,7 +414,8 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
       llvm::Value* from = b.CreateConstGEP1_64(b.getInt8Ty(), table, i * sizeof(ResourceSlot));
       llvm::Value* to = b.CreateConstGEP1_64(b.getInt8Ty(), slots, i * sizeof(ResourceSlot));
       llvm::Value* rec = b.CreateAlignedLoad(b.getPtrTy(), from, llvm::Align(8));
-      llvm::Value* count = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), from, 8), llvm::Align(8));
+      llvm::Value* count =
+          b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), from, 8), llvm::Align(8));
       const ResourceBinding& r = info.resources[i];
       if (r.kind == ResourceBinding::Buffer && r.arraySize == 1) {
         llvm::Value* bound = b.CreateICmpNE(count, i64(0));
@@ -429,7 +432,8 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   }
   llvm::Value* base[3];
   for (int i = 0; i < 3; ++i) {
-    llvm::Value* wg = b.CreateAlignedLoad(b.getInt32Ty(), field(offsetof(InvocationContext, workgroupId), i), llvm::Align(4));
+    llvm::Value* wg =
+        b.CreateAlignedLoad(b.getInt32Ty(), field(offsetof(InvocationContext, workgroupId), i), llvm::Align(4));
     base[i] = b.CreateMul(wg, b.getInt32(info.localSize[i]));
   }
   // Three nested counted loops: z outermost, x innermost.
@@ -448,9 +452,9 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
     b.CreateAlignedStore(ids[i], field(offsetof(InvocationContext, localId), i), llvm::Align(4));
     b.CreateAlignedStore(b.CreateAdd(base[i], ids[i]), field(offsetof(InvocationContext, globalId), i), llvm::Align(4));
   }
-  llvm::Value* index = b.CreateAdd(
-      b.CreateMul(b.CreateAdd(b.CreateMul(ids[2], b.getInt32(info.localSize[1])), ids[1]), b.getInt32(info.localSize[0])),
-      ids[0]);
+  llvm::Value* index = b.CreateAdd(b.CreateMul(b.CreateAdd(b.CreateMul(ids[2], b.getInt32(info.localSize[1])), ids[1]),
+                                               b.getInt32(info.localSize[0])),
+                                   ids[0]);
   b.CreateAlignedStore(index, field(offsetof(InvocationContext, localIndex), 0), llvm::Align(4));
   b.CreateCall(main, {local});
   // Latches, innermost first: each increments its id and either repeats or falls through to the outer latch.

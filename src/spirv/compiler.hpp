@@ -31,13 +31,13 @@ struct ResourceBinding {
 // What a compiled ray tracing shader tells the pipeline: the sizes its ray tracing variables declare (for
 // VkRayTracingPipelineInterfaceCreateInfoKHR) and the stack it keeps while a shader it calls runs.
 struct RayStageInfo {
-  uint32_t payloadBytes = 0;       // the largest RayPayloadKHR or IncomingRayPayloadKHR variable
-  uint32_t callableDataBytes = 0;  // the largest CallableDataKHR or IncomingCallableDataKHR variable
-  uint32_t hitAttributeBytes = 0;  // the HitAttributeKHR variable
-  uint32_t frameBytes = 0;         // native stack of the compiled code: every function's frame, return address
-                                   // included (outgoing payloads and callable data, locals, spills)
-  bool callsOut = false;           // the code makes OpTraceRayKHR or OpExecuteCallableKHR calls
-  bool readsHitAttributes = false; // any-hit / closest-hit: HitAttributeKHR is the runtime's, read via the context
+  uint32_t payloadBytes = 0;        // the largest RayPayloadKHR or IncomingRayPayloadKHR variable
+  uint32_t callableDataBytes = 0;   // the largest CallableDataKHR or IncomingCallableDataKHR variable
+  uint32_t hitAttributeBytes = 0;   // the HitAttributeKHR variable
+  uint32_t frameBytes = 0;          // native stack of the compiled code: every function's frame, return address
+                                    // included (outgoing payloads and callable data, locals, spills)
+  bool callsOut = false;            // the code makes OpTraceRayKHR or OpExecuteCallableKHR calls
+  bool readsHitAttributes = false;  // any-hit / closest-hit: HitAttributeKHR is the runtime's, read via the context
 
   // vkGetRayTracingShaderGroupStackSizeKHR's figure: 0 for a shader that calls nothing (none of it is live
   // while another shader runs); otherwise its frame, plus the hit attributes it reads (the runtime keeps the hit
@@ -101,6 +101,7 @@ std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::stri
 std::string cacheKey(const CompileRequest& request);
 // Loads a shader from a CompiledShader::cacheBlob without running LLVM's optimizer or code generator.
 // Malformed or damaged blobs (checked by a checksum before LLVM sees the object) fail with `error` set.
-std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error);
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols,
+                                           std::string* error);
 
 }  // namespace vkrt::spirv

@@ -40,9 +40,7 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
       phis.push_back({phi, &in});
       return true;
     }
-    case spv::OpBranch:
-      b.CreateBr(blocks[in.word(1)]);
-      return true;
+    case spv::OpBranch: b.CreateBr(blocks[in.word(1)]); return true;
     case spv::OpBranchConditional: {
       llvm::Value* cond = value(in.word(1));
       if (!cond) return (ok = fail(in, "condition has no value")), true;
@@ -65,18 +63,14 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
       }
       return true;
     }
-    case spv::OpReturn:
-      b.CreateRetVoid();
-      return true;
+    case spv::OpReturn: b.CreateRetVoid(); return true;
     case spv::OpReturnValue: {
       llvm::Value* v = value(in.word(1));
       if (!v) return (ok = unsupported(in, "returned value")), true;
       b.CreateRet(v);
       return true;
     }
-    case spv::OpUnreachable:
-      b.CreateUnreachable();
-      return true;
+    case spv::OpUnreachable: b.CreateUnreachable(); return true;
     case spv::OpFunctionCall: {
       auto fit = functions.find(in.word(3));
       if (fit == functions.end()) return (ok = fail(in, "call to an unknown function")), true;
@@ -108,7 +102,8 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
         // between them).
         info.usesBarrier = true;
         llvm::Value* fnPtr = b.CreateAlignedLoad(
-            b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, barrier)), llvm::Align(8));
+            b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, barrier)),
+            llvm::Align(8));
         b.CreateCall(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false), fnPtr, {ctxArg});
         b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent);
       } else if (scope != spv::ScopeSubgroup && scope != spv::ScopeInvocation) {
@@ -116,11 +111,8 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
       }
       return true;
     }
-    case spv::OpMemoryBarrier:
-      b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent);
-      return true;
-    default:
-      return false;
+    case spv::OpMemoryBarrier: b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent); return true;
+    default: return false;
   }
 }
 

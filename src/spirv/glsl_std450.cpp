@@ -19,7 +19,9 @@ struct Std {
 
   llvm::Value* fconst(llvm::Type* like, double v) { return llvm::ConstantFP::get(like, v); }
   llvm::Value* intr(llvm::Intrinsic::ID id, llvm::Value* a) { return b.CreateUnaryIntrinsic(id, a); }
-  llvm::Value* intr2(llvm::Intrinsic::ID id, llvm::Value* a, llvm::Value* c) { return b.CreateBinaryIntrinsic(id, a, c); }
+  llvm::Value* intr2(llvm::Intrinsic::ID id, llvm::Value* a, llvm::Value* c) {
+    return b.CreateBinaryIntrinsic(id, a, c);
+  }
 
   // Calls `name` (float) or `name` without the 'f' suffix (double) on every component.
   llvm::Value* libm(const char* name, std::initializer_list<llvm::Value*> args) {
@@ -79,7 +81,8 @@ struct Std {
     llvm::Value* special = b.CreateOr(b.CreateICmpEQ(e, iconst(it, emax)), b.CreateICmpEQ(magnitude, iconst(it, 0)));
     llvm::Value* scaled = b.CreateBitCast(b.CreateFMul(x, fconst(ft, std::ldexp(1.0, int(mant) + 1))), it);
     llvm::Value* nb = b.CreateSelect(zeroField, scaled, bits);
-    llvm::Value* exp = b.CreateSub(field(nb), b.CreateSelect(zeroField, iconst(it, bias - 1 + mant + 1), iconst(it, bias - 1)));
+    llvm::Value* exp =
+        b.CreateSub(field(nb), b.CreateSelect(zeroField, iconst(it, bias - 1 + mant + 1), iconst(it, bias - 1)));
     llvm::Value* sig = b.CreateOr(b.CreateAnd(nb, iconst(it, ~(emax << mant))), iconst(it, (bias - 1) << mant));
     sig = b.CreateSelect(special, x, b.CreateBitCast(sig, ft));
     exp = b.CreateSelect(special, llvm::Constant::getNullValue(it), exp);
@@ -131,7 +134,8 @@ struct Std {
     auto clampE = [&](int64_t lim) {
       llvm::Type* wide = shaped(et, b.getInt64Ty());
       llvm::Value* c = b.CreateSExtOrTrunc(e, wide);
-      c = intr2(llvm::Intrinsic::smin, intr2(llvm::Intrinsic::smax, c, iconst(wide, uint64_t(-lim))), iconst(wide, uint64_t(lim)));
+      c = intr2(llvm::Intrinsic::smin, intr2(llvm::Intrinsic::smax, c, iconst(wide, uint64_t(-lim))),
+                iconst(wide, uint64_t(lim)));
       return b.CreateTrunc(c, shaped(et, b.getInt32Ty()));
     };
     if (w == 64) {
@@ -203,7 +207,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450SAbs: r = b.CreateBinaryIntrinsic(Intrinsic::abs, arg(0), b.getFalse()); break;
     case GLSLstd450FSign: {
       Value* x = arg(0);
-      Value* pos = b.CreateSelect(b.CreateFCmpOGT(x, s.fconst(x->getType(), 0)), s.fconst(x->getType(), 1), s.fconst(x->getType(), 0));
+      Value* pos = b.CreateSelect(b.CreateFCmpOGT(x, s.fconst(x->getType(), 0)), s.fconst(x->getType(), 1),
+                                  s.fconst(x->getType(), 0));
       r = b.CreateSelect(b.CreateFCmpOLT(x, s.fconst(x->getType(), 0)), s.fconst(x->getType(), -1), pos);
       break;
     }
@@ -211,14 +216,19 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       Value* x = arg(0);
       llvm::Type* t = x->getType();
       r = b.CreateSelect(b.CreateICmpSGT(x, llvm::Constant::getNullValue(t)), ConstantInt::get(t, 1),
-                         b.CreateSelect(b.CreateICmpSLT(x, llvm::Constant::getNullValue(t)), llvm::Constant::getAllOnesValue(t), llvm::Constant::getNullValue(t)));
+                         b.CreateSelect(b.CreateICmpSLT(x, llvm::Constant::getNullValue(t)),
+                                        llvm::Constant::getAllOnesValue(t), llvm::Constant::getNullValue(t)));
       break;
     }
     case GLSLstd450Floor: r = s.intr(Intrinsic::floor, arg(0)); break;
     case GLSLstd450Ceil: r = s.intr(Intrinsic::ceil, arg(0)); break;
     case GLSLstd450Fract: r = b.CreateFSub(arg(0), s.intr(Intrinsic::floor, arg(0))); break;
-    case GLSLstd450Radians: r = b.CreateFMul(arg(0), s.fconst(arg(0)->getType(), 3.14159265358979323846 / 180.0)); break;
-    case GLSLstd450Degrees: r = b.CreateFMul(arg(0), s.fconst(arg(0)->getType(), 180.0 / 3.14159265358979323846)); break;
+    case GLSLstd450Radians:
+      r = b.CreateFMul(arg(0), s.fconst(arg(0)->getType(), 3.14159265358979323846 / 180.0));
+      break;
+    case GLSLstd450Degrees:
+      r = b.CreateFMul(arg(0), s.fconst(arg(0)->getType(), 180.0 / 3.14159265358979323846));
+      break;
     case GLSLstd450Sin: r = s.intr(Intrinsic::sin, arg(0)); break;
     case GLSLstd450Cos: r = s.intr(Intrinsic::cos, arg(0)); break;
     case GLSLstd450Tan: r = s.libm("tanf", {arg(0)}); break;
@@ -238,7 +248,9 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450Exp2: r = s.intr(Intrinsic::exp2, arg(0)); break;
     case GLSLstd450Log2: r = s.intr(Intrinsic::log2, arg(0)); break;
     case GLSLstd450Sqrt: r = s.intr(Intrinsic::sqrt, arg(0)); break;
-    case GLSLstd450InverseSqrt: r = b.CreateFDiv(s.fconst(arg(0)->getType(), 1.0), s.intr(Intrinsic::sqrt, arg(0))); break;
+    case GLSLstd450InverseSqrt:
+      r = b.CreateFDiv(s.fconst(arg(0)->getType(), 1.0), s.intr(Intrinsic::sqrt, arg(0)));
+      break;
     case GLSLstd450FMin:
     case GLSLstd450NMin: r = s.intr2(Intrinsic::minnum, arg(0), arg(1)); break;
     case GLSLstd450FMax:
@@ -254,7 +266,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450FMix: r = b.CreateFAdd(arg(0), b.CreateFMul(b.CreateFSub(arg(1), arg(0)), arg(2))); break;
     case GLSLstd450Step: r = b.CreateSelect(b.CreateFCmpOLT(arg(1), arg(0)), s.fconst(rt, 0), s.fconst(rt, 1)); break;
     case GLSLstd450SmoothStep: {
-      Value* t = s.clampF(b.CreateFDiv(b.CreateFSub(arg(2), arg(0)), b.CreateFSub(arg(1), arg(0))), s.fconst(rt, 0), s.fconst(rt, 1));
+      Value* t = s.clampF(b.CreateFDiv(b.CreateFSub(arg(2), arg(0)), b.CreateFSub(arg(1), arg(0))), s.fconst(rt, 0),
+                          s.fconst(rt, 1));
       r = b.CreateFMul(b.CreateFMul(t, t), b.CreateFSub(s.fconst(rt, 3), b.CreateFMul(s.fconst(rt, 2), t)));
       break;
     }
@@ -299,7 +312,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     case GLSLstd450FindILsb: {
       Value* x = arg(0);
       Value* tz = b.CreateBinaryIntrinsic(Intrinsic::cttz, x, b.getFalse());
-      r = b.CreateSelect(b.CreateICmpEQ(x, llvm::Constant::getNullValue(x->getType())), llvm::Constant::getAllOnesValue(x->getType()), tz);
+      r = b.CreateSelect(b.CreateICmpEQ(x, llvm::Constant::getNullValue(x->getType())),
+                         llvm::Constant::getAllOnesValue(x->getType()), tz);
       break;
     }
     case GLSLstd450FindUMsb:
@@ -307,7 +321,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       Value* x = arg(0);
       llvm::Type* t = x->getType();
       unsigned w = t->getScalarSizeInBits();
-      if (inst == GLSLstd450FindSMsb) x = b.CreateSelect(b.CreateICmpSLT(x, llvm::Constant::getNullValue(t)), b.CreateNot(x), x);
+      if (inst == GLSLstd450FindSMsb)
+        x = b.CreateSelect(b.CreateICmpSLT(x, llvm::Constant::getNullValue(t)), b.CreateNot(x), x);
       Value* lz = b.CreateBinaryIntrinsic(Intrinsic::ctlz, x, b.getFalse());
       // w - 1 - lz, which is -1 for x == 0 (lz == w).
       r = b.CreateSub(ConstantInt::get(t, w - 1), lz);
@@ -418,8 +433,7 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       r = b.CreateInsertElement(b.CreateInsertElement(UndefValue::get(rt), lo, uint64_t(0)), hi, uint64_t(1));
       break;
     }
-    default:
-      return (ok = unsupported(in, "GLSL.std.450 instruction")), true;
+    default: return (ok = unsupported(in, "GLSL.std.450 instruction")), true;
   }
   if (!r) return (ok = fail(in, "operand has no value")), true;
   set(in.word(2), r);

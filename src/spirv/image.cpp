@@ -9,37 +9,53 @@ namespace vkrt::spirv {
 
 bool extraSupportedOp(spv::Op op) {
   switch (op) {
-    case spv::OpTypeImage: case spv::OpTypeSampler: case spv::OpTypeSampledImage: case spv::OpSampledImage:
-    case spv::OpImage: case spv::OpImageRead: case spv::OpImageWrite: case spv::OpImageFetch:
-    case spv::OpImageSampleExplicitLod: case spv::OpImageQuerySize: case spv::OpImageQuerySizeLod:
+    case spv::OpTypeImage:
+    case spv::OpTypeSampler:
+    case spv::OpTypeSampledImage:
+    case spv::OpSampledImage:
+    case spv::OpImage:
+    case spv::OpImageRead:
+    case spv::OpImageWrite:
+    case spv::OpImageFetch:
+    case spv::OpImageSampleExplicitLod:
+    case spv::OpImageQuerySize:
+    case spv::OpImageQuerySizeLod:
     case spv::OpImageQueryLevels:
-    case spv::OpTypeForwardPointer: case spv::OpConvertUToPtr: case spv::OpConvertPtrToU: case spv::OpPtrAccessChain:
-      return true;
-    default:
-      return false;
+    case spv::OpTypeForwardPointer:
+    case spv::OpConvertUToPtr:
+    case spv::OpConvertPtrToU:
+    case spv::OpPtrAccessChain: return true;
+    default: return false;
   }
 }
 
 bool extraSupportedCapability(uint32_t cap) {
   switch (cap) {
     // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.
-    case spv::CapabilityImageQuery: case spv::CapabilityPhysicalStorageBufferAddresses:
-    case spv::CapabilityStorageBuffer8BitAccess: case spv::CapabilityStorageBuffer16BitAccess:
+    case spv::CapabilityImageQuery:
+    case spv::CapabilityPhysicalStorageBufferAddresses:
+    case spv::CapabilityStorageBuffer8BitAccess:
+    case spv::CapabilityStorageBuffer16BitAccess:
     // 8/16-bit members of uniform and push-constant blocks: memory.cpp loads every scalar at its own width
     // and offset whatever the storage class (tests/spirv/small_uniform_test.cpp).
-    case spv::CapabilityUniformAndStorageBuffer8BitAccess: case spv::CapabilityUniformAndStorageBuffer16BitAccess:
-    case spv::CapabilityStoragePushConstant8: case spv::CapabilityStoragePushConstant16:
+    case spv::CapabilityUniformAndStorageBuffer8BitAccess:
+    case spv::CapabilityUniformAndStorageBuffer16BitAccess:
+    case spv::CapabilityStoragePushConstant8:
+    case spv::CapabilityStoragePushConstant16:
     // Descriptor arrays of buffers and images indexed by any value, per invocation (every access resolves its
     // own descriptor record); tests/spirv/descriptor_indexing_test.cpp. Texel buffers and input attachments
     // are not compiled at all, so their indexing capabilities stay refused.
-    case spv::CapabilityShaderNonUniform: case spv::CapabilityRuntimeDescriptorArray:
-    case spv::CapabilityUniformBufferArrayDynamicIndexing: case spv::CapabilitySampledImageArrayDynamicIndexing:
-    case spv::CapabilityStorageBufferArrayDynamicIndexing: case spv::CapabilityStorageImageArrayDynamicIndexing:
-    case spv::CapabilityUniformBufferArrayNonUniformIndexing: case spv::CapabilitySampledImageArrayNonUniformIndexing:
-    case spv::CapabilityStorageBufferArrayNonUniformIndexing: case spv::CapabilityStorageImageArrayNonUniformIndexing:
-      return true;
-    default:
-      return false;
+    case spv::CapabilityShaderNonUniform:
+    case spv::CapabilityRuntimeDescriptorArray:
+    case spv::CapabilityUniformBufferArrayDynamicIndexing:
+    case spv::CapabilitySampledImageArrayDynamicIndexing:
+    case spv::CapabilityStorageBufferArrayDynamicIndexing:
+    case spv::CapabilityStorageImageArrayDynamicIndexing:
+    case spv::CapabilityUniformBufferArrayNonUniformIndexing:
+    case spv::CapabilitySampledImageArrayNonUniformIndexing:
+    case spv::CapabilityStorageBufferArrayNonUniformIndexing:
+    case spv::CapabilityStorageImageArrayNonUniformIndexing: return true;
+    default: return false;
   }
 }
 
@@ -77,8 +93,10 @@ llvm::Value* toWords(Codegen& g, llvm::Value* v, bool isFloatValue) {
   unsigned n = vt ? std::min(4u, unsigned(vt->getNumElements())) : 1;
   for (unsigned i = 0; i < n; ++i) {
     llvm::Value* e = vt ? g.b.CreateExtractElement(v, uint64_t(i)) : v;
-    if (isFloatValue) e = g.b.CreateBitCast(g.b.CreateFPCast(e, g.b.getFloatTy()), g.b.getInt32Ty());
-    else e = g.b.CreateSExtOrTrunc(e, g.b.getInt32Ty());
+    if (isFloatValue)
+      e = g.b.CreateBitCast(g.b.CreateFPCast(e, g.b.getFloatTy()), g.b.getInt32Ty());
+    else
+      e = g.b.CreateSExtOrTrunc(e, g.b.getInt32Ty());
     g.b.CreateStore(e, g.b.CreateConstGEP1_64(g.b.getInt32Ty(), buf, i));
   }
   return buf;
@@ -126,10 +144,8 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     case spv::OpImageSampleExplicitLod:
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod:
-    case spv::OpImageQueryLevels:
-      break;
-    default:
-      return false;
+    case spv::OpImageQueryLevels: break;
+    default: return false;
   }
   bool write = in.op == spv::OpImageWrite;
   uint32_t imageId = in.word(write ? 1 : 3);
@@ -150,7 +166,8 @@ bool Codegen::image(const Instruction& in, bool& ok) {
         lod = b.CreateSExtOrTrunc(lod, b.getInt32Ty());
       }
       llvm::Value* out = scratch(*this);
-      b.CreateCall(runtimeFn(*this, "vkrt_image_size", b.getVoidTy(), {ptrTy, b.getInt32Ty(), ptrTy}), {imgRec, lod, out});
+      b.CreateCall(runtimeFn(*this, "vkrt_image_size", b.getVoidTy(), {ptrTy, b.getInt32Ty(), ptrTy}),
+                   {imgRec, lod, out});
       set(in.word(2), fromWords(*this, out, in.word(1)));
       return true;
     }

@@ -1,36 +1,36 @@
 // compile(): specialization, a support check against the application's module, SPIRV-Tools' optimizer,
 // LLVM IR generation (Codegen), LLVM's O2 pipeline and ORC LLJIT. LLVM's fatal errors are turned into
 // messages here (a handler that throws, caught at this boundary), never an abort.
+#include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
-#include <llvm/Config/llvm-config.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/IR/Verifier.h>
 #include <llvm/Object/ObjectFile.h>
-#include <llvm/Support/LEB128.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/ErrorHandling.h>
 #include <llvm/Support/Host.h>
+#include <llvm/Support/LEB128.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/SHA256.h>
-#include <llvm/Target/TargetMachine.h>
 #include <llvm/Support/TargetSelect.h>
 #include <llvm/Support/raw_ostream.h>
-#include <spirv-tools/optimizer.hpp>
+#include <llvm/Target/TargetMachine.h>
 #include <spirv/unified1/GLSL.std.450.h>
+#include <spirv-tools/optimizer.hpp>
 
 #include <link.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <algorithm>
 #include <mutex>
 #include <optional>
 #include <set>
-#include <string_view>
 #include <stdexcept>
+#include <string_view>
 
 #include "spirv/codegen.hpp"
 
@@ -66,67 +66,192 @@ void initLlvm() {
 
 bool supportedOp(spv::Op op) {
   switch (op) {
-    case spv::OpNop: case spv::OpUndef: case spv::OpSourceContinued: case spv::OpSource: case spv::OpSourceExtension:
-    case spv::OpName: case spv::OpMemberName: case spv::OpString: case spv::OpLine: case spv::OpNoLine:
-    case spv::OpModuleProcessed: case spv::OpExtension: case spv::OpExtInstImport: case spv::OpExtInst:
-    case spv::OpMemoryModel: case spv::OpEntryPoint: case spv::OpExecutionMode: case spv::OpExecutionModeId:
-    case spv::OpCapability: case spv::OpDecorate: case spv::OpMemberDecorate: case spv::OpDecorateId:
-    case spv::OpDecorateString: case spv::OpMemberDecorateString:
-    case spv::OpTypeVoid: case spv::OpTypeBool: case spv::OpTypeInt: case spv::OpTypeFloat: case spv::OpTypeVector:
-    case spv::OpTypeMatrix: case spv::OpTypeArray: case spv::OpTypeRuntimeArray: case spv::OpTypeStruct:
-    case spv::OpTypePointer: case spv::OpTypeFunction:
-    case spv::OpConstantTrue: case spv::OpConstantFalse: case spv::OpConstant: case spv::OpConstantComposite:
-    case spv::OpConstantNull: case spv::OpSpecConstantTrue: case spv::OpSpecConstantFalse: case spv::OpSpecConstant:
-    case spv::OpSpecConstantComposite: case spv::OpSpecConstantOp:
-    case spv::OpFunction: case spv::OpFunctionParameter: case spv::OpFunctionEnd: case spv::OpFunctionCall:
-    case spv::OpVariable: case spv::OpLoad: case spv::OpStore: case spv::OpCopyMemory: case spv::OpAccessChain:
-    case spv::OpInBoundsAccessChain: case spv::OpArrayLength:
-    case spv::OpVectorExtractDynamic: case spv::OpVectorInsertDynamic: case spv::OpVectorShuffle:
-    case spv::OpCompositeConstruct: case spv::OpCompositeExtract: case spv::OpCompositeInsert: case spv::OpCopyObject:
-    case spv::OpCopyLogical: case spv::OpTranspose:
-    case spv::OpConvertFToU: case spv::OpConvertFToS: case spv::OpConvertSToF: case spv::OpConvertUToF:
-    case spv::OpUConvert: case spv::OpSConvert: case spv::OpFConvert: case spv::OpBitcast:
-    case spv::OpSNegate: case spv::OpFNegate: case spv::OpIAdd: case spv::OpFAdd: case spv::OpISub: case spv::OpFSub:
-    case spv::OpIMul: case spv::OpFMul: case spv::OpUDiv: case spv::OpSDiv: case spv::OpFDiv: case spv::OpUMod:
-    case spv::OpSRem: case spv::OpSMod: case spv::OpFRem: case spv::OpFMod: case spv::OpVectorTimesScalar:
-    case spv::OpMatrixTimesScalar: case spv::OpVectorTimesMatrix: case spv::OpMatrixTimesVector:
-    case spv::OpMatrixTimesMatrix: case spv::OpOuterProduct: case spv::OpDot: case spv::OpIAddCarry:
-    case spv::OpISubBorrow: case spv::OpUMulExtended: case spv::OpSMulExtended:
-    case spv::OpAny: case spv::OpAll: case spv::OpIsNan: case spv::OpIsInf:
-    case spv::OpLogicalEqual: case spv::OpLogicalNotEqual: case spv::OpLogicalOr: case spv::OpLogicalAnd:
-    case spv::OpLogicalNot: case spv::OpSelect: case spv::OpIEqual: case spv::OpINotEqual: case spv::OpUGreaterThan:
-    case spv::OpSGreaterThan: case spv::OpUGreaterThanEqual: case spv::OpSGreaterThanEqual: case spv::OpULessThan:
-    case spv::OpSLessThan: case spv::OpULessThanEqual: case spv::OpSLessThanEqual: case spv::OpFOrdEqual:
-    case spv::OpFUnordEqual: case spv::OpFOrdNotEqual: case spv::OpFUnordNotEqual: case spv::OpFOrdLessThan:
-    case spv::OpFUnordLessThan: case spv::OpFOrdGreaterThan: case spv::OpFUnordGreaterThan:
-    case spv::OpFOrdLessThanEqual: case spv::OpFUnordLessThanEqual: case spv::OpFOrdGreaterThanEqual:
+    case spv::OpNop:
+    case spv::OpUndef:
+    case spv::OpSourceContinued:
+    case spv::OpSource:
+    case spv::OpSourceExtension:
+    case spv::OpName:
+    case spv::OpMemberName:
+    case spv::OpString:
+    case spv::OpLine:
+    case spv::OpNoLine:
+    case spv::OpModuleProcessed:
+    case spv::OpExtension:
+    case spv::OpExtInstImport:
+    case spv::OpExtInst:
+    case spv::OpMemoryModel:
+    case spv::OpEntryPoint:
+    case spv::OpExecutionMode:
+    case spv::OpExecutionModeId:
+    case spv::OpCapability:
+    case spv::OpDecorate:
+    case spv::OpMemberDecorate:
+    case spv::OpDecorateId:
+    case spv::OpDecorateString:
+    case spv::OpMemberDecorateString:
+    case spv::OpTypeVoid:
+    case spv::OpTypeBool:
+    case spv::OpTypeInt:
+    case spv::OpTypeFloat:
+    case spv::OpTypeVector:
+    case spv::OpTypeMatrix:
+    case spv::OpTypeArray:
+    case spv::OpTypeRuntimeArray:
+    case spv::OpTypeStruct:
+    case spv::OpTypePointer:
+    case spv::OpTypeFunction:
+    case spv::OpConstantTrue:
+    case spv::OpConstantFalse:
+    case spv::OpConstant:
+    case spv::OpConstantComposite:
+    case spv::OpConstantNull:
+    case spv::OpSpecConstantTrue:
+    case spv::OpSpecConstantFalse:
+    case spv::OpSpecConstant:
+    case spv::OpSpecConstantComposite:
+    case spv::OpSpecConstantOp:
+    case spv::OpFunction:
+    case spv::OpFunctionParameter:
+    case spv::OpFunctionEnd:
+    case spv::OpFunctionCall:
+    case spv::OpVariable:
+    case spv::OpLoad:
+    case spv::OpStore:
+    case spv::OpCopyMemory:
+    case spv::OpAccessChain:
+    case spv::OpInBoundsAccessChain:
+    case spv::OpArrayLength:
+    case spv::OpVectorExtractDynamic:
+    case spv::OpVectorInsertDynamic:
+    case spv::OpVectorShuffle:
+    case spv::OpCompositeConstruct:
+    case spv::OpCompositeExtract:
+    case spv::OpCompositeInsert:
+    case spv::OpCopyObject:
+    case spv::OpCopyLogical:
+    case spv::OpTranspose:
+    case spv::OpConvertFToU:
+    case spv::OpConvertFToS:
+    case spv::OpConvertSToF:
+    case spv::OpConvertUToF:
+    case spv::OpUConvert:
+    case spv::OpSConvert:
+    case spv::OpFConvert:
+    case spv::OpBitcast:
+    case spv::OpSNegate:
+    case spv::OpFNegate:
+    case spv::OpIAdd:
+    case spv::OpFAdd:
+    case spv::OpISub:
+    case spv::OpFSub:
+    case spv::OpIMul:
+    case spv::OpFMul:
+    case spv::OpUDiv:
+    case spv::OpSDiv:
+    case spv::OpFDiv:
+    case spv::OpUMod:
+    case spv::OpSRem:
+    case spv::OpSMod:
+    case spv::OpFRem:
+    case spv::OpFMod:
+    case spv::OpVectorTimesScalar:
+    case spv::OpMatrixTimesScalar:
+    case spv::OpVectorTimesMatrix:
+    case spv::OpMatrixTimesVector:
+    case spv::OpMatrixTimesMatrix:
+    case spv::OpOuterProduct:
+    case spv::OpDot:
+    case spv::OpIAddCarry:
+    case spv::OpISubBorrow:
+    case spv::OpUMulExtended:
+    case spv::OpSMulExtended:
+    case spv::OpAny:
+    case spv::OpAll:
+    case spv::OpIsNan:
+    case spv::OpIsInf:
+    case spv::OpLogicalEqual:
+    case spv::OpLogicalNotEqual:
+    case spv::OpLogicalOr:
+    case spv::OpLogicalAnd:
+    case spv::OpLogicalNot:
+    case spv::OpSelect:
+    case spv::OpIEqual:
+    case spv::OpINotEqual:
+    case spv::OpUGreaterThan:
+    case spv::OpSGreaterThan:
+    case spv::OpUGreaterThanEqual:
+    case spv::OpSGreaterThanEqual:
+    case spv::OpULessThan:
+    case spv::OpSLessThan:
+    case spv::OpULessThanEqual:
+    case spv::OpSLessThanEqual:
+    case spv::OpFOrdEqual:
+    case spv::OpFUnordEqual:
+    case spv::OpFOrdNotEqual:
+    case spv::OpFUnordNotEqual:
+    case spv::OpFOrdLessThan:
+    case spv::OpFUnordLessThan:
+    case spv::OpFOrdGreaterThan:
+    case spv::OpFUnordGreaterThan:
+    case spv::OpFOrdLessThanEqual:
+    case spv::OpFUnordLessThanEqual:
+    case spv::OpFOrdGreaterThanEqual:
     case spv::OpFUnordGreaterThanEqual:
-    case spv::OpShiftRightLogical: case spv::OpShiftRightArithmetic: case spv::OpShiftLeftLogical:
-    case spv::OpBitwiseOr: case spv::OpBitwiseXor: case spv::OpBitwiseAnd: case spv::OpNot:
-    case spv::OpBitFieldInsert: case spv::OpBitFieldSExtract: case spv::OpBitFieldUExtract: case spv::OpBitReverse:
+    case spv::OpShiftRightLogical:
+    case spv::OpShiftRightArithmetic:
+    case spv::OpShiftLeftLogical:
+    case spv::OpBitwiseOr:
+    case spv::OpBitwiseXor:
+    case spv::OpBitwiseAnd:
+    case spv::OpNot:
+    case spv::OpBitFieldInsert:
+    case spv::OpBitFieldSExtract:
+    case spv::OpBitFieldUExtract:
+    case spv::OpBitReverse:
     case spv::OpBitCount:
-    case spv::OpControlBarrier: case spv::OpMemoryBarrier:
-    case spv::OpAtomicLoad: case spv::OpAtomicStore: case spv::OpAtomicExchange: case spv::OpAtomicCompareExchange:
-    case spv::OpAtomicIIncrement: case spv::OpAtomicIDecrement: case spv::OpAtomicIAdd: case spv::OpAtomicISub:
-    case spv::OpAtomicSMin: case spv::OpAtomicUMin: case spv::OpAtomicSMax: case spv::OpAtomicUMax:
-    case spv::OpAtomicAnd: case spv::OpAtomicOr: case spv::OpAtomicXor:
-    case spv::OpPhi: case spv::OpLoopMerge: case spv::OpSelectionMerge: case spv::OpLabel: case spv::OpBranch:
-    case spv::OpBranchConditional: case spv::OpSwitch: case spv::OpReturn: case spv::OpReturnValue:
-    case spv::OpUnreachable:
-      return true;
-    default:
-      return extraSupportedOp(op) || rayTracingOp(op);
+    case spv::OpControlBarrier:
+    case spv::OpMemoryBarrier:
+    case spv::OpAtomicLoad:
+    case spv::OpAtomicStore:
+    case spv::OpAtomicExchange:
+    case spv::OpAtomicCompareExchange:
+    case spv::OpAtomicIIncrement:
+    case spv::OpAtomicIDecrement:
+    case spv::OpAtomicIAdd:
+    case spv::OpAtomicISub:
+    case spv::OpAtomicSMin:
+    case spv::OpAtomicUMin:
+    case spv::OpAtomicSMax:
+    case spv::OpAtomicUMax:
+    case spv::OpAtomicAnd:
+    case spv::OpAtomicOr:
+    case spv::OpAtomicXor:
+    case spv::OpPhi:
+    case spv::OpLoopMerge:
+    case spv::OpSelectionMerge:
+    case spv::OpLabel:
+    case spv::OpBranch:
+    case spv::OpBranchConditional:
+    case spv::OpSwitch:
+    case spv::OpReturn:
+    case spv::OpReturnValue:
+    case spv::OpUnreachable: return true;
+    default: return extraSupportedOp(op) || rayTracingOp(op);
   }
 }
 
 bool supportedCapability(uint32_t cap) {
   switch (cap) {
-    case spv::CapabilityShader: case spv::CapabilityMatrix: case spv::CapabilityInt64: case spv::CapabilityInt16:
-    case spv::CapabilityInt8: case spv::CapabilityFloat64: case spv::CapabilityFloat16:
-    case spv::CapabilityInt64Atomics:
-      return true;
-    default:
-      return extraSupportedCapability(cap) || rayTracingCapability(cap);
+    case spv::CapabilityShader:
+    case spv::CapabilityMatrix:
+    case spv::CapabilityInt64:
+    case spv::CapabilityInt16:
+    case spv::CapabilityInt8:
+    case spv::CapabilityFloat64:
+    case spv::CapabilityFloat16:
+    case spv::CapabilityInt64Atomics: return true;
+    default: return extraSupportedCapability(cap) || rayTracingCapability(cap);
   }
 }
 
@@ -134,11 +259,11 @@ bool supportedGlsl(uint32_t inst) {
   switch (inst) {
     // IMix was never part of the published set; InterpolateAt* exist only in fragment shaders, which vkrt
     // does not run (compute and ray tracing only).
-    case GLSLstd450IMix: case GLSLstd450InterpolateAtCentroid: case GLSLstd450InterpolateAtSample:
-    case GLSLstd450InterpolateAtOffset:
-      return false;
-    default:
-      return inst >= GLSLstd450Round && inst < GLSLstd450Count;
+    case GLSLstd450IMix:
+    case GLSLstd450InterpolateAtCentroid:
+    case GLSLstd450InterpolateAtSample:
+    case GLSLstd450InterpolateAtOffset: return false;
+    default: return inst >= GLSLstd450Round && inst < GLSLstd450Count;
   }
 }
 
@@ -177,15 +302,49 @@ bool checkSupport(const Module& m, std::string* error) {
 void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymbols) {
   llvm::orc::SymbolMap map;
   auto add = [&](const char* name, auto* fn) {
-    map[jit.mangleAndIntern(name)] = llvm::JITEvaluatedSymbol(llvm::pointerToJITTargetAddress(fn), llvm::JITSymbolFlags::Exported);
+    map[jit.mangleAndIntern(name)] =
+        llvm::JITEvaluatedSymbol(llvm::pointerToJITTargetAddress(fn), llvm::JITSymbolFlags::Exported);
   };
-#define VKRT_MATH1(N) add(#N "f", static_cast<float (*)(float)>(::N##f)); add(#N, static_cast<double (*)(double)>(::N));
-#define VKRT_MATH2(N) add(#N "f", static_cast<float (*)(float, float)>(::N##f)); add(#N, static_cast<double (*)(double, double)>(::N));
-  VKRT_MATH1(sin) VKRT_MATH1(cos) VKRT_MATH1(tan) VKRT_MATH1(asin) VKRT_MATH1(acos) VKRT_MATH1(atan)
-  VKRT_MATH1(sinh) VKRT_MATH1(cosh) VKRT_MATH1(tanh) VKRT_MATH1(asinh) VKRT_MATH1(acosh) VKRT_MATH1(atanh)
-  VKRT_MATH1(exp) VKRT_MATH1(exp2) VKRT_MATH1(log) VKRT_MATH1(log2) VKRT_MATH1(sqrt) VKRT_MATH1(floor)
-  VKRT_MATH1(ceil) VKRT_MATH1(trunc) VKRT_MATH1(round) VKRT_MATH1(rint) VKRT_MATH1(nearbyint) VKRT_MATH1(roundeven)
-  VKRT_MATH2(atan2) VKRT_MATH2(pow) VKRT_MATH2(fmod) VKRT_MATH2(fmin) VKRT_MATH2(fmax)
+  // The float and double variants of libm's one- and two-argument functions.
+  auto math1 = [&](const char* name, float (*f)(float), double (*d)(double)) {
+    add((std::string(name) + "f").c_str(), f);
+    add(name, d);
+  };
+  auto math2 = [&](const char* name, float (*f)(float, float), double (*d)(double, double)) {
+    add((std::string(name) + "f").c_str(), f);
+    add(name, d);
+  };
+#define VKRT_MATH1(N) math1(#N, ::N##f, ::N)
+#define VKRT_MATH2(N) math2(#N, ::N##f, ::N)
+  VKRT_MATH1(sin);
+  VKRT_MATH1(cos);
+  VKRT_MATH1(tan);
+  VKRT_MATH1(asin);
+  VKRT_MATH1(acos);
+  VKRT_MATH1(atan);
+  VKRT_MATH1(sinh);
+  VKRT_MATH1(cosh);
+  VKRT_MATH1(tanh);
+  VKRT_MATH1(asinh);
+  VKRT_MATH1(acosh);
+  VKRT_MATH1(atanh);
+  VKRT_MATH1(exp);
+  VKRT_MATH1(exp2);
+  VKRT_MATH1(log);
+  VKRT_MATH1(log2);
+  VKRT_MATH1(sqrt);
+  VKRT_MATH1(floor);
+  VKRT_MATH1(ceil);
+  VKRT_MATH1(trunc);
+  VKRT_MATH1(round);
+  VKRT_MATH1(rint);
+  VKRT_MATH1(nearbyint);
+  VKRT_MATH1(roundeven);
+  VKRT_MATH2(atan2);
+  VKRT_MATH2(pow);
+  VKRT_MATH2(fmod);
+  VKRT_MATH2(fmin);
+  VKRT_MATH2(fmax);
 #undef VKRT_MATH1
 #undef VKRT_MATH2
   add("fmaf", static_cast<float (*)(float, float, float)>(::fmaf));
@@ -232,7 +391,8 @@ std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error
 // address, then the size as ULEB128) plus its return address. A sum, not the deepest path: an upper bound, and
 // exact when everything is inlined into vkrt_main (pipelines inline every call).
 uint32_t frameBytesOf(std::string_view object) {
-  auto file = llvm::object::ObjectFile::createObjectFile(llvm::MemoryBufferRef(llvm::StringRef(object.data(), object.size()), "shader"));
+  auto file = llvm::object::ObjectFile::createObjectFile(
+      llvm::MemoryBufferRef(llvm::StringRef(object.data(), object.size()), "shader"));
   if (!file) {
     llvm::consumeError(file.takeError());
     return 0;
@@ -312,7 +472,8 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 //   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 176, "serialize the new CompiledShader field for VkPipelineCache, then update this size");
+static_assert(sizeof(CompiledShader) == 176,
+              "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
 constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '3'};
 
@@ -326,7 +487,8 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   put32(payload, s.groupEntry ? 1 : 0);
   put32(payload, s.pushConstantBytes);
   put32(payload, uint32_t(s.model));
-  for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes}) put32(payload, v);
+  for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes})
+    put32(payload, v);
   put32(payload, (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u));
   put32(payload, uint32_t(s.entryName.size()));
   payload += s.entryName;
@@ -338,7 +500,8 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
     put32(payload, (r.uniform ? 1u : 0u) | uint32_t(r.kind) << 1);  // bit 0: uniform; bits 1+: kind
   }
   payload.append(object.data(), object.size());
-  auto digest = llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
+  auto digest =
+      llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
   std::string blob(kBlobMagic, sizeof kBlobMagic);
   blob.append(reinterpret_cast<const char*>(digest.data()), digest.size());
   return blob + payload;
@@ -372,7 +535,8 @@ struct Reader {
 std::optional<std::string_view> deserialize(std::string_view blob, CompiledShader& s, bool* hasGroupEntry) {
   if (blob.size() < 40 || std::memcmp(blob.data(), kBlobMagic, 8) != 0) return std::nullopt;
   std::string_view payload = blob.substr(40);
-  auto digest = llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
+  auto digest =
+      llvm::SHA256::hash(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(payload.data()), payload.size()));
   if (std::memcmp(digest.data(), blob.data() + 8, 32) != 0) return std::nullopt;
   Reader r{payload};
   for (uint32_t& v : s.localSize) v = r.u32();
@@ -445,7 +609,8 @@ std::string buildId() {
   return id;
 }
 
-std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error) {
+std::shared_ptr<CompiledShader> loadCachedImpl(const std::string& blob, const abi::HostSymbol* hostSymbols,
+                                               std::string* error) {
   auto shader = std::make_shared<CompiledShader>();
   bool hasGroupEntry = false;
   std::optional<std::string_view> object = deserialize(blob, *shader, &hasGroupEntry);
@@ -514,7 +679,8 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   opt.RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
       .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
   if (req.inlineFunctions) opt.RegisterPass(spvtools::CreateInlineExhaustivePass());
-  opt.RegisterPass(spvtools::CreateEliminateDeadFunctionsPass()).RegisterPass(spvtools::CreateDeadVariableEliminationPass());
+  opt.RegisterPass(spvtools::CreateEliminateDeadFunctionsPass())
+      .RegisterPass(spvtools::CreateDeadVariableEliminationPass());
   std::vector<uint32_t> optimized;
   spvtools::OptimizerOptions options;
   options.set_run_validator(false);
@@ -643,7 +809,8 @@ std::string cacheKey(const CompileRequest& req) {
   return std::string("vkrt-shader:") + std::string(reinterpret_cast<const char*>(digest.data()), digest.size());
 }
 
-std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols, std::string* error) {
+std::shared_ptr<CompiledShader> loadCached(const std::string& blob, const abi::HostSymbol* hostSymbols,
+                                           std::string* error) {
   initLlvm();
   try {
     return loadCachedImpl(blob, hostSymbols, error);

@@ -75,9 +75,7 @@ bool Codegen::declareGlobals() {
         g.offset = (workgroupSize + 15) / 16 * 16;
         workgroupSize = g.offset + g.size;
         break;
-      case spv::StorageClassInput:
-        g.builtIn = d.builtIn;
-        break;
+      case spv::StorageClassInput: g.builtIn = d.builtIn; break;
       // Ray tracing storage classes (abi.hpp says where each lives).
       case spv::StorageClassRayPayloadKHR:
       case spv::StorageClassCallableDataKHR:
@@ -108,9 +106,7 @@ bool Codegen::declareGlobals() {
         }
         break;
       }
-      case spv::StorageClassShaderRecordBufferKHR:
-        g.contextField = offsetof(RayInvocation, shaderRecord);
-        break;
+      case spv::StorageClassShaderRecordBufferKHR: g.contextField = offsetof(RayInvocation, shaderRecord); break;
       case spv::StorageClassUniform:
       case spv::StorageClassStorageBuffer: {
         const Type& inner = spvType(pt.element);
@@ -136,16 +132,19 @@ bool Codegen::declareGlobals() {
         r.binding = uint32_t(std::max(d.binding, 0));
         r.arraySize = inner.kind == Type::Array ? inner.count : inner.kind == Type::RuntimeArray ? 0 : 1;
         r.uniform = false;
-        if (ti->op == spv::OpTypeAccelerationStructureKHR) r.kind = ResourceBinding::AccelerationStructure;
-        else if (ti->op == spv::OpTypeSampler) r.kind = ResourceBinding::Sampler;
-        else if (ti->op == spv::OpTypeSampledImage) r.kind = ResourceBinding::CombinedImageSampler;
-        else r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
+        if (ti->op == spv::OpTypeAccelerationStructureKHR)
+          r.kind = ResourceBinding::AccelerationStructure;
+        else if (ti->op == spv::OpTypeSampler)
+          r.kind = ResourceBinding::Sampler;
+        else if (ti->op == spv::OpTypeSampledImage)
+          r.kind = ResourceBinding::CombinedImageSampler;
+        else
+          r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
         g.slot = int(info.resources.size());
         info.resources.push_back(r);
         break;
       }
-      default:
-        break;  // PushConstant needs nothing; other classes fail when used
+      default: break;  // PushConstant needs nothing; other classes fail when used
     }
     globals[id] = g;
   }
@@ -155,7 +154,8 @@ bool Codegen::declareGlobals() {
 
 // Loads a pointer-sized field of the invocation context.
 static llvm::Value* ctxField(Codegen& g, unsigned offset) {
-  return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset), llvm::Align(8));
+  return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset),
+                               llvm::Align(8));
 }
 
 // Descriptor tables and records do not change while a dispatch runs (shaders cannot write them): marked
@@ -169,7 +169,8 @@ llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index) {
   llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
   llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(slot) * sizeof(ResourceSlot));
   llvm::Value* records = invariant(b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8)));
-  llvm::Value* count = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
+  llvm::Value* count =
+      invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
   // An index past the bound descriptors reads a null descriptor (a zero record).
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
@@ -180,14 +181,16 @@ bool Codegen::resolveDescriptor(Ptr& p, llvm::Value* index) {
   llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
   llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(p.slot) * sizeof(ResourceSlot));
   llvm::Value* records = invariant(b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8)));
-  llvm::Value* count = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
+  llvm::Value* count =
+      invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
   // An index past the bound descriptors reads a null descriptor: every access through it is out of bounds.
   llvm::Value* ok = b.CreateICmpULT(index, count);
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
   rec = b.CreateSelect(ok, rec, zeros);
   llvm::Value* address = invariant(b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8)));
-  llvm::Value* range = invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8)));
+  llvm::Value* range =
+      invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8)));
   const Type& t = spvType(p.type);
   p.base = b.CreateIntToPtr(address, b.getPtrTy());
   p.offset = i64(0);
@@ -218,8 +221,8 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
     // A block the runtime provides: {pointer, byte count} in the RayInvocation.
     if (!isRayTracing()) return unsupported(*in, "ray tracing storage class outside a ray tracing stage");
     p.base = ctxField(*this, unsigned(g.contextField));
-    p.limit = b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(g.contextField) + 8),
-                                  llvm::Align(8));
+    p.limit = b.CreateAlignedLoad(
+        b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(g.contextField) + 8), llvm::Align(8));
     *out = p;
     return true;
   }
@@ -234,7 +237,8 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       p.limit = i64(g.size);
       break;
     case spv::StorageClassWorkgroup:
-      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxField(*this, offsetof(InvocationContext, workgroupMemory)), g.offset);
+      p.base =
+          b.CreateConstGEP1_64(b.getInt8Ty(), ctxField(*this, offsetof(InvocationContext, workgroupMemory)), g.offset);
       p.limit = i64(g.size);
       break;
     case spv::StorageClassPushConstant:
@@ -244,13 +248,15 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
     case spv::StorageClassInput: {
       uint32_t size = 0;
       int off = builtInOffset(g.builtIn, isRayTracing(), &size);
-      if (off < 0) return unsupported(*in, g.builtIn >= 0 ? "built-in variable not supported in this stage" : "input variable");
+      if (off < 0)
+        return unsupported(*in, g.builtIn >= 0 ? "built-in variable not supported in this stage" : "input variable");
       p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(off));
       p.limit = i64(size);
       break;
     }
     case spv::StorageClassUniformConstant:
-      if (g.slot < 0) return unsupported(*in, "UniformConstant variable that is not an image, sampler or acceleration structure");
+      if (g.slot < 0)
+        return unsupported(*in, "UniformConstant variable that is not an image, sampler or acceleration structure");
       p.slot = g.slot;
       break;
     case spv::StorageClassUniform:
@@ -260,8 +266,7 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       if (inner.kind != Type::Array && inner.kind != Type::RuntimeArray) resolveDescriptor(p, i64(0));
       break;
     }
-    default:
-      return unsupported(*in, "storage class");
+    default: return unsupported(*in, "storage class");
   }
   *out = p;
   return true;
@@ -328,7 +333,8 @@ llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, 
   llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
   llvm::LoadInst* l = nullptr;
   if (!ok) {
-    l = b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+    l = b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset),
+                            align);
     return isInvariant ? invariant(l) : l;
   }
   llvm::BasicBlock* from = b.GetInsertBlock();
@@ -370,8 +376,7 @@ llvm::Value* Codegen::load(const Ptr& p) {
   llvm::Type* ty = type(p.type);
   if (!ty) return nullptr;
   switch (t.kind) {
-    case Type::Bool:
-      return b.CreateICmpNE(guardedLoad(p, b.getInt32Ty(), 4, llvm::Align(4)), i32(0));
+    case Type::Bool: return b.CreateICmpNE(guardedLoad(p, b.getInt32Ty(), 4, llvm::Align(4)), i32(0));
     case Type::Int:
     case Type::Float: {
       // Push constants do not change while a dispatch runs either: such loads may leave the workgroup loop.
@@ -437,16 +442,10 @@ llvm::Value* Codegen::load(const Ptr& p) {
 void Codegen::store(const Ptr& p, llvm::Value* v) {
   const Type& t = spvType(p.type);
   switch (t.kind) {
-    case Type::Bool:
-      guardedStore(p, b.CreateZExt(v, b.getInt32Ty()), 4, llvm::Align(4));
-      return;
+    case Type::Bool: guardedStore(p, b.CreateZExt(v, b.getInt32Ty()), 4, llvm::Align(4)); return;
     case Type::Int:
-    case Type::Float:
-      guardedStore(p, v, t.width / 8, llvm::Align(t.width / 8));
-      return;
-    case Type::Pointer:
-      guardedStore(p, v, 8, llvm::Align(8));
-      return;
+    case Type::Float: guardedStore(p, v, t.width / 8, llvm::Align(t.width / 8)); return;
+    case Type::Pointer: guardedStore(p, v, 8, llvm::Align(8)); return;
     case Type::Vector: {
       uint64_t cs = layoutSize(t.element, 0, false);
       bool isBool = spvType(t.element).kind == Type::Bool;
@@ -474,7 +473,8 @@ void Codegen::store(const Ptr& p, llvm::Value* v) {
     }
     case Type::Array: {
       uint64_t stride = arrayStride(p.type, p.matrixStride, p.rowMajor);
-      for (uint32_t i = 0; i < t.count; ++i) store(offsetBy(p, *this, i * stride, t.element), b.CreateExtractValue(v, {i}));
+      for (uint32_t i = 0; i < t.count; ++i)
+        store(offsetBy(p, *this, i * stride, t.element), b.CreateExtractValue(v, {i}));
       return;
     }
     case Type::Struct:
@@ -493,7 +493,8 @@ void Codegen::store(const Ptr& p, llvm::Value* v) {
 // A pointer operand (checked: the id must be a pointer this compiler tracks).
 static bool operandPtr(Codegen& g, const Instruction& in, uint32_t id, Ptr* out) {
   Ptr& p = g.ptr(id);
-  if (!p.base && p.slot < 0) return g.unsupported(in, "pointer operand the compiler does not track (variable pointers?)");
+  if (!p.base && p.slot < 0)
+    return g.unsupported(in, "pointer operand the compiler does not track (variable pointers?)");
   *out = p;
   return true;
 }
@@ -534,8 +535,10 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         // The Element operand steps over whole pointees by the pointer type's ArrayStride.
         const Decorations& pd = m.decor(m.typeOf(in.word(3)));
         llvm::Value* e = value(in.word(4));
-        if (!e || pd.arrayStride <= 0 || p.slot >= 0) return (ok = unsupported(in, "element index without an ArrayStride")), true;
-        e = isSignedInt(m.typeOf(in.word(4))) ? b.CreateSExtOrTrunc(e, b.getInt64Ty()) : b.CreateZExtOrTrunc(e, b.getInt64Ty());
+        if (!e || pd.arrayStride <= 0 || p.slot >= 0)
+          return (ok = unsupported(in, "element index without an ArrayStride")), true;
+        e = isSignedInt(m.typeOf(in.word(4))) ? b.CreateSExtOrTrunc(e, b.getInt64Ty())
+                                              : b.CreateZExtOrTrunc(e, b.getInt64Ty());
         p.offset = b.CreateAdd(p.offset, b.CreateMul(e, i64(uint64_t(pd.arrayStride))));
         firstIndex = 5;
       }
@@ -564,7 +567,8 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         if (!isConst) {
           iv = value(idx);
           if (!iv) return (ok = fail(in, "index has no value")), true;
-          iv = isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, b.getInt64Ty()) : b.CreateZExtOrTrunc(iv, b.getInt64Ty());
+          iv = isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, b.getInt64Ty())
+                                          : b.CreateZExtOrTrunc(iv, b.getInt64Ty());
         } else {
           iv = i64(k);
           if (isSignedInt(m.constant(idx)->type) && spvType(m.constant(idx)->type).width < 64) {
@@ -604,13 +608,13 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
             p.type = t.element;
             break;
           }
-          default:
-            return (ok = fail(in, "access chain indexes a non-composite")), true;
+          default: return (ok = fail(in, "access chain indexes a non-composite")), true;
         }
       }
       ptrs[in.word(2)] = p;
       // A PhysicalStorageBuffer pointer is also a value (it may be stored, converted or compared).
-      if (p.storage == spv::StorageClassPhysicalStorageBuffer) set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
+      if (p.storage == spv::StorageClassPhysicalStorageBuffer)
+        set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
       return true;
     }
     case spv::OpConvertUToPtr: {
@@ -622,7 +626,8 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
     case spv::OpConvertPtrToU: {
       llvm::Value* v = value(in.word(3));
       llvm::Type* rt = type(in.word(1));
-      if (!v || !rt) return (ok = unsupported(in, "pointer operand without a value (not a PhysicalStorageBuffer pointer?)")), true;
+      if (!v || !rt)
+        return (ok = unsupported(in, "pointer operand without a value (not a PhysicalStorageBuffer pointer?)")), true;
       set(in.word(2), b.CreatePtrToInt(v, rt));
       return true;
     }
@@ -659,7 +664,8 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
     }
     case spv::OpCopyMemory: {
       Ptr dst, src;
-      if (!operandPtr(*this, in, in.word(1), &dst) || !operandPtr(*this, in, in.word(2), &src)) return (ok = false), true;
+      if (!operandPtr(*this, in, in.word(1), &dst) || !operandPtr(*this, in, in.word(2), &src))
+        return (ok = false), true;
       llvm::Value* v = (src.slot < 0) ? load(src) : nullptr;
       if (!v || dst.slot >= 0) return (ok = unsupported(in, "copied type")), true;
       store(dst, v);
@@ -670,7 +676,8 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
       const Type& st = spvType(p.type);
       uint32_t member = in.word(4);
-      if (p.slot >= 0 || st.kind != Type::Struct || member >= st.members.size()) return (ok = fail(in, "bad OpArrayLength operand")), true;
+      if (p.slot >= 0 || st.kind != Type::Struct || member >= st.members.size())
+        return (ok = fail(in, "bad OpArrayLength operand")), true;
       llvm::Value* start = b.CreateAdd(p.offset, i64(memberOffset(p.type, member)));
       llvm::Value* stride = i64(arrayStride(st.members[member], 0, false));
       llvm::Value* bytes = b.CreateSelect(b.CreateICmpUGT(p.limit, start), b.CreateSub(p.limit, start), i64(0));
@@ -713,7 +720,8 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         return true;
       }
       if (in.op == spv::OpAtomicCompareExchange) {
-        auto* x = b.CreateAtomicCmpXchg(addr, value(in.word(8)), value(in.word(7)), llvm::MaybeAlign(bytes), order, order);
+        auto* x =
+            b.CreateAtomicCmpXchg(addr, value(in.word(8)), value(in.word(7)), llvm::MaybeAlign(bytes), order, order);
         set(in.word(2), b.CreateExtractValue(x, {0}));
         return true;
       }
@@ -721,7 +729,10 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       llvm::Value* operand = nullptr;
       switch (in.op) {
         case spv::OpAtomicIIncrement: operand = llvm::ConstantInt::get(ty, 1); break;
-        case spv::OpAtomicIDecrement: op = llvm::AtomicRMWInst::Sub; operand = llvm::ConstantInt::get(ty, 1); break;
+        case spv::OpAtomicIDecrement:
+          op = llvm::AtomicRMWInst::Sub;
+          operand = llvm::ConstantInt::get(ty, 1);
+          break;
         case spv::OpAtomicExchange: op = llvm::AtomicRMWInst::Xchg; break;
         case spv::OpAtomicISub: op = llvm::AtomicRMWInst::Sub; break;
         case spv::OpAtomicSMin: op = llvm::AtomicRMWInst::Min; break;
@@ -738,8 +749,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       set(in.word(2), b.CreateAtomicRMW(op, addr, operand, llvm::MaybeAlign(bytes), order));
       return true;
     }
-    default:
-      return false;
+    default: return false;
   }
 }
 

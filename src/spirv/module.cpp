@@ -163,7 +163,8 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         t.kind = Type::Array;
         t.element = in.word(2);
         uint64_t n = 0;
-        if (!constantU64(in.word(3), &n) || n == 0 || n > (1u << 28)) return fail(in.offset, "array length is not a usable constant");
+        if (!constantU64(in.word(3), &n) || n == 0 || n > (1u << 28))
+          return fail(in.offset, "array length is not a usable constant");
         t.count = uint32_t(n);
         break;
       }
@@ -197,9 +198,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
       case spv::OpTypeSampler:
       case spv::OpTypeSampledImage:
       case spv::OpTypeOpaque:
-      case spv::OpTypeAccelerationStructureKHR:
-        types[in.word(1)].kind = Type::Opaque;
-        break;
+      case spv::OpTypeAccelerationStructureKHR: types[in.word(1)].kind = Type::Opaque; break;
       case spv::OpConstantTrue:
       case spv::OpConstantFalse:
       case spv::OpSpecConstantTrue:
@@ -234,8 +233,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         c.null = true;
         break;
       }
-      default:
-        break;
+      default: break;
     }
   }
   // LocalSizeId and WorkgroupSize constants resolve once all constants are known.
@@ -342,7 +340,9 @@ bool applySpecialization(std::vector<uint32_t>& words, const std::vector<SpecVal
     if (t && t->kind == Type::Bool) {
       // VkBool32.
       if (bytes.size() != 4) {
-        std::snprintf(buf, sizeof buf, "specialization constant %d is a bool but its map entry has size %zu (must be 4)", d.specId, bytes.size());
+        std::snprintf(buf, sizeof buf,
+                      "specialization constant %d is a bool but its map entry has size %zu (must be 4)", d.specId,
+                      bytes.size());
         *error = buf;
         return false;
       }
@@ -354,8 +354,8 @@ bool applySpecialization(std::vector<uint32_t>& words, const std::vector<SpecVal
     }
     size_t size = t ? t->width / 8 : 0;
     if (bytes.size() != size) {
-      std::snprintf(buf, sizeof buf, "specialization constant %d has %zu bytes but its map entry has size %zu", d.specId, size,
-                    bytes.size());
+      std::snprintf(buf, sizeof buf, "specialization constant %d has %zu bytes but its map entry has size %zu",
+                    d.specId, size, bytes.size());
       *error = buf;
       return false;
     }

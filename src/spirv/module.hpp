@@ -37,7 +37,7 @@ struct Type {
   uint32_t element = 0;   // Vector: component; Matrix: column type; Array/RuntimeArray: element; Pointer: pointee
                           // Function: return type
   uint32_t count = 0;     // Vector: components; Matrix: columns; Array: length (from its constant)
-  std::vector<uint32_t> members;  // Struct: member types; Function: parameter types
+  std::vector<uint32_t> members;                     // Struct: member types; Function: parameter types
   spv::StorageClass storage = spv::StorageClassMax;  // Pointer
 };
 

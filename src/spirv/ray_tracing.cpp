@@ -10,12 +10,14 @@ namespace vkrt::spirv {
 
 bool rayTracingOp(spv::Op op) {
   switch (op) {
-    case spv::OpTypeAccelerationStructureKHR: case spv::OpConvertUToAccelerationStructureKHR:
-    case spv::OpTraceRayKHR: case spv::OpExecuteCallableKHR: case spv::OpReportIntersectionKHR:
-    case spv::OpIgnoreIntersectionKHR: case spv::OpTerminateRayKHR:
-      return true;
-    default:
-      return false;
+    case spv::OpTypeAccelerationStructureKHR:
+    case spv::OpConvertUToAccelerationStructureKHR:
+    case spv::OpTraceRayKHR:
+    case spv::OpExecuteCallableKHR:
+    case spv::OpReportIntersectionKHR:
+    case spv::OpIgnoreIntersectionKHR:
+    case spv::OpTerminateRayKHR: return true;
+    default: return false;
   }
 }
 
@@ -26,11 +28,13 @@ bool rayTracingCapability(uint32_t cap) {
 
 bool Codegen::isRayTracing() const {
   switch (model) {
-    case spv::ExecutionModelRayGenerationKHR: case spv::ExecutionModelIntersectionKHR: case spv::ExecutionModelAnyHitKHR:
-    case spv::ExecutionModelClosestHitKHR: case spv::ExecutionModelMissKHR: case spv::ExecutionModelCallableKHR:
-      return true;
-    default:
-      return false;
+    case spv::ExecutionModelRayGenerationKHR:
+    case spv::ExecutionModelIntersectionKHR:
+    case spv::ExecutionModelAnyHitKHR:
+    case spv::ExecutionModelClosestHitKHR:
+    case spv::ExecutionModelMissKHR:
+    case spv::ExecutionModelCallableKHR: return true;
+    default: return false;
   }
 }
 
@@ -77,7 +81,8 @@ llvm::Value* scalar32(Codegen& g, uint32_t id) {
 
 void Codegen::returnIfStopped() {
   if (model != spv::ExecutionModelAnyHitKHR && model != spv::ExecutionModelIntersectionKHR) return;
-  llvm::Value* status = b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+  llvm::Value* status =
+      b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
   auto* stopped = llvm::BasicBlock::Create(c, "stopped", fn);
   auto* resume = llvm::BasicBlock::Create(c, "resume", fn);
   b.CreateCondBr(b.CreateICmpNE(status, i32(0)), stopped, resume);
@@ -95,7 +100,8 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       llvm::Value* v = value(in.word(3));
       if (!v) return (ok = fail(in, "operand has no value")), true;
       if (v->getType()->isVectorTy()) v = b.CreateBitCast(v, b.getInt64Ty());
-      if (!v->getType()->isIntegerTy(64)) return (ok = fail(in, "operand is neither a 64-bit integer nor a uvec2")), true;
+      if (!v->getType()->isIntegerTy(64))
+        return (ok = fail(in, "operand is neither a 64-bit integer nor a uvec2")), true;
       set(in.word(2), v);
       return true;
     }
@@ -128,11 +134,13 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       b.CreateAlignedStore(tMin, at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
       b.CreateAlignedStore(tMax, at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
       for (unsigned i = 0; i < 3; ++i) {
-        b.CreateAlignedStore(b.CreateExtractElement(origin, uint64_t(i)), at(offsetof(TraceRayArgs, origin) + 4 * i), llvm::Align(4));
-        b.CreateAlignedStore(b.CreateExtractElement(direction, uint64_t(i)), at(offsetof(TraceRayArgs, direction) + 4 * i),
+        b.CreateAlignedStore(b.CreateExtractElement(origin, uint64_t(i)), at(offsetof(TraceRayArgs, origin) + 4 * i),
                              llvm::Align(4));
+        b.CreateAlignedStore(b.CreateExtractElement(direction, uint64_t(i)),
+                             at(offsetof(TraceRayArgs, direction) + 4 * i), llvm::Align(4));
       }
-      b.CreateAlignedStore(b.CreateTrunc(payloadBytes, b.getInt32Ty()), at(offsetof(TraceRayArgs, payloadBytes)), llvm::Align(4));
+      b.CreateAlignedStore(b.CreateTrunc(payloadBytes, b.getInt32Ty()), at(offsetof(TraceRayArgs, payloadBytes)),
+                           llvm::Align(4));
       b.CreateAlignedStore(payload, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
       auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy()}, false);
       b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, traceRay)), {ctxArg, args});
@@ -144,7 +152,8 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       llvm::Value *data = nullptr, *bytes = nullptr;
       if (!index) return (ok = fail(in, "the SBT index has no value")), true;
       if (!blockOperand(*this, in, in.word(2), &data, &bytes)) return (ok = false), true;
-      auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
+      auto* ty =
+          llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
       b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, executeCallable)), {ctxArg, index, data, bytes});
       info.ray.callsOut = true;
       return true;
@@ -156,10 +165,10 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       llvm::Value* attrs = llvm::ConstantPointerNull::get(b.getPtrTy());
       llvm::Value* attrBytes = i64(0);
       if (hitAttributeVar && !blockOperand(*this, in, hitAttributeVar, &attrs, &attrBytes)) return (ok = false), true;
-      auto* ty = llvm::FunctionType::get(b.getInt32Ty(), {b.getPtrTy(), b.getFloatTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()},
-                                         false);
-      llvm::Value* committed =
-          b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, reportIntersection)), {ctxArg, hitT, hitKind, attrs, attrBytes});
+      auto* ty = llvm::FunctionType::get(
+          b.getInt32Ty(), {b.getPtrTy(), b.getFloatTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
+      llvm::Value* committed = b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, reportIntersection)),
+                                            {ctxArg, hitT, hitKind, attrs, attrBytes});
       set(in.word(2), b.CreateICmpNE(committed, i32(0)));
       returnIfStopped();  // the any-hit shader terminated the ray
       return true;
@@ -171,8 +180,7 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       returnFromFunction();
       return true;
     }
-    default:
-      return false;
+    default: return false;
   }
 }
 

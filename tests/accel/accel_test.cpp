@@ -75,7 +75,7 @@ struct Recorder : HitHandler {
   bool terminateInIntersection = false;
   std::vector<HitInfo> anyHits, boxes;
   std::map<std::pair<uint32_t, uint32_t>, int> anyHitsPerPrimitive;  // (geometry, primitive) -> calls
-  std::vector<std::vector<float>> boxData;                            // per geometry index, for the reports
+  std::vector<std::vector<float>> boxData;                           // per geometry index, for the reports
 
   AnyHitResult anyHit(const HitInfo& c) override {
     anyHits.push_back(c);
@@ -174,7 +174,8 @@ TEST(AccelTrace, RotatedScaledAndMirroredInstances) {
   r.tMax = 10;
   ASSERT_TRUE(trace(*tlas, r, rec, &h));
   EXPECT_NEAR(h.t, 1.0f, 1e-5f);
-  // Object space: object = ((4 - wz) / 2, wy / 2, wx / 2), so the origin is (0.5, 0.25, -0.5), the direction (0, 0, 0.5).
+  // Object space: object = ((4 - wz) / 2, wy / 2, wx / 2), so the origin is (0.5, 0.25, -0.5), the direction (0, 0,
+  // 0.5).
   EXPECT_NEAR(h.objectRayOrigin[0], 0.5f, 1e-5f);
   EXPECT_NEAR(h.objectRayOrigin[1], 0.25f, 1e-5f);
   EXPECT_NEAR(h.objectRayOrigin[2], -0.5f, 1e-5f);
@@ -428,14 +429,17 @@ TEST(AccelSerialize, RoundTripTracesTheSameAndDamageIsRefused) {
 
 TEST(AccelTrace, ManyThreadsGetTheSameAnswers) {
   std::vector<Geometry> gs;
-  for (int i = 0; i < 50; ++i) gs.push_back(quad(float(2 + i % 7), i % 3 ? uint32_t(kGeometryOpaque) : 0u, float(i % 10) * 0.5f, float(i / 10) * 0.5f));
+  for (int i = 0; i < 50; ++i)
+    gs.push_back(
+        quad(float(2 + i % 7), i % 3 ? uint32_t(kGeometryOpaque) : 0u, float(i % 10) * 0.5f, float(i / 10) * 0.5f));
   auto tlas = tlasOf({instanceOf(blasOf(gs)), instanceOf(blasOf(gs), 0.25f, 0.25f, 0.5f)});
   auto run = [&](std::vector<float>* out) {
     Recorder rec;
     for (int y = 0; y < 60; ++y)
       for (int x = 0; x < 60; ++x) {
         HitInfo h;
-        out->push_back(trace(*tlas, rayAt(float(x) * 0.1f, float(y) * 0.05f), rec, &h) ? h.t * 1000 + h.primitiveIndex : -1);
+        out->push_back(trace(*tlas, rayAt(float(x) * 0.1f, float(y) * 0.05f), rec, &h) ? h.t * 1000 + h.primitiveIndex
+                                                                                       : -1);
       }
   };
   std::vector<float> one;

@@ -224,8 +224,8 @@ TEST_F(CommandsTest, PoolResetTrimAndDebugLabelsAreAccepted) {
       vkGetInstanceProcAddr(instance, "vkCmdInsertDebugUtilsLabelEXT"));
   auto qBegin = reinterpret_cast<PFN_vkQueueBeginDebugUtilsLabelEXT>(
       vkGetInstanceProcAddr(instance, "vkQueueBeginDebugUtilsLabelEXT"));
-  auto qEnd =
-      reinterpret_cast<PFN_vkQueueEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance, "vkQueueEndDebugUtilsLabelEXT"));
+  auto qEnd = reinterpret_cast<PFN_vkQueueEndDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance, "vkQueueEndDebugUtilsLabelEXT"));
   auto qInsert = reinterpret_cast<PFN_vkQueueInsertDebugUtilsLabelEXT>(
       vkGetInstanceProcAddr(instance, "vkQueueInsertDebugUtilsLabelEXT"));
   ASSERT_TRUE(beginLabel && endLabel && insertLabel && qBegin && qEnd && qInsert);
@@ -481,8 +481,8 @@ TEST_F(CommandsMisuseTest, PushConstantRulesAreReported) {
 }
 
 TEST_F(CommandsMisuseTest, UnbalancedDebugLabelsAreReported) {
-  auto qEnd =
-      reinterpret_cast<PFN_vkQueueEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance, "vkQueueEndDebugUtilsLabelEXT"));
+  auto qEnd = reinterpret_cast<PFN_vkQueueEndDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance, "vkQueueEndDebugUtilsLabelEXT"));
   auto endLabel =
       reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance, "vkCmdEndDebugUtilsLabelEXT"));
   ASSERT_TRUE(qEnd && endLabel);

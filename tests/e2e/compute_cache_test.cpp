@@ -107,7 +107,8 @@ class ComputeCacheTest : public VulkanTest {
     Result res;
     VkDevice dev = r.dev;
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t i = 0; i < buffers.size(); ++i) bindings.push_back({i, kStorage, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    for (uint32_t i = 0; i < buffers.size(); ++i)
+      bindings.push_back({i, kStorage, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = uint32_t(bindings.size());
     dl.pBindings = bindings.data();
@@ -171,7 +172,8 @@ class ComputeCacheTest : public VulkanTest {
         vkGetBufferMemoryRequirements(dev, bufs[i], &req);
         VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         ai.allocationSize = req.size;
-        ai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        ai.memoryTypeIndex = memoryTypeIndex(
+            req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
         EXPECT_EQ(vkAllocateMemory(dev, &ai, nullptr, &mems[i]), VK_SUCCESS);
         EXPECT_EQ(vkBindBufferMemory(dev, bufs[i], mems[i], 0), VK_SUCCESS);
         EXPECT_EQ(vkMapMemory(dev, mems[i], 0, VK_WHOLE_SIZE, 0, &maps[i]), VK_SUCCESS);
@@ -236,7 +238,8 @@ class ComputeCacheTest : public VulkanTest {
     std::vector<float> init(52, -1.0f);
     std::vector<uint8_t> bytes(init.size() * 4);
     std::memcpy(bytes.data(), init.data(), bytes.size());
-    return run(r, cache, kSpv_compute_push_spec_comp, sizeof kSpv_compute_push_spec_comp, &spec, {bytes}, 64 / s.localSize, flags);
+    return run(r, cache, kSpv_compute_push_spec_comp, sizeof kSpv_compute_push_spec_comp, &spec, {bytes},
+               64 / s.localSize, flags);
   }
 
   // The shared-memory shader (workgroup memory, barriers, atomics): 9 workgroups of 64.
@@ -324,7 +327,8 @@ TEST_F(ComputeCacheTest, FailOnCompileRequiredSucceedsFromAWarmCache) {
   Runner second = newDevice();
   VkPipelineCache empty = makeCache(second.dev);
   VkPipelineCache warm = makeCache(second.dev, data);
-  VkResult fromEmpty = runPushSpec(second, empty, kSpec, VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT).create;
+  VkResult fromEmpty =
+      runPushSpec(second, empty, kSpec, VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT).create;
   if (onVkrt()) {
     EXPECT_EQ(fromEmpty, VK_PIPELINE_COMPILE_REQUIRED);
   } else {
@@ -410,7 +414,8 @@ TEST_F(ComputeCacheTest, AnotherProcessLoadsTheSavedDataWithoutCompiling) {
     setenv("VKRT_H8_CACHE_OUT", out.c_str(), 1);
     int devnull = open("/dev/null", O_WRONLY);
     dup2(devnull, 1);
-    execl("/proc/self/exe", VKRT_E2E_BINARY, "--gtest_filter=ComputeCacheChild.LoadsCacheFile", static_cast<char*>(nullptr));
+    execl("/proc/self/exe", VKRT_E2E_BINARY, "--gtest_filter=ComputeCacheChild.LoadsCacheFile",
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   int status = 0;

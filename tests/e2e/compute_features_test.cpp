@@ -7,12 +7,12 @@
 
 #include "compute_nonuniform_buffers.comp.spv.h"
 #include "compute_scalar_layout.comp.spv.h"
-#include "compute_std430_uniform.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
+#include "compute_std430_uniform.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
-#include "spirv/scalar_layout_reference.hpp"
 #include "spirv/nonuniform_buffers_reference.hpp"
+#include "spirv/scalar_layout_reference.hpp"
 #include "spirv/small_uniform_reference.hpp"
 
 namespace vkrt::test {
@@ -33,7 +33,8 @@ class ComputeFeaturesTest : public VulkanTest {
   }
 
   // Buffers into consecutive elements of a binding, from element 0.
-  void writeBuffers(const ComputePipeline& p, uint32_t binding, VkDescriptorType type, const std::vector<const HostBuffer*>& buffers) {
+  void writeBuffers(const ComputePipeline& p, uint32_t binding, VkDescriptorType type,
+                    const std::vector<const HostBuffer*>& buffers) {
     std::vector<VkDescriptorBufferInfo> infos;
     for (const HostBuffer* b : buffers) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -61,7 +62,8 @@ class ComputeFeaturesTest : public VulkanTest {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                         nullptr);
   }
 };
 
@@ -83,12 +85,15 @@ TEST_F(ComputeFeaturesTest, EightAndSixteenBitUniformAndPushConstantMembers) {
   using namespace vkrt::testing;
   SmallUniformValues v;
   std::vector<uint8_t> push = smallPushBlock(v);
-  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_small_uniform_push_comp, sizeof kSpv_compute_small_uniform_push_comp,
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_small_uniform_push_comp,
+                                                    sizeof kSpv_compute_small_uniform_push_comp,
                                                     {{kUniform}, {kStorage}, {kStorage}}, uint32_t(push.size()));
   ASSERT_EQ(p.result, VK_SUCCESS);
   HostBuffer ubo = bufferWith(smallUniformBlock(v), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-  HostBuffer ints = bufferWith(std::vector<int32_t>(kSmallUniformInvocations * kSmallUniformInts, 0x5a5a5a5a), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  HostBuffer floats = bufferWith(std::vector<float>(kSmallUniformInvocations * kSmallUniformFloats, -1.0f), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer ints = bufferWith(std::vector<int32_t>(kSmallUniformInvocations * kSmallUniformInts, 0x5a5a5a5a),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer floats = bufferWith(std::vector<float>(kSmallUniformInvocations * kSmallUniformFloats, -1.0f),
+                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   writeBuffers(p, 0, kUniform, {&ubo});
   writeBuffers(p, 1, kStorage, {&ints});
   writeBuffers(p, 2, kStorage, {&floats});
@@ -109,7 +114,8 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   VkPhysicalDeviceDescriptorIndexingFeatures di{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DESCRIPTOR_INDEXING_FEATURES};
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &r12};
   vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
-  EXPECT_TRUE(f2.features.shaderStorageBufferArrayDynamicIndexing && f2.features.shaderUniformBufferArrayDynamicIndexing);
+  EXPECT_TRUE(f2.features.shaderStorageBufferArrayDynamicIndexing &&
+              f2.features.shaderUniformBufferArrayDynamicIndexing);
   EXPECT_TRUE(r12.runtimeDescriptorArray && r12.shaderStorageBufferArrayNonUniformIndexing &&
               r12.shaderUniformBufferArrayNonUniformIndexing);
   f2.pNext = &di;
@@ -120,13 +126,16 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   using vkrt::testing::NonUniformBuffers;
   NonUniformBuffers ref;
   constexpr uint32_t kN = NonUniformBuffers::kN, kBuffers = NonUniformBuffers::kBuffers;
-  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_buffers_comp, sizeof kSpv_compute_nonuniform_buffers_comp,
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_buffers_comp,
+                                                    sizeof kSpv_compute_nonuniform_buffers_comp,
                                                     {{kStorage, kBuffers}, {kUniform, 3}, {kStorage}});
   ASSERT_EQ(p.result, VK_SUCCESS);
   std::vector<HostBuffer> buffers;
-  for (uint32_t k = 0; k < kBuffers; ++k) buffers.push_back(bufferWith(ref.data[k], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
+  for (uint32_t k = 0; k < kBuffers; ++k)
+    buffers.push_back(bufferWith(ref.data[k], VK_BUFFER_USAGE_STORAGE_BUFFER_BIT));
   std::vector<HostBuffer> ubos;
-  for (auto& q : ref.params) ubos.push_back(bufferWith(std::vector<uint32_t>(q, q + 4), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT));
+  for (auto& q : ref.params)
+    ubos.push_back(bufferWith(std::vector<uint32_t>(q, q + 4), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT));
   HostBuffer out = bufferWith(std::vector<uint32_t>(kN * 4, 0xdeadbeef), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<const HostBuffer*> sb, ub;
   for (auto& b : buffers) sb.push_back(&b);
@@ -138,7 +147,8 @@ TEST_F(ComputeFeaturesTest, NonUniformIndicesIntoBufferDescriptorArrays) {
   vkCmdDispatch(cb, kN / 8, 1, 1);
   hostBarrier(cb);
   submitAndWait(cb);
-  ref.expect(static_cast<const uint32_t*>(out.data), [&](uint32_t k) { return static_cast<const uint32_t*>(buffers[k].data); });
+  ref.expect(static_cast<const uint32_t*>(out.data),
+             [&](uint32_t k) { return static_cast<const uint32_t*>(buffers[k].data); });
   for (auto& b : buffers) destroy(b);
   for (auto& b : ubos) destroy(b);
   destroy(out);
@@ -152,8 +162,9 @@ TEST_F(ComputeFeaturesTest, ScalarBlockLayoutReadAndWritten) {
   EXPECT_TRUE(sbl.scalarBlockLayout);
 
   using namespace vkrt::testing;
-  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_scalar_layout_comp, sizeof kSpv_compute_scalar_layout_comp,
-                                                    {{kStorage}, {kUniform}, {kStorage}});
+  ComputePipeline p =
+      makeComputePipelineWithArrays(device, kSpv_compute_scalar_layout_comp, sizeof kSpv_compute_scalar_layout_comp,
+                                    {{kStorage}, {kUniform}, {kStorage}});
   ASSERT_EQ(p.result, VK_SUCCESS);
   ScalarLayoutValues v;
   HostBuffer in = bufferWith(scalarInBlock(v), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -186,8 +197,8 @@ class ComputeStandardLayoutTest : public ComputeFeaturesTest {
 };
 
 TEST_F(ComputeStandardLayoutTest, Std430UniformBlock) {
-  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_std430_uniform_comp, sizeof kSpv_compute_std430_uniform_comp,
-                                                    {{kUniform}, {kStorage}});
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_std430_uniform_comp,
+                                                    sizeof kSpv_compute_std430_uniform_comp, {{kUniform}, {kStorage}});
   ASSERT_EQ(p.result, VK_SUCCESS);
   std::vector<uint32_t> block(10);
   for (uint32_t i = 0; i < 8; ++i) {

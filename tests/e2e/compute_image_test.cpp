@@ -7,11 +7,11 @@
 #include <cstring>
 #include <vector>
 
-#include "compute_h9_bda.comp.spv.h"
-#include "compute_h9_sample.comp.spv.h"
-#include "compute_h9_storage.comp.spv.h"
-#include "compute_h9_small_types.comp.spv.h"
+#include "compute_bda_linked_list.comp.spv.h"
 #include "compute_nonuniform_images.comp.spv.h"
+#include "compute_sample.comp.spv.h"
+#include "compute_small_types.comp.spv.h"
+#include "compute_storage_image.comp.spv.h"
 #include "dxc_compute.spvasm.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -104,11 +104,11 @@ class ComputeImageTest : public VulkanTest {
       regions.push_back(r);
     }
     if (toImage)
-      vkCmdCopyBufferToImage(cb, t.staging.buffer, t.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()),
-                             regions.data());
+      vkCmdCopyBufferToImage(cb, t.staging.buffer, t.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                             uint32_t(regions.size()), regions.data());
     else
-      vkCmdCopyImageToBuffer(cb, t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.staging.buffer, uint32_t(regions.size()),
-                             regions.data());
+      vkCmdCopyImageToBuffer(cb, t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t.staging.buffer,
+                             uint32_t(regions.size()), regions.data());
   }
   // Staging -> image, then the image in `layout` for compute shaders.
   void upload(VkCommandBuffer cb, const Tex& t, VkImageLayout layout) {
@@ -127,7 +127,8 @@ class ComputeImageTest : public VulkanTest {
   }
 
   using Pipeline = ComputePipeline;
-  Pipeline makePipeline(const uint32_t* words, size_t bytes, const std::vector<VkDescriptorType>& types, uint32_t pushBytes = 0) {
+  Pipeline makePipeline(const uint32_t* words, size_t bytes, const std::vector<VkDescriptorType>& types,
+                        uint32_t pushBytes = 0) {
     return makeComputePipeline(device, words, bytes, types, pushBytes);
   }
   void destroy(Pipeline& p) { destroyComputePipeline(device, p); }
@@ -157,8 +158,8 @@ class ComputeImageTest : public VulkanTest {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                         0, 1, &mb, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
   }
 };
 
@@ -175,12 +176,14 @@ uint16_t floatToHalf(float f) {
 
 TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
   const bool vkrt = onVkrt();
-  Pipeline p = makePipeline(kSpv_compute_h9_storage_comp, sizeof kSpv_compute_h9_storage_comp,
-                            {kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageBuffer});
+  Pipeline p =
+      makePipeline(kSpv_compute_storage_image_comp, sizeof kSpv_compute_storage_image_comp,
+                   {kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageImage, kStorageBuffer});
   ASSERT_EQ(p.result, VK_SUCCESS);
   const VkImageUsageFlags st = VK_IMAGE_USAGE_STORAGE_BIT;
   Tex rgba8 = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {8, 8, 1}, 1, 1, 4, st);
-  Tex rgba32f = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {8, 8, 1}, 1, 1, 16, st);
+  Tex rgba32f =
+      makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {8, 8, 1}, 1, 1, 16, st);
   Tex arr = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D_ARRAY, VK_FORMAT_R32_SFLOAT, {8, 8, 1}, 1, 3, 4, st);
   Tex vol = makeTex(VK_IMAGE_TYPE_3D, VK_IMAGE_VIEW_TYPE_3D, VK_FORMAT_R32_UINT, {8, 8, 2}, 1, 1, 4, st);
   Tex half = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R16G16B16A16_SFLOAT, {8, 8, 1}, 1, 1, 8, st);
@@ -202,7 +205,8 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
   for (uint32_t i = 0; i < halfIn.size(); ++i) halfIn[i] = halfH[i] = floatToHalf(float(int(i % 29) - 14) * 0.375f);
 
   Tex* all[] = {&rgba8, &rgba32f, &arr, &vol, &half};
-  for (uint32_t b = 0; b < 5; ++b) writeImage(p, b, kStorageImage, all[b]->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  for (uint32_t b = 0; b < 5; ++b)
+    writeImage(p, b, kStorageImage, all[b]->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
   writeBuffer(p, 5, out);
   VkCommandBuffer cb = beginOneTime();
   for (Tex* t : all) upload(cb, *t, VK_IMAGE_LAYOUT_GENERAL);
@@ -222,7 +226,8 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
       for (int k = 0; k < 4; ++k) EXPECT_NEAR(dst32[i * 4 + k], expect[k], 1e-6) << x << "," << y << " c" << k;
       for (uint32_t l = 0; l < 3; ++l)
         EXPECT_EQ(arrF[l * 64 + i], arrIn[l * 64 + i] * 3.0f + float(l)) << x << "," << y << " layer " << l;
-      for (uint32_t z = 0; z < 2; ++z) EXPECT_EQ(volU[z * 64 + i], (volIn[z * 64 + i] ^ 0x5a5a5a5au) + z) << x << "," << y << "," << z;
+      for (uint32_t z = 0; z < 2; ++z)
+        EXPECT_EQ(volU[z * 64 + i], (volIn[z * 64 + i] ^ 0x5a5a5a5au) + z) << x << "," << y << "," << z;
       for (int k = 0; k < 4; ++k) {
         float want = halfToFloat(halfIn[i * 4 + k]) * 0.5f + c[0];
         if (vkrt) {
@@ -329,13 +334,14 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
   vkGetPhysicalDeviceProperties(physicalDevice, &props);
   const float tol = vkrt ? 1e-4f : std::ldexp(1.0f, -int(props.limits.subTexelPrecisionBits)) + 1e-3f;
   constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  Pipeline p = makePipeline(kSpv_compute_h9_sample_comp, sizeof kSpv_compute_h9_sample_comp,
-                            {kCombined, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLER, kCombined, kStorageBuffer,
-                             kStorageBuffer, kStorageBuffer});
+  Pipeline p = makePipeline(kSpv_compute_sample_comp, sizeof kSpv_compute_sample_comp,
+                            {kCombined, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLER, kCombined,
+                             kStorageBuffer, kStorageBuffer, kStorageBuffer});
   ASSERT_EQ(p.result, VK_SUCCESS);
   // One image, viewed as a 2D texture of layer 1 and as a 2D array of both layers.
   const VkImageUsageFlags sampled = VK_IMAGE_USAGE_SAMPLED_BIT;
-  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {4, 4, 1}, 3, 2, 16, sampled, 1, 1);
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {4, 4, 1}, 3, 2, 16,
+                    sampled, 1, 1);
   VkImageView arrView;
   VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   vi.image = img.image;
@@ -354,10 +360,12 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
 
   // Coordinates (u, v, lod, layer): texel centres, edges, halfway points, outside [0, 1], fractional lods.
   const float coords[][4] = {
-      {0.125f, 0.125f, 0.0f, 0.0f}, {0.375f, 0.625f, 0.0f, 1.0f}, {0.25f, 0.5f, 0.0f, 0.0f},   {0.3f, 0.71f, 0.0f, 1.0f},
-      {-0.2f, 0.4f, 0.0f, 0.0f},    {1.3f, -0.45f, 0.0f, 1.0f},   {0.9f, 1.1f, 1.0f, 0.0f},    {0.6f, 0.3f, 0.5f, 1.6f},
-      {0.45f, 0.55f, 1.7f, 0.0f},   {2.7f, 0.2f, 2.0f, 1.0f},     {0.1f, 0.95f, 5.0f, -3.0f},  {-1.05f, -0.6f, 0.25f, 0.4f},
-      {0.5f, 0.5f, 1.25f, 1.0f},    {0.0f, 1.0f, 0.75f, 0.0f},    {1.0f, 0.0f, 0.0f, 1.0f},    {0.62f, 0.13f, 1.5f, 0.0f},
+      {0.125f, 0.125f, 0.0f, 0.0f}, {0.375f, 0.625f, 0.0f, 1.0f}, {0.25f, 0.5f, 0.0f, 0.0f},
+      {0.3f, 0.71f, 0.0f, 1.0f},    {-0.2f, 0.4f, 0.0f, 0.0f},    {1.3f, -0.45f, 0.0f, 1.0f},
+      {0.9f, 1.1f, 1.0f, 0.0f},     {0.6f, 0.3f, 0.5f, 1.6f},     {0.45f, 0.55f, 1.7f, 0.0f},
+      {2.7f, 0.2f, 2.0f, 1.0f},     {0.1f, 0.95f, 5.0f, -3.0f},   {-1.05f, -0.6f, 0.25f, 0.4f},
+      {0.5f, 0.5f, 1.25f, 1.0f},    {0.0f, 1.0f, 0.75f, 0.0f},    {1.0f, 0.0f, 0.0f, 1.0f},
+      {0.62f, 0.13f, 1.5f, 0.0f},
   };
   const uint32_t n = 16;
   HostBuffer in = createHostBuffer(sizeof coords, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -372,12 +380,18 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
   submitAndWait(cb);
 
   const SamplerConfig configs[] = {
-      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
-      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
-      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
-      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER, VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE},
-      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER, VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
-      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK},
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+       VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK},
   };
   const uint32_t nc = sizeof configs / sizeof configs[0];
   std::vector<VkSampler> samplers(nc);
@@ -416,8 +430,10 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
       int fx = int(std::floor(q[0])), fy = int(std::floor(q[1])), fl = int(q[2]);
       int size = fl < 3 ? int(4u >> fl) : 0;
       bool inside = fl < 3 && fx >= 0 && fy >= 0 && fx < size && fy < size;
-      if (inside) texelValue(uint32_t(fl), 1, fx, fy, e3);
-      else e3[0] = e3[1] = e3[2] = e3[3] = 0.0f;
+      if (inside)
+        texelValue(uint32_t(fl), 1, fx, fy, e3);
+      else
+        e3[0] = e3[1] = e3[2] = e3[3] = 0.0f;
       for (int k = 0; k < 4; ++k) {
         EXPECT_NEAR(r[(4 * i + 0) * 4 + k], e0[k], tol) << "round " << round << " coord " << i << " combined c" << k;
         EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], tol) << "round " << round << " coord " << i << " separate c" << k;
@@ -469,7 +485,7 @@ class ComputeBdaTest : public ComputeImageTest {
 };
 
 TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
-  Pipeline p = makePipeline(kSpv_compute_h9_bda_comp, sizeof kSpv_compute_h9_bda_comp, {}, 20);
+  Pipeline p = makePipeline(kSpv_compute_bda_linked_list_comp, sizeof kSpv_compute_bda_linked_list_comp, {}, 20);
   ASSERT_EQ(p.result, VK_SUCCESS);
   HostBuffer nodes = createHostBuffer(5 * sizeof(Node), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
   const uint32_t count = 45;
@@ -480,7 +496,8 @@ TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
   ai.buffer = words.buffer;
   uint64_t outAddr = vkGetBufferDeviceAddress(device, &ai);
   auto* list = static_cast<Node*>(nodes.data);
-  for (uint32_t k = 0; k < 5; ++k) list[k] = Node{{float(10 * k + 1), float(k + 7), 0.0f, -1.0f}, head + ((k + 1) % 5) * 32, 100 + k, 0};
+  for (uint32_t k = 0; k < 5; ++k)
+    list[k] = Node{{float(10 * k + 1), float(k + 7), 0.0f, -1.0f}, head + ((k + 1) % 5) * 32, 100 + k, 0};
   auto* w = static_cast<uint32_t*>(words.data);
   for (uint32_t i = 0; i < 2 * count + 4; ++i) w[i] = 0xDEADBEEF;
   uint8_t push[20];
@@ -513,8 +530,9 @@ TEST_F(ComputeBdaTest, BufferReferencePointersWalkALinkedList) {
 
 TEST_F(ComputeImageTest, DxcShapedHlslComputeModule) {
   using namespace vkrt::testing;
-  Pipeline p = makePipeline(kSpv_dxc_compute_spvasm, sizeof kSpv_dxc_compute_spvasm,
-                            {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStorageBuffer, kStorageBuffer, kStorageImage, kStorageBuffer});
+  Pipeline p =
+      makePipeline(kSpv_dxc_compute_spvasm, sizeof kSpv_dxc_compute_spvasm,
+                   {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kStorageBuffer, kStorageBuffer, kStorageImage, kStorageBuffer});
   ASSERT_EQ(p.result, VK_SUCCESS);
   DxcParams params = dxcParams();
   std::vector<uint32_t> raw = dxcRaw();
@@ -576,7 +594,8 @@ class ComputeImageIndexingTest : public ComputeImageTest {
 TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
   constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   constexpr uint32_t kTex = 4, kImg = 3, kW = 4, kH = 2;
-  Pipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_images_comp, sizeof kSpv_compute_nonuniform_images_comp,
+  Pipeline p = makeComputePipelineWithArrays(device, kSpv_compute_nonuniform_images_comp,
+                                             sizeof kSpv_compute_nonuniform_images_comp,
                                              {{kCombined, kTex}, {kStorageImage, kImg}, {kStorageBuffer}});
   ASSERT_EQ(p.result, VK_SUCCESS);
   // Sampled texture t, texel (x, y): {100 t + x + 4 y, t, x / 2, y}; 4x2 and 8x2 alternately (textureSize differs).
@@ -612,8 +631,10 @@ TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
   si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   VkSampler sampler = VK_NULL_HANDLE;
   ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
-  for (uint32_t t = 0; t < kTex; ++t) writeImage(p, 0, kCombined, tex[t].view, sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, t);
-  for (uint32_t s = 0; s < kImg; ++s) writeImage(p, 1, kStorageImage, img[s].view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL, s);
+  for (uint32_t t = 0; t < kTex; ++t)
+    writeImage(p, 0, kCombined, tex[t].view, sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, t);
+  for (uint32_t s = 0; s < kImg; ++s)
+    writeImage(p, 1, kStorageImage, img[s].view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL, s);
   HostBuffer out = createHostBuffer(kW * kH * 3 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::memset(out.data, 0x7f, out.size);
   writeBuffer(p, 2, out);
@@ -629,7 +650,8 @@ TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
   for (uint32_t y = 0; y < kH; ++y)
     for (uint32_t x = 0; x < kW; ++x) {
       uint32_t i = y * kW + x, t = (i * 5 + 1) % 4, s = (i + y) % 3;
-      SCOPED_TRACE("invocation " + std::to_string(i) + ": texture " + std::to_string(t) + ", image " + std::to_string(s));
+      SCOPED_TRACE("invocation " + std::to_string(i) + ": texture " + std::to_string(t) + ", image " +
+                   std::to_string(s));
       float want[4];
       texel(t, x, y, want);
       for (int k = 0; k < 4; ++k) EXPECT_EQ(o[i * 12 + k], want[k]) << "texelFetch component " << k;
@@ -647,7 +669,8 @@ TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
       for (uint32_t x = 0; x < kW + s; ++x) {
         uint32_t old = 1000 * s + x + 4 * y, i = y * kW + x;
         bool written = x < kW && (i + y) % 3 == s;
-        EXPECT_EQ(u[y * (kW + s) + x], written ? old * 2 + i : old) << "storage image " << s << " texel " << x << "," << y;
+        EXPECT_EQ(u[y * (kW + s) + x], written ? old * 2 + i : old)
+            << "storage image " << s << " texel " << x << "," << y;
       }
   }
   vkDestroySampler(device, sampler, nullptr);
@@ -685,7 +708,7 @@ TEST_F(ComputeSmallTypesTest, FeaturesReportedAndShaderRuns) {
   EXPECT_TRUE(s16.storageBuffer16BitAccess);
 
   using namespace vkrt::testing;
-  Pipeline p = makePipeline(kSpv_compute_h9_small_types_comp, sizeof kSpv_compute_h9_small_types_comp,
+  Pipeline p = makePipeline(kSpv_compute_small_types_comp, sizeof kSpv_compute_small_types_comp,
                             {kStorageBuffer, kStorageBuffer});
   ASSERT_EQ(p.result, VK_SUCCESS);
   SmallIn in = smallInput();

@@ -31,8 +31,8 @@ struct DescriptorArray {
 
 // With no bindings the pipeline layout has no set and no pool is made.
 inline ComputePipeline makeComputePipelineWithArrays(VkDevice device, const uint32_t* words, size_t bytes,
-                                                     const std::vector<DescriptorArray>& bindings, uint32_t pushBytes = 0,
-                                                     const VkSpecializationInfo* spec = nullptr,
+                                                     const std::vector<DescriptorArray>& bindings,
+                                                     uint32_t pushBytes = 0, const VkSpecializationInfo* spec = nullptr,
                                                      VkPipelineCreateFlags flags = 0) {
   ComputePipeline p;
   std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
@@ -96,7 +96,8 @@ inline void enableDescriptorIndexing(FixtureOptions& o) {
   o.features.shaderUniformBufferArrayDynamicIndexing = o.features.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
   o.features.shaderStorageBufferArrayDynamicIndexing = o.features.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
   VkPhysicalDeviceVulkan12Features& f = o.features12;
-  f.runtimeDescriptorArray = f.shaderUniformBufferArrayNonUniformIndexing = f.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
+  f.runtimeDescriptorArray = f.shaderUniformBufferArrayNonUniformIndexing =
+      f.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
   f.shaderSampledImageArrayNonUniformIndexing = f.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
 }
 

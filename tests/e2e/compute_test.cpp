@@ -23,12 +23,14 @@ class ComputeTest : public VulkanTest {
 
   // A pipeline whose set 0 has `types.size()` bindings (binding i of types[i]), a push-constant range of
   // `pushBytes`, built from `words`.
-  Pipeline makePipeline(const uint32_t* words, size_t bytes, std::vector<VkDescriptorType> types, uint32_t pushBytes = 0,
-                        const VkSpecializationInfo* spec = nullptr, VkPipelineCreateFlags flags = 0) {
+  Pipeline makePipeline(const uint32_t* words, size_t bytes, std::vector<VkDescriptorType> types,
+                        uint32_t pushBytes = 0, const VkSpecializationInfo* spec = nullptr,
+                        VkPipelineCreateFlags flags = 0) {
     return makeComputePipeline(device, words, bytes, types, pushBytes, spec, flags);
   }
   void destroy(Pipeline& p) { destroyComputePipeline(device, p); }
-  void bindBuffer(Pipeline& p, uint32_t binding, VkDescriptorType type, const HostBuffer& b, VkDeviceSize range = VK_WHOLE_SIZE) {
+  void bindBuffer(Pipeline& p, uint32_t binding, VkDescriptorType type, const HostBuffer& b,
+                  VkDeviceSize range = VK_WHOLE_SIZE) {
     VkDescriptorBufferInfo bi{b.buffer, 0, range};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = p.set;
@@ -56,7 +58,8 @@ class ComputeTest : public VulkanTest {
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
 TEST_F(ComputeTest, ArithmeticAcrossWorkgroups) {
-  Pipeline p = makePipeline(kSpv_compute_arith_comp, sizeof kSpv_compute_arith_comp, {kStorage, kStorage, kStorage, kStorage});
+  Pipeline p =
+      makePipeline(kSpv_compute_arith_comp, sizeof kSpv_compute_arith_comp, {kStorage, kStorage, kStorage, kStorage});
   ASSERT_EQ(p.result, VK_SUCCESS);
   const uint32_t n = 256;
   std::vector<int32_t> a(n), b(n);
@@ -230,7 +233,8 @@ TEST_F(ComputeMisuseTest, UnsupportedInstructionFailsCreationWithItsName) {
   EXPECT_EQ(p.pipeline, VK_NULL_HANDLE);
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
-  EXPECT_NE(msgs[0].text.find("unsupported instruction OpImageTexelPointer at word"), std::string::npos) << msgs[0].text;
+  EXPECT_NE(msgs[0].text.find("unsupported instruction OpImageTexelPointer at word"), std::string::npos)
+      << msgs[0].text;
   clearMessages();
   destroy(p);
 }
@@ -243,7 +247,8 @@ TEST_F(ComputeMisuseTest, LayoutWithoutTheShadersBindingIsRejected) {
   expectVkrtMessage("VUID-VkComputePipelineCreateInfo-layout-07988");
   destroy(p);
   // A uniform buffer where the shader declares a storage buffer.
-  Pipeline q = makePipeline(kSpv_compute_shared_comp, sizeof kSpv_compute_shared_comp, {kStorage, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER});
+  Pipeline q = makePipeline(kSpv_compute_shared_comp, sizeof kSpv_compute_shared_comp,
+                            {kStorage, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER});
   EXPECT_EQ(q.result, VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-VkComputePipelineCreateInfo-layout-07990");
   destroy(q);

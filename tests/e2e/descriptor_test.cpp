@@ -26,7 +26,8 @@ class DescriptorTest : public VulkanTest {
     VkDescriptorSetLayoutBindingFlagsCreateInfo bf{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
     bf.bindingCount = static_cast<uint32_t>(flags.size());
     bf.pBindingFlags = flags.data();
-    VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, flags.empty() ? nullptr : &bf};
+    VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+                                       flags.empty() ? nullptr : &bf};
     ci.flags = createFlags;
     ci.bindingCount = static_cast<uint32_t>(bindings.size());
     ci.pBindings = bindings.data();
@@ -91,11 +92,10 @@ TEST_F(DescriptorTest, AllocateWriteCopyFreeAndReset) {
 
   VkDescriptorBufferInfo infos[] = {{buf.buffer, 0, 256}, {buf.buffer, 256, VK_WHOLE_SIZE}};
   VkDescriptorBufferInfo ubo{buf.buffer, 512, 64};
-  std::vector<VkWriteDescriptorSet> writes = {
-      bufferWrite(a, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, infos, 2),
-      bufferWrite(a, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ubo),
-      bufferWrite(a, 2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, &ubo),
-      bufferWrite(a, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, infos)};
+  std::vector<VkWriteDescriptorSet> writes = {bufferWrite(a, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, infos, 2),
+                                              bufferWrite(a, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ubo),
+                                              bufferWrite(a, 2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, &ubo),
+                                              bufferWrite(a, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC, infos)};
   VkCopyDescriptorSet copy{VK_STRUCTURE_TYPE_COPY_DESCRIPTOR_SET};
   copy.srcSet = a;
   copy.dstSet = b;
@@ -136,8 +136,8 @@ TEST_F(DescriptorTest, UpdateTemplateWritesBuffers) {
     uint32_t pad;
     VkDescriptorBufferInfo infos[3];
   } data{0, {{buf.buffer, 0, 64}, {buf.buffer, 64, 64}, {buf.buffer, 128, VK_WHOLE_SIZE}}};
-  VkDescriptorUpdateTemplateEntry e{0, 0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, offsetof(Data, infos),
-                                    sizeof(VkDescriptorBufferInfo)};
+  VkDescriptorUpdateTemplateEntry e{
+      0, 0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, offsetof(Data, infos), sizeof(VkDescriptorBufferInfo)};
   VkDescriptorUpdateTemplateCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_UPDATE_TEMPLATE_CREATE_INFO};
   ci.descriptorUpdateEntryCount = 1;
   ci.pDescriptorUpdateEntries = &e;
@@ -154,7 +154,8 @@ TEST_F(DescriptorTest, UpdateTemplateWritesBuffers) {
 
 TEST_F(DescriptorTest, SetLayoutMayBeDestroyedBeforeItsUsers) {
   VkDescriptorSetLayout l = layout({{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr}});
-  VkDescriptorPool p = pool({{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}}, 4, VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT);
+  VkDescriptorPool p =
+      pool({{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}}, 4, VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT);
   VkDescriptorSet set;
   ASSERT_EQ(allocate(p, l, &set), VK_SUCCESS);
   VkPipelineLayoutCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -181,10 +182,10 @@ class DescriptorIndexingTest : public DescriptorTest {
 TEST_F(DescriptorIndexingTest, VariableCountPartiallyBoundUpdateAfterBind) {
   std::vector<VkDescriptorSetLayoutBinding> bindings = {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr},
                                                         {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 64, kCompute, nullptr}};
-  std::vector<VkDescriptorBindingFlags> flags = {
-      VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT,
-      VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT | VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT |
-          VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT};
+  std::vector<VkDescriptorBindingFlags> flags = {VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT,
+                                                 VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT |
+                                                     VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT |
+                                                     VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT};
   VkDescriptorSetLayoutBindingFlagsCreateInfo bf{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
   bf.bindingCount = 2;
   bf.pBindingFlags = flags.data();
@@ -207,7 +208,8 @@ TEST_F(DescriptorIndexingTest, VariableCountPartiallyBoundUpdateAfterBind) {
 
   VkDescriptorSetLayout l = layout(bindings, flags, VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT);
   // 1 + 10 storage buffers per set: a 22-descriptor pool holds exactly two such sets.
-  VkDescriptorPool p = pool({{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 22}}, 4, VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT);
+  VkDescriptorPool p =
+      pool({{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 22}}, 4, VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT);
   uint32_t count = 10;
   VkDescriptorSetVariableDescriptorCountAllocateInfo v{
       VK_STRUCTURE_TYPE_DESCRIPTOR_SET_VARIABLE_DESCRIPTOR_COUNT_ALLOCATE_INFO};
@@ -292,7 +294,8 @@ TEST_F(DescriptorMisuseTest, WriteRulesLeaveTheSetUnchanged) {
   VkDescriptorPool p = pool({{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}}, 1, 0);
   VkDescriptorSet set;
   ASSERT_EQ(allocate(p, l, &set), VK_SUCCESS);
-  VkDescriptorBufferInfo infos[3] = {{storageOnly.buffer, 0, 64}, {storageOnly.buffer, 0, 64}, {storageOnly.buffer, 0, 64}};
+  VkDescriptorBufferInfo infos[3] = {
+      {storageOnly.buffer, 0, 64}, {storageOnly.buffer, 0, 64}, {storageOnly.buffer, 0, 64}};
 
   VkWriteDescriptorSet w = bufferWrite(set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, infos);
   vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);

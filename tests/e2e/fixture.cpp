@@ -9,8 +9,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanTest::onMessage(VkDebugUtilsMessageSeverity
                                                      const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   auto* self = static_cast<VulkanTest*>(user);
   std::lock_guard lock(self->mutex_);
-  self->messages_.push_back({severity, data->pMessageIdName ? data->pMessageIdName : "",
-                             data->pMessage ? data->pMessage : ""});
+  self->messages_.push_back(
+      {severity, data->pMessageIdName ? data->pMessageIdName : "", data->pMessage ? data->pMessage : ""});
   return VK_FALSE;
 }
 

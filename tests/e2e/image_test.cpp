@@ -176,7 +176,8 @@ TEST_F(ImageTest, ThreeDimensionalAndImageToImageCopies) {
   c.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 2};
   c.dstOffset = {2, 0, 0};
   c.extent = {2, 2, 2};
-  vkCmdCopyImage(cb, a.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, b.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+  vkCmdCopyImage(cb, a.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, b.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                 &c);
   VkImageCopy2 c2{VK_STRUCTURE_TYPE_IMAGE_COPY_2};
   c2.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   c2.srcOffset = {0, 0, 3};
@@ -318,7 +319,8 @@ TEST_F(ImageTest, ViewsBufferViewsAndSamplers) {
     VkImageViewType type;
     uint32_t baseLayer, layers;
   };
-  for (V v : {V{VK_IMAGE_VIEW_TYPE_2D, 3, 1}, V{VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 12}, V{VK_IMAGE_VIEW_TYPE_CUBE, 6, 6}}) {
+  for (V v :
+       {V{VK_IMAGE_VIEW_TYPE_2D, 3, 1}, V{VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 12}, V{VK_IMAGE_VIEW_TYPE_CUBE, 6, 6}}) {
     vi.viewType = v.type;
     vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_REMAINING_MIP_LEVELS, v.baseLayer, v.layers};
     VkImageView view = VK_NULL_HANDLE;
@@ -335,7 +337,8 @@ TEST_F(ImageTest, ViewsBufferViewsAndSamplers) {
   EXPECT_EQ(vkCreateImageView(device, &vi, nullptr, &view3d), VK_SUCCESS);
   vkDestroyImageView(device, view3d, nullptr);
 
-  HostBuffer tb = createHostBuffer(1024, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+  HostBuffer tb =
+      createHostBuffer(1024, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(physicalDevice, &props);
   VkBufferViewCreateInfo bv{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
@@ -398,8 +401,8 @@ TEST_F(ImageMisuseTest, BadCreateInfosAreReportedByVuid) {
   EXPECT_NE(vkCreateImage(device, &ci, nullptr, &img), VK_SUCCESS);
   expectVkrtMessage("VUID-VkImageCreateInfo-imageType-00961");
 
-  Img good = createImage(imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {8, 8, 1}, 2, 2,
-                                   VK_IMAGE_USAGE_SAMPLED_BIT | kImgXfer));
+  Img good = createImage(
+      imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {8, 8, 1}, 2, 2, VK_IMAGE_USAGE_SAMPLED_BIT | kImgXfer));
   VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   vi.image = good.image;
   vi.format = VK_FORMAT_R8G8B8A8_UNORM;

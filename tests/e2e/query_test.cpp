@@ -94,10 +94,10 @@ TEST_F(QueryTest, TimestampsAreMonotonicNanoseconds) {
   const uint64_t end = monotonicNs();
 
   uint64_t r[3][2] = {};
-  ASSERT_EQ(vkGetQueryPoolResults(device, pool, 0, 3, sizeof r, r, 16,
-                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT |
-                                      VK_QUERY_RESULT_WITH_AVAILABILITY_BIT),
-            VK_SUCCESS);
+  ASSERT_EQ(
+      vkGetQueryPoolResults(device, pool, 0, 3, sizeof r, r, 16,
+                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT),
+      VK_SUCCESS);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(r[i][1], 1u);
     if (vkrt) {  // vkrt's timestamps are CLOCK_MONOTONIC nanoseconds, taken while the submission ran
@@ -163,8 +163,9 @@ TEST_F(QueryMisuseTest, UnsupportedTypesAndBadArguments) {
   VkQueryPool pool = timestampPool(2);
   vkResetQueryPool(device, pool, 0, 2);
   uint64_t r[4];
-  EXPECT_EQ(vkGetQueryPoolResults(device, pool, 0, 1, sizeof r, r, 8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_PARTIAL_BIT),
-            VK_ERROR_VALIDATION_FAILED_EXT);
+  EXPECT_EQ(
+      vkGetQueryPoolResults(device, pool, 0, 1, sizeof r, r, 8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_PARTIAL_BIT),
+      VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-vkGetQueryPoolResults-queryType-00818");
   EXPECT_EQ(vkGetQueryPoolResults(device, pool, 1, 2, sizeof r, r, 8, VK_QUERY_RESULT_64_BIT),
             VK_ERROR_VALIDATION_FAILED_EXT);

@@ -28,17 +28,17 @@
 #include <thread>
 
 #include "e2e/fixture.hpp"
+#include "pipeline_ahit.rahit.spv.h"
+#include "pipeline_call.rcall.spv.h"
+#include "pipeline_chit.rchit.spv.h"
+#include "pipeline_chit_callable.rchit.spv.h"
+#include "pipeline_miss.rmiss.spv.h"
+#include "pipeline_miss2.rmiss.spv.h"
+#include "pipeline_miss_spec.rmiss.spv.h"
+#include "pipeline_raygen.rgen.spv.h"
+#include "pipeline_raygen_big_payload.rgen.spv.h"
+#include "pipeline_rint.rint.spv.h"
 #include "runtime/vk_compat.h"  // VK_EXT_pipeline_library_group_handles is newer than the installed headers
-#include "h4_ahit.rahit.spv.h"
-#include "h4_call.rcall.spv.h"
-#include "h4_chit.rchit.spv.h"
-#include "h4_chit_callable.rchit.spv.h"
-#include "h4_miss.rmiss.spv.h"
-#include "h4_miss2.rmiss.spv.h"
-#include "h4_miss_spec.rmiss.spv.h"
-#include "h4_raygen.rgen.spv.h"
-#include "h4_raygen_big.rgen.spv.h"
-#include "h4_rint.rint.spv.h"
 
 namespace vkrt::test {
 
@@ -61,10 +61,12 @@ class RtTest : public VulkanTest {
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT supportedLgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
   bool vkrt = false;
-  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   bool libraryGroupHandles = true;
   bool captureReplay = true;
 
@@ -140,16 +142,16 @@ class RtTest : public VulkanTest {
     lci.pushConstantRangeCount = 1;
     lci.pPushConstantRanges = &pc;
     ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
-    raygen = module(kSpv_h4_raygen_rgen, sizeof(kSpv_h4_raygen_rgen));
-    raygenBig = module(kSpv_h4_raygen_big_rgen, sizeof(kSpv_h4_raygen_big_rgen));
-    miss = module(kSpv_h4_miss_rmiss, sizeof(kSpv_h4_miss_rmiss));
-    miss2 = module(kSpv_h4_miss2_rmiss, sizeof(kSpv_h4_miss2_rmiss));
-    missSpec = module(kSpv_h4_miss_spec_rmiss, sizeof(kSpv_h4_miss_spec_rmiss));
-    chit = module(kSpv_h4_chit_rchit, sizeof(kSpv_h4_chit_rchit));
-    chitCall = module(kSpv_h4_chit_callable_rchit, sizeof(kSpv_h4_chit_callable_rchit));
-    ahit = module(kSpv_h4_ahit_rahit, sizeof(kSpv_h4_ahit_rahit));
-    rint = module(kSpv_h4_rint_rint, sizeof(kSpv_h4_rint_rint));
-    call = module(kSpv_h4_call_rcall, sizeof(kSpv_h4_call_rcall));
+    raygen = module(kSpv_pipeline_raygen_rgen, sizeof(kSpv_pipeline_raygen_rgen));
+    raygenBig = module(kSpv_pipeline_raygen_big_payload_rgen, sizeof(kSpv_pipeline_raygen_big_payload_rgen));
+    miss = module(kSpv_pipeline_miss_rmiss, sizeof(kSpv_pipeline_miss_rmiss));
+    miss2 = module(kSpv_pipeline_miss2_rmiss, sizeof(kSpv_pipeline_miss2_rmiss));
+    missSpec = module(kSpv_pipeline_miss_spec_rmiss, sizeof(kSpv_pipeline_miss_spec_rmiss));
+    chit = module(kSpv_pipeline_chit_rchit, sizeof(kSpv_pipeline_chit_rchit));
+    chitCall = module(kSpv_pipeline_chit_callable_rchit, sizeof(kSpv_pipeline_chit_callable_rchit));
+    ahit = module(kSpv_pipeline_ahit_rahit, sizeof(kSpv_pipeline_ahit_rahit));
+    rint = module(kSpv_pipeline_rint_rint, sizeof(kSpv_pipeline_rint_rint));
+    call = module(kSpv_pipeline_call_rcall, sizeof(kSpv_pipeline_call_rcall));
   }
 
   // The layer messages caused by the layer being older than VK_EXT_pipeline_library_group_handles (see the top of
@@ -295,7 +297,8 @@ class RtTest : public VulkanTest {
     uint32_t a = d.stage(ahit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR);
     d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, a);
     uint32_t i = d.stage(rint, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
-    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR, i);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR,
+            i);
     d.general(call, VK_SHADER_STAGE_CALLABLE_BIT_KHR);
     return d;
   }
@@ -331,19 +334,21 @@ inline std::string hexOf(const std::vector<uint8_t>& v) {
 
 inline std::vector<uint8_t> fromHex(const std::string& s) {
   std::vector<uint8_t> v;
-  for (size_t i = 0; i + 1 < s.size(); i += 2) v.push_back(static_cast<uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
+  for (size_t i = 0; i + 1 < s.size(); i += 2)
+    v.push_back(static_cast<uint8_t>(std::stoi(s.substr(i, 2), nullptr, 16)));
   return v;
 }
 
-// Runs this binary again with one helper test and VKRT_H4_OUT=<file>; returns the file's first line.
-inline std::string runHelper(const char* test, const std::string& extraEnvName = "", const std::string& extraEnvValue = "") {
-  char path[] = "/tmp/vkrt-h4-XXXXXX";
+// Runs this binary again with one helper test and VKRT_HELPER_OUT=<file>; returns the file's first line.
+inline std::string runHelper(const char* test, const std::string& extraEnvName = "",
+                             const std::string& extraEnvValue = "") {
+  char path[] = "/tmp/vkrt-helper-XXXXXX";
   int fd = mkstemp(path);
   EXPECT_GE(fd, 0);
   close(fd);
   pid_t pid = fork();
   if (pid == 0) {
-    setenv("VKRT_H4_OUT", path, 1);
+    setenv("VKRT_HELPER_OUT", path, 1);
     if (!extraEnvName.empty()) setenv(extraEnvName.c_str(), extraEnvValue.c_str(), 1);
     std::string filter = std::string("--gtest_filter=") + test;
     int devnull = open("/dev/null", O_WRONLY);
@@ -363,7 +368,7 @@ inline std::string runHelper(const char* test, const std::string& extraEnvName =
 }
 
 inline void writeOut(const std::string& text) {
-  std::ofstream out(std::getenv("VKRT_H4_OUT"));
+  std::ofstream out(std::getenv("VKRT_HELPER_OUT"));
   out << text << "\n";
 }
 }  // namespace vkrt::test

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "e2e/rt_fixture.hpp"
-#include "h7_chit_trace.rchit.spv.h"
-#include "h7_chit_trace_attr.rchit.spv.h"
 #include "rt_rint.rint.spv.h"
+#include "stack_chit_trace.rchit.spv.h"
+#include "stack_chit_trace_attr.rchit.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -19,8 +19,8 @@ class RtInterfaceTest : public RtTest {
   void SetUp() override {
     RtTest::SetUp();
     if (HasFatalFailure() || !device) return;
-    chitTraceAttr = module(kSpv_h7_chit_trace_attr_rchit, sizeof(kSpv_h7_chit_trace_attr_rchit));
-    chitTrace = module(kSpv_h7_chit_trace_rchit, sizeof(kSpv_h7_chit_trace_rchit));
+    chitTraceAttr = module(kSpv_stack_chit_trace_attr_rchit, sizeof(kSpv_stack_chit_trace_attr_rchit));
+    chitTrace = module(kSpv_stack_chit_trace_rchit, sizeof(kSpv_stack_chit_trace_rchit));
   }
   void TearDown() override {
     if (device) {
@@ -95,7 +95,8 @@ class RtInterfaceMisuseTest : public RtInterfaceTest {
       ADD_FAILURE() << "expected one vkrt report, got " << msgs.size();
       return {};
     }
-    for (const std::string& part : parts) EXPECT_NE(msgs[0].text.find(part), std::string::npos) << part << " in: " << msgs[0].text;
+    for (const std::string& part : parts)
+      EXPECT_NE(msgs[0].text.find(part), std::string::npos) << part << " in: " << msgs[0].text;
     return msgs[0].text;
   }
 };
@@ -109,17 +110,21 @@ TEST_F(RtInterfaceMisuseTest, LayoutMustProvideTheShadersResources) {
     d.general(raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     uint32_t c = d.stage(chit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
     uint32_t i = d.stage(sphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
-    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR, i);
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR,
+            i);
     return d;
   };
   const char* vuid = "VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427";
   Desc none = withSphere(layout);  // the fixture's layout has no set
   expectRefused(none, {vuid, "pStages[2]", "set 0 binding 2", "does not have"});
-  Desc uniform = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
+  Desc uniform = withSphere(
+      pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
   expectRefused(uniform, {vuid, "pStages[2]", "storage buffer descriptor", "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER"});
-  Desc hidden = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_RAYGEN_BIT_KHR)}));
+  Desc hidden =
+      withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_RAYGEN_BIT_KHR)}));
   expectRefused(hidden, {vuid, "pStages[2]", "does not make visible"});
-  Desc right = withSphere(pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
+  Desc right = withSphere(
+      pipelineLayout({setLayout(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2, VK_SHADER_STAGE_INTERSECTION_BIT_KHR)}));
   VkPipeline p = VK_NULL_HANDLE;
   EXPECT_EQ(create(right, &p), VK_SUCCESS);
   EXPECT_NE(p, VK_NULL_HANDLE);

@@ -107,9 +107,10 @@ TEST_F(RtCacheTest, FailOnCompileRequiredUntilTheCacheHasTheStages) {
   EXPECT_EQ(handles(p, 0, 6), handles(compiled, 0, 6));
   if (vkrt) {  // the figures of a cache hit are those of the compile (vkrt's own stack sizes)
     for (uint32_t g : {0u, 3u})
-      EXPECT_EQ(getStackSize(device, p, g, g ? VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR : VK_SHADER_GROUP_SHADER_GENERAL_KHR),
-                getStackSize(device, compiled, g,
-                             g ? VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR : VK_SHADER_GROUP_SHADER_GENERAL_KHR));
+      EXPECT_EQ(
+          getStackSize(device, p, g, g ? VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR : VK_SHADER_GROUP_SHADER_GENERAL_KHR),
+          getStackSize(device, compiled, g,
+                       g ? VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR : VK_SHADER_GROUP_SHADER_GENERAL_KHR));
   }
   // Other stages are still not in the cache.
   Desc o = other(kFail);
@@ -209,7 +210,8 @@ TEST_F(RtCacheTest, CreationFeedbackReportsEachStageAndTheCacheHits) {
 // cache, and writes "<result with data> <result without> <handles hex>".
 TEST_F(RtCacheTest, HelperCreateFromCacheFile) {
   const char* file = std::getenv("VKRT_H7_CACHE");
-  if (!std::getenv("VKRT_H4_OUT") || !file) GTEST_SKIP() << "helper: run by CacheDataCarriesTheStagesIntoAnotherProcess";
+  if (!std::getenv("VKRT_HELPER_OUT") || !file)
+    GTEST_SKIP() << "helper: run by CacheDataCarriesTheStagesIntoAnotherProcess";
   std::ifstream in(file, std::ios::binary);
   std::vector<uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   VkPipelineCache loaded = newCache(data), empty = newCache();

@@ -12,7 +12,8 @@ namespace vkrt::test {
 namespace {
 
 TEST_F(RtTest, PropertiesAndFeaturesMatchTheIssue) {
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p};
   vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
   EXPECT_EQ(p.shaderGroupHandleSize, 32u);
@@ -22,8 +23,10 @@ TEST_F(RtTest, PropertiesAndFeaturesMatchTheIssue) {
   EXPECT_GE(p.maxShaderGroupStride, 4096u);
   EXPECT_EQ(p.maxRayHitAttributeSize, 32u);
   EXPECT_EQ(p.shaderGroupHandleCaptureReplaySize, 64u);
-  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT g{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
-  VkPhysicalDeviceRayTracingPipelineFeaturesKHR f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &g};
+  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT g{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR,
+                                                  &g};
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f};
   vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
   EXPECT_TRUE(f.rayTracingPipeline && f.rayTracingPipelineShaderGroupHandleCaptureReplay &&
@@ -51,8 +54,9 @@ TEST(RtExtensions, RayTracingIsAdvertisedWithoutAnySwitch) {
   vkEnumerateDeviceExtensionProperties(pd, nullptr, &e, ext.data());
   std::set<std::string> names;
   for (auto& x : ext) names.insert(x.extensionName);
-  for (const char* want : {"VK_KHR_acceleration_structure", "VK_KHR_ray_tracing_pipeline", "VK_KHR_pipeline_library",
-                           "VK_EXT_pipeline_library_group_handles", "VK_KHR_deferred_host_operations", "VK_KHR_ray_tracing_maintenance1"})
+  for (const char* want :
+       {"VK_KHR_acceleration_structure", "VK_KHR_ray_tracing_pipeline", "VK_KHR_pipeline_library",
+        "VK_EXT_pipeline_library_group_handles", "VK_KHR_deferred_host_operations", "VK_KHR_ray_tracing_maintenance1"})
     EXPECT_EQ(names.count(want), 1u) << want;
   vkDestroyInstance(inst, nullptr);
 }
@@ -115,7 +119,7 @@ TEST_F(RtTest, SpecializationIsPartOfTheHandleAndHundredsOfGroupsAreDistinct) {
 
 // Helper for the cross-process tests (skipped unless run by them).
 TEST_F(RtTest, HelperWriteHandles) {
-  if (!std::getenv("VKRT_H4_OUT")) GTEST_SKIP() << "helper: run by HandlesAreIdenticalInAnotherProcess";
+  if (!std::getenv("VKRT_HELPER_OUT")) GTEST_SKIP() << "helper: run by HandlesAreIdenticalInAnotherProcess";
   Desc d = sixGroups();
   writeOut(hexOf(handles(make(d), 0, 6)));
 }
@@ -134,7 +138,7 @@ TEST_F(RtTest, HandlesAreIdenticalInAnotherProcess) {
 }
 
 TEST_F(RtTest, HelperWriteCapture) {
-  if (!std::getenv("VKRT_H4_OUT")) GTEST_SKIP() << "helper: run by CaptureInOneProcessReplayInAnother";
+  if (!std::getenv("VKRT_HELPER_OUT")) GTEST_SKIP() << "helper: run by CaptureInOneProcessReplayInAnother";
   Desc d = sixGroups(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
   VkPipeline p = make(d);
   writeOut(hexOf(handles(p, 0, 6)) + " " + hexOf(captureData(p, 6)));
@@ -438,9 +442,9 @@ TEST_F(RtMisuseTest, SpecializationRulesAreCheckedForRayTracingStages) {
     uint32_t count;
     const char* vuid;
   } cases[] = {
-      {{{0, 8, 4}}, 1, "VUID-VkSpecializationInfo-offset-00773"},             // offset past dataSize (8)
-      {{{0, 4, 8}}, 1, "VUID-VkSpecializationInfo-pMapEntries-00774"},        // offset + size past dataSize
-      {{{0, 0, 4}, {0, 4, 4}}, 2, "VUID-VkSpecializationInfo-constantID-04911"}, // constant 0 twice
+      {{{0, 8, 4}}, 1, "VUID-VkSpecializationInfo-offset-00773"},                 // offset past dataSize (8)
+      {{{0, 4, 8}}, 1, "VUID-VkSpecializationInfo-pMapEntries-00774"},            // offset + size past dataSize
+      {{{0, 0, 4}, {0, 4, 4}}, 2, "VUID-VkSpecializationInfo-constantID-04911"},  // constant 0 twice
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.vuid);

@@ -1,9 +1,9 @@
 // vkCreateShaderModule: real GLSL compute shaders compiled at build time, and corrupted SPIR-V.
 #include <vector>
 
+#include "compute_fill.comp.spv.h"
+#include "compute_sum.comp.spv.h"
 #include "e2e/fixture.hpp"
-#include "h2_fill.comp.spv.h"
-#include "h2_sum.comp.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -19,8 +19,8 @@ VkResult create(VkDevice device, const uint32_t* words, size_t bytes, VkShaderMo
 
 TEST_F(ShaderModuleTest, RealComputeShadersAreAccepted) {
   VkShaderModule a = VK_NULL_HANDLE, b = VK_NULL_HANDLE;
-  ASSERT_EQ(create(device, kSpv_h2_fill_comp, sizeof(kSpv_h2_fill_comp), &a), VK_SUCCESS);
-  ASSERT_EQ(create(device, kSpv_h2_sum_comp, sizeof(kSpv_h2_sum_comp), &b), VK_SUCCESS);
+  ASSERT_EQ(create(device, kSpv_compute_fill_comp, sizeof(kSpv_compute_fill_comp), &a), VK_SUCCESS);
+  ASSERT_EQ(create(device, kSpv_compute_sum_comp, sizeof(kSpv_compute_sum_comp), &b), VK_SUCCESS);
   EXPECT_NE(a, VK_NULL_HANDLE);
   EXPECT_NE(a, b);
   vkDestroyShaderModule(device, a, nullptr);
@@ -37,7 +37,7 @@ class ShaderModuleMisuseTest : public VulkanTest {
 };
 
 TEST_F(ShaderModuleMisuseTest, SizeAlignmentAndMagicAreChecked) {
-  std::vector<uint32_t> words(kSpv_h2_fill_comp, kSpv_h2_fill_comp + sizeof(kSpv_h2_fill_comp) / 4);
+  std::vector<uint32_t> words(kSpv_compute_fill_comp, kSpv_compute_fill_comp + sizeof(kSpv_compute_fill_comp) / 4);
   VkShaderModule m = VK_NULL_HANDLE;
   EXPECT_EQ(create(device, words.data(), words.size() * 4 - 2, &m), VK_ERROR_INVALID_SHADER_NV);
   expectVkrtMessage("VUID-VkShaderModuleCreateInfo-pCode-01376");
@@ -51,9 +51,9 @@ TEST_F(ShaderModuleMisuseTest, SizeAlignmentAndMagicAreChecked) {
 }
 
 TEST_F(ShaderModuleMisuseTest, CorruptedWordsAreRejectedWithThePosition) {
-  const size_t n = sizeof(kSpv_h2_fill_comp) / 4;
+  const size_t n = sizeof(kSpv_compute_fill_comp) / 4;
   // Truncation in the middle of the instruction stream.
-  std::vector<uint32_t> words(kSpv_h2_fill_comp, kSpv_h2_fill_comp + n);
+  std::vector<uint32_t> words(kSpv_compute_fill_comp, kSpv_compute_fill_comp + n);
   VkShaderModule m = VK_NULL_HANDLE;
   EXPECT_EQ(create(device, words.data(), (n - 3) * 4, &m), VK_ERROR_INVALID_SHADER_NV);
   auto msgs = vkrtMessages();
@@ -74,7 +74,7 @@ TEST_F(ShaderModuleMisuseTest, CorruptedWordsAreRejectedWithThePosition) {
   // crash); at least some are refused.
   int refused = 0;
   for (size_t i = 5; i < n; i += 7) {
-    std::vector<uint32_t> bad(kSpv_h2_fill_comp, kSpv_h2_fill_comp + n);
+    std::vector<uint32_t> bad(kSpv_compute_fill_comp, kSpv_compute_fill_comp + n);
     bad[i] ^= 0x00ff00ffu;
     VkResult r = create(device, bad.data(), n * 4, &m);
     if (r == VK_SUCCESS) {

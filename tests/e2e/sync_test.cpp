@@ -118,7 +118,7 @@ TEST_F(SyncTest, FencesStartSignaledOrNotAndHonourTimeouts) {
   EXPECT_EQ(vkWaitForFences(device, 1, &off, VK_TRUE, 20'000'000), VK_TIMEOUT);  // 20 ms
   EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds(20));
   VkFence both[2] = {on, off};
-  EXPECT_EQ(vkWaitForFences(device, 2, both, VK_FALSE, 0), VK_SUCCESS);  // any
+  EXPECT_EQ(vkWaitForFences(device, 2, both, VK_FALSE, 0), VK_SUCCESS);    // any
   EXPECT_EQ(vkWaitForFences(device, 2, both, VK_TRUE, 1000), VK_TIMEOUT);  // all
   ASSERT_EQ(vkResetFences(device, 1, &on), VK_SUCCESS);
   EXPECT_EQ(vkGetFenceStatus(device, on), VK_NOT_READY);

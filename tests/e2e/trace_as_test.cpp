@@ -34,7 +34,9 @@ class TraceAsTest : public TraceTest {
     cmdWriteProps(cb, 1, &as, type, pool, 0);
     submitAndWait(cb);
     VkDeviceSize v = 0;
-    EXPECT_EQ(vkGetQueryPoolResults(device, pool, 0, 1, sizeof v, &v, sizeof v, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT), VK_SUCCESS);
+    EXPECT_EQ(vkGetQueryPoolResults(device, pool, 0, 1, sizeof v, &v, sizeof v,
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+              VK_SUCCESS);
     vkDestroyQueryPool(device, pool, nullptr);
     return v;
   }
@@ -53,8 +55,10 @@ class TraceAsTest : public TraceTest {
   void barrier(VkCommandBuffer cb) {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR | VK_ACCESS_TRANSFER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+    mb.dstAccessMask =
+        VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0,
+                         nullptr, 0, nullptr);
   }
 
   PFN_vkCmdWriteAccelerationStructuresPropertiesKHR cmdWriteProps = nullptr;
@@ -99,7 +103,8 @@ TEST_F(TraceAsTest, SerializedAndDeserializedStructuresTraceTheSame) {
   ASSERT_GT(tlasBytes, 56u);
   HostBuffer& blasData = buffer(blasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   HostBuffer& tlasData = buffer(tlasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  const VkDeviceAddress blasAt = (addressOf(blasData) + 255) / 256 * 256, tlasAt = (addressOf(tlasData) + 255) / 256 * 256;
+  const VkDeviceAddress blasAt = (addressOf(blasData) + 255) / 256 * 256,
+                        tlasAt = (addressOf(tlasData) + 255) / 256 * 256;
   VkCommandBuffer cb = beginOneTime();
   VkCopyAccelerationStructureToMemoryInfoKHR out{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_TO_MEMORY_INFO_KHR};
   out.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_SERIALIZE_KHR;
@@ -128,10 +133,12 @@ TEST_F(TraceAsTest, SerializedAndDeserializedStructuresTraceTheSame) {
   // Deserialize the bottom level into a new structure, then patch the top level's references to it.
   VkDeviceSize blasSize = 0;
   std::memcpy(&blasSize, blasHeader + 40, 8);
-  VkAccelerationStructureKHR quad2 = empty(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, std::max<VkDeviceSize>(blasSize, 256));
+  VkAccelerationStructureKHR quad2 =
+      empty(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, std::max<VkDeviceSize>(blasSize, 256));
   VkDeviceSize tlasSize = 0;
   std::memcpy(&tlasSize, tlasHeader + 40, 8);
-  VkAccelerationStructureKHR top2 = empty(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::max<VkDeviceSize>(tlasSize, 256));
+  VkAccelerationStructureKHR top2 =
+      empty(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::max<VkDeviceSize>(tlasSize, 256));
   for (uint64_t i = 0; i < sizes[2]; ++i) {
     uint64_t ref;
     std::memcpy(&ref, tlasHeader + 56 + i * 8, 8);
@@ -217,7 +224,8 @@ TEST_F(TraceAsTest, HostBuildsWithADeferredOperationTraceTheSame) {
       EXPECT_EQ(r, VK_OPERATION_DEFERRED_KHR);
       std::thread helper([&] { joinOp(device, op); });
       VkResult j;
-      while ((j = joinOp(device, op)) == VK_THREAD_IDLE_KHR) {}
+      while ((j = joinOp(device, op)) == VK_THREAD_IDLE_KHR) {
+      }
       helper.join();
       EXPECT_EQ(opResult(device, op), VK_SUCCESS);
     } else {
@@ -237,7 +245,8 @@ TEST_F(TraceAsTest, HostBuildsWithADeferredOperationTraceTheSame) {
   t.indexType = VK_INDEX_TYPE_UINT32;
   t.indexData.hostAddress = kQuadIndices.data();
   VkAccelerationStructureKHR quad = hostBuildOf(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, tg, 2, VK_NULL_HANDLE);
-  std::vector<VkAccelerationStructureInstanceKHR> instances = {instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)};
+  std::vector<VkAccelerationStructureInstanceKHR> instances = {instance(quad, 0.1f, 0, 5, 10, 0),
+                                                               instance(quad, 1.6f, 0, 2, 20, 1)};
   for (auto& in : instances) in.accelerationStructureReference = reinterpret_cast<uint64_t>(quad);
   VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;

@@ -61,8 +61,10 @@ inline float cellCentre(uint32_t i, uint32_t n) { return (float(i) + 0.5f) / flo
 
 class TraceTest : public RtTest {
  protected:
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
 
   FixtureOptions options() override {
     FixtureOptions o = RtTest::options();
@@ -115,7 +117,8 @@ class TraceTest : public RtTest {
     lci.pushConstantRangeCount = 1;
     lci.pPushConstantRanges = &pc;
     ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &traceLayout), VK_SUCCESS);
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 4}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 4},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
     pci.maxSets = 4;
@@ -143,9 +146,9 @@ class TraceTest : public RtTest {
     RtTest::TearDown();
   }
 
-  static constexpr VkShaderStageFlags kRtStages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
-                                                  VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR |
-                                                  VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR;
+  static constexpr VkShaderStageFlags kRtStages =
+      VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
+      VK_SHADER_STAGE_ANY_HIT_BIT_KHR | VK_SHADER_STAGE_INTERSECTION_BIT_KHR | VK_SHADER_STAGE_CALLABLE_BIT_KHR;
 
   // A buffer with a device address, kept until the test ends.
   HostBuffer& buffer(VkDeviceSize size, VkBufferUsageFlags usage) {
@@ -159,8 +162,9 @@ class TraceTest : public RtTest {
   }
   template <class T>
   VkDeviceAddress upload(const std::vector<T>& data) {
-    HostBuffer& b = buffer(std::max<size_t>(64, data.size() * sizeof(T)),
-                           VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    HostBuffer& b = buffer(
+        std::max<size_t>(64, data.size() * sizeof(T)),
+        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memcpy(b.data, data.data(), data.size() * sizeof(T));
     return addressOf(b);
   }
@@ -170,7 +174,8 @@ class TraceTest : public RtTest {
     uint32_t primitives = 0;
   };
   // Triangles, float3 vertices, 32-bit indices.
-  Geometry triangles(const std::vector<float>& vertices, const std::vector<uint32_t>& indices, VkGeometryFlagsKHR flags) {
+  Geometry triangles(const std::vector<float>& vertices, const std::vector<uint32_t>& indices,
+                     VkGeometryFlagsKHR flags) {
     Geometry g;
     g.geometry.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
     g.geometry.flags = flags;
@@ -198,8 +203,9 @@ class TraceTest : public RtTest {
   }
 
   // Builds (on the device) an acceleration structure of `type` from `geometries`; returns it.
-  VkAccelerationStructureKHR build(VkAccelerationStructureTypeKHR type, const std::vector<Geometry>& geometries,
-                                   VkBuildAccelerationStructureFlagsKHR flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR) {
+  VkAccelerationStructureKHR build(
+      VkAccelerationStructureTypeKHR type, const std::vector<Geometry>& geometries,
+      VkBuildAccelerationStructureFlagsKHR flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR) {
     std::vector<VkAccelerationStructureGeometryKHR> gs;
     std::vector<uint32_t> counts;
     std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
@@ -216,7 +222,8 @@ class TraceTest : public RtTest {
     info.pGeometries = gs.data();
     VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
     buildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, counts.data(), &sizes);
-    HostBuffer& storage = buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
+    HostBuffer& storage =
+        buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
     VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
     ci.buffer = storage.buffer;
     ci.size = sizes.accelerationStructureSize;
@@ -233,9 +240,10 @@ class TraceTest : public RtTest {
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
     mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, 0, 1, &mb,
-                         0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(
+        cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+        VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, 0, 1,
+        &mb, 0, nullptr, 0, nullptr);
     submitAndWait(cb);
     return as;
   }
@@ -323,8 +331,8 @@ class TraceTest : public RtTest {
   // Traces a width x height launch of `p` over `tlas`; returns the payloads.
   // With `dynamicStackSize` >= 0, vkCmdSetRayTracingPipelineStackSizeKHR sets it (the pipeline must have the
   // dynamic state).
-  std::vector<TracePayload> trace(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR tlas, uint32_t width, uint32_t height,
-                                  const TraceParams& params = {}, int64_t dynamicStackSize = -1) {
+  std::vector<TracePayload> trace(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR tlas, uint32_t width,
+                                  uint32_t height, const TraceParams& params = {}, int64_t dynamicStackSize = -1) {
     HostBuffer& out = buffer(sizeof(TracePayload) * width * height, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memset(out.data, 0xee, out.size);
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -337,7 +345,8 @@ class TraceTest : public RtTest {
     asw.accelerationStructureCount = 1;
     asw.pAccelerationStructures = &tlas;
     VkDescriptorBufferInfo bo{out.buffer, 0, VK_WHOLE_SIZE}, bs{spheres.buffer, 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet w[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+    VkWriteDescriptorSet w[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw},
+                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
                                  {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
     for (uint32_t i = 0; i < 3; ++i) {
       w[i].dstSet = set;
@@ -372,14 +381,16 @@ class TraceTest : public RtTest {
     VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
     return tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});
   }
-  // raygen, miss, a triangle hit group with trace_chit: traced with sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}, {2, {101}}}).
+  // raygen, miss, a triangle hit group with trace_chit: traced with sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}, {2,
+  // {101}}}).
   Desc basicDesc(VkPipelineCreateFlags flags = 0) {
     Desc d;
     d.layout = traceLayout;
     d.flags = flags;
     d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+    d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+            d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
     return d;
   }
   // Checks an n x n launch over the basic scene against the hits computed from its geometry.

@@ -27,9 +27,11 @@ class TraceMisuseTest : public TraceTest {
   // Asserts one vkrt report naming `vuid` (null: a report without one) whose text contains each of `parts`.
   void expectReport(const char* vuid, std::initializer_list<const char*> parts) {
     auto msgs = vkrtMessages();
-    ASSERT_EQ(msgs.size(), 1u) << "expected one report naming " << (vuid ? vuid : "no VUID") << (msgs.empty() ? "" : ", first: " + msgs[0].text);
+    ASSERT_EQ(msgs.size(), 1u) << "expected one report naming " << (vuid ? vuid : "no VUID")
+                               << (msgs.empty() ? "" : ", first: " + msgs[0].text);
     EXPECT_EQ(msgs[0].idName, vuid ? vuid : "vkrt") << msgs[0].text;
-    for (const char* p : parts) EXPECT_NE(msgs[0].text.find(p), std::string::npos) << "missing \"" << p << "\" in: " << msgs[0].text;
+    for (const char* p : parts)
+      EXPECT_NE(msgs[0].text.find(p), std::string::npos) << "missing \"" << p << "\" in: " << msgs[0].text;
     clearMessages();
   }
   VkAccelerationStructureKHR quad = VK_NULL_HANDLE, top = VK_NULL_HANDLE;
@@ -54,7 +56,8 @@ TEST_F(TraceMisuseTest, AHandleOfAnotherPipelineInTheSbtIsReportedWithItsGroupAn
   std::vector<TracePayload> r = trace(p, s, top, 4, 4);
   char pipe[32];
   std::snprintf(pipe, sizeof pipe, "0x%llx", (unsigned long long)reinterpret_cast<uintptr_t>(q));
-  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 0", "procedural hit group", "\"main\"", pipe, "neither the bound pipeline"});
+  expectReport("VUID-vkCmdTraceRaysKHR-None-03429",
+               {"hit record 0", "procedural hit group", "\"main\"", pipe, "neither the bound pipeline"});
   EXPECT_EQ(r[5].hit[0], -1.0f) << "the hit's closest-hit shader did not run (the payload is as raygen set it)";
 }
 
@@ -65,7 +68,8 @@ TEST_F(TraceMisuseTest, GarbageInTheSbtIsReportedOnceAndNotRun) {
   Sbt s = sbtFrom(h, {0}, {{1, {7}}}, {{2, {100}}});
   clearMessages();
   std::vector<TracePayload> r = trace(p, s, top, 4, 4);
-  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 0", "does not hold a shader group handle of this device"});
+  expectReport("VUID-vkCmdTraceRaysKHR-None-03429",
+               {"hit record 0", "does not hold a shader group handle of this device"});
   EXPECT_EQ(r[5].hit[0], -1.0f);
   EXPECT_EQ(r[0].hit[0], -2.0f) << "rays that miss still run the miss shader";
 }
@@ -85,13 +89,15 @@ TEST_F(TraceMisuseTest, AProceduralHitGroupUsedForTrianglesIsReported) {
   d.layout = traceLayout;
   d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR),
-          VK_SHADER_UNUSED_KHR, d.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR));
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR), VK_SHADER_UNUSED_KHR,
+          d.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR));
   VkPipeline p = make(d);
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
   clearMessages();
   std::vector<TracePayload> r = trace(p, s, top, 4, 4);
-  expectReport("VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735", {"hit record 0", "triangle", "procedural hit group"});
+  expectReport("VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735",
+               {"hit record 0", "triangle", "procedural hit group"});
   EXPECT_EQ(r[5].hit[0], -1.0f);
 }
 
@@ -104,7 +110,8 @@ TEST_F(TraceMisuseTest, AnUndersizedDynamicStackIsReportedWithTheShaderChain) {
   d.layout = traceLayout;
   d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
   VkRayTracingPipelineCreateInfoKHR* unused = nullptr;
   (void)unused;
   d.pNext = nullptr;
@@ -128,7 +135,8 @@ TEST_F(TraceMisuseTest, AnUndersizedDynamicStackIsReportedWithTheShaderChain) {
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
   clearMessages();
   std::vector<TracePayload> r = trace(p, s, top, 4, 4, {}, int64_t(raygenStack) - 1);
-  expectReport("VUID-vkCmdSetRayTracingPipelineStackSizeKHR-pipelineStackSize-03610", {"call chain", "raygen shader \"main\"", "more than the pipeline stack size"});
+  expectReport("VUID-vkCmdSetRayTracingPipelineStackSizeKHR-pipelineStackSize-03610",
+               {"call chain", "raygen shader \"main\"", "more than the pipeline stack size"});
   EXPECT_EQ(r[0].ids[0], 0xeeeeeeeeu) << "the raygen shader did not run: the output keeps its fill pattern";
   // With exactly the raygen shader's stack size, the launch runs.
   r = trace(p, s, top, 4, 4, {}, int64_t(raygenStack));

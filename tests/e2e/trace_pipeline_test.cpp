@@ -34,7 +34,8 @@ TEST_F(TraceLibraryTest, APipelineLinkedFromLibrariesTracesWithTheLibrariesHandl
   b.flags = VK_PIPELINE_CREATE_LIBRARY_BIT_KHR;
   b.maxPayload = sizeof(TracePayload);
   b.maxHitAttr = 8;
-  b.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, b.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  b.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          b.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
   VkPipeline libB = make(b);
   ASSERT_TRUE(libA && libB);
   Desc linked;
@@ -58,7 +59,8 @@ class TraceReplayTest : public TraceTest {};
 // Run by the test below in a process of its own: the basic pipeline created for capture, its handles and capture
 // data written out as hex ("handles capture").
 TEST_F(TraceReplayTest, HelperWriteHandlesAndCapture) {
-  if (!std::getenv("VKRT_H4_OUT")) GTEST_SKIP() << "run by TraceReplayTest.AReplayedPipelineTracesWithHandlesFromTheCaptureProcess";
+  if (!std::getenv("VKRT_HELPER_OUT"))
+    GTEST_SKIP() << "run by TraceReplayTest.AReplayedPipelineTracesWithHandlesFromTheCaptureProcess";
   Desc d = basicDesc(VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR);
   VkPipeline p = make(d);
   ASSERT_NE(p, VK_NULL_HANDLE);
@@ -101,7 +103,8 @@ class TraceCallsTest : public TraceTest {
     d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
-            d.stage(module(kSpv_trace_chit_calls_rchit, sizeof kSpv_trace_chit_calls_rchit), VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+            d.stage(module(kSpv_trace_chit_calls_rchit, sizeof kSpv_trace_chit_calls_rchit),
+                    VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
     d.general(module(kSpv_trace_callable_rcall, sizeof kSpv_trace_callable_rcall), VK_SHADER_STAGE_CALLABLE_BIT_KHR);
     return make(d);
   }
@@ -153,7 +156,8 @@ TEST_F(TraceCallsMisuseTest, RecursionDeeperThanThePipelineAllowsIsReportedAndNo
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u) << "one report for the whole launch";
   EXPECT_EQ(msgs[0].idName, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679");
-  EXPECT_NE(msgs[0].text.find("closest-hit shader \"main\" calls traceRayEXT at recursion depth 2"), std::string::npos) << msgs[0].text;
+  EXPECT_NE(msgs[0].text.find("closest-hit shader \"main\" calls traceRayEXT at recursion depth 2"), std::string::npos)
+      << msgs[0].text;
   clearMessages();
   const TracePayload& q = r[3 * 8 + 3];
   EXPECT_NEAR(q.hit[0], 13.0f, 1e-4f) << "the closest-hit shader ran";

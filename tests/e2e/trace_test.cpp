@@ -45,8 +45,10 @@ class TraceFlags : public TraceTest {
 TEST_F(TraceFlags, RayFlagsInstanceFlagsMasksAndMissIndex) {
   VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
   VkAccelerationStructureKHR plain = tlas({instance(quad, 0, 0, 5, 1, 0, 0x01)});
-  VkAccelerationStructureKHR flipped = tlas({instance(quad, 0, 0, 5, 2, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FLIP_FACING_BIT_KHR)});
-  VkAccelerationStructureKHR noCull = tlas({instance(quad, 0, 0, 5, 3, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)});
+  VkAccelerationStructureKHR flipped =
+      tlas({instance(quad, 0, 0, 5, 2, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FLIP_FACING_BIT_KHR)});
+  VkAccelerationStructureKHR noCull =
+      tlas({instance(quad, 0, 0, 5, 3, 0, 0x01, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)});
   VkPipeline p = pipeline(false);
   ASSERT_NE(p, VK_NULL_HANDLE);
   Sbt s = sbt(p, 3, {0}, {{1, {7}}, {1, {8}}}, {{2, {100}}});
@@ -96,7 +98,9 @@ TEST_F(TraceFlags, AnyHitAcceptIgnoreTerminateAndOpacity) {
   for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
   std::vector<float> q3 = kQuad;
   for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
-  VkAccelerationStructureKHR b = blas({triangles(q3, kQuadIndices, 0), triangles(q5, kQuadIndices, VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR)});
+  VkAccelerationStructureKHR b =
+      blas({triangles(q3, kQuadIndices, 0),
+            triangles(q5, kQuadIndices, VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR)});
   VkAccelerationStructureKHR top = tlas({instance(b)});
   VkPipeline p = pipeline(true);
   ASSERT_NE(p, VK_NULL_HANDLE);
@@ -129,7 +133,8 @@ TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
   // Two spheres (radius 0.5) in their boxes: primitive 0 centred at (-1, -1, 4), primitive 1 at (1, 1, 6); in an
   // instance moved by +1 along z.
   setSpheres({{-1, -1, 4, 0.5f}, {1, 1, 6, 0.5f}});
-  VkAccelerationStructureKHR b = blas({aabbs({{-1.5f, -1.5f, 3.5f, -0.5f, -0.5f, 4.5f}, {0.5f, 0.5f, 5.5f, 1.5f, 1.5f, 6.5f}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR b = blas({aabbs(
+      {{-1.5f, -1.5f, 3.5f, -0.5f, -0.5f, 4.5f}, {0.5f, 0.5f, 5.5f, 1.5f, 1.5f, 6.5f}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
   VkAccelerationStructureKHR top = tlas({instance(b, 0, 0, 1, 9)});
   Desc d;
   d.layout = traceLayout;

@@ -160,7 +160,8 @@ TEST_F(ComputePipelineSharing, SpecializationMapEntryOutOfRangeIsReported) {
   VkSpecializationMapEntry e{0, 2, 4};
   VkSpecializationInfo spec{1, &e, 4, &v};
   VkPipeline p = VK_NULL_HANDLE;
-  EXPECT_EQ(create(kSpv_compute_push_spec_comp, sizeof kSpv_compute_push_spec_comp, &p, &spec), VK_ERROR_VALIDATION_FAILED_EXT);
+  EXPECT_EQ(create(kSpv_compute_push_spec_comp, sizeof kSpv_compute_push_spec_comp, &p, &spec),
+            VK_ERROR_VALIDATION_FAILED_EXT);
   EXPECT_EQ(p, VK_NULL_HANDLE);
 }
 

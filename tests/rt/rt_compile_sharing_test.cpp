@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <vector>
 
-#include "h4_chit.rchit.spv.h"
-#include "h4_miss.rmiss.spv.h"
-#include "h4_raygen.rgen.spv.h"
+#include "pipeline_chit.rchit.spv.h"
+#include "pipeline_miss.rmiss.spv.h"
+#include "pipeline_raygen.rgen.spv.h"
 #include "runtime/shader_cache.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -23,7 +23,8 @@ class RtCompileSharing : public ::testing::Test {
     uint32_t n = 1;
     VkPhysicalDevice pd = VK_NULL_HANDLE;
     ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
-    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
     rt.rayTracingPipeline = VK_TRUE;
     const char* extensions[] = {VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME,
                                 VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
@@ -42,9 +43,9 @@ class RtCompileSharing : public ::testing::Test {
     lci.pushConstantRangeCount = 1;
     lci.pPushConstantRanges = &pc;
     ASSERT_EQ(vkrt_CreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
-    raygen = module(kSpv_h4_raygen_rgen, sizeof kSpv_h4_raygen_rgen);
-    miss = module(kSpv_h4_miss_rmiss, sizeof kSpv_h4_miss_rmiss);
-    chit = module(kSpv_h4_chit_rchit, sizeof kSpv_h4_chit_rchit);
+    raygen = module(kSpv_pipeline_raygen_rgen, sizeof kSpv_pipeline_raygen_rgen);
+    miss = module(kSpv_pipeline_miss_rmiss, sizeof kSpv_pipeline_miss_rmiss);
+    chit = module(kSpv_pipeline_chit_rchit, sizeof kSpv_pipeline_chit_rchit);
   }
   void TearDown() override {
     for (VkPipeline p : pipelines) vkrt_DestroyPipeline(device, p, nullptr);
@@ -64,8 +65,9 @@ class RtCompileSharing : public ::testing::Test {
   }
 
   // A pipeline (or a library) of general groups for `generals` and one triangle hit group per `hits`.
-  VkPipeline create(std::vector<std::pair<VkShaderModule, VkShaderStageFlagBits>> generals, std::vector<VkShaderModule> hits,
-                    std::vector<VkPipeline> libraries = {}, VkPipelineCreateFlags flags = 0) {
+  VkPipeline create(std::vector<std::pair<VkShaderModule, VkShaderStageFlagBits>> generals,
+                    std::vector<VkShaderModule> hits, std::vector<VkPipeline> libraries = {},
+                    VkPipelineCreateFlags flags = 0) {
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     std::vector<VkRayTracingShaderGroupCreateInfoKHR> groups;
     auto stage = [&](VkShaderModule m, VkShaderStageFlagBits s) {
@@ -108,7 +110,8 @@ class RtCompileSharing : public ::testing::Test {
     ci.layout = layout;
     ci.basePipelineIndex = -1;
     VkPipeline p = VK_NULL_HANDLE;
-    EXPECT_EQ(vkrt_CreateRayTracingPipelinesKHR(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
+    EXPECT_EQ(vkrt_CreateRayTracingPipelinesKHR(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p),
+              VK_SUCCESS);
     if (p) pipelines.push_back(p);
     return p;
   }
@@ -130,7 +133,8 @@ TEST_F(RtCompileSharing, LinkingALibraryCompilesNothingAndShadersCompileOncePerD
   EXPECT_EQ(shaderCompileCount(), before + 3);
   // Another one linking the same library, and one repeating the library's shaders as its own: nothing new.
   ASSERT_NE(create({{raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR}}, {}, {library}), VK_NULL_HANDLE);
-  ASSERT_NE(create({{raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR}, {miss, VK_SHADER_STAGE_MISS_BIT_KHR}}, {chit}), VK_NULL_HANDLE);
+  ASSERT_NE(create({{raygen, VK_SHADER_STAGE_RAYGEN_BIT_KHR}, {miss, VK_SHADER_STAGE_MISS_BIT_KHR}}, {chit}),
+            VK_NULL_HANDLE);
   EXPECT_EQ(shaderCompileCount(), before + 3);
 }
 

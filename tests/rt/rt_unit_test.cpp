@@ -8,15 +8,15 @@
 #include <set>
 #include <thread>
 
-#include "h4_ahit.rahit.spv.h"
-#include "h4_call.rcall.spv.h"
-#include "h4_chit.rchit.spv.h"
-#include "h4_chit_callable.rchit.spv.h"
-#include "h4_miss.rmiss.spv.h"
-#include "h4_miss2.rmiss.spv.h"
-#include "h4_raygen.rgen.spv.h"
-#include "h4_raygen_big.rgen.spv.h"
-#include "h4_rint.rint.spv.h"
+#include "pipeline_ahit.rahit.spv.h"
+#include "pipeline_call.rcall.spv.h"
+#include "pipeline_chit.rchit.spv.h"
+#include "pipeline_chit_callable.rchit.spv.h"
+#include "pipeline_miss.rmiss.spv.h"
+#include "pipeline_miss2.rmiss.spv.h"
+#include "pipeline_raygen.rgen.spv.h"
+#include "pipeline_raygen_big_payload.rgen.spv.h"
+#include "pipeline_rint.rint.spv.h"
 #include "rt/group_handles.hpp"
 #include "rt/stack_size.hpp"
 #include "runtime/shader_module.hpp"
@@ -60,9 +60,9 @@ TEST(Hash128, StableAndSensitive) {
 
 TEST(GroupRegistry, SameContentSameHandleDifferentContentDifferentHandle) {
   GroupRegistry reg;
-  auto m1 = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  auto m1b = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);  // another module object, same words
-  auto m2 = shader(kSpv_h4_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m1 = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m1b = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);  // another module object, same words
+  auto m2 = shader(kSpv_pipeline_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
   const GroupRecord* a = reg.acquire(general(m1), nullptr);
   const GroupRecord* b = reg.acquire(general(m1b), nullptr);
   const GroupRecord* c = reg.acquire(general(m2), nullptr);
@@ -73,18 +73,18 @@ TEST(GroupRegistry, SameContentSameHandleDifferentContentDifferentHandle) {
   GroupRegistry other;
   EXPECT_EQ(other.acquire(general(m2), nullptr)->handle, c->handle);
   // Specialization and entry point name are part of the content.
-  auto s1 = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR, {{0, std::string("\1\0\0\0", 4)}});
-  auto s2 = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR, {{0, std::string("\2\0\0\0", 4)}});
+  auto s1 = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR, {{0, std::string("\1\0\0\0", 4)}});
+  auto s2 = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR, {{0, std::string("\2\0\0\0", 4)}});
   EXPECT_NE(reg.acquire(general(s1), nullptr)->handle, reg.acquire(general(s2), nullptr)->handle);
   EXPECT_NE(reg.acquire(general(s1), nullptr)->handle, a->handle);
-  auto named = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto named = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
   named->entry = "other";
   EXPECT_NE(reg.acquire(general(named), nullptr)->handle, a->handle);
 }
 
 TEST(GroupRegistry, HandleLayoutAndDecode) {
   GroupRegistry reg;
-  const GroupRecord* r = reg.acquire(general(shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR)), nullptr);
+  const GroupRecord* r = reg.acquire(general(shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR)), nullptr);
   const uint8_t* h = r->handle.data();
   uint32_t slot, check, type, magic;
   std::memcpy(&slot, h, 4);
@@ -109,8 +109,8 @@ TEST(GroupRegistry, HandleLayoutAndDecode) {
 
 TEST(GroupRegistry, SlotCollisionIsPerturbedDeterministically) {
   // Fill the slot the next group would take with a replayed group whose capture data names that slot.
-  auto m = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  auto m2 = shader(kSpv_h4_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m2 = shader(kSpv_pipeline_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
   GroupRegistry probe;
   const GroupRecord* want = probe.acquire(general(m), nullptr);
   GroupRegistry scratch;
@@ -132,8 +132,8 @@ TEST(GroupRegistry, SlotCollisionIsPerturbedDeterministically) {
 }
 
 TEST(CaptureReplay, RoundTripAndRefusals) {
-  auto m = shader(kSpv_h4_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  auto m2 = shader(kSpv_h4_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  auto m2 = shader(kSpv_pipeline_miss2_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
   GroupRegistry capture;
   const GroupRecord* orig = capture.acquire(general(m), nullptr);
   auto data = orig->captureData();
@@ -159,7 +159,7 @@ TEST(CaptureReplay, RoundTripAndRefusals) {
   EXPECT_NE(e.reason.find("other shaders"), std::string::npos) << e.reason;
   GroupDesc hit;
   hit.type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
-  hit.shaders[kClosestHit] = shader(kSpv_h4_chit_rchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  hit.shaders[kClosestHit] = shader(kSpv_pipeline_chit_rchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
   EXPECT_EQ(replay.replay(hit, data.data(), &e), nullptr);
   EXPECT_NE(e.reason.find("GENERAL"), std::string::npos) << e.reason;
 }

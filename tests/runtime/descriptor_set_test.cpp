@@ -5,17 +5,17 @@
 #include <cstring>
 #include <vector>
 
-#include "runtime/alloc.hpp"
 #include "runtime/acceleration_structure.hpp"
+#include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/descriptor_set.hpp"
 #include "runtime/descriptor_set_layout.hpp"
 #include "runtime/device.hpp"
 #include "runtime/instance.hpp"
+#include "runtime/physical_device.hpp"
 #include "runtime/pipeline_cache.hpp"
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/query_pool.hpp"
-#include "runtime/physical_device.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -31,7 +31,8 @@ class DescriptorStorage : public ::testing::Test {
     // Built directly (not with vkCreateDevice) so that VK_KHR_acceleration_structure can be "enabled" before
     // vkrt advertises it: the descriptor storage for it exists already.
     const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME};
-    VkPhysicalDeviceAccelerationStructureFeaturesKHR fas{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR fas{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
     fas.accelerationStructure = VK_TRUE;
     VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &fas};
     f12.descriptorBindingPartiallyBound = VK_TRUE;
@@ -74,7 +75,8 @@ class DescriptorStorage : public ::testing::Test {
     VkDescriptorSetLayoutBindingFlagsCreateInfo bf{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
     bf.bindingCount = static_cast<uint32_t>(flags.size());
     bf.pBindingFlags = flags.data();
-    VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, flags.empty() ? nullptr : &bf};
+    VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+                                       flags.empty() ? nullptr : &bf};
     ci.bindingCount = static_cast<uint32_t>(bindings.size());
     ci.pBindings = bindings.data();
     VkDescriptorSetLayout l = VK_NULL_HANDLE;
@@ -161,7 +163,8 @@ TEST_F(DescriptorStorage, BufferWritesStoreAddressAndRangeAndCrossIntoConsecutiv
                                         {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, kCompute, nullptr}});
   VkDescriptorPool pool = makePool();
   DescriptorSet* set = allocate(pool, l);
-  VkDescriptorBufferInfo infos[3] = {{toHandle(buf), 0, 256}, {toHandle(buf), 64, VK_WHOLE_SIZE}, {toHandle(buf), 1024, 16}};
+  VkDescriptorBufferInfo infos[3] = {
+      {toHandle(buf), 0, 256}, {toHandle(buf), 64, VK_WHOLE_SIZE}, {toHandle(buf), 1024, 16}};
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = toHandle(set);
   w.dstBinding = 0;
@@ -236,7 +239,8 @@ TEST_F(DescriptorStorage, ImmutableSamplersImagesAndTemplates) {
   data.sampler = {immutable[0], VK_NULL_HANDLE, VK_IMAGE_LAYOUT_UNDEFINED};
   VkDescriptorUpdateTemplateEntry entries[3] = {
       {0, 0, 2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, offsetof(Data, images), sizeof(VkDescriptorImageInfo)},
-      {1, 0, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, offsetof(Data, images) + 2 * sizeof(VkDescriptorImageInfo), 0},
+      {1, 0, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, offsetof(Data, images) + 2 * sizeof(VkDescriptorImageInfo),
+       0},
       {2, 0, 1, VK_DESCRIPTOR_TYPE_SAMPLER, offsetof(Data, sampler), 0}};
   VkDescriptorUpdateTemplateCreateInfo tci{VK_STRUCTURE_TYPE_DESCRIPTOR_UPDATE_TEMPLATE_CREATE_INFO};
   tci.descriptorUpdateEntryCount = 3;

@@ -58,9 +58,11 @@ TEST_F(FeatureTables, EveryCoreAndPromotedPropertyStructureIsWritten) {
       }
     } else {
       // A Vulkan 1.x properties structure: a copy of the device's.
-      const void* ours = ps.sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES   ? static_cast<const void*>(&pd->properties11)
-                         : ps.sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES ? static_cast<const void*>(&pd->properties12)
-                                                                                               : static_cast<const void*>(&pd->properties13);
+      const void* ours = ps.sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES
+                             ? static_cast<const void*>(&pd->properties11)
+                         : ps.sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES
+                             ? static_cast<const void*>(&pd->properties12)
+                             : static_cast<const void*>(&pd->properties13);
       EXPECT_EQ(std::memcmp(bytes + 16, static_cast<const uint8_t*>(ours) + 16, ps.size - 16), 0);
     }
     ++checked;
@@ -71,7 +73,8 @@ TEST_F(FeatureTables, EveryCoreAndPromotedPropertyStructureIsWritten) {
 TEST_F(FeatureTables, PromotedPropertiesAgreeWithTheCoreStructures) {
   VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceFloatControlsProperties fc{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES, &sub};
-  std::memset(&fc.denormBehaviorIndependence, 0xCD, sizeof fc - offsetof(VkPhysicalDeviceFloatControlsProperties, denormBehaviorIndependence));
+  std::memset(&fc.denormBehaviorIndependence, 0xCD,
+              sizeof fc - offsetof(VkPhysicalDeviceFloatControlsProperties, denormBehaviorIndependence));
   VkPhysicalDeviceMaintenance4Properties m4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES, &fc};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &m4};
   pd->fillProperties(&p2);
@@ -115,7 +118,8 @@ TEST_F(FeatureTables, EveryFeatureStructureReportsWhatIsSupported) {
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {
   VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
   atomics.shaderBufferInt64Atomics = VK_TRUE;  // promoted to Vulkan 1.2, not supported by vkrt
-  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES, &atomics};
+  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
+                                                   &atomics};
   scalar.scalarBlockLayout = VK_TRUE;
   VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &scalar};
   EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceShaderAtomicInt64Features::shaderBufferInt64Atomics");

@@ -70,8 +70,8 @@ class ImageCopy : public ::testing::Test {
 };
 
 // Byte offset of texel (x, y, z) of (mip, layer) in the documented layout, computed from scratch.
-size_t layoutOffset(VkExtent3D e, uint32_t layers, uint32_t texel, uint32_t mip, uint32_t layer, uint32_t x,
-                    uint32_t y, uint32_t z) {
+size_t layoutOffset(VkExtent3D e, uint32_t layers, uint32_t texel, uint32_t mip, uint32_t layer, uint32_t x, uint32_t y,
+                    uint32_t z) {
   size_t off = 0;
   for (uint32_t m = 0; m < mip; ++m) {
     size_t w = std::max(1u, e.width >> m), h = std::max(1u, e.height >> m), d = std::max(1u, e.depth >> m);

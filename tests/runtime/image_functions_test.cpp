@@ -11,7 +11,6 @@
 namespace vkrt {
 namespace {
 
-
 float asFloat(uint32_t u) {
   float f;
   std::memcpy(&f, &u, 4);

@@ -4,9 +4,9 @@
 #include <cstring>
 
 #include "icd/entrypoint_table.hpp"
-#include "runtime/object.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
+#include "runtime/object.hpp"
 
 namespace vkrt {
 namespace {

@@ -125,7 +125,8 @@ uint32_t offsetOf(const std::vector<uint32_t>& w, spv::Op op) {
   return 0;
 }
 
-std::shared_ptr<spirv::CompiledShader> compileWords(const std::vector<uint32_t>& w, bool inlineFunctions, std::string* error) {
+std::shared_ptr<spirv::CompiledShader> compileWords(const std::vector<uint32_t>& w, bool inlineFunctions,
+                                                    std::string* error) {
   spirv::CompileRequest r;
   r.words = w.data();
   r.wordCount = w.size();
@@ -142,7 +143,8 @@ TEST(SpirvAssembly, FunctionCallsWithPointerParametersAndLoopPhis) {
     h.zeroBuffer<uint32_t>(0, 12);
     ASSERT_TRUE(h.run(3));
     auto r = h.get<uint32_t>(0);
-    for (uint32_t g = 0; g < 12; ++g) EXPECT_EQ(r[g], 3 * (g * (g + 1) * (2 * g + 1) / 6)) << "inlined " << inl << ", invocation " << g;
+    for (uint32_t g = 0; g < 12; ++g)
+      EXPECT_EQ(r[g], 3 * (g * (g + 1) * (2 * g + 1) / 6)) << "inlined " << inl << ", invocation " << g;
   }
 }
 

@@ -7,15 +7,15 @@
 #include <cstring>
 #include <vector>
 
-#include "compute_h9_bda.comp.spv.h"
-#include "compute_h9_small_types.comp.spv.h"
+#include "compute_bda_linked_list.comp.spv.h"
+#include "compute_small_types.comp.spv.h"
 #include "spirv/compute_harness.hpp"
 #include "spirv/small_types_reference.hpp"
 
 namespace vkrt {
 namespace {
 
-// Nodes of the linked list compute_h9_bda.comp walks (std430: v at 0, next at 16, tag at 24; 32 bytes).
+// Nodes of the linked list compute_bda_linked_list.comp walks (std430: v at 0, next at 16, tag at 24; 32 bytes).
 struct Node {
   float v[4];
   uint64_t next;
@@ -26,7 +26,7 @@ static_assert(sizeof(Node) == 32);
 
 TEST(SpirvCompilerBda, LinkedListThroughDeviceAddresses) {
   testing::ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_compute_h9_bda_comp)) << h.error;
+  ASSERT_TRUE(h.compile(kSpv_compute_bda_linked_list_comp)) << h.error;
   std::vector<Node> nodes(5);
   for (uint32_t k = 0; k < 5; ++k) {
     nodes[k] = Node{{float(10 * k + 1), float(k + 7), 0.0f, -1.0f}, 0, 100 + k, 0};
@@ -55,7 +55,7 @@ TEST(SpirvCompilerBda, LinkedListThroughDeviceAddresses) {
 
 TEST(SpirvCompilerSmallTypes, EightAndSixteenBitStorageAndArithmetic) {
   testing::ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_compute_h9_small_types_comp)) << h.error;
+  ASSERT_TRUE(h.compile(kSpv_compute_small_types_comp)) << h.error;
   using namespace vkrt::testing;
   SmallIn in = smallInput();
   h.setBuffer(0, std::vector<SmallIn>{in});

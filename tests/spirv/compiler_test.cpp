@@ -72,18 +72,42 @@ TEST(SpirvCompiler, IntegerFloatBoolArithmetic) {
     int32_t x = a[i], y = b[i];
     uint32_t ux = uint32_t(x), uy = uint32_t(y);
     int32_t want[24] = {
-        int32_t(ux + uy), int32_t(ux - uy), int32_t(ux * uy), y ? x / y : 0, smod(x, y),
-        int32_t(uy ? ux / uy : 0u), int32_t(uy ? ux % uy : 0u), x & y, x | y, x ^ y, ~x,
-        int32_t(ux << (uy & 31)), x >> (y & 31), int32_t(ux >> (uy & 31)),
-        (x < y ? 1 : 0) | (x <= y ? 2 : 0) | (x > y ? 4 : 0) | (x >= y ? 8 : 0) | (x == y ? 16 : 0) | (x != y ? 32 : 0) |
-            (ux < uy ? 64 : 0) | (ux > uy ? 128 : 0),
-        int32_t(0u - ux), std::popcount(ux), findMsbS(x), x == 0 ? -1 : std::countr_zero(ux), bitExtractS(x, 3, 7),
-        int32_t((ux >> 5) & 511u), int32_t((ux & ~0xff0u) | ((uy & 0xffu) << 4)), int32_t(reverseBits(ux)),
+        int32_t(ux + uy),
+        int32_t(ux - uy),
+        int32_t(ux * uy),
+        y ? x / y : 0,
+        smod(x, y),
+        int32_t(uy ? ux / uy : 0u),
+        int32_t(uy ? ux % uy : 0u),
+        x & y,
+        x | y,
+        x ^ y,
+        ~x,
+        int32_t(ux << (uy & 31)),
+        x >> (y & 31),
+        int32_t(ux >> (uy & 31)),
+        (x < y ? 1 : 0) | (x <= y ? 2 : 0) | (x > y ? 4 : 0) | (x >= y ? 8 : 0) | (x == y ? 16 : 0) |
+            (x != y ? 32 : 0) | (ux < uy ? 64 : 0) | (ux > uy ? 128 : 0),
+        int32_t(0u - ux),
+        std::popcount(ux),
+        findMsbS(x),
+        x == 0 ? -1 : std::countr_zero(ux),
+        bitExtractS(x, 3, 7),
+        int32_t((ux >> 5) & 511u),
+        int32_t((ux & ~0xff0u) | ((uy & 0xffu) << 4)),
+        int32_t(reverseBits(ux)),
         ((x > 0 && y > 0) ? 1 : 0) | ((x > 0 || y > 0) ? 2 : 0) | (((x > 0) != (y > 0)) ? 4 : 0) | (!(x > 0) ? 8 : 0)};
-    for (int k = 0; k < 24; ++k) EXPECT_EQ(r[i * 24 + k], want[k]) << "output " << k << " of invocation " << i << " (a=" << x << " b=" << y << ")";
+    for (int k = 0; k < 24; ++k)
+      EXPECT_EQ(r[i * 24 + k], want[k]) << "output " << k << " of invocation " << i << " (a=" << x << " b=" << y << ")";
     float fa = float(x) * 0.25f, fb = float(y) * 0.5f;
-    float wf[8] = {fa + fb, fa - fb, fa * fb, fb != 0 ? fa / fb : 0.0f, fb != 0 ? fa - fb * std::floor(fa / fb) : 0.0f,
-                   float(int32_t(fa * 3.0f)), float(uint32_t(std::fabs(fa))), (fa < fb ? 1.0f : 0.0f) + (fa >= fb ? 2.0f : 0.0f)};
+    float wf[8] = {fa + fb,
+                   fa - fb,
+                   fa * fb,
+                   fb != 0 ? fa / fb : 0.0f,
+                   fb != 0 ? fa - fb * std::floor(fa / fb) : 0.0f,
+                   float(int32_t(fa * 3.0f)),
+                   float(uint32_t(std::fabs(fa))),
+                   (fa < fb ? 1.0f : 0.0f) + (fa >= fb ? 2.0f : 0.0f)};
     for (int k = 0; k < 8; ++k) expectNear(f[i * 8 + k], wf[k], 1e-5f, "float output", i * 8 + k);
   }
 }
@@ -211,15 +235,39 @@ TEST(SpirvCompiler, GlslStd450) {
     float bl = std::sqrt(bx * bx + by * by + bz * bz);
     float nbx = bx / bl, nby = by / bl, nbz = bz / bl;
     float d2 = 2.0f * (ax * nbx + ay * nby + az * nbz);
-    float want[32] = {std::sin(a), std::cos(a), std::tan(a * 0.3f), std::exp(a * 0.5f), std::log(std::fabs(a) + 1.0f),
-                      std::pow(std::fabs(a) + 0.5f, 1.7f), std::sqrt(std::fabs(a)), 1.0f / std::sqrt(std::fabs(a) + 1.0f),
-                      std::floor(a), std::ceil(a), a - std::floor(a), clampf(a, -1.0f, 1.5f), a + (b - a) * 0.25f,
-                      a < 0.5f ? 0.0f : 1.0f, t * t * (3.0f - 2.0f * t), std::atan2(a, b + 3.0f), std::min(a, b),
-                      std::max(a, b), a > 0 ? 1.0f : a < 0 ? -1.0f : 0.0f, std::round(a), std::trunc(a),
-                      std::exp2(a * 0.5f), std::log2(std::fabs(a) + 1.0f), std::asin(clampf(a * 0.2f, -1.0f, 1.0f)), len,
+    float want[32] = {std::sin(a),
+                      std::cos(a),
+                      std::tan(a * 0.3f),
+                      std::exp(a * 0.5f),
+                      std::log(std::fabs(a) + 1.0f),
+                      std::pow(std::fabs(a) + 0.5f, 1.7f),
+                      std::sqrt(std::fabs(a)),
+                      1.0f / std::sqrt(std::fabs(a) + 1.0f),
+                      std::floor(a),
+                      std::ceil(a),
+                      a - std::floor(a),
+                      clampf(a, -1.0f, 1.5f),
+                      a + (b - a) * 0.25f,
+                      a < 0.5f ? 0.0f : 1.0f,
+                      t * t * (3.0f - 2.0f * t),
+                      std::atan2(a, b + 3.0f),
+                      std::min(a, b),
+                      std::max(a, b),
+                      a > 0   ? 1.0f
+                      : a < 0 ? -1.0f
+                              : 0.0f,
+                      std::round(a),
+                      std::trunc(a),
+                      std::exp2(a * 0.5f),
+                      std::log2(std::fabs(a) + 1.0f),
+                      std::asin(clampf(a * 0.2f, -1.0f, 1.0f)),
+                      len,
                       std::sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by) + (az - bz) * (az - bz)),
-                      ax * bx + ay * by + az * bz, cx + 2 * cy + 3 * cz, (ax + 2 * ay + 3 * az) / len,
-                      (ax - d2 * nbx) + 2 * (ay - d2 * nby) + 3 * (az - d2 * nbz), a * b + 1.0f,
+                      ax * bx + ay * by + az * bz,
+                      cx + 2 * cy + 3 * cz,
+                      (ax + 2 * ay + 3 * az) / len,
+                      (ax - d2 * nbx) + 2 * (ay - d2 * nby) + 3 * (az - d2 * nbz),
+                      a * b + 1.0f,
                       a * 3.14159265f / 180.0f + b * 180.0f / 3.14159265f};
     for (int k = 0; k < 32; ++k) expectNear(r[i * 32 + k], want[k], 1e-4f, "GLSL.std.450 output", size_t(k));
   }
@@ -233,8 +281,8 @@ TEST(SpirvCompiler, PushConstantsAndSpecialization) {
   };
   for (bool negate : {false, true}) {
     ComputeHarness h;
-    ASSERT_TRUE(h.compile(kSpv_compute_push_spec_comp, {spec(0, uint32_t(8)), spec(1, int32_t(3)), spec(2, uint32_t(negate)),
-                                                        spec(3, 0.25f)}))
+    ASSERT_TRUE(h.compile(kSpv_compute_push_spec_comp,
+                          {spec(0, uint32_t(8)), spec(1, int32_t(3)), spec(2, uint32_t(negate)), spec(3, 0.25f)}))
         << h.error;
     EXPECT_EQ(h.shader->localSize[0], 8u);
     struct {
@@ -305,12 +353,14 @@ TEST(SpirvCompiler, CompositesMatricesStd140) {
     expectNear(o[7], m[i][i], 0, "m[i][i]", 0);
     expectNear(o[11], a[0] * a[3] + a[1] * a[2] + a[2] * a[1] + a[3] * a[0], 1e-5f, "dot", 0);
     // transpose(t) * t with t = mat2(a.x, a.y, a.z, a.w): columns (x, y), (z, w).
-    float tt[4] = {a[0] * a[0] + a[1] * a[1], a[2] * a[0] + a[3] * a[1], a[0] * a[2] + a[1] * a[3], a[2] * a[2] + a[3] * a[3]};
+    float tt[4] = {a[0] * a[0] + a[1] * a[1], a[2] * a[0] + a[3] * a[1], a[0] * a[2] + a[1] * a[3],
+                   a[2] * a[2] + a[3] * a[3]};
     for (int k = 0; k < 4; ++k) expectNear(o[12 + k], tt[k], 1e-5f, "transpose(t) * t", size_t(k));
     const Item& it = items[i % 2];
     float local[4] = {1, 2, 3, 4};
     local[i] += it.w;
-    for (int k = 0; k < 3; ++k) expectNear(o[16 + k], it.pos[k] * float(it.id[0] + it.id[1]), 1e-6f, "struct array", size_t(k));
+    for (int k = 0; k < 3; ++k)
+      expectNear(o[16 + k], it.pos[k] * float(it.id[0] + it.id[1]), 1e-6f, "struct array", size_t(k));
     expectNear(o[19], local[i] + local[(i + 1) % 4], 1e-6f, "local array", 0);
   }
 }
@@ -364,8 +414,13 @@ TEST(SpirvCompiler, SixtyFourBitIntegersAndDoubles) {
   for (size_t i = 0; i < n; ++i) {
     int64_t x = in[i].a;
     uint64_t y = in[i].b;
-    uint64_t want[8] = {uint64_t(x) * y + 0x100000000ull, uint64_t(x >> 7), y >> 33, y / 3, uint64_t(x / 5),
-                        uint64_t((x < int64_t(y) ? 1 : 0) | (uint64_t(x) < y ? 2 : 0)), uint64_t(int64_t(d[i] * 1000.0)),
+    uint64_t want[8] = {uint64_t(x) * y + 0x100000000ull,
+                        uint64_t(x >> 7),
+                        y >> 33,
+                        y / 3,
+                        uint64_t(x / 5),
+                        uint64_t((x < int64_t(y) ? 1 : 0) | (uint64_t(x) < y ? 2 : 0)),
+                        uint64_t(int64_t(d[i] * 1000.0)),
                         uint64_t(uint32_t(y) + uint32_t(x))};
     for (int k = 0; k < 8; ++k) EXPECT_EQ(r[i * 8 + k], want[k]) << "output " << k << " of " << i;
     EXPECT_DOUBLE_EQ(rd[i * 3 + 0], d[i] * d[i] + double(x) * 0.5);

@@ -107,7 +107,8 @@ TEST(SpirvDescriptorIndexing, DynamicIndexingCapabilities) {
     ASSERT_TRUE(h.run(1));
     for (uint32_t k = 0; k < 3; ++k) {
       auto got = h.get<uint32_t>(10 + k);
-      for (uint32_t j = 0; j < 4; ++j) EXPECT_EQ(got[j], k == sel ? k + 1 + 100 * sel : k + 1) << "sel " << sel << " buffer " << k;
+      for (uint32_t j = 0; j < 4; ++j)
+        EXPECT_EQ(got[j], k == sel ? k + 1 + 100 * sel : k + 1) << "sel " << sel << " buffer " << k;
     }
   }
 }

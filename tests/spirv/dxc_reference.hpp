@@ -29,7 +29,7 @@ inline std::vector<uint32_t> dxcRaw() {
     float f = (float(int(k * 37 % 23) - 11) * 0.375f) * (k % 3 == 0 ? -1.0f : 1.0f);
     std::memcpy(&w[k], &f, 4);
   }
-  w[4 * 5] = 0x80000000u;   // -0.0f, and INT_MIN for the signed division
+  w[4 * 5] = 0x80000000u;      // -0.0f, and INT_MIN for the signed division
   w[4 * 7 + 2] = 0xfffffff1u;  // NaN as a float, -15 as an int
   return w;
 }
@@ -56,9 +56,11 @@ inline void dxcExpected(const DxcParams& p, const std::vector<uint32_t>& raw, co
   }
 }
 
-inline void expectDxc(const float* out, const uint32_t* dst, const std::vector<float>& wantOut, const std::vector<uint32_t>& wantDst) {
+inline void expectDxc(const float* out, const uint32_t* dst, const std::vector<float>& wantOut,
+                      const std::vector<uint32_t>& wantDst) {
   for (size_t k = 0; k < wantOut.size(); ++k)
-    EXPECT_EQ(std::memcmp(&out[k], &wantOut[k], 4), 0) << "Out[" << k / 4 << "]." << "xyzw"[k % 4] << ": got " << out[k] << " want " << wantOut[k];
+    EXPECT_EQ(std::memcmp(&out[k], &wantOut[k], 4), 0) << "Out[" << k / 4 << "]."
+                                                       << "xyzw"[k % 4] << ": got " << out[k] << " want " << wantOut[k];
   for (size_t k = 0; k < wantDst.size(); ++k) EXPECT_EQ(dst[k], wantDst[k]) << "Dst word " << k;
 }
 

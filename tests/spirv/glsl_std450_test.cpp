@@ -32,8 +32,10 @@ bool halfIsNan(uint16_t b) { return (b & 0x7c00) == 0x7c00 && (b & 0x3ff) != 0; 
 // Equal bits, or both NaN (NaN payloads are not specified).
 template <class T>
 ::testing::AssertionResult same(T got, T want) {
-  if (std::isnan(want) ? std::isnan(got) : std::memcmp(&got, &want, sizeof(T)) == 0) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "got " << got << " (bits " << std::hex << std::bit_cast<std::conditional_t<sizeof(T) == 8, uint64_t, uint32_t>>(got)
+  if (std::isnan(want) ? std::isnan(got) : std::memcmp(&got, &want, sizeof(T)) == 0)
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "got " << got << " (bits " << std::hex
+                                       << std::bit_cast<std::conditional_t<sizeof(T) == 8, uint64_t, uint32_t>>(got)
                                        << ") want " << std::dec << want;
 }
 
@@ -109,18 +111,43 @@ TEST(SpirvGlslStd450, PackUnpackFrexpLdexpEdgeValues) {
       {5.960464477539063e-8f, 2.9802322387695312e-8f, 65536.0f, -65505.0f},
   };
   // (low word, high word): unpack inputs, the halves for half frexp/ldexp, and the packDouble2x32 input.
-  uint32_t w[kN][2] = {{0x807f01ff, 0x3ff00000}, {0x7fff8000, 0x7ff00000}, {0x7c00fc00, 0xfff80000}, {0x7e000001, 0x00000000},
-                       {0x3c00bc00, 0x80000000}, {0x7bff03ff, 0x000fffff}, {0xffffffff, 0xffffffff}, {0x00000000, 0x00000001},
-                       {0x04000400, 0x40091eb8}, {0x12345678, 0x9abcdef0}, {0x80808080, 0x7fefffff}, {0x7f7f7f7f, 0x00100000},
-                       {0x01000100, 0xc0000000}, {0xfffe0002, 0x3fe00000}, {0x55aa33cc, 0x12345678}, {0x00ff7fff, 0x7ff80001}};
-  int32_t n[kN][4] = {{0, 1, -1, 2},          {3, -3, 7, -7},      {10, -10, 20, -20},   {1, 1, 1, 1},
-                      {-126, -127, -149, -150}, {127, 128, 129, -1}, {30, -30, 40, -40},   {-24, -25, 15, 16},
-                      {128, -240, 5, -277},    {INT_MAX, INT_MIN, 2000, -2000}, {1000, -1000, 1100, -1100}, {-5, 6, -8, 9},
-                      {0, 0, 0, 0},            {2, -2, 1024, 1023}, {12, -12, -74, -75}, {60, -60, 61, -62}};
-  double d[kN] = {0.0, -0.0, 1.0, -2.5, std::numeric_limits<double>::denorm_min(), 1e-310,
-                  std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(),
-                  -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN(), 0.1, -1e300, 3.0,
-                  0.5, std::ldexp(1.0, -1000), 123.456};
+  uint32_t w[kN][2] = {
+      {0x807f01ff, 0x3ff00000}, {0x7fff8000, 0x7ff00000}, {0x7c00fc00, 0xfff80000}, {0x7e000001, 0x00000000},
+      {0x3c00bc00, 0x80000000}, {0x7bff03ff, 0x000fffff}, {0xffffffff, 0xffffffff}, {0x00000000, 0x00000001},
+      {0x04000400, 0x40091eb8}, {0x12345678, 0x9abcdef0}, {0x80808080, 0x7fefffff}, {0x7f7f7f7f, 0x00100000},
+      {0x01000100, 0xc0000000}, {0xfffe0002, 0x3fe00000}, {0x55aa33cc, 0x12345678}, {0x00ff7fff, 0x7ff80001}};
+  int32_t n[kN][4] = {{0, 1, -1, 2},
+                      {3, -3, 7, -7},
+                      {10, -10, 20, -20},
+                      {1, 1, 1, 1},
+                      {-126, -127, -149, -150},
+                      {127, 128, 129, -1},
+                      {30, -30, 40, -40},
+                      {-24, -25, 15, 16},
+                      {128, -240, 5, -277},
+                      {INT_MAX, INT_MIN, 2000, -2000},
+                      {1000, -1000, 1100, -1100},
+                      {-5, 6, -8, 9},
+                      {0, 0, 0, 0},
+                      {2, -2, 1024, 1023},
+                      {12, -12, -74, -75},
+                      {60, -60, 61, -62}};
+  double d[kN] = {0.0,
+                  -0.0,
+                  1.0,
+                  -2.5,
+                  std::numeric_limits<double>::denorm_min(),
+                  1e-310,
+                  std::numeric_limits<double>::max(),
+                  std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity(),
+                  std::numeric_limits<double>::quiet_NaN(),
+                  0.1,
+                  -1e300,
+                  3.0,
+                  0.5,
+                  std::ldexp(1.0, -1000),
+                  123.456};
   // The ties really are ties (else the rounding rule would go untested).
   EXPECT_EQ(x[0][0] * 127.0f, 0.5f);
   EXPECT_EQ(x[2][3] * 65535.0f, 4.5f);
@@ -151,8 +178,10 @@ TEST(SpirvGlslStd450, PackUnpackFrexpLdexpEdgeValues) {
       uint32_t want = refPackHalf(v[2 * k], v[2 * k + 1]);
       for (int half = 0; half < 2; ++half) {
         uint16_t got16 = uint16_t(u[4 + k] >> (16 * half)), want16 = uint16_t(want >> (16 * half));
-        if (halfIsNan(want16)) EXPECT_TRUE(halfIsNan(got16)) << "packHalf2x16 " << k << ": " << std::hex << got16;
-        else EXPECT_EQ(got16, want16) << "packHalf2x16 " << k << " of " << v[2 * k + half];
+        if (halfIsNan(want16))
+          EXPECT_TRUE(halfIsNan(got16)) << "packHalf2x16 " << k << ": " << std::hex << got16;
+        else
+          EXPECT_EQ(got16, want16) << "packHalf2x16 " << k << " of " << v[2 * k + half];
       }
     }
     uint64_t dbits = std::bit_cast<uint64_t>(d[i]);
@@ -266,16 +295,17 @@ TEST(SpirvGlslStd450, FunctionsNoOtherShaderUses) {
   ComputeHarness h;
   ASSERT_TRUE(h.compile(kSpv_compute_glsl_more_comp)) << h.error;
   constexpr uint32_t kN = 8, kF = 52, kI = 12, kD = 8;
-  float xs[kN][2] = {{2.5f, 1.3f}, {-3.5f, -2.2f}, {0.5f, 0.4f}, {-0.5f, 3.0f},
-                     {1.25f, -0.7f}, {-2.7f, 2.5f}, {3.9f, -3.1f}, {0.1f, 0.05f}};
-  int32_t ks[kN][2] = {{INT_MIN, 5}, {-7, INT_MAX}, {0, -1}, {123456, -123456},
-                       {-100, 100}, {99, 101}, {-2147483647, 7}, {1 << 20, 3}};
+  float xs[kN][2] = {{2.5f, 1.3f},   {-3.5f, -2.2f}, {0.5f, 0.4f},  {-0.5f, 3.0f},
+                     {1.25f, -0.7f}, {-2.7f, 2.5f},  {3.9f, -3.1f}, {0.1f, 0.05f}};
+  int32_t ks[kN][2] = {{INT_MIN, 5}, {-7, INT_MAX}, {0, -1},          {123456, -123456},
+                       {-100, 100},  {99, 101},     {-2147483647, 7}, {1 << 20, 3}};
   double ds[kN] = {2.5, -3.5, 0.1, -7.25, 1e10, -0.5, 1.5, 3.7};
   std::vector<float> mats(kN * 16);
   for (uint32_t i = 0; i < kN; ++i)
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
-        mats[i * 16 + c * 4 + r] = (c == r ? 3.0f + 0.5f * float(i) : 0.0f) + float((c * 7 + r * 3 + int(i) * 5) % 11 - 5) * 0.1f;
+        mats[i * 16 + c * 4 + r] =
+            (c == r ? 3.0f + 0.5f * float(i) : 0.0f) + float((c * 7 + r * 3 + int(i) * 5) % 11 - 5) * 0.1f;
   h.setBuffer(0, std::vector<float>(&xs[0][0], &xs[0][0] + kN * 2));
   h.setBuffer(1, std::vector<int32_t>(&ks[0][0], &ks[0][0] + kN * 2));
   h.setBuffer(2, mats);
@@ -308,7 +338,8 @@ TEST(SpirvGlslStd450, FunctionsNoOtherShaderUses) {
     double dni = nn[0] * nv[0] + nn[1] * nv[1] + nn[2] * nv[2], eta = 0.66;
     double k = 1 - eta * eta * (1 - dni * dni);
     ASSERT_GE(k, 0.0) << "the first refraction is not a total reflection";
-    for (int c = 0; c < 3; ++c) expectClose(f[12 + c], eta * nv[c] - (eta * dni + std::sqrt(k)) * nn[c], 1e-5, "refract");
+    for (int c = 0; c < 3; ++c)
+      expectClose(f[12 + c], eta * nv[c] - (eta * dni + std::sqrt(k)) * nn[c], 1e-5, "refract");
     for (int c = 0; c < 3; ++c) EXPECT_EQ(f[15 + c], 0.0f) << "refract past the critical angle is the zero vector";
 
     const float* m = &mats[i * 16];
@@ -456,7 +487,8 @@ OpDecorate %iout Binding 2
 )";
   const char* floats[] = {"fs_0", "fs_1", "fs1", "mf_0", "mf_1", "wh_0", "wh_1", "ms_0", "ms_1", "nmin", "nmax", "ncl"};
   std::string constants;
-  for (int k = 0; k < 12; ++k) constants += "%ck" + std::to_string(k) + " = OpConstant %uint " + std::to_string(k) + "\n";
+  for (int k = 0; k < 12; ++k)
+    constants += "%ck" + std::to_string(k) + " = OpConstant %uint " + std::to_string(k) + "\n";
   s.replace(s.find("%@ CONSTANTS\n"), 13, constants);
   for (int k = 0; k < 12; ++k) {
     std::string kk = std::to_string(k);

@@ -12,7 +12,7 @@
 #include "compute_shared.comp.spv.h"
 #include "group_bounds_gather.comp.spv.h"
 #include "group_bounds_saxpy.comp.spv.h"
-#include "h10_group_builtins.comp.spv.h"
+#include "group_builtins.comp.spv.h"
 
 namespace vkrt::testing {
 namespace {
@@ -40,7 +40,8 @@ void runAndCheck(ComputeHarness& h) {
         bool inDispatch = true;
         for (int i = 0; i < 3; ++i) inDispatch &= g[i] / kSize[i] >= base[i];
         if (!inDispatch) {
-          for (int i = 0; i < 12; ++i) ASSERT_EQ(r[i], sentinel) << "outside the dispatch at " << x << "," << y << "," << z;
+          for (int i = 0; i < 12; ++i)
+            ASSERT_EQ(r[i], sentinel) << "outside the dispatch at " << x << "," << y << "," << z;
           continue;
         }
         ++written;
@@ -59,7 +60,7 @@ void runAndCheck(ComputeHarness& h) {
 
 TEST(SpirvGroupEntry, BuiltInsAndPrivateVariablesPerInvocation) {
   ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_h10_group_builtins_comp)) << h.error;
+  ASSERT_TRUE(h.compile(kSpv_group_builtins_comp)) << h.error;
   EXPECT_FALSE(h.shader->usesBarrier);
   ASSERT_NE(h.shader->groupEntry, nullptr) << "a shader without barriers gets the per-workgroup entry";
   EXPECT_EQ(h.shader->entry, nullptr) << "the per-invocation function is only kept for shaders with barriers";
@@ -81,7 +82,7 @@ TEST(SpirvGroupEntry, ShadersWithBarriersHaveNone) {
 
 TEST(SpirvGroupEntry, SurvivesThePipelineCache) {
   ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_h10_group_builtins_comp)) << h.error;
+  ASSERT_TRUE(h.compile(kSpv_group_builtins_comp)) << h.error;
   std::string error;
   auto cached = spirv::loadCached(h.shader->cacheBlob, nullptr, &error);
   ASSERT_NE(cached, nullptr) << error;
@@ -117,7 +118,9 @@ class FencedBuffer {
   FencedBuffer& operator=(const FencedBuffer&) = delete;
 
   template <class T>
-  T* as() { return reinterpret_cast<T*>(data_); }
+  T* as() {
+    return reinterpret_cast<T*>(data_);
+  }
   size_t bytes() const { return bytes_; }
   bool canariesIntact() const {
     for (const uint8_t* p = map_; p < data_; ++p)

@@ -65,14 +65,16 @@ TEST(SpirvModule, EntryPointLocalSizeDecorationsAndTypes) {
 }
 
 TEST(SpirvModule, SpecializationRewritesDefaults) {
-  std::vector<uint32_t> words(kSpv_compute_push_spec_comp, kSpv_compute_push_spec_comp + wordCount(kSpv_compute_push_spec_comp));
+  std::vector<uint32_t> words(kSpv_compute_push_spec_comp,
+                              kSpv_compute_push_spec_comp + wordCount(kSpv_compute_push_spec_comp));
   auto value = [](uint32_t id, auto v) {
     SpecValue s{id, std::vector<uint8_t>(sizeof v)};
     std::memcpy(s.bytes.data(), &v, sizeof v);
     return s;
   };
   std::string error;
-  ASSERT_TRUE(applySpecialization(words, {value(1, int32_t(-7)), value(2, uint32_t(1)), value(3, 2.5f)}, &error)) << error;
+  ASSERT_TRUE(applySpecialization(words, {value(1, int32_t(-7)), value(2, uint32_t(1)), value(3, 2.5f)}, &error))
+      << error;
   Module m;
   ASSERT_TRUE(m.parse(words.data(), words.size(), &error)) << error;
   int seen = 0;
@@ -82,8 +84,14 @@ TEST(SpirvModule, SpecializationRewritesDefaults) {
     ASSERT_NE(c, nullptr);
     EXPECT_TRUE(c->spec);
     switch (d.specId) {
-      case 1: EXPECT_EQ(int32_t(c->words[0]), -7); ++seen; break;
-      case 2: EXPECT_EQ(c->words[0], 1u); ++seen; break;
+      case 1:
+        EXPECT_EQ(int32_t(c->words[0]), -7);
+        ++seen;
+        break;
+      case 2:
+        EXPECT_EQ(c->words[0], 1u);
+        ++seen;
+        break;
       case 3: {
         float f;
         std::memcpy(&f, &c->words[0], 4);

@@ -41,7 +41,8 @@ struct NonUniformBuffers {
       for (uint32_t j = 0; j < kN + k; ++j) {
         bool written = j < kN && j * 7 % 5 == k;
         uint32_t u = (j + j / 3) % 3;
-        EXPECT_EQ(got[1 + j], written ? data[k][1 + j] * 3 + params[u][0] : data[k][1 + j]) << "buffer " << k << " element " << j;
+        EXPECT_EQ(got[1 + j], written ? data[k][1 + j] * 3 + params[u][0] : data[k][1 + j])
+            << "buffer " << k << " element " << j;
       }
     }
   }

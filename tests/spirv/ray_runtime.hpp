@@ -14,8 +14,8 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <memory>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,7 +51,8 @@ struct RaySbt {
 
 class RayTestRuntime {
  public:
-  RayTestRuntime(const RayScene& scene, RaySbt& sbt, uint64_t accelAddress) : scene(scene), sbt(sbt), accel(accelAddress) {}
+  RayTestRuntime(const RayScene& scene, RaySbt& sbt, uint64_t accelAddress)
+      : scene(scene), sbt(sbt), accel(accelAddress) {}
 
   // Descriptors by binding (set 0, one element each) and push constants, for every shader of the launch.
   std::map<uint32_t, abi::DescriptorRecord> bindings;
@@ -296,7 +297,8 @@ class RayTestRuntime {
   }
 
   // Ray / triangle (Moller-Trumbore); (u, v) are the weights of vertices 1 and 2.
-  static bool intersect(const RayScene::Triangle& tri, const float o[3], const float d[3], float* t, float* u, float* v) {
+  static bool intersect(const RayScene::Triangle& tri, const float o[3], const float d[3], float* t, float* u,
+                        float* v) {
     float e1[3], e2[3], s[3];
     for (int k = 0; k < 3; ++k) {
       e1[k] = tri.v[1][k] - tri.v[0][k];

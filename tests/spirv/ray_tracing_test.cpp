@@ -7,14 +7,14 @@
 #include <cmath>
 #include <cstring>
 
-#include "h4_ahit.rahit.spv.h"
-#include "h4_call.rcall.spv.h"
-#include "h4_chit.rchit.spv.h"
-#include "h4_chit_callable.rchit.spv.h"
-#include "h4_miss.rmiss.spv.h"
-#include "h4_raygen.rgen.spv.h"
-#include "h4_raygen_big.rgen.spv.h"
-#include "h4_rint.rint.spv.h"
+#include "pipeline_ahit.rahit.spv.h"
+#include "pipeline_call.rcall.spv.h"
+#include "pipeline_chit.rchit.spv.h"
+#include "pipeline_chit_callable.rchit.spv.h"
+#include "pipeline_miss.rmiss.spv.h"
+#include "pipeline_raygen.rgen.spv.h"
+#include "pipeline_raygen_big_payload.rgen.spv.h"
+#include "pipeline_rint.rint.spv.h"
 #include "rt_ahit.rahit.spv.h"
 #include "rt_call.rcall.spv.h"
 #include "rt_chit.rchit.spv.h"
@@ -29,8 +29,8 @@ namespace vkrt::testing {
 namespace {
 
 template <size_t N>
-std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model, bool inlineCalls,
-                                                    std::string* error) {
+std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model,
+                                                    bool inlineCalls, std::string* error) {
   spirv::CompileRequest r;
   r.words = words;
   r.wordCount = N;
@@ -149,8 +149,10 @@ void traceScene(bool inlineCalls) {
   std::vector<Payload> results(kWidth * kHeight);
   std::vector<uint32_t> answers(kWidth * kHeight * 2);
   rt.bindings[0] = abi::DescriptorRecord{kAccel, 0, nullptr, nullptr};
-  rt.bindings[1] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(results.data()), results.size() * sizeof(Payload), nullptr, nullptr};
-  rt.bindings[2] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
+  rt.bindings[1] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(results.data()), results.size() * sizeof(Payload),
+                                         nullptr, nullptr};
+  rt.bindings[2] =
+      abi::DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
   rt.launch(s.raygen, {}, kWidth, kHeight);
   EXPECT_TRUE(rt.errors.empty()) << rt.errors.front();
   EXPECT_EQ(rt.maxDepth, 2u);  // the sphere's closest-hit shader traced a secondary ray
@@ -166,14 +168,14 @@ void traceScene(bool inlineCalls) {
       if (e.kind == Expected::Miss) {
         ++misses;
         EXPECT_EQ(p.a[0], 0.0f);
-        EXPECT_EQ(p.a[2], 1.0f);  // gl_WorldRayDirectionEXT
+        EXPECT_EQ(p.a[2], 1.0f);         // gl_WorldRayDirectionEXT
         EXPECT_FLOAT_EQ(p.a[3], 0.01f);  // gl_RayTminEXT
-        EXPECT_EQ(p.b[0], px);  // gl_WorldRayOriginEXT
+        EXPECT_EQ(p.b[0], px);           // gl_WorldRayOriginEXT
         EXPECT_EQ(p.b[1], py);
-        EXPECT_EQ(p.b[3], 100.0f);  // gl_RayTmaxEXT
-        EXPECT_EQ(p.d[0], 1000u);   // 1000 + gl_IncomingRayFlagsEXT (none)
-        EXPECT_EQ(p.d[1], x);       // gl_LaunchIDEXT.x
-        EXPECT_EQ(p.d[2], kHeight); // gl_LaunchSizeEXT.y
+        EXPECT_EQ(p.b[3], 100.0f);   // gl_RayTmaxEXT
+        EXPECT_EQ(p.d[0], 1000u);    // 1000 + gl_IncomingRayFlagsEXT (none)
+        EXPECT_EQ(p.d[1], x);        // gl_LaunchIDEXT.x
+        EXPECT_EQ(p.d[2], kHeight);  // gl_LaunchSizeEXT.y
         EXPECT_EQ(p.d[3], 7u);
         EXPECT_EQ(p.e[0], -1.0f);  // written by raygen before the trace, untouched by the miss shader
         EXPECT_EQ(answers[(y * kWidth + x) * 2], 0u);
@@ -196,14 +198,14 @@ void traceScene(bool inlineCalls) {
       EXPECT_EQ(p.c[1], tr[1]);
       EXPECT_EQ(p.c[2], tr[2]);
       EXPECT_EQ(p.c[3], isSphere ? 1.5f : e.geometry ? 0.75f : 0.5f);  // the hit group's shader record
-      EXPECT_EQ(p.d[0], isSphere ? 9u : 7u);                             // gl_InstanceCustomIndexEXT
-      EXPECT_EQ(p.d[1], isSphere ? 1u : 0u);                             // gl_InstanceID
-      EXPECT_EQ(p.d[2], e.geometry);                                     // gl_GeometryIndexEXT
-      EXPECT_EQ(p.d[3], isSphere ? 5u : 0xFEu);                          // gl_HitKindEXT
-      EXPECT_EQ(p.e[0], float((e.primitive + 10) * factor + 1));         // the callable's answer
-      EXPECT_EQ(p.e[1], isSphere ? 0.25f - 1.0f : -1.0f);                // the secondary ray's miss shader
-      EXPECT_EQ(p.e[2], -tr[2]);                                         // gl_WorldToObjectEXT[3].z
-      EXPECT_NEAR(p.e[3], e.u, eps);                                     // attributes read after the calls
+      EXPECT_EQ(p.d[0], isSphere ? 9u : 7u);                           // gl_InstanceCustomIndexEXT
+      EXPECT_EQ(p.d[1], isSphere ? 1u : 0u);                           // gl_InstanceID
+      EXPECT_EQ(p.d[2], e.geometry);                                   // gl_GeometryIndexEXT
+      EXPECT_EQ(p.d[3], isSphere ? 5u : 0xFEu);                        // gl_HitKindEXT
+      EXPECT_EQ(p.e[0], float((e.primitive + 10) * factor + 1));       // the callable's answer
+      EXPECT_EQ(p.e[1], isSphere ? 0.25f - 1.0f : -1.0f);              // the secondary ray's miss shader
+      EXPECT_EQ(p.e[2], -tr[2]);                                       // gl_WorldToObjectEXT[3].z
+      EXPECT_NEAR(p.e[3], e.u, eps);                                   // attributes read after the calls
       // The intersection shader's three reports for the primary ray: far (accepted), near (accepted), far again
       // (refused). It runs for the secondary ray too (traced from the sphere's surface away from it, opaque):
       // there all three are refused (behind or within tMin).
@@ -257,33 +259,33 @@ TEST(SpirvRayTracing, StackFactsOfEachStage) {
 // The shaders the pipeline tests use: the sizes their variables declare, and 0 for those that call nothing.
 TEST(SpirvRayTracing, FactsOfThePipelineTestShaders) {
   std::string e;
-  auto big = compileStage(kSpv_h4_raygen_big_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
+  auto big = compileStage(kSpv_pipeline_raygen_big_payload_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
   ASSERT_TRUE(big) << e;
   EXPECT_TRUE(big->ray.callsOut);
   EXPECT_EQ(big->ray.payloadBytes, 256u);  // vec4[16]
   EXPECT_GE(big->ray.stackSize(), 256u + sizeof(abi::TraceRayArgs));
-  auto small = compileStage(kSpv_h4_raygen_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
+  auto small = compileStage(kSpv_pipeline_raygen_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
   ASSERT_TRUE(small) << e;
   EXPECT_EQ(small->ray.payloadBytes, 16u);
   EXPECT_GE(big->ray.stackSize(), small->ray.stackSize() + 240u);  // the payloads' difference at least
-  auto chit = compileStage(kSpv_h4_chit_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
+  auto chit = compileStage(kSpv_pipeline_chit_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
   ASSERT_TRUE(chit) << e;
   EXPECT_EQ(chit->ray.payloadBytes, 16u);
   EXPECT_EQ(chit->ray.hitAttributeBytes, 8u);
   EXPECT_EQ(chit->ray.stackSize(), 0u);
-  auto callable = compileStage(kSpv_h4_chit_callable_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
+  auto callable = compileStage(kSpv_pipeline_chit_callable_rchit, spv::ExecutionModelClosestHitKHR, true, &e);
   ASSERT_TRUE(callable) << e;
   EXPECT_TRUE(callable->ray.callsOut);
   EXPECT_EQ(callable->ray.callableDataBytes, 4u);
   EXPECT_GE(callable->ray.stackSize(), 16u);
-  auto miss = compileStage(kSpv_h4_miss_rmiss, spv::ExecutionModelMissKHR, true, &e);
-  auto ahit = compileStage(kSpv_h4_ahit_rahit, spv::ExecutionModelAnyHitKHR, true, &e);
-  auto rint = compileStage(kSpv_h4_rint_rint, spv::ExecutionModelIntersectionKHR, true, &e);
-  auto call = compileStage(kSpv_h4_call_rcall, spv::ExecutionModelCallableKHR, true, &e);
+  auto miss = compileStage(kSpv_pipeline_miss_rmiss, spv::ExecutionModelMissKHR, true, &e);
+  auto ahit = compileStage(kSpv_pipeline_ahit_rahit, spv::ExecutionModelAnyHitKHR, true, &e);
+  auto rint = compileStage(kSpv_pipeline_rint_rint, spv::ExecutionModelIntersectionKHR, true, &e);
+  auto call = compileStage(kSpv_pipeline_call_rcall, spv::ExecutionModelCallableKHR, true, &e);
   ASSERT_TRUE(miss && ahit && rint && call) << e;
   for (const auto* sh : {miss.get(), ahit.get(), rint.get(), call.get()}) EXPECT_EQ(sh->ray.stackSize(), 0u);
   // An entry point is looked up with its execution model.
-  EXPECT_FALSE(compileStage(kSpv_h4_miss_rmiss, spv::ExecutionModelClosestHitKHR, true, &e));
+  EXPECT_FALSE(compileStage(kSpv_pipeline_miss_rmiss, spv::ExecutionModelClosestHitKHR, true, &e));
   EXPECT_EQ(e, "the module has no entry point \"main\" for this stage");
 }
 

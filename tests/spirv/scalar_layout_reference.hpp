@@ -26,11 +26,14 @@ struct ScalarLayoutValues {
   ScalarLayoutValues() {
     for (int i = 0; i < 8; ++i)
       for (int c = 0; c < 3; ++c) arr[i][c] = float(i * 3 + c) * 0.25f - 2.0f;
-    for (uint32_t i = 0; i < kScalarInvocations; ++i) odd[i] = {float(i) * 0.5f, {float(i), -float(i) * 0.25f, 1.0f}, int32_t(i * 7) - 20};
+    for (uint32_t i = 0; i < kScalarInvocations; ++i)
+      odd[i] = {float(i) * 0.5f, {float(i), -float(i) * 0.25f, 1.0f}, int32_t(i * 7) - 20};
   }
 };
 
-inline void putFloats(std::vector<uint8_t>& b, size_t offset, const float* v, size_t n) { std::memcpy(b.data() + offset, v, n * 4); }
+inline void putFloats(std::vector<uint8_t>& b, size_t offset, const float* v, size_t n) {
+  std::memcpy(b.data() + offset, v, n * 4);
+}
 
 inline std::vector<uint8_t> scalarInBlock(const ScalarLayoutValues& v) {
   std::vector<uint8_t> b(kScalarInBytes, 0xee);

@@ -1,4 +1,4 @@
-// Inputs and expected outputs of tests/shaders/compute_h9_small_types.comp (8/16-bit integers and 16-bit
+// Inputs and expected outputs of tests/shaders/compute_small_types.comp (8/16-bit integers and 16-bit
 // floats), computed on the CPU in the same widths; shared by the unit and the end-to-end test.
 #pragma once
 
@@ -8,7 +8,7 @@
 
 namespace vkrt::testing {
 
-// Inputs and expected outputs of compute_h9_small_types.comp, computed here in the same widths.
+// Inputs and expected outputs of compute_small_types.comp, computed here in the same widths.
 struct SmallIn {
   int8_t a8[64];
   uint8_t b8[64];

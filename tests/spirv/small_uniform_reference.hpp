@@ -79,14 +79,17 @@ inline void expectSmallUniform(const int32_t* o, const float* f, const SmallUnif
   for (uint32_t i = 0; i < kSmallUniformInvocations; ++i) {
     SCOPED_TRACE("invocation " + std::to_string(i));
     const int32_t* r = o + i * kSmallUniformInts;
-    int32_t want[20] = {v.s8,       v.u8,       v.s16,      v.u16,      v.v8[0],   v.v8[1],   v.v8[2],
-                        v.v8[3],    v.uv[0],    v.uv[1],    v.tail,     v.arr[i % 4], v.pair[i % 2][1],
-                        v.pu8,      v.ps8,      v.ps16,     v.pu16,     v.pv8[0],  v.pv8[1],  v.pa8[i % 3]};
+    int32_t want[20] = {v.s8,    v.u8,    v.s16,   v.u16,    v.v8[0],      v.v8[1],          v.v8[2],
+                        v.v8[3], v.uv[0], v.uv[1], v.tail,   v.arr[i % 4], v.pair[i % 2][1], v.pu8,
+                        v.ps8,   v.ps16,  v.pu16,  v.pv8[0], v.pv8[1],     v.pa8[i % 3]};
     for (int k = 0; k < 20; ++k) EXPECT_EQ(r[k], want[k]) << "integer output " << k;
     const float* g = f + i * kSmallUniformFloats;
-    float wantF[12] = {float(v.h),     float(v.hv[0]), float(v.hv[1]), float(v.hv[2]), float(v.hv[3]), float(v.h3[0]),
-                       float(v.h3[1]), float(v.h3[2]), float(v.ph),     float(v.phv[0]), float(v.phv[1]), float(v.pha[i % 2])};
-    for (int k = 0; k < 12; ++k) EXPECT_EQ(std::memcmp(&g[k], &wantF[k], 4), 0) << "float output " << k << ": got " << g[k] << " want " << wantF[k];
+    float wantF[12] = {float(v.h),     float(v.hv[0]),  float(v.hv[1]),  float(v.hv[2]),
+                       float(v.hv[3]), float(v.h3[0]),  float(v.h3[1]),  float(v.h3[2]),
+                       float(v.ph),    float(v.phv[0]), float(v.phv[1]), float(v.pha[i % 2])};
+    for (int k = 0; k < 12; ++k)
+      EXPECT_EQ(std::memcmp(&g[k], &wantF[k], 4), 0)
+          << "float output " << k << ": got " << g[k] << " want " << wantF[k];
   }
 }
 

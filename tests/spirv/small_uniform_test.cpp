@@ -23,7 +23,8 @@ TEST(SpirvCompilerSmallTypes, UniformAndPushConstantMembers) {
   auto f = h.get<float>(2);
   expectSmallUniform(o.data(), f.data(), v);
   ASSERT_EQ(h.shader->resources.size(), 3u);
-  for (const spirv::ResourceBinding& rb : h.shader->resources) EXPECT_EQ(rb.uniform, rb.binding == 0) << "binding " << rb.binding;
+  for (const spirv::ResourceBinding& rb : h.shader->resources)
+    EXPECT_EQ(rb.uniform, rb.binding == 0) << "binding " << rb.binding;
 }
 
 }  // namespace

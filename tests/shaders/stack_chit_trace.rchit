@@ -1,6 +1,6 @@
 #version 460
 #extension GL_EXT_ray_tracing : require
-// h7_chit_trace_attr.rchit without hit attributes: the same call, the same payloads.
+// stack_chit_trace_attr.rchit without hit attributes: the same call, the same payloads.
 layout(location = 0) rayPayloadInEXT vec4 incoming;
 layout(location = 1) rayPayloadEXT vec4 outgoing;
 void main() {
