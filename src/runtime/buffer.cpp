@@ -10,8 +10,20 @@
 
 namespace vkrt {
 
+namespace {
+
+// The buffer's usage: VkBufferCreateInfo::usage, or (where an application chains it) the low 32 bits of
+// VkBufferUsageFlags2CreateInfoKHR::usage, which the specification has take precedence.
+VkBufferUsageFlags usageOf(const VkBufferCreateInfo& info) {
+  if (auto* u2 = findInChain<VkBufferUsageFlags2CreateInfoKHR>(info.pNext, VK_STRUCTURE_TYPE_BUFFER_USAGE_FLAGS_2_CREATE_INFO_KHR))
+    return VkBufferUsageFlags(u2->usage & 0xffffffffu);
+  return info.usage;
+}
+
+}  // namespace
+
 Buffer::Buffer(Device* dev, const VkBufferCreateInfo& info)
-    : Object(kType, dev->instance, dev), size(info.size), usage(info.usage), flags(info.flags) {
+    : Object(kType, dev->instance, dev), size(info.size), usage(usageOf(info)), flags(info.flags) {
   if (auto* c = findInChain<VkBufferOpaqueCaptureAddressCreateInfo>(
           info.pNext, VK_STRUCTURE_TYPE_BUFFER_OPAQUE_CAPTURE_ADDRESS_CREATE_INFO))
     requestedCaptureAddress = c->opaqueCaptureAddress;

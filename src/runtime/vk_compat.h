@@ -17,3 +17,14 @@ typedef struct VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT {
   VkBool32 pipelineLibraryGroupHandles;
 } VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT;
 #endif
+
+#ifndef VK_KHR_maintenance5
+// VkBufferUsageFlags2CreateInfoKHR (VK_KHR_maintenance5, extension 471): vkrt does not advertise the extension, but
+// reads the usage an application passes this way (the legacy usage bits are the low 32 bits of the new ones).
+#define VK_STRUCTURE_TYPE_BUFFER_USAGE_FLAGS_2_CREATE_INFO_KHR static_cast<VkStructureType>(1000470006)
+typedef struct VkBufferUsageFlags2CreateInfoKHR {
+  VkStructureType sType;
+  const void* pNext;
+  uint64_t usage;
+} VkBufferUsageFlags2CreateInfoKHR;
+#endif
