@@ -15,7 +15,8 @@ namespace {
 // The buffer's usage: VkBufferCreateInfo::usage, or (where an application chains it) the low 32 bits of
 // VkBufferUsageFlags2CreateInfoKHR::usage, which the specification has take precedence.
 VkBufferUsageFlags usageOf(const VkBufferCreateInfo& info) {
-  if (auto* u2 = findInChain<VkBufferUsageFlags2CreateInfoKHR>(info.pNext, VK_STRUCTURE_TYPE_BUFFER_USAGE_FLAGS_2_CREATE_INFO_KHR))
+  if (auto* u2 = findInChain<VkBufferUsageFlags2CreateInfoKHR>(info.pNext,
+                                                               VK_STRUCTURE_TYPE_BUFFER_USAGE_FLAGS_2_CREATE_INFO_KHR))
     return VkBufferUsageFlags(u2->usage & 0xffffffffu);
   return info.usage;
 }
