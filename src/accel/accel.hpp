@@ -67,8 +67,10 @@ struct Geometry {
   AabbGeometry aabbs;          // kind == Aabbs
 };
 
-// Inactive primitives (Vulkan: a triangle whose first vertex has a NaN x, a box whose min x is NaN) are kept in
-// place, so that the indices of the others do not move, and are never hit.
+// Inactive primitives (Vulkan "Inactive Primitives and Instances": a triangle with a NaN x in any of its vertices,
+// a box whose min x is NaN) are kept in place, so that the indices of the others do not move, and are never hit.
+// (Embree also leaves out triangles with other non-finite coordinates or out-of-range indices, and boxes with
+// non-finite bounds: they are never hit either.)
 
 class Blas;
 
@@ -81,7 +83,8 @@ struct Instance {
   std::shared_ptr<const Blas> blas;  // null: an inactive instance (reference 0), never hit
 };
 
-// How a structure is built (VkBuildAccelerationStructureFlagBitsKHR, as far as Embree can honour them).
+// How a structure is built (VkBuildAccelerationStructureFlagBitsKHR, as far as Embree can honour them; the mapping
+// to Embree's build qualities and scene flags is detail::sceneSettings in blas.cpp). They never change what is hit.
 struct BuildOptions {
   bool preferFastTrace = false;
   bool preferFastBuild = false;
@@ -96,9 +99,11 @@ class Blas {
   ~Blas();
 
   // An update (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR): the same geometries with new vertex positions
-  // or boxes (same counts, kinds, indices and flags as this one; the caller checks). The result is a new Blas;
-  // this one is unchanged (it may be traversed meanwhile). Embree refits only a scene in place, so the new Blas
-  // is built afresh, with this one's options.
+  // or boxes. The result is a new Blas; this one is unchanged (it may be traversed meanwhile). When this one was
+  // built with allowUpdate and the geometries keep its counts, kinds, indices, flags and active primitives (as
+  // Vulkan requires of an update), the new one is a refit of an Embree hierarchy of the same topology (one left
+  // idle by a Blas of the same family that died, else a new one); otherwise it is a full build with the same
+  // options, so that a caller breaking the rules still gets the structure its inputs describe.
   std::shared_ptr<Blas> update(std::vector<Geometry> geometries, std::string* error) const;
 
   const std::vector<Geometry>& geometries() const;
@@ -117,6 +122,8 @@ class Tlas {
  public:
   static std::shared_ptr<Tlas> build(std::vector<Instance> instances, const BuildOptions& options, std::string* error);
   ~Tlas();
+  // A new Tlas with the same options; this one is unchanged. (Embree 3 rebuilds the hierarchy over its instances
+  // on every commit, refit or not, so an update is a build.)
   std::shared_ptr<Tlas> update(std::vector<Instance> instances, std::string* error) const;
 
   const std::vector<Instance>& instances() const;
@@ -168,8 +175,8 @@ class ProceduralCandidate {
   virtual float tMax() const = 0;   // the closest committed hit so far, or the ray's tMax
   virtual bool opaque() const = 0;  // after geometry, instance and ray flags
   // Commits a hit of this primitive at `t` with `hitKind` (the caller has run the any-hit shader, if any, and
-  // checked tMin() <= t <= tMax()). `terminate`: the traversal stops after it (an any-hit shader's
-  // terminateRayEXT, or kRayTerminateOnFirstHit).
+  // checked tMin() <= t <= tMax(); a `t` outside that interval is ignored here too). `terminate`: the traversal
+  // stops after it (an any-hit shader's terminateRayEXT). Under kRayTerminateOnFirstHit every commit stops it.
   virtual void commit(float t, uint32_t hitKind, bool terminate) = 0;
 };
 
@@ -183,9 +190,12 @@ class HitHandler {
   virtual void intersect(ProceduralCandidate& candidate) = 0;
 };
 
-// Traces `ray` through `tlas`. Returns true with the committed hit in `hit` when there is one. The handler is
-// called only for candidates that need a shader; a ray that meets only opaque triangles runs at Embree's speed
-// (no filter callback at all where no ray flag or instance flag asks for one).
+// Traces `ray` through `tlas`. Returns true with the committed hit in `hit` (may be null) when there is one. The
+// handler is called only for candidates that need a shader; a ray that meets only opaque triangles runs at
+// Embree's speed (no filter callback at all where no ray flag or instance flag asks for one). Triangles are hit
+// for tMin < t < tMax, boxes are candidates for tMin <= t <= tMax (both as "Ray Intersection Candidate
+// Determination" says). A ray Vulkan does not allow (non-finite origin or direction, tMin < 0, tMin > tMax)
+// misses.
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 
 // ------------------------------------------------------------------------------------------ serialization

@@ -1,0 +1,34 @@
+// Private to src/accel: the process's one Embree device and the capture of Embree's errors. (Embree's headers
+// are included by src/accel's sources only; nothing outside this folder includes this file.)
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <string>
+
+namespace vkrt::accel::detail {
+
+// The process's Embree device, created on first use (thread-safe). Null, with `error` set, when Embree cannot
+// create it or lacks a feature traversal relies on (ray masks, filter functions, user geometry, instancing).
+RTCDevice device(std::string* error);
+
+// Collects the messages Embree reports on this thread while it lives. Embree calls its error callback on the
+// thread whose API call failed (build work on TBB's threads is rethrown to the committing thread), and keeps
+// its error code per thread, so concurrent builds on other threads do not mix their errors into this one.
+class EmbreeErrors {
+ public:
+  EmbreeErrors();
+  ~EmbreeErrors();
+  EmbreeErrors(const EmbreeErrors&) = delete;
+  EmbreeErrors& operator=(const EmbreeErrors&) = delete;
+
+  // True (with `error` set to "<what>: <Embree's messages>") when Embree reported an error since the scope
+  // began or since the last call; clears it.
+  bool failed(const char* what, std::string* error);
+
+ private:
+  std::string messages_;
+  EmbreeErrors* outer_;
+};
+
+}  // namespace vkrt::accel::detail

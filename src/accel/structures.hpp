@@ -1,0 +1,130 @@
+// Private to src/accel: what a Blas and a Tlas hold, in the shape traversal reads it.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "accel/accel.hpp"
+
+namespace vkrt::accel::detail {
+
+// Embree geometry masks. A ray's Embree mask is its 8-bit cull mask plus one bit per primitive kind it does not
+// skip; an instance's geometry mask is its 8-bit Vulkan mask, and the geometries inside a Blas carry their kind's
+// bit. Embree drops an instance, and a primitive, whose mask shares no bit with the ray's: instance masking,
+// SkipTrianglesKHR and SkipAABBsKHR cost no filter call.
+inline constexpr unsigned kTriangleMaskBit = 0x100;
+inline constexpr unsigned kAabbMaskBit = 0x200;
+
+// Opacity (Vulkan "Ray Opacity Culling"): the geometry's VK_GEOMETRY_OPAQUE_BIT_KHR, overridden by the instance's
+// FORCE_OPAQUE / FORCE_NO_OPAQUE, overridden by the ray's OpaqueKHR / NoOpaqueKHR. (The pairs are mutually
+// exclusive in valid use; where both are set, the opaque one wins.)
+inline bool instanceOpaque(uint32_t geometryFlags, uint32_t instanceFlags) {
+  if (instanceFlags & kInstanceForceOpaque) return true;
+  if (instanceFlags & kInstanceForceNoOpaque) return false;
+  return (geometryFlags & kGeometryOpaque) != 0;
+}
+inline bool effectiveOpaque(uint32_t geometryFlags, uint32_t instanceFlags, uint32_t rayFlags) {
+  if (rayFlags & kRayOpaque) return true;
+  if (rayFlags & kRayNoOpaque) return false;
+  return instanceOpaque(geometryFlags, instanceFlags);
+}
+
+// What traversal needs of one geometry of a Blas.
+struct GeometryInfo {
+  Geometry::Kind kind = Geometry::Triangles;
+  uint32_t flags = 0;            // GeometryFlag
+  const float* boxes = nullptr;  // Aabbs: 6 floats per primitive (the Blas's copy)
+  uint32_t primitiveCount = 0;
+};
+
+// Scenes of one Blas and of the Blases updated from it share a topology: an update refits one of them. A Blas
+// built with allowUpdate returns its scene here when it dies, and the next update of the family takes a scene
+// from here (refit) instead of building one.
+struct RefitPool {
+  std::mutex mutex;
+  std::vector<RTCScene> idle;
+  ~RefitPool();
+  RTCScene take();
+  void give(RTCScene scene);
+};
+
+// What a Tlas needs to know of a Blas without looking at its geometries.
+struct BlasSummary {
+  bool triangles = false;          // an active triangle geometry with primitives
+  bool aabbs = false;              // an AABB geometry with primitives
+  bool opaqueTriangles = false;    // a triangle geometry with VK_GEOMETRY_OPAQUE_BIT_KHR
+  bool noOpaqueTriangles = false;  // a triangle geometry without it
+};
+
+}  // namespace vkrt::accel::detail
+
+namespace vkrt::accel {
+
+struct Blas::Impl {
+  std::vector<Geometry> geometries;
+  BuildOptions options;
+  std::vector<detail::GeometryInfo> info;  // per geometry, pointing into `geometries`
+  detail::BlasSummary summary;
+  uint64_t primitives = 0;
+  RTCScene scene = nullptr;                 // committed, read-only after build
+  std::shared_ptr<detail::RefitPool> pool;  // allowUpdate only
+
+  ~Impl();
+};
+
+namespace detail {
+
+// One instance as traversal reads it (indexed by instance index, which is also its Embree geometry ID in the
+// Tlas scene). The transforms are the ones the shaders' built-ins report.
+struct InstanceRecord {
+  float objectToWorld[3][4];
+  float worldToObject[3][4];
+  const Blas::Impl* blas = nullptr;  // null: inactive (null Blas or a transform that cannot be inverted)
+  uint32_t customIndex = 0;
+  uint32_t sbtOffset = 0;
+  uint32_t flags = 0;
+};
+
+// What a ray needs to know of a Tlas to decide whether it needs a filter callback at all.
+struct TlasSummary {
+  bool triangles = false;  // an active instance of a Blas with triangles
+  bool aabbs = false;
+  bool opaqueTriangles = false;    // opaque after the instance flags
+  bool noOpaqueTriangles = false;  // not opaque after the instance flags
+  bool facingCullable = false;     // an instance with triangles and without TRIANGLE_FACING_CULL_DISABLE
+};
+
+// Whether a ray with `rayFlags` through a Tlas summarized by `s` needs the triangle filter callback at all
+// (traverse.cpp). False is the fast path: Embree runs with no callback for triangles, as raw rtcIntersect1 does.
+bool needsTriangleFilter(const TlasSummary& s, uint32_t rayFlags);
+
+}  // namespace detail
+
+struct Tlas::Impl {
+  std::vector<Instance> instances;
+  BuildOptions options;
+  std::vector<detail::InstanceRecord> records;
+  detail::TlasSummary summary;
+  RTCScene scene = nullptr;
+
+  ~Impl();
+};
+
+namespace detail {
+
+// Embree's build settings for `options` (shared by Blas and Tlas builds).
+struct SceneSettings {
+  RTCBuildQuality sceneQuality;
+  RTCBuildQuality geometryQuality;
+  int sceneFlags;
+};
+SceneSettings sceneSettings(const BuildOptions& options, bool noDuplicateAnyHit);
+
+// The inverse of a 3x4 affine transform (rows); false when it is singular or not finite.
+bool invertAffine(const float m[3][4], float out[3][4]);
+
+}  // namespace detail
+}  // namespace vkrt::accel

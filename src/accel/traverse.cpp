@@ -1,0 +1,362 @@
+// Traversal: one Embree query per ray, with Vulkan's rules ("Ray Traversal" in the Vulkan specification) applied
+// where Embree reports candidates. Per ray and per candidate nothing is allocated, locked or looked up by key:
+// instance and geometry data are reached by index (Embree's instance and geometry IDs are vkrt's indices).
+//
+// How the rules map onto Embree:
+// - Instance masks, SkipTrianglesKHR, SkipAABBsKHR: Embree ray masks (structures.hpp), no callback.
+// - Triangles: Embree's watertight intersector finds candidates. A context filter callback applies facing culling,
+//   opacity, opacity culling and the any-hit shader, and is installed only for rays that need it
+//   (needsTriangleFilter): a ray that can meet only opaque triangles, without culling flags, runs at Embree's speed.
+// - Boxes: Embree user geometries, whose callbacks apply opacity culling and the candidate test, and run the
+//   intersection shader (HitHandler::intersect), which commits through ProceduralCandidate.
+// - TerminateOnFirstHitKHR: an Embree occlusion query, which stops at the first accepted candidate; the filter and
+//   box callbacks record what was committed (an occlusion query reports no hit).
+// - Closest hit: an Embree intersection query; Embree keeps the closest committed hit and narrows tfar with it.
+//   AcceptAndTerminate (and a box commit with terminate) accepts the candidate and sets tfar to -inf, which ends
+//   the traversal at every level.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "accel/structures.hpp"
+
+namespace vkrt::accel {
+namespace detail {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// A committed hit recorded by the callbacks (occlusion queries, and terminated intersection queries).
+struct Committed {
+  float t = 0;
+  uint32_t instance = RTC_INVALID_GEOMETRY_ID;
+  uint32_t geometry = 0;
+  uint32_t primitive = 0;
+  uint32_t hitKind = 0;
+  float u = 0, v = 0;
+  float ng[3] = {0, 0, 0};
+};
+
+struct TraceContext {
+  RTCIntersectContext embree;  // first: Embree hands &embree back to the callbacks
+  const Tlas::Impl* tlas;
+  const Ray* ray;
+  HitHandler* handler;
+  uint32_t flags;
+  bool firstHit;            // TerminateOnFirstHitKHR: an occlusion query
+  bool terminated = false;  // a commit ended the traversal
+  Committed last;           // the latest commit made by a callback
+};
+
+inline TraceContext& contextOf(const RTCIntersectContext* c) {
+  return *reinterpret_cast<TraceContext*>(const_cast<RTCIntersectContext*>(c));
+}
+
+void objectRay(const InstanceRecord& r, const Ray& ray, float org[3], float dir[3]) {
+  const float(*m)[4] = r.worldToObject;
+  for (int i = 0; i < 3; ++i) {
+    org[i] = m[i][0] * ray.origin[0] + m[i][1] * ray.origin[1] + m[i][2] * ray.origin[2] + m[i][3];
+    dir[i] = m[i][0] * ray.direction[0] + m[i][1] * ray.direction[1] + m[i][2] * ray.direction[2];
+  }
+}
+
+// Vulkan "Ray Face Culling": a triangle is front-facing when its area in ray space is negative. In ray space the
+// direction is the -z axis, so that area is a = (Ng . d) / (2 |d|) with Ng = (v1 - v0) x (v2 - v0), in the space
+// the triangle was built in (object space: "because the facing is determined in object space, an instance
+// transform does not change the winding", so a mirroring instance does not flip it). a < 0, i.e. the ray meets
+// the side Ng points away from, is the front; with a right-handed basis that is a triangle whose vertices appear
+// counterclockwise from the ray origin. TRIANGLE_FLIP_FACING reverses it; a == 0 faces neither way and is culled.
+// Embree's Ng is (v1 - v0) x (v2 - v0) in the instance's object space.
+// Returns +1 front, -1 back, 0 neither.
+inline int facing(const float ng[3], const float objectDir[3], uint32_t instanceFlags) {
+  const float a = ng[0] * objectDir[0] + ng[1] * objectDir[1] + ng[2] * objectDir[2];
+  if (a == 0 || std::isnan(a)) return 0;
+  const int front = a < 0 ? 1 : -1;
+  return (instanceFlags & kInstanceTriangleFlipFacing) ? -front : front;
+}
+
+inline bool facingCulled(int face, uint32_t instanceFlags, uint32_t rayFlags) {
+  if (face == 0) return true;  // "unconditionally culled, irrespective of ray flags and instance flags"
+  if (instanceFlags & kInstanceTriangleFacingCullDisable) return false;
+  return (face > 0 && (rayFlags & kRayCullFrontFacingTriangles)) ||
+         (face < 0 && (rayFlags & kRayCullBackFacingTriangles));
+}
+
+inline bool opacityCulled(bool opaque, uint32_t rayFlags) {
+  return (rayFlags & (opaque ? kRayCullOpaque : kRayCullNoOpaque)) != 0;
+}
+
+// The built-ins every hit has: the instance's, the primitive's indices and the object-space ray.
+void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive) {
+  const InstanceRecord& r = ctx.tlas->records[instance];
+  h.instanceIndex = instance;
+  h.customIndex = r.customIndex;
+  h.sbtOffset = r.sbtOffset;
+  h.geometryIndex = geometry;
+  h.primitiveIndex = primitive;
+  h.objectToWorld = r.objectToWorld;
+  h.worldToObject = r.worldToObject;
+  objectRay(r, *ctx.ray, h.objectRayOrigin, h.objectRayDirection);
+}
+
+// The context filter: every triangle candidate of a ray that needs one (see needsTriangleFilter). Embree has set
+// the ray's tfar to the candidate's t; accepting keeps it (Embree then narrows the traversal to it), rejecting
+// restores the previous one.
+void triangleFilter(const RTCFilterFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  TraceContext& ctx = contextOf(args->context);
+  RTCRay& ray = *reinterpret_cast<RTCRay*>(args->ray);  // N == 1: rtcIntersect1/rtcOccluded1
+  const RTCHit& hit = *reinterpret_cast<const RTCHit*>(args->hit);
+  const InstanceRecord& inst = ctx.tlas->records[hit.instID[0]];
+  const GeometryInfo& geom = inst.blas->info[hit.geomID];
+
+  float dir[3];
+  const float(*m)[4] = inst.worldToObject;
+  for (int i = 0; i < 3; ++i)
+    dir[i] = m[i][0] * ctx.ray->direction[0] + m[i][1] * ctx.ray->direction[1] + m[i][2] * ctx.ray->direction[2];
+  const float ng[3] = {hit.Ng_x, hit.Ng_y, hit.Ng_z};
+  const int face = facing(ng, dir, inst.flags);
+  const bool opaque = effectiveOpaque(geom.flags, inst.flags, ctx.flags);
+  if (ctx.terminated || facingCulled(face, inst.flags, ctx.flags) || opacityCulled(opaque, ctx.flags)) {
+    args->valid[0] = 0;
+    return;
+  }
+  const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
+  bool terminate = ctx.firstHit;
+  if (!opaque) {
+    // A non-opaque candidate goes to the any-hit shader ("Triangle and Generated Intersection Candidates").
+    HitInfo info;
+    fillCommon(info, ctx, hit.instID[0], hit.geomID, hit.primID);
+    info.t = ray.tfar;
+    info.hitKind = hitKind;
+    info.triangle = true;
+    info.barycentrics[0] = hit.u;
+    info.barycentrics[1] = hit.v;
+    const AnyHitResult result = ctx.handler->anyHit(info);
+    if (result == AnyHitResult::Ignore) {
+      args->valid[0] = 0;
+      return;
+    }
+    terminate |= result == AnyHitResult::AcceptAndTerminate;
+  }
+  Committed& c = ctx.last;
+  c.t = ray.tfar;
+  c.instance = hit.instID[0];
+  c.geometry = hit.geomID;
+  c.primitive = hit.primID;
+  c.hitKind = hitKind;
+  c.u = hit.u;
+  c.v = hit.v;
+  c.ng[0] = ng[0], c.ng[1] = ng[1], c.ng[2] = ng[2];
+  if (terminate) {
+    ctx.terminated = true;
+    if (!ctx.firstHit) ray.tfar = -kInf;  // (an occlusion query ends on acceptance by itself)
+  }
+}
+
+// The candidate test for a box: Vulkan's AABB candidates satisfy tmin <= t <= tmax, ends included, against the
+// closest hit so far ("Ray Intersection Candidate Determination"). A ray starting inside the box meets it.
+bool boxCandidate(const float* b, const float org[3], const float dir[3], float tMin, float tMax) {
+  float lo = tMin, hi = tMax;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] == 0) {
+      if (org[a] < b[a] || org[a] > b[a + 3]) return false;
+      continue;
+    }
+    float t0 = (b[a] - org[a]) / dir[a];
+    float t1 = (b[a + 3] - org[a]) / dir[a];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+  }
+  return lo <= hi;
+}
+
+// The intersection shader's view of one box candidate.
+class BoxCandidate final : public ProceduralCandidate {
+ public:
+  BoxCandidate(TraceContext& ctx, RTCRay& ray, RTCHit* hit, bool opaque, uint32_t instance, uint32_t geometry,
+               uint32_t primitive)
+      : ctx_(ctx), ray_(ray), hit_(hit), opaque_(opaque) {
+    fillCommon(info_, ctx, instance, geometry, primitive);
+    info_.triangle = false;
+  }
+
+  const HitInfo& info() const override { return info_; }
+  float tMin() const override { return ctx_.ray->tMin; }
+  float tMax() const override {
+    // Before any commit Embree's tfar is the ray's tMax nudged down (trace()); after one it is the closest t.
+    if (ctx_.terminated) return -kInf;
+    return hit_ && hit_->geomID != RTC_INVALID_GEOMETRY_ID ? ray_.tfar : ctx_.ray->tMax;
+  }
+  bool opaque() const override { return opaque_; }
+
+  void commit(float t, uint32_t hitKind, bool terminate) override {
+    if (ctx_.terminated || !(t >= tMin() && t <= tMax())) return;  // outside the current interval: no hit
+    Committed& c = ctx_.last;
+    c = Committed{};
+    c.t = t;
+    c.instance = info_.instanceIndex;
+    c.geometry = info_.geometryIndex;
+    c.primitive = info_.primitiveIndex;
+    c.hitKind = hitKind;
+    if (hit_) {  // an intersection query: Embree's hit becomes this one, and tfar narrows to it
+      ray_.tfar = t;
+      hit_->geomID = c.geometry;
+      hit_->primID = c.primitive;
+      hit_->instID[0] = c.instance;
+      hit_->u = hit_->v = 0;
+      hit_->Ng_x = hit_->Ng_y = hit_->Ng_z = 0;
+    }
+    if (terminate || ctx_.firstHit) {
+      ctx_.terminated = true;
+      ray_.tfar = -kInf;  // ends the traversal (and is how an occlusion callback reports a hit)
+    }
+  }
+
+ private:
+  TraceContext& ctx_;
+  RTCRay& ray_;
+  RTCHit* hit_;  // null in an occlusion query
+  bool opaque_;
+  HitInfo info_;
+};
+
+void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, unsigned primID, RTCRay& ray,
+            RTCHit* hit) {
+  TraceContext& ctx = contextOf(context);
+  if (ctx.terminated) return;
+  const uint32_t instance = context->instID[0];
+  const InstanceRecord& inst = ctx.tlas->records[instance];
+  const auto& geom = *static_cast<const GeometryInfo*>(userPtr);
+  const float* box = geom.boxes + 6 * size_t(primID);
+  if (std::isnan(box[0])) return;  // inactive (Embree leaves it out of the hierarchy already)
+  const bool opaque = effectiveOpaque(geom.flags, inst.flags, ctx.flags);
+  if (opacityCulled(opaque, ctx.flags)) return;
+  BoxCandidate candidate(ctx, ray, hit, opaque, instance, geomID, primID);
+  const HitInfo& info = candidate.info();
+  if (!boxCandidate(box, info.objectRayOrigin, info.objectRayDirection, ctx.ray->tMin, candidate.tMax())) return;
+  ctx.handler->intersect(candidate);
+}
+
+// The next float up and down from a non-negative t (inline: std::nextafter is a library call per ray).
+inline float nextUp(float t) { return t == kInf ? t : std::bit_cast<float>(std::bit_cast<uint32_t>(t) + 1); }
+inline float nextDown(float t) {
+  return t == 0 ? -std::numeric_limits<float>::denorm_min() : std::bit_cast<float>(std::bit_cast<uint32_t>(t) - 1);
+}
+
+bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+// The committed hit's built-ins.
+void report(const TraceContext& ctx, const Committed& c, HitInfo* hit) {
+  HitInfo& h = *hit;
+  h = HitInfo{};
+  fillCommon(h, ctx, c.instance, c.geometry, c.primitive);
+  const InstanceRecord& inst = ctx.tlas->records[c.instance];
+  h.t = c.t;
+  h.triangle = inst.blas->info[c.geometry].kind == Geometry::Triangles;
+  h.hitKind = c.hitKind;
+  if (!h.triangle) return;
+  if (!h.hitKind) {
+    // A hit Embree committed without the filter: its facing, by the same rule.
+    const bool front = facing(c.ng, h.objectRayDirection, inst.flags) > 0;
+    h.hitKind = front ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
+  }
+  h.barycentrics[0] = c.u;
+  h.barycentrics[1] = c.v;
+}
+
+}  // namespace
+
+bool needsTriangleFilter(const TlasSummary& s, uint32_t f) {
+  if (!s.triangles || (f & kRaySkipTriangles)) return false;
+  if (f & kRayTerminateOnFirstHit) return true;  // the occlusion query reports no hit: the filter records it
+  if ((f & (kRayCullBackFacingTriangles | kRayCullFrontFacingTriangles)) && s.facingCullable) return true;
+  const bool opaqueSeen = (f & kRayOpaque) || (!(f & kRayNoOpaque) && s.opaqueTriangles);
+  const bool noOpaqueSeen = !(f & kRayOpaque) && ((f & kRayNoOpaque) || s.noOpaqueTriangles);
+  return noOpaqueSeen || ((f & kRayCullOpaque) && opaqueSeen);
+}
+
+void boxIntersect(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);  // N == 1
+  runBox(args->context, args->geometryUserPtr, args->geomID, args->primID, rayhit->ray, &rayhit->hit);
+}
+
+void boxOccluded(const RTCOccludedFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  runBox(args->context, args->geometryUserPtr, args->geomID, args->primID, *reinterpret_cast<RTCRay*>(args->ray),
+         nullptr);
+}
+
+}  // namespace detail
+
+bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) {
+  using namespace detail;
+  const Tlas::Impl& t = *tlas.impl;
+  const uint32_t cull = ray.cullMask & 0xFF;
+  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses.
+  if (!cull || !t.scene || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
+      !(ray.tMin <= ray.tMax))
+    return false;
+
+  TraceContext ctx;
+  rtcInitIntersectContext(&ctx.embree);
+  ctx.tlas = &t;
+  ctx.ray = &ray;
+  ctx.handler = &handler;
+  ctx.flags = ray.flags;
+  ctx.firstHit = (ray.flags & kRayTerminateOnFirstHit) != 0;
+  if (needsTriangleFilter(t.summary, ray.flags)) ctx.embree.filter = triangleFilter;
+
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin[0];
+  rh.ray.org_y = ray.origin[1];
+  rh.ray.org_z = ray.origin[2];
+  rh.ray.dir_x = ray.direction[0];
+  rh.ray.dir_y = ray.direction[1];
+  rh.ray.dir_z = ray.direction[2];
+  // Triangle candidates need tMin < t < tMax, ends excluded ("Ray Intersection Candidate Determination");
+  // Embree's watertight test accepts tnear <= t <= tfar, so each end moves one float inward. (Box candidates
+  // include both ends: their callbacks test against the ray's own tMin and tMax.)
+  rh.ray.tnear = std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
+  rh.ray.tfar = nextDown(ray.tMax);
+  rh.ray.time = 0;
+  rh.ray.mask =
+      cull | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) | (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+
+  if (ctx.firstHit) {
+    rtcOccluded1(t.scene, &ctx.embree, &rh.ray);
+    if (!ctx.terminated) return false;
+    if (hit) report(ctx, ctx.last, hit);
+    return true;
+  }
+  rtcIntersect1(t.scene, &ctx.embree, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  if (!hit) return true;
+  if (ctx.terminated) {
+    report(ctx, ctx.last, hit);  // tfar is -inf now; the callbacks kept the commit
+    return true;
+  }
+  Committed c;
+  c.t = rh.ray.tfar;
+  c.instance = rh.hit.instID[0];
+  c.geometry = rh.hit.geomID;
+  c.primitive = rh.hit.primID;
+  c.u = rh.hit.u;
+  c.v = rh.hit.v;
+  c.ng[0] = rh.hit.Ng_x, c.ng[1] = rh.hit.Ng_y, c.ng[2] = rh.hit.Ng_z;
+  // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
+  const bool box = t.records[c.instance].blas->info[c.geometry].kind == Geometry::Aabbs;
+  c.hitKind = box ? ctx.last.hitKind : 0;
+  report(ctx, c, hit);
+  return true;
+}
+
+}  // namespace vkrt::accel
