@@ -308,7 +308,14 @@ struct TraceFrame final : accel::HitHandler {
   }
 };
 
-void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
+void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* passed) {
+  // OpTraceRayKHR uses only the low 4 bits of the SBT offset and stride, 16 of the miss index, 8 of the cull mask.
+  abi::TraceRayArgs masked = *passed;
+  masked.sbtOffset &= 0xF;
+  masked.sbtStride &= 0xF;
+  masked.missIndex &= 0xFFFF;
+  masked.cullMask &= 0xFF;
+  const abi::TraceRayArgs* args = &masked;
   Invocation& caller = *static_cast<Invocation*>(callerBase);
   LaunchState& state = *caller.state;
   const RayLaunch& launch = *state.launch;

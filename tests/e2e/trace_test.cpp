@@ -63,6 +63,21 @@ TEST_F(TraceFlags, RayFlagsInstanceFlagsMasksAndMissIndex) {
   t.missIndex = 1;
   r = centre(p, s, plain, {t.rayFlags, 0x02, 0, 1, 1});
   EXPECT_EQ(r.extra[0], 8u) << "missIndex 1 selects the second miss record";
+  {
+    // OpTraceRayKHR uses only the low 8 bits of the cull mask, 4 of the SBT offset and stride, 16 of the miss index.
+    TraceParams high;
+    high.cullMask = 0xFFFFFF02;
+    EXPECT_FALSE(hits(centre(p, s, plain, high))) << "cull mask 0xFFFFFF02 is 0x02";
+    high.cullMask = 0xFFFFFF01;
+    high.sbtOffset = 0xFFFFFFF0;
+    high.sbtStride = 0xFFFFFFF0;
+    r = centre(p, s, plain, high);
+    ASSERT_TRUE(hits(r)) << "cull mask 0xFFFFFF01 is 0x01";
+    EXPECT_EQ(r.extra[0], 100u) << "SBT offset and stride 0xFFFFFFF0 are 0: hit record 0";
+    high.cullMask = 0x02;
+    high.missIndex = 0xFFFF0001;
+    EXPECT_EQ(centre(p, s, plain, high).extra[0], 8u) << "miss index 0xFFFF0001 is 1";
+  }
   t.missIndex = 0;
   t.rayFlags = 0x10;  // gl_RayFlagsCullBackFacingTrianglesEXT
   r = centre(p, s, plain, t);
