@@ -116,6 +116,9 @@ std::unique_ptr<Blas::Impl> makeImpl(std::vector<Geometry> geometries, const Bui
     if (g.kind == Geometry::Triangles) {
       info.flags = g.triangles.flags;
       info.primitiveCount = uint32_t(g.triangles.indices.size() / 3);
+      info.vertices = g.triangles.vertices.data();
+      info.indices = g.triangles.indices.data();
+      info.vertexCount = uint32_t(g.triangles.vertices.size() / 3);
       if (info.primitiveCount && !g.triangles.vertices.empty()) {
         impl->summary.triangles = true;
         (info.flags & kGeometryOpaque ? impl->summary.opaqueTriangles : impl->summary.noOpaqueTriangles) = true;

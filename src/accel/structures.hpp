@@ -35,8 +35,11 @@ inline bool effectiveOpaque(uint32_t geometryFlags, uint32_t instanceFlags, uint
 // What traversal needs of one geometry of a Blas.
 struct GeometryInfo {
   Geometry::Kind kind = Geometry::Triangles;
-  uint32_t flags = 0;            // GeometryFlag
-  const float* boxes = nullptr;  // Aabbs: 6 floats per primitive (the Blas's copy)
+  uint32_t flags = 0;                 // GeometryFlag
+  const float* boxes = nullptr;       // Aabbs: 6 floats per primitive (the Blas's copy)
+  const float* vertices = nullptr;    // Triangles: x, y, z per vertex (the Blas's copy)
+  const uint32_t* indices = nullptr;  // Triangles: three per primitive
+  uint32_t vertexCount = 0;
   uint32_t primitiveCount = 0;
 };
 

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -39,6 +40,27 @@ struct Committed {
   float ng[3] = {0, 0, 0};
 };
 
+// Embree's watertight triangle test counts a ray through a shared edge, or through a vertex, as hitting every
+// triangle there (it is inclusive, with a small tolerance). The spec's watertightness rules only forbid gaps, but
+// an application counting any-hit calls, and NO_DUPLICATE_ANY_HIT geometry, expect one crossing of a closed
+// surface to be one candidate; so do the CTS (misc.cullmask_*, misc.maxrtinvocations_*: rays through cube
+// corners and face diagonals). A candidate that shares a vertex position with a triangle of the same instance
+// already offered to this ray, at the same t up to rounding, is the same crossing and is dropped. (Exact
+// ownership rules on the edge functions are not enough on their own: Embree's and any other exact test disagree
+// near edges, and dropping the triangle Embree offered would open a gap.)
+struct Offered {
+  uint32_t instance;
+  float t;
+  float v[3][3];
+};
+
+bool sharesVertex(const float a[3][3], const float b[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a[i][0] == b[j][0] && a[i][1] == b[j][1] && a[i][2] == b[j][2]) return true;
+  return false;
+}
+
 struct TraceContext {
   RTCIntersectContext embree;  // first: Embree hands &embree back to the callbacks
   const Tlas::Impl* tlas;
@@ -48,6 +70,25 @@ struct TraceContext {
   bool firstHit;            // TerminateOnFirstHitKHR: an occlusion query
   bool terminated = false;  // a commit ended the traversal
   Committed last;           // the latest commit made by a callback
+  // The latest triangle candidates offered (culling passed), for dropping the same crossing offered twice.
+  static constexpr uint32_t kOffered = 8;
+  Offered offered[kOffered];
+  uint32_t offeredCount = 0;
+
+  // Whether the triangle `v` at `t` in `instance` is a crossing already offered; records it otherwise.
+  bool sameCrossingOffered(uint32_t instance, float t, const float v[3][3]) {
+    const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
+    const uint32_t n = std::min(offeredCount, kOffered);
+    for (uint32_t k = 0; k < n; ++k) {
+      const Offered& o = offered[k];
+      if (o.instance == instance && std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, v)) return true;
+    }
+    Offered& slot = offered[offeredCount++ % kOffered];
+    slot.instance = instance;
+    slot.t = t;
+    std::memcpy(slot.v, v, sizeof(slot.v));
+    return false;
+  }
 };
 
 inline TraceContext& contextOf(const RTCIntersectContext* c) {
@@ -122,6 +163,16 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   if (ctx.terminated || facingCulled(face, inst.flags, ctx.flags) || opacityCulled(opaque, ctx.flags)) {
     args->valid[0] = 0;
     return;
+  }
+  if (geom.vertices && hit.primID < geom.primitiveCount) {
+    const uint32_t* index = geom.indices + 3 * size_t(hit.primID);
+    float v[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) v[k][c] = index[k] < geom.vertexCount ? geom.vertices[3 * size_t(index[k]) + c] : 0;
+    if (ctx.sameCrossingOffered(hit.instID[0], ray.tfar, v)) {
+      args->valid[0] = 0;
+      return;
+    }
   }
   const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
   bool terminate = ctx.firstHit;

@@ -65,6 +65,64 @@ TEST(AccelWatertight, RaysThroughSharedEdgesAndVerticesNeverMiss) {
   EXPECT_EQ(misses, 0);
 }
 
+// A ray through a shared edge, or through the vertex at the centre of a closed fan, meets exactly one of the
+// triangles there: the any-hit shader of non-opaque geometry runs once (applications count those calls, and so
+// does the CTS: misc.cullmask_*, misc.maxrtinvocations_*). Ignore makes traversal offer every candidate.
+TEST(AccelWatertight, NonOpaqueRaysThroughSharedEdgesAndVerticesMeetExactlyOneTriangle) {
+  Grid grid;
+  grid.geometry.triangles.flags = 0;  // not opaque: every candidate goes to the any-hit handler
+  for (uint32_t geometryFlags : {0u, uint32_t(kGeometryNoDuplicateAnyHit)}) {
+    grid.geometry.triangles.flags = geometryFlags;
+    // The grid as built, and through an instance that rotates, scales and moves it (the test runs in object space).
+    Instance moved = instanceOf(makeBlas({grid.geometry}));
+    const float m[3][4] = {{0, -2, 0, 3}, {2, 0, 0, -1}, {0, 0, 2, 4}};
+    std::copy(&m[0][0], &m[0][0] + 12, &moved.transform[0][0]);
+    for (bool instanced : {false, true}) {
+      auto tlas = instanced ? makeTlas({moved}) : sceneOf({grid.geometry});
+      int wrong = 0, rays = 0;
+      for (Ray ray : grid.edgeRays(4000)) {
+        if (instanced) {
+          // The same object-space ray, in world space.
+          float o[3], d[3];
+          for (int r = 0; r < 3; ++r) {
+            o[r] = m[r][0] * ray.origin[0] + m[r][1] * ray.origin[1] + m[r][2] * ray.origin[2] + m[r][3];
+            d[r] = m[r][0] * ray.direction[0] + m[r][1] * ray.direction[1] + m[r][2] * ray.direction[2];
+          }
+          ray = rayFrom(o[0], o[1], o[2], d[0], d[1], d[2], 0, ray.tMax);
+        }
+        Recorder rec;
+        rec.onAnyHit = [](const HitInfo&) { return AnyHitResult::Ignore; };
+        traceOnce(*tlas, ray, rec);
+        wrong += rec.anyHits.size() != 1;
+        ++rays;
+      }
+      EXPECT_EQ(wrong, 0) << "of " << rays << " rays, instanced " << instanced << ", flags " << geometryFlags;
+    }
+  }
+}
+
+// The CTS's case: a closed cube (12 triangles), a ray along the diagonal through the corner where three faces
+// meet, back faces culled: one front-facing triangle is hit, once.
+TEST(AccelWatertight, ARayThroughACubesCornerMeetsOneFrontFace) {
+  Geometry cube;
+  cube.kind = Geometry::Triangles;
+  auto& t = cube.triangles;
+  for (int k = 0; k < 8; ++k) t.vertices.insert(t.vertices.end(), {float(k & 1), float(k >> 1 & 1), float(k >> 2 & 1)});
+  // Each face as two triangles wound counterclockwise seen from outside.
+  const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : faces) t.indices.insert(t.indices.end(), {f[0], f[1], f[2], f[0], f[2], f[3]});
+  auto tlas = sceneOf({cube});
+  for (uint32_t flags : {0u, uint32_t(kRayCullBackFacingTriangles)}) {
+    Recorder rec;
+    rec.onAnyHit = [](const HitInfo&) { return AnyHitResult::Ignore; };
+    traceOnce(*tlas, rayFrom(-0.5f, -0.5f, -0.5f, 1, 1, 1, flags, 4.0f, 0.001f), rec);
+    size_t front = 0;
+    for (const HitInfo& h : rec.anyHits) front += h.hitKind == kHitKindFrontFacingTriangle;
+    EXPECT_EQ(front, 1u) << "ray flags " << flags;
+    EXPECT_EQ(rec.anyHits.size(), flags ? 1u : 2u) << "the far corner's back faces, once, unless culled";
+  }
+}
+
 // The premise: Embree's fast (not robust) triangle test lets some of these rays through the cracks. This is why
 // vkrt builds its scenes robust (src/accel/blas.cpp); if it stops holding, the test above tests less.
 TEST(AccelWatertight, EmbreesFastPathWouldMissSomeOfTheseRays) {
