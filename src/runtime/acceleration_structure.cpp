@@ -20,9 +20,16 @@ using ull = unsigned long long;
 constexpr uint8_t kCompatibilityUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'a', 's', '-',
                                                       's', 'e', 'r', 0,   0,   0,   0,   1};
 
-void registerAt(Device* dev, uint64_t address, AccelerationStructure* as) {
+// The registry maps an address to the structure whose content its memory holds: the one built there last. A
+// structure created over a live one takes the address only once it is built (creation does not touch the
+// memory, so the structure built there before stays what the address denotes), or if nothing is there yet.
+void registerAt(Device* dev, uint64_t address, AccelerationStructure* as, bool built) {
   std::lock_guard lock(dev->accelerationStructuresMutex);
-  dev->accelerationStructures[address] = as;
+  if (built) {
+    dev->accelerationStructures[address] = as;
+  } else {
+    dev->accelerationStructures.try_emplace(address, as);
+  }
 }
 
 }  // namespace
@@ -34,7 +41,7 @@ AccelerationStructure::AccelerationStructure(Device* dev, const VkAccelerationSt
       size(info.size),
       type(info.type),
       address(reinterpret_cast<uint64_t>(buf->data()) + info.offset) {
-  registerAt(dev, address, this);
+  registerAt(dev, address, this, false);
 }
 
 AccelerationStructure::~AccelerationStructure() {
@@ -53,8 +60,7 @@ void AccelerationStructure::setContent(std::shared_ptr<const Content> c) {
     std::lock_guard lock(mutex_);
     content_ = std::move(c);
   }
-  // The structure built last at an address is the one its address denotes.
-  registerAt(device, address, this);
+  registerAt(device, address, this, true);
 }
 
 AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address) {

@@ -65,8 +65,8 @@ class AccelerationStructure : public Object {
   std::shared_ptr<const Content> content_;
 };
 
-// The live acceleration structure registered at `address` on `dev` (the last one created or built there), or
-// null. The caller must not keep the pointer past the call that resolved it (use its content()).
+// The live acceleration structure registered at `address` on `dev` (the last one built there, else the first
+// created there), or null. The caller must not keep the pointer past the call that resolved it (use its content()).
 AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
 // The built top-level content at `address`, or null (nothing there, not built, or a bottom-level structure).
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);

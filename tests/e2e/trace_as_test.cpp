@@ -94,6 +94,25 @@ TEST_F(TraceAsTest, ACompactedCopyTracesTheSame) {
   expectBasicScene(trace(p, s, top, 8, 8), 8);
 }
 
+// Creating an acceleration structure does not touch its buffer: one created over a built structure (same buffer,
+// same offset) and never built leaves the address denoting what was built there, for bottom-level references
+// resolved by a later top-level build and for the top level a trace names (the CTS's
+// misc.reuse_creation_buffer_*). Building it would replace the content, as it would overwrite the memory.
+TEST_F(TraceAsTest, AStructureCreatedOverABuiltOneLeavesItInPlace) {
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR overQuad = VK_NULL_HANDLE, overTop = VK_NULL_HANDLE;
+  ASSERT_EQ(createAs(device, &storageOf[quad], nullptr, &overQuad), VK_SUCCESS);
+  structures.push_back(overQuad);
+  EXPECT_EQ(addressOf(overQuad), addressOf(quad));
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});
+  ASSERT_EQ(createAs(device, &storageOf[top], nullptr, &overTop), VK_SUCCESS);
+  structures.push_back(overTop);
+  expectBasicScene(trace(p, s, top, 8, 8), 8);
+  destroyAs(device, overTop, nullptr);
+  structures.erase(std::find(structures.begin(), structures.end(), overTop));
+  expectBasicScene(trace(p, s, top, 8, 8), 8);
+}
+
 TEST_F(TraceAsTest, SerializedAndDeserializedStructuresTraceTheSame) {
   VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
   VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});

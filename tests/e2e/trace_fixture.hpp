@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <map>
 #include <vector>
 
 #include "e2e/rt_fixture.hpp"
@@ -231,6 +232,7 @@ class TraceTest : public RtTest {
     VkAccelerationStructureKHR as = VK_NULL_HANDLE;
     EXPECT_EQ(createAs(device, &ci, nullptr, &as), VK_SUCCESS);
     structures.push_back(as);
+    storageOf[as] = ci;
     HostBuffer& scratch = buffer(sizes.buildScratchSize + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     info.dstAccelerationStructure = as;
     info.scratchData.deviceAddress = (addressOf(scratch) + 255) / 256 * 256;
@@ -445,6 +447,7 @@ class TraceTest : public RtTest {
   HostBuffer spheres;
   std::deque<HostBuffer> buffers;  // a deque: references returned by buffer() stay valid
   std::vector<VkAccelerationStructureKHR> structures;
+  std::map<VkAccelerationStructureKHR, VkAccelerationStructureCreateInfoKHR> storageOf;  // how build() created each
 };
 
 }  // namespace vkrt::test
