@@ -59,7 +59,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxImageArrayLayers = 2048;
   l.maxTexelBufferElements = 1u << 27;
   l.maxUniformBufferRange = 65536;
-  l.maxStorageBufferRange = 1u << 30;
+  l.maxStorageBufferRange = UINT32_MAX;  // the CTS binds 2 GiB in its largest launches; descriptor ranges are 64-bit
   l.maxPushConstantsSize = 256;
   l.maxMemoryAllocationCount = 1u << 20;
   l.maxSamplerAllocationCount = 1u << 20;
