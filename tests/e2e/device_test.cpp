@@ -9,6 +9,7 @@ namespace {
 using DeviceTest = VulkanTest;
 
 TEST_F(DeviceTest, PhysicalDeviceIsVkrtCpu) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own identity and queue families";
   VkPhysicalDeviceProperties p;
   vkGetPhysicalDeviceProperties(physicalDevice, &p);
   EXPECT_STREQ(p.deviceName, "vkrt");
@@ -36,18 +37,20 @@ TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {
   VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p12};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
   vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
-  EXPECT_STREQ(p2.properties.deviceName, "vkrt");
   EXPECT_EQ(p11.pNext, &p12);
   EXPECT_EQ(p12.pNext, &driver);
   EXPECT_EQ(driver.pNext, &unknown);
-  EXPECT_EQ(unknown.maxTaskWorkGroupTotalCount, 0xdeadbeefu);
-  EXPECT_EQ(unknown.maxMeshOutputVertices, 0u);
   EXPECT_EQ(unknown.pNext, &p13);
-  EXPECT_STREQ(driver.driverName, "vkrt");
-  EXPECT_STREQ(p12.driverName, "vkrt");
+  if (onVkrt()) {  // another driver may implement mesh shaders and fill the structure
+    EXPECT_STREQ(p2.properties.deviceName, "vkrt");
+    EXPECT_EQ(unknown.maxTaskWorkGroupTotalCount, 0xdeadbeefu);
+    EXPECT_EQ(unknown.maxMeshOutputVertices, 0u);
+    EXPECT_STREQ(driver.driverName, "vkrt");
+    EXPECT_STREQ(p12.driverName, "vkrt");
+  }
   EXPECT_GT(p11.maxMemoryAllocationSize, 0u);
   EXPECT_GT(p13.maxBufferSize, 0u);
-  EXPECT_EQ(std::memcmp(p11.deviceUUID, p2.properties.pipelineCacheUUID, VK_UUID_SIZE), 0);
+  if (onVkrt()) EXPECT_EQ(std::memcmp(p11.deviceUUID, p2.properties.pipelineCacheUUID, VK_UUID_SIZE), 0);
 }
 
 TEST_F(DeviceTest, Features2ReportsWhatTheDeviceEnables) {
