@@ -54,7 +54,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
 
   l.maxImageDimension1D = 16384;
   l.maxImageDimension2D = 16384;
-  l.maxImageDimension3D = 2048;
+  l.maxImageDimension3D = 16384;
   l.maxImageDimensionCube = 16384;
   l.maxImageArrayLayers = 2048;
   l.maxTexelBufferElements = 1u << 27;
