@@ -60,6 +60,8 @@ class RtTest : public VulkanTest {
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT supportedLgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   bool vkrt = false;
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
@@ -106,11 +108,12 @@ class RtTest : public VulkanTest {
     VkPhysicalDevice pd = VK_NULL_HANDLE;
     VkResult r = vkEnumeratePhysicalDevices(inst, &n, &pd);  // the first one, as the fixture takes
     if ((r == VK_SUCCESS || r == VK_INCOMPLETE) && n >= 1) {
-      supportedLgh.pNext = nullptr;
+      supportedAs.pNext = nullptr;
+      supportedLgh.pNext = &supportedAs;
       supportedRt.pNext = &supportedLgh;
       VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supportedRt};
       vkGetPhysicalDeviceFeatures2(pd, &f2);
-      supportedRt.pNext = nullptr;
+      supportedRt.pNext = supportedLgh.pNext = nullptr;
       vkrt = isVkrt(pd);
     }
     vkDestroyInstance(inst, nullptr);

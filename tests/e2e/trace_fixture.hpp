@@ -62,8 +62,6 @@ inline float cellCentre(uint32_t i, uint32_t n) { return (float(i) + 0.5f) / flo
 
 class TraceTest : public RtTest {
  protected:
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR supportedAs{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
 
@@ -76,22 +74,8 @@ class TraceTest : public RtTest {
   }
 
   void SetUp() override {
-    // The acceleration structure features the driver has (host commands: vkrt yes, NVIDIA no).
-    {
-      VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-      app.apiVersion = VK_API_VERSION_1_3;
-      VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-      ici.pApplicationInfo = &app;
-      VkInstance inst = VK_NULL_HANDLE;
-      ASSERT_EQ(vkCreateInstance(&ici, nullptr, &inst), VK_SUCCESS);
-      uint32_t n = 1;
-      VkPhysicalDevice pd = VK_NULL_HANDLE;
-      vkEnumeratePhysicalDevices(inst, &n, &pd);
-      VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supportedAs};
-      if (n) vkGetPhysicalDeviceFeatures2(pd, &f2);
-      supportedAs.pNext = nullptr;
-      vkDestroyInstance(inst, nullptr);
-    }
+    // (RtTest::querySupport reads the acceleration structure features the driver has: host commands, vkrt yes,
+    // NVIDIA no.)
     RtTest::SetUp();
     if (HasFatalFailure() || !device) return;
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rtProps};
