@@ -1,6 +1,7 @@
 // Acceleration structure operations, checked by tracing: a compacted copy, a serialize/deserialize round trip with
-// patched bottom-level references, an update that moves the geometry, and builds on the host (with a deferred
-// operation joined by several threads) all trace the scene their inputs describe.
+// patched bottom-level references (in one process and from another), an update that moves the geometry, and builds on
+// the host (with a deferred operation joined by several threads) all trace the scene their inputs describe.
+#include <sstream>
 #include <thread>
 
 #include "e2e/trace_fixture.hpp"
@@ -50,6 +51,49 @@ class TraceAsTest : public TraceTest {
     VkAccelerationStructureKHR as = VK_NULL_HANDLE;
     EXPECT_EQ(createAs(device, &ci, nullptr, &as), VK_SUCCESS);
     structures.push_back(as);
+    return as;
+  }
+  // The serialized form of `as` (vkCmdCopyAccelerationStructureToMemoryKHR), its size from the query.
+  std::vector<uint8_t> serialized(VkAccelerationStructureKHR as) {
+    const VkDeviceSize bytes = property(as, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR);
+    EXPECT_GT(bytes, 56u);
+    HostBuffer& data = buffer(bytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    const VkDeviceAddress at = (addressOf(data) + 255) / 256 * 256;
+    VkCommandBuffer cb = beginOneTime();
+    VkCopyAccelerationStructureToMemoryInfoKHR out{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_TO_MEMORY_INFO_KHR};
+    out.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_SERIALIZE_KHR;
+    out.src = as;
+    out.dst.deviceAddress = at;
+    cmdToMemory(cb, &out);
+    barrier(cb);
+    submitAndWait(cb);
+    const uint8_t* first = static_cast<const uint8_t*>(data.data) + (at - addressOf(data));
+    return std::vector<uint8_t>(first, first + bytes);
+  }
+  // A new structure of `type` deserialized from `data` (vkCmdCopyMemoryToAccelerationStructureKHR), every
+  // bottom-level reference in the header patched to `references` first (the application's job).
+  VkAccelerationStructureKHR deserialized(std::vector<uint8_t> data, VkAccelerationStructureTypeKHR type,
+                                          VkAccelerationStructureKHR references) {
+    uint64_t count = 0, size = 0;
+    std::memcpy(&size, data.data() + 40, 8);
+    std::memcpy(&count, data.data() + 48, 8);
+    EXPECT_EQ(count == 0, references == VK_NULL_HANDLE);
+    for (uint64_t i = 0; i < count && 56 + (i + 1) * 8 <= data.size(); ++i) {
+      const uint64_t ref = addressOf(references);
+      std::memcpy(data.data() + 56 + i * 8, &ref, 8);
+    }
+    VkAccelerationStructureKHR as = empty(type, std::max<VkDeviceSize>(size, 256));
+    HostBuffer& src = buffer(data.size() + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    const VkDeviceAddress at = (addressOf(src) + 255) / 256 * 256;
+    std::memcpy(static_cast<uint8_t*>(src.data) + (at - addressOf(src)), data.data(), data.size());
+    VkCommandBuffer cb = beginOneTime();
+    VkCopyMemoryToAccelerationStructureInfoKHR in{VK_STRUCTURE_TYPE_COPY_MEMORY_TO_ACCELERATION_STRUCTURE_INFO_KHR};
+    in.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_DESERIALIZE_KHR;
+    in.src.deviceAddress = at;
+    in.dst = as;
+    cmdFromMemory(cb, &in);
+    barrier(cb);
+    submitAndWait(cb);
     return as;
   }
   void barrier(VkCommandBuffer cb) {
@@ -116,73 +160,54 @@ TEST_F(TraceAsTest, AStructureCreatedOverABuiltOneLeavesItInPlace) {
 TEST_F(TraceAsTest, SerializedAndDeserializedStructuresTraceTheSame) {
   VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
   VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});
-  const VkDeviceSize blasBytes = property(quad, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR);
-  const VkDeviceSize tlasBytes = property(top, VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR);
-  ASSERT_GT(blasBytes, 56u);
-  ASSERT_GT(tlasBytes, 56u);
-  HostBuffer& blasData = buffer(blasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  HostBuffer& tlasData = buffer(tlasBytes + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  const VkDeviceAddress blasAt = (addressOf(blasData) + 255) / 256 * 256,
-                        tlasAt = (addressOf(tlasData) + 255) / 256 * 256;
-  VkCommandBuffer cb = beginOneTime();
-  VkCopyAccelerationStructureToMemoryInfoKHR out{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_TO_MEMORY_INFO_KHR};
-  out.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_SERIALIZE_KHR;
-  out.src = quad;
-  out.dst.deviceAddress = blasAt;
-  cmdToMemory(cb, &out);
-  out.src = top;
-  out.dst.deviceAddress = tlasAt;
-  cmdToMemory(cb, &out);
-  barrier(cb);
-  submitAndWait(cb);
-  auto* blasHeader = static_cast<uint8_t*>(blasData.data) + (blasAt - addressOf(blasData));
-  auto* tlasHeader = static_cast<uint8_t*>(tlasData.data) + (tlasAt - addressOf(tlasData));
-  // The header: driverUUID and compatibility UUID, which this device accepts.
+  std::vector<uint8_t> blasData = serialized(quad), tlasData = serialized(top);
+  ASSERT_FALSE(HasFailure());
+  // The header: driverUUID and compatibility UUID, which this device accepts; the sizes; the references.
   VkAccelerationStructureVersionInfoKHR version{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_VERSION_INFO_KHR};
-  version.pVersionData = blasHeader;
+  version.pVersionData = blasData.data();
   VkAccelerationStructureCompatibilityKHR compat = VK_ACCELERATION_STRUCTURE_COMPATIBILITY_INCOMPATIBLE_KHR;
   compatibility(device, &version, &compat);
   EXPECT_EQ(compat, VK_ACCELERATION_STRUCTURE_COMPATIBILITY_COMPATIBLE_KHR);
   VkDeviceSize sizes[3];
-  std::memcpy(sizes, blasHeader + 32, sizeof sizes);
-  EXPECT_EQ(sizes[0], blasBytes) << "serialized size";
+  std::memcpy(sizes, blasData.data() + 32, sizeof sizes);
+  EXPECT_EQ(sizes[0], blasData.size()) << "serialized size";
   EXPECT_EQ(sizes[2], 0u) << "a bottom level refers to nothing";
-  std::memcpy(sizes, tlasHeader + 32, sizeof sizes);
-  EXPECT_EQ(sizes[0], tlasBytes);
-  // Deserialize the bottom level into a new structure, then patch the top level's references to it.
-  VkDeviceSize blasSize = 0;
-  std::memcpy(&blasSize, blasHeader + 40, 8);
-  VkAccelerationStructureKHR quad2 =
-      empty(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, std::max<VkDeviceSize>(blasSize, 256));
-  VkDeviceSize tlasSize = 0;
-  std::memcpy(&tlasSize, tlasHeader + 40, 8);
-  VkAccelerationStructureKHR top2 =
-      empty(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::max<VkDeviceSize>(tlasSize, 256));
+  std::memcpy(sizes, tlasData.data() + 32, sizeof sizes);
+  EXPECT_EQ(sizes[0], tlasData.size());
+  ASSERT_GE(sizes[2], 1u) << "the quad, referred to by both instances (vkrt lists each structure once)";
   for (uint64_t i = 0; i < sizes[2]; ++i) {
     uint64_t ref;
-    std::memcpy(&ref, tlasHeader + 56 + i * 8, 8);
+    std::memcpy(&ref, tlasData.data() + 56 + i * 8, 8);
     EXPECT_EQ(ref, addressOf(quad));
-    ref = addressOf(quad2);
-    std::memcpy(tlasHeader + 56 + i * 8, &ref, 8);
   }
-  cb = beginOneTime();
-  VkCopyMemoryToAccelerationStructureInfoKHR in{VK_STRUCTURE_TYPE_COPY_MEMORY_TO_ACCELERATION_STRUCTURE_INFO_KHR};
-  in.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_DESERIALIZE_KHR;
-  in.src.deviceAddress = blasAt;
-  in.dst = quad2;
-  cmdFromMemory(cb, &in);
-  barrier(cb);
-  in.src.deviceAddress = tlasAt;
-  in.dst = top2;
-  cmdFromMemory(cb, &in);
-  barrier(cb);
-  submitAndWait(cb);
+  VkAccelerationStructureKHR quad2 = deserialized(blasData, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, 0);
+  VkAccelerationStructureKHR top2 = deserialized(tlasData, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, quad2);
   // The originals are gone: the deserialized pair alone is traced.
   for (VkAccelerationStructureKHR gone : {top, quad}) {
     destroyAs(device, gone, nullptr);
     structures.erase(std::find(structures.begin(), structures.end(), gone));
   }
   expectBasicScene(trace(p, s, top2, 8, 8), 8);
+}
+
+// Run by the test below in a process of its own: the basic scene serialized, bottom level then top level, as hex.
+TEST_F(TraceAsTest, HelperSerializeTheBasicScene) {
+  if (!std::getenv("VKRT_HELPER_OUT")) GTEST_SKIP() << "run by TraceAsTest.DataSerializedInAnotherProcessTracesTheSame";
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 5, 10, 0), instance(quad, 1.6f, 0, 2, 20, 1)});
+  writeOut(hexOf(serialized(quad)) + " " + hexOf(serialized(top)));
+}
+
+TEST_F(TraceAsTest, DataSerializedInAnotherProcessTracesTheSame) {
+  std::istringstream in(runHelper("TraceAsTest.HelperSerializeTheBasicScene"));
+  std::string blasHex, tlasHex;
+  in >> blasHex >> tlasHex;
+  std::vector<uint8_t> blasData = fromHex(blasHex), tlasData = fromHex(tlasHex);
+  ASSERT_GT(blasData.size(), 56u);
+  ASSERT_GT(tlasData.size(), 56u);
+  VkAccelerationStructureKHR quad = deserialized(blasData, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, 0);
+  VkAccelerationStructureKHR top = deserialized(tlasData, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, quad);
+  expectBasicScene(trace(p, s, top, 8, 8), 8);
 }
 
 TEST_F(TraceAsTest, AnUpdateMovesTheGeometry) {
