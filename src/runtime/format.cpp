@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "runtime/acceleration_structure_build.hpp"
 #include "runtime/physical_device.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -74,9 +75,13 @@ VkFormatFeatureFlags formatFeatures(VkFormat format) {
 }
 
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
+  // Vertex formats of acceleration structure builds (the spec's mandatory ones and the 8/16-bit normalized ones).
+  const VkFormatFeatureFlags vertex =
+      accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0;
   const FormatInfo* f = formatInfo(format);
-  if (!f || f->type == N::SRGB) return 0;
-  VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
+  if (!f || f->type == N::SRGB) return vertex;
+  VkFormatFeatureFlags flags =
+      vertex | VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
   if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)
     flags |= VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_ATOMIC_BIT;
   return flags;
