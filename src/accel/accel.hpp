@@ -201,8 +201,8 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 // ------------------------------------------------------------------------------------------ serialization
 //
 // The opaque part of a serialized structure (the runtime writes the header the Vulkan specification defines
-// before it, with the bottom-level references). A Tlas's instances are written with the index of their Blas in
-// `blasRefs` (filled by serialize, in first-use order) and resolved through `resolve` on deserialize.
+// before it, with the bottom-level references). `blasRefs` (filled by serialize) has one entry per instance, its
+// Blas (null for an inactive instance); deserializeTlas takes the same list, each entry resolved by the caller.
 std::vector<uint8_t> serialize(const Blas& blas);
 std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasRefs);
 // Whether serialized data (as serialize() writes it) holds a top-level structure; false for anything else.

@@ -19,7 +19,6 @@
 // Reading checks every count against the bytes left before it allocates or copies, so that garbage or
 // truncated input fails with an error and never reads out of bounds or allocates more than its own size.
 #include <cstring>
-#include <unordered_map>
 
 #include "accel/accel.hpp"
 
@@ -210,17 +209,13 @@ std::vector<uint8_t> serialize(const Blas& blas) {
 }
 
 std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasRefs) {
-  std::unordered_map<const Blas*, uint32_t> refIndex;  // (serialization only; traversal does no lookup)
+  // One reference per instance (null for an inactive one), so that an application patching the references can
+  // give instances that shared a Blas different ones.
   std::vector<const Blas*> refs;
   std::vector<uint32_t> instanceRefs;
   for (const Instance& in : tlas.instances()) {
-    if (!in.blas) {
-      instanceRefs.push_back(kNoBlas);
-      continue;
-    }
-    auto [it, added] = refIndex.emplace(in.blas.get(), uint32_t(refs.size()));
-    if (added) refs.push_back(in.blas.get());
-    instanceRefs.push_back(it->second);
+    instanceRefs.push_back(in.blas ? uint32_t(refs.size()) : kNoBlas);
+    refs.push_back(in.blas.get());
   }
   Writer w;
   w.bytes.resize(kHeaderBytes);

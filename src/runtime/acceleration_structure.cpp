@@ -20,34 +20,42 @@ using ull = unsigned long long;
 constexpr uint8_t kCompatibilityUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'a', 's', '-',
                                                       's', 'e', 'r', 0,   0,   0,   0,   1};
 
-// The registry maps an address to the structure whose content its memory holds: the one built there last. A
-// structure created over a live one takes the address only once it is built (creation does not touch the
-// memory, so the structure built there before stays what the address denotes), or if nothing is there yet.
-void registerAt(Device* dev, uint64_t address, AccelerationStructure* as, bool built) {
-  std::lock_guard lock(dev->accelerationStructuresMutex);
-  if (built) {
-    dev->accelerationStructures[address] = as;
-  } else {
-    dev->accelerationStructures.try_emplace(address, as);
-  }
-}
-
 }  // namespace
 
 AccelerationStructure::AccelerationStructure(Device* dev, const VkAccelerationStructureCreateInfoKHR& info, Buffer* buf)
-    : Object(kType, dev->instance, dev),
-      buffer(buf),
-      offset(info.offset),
-      size(info.size),
-      type(info.type),
-      address(reinterpret_cast<uint64_t>(buf->data()) + info.offset) {
-  registerAt(dev, address, this, false);
+    : Object(kType, dev->instance, dev), buffer(buf), offset(info.offset), size(info.size), type(info.type) {
+  registerAddress(false);
 }
 
 AccelerationStructure::~AccelerationStructure() {
   std::lock_guard lock(device->accelerationStructuresMutex);
-  auto it = device->accelerationStructures.find(address);
+  if (!registeredAt_) return;
+  auto it = device->accelerationStructures.find(registeredAt_);
   if (it != device->accelerationStructures.end() && it->second == this) device->accelerationStructures.erase(it);
+}
+
+uint64_t AccelerationStructure::address() const {
+  const uint8_t* data = buffer->data();
+  return data ? reinterpret_cast<uint64_t>(data) + offset : 0;
+}
+
+// The registry maps an address to the structure whose content its memory holds: the one built there last. A
+// structure created over a live one takes the address only once it is built (creation does not touch the
+// memory, so the structure built there before stays what the address denotes), or if nothing is there yet.
+void AccelerationStructure::registerAddress(bool built) {
+  const uint64_t at = address();
+  if (!at) return;
+  std::lock_guard lock(device->accelerationStructuresMutex);
+  if (registeredAt_ && registeredAt_ != at) {  // (the buffer cannot be bound twice; kept exact anyway)
+    auto it = device->accelerationStructures.find(registeredAt_);
+    if (it != device->accelerationStructures.end() && it->second == this) device->accelerationStructures.erase(it);
+  }
+  if (built) {
+    device->accelerationStructures[at] = this;
+  } else {
+    device->accelerationStructures.try_emplace(at, this);
+  }
+  registeredAt_ = at;
 }
 
 std::shared_ptr<const AccelerationStructure::Content> AccelerationStructure::content() const {
@@ -56,11 +64,12 @@ std::shared_ptr<const AccelerationStructure::Content> AccelerationStructure::con
 }
 
 void AccelerationStructure::setContent(std::shared_ptr<const Content> c) {
+  if (c && c->blas) device->blasGeneration.fetch_add(1);
   {
     std::lock_guard lock(mutex_);
     content_ = std::move(c);
   }
-  registerAt(device, address, this, true);
+  registerAddress(true);
 }
 
 AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address) {
@@ -70,11 +79,40 @@ AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address) {
 }
 
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
-  std::lock_guard lock(dev->accelerationStructuresMutex);
-  auto it = dev->accelerationStructures.find(address);
-  if (it == dev->accelerationStructures.end()) return nullptr;
-  std::shared_ptr<const AccelerationStructure::Content> c = it->second->content();
-  return c ? c->tlas : nullptr;
+  AccelerationStructure* as = nullptr;
+  std::shared_ptr<const AccelerationStructure::Content> c;
+  const uint64_t generation = dev->blasGeneration.load();
+  std::vector<accel::Instance> instances;
+  bool stale = false;
+  {
+    std::lock_guard lock(dev->accelerationStructuresMutex);
+    auto it = dev->accelerationStructures.find(address);
+    if (it == dev->accelerationStructures.end()) return nullptr;
+    as = it->second;
+    c = as->content();
+    if (!c || !c->tlas) return nullptr;
+    if (c->blasGeneration == generation) return c->tlas;
+    // Some bottom level was built since: compare each instance's with the current content at its address.
+    instances = c->tlas->instances();
+    for (size_t i = 0; i < instances.size() && i < c->blasAt.size(); ++i) {
+      if (!instances[i].blas || !c->blasAt[i]) continue;
+      auto b = dev->accelerationStructures.find(c->blasAt[i]);
+      if (b == dev->accelerationStructures.end()) continue;  // destroyed: the instance keeps what it was built with
+      auto bc = b->second->content();
+      if (bc && bc->blas && bc->blas != instances[i].blas) {
+        instances[i].blas = bc->blas;
+        stale = true;
+      }
+    }
+  }
+  if (!stale) return c->tlas;
+  std::string error;
+  auto fresh = std::make_shared<AccelerationStructure::Content>(*c);
+  fresh->tlas = accel::Tlas::build(std::move(instances), c->tlas->options(), &error);
+  if (!fresh->tlas) return c->tlas;  // (cannot fail for inputs that built before; kept safe)
+  fresh->blasGeneration = generation;
+  as->setContent(fresh);
+  return fresh->tlas;
 }
 
 VkDeviceSize requiredSize(uint64_t primitives) {
@@ -159,16 +197,11 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(
            fn);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  if (!buf->memory) {
-    // The address is the buffer's: the buffer must be bound first (the spec computes the address from it).
-    report(buf, Severity::Error, "VUID-vkCreateAccelerationStructureKHR-buffer-parameter",
-           "%s: the buffer is not bound to memory, so the structure has no device address", fn);
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  const uint64_t address = reinterpret_cast<uint64_t>(buf->data()) + ci.offset;
+  // The buffer may still be unbound: the structure's address is known once it is (AccelerationStructure::address).
+  const uint64_t address = buf->data() ? reinterpret_cast<uint64_t>(buf->data()) + ci.offset : 0;
   // Capture/replay: the structure gets its address from its buffer (placed by the memory's own capture/replay), so a
   // replayed address must be exactly where the buffer range now is.
-  if (ci.deviceAddress && ci.deviceAddress != address) {
+  if (ci.deviceAddress && address && ci.deviceAddress != address) {
     report(buf, Severity::Error, nullptr,
            "%s: the captured deviceAddress 0x%llx cannot be reproduced: buffer + offset is 0x%llx (replay the buffer's "
            "memory at "
@@ -197,7 +230,9 @@ VKAPI_ATTR VkDeviceAddress VKAPI_CALL vkrt_GetAccelerationStructureDeviceAddress
   auto* as = liveOrReport<AccelerationStructure>(
       dev, pInfo->accelerationStructure, "vkGetAccelerationStructureDeviceAddressKHR",
       "VUID-VkAccelerationStructureDeviceAddressInfoKHR-accelerationStructure-parameter");
-  return as ? as->address : 0;
+  if (!as) return 0;
+  as->registerAddress(false);  // (a structure created on an unbound buffer gets its address now)
+  return as->address();
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(

@@ -34,7 +34,9 @@ class AccelerationStructure : public Object {
   const VkDeviceSize offset;
   const VkDeviceSize size;
   const VkAccelerationStructureTypeKHR type;
-  const uint64_t address;  // buffer address + offset
+  // The buffer's address + offset; 0 while the buffer is not bound (a structure may be created on an unbound
+  // buffer and the buffer bound afterwards).
+  uint64_t address() const;
 
   // What a build (or copy, or deserialization) produced.
   struct Content {
@@ -42,7 +44,11 @@ class AccelerationStructure : public Object {
     VkBuildAccelerationStructureFlagsKHR flags = 0;
     std::shared_ptr<const accel::Blas> blas;
     std::shared_ptr<const accel::Tlas> tlas;
-    std::vector<uint64_t> blasAddresses;  // top level: the address each instance referred to (0: inactive)
+    std::vector<uint64_t> blasAddresses;  // top level: the reference each instance gave (0: inactive)
+    // Top level: the device address of the structure each instance referred to (0: inactive), and the device's
+    // bottom-level generation when the instances were resolved (see topLevelAt).
+    std::vector<uint64_t> blasAt;
+    uint64_t blasGeneration = 0;
     // Bottom level: the build's shape, for the update rules (per geometry: type, flags, primitive count, first
     // vertex, index type, vertex format).
     struct GeometryShape {
@@ -60,15 +66,23 @@ class AccelerationStructure : public Object {
   std::shared_ptr<const Content> content() const;
   void setContent(std::shared_ptr<const Content> c);
 
+  // Enters the structure in the device's registry at its address (once the buffer is bound): as the structure
+  // built there last when `built`, else only where nothing is registered yet.
+  void registerAddress(bool built);
+
  private:
   mutable std::mutex mutex_;
   std::shared_ptr<const Content> content_;
+  uint64_t registeredAt_ = 0;  // the address it was last registered at (guarded by the device's registry mutex)
 };
 
 // The live acceleration structure registered at `address` on `dev` (the last one built there, else the first
 // created there), or null. The caller must not keep the pointer past the call that resolved it (use its content()).
 AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
-// The built top-level content at `address`, or null (nothing there, not built, or a bottom-level structure).
+// The built top-level content at `address`, or null (nothing there, not built, or a bottom-level structure). A top
+// level refers to its bottom-level structures ("takes a reference"): if one was built again since (an update in
+// place, as an application animating a mesh does), the top level is rebuilt here over their current contents,
+// once, and kept (a launch resolves each top level once).
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);
 
 // The size an acceleration structure of `primitives` primitives (or instances) needs in its buffer, as

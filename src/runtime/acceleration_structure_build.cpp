@@ -154,7 +154,9 @@ bool readAabbs(const Source& src, const VkAccelerationStructureGeometryAabbsData
 }
 
 // Resolves an instance's accelerationStructureReference: a device address (device builds) or a handle (host).
-std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool host, uint32_t instance, BuildError* e) {
+std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool host, uint32_t instance, BuildError* e,
+                                               uint64_t* address) {
+  *address = 0;
   if (ref == 0) return nullptr;
   std::shared_ptr<const AccelerationStructure::Content> c;
   const AccelerationStructure* as = nullptr;
@@ -180,18 +182,20 @@ std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool h
                              : "a top-level acceleration structure (instances refer to bottom-level ones)");
     return nullptr;
   }
+  *address = as->address();
   return c->blas;
 }
 
 bool readInstances(Device* dev, const Source& src, const VkAccelerationStructureGeometryInstancesDataKHR& d,
                    const VkAccelerationStructureBuildRangeInfoKHR& r, bool host, std::vector<accel::Instance>* out,
-                   std::vector<uint64_t>* refs, BuildError* e) {
+                   std::vector<uint64_t>* refs, std::vector<uint64_t>* addresses, BuildError* e) {
   const uint64_t n = r.primitiveCount;
   const uint64_t each = d.arrayOfPointers ? 8 : sizeof(VkAccelerationStructureInstanceKHR);
   const uint8_t* p = n ? src.at(d.data.deviceAddress + r.primitiveOffset, n * each, "instance data", 0, e) : nullptr;
   if (n && !p) return false;
   out->resize(n);
   refs->resize(n);
+  addresses->resize(n);
   for (uint64_t i = 0; i < n; ++i) {
     const uint8_t* ip = p + i * each;
     if (d.arrayOfPointers) {
@@ -207,7 +211,7 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
     o.sbtOffset = in.instanceShaderBindingTableRecordOffset;
     o.flags = in.flags;
     (*refs)[i] = in.accelerationStructureReference;
-    o.blas = resolveBlas(dev, in.accelerationStructureReference, host, uint32_t(i), e);
+    o.blas = resolveBlas(dev, in.accelerationStructureReference, host, uint32_t(i), e, &(*addresses)[i]);
     if (!o.blas && in.accelerationStructureReference) return false;
   }
   return true;
@@ -500,8 +504,9 @@ bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
   if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
     std::vector<accel::Instance> instances;
     if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances,
-                       &content->blasAddresses, e))
+                       &content->blasAddresses, &content->blasAt, e))
       return false;
+    content->blasGeneration = dev->blasGeneration.load();
     content->instanceCount = uint32_t(instances.size());
     content->tlas = prev && prev->tlas ? prev->tlas->update(std::move(instances), &error)
                                        : accel::Tlas::build(std::move(instances), buildOptions(job.flags), &error);

@@ -8,7 +8,6 @@
 //   structures, which the application may patch before deserializing) | accel's serialized structure
 #include <cstring>
 #include <functional>
-#include <set>
 
 #include "runtime/acceleration_structure.hpp"
 #include "runtime/acceleration_structure_build.hpp"
@@ -38,18 +37,11 @@ std::vector<uint8_t> serializeContent(const Device* dev, const AccelerationStruc
   std::vector<uint64_t> refs;
   uint64_t primitives = 0;
   if (c.tlas) {
-    std::vector<const accel::Blas*> blases;
+    std::vector<const accel::Blas*> blases;  // one per instance
     body = accel::serialize(*c.tlas, &blases);
-    // The reference of each bottom-level structure: the address its first instance referred to.
-    for (const accel::Blas* b : blases) {
-      uint64_t address = 0;
-      for (size_t i = 0; i < c.tlas->instances().size(); ++i)
-        if (c.tlas->instances()[i].blas.get() == b) {
-          address = c.blasAddresses[i];
-          break;
-        }
-      refs.push_back(address);
-    }
+    // One reference per instance (as the CTS expects, and so that an application may give instances that shared a
+    // bottom-level structure different ones): the address the instance referred to, 0 for an inactive one.
+    for (size_t i = 0; i < blases.size(); ++i) refs.push_back(blases[i] ? c.blasAddresses[i] : 0);
     primitives = c.tlas->instances().size();
   } else {
     body = accel::serialize(*c.blas);
@@ -105,6 +97,8 @@ std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, 
     return c;
   }
   std::vector<std::shared_ptr<const accel::Blas>> blases(count);
+  std::vector<uint64_t> at(count);
+  const uint64_t generation = dev->blasGeneration.load();
   for (uint64_t i = 0; i < count; ++i) {
     if (!refs[i]) continue;
     AccelerationStructure* as = accelerationStructureAt(dev, refs[i]);
@@ -119,16 +113,16 @@ std::shared_ptr<AccelerationStructure::Content> deserializeContent(Device* dev, 
       return nullptr;
     }
     blases[i] = bc->blas;
+    at[i] = as->address();
   }
   c->type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
   c->tlas = accel::deserializeTlas(body, bodyBytes, blases, error);
   if (!c->tlas) return nullptr;
-  for (const accel::Instance& in : c->tlas->instances()) {
-    uint64_t address = 0;
-    for (uint64_t i = 0; i < count; ++i)
-      if (in.blas && blases[i] == in.blas) address = refs[i];
-    c->blasAddresses.push_back(address);
+  for (size_t i = 0; i < c->tlas->instances().size(); ++i) {
+    c->blasAddresses.push_back(c->tlas->instances()[i].blas && i < count ? refs[i] : 0);
+    c->blasAt.push_back(c->tlas->instances()[i].blas && i < count ? at[i] : 0);
   }
+  c->blasGeneration = generation;
   c->instanceCount = uint32_t(c->tlas->instances().size());
   return c;
 }
@@ -155,14 +149,10 @@ bool queryValue(const Device* dev, const AccelerationStructure& as, VkQueryType 
       *value = requiredSize(c->tlas ? c->tlas->instances().size() : c->blas->primitiveCount());
       return true;
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_SIZE_KHR: *value = serializedSize(dev, *c); return true;
-    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_BOTTOM_LEVEL_POINTERS_KHR: {
-      std::set<const accel::Blas*> distinct;
-      if (c->tlas)
-        for (const accel::Instance& in : c->tlas->instances())
-          if (in.blas) distinct.insert(in.blas.get());
-      *value = distinct.size();
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_BOTTOM_LEVEL_POINTERS_KHR:
+      // The serialized header's reference count: one per instance (serializeContent).
+      *value = c->tlas ? c->tlas->instances().size() : 0;
       return true;
-    }
     default:
       *vuid = "VUID-vkCmdWriteAccelerationStructuresPropertiesKHR-queryType-06742";
       *why = "is queried with a query type that is not an acceleration structure property";

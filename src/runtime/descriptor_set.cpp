@@ -262,7 +262,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
         return false;
       }
       out.object = as;
-      out.address = static_cast<const AccelerationStructure*>(as)->address;
+      out.address = static_cast<const AccelerationStructure*>(as)->address();
       return true;
     }
     default:

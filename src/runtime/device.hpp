@@ -1,6 +1,7 @@
 // VkDevice: the logical device, its enabled extensions and features, and its queues.
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -41,6 +42,9 @@ class Device : public Object {
   // created or built one at each address.
   std::mutex accelerationStructuresMutex;
   std::map<uint64_t, AccelerationStructure*> accelerationStructures;
+  // Counts the builds (and copies) of bottom-level contents: a top level built at the current count refers to the
+  // current contents of its bottom levels (topLevelAt).
+  std::atomic<uint64_t> blasGeneration{0};
   // The device-wide shader-group handle registry (src/rt/group_handles.hpp), created on first use.
   std::shared_ptr<rt::GroupRegistry> groupRegistry;
   std::once_flag groupRegistryOnce;

@@ -109,10 +109,13 @@ TEST(AccelSerialize, RoundTripTracesIdentically) {
 
   std::vector<const Blas*> refs;
   auto bytes = serialize(*w.tlas, &refs);
-  ASSERT_EQ(refs.size(), 2u);  // first-use order: a (instance 1), b (instance 2)
-  EXPECT_EQ(refs[0], w.a.get());
-  EXPECT_EQ(refs[1], w.b.get());
-  auto tlas = deserializeTlas(bytes.data(), bytes.size(), {a, b}, &error);
+  // One reference per instance: none for the inactive one, a, b, a.
+  ASSERT_EQ(refs.size(), 4u);
+  EXPECT_EQ(refs[0], nullptr);
+  EXPECT_EQ(refs[1], w.a.get());
+  EXPECT_EQ(refs[2], w.b.get());
+  EXPECT_EQ(refs[3], w.a.get());
+  auto tlas = deserializeTlas(bytes.data(), bytes.size(), {nullptr, a, b, a}, &error);
   ASSERT_TRUE(tlas) << error;
   EXPECT_TRUE(tlas->options().allowUpdate);
   ASSERT_EQ(tlas->instances().size(), 4u);
@@ -120,7 +123,7 @@ TEST(AccelSerialize, RoundTripTracesIdentically) {
   EXPECT_EQ(tlas->instances()[3].blas.get(), a.get());
   expectSameTraversal(*w.tlas, *tlas);
   // The same bytes resolved against the original Blases trace the same too.
-  auto again = deserializeTlas(bytes.data(), bytes.size(), {w.a, w.b}, &error);
+  auto again = deserializeTlas(bytes.data(), bytes.size(), {nullptr, w.a, w.b, w.a}, &error);
   ASSERT_TRUE(again) << error;
   expectSameTraversal(*w.tlas, *again);
 }
@@ -164,7 +167,7 @@ TEST(AccelSerialize, TruncatedDataIsRefused) {
   auto tbytes = serialize(*w.tlas, &refs);
   for (size_t size = 0; size < tbytes.size(); ++size) {
     std::string error;
-    EXPECT_FALSE(tlasFrom(tbytes, size, {w.a, w.b}, &error)) << size;
+    EXPECT_FALSE(tlasFrom(tbytes, size, {nullptr, w.a, w.b, w.a}, &error)) << size;
     EXPECT_FALSE(error.empty()) << size;
   }
   // Trailing bytes are refused too.
@@ -205,10 +208,10 @@ TEST(AccelSerialize, ForeignOrMismatchedDataIsRefused) {
   EXPECT_FALSE(deserializeBlas(tbytes.data(), tbytes.size(), &error));  // a Tlas is not a Blas
   EXPECT_NE(error.find("bottom-level"), std::string::npos) << error;
   EXPECT_FALSE(deserializeTlas(bbytes.data(), bbytes.size(), {}, &error));
-  EXPECT_FALSE(deserializeTlas(tbytes.data(), tbytes.size(), {w.a}, &error));  // it references two
-  EXPECT_NE(error.find("references 2"), std::string::npos) << error;
-  // A Blas the runtime could not resolve (null) leaves its instances inactive.
-  auto partial = deserializeTlas(tbytes.data(), tbytes.size(), {w.a, nullptr}, &error);
+  EXPECT_FALSE(deserializeTlas(tbytes.data(), tbytes.size(), {w.a}, &error));  // one reference per instance: four
+  EXPECT_NE(error.find("references 4"), std::string::npos) << error;
+  // A Blas the runtime could not resolve (null) leaves its instance inactive.
+  auto partial = deserializeTlas(tbytes.data(), tbytes.size(), {nullptr, w.a, nullptr, w.a}, &error);
   ASSERT_TRUE(partial) << error;
   EXPECT_EQ(partial->instances()[2].blas, nullptr);
   EXPECT_TRUE(partial->instances()[1].blas);
@@ -289,9 +292,9 @@ TEST(AccelSerialize, StructurallyWrongButChecksummedDataIsRefused) {
   // reference at 40 + 72 i + 64.
   std::vector<const Blas*> refs;
   const auto tbytes = serialize(*w.tlas, &refs);
-  const std::vector<std::shared_ptr<const Blas>> resolved{w.a, w.b};
+  const std::vector<std::shared_ptr<const Blas>> resolved{nullptr, w.a, w.b, w.a};
   for (auto [at, value] : std::vector<std::pair<size_t, uint32_t>>{
-           {32, 5}, {32, 3}, {32, 0x04000000}, {36, 3}, {40 + 72 + 64, 2}, {40 + 72 + 64, 0xFFFFFFFEu}}) {
+           {32, 5}, {32, 3}, {32, 0x04000000}, {36, 3}, {40 + 72 + 64, 4}, {40 + 72 + 64, 0xFFFFFFFEu}}) {
     auto bad = tbytes;
     poke(bad, at, value);
     error.clear();
