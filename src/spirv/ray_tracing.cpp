@@ -22,8 +22,10 @@ bool rayTracingOp(spv::Op op) {
 }
 
 bool rayTracingCapability(uint32_t cap) {
-  // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads.
-  return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR;
+  // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads; RayCullMaskKHR
+  // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills.
+  return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR ||
+         cap == spv::CapabilityRayCullMaskKHR;
 }
 
 bool Codegen::isRayTracing() const {

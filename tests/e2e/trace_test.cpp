@@ -1,6 +1,7 @@
 // vkCmdTraceRaysKHR end to end: acceleration structures built on the device, a shader binding table written from
 // the pipeline's handles, and every launch index's result compared with the hit computed here from the geometry.
 #include "e2e/trace_fixture.hpp"
+#include "trace_miss_cullmask.rmiss.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -195,6 +196,50 @@ TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
       EXPECT_EQ(q.extra[0], 300u);
     }
   EXPECT_GT(hits, 4);
+}
+
+}  // namespace
+}  // namespace vkrt::test
+
+namespace vkrt::test {
+namespace {
+
+// gl_CullMaskEXT (SPV_KHR_ray_cull_mask, enabled by VK_KHR_ray_tracing_maintenance1's rayTracingMaintenance1): a
+// miss shader reads the cull mask its ray was traced with, the low 8 bits of traceRayEXT's operand.
+class TraceCullMaskTest : public TraceTest {
+ protected:
+  VkPhysicalDeviceRayTracingMaintenance1FeaturesKHR m1{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_MAINTENANCE_1_FEATURES_KHR};
+  FixtureOptions options() override {
+    FixtureOptions o = TraceTest::options();
+    o.deviceExtensions.push_back(VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME);
+    m1.rayTracingMaintenance1 = VK_TRUE;
+    m1.pNext = nullptr;
+    asf.pNext = &m1;
+    return o;
+  }
+};
+
+TEST_F(TraceCullMaskTest, TheMissShaderReadsTheRaysCullMask) {
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0, 0, 5, 1, 0, 0x01)});
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(module(kSpv_trace_miss_cullmask_rmiss, sizeof kSpv_trace_miss_cullmask_rmiss),
+            VK_SHADER_STAGE_MISS_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  for (uint32_t mask : {0x02u, 0xF6u, 0xFFFFFF02u}) {
+    TraceParams t;
+    t.cullMask = mask;  // no bit of the instance's 0x01: every ray misses
+    std::vector<TracePayload> r = trace(p, s, top, 4, 4, t);
+    EXPECT_EQ(r[5].hit[0], -2.0f) << "mask 0x" << std::hex << mask;
+    EXPECT_EQ(r[5].extra[2], mask & 0xFF) << "mask 0x" << std::hex << mask;
+  }
 }
 
 }  // namespace
