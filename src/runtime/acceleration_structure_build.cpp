@@ -116,7 +116,9 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
   }
   const uint64_t base = t.vertexData.deviceAddress + (isz ? 0 : r.primitiveOffset);
   const uint64_t count = n ? hi - lo + 1 : 0;
-  const uint8_t* v = count ? src.at(base + lo * stride, (count - 1) * stride + 12, "vertex data", g, e) : nullptr;
+  const uint8_t* v =
+      count ? src.at(base + lo * stride, (count - 1) * stride + vertexReadBytes(t.vertexFormat), "vertex data", g, e)
+            : nullptr;
   if (count && !v) return false;
   float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
   const bool transformed = t.transformData.deviceAddress != 0;
@@ -283,60 +285,77 @@ bool checkUpdate(const BuildJob& job, const AccelerationStructure::Content& prev
 
 }  // namespace
 
-bool accelerationStructureVertexFormat(VkFormat f) {
-  switch (f) {
-    case VK_FORMAT_R32G32_SFLOAT:
-    case VK_FORMAT_R32G32B32_SFLOAT:
-    case VK_FORMAT_R32G32B32A32_SFLOAT:
-    case VK_FORMAT_R16G16_SFLOAT:
-    case VK_FORMAT_R16G16B16A16_SFLOAT:
-    case VK_FORMAT_R16G16_SNORM:
-    case VK_FORMAT_R16G16B16A16_SNORM:
-    case VK_FORMAT_R16G16_UNORM:
-    case VK_FORMAT_R16G16B16A16_UNORM:
-    case VK_FORMAT_R8G8_SNORM:
-    case VK_FORMAT_R8G8B8A8_SNORM:
-    case VK_FORMAT_R8G8_UNORM:
-    case VK_FORMAT_R8G8B8A8_UNORM: return true;
-    default: return false;
+namespace {
+
+// The vertex formats builds accept: the six the specification requires, and every other 2-, 3- or 4-component
+// 8/16-bit normalized, 16-bit float and 32/64-bit float format (a CPU decodes them all alike). Only x, y and z
+// are read.
+struct VertexFormat {
+  VkFormat format;
+  uint8_t componentBytes, components;
+  enum Kind : uint8_t { Float, SNorm, UNorm } kind;
+};
+constexpr VertexFormat kVertexFormats[] = {
+    {VK_FORMAT_R32G32_SFLOAT, 4, 2, VertexFormat::Float},
+    {VK_FORMAT_R32G32B32_SFLOAT, 4, 3, VertexFormat::Float},
+    {VK_FORMAT_R32G32B32A32_SFLOAT, 4, 4, VertexFormat::Float},
+    {VK_FORMAT_R16G16_SFLOAT, 2, 2, VertexFormat::Float},
+    {VK_FORMAT_R16G16B16_SFLOAT, 2, 3, VertexFormat::Float},
+    {VK_FORMAT_R16G16B16A16_SFLOAT, 2, 4, VertexFormat::Float},
+    {VK_FORMAT_R16G16_SNORM, 2, 2, VertexFormat::SNorm},
+    {VK_FORMAT_R16G16B16_SNORM, 2, 3, VertexFormat::SNorm},
+    {VK_FORMAT_R16G16B16A16_SNORM, 2, 4, VertexFormat::SNorm},
+    {VK_FORMAT_R16G16_UNORM, 2, 2, VertexFormat::UNorm},
+    {VK_FORMAT_R16G16B16_UNORM, 2, 3, VertexFormat::UNorm},
+    {VK_FORMAT_R16G16B16A16_UNORM, 2, 4, VertexFormat::UNorm},
+    {VK_FORMAT_R8G8_SNORM, 1, 2, VertexFormat::SNorm},
+    {VK_FORMAT_R8G8B8_SNORM, 1, 3, VertexFormat::SNorm},
+    {VK_FORMAT_R8G8B8A8_SNORM, 1, 4, VertexFormat::SNorm},
+    {VK_FORMAT_R8G8_UNORM, 1, 2, VertexFormat::UNorm},
+    {VK_FORMAT_R8G8B8_UNORM, 1, 3, VertexFormat::UNorm},
+    {VK_FORMAT_R8G8B8A8_UNORM, 1, 4, VertexFormat::UNorm},
+    {VK_FORMAT_R64G64_SFLOAT, 8, 2, VertexFormat::Float},
+    {VK_FORMAT_R64G64B64_SFLOAT, 8, 3, VertexFormat::Float},
+    {VK_FORMAT_R64G64B64A64_SFLOAT, 8, 4, VertexFormat::Float},
+};
+
+const VertexFormat* vertexFormat(VkFormat f) {
+  for (const VertexFormat& v : kVertexFormats)
+    if (v.format == f) return &v;
+  return nullptr;
+}
+
+float component(const VertexFormat& v, const uint8_t* p) {
+  switch (v.componentBytes) {
+    case 1: return v.kind == VertexFormat::SNorm ? std::max(-1.0f, float(int8_t(p[0])) / 127.0f) : float(p[0]) / 255.0f;
+    case 2:
+      if (v.kind == VertexFormat::Float) return halfToFloat(load<uint16_t>(p));
+      return v.kind == VertexFormat::SNorm ? std::max(-1.0f, float(load<int16_t>(p)) / 32767.0f)
+                                           : float(load<uint16_t>(p)) / 65535.0f;
+    case 4: return load<float>(p);
+    default: return float(load<double>(p));
   }
+}
+
+}  // namespace
+
+bool accelerationStructureVertexFormat(VkFormat f) { return vertexFormat(f) != nullptr; }
+
+uint32_t vertexComponentBytes(VkFormat f) {
+  const VertexFormat* v = vertexFormat(f);
+  return v ? v->componentBytes : 1;
+}
+
+uint32_t vertexReadBytes(VkFormat f) {
+  const VertexFormat* v = vertexFormat(f);
+  return v ? v->componentBytes * std::min<uint32_t>(v->components, 3) : 0;
 }
 
 void decodeVertex(VkFormat f, const uint8_t* p, float out[3]) {
   out[0] = out[1] = out[2] = 0;
-  auto snorm16 = [](int16_t v) { return std::max(-1.0f, float(v) / 32767.0f); };
-  auto snorm8 = [](int8_t v) { return std::max(-1.0f, float(v) / 127.0f); };
-  switch (f) {
-    case VK_FORMAT_R32G32B32_SFLOAT:
-    case VK_FORMAT_R32G32B32A32_SFLOAT: std::memcpy(out, p, 12); break;
-    case VK_FORMAT_R32G32_SFLOAT: std::memcpy(out, p, 8); break;
-    case VK_FORMAT_R16G16B16A16_SFLOAT: out[2] = halfToFloat(load<uint16_t>(p + 4)); [[fallthrough]];
-    case VK_FORMAT_R16G16_SFLOAT:
-      out[0] = halfToFloat(load<uint16_t>(p));
-      out[1] = halfToFloat(load<uint16_t>(p + 2));
-      break;
-    case VK_FORMAT_R16G16B16A16_SNORM: out[2] = snorm16(load<int16_t>(p + 4)); [[fallthrough]];
-    case VK_FORMAT_R16G16_SNORM:
-      out[0] = snorm16(load<int16_t>(p));
-      out[1] = snorm16(load<int16_t>(p + 2));
-      break;
-    case VK_FORMAT_R16G16B16A16_UNORM: out[2] = float(load<uint16_t>(p + 4)) / 65535.0f; [[fallthrough]];
-    case VK_FORMAT_R16G16_UNORM:
-      out[0] = float(load<uint16_t>(p)) / 65535.0f;
-      out[1] = float(load<uint16_t>(p + 2)) / 65535.0f;
-      break;
-    case VK_FORMAT_R8G8B8A8_SNORM: out[2] = snorm8(int8_t(p[2])); [[fallthrough]];
-    case VK_FORMAT_R8G8_SNORM:
-      out[0] = snorm8(int8_t(p[0]));
-      out[1] = snorm8(int8_t(p[1]));
-      break;
-    case VK_FORMAT_R8G8B8A8_UNORM: out[2] = float(p[2]) / 255.0f; [[fallthrough]];
-    case VK_FORMAT_R8G8_UNORM:
-      out[0] = float(p[0]) / 255.0f;
-      out[1] = float(p[1]) / 255.0f;
-      break;
-    default: break;
-  }
+  const VertexFormat* v = vertexFormat(f);
+  if (!v) return;
+  for (uint32_t k = 0; k < std::min<uint32_t>(v->components, 3); ++k) out[k] = component(*v, p + k * v->componentBytes);
 }
 
 bool makeJob(const Object* about, const char* fn, uint32_t i, const VkAccelerationStructureBuildGeometryInfoKHR& info,
@@ -426,14 +445,7 @@ bool checkBuild(const Object* about, const char* fn, const BuildJob& job, const 
                     format("pGeometries[%zu].geometry.triangles.indexType %d is not UINT16, UINT32 or NONE_KHR", g,
                            int(t.indexType)));
       // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735
-      if (t.vertexStride % (t.vertexFormat == VK_FORMAT_R8G8_SNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_SNORM ||
-                                    t.vertexFormat == VK_FORMAT_R8G8_UNORM || t.vertexFormat == VK_FORMAT_R8G8B8A8_UNORM
-                                ? 1
-                            : t.vertexFormat == VK_FORMAT_R32G32_SFLOAT ||
-                                    t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT ||
-                                    t.vertexFormat == VK_FORMAT_R32G32B32A32_SFLOAT
-                                ? 4
-                                : 2))
+      if (t.vertexStride % vertexComponentBytes(t.vertexFormat))
         return fail("VUID-VkAccelerationStructureGeometryTrianglesDataKHR-vertexStride-03735",
                     format("pGeometries[%zu].geometry.triangles.vertexStride %llu is not a multiple of the vertex "
                            "format's component size",

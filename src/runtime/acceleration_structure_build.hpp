@@ -46,6 +46,10 @@ bool makeJob(const Object* about, const char* fn, uint32_t i, const VkAccelerati
 
 // Whether `format` can be a triangle geometry's vertex format, and its decoding to three floats (a missing z is 0).
 bool accelerationStructureVertexFormat(VkFormat format);
+// The size of one component of a vertex format builds accept (the unit vertexStride must be a multiple of), and
+// the bytes of a vertex that are read (x, y and z).
+uint32_t vertexComponentBytes(VkFormat format);
+uint32_t vertexReadBytes(VkFormat format);
 void decodeVertex(VkFormat format, const uint8_t* p, float out[3]);
 
 }  // namespace vkrt
