@@ -269,7 +269,9 @@ void texelValue(uint32_t mip, uint32_t layer, int x, int y, float out[4]) {
 }
 
 // The reference sampler (Vulkan spec "Texel Filtering", written out directly).
-void reference(const SamplerConfig& s, float u, float v, float lod, int layer, float out[4]) {
+// `alternative`: the nearest mip level by floor(d + 0.5) instead of the preferred ceil(d + 0.5) - 1 (the spec
+// allows either; they differ only at exact halves).
+void reference(const SamplerConfig& s, float u, float v, float lod, int layer, float out[4], bool alternative = false) {
   auto size = [](uint32_t mip) { return int(std::max(1u, 4u >> mip)); };
   auto fetch = [&](uint32_t mip, int i, int j, float t[4]) {
     int n = size(mip);
@@ -317,7 +319,7 @@ void reference(const SamplerConfig& s, float u, float v, float lod, int layer, f
   VkFilter f = lod <= 0 ? s.filter : s.filter;  // the configs use one filter for both
   float d = std::clamp(lod, 0.0f, 2.0f);
   if (s.mipmap == VK_SAMPLER_MIPMAP_MODE_NEAREST) {
-    level(uint32_t(std::ceil(d + 0.5f) - 1), f, out);
+    level(uint32_t(alternative ? std::floor(d + 0.5f) : std::ceil(d + 0.5f) - 1), f, out);
     return;
   }
   uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, 2u);
@@ -437,6 +439,29 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
         texelValue(uint32_t(fl), 1, fx, fy, e3);
       else
         e3[0] = e3[1] = e3[2] = e3[3] = 0.0f;
+      if (!vkrt) {
+        // A GPU converts coordinates to fixed point (subTexelPrecisionBits) and may take the alternative nearest
+        // mip level at exact halves: where the result is not the exact reference, it must be the reference of a
+        // coordinate within a fixed-point step, or of the alternative level.
+        auto acceptable = [&](const SamplerConfig& cfg, int lay, const float* got, float* e) {
+          const float step = std::ldexp(1.0f, -int(props.limits.subTexelPrecisionBits)) / 4;
+          for (bool alt : {false, true})
+            for (float du : {0.0f, -step, step})
+              for (float dv : {0.0f, -step, step}) {
+                float c[4];
+                reference(cfg, q[0] + du, q[1] + dv, q[2], lay, c, alt);
+                bool all = true;
+                for (int k = 0; k < 4; ++k) all = all && std::fabs(got[k] - c[k]) <= tol;
+                if (all) {
+                  std::copy(c, c + 4, e);
+                  return;
+                }
+              }
+        };
+        acceptable(configs[c0], 1, &r[(4 * i + 0) * 4], e0);
+        acceptable(configs[c1], 1, &r[(4 * i + 1) * 4], e1);
+        acceptable(configs[c2], layer, &r[(4 * i + 2) * 4], e2);
+      }
       for (int k = 0; k < 4; ++k) {
         EXPECT_NEAR(r[(4 * i + 0) * 4 + k], e0[k], tol) << "round " << round << " coord " << i << " combined c" << k;
         EXPECT_NEAR(r[(4 * i + 1) * 4 + k], e1[k], tol) << "round " << round << " coord " << i << " separate c" << k;
