@@ -91,7 +91,7 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
     as = it->second;
     c = as->content();
     if (!c || !c->tlas) return nullptr;
-    if (c->blasGeneration == generation) return c->tlas;
+    if (c->blasGeneration == generation || as->checkedGeneration.load() == generation) return c->tlas;
     // Some bottom level was built since: compare each instance's with the current content at its address.
     instances = c->tlas->instances();
     for (size_t i = 0; i < instances.size() && i < c->blasAt.size(); ++i) {
@@ -105,7 +105,10 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
       }
     }
   }
-  if (!stale) return c->tlas;
+  if (!stale) {
+    as->checkedGeneration.store(generation);
+    return c->tlas;
+  }
   std::string error;
   auto fresh = std::make_shared<AccelerationStructure::Content>(*c);
   fresh->tlas = accel::Tlas::build(std::move(instances), c->tlas->options(), &error);

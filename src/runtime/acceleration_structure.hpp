@@ -10,6 +10,7 @@
 // until it ends. A top-level structure keeps the bottom-level contents it was built from alive.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -65,6 +66,10 @@ class AccelerationStructure : public Object {
   };
   std::shared_ptr<const Content> content() const;
   void setContent(std::shared_ptr<const Content> c);
+
+  // The device's bottom-level generation at which the content's instances were last found current (topLevelAt),
+  // so that a launch after an unrelated bottom-level build compares them once, not at every launch.
+  std::atomic<uint64_t> checkedGeneration{0};
 
   // Enters the structure in the device's registry at its address (once the buffer is bound): as the structure
   // built there last when `built`, else only where nothing is registered yet.
