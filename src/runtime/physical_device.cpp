@@ -427,4 +427,27 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceToolProperties(VkPhysicalDe
   return VK_SUCCESS;
 }
 
+// External memory, fences and semaphores (core in Vulkan 1.1): vkrt exports and imports no handle type, which the
+// answers say (no features, no compatible or exportable types); the queries themselves are valid for every type.
+VKAPI_ATTR void VKAPI_CALL
+vkrt_GetPhysicalDeviceExternalBufferProperties(VkPhysicalDevice, const VkPhysicalDeviceExternalBufferInfo*,
+                                               VkExternalBufferProperties* pExternalBufferProperties) {
+  pExternalBufferProperties->externalMemoryProperties = {};
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceExternalFenceProperties(
+    VkPhysicalDevice, const VkPhysicalDeviceExternalFenceInfo*, VkExternalFenceProperties* pExternalFenceProperties) {
+  pExternalFenceProperties->exportFromImportedHandleTypes = 0;
+  pExternalFenceProperties->compatibleHandleTypes = 0;
+  pExternalFenceProperties->externalFenceFeatures = 0;
+}
+
+VKAPI_ATTR void VKAPI_CALL
+vkrt_GetPhysicalDeviceExternalSemaphoreProperties(VkPhysicalDevice, const VkPhysicalDeviceExternalSemaphoreInfo*,
+                                                  VkExternalSemaphoreProperties* pExternalSemaphoreProperties) {
+  pExternalSemaphoreProperties->exportFromImportedHandleTypes = 0;
+  pExternalSemaphoreProperties->compatibleHandleTypes = 0;
+  pExternalSemaphoreProperties->externalSemaphoreFeatures = 0;
+}
+
 }  // extern "C"

@@ -14,6 +14,13 @@ namespace {
 llvm::Value* zeroLike(llvm::Type* t) { return llvm::Constant::getNullValue(t); }
 llvm::Value* onesLike(llvm::Type* t) { return llvm::Constant::getAllOnesValue(t); }
 llvm::Value* intLike(llvm::Type* t, uint64_t v) { return llvm::ConstantInt::get(t, v); }
+llvm::Value* zeroLikeFloat(llvm::Type* t) { return llvm::ConstantFP::get(t, 0.0); }
+// `scalar`, or a vector of it as wide as `like`.
+llvm::Type* splatType(llvm::Type* scalar, llvm::Type* like) {
+  if (auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(like))
+    return llvm::FixedVectorType::get(scalar, vt->getNumElements());
+  return scalar;
+}
 
 // Shift amounts are taken modulo the width (the result is undefined in SPIR-V beyond it).
 llvm::Value* shiftAmount(llvm::IRBuilder<>& b, llvm::Value* amount, llvm::Type* ty) {
@@ -227,7 +234,25 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
     case spv::OpConvertUToF: return unaryOp([&](auto a) { return b.CreateUIToFP(a, rt); });
     case spv::OpUConvert: return unaryOp([&](auto a) { return b.CreateZExtOrTrunc(a, rt); });
     case spv::OpSConvert: return unaryOp([&](auto a) { return b.CreateSExtOrTrunc(a, rt); });
-    case spv::OpFConvert: return unaryOp([&](auto a) { return b.CreateFPCast(a, rt); });
+    case spv::OpFConvert:
+      return unaryOp([&](llvm::Value* a) {
+        unsigned from = a->getType()->getScalarSizeInBits(), to = rt->getScalarSizeInBits();
+        if (to >= from) return b.CreateFPCast(a, rt);
+        llvm::Value* r = from == 64 && to == 16 ? truncDoubleToHalf(a) : b.CreateFPTrunc(a, rt);
+        return m.decor(result).fpRoundingMode == spv::FPRoundingModeRTZ ? roundTowardZero(a, r) : r;
+      });
+    case spv::OpQuantizeToF16:
+      // Rounded to a 16-bit float (to nearest even: infinities and NaNs stay, magnitudes past 65504 round to
+      // infinity), then back; a result below the smallest normal half (2^-14) may be either zero, and is the zero
+      // of the input's sign.
+      return unaryOp([&](llvm::Value* a) {
+        llvm::Type* half = splatType(b.getHalfTy(), a->getType());
+        llvm::Value* q = b.CreateFPExt(b.CreateFPTrunc(a, half), a->getType());
+        llvm::Value* abs = b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, q);
+        llvm::Value* tiny = b.CreateFCmpOLT(abs, llvm::ConstantFP::get(a->getType(), 0x1p-14));
+        llvm::Value* zero = b.CreateBinaryIntrinsic(llvm::Intrinsic::copysign, zeroLikeFloat(a->getType()), a);
+        return b.CreateSelect(tiny, zero, q);
+      });
     case spv::OpBitcast: {
       if (!need({3})) return (ok = fail(in, "operand has no value")), true;
       llvm::Value* a = operand(3);
@@ -241,6 +266,8 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
     case spv::OpCopyLogical: {
       if (hasPtr(in.word(3)) || globals.count(in.word(3))) {
         ptrs[result] = ptr(in.word(3));
+        // A PhysicalStorageBuffer pointer is a value too (an OpSelect or a store may take the copy).
+        if (auto it = values.find(in.word(3)); it != values.end()) set(result, it->second);
         return true;
       }
       return unaryOp([&](auto a) { return a; });
@@ -326,6 +353,38 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       });
     default: return false;
   }
+}
+
+// double -> half without a library call (LLVM would call __truncdfhf2, which the JIT does not have): rounded to
+// a float with round-to-odd, then to a half to nearest even. A float keeps more than twice the half's 11 bits of
+// precision plus two, so the two roundings give the correctly rounded half (the round-to-odd argument).
+llvm::Value* Codegen::truncDoubleToHalf(llvm::Value* d) {
+  llvm::Type* dt = d->getType();
+  llvm::Type* ft = splatType(b.getFloatTy(), dt);
+  llvm::Type* it = splatType(b.getInt32Ty(), dt);
+  llvm::Value* f = b.CreateFPTrunc(d, ft);
+  llvm::Value* back = b.CreateFPExt(f, dt);
+  llvm::Value* inexact = b.CreateFCmpUNE(back, d);
+  // Toward zero first (one step down in magnitude where rounding went up), then the sticky bit.
+  llvm::Value* up = b.CreateFCmpOGT(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, back),
+                                    b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, d));
+  llvm::Value* bits = b.CreateBitCast(f, it);
+  bits = b.CreateSelect(up, b.CreateSub(bits, intLike(it, 1)), bits);
+  bits = b.CreateSelect(inexact, b.CreateOr(bits, intLike(it, 1)), b.CreateBitCast(f, it));
+  return b.CreateFPTrunc(b.CreateBitCast(bits, ft), splatType(b.getHalfTy(), dt));
+}
+
+// A narrowing conversion under FPRoundingMode RTZ (16-bit storage allows the decoration on OpFConvert; Vulkan
+// allows RTE and RTZ only): `r` is `x` rounded to nearest even; where that rounded away from zero, the neighbour
+// one ulp toward zero is the answer (stepping the bits by -1: an infinity becomes the largest finite value). NaNs
+// compare false and stay.
+llvm::Value* Codegen::roundTowardZero(llvm::Value* x, llvm::Value* r) {
+  llvm::Type* it = splatType(b.getIntNTy(r->getType()->getScalarSizeInBits()), r->getType());
+  llvm::Value* back = b.CreateFPExt(r, x->getType());
+  llvm::Value* away = b.CreateFCmpOGT(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, back),
+                                      b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, x));
+  llvm::Value* bits = b.CreateBitCast(r, it);
+  return b.CreateBitCast(b.CreateSelect(away, b.CreateSub(bits, intLike(it, 1)), bits), r->getType());
 }
 
 bool Codegen::composite(const Instruction& in, bool& ok) {

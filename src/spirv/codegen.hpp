@@ -88,6 +88,7 @@ class Codegen {
 
   // ---- values
   llvm::Value* value(uint32_t id);  // an SSA value (constants materialized on demand); nullptr if unknown
+  llvm::Value* specConstantOp(const Instruction& in);  // an OpSpecConstantOp folding left, emitted and folded
   llvm::Constant* constant(uint32_t id);
   void set(uint32_t id, llvm::Value* v) { values[id] = v; }
   llvm::Value* i64(uint64_t v) { return b.getInt64(v); }
@@ -95,13 +96,15 @@ class Codegen {
   llvm::Value* splat(llvm::Value* scalar, llvm::Type* like);  // scalar broadcast to `like`'s shape
 
   // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
-  bool arithmetic(const Instruction& in, bool& ok);   // arithmetic.cpp
-  bool composite(const Instruction& in, bool& ok);    // arithmetic.cpp
-  bool controlFlow(const Instruction& in, bool& ok);  // control_flow.cpp
-  bool memory(const Instruction& in, bool& ok);       // memory.cpp
-  bool extInst(const Instruction& in, bool& ok);      // glsl_std450.cpp
-  bool image(const Instruction& in, bool& ok);        // image.cpp
-  bool rayTracing(const Instruction& in, bool& ok);   // ray_tracing.cpp
+  bool arithmetic(const Instruction& in, bool& ok);              // arithmetic.cpp
+  bool composite(const Instruction& in, bool& ok);               // arithmetic.cpp
+  llvm::Value* truncDoubleToHalf(llvm::Value* d);                // arithmetic.cpp
+  llvm::Value* roundTowardZero(llvm::Value* x, llvm::Value* r);  // arithmetic.cpp
+  bool controlFlow(const Instruction& in, bool& ok);             // control_flow.cpp
+  bool memory(const Instruction& in, bool& ok);                  // memory.cpp
+  bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
+  bool image(const Instruction& in, bool& ok);                   // image.cpp
+  bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
 
   // ---- memory (memory.cpp)
   bool declareGlobals();                       // Private, Workgroup, Input, buffers, push constants
@@ -111,7 +114,7 @@ class Codegen {
   // The address an atomic uses: p's, or the zeros / the sink when out of bounds.
   llvm::Value* address(const Ptr& p, uint64_t bytes, bool write);
   // A load that reads zeros out of bounds, and a store that is dropped there (branches around the access).
-  llvm::Value* guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align, bool isInvariant = false);
+  llvm::Value* guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align);
   void guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align);
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);

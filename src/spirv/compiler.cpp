@@ -52,7 +52,7 @@ llvm::Type* Codegen::type(uint32_t id) {
     case Type::Matrix:
     case Type::Array: {
       llvm::Type* e = type(t.element);
-      if (e) r = llvm::ArrayType::get(e, t.count);
+      if (e && t.count) r = llvm::ArrayType::get(e, t.count);  // 0: a length never folded to a constant
       break;
     }
     case Type::Struct: {
@@ -181,6 +181,8 @@ llvm::Constant* Codegen::constant(uint32_t id) {
     std::vector<llvm::Constant*> elems;
     for (uint32_t e : k->elements) {
       llvm::Constant* v = constant(e);
+      const Instruction* d = v ? nullptr : m.def(e);
+      if (d && d->op == spv::OpUndef) v = llvm::dyn_cast_or_null<llvm::Constant>(value(e));  // a zero
       if (!v) return nullptr;
       elems.push_back(v);
     }
@@ -217,7 +219,26 @@ llvm::Value* Codegen::value(uint32_t id) {
     llvm::Type* ty = type(in->word(1));
     if (ty) return values[id] = llvm::Constant::getNullValue(ty);
   }
+  if (in && in->op == spv::OpSpecConstantOp) return specConstantOp(*in);
   return nullptr;
+}
+
+// An OpSpecConstantOp that SPIRV-Tools' folding left (it does not fold every operation the SPIR-V specification
+// allows there, e.g. shifts by an operand of another width): once specialization is frozen its operands are
+// constants, so the operation it names is emitted like an instruction, and the builder folds it to a constant.
+// A result that did not fold (none is expected) is not kept, so every use emits it where it stands.
+llvm::Value* Codegen::specConstantOp(const Instruction& in) {
+  if (in.count < 4 || !b.GetInsertBlock()) return nullptr;
+  std::vector<uint32_t> words = {((in.count - 1) << 16) | in.word(3), in.word(1), in.word(2)};
+  words.insert(words.end(), in.words + 4, in.words + in.count);
+  const Instruction op{spv::Op(in.word(3)), in.offset, in.count - 1, words.data()};
+  bool ok = true;
+  if (!(arithmetic(op, ok) || composite(op, ok)) || !ok) return nullptr;
+  auto it = values.find(in.word(2));
+  if (it == values.end()) return nullptr;
+  llvm::Value* v = it->second;
+  if (!llvm::isa<llvm::Constant>(v)) values.erase(it);
+  return v;
 }
 
 llvm::Value* Codegen::splat(llvm::Value* scalar, llvm::Type* like) {
@@ -298,6 +319,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
         currentLabel = in.word(1);
         b.SetInsertPoint(blocks[currentLabel]);
         continue;
+      case spv::OpUndef:  // materialized where it is used (value() reads it as zero)
       case spv::OpLine:
       case spv::OpNoLine:
       case spv::OpNop:

@@ -20,7 +20,25 @@ struct Std {
   llvm::Value* fconst(llvm::Type* like, double v) { return llvm::ConstantFP::get(like, v); }
   llvm::Value* intr(llvm::Intrinsic::ID id, llvm::Value* a) { return b.CreateUnaryIntrinsic(id, a); }
   llvm::Value* intr2(llvm::Intrinsic::ID id, llvm::Value* a, llvm::Value* c) {
+    bool minMax = id == llvm::Intrinsic::minnum || id == llvm::Intrinsic::maxnum;
+    if (minMax && a->getType()->getScalarType()->isHalfTy()) return halfMinMax(id == llvm::Intrinsic::minnum, a, c);
     return b.CreateBinaryIntrinsic(id, a, c);
+  }
+  // minnum/maxnum of halves on their bits: LLVM 15's x86 back end cannot select half vector min/max ("Cannot
+  // select: v8f16 = X86ISD::FMIN"; float arithmetic around it is narrowed back to half by InstCombine). The bits,
+  // with the magnitude bits flipped where the sign is set, order as signed integers the way the values do (-0
+  // below +0); a NaN operand gives the other operand, as minnum does.
+  llvm::Value* halfMinMax(bool isMin, llvm::Value* a, llvm::Value* c) {
+    llvm::Type* it = shaped(a->getType(), b.getInt16Ty());
+    llvm::Value* ai = b.CreateBitCast(a, it);
+    llvm::Value* ci = b.CreateBitCast(c, it);
+    auto key = [&](llvm::Value* bits) { return b.CreateXor(bits, b.CreateLShr(b.CreateAShr(bits, 15), 1)); };
+    auto isNan = [&](llvm::Value* bits) {
+      return b.CreateICmpUGT(b.CreateAnd(bits, iconst(it, 0x7fff)), iconst(it, 0x7c00));
+    };
+    llvm::Value* aFirst = isMin ? b.CreateICmpSLT(key(ai), key(ci)) : b.CreateICmpSGT(key(ai), key(ci));
+    llvm::Value* r = b.CreateSelect(b.CreateOr(isNan(ci), b.CreateAnd(b.CreateNot(isNan(ai)), aFirst)), ai, ci);
+    return b.CreateBitCast(r, a->getType());
   }
 
   // Calls `name` (float) or `name` without the 'f' suffix (double) on every component.

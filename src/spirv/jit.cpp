@@ -87,6 +87,9 @@ bool supportedOp(spv::Op op) {
     case spv::OpCapability:
     case spv::OpDecorate:
     case spv::OpMemberDecorate:
+    case spv::OpDecorationGroup:  // flattened by SPIRV-Tools before the translation
+    case spv::OpGroupDecorate:
+    case spv::OpGroupMemberDecorate:
     case spv::OpDecorateId:
     case spv::OpDecorateString:
     case spv::OpMemberDecorateString:
@@ -138,6 +141,7 @@ bool supportedOp(spv::Op op) {
     case spv::OpUConvert:
     case spv::OpSConvert:
     case spv::OpFConvert:
+    case spv::OpQuantizeToF16:
     case spv::OpBitcast:
     case spv::OpSNegate:
     case spv::OpFNegate:
@@ -250,7 +254,8 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityInt8:
     case spv::CapabilityFloat64:
     case spv::CapabilityFloat16:
-    case spv::CapabilityInt64Atomics: return true;
+    case spv::CapabilityInt64Atomics:
+    case spv::CapabilityDeviceGroup: return true;  // DeviceIndex: always 0 (one physical device)
     default: return extraSupportedCapability(cap) || rayTracingCapability(cap);
   }
 }
@@ -277,6 +282,8 @@ bool checkSupport(const Module& m, std::string* error) {
     }
     if (in.op == spv::OpExtInst) {
       auto it = m.extInstImports.find(in.word(3));
+      // Non-semantic instruction sets (debug info, reflection) are stripped before the translation.
+      if (it != m.extInstImports.end() && it->second.rfind("NonSemantic.", 0) == 0) continue;
       bool glsl = it != m.extInstImports.end() && it->second == "GLSL.std.450";
       if (!glsl || !supportedGlsl(in.word(4))) {
         std::snprintf(buf, sizeof buf, "unsupported instruction OpExtInst %s %u at word %u",
@@ -676,7 +683,9 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   opt.SetMessageConsumer([&](spv_message_level_t level, const char*, const spv_position_t& pos, const char* msg) {
     if (level <= SPV_MSG_ERROR && optError.empty()) optError = msg ? msg : "SPIRV-Tools optimizer error";
   });
-  opt.RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
+  opt.RegisterPass(spvtools::CreateStripNonSemanticInfoPass())
+      .RegisterPass(spvtools::CreateFlattenDecorationPass())
+      .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
       .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
   if (req.inlineFunctions) opt.RegisterPass(spvtools::CreateInlineExhaustivePass());
   opt.RegisterPass(spvtools::CreateEliminateDeadFunctionsPass())
@@ -695,12 +704,6 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   if (!ep) {
     *error = "entry point lost in optimization";
     return nullptr;
-  }
-  for (const Instruction& in : m.instructions) {
-    if (in.op == spv::OpSpecConstantOp) {
-      *error = "specialization constant operation left after folding (OpSpecConstantOp)";
-      return nullptr;
-    }
   }
 
   auto shader = std::make_shared<CompiledShader>();

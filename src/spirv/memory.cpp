@@ -246,6 +246,12 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       p.limit = i64(kPushConstantBytes);
       break;
     case spv::StorageClassInput: {
+      if (g.builtIn == spv::BuiltInDeviceIndex) {
+        // One physical device per logical device: the device index is always 0 (read from the zero sink).
+        p.base = zeros;
+        p.limit = i64(4);
+        break;
+      }
       uint32_t size = 0;
       int off = builtInOffset(g.builtIn, isRayTracing(), &size);
       if (off < 0)
@@ -327,20 +333,17 @@ static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok) {
 
 // A load that reads zeros out of bounds. It branches around the load rather than selecting the address, so
 // that a loop of such loads keeps consecutive addresses: LLVM can vectorize it with masked loads.
-llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align, bool isInvariant) {
+llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align) {
   // Where the block is closed already (code placed before its terminator), the address is selected instead.
   bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
   llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
-  llvm::LoadInst* l = nullptr;
   if (!ok) {
-    l = b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset),
-                            align);
-    return isInvariant ? invariant(l) : l;
+    return b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset),
+                               align);
   }
   llvm::BasicBlock* from = b.GetInsertBlock();
   llvm::BasicBlock* join = beginGuarded(*this, ok);
-  l = b.CreateAlignedLoad(ty, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
-  if (isInvariant) invariant(l);
+  llvm::LoadInst* l = b.CreateAlignedLoad(ty, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
   llvm::BasicBlock* then = b.GetInsertBlock();
   b.CreateBr(join);
   b.SetInsertPoint(join);
@@ -379,8 +382,11 @@ llvm::Value* Codegen::load(const Ptr& p) {
     case Type::Bool: return b.CreateICmpNE(guardedLoad(p, b.getInt32Ty(), 4, llvm::Align(4)), i32(0));
     case Type::Int:
     case Type::Float: {
-      // Push constants do not change while a dispatch runs either: such loads may leave the workgroup loop.
-      return guardedLoad(p, ty, t.width / 8, llvm::Align(t.width / 8), p.storage == spv::StorageClassPushConstant);
+      // Push constants are not marked invariant: in vkrt_group they are read from the workgroup's local copy,
+      // which is written (memcpy) before the loop, and an invariant load would let LLVM drop that copy as dead
+      // where the index is not constant (an 8-bit array indexed by the invocation read zeros). Loads from the
+      // unescaped copy leave the loop without it.
+      return guardedLoad(p, ty, t.width / 8, llvm::Align(t.width / 8));
     }
     case Type::Pointer:
       if (t.storage != spv::StorageClassPhysicalStorageBuffer) return nullptr;

@@ -49,6 +49,7 @@ void setDecoration(Decorations& d, const Instruction& in, uint32_t first) {
     case spv::DecorationRowMajor: d.rowMajor = true; break;
     case spv::DecorationBlock: d.block = true; break;
     case spv::DecorationBufferBlock: d.bufferBlock = true; break;
+    case spv::DecorationFPRoundingMode: d.fpRoundingMode = int32_t(arg); break;
     default: break;
   }
 }
@@ -163,6 +164,9 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         t.kind = Type::Array;
         t.element = in.word(2);
         uint64_t n = 0;
+        // A length computed by OpSpecConstantOp is known once specialization constants are folded (the compiler
+        // parses the folded module again); until then the array's length reads as 0.
+        if (specConstantOp(in.word(3))) break;
         if (!constantU64(in.word(3), &n) || n == 0 || n > (1u << 28))
           return fail(in.offset, "array length is not a usable constant");
         t.count = uint32_t(n);
@@ -241,6 +245,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
     for (int i = 0; i < 3; ++i) {
       if (!ep.localSizeId[i]) continue;
       uint64_t v = 0;
+      if (specConstantOp(ep.localSizeId[i])) continue;  // known after folding, as array lengths above
       if (!constantU64(ep.localSizeId[i], &v)) return fail(0, "LocalSizeId operand is not a constant");
       ep.localSize[i] = uint32_t(v);
     }
@@ -258,6 +263,11 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
     }
   }
   return true;
+}
+
+bool Module::specConstantOp(uint32_t id) const {
+  const Instruction* in = def(id);
+  return in && in->op == spv::OpSpecConstantOp;
 }
 
 const Instruction* Module::def(uint32_t id) const {

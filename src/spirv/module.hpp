@@ -49,6 +49,7 @@ struct Decorations {
   int32_t arrayStride = -1;
   int32_t matrixStride = -1;
   int32_t specId = -1;
+  int32_t fpRoundingMode = -1;  // FPRoundingMode (spv::FPRoundingMode) of a conversion's result
   bool rowMajor = false;
   bool block = false;
   bool bufferBlock = false;
@@ -99,6 +100,8 @@ class Module {
   const EntryPoint* findEntryPoint(const char* name, spv::ExecutionModel model) const;
   // A scalar integer constant's value (zero-extended), or false when `id` is not one.
   bool constantU64(uint32_t id, uint64_t* value) const;
+  // Whether `id` is computed by an OpSpecConstantOp (its value is known only after folding).
+  bool specConstantOp(uint32_t id) const;
   // The result type of the instruction defining `id` (0 when it has none).
   uint32_t typeOf(uint32_t id) const;
 };

@@ -149,12 +149,13 @@ TEST(SpirvAssembly, FunctionCallsWithPointerParametersAndLoopPhis) {
 }
 
 TEST(SpirvAssembly, UnsupportedInstructionNamesItsWordOffset) {
-  std::vector<uint32_t> words = assemble("", "%q = OpQuantizeToF16 %float %float_1");
-  uint32_t at = offsetOf(words, spv::OpQuantizeToF16);
+  // Subgroup operations are not compiled (the scope constant 3 is Subgroup).
+  std::vector<uint32_t> words = assemble("OpCapability GroupNonUniform", "%q = OpGroupNonUniformElect %bool %uint_3");
+  uint32_t at = offsetOf(words, spv::OpGroupNonUniformElect);
   ASSERT_NE(at, 0u);
   std::string error;
   EXPECT_EQ(compileWords(words, true, &error), nullptr);
-  EXPECT_EQ(error, "unsupported instruction OpQuantizeToF16 at word " + std::to_string(at));
+  EXPECT_EQ(error, "unsupported instruction OpGroupNonUniformElect at word " + std::to_string(at));
 }
 
 TEST(SpirvAssembly, UnsupportedCapabilityIsNamed) {
