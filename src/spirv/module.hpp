@@ -49,6 +49,7 @@ struct Decorations {
   int32_t arrayStride = -1;
   int32_t matrixStride = -1;
   int32_t specId = -1;
+  int32_t location = -1;
   bool rowMajor = false;
   bool block = false;
   bool bufferBlock = false;
