@@ -42,4 +42,20 @@ VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperti
   return p;
 }
 
+VkPhysicalDeviceRayTracingPropertiesNV rayTracingPropertiesNV() {
+  // The NV path shares the KHR one's groups, handles and structures: the same figures under the NV names.
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR k = rayTracingPipelineProperties();
+  const VkPhysicalDeviceAccelerationStructurePropertiesKHR a = accelerationStructureProperties();
+  VkPhysicalDeviceRayTracingPropertiesNV p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PROPERTIES_NV};
+  p.shaderGroupHandleSize = k.shaderGroupHandleSize;
+  p.maxRecursionDepth = k.maxRayRecursionDepth;
+  p.maxShaderGroupStride = k.maxShaderGroupStride;
+  p.shaderGroupBaseAlignment = k.shaderGroupBaseAlignment;
+  p.maxGeometryCount = a.maxGeometryCount;
+  p.maxInstanceCount = a.maxInstanceCount;
+  p.maxTriangleCount = a.maxPrimitiveCount;
+  p.maxDescriptorSetAccelerationStructures = a.maxDescriptorSetAccelerationStructures;
+  return p;
+}
+
 }  // namespace vkrt

@@ -20,5 +20,7 @@ inline constexpr uint32_t kShaderGroupCaptureReplaySize = 64;
 // The properties (NVIDIA's values where the spec leaves the choice).
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingPipelineProperties();
 VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperties();
+// VK_NV_ray_tracing's properties: the same figures (its pipelines and structures are the KHR ones).
+VkPhysicalDeviceRayTracingPropertiesNV rayTracingPropertiesNV();
 
 }  // namespace vkrt
