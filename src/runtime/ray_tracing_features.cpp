@@ -12,6 +12,9 @@ void appendRayTracingExtensions(std::vector<VkExtensionProperties>& out) {
   out.push_back({VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME, VK_KHR_RAY_TRACING_MAINTENANCE_1_SPEC_VERSION});
   out.push_back(
       {VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME, VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_SPEC_VERSION});
+  // On the same pipelines, structures and launches (rt/rt_pipeline.cpp, runtime/acceleration_structure_nv.cpp,
+  // rt/trace_rays.cpp).
+  out.push_back({VK_NV_RAY_TRACING_EXTENSION_NAME, VK_NV_RAY_TRACING_SPEC_VERSION});
 }
 
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingPipelineProperties() {
