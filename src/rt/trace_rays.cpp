@@ -18,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "exec/trace.hpp"
@@ -38,6 +39,21 @@ namespace vkrt::rt {
 namespace {
 
 using ull = unsigned long long;
+
+// The VUID a launch reports: the KHR rule's, or for vkCmdTraceRaysNV the NV rule it stands for where the NV command
+// has one (the NV extension has no NO_NULL_* flags and no hit group / geometry type rule: those stay KHR).
+const char* launchVuid(const char* fn, const char* khr) {
+  static const std::pair<const char*, const char*> kNv[] = {
+      {"VUID-vkCmdTraceRaysKHR-None-02697", "VUID-vkCmdTraceRaysNV-None-02697"},
+      {"VUID-vkCmdTraceRaysKHR-None-02700", "VUID-vkCmdTraceRaysNV-None-02700"},
+      {"VUID-vkCmdTraceRaysKHR-None-03429", "VUID-vkCmdTraceRaysNV-None-03429"},
+      {"VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679", "VUID-vkCmdTraceRaysNV-maxRecursionDepth-03625"},
+  };
+  if (std::strcmp(fn, "vkCmdTraceRaysNV") != 0) return khr;
+  for (const auto& [k, n] : kNv)
+    if (std::strcmp(k, khr) == 0) return n;
+  return khr;
+}
 
 const char* const kRegionNames[4] = {"raygen", "miss", "hit", "callable"};
 
@@ -217,7 +233,7 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   if (!d || !d->compiled) return s;
   const spirv::CompiledShader& code = *d->compiled;
   auto [it, fresh] = resources_.try_emplace(&code);
-  if (fresh) it->second.resolve(code, bs, cb_, fn_, "VUID-vkCmdTraceRaysKHR-None-02697");
+  if (fresh) it->second.resolve(code, bs, cb_, fn_, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-02697"));
   s.entry = code.rayEntry;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();
@@ -287,7 +303,7 @@ const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, 
   if (!ok) {
     if (first(kWrongKind))
       report(
-          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
           "%s: %s record %llu at 0x%llx holds the handle of pipeline group %u, a %s, which does not belong in the %s "
           "region; it is not run",
           fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record), g, describe(r).c_str(),
@@ -333,7 +349,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
     // A zero handle: no shader. Not allowed for raygen, nor where NO_NULL_* flags forbid it.
     const VkPipelineCreateFlags f = pipeline_->createFlags;
     const char* vuid = nullptr;
-    if (region == exec::SbtRegion::Raygen) vuid = "VUID-vkCmdTraceRaysKHR-None-03429";
+    if (region == exec::SbtRegion::Raygen) vuid = launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429");
     if (region == exec::SbtRegion::Miss && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR))
       vuid = "VUID-vkCmdTraceRaysKHR-flags-03511";
     if (region == exec::SbtRegion::Hit && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR))
@@ -355,7 +371,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
       char bytes[2 * 8 + 1];
       for (int k = 0; k < 8; ++k) std::snprintf(bytes + 2 * k, 3, "%02x", record[k]);
       report(
-          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
           "%s: %s record %llu at 0x%llx (region stride %s) does not hold a shader group handle of this device (first "
           "bytes %s...): it was not written from vkGetRayTracingShaderGroupHandlesKHR, or is corrupt; it is not run",
           fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record),
@@ -367,7 +383,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
   if (it == index_.end()) {
     if (first(kForeignHandle)) {
       uint64_t origin = r->firstPipeline;
-      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+      report(cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
              "%s: %s record %llu at 0x%llx holds the handle of a %s created in pipeline 0x%llx, which is neither the "
              "bound "
              "pipeline 0x%llx nor one of its libraries; it is not run",
@@ -397,7 +413,7 @@ const accel::Tlas* Launch::topLevel(uint64_t address) {
 void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {
   if (!first(kOutside)) return;
   report(
-      cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+      cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
       "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
       "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
       fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
@@ -415,7 +431,7 @@ void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool 
 
 void Launch::recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) {
   if (!first(kRecursion)) return;
-  report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679",
+  report(cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679"),
          "%s: shader %s calls traceRayEXT at recursion depth %u, deeper than the bound pipeline's "
          "maxPipelineRayRecursionDepth (%u); that trace is not run",
          fn_, caller.name, depth, maxDepth);
@@ -441,7 +457,7 @@ void execute(const CommandBuffer* cb, const ExecState& st, const SbtRegions& sbt
   RayTracingPipeline* p = asRayTracing(st.rayTracing.pipeline);
   // VUID-vkCmdTraceRaysKHR-None-02700
   if (!p) {
-    report(cb, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-02700",
+    report(cb, Severity::Error, launchVuid(fn, "VUID-vkCmdTraceRaysKHR-None-02700"),
            "%s: no ray tracing pipeline is bound; the launch is skipped", fn);
     return;
   }

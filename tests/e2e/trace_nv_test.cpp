@@ -422,6 +422,12 @@ TEST_F(NvTraceTest, NvHandlesAreTheKhrHandlesOfTheSameGroups) {
   // The NV alias of the KHR query on the KHR pipeline, and the KHR query on the NV pipeline, agree too.
   EXPECT_EQ(nvHandles(khr, 0, 3), b);
   EXPECT_EQ(handles(nv, 1, 2), slice(b, 32, 64));
+  // And the same stack sizes (the same compiled shaders behind the same groups).
+  for (uint32_t g = 0; g < 3; ++g) {
+    const VkShaderGroupShaderKHR which =
+        g < 2 ? VK_SHADER_GROUP_SHADER_GENERAL_KHR : VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR;
+    EXPECT_EQ(getStackSize(device, nv, g, which), getStackSize(device, khr, g, which)) << "group " << g;
+  }
 }
 
 // VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV: each stage compiled once with vkCompileDeferredNV, then traced.
@@ -763,6 +769,28 @@ TEST_F(NvMisuseTest, TraceRules) {
   traceNv(cb, s.buffer, 1u << 20, s.buffer, s.miss, s.stride, s.buffer, s.hit, s.stride, VK_NULL_HANDLE, 0, 0, 1, 1, 1);
   expectVkrtMessage("VUID-vkCmdTraceRaysNV-raygenShaderBindingOffset-02455");
   vkEndCommandBuffer(cb);
+}
+
+TEST_F(NvMisuseTest, AForeignHandleInTheSbtIsReportedUnderTheNvVuid) {
+  VkPipeline basic = nvPipeline(nvRgen, nvMiss, nvChit, nvLayout);
+  // Same raygen and miss groups (so the same handles), but a procedural hit group the basic pipeline lacks.
+  VkPipeline spheres = nvPipeline(nvRgen, nvMiss, nvChit, nvLayout, 0, nvSphere);
+  ASSERT_TRUE(basic && spheres);
+  NvSbt s = nvSbt(spheres);
+  VkAccelerationStructureNV top = nvBasicScene();
+  clearMessages();
+  std::vector<TracePayload> r = traceNvPath(basic, s, top, 8);
+  auto msgs = vkrtMessages();
+  ASSERT_EQ(msgs.size(), 1u) << (msgs.empty() ? "no report" : msgs[0].text);
+  EXPECT_EQ(msgs[0].idName, "VUID-vkCmdTraceRaysNV-None-03429") << msgs[0].text;
+  EXPECT_NE(msgs[0].text.find("vkCmdTraceRaysNV"), std::string::npos) << msgs[0].text;
+  EXPECT_NE(msgs[0].text.find("hit record"), std::string::npos) << msgs[0].text;
+  clearMessages();
+  // The foreign hit records ran nothing; the misses ran their shader.
+  int misses = 0;
+  for (const TracePayload& p : r) misses += p.hit[0] == -2.0f;
+  EXPECT_GT(misses, 10);
+  for (const TracePayload& p : r) EXPECT_TRUE(p.hit[0] == -2.0f || p.hit[0] == -1.0f) << p.hit[0];
 }
 
 }  // namespace
