@@ -34,11 +34,6 @@ bool enabledOn(const EntryPoint& e, const Device* device) {
     if (std::strncmp(p, "VK_VERSION_", 11) == 0) return true;
     if (device->enabledExtensions.count(p) || device->instance->enabledExtensions.count(p)) return true;
   }
-  // Exception: vkGetRayTracingShaderGroupHandlesNV is provided by VK_NV_ray_tracing only, but the
-  // VK_KHR_ray_tracing_pipeline issue asks for the NV alias to resolve whenever the KHR extension is enabled
-  // (it is the same command; vkrt does not implement VK_NV_ray_tracing itself).
-  if (std::strcmp(e.name, "vkGetRayTracingShaderGroupHandlesNV") == 0)
-    return device->enabledExtensions.count("VK_KHR_ray_tracing_pipeline") != 0;
   return false;
 }
 

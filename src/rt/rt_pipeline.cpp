@@ -3,6 +3,7 @@
 // library linking — run at once or, with a VkDeferredOperationKHR, on the threads that join it.
 #include "rt/rt_pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <functional>
@@ -54,6 +55,8 @@ bool stageIs(const VkRayTracingPipelineCreateInfoKHR& info, uint32_t index, VkSh
 // later (at once or on joining threads).
 struct Job {
   uint32_t index = 0;
+  bool nv = false;  // from vkCreateRayTracingPipelinesNV (translated: nvToKhr)
+  const char* fn = "vkCreateRayTracingPipelinesKHR";
   VkPipelineCreateFlags flags = 0;
   PipelineLayout* layout = nullptr;
   LayoutShape layoutShape;
@@ -81,11 +84,58 @@ struct Job {
   RayTracingPipeline* pipeline = nullptr;
 };
 
+// The VUID of the VK_NV_ray_tracing rule that a KHR rule checked on a translated NV create info stands for.
+const char* nvVuid(const char* khr) {
+  static const std::pair<const char*, const char*> kMap[] = {
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-layout-parameter",
+       "VUID-VkRayTracingPipelineCreateInfoNV-layout-parameter"},
+      {"VUID-vkCreateRayTracingPipelinesKHR-flags-03816", "VUID-vkCreateRayTracingPipelinesNV-flags-03816"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-pipelineCreationCacheControl-02905",
+       "VUID-VkRayTracingPipelineCreateInfoNV-pipelineCreationCacheControl-02905"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-maxPipelineRayRecursionDepth-03589",
+       "VUID-VkRayTracingPipelineCreateInfoNV-maxRecursionDepth-03457"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-flags-03421", "VUID-VkRayTracingPipelineCreateInfoNV-flags-03421"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-flags-03422", "VUID-VkRayTracingPipelineCreateInfoNV-flags-03422"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-flags-03424", "VUID-VkRayTracingPipelineCreateInfoNV-flags-03424"},
+      {"VUID-vkCreateRayTracingPipelinesKHR-flags-03415", "VUID-vkCreateRayTracingPipelinesNV-flags-03415"},
+      {"VUID-vkCreateRayTracingPipelinesKHR-flags-03416", "VUID-vkCreateRayTracingPipelinesNV-flags-03416"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-stage-06899", "VUID-VkRayTracingPipelineCreateInfoNV-stage-06898"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03474", "VUID-VkRayTracingShaderGroupCreateInfoNV-type-02413"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03475", "VUID-VkRayTracingShaderGroupCreateInfoNV-type-02414"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03476", "VUID-VkRayTracingShaderGroupCreateInfoNV-type-02415"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-type-03477", "VUID-VkRayTracingShaderGroupCreateInfoNV-type-02416"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-type-parameter",
+       "VUID-VkRayTracingShaderGroupCreateInfoNV-type-parameter"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-closestHitShader-03478",
+       "VUID-VkRayTracingShaderGroupCreateInfoNV-closestHitShader-02417"},
+      {"VUID-VkRayTracingShaderGroupCreateInfoKHR-anyHitShader-03479",
+       "VUID-VkRayTracingShaderGroupCreateInfoNV-anyHitShader-02418"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-pipelineStageCreationFeedbackCount-06652",
+       "VUID-VkRayTracingPipelineCreateInfoNV-pipelineStageCreationFeedbackCount-06651"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-stage-03425", "VUID-VkRayTracingPipelineCreateInfoNV-stage-06232"},
+      {"VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427", "VUID-VkRayTracingPipelineCreateInfoNV-layout-03427"},
+  };
+  if (!khr) return nullptr;
+  for (const auto& [k, n] : kMap)
+    if (std::strcmp(k, khr) == 0) return n;
+  return khr;  // (the other KHR rules concern flags and structures an NV create info cannot carry: checked first)
+}
+
 // Validation of pCreateInfos[i]; reports the first violation. Fills the job's libraries.
 bool validate(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_t i,
               const VkRayTracingPipelineCreateInfoKHR* all, Job& job) {
   auto fail = [&](const Object* about, const char* vuid, const char* fmt, auto... args) {
-    report(about ? about : dev, Severity::Error, vuid, fmt, args...);
+    if (!job.nv) {
+      report(about ? about : dev, Severity::Error, vuid, fmt, args...);
+    } else {
+      // A translated VkRayTracingPipelineCreateInfoNV: the rule under its NV name, the message naming the NV command.
+      std::string text(1024, '\0');
+      text.resize(std::min<size_t>(size_t(std::max(std::snprintf(text.data(), text.size(), fmt, args...), 0)),
+                                   text.size() - 1));
+      const std::string khr = "vkCreateRayTracingPipelinesKHR";
+      if (text.compare(0, khr.size(), khr) == 0) text.replace(0, khr.size(), job.fn);
+      report(about ? about : dev, Severity::Error, nvVuid(vuid), "%s", text.c_str());
+    }
     return false;
   };
   // VUID-VkRayTracingPipelineCreateInfoKHR-layout-parameter
@@ -319,7 +369,7 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
   for (uint32_t s = 0; s < info.stageCount; ++s) {
     const VkPipelineShaderStageCreateInfo& st = info.pStages[s];
     char what[96];
-    std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%u]", i, s);
+    std::snprintf(what, sizeof(what), "%s: pCreateInfos[%u].pStages[%u]", job.fn, i, s);
     PreparedStage ps;
     if (!prepareStage(dev, st, executionModelOf(st.stage), what, &ps)) return false;
     auto d = std::make_shared<ShaderDesc>();
@@ -353,9 +403,8 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
 bool compileStage(Device* dev, Job& job, size_t s) {
   ShaderDesc& d = *job.stages[s];
   char what[96];
-  std::snprintf(what, sizeof(what), "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu]", job.index, s);
-  CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache,
-                                       "vkCreateRayTracingPipelinesKHR", what);
+  std::snprintf(what, sizeof(what), "%s: pCreateInfos[%u].pStages[%zu]", job.fn, job.index, s);
+  CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache, job.fn, what);
   job.stageFeedback.push_back(c.feedback);
   d.compiled = c.shader;
   job.result = c.result;
@@ -374,9 +423,11 @@ void build(Device* dev, Job& job) {
     const ShaderDesc& d = *job.stages[s];
     std::string detail;
     if (checkLayoutProvides(*job.layout, *d.compiled, d.stage, &detail) != LayoutMismatch::None) {
-      report(dev, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427",
-             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pStages[%zu] (stage 0x%x, \"%s\"): %s", job.index, s,
-             (unsigned)d.stage, d.entry.c_str(), detail.c_str());
+      report(dev, Severity::Error,
+             job.nv ? "VUID-VkRayTracingPipelineCreateInfoNV-layout-03427"
+                    : "VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427",
+             "%s: pCreateInfos[%u].pStages[%zu] (stage 0x%x, \"%s\"): %s", job.fn, job.index, s, (unsigned)d.stage,
+             d.entry.c_str(), detail.c_str());
       job.result = VK_ERROR_VALIDATION_FAILED_EXT;
       return;
     }
@@ -420,6 +471,8 @@ void build(Device* dev, Job& job) {
     return;
   }
   p->maxRecursionDepth = job.depth;
+  if (job.nv && (job.flags & VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV))
+    p->deferredStages.assign(job.stages.size(), 1);  // each waits for its vkCompileDeferredNV
   p->hasInterface = job.hasInterface;
   p->maxPayloadSize = job.maxPayload;
   p->maxHitAttributeSize = job.maxHitAttr;
@@ -508,6 +561,57 @@ VkResult finish(std::vector<Job>& jobs, VkPipeline* out) {
 }  // namespace
 }  // namespace vkrt::rt
 
+namespace vkrt::rt {
+namespace {
+
+// The creation shared by vkCreateRayTracingPipelinesKHR and (through translated create infos)
+// vkCreateRayTracingPipelinesNV, from the pipeline cache check on.
+VkResult createPipelines(Device* dev, DeferredOperation* op, VkPipelineCache pipelineCache, uint32_t createInfoCount,
+                         const VkRayTracingPipelineCreateInfoKHR* pCreateInfos, const VkAllocationCallbacks* pAllocator,
+                         VkPipeline* pPipelines, const char* fn) {
+  const bool nv = std::strcmp(fn, "vkCreateRayTracingPipelinesNV") == 0;
+  PipelineCache* cache = nullptr;
+  if (pipelineCache != VK_NULL_HANDLE) {
+    cache = fromHandle<PipelineCache>(pipelineCache);
+    // VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter,
+    // VUID-vkCreateRayTracingPipelinesNV-pipelineCache-parameter
+    if (!cache) {
+      report(dev, Severity::Error,
+             nv ? "VUID-vkCreateRayTracingPipelinesNV-pipelineCache-parameter"
+                : "VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter",
+             "%s: pipelineCache 0x%llx is not a live VkPipelineCache", fn,
+             (unsigned long long)rawHandle(pipelineCache));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  auto jobs = std::make_shared<std::vector<Job>>(createInfoCount);
+  for (uint32_t i = 0; i < createInfoCount; ++i) {
+    Job& j = (*jobs)[i];
+    j.cache = cache;
+    j.allocator = pAllocator;
+    j.nv = nv;
+    j.fn = fn;
+    if (!validate(dev, pCreateInfos[i], i, pCreateInfos, j) || !prepare(dev, pCreateInfos[i], i, j))
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  if (!op) {
+    for (Job& j : *jobs) {
+      build(dev, j);
+      // VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT: the later pipelines are not created (not even built, so
+      // they leave no entries in the cache). finish() writes VK_NULL_HANDLE for them.
+      if (j.result == VK_PIPELINE_COMPILE_REQUIRED && (j.flags & kEarlyReturn)) break;
+    }
+    return finish(*jobs, pPipelines);
+  }
+  std::vector<std::function<void()>> tasks;
+  for (uint32_t i = 0; i < createInfoCount; ++i) tasks.push_back([dev, jobs, i] { build(dev, (*jobs)[i]); });
+  op->start(std::move(tasks), [jobs, pPipelines] { return finish(*jobs, pPipelines); });
+  return VK_OPERATION_DEFERRED_KHR;
+}
+
+}  // namespace
+}  // namespace vkrt::rt
+
 using namespace vkrt;
 using namespace vkrt::rt;
 
@@ -550,38 +654,132 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesKHR(
       }
     }
   }
-  PipelineCache* cache = nullptr;
-  if (pipelineCache != VK_NULL_HANDLE) {
-    cache = fromHandle<PipelineCache>(pipelineCache);
-    // VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter
-    if (!cache) {
-      report(dev, Severity::Error, "VUID-vkCreateRayTracingPipelinesKHR-pipelineCache-parameter",
-             "vkCreateRayTracingPipelinesKHR: pipelineCache 0x%llx is not a live VkPipelineCache",
-             (unsigned long long)rawHandle(pipelineCache));
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-    }
-  }
-  auto jobs = std::make_shared<std::vector<Job>>(createInfoCount);
+  return createPipelines(dev, op, pipelineCache, createInfoCount, pCreateInfos, pAllocator, pPipelines,
+                         "vkCreateRayTracingPipelinesKHR");
+}
+
+// vkCreateRayTracingPipelinesNV: the rules only the NV form has, then each create info translated into the KHR one
+// (same stages, groups with no capture data, maxRecursionDepth as maxPipelineRayRecursionDepth) and created by the
+// KHR path, so that groups, handles, stack sizes and every shared rule are the KHR path's (reported under the NV
+// VUIDs: nvVuid).
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateRayTracingPipelinesNV(VkDevice device, VkPipelineCache pipelineCache,
+                                                                uint32_t createInfoCount,
+                                                                const VkRayTracingPipelineCreateInfoNV* pCreateInfos,
+                                                                const VkAllocationCallbacks* pAllocator,
+                                                                VkPipeline* pPipelines) {
+  const char* fn = "vkCreateRayTracingPipelinesNV";
+  Device* dev = fromHandleUnchecked<Device>(device);
+  for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;
+  struct Forbidden {
+    VkPipelineCreateFlags flag;
+    const char* vuid;
+    const char* name;
+  };
+  // VUID-VkRayTracingPipelineCreateInfoNV-flags-02904, -03456, -03458, -03459, -03460, -03461, -03462, -03463,
+  // -03588, -04948, -07402: flags of other pipeline kinds and of the KHR extension.
+  static const Forbidden kForbidden[] = {
+      {VK_PIPELINE_CREATE_INDIRECT_BINDABLE_BIT_NV, "VUID-VkRayTracingPipelineCreateInfoNV-flags-02904",
+       "VK_PIPELINE_CREATE_INDIRECT_BINDABLE_BIT_NV"},
+      {VK_PIPELINE_CREATE_LIBRARY_BIT_KHR, "VUID-VkRayTracingPipelineCreateInfoNV-flags-03456",
+       "VK_PIPELINE_CREATE_LIBRARY_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR,
+       "VUID-VkRayTracingPipelineCreateInfoNV-flags-03458",
+       "VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_ANY_HIT_SHADERS_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR,
+       "VUID-VkRayTracingPipelineCreateInfoNV-flags-03459",
+       "VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR, "VUID-VkRayTracingPipelineCreateInfoNV-flags-03460",
+       "VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_INTERSECTION_SHADERS_BIT_KHR,
+       "VUID-VkRayTracingPipelineCreateInfoNV-flags-03461",
+       "VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_INTERSECTION_SHADERS_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR, "VUID-VkRayTracingPipelineCreateInfoNV-flags-03462",
+       "VK_PIPELINE_CREATE_RAY_TRACING_SKIP_AABBS_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR, "VUID-VkRayTracingPipelineCreateInfoNV-flags-03463",
+       "VK_PIPELINE_CREATE_RAY_TRACING_SKIP_TRIANGLES_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR,
+       "VUID-VkRayTracingPipelineCreateInfoNV-flags-03588",
+       "VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_ALLOW_MOTION_BIT_NV, "VUID-VkRayTracingPipelineCreateInfoNV-flags-04948",
+       "VK_PIPELINE_CREATE_RAY_TRACING_ALLOW_MOTION_BIT_NV"},
+      {VK_PIPELINE_CREATE_RAY_TRACING_OPACITY_MICROMAP_BIT_EXT, "VUID-VkRayTracingPipelineCreateInfoNV-flags-07402",
+       "VK_PIPELINE_CREATE_RAY_TRACING_OPACITY_MICROMAP_BIT_EXT"},
+  };
+  std::vector<VkRayTracingPipelineCreateInfoKHR> infos(createInfoCount);
+  std::vector<std::vector<VkRayTracingShaderGroupCreateInfoKHR>> groups(createInfoCount);
   for (uint32_t i = 0; i < createInfoCount; ++i) {
-    Job& j = (*jobs)[i];
-    j.cache = cache;
-    j.allocator = pAllocator;
-    if (!validate(dev, pCreateInfos[i], i, pCreateInfos, j) || !prepare(dev, pCreateInfos[i], i, j))
-      return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  if (!op) {
-    for (Job& j : *jobs) {
-      build(dev, j);
-      // VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT: the later pipelines are not created (not even built, so
-      // they leave no entries in the cache). finish() writes VK_NULL_HANDLE for them.
-      if (j.result == VK_PIPELINE_COMPILE_REQUIRED && (j.flags & kEarlyReturn)) break;
+    const VkRayTracingPipelineCreateInfoNV& n = pCreateInfos[i];
+    for (const Forbidden& f : kForbidden) {
+      if (n.flags & f.flag) {
+        report(dev, Severity::Error, f.vuid, "%s: pCreateInfos[%u].flags 0x%x contains %s", fn, i, n.flags, f.name);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
     }
-    return finish(*jobs, pPipelines);
+    // VUID-VkRayTracingPipelineCreateInfoNV-flags-02957
+    if ((n.flags & VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV) && (n.flags & kFailOnCompile)) {
+      report(dev, Severity::Error, "VUID-VkRayTracingPipelineCreateInfoNV-flags-02957",
+             "%s: pCreateInfos[%u].flags 0x%x has both VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV and "
+             "VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT",
+             fn, i, n.flags);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    for (uint32_t g = 0; g < n.groupCount; ++g) {
+      const VkRayTracingShaderGroupCreateInfoNV& ng = n.pGroups[g];
+      VkRayTracingShaderGroupCreateInfoKHR k{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+      k.type = ng.type;
+      k.generalShader = ng.generalShader;
+      k.closestHitShader = ng.closestHitShader;
+      k.anyHitShader = ng.anyHitShader;
+      k.intersectionShader = ng.intersectionShader;
+      groups[i].push_back(k);
+    }
+    VkRayTracingPipelineCreateInfoKHR& k = infos[i];
+    k = {VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    k.pNext = n.pNext;  // VkPipelineCreationFeedbackCreateInfo is what it may hold
+    k.flags = n.flags;
+    k.stageCount = n.stageCount;
+    k.pStages = n.pStages;
+    k.groupCount = n.groupCount;
+    k.pGroups = groups[i].data();
+    k.maxPipelineRayRecursionDepth = n.maxRecursionDepth;
+    k.layout = n.layout;
+    k.basePipelineHandle = n.basePipelineHandle;
+    k.basePipelineIndex = n.basePipelineIndex;
   }
-  std::vector<std::function<void()>> tasks;
-  for (uint32_t i = 0; i < createInfoCount; ++i) tasks.push_back([dev, jobs, i] { build(dev, (*jobs)[i]); });
-  op->start(std::move(tasks), [jobs, pPipelines] { return finish(*jobs, pPipelines); });
-  return VK_OPERATION_DEFERRED_KHR;
+  return createPipelines(dev, nullptr, pipelineCache, createInfoCount, infos.data(), pAllocator, pPipelines, fn);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CompileDeferredNV(VkDevice device, VkPipeline pipeline, uint32_t shader) {
+  const char* fn = "vkCompileDeferredNV";
+  Device* dev = fromHandleUnchecked<Device>(device);
+  RayTracingPipeline* p = asRayTracing(fromHandle<Pipeline>(pipeline));
+  // VUID-vkCompileDeferredNV-pipeline-04621
+  if (!p) {
+    report(dev, Severity::Error, "VUID-vkCompileDeferredNV-pipeline-04621",
+           "%s: pipeline 0x%llx is not a live ray tracing pipeline", fn, (unsigned long long)rawHandle(pipeline));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkCompileDeferredNV-pipeline-02237
+  if (!(p->createFlags & VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV)) {
+    report(p, Severity::Error, "VUID-vkCompileDeferredNV-pipeline-02237",
+           "%s: the pipeline was not created with VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV", fn);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  std::lock_guard lock(p->deferredMutex);
+  // (The specification names no VUID for a shader index outside pStages.)
+  if (shader >= p->deferredStages.size()) {
+    report(p, Severity::Error, nullptr, "%s: shader %u is not an index into the pipeline's %zu stages", fn, shader,
+           p->deferredStages.size());
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkCompileDeferredNV-shader-02238
+  if (!p->deferredStages[shader]) {
+    report(p, Severity::Error, "VUID-vkCompileDeferredNV-shader-02238",
+           "%s: shader %u was already compiled by an earlier vkCompileDeferredNV", fn, shader);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  p->deferredStages[shader] = 0;
+  return VK_SUCCESS;
 }
 
 }  // extern "C"

@@ -1,4 +1,5 @@
-// Ray tracing pipelines (VK_KHR_ray_tracing_pipeline) and pipeline libraries (VK_KHR_pipeline_library).
+// Ray tracing pipelines (VK_KHR_ray_tracing_pipeline) and pipeline libraries (VK_KHR_pipeline_library); the pipelines
+// of VK_NV_ray_tracing are the same objects (vkCreateRayTracingPipelinesNV translates its create infos).
 //
 // A RayTracingPipeline is its list of shader groups, each a pointer to a device-wide GroupRecord
 // (src/rt/group_handles.hpp): its own pGroups first, then each library's groups in pLibraries order,
@@ -7,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 #include "rt/group_handles.hpp"
@@ -45,6 +47,11 @@ class RayTracingPipeline : public Pipeline {
   bool dynamicStackSize = false;  // VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR
   uint64_t defaultStackSize = 0;  // the spec's formula (src/rt/stack_size.hpp)
   LayoutShape layoutShape;        // of `layout` at creation (compared when the pipeline is linked as a library)
+  // VK_PIPELINE_CREATE_DEFER_COMPILE_BIT_NV: per stage, 1 until vkCompileDeferredNV was called for it (empty
+  // otherwise). The code itself is compiled at creation, as for every pipeline; this is the state the rules of
+  // vkCompileDeferredNV are checked against.
+  std::vector<uint8_t> deferredStages;
+  std::mutex deferredMutex;
 
   bool isLibrary() const { return (createFlags & VK_PIPELINE_CREATE_LIBRARY_BIT_KHR) != 0; }
   uint32_t groupCount() const { return static_cast<uint32_t>(groups.size()); }

@@ -1,4 +1,5 @@
-// vkCmdTraceRaysKHR, vkCmdTraceRaysIndirectKHR, vkCmdTraceRaysIndirect2KHR: the shader binding table (SBT)
+// vkCmdTraceRaysKHR, vkCmdTraceRaysIndirectKHR, vkCmdTraceRaysIndirect2KHR and vkCmdTraceRaysNV (whose buffers,
+// offsets and strides become the same regions: the launch is the KHR one): the shader binding table (SBT)
 // regions are checked when the command is recorded (or, for the indirect form 2, when its parameters are read),
 // and at execution a Launch resolves the bound pipeline's groups and resources and runs the launch on the trace
 // executor (src/exec/trace.hpp), answering its questions about SBT records and acceleration structures.
@@ -17,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "exec/trace.hpp"
@@ -37,6 +39,21 @@ namespace vkrt::rt {
 namespace {
 
 using ull = unsigned long long;
+
+// The VUID a launch reports: the KHR rule's, or for vkCmdTraceRaysNV the NV rule it stands for where the NV command
+// has one (the NV extension has no NO_NULL_* flags and no hit group / geometry type rule: those stay KHR).
+const char* launchVuid(const char* fn, const char* khr) {
+  static const std::pair<const char*, const char*> kNv[] = {
+      {"VUID-vkCmdTraceRaysKHR-None-02697", "VUID-vkCmdTraceRaysNV-None-02697"},
+      {"VUID-vkCmdTraceRaysKHR-None-02700", "VUID-vkCmdTraceRaysNV-None-02700"},
+      {"VUID-vkCmdTraceRaysKHR-None-03429", "VUID-vkCmdTraceRaysNV-None-03429"},
+      {"VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679", "VUID-vkCmdTraceRaysNV-maxRecursionDepth-03625"},
+  };
+  if (std::strcmp(fn, "vkCmdTraceRaysNV") != 0) return khr;
+  for (const auto& [k, n] : kNv)
+    if (std::strcmp(k, khr) == 0) return n;
+  return khr;
+}
 
 const char* const kRegionNames[4] = {"raygen", "miss", "hit", "callable"};
 
@@ -216,7 +233,7 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   if (!d || !d->compiled) return s;
   const spirv::CompiledShader& code = *d->compiled;
   auto [it, fresh] = resources_.try_emplace(&code);
-  if (fresh) it->second.resolve(code, bs, cb_, fn_, "VUID-vkCmdTraceRaysKHR-None-02697");
+  if (fresh) it->second.resolve(code, bs, cb_, fn_, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-02697"));
   s.entry = code.rayEntry;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();
@@ -286,7 +303,7 @@ const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, 
   if (!ok) {
     if (first(kWrongKind))
       report(
-          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
           "%s: %s record %llu at 0x%llx holds the handle of pipeline group %u, a %s, which does not belong in the %s "
           "region; it is not run",
           fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record), g, describe(r).c_str(),
@@ -332,7 +349,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
     // A zero handle: no shader. Not allowed for raygen, nor where NO_NULL_* flags forbid it.
     const VkPipelineCreateFlags f = pipeline_->createFlags;
     const char* vuid = nullptr;
-    if (region == exec::SbtRegion::Raygen) vuid = "VUID-vkCmdTraceRaysKHR-None-03429";
+    if (region == exec::SbtRegion::Raygen) vuid = launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429");
     if (region == exec::SbtRegion::Miss && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR))
       vuid = "VUID-vkCmdTraceRaysKHR-flags-03511";
     if (region == exec::SbtRegion::Hit && (f & VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR))
@@ -354,7 +371,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
       char bytes[2 * 8 + 1];
       for (int k = 0; k < 8; ++k) std::snprintf(bytes + 2 * k, 3, "%02x", record[k]);
       report(
-          cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+          cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
           "%s: %s record %llu at 0x%llx (region stride %s) does not hold a shader group handle of this device (first "
           "bytes %s...): it was not written from vkGetRayTracingShaderGroupHandlesKHR, or is corrupt; it is not run",
           fn_, kRegionNames[ri], (ull)index, (ull) reinterpret_cast<uintptr_t>(record),
@@ -366,7 +383,7 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
   if (it == index_.end()) {
     if (first(kForeignHandle)) {
       uint64_t origin = r->firstPipeline;
-      report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+      report(cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
              "%s: %s record %llu at 0x%llx holds the handle of a %s created in pipeline 0x%llx, which is neither the "
              "bound "
              "pipeline 0x%llx nor one of its libraries; it is not run",
@@ -396,7 +413,7 @@ const accel::Tlas* Launch::topLevel(uint64_t address) {
 void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {
   if (!first(kOutside)) return;
   report(
-      cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-03429",
+      cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
       "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
       "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
       fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
@@ -414,7 +431,7 @@ void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool 
 
 void Launch::recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) {
   if (!first(kRecursion)) return;
-  report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679",
+  report(cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679"),
          "%s: shader %s calls traceRayEXT at recursion depth %u, deeper than the bound pipeline's "
          "maxPipelineRayRecursionDepth (%u); that trace is not run",
          fn_, caller.name, depth, maxDepth);
@@ -440,7 +457,7 @@ void execute(const CommandBuffer* cb, const ExecState& st, const SbtRegions& sbt
   RayTracingPipeline* p = asRayTracing(st.rayTracing.pipeline);
   // VUID-vkCmdTraceRaysKHR-None-02700
   if (!p) {
-    report(cb, Severity::Error, "VUID-vkCmdTraceRaysKHR-None-02700",
+    report(cb, Severity::Error, launchVuid(fn, "VUID-vkCmdTraceRaysKHR-None-02700"),
            "%s: no ray tracing pipeline is bound; the launch is skipped", fn);
     return;
   }
@@ -578,6 +595,121 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysIndirect2KHR(VkCommandBuffer command
     const uint32_t s[3] = {c.width, c.height, c.depth};
     if (!checkRegions(cb, fn, sbt, kIndirect2Vuids) || !checkLaunchSize(cb, fn, s, kIndirect2Vuids, cb->device)) return;
     execute(cb, st, sbt, s, fn);
+  });
+}
+
+// The NV form names each SBT region by a buffer, an offset and a stride. Its rules are checked here under their NV
+// VUIDs; the region each becomes (the buffer's address + offset, the stride, and the rest of the buffer as its size:
+// the NV form has no region sizes) then goes through the KHR launch, whose record checks and decoding are the same.
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdTraceRaysNV(
+    VkCommandBuffer commandBuffer, VkBuffer raygenShaderBindingTableBuffer, VkDeviceSize raygenShaderBindingOffset,
+    VkBuffer missShaderBindingTableBuffer, VkDeviceSize missShaderBindingOffset, VkDeviceSize missShaderBindingStride,
+    VkBuffer hitShaderBindingTableBuffer, VkDeviceSize hitShaderBindingOffset, VkDeviceSize hitShaderBindingStride,
+    VkBuffer callableShaderBindingTableBuffer, VkDeviceSize callableShaderBindingOffset,
+    VkDeviceSize callableShaderBindingStride, uint32_t width, uint32_t height, uint32_t depth) {
+  const char* fn = "vkCmdTraceRaysNV";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  const VkPhysicalDeviceRayTracingPropertiesNV props = rayTracingPropertiesNV();
+  struct In {
+    VkBuffer buffer;
+    VkDeviceSize offset, stride;
+    const char *bufferParam, *memory, *offsetSize, *offsetAlign, *strideAlign, *strideMax;
+  };
+  const In in[4] = {
+      {raygenShaderBindingTableBuffer, raygenShaderBindingOffset, 0,
+       "VUID-vkCmdTraceRaysNV-raygenShaderBindingTableBuffer-parameter",
+       "VUID-vkCmdTraceRaysNV-raygenShaderBindingTableBuffer-04042",
+       "VUID-vkCmdTraceRaysNV-raygenShaderBindingOffset-02455", "VUID-vkCmdTraceRaysNV-raygenShaderBindingOffset-02456",
+       nullptr, nullptr},
+      {missShaderBindingTableBuffer, missShaderBindingOffset, missShaderBindingStride,
+       "VUID-vkCmdTraceRaysNV-missShaderBindingTableBuffer-parameter",
+       "VUID-vkCmdTraceRaysNV-missShaderBindingTableBuffer-04043",
+       "VUID-vkCmdTraceRaysNV-missShaderBindingOffset-02457", "VUID-vkCmdTraceRaysNV-missShaderBindingOffset-02458",
+       "VUID-vkCmdTraceRaysNV-missShaderBindingStride-02463", "VUID-vkCmdTraceRaysNV-missShaderBindingStride-02466"},
+      {hitShaderBindingTableBuffer, hitShaderBindingOffset, hitShaderBindingStride,
+       "VUID-vkCmdTraceRaysNV-hitShaderBindingTableBuffer-parameter",
+       "VUID-vkCmdTraceRaysNV-hitShaderBindingTableBuffer-04044", "VUID-vkCmdTraceRaysNV-hitShaderBindingOffset-02459",
+       "VUID-vkCmdTraceRaysNV-hitShaderBindingOffset-02460", "VUID-vkCmdTraceRaysNV-hitShaderBindingStride-02464",
+       "VUID-vkCmdTraceRaysNV-hitShaderBindingStride-02467"},
+      {callableShaderBindingTableBuffer, callableShaderBindingOffset, callableShaderBindingStride,
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingTableBuffer-parameter",
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingTableBuffer-04045",
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingOffset-02461",
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingOffset-02462",
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingStride-02465",
+       "VUID-vkCmdTraceRaysNV-callableShaderBindingStride-02468"},
+  };
+  SbtRegions sbt;
+  for (int i = 0; i < 4; ++i) {
+    const In& r = in[i];
+    if (i != 0 && r.buffer == VK_NULL_HANDLE) continue;  // an unused region
+    // VUID-vkCmdTraceRaysNV-raygenShaderBindingTableBuffer-parameter (and the other three)
+    Buffer* buf = fromHandle<Buffer>(r.buffer);
+    if (!buf) {
+      report(cb, Severity::Error, r.bufferParam, "%s: the %s buffer 0x%llx is not a live VkBuffer", fn, kRegionNames[i],
+             (ull)rawHandle(r.buffer));
+      return;
+    }
+    // VUID-vkCmdTraceRaysNV-raygenShaderBindingTableBuffer-04042 (-04043, -04044, -04045)
+    if (!buf->data()) {
+      report(buf, Severity::Error, r.memory, "%s: the %s buffer is not bound to memory", fn, kRegionNames[i]);
+      return;
+    }
+    // VUID-vkCmdTraceRaysNV-raygenShaderBindingOffset-02455 (-02457, -02459, -02461)
+    if (r.offset >= buf->size) {
+      report(buf, Severity::Error, r.offsetSize, "%s: the %s offset %llu is not less than the buffer's size %llu", fn,
+             kRegionNames[i], (ull)r.offset, (ull)buf->size);
+      return;
+    }
+    // VUID-vkCmdTraceRaysNV-raygenShaderBindingOffset-02456 (-02458, -02460, -02462)
+    if (r.offset % props.shaderGroupBaseAlignment) {
+      report(buf, Severity::Error, r.offsetAlign,
+             "%s: the %s offset %llu is not a multiple of VkPhysicalDeviceRayTracingPropertiesNV::"
+             "shaderGroupBaseAlignment (%u)",
+             fn, kRegionNames[i], (ull)r.offset, props.shaderGroupBaseAlignment);
+      return;
+    }
+    if (i != 0) {
+      // VUID-vkCmdTraceRaysNV-missShaderBindingStride-02463 (-02464, -02465)
+      if (r.stride % props.shaderGroupHandleSize) {
+        report(cb, Severity::Error, r.strideAlign,
+               "%s: the %s stride %llu is not a multiple of VkPhysicalDeviceRayTracingPropertiesNV::"
+               "shaderGroupHandleSize (%u)",
+               fn, kRegionNames[i], (ull)r.stride, props.shaderGroupHandleSize);
+        return;
+      }
+      // VUID-vkCmdTraceRaysNV-missShaderBindingStride-02466 (-02467, -02468)
+      if (r.stride > props.maxShaderGroupStride) {
+        report(cb, Severity::Error, r.strideMax,
+               "%s: the %s stride %llu exceeds VkPhysicalDeviceRayTracingPropertiesNV::maxShaderGroupStride (%u)", fn,
+               kRegionNames[i], (ull)r.stride, props.maxShaderGroupStride);
+        return;
+      }
+    }
+    VkStridedDeviceAddressRegionKHR& out = sbt.r[i];
+    out.deviceAddress = reinterpret_cast<uint64_t>(buf->data()) + r.offset;
+    out.size = buf->size - r.offset;
+    out.stride = i == 0 ? out.size : r.stride;
+  }
+  // VUID-vkCmdTraceRaysNV-width-02469, -height-02470, -depth-02471
+  const uint32_t size[3] = {width, height, depth};
+  const char* sizeVuids[3] = {"VUID-vkCmdTraceRaysNV-width-02469", "VUID-vkCmdTraceRaysNV-height-02470",
+                              "VUID-vkCmdTraceRaysNV-depth-02471"};
+  const VkPhysicalDeviceLimits& l = cb->device->physicalDevice->properties10.limits;
+  for (int k = 0; k < 3; ++k) {
+    if (size[k] > l.maxComputeWorkGroupCount[k]) {
+      report(cb, Severity::Error, sizeVuids[k], "%s: %s %u exceeds maxComputeWorkGroupCount[%d] (%u)", fn,
+             k == 0   ? "width"
+             : k == 1 ? "height"
+                      : "depth",
+             size[k], k, l.maxComputeWorkGroupCount[k]);
+      return;
+    }
+  }
+  cb->record([cb, sbt, w = width, h = height, d = depth](ExecState& st) {
+    const uint32_t s[3] = {w, h, d};
+    execute(cb, st, sbt, s, "vkCmdTraceRaysNV");
   });
 }
 

@@ -27,6 +27,10 @@ AccelerationStructure::AccelerationStructure(Device* dev, const VkAccelerationSt
   registerAddress(false);
 }
 
+AccelerationStructure::AccelerationStructure(VkObjectType objectType, Device* dev, VkAccelerationStructureTypeKHR t,
+                                             VkDeviceSize sz)
+    : Object(objectType, dev->instance, dev), buffer(nullptr), offset(0), size(sz), type(t) {}
+
 AccelerationStructure::~AccelerationStructure() {
   std::lock_guard lock(device->accelerationStructuresMutex);
   if (!registeredAt_) return;
@@ -35,7 +39,7 @@ AccelerationStructure::~AccelerationStructure() {
 }
 
 uint64_t AccelerationStructure::address() const {
-  const uint8_t* data = buffer->data();
+  const uint8_t* data = buffer ? buffer->data() : boundBase_;
   return data ? reinterpret_cast<uint64_t>(data) + offset : 0;
 }
 

@@ -75,7 +75,17 @@ class AccelerationStructure : public Object {
   // built there last when `built`, else only where nothing is registered yet.
   void registerAddress(bool built);
 
+ protected:
+  // A structure that owns its memory binding instead of a buffer range (VK_NV_ray_tracing's, of Vulkan object type
+  // `objectType`): its address is what bindMemory gives it.
+  AccelerationStructure(VkObjectType objectType, Device* dev, VkAccelerationStructureTypeKHR type, VkDeviceSize size);
+  void bindMemory(uint8_t* base) {
+    boundBase_ = base;
+    registerAddress(false);
+  }
+
  private:
+  uint8_t* boundBase_ = nullptr;  // (buffer-less structures)
   mutable std::mutex mutex_;
   std::shared_ptr<const Content> content_;
   uint64_t registeredAt_ = 0;  // the address it was last registered at (guarded by the device's registry mutex)

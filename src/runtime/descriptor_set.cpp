@@ -244,6 +244,20 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       }
       return true;
     }
+    case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV: {
+      uint64_t h = *reinterpret_cast<const uint64_t*>(src);
+      const Object* as = h ? findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_NV) : nullptr;
+      // VUID-VkWriteDescriptorSetAccelerationStructureNV-pAccelerationStructures-parameter
+      if (!as) {
+        report(set, Severity::Error,
+               "VUID-VkWriteDescriptorSetAccelerationStructureNV-pAccelerationStructures-parameter",
+               "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureNV", what, i, (unsigned long long)h);
+        return false;
+      }
+      out.object = as;
+      out.address = static_cast<const AccelerationStructure*>(as)->address();
+      return true;
+    }
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR: {
       uint64_t h = *reinterpret_cast<const uint64_t*>(src);
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580
@@ -322,6 +336,20 @@ const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, si
     stride = sizeof(VkAccelerationStructureKHR);
     return reinterpret_cast<const uint8_t*>(as->pAccelerationStructures);
   }
+  if (w.descriptorType == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV) {
+    auto* as = findInChain<VkWriteDescriptorSetAccelerationStructureNV>(
+        w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_NV);
+    // VUID-VkWriteDescriptorSet-descriptorType-03817
+    if (!as || as->accelerationStructureCount != w.descriptorCount) {
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-03817",
+             "%s: an NV acceleration structure write needs a VkWriteDescriptorSetAccelerationStructureNV with %u "
+             "structures in its pNext chain",
+             what, w.descriptorCount);
+      return nullptr;
+    }
+    stride = sizeof(VkAccelerationStructureNV);
+    return reinterpret_cast<const uint8_t*>(as->pAccelerationStructures);
+  }
   if (isBufferType(w.descriptorType)) {
     stride = sizeof(VkDescriptorBufferInfo);
     return reinterpret_cast<const uint8_t*>(w.pBufferInfo);
@@ -349,7 +377,8 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
   const uint8_t* src = writeSource(set, w, stride, what);
   // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
   if (!src) {
-    if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR)
+    if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR &&
+        w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV)
       report(set, Severity::Error,
              isBufferType(w.descriptorType) ? "VUID-VkWriteDescriptorSet-descriptorType-00324"
                                             : "VUID-VkWriteDescriptorSet-descriptorType-00322",

@@ -26,6 +26,7 @@ const char* descriptorTypeName(VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return "VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT";
     case VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK: return "VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK";
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR: return "VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR";
+    case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV: return "VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV";
     default: return "an unknown descriptor type";
   }
 }
@@ -48,6 +49,8 @@ bool descriptorTypeSupported(const Device* dev, VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC: return true;
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR:
       return dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
+    case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV:  // the same descriptor: a structure's address (abi.hpp)
+      return dev->extensionEnabled(VK_NV_RAY_TRACING_EXTENSION_NAME);
     default: return false;  // input attachments (no graphics), inline uniform blocks (feature not exposed), others
   }
 }

@@ -220,6 +220,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   appendRayTracingExtensions(extensions_);
   rayTracingProperties = rayTracingPipelineProperties();
   accelerationStructureProperties = vkrt::accelerationStructureProperties();
+  rayTracingPropertiesNV = vkrt::rayTracingPropertiesNV();
 }
 
 bool PhysicalDevice::supportsExtension(const char* name) const {
@@ -270,6 +271,7 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR:
         whole = &accelerationStructureProperties;
         break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PROPERTIES_NV: whole = &rayTracingPropertiesNV; break;
       default: break;
     }
     if (whole) {

@@ -27,6 +27,7 @@ class PhysicalDevice : public Object {
   // The properties of the extensions that are not promoted to core (runtime/ray_tracing_features.cpp).
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingProperties{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperties{};
+  VkPhysicalDeviceRayTracingPropertiesNV rayTracingPropertiesNV{};
 
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkQueueFamilyProperties queueFamily{};

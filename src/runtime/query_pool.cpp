@@ -148,6 +148,12 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateQueryPool(VkDevice device, const VkQue
       report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",
              "vkCreateQueryPool: queryType %d needs VK_KHR_acceleration_structure enabled", pCreateInfo->queryType);
       return VK_ERROR_VALIDATION_FAILED_EXT;
+    case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_NV:
+      if (dev->extensionEnabled(VK_NV_RAY_TRACING_EXTENSION_NAME)) break;
+      // VUID-VkQueryPoolCreateInfo-queryType-parameter
+      report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",
+             "vkCreateQueryPool: queryType %d needs VK_NV_ray_tracing enabled", pCreateInfo->queryType);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SIZE_KHR:
     case VK_QUERY_TYPE_ACCELERATION_STRUCTURE_SERIALIZATION_BOTTOM_LEVEL_POINTERS_KHR:
       if (dev->extensionEnabled(VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME)) break;

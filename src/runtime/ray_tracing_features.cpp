@@ -12,6 +12,9 @@ void appendRayTracingExtensions(std::vector<VkExtensionProperties>& out) {
   out.push_back({VK_KHR_RAY_TRACING_MAINTENANCE_1_EXTENSION_NAME, VK_KHR_RAY_TRACING_MAINTENANCE_1_SPEC_VERSION});
   out.push_back(
       {VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME, VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_SPEC_VERSION});
+  // On the same pipelines, structures and launches (rt/rt_pipeline.cpp, runtime/acceleration_structure_nv.cpp,
+  // rt/trace_rays.cpp).
+  out.push_back({VK_NV_RAY_TRACING_EXTENSION_NAME, VK_NV_RAY_TRACING_SPEC_VERSION});
 }
 
 VkPhysicalDeviceRayTracingPipelinePropertiesKHR rayTracingPipelineProperties() {
@@ -39,6 +42,22 @@ VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationStructureProperti
   p.maxDescriptorSetAccelerationStructures = 1u << 20;
   p.maxDescriptorSetUpdateAfterBindAccelerationStructures = 1u << 20;
   p.minAccelerationStructureScratchOffsetAlignment = 128;
+  return p;
+}
+
+VkPhysicalDeviceRayTracingPropertiesNV rayTracingPropertiesNV() {
+  // The NV path shares the KHR one's groups, handles and structures: the same figures under the NV names.
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR k = rayTracingPipelineProperties();
+  const VkPhysicalDeviceAccelerationStructurePropertiesKHR a = accelerationStructureProperties();
+  VkPhysicalDeviceRayTracingPropertiesNV p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PROPERTIES_NV};
+  p.shaderGroupHandleSize = k.shaderGroupHandleSize;
+  p.maxRecursionDepth = k.maxRayRecursionDepth;
+  p.maxShaderGroupStride = k.maxShaderGroupStride;
+  p.shaderGroupBaseAlignment = k.shaderGroupBaseAlignment;
+  p.maxGeometryCount = a.maxGeometryCount;
+  p.maxInstanceCount = a.maxInstanceCount;
+  p.maxTriangleCount = a.maxPrimitiveCount;
+  p.maxDescriptorSetAccelerationStructures = a.maxDescriptorSetAccelerationStructures;
   return p;
 }
 

@@ -144,7 +144,8 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
         what = "combined image sampler";
         break;
       case RK::AccelerationStructure:
-        ok = b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+        ok = b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR ||
+             b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV;
         what = "acceleration structure";
         break;
     }

@@ -46,6 +46,7 @@ void setDecoration(Decorations& d, const Instruction& in, uint32_t first) {
     case spv::DecorationArrayStride: d.arrayStride = int32_t(arg); break;
     case spv::DecorationMatrixStride: d.matrixStride = int32_t(arg); break;
     case spv::DecorationSpecId: d.specId = int32_t(arg); break;
+    case spv::DecorationLocation: d.location = int32_t(arg); break;
     case spv::DecorationRowMajor: d.rowMajor = true; break;
     case spv::DecorationBlock: d.block = true; break;
     case spv::DecorationBufferBlock: d.bufferBlock = true; break;

@@ -50,6 +50,7 @@ struct Decorations {
   int32_t matrixStride = -1;
   int32_t specId = -1;
   int32_t fpRoundingMode = -1;  // FPRoundingMode (spv::FPRoundingMode) of a conversion's result
+  int32_t location = -1;
   bool rowMajor = false;
   bool block = false;
   bool bufferBlock = false;

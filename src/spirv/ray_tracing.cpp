@@ -2,6 +2,13 @@
 // OpReportIntersectionKHR become calls through the invocation's RayRuntime (abi.hpp); OpIgnoreIntersectionKHR and
 // OpTerminateRayKHR set the invocation's status and return, and every caller up the (non-inlined) call tree
 // returns too when it sees the status set.
+//
+// SPV_NV_ray_tracing (VK_NV_ray_tracing) shares the execution models, storage classes, built-ins (HitTNV is the
+// hit's t, as RayTmaxKHR is in a hit shader), the acceleration structure type and OpReportIntersectionNV with the
+// KHR extension; what differs: OpTraceNV and OpExecuteCallableNV name their payload or callable data by the
+// Location of a RayPayloadNV / CallableDataNV variable (a constant id) instead of a pointer, and
+// OpIgnoreIntersectionNV and OpTerminateRayNV are not block terminators (glslang follows them with the rest of
+// the block): they end the invocation the same way, and what follows them in the block is unreachable.
 #include <llvm/IR/Constants.h>
 
 #include "spirv/codegen.hpp"
@@ -14,9 +21,13 @@ bool rayTracingOp(spv::Op op) {
     case spv::OpConvertUToAccelerationStructureKHR:
     case spv::OpTraceRayKHR:
     case spv::OpExecuteCallableKHR:
-    case spv::OpReportIntersectionKHR:
+    case spv::OpReportIntersectionKHR:  // = OpReportIntersectionNV
     case spv::OpIgnoreIntersectionKHR:
-    case spv::OpTerminateRayKHR: return true;
+    case spv::OpTerminateRayKHR:
+    case spv::OpTraceNV:
+    case spv::OpExecuteCallableNV:
+    case spv::OpIgnoreIntersectionNV:
+    case spv::OpTerminateRayNV: return true;
     default: return false;
   }
 }
@@ -25,7 +36,7 @@ bool rayTracingCapability(uint32_t cap) {
   // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads; RayCullMaskKHR
   // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills.
   return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR ||
-         cap == spv::CapabilityRayCullMaskKHR;
+         cap == spv::CapabilityRayCullMaskKHR || cap == spv::CapabilityRayTracingNV;
 }
 
 bool Codegen::isRayTracing() const {
@@ -73,6 +84,17 @@ bool blockOperand(Codegen& g, const Instruction& in, uint32_t id, llvm::Value** 
   return true;
 }
 
+// The payload or callable data operand of OpTraceNV / OpExecuteCallableNV: a constant that is the Location of a
+// module-scope variable of `storage` (SPV_NV_ray_tracing). Returns its id, or 0.
+uint32_t variableAtLocation(Codegen& g, uint32_t constantId, spv::StorageClass storage) {
+  uint64_t location = 0;
+  if (!g.m.constantU64(constantId, &location)) return 0;
+  for (const auto& [id, global] : g.globals) {
+    if (global.storage == storage && g.m.decor(id).location == int64_t(location)) return id;
+  }
+  return 0;
+}
+
 // A 32-bit scalar operand.
 llvm::Value* scalar32(Codegen& g, uint32_t id) {
   llvm::Value* v = g.value(id);
@@ -107,7 +129,8 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       set(in.word(2), v);
       return true;
     }
-    case spv::OpTraceRayKHR: {
+    case spv::OpTraceRayKHR:
+    case spv::OpTraceNV: {
       llvm::Value* accel = value(in.word(1));
       llvm::Value* ints[5];
       for (int i = 0; i < 5; ++i) ints[i] = scalar32(*this, in.word(2 + i));
@@ -119,7 +142,12 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       if (!accel || !accel->getType()->isIntegerTy(64) || !ints[0] || !ints[1] || !ints[2] || !ints[3] || !ints[4] ||
           !origin || !tMin || !direction || !tMax)
         return (ok = fail(in, "an operand has no value")), true;
-      if (!blockOperand(*this, in, in.word(11), &payload, &payloadBytes)) return (ok = false), true;
+      uint32_t payloadVar = in.word(11);
+      if (in.op == spv::OpTraceNV) {
+        payloadVar = variableAtLocation(*this, payloadVar, spv::StorageClassRayPayloadNV);
+        if (!payloadVar) return (ok = fail(in, "no RayPayloadNV variable has the payload's location")), true;
+      }
+      if (!blockOperand(*this, in, payloadVar, &payload, &payloadBytes)) return (ok = false), true;
       llvm::AllocaInst* args;
       {
         llvm::IRBuilderBase::InsertPointGuard guard(b);
@@ -149,11 +177,17 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       info.ray.callsOut = true;
       return true;
     }
-    case spv::OpExecuteCallableKHR: {
+    case spv::OpExecuteCallableKHR:
+    case spv::OpExecuteCallableNV: {
       llvm::Value* index = scalar32(*this, in.word(1));
       llvm::Value *data = nullptr, *bytes = nullptr;
       if (!index) return (ok = fail(in, "the SBT index has no value")), true;
-      if (!blockOperand(*this, in, in.word(2), &data, &bytes)) return (ok = false), true;
+      uint32_t dataVar = in.word(2);
+      if (in.op == spv::OpExecuteCallableNV) {
+        dataVar = variableAtLocation(*this, dataVar, spv::StorageClassCallableDataNV);
+        if (!dataVar) return (ok = fail(in, "no CallableDataNV variable has the callable data's location")), true;
+      }
+      if (!blockOperand(*this, in, dataVar, &data, &bytes)) return (ok = false), true;
       auto* ty =
           llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
       b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, executeCallable)), {ctxArg, index, data, bytes});
@@ -180,6 +214,15 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       uint32_t status = in.op == spv::OpIgnoreIntersectionKHR ? kRayStatusIgnore : kRayStatusTerminate;
       b.CreateAlignedStore(i32(status), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
       returnFromFunction();
+      return true;
+    }
+    case spv::OpIgnoreIntersectionNV:
+    case spv::OpTerminateRayNV: {
+      uint32_t status = in.op == spv::OpIgnoreIntersectionNV ? kRayStatusIgnore : kRayStatusTerminate;
+      b.CreateAlignedStore(i32(status), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+      returnFromFunction();
+      // Not a terminator: the rest of the SPIR-V block goes into a block nothing branches to.
+      b.SetInsertPoint(llvm::BasicBlock::Create(c, "after_end", fn));
       return true;
     }
     default: return false;

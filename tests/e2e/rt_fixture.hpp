@@ -7,9 +7,9 @@
 // for its feature structure (sType 1000498000) and the warning "Device Extension
 // VK_EXT_pipeline_library_group_handles is not supported by this layer" (VUID_Undefined) at vkCreateDevice.
 // RtTest::acceptKnownLayerMessages (after SetUp and before TearDown) accepts exactly those two and fails on any
-// other layer message. The layer also hides vkGetRayTracingShaderGroupHandlesNV (it requires
-// VK_NV_ray_tracing), so the NV alias is tested without the layer (RtMisuseTest.NvAliasResolves), and drops the
-// group-handles feature structure it does not know, so library handle tests run without it (RtLibraryTest).
+// other layer message. The layer drops the group-handles feature structure it does not know, so library handle
+// tests run without it (RtLibraryTest). (VK_NV_ray_tracing's commands, which resolve only with that extension, are
+// tested in tests/e2e/trace_nv_test.cpp.)
 //
 // On other drivers (device name not "vkrt") the tests of Vulkan behaviour run as well; assertions about vkrt's own
 // choices (exact stack sizes, handles identical across processes, deferred-operation scheduling, vkrt's messages

@@ -475,19 +475,6 @@ TEST_F(RtMisuseTest, SpecializationRulesAreCheckedForRayTracingStages) {
   EXPECT_EQ(handles(pa, 0, 1), handles(pb, 0, 1));
 }
 
-TEST_F(RtMisuseTest, NvAliasResolves) {
-  // The NV alias resolves with VK_KHR_ray_tracing_pipeline enabled, and is the same command (vkrt's choice: the
-  // spec only promises it with VK_NV_ray_tracing enabled; skipped on other drivers by RtMisuseTest).
-  auto nv = reinterpret_cast<PFN_vkGetRayTracingShaderGroupHandlesNV>(
-      vkGetDeviceProcAddr(device, "vkGetRayTracingShaderGroupHandlesNV"));
-  ASSERT_NE(nv, nullptr);
-  Desc d = sixGroups();
-  VkPipeline pl = make(d);
-  std::vector<uint8_t> viaNv(6 * 32);
-  ASSERT_EQ(nv(device, pl, 0, 6, viaNv.size(), viaNv.data()), VK_SUCCESS);
-  EXPECT_EQ(viaNv, handles(pl, 0, 6));
-}
-
 TEST_F(RtMisuseTest, HandleQueryRules) {
   Desc d = sixGroups();
   VkPipeline p = make(d);

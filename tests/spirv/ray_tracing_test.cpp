@@ -1,7 +1,7 @@
 // The ray tracing stages of the compiler, below the Vulkan API: GLSL shaders of all six stages (compiled by glslc
 // at build time) run against the test runtime of ray_runtime.hpp on a small scene, and every value they write is
-// compared with one computed here from the scene's geometry. Also: the stack-size facts of each compiled stage,
-// and the refusal of the VK_NV_ray_tracing instructions.
+// compared with one computed here from the scene's geometry, in their GL_EXT_ray_tracing and their GL_NV_ray_tracing
+// (SPV_NV_ray_tracing) forms. Also: the stack-size facts of each compiled stage.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +20,13 @@
 #include "rt_chit.rchit.spv.h"
 #include "rt_miss.rmiss.spv.h"
 #include "rt_miss_secondary.rmiss.spv.h"
-#include "rt_nv_trace.rgen.spv.h"
+#include "rt_nv_ahit.rahit.spv.h"
+#include "rt_nv_call.rcall.spv.h"
+#include "rt_nv_chit.rchit.spv.h"
+#include "rt_nv_miss.rmiss.spv.h"
+#include "rt_nv_miss_secondary.rmiss.spv.h"
+#include "rt_nv_raygen.rgen.spv.h"
+#include "rt_nv_rint.rint.spv.h"
 #include "rt_raygen.rgen.spv.h"
 #include "rt_rint.rint.spv.h"
 #include "spirv/ray_runtime.hpp"
@@ -60,13 +66,24 @@ struct Stages {
   std::shared_ptr<spirv::CompiledShader> raygen, miss, missSecondary, chit, ahit, rint, call;
 };
 
-Stages compileAll(bool inlineCalls) {
+Stages compileAll(bool inlineCalls, bool nv = false) {
   Stages s;
   auto one = [&](auto& words, spv::ExecutionModel model, std::shared_ptr<spirv::CompiledShader>& out) {
     std::string e;
     out = compileStage(words, model, inlineCalls, &e);
     EXPECT_TRUE(out) << e;
   };
+  if (nv) {
+    // The same shaders written with GL_NV_ray_tracing (the NV execution models have the KHR values).
+    one(kSpv_rt_nv_raygen_rgen, spv::ExecutionModelRayGenerationNV, s.raygen);
+    one(kSpv_rt_nv_miss_rmiss, spv::ExecutionModelMissNV, s.miss);
+    one(kSpv_rt_nv_miss_secondary_rmiss, spv::ExecutionModelMissNV, s.missSecondary);
+    one(kSpv_rt_nv_chit_rchit, spv::ExecutionModelClosestHitNV, s.chit);
+    one(kSpv_rt_nv_ahit_rahit, spv::ExecutionModelAnyHitNV, s.ahit);
+    one(kSpv_rt_nv_rint_rint, spv::ExecutionModelIntersectionNV, s.rint);
+    one(kSpv_rt_nv_call_rcall, spv::ExecutionModelCallableNV, s.call);
+    return s;
+  }
   one(kSpv_rt_raygen_rgen, spv::ExecutionModelRayGenerationKHR, s.raygen);
   one(kSpv_rt_miss_rmiss, spv::ExecutionModelMissKHR, s.miss);
   one(kSpv_rt_miss_secondary_rmiss, spv::ExecutionModelMissKHR, s.missSecondary);
@@ -133,8 +150,8 @@ Expected expect(uint32_t x, uint32_t y) {
   return e;
 }
 
-void traceScene(bool inlineCalls) {
-  Stages s = compileAll(inlineCalls);
+void traceScene(bool inlineCalls, bool nv = false) {
+  Stages s = compileAll(inlineCalls, nv);
   ASSERT_TRUE(s.raygen && s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
   RaySbt sbt;
   float tint0[4] = {0, 0, 0, 0.5f}, tint1[4] = {0, 0, 0, 0.75f}, sphere[4] = {0, 0, 0, 1.5f};
@@ -200,12 +217,12 @@ void traceScene(bool inlineCalls) {
       EXPECT_EQ(p.c[3], isSphere ? 1.5f : e.geometry ? 0.75f : 0.5f);  // the hit group's shader record
       EXPECT_EQ(p.d[0], isSphere ? 9u : 7u);                           // gl_InstanceCustomIndexEXT
       EXPECT_EQ(p.d[1], isSphere ? 1u : 0u);                           // gl_InstanceID
-      EXPECT_EQ(p.d[2], e.geometry);                                   // gl_GeometryIndexEXT
-      EXPECT_EQ(p.d[3], isSphere ? 5u : 0xFEu);                        // gl_HitKindEXT
-      EXPECT_EQ(p.e[0], float((e.primitive + 10) * factor + 1));       // the callable's answer
-      EXPECT_EQ(p.e[1], isSphere ? 0.25f - 1.0f : -1.0f);              // the secondary ray's miss shader
-      EXPECT_EQ(p.e[2], -tr[2]);                                       // gl_WorldToObjectEXT[3].z
-      EXPECT_NEAR(p.e[3], e.u, eps);                                   // attributes read after the calls
+      EXPECT_EQ(p.d[2], nv ? 0u : e.geometry);                    // gl_GeometryIndexEXT (GL_NV_ray_tracing has none: 0)
+      EXPECT_EQ(p.d[3], isSphere ? 5u : 0xFEu);                   // gl_HitKindEXT
+      EXPECT_EQ(p.e[0], float((e.primitive + 10) * factor + 1));  // the callable's answer
+      EXPECT_EQ(p.e[1], isSphere ? 0.25f - 1.0f : -1.0f);         // the secondary ray's miss shader
+      EXPECT_EQ(p.e[2], -tr[2]);                                  // gl_WorldToObjectEXT[3].z
+      EXPECT_NEAR(p.e[3], e.u, eps);                              // attributes read after the calls
       // The intersection shader's three reports for the primary ray: far (accepted), near (accepted), far again
       // (refused). It runs for the secondary ray too (traced from the sphere's surface away from it, opaque):
       // there all three are refused (behind or within tMin).
@@ -308,15 +325,25 @@ TEST(SpirvRayTracing, CompiledStagesRoundTripThroughTheCacheBlob) {
   EXPECT_EQ(loaded->resources[0].kind, spirv::ResourceBinding::AccelerationStructure);
 }
 
-TEST(SpirvRayTracing, NvRayTracingInstructionsAreRefusedWithTheirOffset) {
-  // Where OpTraceNV (5337) stands in the module, found here by walking the words.
-  const uint32_t* w = kSpv_rt_nv_trace_rgen;
-  size_t n = sizeof(kSpv_rt_nv_trace_rgen) / 4, at = 5;
-  while (at < n && (w[at] & 0xffff) != 5337) at += w[at] >> 16;
-  ASSERT_LT(at, n);
-  std::string error;
-  EXPECT_FALSE(compileStage(kSpv_rt_nv_trace_rgen, spv::ExecutionModelRayGenerationKHR, true, &error));
-  EXPECT_EQ(error, "unsupported instruction OpTraceNV at word " + std::to_string(at));
+// SPV_NV_ray_tracing: OpTraceNV and OpExecuteCallableNV name their payload by location, OpIgnoreIntersectionNV and
+// OpTerminateRayNV are not block terminators; the scene's every value must come out as with the KHR forms.
+TEST(SpirvRayTracing, NvStagesTraceTheSameScene) { traceScene(true, true); }
+
+// Without inlining, ignoreIntersectionNV() ends the function it is in, and the any-hit shader calling it.
+TEST(SpirvRayTracing, NvTerminatorsInCalledFunctionsStopTheShader) { traceScene(false, true); }
+
+TEST(SpirvRayTracing, NvStagesHaveTheStackFactsOfTheKhrOnes) {
+  Stages k = compileAll(true), n = compileAll(true, true);
+  ASSERT_TRUE(n.raygen && n.chit && n.call && n.rint && n.miss && n.ahit);
+  EXPECT_TRUE(n.raygen->ray.callsOut);
+  EXPECT_EQ(n.raygen->ray.payloadBytes, k.raygen->ray.payloadBytes);
+  EXPECT_TRUE(n.chit->ray.callsOut);
+  EXPECT_EQ(n.chit->ray.payloadBytes, k.chit->ray.payloadBytes);
+  EXPECT_EQ(n.chit->ray.callableDataBytes, 4u);
+  EXPECT_EQ(n.chit->ray.hitAttributeBytes, 8u);
+  EXPECT_EQ(n.rint->ray.hitAttributeBytes, 8u);
+  EXPECT_EQ(n.call->ray.callableDataBytes, 4u);
+  EXPECT_EQ(n.ahit->ray.stackSize(), 0u);
 }
 
 }  // namespace
