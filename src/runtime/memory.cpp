@@ -241,6 +241,25 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
   return VK_SUCCESS;
 }
 
+// The device group has one device, so no pair of device indices is valid (VUID-...-00694 asks for two different ones).
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceGroupPeerMemoryFeatures(VkDevice device, uint32_t heapIndex,
+                                                                 uint32_t localDeviceIndex, uint32_t remoteDeviceIndex,
+                                                                 VkPeerMemoryFeatureFlags* pPeerMemoryFeatures) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  *pPeerMemoryFeatures = 0;
+  // VUID-vkGetDeviceGroupPeerMemoryFeatures-heapIndex-00691, -localDeviceIndex-00692, -remoteDeviceIndex-00693,
+  // -localDeviceIndex-00694
+  const char* vuid = heapIndex >= dev->physicalDevice->memoryProperties.memoryHeapCount
+                         ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-heapIndex-00691"
+                     : localDeviceIndex != 0  ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-localDeviceIndex-00692"
+                     : remoteDeviceIndex != 0 ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-remoteDeviceIndex-00693"
+                                              : "VUID-vkGetDeviceGroupPeerMemoryFeatures-localDeviceIndex-00694";
+  report(dev, Severity::Error, vuid,
+         "vkGetDeviceGroupPeerMemoryFeatures: heapIndex %u, localDeviceIndex %u, remoteDeviceIndex %u: vkrt's device "
+         "group has one device (index 0) and one heap, so there is no peer to ask about",
+         heapIndex, localDeviceIndex, remoteDeviceIndex);
+}
+
 VKAPI_ATTR void VKAPI_CALL vkrt_FreeMemory(VkDevice device, VkDeviceMemory memory,
                                            const VkAllocationCallbacks* pAllocator) {
   destroyDeviceChild<Memory>(device, memory, pAllocator, "vkFreeMemory", "VUID-vkFreeMemory-memory-parameter");

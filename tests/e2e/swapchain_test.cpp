@@ -309,6 +309,50 @@ TEST_F(SwapchainTest, AReplacedSwapchainKeepsPresentingWhatItHandedOut) {
   ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
 }
 
+TEST_F(SwapchainTest, AnImageBoundToASwapchainImageAliasesIt) {
+  // Vulkan 1.1's VK_KHR_swapchain: VkImageSwapchainCreateInfoKHR and VkBindImageMemorySwapchainInfoKHR.
+  usePresentDir();
+  VkSwapchainKHR sc = makeSwapchain(2);
+  auto imgs = images(sc);
+  VkImageSwapchainCreateInfoKHR isci{VK_STRUCTURE_TYPE_IMAGE_SWAPCHAIN_CREATE_INFO_KHR, nullptr, sc};
+  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO, &isci};
+  ici.imageType = VK_IMAGE_TYPE_2D;
+  ici.format = VK_FORMAT_R8G8B8A8_UNORM;
+  ici.extent = {kWidth, kHeight, 1};
+  ici.mipLevels = 1;
+  ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ici.usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkImage alias = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateImage(device, &ici, nullptr, &alias), VK_SUCCESS);
+  VkFence f = fence();
+  uint32_t index = 99;
+  ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
+  ASSERT_EQ(vkWaitForFences(device, 1, &f, VK_TRUE, UINT64_MAX), VK_SUCCESS);
+  VkBindImageMemorySwapchainInfoKHR bsi{VK_STRUCTURE_TYPE_BIND_IMAGE_MEMORY_SWAPCHAIN_INFO_KHR, nullptr, sc, index};
+  VkBindImageMemoryInfo bi{VK_STRUCTURE_TYPE_BIND_IMAGE_MEMORY_INFO, &bsi, alias, VK_NULL_HANDLE, 0};
+  ASSERT_EQ(vkBindImageMemory2(device, 1, &bi), VK_SUCCESS);
+  // Written through the alias, presented through the swapchain image (which the clear also moves to PRESENT_SRC).
+  const float color[4] = {0.0f, 0.0f, 1.0f, 1.0f};
+  clearImage(alias, color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
+  clearImage(imgs[index], color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+  ASSERT_EQ(present(sc, index, VK_NULL_HANDLE), VK_SUCCESS);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+  vkDestroyImage(device, alias, nullptr);
+  if (!onVkrt()) return;
+  auto files = frameFiles();
+  ASSERT_EQ(files.size(), 1u);
+  int w = 0, h = 0, ch = 0;
+  unsigned char* px = stbi_load((presentDir + "/" + files[0]).c_str(), &w, &h, &ch, 3);
+  ASSERT_NE(px, nullptr);
+  EXPECT_EQ(px[0], 0);
+  EXPECT_EQ(px[2], 255);
+  stbi_image_free(px);
+}
+
 // Misuse that vkrt reports by VUID (the layer, which would report the same, is off).
 class SwapchainMisuseTest : public SwapchainTest {
  protected:
@@ -399,6 +443,22 @@ TEST_F(SwapchainMisuseTest, SwapchainCreateInfoOutsideTheSurfaceIsReported) {
   ci.presentMode = VK_PRESENT_MODE_MAILBOX_KHR;
   EXPECT_EQ(vkCreateSwapchainKHR(device, &ci, nullptr, &s), VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-VkSwapchainCreateInfoKHR-presentMode-01281");
+}
+
+TEST_F(SwapchainMisuseTest, DeviceGroupCallsOutsideTheOneDeviceGroupAreReported) {
+  // vkrt's device group has one device: no peer memory to ask about, and device mask 1 only.
+  VkPeerMemoryFeatureFlags flags = 0xff;
+  vkGetDeviceGroupPeerMemoryFeatures(device, 0, 0, 0, &flags);
+  EXPECT_EQ(flags, 0u);
+  expectVkrtMessage("VUID-vkGetDeviceGroupPeerMemoryFeatures-localDeviceIndex-00694");
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdSetDeviceMask(cb, 1);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkCmdSetDeviceMask(cb, 2);
+  expectVkrtMessage("VUID-vkCmdSetDeviceMask-deviceMask-00108");
+  vkCmdSetDeviceMask(cb, 0);
+  expectVkrtMessage("VUID-vkCmdSetDeviceMask-deviceMask-00109");
+  submitAndWait(cb);
 }
 
 }  // namespace
