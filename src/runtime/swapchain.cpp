@@ -336,6 +336,11 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueuePresentKHR(VkQueue queue, const VkPrese
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   const VkPresentInfoKHR& pi = *pPresentInfo;
+  // VUID-VkPresentInfoKHR-swapchainCount-arraylength
+  if (pi.swapchainCount == 0) {
+    report(q, Severity::Error, "VUID-VkPresentInfoKHR-swapchainCount-arraylength", "%s: swapchainCount is 0", fn);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
   std::vector<Swapchain*> chains;
   for (uint32_t i = 0; i < pi.swapchainCount; ++i) {
     Swapchain* sc = liveOrReport<Swapchain>(q, pi.pSwapchains[i], fn, "VUID-VkPresentInfoKHR-pSwapchains-parameter");

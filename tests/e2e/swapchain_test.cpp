@@ -374,6 +374,9 @@ TEST_F(SwapchainMisuseTest, PresentingAnImageNotAcquiredIsReported) {
   expectVkrtMessage("VUID-VkPresentInfoKHR-pImageIndices-01430");
   EXPECT_EQ(present(sc, 17, VK_NULL_HANDLE), VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-VkPresentInfoKHR-pImageIndices-01430");
+  VkPresentInfoKHR none{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+  EXPECT_EQ(vkQueuePresentKHR(queue, &none), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkPresentInfoKHR-swapchainCount-arraylength");
   // Presented twice: the second present names the image being presented (or, once it ran, not acquired).
   VkFence f = fence();
   uint32_t index = 99;
