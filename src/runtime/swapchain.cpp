@@ -205,6 +205,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSwapchainKHR(VkDevice device, const Vk
   for (uint32_t i = 0; i < count; ++i) {
     sc->states.push_back(Swapchain::State::Available);
     sc->order.push_back(i);
+    fromHandle<Image>(sc->images[i])->presentable = true;
   }
   if (old) {
     std::lock_guard lock(sync::mutex());
@@ -403,8 +404,18 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueuePresentKHR(VkQueue queue, const VkPrese
   lock.unlock();
   batch.hostWork = [presented](bool abandoned) {
     const char* dir = presentDir();
-    for (auto& [sc, index] : presented)
-      if (!abandoned) writeFrame(*sc, index, dir);
+    for (auto& [sc, index] : presented) {
+      if (abandoned) continue;
+      // VUID-VkPresentInfoKHR-pImageIndices-01430: the layout when the present executes (what the barriers that
+      // executed before it on a queue left); the frame is written all the same (vkrt's layouts are all linear).
+      VkImageLayout layout = fromHandle<Image>(sc->images[index])->trackedLayout.load();
+      if (layout != VK_IMAGE_LAYOUT_PRESENT_SRC_KHR)
+        report(sc, Severity::Error, "VUID-VkPresentInfoKHR-pImageIndices-01430",
+               "vkQueuePresentKHR: image %u is in layout %d when the present executes, not "
+               "VK_IMAGE_LAYOUT_PRESENT_SRC_KHR (%d): a barrier must transition it before the present",
+               index, (int)layout, (int)VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
+      writeFrame(*sc, index, dir);
+    }
     {
       std::lock_guard l(sync::mutex());
       for (auto& [sc, index] : presented) {

@@ -5,7 +5,9 @@
 // out the images in the order they were presented (round robin from image 0), waiting up to `timeout` for the
 // present of the oldest one to finish, and then signals the semaphore and fence at once. vkQueuePresentKHR is a
 // queue operation: it is queued behind the earlier submissions of its queue, waits for its semaphores there, then
-// writes the image to VKRT_PRESENT_DIR (when set) and makes it available again. A swapchain never becomes
+// writes the image to VKRT_PRESENT_DIR (when set) and makes it available again. The swapchain's images are the only
+// ones whose layout vkrt tracks (Image::trackedLayout, set by the barriers as they execute): a present of an image
+// not in PRESENT_SRC_KHR layout is reported when it executes. A swapchain never becomes
 // out of date or suboptimal: a headless surface never changes.
 #pragma once
 

@@ -381,12 +381,37 @@ TEST_F(SwapchainMisuseTest, PresentingAnImageNotAcquiredIsReported) {
   VkFence f = fence();
   uint32_t index = 99;
   ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
+  const float color[4] = {1, 1, 1, 1};
+  clearImage(images(sc)[index], color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
   ASSERT_EQ(present(sc, index, VK_NULL_HANDLE), VK_SUCCESS);
   EXPECT_EQ(present(sc, index, VK_NULL_HANDLE), VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-VkPresentInfoKHR-pImageIndices-01430");
   ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
   // Refused presents write nothing: one frame file.
   EXPECT_EQ(frameFiles().size(), 1u);
+}
+
+TEST_F(SwapchainMisuseTest, PresentingAnImageNotInPresentLayoutIsReportedWhenItExecutes) {
+  VkSwapchainKHR sc = makeSwapchain(2);
+  auto imgs = images(sc);
+  VkFence f = fence();
+  uint32_t index = 99;
+  ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
+  // Never transitioned: UNDEFINED.
+  ASSERT_EQ(present(sc, index, VK_NULL_HANDLE), VK_SUCCESS);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+  auto msgs = vkrtMessages();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_NE(msgs[0].text.find("is in layout 0 when the present executes"), std::string::npos) << msgs[0].text;
+  expectVkrtMessage("VUID-VkPresentInfoKHR-pImageIndices-01430");
+  // Transitioned to PRESENT_SRC by clearImage's last barrier: nothing to report.
+  ASSERT_EQ(vkResetFences(device, 1, &f), VK_SUCCESS);
+  ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
+  const float color[4] = {1, 1, 1, 1};
+  clearImage(imgs[index], color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
+  ASSERT_EQ(present(sc, index, VK_NULL_HANDLE), VK_SUCCESS);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
 }
 
 TEST_F(SwapchainMisuseTest, PresentWaitingOnASemaphoreNothingSignalsIsReported) {
@@ -396,7 +421,10 @@ TEST_F(SwapchainMisuseTest, PresentWaitingOnASemaphoreNothingSignalsIsReported) 
   ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
   EXPECT_EQ(present(sc, index, semaphore()), VK_ERROR_VALIDATION_FAILED_EXT);
   expectVkrtMessage("VUID-vkQueuePresentKHR-pWaitSemaphores-03268");
+  const float color[4] = {1, 1, 1, 1};
+  clearImage(images(sc)[index], color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
   ASSERT_EQ(present(sc, index, VK_NULL_HANDLE), VK_SUCCESS);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
 }
 
 TEST_F(SwapchainMisuseTest, AcquireMisuseIsReported) {
