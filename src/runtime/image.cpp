@@ -226,6 +226,13 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImage(VkDevice device, const VkImageCr
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* pAllocator) {
+  // VUID-vkDestroyImage-image-04882: a swapchain's images go with the swapchain.
+  if (Image* img = fromHandle<Image>(image); img && img->presentable) {
+    report(img, Severity::Error, "VUID-vkDestroyImage-image-04882",
+           "vkDestroyImage: the image belongs to a swapchain (vkGetSwapchainImagesKHR); vkDestroySwapchainKHR "
+           "destroys it");
+    return;
+  }
   destroyDeviceChild<Image>(device, image, pAllocator, "vkDestroyImage", "VUID-vkDestroyImage-image-parameter");
 }
 

@@ -83,7 +83,10 @@ void writeFrame(const Swapchain& sc, uint32_t index, const char* dir) {
 // Frees what a swapchain owns (its images and their memory) and the object.
 void destroySwapchain(Device* dev, Swapchain* sc, const VkAllocationCallbacks* alloc) {
   VkDevice d = toHandle(dev);
-  for (VkImage i : sc->images) vkrt_DestroyImage(d, i, nullptr);
+  for (VkImage i : sc->images) {
+    fromHandle<Image>(i)->presentable = false;  // vkDestroyImage refuses presentable images
+    vkrt_DestroyImage(d, i, nullptr);
+  }
   if (sc->memory) vkrt_FreeMemory(d, sc->memory, nullptr);
   destroyObject(sc, alloc);
 }

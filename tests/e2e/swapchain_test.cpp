@@ -450,6 +450,22 @@ TEST_F(SwapchainMisuseTest, AcquireMisuseIsReported) {
   expectVkrtMessage("VUID-vkAcquireNextImageKHR-swapchain-01285");
 }
 
+TEST_F(SwapchainMisuseTest, DestroyingASwapchainImageIsReported) {
+  VkSwapchainKHR sc = makeSwapchain(2);
+  auto imgs = images(sc);
+  vkDestroyImage(device, imgs[0], nullptr);
+  expectVkrtMessage("VUID-vkDestroyImage-image-04882");
+  // The image is still the swapchain's: it is acquired, written and presented as before.
+  VkFence f = fence();
+  uint32_t index = 99;
+  ASSERT_EQ(vkAcquireNextImageKHR(device, sc, 1000000000, VK_NULL_HANDLE, f, &index), VK_SUCCESS);
+  ASSERT_EQ(index, 0u);
+  const float color[4] = {1, 1, 1, 1};
+  clearImage(imgs[0], color, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE);
+  ASSERT_EQ(present(sc, 0, VK_NULL_HANDLE), VK_SUCCESS);
+  ASSERT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+}
+
 TEST_F(SwapchainMisuseTest, SwapchainCreateInfoOutsideTheSurfaceIsReported) {
   VkSwapchainCreateInfoKHR ci{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
   ci.surface = surface;
