@@ -9,6 +9,7 @@ packages=(
   spirv-headers spirv-tools glslang-tools glslc
   llvm-15-dev libembree-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libstb-dev
+  gfxreconstruct
 )
 
 missing=()

@@ -174,8 +174,9 @@ void GroupRegistry::makeHandle(GroupRecord& r) const {
   put32(h + 28, kHandleMagic);
 }
 
-const GroupRecord* GroupRegistry::acquire(const GroupDesc& g, const Object* about, uint64_t pipeline) {
-  nonReplayed_.store(true);
+const GroupRecord* GroupRegistry::acquire(const GroupDesc& g, const Object* about, uint64_t pipeline,
+                                          bool givenAllZeroData) {
+  if (!givenAllZeroData) nonReplayed_.store(true);
   auto rec = std::make_unique<GroupRecord>();
   rec->firstPipeline = pipeline;
   rec->desc = g;

@@ -115,7 +115,10 @@ class GroupRegistry {
 
   // The record of a group created without capture data: the existing one for the same content, or a new
   // one (noting `pipeline` as the one it was first created in). `about` receives collision reports.
-  const GroupRecord* acquire(const GroupDesc& g, const Object* about, uint64_t pipeline = 0);
+  // `givenAllZeroData`: the application passed capture data of all zeros, which vkrt takes as none (rt_pipeline.cpp);
+  // for the CaptureReplayMixed rule the group still counts as one created with capture data.
+  const GroupRecord* acquire(const GroupDesc& g, const Object* about, uint64_t pipeline = 0,
+                             bool givenAllZeroData = false);
   // The record of a group created with capture data. Returns nullptr and fills `error` when the data does
   // not belong to this group (bad magic or version, corrupt, other group type, other content) or its handle
   // is taken by another group.

@@ -73,6 +73,7 @@ struct Job {
     VkRayTracingShaderGroupTypeKHR type;
     uint32_t shader[4];
     bool hasCapture = false;
+    bool zeroCapture = false;  // capture data of all zeros: taken as none (see below)
     uint8_t capture[kCaptureSize];
   };
   std::vector<Group> groups;
@@ -390,8 +391,9 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
     if (gr.type != VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR) jg.shader[kGeneral] = VK_SHADER_UNUSED_KHR;
     if ((info.flags & VK_PIPELINE_CREATE_RAY_TRACING_SHADER_GROUP_HANDLE_CAPTURE_REPLAY_BIT_KHR) &&
         gr.pShaderGroupCaptureReplayHandle) {
-      jg.hasCapture = true;
       std::memcpy(jg.capture, gr.pShaderGroupCaptureReplayHandle, kCaptureSize);
+      jg.hasCapture = std::any_of(jg.capture, jg.capture + kCaptureSize, [](uint8_t b) { return b != 0; });
+      jg.zeroCapture = !jg.hasCapture;
     }
     job.groups.push_back(jg);
   }
@@ -498,6 +500,18 @@ void build(Device* dev, Job& job) {
         job.result = VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
         return;
       }
+    } else if (jg.zeroCapture) {
+      // Capture data of all zeros is not data vkrt wrote (it carries a non-zero handle and magic words), and the
+      // specification asks nothing of its content: vkrt takes it as no capture data. A tool that records capture
+      // data it could not query (GFXReconstruct 0.9.18 records zeros for a library whose query failed) then replays;
+      // handles are content-derived, so the group gets the handle it had when captured on vkrt. For the
+      // CaptureReplayMixed rule (VUID-...-03603) the group counts as one given capture data, as the application did.
+      report(dev, Severity::Info, nullptr,
+             "vkCreateRayTracingPipelinesKHR: pCreateInfos[%u].pGroups[%zu].pShaderGroupCaptureReplayHandle points at "
+             "64 zero bytes, which is no capture data vkrt wrote; taken as none: the group gets its content-derived "
+             "handle (the one it had when captured on vkrt)",
+             job.index, g);
+      r = reg.acquire(desc, dev, p->handleValue(), true);
     } else {
       r = reg.acquire(desc, dev, p->handleValue());
     }

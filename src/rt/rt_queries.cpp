@@ -67,12 +67,21 @@ RayTracingPipeline* checkHandleQuery(Device* dev, VkPipeline pipeline, uint32_t 
   }
   // VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-07828 / VUID-...CaptureReplay...-pipeline-07829
   if (p->isLibrary() && !dev->enabled(Feature::pipelineLibraryGroupHandles)) {
+    // The extension enabled without its feature is what an application sees when a layer that predates
+    // VK_EXT_pipeline_library_group_handles copies vkCreateDevice's pNext chain without the structure it does not
+    // know (GFXReconstruct 0.9.18 does): the message says so, as that is the likely cause.
+    const bool extensionOnly = dev->extensionEnabled("VK_EXT_pipeline_library_group_handles");
     report(p, Severity::Error,
            capture ? "VUID-vkGetRayTracingCaptureReplayShaderGroupHandlesKHR-pipeline-07829"
                    : "VUID-vkGetRayTracingShaderGroupHandlesKHR-pipeline-07828",
            "%s: pipeline is a library (VK_PIPELINE_CREATE_LIBRARY_BIT_KHR) and the pipelineLibraryGroupHandles "
-           "feature is not enabled",
-           cmd);
+           "feature is not enabled%s",
+           cmd,
+           extensionOnly ? ": VK_EXT_pipeline_library_group_handles is enabled on the device, but vkCreateDevice "
+                           "received no VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT with "
+                           "pipelineLibraryGroupHandles = VK_TRUE (a layer that does not know the extension, such as "
+                           "GFXReconstruct 0.9.18, drops that structure from the chain it passes on)"
+                         : "");
     return nullptr;
   }
   // VUID-vkGetRayTracingShaderGroupHandlesKHR-firstGroup-04050 / VUID-...CaptureReplay...-firstGroup-04051

@@ -85,6 +85,20 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatch(VkCommandBuffer commandBuffer, uint3
   });
 }
 
+// A device group of one device (vkEnumeratePhysicalDeviceGroups): the only valid device mask is 1, and setting it
+// changes nothing.
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetDeviceMask(VkCommandBuffer commandBuffer, uint32_t deviceMask) {
+  const char* fn = "vkCmdSetDeviceMask";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  // VUID-vkCmdSetDeviceMask-deviceMask-00109, VUID-vkCmdSetDeviceMask-deviceMask-00108
+  if (deviceMask != 1)
+    report(cb, Severity::Error,
+           deviceMask == 0 ? "VUID-vkCmdSetDeviceMask-deviceMask-00109" : "VUID-vkCmdSetDeviceMask-deviceMask-00108",
+           "%s: deviceMask 0x%x is not a valid device mask of vkrt's device group of one device (only 0x1 is)", fn,
+           deviceMask);
+}
+
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchBase(VkCommandBuffer commandBuffer, uint32_t baseGroupX, uint32_t baseGroupY,
                                                 uint32_t baseGroupZ, uint32_t groupCountX, uint32_t groupCountY,
                                                 uint32_t groupCountZ) {

@@ -7,6 +7,7 @@
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/fence.hpp"
+#include "runtime/image.hpp"
 #include "runtime/queue.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -20,6 +21,22 @@ Event::Event(Device* dev, VkEventCreateFlags f) : Object(kType, dev->instance, d
 using namespace vkrt;
 
 namespace {
+
+// The layout transitions of swapchain images among `barriers` (the only images whose layout vkrt tracks: a present
+// checks it), applied when the barrier executes.
+template <class Barrier>
+void addPresentableTransitions(uint32_t count, const Barrier* barriers,
+                               std::vector<std::pair<Image*, VkImageLayout>>& out) {
+  for (uint32_t i = 0; barriers && i < count; ++i) {
+    Image* img = fromHandle<Image>(barriers[i].image);
+    if (img && img->presentable && barriers[i].oldLayout != barriers[i].newLayout)
+      out.emplace_back(img, barriers[i].newLayout);
+  }
+}
+
+void applyTransitions(const std::vector<std::pair<Image*, VkImageLayout>>& transitions) {
+  for (auto& [img, layout] : transitions) img->trackedLayout.store(layout);
+}
 
 Event* liveEvent(const Object* about, VkEvent h, const char* fn, const char* vuid) {
   Event* e = fromHandle<Event>(h);
@@ -218,8 +235,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent2(VkCommandBuffer commandBuffer, Vk
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents(VkCommandBuffer commandBuffer, uint32_t eventCount,
                                               const VkEvent* pEvents, VkPipelineStageFlags, VkPipelineStageFlags,
                                               uint32_t, const VkMemoryBarrier*, uint32_t bufferMemoryBarrierCount,
-                                              const VkBufferMemoryBarrier* pBufferMemoryBarriers, uint32_t,
-                                              const VkImageMemoryBarrier*) {
+                                              const VkBufferMemoryBarrier* pBufferMemoryBarriers,
+                                              uint32_t imageMemoryBarrierCount,
+                                              const VkImageMemoryBarrier* pImageMemoryBarriers) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdWaitEvents");
   if (!cb) return;
   // VUID-vkCmdWaitEvents-eventCount-arraylength
@@ -232,7 +250,12 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents(VkCommandBuffer commandBuffer, uin
   for (uint32_t i = 0; i < eventCount; ++i)
     if (!(events[i] = liveEvent(cb, pEvents[i], "vkCmdWaitEvents", "VUID-vkCmdWaitEvents-pEvents-parameter"))) return;
   if (!checkBufferBarriers(cb, bufferMemoryBarrierCount, pBufferMemoryBarriers, "vkCmdWaitEvents", false)) return;
-  cb->record([events](ExecState& st) { waitEvents(events, st); });
+  std::vector<std::pair<Image*, VkImageLayout>> transitions;
+  addPresentableTransitions(imageMemoryBarrierCount, pImageMemoryBarriers, transitions);
+  cb->record([events, transitions](ExecState& st) {
+    waitEvents(events, st);
+    applyTransitions(transitions);
+  });
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents2(VkCommandBuffer commandBuffer, uint32_t eventCount,
@@ -250,19 +273,30 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents2(VkCommandBuffer commandBuffer, ui
     if (!(events[i] = liveEvent(cb, pEvents[i], "vkCmdWaitEvents2", "VUID-vkCmdWaitEvents2-pEvents-parameter"))) return;
     if (!checkDependencyInfo(cb, &pDependencyInfos[i], "vkCmdWaitEvents2")) return;
   }
-  cb->record([events](ExecState& st) { waitEvents(events, st); });
+  std::vector<std::pair<Image*, VkImageLayout>> transitions;
+  for (uint32_t i = 0; i < eventCount; ++i)
+    addPresentableTransitions(pDependencyInfos[i].imageMemoryBarrierCount, pDependencyInfos[i].pImageMemoryBarriers,
+                              transitions);
+  cb->record([events, transitions](ExecState& st) {
+    waitEvents(events, st);
+    applyTransitions(transitions);
+  });
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier(VkCommandBuffer commandBuffer, VkPipelineStageFlags,
                                                    VkPipelineStageFlags, VkDependencyFlags, uint32_t,
                                                    const VkMemoryBarrier*, uint32_t bufferMemoryBarrierCount,
-                                                   const VkBufferMemoryBarrier* pBufferMemoryBarriers, uint32_t,
-                                                   const VkImageMemoryBarrier*) {
+                                                   const VkBufferMemoryBarrier* pBufferMemoryBarriers,
+                                                   uint32_t imageMemoryBarrierCount,
+                                                   const VkImageMemoryBarrier* pImageMemoryBarriers) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdPipelineBarrier");
   if (!cb) return;
   if (!checkBufferBarriers(cb, bufferMemoryBarrierCount, pBufferMemoryBarriers, "vkCmdPipelineBarrier", false)) return;
-  // Commands execute in order on one worker: the barrier keeps its place and has nothing else to do.
-  cb->record([](ExecState&) {});
+  // Commands execute in order on one worker: the barrier keeps its place and has nothing else to do but note the
+  // layouts of swapchain images.
+  std::vector<std::pair<Image*, VkImageLayout>> transitions;
+  addPresentableTransitions(imageMemoryBarrierCount, pImageMemoryBarriers, transitions);
+  cb->record([transitions](ExecState&) { applyTransitions(transitions); });
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier2(VkCommandBuffer commandBuffer,
@@ -270,7 +304,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier2(VkCommandBuffer commandBuffe
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdPipelineBarrier2");
   if (!cb || !checkSync2(cb, "vkCmdPipelineBarrier2", "VUID-vkCmdPipelineBarrier2-synchronization2-03848")) return;
   if (!checkDependencyInfo(cb, pDependencyInfo, "vkCmdPipelineBarrier2")) return;
-  cb->record([](ExecState&) {});
+  std::vector<std::pair<Image*, VkImageLayout>> transitions;
+  addPresentableTransitions(pDependencyInfo->imageMemoryBarrierCount, pDependencyInfo->pImageMemoryBarriers,
+                            transitions);
+  cb->record([transitions](ExecState&) { applyTransitions(transitions); });
 }
 
 }  // extern "C"

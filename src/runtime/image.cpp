@@ -8,6 +8,7 @@
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
+#include "runtime/swapchain.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -153,6 +154,29 @@ void requirementsOf(const Image& img, VkMemoryRequirements* req) {
 VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t index, bool bind2) {
   Image* img = fromHandle<Image>(info.image);
   Memory* mem = fromHandle<Memory>(info.memory);
+  VkDeviceSize memoryOffset = info.memoryOffset;
+  // VkBindImageMemorySwapchainInfoKHR: the image aliases a swapchain image (its memory at its offset).
+  if (auto* sw = findInChain<VkBindImageMemorySwapchainInfoKHR>(
+          info.pNext, VK_STRUCTURE_TYPE_BIND_IMAGE_MEMORY_SWAPCHAIN_INFO_KHR)) {
+    Swapchain* sc = fromHandle<Swapchain>(sw->swapchain);
+    // VUID-VkBindImageMemorySwapchainInfoKHR-swapchain-parameter,
+    // VUID-VkBindImageMemorySwapchainInfoKHR-imageIndex-01644 VUID-VkBindImageMemoryInfo-pNext-01631
+    const char* vuid = !sc ? "VUID-VkBindImageMemorySwapchainInfoKHR-swapchain-parameter"
+                       : sw->imageIndex >= sc->images.size() ? "VUID-VkBindImageMemorySwapchainInfoKHR-imageIndex-01644"
+                       : info.memory != VK_NULL_HANDLE       ? "VUID-VkBindImageMemoryInfo-pNext-01631"
+                                                             : nullptr;
+    if (vuid) {
+      report(dev, Severity::Error, vuid,
+             "vkBindImageMemory2: bind %u: VkBindImageMemorySwapchainInfoKHR names swapchain 0x%llx (%s) and image "
+             "index %u, with memory 0x%llx (must be VK_NULL_HANDLE)",
+             index, (unsigned long long)rawHandle(sw->swapchain), sc ? "live" : "not a live VkSwapchainKHR",
+             sw->imageIndex, (unsigned long long)rawHandle(info.memory));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    const Image* target = fromHandle<Image>(sc->images[sw->imageIndex]);
+    mem = target->memory;
+    memoryOffset = target->memoryOffset;
+  }
   if (!img || !mem) {
     report(dev, Severity::Error, "VUID-VkBindImageMemoryInfo-image-parameter",
            "vkBindImageMemory: bind %u names an image 0x%llx or memory 0x%llx that is not live", index,
@@ -168,20 +192,20 @@ VkResult bindImage(Device* dev, const VkBindImageMemoryInfo& info, uint32_t inde
   requirementsOf(*img, &req);
   // VUID-VkBindImageMemoryInfo-memoryOffset-01613: aligned; -01046: inside the memory;
   // VUID-vkBindImageMemory-size-01049 / VUID-VkBindImageMemoryInfo-pNext-01617: the image fits
-  const char* vuid = info.memoryOffset % req.alignment ? "VUID-VkBindImageMemoryInfo-memoryOffset-01613"
-                     : info.memoryOffset >= mem->size  ? "VUID-VkBindImageMemoryInfo-memoryOffset-01046"
-                     : req.size > mem->size - info.memoryOffset
+  const char* vuid = memoryOffset % req.alignment ? "VUID-VkBindImageMemoryInfo-memoryOffset-01613"
+                     : memoryOffset >= mem->size  ? "VUID-VkBindImageMemoryInfo-memoryOffset-01046"
+                     : req.size > mem->size - memoryOffset
                          ? (bind2 ? "VUID-VkBindImageMemoryInfo-pNext-01617" : "VUID-vkBindImageMemory-size-01049")
                          : nullptr;
   if (vuid) {
     report(img, Severity::Error, vuid,
            "%s: %llu bytes at memoryOffset %llu do not fit the %llu-byte memory (alignment %llu)",
            bind2 ? "vkBindImageMemory2" : "vkBindImageMemory", (unsigned long long)req.size,
-           (unsigned long long)info.memoryOffset, (unsigned long long)mem->size, (unsigned long long)req.alignment);
+           (unsigned long long)memoryOffset, (unsigned long long)mem->size, (unsigned long long)req.alignment);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   img->memory = mem;
-  img->memoryOffset = info.memoryOffset;
+  img->memoryOffset = memoryOffset;
   return VK_SUCCESS;
 }
 
@@ -202,6 +226,13 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImage(VkDevice device, const VkImageCr
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* pAllocator) {
+  // VUID-vkDestroyImage-image-04882: a swapchain's images go with the swapchain.
+  if (Image* img = fromHandle<Image>(image); img && img->presentable) {
+    report(img, Severity::Error, "VUID-vkDestroyImage-image-04882",
+           "vkDestroyImage: the image belongs to a swapchain (vkGetSwapchainImagesKHR); vkDestroySwapchainKHR "
+           "destroys it");
+    return;
+  }
   destroyDeviceChild<Image>(device, image, pAllocator, "vkDestroyImage", "VUID-vkDestroyImage-image-parameter");
 }
 

@@ -8,6 +8,7 @@
 // (runtime/image_functions.cpp) address texels the same way.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include "runtime/format.hpp"
@@ -46,6 +47,11 @@ class Image : public Object {
 
   Memory* memory = nullptr;
   VkDeviceSize memoryOffset = 0;
+
+  // A swapchain's image (runtime/swapchain.cpp): its layout is tracked, as the layout the barriers that executed
+  // last on a queue left it in, so that a present can check it is PRESENT_SRC_KHR. Other images' layouts are not.
+  bool presentable = false;
+  std::atomic<VkImageLayout> trackedLayout{VK_IMAGE_LAYOUT_UNDEFINED};
 
   uint8_t* data() const;
   // Address of texel (x, y, z) of (mip, layer); no bounds check.

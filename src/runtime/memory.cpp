@@ -2,6 +2,7 @@
 
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -135,6 +136,39 @@ bool accessible(uint64_t address, VkDeviceSize size) {
   return next == a.freeRanges.end() || next->first >= off + size;
 }
 
+std::string whyUnavailable(uint64_t address, VkDeviceSize size) {
+  Arena& a = get();
+  const uint64_t base = reinterpret_cast<uint64_t>(a.base);
+  const uint64_t rounded = (size + kPage - 1) / kPage * kPage;
+  char buf[320];
+  int n = std::snprintf(buf, sizeof(buf), "[0x%llx, 0x%llx)", (unsigned long long)address,
+                        (unsigned long long)(address + rounded));
+  const size_t at = n > 0 ? size_t(n) : 0;
+  if (!a.base || address < base || address - base > kCapacity || rounded > kCapacity - (address - base)) {
+    std::snprintf(buf + at, sizeof(buf) - at, " lies outside vkrt's device address range [0x%llx, 0x%llx)",
+                  (unsigned long long)base, (unsigned long long)(base + kCapacity));
+  } else if (address % kPage) {
+    std::snprintf(buf + at, sizeof(buf) - at, " does not start at a page (4096 bytes) as vkrt's addresses do");
+  } else {
+    std::lock_guard lock(a.mutex);
+    // Allocated memory is what lies between free ranges: find the first allocated part of the range.
+    uint64_t off = address - base, from = off;
+    auto next = a.freeRanges.upper_bound(off);
+    if (next != a.freeRanges.begin()) {
+      auto prev = std::prev(next);
+      if (prev->first + prev->second > off) from = prev->first + prev->second;
+    }
+    uint64_t to = next == a.freeRanges.end() ? kCapacity : next->first;
+    if (from >= off + rounded) {
+      std::snprintf(buf + at, sizeof(buf) - at, " is free (mapping it failed)");
+    } else {
+      std::snprintf(buf + at, sizeof(buf) - at, ": [0x%llx, 0x%llx) of it is held by memory allocated earlier",
+                    (unsigned long long)(base + from), (unsigned long long)(base + std::min(to, off + rounded)));
+    }
+  }
+  return buf;
+}
+
 uint64_t baseAddress() { return reinterpret_cast<uint64_t>(get().base); }
 VkDeviceSize capacity() { return kCapacity; }
 
@@ -190,8 +224,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
   if (!base) {
     if (requested) {
       report(dev, Severity::Error, nullptr,
-             "vkAllocateMemory: opaque capture address 0x%llx (%llu bytes) is not available in this process",
-             (unsigned long long)requested, (unsigned long long)pAllocateInfo->allocationSize);
+             "vkAllocateMemory: opaque capture address 0x%llx (%llu bytes) is not available in this process: %s",
+             (unsigned long long)requested, (unsigned long long)pAllocateInfo->allocationSize,
+             arena::whyUnavailable(requested, pAllocateInfo->allocationSize).c_str());
       return VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
     }
     return VK_ERROR_OUT_OF_DEVICE_MEMORY;
@@ -204,6 +239,25 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateMemory(VkDevice device, const VkMemo
   }
   *pMemory = toHandle(mem);
   return VK_SUCCESS;
+}
+
+// The device group has one device, so no pair of device indices is valid (VUID-...-00694 asks for two different ones).
+VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceGroupPeerMemoryFeatures(VkDevice device, uint32_t heapIndex,
+                                                                 uint32_t localDeviceIndex, uint32_t remoteDeviceIndex,
+                                                                 VkPeerMemoryFeatureFlags* pPeerMemoryFeatures) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  *pPeerMemoryFeatures = 0;
+  // VUID-vkGetDeviceGroupPeerMemoryFeatures-heapIndex-00691, -localDeviceIndex-00692, -remoteDeviceIndex-00693,
+  // -localDeviceIndex-00694
+  const char* vuid = heapIndex >= dev->physicalDevice->memoryProperties.memoryHeapCount
+                         ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-heapIndex-00691"
+                     : localDeviceIndex != 0  ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-localDeviceIndex-00692"
+                     : remoteDeviceIndex != 0 ? "VUID-vkGetDeviceGroupPeerMemoryFeatures-remoteDeviceIndex-00693"
+                                              : "VUID-vkGetDeviceGroupPeerMemoryFeatures-localDeviceIndex-00694";
+  report(dev, Severity::Error, vuid,
+         "vkGetDeviceGroupPeerMemoryFeatures: heapIndex %u, localDeviceIndex %u, remoteDeviceIndex %u: vkrt's device "
+         "group has one device (index 0) and one heap, so there is no peer to ask about",
+         heapIndex, localDeviceIndex, remoteDeviceIndex);
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_FreeMemory(VkDevice device, VkDeviceMemory memory,

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "runtime/object.hpp"
 
@@ -41,6 +42,9 @@ bool accessible(uint64_t address, VkDeviceSize size);
 // The fixed address the arena was reserved at (the same in every process unless the hint was refused).
 uint64_t baseAddress();
 VkDeviceSize capacity();
+// Why [address, address + size) cannot be allocated at that address: the range, rounded to pages, and what is in
+// the way (outside the arena, unaligned, or the first part of it that memory allocated earlier holds).
+std::string whyUnavailable(uint64_t address, VkDeviceSize size);
 }  // namespace arena
 
 }  // namespace vkrt

@@ -93,6 +93,7 @@ void Queue::execute(Batch& batch) {
     }
   }
   for (CommandBuffer* cb : batch.commandBuffers) cb->markCompleted();
+  if (batch.hostWork) batch.hostWork(abandoned);
   // Signals, and the end of this batch's references, in one step: once a waiter sees a signal it may destroy
   // the objects, so nothing is touched after the lock is released.
   {

@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -32,6 +33,8 @@ struct Batch {
   std::vector<CommandBuffer*> commandBuffers;
   std::vector<SemaphoreOp> signals;
   Fence* fence = nullptr;  // signaled after this batch (the last batch of a submission)
+  // Work done on the worker after the waits, in queue order (a present); `abandoned` when the waits gave up.
+  std::function<void(bool abandoned)> hostWork;
 };
 
 class Queue : public Object {

@@ -1,4 +1,5 @@
 // Instance, physical device, device, memory and buffers through the loader.
+#include <cstdio>
 #include <cstring>
 
 #include "e2e/fixture.hpp"
@@ -265,6 +266,11 @@ TEST_F(BufferCaptureReplayMisuseTest, AddressAlreadyInUseFailsWithInvalidOpaqueC
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
   EXPECT_NE(msgs[0].text.find("opaque capture address"), std::string::npos) << msgs[0].text;
+  // The message names the range and the part of it that is held.
+  char range[64];
+  std::snprintf(range, sizeof(range), "[0x%llx, 0x%llx) of it is held", (unsigned long long)taken,
+                (unsigned long long)(taken + (1 << 16)));
+  EXPECT_NE(msgs[0].text.find(range), std::string::npos) << msgs[0].text;
   clearMessages();
   vkFreeMemory(device, mem, nullptr);
 }

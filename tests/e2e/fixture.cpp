@@ -39,13 +39,14 @@ void VulkanTest::SetUp() {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "vkrt-e2e";
   app.apiVersion = VK_API_VERSION_1_3;
-  const char* exts[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  std::vector<const char*> exts = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  exts.insert(exts.end(), opt.instanceExtensions.begin(), opt.instanceExtensions.end());
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, &mci};
   ici.pApplicationInfo = &app;
   ici.enabledLayerCount = static_cast<uint32_t>(enabledLayers.size());
   ici.ppEnabledLayerNames = enabledLayers.data();
-  ici.enabledExtensionCount = 1;
-  ici.ppEnabledExtensionNames = exts;
+  ici.enabledExtensionCount = static_cast<uint32_t>(exts.size());
+  ici.ppEnabledExtensionNames = exts.data();
   ASSERT_EQ(vkCreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
 
   auto createMessenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(

@@ -25,6 +25,7 @@ struct Message {
 
 struct FixtureOptions {
   bool validation = true;
+  std::vector<const char*> instanceExtensions;  // besides VK_EXT_debug_utils
   std::vector<const char*> deviceExtensions;
   // Extra feature structures chained into VkDeviceCreateInfo (after a VkPhysicalDeviceFeatures2).
   void* featureChain = nullptr;

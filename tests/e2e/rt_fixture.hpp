@@ -71,6 +71,7 @@ class RtTest : public VulkanTest {
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   bool libraryGroupHandles = true;
   bool captureReplay = true;
+  bool captureReplayMixed = true;  // enabled where supported (with captureReplay)
 
   virtual bool layer() { return true; }
 
@@ -86,7 +87,7 @@ class RtTest : public VulkanTest {
     rtf.rayTracingPipelineShaderGroupHandleCaptureReplay =
         captureReplay && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplay;
     rtf.rayTracingPipelineShaderGroupHandleCaptureReplayMixed =
-        captureReplay && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
+        captureReplay && captureReplayMixed && supportedRt.rayTracingPipelineShaderGroupHandleCaptureReplayMixed;
     rtf.pNext = &lgh;
     lgh.pipelineLibraryGroupHandles = libraryGroupHandles && supportedLgh.pipelineLibraryGroupHandles;
     lgh.pNext = &asf;
