@@ -1,4 +1,4 @@
-// The image functions compiled shaders call (OpImageRead/Write/Fetch/SampleExplicitLod/Query*), by symbol
+// The image functions compiled shaders call (OpImageRead/Write/TexelPointer/Fetch/SampleExplicitLod/Query*), by symbol
 // name: the compiler emits calls to these names, and whoever runs compiled code supplies their addresses
 // (HostSymbol lists, given to the compiler; the runtime's implementation is src/runtime/image_functions.cpp,
 // which reads its image view and sampler objects through the descriptor records' opaque pointers).
@@ -31,6 +31,9 @@ extern "C" {
 void vkrt_image_read(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]);
 // OpImageWrite on a storage image.
 void vkrt_image_write(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]);
+// OpImageTexelPointer (image atomics): the address of texel `coord` of a storage image's first mip, or null when
+// the coordinate is outside the view, the record is null or the format is not 32 bits a texel.
+void* vkrt_image_texel(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4]);
 // OpImageFetch: texel `coord` of mip `lod` (relative to the view's base level), view swizzle applied.
 void vkrt_image_fetch(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]);
 // OpImageSampleExplicitLod with a Lod operand: filtered with the sampler of `smp`, view swizzle applied.

@@ -353,6 +353,14 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
   if (t) encodeTexel(*v.format, in, t);
 }
 
+void* vkrt_image_texel(const abi::DescriptorRecord* img, const int32_t coord[4]) {
+  View v;
+  if (!resolveView(img, &v) || v.format->texelSize != 4) return nullptr;  // atomics: 32-bit formats only
+  int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
+  splitCoord(v, c, xyzl);
+  return texelAt(v, 0, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
+}
+
 void vkrt_image_fetch(const abi::DescriptorRecord* img, const int32_t coord[4], int32_t lod, uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
@@ -426,6 +434,7 @@ const abi::HostSymbol* imageFunctionSymbols() {
   static const abi::HostSymbol symbols[] = {
       {"vkrt_image_read", reinterpret_cast<void*>(&vkrt_image_read)},
       {"vkrt_image_write", reinterpret_cast<void*>(&vkrt_image_write)},
+      {"vkrt_image_texel", reinterpret_cast<void*>(&vkrt_image_texel)},
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
       {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
       {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},

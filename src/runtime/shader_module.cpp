@@ -41,6 +41,8 @@ bool validateSpirv(const uint32_t* words, size_t wordCount, std::string* message
   // whatever the rules they were chosen by).
   if (device && device->enabled(Feature::scalarBlockLayout)) options.SetScalarBlockLayout(true);
   if (device && device->enabled(Feature::uniformBufferStandardLayout)) options.SetUniformBufferStandardLayout(true);
+  if (device && device->enabled(Feature::workgroupMemoryExplicitLayoutScalarBlockLayout))
+    options.SetWorkgroupScalarBlockLayout(true);
   bool ok = tools.Validate(words, wordCount, options);
   if (!ok && message) *message = first.empty() ? "SPIRV-Tools rejected the module" : first;
   return ok;

@@ -62,6 +62,13 @@ constexpr F kSupported[] = {
     F::shaderStorageBufferArrayNonUniformIndexing,
     F::shaderStorageImageArrayNonUniformIndexing,
     F::runtimeDescriptorArray,
+    // Workgroup memory: zeroed for every workgroup, so initializers (OpConstantNull) hold; explicit layouts of
+    // Block variables that alias (src/spirv/memory.cpp; tests/spirv SpirvConformance.WorkgroupMemory*).
+    F::shaderZeroInitializeWorkgroupMemory,
+    F::workgroupMemoryExplicitLayout,
+    F::workgroupMemoryExplicitLayoutScalarBlockLayout,
+    F::workgroupMemoryExplicitLayout8BitAccess,
+    F::workgroupMemoryExplicitLayout16BitAccess,
     // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
     F::synchronization2,
     F::pipelineCreationCacheControl,

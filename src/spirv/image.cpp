@@ -16,6 +16,7 @@ bool extraSupportedOp(spv::Op op) {
     case spv::OpImage:
     case spv::OpImageRead:
     case spv::OpImageWrite:
+    case spv::OpImageTexelPointer:
     case spv::OpImageFetch:
     case spv::OpImageSampleExplicitLod:
     case spv::OpImageQuerySize:
@@ -54,7 +55,12 @@ bool extraSupportedCapability(uint32_t cap) {
     case spv::CapabilityUniformBufferArrayNonUniformIndexing:
     case spv::CapabilitySampledImageArrayNonUniformIndexing:
     case spv::CapabilityStorageBufferArrayNonUniformIndexing:
-    case spv::CapabilityStorageImageArrayNonUniformIndexing: return true;
+    case spv::CapabilityStorageImageArrayNonUniformIndexing:
+    // Workgroup blocks with explicit layouts, aliasing one another (memory.cpp's declareGlobals); 8/16-bit members
+    // load and store at their own width, as in other storage classes.
+    case spv::CapabilityWorkgroupMemoryExplicitLayoutKHR:
+    case spv::CapabilityWorkgroupMemoryExplicitLayout8BitAccessKHR:
+    case spv::CapabilityWorkgroupMemoryExplicitLayout16BitAccessKHR: return true;
     default: return false;
   }
 }
@@ -136,6 +142,25 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       llvm::Value* v = llvm::UndefValue::get(imageValueType());
       v = b.CreateInsertValue(v, b.CreateExtractValue(img, {0}), {0});
       set(in.word(2), b.CreateInsertValue(v, b.CreateExtractValue(smp, {in.op == spv::OpSampledImage ? 1u : 0u}), {1}));
+      return true;
+    }
+    case spv::OpImageTexelPointer: {
+      // A pointer (Image storage class) to a storage image texel, for the atomic instructions: the texel's address
+      // from the image functions, or the zero sink (limit 0) where there is none, so that atomics land nowhere.
+      Ptr& image = ptr(in.word(3));
+      llvm::Value* coord = value(in.word(4));
+      if (image.slot < 0 || !coord) return (ok = fail(in, "image pointer or coordinate has no value")), true;
+      llvm::Value* rec = descriptorRecord(image.slot, image.descIndex ? image.descIndex : i64(0));
+      llvm::Value* texel = b.CreateCall(runtimeFn(*this, "vkrt_image_texel", ptrTy, {ptrTy, ptrTy}),
+                                        {rec, toWords(*this, coord, false)});
+      llvm::Value* none = b.CreateIsNull(texel);
+      Ptr p;
+      p.base = b.CreateSelect(none, zeros, texel);
+      p.offset = i64(0);
+      p.limit = b.CreateSelect(none, i64(0), i64(4));
+      p.type = spvType(in.word(1)).element;
+      p.storage = spv::StorageClassImage;
+      ptrs[in.word(2)] = p;
       return true;
     }
     case spv::OpImageRead:

@@ -1,5 +1,7 @@
 // SPIR-V -> LLVM IR: variables, access chains, loads, stores, atomics, descriptors (see codegen.hpp's memory
 // model).
+#include <algorithm>
+
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/MDBuilder.h>
 
@@ -71,9 +73,18 @@ bool Codegen::declareGlobals() {
         if (in.count > 4) privateInits.push_back({id, in.word(4)});
         break;
       case spv::StorageClassWorkgroup:
+        // Workgroup memory is zeroed for every workgroup (exec/compute.cpp), which is what an initializer can ask
+        // (VK_KHR_zero_initialize_workgroup_memory: OpConstantNull only).
         g.size = layoutSize(pt.element, 0, false);
-        g.offset = (workgroupSize + 15) / 16 * 16;
-        workgroupSize = g.offset + g.size;
+        if (m.decor(pt.element).block) {
+          // SPV_KHR_workgroup_memory_explicit_layout: Block-decorated Workgroup variables are laid out by their
+          // Offset/ArrayStride decorations and all alias one another from the start of workgroup memory.
+          g.offset = 0;
+          workgroupSize = std::max(workgroupSize, g.size);
+        } else {
+          g.offset = (workgroupSize + 15) / 16 * 16;
+          workgroupSize = g.offset + g.size;
+        }
         break;
       case spv::StorageClassInput: g.builtIn = d.builtIn; break;
       // Ray tracing storage classes (abi.hpp says where each lives).

@@ -9,6 +9,7 @@
 #include "compute_scalar_layout.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
 #include "compute_std430_uniform.comp.spv.h"
+#include "compute_zero_init_workgroup.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
 #include "spirv/nonuniform_buffers_reference.hpp"
@@ -248,6 +249,38 @@ TEST_F(ComputeFeaturesMisuseTest, ScalarLayoutWithoutTheFeatureIsRejected) {
   sm.pCode = kSpv_compute_std430_uniform_comp;
   EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &module), VK_ERROR_INVALID_SHADER_NV) << "std430 uniform block";
   expectVkrtMessage("VUID-VkShaderModuleCreateInfo-pCode-01378");
+}
+
+// Workgroup variables with initializers (shaderZeroInitializeWorkgroupMemory): every workgroup starts from zeros,
+// whatever the previous workgroup on the same thread left there.
+class ComputeZeroInitTest : public ComputeFeaturesTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = ComputeFeaturesTest::options();
+    o.zeroInitializeWorkgroupMemory = true;
+    return o;
+  }
+};
+
+TEST_F(ComputeZeroInitTest, WorkgroupVariablesStartAtZeroInEveryWorkgroup) {
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_zero_init_workgroup_comp,
+                                                    sizeof kSpv_compute_zero_init_workgroup_comp, {{kStorage}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer out = bufferWith(std::vector<uint32_t>(48, 0xcdcdcdcd), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffers(p, 0, kStorage, {&out});
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, 2, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  const auto* got = static_cast<const uint32_t*>(out.data);
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t group = i / 8, l = i % 8;
+    EXPECT_EQ(got[i], 0u) << "invocation " << i << " read its workgroup's variables before any write";
+    EXPECT_EQ(got[16 + i], 36u) << "invocation " << i << ": 1 + 2 + ... + 8";
+    EXPECT_EQ(got[32 + i], group * 8 + (l + 1) % 8 + 100) << "invocation " << i;
+  }
+  destroy(out);
+  destroyComputePipeline(device, p);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compute_bda_linked_list.comp.spv.h"
+#include "compute_image_atomics.comp.spv.h"
 #include "compute_nonuniform_images.comp.spv.h"
 #include "compute_sample.comp.spv.h"
 #include "compute_small_types.comp.spv.h"
@@ -757,6 +758,56 @@ TEST_F(ComputeSmallTypesTest, FeaturesReportedAndShaderRuns) {
   expectSmall(got, smallExpected(in));
   destroy(inBuf);
   destroy(outBuf);
+  destroy(p);
+}
+
+// Image atomics on r32ui / r32i storage images (OpImageTexelPointer): additions and minima from 128 invocations
+// over 16 texels, and a compare-exchange race that exactly one invocation per texel wins.
+TEST_F(ComputeImageTest, ImageAtomicsOnR32Images) {
+  Pipeline p = makePipeline(kSpv_compute_image_atomics_comp, sizeof kSpv_compute_image_atomics_comp,
+                            {kStorageImage, kStorageImage, kStorageImage, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  const VkImageUsageFlags st = VK_IMAGE_USAGE_STORAGE_BIT;
+  Tex counts = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32_UINT, {4, 4, 1}, 1, 1, 4, st);
+  Tex minima = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32_SINT, {4, 4, 1}, 1, 1, 4, st);
+  Tex winners = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32_UINT, {4, 4, 1}, 1, 1, 4, st);
+  HostBuffer out = createHostBuffer(2 * 128 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto* c = static_cast<uint32_t*>(counts.staging.data);
+  auto* mn = static_cast<int32_t*>(minima.staging.data);
+  auto* w = static_cast<uint32_t*>(winners.staging.data);
+  for (uint32_t t = 0; t < 16; ++t) c[t] = 1000 * t, mn[t] = int32_t(t) - 50, w[t] = 0;
+  Tex* all[] = {&counts, &minima, &winners};
+  for (uint32_t b = 0; b < 3; ++b)
+    writeImage(p, b, kStorageImage, all[b]->view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeBuffer(p, 3, out);
+  VkCommandBuffer cb = beginOneTime();
+  for (Tex* t : all) upload(cb, *t, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 2, 1, 1);
+  for (Tex* t : all) download(cb, *t);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  const auto* swapped = static_cast<const uint32_t*>(out.data);
+  for (uint32_t t = 0; t < 16; ++t) {
+    uint32_t sum = 1000 * t;
+    int32_t least = int32_t(t) - 50;
+    uint32_t zeros = 0;
+    for (uint32_t i = t; i < 128; i += 16) {
+      sum += i + 1;
+      least = std::min(least, int32_t(i) - 100);
+      if (swapped[i] == 0)
+        ++zeros;
+      else
+        EXPECT_EQ(swapped[i], w[t]) << "invocation " << i << " saw another winner than the texel holds";
+    }
+    EXPECT_EQ(c[t], sum) << "texel " << t;
+    EXPECT_EQ(mn[t], least) << "texel " << t;
+    EXPECT_EQ(zeros, 1u) << "texel " << t << ": one invocation wins the compare-exchange";
+    EXPECT_EQ((w[t] - 1) % 16, t) << "the winner is one of the texel's invocations";
+  }
+  // Atomics outside the image had no effect: the sums above; what they return is undefined.
+  for (Tex* t : all) destroy(*t);
+  destroy(out);
   destroy(p);
 }
 

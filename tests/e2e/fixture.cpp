@@ -95,6 +95,7 @@ void VulkanTest::SetUp() {
   f13.synchronization2 = VK_TRUE;
   f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
   f13.pipelineCreationCacheControl = opt.pipelineCreationCacheControl;
+  f13.shaderZeroInitializeWorkgroupMemory = opt.zeroInitializeWorkgroupMemory;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
   f2.features = opt.features;
 

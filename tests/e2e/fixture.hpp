@@ -38,6 +38,8 @@ struct FixtureOptions {
   bool shaderSmallTypes = false;
   // Enables pipelineCreationCacheControl (FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN_ON_FAILURE).
   bool pipelineCreationCacheControl = false;
+  // Enables shaderZeroInitializeWorkgroupMemory (Workgroup variables with initializers).
+  bool zeroInitializeWorkgroupMemory = false;
   // More Vulkan 1.2 features: each VK_TRUE member is also enabled in the fixture's own structure (a second
   // VkPhysicalDeviceVulkan12Features may not be chained).
   VkPhysicalDeviceVulkan12Features features12{};

@@ -465,5 +465,42 @@ TEST(SpirvConformance, HalfVectorMinMax) {
     }
   }
 }
+
+// SPV_KHR_workgroup_memory_explicit_layout: Block-decorated Workgroup variables use their Offset/ArrayStride
+// layout and alias one another (the CTS's workgroup_memory_explicit_layout.alias cases). A uint array written
+// through one block is read back as floats through the other, and a struct member through a third at offset 4.
+TEST(SpirvConformance, WorkgroupBlocksAliasWithExplicitLayout) {
+  std::string decorations =
+      "OpDecorate %ua ArrayStride 4\nOpMemberDecorate %A 0 Offset 0\nOpDecorate %A Block\n"
+      "OpDecorate %fa ArrayStride 4\nOpMemberDecorate %B 0 Offset 0\nOpDecorate %B Block\n"
+      "OpMemberDecorate %C 0 Offset 4\nOpDecorate %C Block\n"
+      "OpDecorate %wa Aliased\nOpDecorate %wb Aliased\nOpDecorate %wc Aliased";
+  std::string text =
+      module("OpCapability WorkgroupMemoryExplicitLayoutKHR\nOpExtension \"SPV_KHR_workgroup_memory_explicit_layout\"",
+             decorations, "%uint", "4",
+             "%uint_4 = OpConstant %uint 4\n%uint_2 = OpConstant %uint 2\n%uint_3 = OpConstant %uint 3\n"
+             "%ua = OpTypeArray %uint %uint_4\n%A = OpTypeStruct %ua\n%ptr_wg_A = OpTypePointer Workgroup %A\n"
+             "%fa = OpTypeArray %float %uint_4\n%B = OpTypeStruct %fa\n%ptr_wg_B = OpTypePointer Workgroup %B\n"
+             "%C = OpTypeStruct %uint\n%ptr_wg_C = OpTypePointer Workgroup %C\n"
+             "%wa = OpVariable %ptr_wg_A Workgroup\n%wb = OpVariable %ptr_wg_B Workgroup\n"
+             "%wc = OpVariable %ptr_wg_C Workgroup\n"
+             "%ptr_wg_uint = OpTypePointer Workgroup %uint\n%ptr_wg_float = OpTypePointer Workgroup %float\n"
+             "%bits_1_5 = OpConstant %uint 0x3fc00000\n%bits_m2 = OpConstant %uint 0xc0000000\n",
+             "%a1 = OpAccessChain %ptr_wg_uint %wa %uint_0 %uint_1\nOpStore %a1 %bits_1_5\n"
+             "%a2 = OpAccessChain %ptr_wg_uint %wa %uint_0 %uint_2\nOpStore %a2 %bits_m2\n"
+             "%b1 = OpAccessChain %ptr_wg_float %wb %uint_0 %uint_1\n%f1 = OpLoad %float %b1\n"
+             "%b2 = OpAccessChain %ptr_wg_float %wb %uint_0 %uint_2\n%f2 = OpLoad %float %b2\n"
+             "%c0 = OpAccessChain %ptr_wg_uint %wc %uint_0\n%cv = OpLoad %uint %c0\n"
+             "%sum = OpFAdd %float %f1 %f2\n%sumbits = OpBitcast %uint %sum\n"
+             "%r = OpIAdd %uint %sumbits %cv\nOpStore %slot %r");
+  text.replace(text.find("%gid %data"), 10, "%gid %data %wa %wb %wc");
+  ComputeHarness h;
+  ASSERT_TRUE(compileText(h, text)) << h.error;
+  h.zeroBuffer<uint32_t>(0, 2);
+  ASSERT_TRUE(h.run(2));
+  // 1.5 + -2.0 = -0.5, plus C's member at offset 4: the word written as 1.5.
+  uint32_t expected = std::bit_cast<uint32_t>(-0.5f) + 0x3fc00000u;
+  EXPECT_EQ(h.get<uint32_t>(0), (std::vector<uint32_t>{expected, expected}));
+}
 }  // namespace
 }  // namespace vkrt::testing
