@@ -150,6 +150,20 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.conformanceVersion = {0, 0, 0, 0};
   properties12.denormBehaviorIndependence = VK_SHADER_FLOAT_CONTROLS_INDEPENDENCE_ALL;
   properties12.roundingModeIndependence = VK_SHADER_FLOAT_CONTROLS_INDEPENDENCE_ALL;
+  // Float controls a CPU honours as it is (src/spirv, tests/spirv SpirvFloatControls): compiled code uses no
+  // fast-math flags, so signed zeros, infinities and NaNs are preserved; x86 arithmetic keeps denormals (vkrt never
+  // sets FTZ/DAZ) and rounds to nearest even; 16-bit float arithmetic is done in float and rounded once to half,
+  // which is the correctly rounded result (float has more than 2 x 11 + 2 bits). Flushing denormals and rounding
+  // toward zero would need per-instruction rounding control: not advertised.
+  properties12.shaderSignedZeroInfNanPreserveFloat16 = VK_TRUE;
+  properties12.shaderSignedZeroInfNanPreserveFloat32 = VK_TRUE;
+  properties12.shaderSignedZeroInfNanPreserveFloat64 = VK_TRUE;
+  properties12.shaderDenormPreserveFloat16 = VK_TRUE;
+  properties12.shaderDenormPreserveFloat32 = VK_TRUE;
+  properties12.shaderDenormPreserveFloat64 = VK_TRUE;
+  properties12.shaderRoundingModeRTEFloat16 = VK_TRUE;
+  properties12.shaderRoundingModeRTEFloat32 = VK_TRUE;
+  properties12.shaderRoundingModeRTEFloat64 = VK_TRUE;
   properties12.maxUpdateAfterBindDescriptorsInAllPools = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindSamplers = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindUniformBuffers = 1u << 20;
@@ -216,6 +230,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_EXT_HOST_QUERY_RESET_EXTENSION_NAME, VK_EXT_HOST_QUERY_RESET_SPEC_VERSION},
       {VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_EXTENSION_NAME, VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_SPEC_VERSION},
       {VK_EXT_SCALAR_BLOCK_LAYOUT_EXTENSION_NAME, VK_EXT_SCALAR_BLOCK_LAYOUT_SPEC_VERSION},
+      {VK_KHR_SHADER_FLOAT_CONTROLS_EXTENSION_NAME, VK_KHR_SHADER_FLOAT_CONTROLS_SPEC_VERSION},
       {VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_EXTENSION_NAME, VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_SPEC_VERSION},
       {VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_EXTENSION_NAME, VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},

@@ -255,7 +255,11 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityFloat64:
     case spv::CapabilityFloat16:
     case spv::CapabilityInt64Atomics:
-    case spv::CapabilityDeviceGroup: return true;  // DeviceIndex: always 0 (one physical device)
+    case spv::CapabilityDeviceGroup:  // DeviceIndex: always 0 (one physical device)
+    // Float controls the compiled code honours as it is (runtime/physical_device.cpp says why).
+    case spv::CapabilityDenormPreserve:
+    case spv::CapabilitySignedZeroInfNanPreserve:
+    case spv::CapabilityRoundingModeRTE: return true;
     default: return extraSupportedCapability(cap) || rayTracingCapability(cap);
   }
 }

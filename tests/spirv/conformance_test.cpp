@@ -502,5 +502,42 @@ TEST(SpirvConformance, WorkgroupBlocksAliasWithExplicitLayout) {
   uint32_t expected = std::bit_cast<uint32_t>(-0.5f) + 0x3fc00000u;
   EXPECT_EQ(h.get<uint32_t>(0), (std::vector<uint32_t>{expected, expected}));
 }
+
+// The float controls vkrt advertises (DenormPreserve, SignedZeroInfNanPreserve, RoundingModeRTE for 16/32/64-bit):
+// the execution modes compile, denormals survive arithmetic, zeros keep their sign, infinities stay. Expected
+// values are bit patterns.
+TEST(SpirvConformance, FloatControlsPreserveDenormalsSignedZerosAndInfinities) {
+  std::string text = module(
+      "OpCapability DenormPreserve\nOpCapability SignedZeroInfNanPreserve\nOpCapability RoundingModeRTE\n"
+      "OpCapability Float16\nOpCapability Int16\nOpExtension \"SPV_KHR_float_controls\"",
+      "", "%uint", "4",
+      "%uint_2 = OpConstant %uint 2\n%uint_3 = OpConstant %uint 3\n%uint_4 = OpConstant %uint 4\n"
+      "%uint_5 = OpConstant %uint 5\n%min_denorm = OpConstant %uint 1\n%denorm = OpConstant %uint 0x00400000\n"
+      "%neg_zero = OpConstant %uint 0x80000000\n%inf = OpConstant %uint 0x7f800000\n"
+      "%float_2 = OpConstant %float 2\n%float_m1 = OpConstant %float -1\n%float_1 = OpConstant %float 1\n"
+      "%ushort = OpTypeInt 16 0\n%half = OpTypeFloat 16\n%half_min_denorm = OpConstant %ushort 1\n",
+      "%a = OpBitcast %float %min_denorm\n%s = OpFAdd %float %a %a\n%sb = OpBitcast %uint %s\n"
+      "%d = OpBitcast %float %denorm\n%m = OpFMul %float %d %float_2\n%mb = OpBitcast %uint %m\n"
+      "%nz = OpBitcast %float %neg_zero\n%z = OpFAdd %float %nz %nz\n%zb = OpBitcast %uint %z\n"
+      "%i = OpBitcast %float %inf\n%im = OpFAdd %float %i %float_m1\n%imb = OpBitcast %uint %im\n"
+      "%ni = OpFNegate %float %i\n%q = OpFDiv %float %float_1 %ni\n%qb = OpBitcast %uint %q\n"
+      "%h = OpBitcast %half %half_min_denorm\n%hs = OpFAdd %half %h %h\n%hsb = OpBitcast %ushort %hs\n"
+      "%hsu = OpUConvert %uint %hsb\n"
+      "%e0 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_0\nOpStore %e0 %sb\n"
+      "%e1 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_1\nOpStore %e1 %mb\n"
+      "%e2 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_2\nOpStore %e2 %zb\n"
+      "%e3 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_3\nOpStore %e3 %imb\n"
+      "%e4 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_4\nOpStore %e4 %qb\n"
+      "%e5 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_5\nOpStore %e5 %hsu");
+  text.insert(text.find("OpDecorate %gid"),
+              "OpExecutionMode %main DenormPreserve 32\nOpExecutionMode %main DenormPreserve 16\n"
+              "OpExecutionMode %main SignedZeroInfNanPreserve 32\nOpExecutionMode %main RoundingModeRTE 32\n");
+  ComputeHarness h;
+  ASSERT_TRUE(compileText(h, text)) << h.error;
+  h.zeroBuffer<uint32_t>(0, 6);
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(0),
+            (std::vector<uint32_t>{0x00000002u, 0x00800000u, 0x80000000u, 0x7f800000u, 0x80000000u, 0x0002u}));
+}
 }  // namespace
 }  // namespace vkrt::testing
