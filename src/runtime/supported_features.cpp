@@ -69,6 +69,9 @@ constexpr F kSupported[] = {
     F::workgroupMemoryExplicitLayoutScalarBlockLayout,
     F::workgroupMemoryExplicitLayout8BitAccess,
     F::workgroupMemoryExplicitLayout16BitAccess,
+    // Integer dot products (SPV_KHR_integer_dot_product; none reported as accelerated): src/spirv/arithmetic.cpp,
+    // tests/spirv SpirvConformance.IntegerDotProducts.
+    F::shaderIntegerDotProduct,
     // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
     F::synchronization2,
     F::pipelineCreationCacheControl,

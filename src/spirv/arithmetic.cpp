@@ -272,6 +272,20 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       }
       return unaryOp([&](auto a) { return a; });
     }
+    // ---- integer dot products (SPV_KHR_integer_dot_product)
+    case spv::OpSDot:
+    case spv::OpUDot:
+    case spv::OpSUDot:
+    case spv::OpSDotAccSat:
+    case spv::OpUDotAccSat:
+    case spv::OpSUDotAccSat: {
+      bool acc = in.op == spv::OpSDotAccSat || in.op == spv::OpUDotAccSat || in.op == spv::OpSUDotAccSat;
+      if (!need(acc ? std::initializer_list<uint32_t>{3, 4, 5} : std::initializer_list<uint32_t>{3, 4}))
+        return (ok = fail(in, "operand has no value")), true;
+      set(result,
+          integerDot(in.op, operand(3), operand(4), acc ? operand(5) : nullptr, in.count > (acc ? 6u : 5u), rt));
+      return true;
+    }
     // ---- vectors and matrices
     case spv::OpDot:
       return binary([&](llvm::Value* x, llvm::Value* y) {
@@ -385,6 +399,39 @@ llvm::Value* Codegen::roundTowardZero(llvm::Value* x, llvm::Value* r) {
                                       b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, x));
   llvm::Value* bits = b.CreateBitCast(r, it);
   return b.CreateBitCast(b.CreateSelect(away, b.CreateSub(bits, intLike(it, 1)), bits), r->getType());
+}
+
+// OpSDot/UDot/SUDot and their AccSat forms: the components (a 32-bit scalar is four packed 8-bit ones with
+// PackedVectorFormat4x8Bit) are extended by the signedness the opcode gives (S: both signed, U: both unsigned, SU:
+// the first signed, the second unsigned), multiplied and summed in 128 bits, which no product or sum of these
+// widths overflows. The plain forms wrap to the result's width; the AccSat forms add the accumulator and
+// saturate to the result's range, signed unless the opcode is UDotAccSat.
+llvm::Value* Codegen::integerDot(spv::Op op, llvm::Value* a, llvm::Value* c, llvm::Value* accumulator, bool packed,
+                                 llvm::Type* rt) {
+  if (packed) {
+    llvm::Type* v4i8 = llvm::FixedVectorType::get(b.getInt8Ty(), 4);
+    a = b.CreateBitCast(a, v4i8);
+    c = b.CreateBitCast(c, v4i8);
+  }
+  bool firstSigned = op == spv::OpSDot || op == spv::OpSDotAccSat || op == spv::OpSUDot || op == spv::OpSUDotAccSat;
+  bool secondSigned = op == spv::OpSDot || op == spv::OpSDotAccSat;
+  llvm::Type* wide = b.getIntNTy(128);
+  llvm::Type* wideVec = splatType(wide, a->getType());
+  llvm::Value* x = firstSigned ? b.CreateSExt(a, wideVec) : b.CreateZExt(a, wideVec);
+  llvm::Value* y = secondSigned ? b.CreateSExt(c, wideVec) : b.CreateZExt(c, wideVec);
+  llvm::Value* products = b.CreateMul(x, y);
+  llvm::Value* dot = products->getType()->isVectorTy() ? b.CreateAddReduce(products) : products;
+  if (!accumulator) return b.CreateTrunc(dot, rt);
+  bool signedResult = op != spv::OpUDotAccSat;
+  unsigned w = rt->getIntegerBitWidth();
+  llvm::Value* sum = b.CreateAdd(dot, signedResult ? b.CreateSExt(accumulator, wide) : b.CreateZExt(accumulator, wide));
+  llvm::APInt lo = signedResult ? llvm::APInt::getSignedMinValue(w) : llvm::APInt::getMinValue(w);
+  llvm::APInt hi = signedResult ? llvm::APInt::getSignedMaxValue(w) : llvm::APInt::getMaxValue(w);
+  llvm::Value* loW = llvm::ConstantInt::get(wide, signedResult ? lo.sext(128) : lo.zext(128));
+  llvm::Value* hiW = llvm::ConstantInt::get(wide, signedResult ? hi.sext(128) : hi.zext(128));
+  sum = b.CreateSelect(b.CreateICmpSLT(sum, loW), loW, sum);
+  sum = b.CreateSelect(b.CreateICmpSGT(sum, hiW), hiW, sum);
+  return b.CreateTrunc(sum, rt);
 }
 
 bool Codegen::composite(const Instruction& in, bool& ok) {

@@ -96,9 +96,11 @@ class Codegen {
   llvm::Value* splat(llvm::Value* scalar, llvm::Type* like);  // scalar broadcast to `like`'s shape
 
   // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
-  bool arithmetic(const Instruction& in, bool& ok);              // arithmetic.cpp
-  bool composite(const Instruction& in, bool& ok);               // arithmetic.cpp
-  llvm::Value* truncDoubleToHalf(llvm::Value* d);                // arithmetic.cpp
+  bool arithmetic(const Instruction& in, bool& ok);  // arithmetic.cpp
+  bool composite(const Instruction& in, bool& ok);   // arithmetic.cpp
+  llvm::Value* truncDoubleToHalf(llvm::Value* d);    // arithmetic.cpp
+  llvm::Value* integerDot(spv::Op op, llvm::Value* a, llvm::Value* c, llvm::Value* accumulator, bool packed,
+                          llvm::Type* rt);                       // arithmetic.cpp
   llvm::Value* roundTowardZero(llvm::Value* x, llvm::Value* r);  // arithmetic.cpp
   bool controlFlow(const Instruction& in, bool& ok);             // control_flow.cpp
   bool memory(const Instruction& in, bool& ok);                  // memory.cpp

@@ -142,6 +142,12 @@ bool supportedOp(spv::Op op) {
     case spv::OpSConvert:
     case spv::OpFConvert:
     case spv::OpQuantizeToF16:
+    case spv::OpSDot:
+    case spv::OpUDot:
+    case spv::OpSUDot:
+    case spv::OpSDotAccSat:
+    case spv::OpUDotAccSat:
+    case spv::OpSUDotAccSat:
     case spv::OpBitcast:
     case spv::OpSNegate:
     case spv::OpFNegate:
@@ -259,7 +265,12 @@ bool supportedCapability(uint32_t cap) {
     // Float controls the compiled code honours as it is (runtime/physical_device.cpp says why).
     case spv::CapabilityDenormPreserve:
     case spv::CapabilitySignedZeroInfNanPreserve:
-    case spv::CapabilityRoundingModeRTE: return true;
+    case spv::CapabilityRoundingModeRTE:
+    // Integer dot products on vectors of any integer width and on packed 4 x 8-bit words (arithmetic.cpp).
+    case spv::CapabilityDotProductInputAll:
+    case spv::CapabilityDotProductInput4x8Bit:
+    case spv::CapabilityDotProductInput4x8BitPacked:
+    case spv::CapabilityDotProduct: return true;
     default: return extraSupportedCapability(cap) || rayTracingCapability(cap);
   }
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -538,6 +539,57 @@ TEST(SpirvConformance, FloatControlsPreserveDenormalsSignedZerosAndInfinities) {
   ASSERT_TRUE(h.run(1));
   EXPECT_EQ(h.get<uint32_t>(0),
             (std::vector<uint32_t>{0x00000002u, 0x00800000u, 0x80000000u, 0x7f800000u, 0x80000000u, 0x0002u}));
+}
+
+// SPV_KHR_integer_dot_product: packed 4 x 8-bit signed, signed x unsigned with a saturating accumulator, and
+// unsigned vectors; the reference multiplies and adds in 64 bits here.
+TEST(SpirvConformance, IntegerDotProducts) {
+  std::string text = module(
+      "OpCapability DotProduct\nOpCapability DotProductInput4x8BitPacked\nOpCapability DotProductInputAll\n"
+      "OpCapability Int8\nOpExtension \"SPV_KHR_integer_dot_product\"",
+      "", "%uint", "4",
+      "%uint_2 = OpConstant %uint 2\n%uint_3 = OpConstant %uint 3\n%uint_4 = OpConstant %uint 4\n"
+      "%v4uint = OpTypeVector %uint 4\n",
+      "%g4 = OpIMul %uint %g %uint_4\n"
+      "%pa = OpAccessChain %ptr_sb_elem %data %uint_0 %g4\n%a = OpLoad %uint %pa\n"
+      "%g41 = OpIAdd %uint %g4 %uint_1\n%pb = OpAccessChain %ptr_sb_elem %data %uint_0 %g41\n%bv = OpLoad %uint %pb\n"
+      "%g42 = OpIAdd %uint %g4 %uint_2\n%pc = OpAccessChain %ptr_sb_elem %data %uint_0 %g42\n%acc = OpLoad %uint %pc\n"
+      "%accs = OpBitcast %int %acc\n"
+      "%sdot = OpSDot %int %a %bv PackedVectorFormat4x8Bit\n"
+      "%sudot = OpSUDotAccSat %int %a %bv %accs PackedVectorFormat4x8Bit\n"
+      "%va = OpCompositeConstruct %v4uint %a %bv %acc %a\n%vb = OpCompositeConstruct %v4uint %bv %a %bv %acc\n"
+      "%udot = OpUDot %uint %va %vb\n"
+      "%r0 = OpBitcast %uint %sdot\nOpStore %pa %r0\n%r1 = OpBitcast %uint %sudot\nOpStore %pb %r1\n"
+      "OpStore %pc %udot");
+  struct Case {
+    uint32_t a, b, acc;
+  };
+  std::vector<Case> cases = {{0x807f01ffu, 0x7f80ff01u, 5u},
+                             {0x01020304u, 0x05060708u, 0x7ffffff0u},
+                             {0xffffffffu, 0xffffffffu, 0x80000000u},
+                             {0x12345678u, 0x9abcdef0u, 0xfffffffeu},
+                             {0u, 0xffffffffu, 7u}};
+  std::vector<uint32_t> data;
+  for (const Case& c : cases) data.insert(data.end(), {c.a, c.b, c.acc, 0});
+  ComputeHarness h;
+  ASSERT_TRUE(compileText(h, text)) << h.error;
+  h.setBuffer(0, data);
+  ASSERT_TRUE(h.run(uint32_t(cases.size())));
+  auto out = h.get<uint32_t>(0);
+  auto byte = [](uint32_t w, int i) { return (w >> (8 * i)) & 0xff; };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const Case& c = cases[k];
+    int64_t sdot = 0, sudot = 0;
+    for (int i = 0; i < 4; ++i) {
+      sdot += int64_t(int8_t(byte(c.a, i))) * int8_t(byte(c.b, i));
+      sudot += int64_t(int8_t(byte(c.a, i))) * int64_t(byte(c.b, i));
+    }
+    int64_t sat = std::clamp<int64_t>(sudot + int32_t(c.acc), INT32_MIN, INT32_MAX);
+    uint32_t udot = c.a * c.b + c.b * c.a + c.acc * c.b + c.a * c.acc;  // wraps, as OpUDot does
+    EXPECT_EQ(int32_t(out[4 * k]), int32_t(sdot)) << "case " << k;
+    EXPECT_EQ(int32_t(out[4 * k + 1]), int32_t(sat)) << "case " << k;
+    EXPECT_EQ(out[4 * k + 2], udot) << "case " << k;
+  }
 }
 }  // namespace
 }  // namespace vkrt::testing
