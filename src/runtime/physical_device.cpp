@@ -81,7 +81,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxDescriptorSetSampledImages = 1u << 20;
   l.maxDescriptorSetStorageImages = 1u << 20;
   l.maxDescriptorSetInputAttachments = 0;
-  l.maxComputeSharedMemorySize = 32768;
+  l.maxComputeSharedMemorySize = 65536;  // heap memory per workgroup (exec/compute.cpp)
   l.maxComputeWorkGroupCount[0] = l.maxComputeWorkGroupCount[1] = l.maxComputeWorkGroupCount[2] = 65535;
   l.maxComputeWorkGroupInvocations = 1024;
   l.maxComputeWorkGroupSize[0] = 1024;
