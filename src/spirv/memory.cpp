@@ -510,6 +510,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       b.SetInsertPoint(allocaBlock->getTerminator());
       auto* a = b.CreateAlloca(b.getInt8Ty(), i64(size));
       a->setAlignment(llvm::Align(16));
+      if (isRayQuery(pt.element)) b.CreateMemSet(a, b.getInt8(0), i64(size), llvm::MaybeAlign(16));  // not begun
       Ptr p;
       p.base = a;
       p.offset = i64(0);
