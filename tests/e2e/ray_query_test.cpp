@@ -4,12 +4,17 @@
 // the same hits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/trace_fixture.hpp"
+#include "ray_query_address.comp.spv.h"
+#include "ray_query_raygen.rgen.spv.h"
 #include "ray_query_scene.comp.spv.h"
 
 namespace vkrt::test {
@@ -376,6 +381,108 @@ TEST_F(RayQueryTest, TheSameHitsAsARayTracingPipeline) {
     EXPECT_EQ(q.ids[3], t.ids[3]) << "geometry";
   }
   EXPECT_GT(hits, 10);
+}
+
+// A ray query in a ray tracing stage: ray_query_raygen.rgen shoots trace_raygen.rgen's rays through a ray query and
+// writes what the closest-hit and miss shaders would; the two launches agree on the basic scene, and on a scene of
+// non-opaque quads (every candidate confirmed: the closest is committed).
+TEST_F(RayQueryTest, InARaygenShaderTheSameHitsAsTraceRay) {
+  VkShaderModule rq = module(kSpv_ray_query_raygen_rgen, sizeof kSpv_ray_query_raygen_rgen);
+  Desc traced = basicDesc();
+  VkPipeline pt = make(traced);
+  Desc queried;
+  queried.layout = traceLayout;
+  queried.general(rq, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  queried.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  queried.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+                queried.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  VkPipeline pq = make(queried);
+  constexpr uint32_t n = 8;
+  VkAccelerationStructureKHR quadNo = blas({triangles(kQuad, kQuadIndices, 0)});
+  VkAccelerationStructureKHR scenes[2] = {
+      basicScene(), tlas({instance(quadNo, 0.1f, 0, 5, 10, 0), instance(quadNo, 0.3f, 0.2f, 3, 20, 1)})};
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k ? "non-opaque quads" : "basic scene");
+    std::vector<TracePayload> a = trace(pt, sbt(pt, 3, {0}, {{1, {7}}}, {{2, {100}}, {2, {101}}}), scenes[k], n, n);
+    std::vector<TracePayload> b = trace(pq, sbt(pq, 3, {0}, {{1, {7}}}, {{2, {100}}, {2, {101}}}), scenes[k], n, n);
+    int hits = 0;
+    for (uint32_t i = 0; i < n * n; ++i) {
+      SCOPED_TRACE("ray " + std::to_string(i));
+      EXPECT_EQ(b[i].hit[0], a[i].hit[0]) << "t (-2: a miss)";
+      if (a[i].hit[0] == -2.0f) continue;
+      ++hits;
+      for (int c = 1; c < 4; ++c) EXPECT_EQ(b[i].hit[c], a[i].hit[c]) << "barycentrics, hit kind";
+      for (int c = 0; c < 4; ++c) EXPECT_EQ(b[i].ids[c], a[i].ids[c]) << "custom index, instance, primitive, geometry";
+      if (k == 0) EXPECT_EQ(b[i].extra[1], 0u) << "opaque quads: no candidate";
+    }
+    EXPECT_GT(hits, 10);
+  }
+}
+
+// Ray queries on an address from the shader (OpConvertUToAccelerationStructureKHR): a built top level is traversed;
+// an address that is no acceleration structure, or one destroyed, is reported once and the query finds nothing.
+class RayQueryMisuseTest : public RayQueryTest {
+ protected:
+  bool layer() override { return false; }
+};
+
+TEST_F(RayQueryMisuseTest, AWildOrDestroyedStructureAddressIsReportedAndFindsNothing) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own diagnostics";
+  ComputePipeline p = makeComputePipeline(device, kSpv_ray_query_address_comp, sizeof kSpv_ray_query_address_comp,
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, 8);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer& out = buffer(16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  VkDescriptorBufferInfo bo{out.buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = p.set;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  w.pBufferInfo = &bo;
+  vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  auto run = [&](uint64_t address) {
+    std::memset(out.data, 0xee, 16);
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+    vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 8, &address);
+    vkCmdDispatch(cb, 1, 1, 1);
+    submitAndWait(cb);
+    std::array<uint32_t, 4> r;
+    std::memcpy(r.data(), out.data, 16);
+    return r;
+  };
+  auto expectNothing = [&](const std::array<uint32_t, 4>& r, uint64_t address) {
+    EXPECT_EQ(r[0], 0u) << "committed type: none";
+    EXPECT_EQ(r[2], 0u) << "no candidate";
+    EXPECT_EQ(r[3], 7u) << "the shader ran to its end";
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u);
+    char text[32];
+    std::snprintf(text, sizeof text, "0x%llx", (unsigned long long)address);
+    EXPECT_NE(msgs[0].text.find(text), std::string::npos) << msgs[0].text;
+    EXPECT_NE(msgs[0].text.find("find no intersection"), std::string::npos) << msgs[0].text;
+    clearMessages();
+  };
+
+  VkAccelerationStructureKHR quadNo = blas({triangles(kQuad, kQuadIndices, 0)});
+  VkAccelerationStructureKHR top = tlas({instance(quadNo, 0, 0, 5)});
+  std::array<uint32_t, 4> r = run(addressOf(top));
+  EXPECT_EQ(r[0], 1u) << "committed type: triangle";
+  float t;
+  std::memcpy(&t, &r[1], 4);
+  EXPECT_EQ(t, 15.0f);
+  EXPECT_EQ(r[2], 1u);
+  EXPECT_TRUE(vkrtMessages().empty());
+
+  const uint64_t wild = 0x123456789a0ull;
+  expectNothing(run(wild), wild);
+  const uint64_t bottom = addressOf(quadNo);
+  expectNothing(run(bottom), bottom);
+  const uint64_t gone = addressOf(top);
+  destroyAs(device, top, nullptr);
+  structures.erase(std::find(structures.begin(), structures.end(), top));
+  expectNothing(run(gone), gone);
+  destroyComputePipeline(device, p);
 }
 
 }  // namespace
