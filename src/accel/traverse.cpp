@@ -171,6 +171,11 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     args->valid[0] = 0;
     return;
   }
+  // A ray query's traversal runs over [tMin, tMax] with both ends (boxes need them): triangles need tMin < t < tMax.
+  if (ctx.query && !(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
+    args->valid[0] = 0;
+    return;
+  }
   const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
   if (geom.vertices && hit.primID < geom.primitiveCount) {
     const uint32_t* index = geom.indices + 3 * size_t(hit.primID);
@@ -567,9 +572,10 @@ bool queryProceed(RayQuery& q) {
   rh.ray.dir_x = ray.direction[0];
   rh.ray.dir_y = ray.direction[1];
   rh.ray.dir_z = ray.direction[2];
-  // As in trace(): triangle candidates lie strictly inside (tMin, tMax), boxes include both ends.
-  rh.ray.tnear = std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
-  rh.ray.tfar = nextDown(ray.tMax);
+  // Boxes are candidates for tMin <= t <= tMax, both ends included, so the Embree interval is [tMin, tMax] (a ray
+  // that starts inside a box with tMin == tMax == 0 meets it); the filter keeps triangles strictly inside.
+  rh.ray.tnear = ray.tMin;
+  rh.ray.tfar = ray.tMax;
   rh.ray.time = 0;
   rh.ray.mask = (ray.cullMask & 0xFF) | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) |
                 (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
