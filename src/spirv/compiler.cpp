@@ -71,6 +71,8 @@ llvm::Type* Codegen::type(uint32_t id) {
         r = imageValueType();
       else if (isAccelerationStructure(id))
         r = b.getInt64Ty();  // its device address
+      else if (isRayQuery(id))
+        r = b.getPtrTy();  // a bare ray query value: its variable's address (ray_query.cpp)
       break;
     default: break;
   }

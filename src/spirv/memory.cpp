@@ -500,6 +500,7 @@ static bool operandPtr(Codegen& g, const Instruction& in, uint32_t id, Ptr* out)
 }
 
 bool Codegen::memory(const Instruction& in, bool& ok) {
+  if (rayQueryValue(in, ok)) return true;  // OpLoad / OpStore of a whole ray query (ray_query.cpp)
   switch (in.op) {
     case spv::OpVariable: {
       // Function-scope variable: bytes in the function's entry block.

@@ -71,6 +71,30 @@ llvm::Value* queryFunction(Codegen& g, size_t offset) {
 
 }  // namespace
 
+// A bare ray query value (OpLoad of a ray query variable, a function parameter of OpTypeRayQueryKHR, as the CTS's
+// ray_query.advanced.using_wrapper_function passes one) is the address of the state it was loaded from; OpStore of
+// one into a variable copies the state.
+bool Codegen::rayQueryValue(const Instruction& in, bool& ok) {
+  if (in.op == spv::OpLoad) {
+    if (!isRayQuery(in.word(1))) return false;
+    Ptr& p = ptr(in.word(3));
+    if (!p.base || p.slot >= 0) return (ok = fail(in, "the ray query operand is not a variable")), true;
+    set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
+    return true;
+  }
+  if (in.op == spv::OpStore) {
+    if (!isRayQuery(m.typeOf(in.word(2)))) return false;
+    Ptr& p = ptr(in.word(1));
+    llvm::Value* v = value(in.word(2));
+    if (!p.base || p.slot >= 0 || !v) return (ok = fail(in, "the ray query operand is not a variable")), true;
+    llvm::Value* dst = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
+    // (memmove: a state stored onto itself, or onto an overlapping copy, stays whole.)
+    b.CreateMemMove(dst, llvm::MaybeAlign(16), v, llvm::MaybeAlign(16), i64(abi::kRayQueryStateBytes));
+    return true;
+  }
+  return false;
+}
+
 bool Codegen::rayQuery(const Instruction& in, bool& ok) {
   if (in.op == spv::OpTypeRayQueryKHR) return true;
   // Operand 1 (no result) or 3 (with a result) is the query variable.
