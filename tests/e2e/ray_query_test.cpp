@@ -419,6 +419,50 @@ TEST_F(RayQueryTest, InARaygenShaderTheSameHitsAsTraceRay) {
   }
 }
 
+// Boxes through a ray query in a raygen shader (spheres generated as trace_sphere.rint reports them) and through a
+// procedural hit group: the same hits; with an opaque quad in front of some spheres and behind others.
+TEST_F(RayQueryTest, InARaygenShaderGeneratedHitsAgreeWithAnIntersectionShader) {
+  setSpheres({{-1, -1, 4, 0.5f}, {1, 1, 6, 0.5f}, {0.6f, -0.9f, 5, 0.7f}});
+  VkAccelerationStructureKHR b = blas({aabbs({{-1.5f, -1.5f, 3.5f, -0.5f, -0.5f, 4.5f},
+                                              {0.5f, 0.5f, 5.5f, 1.5f, 1.5f, 6.5f},
+                                              {-0.1f, -1.6f, 4.3f, 1.3f, -0.2f, 5.7f}},
+                                             0)});
+  VkAccelerationStructureKHR quadOpaque = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(b, 0, 0, 1, 9, 0), instance(quadOpaque, 0.35f, 0.35f, 6.5f, 4, 1)});
+  Desc traced;
+  traced.layout = traceLayout;
+  traced.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  traced.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  uint32_t c = traced.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  uint32_t i = traced.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR);
+  traced.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR,
+               i);
+  traced.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c);
+  traced.maxHitAttr = 8;
+  traced.maxPayload = sizeof(TracePayload);
+  VkPipeline pt = make(traced);
+  VkShaderModule rq = module(kSpv_ray_query_raygen_rgen, sizeof kSpv_ray_query_raygen_rgen);
+  Desc queried;
+  queried.layout = traceLayout;
+  queried.general(rq, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  queried.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline pq = make(queried);
+  constexpr uint32_t n = 16;
+  std::vector<TracePayload> a = trace(pt, sbt(pt, 4, {0}, {{1, {7}}}, {{2, {300}}, {3, {301}}}), top, n, n);
+  std::vector<TracePayload> q = trace(pq, sbt(pq, 2, {0}, {{1, {7}}}, {}), top, n, n);
+  int spheres = 0, quads = 0;
+  for (uint32_t k = 0; k < n * n; ++k) {
+    SCOPED_TRACE("ray " + std::to_string(k));
+    EXPECT_NEAR(q[k].hit[0], a[k].hit[0], 1e-5f) << "t (-2: a miss)";
+    if (a[k].hit[0] == -2.0f) continue;
+    (a[k].hit[3] == 5.0f ? spheres : quads)++;
+    for (int j = 1; j < 4; ++j) EXPECT_EQ(q[k].hit[j], a[k].hit[j]) << "attributes, hit kind";
+    for (int j = 0; j < 4; ++j) EXPECT_EQ(q[k].ids[j], a[k].ids[j]) << "custom index, instance, primitive, geometry";
+  }
+  EXPECT_GT(spheres, 6);
+  EXPECT_GT(quads, 6);
+}
+
 // Ray queries on an address from the shader (OpConvertUToAccelerationStructureKHR): a built top level is traversed;
 // an address that is no acceleration structure, or one destroyed, is reported once and the query finds nothing.
 class RayQueryMisuseTest : public RayQueryTest {
