@@ -63,13 +63,14 @@ struct InvocationContext {
   uint32_t numWorkgroups[4];  // 48  NumWorkgroups
   uint32_t workgroupSize[4];  // 64  WorkgroupSize
   uint32_t localIndex;        // 80  LocalInvocationIndex
-  uint32_t pad0[3];
-  const ResourceSlot* resources;        // 96   by slot, in the order the compiler lists the shader's resources
-  const uint8_t* pushConstants;         // 104  kPushConstantBytes bytes
-  uint8_t* workgroupMemory;             // 112  the shader's workgroup memory, shared by the workgroup
-  void (*barrier)(InvocationContext*);  // 120  OpControlBarrier with Workgroup scope
-  void* executor;                       // 128  the executor's per-invocation state
-  uint8_t* sink;                        // 136  kSinkBytes bytes: out-of-bounds atomics land here
+  uint32_t pad0;
+  const struct RayQueryScope* rayQueries;  // 88  OpRayQuery*KHR: the dispatch's or launch's ray query runtime
+  const ResourceSlot* resources;           // 96   by slot, in the order the compiler lists the shader's resources
+  const uint8_t* pushConstants;            // 104  kPushConstantBytes bytes
+  uint8_t* workgroupMemory;                // 112  the shader's workgroup memory, shared by the workgroup
+  void (*barrier)(InvocationContext*);     // 120  OpControlBarrier with Workgroup scope
+  void* executor;                          // 128  the executor's per-invocation state
+  uint8_t* sink;                           // 136  kSinkBytes bytes: out-of-bounds atomics land here
 };
 
 inline constexpr uint32_t kPushConstantBytes = 256;
@@ -80,11 +81,48 @@ static_assert(offsetof(InvocationContext, globalId) == 0 && offsetof(InvocationC
                   offsetof(InvocationContext, workgroupSize) == 64 && offsetof(InvocationContext, localIndex) == 80 &&
                   offsetof(InvocationContext, resources) == 96 && offsetof(InvocationContext, pushConstants) == 104 &&
                   offsetof(InvocationContext, workgroupMemory) == 112 && offsetof(InvocationContext, barrier) == 120 &&
-                  offsetof(InvocationContext, executor) == 128 && offsetof(InvocationContext, sink) == 136,
+                  offsetof(InvocationContext, executor) == 128 && offsetof(InvocationContext, sink) == 136 &&
+                  offsetof(InvocationContext, rayQueries) == 88,
               "the compiler bakes these offsets into shader code");
 static_assert(sizeof(ResourceSlot) == 16, "the compiler bakes the resource slot size into shader code");
 
 using ComputeEntry = void (*)(InvocationContext*);
+
+// ---------------------------------------------------------------------------------------------- ray queries
+//
+// OpRayQuery*KHR (VK_KHR_ray_query), in compute and ray tracing shaders. A variable of OpTypeRayQueryKHR is
+// kRayQueryStateBytes bytes (16-byte aligned) in the invocation's own frame (Function) or private block (Private),
+// opaque to compiled code: the runtime keeps the whole query there (no allocation per query). Compiled code
+// calls the functions of `context->rayQueries->runtime` with the scope and the variable's address. The executor
+// (compute dispatch, ray tracing launch) sets `rayQueries` for every invocation; the scope resolves acceleration
+// structure addresses for the dispatch (cached: no lookup per query).
+//
+// RayQueryRuntime::get writes the value of OpRayQueryGet*KHR `op` (the SPIR-V opcode) for the candidate
+// (committed = 0) or the committed intersection (1) at `out` (up to 64 bytes), laid out as the result type in
+// the natural layout: scalars, vectors packed, matrices (ObjectToWorld/WorldToObject: 4 columns of 3 floats)
+// column by column; booleans as a 32-bit 0 or 1.
+inline constexpr uint64_t kRayQueryStateBytes = 384;
+
+struct RayQueryScope;
+struct TraceRayArgs;
+
+struct RayQueryRuntime {
+  // OpRayQueryInitializeKHR; `args` as for traceRay (the SBT fields, payload and bytes are unused).
+  void (*initialize)(const RayQueryScope* scope, void* query, const TraceRayArgs* args);
+  uint32_t (*proceed)(void* query);                                      // 1: a candidate needs the shader
+  void (*terminate)(void* query);                                        // OpRayQueryTerminateKHR
+  void (*generateIntersection)(void* query, float hitT);                 // OpRayQueryGenerateIntersectionKHR
+  void (*confirmIntersection)(void* query);                              // OpRayQueryConfirmIntersectionKHR
+  void (*get)(void* query, uint32_t op, uint32_t committed, void* out);  // OpRayQueryGet*KHR
+};
+
+struct RayQueryScope {
+  const RayQueryRuntime* runtime;  // 0
+};
+static_assert(offsetof(RayQueryScope, runtime) == 0 && offsetof(RayQueryRuntime, proceed) == 8 &&
+                  offsetof(RayQueryRuntime, terminate) == 16 && offsetof(RayQueryRuntime, generateIntersection) == 24 &&
+                  offsetof(RayQueryRuntime, confirmIntersection) == 32 && offsetof(RayQueryRuntime, get) == 40,
+              "the compiler bakes these offsets into shader code");
 
 // ---------------------------------------------------------------------------------------------- ray tracing
 //

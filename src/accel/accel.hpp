@@ -212,3 +212,55 @@ std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
                                       const std::vector<std::shared_ptr<const Blas>>& blasRefs, std::string* error);
 
 }  // namespace vkrt::accel
+
+namespace vkrt::accel {
+
+// ---------------------------------------------------------------------------------------------- ray queries
+//
+// A ray query (VK_KHR_ray_query, OpRayQuery*KHR): the traversal driven by the shader instead of by callbacks. The
+// whole state is this plain struct, which lives in the invocation (compiled code reserves abi::kRayQueryStateBytes
+// for it): nothing is allocated per query. See query.cpp for the algorithm (each proceed() is one traversal that
+// finds the next candidate in a fixed order).
+struct QueryHit {
+  float t = 0;
+  uint32_t instance = 0, geometry = 0, primitive = 0;
+  uint32_t hitKind = 0;  // triangles: kHitKind*; generated hits: 0
+  uint8_t type = 0;      // candidate: 1 triangle, 2 box; committed: 0 none, 1 triangle, 2 generated
+  bool opaque = false;   // candidate boxes: after geometry, instance and ray flags
+  float barycentrics[2] = {0, 0};
+};
+
+struct QueryCrossing {  // a triangle candidate already returned (for the shared-edge rule, see traverse.cpp)
+  uint32_t instance;
+  float t;
+  float v[3][3];
+};
+
+struct RayQuery {
+  const Tlas* tlas = nullptr;  // null: no structure (nothing is hit)
+  Ray ray;
+  uint32_t phase = 0;  // 0: not initialized or done (proceed() returns false), 1: traversing
+  QueryHit candidate, committed;
+  bool returned = false;  // a candidate was returned: `last` holds its order key
+  struct Key {
+    float t;
+    uint32_t kind, instance, geometry, primitive;
+  } last{};
+  static constexpr uint32_t kCrossings = 4;
+  QueryCrossing crossings[kCrossings];
+  uint32_t crossingCount = 0;
+};
+
+// OpRayQueryInitializeKHR (`tlas` may be null: an unresolved structure, nothing is hit).
+void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray);
+// OpRayQueryProceedKHR: true with q.candidate set when a candidate needs the shader.
+bool queryProceed(RayQuery& q);
+// OpRayQueryConfirmIntersectionKHR (a triangle candidate), OpRayQueryGenerateIntersectionKHR (a box candidate),
+// OpRayQueryTerminateKHR.
+void queryConfirm(RayQuery& q);
+void queryGenerate(RayQuery& q, float t);
+void queryTerminate(RayQuery& q);
+// The built-ins of the candidate or the committed hit (instance data, matrices, object-space ray); zeros when none.
+HitInfo queryHitInfo(const RayQuery& q, bool committed);
+
+}  // namespace vkrt::accel

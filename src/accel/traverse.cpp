@@ -61,15 +61,18 @@ bool sharesVertex(const float a[3][3], const float b[3][3]) {
   return false;
 }
 
+struct QueryCollect;
+
 struct TraceContext {
   RTCIntersectContext embree;  // first: Embree hands &embree back to the callbacks
   const Tlas::Impl* tlas;
   const Ray* ray;
   HitHandler* handler;
   uint32_t flags;
-  bool firstHit;            // TerminateOnFirstHitKHR: an occlusion query
-  bool terminated = false;  // a commit ended the traversal
-  Committed last;           // the latest commit made by a callback
+  bool firstHit;                  // TerminateOnFirstHitKHR: an occlusion query
+  bool terminated = false;        // a commit ended the traversal
+  QueryCollect* query = nullptr;  // a ray query's proceed(): candidates needing the shader are collected, not run
+  Committed last;                 // the latest commit made by a callback
   // The latest triangle candidates offered (culling passed), for dropping the same crossing offered twice.
   static constexpr uint32_t kOffered = 8;
   Offered offered[kOffered];
@@ -142,6 +145,10 @@ void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t
   objectRay(r, *ctx.ray, h.objectRayOrigin, h.objectRayDirection);
 }
 
+void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t hitKind, const float v[3][3]);
+void offerQueryBox(TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive, float entry,
+                   bool opaque);
+
 // The context filter: every triangle candidate of a ray that needs one (see needsTriangleFilter). Embree has set
 // the ray's tfar to the candidate's t; accepting keeps it (Embree then narrows the traversal to it), rejecting
 // restores the previous one.
@@ -164,18 +171,33 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     args->valid[0] = 0;
     return;
   }
+  // A ray query's traversal runs over [tMin, tMax] with both ends (boxes need them): triangles need tMin < t < tMax.
+  if (ctx.query && !(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
+    args->valid[0] = 0;
+    return;
+  }
+  const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
   if (geom.vertices && hit.primID < geom.primitiveCount) {
     const uint32_t* index = geom.indices + 3 * size_t(hit.primID);
     float v[3][3];
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) v[k][c] = index[k] < geom.vertexCount ? geom.vertices[3 * size_t(index[k]) + c] : 0;
+    if (ctx.query && !opaque) {  // a ray query's candidate: collected for the shader, never accepted here
+      offerQueryTriangle(ctx, hit, ray.tfar, hitKind, v);
+      args->valid[0] = 0;
+      return;
+    }
     if (ctx.sameCrossingOffered(hit.instID[0], ray.tfar, v)) {
       args->valid[0] = 0;
       return;
     }
   }
-  const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
-  bool terminate = ctx.firstHit;
+  if (ctx.query && !opaque) {
+    args->valid[0] = 0;
+    return;
+  }
+  // (A ray query's TerminateOnFirstHit runs as an intersection query: its first opaque commit ends it.)
+  bool terminate = ctx.firstHit || (ctx.query && (ctx.flags & kRayTerminateOnFirstHit));
   if (!opaque) {
     // A non-opaque candidate goes to the any-hit shader ("Triangle and Generated Intersection Candidates").
     HitInfo info;
@@ -209,7 +231,8 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
 
 // The candidate test for a box: Vulkan's AABB candidates satisfy tmin <= t <= tmax, ends included, against the
 // closest hit so far ("Ray Intersection Candidate Determination"). A ray starting inside the box meets it.
-bool boxCandidate(const float* b, const float org[3], const float dir[3], float tMin, float tMax) {
+bool boxCandidate(const float* b, const float org[3], const float dir[3], float tMin, float tMax,
+                  float* entry = nullptr) {
   float lo = tMin, hi = tMax;
   for (int a = 0; a < 3; ++a) {
     if (dir[a] == 0) {
@@ -222,6 +245,7 @@ bool boxCandidate(const float* b, const float org[3], const float dir[3], float 
     lo = std::max(lo, t0);
     hi = std::min(hi, t1);
   }
+  if (entry) *entry = lo;
   return lo <= hi;
 }
 
@@ -288,7 +312,13 @@ void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, 
   if (opacityCulled(opaque, ctx.flags)) return;
   BoxCandidate candidate(ctx, ray, hit, opaque, instance, geomID, primID);
   const HitInfo& info = candidate.info();
-  if (!boxCandidate(box, info.objectRayOrigin, info.objectRayDirection, ctx.ray->tMin, candidate.tMax())) return;
+  float entry = 0;
+  if (!boxCandidate(box, info.objectRayOrigin, info.objectRayDirection, ctx.ray->tMin, candidate.tMax(), &entry))
+    return;
+  if (ctx.query) {
+    offerQueryBox(ctx, instance, geomID, primID, entry, opaque);
+    return;
+  }
   ctx.handler->intersect(candidate);
 }
 
@@ -408,6 +438,233 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   c.hitKind = box ? ctx.last.hitKind : 0;
   report(ctx, c, hit);
   return true;
+}
+
+// ------------------------------------------------------------------------------------------------ ray queries
+//
+// Vulkan "Ray Queries": OpRayQueryProceedKHR returns each candidate that needs the shader (non-opaque triangles,
+// boxes), the shader confirms, generates or ignores it, and opaque triangles are committed by the traversal. The
+// specification leaves the order of candidates to the implementation. Embree's traversal is callback-driven and
+// cannot be suspended, so each proceed() is one complete traversal over [tMin, committed t] that
+//  - commits opaque triangles as a traced ray does (the filter accepts them; Embree keeps the closest), and
+//  - collects, without running anything, the candidates that need the shader and returns the smallest of them by
+//    the key (t, box before triangle, instance, geometry, primitive) above the key of the candidate returned last
+//    (a box's t is where the ray enters it).
+// Candidate keys do not depend on the interval, and the interval only shrinks, so every candidate is returned at
+// most once, in increasing key order, and none is skipped unless a commit put it out of reach. A proceed() costs
+// one traversal; the state is the RayQuery (no allocation). Triangles met twice at a shared edge or vertex (see
+// sameCrossingOffered) are returned once: a candidate of the same crossing as one returned before is dropped.
+namespace detail {
+namespace {
+
+using Key = RayQuery::Key;
+
+bool keyLess(const Key& a, const Key& b) {
+  if (a.t != b.t) return a.t < b.t;
+  if (a.kind != b.kind) return a.kind < b.kind;
+  if (a.instance != b.instance) return a.instance < b.instance;
+  if (a.geometry != b.geometry) return a.geometry < b.geometry;
+  return a.primitive < b.primitive;
+}
+
+struct QueryCollect {
+  RayQuery* q = nullptr;
+  bool found = false;
+  Key best{};
+  QueryHit hit;
+  float v[3][3] = {};
+};
+
+// Whether `key` is a candidate this traversal should consider: above the last one returned, below the best so far.
+bool better(const QueryCollect& c, const Key& key) {
+  if (c.q->returned && !keyLess(c.q->last, key)) return false;
+  return !c.found || keyLess(key, c.best);
+}
+
+void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t hitKind, const float v[3][3]) {
+  QueryCollect& c = *ctx.query;
+  const Key key{t, 1, hit.instID[0], hit.geomID, hit.primID};
+  if (!better(c, key)) return;
+  const RayQuery& q = *c.q;
+  const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
+  for (uint32_t k = 0; k < std::min(q.crossingCount, RayQuery::kCrossings); ++k) {
+    const QueryCrossing& o = q.crossings[k];
+    if (o.instance == key.instance && std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, v)) return;
+  }
+  c.found = true;
+  c.best = key;
+  c.hit = QueryHit{};
+  c.hit.t = t;
+  c.hit.instance = key.instance;
+  c.hit.geometry = key.geometry;
+  c.hit.primitive = key.primitive;
+  c.hit.hitKind = hitKind;
+  c.hit.type = 1;
+  c.hit.barycentrics[0] = hit.u;
+  c.hit.barycentrics[1] = hit.v;
+  std::memcpy(c.v, v, sizeof c.v);
+}
+
+void offerQueryBox(TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive, float entry,
+                   bool opaque) {
+  QueryCollect& c = *ctx.query;
+  const Key key{entry, 0, instance, geometry, primitive};
+  if (!better(c, key)) return;
+  c.found = true;
+  c.best = key;
+  c.hit = QueryHit{};
+  c.hit.t = entry;
+  c.hit.instance = instance;
+  c.hit.geometry = geometry;
+  c.hit.primitive = primitive;
+  c.hit.type = 2;
+  c.hit.opaque = opaque;
+}
+
+// The end of the interval candidates lie in: the committed hit's t, or the ray's tMax.
+float queryTMax(const RayQuery& q) { return q.committed.type ? q.committed.t : q.ray.tMax; }
+
+void commitEnd(RayQuery& q) {
+  if (q.ray.flags & kRayTerminateOnFirstHit) q.phase = 0;  // the first commit ends the query
+}
+
+}  // namespace
+}  // namespace detail
+
+void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
+  q = RayQuery{};
+  q.ray = ray;
+  q.phase = 1;
+  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
+  const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
+                     ray.tMin >= 0 && ray.tMin <= ray.tMax;
+  q.tlas = valid && tlas && tlas->impl->scene ? tlas : nullptr;
+}
+
+bool queryProceed(RayQuery& q) {
+  using namespace detail;
+  q.candidate = QueryHit{};
+  if (q.phase != 1) return false;
+  if (!q.tlas) {
+    q.phase = 0;
+    return false;
+  }
+  const Tlas::Impl& t = *q.tlas->impl;
+  Ray ray = q.ray;
+  ray.tMax = queryTMax(q);
+
+  QueryCollect collect;
+  collect.q = &q;
+  TraceContext ctx;
+  rtcInitIntersectContext(&ctx.embree);
+  ctx.tlas = &t;
+  ctx.ray = &ray;
+  ctx.handler = nullptr;
+  ctx.flags = ray.flags;
+  ctx.firstHit = false;
+  ctx.query = &collect;
+  if (t.summary.triangles && !(ray.flags & kRaySkipTriangles)) ctx.embree.filter = triangleFilter;
+
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin[0];
+  rh.ray.org_y = ray.origin[1];
+  rh.ray.org_z = ray.origin[2];
+  rh.ray.dir_x = ray.direction[0];
+  rh.ray.dir_y = ray.direction[1];
+  rh.ray.dir_z = ray.direction[2];
+  // Boxes are candidates for tMin <= t <= tMax, both ends included, so the Embree interval is [tMin, tMax] (a ray
+  // that starts inside a box with tMin == tMax == 0 meets it); the filter keeps triangles strictly inside.
+  rh.ray.tnear = ray.tMin;
+  rh.ray.tfar = ray.tMax;
+  rh.ray.time = 0;
+  rh.ray.mask = (ray.cullMask & 0xFF) | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) |
+                (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(t.scene, &ctx.embree, &rh);
+
+  // Opaque triangles the traversal committed (the filter recorded the last one accepted, which is the closest).
+  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID || ctx.terminated) {
+    const Committed& c = ctx.last;
+    q.committed = QueryHit{};
+    q.committed.t = c.t;
+    q.committed.instance = c.instance;
+    q.committed.geometry = c.geometry;
+    q.committed.primitive = c.primitive;
+    q.committed.hitKind = c.hitKind;
+    q.committed.type = 1;
+    q.committed.barycentrics[0] = c.u;
+    q.committed.barycentrics[1] = c.v;
+    if (ctx.terminated) {
+      q.phase = 0;
+      return false;
+    }
+  }
+  if (collect.found) {
+    const float end = queryTMax(q);
+    const bool inside = collect.hit.type == 2 ? collect.best.t <= end : collect.best.t < end;
+    if (inside) {
+      q.candidate = collect.hit;
+      q.last = collect.best;
+      q.returned = true;
+      if (collect.hit.type == 1) {
+        QueryCrossing& slot = q.crossings[q.crossingCount++ % RayQuery::kCrossings];
+        slot.instance = collect.hit.instance;
+        slot.t = collect.hit.t;
+        std::memcpy(slot.v, collect.v, sizeof slot.v);
+      }
+      return true;
+    }
+  }
+  q.phase = 0;
+  return false;
+}
+
+void queryConfirm(RayQuery& q) {
+  if (q.phase != 1 || q.candidate.type != 1) return;
+  q.committed = q.candidate;
+  q.candidate.type = 0;
+  detail::commitEnd(q);
+}
+
+void queryGenerate(RayQuery& q, float t) {
+  if (q.phase != 1 || q.candidate.type != 2) return;
+  // Valid usage requires tMin <= t <= the committed t (or tMax); a t outside is not committed.
+  if (!(t >= q.ray.tMin && t <= detail::queryTMax(q))) return;
+  q.committed = q.candidate;
+  q.committed.t = t;
+  q.committed.hitKind = 0;
+  q.committed.opaque = false;
+  q.candidate.type = 0;
+  detail::commitEnd(q);
+}
+
+void queryTerminate(RayQuery& q) {
+  q.phase = 0;
+  q.candidate = QueryHit{};
+}
+
+HitInfo queryHitInfo(const RayQuery& q, bool committed) {
+  HitInfo h;
+  const QueryHit& s = committed ? q.committed : q.candidate;
+  if (!s.type || !q.tlas) return h;
+  const detail::InstanceRecord& r = q.tlas->impl->records[s.instance];
+  h.t = s.t;
+  h.instanceIndex = s.instance;
+  h.customIndex = r.customIndex;
+  h.sbtOffset = r.sbtOffset;
+  h.geometryIndex = s.geometry;
+  h.primitiveIndex = s.primitive;
+  h.hitKind = s.hitKind;
+  h.triangle = s.type == 1;
+  h.barycentrics[0] = s.barycentrics[0];
+  h.barycentrics[1] = s.barycentrics[1];
+  h.objectToWorld = r.objectToWorld;
+  h.worldToObject = r.worldToObject;
+  detail::objectRay(r, q.ray, h.objectRayOrigin, h.objectRayDirection);
+  return h;
 }
 
 }  // namespace vkrt::accel

@@ -138,6 +138,7 @@ bool runCompute(const ComputeDispatch& d) {
   }
   proto.resources = d.resources;
   proto.pushConstants = d.pushConstants;
+  proto.rayQueries = d.rayQueries;
   proto.barrier = sh.usesBarrier ? fiberBarrier : noBarrier;
 
   std::atomic<bool> failed{false};

@@ -21,10 +21,11 @@ struct ComputeKernel {
 
 struct ComputeDispatch {
   ComputeKernel kernel;
-  const abi::ResourceSlot* resources = nullptr;  // one per resource the shader uses, in the compiler's order
-  const uint8_t* pushConstants = nullptr;        // abi::kPushConstantBytes bytes
-  uint32_t base[3] = {0, 0, 0};                  // vkCmdDispatchBase's first workgroup
-  uint32_t count[3] = {1, 1, 1};                 // workgroups
+  const abi::ResourceSlot* resources = nullptr;    // one per resource the shader uses, in the compiler's order
+  const uint8_t* pushConstants = nullptr;          // abi::kPushConstantBytes bytes
+  uint32_t base[3] = {0, 0, 0};                    // vkCmdDispatchBase's first workgroup
+  uint32_t count[3] = {1, 1, 1};                   // workgroups
+  const abi::RayQueryScope* rayQueries = nullptr;  // the ray query runtime (exec/ray_query.hpp), for every invocation
 };
 
 // Runs the dispatch to completion. Returns false when fiber stacks could not be allocated (the workgroups that

@@ -65,8 +65,10 @@ class RecordCache {
 
 // The launch's shared state: the SBT caches and the acceleration structures met so far.
 struct LaunchState {
+  explicit LaunchState(const RayLaunch& l) : launch(&l), queries(l.resolver) {}
   const RayLaunch* launch = nullptr;
   RecordCache miss, hit, callable;
+  RayQueryScope queries;  // the shaders' ray queries (they resolve through the launch's resolver too)
 
   static constexpr uint32_t kCachedStructures = 16;
   std::atomic<uint64_t> asAddress[kCachedStructures];
@@ -121,6 +123,7 @@ void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
   inv.base.pushConstants = state->launch->pushConstants;
   inv.base.sink = tlsSink;
   inv.runtime = &kRuntime;
+  inv.base.rayQueries = &state->queries;
   if (caller) {
     std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
     std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
@@ -374,8 +377,7 @@ void runRays(const RayLaunch& launch) {
   if (!launch.raygenGroup || !launch.raygenGroup->general.entry) return;
   const uint64_t w = launch.size[0], h = launch.size[1], d = launch.size[2];
   if (w == 0 || h == 0 || d == 0) return;
-  LaunchState state;
-  state.launch = &launch;
+  LaunchState state(launch);
   state.miss.init(launch.miss);
   state.hit.init(launch.hit);
   state.callable.init(launch.callable);

@@ -19,6 +19,7 @@
 
 #include "abi/abi.hpp"
 #include "accel/accel.hpp"
+#include "exec/ray_query.hpp"
 
 namespace vkrt::exec {
 
@@ -48,15 +49,13 @@ struct SbtRange {
 // What the executor asks the caller while a launch runs. Calls come from any worker thread, at most once per
 // record or address per launch (results are cached), and the report methods are for rules the executor
 // finds; the caller reports each rule once per launch.
-class LaunchResolver {
+class LaunchResolver : public TopLevelResolver {
  public:
-  virtual ~LaunchResolver() = default;
   // The group of the record at `record` (index `index` of `region`, inside the region), or null after reporting
   // when the handle denotes no group of the bound pipeline or its libraries.
   virtual const RayGroup* group(SbtRegion region, uint64_t index, const uint8_t* record) = 0;
-  // The top-level acceleration structure at `address`, or null after reporting (no acceleration structure
-  // there, or a bottom-level one). The structure stays alive until the launch ends.
-  virtual const accel::Tlas* topLevel(uint64_t address) = 0;
+  // (TopLevelResolver::topLevel: the top-level acceleration structure at `address`, for traceRayEXT and ray
+  // queries, or null after reporting. The structure stays alive until the launch ends.)
 
   // A record index past the end of its region.
   virtual void recordOutsideRegion(SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) = 0;

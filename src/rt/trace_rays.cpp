@@ -400,8 +400,9 @@ const accel::Tlas* Launch::topLevel(uint64_t address) {
   if (!t) {
     if (first(kNoStructure))
       report(cb_, Severity::Error, nullptr,
-             "%s: traceRayEXT was given the acceleration structure address 0x%llx, which is not the address of a built "
-             "top-level acceleration structure of this device; those rays miss",
+             "%s: traceRayEXT or rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is "
+             "not the address of a built top-level acceleration structure of this device; those rays miss (those ray "
+             "queries find no intersection)",
              fn_, (ull)address);
     return nullptr;
   }

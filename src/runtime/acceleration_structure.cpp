@@ -122,6 +122,22 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
   return fresh->tlas;
 }
 
+const accel::Tlas* DispatchStructures::topLevel(uint64_t address) {
+  std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
+  std::lock_guard lock(mutex_);
+  if (!t) {
+    if (!reported_)
+      report(about_, Severity::Error, nullptr,
+             "%s: rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is not the address "
+             "of a built top-level acceleration structure of this device; those ray queries find no intersection",
+             fn_, (ull)address);
+    reported_ = true;
+    return nullptr;
+  }
+  kept_.push_back(t);
+  return t.get();
+}
+
 VkDeviceSize requiredSize(uint64_t primitives) {
   // A header plus 16 bytes a primitive, rounded to 256: the structure's real data is host memory vkrt owns
   // (acceleration_structure.hpp), so the application's buffer only needs to be of a plausible, proportional size.

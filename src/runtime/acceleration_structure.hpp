@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "accel/accel.hpp"
+#include "exec/ray_query.hpp"
 #include "runtime/object.hpp"
 
 namespace vkrt {
@@ -99,6 +100,23 @@ AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
 // place, as an application animating a mesh does), the top level is rebuilt here over their current contents,
 // once, and kept (a launch resolves each top level once).
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);
+
+// Resolves the acceleration structure addresses of one dispatch's ray queries (exec/ray_query.hpp): each through
+// topLevelAt, kept alive until the dispatch ends; an address that is no built top-level structure is reported once
+// per dispatch (naming `about` and `fn`), and those queries find nothing.
+class DispatchStructures final : public exec::TopLevelResolver {
+ public:
+  DispatchStructures(Device* dev, const Object* about, const char* fn) : dev_(dev), about_(about), fn_(fn) {}
+  const accel::Tlas* topLevel(uint64_t address) override;
+
+ private:
+  Device* dev_;
+  const Object* about_;
+  const char* fn_;
+  bool reported_ = false;
+  std::mutex mutex_;
+  std::vector<std::shared_ptr<const accel::Tlas>> kept_;
+};
 
 // The size an acceleration structure of `primitives` primitives (or instances) needs in its buffer, as
 // vkGetAccelerationStructureBuildSizesKHR reports it, and the scratch size of builds and updates.

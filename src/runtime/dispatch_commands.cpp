@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "exec/compute.hpp"
+#include "runtime/acceleration_structure.hpp"
 #include "runtime/bound_resources.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
@@ -44,6 +45,9 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
   d.kernel = computeKernel(sh);
   d.resources = resources.slots();
   d.pushConstants = st.pushConstants;
+  DispatchStructures structures(cb->device, cb, fn);
+  exec::RayQueryScope rayQueries(&structures);
+  d.rayQueries = &rayQueries;
   for (int k = 0; k < 3; ++k) {
     d.base[k] = base[k];
     d.count[k] = count[k];

@@ -86,6 +86,9 @@ constexpr F kSupported[] = {
     F::pipelineLibraryGroupHandles,
     F::rayTracingMaintenance1,
     F::rayTracingPipelineTraceRaysIndirect2,
+    // Ray queries in compute and ray tracing shaders (src/spirv/ray_query.cpp, src/exec/ray_query.cpp, accel's
+    // queryProceed; tests/e2e ray_query_test.cpp).
+    F::rayQuery,
     // Acceleration structures on src/accel: capture/replay at the buffer's address, indirect and host builds (the
     // device's memory is host memory), update-after-bind descriptors (tests/e2e trace_as_test.cpp).
     F::accelerationStructure,

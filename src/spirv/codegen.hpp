@@ -57,6 +57,8 @@ bool extraSupportedCapability(uint32_t capability);
 // The ray tracing instructions and capabilities of ray_tracing.cpp.
 bool rayTracingOp(spv::Op op);
 bool rayTracingCapability(uint32_t capability);
+// The ray query instructions of ray_query.cpp (rayTracingOp includes them).
+bool rayQueryOp(spv::Op op);
 
 class Codegen {
  public:
@@ -107,6 +109,10 @@ class Codegen {
   bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
+  bool rayQuery(const Instruction& in, bool& ok);                // ray_query.cpp (called by rayTracing)
+  bool isRayQuery(uint32_t typeId) const;  // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
+  // OpLoad / OpStore of a whole ray query (ray_query.cpp, called by memory)
+  bool rayQueryValue(const Instruction& in, bool& ok);
 
   // ---- memory (memory.cpp)
   bool declareGlobals();                       // Private, Workgroup, Input, buffers, push constants

@@ -71,6 +71,8 @@ llvm::Type* Codegen::type(uint32_t id) {
         r = imageValueType();
       else if (isAccelerationStructure(id))
         r = b.getInt64Ty();  // its device address
+      else if (isRayQuery(id))
+        r = b.getPtrTy();  // a bare ray query value: its variable's address (ray_query.cpp)
       break;
     default: break;
   }
@@ -96,6 +98,7 @@ uint32_t Codegen::componentCount(uint32_t typeId) const {
 static uint64_t roundUp(uint64_t v, uint64_t a) { return a ? (v + a - 1) / a * a : v; }
 
 uint64_t Codegen::layoutAlign(uint32_t id) const {
+  if (isRayQuery(id)) return 16;
   const Type& t = spvType(id);
   switch (t.kind) {
     case Type::Bool: return 4;
@@ -121,6 +124,7 @@ uint32_t Codegen::naturalMatrixStride(uint32_t matrixTypeId) const {
 }
 
 uint64_t Codegen::layoutSize(uint32_t id, uint32_t matrixStride, bool rowMajor) const {
+  if (isRayQuery(id)) return abi::kRayQueryStateBytes;
   const Type& t = spvType(id);
   switch (t.kind) {
     case Type::Bool: return 4;

@@ -517,6 +517,7 @@ static bool operandPtr(Codegen& g, const Instruction& in, uint32_t id, Ptr* out)
 }
 
 bool Codegen::memory(const Instruction& in, bool& ok) {
+  if (rayQueryValue(in, ok)) return true;  // OpLoad / OpStore of a whole ray query (ray_query.cpp)
   switch (in.op) {
     case spv::OpVariable: {
       // Function-scope variable: bytes in the function's entry block.
@@ -527,6 +528,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       b.SetInsertPoint(allocaBlock->getTerminator());
       auto* a = b.CreateAlloca(b.getInt8Ty(), i64(size));
       a->setAlignment(llvm::Align(16));
+      if (isRayQuery(pt.element)) b.CreateMemSet(a, b.getInt8(0), i64(size), llvm::MaybeAlign(16));  // not begun
       Ptr p;
       p.base = a;
       p.offset = i64(0);

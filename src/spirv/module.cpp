@@ -203,7 +203,8 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
       case spv::OpTypeSampler:
       case spv::OpTypeSampledImage:
       case spv::OpTypeOpaque:
-      case spv::OpTypeAccelerationStructureKHR: types[in.word(1)].kind = Type::Opaque; break;
+      case spv::OpTypeAccelerationStructureKHR:
+      case spv::OpTypeRayQueryKHR: types[in.word(1)].kind = Type::Opaque; break;
       case spv::OpConstantTrue:
       case spv::OpConstantFalse:
       case spv::OpSpecConstantTrue:

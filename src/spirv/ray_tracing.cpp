@@ -28,7 +28,7 @@ bool rayTracingOp(spv::Op op) {
     case spv::OpExecuteCallableNV:
     case spv::OpIgnoreIntersectionNV:
     case spv::OpTerminateRayNV: return true;
-    default: return false;
+    default: return rayQueryOp(op);
   }
 }
 
@@ -36,7 +36,8 @@ bool rayTracingCapability(uint32_t cap) {
   // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads; RayCullMaskKHR
   // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills.
   return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR ||
-         cap == spv::CapabilityRayCullMaskKHR || cap == spv::CapabilityRayTracingNV;
+         cap == spv::CapabilityRayCullMaskKHR || cap == spv::CapabilityRayTracingNV ||
+         cap == spv::CapabilityRayQueryKHR;
 }
 
 bool Codegen::isRayTracing() const {
@@ -117,7 +118,10 @@ void Codegen::returnIfStopped() {
 
 bool Codegen::rayTracing(const Instruction& in, bool& ok) {
   if (!rayTracingOp(in.op) || in.op == spv::OpTypeAccelerationStructureKHR) return false;
-  if (!isRayTracing()) return (ok = unsupported(in, "ray tracing instruction outside a ray tracing stage")), true;
+  if (rayQueryOp(in.op)) return rayQuery(in, ok);  // every stage
+  // (OpConvertUToAccelerationStructureKHR feeds ray queries too.)
+  if (!isRayTracing() && in.op != spv::OpConvertUToAccelerationStructureKHR)
+    return (ok = unsupported(in, "ray tracing instruction outside a ray tracing stage")), true;
   switch (in.op) {
     case spv::OpConvertUToAccelerationStructureKHR: {
       // A 64-bit address, or two 32-bit halves (uvec2: low word first).

@@ -24,6 +24,8 @@ struct ComputeHarness {
   std::shared_ptr<spirv::CompiledShader> shader;
   std::string error;
   alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
+  std::map<uint32_t, uint64_t> structures;         // binding -> acceleration structure address
+  const abi::RayQueryScope* rayQueries = nullptr;  // the dispatch's ray query runtime
 
   template <size_t N>
   bool compile(const uint32_t (&words)[N], std::vector<spirv::SpecValue> spec = {}) {
@@ -64,7 +66,9 @@ struct ComputeHarness {
       for (uint32_t key : keys) {
         abi::DescriptorRecord rec{};
         auto it = buffers.find(key);
-        if (rb.set == 0 && it != buffers.end()) {
+        if (rb.set == 0 && rb.kind == spirv::ResourceBinding::AccelerationStructure && structures.count(key)) {
+          rec.address = structures[key];
+        } else if (rb.set == 0 && it != buffers.end()) {
           rec.address = reinterpret_cast<uint64_t>(it->second.data());
           rec.range = sizes[key];
         }
@@ -76,6 +80,7 @@ struct ComputeHarness {
     d.kernel = computeKernel(*shader);
     d.resources = slots.data();
     d.pushConstants = push;
+    d.rayQueries = rayQueries;
     d.count[0] = x;
     d.count[1] = y;
     d.count[2] = z;

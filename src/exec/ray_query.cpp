@@ -1,0 +1,131 @@
+#include "exec/ray_query.hpp"
+
+#include <cstring>
+#include <new>
+
+namespace vkrt::exec {
+
+static_assert(sizeof(accel::RayQuery) <= abi::kRayQueryStateBytes && alignof(accel::RayQuery) <= 16,
+              "a ray query's state must fit the variable compiled code reserves");
+
+namespace {
+
+// SPIR-V opcodes of OpRayQueryGet*KHR (spirv.hpp is the compiler's; these values are the specification's).
+enum : uint32_t {
+  kGetRayTMin = 6016,
+  kGetRayFlags = 6017,
+  kGetIntersectionT = 6018,
+  kGetIntersectionInstanceCustomIndex = 6019,
+  kGetIntersectionInstanceId = 6020,
+  kGetIntersectionInstanceSbtOffset = 6021,
+  kGetIntersectionGeometryIndex = 6022,
+  kGetIntersectionPrimitiveIndex = 6023,
+  kGetIntersectionBarycentrics = 6024,
+  kGetIntersectionFrontFace = 6025,
+  kGetIntersectionCandidateAabbOpaque = 6026,
+  kGetIntersectionObjectRayDirection = 6027,
+  kGetIntersectionObjectRayOrigin = 6028,
+  kGetWorldRayDirection = 6029,
+  kGetWorldRayOrigin = 6030,
+  kGetIntersectionObjectToWorld = 6031,
+  kGetIntersectionWorldToObject = 6032,
+  kGetIntersectionType = 4479,
+};
+
+accel::RayQuery& stateOf(void* query) { return *static_cast<accel::RayQuery*>(query); }
+
+void initialize(const abi::RayQueryScope* scope, void* query, const abi::TraceRayArgs* args) {
+  accel::Ray ray;
+  std::memcpy(ray.origin, args->origin, sizeof ray.origin);
+  std::memcpy(ray.direction, args->direction, sizeof ray.direction);
+  ray.tMin = args->tMin;
+  ray.tMax = args->tMax;
+  ray.flags = args->rayFlags;
+  ray.cullMask = args->cullMask & 0xFF;  // only the low 8 bits are used
+  const accel::Tlas* tlas =
+      scope
+          ? const_cast<RayQueryScope*>(static_cast<const RayQueryScope*>(scope))->topLevel(args->accelerationStructure)
+          : nullptr;
+  accel::queryInitialize(*new (query) accel::RayQuery(), tlas, ray);
+}
+
+uint32_t proceed(void* query) { return accel::queryProceed(stateOf(query)) ? 1 : 0; }
+void terminate(void* query) { accel::queryTerminate(stateOf(query)); }
+void generate(void* query, float t) { accel::queryGenerate(stateOf(query), t); }
+void confirm(void* query) { accel::queryConfirm(stateOf(query)); }
+
+void get(void* query, uint32_t op, uint32_t committed, void* out) {
+  const accel::RayQuery& q = stateOf(query);
+  auto* f = static_cast<float*>(out);
+  auto* u = static_cast<uint32_t*>(out);
+  std::memset(out, 0, 64);
+  switch (op) {
+    case kGetRayTMin: f[0] = q.ray.tMin; return;
+    case kGetRayFlags: u[0] = q.ray.flags; return;
+    case kGetWorldRayOrigin: std::memcpy(f, q.ray.origin, 12); return;
+    case kGetWorldRayDirection: std::memcpy(f, q.ray.direction, 12); return;
+    case kGetIntersectionType: u[0] = committed ? q.committed.type : (q.candidate.type == 2 ? 1 : 0); return;
+    case kGetIntersectionCandidateAabbOpaque: u[0] = q.candidate.type == 2 && q.candidate.opaque; return;
+    default: break;
+  }
+  const accel::QueryHit& s = committed ? q.committed : q.candidate;
+  if (!s.type) return;  // no intersection: zeros
+  const accel::HitInfo h = accel::queryHitInfo(q, committed != 0);
+  switch (op) {
+    case kGetIntersectionT: f[0] = h.t; return;
+    case kGetIntersectionInstanceCustomIndex: u[0] = h.customIndex; return;
+    case kGetIntersectionInstanceId: u[0] = h.instanceIndex; return;
+    case kGetIntersectionInstanceSbtOffset: u[0] = h.sbtOffset; return;
+    case kGetIntersectionGeometryIndex: u[0] = h.geometryIndex; return;
+    case kGetIntersectionPrimitiveIndex: u[0] = h.primitiveIndex; return;
+    case kGetIntersectionBarycentrics:
+      if (h.triangle) std::memcpy(f, h.barycentrics, 8);
+      return;
+    case kGetIntersectionFrontFace: u[0] = h.triangle && h.hitKind == accel::kHitKindFrontFacingTriangle; return;
+    case kGetIntersectionObjectRayDirection: std::memcpy(f, h.objectRayDirection, 12); return;
+    case kGetIntersectionObjectRayOrigin: std::memcpy(f, h.objectRayOrigin, 12); return;
+    case kGetIntersectionObjectToWorld:
+    case kGetIntersectionWorldToObject: {
+      // The ABI's matrices are 4 columns of 3 floats: the transpose of the rows the Tlas keeps.
+      const float(*m)[4] = op == kGetIntersectionObjectToWorld ? h.objectToWorld : h.worldToObject;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) f[3 * c + r] = m[r][c];
+      return;
+    }
+    default: return;
+  }
+}
+
+const abi::RayQueryRuntime kRuntime = {&initialize, &proceed, &terminate, &generate, &confirm, &get};
+
+}  // namespace
+
+const abi::RayQueryRuntime& rayQueryRuntime() { return kRuntime; }
+
+RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) {
+  runtime = &kRuntime;
+  for (uint32_t i = 0; i < kCached; ++i) {
+    address_[i].store(0, std::memory_order_relaxed);
+    tlas_[i].store(nullptr, std::memory_order_relaxed);
+  }
+}
+
+const accel::Tlas* RayQueryScope::topLevel(uint64_t address) {
+  uint32_t n = count_.load(std::memory_order_acquire);
+  for (uint32_t i = 0; i < n; ++i)
+    if (address_[i].load(std::memory_order_relaxed) == address) return tlas_[i].load(std::memory_order_relaxed);
+  if (!resolver_) return nullptr;
+  std::lock_guard<std::mutex> lock(mutex_);
+  n = count_.load(std::memory_order_relaxed);
+  for (uint32_t i = 0; i < n; ++i)
+    if (address_[i].load(std::memory_order_relaxed) == address) return tlas_[i].load(std::memory_order_relaxed);
+  const accel::Tlas* t = resolver_->topLevel(address);
+  if (n < kCached) {
+    address_[n].store(address, std::memory_order_relaxed);
+    tlas_[n].store(t, std::memory_order_relaxed);
+    count_.store(n + 1, std::memory_order_release);
+  }
+  return t;
+}
+
+}  // namespace vkrt::exec
