@@ -110,7 +110,7 @@ class Codegen {
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
   bool rayQuery(const Instruction& in, bool& ok);                // ray_query.cpp (called by rayTracing)
-  bool isRayQuery(uint32_t typeId) const;  // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
+  bool isRayQuery(uint32_t typeId) const;                        // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
   // OpLoad / OpStore of a whole ray query (ray_query.cpp, called by memory)
   bool rayQueryValue(const Instruction& in, bool& ok);
 

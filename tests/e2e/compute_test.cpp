@@ -228,12 +228,12 @@ class ComputeMisuseTest : public ComputeTest {
 
 TEST_F(ComputeMisuseTest, UnsupportedInstructionFailsCreationWithItsName) {
   Pipeline p = makePipeline(kSpv_compute_unsupported_comp, sizeof kSpv_compute_unsupported_comp,
-                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE});
+                            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
   EXPECT_EQ(p.result, VK_ERROR_UNKNOWN);
   EXPECT_EQ(p.pipeline, VK_NULL_HANDLE);
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
-  EXPECT_NE(msgs[0].text.find("unsupported instruction OpImageTexelPointer at word"), std::string::npos)
+  EXPECT_NE(msgs[0].text.find("unsupported instruction OpGroupNonUniformElect at word"), std::string::npos)
       << msgs[0].text;
   clearMessages();
   destroy(p);

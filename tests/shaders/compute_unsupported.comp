@@ -1,6 +1,7 @@
 #version 460
-// Uses an image atomic (OpImageTexelPointer), which the compiler does not support yet: pipeline creation must
-// fail with a message naming the instruction.
+// Uses a subgroup operation (OpGroupNonUniformElect), which the compiler does not support yet: pipeline creation
+// must fail with a message naming the instruction.
+#extension GL_KHR_shader_subgroup_basic : require
 layout(local_size_x = 1) in;
-layout(set = 0, binding = 0, r32ui) uniform uimage2D img;
-void main() { imageAtomicAdd(img, ivec2(gl_GlobalInvocationID.xy), 1u); }
+layout(set = 0, binding = 0) buffer Out { uint elected[]; };
+void main() { elected[gl_GlobalInvocationID.x] = subgroupElect() ? 1u : 0u; }
