@@ -272,6 +272,8 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       }
       return unaryOp([&](auto a) { return a; });
     }
+    // ---- subgroups of one invocation (subgroupSize 1, the basic operations): each invocation is elected
+    case spv::OpGroupNonUniformElect: set(result, b.getTrue()); return true;
     // ---- integer dot products (SPV_KHR_integer_dot_product)
     case spv::OpSDot:
     case spv::OpUDot:

@@ -142,6 +142,7 @@ bool supportedOp(spv::Op op) {
     case spv::OpSConvert:
     case spv::OpFConvert:
     case spv::OpQuantizeToF16:
+    case spv::OpGroupNonUniformElect:
     case spv::OpSDot:
     case spv::OpUDot:
     case spv::OpSUDot:
@@ -261,7 +262,8 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityFloat64:
     case spv::CapabilityFloat16:
     case spv::CapabilityInt64Atomics:
-    case spv::CapabilityDeviceGroup:  // DeviceIndex: always 0 (one physical device)
+    case spv::CapabilityDeviceGroup:      // DeviceIndex: always 0 (one physical device)
+    case spv::CapabilityGroupNonUniform:  // subgroups of one invocation: elect, the built-ins, barriers
     // Float controls the compiled code honours as it is (runtime/physical_device.cpp says why).
     case spv::CapabilityDenormPreserve:
     case spv::CapabilitySignedZeroInfNanPreserve:

@@ -22,7 +22,10 @@ int builtInOffset(int builtIn, bool rayTracing, uint32_t* size) {
       case spv::BuiltInWorkgroupId: return offsetof(InvocationContext, workgroupId);
       case spv::BuiltInNumWorkgroups: return offsetof(InvocationContext, numWorkgroups);
       case spv::BuiltInWorkgroupSize: return offsetof(InvocationContext, workgroupSize);
-      case spv::BuiltInLocalInvocationIndex: *size = 4; return offsetof(InvocationContext, localIndex);
+      case spv::BuiltInLocalInvocationIndex:
+      case spv::BuiltInSubgroupId:  // one invocation per subgroup
+        *size = 4;
+        return offsetof(InvocationContext, localIndex);
       default: return -1;
     }
   }
@@ -257,9 +260,20 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       p.limit = i64(kPushConstantBytes);
       break;
     case spv::StorageClassInput: {
-      if (g.builtIn == spv::BuiltInDeviceIndex) {
-        // One physical device per logical device: the device index is always 0 (read from the zero sink).
+      if (g.builtIn == spv::BuiltInDeviceIndex ||
+          (g.builtIn == spv::BuiltInSubgroupLocalInvocationId && !isRayTracing())) {
+        // One physical device per logical device, and subgroups of one invocation (VkPhysicalDeviceSubgroupProperties):
+        // the device index and the index within the subgroup are always 0 (read from the zero sink).
         p.base = zeros;
+        p.limit = i64(4);
+        break;
+      }
+      if ((g.builtIn == spv::BuiltInSubgroupSize || g.builtIn == spv::BuiltInNumSubgroups) && !isRayTracing()) {
+        // Subgroups of one invocation: a workgroup has as many subgroups as invocations.
+        uint32_t v = 1;
+        if (g.builtIn == spv::BuiltInNumSubgroups) v = info.localSize[0] * info.localSize[1] * info.localSize[2];
+        p.base =
+            new llvm::GlobalVariable(this->out, b.getInt32Ty(), true, llvm::GlobalValue::PrivateLinkage, b.getInt32(v));
         p.limit = i64(4);
         break;
       }

@@ -10,6 +10,7 @@
 #include "compute_control.comp.spv.h"
 #include "compute_push_spec.comp.spv.h"
 #include "compute_shared.comp.spv.h"
+#include "compute_subgroup_basic.comp.spv.h"
 #include "compute_unsupported.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -217,6 +218,34 @@ TEST_F(ComputeTest, DispatchBaseAndIndirect) {
   destroy(p);
 }
 
+// The subgroup properties vkrt reports (size 1, BASIC operations in compute): each invocation is a subgroup of its
+// own, elected, index 0, and a workgroup has as many subgroups as invocations.
+TEST_F(ComputeTest, BasicSubgroupOperationsOnSubgroupsOfOne) {
+  VkPhysicalDeviceSubgroupProperties sp{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &sp};
+  vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+  ASSERT_TRUE(sp.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT);
+  ASSERT_TRUE(sp.supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT);
+  Pipeline p = makePipeline(kSpv_compute_subgroup_basic_comp, sizeof kSpv_compute_subgroup_basic_comp, {kStorage});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer data = bufferWith(std::vector<uint32_t>(2 * 8 * 4, 0xcdcdcdcd));
+  bindBuffer(p, 0, kStorage, data);
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, 2, 1, 1);
+  submitAndWait(cb);
+  const uint32_t* r = static_cast<const uint32_t*>(data.data);
+  const uint32_t size = sp.subgroupSize;
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t local = i % 8;
+    EXPECT_EQ(r[4 * i + 1], size) << i;
+    EXPECT_EQ(r[4 * i + 2], local % size) << i;
+    EXPECT_EQ(r[4 * i + 3], (8 + size - 1) / size * 100 + local / size) << i;
+    EXPECT_EQ(r[4 * i + 0], local % size == 0 ? 1u : 0u) << i << ": the subgroup's first active invocation is elected";
+  }
+  VulkanTest::destroy(data);
+  destroy(p);
+}
+
 class ComputeMisuseTest : public ComputeTest {
  protected:
   FixtureOptions options() override {
@@ -233,7 +262,7 @@ TEST_F(ComputeMisuseTest, UnsupportedInstructionFailsCreationWithItsName) {
   EXPECT_EQ(p.pipeline, VK_NULL_HANDLE);
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
-  EXPECT_NE(msgs[0].text.find("unsupported instruction OpGroupNonUniformElect at word"), std::string::npos)
+  EXPECT_NE(msgs[0].text.find("unsupported instruction OpGroupNonUniformBallot at word"), std::string::npos)
       << msgs[0].text;
   clearMessages();
   destroy(p);
