@@ -262,7 +262,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceGroupPeerMemoryFeatures(VkDevice device
 
 VKAPI_ATTR void VKAPI_CALL vkrt_FreeMemory(VkDevice device, VkDeviceMemory memory,
                                            const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<Memory>(device, memory, pAllocator, "vkFreeMemory", "VUID-vkFreeMemory-memory-parameter");
+  destroyDeviceChildWhenIdle<Memory>(device, memory, pAllocator, "vkFreeMemory", "VUID-vkFreeMemory-memory-parameter",
+                                     "VUID-vkFreeMemory-memory-00677");
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_MapMemory(VkDevice device, VkDeviceMemory memory, VkDeviceSize offset,
