@@ -99,7 +99,7 @@ CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) 
 
 void CommandBuffer::record(Command c) {
   auto note = [&](Object* o) {
-    if (o && refSerials_.insert(o->serial).second) refs.push_back({o, o->serial});
+    if (o && refSerials_.insert(o->serial).second) refs.push_back({o, o->serial, o->objectType});
   };
   for (Object* o : takeNotedLookups()) {
     switch (o->objectType) {
@@ -140,6 +140,18 @@ void CommandBuffer::record(Command c) {
     }
   }
   commands.push_back(std::move(c));
+}
+
+const CommandBuffer::Ref* CommandBuffer::destroyedRef() const {
+  // The registry first: an object destroyed since may not be read; a live one at that address is the same object
+  // only if its serial is.
+  for (const Ref& r : refs) {
+    Object* live = findObject(r.object->handleValue(), r.type);
+    if (!live || live->serial != r.serial) return &r;
+  }
+  for (const CommandBuffer* s : secondaries)
+    if (const Ref* r = s->destroyedRef()) return r;
+  return nullptr;
 }
 
 bool CommandBuffer::refersTo(const Object* o) const {
@@ -197,6 +209,16 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
            v2 ? "VUID-vkQueueSubmit2-commandBuffer-03874" : "VUID-vkQueueSubmit-pCommandBuffers-00070",
            "%s: pSubmits[%u] command buffer %u is in the %s state, not executable or pending", fn, si, i,
            stateName(st));
+    return false;
+  }
+  // VUID-vkQueueSubmit-pCommandBuffers-00070, VUID-vkQueueSubmit2-commandBuffer-03874: an object the commands
+  // refer to was destroyed since they were recorded, which makes the command buffer invalid.
+  if (const Ref* gone = destroyedRef()) {
+    report(this, Severity::Error,
+           v2 ? "VUID-vkQueueSubmit2-commandBuffer-03874" : "VUID-vkQueueSubmit-pCommandBuffers-00070",
+           "%s: pSubmits[%u] command buffer %u is invalid: the %s 0x%llx its commands refer to has been destroyed "
+           "since they were recorded",
+           fn, si, i, objectTypeName(gone->type), (unsigned long long)gone->object->handleValue());
     return false;
   }
   // VUID-vkQueueSubmit-pCommandBuffers-00071, VUID-vkQueueSubmit2-commandBuffer-03875

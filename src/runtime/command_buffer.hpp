@@ -76,11 +76,14 @@ class CommandBuffer : public Object {
 
   // An object the recorded commands refer to; `serial` tells it from a later object at the same address.
   struct Ref {
-    Object* object;
+    Object* object;  // not dereferenced unless the registry says an object with `serial` is live there
     uint64_t serial;
+    VkObjectType type;
   };
   // Whether this command buffer or a secondary it executes refers to `o` (read while pending: refs do not change then).
   bool refersTo(const Object* o) const;
+  // A reference (of this command buffer or a secondary it executes) to an object destroyed since; null if none.
+  const Ref* destroyedRef() const;
 
   // Runs every recorded command in order (on the queue worker).
   void execute(ExecState& state) const;

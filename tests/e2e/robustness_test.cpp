@@ -153,6 +153,38 @@ TEST_F(RobustnessMisuseTest, PipelineAndDescriptorsDestroyedWhilePendingStayAliv
   vkDestroySemaphore(device, sem, nullptr);
 }
 
+// A command buffer whose commands refer to a buffer destroyed since they were recorded is invalid: submitting it is
+// reported and refused (it used to run, and read the destroyed buffer), also once another buffer has been created,
+// possibly at the destroyed one's address.
+TEST_F(RobustnessMisuseTest, ACommandBufferReferringToADestroyedBufferIsNotSubmitted) {
+  constexpr VkDeviceSize kSize = 256;
+  HostBuffer src = createHostBuffer(kSize, kXfer);
+  HostBuffer dst = createHostBuffer(kSize, kXfer);
+  VkCommandBuffer cb = beginOneTime();
+  VkBufferCopy region{0, 0, kSize};
+  vkCmdCopyBuffer(cb, src.buffer, dst.buffer, 1, &region);
+  ASSERT_EQ(vkEndCommandBuffer(cb), VK_SUCCESS);
+  vkDestroyBuffer(device, src.buffer, nullptr);
+  EXPECT_TRUE(vkrtVuids().empty());  // nothing pending: destroyed at once
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cb;
+  EXPECT_EQ(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkQueueSubmit-pCommandBuffers-00070");
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = kSize;
+  bci.usage = kXfer;
+  VkBuffer again = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateBuffer(device, &bci, nullptr, &again), VK_SUCCESS);
+  EXPECT_EQ(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkQueueSubmit-pCommandBuffers-00070");
+  EXPECT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
+  vkDestroyBuffer(device, again, nullptr);
+  vkFreeMemory(device, src.memory, nullptr);
+  destroy(dst);
+  EXPECT_TRUE(vkrtVuids().empty());
+}
+
 // A dispatch whose pipeline uses a descriptor never written is reported once, naming the set, binding and
 // element; a binding the shader does not use may stay unwritten, and once written the dispatch is silent.
 TEST_F(RobustnessMisuseTest, DispatchReadingADescriptorNeverWrittenIsReported) {
