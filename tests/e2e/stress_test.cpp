@@ -159,5 +159,107 @@ TEST_F(StressTest, ThreadsCreatePipelinesAndSubmitToEveryQueue) {
   vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
 }
 
+class StressMisuseTest : public StressTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = StressTest::options();
+    o.validation = false;  // the layer reports the same misuse
+    return o;
+  }
+};
+
+// Threads destroy the buffer and free the memory of a fill that waits on a semaphore, then let it run: every
+// destruction is reported once and deferred to a queue worker, every submission completes in time.
+TEST_F(StressMisuseTest, ThreadsDestroyWhatTheirPendingWorkUses) {
+  constexpr uint32_t kMisuseThreads = 4, kMisuseIterations = 20;
+  std::array<VkQueue, kQueues> queues{};
+  std::array<std::mutex, kQueues> queueMutex;
+  for (uint32_t q = 0; q < kQueues; ++q) vkGetDeviceQueue(device, 0, q, &queues[q]);
+  std::vector<std::string> failures(kMisuseThreads);
+  auto worker = [&](uint32_t t) {
+    auto fail = [&](const std::string& what) {
+      if (failures[t].empty()) failures[t] = what;
+    };
+    VkCommandPoolCreateInfo cp{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    cp.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence = VK_NULL_HANDLE;
+    VkSemaphoreTypeCreateInfo tci{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
+    tci.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+    VkSemaphoreCreateInfo sci{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &tci};
+    VkSemaphore sem = VK_NULL_HANDLE;
+    if (vkCreateCommandPool(device, &cp, nullptr, &pool) != VK_SUCCESS ||
+        vkCreateFence(device, &fci, nullptr, &fence) != VK_SUCCESS ||
+        vkCreateSemaphore(device, &sci, nullptr, &sem) != VK_SUCCESS)
+      return fail("object creation failed");
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cb = VK_NULL_HANDLE;
+    if (vkAllocateCommandBuffers(device, &ai, &cb) != VK_SUCCESS) return fail("vkAllocateCommandBuffers failed");
+    for (uint32_t i = 0; i < kMisuseIterations && failures[t].empty(); ++i) {
+      HostBuffer b = createHostBuffer(4096, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+      VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+      vkBeginCommandBuffer(cb, &begin);
+      vkCmdFillBuffer(cb, b.buffer, 0, VK_WHOLE_SIZE, i);
+      vkEndCommandBuffer(cb);
+      const uint64_t waitValue = i + 1;
+      VkTimelineSemaphoreSubmitInfo tl{VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO};
+      tl.waitSemaphoreValueCount = 1;
+      tl.pWaitSemaphoreValues = &waitValue;
+      VkPipelineStageFlags stage = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
+      VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO, &tl};
+      si.waitSemaphoreCount = 1;
+      si.pWaitSemaphores = &sem;
+      si.pWaitDstStageMask = &stage;
+      si.commandBufferCount = 1;
+      si.pCommandBuffers = &cb;
+      const uint32_t q = (t + i) % kQueues;
+      VkResult r;
+      {
+        std::lock_guard lock(queueMutex[q]);
+        r = vkQueueSubmit(queues[q], 1, &si, fence);
+      }
+      if (r != VK_SUCCESS) return fail("vkQueueSubmit failed");
+      vkDestroyBuffer(device, b.buffer, nullptr);
+      vkFreeMemory(device, b.memory, nullptr);
+      VkSemaphoreSignalInfo sig{VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO};
+      sig.semaphore = sem;
+      sig.value = waitValue;
+      if (vkSignalSemaphore(device, &sig) != VK_SUCCESS) return fail("vkSignalSemaphore failed");
+      r = vkWaitForFences(device, 1, &fence, VK_TRUE, kTimeoutNs);
+      if (r != VK_SUCCESS)
+        return fail("thread " + std::to_string(t) + " iteration " + std::to_string(i) + ": vkWaitForFences returned " +
+                    std::to_string(r));
+      vkResetFences(device, 1, &fence);
+    }
+    vkDestroySemaphore(device, sem, nullptr);
+    vkDestroyFence(device, fence, nullptr);
+    vkDestroyCommandPool(device, pool, nullptr);
+  };
+  std::vector<std::thread> threads;
+  for (uint32_t t = 0; t < kMisuseThreads; ++t) threads.emplace_back(worker, t);
+  for (std::thread& th : threads) th.join();
+  for (uint32_t t = 0; t < kMisuseThreads; ++t) EXPECT_TRUE(failures[t].empty()) << failures[t];
+  for (VkQueue q : queues) EXPECT_EQ(vkQueueWaitIdle(q), VK_SUCCESS);
+  uint32_t buffers = 0, memories = 0, others = 0;
+  for (const Message& m : vkrtMessages()) {
+    if (m.idName == "VUID-vkDestroyBuffer-buffer-00922") {
+      ++buffers;
+    } else if (m.idName == "VUID-vkFreeMemory-memory-00677") {
+      ++memories;
+    } else {
+      ++others;
+      ADD_FAILURE() << m.text;
+    }
+  }
+  clearMessages();
+  EXPECT_EQ(buffers, kMisuseThreads * kMisuseIterations);
+  EXPECT_EQ(memories, kMisuseThreads * kMisuseIterations);
+  EXPECT_EQ(others, 0u);
+}
+
 }  // namespace
 }  // namespace vkrt::test
