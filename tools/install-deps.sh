@@ -10,6 +10,7 @@ packages=(
   llvm-15-dev libembree-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev libstb-dev
   gfxreconstruct
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

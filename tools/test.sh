@@ -1,12 +1,21 @@
 #!/usr/bin/env bash
 # Builds vkrt with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test (unit, end-to-end
-# through the Vulkan loader with the validation layer, vulkaninfo). Usage: tools/test.sh [ctest args...]
+# through the Vulkan loader with the validation layer, vulkaninfo, ...), then builds it with ThreadSanitizer and
+# runs the unit and end-to-end tests again. Usage: tools/test.sh [ctest args...] (given to both runs)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/install-deps.sh"
+status=0
+# AddressSanitizer + UndefinedBehaviorSanitizer: build-test/, every test.
 build="$root/build-test"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=ON > "$root/.configure.log" 2>&1 ||
   { cat "$root/.configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)"
-cd "$build"
-ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@"
+(cd "$build" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
+# ThreadSanitizer: build-tsan/, the unit and end-to-end tests (tests/CMakeLists.txt registers only those there).
+tsan="$root/build-tsan"
+cmake -S "$root" -B "$tsan" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=thread > "$root/.configure-tsan.log" 2>&1 ||
+  { cat "$root/.configure-tsan.log"; exit 1; }
+cmake --build "$tsan" -j "$(nproc)" --target vkrt_unit_tests vkrt_e2e_tests
+(cd "$tsan" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
+exit $status

@@ -14,6 +14,11 @@
 #include <sanitizer/common_interface_defs.h>
 #define VKRT_ASAN_FIBERS 1
 #endif
+// ThreadSanitizer follows a thread through swapcontext only when told which fiber runs next.
+#if defined(__SANITIZE_THREAD__)
+#include <sanitizer/tsan_interface.h>
+#define VKRT_TSAN_FIBERS 1
+#endif
 
 namespace vkrt::exec {
 
@@ -32,6 +37,12 @@ struct Fiber {
   InvocationContext inv;
   bool done = false;
   Scheduler* scheduler = nullptr;
+#if VKRT_TSAN_FIBERS
+  void* tsanFiber = nullptr;  // created on first use
+  ~Fiber() {
+    if (tsanFiber) __tsan_destroy_fiber(tsanFiber);
+  }
+#endif
 };
 
 struct Scheduler {
@@ -39,6 +50,9 @@ struct Scheduler {
   abi::ComputeEntry entry = nullptr;
   const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
   size_t mainSize = 0;
+#if VKRT_TSAN_FIBERS
+  void* tsanMain = nullptr;  // the worker thread's own fiber
+#endif
 };
 
 // Per worker thread: fiber stacks, workgroup memory and the sink, reused from dispatch to dispatch.
@@ -73,6 +87,11 @@ thread_local Fiber* tlsStarting = nullptr;
 
 void noBarrier(InvocationContext*) {}
 
+// Not instrumented by ThreadSanitizer: it leaves through uc_link after switching ThreadSanitizer to the scheduler's
+// fiber, where an instrumented function's exit would pop the scheduler's shadow stack.
+#if VKRT_TSAN_FIBERS
+__attribute__((no_sanitize_thread))
+#endif
 void fiberMain() {
   Fiber* f = tlsStarting;
 #if VKRT_ASAN_FIBERS
@@ -82,6 +101,9 @@ void fiberMain() {
   f->done = true;
 #if VKRT_ASAN_FIBERS
   __sanitizer_start_switch_fiber(nullptr, f->scheduler->mainBottom, f->scheduler->mainSize);
+#endif
+#if VKRT_TSAN_FIBERS
+  __tsan_switch_to_fiber(f->scheduler->tsanMain, 0);
 #endif
   // Returning resumes uc_link: the scheduler.
 }
@@ -93,6 +115,9 @@ void fiberBarrier(InvocationContext* inv) {
 #if VKRT_ASAN_FIBERS
   void* fake = nullptr;
   __sanitizer_start_switch_fiber(&fake, s->mainBottom, s->mainSize);
+#endif
+#if VKRT_TSAN_FIBERS
+  __tsan_switch_to_fiber(s->tsanMain, 0);
 #endif
   swapcontext(&f->context, &s->main);
 #if VKRT_ASAN_FIBERS
@@ -106,6 +131,11 @@ void resume(Scheduler& s, Fiber& f) {
   __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
 #endif
   tlsStarting = &f;
+#if VKRT_TSAN_FIBERS
+  if (!f.tsanFiber) f.tsanFiber = __tsan_create_fiber(0);
+  s.tsanMain = __tsan_get_current_fiber();
+  __tsan_switch_to_fiber(f.tsanFiber, 0);
+#endif
   swapcontext(&s.main, &f.context);
 #if VKRT_ASAN_FIBERS
   __sanitizer_finish_switch_fiber(fake, nullptr, nullptr);

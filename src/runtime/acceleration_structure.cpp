@@ -241,9 +241,10 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureKHR(
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyAccelerationStructureKHR(VkDevice device,
                                                                 VkAccelerationStructureKHR accelerationStructure,
                                                                 const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<AccelerationStructure>(device, accelerationStructure, pAllocator,
-                                            "vkDestroyAccelerationStructureKHR",
-                                            "VUID-vkDestroyAccelerationStructureKHR-accelerationStructure-parameter");
+  destroyDeviceChildWhenIdle<AccelerationStructure>(
+      device, accelerationStructure, pAllocator, "vkDestroyAccelerationStructureKHR",
+      "VUID-vkDestroyAccelerationStructureKHR-accelerationStructure-parameter",
+      "VUID-vkDestroyAccelerationStructureKHR-accelerationStructure-02442");
 }
 
 VKAPI_ATTR VkDeviceAddress VKAPI_CALL vkrt_GetAccelerationStructureDeviceAddressKHR(

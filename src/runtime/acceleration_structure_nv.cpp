@@ -323,9 +323,10 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateAccelerationStructureNV(
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyAccelerationStructureNV(VkDevice device,
                                                                VkAccelerationStructureNV accelerationStructure,
                                                                const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<AccelerationStructureNV>(device, accelerationStructure, pAllocator,
-                                              "vkDestroyAccelerationStructureNV",
-                                              "VUID-vkDestroyAccelerationStructureNV-accelerationStructure-parameter");
+  destroyDeviceChildWhenIdle<AccelerationStructureNV>(
+      device, accelerationStructure, pAllocator, "vkDestroyAccelerationStructureNV",
+      "VUID-vkDestroyAccelerationStructureNV-accelerationStructure-parameter",
+      "VUID-vkDestroyAccelerationStructureNV-accelerationStructure-03752");
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureMemoryRequirementsNV(

@@ -1,13 +1,46 @@
 #include "runtime/bound_resources.hpp"
 
+#include <string>
+
 #include "runtime/descriptor_set.hpp"
 #include "runtime/report.hpp"
 
 namespace vkrt {
 
+namespace {
+
+// VUID-vkCmdDispatch-None-08114 (and the same rule of every dispatch and trace command): the descriptors a
+// pipeline statically uses must be valid. A binding the shader uses counts in full (the elements the shader
+// declares, or all of them for a runtime-sized array), except with PARTIALLY_BOUND; a sampler binding with
+// immutable samplers is always valid. Reports the first element never written and how many are not; true when
+// it reported.
+bool reportUnwritten(const DescriptorSet& set, const DescriptorBinding& b, const spirv::ResourceBinding& rb, uint32_t n,
+                     const CommandBuffer* cb, const char* command) {
+  if (b.flags & VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT) return false;
+  if (b.type == VK_DESCRIPTOR_TYPE_SAMPLER && !b.immutableSamplers.empty()) return false;
+  uint32_t used = rb.arraySize && rb.arraySize < n ? rb.arraySize : n;
+  uint32_t first = used, missing = 0;
+  for (uint32_t e = 0; e < used; ++e) {
+    if (set.written(b.offset + e)) continue;
+    if (first == used) first = e;
+    ++missing;
+  }
+  if (!missing) return false;
+  std::string vuid = std::string("VUID-") + command + "-None-08114";
+  report(cb, Severity::Error, vuid.c_str(),
+         "%s: the bound pipeline uses set %u binding %u (%s), but element %u of the bound descriptor set 0x%llx was "
+         "never written (%u of the %u elements it uses are not)",
+         command, rb.set, rb.binding, descriptorTypeName(b.type), first, (unsigned long long)set.handleValue(), missing,
+         used);
+  return true;
+}
+
+}  // namespace
+
 void BoundResources::resolve(const spirv::CompiledShader& shader, const BindState& bs, const CommandBuffer* cb,
                              const char* command, const char* unboundVuid) {
   slots_.assign(shader.resources.size(), abi::ResourceSlot{nullptr, 0});
+  bool reportedUnwritten = false;  // once per command
   dynamicCopies_.clear();
   for (size_t i = 0; i < shader.resources.size(); ++i) {
     const spirv::ResourceBinding& rb = shader.resources[i];
@@ -22,6 +55,7 @@ void BoundResources::resolve(const spirv::CompiledShader& shader, const BindStat
       continue;
     }
     uint32_t n = set->elementCount(*b);
+    if (!reportedUnwritten) reportedUnwritten = reportUnwritten(*set, *b, rb, n, cb, command);
     const abi::DescriptorRecord* records = set->records() + b->offset;
     if (isDynamicBufferType(b->type)) {
       const std::vector<uint32_t>& offs = bs.dynamicOffsets[rb.set];

@@ -16,7 +16,8 @@ class BoundResources {
   // Resolves every resource `shader` uses from the sets bound in `bs`. Dynamic buffers get copies of their
   // records with the bound dynamic offsets added. A resource whose set is not bound, or whose binding the bound
   // set's layout lacks, is reported against `cb` (with `unboundVuid`, naming `command`) and left empty: its
-  // accesses read zeros and write nothing.
+  // accesses read zeros and write nothing. The first used binding with elements never written (outside
+  // PARTIALLY_BOUND bindings) is reported once, under VUID-<command>-None-08114.
   void resolve(const spirv::CompiledShader& shader, const BindState& bs, const CommandBuffer* cb, const char* command,
                const char* unboundVuid);
 

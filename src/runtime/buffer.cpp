@@ -104,7 +104,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBuffer(VkDevice device, const VkBuffer
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBuffer(VkDevice device, VkBuffer buffer,
                                               const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<Buffer>(device, buffer, pAllocator, "vkDestroyBuffer", "VUID-vkDestroyBuffer-buffer-parameter");
+  destroyDeviceChildWhenIdle<Buffer>(device, buffer, pAllocator, "vkDestroyBuffer",
+                                     "VUID-vkDestroyBuffer-buffer-parameter", "VUID-vkDestroyBuffer-buffer-00922");
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetBufferMemoryRequirements(VkDevice, VkBuffer buffer,

@@ -96,8 +96,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyBufferView(VkDevice device, VkBufferView view,
                                                   const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<BufferView>(device, view, pAllocator, "vkDestroyBufferView",
-                                 "VUID-vkDestroyBufferView-bufferView-parameter");
+  destroyDeviceChildWhenIdle<BufferView>(device, view, pAllocator, "vkDestroyBufferView",
+                                         "VUID-vkDestroyBufferView-bufferView-parameter",
+                                         "VUID-vkDestroyBufferView-bufferView-00936");
 }
 
 }  // extern "C"

@@ -3,8 +3,15 @@
 #include <algorithm>
 #include <string>
 
+#include "runtime/acceleration_structure.hpp"
+#include "runtime/acceleration_structure_nv.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/buffer_view.hpp"
 #include "runtime/command_pool.hpp"
 #include "runtime/device.hpp"
+#include "runtime/image.hpp"
+#include "runtime/image_view.hpp"
+#include "runtime/memory.hpp"
 #include "runtime/queue.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -86,7 +93,73 @@ CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) 
            command, stateName(st));
     return nullptr;
   }
+  beginNotingLookups();
   return cb;
+}
+
+void CommandBuffer::record(Command c) {
+  auto note = [&](Object* o) {
+    if (o && refSerials_.insert(o->serial).second) refs.push_back({o, o->serial, o->objectType});
+  };
+  for (Object* o : takeNotedLookups()) {
+    switch (o->objectType) {
+      case VK_OBJECT_TYPE_BUFFER:
+        note(o);
+        note(static_cast<Buffer*>(o)->memory);
+        break;
+      case VK_OBJECT_TYPE_IMAGE:
+        note(o);
+        note(static_cast<Image*>(o)->memory);
+        break;
+      case VK_OBJECT_TYPE_IMAGE_VIEW:
+        note(o);
+        note(static_cast<ImageView*>(o)->image);
+        note(static_cast<ImageView*>(o)->image->memory);
+        break;
+      case VK_OBJECT_TYPE_BUFFER_VIEW:
+        note(o);
+        note(static_cast<BufferView*>(o)->buffer);
+        note(static_cast<BufferView*>(o)->buffer->memory);
+        break;
+      case VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR:
+        note(o);
+        if (Buffer* b = static_cast<AccelerationStructure*>(o)->buffer) {
+          note(b);
+          note(b->memory);
+        }
+        break;
+      case VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_NV:
+        note(o);
+        note(static_cast<AccelerationStructureNV*>(o)->memory);
+        break;
+      case VK_OBJECT_TYPE_DEVICE_MEMORY:
+      case VK_OBJECT_TYPE_SAMPLER:
+      case VK_OBJECT_TYPE_DESCRIPTOR_SET:
+      case VK_OBJECT_TYPE_PIPELINE: note(o); break;
+      default: break;  // layouts, modules and templates may be destroyed once recorded (maintenance4)
+    }
+  }
+  commands.push_back(std::move(c));
+}
+
+const CommandBuffer::Ref* CommandBuffer::destroyedRef() const {
+  // The registry first: an object destroyed since may not be read; a live one at that address is the same object
+  // only if its serial is.
+  for (const Ref& r : refs) {
+    Object* live = findObject(r.object->handleValue(), r.type);
+    if (!live || live->serial != r.serial) return &r;
+  }
+  for (const CommandBuffer* s : secondaries)
+    if (const Ref* r = s->destroyedRef()) return r;
+  return nullptr;
+}
+
+bool CommandBuffer::refersTo(const Object* o) const {
+  for (const Ref& r : refs)
+    if (r.object == o && r.serial == o->serial) return true;
+  for (const CommandBuffer* s : secondaries)
+    if (s->refersTo(o)) return true;
+  return false;
 }
 
 void CommandBuffer::execute(ExecState& st) const {
@@ -101,6 +174,8 @@ void CommandBuffer::reset(bool releaseResources) {
     unlinkPrimaries(this);
     old.swap(commands);
     if (!releaseResources) commands.reserve(old.capacity());
+    refs.clear();
+    refSerials_.clear();
     state = State::Initial;
     usage = 0;
     labelDepth = 0;
@@ -134,6 +209,16 @@ bool CommandBuffer::checkSubmittable(const Queue* queue, bool v2, uint32_t si, u
            v2 ? "VUID-vkQueueSubmit2-commandBuffer-03874" : "VUID-vkQueueSubmit-pCommandBuffers-00070",
            "%s: pSubmits[%u] command buffer %u is in the %s state, not executable or pending", fn, si, i,
            stateName(st));
+    return false;
+  }
+  // VUID-vkQueueSubmit-pCommandBuffers-00070, VUID-vkQueueSubmit2-commandBuffer-03874: an object the commands
+  // refer to was destroyed since they were recorded, which makes the command buffer invalid.
+  if (const Ref* gone = destroyedRef()) {
+    report(this, Severity::Error,
+           v2 ? "VUID-vkQueueSubmit2-commandBuffer-03874" : "VUID-vkQueueSubmit-pCommandBuffers-00070",
+           "%s: pSubmits[%u] command buffer %u is invalid: the %s 0x%llx its commands refer to has been destroyed "
+           "since they were recorded",
+           fn, si, i, objectTypeName(gone->type), (unsigned long long)gone->object->handleValue());
     return false;
   }
   // VUID-vkQueueSubmit-pCommandBuffers-00071, VUID-vkQueueSubmit2-commandBuffer-03875

@@ -18,6 +18,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <unordered_set>
 #include <vector>
 
 #include "runtime/object.hpp"
@@ -68,7 +69,21 @@ class CommandBuffer : public Object {
   // returns nullptr, and the caller records nothing.
   static CommandBuffer* recording(VkCommandBuffer h, const char* command);
 
-  void record(Command c) { commands.push_back(std::move(c)); }
+  // Appends a command, and notes the objects the command's entry point looked up since recording() (the
+  // buffers, images, views, samplers, descriptor sets, pipelines and acceleration structures it refers to, with
+  // the memory bound to them) in `refs`.
+  void record(Command c);
+
+  // An object the recorded commands refer to; `serial` tells it from a later object at the same address.
+  struct Ref {
+    Object* object;  // not dereferenced unless the registry says an object with `serial` is live there
+    uint64_t serial;
+    VkObjectType type;
+  };
+  // Whether this command buffer or a secondary it executes refers to `o` (read while pending: refs do not change then).
+  bool refersTo(const Object* o) const;
+  // A reference (of this command buffer or a secondary it executes) to an object destroyed since; null if none.
+  const Ref* destroyedRef() const;
 
   // Runs every recorded command in order (on the queue worker).
   void execute(ExecState& state) const;
@@ -94,9 +109,13 @@ class CommandBuffer : public Object {
   std::vector<CommandBuffer*> secondaries;  // executed by this primary (vkCmdExecuteCommands)
   std::vector<CommandBuffer*> primaries;    // primaries that execute this secondary
   uint32_t labelDepth = 0;                  // open vkCmdBeginDebugUtilsLabelEXT regions
+  std::vector<Ref> refs;                    // what the commands refer to (record()), in no order, deduplicated
 
   // The mutex that guards every command buffer's state, pending count and links.
   static std::mutex& stateMutex();
+
+ private:
+  std::unordered_set<uint64_t> refSerials_;  // the serials in `refs`
 };
 
 }  // namespace vkrt

@@ -5,6 +5,7 @@
 #include "runtime/alloc.hpp"
 #include "runtime/descriptor_set.hpp"
 #include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -24,7 +25,9 @@ DescriptorPool::DescriptorPool(Device* dev, const VkDescriptorPoolCreateInfo& in
     capacity_[info.pPoolSizes[i].type] += info.pPoolSizes[i].descriptorCount;
 }
 
-DescriptorPool::~DescriptorPool() { reset(); }
+DescriptorPool::~DescriptorPool() {
+  reset("vkDestroyDescriptorPool", "VUID-vkDestroyDescriptorPool-descriptorPool-00303");
+}
 
 bool DescriptorPool::fits(const DescriptorSetLayout& layout, uint32_t variableCount,
                           std::map<VkDescriptorType, uint64_t>& pending, uint32_t pendingSets) const {
@@ -49,16 +52,16 @@ void DescriptorPool::add(DescriptorSet* set) {
   sets_.insert(set);
 }
 
-void DescriptorPool::free(DescriptorSet* set) {
+void DescriptorPool::free(DescriptorSet* set, const char* fn, const char* pendingVuid) {
   std::map<VkDescriptorType, uint64_t> need;
   descriptorDemand(*set->layout, set->variableCount, need);
   for (auto& [type, n] : need) used_[type] -= n;
   sets_.erase(set);
-  destroyObject(set, nullptr);
+  destroyWhenIdle(set, nullptr, fn, pendingVuid);
 }
 
-void DescriptorPool::reset() {
-  for (DescriptorSet* s : sets_) destroyObject(s, nullptr);
+void DescriptorPool::reset(const char* fn, const char* pendingVuid) {
+  for (DescriptorSet* s : sets_) destroyWhenIdle(s, nullptr, fn, pendingVuid);
   sets_.clear();
   used_.clear();
 }

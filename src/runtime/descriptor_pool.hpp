@@ -28,8 +28,13 @@ class DescriptorPool : public Object {
   bool fits(const DescriptorSetLayout& layout, uint32_t variableCount, std::map<VkDescriptorType, uint64_t>& pending,
             uint32_t pendingSets) const;
   void add(DescriptorSet* set);
-  void free(DescriptorSet* set);  // returns its descriptors to the pool and destroys it
-  void reset();                   // frees every set
+  // Returns the set's descriptors to the pool and destroys it (once pending work that may use it completes:
+  // destroyWhenIdle, reporting a pending command buffer that refers to it under `pendingVuid`, naming `fn`).
+  void free(DescriptorSet* set, const char* fn = "vkFreeDescriptorSets",
+            const char* pendingVuid = "VUID-vkFreeDescriptorSets-pDescriptorSets-00309");
+  // Frees every set.
+  void reset(const char* fn = "vkResetDescriptorPool",
+             const char* pendingVuid = "VUID-vkResetDescriptorPool-descriptorPool-00313");
 
   uint32_t liveSets() const { return static_cast<uint32_t>(sets_.size()); }
   bool owns(DescriptorSet* set) const { return sets_.count(set) != 0; }

@@ -20,7 +20,8 @@ DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLay
       layout(layout),
       variableCount(layout->hasVariableCount ? variableCount : 0),
       recordCount(layout->recordCountFor(variableCount)),
-      records_(new DescriptorRecord[recordCount ? recordCount : 1]()) {
+      records_(new DescriptorRecord[recordCount ? recordCount : 1]()),
+      written_(new std::atomic<uint8_t>[recordCount ? recordCount : 1]()) {
   layout->retain();
   // Immutable samplers are part of the set from the start.
   for (const DescriptorBinding& b : layout->bindings) {
@@ -309,6 +310,7 @@ bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElemen
       DescriptorRecord& dst = set->records()[span.firstRecord + i];
       if (!span.binding[i]->immutableSamplers.empty()) r.sampler = dst.sampler;  // immutable: keep
       dst = r;
+      set->setWritten(span.firstRecord + i, true);
     }
   }
   return true;
@@ -437,6 +439,7 @@ bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool appl
       DescriptorRecord& out = dst->records()[d.firstRecord + i];
       if (!d.binding[i]->immutableSamplers.empty()) r.sampler = out.sampler;
       out = r;
+      dst->setWritten(d.firstRecord + i, src->written(s.firstRecord + i));
     }
   }
   return true;

@@ -33,8 +33,14 @@ class DescriptorSet : public Object {
   // Elements binding `b` has in this set (the variable count for a variable-sized binding).
   uint32_t elementCount(const DescriptorBinding& b) const;
 
+  // Whether record `i` has been written (or copied from a written one) since the set was allocated; read when a
+  // dispatch or launch executes (VUID-vkCmdDispatch-None-08114), possibly while an update-after-bind write runs.
+  bool written(uint32_t i) const { return written_[i].load(std::memory_order_relaxed) != 0; }
+  void setWritten(uint32_t i, bool w) { written_[i].store(w ? 1 : 0, std::memory_order_relaxed); }
+
  private:
   std::unique_ptr<DescriptorRecord[]> records_;
+  std::unique_ptr<std::atomic<uint8_t>[]> written_;
 };
 
 // Writes `count` descriptors of `type` starting at (binding, arrayElement), crossing into consecutive bindings

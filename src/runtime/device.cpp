@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "runtime/alloc.hpp"
+#include "runtime/command_buffer.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/queue.hpp"
@@ -19,6 +20,63 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
 }
 
 Device::~Device() = default;
+
+bool Device::deferIfPending(Object* obj, std::function<void()> destroy, const char* fn, const char* vuid) {
+  std::lock_guard lock(deferredMutex_);
+  Deferred d;
+  const CommandBuffer* user = nullptr;
+  Queue* userQueue = nullptr;
+  for (Queue* q : queues) {
+    uint64_t count = 0;
+    const CommandBuffer* u = nullptr;
+    if (!q->pendingWork(obj, &count, &u)) continue;
+    d.waitFor.push_back({q, count});
+    if (u && !user) {
+      user = u;
+      userQueue = q;
+    }
+  }
+  if (d.waitFor.empty()) return false;
+  // VUID-vkDestroyBuffer-buffer-00922, VUID-vkFreeMemory-memory-00677, VUID-vkDestroyImage-image-01000,
+  // VUID-vkDestroyImageView-imageView-01026, VUID-vkDestroyBufferView-bufferView-00936,
+  // VUID-vkDestroySampler-sampler-01082, VUID-vkDestroyPipeline-pipeline-00765,
+  // VUID-vkDestroyAccelerationStructureKHR-accelerationStructure-02442,
+  // VUID-vkDestroyAccelerationStructureNV-accelerationStructure-03752, VUID-vkFreeDescriptorSets-pDescriptorSets-00309,
+  // VUID-vkDestroyDescriptorPool-descriptorPool-00303, VUID-vkResetDescriptorPool-descriptorPool-00313
+  if (user)
+    report(obj, Severity::Error, vuid,
+           "%s: %s 0x%llx is used by command buffer 0x%llx, submitted to queue 0x%llx (family %u, index %u) and not "
+           "completed; it is destroyed once that work completes",
+           fn, objectTypeName(obj->objectType), (unsigned long long)obj->handleValue(),
+           (unsigned long long)user->handleValue(), (unsigned long long)userQueue->handleValue(), userQueue->family,
+           userQueue->index);
+  obj->retire();
+  d.destroy = std::move(destroy);
+  deferred_.push_back(std::move(d));
+  return true;
+}
+
+void Device::runDeferred(bool all) {
+  std::vector<std::function<void()>> ready;
+  {
+    std::lock_guard lock(deferredMutex_);
+    for (size_t i = 0; i < deferred_.size();) {
+      bool done = all;
+      if (!done) {
+        done = true;
+        for (auto& [q, count] : deferred_[i].waitFor)
+          if (q->completedCount() < count) done = false;
+      }
+      if (done) {
+        ready.push_back(std::move(deferred_[i].destroy));
+        deferred_.erase(deferred_.begin() + i);
+      } else {
+        ++i;
+      }
+    }
+  }
+  for (auto& f : ready) f();
+}
 
 }  // namespace vkrt
 
@@ -87,6 +145,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyDevice(VkDevice device, const VkAllocatio
   }
   for (Queue* q : dev->queues) q->waitIdle();
   for (Queue* q : dev->queues) destroyObject(q, pAllocator);
+  dev->runDeferred(true);
   destroyObject(dev, pAllocator);
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -51,7 +52,26 @@ class Device : public Object {
 
   // Queues by index within family 0.
   std::vector<Queue*> queues;
+
+  // Destruction while work is pending (vkDestroyBuffer, vkFreeMemory, ... : runtime/lookup.hpp's
+  // destroyWhenIdle). While any queue has work submitted and not completed, `obj` is retired (its handle is no
+  // longer live) and `destroy` runs once that work has completed, on the queue's worker (a shader may still reach
+  // the object through a descriptor or a device address). A pending command buffer that refers to `obj` is
+  // reported under `vuid`, naming `fn`, the command buffer and its queue. False (nothing done) when no work is
+  // pending: the caller destroys `obj` now.
+  bool deferIfPending(Object* obj, std::function<void()> destroy, const char* fn, const char* vuid);
+  // Runs the deferred destructions whose work has completed (every one when `all`, at vkDestroyDevice).
+  void runDeferred(bool all);
+
   const VkAllocationCallbacks* allocator = nullptr;
+
+ private:
+  struct Deferred {
+    std::function<void()> destroy;
+    std::vector<std::pair<Queue*, uint64_t>> waitFor;  // each queue's batch count when it was destroyed
+  };
+  std::mutex deferredMutex_;  // taken before any queue's mutex
+  std::vector<Deferred> deferred_;
 };
 
 }  // namespace vkrt

@@ -233,7 +233,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImage(VkDevice device, VkImage image, con
            "destroys it");
     return;
   }
-  destroyDeviceChild<Image>(device, image, pAllocator, "vkDestroyImage", "VUID-vkDestroyImage-image-parameter");
+  destroyDeviceChildWhenIdle<Image>(device, image, pAllocator, "vkDestroyImage", "VUID-vkDestroyImage-image-parameter",
+                                    "VUID-vkDestroyImage-image-01000");
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetImageMemoryRequirements(VkDevice, VkImage image, VkMemoryRequirements* pReq) {

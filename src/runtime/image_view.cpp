@@ -132,8 +132,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroyImageView(VkDevice device, VkImageView view,
                                                  const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<ImageView>(device, view, pAllocator, "vkDestroyImageView",
-                                "VUID-vkDestroyImageView-imageView-parameter");
+  destroyDeviceChildWhenIdle<ImageView>(device, view, pAllocator, "vkDestroyImageView",
+                                        "VUID-vkDestroyImageView-imageView-parameter",
+                                        "VUID-vkDestroyImageView-imageView-01026");
 }
 
 }  // extern "C"

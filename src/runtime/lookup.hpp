@@ -27,4 +27,25 @@ void destroyDeviceChild(VkDevice device, typename T::Handle h, const VkAllocatio
   if (T* obj = liveOrReport<T>(fromHandle<Device>(device), h, fn, vuid)) destroyObject(obj, allocator);
 }
 
+// Destroys `obj` now, or, while queue work submitted before is pending, once that work has completed
+// (Device::deferIfPending: a pending command buffer that refers to it is reported under `pendingVuid`).
+template <class T>
+void destroyWhenIdle(T* obj, const VkAllocationCallbacks* allocator, const char* fn, const char* pendingVuid) {
+  VkAllocationCallbacks copy{};
+  const bool hasAllocator = allocator != nullptr;
+  if (hasAllocator) copy = *allocator;
+  if (!obj->device->deferIfPending(
+          obj, [obj, copy, hasAllocator] { destroyObject(obj, hasAllocator ? &copy : nullptr); }, fn, pendingVuid))
+    destroyObject(obj, allocator);
+}
+
+// destroyDeviceChild for the objects that pending work may still use (destroyWhenIdle).
+template <class T>
+void destroyDeviceChildWhenIdle(VkDevice device, typename T::Handle h, const VkAllocationCallbacks* allocator,
+                                const char* fn, const char* vuid, const char* pendingVuid) {
+  if (!h) return;
+  if (T* obj = liveOrReport<T>(fromHandle<Device>(device), h, fn, vuid))
+    destroyWhenIdle(obj, allocator, fn, pendingVuid);
+}
+
 }  // namespace vkrt

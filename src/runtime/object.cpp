@@ -1,5 +1,6 @@
 #include "runtime/object.hpp"
 
+#include <atomic>
 #include <shared_mutex>
 #include <unordered_map>
 
@@ -16,9 +17,15 @@ Registry& registry() {
   return *r;
 }
 
+std::atomic<uint64_t> nextSerial{1};
+
+thread_local bool tNoting = false;
+thread_local std::vector<Object*> tNoted;
+
 }  // namespace
 
-Object::Object(VkObjectType type, Instance* inst, Device* dev) : objectType(type), instance(inst), device(dev) {
+Object::Object(VkObjectType type, Instance* inst, Device* dev)
+    : objectType(type), instance(inst), device(dev), serial(nextSerial.fetch_add(1, std::memory_order_relaxed)) {
   set_loader_magic_value(&loaderData);
   Registry& r = registry();
   std::unique_lock lock(r.mutex);
@@ -29,6 +36,24 @@ Object::~Object() {
   Registry& r = registry();
   std::unique_lock lock(r.mutex);
   r.live.erase(handleValue());
+}
+
+void Object::retire() {
+  Registry& r = registry();
+  std::unique_lock lock(r.mutex);
+  r.live.erase(handleValue());
+}
+
+void beginNotingLookups() {
+  tNoting = true;
+  tNoted.clear();
+}
+
+std::vector<Object*> takeNotedLookups() {
+  tNoting = false;
+  std::vector<Object*> out;
+  out.swap(tNoted);
+  return out;
 }
 
 std::string Object::debugName() const {
@@ -47,7 +72,10 @@ Object* findObject(uint64_t handle, VkObjectType type) {
   std::shared_lock lock(r.mutex);
   auto it = r.live.find(handle);
   if (it == r.live.end() || it->second != type) return nullptr;
-  return reinterpret_cast<Object*>(handle);
+  Object* o = reinterpret_cast<Object*>(handle);
+  // Bounded: a lookup that is never recorded (a refused command) is dropped at the next command.
+  if (tNoting && tNoted.size() < 4096) tNoted.push_back(o);
+  return o;
 }
 
 Object* findAnyObject(uint64_t handle) {

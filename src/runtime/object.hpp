@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "runtime/vk.hpp"
 
@@ -34,6 +35,13 @@ class Object {
 
   uint64_t handleValue() const { return reinterpret_cast<uint64_t>(this); }
 
+  // Unique in the process and never reused: tells this object from a later one created at the same address.
+  const uint64_t serial;
+
+  // Takes the handle out of the registry (it is no longer live) while the object itself stays, for a destruction
+  // deferred until pending work that uses it completes (runtime/deferred_destroy.hpp).
+  void retire();
+
   // The name set with vkSetDebugUtilsObjectNameEXT (empty when none).
   std::string debugName() const;
   void setDebugName(const char* name);
@@ -48,6 +56,12 @@ Object* findObject(uint64_t handle, VkObjectType type);
 // Any live object with that handle value, whatever its type (for vkSetDebugUtilsObjectNameEXT).
 Object* findAnyObject(uint64_t handle);
 size_t liveObjectCount();
+
+// Lookups noted for a command being recorded (runtime/command_buffer.cpp): from beginNotingLookups() until
+// takeNotedLookups() on the same thread, every object findObject returns is noted, so that a command buffer knows
+// the objects its commands refer to without each command listing them.
+void beginNotingLookups();
+std::vector<Object*> takeNotedLookups();
 
 template <class T>
 uint64_t rawHandle(T h) {

@@ -2,6 +2,8 @@
 #include "runtime/pipeline.hpp"
 
 #include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/lookup.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -19,7 +21,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyPipeline(VkDevice device, VkPipeline pipe
            "vkDestroyPipeline: 0x%llx is not a live VkPipeline", (unsigned long long)rawHandle(pipeline));
     return;
   }
-  destroyObject(p, pAllocator);
+  destroyWhenIdle(p, pAllocator, "vkDestroyPipeline", "VUID-vkDestroyPipeline-pipeline-00765");
 }
 
 }  // extern "C"

@@ -45,6 +45,7 @@ void Queue::enqueue(std::vector<Batch>&& batches) {
   {
     std::lock_guard lock(mutex_);
     for (Batch& b : batches) pending_.push_back(std::move(b));
+    enqueued_ += batches.size();
   }
   cv_.notify_all();
 }
@@ -52,6 +53,25 @@ void Queue::enqueue(std::vector<Batch>&& batches) {
 void Queue::waitIdle() {
   std::unique_lock lock(mutex_);
   cv_.wait(lock, [&] { return pending_.empty() && !busy_; });
+}
+
+bool Queue::pendingWork(const Object* o, uint64_t* count, const CommandBuffer** user) {
+  std::lock_guard lock(mutex_);
+  if (completed_ == enqueued_) return false;
+  *count = enqueued_;
+  *user = nullptr;
+  auto scan = [&](const Batch& b) {
+    for (const CommandBuffer* cb : b.commandBuffers)
+      if (!*user && cb->refersTo(o)) *user = cb;
+  };
+  if (current_) scan(*current_);
+  for (const Batch& b : pending_) scan(b);
+  return true;
+}
+
+uint64_t Queue::completedCount() {
+  std::lock_guard lock(mutex_);
+  return completed_;
 }
 
 void Queue::run() {
@@ -62,6 +82,7 @@ void Queue::run() {
     Batch batch = std::move(pending_.front());
     pending_.pop_front();
     busy_ = true;
+    current_ = &batch;
     lock.unlock();
     execute(batch);
     lock.lock();
@@ -94,6 +115,14 @@ void Queue::execute(Batch& batch) {
   }
   for (CommandBuffer* cb : batch.commandBuffers) cb->markCompleted();
   if (batch.hostWork) batch.hostWork(abandoned);
+  // The batch's work is done: objects destroyed while it was pending go now, before its signals let a waiter
+  // observe completion (a destroy after the wait then finds nothing pending).
+  {
+    std::lock_guard lock(mutex_);
+    current_ = nullptr;
+    ++completed_;
+  }
+  device->runDeferred(false);
   // Signals, and the end of this batch's references, in one step: once a waiter sees a signal it may destroy
   // the objects, so nothing is touched after the lock is released.
   {

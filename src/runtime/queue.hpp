@@ -57,6 +57,13 @@ class Queue : public Object {
   // Blocks until everything submitted to this queue has executed.
   void waitIdle();
 
+  // For deferred destruction (Device::deferIfPending): whether batches enqueued so far have not all completed;
+  // if so, `*count` is the number enqueued so far and `*user` a command buffer of that work referring to `o` (or
+  // null).
+  bool pendingWork(const Object* o, uint64_t* count, const CommandBuffer** user);
+  // The number of batches that have completed (their command buffers ran; their signals may follow).
+  uint64_t completedCount();
+
   // True once the destructor runs: a worker blocked on a semaphore or event gives up (read under sync::mutex()).
   bool abandoning() const { return abandon_; }
 
@@ -72,6 +79,9 @@ class Queue : public Object {
   std::condition_variable cv_;
   std::deque<Batch> pending_;
   bool busy_ = false;
+  Batch* current_ = nullptr;  // the batch the worker executes, until its commands have completed
+  uint64_t enqueued_ = 0;     // batches enqueued
+  uint64_t completed_ = 0;    // batches whose commands have completed
   bool stop_ = false;
   bool abandon_ = false;  // guarded by sync::mutex()
   std::thread worker_;

@@ -49,8 +49,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSampl
 
 VKAPI_ATTR void VKAPI_CALL vkrt_DestroySampler(VkDevice device, VkSampler sampler,
                                                const VkAllocationCallbacks* pAllocator) {
-  destroyDeviceChild<Sampler>(device, sampler, pAllocator, "vkDestroySampler",
-                              "VUID-vkDestroySampler-sampler-parameter");
+  destroyDeviceChildWhenIdle<Sampler>(device, sampler, pAllocator, "vkDestroySampler",
+                                      "VUID-vkDestroySampler-sampler-parameter", "VUID-vkDestroySampler-sampler-01082");
 }
 
 }  // extern "C"

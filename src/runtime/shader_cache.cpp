@@ -27,6 +27,8 @@ std::string shaderKey(uint64_t codeHash, const spirv::CompileRequest& request) {
 
 namespace {
 
+// `shader` is read under either mutex (compileShared under compileMutex, the sweep of unused entries under
+// gCacheMutex) and written under both (setShader), so no read races a write.
 struct CacheEntry {
   std::mutex compileMutex;  // held while this key compiles
   std::weak_ptr<const spirv::CompiledShader> shader;
@@ -36,6 +38,12 @@ std::mutex gCacheMutex;
 std::map<std::pair<const Device*, std::string>, std::shared_ptr<CacheEntry>> gCache;
 std::atomic<uint64_t> gCompiles{0};
 std::atomic<uint64_t> gCacheLoads{0};
+
+// The caller holds entry.compileMutex.
+void setShader(CacheEntry& entry, const std::shared_ptr<const spirv::CompiledShader>& shader) {
+  std::lock_guard<std::mutex> lock(gCacheMutex);
+  entry.shader = shader;
+}
 
 }  // namespace
 
@@ -75,7 +83,7 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
           spirv::loadCached(*blob, imageFunctionSymbols(), &loadError);
       if (loaded) {
         gCacheLoads.fetch_add(1);
-        entry->shader = loaded;
+        setShader(*entry, loaded);
         if (cacheHit) *cacheHit = true;
         return loaded;
       }
@@ -88,7 +96,7 @@ std::shared_ptr<const spirv::CompiledShader> compileShared(const Device* dev, co
   withHost.hostSymbols = imageFunctionSymbols();  // the runtime's image functions (abi/image_functions.hpp)
   std::shared_ptr<const spirv::CompiledShader> shader = spirv::compile(withHost, error);
   gCompiles.fetch_add(1);
-  if (shader) entry->shader = shader;
+  if (shader) setShader(*entry, shader);
   return shader;
 }
 
