@@ -149,13 +149,14 @@ TEST(SpirvAssembly, FunctionCallsWithPointerParametersAndLoopPhis) {
 }
 
 TEST(SpirvAssembly, UnsupportedInstructionNamesItsWordOffset) {
-  // Subgroup operations are not compiled (the scope constant 3 is Subgroup).
-  std::vector<uint32_t> words = assemble("OpCapability GroupNonUniform", "%q = OpGroupNonUniformElect %bool %uint_3");
-  uint32_t at = offsetOf(words, spv::OpGroupNonUniformElect);
+  // Subgroup votes are not compiled (only the basic subgroup operations are; the scope constant 3 is Subgroup).
+  std::vector<uint32_t> words =
+      assemble("OpCapability GroupNonUniformVote", "%q = OpGroupNonUniformAll %bool %uint_3 %cond");
+  uint32_t at = offsetOf(words, spv::OpGroupNonUniformAll);
   ASSERT_NE(at, 0u);
   std::string error;
   EXPECT_EQ(compileWords(words, true, &error), nullptr);
-  EXPECT_EQ(error, "unsupported instruction OpGroupNonUniformElect at word " + std::to_string(at));
+  EXPECT_EQ(error, "unsupported instruction OpGroupNonUniformAll at word " + std::to_string(at));
 }
 
 TEST(SpirvAssembly, UnsupportedCapabilityIsNamed) {
