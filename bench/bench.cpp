@@ -12,11 +12,13 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -587,14 +589,20 @@ struct AoEmbree {
       masks[p] = mask;
     }
   }
-  // Every point, split in aoThreads() contiguous ranges over std::threads (the calling thread takes the last).
+  // Every point over aoThreads() threads (std::thread; the calling thread is one of them), which take chunks of 64
+  // points from an atomic counter as they go: a thread that loses its core on a loaded machine holds up no fixed
+  // share (vkrt's pool hands out workgroups in chunks the same way).
   template <class F>
   void parallel(F f, uint32_t* masks) const {
-    unsigned n = aoThreads();
+    constexpr uint32_t kChunk = 64;
+    std::atomic<uint32_t> next{0};
+    auto work = [&] {
+      for (uint32_t p; (p = next.fetch_add(kChunk, std::memory_order_relaxed)) < kAoPoints;)
+        (this->*f)(p, std::min(p + kChunk, kAoPoints), masks);
+    };
     std::vector<std::thread> threads;
-    for (unsigned t = 0; t + 1 < n; ++t)
-      threads.emplace_back([&, t] { (this->*f)(kAoPoints * t / n, kAoPoints * (t + 1) / n, masks); });
-    (this->*f)(kAoPoints * (n - 1) / n, kAoPoints, masks);
+    for (unsigned t = 1; t < aoThreads(); ++t) threads.emplace_back(work);
+    work();
     for (auto& t : threads) t.join();
   }
 };
@@ -635,9 +643,19 @@ bool aoCompare(benchmark::State& state, const char* who, const uint32_t* masks, 
   return true;
 }
 
-void aoRate(benchmark::State& state) {
-  state.counters["Mrays"] =
-      benchmark::Counter(double(state.iterations()) * kAoPoints * kAoRays * 1e-6, benchmark::Counter::kIsRate);
+// The process's CPU time (every thread's), in seconds.
+double processCpuSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+}
+
+// Mrays per second of real time, and per second of the whole process's CPU time since `cpuStart` (less sensitive to
+// other load on a shared machine than real time: a thread waiting for a core does not count).
+void aoRate(benchmark::State& state, double cpuStart) {
+  const double mrays = double(state.iterations()) * kAoPoints * kAoRays * 1e-6;
+  state.counters["Mrays"] = benchmark::Counter(mrays, benchmark::Counter::kIsRate);
+  state.counters["Mrays_per_cpu_s"] = mrays / (processCpuSeconds() - cpuStart);
 }
 
 // vkrt: a BLAS of the scene, a TLAS with one identity instance of it, both built with
@@ -764,8 +782,9 @@ void BM_AmbientOcclusion_vkrt(benchmark::State& state) {
     if (r[p * 2] != uint32_t(std::popcount(r[p * 2 + 1])))
       return mismatch(state, "a point's occluded count is not its mask's");
   if (!aoCompare(state, "vkrt ray queries", r + 1, 2)) return;
+  const double cpuStart = processCpuSeconds();
   for (auto _ : state) k.run();
-  aoRate(state);
+  aoRate(state, cpuStart);
 }
 
 void BM_AmbientOcclusion_embree(benchmark::State& state) {
@@ -773,11 +792,12 @@ void BM_AmbientOcclusion_embree(benchmark::State& state) {
   const AoEmbree& e = aoEmbree();
   e.parallel(&AoEmbree::occluded1, masks.data());
   if (!aoCompare(state, "rtcOccluded1 (timed run)", masks.data(), 1)) return;
+  const double cpuStart = processCpuSeconds();
   for (auto _ : state) {
     e.parallel(&AoEmbree::occluded1, masks.data());
     benchmark::ClobberMemory();
   }
-  aoRate(state);
+  aoRate(state, cpuStart);
 }
 
 void BM_AmbientOcclusion_embree8(benchmark::State& state) {
@@ -785,11 +805,12 @@ void BM_AmbientOcclusion_embree8(benchmark::State& state) {
   const AoEmbree& e = aoEmbree();
   e.parallel(&AoEmbree::occluded8, masks.data());
   if (!aoCompare(state, "rtcOccluded8", masks.data(), 1)) return;
+  const double cpuStart = processCpuSeconds();
   for (auto _ : state) {
     e.parallel(&AoEmbree::occluded8, masks.data());
     benchmark::ClobberMemory();
   }
-  aoRate(state);
+  aoRate(state, cpuStart);
 }
 
 // ---- pipeline creation (the matmul shader): cold compiles, warm loads from a VkPipelineCache
