@@ -1,18 +1,29 @@
 // vkrt's compute benchmark: SAXPY (1M floats), a 256x256 float matrix multiply and a 512x512 Mandelbrot
 // (256 iterations) dispatched through the Vulkan loader to vkrt, next to the same kernels in C++ (single
-// threaded, -O2); and vkCreateComputePipelines from a cold cache (compiling) and a warm VkPipelineCache.
+// threaded, -O2); vkCreateComputePipelines from a cold cache (compiling) and a warm VkPipelineCache; and ambient
+// occlusion rays (VK_KHR_ray_query from a compute shader, 131k triangles, 1M rays) next to raw Embree 3 tracing the
+// same rays (rtcOccluded1 and rtcOccluded8, std::threads), each checked ray by ray against rtcOccluded1.
 //
 // The loader is pointed at this build's vkrt (VK_DRIVER_FILES) unless VK_DRIVER_FILES is set already.
 // VKRT_THREADS=1 runs vkrt's dispatches on one thread, like the native kernels.
 #include <benchmark/benchmark.h>
 #include <vulkan/vulkan.h>
 
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <memory>
+#include <thread>
 #include <vector>
 
+#include "ao_query.comp.spv.h"
 #include "mandelbrot.comp.spv.h"
 #include "matmul.comp.spv.h"
 #include "native_kernels.hpp"
@@ -37,6 +48,14 @@ struct Context {
   VkDevice device = VK_NULL_HANDLE;
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool pool = VK_NULL_HANDLE;
+  // VK_KHR_acceleration_structure and VK_KHR_ray_query with their features, where the driver has them (the
+  // ambient occlusion benchmark needs them; the others do not).
+  bool rayQuery = false;
+  PFN_vkCreateAccelerationStructureKHR createAs = nullptr;
+  PFN_vkDestroyAccelerationStructureKHR destroyAs = nullptr;
+  PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes = nullptr;
+  PFN_vkCmdBuildAccelerationStructuresKHR cmdBuild = nullptr;
+  PFN_vkGetAccelerationStructureDeviceAddressKHR asAddress = nullptr;
 
   Context() {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -57,13 +76,47 @@ struct Context {
     qci.pQueuePriorities = &priority;
     VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     f13.maintenance4 = VK_TRUE;
+    const char* extensions[] = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+                                VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME};
+    uint32_t available = 0;
+    vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, nullptr);
+    std::vector<VkExtensionProperties> props2(available);
+    vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, props2.data());
+    rayQuery = std::all_of(std::begin(extensions), std::end(extensions), [&](const char* e) {
+      return std::any_of(props2.begin(), props2.end(),
+                         [&](const VkExtensionProperties& p) { return std::strcmp(p.extensionName, e) == 0; });
+    });
+    VkPhysicalDeviceRayQueryFeaturesKHR rqf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    rqf.rayQuery = VK_TRUE;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rqf};
+    asf.accelerationStructure = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &asf};
+    f12.bufferDeviceAddress = VK_TRUE;
+    if (rayQuery) f13.pNext = &f12;
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f13};
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
+    if (rayQuery) {
+      dci.enabledExtensionCount = uint32_t(std::size(extensions));
+      dci.ppEnabledExtensionNames = extensions;
+    }
     CHECK(vkCreateDevice(physical, &dci, nullptr, &device));
     vkGetDeviceQueue(device, 0, 0, &queue);
+    if (rayQuery) {
+      load(createAs, "vkCreateAccelerationStructureKHR");
+      load(destroyAs, "vkDestroyAccelerationStructureKHR");
+      load(buildSizes, "vkGetAccelerationStructureBuildSizesKHR");
+      load(cmdBuild, "vkCmdBuildAccelerationStructuresKHR");
+      load(asAddress, "vkGetAccelerationStructureDeviceAddressKHR");
+    }
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     CHECK(vkCreateCommandPool(device, &pci, nullptr, &pool));
+  }
+  template <class F>
+  void load(F& f, const char* name) {
+    f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
+    if (!f) fail(name, VK_ERROR_EXTENSION_NOT_PRESENT);
   }
   ~Context() {
     vkDestroyCommandPool(device, pool, nullptr);
@@ -83,11 +136,11 @@ struct Buffer {
   void* data = nullptr;
   VkDeviceSize size = 0;
 
-  explicit Buffer(VkDeviceSize bytes) : size(bytes) {
+  explicit Buffer(VkDeviceSize bytes, VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) : size(bytes) {
     VkDevice d = ctx().device;
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bci.size = bytes;
-    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    bci.usage = usage;
     CHECK(vkCreateBuffer(d, &bci, nullptr, &buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(d, buffer, &req);
@@ -98,16 +151,26 @@ struct Buffer {
     while (type < mp.memoryTypeCount &&
            !((req.memoryTypeBits >> type & 1) && (mp.memoryTypes[type].propertyFlags & want) == want))
       ++type;
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ai.pNext = &flags;
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = type;
     CHECK(vkAllocateMemory(d, &ai, nullptr, &memory));
     CHECK(vkBindBufferMemory(d, buffer, memory, 0));
     CHECK(vkMapMemory(d, memory, 0, VK_WHOLE_SIZE, 0, &data));
   }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
   ~Buffer() {
     vkDestroyBuffer(ctx().device, buffer, nullptr);
     vkFreeMemory(ctx().device, memory, nullptr);
+  }
+  VkDeviceAddress address() const {
+    VkBufferDeviceAddressInfo i{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    i.buffer = buffer;
+    return vkGetBufferDeviceAddress(ctx().device, &i);
   }
   template <class T>
   T* as() {
@@ -115,7 +178,8 @@ struct Buffer {
   }
 };
 
-// A compute pipeline whose set 0 has `bindings` storage buffers, with `pushBytes` of push constants.
+// A compute pipeline whose set 0 has `bindings` storage buffers (binding 0 an acceleration structure instead where
+// `accelerationStructure0`), with `pushBytes` of push constants.
 struct Kernel {
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
@@ -125,11 +189,15 @@ struct Kernel {
   VkDescriptorSet set = VK_NULL_HANDLE;
   VkCommandBuffer cb = VK_NULL_HANDLE;
 
-  Kernel(const uint32_t* words, size_t bytes, uint32_t bindings, uint32_t pushBytes) {
+  Kernel(const uint32_t* words, size_t bytes, uint32_t bindings, uint32_t pushBytes,
+         bool accelerationStructure0 = false) {
     VkDevice d = ctx().device;
     std::vector<VkDescriptorSetLayoutBinding> b;
     for (uint32_t i = 0; i < bindings; ++i)
-      b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+      b.push_back({i,
+                   i == 0 && accelerationStructure0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR
+                                                    : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                   1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = bindings;
     dl.pBindings = b.data();
@@ -146,11 +214,12 @@ struct Kernel {
     sm.pCode = words;
     CHECK(vkCreateShaderModule(d, &sm, nullptr, &module));
     pipeline = createPipeline(VK_NULL_HANDLE);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindings};
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindings},
+                                     {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1}};
     VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dp.maxSets = 1;
-    dp.poolSizeCount = 1;
-    dp.pPoolSizes = &size;
+    dp.poolSizeCount = accelerationStructure0 ? 2 : 1;
+    dp.pPoolSizes = sizes;
     CHECK(vkCreateDescriptorPool(d, &dp, nullptr, &pool));
     VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     da.descriptorPool = pool;
@@ -190,6 +259,17 @@ struct Kernel {
     w.descriptorCount = 1;
     w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(ctx().device, 1, &w, 0, nullptr);
+  }
+  void bind(uint32_t binding, VkAccelerationStructureKHR as) {
+    VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+    asw.accelerationStructureCount = 1;
+    asw.pAccelerationStructures = &as;
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw};
+    w.dstSet = set;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
     vkUpdateDescriptorSets(ctx().device, 1, &w, 0, nullptr);
   }
 
@@ -346,6 +426,393 @@ void BM_Mandelbrot_native(benchmark::State& state) {
   }
 }
 
+// ---- ambient occlusion rays (VK_KHR_ray_query in a compute shader) next to raw Embree 3 on the same rays
+
+// The scene: a height field of kAoGrid x kAoGrid quads over [0, 1]^2 (2 * kAoGrid^2 triangles) and four boxes of
+// 12 triangles standing in it; kAoGrid^2 points, each just above a grid vertex (+1e-3 in z), cast kAoRays rays in
+// [kAoTMin, kAoTMax] in directions from an integer hash of (point, ray).
+constexpr uint32_t kAoGrid = 256, kAoRays = 16, kAoPoints = kAoGrid * kAoGrid;
+constexpr float kAoTMin = 0.0f, kAoTMax = 0.1f;
+
+struct AoScene {
+  std::vector<float> vertices;  // xyz
+  std::vector<uint32_t> indices;
+  std::vector<float> origins;  // xyzw per point
+};
+
+const AoScene& aoScene() {
+  static const AoScene scene = [] {
+    AoScene s;
+    const uint32_t n = kAoGrid, row = kAoGrid + 1;
+    for (uint32_t j = 0; j <= n; ++j)
+      for (uint32_t i = 0; i <= n; ++i) {
+        float x = float(i) / float(n), y = float(j) / float(n);
+        float z =
+            0.06f * std::sin(6.2831853f * 3 * x) * std::cos(6.2831853f * 2 * y) + 0.02f * std::sin(17 * x + 11 * y);
+        s.vertices.insert(s.vertices.end(), {x, y, z});
+      }
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t i = 0; i < n; ++i) {
+        uint32_t v = j * row + i;
+        s.indices.insert(s.indices.end(), {v, v + 1, v + row, v + row, v + 1, v + row + 1});
+      }
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t i = 0; i < n; ++i) {
+        const float* v = &s.vertices[size_t(j * row + i) * 3];
+        s.origins.insert(s.origins.end(), {v[0], v[1], v[2] + 1e-3f, 0.0f});
+      }
+    // Four boxes, 0.08 wide, from z = -0.1 to 0.15.
+    const float centres[4][2] = {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};
+    const uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (const auto& c : centres) {
+      uint32_t base = uint32_t(s.vertices.size() / 3);
+      for (uint32_t corner = 0; corner < 8; ++corner)
+        s.vertices.insert(s.vertices.end(), {c[0] + (corner & 1 ? 0.04f : -0.04f), c[1] + (corner & 2 ? 0.04f : -0.04f),
+                                             corner & 4 ? 0.15f : -0.1f});
+      for (const auto& f : faces) s.indices.insert(s.indices.end(), {base + f[0], base + f[1], base + f[2]});
+    }
+    return s;
+  }();
+  return scene;
+}
+
+// ao_query.comp's hash and directions, the same integer operations and exact float scalings.
+uint32_t aoHash(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+void aoDirection(uint32_t point, uint32_t k, float d[3]) {
+  uint32_t h1 = aoHash(point * kAoRays + k), h2 = aoHash(h1), h3 = aoHash(h2);
+  d[0] = float(int32_t(h1 >> 16) - 32768) * (1.0f / 32768.0f);
+  d[1] = float(int32_t(h2 >> 16) - 32768) * (1.0f / 32768.0f);
+  d[2] = float((h3 >> 16) + 1u) * (1.0f / 65536.0f);
+}
+
+// The thread count of both sides: VKRT_THREADS as vkrt reads it (1..256), else the hardware threads.
+unsigned aoThreads() {
+  unsigned n = std::thread::hardware_concurrency();
+  if (const char* env = std::getenv("VKRT_THREADS")) {
+    long v = std::strtol(env, nullptr, 10);
+    if (v >= 1 && v <= 256) n = unsigned(v);
+  }
+  return std::max(1u, n);
+}
+
+// Raw Embree: the same triangles in one scene (no instance level), robust and built at HIGH quality as vkrt builds
+// a PREFER_FAST_TRACE structure (src/accel/blas.cpp).
+struct AoEmbree {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  AoEmbree() {
+    const AoScene& s = aoScene();
+    device = rtcNewDevice("verbose=0");
+    scene = rtcNewScene(device);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, s.vertices.size() / 3));
+    std::memcpy(v, s.vertices.data(), s.vertices.size() * 4);
+    auto* ix = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, s.indices.size() / 3));
+    std::memcpy(ix, s.indices.data(), s.indices.size() * 4);
+    rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitScene(scene);
+  }
+  ~AoEmbree() {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+
+  // Points [begin, end) with rtcOccluded1: the mask of occluded rays per point.
+  void occluded1(uint32_t begin, uint32_t end, uint32_t* masks) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const float* o = aoScene().origins.data();
+    for (uint32_t p = begin; p < end; ++p) {
+      uint32_t mask = 0;
+      for (uint32_t k = 0; k < kAoRays; ++k) {
+        RTCRay r{};
+        r.org_x = o[p * 4];
+        r.org_y = o[p * 4 + 1];
+        r.org_z = o[p * 4 + 2];
+        float d[3];
+        aoDirection(p, k, d);
+        r.dir_x = d[0];
+        r.dir_y = d[1];
+        r.dir_z = d[2];
+        r.tnear = kAoTMin;
+        r.tfar = kAoTMax;
+        r.mask = ~0u;
+        rtcOccluded1(scene, &context, &r);
+        if (r.tfar < 0) mask |= 1u << k;  // -inf: occluded
+      }
+      masks[p] = mask;
+    }
+  }
+  // The same with rtcOccluded8: a point's rays in packets of 8.
+  void occluded8(uint32_t begin, uint32_t end, uint32_t* masks) const {
+    static_assert(kAoRays % 8 == 0);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const float* o = aoScene().origins.data();
+    alignas(32) const int valid[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+    for (uint32_t p = begin; p < end; ++p) {
+      uint32_t mask = 0;
+      for (uint32_t k0 = 0; k0 < kAoRays; k0 += 8) {
+        RTCRay8 r{};
+        for (uint32_t l = 0; l < 8; ++l) {
+          r.org_x[l] = o[p * 4];
+          r.org_y[l] = o[p * 4 + 1];
+          r.org_z[l] = o[p * 4 + 2];
+          float d[3];
+          aoDirection(p, k0 + l, d);
+          r.dir_x[l] = d[0];
+          r.dir_y[l] = d[1];
+          r.dir_z[l] = d[2];
+          r.tnear[l] = kAoTMin;
+          r.tfar[l] = kAoTMax;
+          r.mask[l] = ~0u;
+        }
+        rtcOccluded8(valid, scene, &context, &r);
+        for (uint32_t l = 0; l < 8; ++l)
+          if (r.tfar[l] < 0) mask |= 1u << (k0 + l);
+      }
+      masks[p] = mask;
+    }
+  }
+  // Every point over aoThreads() threads (std::thread; the calling thread is one of them), which take chunks of 64
+  // points from an atomic counter as they go: a thread that loses its core on a loaded machine holds up no fixed
+  // share (vkrt's pool hands out workgroups in chunks the same way).
+  template <class F>
+  void parallel(F f, uint32_t* masks) const {
+    constexpr uint32_t kChunk = 64;
+    std::atomic<uint32_t> next{0};
+    auto work = [&] {
+      for (uint32_t p; (p = next.fetch_add(kChunk, std::memory_order_relaxed)) < kAoPoints;)
+        (this->*f)(p, std::min(p + kChunk, kAoPoints), masks);
+    };
+    std::vector<std::thread> threads;
+    for (unsigned t = 1; t < aoThreads(); ++t) threads.emplace_back(work);
+    work();
+    for (auto& t : threads) t.join();
+  }
+};
+
+AoEmbree& aoEmbree() {
+  static AoEmbree e;
+  return e;
+}
+
+// Raw Embree's rtcOccluded1 masks, the reference both benchmarks compare with.
+const std::vector<uint32_t>& aoReference() {
+  static const std::vector<uint32_t> masks = [] {
+    std::vector<uint32_t> m(kAoPoints);
+    aoEmbree().parallel(&AoEmbree::occluded1, m.data());
+    return m;
+  }();
+  return masks;
+}
+
+// Compares masks with the reference: counters with the occluded fraction and the rays that differ; false (and
+// the benchmark skipped) where more than 1% of the rays differ.
+bool aoCompare(benchmark::State& state, const char* who, const uint32_t* masks, size_t stride) {
+  const std::vector<uint32_t>& ref = aoReference();
+  uint64_t occluded = 0, differ = 0;
+  for (uint32_t p = 0; p < kAoPoints; ++p) {
+    occluded += uint32_t(std::popcount(masks[p * stride]));
+    differ += uint32_t(std::popcount(masks[p * stride] ^ ref[p]));
+  }
+  const double rays = double(kAoPoints) * kAoRays;
+  state.counters["occluded"] = double(occluded) / rays;
+  state.counters["rays_differing"] = double(differ);
+  if (differ)
+    std::fprintf(stderr, "%s: %llu of %.0f rays differ from rtcOccluded1\n", who, (unsigned long long)differ, rays);
+  if (differ > uint64_t(rays / 100)) {
+    mismatch(state, "the occlusion differs from raw Embree's in more than 1% of the rays");
+    return false;
+  }
+  return true;
+}
+
+// The process's CPU time (every thread's), in seconds.
+double processCpuSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+}
+
+// Mrays per second of real time, and per second of the whole process's CPU time since `cpuStart` (less sensitive to
+// other load on a shared machine than real time: a thread waiting for a core does not count).
+void aoRate(benchmark::State& state, double cpuStart) {
+  const double mrays = double(state.iterations()) * kAoPoints * kAoRays * 1e-6;
+  state.counters["Mrays"] = benchmark::Counter(mrays, benchmark::Counter::kIsRate);
+  state.counters["Mrays_per_cpu_s"] = mrays / (processCpuSeconds() - cpuStart);
+}
+
+// vkrt: a BLAS of the scene, a TLAS with one identity instance of it, both built with
+// vkCmdBuildAccelerationStructuresKHR (PREFER_FAST_TRACE) before the timed loop.
+struct AoVkrt {
+  std::vector<std::unique_ptr<Buffer>> buffers;
+  VkAccelerationStructureKHR blas = VK_NULL_HANDLE, tlas = VK_NULL_HANDLE;
+
+  static constexpr VkBufferUsageFlags kInput =
+      VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+
+  Buffer& buffer(VkDeviceSize bytes, VkBufferUsageFlags usage) {
+    buffers.push_back(std::make_unique<Buffer>(bytes, usage));
+    return *buffers.back();
+  }
+  VkDeviceAddress upload(const void* data, size_t bytes) {
+    Buffer& b = buffer(bytes, kInput);
+    std::memcpy(b.data, data, bytes);
+    return b.address();
+  }
+  VkAccelerationStructureKHR build(VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
+                                   uint32_t primitives) {
+    Context& c = ctx();
+    VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    info.type = type;
+    info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    info.geometryCount = 1;
+    info.pGeometries = &g;
+    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &primitives, &sizes);
+    Buffer& storage = buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                                                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.buffer = storage.buffer;
+    ci.size = sizes.accelerationStructureSize;
+    ci.type = type;
+    VkAccelerationStructureKHR as = VK_NULL_HANDLE;
+    CHECK(c.createAs(c.device, &ci, nullptr, &as));
+    Buffer& scratch = buffer(sizes.buildScratchSize + 256,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    info.dstAccelerationStructure = as;
+    info.scratchData.deviceAddress = (scratch.address() + 255) / 256 * 256;
+    VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
+    const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = c.pool;
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    VkCommandBuffer cb;
+    CHECK(vkAllocateCommandBuffers(c.device, &cai, &cb));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    CHECK(vkBeginCommandBuffer(cb, &bi));
+    c.cmdBuild(cb, 1, &info, &pr);
+    // The TLAS build and the compute shader read what this build wrote.
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+    mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &mb, 0, nullptr, 0, nullptr);
+    CHECK(vkEndCommandBuffer(cb));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    CHECK(vkQueueSubmit(c.queue, 1, &si, VK_NULL_HANDLE));
+    CHECK(vkQueueWaitIdle(c.queue));
+    vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
+    return as;
+  }
+
+  AoVkrt() {
+    const AoScene& s = aoScene();
+    VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    auto& t = g.geometry.triangles;
+    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    t.vertexData.deviceAddress = upload(s.vertices.data(), s.vertices.size() * 4);
+    t.vertexStride = 12;
+    t.maxVertex = uint32_t(s.vertices.size() / 3 - 1);
+    t.indexType = VK_INDEX_TYPE_UINT32;
+    t.indexData.deviceAddress = upload(s.indices.data(), s.indices.size() * 4);
+    blas = build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, uint32_t(s.indices.size() / 3));
+    VkAccelerationStructureInstanceKHR in{};
+    in.transform.matrix[0][0] = in.transform.matrix[1][1] = in.transform.matrix[2][2] = 1;
+    in.mask = 0xff;
+    VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+    ai.accelerationStructure = blas;
+    in.accelerationStructureReference = ctx().asAddress(ctx().device, &ai);
+    VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+    ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    ig.geometry.instances.data.deviceAddress = upload(&in, sizeof in);
+    tlas = build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 1);
+  }
+  ~AoVkrt() {
+    ctx().destroyAs(ctx().device, tlas, nullptr);
+    ctx().destroyAs(ctx().device, blas, nullptr);
+  }
+};
+
+void BM_AmbientOcclusion_vkrt(benchmark::State& state) {
+  if (!ctx().rayQuery) return mismatch(state, "the driver has no VK_KHR_ray_query");
+  AoVkrt scene;
+  const AoScene& s = aoScene();
+  Buffer origins(s.origins.size() * 4), results(size_t(kAoPoints) * 8);
+  std::memcpy(origins.data, s.origins.data(), s.origins.size() * 4);
+  Kernel k(kSpv_ao_query_comp, sizeof kSpv_ao_query_comp, 3, 16, true);
+  k.bind(0, scene.tlas);
+  k.bind(1, origins);
+  k.bind(2, results);
+  struct {
+    uint32_t count, rays;
+    float tMin, tMax;
+  } push{kAoPoints, kAoRays, kAoTMin, kAoTMax};
+  k.record(&push, sizeof push, kAoPoints / 64, 1);
+  k.run();
+  // (count, mask) per point: the count must be the mask's.
+  const uint32_t* r = results.as<uint32_t>();
+  for (uint32_t p = 0; p < kAoPoints; ++p)
+    if (r[p * 2] != uint32_t(std::popcount(r[p * 2 + 1])))
+      return mismatch(state, "a point's occluded count is not its mask's");
+  if (!aoCompare(state, "vkrt ray queries", r + 1, 2)) return;
+  const double cpuStart = processCpuSeconds();
+  for (auto _ : state) k.run();
+  aoRate(state, cpuStart);
+}
+
+void BM_AmbientOcclusion_embree(benchmark::State& state) {
+  std::vector<uint32_t> masks(kAoPoints);
+  const AoEmbree& e = aoEmbree();
+  e.parallel(&AoEmbree::occluded1, masks.data());
+  if (!aoCompare(state, "rtcOccluded1 (timed run)", masks.data(), 1)) return;
+  const double cpuStart = processCpuSeconds();
+  for (auto _ : state) {
+    e.parallel(&AoEmbree::occluded1, masks.data());
+    benchmark::ClobberMemory();
+  }
+  aoRate(state, cpuStart);
+}
+
+void BM_AmbientOcclusion_embree8(benchmark::State& state) {
+  std::vector<uint32_t> masks(kAoPoints);
+  const AoEmbree& e = aoEmbree();
+  e.parallel(&AoEmbree::occluded8, masks.data());
+  if (!aoCompare(state, "rtcOccluded8", masks.data(), 1)) return;
+  const double cpuStart = processCpuSeconds();
+  for (auto _ : state) {
+    e.parallel(&AoEmbree::occluded8, masks.data());
+    benchmark::ClobberMemory();
+  }
+  aoRate(state, cpuStart);
+}
+
 // ---- pipeline creation (the matmul shader): cold compiles, warm loads from a VkPipelineCache
 
 void BM_PipelineCreate_cold(benchmark::State& state) {
@@ -389,6 +856,9 @@ BENCHMARK(BM_Mandelbrot_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Mandelbrot_native)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PipelineCreate_cold)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_PipelineCreate_warmCache)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_AmbientOcclusion_vkrt)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_AmbientOcclusion_embree)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_AmbientOcclusion_embree8)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 }  // namespace
 }  // namespace vkrt::bench

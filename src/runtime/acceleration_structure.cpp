@@ -268,7 +268,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetAccelerationStructureBuildSizesKHR(
   pSizeInfo->accelerationStructureSize = 0;
   pSizeInfo->buildScratchSize = pSizeInfo->updateScratchSize = 0;
   // VUID-vkGetAccelerationStructureBuildSizesKHR-rayTracingPipeline-03617
-  if (!dev->enabled(Feature::rayTracingPipeline)) {
+  // (Either feature: a device with ray queries and no ray tracing pipelines builds its structures too.)
+  if (!dev->enabled(Feature::rayTracingPipeline) && !dev->enabled(Feature::rayQuery)) {
     report(dev, Severity::Error, "VUID-vkGetAccelerationStructureBuildSizesKHR-rayTracingPipeline-03617",
            "%s: neither the rayTracingPipeline nor the rayQuery feature is enabled", fn);
     return;

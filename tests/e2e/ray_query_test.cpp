@@ -555,5 +555,56 @@ TEST_F(RayQueryMisuseTest, AWildOrDestroyedStructureAddressIsReportedAndFindsNot
   destroyComputePipeline(device, p);
 }
 
+// A device with VK_KHR_ray_query and without VK_KHR_ray_tracing_pipeline: its acceleration structures are sized
+// like any other (VUID-vkGetAccelerationStructureBuildSizesKHR-rayTracingPipeline-03617 asks for the
+// rayTracingPipeline or the rayQuery feature; vkrt asked for the first only, and sized nothing).
+class RayQueryOnlyTest : public VulkanTest {
+ protected:
+  VkPhysicalDeviceRayQueryFeaturesKHR rqf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.deviceExtensions = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                          VK_KHR_RAY_QUERY_EXTENSION_NAME};
+    rqf.rayQuery = VK_TRUE;
+    asf.accelerationStructure = VK_TRUE;
+    asf.pNext = &rqf;
+    o.featureChain = &asf;
+    return o;
+  }
+
+  void SetUp() override {
+    if (!firstDeviceHasExtension(VK_KHR_RAY_QUERY_EXTENSION_NAME))
+      GTEST_SKIP() << "the driver has no " VK_KHR_RAY_QUERY_EXTENSION_NAME;
+    VulkanTest::SetUp();
+  }
+};
+
+TEST_F(RayQueryOnlyTest, StructuresAreSized) {
+  auto buildSizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(
+      vkGetDeviceProcAddr(device, "vkGetAccelerationStructureBuildSizesKHR"));
+  ASSERT_NE(buildSizes, nullptr);
+  VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+  auto& t = g.geometry.triangles;
+  t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+  t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+  t.vertexStride = 12;
+  t.maxVertex = 2;
+  t.indexType = VK_INDEX_TYPE_NONE_KHR;
+  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+  info.geometryCount = 1;
+  info.pGeometries = &g;
+  const uint32_t primitives = 1;
+  VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+  buildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &primitives, &sizes);
+  EXPECT_GT(sizes.accelerationStructureSize, 0u);
+  EXPECT_TRUE(vkrtMessages().empty());
+}
+
 }  // namespace
 }  // namespace vkrt::test
