@@ -73,6 +73,35 @@ class TraceTest : public RtTest {
     return o;
   }
 
+  // The scene shaders' layout (binding 0: the structure, as `asType`; 1, 2: storage buffers; raygen push constants:
+  // TraceParams) and a pool for their sets; the NV tests use it with the NV descriptor type.
+  void makeTraceLayout(VkDescriptorType asType, VkDescriptorSetLayout* setLayoutOut, VkPipelineLayout* layoutOut,
+                       VkDescriptorPool* poolOut) {
+    VkDescriptorSetLayoutBinding b[3] = {
+        {0, asType, 1, kRtStages, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = 3;
+    dl.pBindings = b;
+    ASSERT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, setLayoutOut), VK_SUCCESS);
+    VkPushConstantRange pc{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(TraceParams)};
+    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    lci.setLayoutCount = 1;
+    lci.pSetLayouts = setLayoutOut;
+    lci.pushConstantRangeCount = 1;
+    lci.pPushConstantRanges = &pc;
+    ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, layoutOut), VK_SUCCESS);
+    VkDescriptorPoolSize sizes[2] = {{asType, 4}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
+    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pci.maxSets = 4;
+    pci.poolSizeCount = 2;
+    pci.pPoolSizes = sizes;
+    ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, poolOut), VK_SUCCESS);
+  }
+
   void SetUp() override {
     // (RtTest::querySupport reads the acceleration structure features the driver has: host commands, vkrt yes,
     // NVIDIA no.)
@@ -86,30 +115,8 @@ class TraceTest : public RtTest {
     load(cmdBuild, "vkCmdBuildAccelerationStructuresKHR");
     load(asAddress, "vkGetAccelerationStructureDeviceAddressKHR");
     load(cmdTrace, "vkCmdTraceRaysKHR");
-    VkDescriptorSetLayoutBinding b[3] = {
-        {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, kRtStages, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
-    };
-    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dl.bindingCount = 3;
-    dl.pBindings = b;
-    ASSERT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &setLayout), VK_SUCCESS);
-    VkPushConstantRange pc{VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof(TraceParams)};
-    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    lci.setLayoutCount = 1;
-    lci.pSetLayouts = &setLayout;
-    lci.pushConstantRangeCount = 1;
-    lci.pPushConstantRanges = &pc;
-    ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &traceLayout), VK_SUCCESS);
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 4},
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
-    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-    pci.maxSets = 4;
-    pci.poolSizeCount = 2;
-    pci.pPoolSizes = sizes;
-    ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &pool), VK_SUCCESS);
+    makeTraceLayout(VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, &setLayout, &traceLayout, &pool);
+    if (HasFatalFailure()) return;
     rgen = module(kSpv_trace_raygen_rgen, sizeof kSpv_trace_raygen_rgen);
     tchit = module(kSpv_trace_chit_rchit, sizeof kSpv_trace_chit_rchit);
     tmiss = module(kSpv_trace_miss_rmiss, sizeof kSpv_trace_miss_rmiss);

@@ -54,30 +54,8 @@ class NvTraceTest : public TraceTest {
     load(asHandleNv, "vkGetAccelerationStructureHandleNV");
     load(writePropsNv, "vkCmdWriteAccelerationStructuresPropertiesNV");
     load(compileDeferredNv, "vkCompileDeferredNV");
-    VkDescriptorSetLayoutBinding b[3] = {
-        {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV, 1, kRtStages, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kRtStages, nullptr},
-    };
-    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    dl.bindingCount = 3;
-    dl.pBindings = b;
-    ASSERT_EQ(vkCreateDescriptorSetLayout(device, &dl, nullptr, &nvSetLayout), VK_SUCCESS);
-    VkPushConstantRange pc{VK_SHADER_STAGE_RAYGEN_BIT_NV, 0, sizeof(TraceParams)};
-    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    lci.setLayoutCount = 1;
-    lci.pSetLayouts = &nvSetLayout;
-    lci.pushConstantRangeCount = 1;
-    lci.pPushConstantRanges = &pc;
-    ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &nvLayout), VK_SUCCESS);
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV, 4},
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8}};
-    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-    pci.maxSets = 4;
-    pci.poolSizeCount = 2;
-    pci.pPoolSizes = sizes;
-    ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &nvPool), VK_SUCCESS);
+    makeTraceLayout(VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV, &nvSetLayout, &nvLayout, &nvPool);
+    if (HasFatalFailure()) return;
     nvRgen = module(kSpv_trace_nv_raygen_rgen, sizeof kSpv_trace_nv_raygen_rgen);
     nvMiss = module(kSpv_trace_nv_miss_rmiss, sizeof kSpv_trace_nv_miss_rmiss);
     nvChit = module(kSpv_trace_nv_chit_rchit, sizeof kSpv_trace_nv_chit_rchit);
