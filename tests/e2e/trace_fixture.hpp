@@ -10,6 +10,7 @@
 #include <cstring>
 #include <deque>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "e2e/rt_fixture.hpp"
@@ -60,6 +61,43 @@ inline QuadHit quadHit(float px, float py) {
 // The launch's ray origins: an 8 x 8 grid of cell centres over [-2, 2]^2 (trace_raygen.rgen).
 inline float cellCentre(uint32_t i, uint32_t n) { return (float(i) + 0.5f) / float(n) * 4.0f - 2.0f; }
 
+// The spheres-in-boxes scene (two spheres of radius 0.5 at (-1, -1, 5) and (1, 1, 7) in world space, found by the
+// sphere intersection shader, hit group record data 300, instance custom index 9) seen by an n x n launch from
+// z = -10: each payload against the analytic hit, or a miss (-2). `attributeY`: the KHR scene's shader also reports
+// 0.5 as the attribute's y.
+inline void expectSpheresInBoxes(const std::vector<TracePayload>& r, uint32_t n, bool attributeY) {
+  int hits = 0;
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+      const TracePayload& q = r[y * n + x];
+      int prim = -1;
+      float t = 0;
+      const float centres[2][3] = {{-1, -1, 5}, {1, 1, 7}};  // world space (instance moved +1 along z)
+      for (int k = 0; k < 2; ++k) {
+        float dx = wx - centres[k][0], dy = wy - centres[k][1], r2 = dx * dx + dy * dy;
+        if (r2 < 0.25f) {
+          prim = k;
+          t = centres[k][2] - std::sqrt(0.25f - r2) + 10;  // from z = -10
+        }
+      }
+      if (prim < 0) {
+        EXPECT_EQ(q.hit[0], -2.0f);
+        continue;
+      }
+      ++hits;
+      EXPECT_NEAR(q.hit[0], t, 1e-3f);
+      EXPECT_EQ(q.hit[1], float(prim)) << "hit attribute x";
+      if (attributeY) EXPECT_EQ(q.hit[2], 0.5f);
+      EXPECT_EQ(q.hit[3], 5.0f) << "the hit kind the intersection shader reported";
+      EXPECT_EQ(q.ids[2], uint32_t(prim));
+      EXPECT_EQ(q.ids[0], 9u);
+      EXPECT_EQ(q.extra[0], 300u);
+    }
+  EXPECT_GT(hits, 4);
+}
+
 class TraceTest : public RtTest {
  protected:
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR rtProps{
@@ -71,6 +109,33 @@ class TraceTest : public RtTest {
     asf.accelerationStructureHostCommands = supportedAs.accelerationStructureHostCommands;
     asf.accelerationStructureIndirectBuild = supportedAs.accelerationStructureIndirectBuild;
     return o;
+  }
+
+  // A set of the scene layout (makeTraceLayout) from `fromPool`: the structure written through `structureWrite`
+  // (a VkWriteDescriptorSetAccelerationStructureKHR or ...NV for `asType`), `out` and the spheres buffer.
+  VkDescriptorSet sceneSet(VkDescriptorPool fromPool, VkDescriptorSetLayout layout, VkDescriptorType asType,
+                           const void* structureWrite, const HostBuffer& out) {
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = fromPool;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    EXPECT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
+    VkDescriptorBufferInfo bo{out.buffer, 0, VK_WHOLE_SIZE}, bs{spheres.buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, structureWrite},
+                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    for (uint32_t i = 0; i < 3; ++i) {
+      w[i].dstSet = set;
+      w[i].dstBinding = i;
+      w[i].descriptorCount = 1;
+    }
+    w[0].descriptorType = asType;
+    w[1].descriptorType = w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w[1].pBufferInfo = &bo;
+    w[2].pBufferInfo = &bs;
+    vkUpdateDescriptorSets(device, 3, w, 0, nullptr);
+    return set;
   }
 
   // The scene shaders' layout (binding 0: the structure, as `asType`; 1, 2: storage buffers; raygen push constants:
@@ -328,29 +393,10 @@ class TraceTest : public RtTest {
                                   uint32_t height, const TraceParams& params = {}, int64_t dynamicStackSize = -1) {
     HostBuffer& out = buffer(sizeof(TracePayload) * width * height, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::memset(out.data, 0xee, out.size);
-    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = pool;
-    ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &setLayout;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    EXPECT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
     VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
     asw.accelerationStructureCount = 1;
     asw.pAccelerationStructures = &tlas;
-    VkDescriptorBufferInfo bo{out.buffer, 0, VK_WHOLE_SIZE}, bs{spheres.buffer, 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet w[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw},
-                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-    for (uint32_t i = 0; i < 3; ++i) {
-      w[i].dstSet = set;
-      w[i].dstBinding = i;
-      w[i].descriptorCount = 1;
-    }
-    w[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-    w[1].descriptorType = w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w[1].pBufferInfo = &bo;
-    w[2].pBufferInfo = &bs;
-    vkUpdateDescriptorSets(device, 3, w, 0, nullptr);
+    VkDescriptorSet set = sceneSet(pool, setLayout, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, &asw, out);
     VkCommandBuffer cb = beginOneTime();
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, traceLayout, 0, 1, &set, 0, nullptr);

@@ -165,37 +165,7 @@ TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
   ASSERT_NE(p, VK_NULL_HANDLE);
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {300}}});
   const uint32_t n = 16;
-  std::vector<TracePayload> r = trace(p, s, top, n, n);
-  int hits = 0;
-  for (uint32_t y = 0; y < n; ++y)
-    for (uint32_t x = 0; x < n; ++x) {
-      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
-      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
-      const TracePayload& q = r[y * n + x];
-      int prim = -1;
-      float t = 0;
-      const float centres[2][3] = {{-1, -1, 5}, {1, 1, 7}};  // world space (instance moved +1 along z)
-      for (int k = 0; k < 2; ++k) {
-        float dx = wx - centres[k][0], dy = wy - centres[k][1], r2 = dx * dx + dy * dy;
-        if (r2 < 0.25f) {
-          prim = k;
-          t = centres[k][2] - std::sqrt(0.25f - r2) + 10;  // from z = -10
-        }
-      }
-      if (prim < 0) {
-        EXPECT_EQ(q.hit[0], -2.0f);
-        continue;
-      }
-      ++hits;
-      EXPECT_NEAR(q.hit[0], t, 1e-3f);
-      EXPECT_EQ(q.hit[1], float(prim)) << "hit attribute x";
-      EXPECT_EQ(q.hit[2], 0.5f);
-      EXPECT_EQ(q.hit[3], 5.0f) << "the hit kind the intersection shader reported";
-      EXPECT_EQ(q.ids[2], uint32_t(prim));
-      EXPECT_EQ(q.ids[0], 9u);
-      EXPECT_EQ(q.extra[0], 300u);
-    }
-  EXPECT_GT(hits, 4);
+  expectSpheresInBoxes(trace(p, s, top, n, n), n, true);
 }
 
 }  // namespace
