@@ -379,14 +379,10 @@ llvm::Value* Codegen::truncDoubleToHalf(llvm::Value* d) {
   llvm::Type* ft = splatType(b.getFloatTy(), dt);
   llvm::Type* it = splatType(b.getInt32Ty(), dt);
   llvm::Value* f = b.CreateFPTrunc(d, ft);
-  llvm::Value* back = b.CreateFPExt(f, dt);
-  llvm::Value* inexact = b.CreateFCmpUNE(back, d);
-  // Toward zero first (one step down in magnitude where rounding went up), then the sticky bit.
-  llvm::Value* up = b.CreateFCmpOGT(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, back),
-                                    b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, d));
-  llvm::Value* bits = b.CreateBitCast(f, it);
-  bits = b.CreateSelect(up, b.CreateSub(bits, intLike(it, 1)), bits);
-  bits = b.CreateSelect(inexact, b.CreateOr(bits, intLike(it, 1)), b.CreateBitCast(f, it));
+  llvm::Value* inexact = b.CreateFCmpUNE(b.CreateFPExt(f, dt), d);
+  // Toward zero first, then the sticky bit where the float is not exact.
+  llvm::Value* bits = b.CreateBitCast(roundTowardZero(d, f), it);
+  bits = b.CreateSelect(inexact, b.CreateOr(bits, intLike(it, 1)), bits);
   return b.CreateFPTrunc(b.CreateBitCast(bits, ft), splatType(b.getHalfTy(), dt));
 }
 
