@@ -1,5 +1,7 @@
 #include "accel/embree_device.hpp"
 
+#include <cstdlib>
+
 namespace vkrt::accel::detail {
 namespace {
 
@@ -19,8 +21,15 @@ struct Device {
   std::string error;
 
   Device() {
-    // verbose=0: Embree prints nothing; its errors come back through the callback as strings.
-    handle = rtcNewDevice("verbose=0");
+    // verbose=0: Embree prints nothing; its errors come back through the callback as strings. threads: Embree's
+    // builders use as many threads as vkrt's pool (VKRT_THREADS, read as src/exec/thread_pool.cpp reads it), else
+    // every hardware thread.
+    std::string config = "verbose=0";
+    if (const char* env = std::getenv("VKRT_THREADS")) {
+      long v = std::strtol(env, nullptr, 10);
+      if (v >= 1 && v <= 256) config += ",threads=" + std::to_string(v);
+    }
+    handle = rtcNewDevice(config.c_str());
     if (!handle) {
       error = "Embree: cannot create a device (RTCError " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")";
       return;
