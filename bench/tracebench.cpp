@@ -20,7 +20,7 @@
 // Rates are the best of repeated runs (real time), as a loaded machine slows some runs down.
 //
 // Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
-//                        [--min-time S]
+//                        [--min-time S] [--vkrt-only]
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -48,6 +48,7 @@ struct Options {
   uint32_t width = 1024, height = 1024;
   double minTime = 1.0;  // seconds of repetitions per figure
   uint32_t bounces = 4;
+  bool vkrtOnly = false;  // --vkrt-only: no Embree tracing (for profiling vkrt's side)
 };
 
 // ---- the scene
@@ -512,6 +513,10 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
   vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
   const uint32_t* r = results.as<uint32_t>();
   for (size_t i = 0; i < pixels; ++i) vk.rays[i] = r[2 * i], vk.checksum[i] = r[2 * i + 1];
+  if (o.vkrtOnly) {
+    f.vkrt = double(vk.totalRays()) * 1e-6 / tv.best;
+    return f;
+  }
   const Timing t1 = measure(o.minTime, [&] { traceEmbree1(scene, t, cam, o.width, o.height, em1); });
   const Timing t8 = measure(o.minTime, [&] { traceEmbree8(scene, t, cam, o.width, o.height, em8); });
   f.rays = compare(vk, em1);
@@ -681,7 +686,8 @@ void printTable(const Options& o, const std::vector<SizeFigures>& all) {
                   double(t.rays.vkrtRays) / pixels, double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
     }
   }
-  std::printf("(Mrays/s; rays/px: vkrt/Embree rays per pixel; agree: pixels with the same rays and hits)\n\n");
+  std::printf("(Mrays/s; rays/px: vkrt/Embree rays per pixel; agree: pixels with the same rays and hits%s)\n\n",
+              o.vkrtOnly ? "; --vkrt-only: no Embree columns" : "");
   std::printf("%-10s %10s %10s %7s %10s %10s %10s %7s\n", "triangles", "BLAS vkrt", "Embree", "ratio", "instances",
               "TLAS vkrt", "Embree", "ratio");
   for (const SizeFigures& f : all)
@@ -740,9 +746,10 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all) {
 }
 
 [[noreturn]] void usage() {
-  std::fprintf(stderr,
-               "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
-               "[--min-time S]\n  sizes: even triangle counts (1e6 style allowed); image sides multiples of 8\n");
+  std::fprintf(
+      stderr,
+      "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
+      "[--min-time S] [--vkrt-only]\n  sizes: even triangle counts (1e6 style allowed); image sides multiples of 8\n");
   std::exit(2);
 }
 
@@ -773,6 +780,8 @@ Options parse(int argc, char** argv) {
       }
     } else if (a == "--json") {
       o.json = value();
+    } else if (a == "--vkrt-only") {
+      o.vkrtOnly = true;
     } else if (a == "--quick") {
       o.quick = true;
     } else if (a == "--image") {
