@@ -514,7 +514,9 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
   const uint32_t* r = results.as<uint32_t>();
   for (size_t i = 0; i < pixels; ++i) vk.rays[i] = r[2 * i], vk.checksum[i] = r[2 * i + 1];
   if (o.vkrtOnly) {
-    f.vkrt = double(vk.totalRays()) * 1e-6 / tv.best;
+    f.rays.vkrtRays = vk.totalRays();
+    f.vkrt = double(f.rays.vkrtRays) * 1e-6 / tv.best;
+    f.vkrtCpu = double(f.rays.vkrtRays) * 1e-6 / tv.cpuPerRun;
     return f;
   }
   const Timing t1 = measure(o.minTime, [&] { traceEmbree1(scene, t, cam, o.width, o.height, em1); });
@@ -697,15 +699,25 @@ void printTable(const Options& o, const std::vector<SizeFigures>& all) {
   std::printf("(BLAS Mtriangles/s, TLAS Minstances/s; Embree: rtcCommitScene alone)\n");
 }
 
+// A JSON number, or null where it is not finite (a ratio with a side that did not run).
+std::string jnum(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  return buf;
+}
+
 void writeTrace(FILE* j, const char* name, const TraceFigures& t, bool comma) {
   std::fprintf(j,
-               "      \"%s\": {\"vkrt_mrays_per_s\": %.4f, \"embree1_mrays_per_s\": %.4f, \"embree8_mrays_per_s\": "
-               "%.4f, \"ratio_vs_embree1\": %.4f, \"ratio_vs_embree8\": %.4f, \"vkrt_mrays_per_cpu_s\": %.4f, "
-               "\"embree1_mrays_per_cpu_s\": %.4f, \"embree8_mrays_per_cpu_s\": %.4f, \"vkrt_rays\": %llu, "
+               "      \"%s\": {\"vkrt_mrays_per_s\": %s, \"embree1_mrays_per_s\": %s, \"embree8_mrays_per_s\": "
+               "%s, \"ratio_vs_embree1\": %s, \"ratio_vs_embree8\": %s, \"vkrt_mrays_per_cpu_s\": %s, "
+               "\"embree1_mrays_per_cpu_s\": %s, \"embree8_mrays_per_cpu_s\": %s, \"vkrt_rays\": %llu, "
                "\"embree_rays\": %llu, \"pixels_agreeing\": %.6f, \"embree8_agrees_with_embree1\": %s}%s\n",
-               name, t.vkrt, t.embree1, t.embree8, t.vkrt / t.embree1, t.vkrt / t.embree8, t.vkrtCpu, t.embree1Cpu,
-               t.embree8Cpu, (unsigned long long)t.rays.vkrtRays, (unsigned long long)t.rays.embreeRays,
-               t.rays.pixelsAgreeing, t.embree8Agrees ? "true" : "false", comma ? "," : "");
+               name, jnum(t.vkrt).c_str(), jnum(t.embree1).c_str(), jnum(t.embree8).c_str(),
+               jnum(t.vkrt / t.embree1).c_str(), jnum(t.vkrt / t.embree8).c_str(), jnum(t.vkrtCpu).c_str(),
+               jnum(t.embree1Cpu).c_str(), jnum(t.embree8Cpu).c_str(), (unsigned long long)t.rays.vkrtRays,
+               (unsigned long long)t.rays.embreeRays, t.rays.pixelsAgreeing, t.embree8Agrees ? "true" : "false",
+               comma ? "," : "");
 }
 
 void writeJson(const Options& o, const std::vector<SizeFigures>& all) {
@@ -729,13 +741,15 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all) {
     const SizeFigures& f = all[i];
     std::fprintf(j, "    {\"triangles\": %llu, \"grid\": [%u, %u],\n", (unsigned long long)f.triangles, f.cols, f.rows);
     std::fprintf(j,
-                 "      \"blas\": {\"vkrt_mtris_per_s\": %.4f, \"embree_commit_mtris_per_s\": %.4f, "
-                 "\"embree_with_setup_mtris_per_s\": %.4f, \"ratio\": %.4f},\n",
-                 f.blasVkrt, f.blasEmbree, f.blasEmbreeWithSetup, f.blasVkrt / f.blasEmbree);
+                 "      \"blas\": {\"vkrt_mtris_per_s\": %s, \"embree_commit_mtris_per_s\": %s, "
+                 "\"embree_with_setup_mtris_per_s\": %s, \"ratio\": %s},\n",
+                 jnum(f.blasVkrt).c_str(), jnum(f.blasEmbree).c_str(), jnum(f.blasEmbreeWithSetup).c_str(),
+                 jnum(f.blasVkrt / f.blasEmbree).c_str());
     std::fprintf(j,
-                 "      \"tlas\": {\"instances\": %u, \"vkrt_minst_per_s\": %.4f, \"embree_commit_minst_per_s\": %.4f, "
-                 "\"embree_with_setup_minst_per_s\": %.4f, \"ratio\": %.4f},\n",
-                 f.tlasInstances, f.tlasVkrt, f.tlasEmbree, f.tlasEmbreeWithSetup, f.tlasVkrt / f.tlasEmbree);
+                 "      \"tlas\": {\"instances\": %u, \"vkrt_minst_per_s\": %s, \"embree_commit_minst_per_s\": %s, "
+                 "\"embree_with_setup_minst_per_s\": %s, \"ratio\": %s},\n",
+                 f.tlasInstances, jnum(f.tlasVkrt).c_str(), jnum(f.tlasEmbree).c_str(),
+                 jnum(f.tlasEmbreeWithSetup).c_str(), jnum(f.tlasVkrt / f.tlasEmbree).c_str());
     writeTrace(j, "primary", f.primary, true);
     writeTrace(j, "paths", f.paths, false);
     std::fprintf(j, "    }%s\n", i + 1 < all.size() ? "," : "");
