@@ -198,9 +198,12 @@ VkAccelerationStructureGeometryKHR AccelStructures::instances(const VkAccelerati
   return ig;
 }
 
-VkAccelerationStructureKHR AccelStructures::build(VkAccelerationStructureTypeKHR type,
-                                                  const VkAccelerationStructureGeometryKHR& g, uint32_t primitives,
-                                                  double* seconds, uint32_t repeat) {
+namespace {
+
+// A structure of `type` for `g` in a new storage buffer of `structures`, and a command buffer that builds it.
+VkAccelerationStructureKHR prepareBuild(AccelStructures& structures, VkAccelerationStructureTypeKHR type,
+                                        const VkAccelerationStructureGeometryKHR& g, uint32_t primitives,
+                                        VkCommandBuffer* cb) {
   Context& c = ctx();
   VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   info.type = type;
@@ -210,45 +213,65 @@ VkAccelerationStructureKHR AccelStructures::build(VkAccelerationStructureTypeKHR
   info.pGeometries = &g;
   VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
   c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &primitives, &sizes);
-  Buffer& storage = buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
-                                                                VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+  Buffer& storage =
+      structures.buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                                             VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
   VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
   ci.buffer = storage.buffer;
   ci.size = sizes.accelerationStructureSize;
   ci.type = type;
   VkAccelerationStructureKHR as = VK_NULL_HANDLE;
   CHECK(c.createAs(c.device, &ci, nullptr, &as));
-  structures.push_back(as);
-  Buffer& scratch = buffer(sizes.buildScratchSize + 256,
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+  Buffer& scratch = structures.buffer(sizes.buildScratchSize + 256,
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
   info.dstAccelerationStructure = as;
   info.scratchData.deviceAddress = (scratch.address() + 255) / 256 * 256;
   VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
   const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
-  VkCommandBuffer cb = c.allocate();
+  *cb = c.allocate();
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  CHECK(vkBeginCommandBuffer(cb, &bi));
-  c.cmdBuild(cb, 1, &info, &pr);
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  CHECK(vkBeginCommandBuffer(*cb, &bi));
+  c.cmdBuild(*cb, 1, &info, &pr);
   // The builds and shaders after this one read what it wrote.
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
   mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+  vkCmdPipelineBarrier(*cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                        VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
                            VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR,
                        0, 1, &mb, 0, nullptr, 0, nullptr);
-  CHECK(vkEndCommandBuffer(cb));
-  c.submit(cb);
+  CHECK(vkEndCommandBuffer(*cb));
+  return as;
+}
+
+}  // namespace
+
+VkAccelerationStructureKHR AccelStructures::build(VkAccelerationStructureTypeKHR type,
+                                                  const VkAccelerationStructureGeometryKHR& g, uint32_t primitives) {
+  VkCommandBuffer cb;
+  VkAccelerationStructureKHR as = prepareBuild(*this, type, g, primitives, &cb);
+  structures.push_back(as);
+  ctx().submit(cb);
+  vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+  return as;
+}
+
+double AccelStructures::timeBuilds(VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
+                                   uint32_t primitives, uint32_t repeat) {
   double best = 0;
   for (uint32_t i = 0; i < repeat; ++i) {
+    AccelStructures fresh;  // its storage and scratch, freed after each build
+    VkCommandBuffer cb;
+    VkAccelerationStructureKHR as = prepareBuild(fresh, type, g, primitives, &cb);
     const double start = wallSeconds();
-    c.submit(cb);
+    ctx().submit(cb);
     const double took = wallSeconds() - start;
     if (i == 0 || took < best) best = took;
+    vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+    ctx().destroyAs(ctx().device, as, nullptr);
   }
-  if (seconds) *seconds = best;
-  vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
-  return as;
+  return best;
 }
 
 VkDeviceAddress AccelStructures::address(VkAccelerationStructureKHR as) const {

@@ -98,11 +98,14 @@ struct AccelStructures {
                                                size_t indexCount);
   // An instance geometry over `count` instances in a buffer of its own.
   VkAccelerationStructureGeometryKHR instances(const VkAccelerationStructureInstanceKHR* instances, size_t count);
-  // A structure of `type` built from `g` with `primitives` primitives, after a barrier that lets the builds and
-  // shaders after it read it. Where `seconds` is given, the build is submitted `repeat` more times into the same
-  // structure and *seconds is the fastest submit-to-idle time of those.
+  // A structure of `type` built from `g` with `primitives` primitives, with a barrier after it that lets the
+  // builds and shaders after it read it.
   VkAccelerationStructureKHR build(VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
-                                   uint32_t primitives, double* seconds = nullptr, uint32_t repeat = 0);
+                                   uint32_t primitives);
+  // The fastest of `repeat` builds like build()'s, each into a fresh structure (destroyed after it, untimed, as
+  // an application's first build finds no earlier content to free): seconds from submit to idle.
+  double timeBuilds(VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
+                    uint32_t primitives, uint32_t repeat);
   VkDeviceAddress address(VkAccelerationStructureKHR as) const;
   // One identity instance of `blas`, mask 0xff, everything else zero.
   VkAccelerationStructureInstanceKHR identityInstance(VkAccelerationStructureKHR blas) const;

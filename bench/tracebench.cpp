@@ -4,7 +4,7 @@
 // Scenes: procedural terrains of exactly N triangles (a grid of rows x cols quads, 2 triangles each, rows * cols =
 // N / 2, with smooth hills and per-vertex noise). Per scene:
 // - Builds: the terrain's BLAS (vkCmdBuildAccelerationStructuresKHR, PREFER_FAST_TRACE) next to rtcCommitScene of
-//   the same triangles at the quality and flags vkrt uses for it (HIGH, robust); a TLAS of max(100, N / 100)
+//   the same triangles at the quality and flags vkrt uses for it (HIGH, robust); a TLAS of max(1000, N / 100)
 //   instances of a 128-triangle BLAS next to rtcCommitScene of as many Embree instances. Mtriangles/s (Minstances/s
 //   for TLAS), best of the repetitions.
 // - Primary rays: one camera ray per pixel, the closest-hit shader only records t and the primitive
@@ -50,6 +50,24 @@ struct Options {
   uint32_t bounces = 4;
   bool vkrtOnly = false;  // --vkrt-only: no Embree tracing (for profiling vkrt's side)
 };
+
+// Seconds from vkQueueSubmit of an empty command buffer to vkQueueWaitIdle's return: the fixed cost in every
+// vkrt figure (a build or a launch runs on the queue's thread).
+double emptySubmitSeconds() {
+  VkCommandBuffer cb = ctx().allocate();
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  CHECK(vkBeginCommandBuffer(cb, &bi));
+  CHECK(vkEndCommandBuffer(cb));
+  double best = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double start = wallSeconds();
+    ctx().submit(cb);
+    const double took = wallSeconds() - start;
+    if (i == 0 || took < best) best = took;
+  }
+  vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+  return best;
+}
 
 // ---- the scene
 
@@ -548,7 +566,7 @@ SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
   // BLAS: Embree's own build first (its time sets the repetitions of both).
   std::unique_ptr<EmbreeScene> embree;
   double embreeBest = 0, embreeSetupBest = 0, total = 0;
-  for (uint32_t i = 0; i < 5 && (i < 2 || total < o.minTime); ++i) {
+  for (uint32_t i = 0; i < 20 && (i < 2 || total < o.minTime); ++i) {
     embree.reset();
     const double start = wallSeconds();
     embree = std::make_unique<EmbreeScene>(device, t);
@@ -559,21 +577,21 @@ SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
   }
   f.blasEmbree = mtris / embreeBest;
   f.blasEmbreeWithSetup = mtris / embreeSetupBest;
-  const uint32_t repeat = uint32_t(std::clamp(o.minTime / embreeSetupBest, 2.0, 5.0));
+  const uint32_t repeat = uint32_t(std::clamp(o.minTime / embreeSetupBest, 2.0, 20.0));
   AccelStructures as;
-  double seconds = 0;
+  const VkAccelerationStructureGeometryKHR geometry =
+      as.triangles(t.vertices.data(), t.vertices.size() / 3, t.indices.data(), t.indices.size());
+  f.blasVkrt =
+      mtris / as.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometry, uint32_t(f.triangles), repeat);
   const VkAccelerationStructureKHR blas =
-      as.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-               as.triangles(t.vertices.data(), t.vertices.size() / 3, t.indices.data(), t.indices.size()),
-               uint32_t(f.triangles), &seconds, repeat);
-  f.blasVkrt = mtris / seconds;
+      as.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometry, uint32_t(f.triangles));
   const VkAccelerationStructureInstanceKHR one = as.identityInstance(blas);
   const VkAccelerationStructureKHR tlas =
       as.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, as.instances(&one, 1), 1);
 
   // TLAS: instances of a small terrain on a grid.
   {
-    f.tlasInstances = uint32_t(std::max<uint64_t>(100, f.triangles / 100));
+    f.tlasInstances = uint32_t(std::max<uint64_t>(1000, f.triangles / 100));
     const Terrain small = makeTerrain(128);
     AccelStructures tas;
     const VkAccelerationStructureKHR smallBlas = tas.build(
@@ -589,7 +607,7 @@ SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
     }
     EmbreeScene smallEmbree(device, small);
     double eBest = 0, eSetupBest = 0, eTotal = 0;
-    for (uint32_t i = 0; i < 5 && (i < 2 || eTotal < o.minTime); ++i) {
+    for (uint32_t i = 0; i < 20 && (i < 2 || eTotal < o.minTime); ++i) {
       const double start = wallSeconds();
       RTCScene scene = rtcNewScene(device);
       for (uint32_t k = 0; k < f.tlasInstances; ++k) {
@@ -613,10 +631,9 @@ SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
     const double minst = double(f.tlasInstances) * 1e-6;
     f.tlasEmbree = minst / eBest;
     f.tlasEmbreeWithSetup = minst / eSetupBest;
-    double tSeconds = 0;
-    tas.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, tas.instances(instances.data(), instances.size()),
-              f.tlasInstances, &tSeconds, uint32_t(std::clamp(o.minTime / eSetupBest, 2.0, 5.0)));
-    f.tlasVkrt = minst / tSeconds;
+    f.tlasVkrt = minst / tas.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
+                                        tas.instances(instances.data(), instances.size()), f.tlasInstances,
+                                        uint32_t(std::clamp(o.minTime / eSetupBest, 2.0, 20.0)));
   }
 
   // Tracing.
@@ -672,9 +689,11 @@ std::string utcNow() {
   return buf;
 }
 
-void printTable(const Options& o, const std::vector<SizeFigures>& all) {
-  std::printf("\nvkrt_tracebench: %u threads, %ux%u pixels, %u bounces, best of runs (real time)\n", workerThreads(),
-              o.width, o.height, o.bounces);
+void printTable(const Options& o, const std::vector<SizeFigures>& all, double submit) {
+  std::printf(
+      "\nvkrt_tracebench: %u threads, %ux%u pixels, %u bounces, best of runs (real time); an empty vkrt "
+      "submit takes %.0f us\n",
+      workerThreads(), o.width, o.height, o.bounces, submit * 1e6);
   std::printf("%-10s %-8s %9s %9s %9s %7s %7s %9s %10s\n", "triangles", "rays", "vkrt", "rtcInt1", "rtcInt8", "/Int1",
               "/Int8", "rays/px", "agree");
   for (const SizeFigures& f : all) {
@@ -720,7 +739,7 @@ void writeTrace(FILE* j, const char* name, const TraceFigures& t, bool comma) {
                comma ? "," : "");
 }
 
-void writeJson(const Options& o, const std::vector<SizeFigures>& all) {
+void writeJson(const Options& o, const std::vector<SizeFigures>& all, double submit) {
   FILE* j = std::fopen(o.json.c_str(), "w");
   if (!j) {
     std::fprintf(stderr, "vkrt_tracebench: cannot write %s\n", o.json.c_str());
@@ -735,8 +754,8 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all) {
                std::thread::hardware_concurrency());
   std::fprintf(j,
                "  \"threads\": %u,\n  \"image\": [%u, %u],\n  \"bounces\": %u,\n  \"min_time_s\": %.3f,\n"
-               "  \"sizes\": [\n",
-               workerThreads(), o.width, o.height, o.bounces, o.minTime);
+               "  \"empty_submit_us\": %.1f,\n  \"sizes\": [\n",
+               workerThreads(), o.width, o.height, o.bounces, o.minTime, submit * 1e6);
   for (size_t i = 0; i < all.size(); ++i) {
     const SizeFigures& f = all[i];
     std::fprintf(j, "    {\"triangles\": %llu, \"grid\": [%u, %u],\n", (unsigned long long)f.triangles, f.cols, f.rows);
@@ -835,10 +854,11 @@ int main(int argc, char** argv) {
   // Raw Embree's device builds on as many threads as vkrt's (src/accel/embree_device.cpp).
   const std::string config = "verbose=0,threads=" + std::to_string(workerThreads());
   RTCDevice device = rtcNewDevice(config.c_str());
+  const double submit = emptySubmitSeconds();
   std::vector<SizeFigures> all;
   for (uint64_t n : o.sizes) all.push_back(runSize(o, device, n));
-  printTable(o, all);
-  if (!o.json.empty()) writeJson(o, all);
+  printTable(o, all, submit);
+  if (!o.json.empty()) writeJson(o, all, submit);
   rtcReleaseDevice(device);
   return 0;
 }
