@@ -8,9 +8,10 @@
 //   instances of a 128-triangle BLAS next to rtcCommitScene of as many Embree instances. Mtriangles/s (Minstances/s
 //   for TLAS), best of the repetitions.
 // - Primary rays: one camera ray per pixel, the closest-hit shader only records t and the primitive
-//   (bench/shaders/trace_*.r*), next to rtcIntersect1 and rtcIntersect8 (coherent packets of 8 pixels of a row).
+//   (bench/shaders/trace_*.r*), next to rtcIntersect1, rtcIntersect8 (coherent packets of 8 pixels of a row)
+//   and rtcIntersect16 (8x2 pixels).
 // - Paths: the camera ray and up to 4 cosine-weighted diffuse bounces per pixel (a deterministic hash per pixel
-//   and bounce), next to rtcIntersect1 and rtcIntersect8 (8 pixels' paths in lockstep) on the same rays: the
+//   and bounce), next to rtcIntersect1 and rtcIntersect8/16 (8 or 16 pixels' paths in lockstep) on the same rays: the
 //   bounce is computed from the hit's t and primitive with the same operations on both sides, so Embree does the
 //   traversal only. Each side writes per pixel the rays traced and a checksum of the primitives hit; the program
 //   reports how many pixels agree and how the ray totals compare (the shader's float rounding, e.g. contracted
@@ -259,27 +260,51 @@ void traceEmbree1(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t 
   });
 }
 
-// The same with rtcIntersect8: each row of a tile is a packet, its 8 paths in lockstep (finished lanes invalid).
-void traceEmbree8(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h, PixelResults& out) {
-  static_assert(kTile == 8);
+// Embree's packet types and calls by width.
+template <int N>
+struct Packet;
+template <>
+struct Packet<8> {
+  using RayHit = RTCRayHit8;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect8(valid, s, c, r);
+  }
+};
+template <>
+struct Packet<16> {
+  using RayHit = RTCRayHit16;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect16(valid, s, c, r);
+  }
+};
+
+// The same with rtcIntersect8 (each row of a tile a packet) or rtcIntersect16 (each pair of rows): the packet's
+// paths in lockstep, finished lanes invalid.
+template <int N>
+void traceEmbreePackets(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h,
+                        PixelResults& out) {
+  static_assert(kTile == 8 && N % kTile == 0);
+  constexpr uint32_t kRows = N / kTile;
   const uint32_t tilesX = w / kTile, tiles = tilesX * (h / kTile);
   parallelChunks(tiles, 1, [&](uint64_t tile, uint64_t) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     const uint32_t x0 = uint32_t(tile % tilesX) * kTile, y0 = uint32_t(tile / tilesX) * kTile;
-    for (uint32_t y = y0; y < y0 + kTile; ++y) {
-      float o[8][3], d[8][3];
-      uint32_t rays[8] = {}, checksum[8] = {};
-      alignas(32) int valid[8];
-      for (uint32_t l = 0; l < 8; ++l) {
-        cameraRay(cam, x0 + l, y, o[l], d[l]);
+    for (uint32_t y = y0; y < y0 + kTile; y += kRows) {
+      float o[N][3], d[N][3];
+      uint32_t pixel[N], rays[N] = {}, checksum[N] = {};
+      alignas(64) int valid[N];
+      for (uint32_t l = 0; l < N; ++l) {
+        const uint32_t px = x0 + l % kTile, py = y + l / kTile;
+        pixel[l] = py * w + px;
+        cameraRay(cam, px, py, o[l], d[l]);
         valid[l] = -1;
       }
       for (uint32_t b = 0;; ++b) {
         // Primary rays of a row are coherent; bounce rays are not.
         context.flags = b == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        alignas(32) RTCRayHit8 rh;
-        for (uint32_t l = 0; l < 8; ++l) {
+        alignas(64) typename Packet<N>::RayHit rh;
+        for (uint32_t l = 0; l < N; ++l) {
           rh.ray.org_x[l] = o[l][0], rh.ray.org_y[l] = o[l][1], rh.ray.org_z[l] = o[l][2];
           rh.ray.dir_x[l] = d[l][0], rh.ray.dir_y[l] = d[l][1], rh.ray.dir_z[l] = d[l][2];
           rh.ray.tnear[l] = 0;
@@ -291,25 +316,25 @@ void traceEmbree8(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t 
           rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
           rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
         }
-        rtcIntersect8(valid, scene, &context, &rh);
+        Packet<N>::intersect(valid, scene, &context, &rh);
         bool any = false;
-        for (uint32_t l = 0; l < 8; ++l) {
+        for (uint32_t l = 0; l < N; ++l) {
           if (!valid[l]) continue;
           ++rays[l];
-          if (rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID || b == cam.bounces) {
-            if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) checksum[l] += rh.hit.primID[l] + 1;
+          const bool hit = rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
+          if (hit) checksum[l] += rh.hit.primID[l] + 1;
+          if (!hit || b == cam.bounces) {
             valid[l] = 0;
             continue;
           }
-          checksum[l] += rh.hit.primID[l] + 1;
-          bounceRay(s, y * w + x0 + l, b, rh.ray.tfar[l], rh.hit.primID[l], o[l], d[l]);
+          bounceRay(s, pixel[l], b, rh.ray.tfar[l], rh.hit.primID[l], o[l], d[l]);
           any = true;
         }
         if (!any) break;
       }
-      for (uint32_t l = 0; l < 8; ++l) {
-        out.rays[y * w + x0 + l] = rays[l];
-        out.checksum[y * w + x0 + l] = checksum[l];
+      for (uint32_t l = 0; l < N; ++l) {
+        out.rays[pixel[l]] = rays[l];
+        out.checksum[pixel[l]] = checksum[l];
       }
     }
   });
@@ -506,9 +531,10 @@ Compared compare(const PixelResults& vk, const PixelResults& em) {
 
 struct TraceFigures {
   Compared rays;
-  double vkrt = 0, embree1 = 0, embree8 = 0;           // Mrays/s (real time, best run)
-  double vkrtCpu = 0, embree1Cpu = 0, embree8Cpu = 0;  // Mrays per CPU second
-  bool embree8Agrees = false;                          // rtcIntersect8 traced exactly rtcIntersect1's paths
+  double vkrt = 0, embree1 = 0, embree8 = 0, embree16 = 0;              // Mrays/s (real time, best run)
+  double vkrtCpu = 0, embree1Cpu = 0, embree8Cpu = 0, embree16Cpu = 0;  // Mrays per CPU second
+  bool embree8Agrees = false, embree16Agrees = false;  // the packets traced exactly rtcIntersect1's paths
+  double bestPacket() const { return std::max(embree8, embree16); }
 };
 
 struct SizeFigures {
@@ -526,7 +552,7 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
   TraceFigures f;
   const size_t pixels = size_t(o.width) * o.height;
   VkCommandBuffer cb = tp.record(cam, o.width, o.height);
-  PixelResults vk(pixels), em1(pixels), em8(pixels);
+  PixelResults vk(pixels), em1(pixels), em8(pixels), em16(pixels);
   const Timing tv = measure(o.minTime, [&] { ctx().submit(cb); });
   vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
   const uint32_t* r = results.as<uint32_t>();
@@ -538,19 +564,24 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
     return f;
   }
   const Timing t1 = measure(o.minTime, [&] { traceEmbree1(scene, t, cam, o.width, o.height, em1); });
-  const Timing t8 = measure(o.minTime, [&] { traceEmbree8(scene, t, cam, o.width, o.height, em8); });
+  const Timing t8 = measure(o.minTime, [&] { traceEmbreePackets<8>(scene, t, cam, o.width, o.height, em8); });
+  const Timing t16 = measure(o.minTime, [&] { traceEmbreePackets<16>(scene, t, cam, o.width, o.height, em16); });
   f.rays = compare(vk, em1);
   const Compared c8 = compare(em8, em1);
   f.embree8Agrees = c8.pixelsAgreeing == 1.0;
+  const Compared c16 = compare(em16, em1);
+  f.embree16Agrees = c16.pixelsAgreeing == 1.0;
   // Each side's rate counts the rays that side traced.
   const double vkRays = double(f.rays.vkrtRays) * 1e-6, emRays = double(f.rays.embreeRays) * 1e-6;
-  const double em8Rays = double(c8.vkrtRays) * 1e-6;
+  const double em8Rays = double(c8.vkrtRays) * 1e-6, em16Rays = double(c16.vkrtRays) * 1e-6;
   f.vkrt = vkRays / tv.best;
   f.embree1 = emRays / t1.best;
   f.embree8 = em8Rays / t8.best;
+  f.embree16 = em16Rays / t16.best;
   f.vkrtCpu = vkRays / tv.cpuPerRun;
   f.embree1Cpu = emRays / t1.cpuPerRun;
   f.embree8Cpu = em8Rays / t8.cpuPerRun;
+  f.embree16Cpu = em16Rays / t16.cpuPerRun;
   return f;
 }
 
@@ -694,21 +725,24 @@ void printTable(const Options& o, const std::vector<SizeFigures>& all, double su
       "\nvkrt_tracebench: %u threads, %ux%u pixels, %u bounces, best of runs (real time); an empty vkrt "
       "submit takes %.0f us\n",
       workerThreads(), o.width, o.height, o.bounces, submit * 1e6);
-  std::printf("%-10s %-8s %9s %9s %9s %7s %7s %9s %10s\n", "triangles", "rays", "vkrt", "rtcInt1", "rtcInt8", "/Int1",
-              "/Int8", "rays/px", "agree");
+  std::printf("%-10s %-8s %8s %8s %8s %8s %6s %6s %9s %8s\n", "triangles", "rays", "vkrt", "rtcInt1", "rtcInt8",
+              "rtcInt16", "/Int1", "/best", "rays/px", "agree");
   for (const SizeFigures& f : all) {
     const TraceFigures* figs[2] = {&f.primary, &f.paths};
     const char* names[2] = {"primary", "paths"};
     for (int k = 0; k < 2; ++k) {
       const TraceFigures& t = *figs[k];
       const double pixels = double(o.width) * o.height;
-      std::printf("%-10llu %-8s %9.2f %9.2f %9.2f %7.2f %7.2f %4.2f/%4.2f %9.2f%%\n", (unsigned long long)f.triangles,
-                  names[k], t.vkrt, t.embree1, t.embree8, t.vkrt / t.embree1, t.vkrt / t.embree8,
-                  double(t.rays.vkrtRays) / pixels, double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
+      std::printf("%-10llu %-8s %8.2f %8.2f %8.2f %8.2f %6.2f %6.2f %4.2f/%4.2f %7.2f%%\n",
+                  (unsigned long long)f.triangles, names[k], t.vkrt, t.embree1, t.embree8, t.embree16,
+                  t.vkrt / t.embree1, t.vkrt / t.bestPacket(), double(t.rays.vkrtRays) / pixels,
+                  double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
     }
   }
-  std::printf("(Mrays/s; rays/px: vkrt/Embree rays per pixel; agree: pixels with the same rays and hits%s)\n\n",
-              o.vkrtOnly ? "; --vkrt-only: no Embree columns" : "");
+  std::printf(
+      "(Mrays/s; /best: vkrt / the faster packet call; rays/px: vkrt/Embree rays per pixel; agree: pixels with the "
+      "same rays and hits%s)\n\n",
+      o.vkrtOnly ? "; --vkrt-only: no Embree columns" : "");
   std::printf("%-10s %10s %10s %7s %10s %10s %10s %7s\n", "triangles", "BLAS vkrt", "Embree", "ratio", "instances",
               "TLAS vkrt", "Embree", "ratio");
   for (const SizeFigures& f : all)
@@ -729,14 +763,17 @@ std::string jnum(double v) {
 void writeTrace(FILE* j, const char* name, const TraceFigures& t, bool comma) {
   std::fprintf(j,
                "      \"%s\": {\"vkrt_mrays_per_s\": %s, \"embree1_mrays_per_s\": %s, \"embree8_mrays_per_s\": "
-               "%s, \"ratio_vs_embree1\": %s, \"ratio_vs_embree8\": %s, \"vkrt_mrays_per_cpu_s\": %s, "
-               "\"embree1_mrays_per_cpu_s\": %s, \"embree8_mrays_per_cpu_s\": %s, \"vkrt_rays\": %llu, "
-               "\"embree_rays\": %llu, \"pixels_agreeing\": %.6f, \"embree8_agrees_with_embree1\": %s}%s\n",
-               name, jnum(t.vkrt).c_str(), jnum(t.embree1).c_str(), jnum(t.embree8).c_str(),
-               jnum(t.vkrt / t.embree1).c_str(), jnum(t.vkrt / t.embree8).c_str(), jnum(t.vkrtCpu).c_str(),
-               jnum(t.embree1Cpu).c_str(), jnum(t.embree8Cpu).c_str(), (unsigned long long)t.rays.vkrtRays,
+               "%s, \"embree16_mrays_per_s\": %s, \"ratio_vs_embree1\": %s, \"ratio_vs_embree8\": %s, "
+               "\"ratio_vs_embree16\": %s, \"ratio_vs_best_packet\": %s, \"vkrt_mrays_per_cpu_s\": %s, "
+               "\"embree1_mrays_per_cpu_s\": %s, \"embree8_mrays_per_cpu_s\": %s, \"embree16_mrays_per_cpu_s\": %s, "
+               "\"vkrt_rays\": %llu, \"embree_rays\": %llu, \"pixels_agreeing\": %.6f, "
+               "\"embree8_agrees_with_embree1\": %s, \"embree16_agrees_with_embree1\": %s}%s\n",
+               name, jnum(t.vkrt).c_str(), jnum(t.embree1).c_str(), jnum(t.embree8).c_str(), jnum(t.embree16).c_str(),
+               jnum(t.vkrt / t.embree1).c_str(), jnum(t.vkrt / t.embree8).c_str(), jnum(t.vkrt / t.embree16).c_str(),
+               jnum(t.vkrt / t.bestPacket()).c_str(), jnum(t.vkrtCpu).c_str(), jnum(t.embree1Cpu).c_str(),
+               jnum(t.embree8Cpu).c_str(), jnum(t.embree16Cpu).c_str(), (unsigned long long)t.rays.vkrtRays,
                (unsigned long long)t.rays.embreeRays, t.rays.pixelsAgreeing, t.embree8Agrees ? "true" : "false",
-               comma ? "," : "");
+               t.embree16Agrees ? "true" : "false", comma ? "," : "");
 }
 
 void writeJson(const Options& o, const std::vector<SizeFigures>& all, double submit) {
