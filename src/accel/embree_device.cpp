@@ -1,8 +1,19 @@
 #include "accel/embree_device.hpp"
 
-#include <cstdlib>
+#include <atomic>
 
-namespace vkrt::accel::detail {
+#include "accel/accel.hpp"
+
+namespace vkrt::accel {
+namespace {
+
+std::atomic<unsigned> gBuildThreads{0};  // 0: Embree's default
+
+}  // namespace
+
+void setBuildThreads(unsigned threads) { gBuildThreads.store(threads); }
+
+namespace detail {
 namespace {
 
 // The innermost EmbreeErrors scope of this thread: where the error callback appends.
@@ -22,13 +33,10 @@ struct Device {
 
   Device() {
     // verbose=0: Embree prints nothing; its errors come back through the callback as strings. threads: Embree's
-    // builders use as many threads as vkrt's pool (VKRT_THREADS, read as src/exec/thread_pool.cpp reads it), else
-    // every hardware thread.
+    // builders use as many threads as setBuildThreads() asked for (the runtime passes its worker pool's count),
+    // else every hardware thread.
     std::string config = "verbose=0";
-    if (const char* env = std::getenv("VKRT_THREADS")) {
-      long v = std::strtol(env, nullptr, 10);
-      if (v >= 1 && v <= 256) config += ",threads=" + std::to_string(v);
-    }
+    if (const unsigned threads = gBuildThreads.load()) config += ",threads=" + std::to_string(threads);
     handle = rtcNewDevice(config.c_str());
     if (!handle) {
       error = "Embree: cannot create a device (RTCError " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")";
@@ -94,4 +102,5 @@ bool EmbreeErrors::failed(const char* what, std::string* error) {
   return true;
 }
 
-}  // namespace vkrt::accel::detail
+}  // namespace detail
+}  // namespace vkrt::accel

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "accel/accel.hpp"
+#include "exec/thread_pool.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/instance.hpp"
@@ -17,6 +19,8 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
   device = this;
   for (uint32_t i = 0; i < info.enabledExtensionCount; ++i) enabledExtensions.insert(info.ppEnabledExtensionNames[i]);
   features = enabledFeatures(info);
+  // Builds run on as many threads as launches and dispatches (VKRT_THREADS).
+  accel::setBuildThreads(exec::ThreadPool::instance().workerSlots());
 }
 
 Device::~Device() = default;
