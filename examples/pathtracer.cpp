@@ -506,7 +506,8 @@ struct Context {
   PFN_vkCmdSetRayTracingPipelineStackSizeKHR setStackSize;
   PFN_vkCmdTraceRaysKHR traceRays;
 
-  // A host-visible buffer with a device address (the demo reads its results back through the mapping).
+  // A host-visible buffer with a device address (the demo writes its tables and reads its results through the
+  // mapping).
   Buffer buffer(VkDeviceSize size, VkBufferUsageFlags usage) {
     Buffer b;
     b.size = size;
@@ -518,10 +519,13 @@ struct Context {
     vkGetBufferMemoryRequirements(device, b.buffer, &req);
     VkPhysicalDeviceMemoryProperties mp;
     vkGetPhysicalDeviceMemoryProperties(physical, &mp);
+    // Device-local where the device has host-visible device memory (a GPU with a large BAR), else any
+    // host-visible coherent memory.
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     uint32_t type = UINT32_MAX;
-    for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-      if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
+    for (VkMemoryPropertyFlags flags : {want | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, want})
+      for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
+        if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) type = i;
     if (type == UINT32_MAX) fail("no host-visible coherent memory type for a buffer");
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
