@@ -508,7 +508,7 @@ struct Context {
 
   // A host-visible buffer with a device address (the demo writes its tables and reads its results through the
   // mapping).
-  Buffer buffer(VkDeviceSize size, VkBufferUsageFlags usage) {
+  Buffer buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readBack = false) {
     Buffer b;
     b.size = size;
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -519,11 +519,13 @@ struct Context {
     vkGetBufferMemoryRequirements(device, b.buffer, &req);
     VkPhysicalDeviceMemoryProperties mp;
     vkGetPhysicalDeviceMemoryProperties(physical, &mp);
-    // Device-local where the device has host-visible device memory (a GPU with a large BAR), else any
-    // host-visible coherent memory.
+    // Device-local where the device has host-visible device memory (a GPU's BAR), else any host-visible coherent
+    // memory; host-cached first for what the host reads back.
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    const VkMemoryPropertyFlags prefer =
+        readBack ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
     uint32_t type = UINT32_MAX;
-    for (VkMemoryPropertyFlags flags : {want | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, want})
+    for (VkMemoryPropertyFlags flags : {want | prefer, want})
       for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
         if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) type = i;
     if (type == UINT32_MAX) fail("no host-visible coherent memory type for a buffer");
@@ -1090,8 +1092,8 @@ int main(int argc, char** argv) {
 
   // Resources.
   const size_t pixels = size_t(width) * height;
-  Buffer accum = c.buffer(pixels * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-  Buffer rayCounts = c.buffer(pixels * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  Buffer accum = c.buffer(pixels * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+  Buffer rayCounts = c.buffer(pixels * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
   const VkBufferUsageFlags ssbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   Buffer vertices = c.upload(scene.vertices, ssbo), indices = c.upload(scene.indices, ssbo),
          geoms = c.upload(geometries, ssbo), mats = c.upload(scene.materials, ssbo),
