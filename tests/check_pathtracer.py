@@ -7,6 +7,7 @@ Usage: check_pathtracer.py <pathtracer> <work dir>
   wall, the green wall and the ceiling light are red-dominant, green-dominant and saturated white;
 - it reports its ray count: at least one ray per path (the camera ray), at most the camera ray plus two per bounce
   (the next path ray and a shadow ray), and Mrays/s;
+- a glTF file's alphaMode MASK material with a texture is cut where the texture's alpha is below its cutoff;
 - the image depends on the seed only: rendering in passes of 1 sample gives the same image (to one 8-bit step: the
   sums are added in another order), another seed a different one.
 The validation layer is not used: Debian's (1.3.239) predates VK_EXT_pipeline_library_group_handles, drops its
@@ -71,6 +72,84 @@ def run(exe, out, *extra):
     return p.stdout
 
 
+def png_bytes(width, height, rgba):
+    """A PNG (filter 0 on every row) of rows of RGBA tuples."""
+    raw = b"".join(b"\0" + bytes(c for p in row for c in p) for row in rgba)
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def write_gltf(path, right_texel_alpha):
+    """Two upright quads facing +z: a red opaque one (x -2..-0.2) and a green alphaMode MASK one (x 0.2..2) whose
+    base colour texture is 2x1 texels, white, alpha 255 on the left (u < 0.5) and right_texel_alpha on the right."""
+    def quad(x0, x1):
+        pos = struct.pack("<12f", x0, 0, 0, x1, 0, 0, x1, 1, 0, x0, 1, 0)
+        uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)
+        return pos, uv
+
+    blob, views, accessors = b"", [], []
+    for x0, x1 in ((-2.0, -0.2), (0.2, 2.0)):
+        pos, uv = quad(x0, x1)
+        for data, kind, ctype, count, extra in ((pos, "VEC3", 5126, 4, {"min": [x0, 0, 0], "max": [x1, 1, 0]}),
+                                                (uv, "VEC2", 5126, 4, {}),
+                                                (struct.pack("<6H", 0, 1, 2, 0, 2, 3), "SCALAR", 5123, 6, {})):
+            views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+            accessors.append(dict({"bufferView": len(views) - 1, "componentType": ctype, "count": count,
+                                   "type": kind}, **extra))
+            blob += data + b"\0" * (-len(data) % 4)
+    image = png_bytes(2, 1, [[(255, 255, 255, 255), (255, 255, 255, right_texel_alpha)]])
+    import base64
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0},
+                                   {"attributes": {"POSITION": 3, "TEXCOORD_0": 4}, "indices": 5, "material": 1}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.05, 0.05, 1], "metallicFactor": 0}},
+                      {"pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.8, 0.05, 1], "metallicFactor": 0,
+                                                "baseColorTexture": {"index": 0}},
+                       "alphaMode": "MASK", "alphaCutoff": 0.5}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode()}],
+        "buffers": [{"byteLength": len(blob),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }
+    import json
+    with open(path, "w") as f:
+        json.dump(doc, f)
+
+
+def check_gltf_mask(exe, work, check):
+    """A glTF file's MASK material cuts its quad where the texture's alpha is below alphaCutoff (the any-hit
+    shader): the green quad shows about half as many pixels as the same quad with an opaque texture."""
+    counts = []
+    for alpha in (0, 255):
+        gltf, png = os.path.join(work, f"mask{alpha}.gltf"), os.path.join(work, f"mask{alpha}.png")
+        write_gltf(gltf, alpha)
+        p = subprocess.run([exe, "--scene", gltf, "--width", "48", "--height", "32", "--spp", "4", "--bounces", "2",
+                            "--out", png], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        print(p.stdout, end="")
+        check(p.returncode == 0, f"the glTF scene with texture alpha {alpha} renders")
+        if p.returncode != 0:
+            return
+        _, _, px = read_png(png)
+        red = sum(1 for row in px for q in row if q[0] > 1.5 * q[1] and q[0] > 1.5 * q[2])
+        green = sum(1 for row in px for q in row if q[1] > 1.5 * q[0] and q[1] > 1.5 * q[2])
+        counts.append((red, green))
+    (red_cut, green_cut), (red_full, green_full) = counts
+    check(red_cut > 20 and red_full > 20, f"the opaque red quad is seen ({red_cut} and {red_full} pixels)")
+    check(green_full > 20 and 0.3 * green_full < green_cut < 0.75 * green_full,
+          f"the MASK quad loses its transparent half ({green_cut} green pixels, {green_full} with an opaque texture)")
+
+
 def main():
     exe, work = sys.argv[1], sys.argv[2]
     os.makedirs(work, exist_ok=True)
@@ -125,6 +204,8 @@ def main():
     _, _, px3 = read_png(other)
     differing = sum(p1 != p3 for r1, r3 in zip(px, px3) for p1, p3 in zip(r1, r3))
     check(differing > W * H // 4, f"another seed gives another image ({differing} pixels differ)")
+
+    check_gltf_mask(exe, work, check)
 
     if failures:
         sys.exit(f"FAIL: {len(failures)} checks failed")
