@@ -374,19 +374,22 @@ Scene loadGltf(const std::string& path) {
   }
   const uint32_t defaultMaterial = s.material(Material{});
   // Meshes: one part per triangle primitive.
-  std::vector<bool> alphaTested;
+  size_t skipped = 0;
   for (const tinygltf::Mesh& gm : model.meshes) {
     s.meshes.emplace_back();
     const uint32_t mesh = uint32_t(s.meshes.size() - 1);
     for (const tinygltf::Primitive& prim : gm.primitives) {
+      ++skipped;  // until the primitive is added
       if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) continue;
       const tinygltf::Accessor& pa = model.accessors.at(size_t(pos->second));
       if (pa.type != TINYGLTF_TYPE_VEC3 || pa.bufferView < 0) continue;
       std::vector<Vertex> v(pa.count);
+      bool finite = true;
       for (size_t i = 0; i < pa.count; ++i)
-        for (int c = 0; c < 3; ++c) v[i].position[c] = readComponent(model, pa, i, c);
+        for (int c = 0; c < 3; ++c) finite &= std::isfinite(v[i].position[c] = readComponent(model, pa, i, c));
+      if (!finite) continue;
       auto nor = prim.attributes.find("NORMAL");
       if (nor != prim.attributes.end()) {
         const tinygltf::Accessor& na = model.accessors.at(size_t(nor->second));
@@ -415,20 +418,32 @@ Scene loadGltf(const std::string& path) {
                                ? uint32_t(prim.material)
                                : defaultMaterial;
       s.part(mesh, v, idx, mat);
+      --skipped;
     }
   }
+  if (skipped)
+    std::fprintf(stderr,
+                 "pathtracer: %s: skipped %zu primitives (not triangle lists, no positions, non-finite positions or "
+                 "indices out of range)\n",
+                 path.c_str(), skipped);
   // Instances: the default scene's node tree.
   const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
   if (model.scenes.empty()) fail(path + " has no scene");
   Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-  std::vector<std::pair<int, Mat4>> stack;
+  // (node, its parent's world matrix, its depth): a depth beyond the number of nodes means a cycle.
+  struct Pending {
+    int node;
+    Mat4 parent;
+    size_t depth;
+  };
+  std::vector<Pending> stack;
   for (int n : model.scenes.at(size_t(sceneIndex)).nodes)
-    stack.push_back({n, Mat4{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}});
-  size_t visited = 0;
+    stack.push_back({n, Mat4{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, 0});
   while (!stack.empty()) {
-    auto [n, parent] = stack.back();
+    auto [n, parent, depth] = stack.back();
     stack.pop_back();
-    if (n < 0 || size_t(n) >= model.nodes.size() || ++visited > 1000000) fail(path + ": a bad node tree");
+    if (n < 0 || size_t(n) >= model.nodes.size()) fail(path + ": a node index out of range");
+    if (depth >= model.nodes.size()) fail(path + ": the node hierarchy has a cycle");
     const tinygltf::Node& node = model.nodes[size_t(n)];
     const Mat4 world = mul(parent, nodeMatrix(node));
     if (node.mesh >= 0 && size_t(node.mesh) < s.meshes.size() && !s.meshes[size_t(node.mesh)].parts.empty()) {
@@ -447,7 +462,7 @@ Scene loadGltf(const std::string& path) {
           hi = {std::max(hi.x, w[0]), std::max(hi.y, w[1]), std::max(hi.z, w[2])};
         }
     }
-    for (int c : node.children) stack.push_back({c, world});
+    for (int c : node.children) stack.push_back({c, world, depth + 1});
   }
   if (s.placements.empty()) fail(path + " has no triangle meshes in its scene");
   const Vec3 center = (lo + hi) * 0.5f;
