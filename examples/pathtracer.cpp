@@ -111,7 +111,8 @@ struct Material {
   float alphaCutoff = 0.5f;
   float roughness = 0;
   float ior = 1.5f;
-  float pad[2] = {};
+  uint32_t sampledLight = 0;  // the quad light: next-event estimation samples it
+  float pad = 0;
 };
 struct TextureInfo {
   uint32_t offset, width, height, pad;
@@ -201,6 +202,7 @@ Scene cornell() {
   set4(green.baseColor, {0.12f, 0.45f, 0.15f}, 1);
   set4(light.baseColor, {0.78f, 0.78f, 0.78f}, 1);
   set4(light.emission, {17.0f, 12.0f, 4.0f}, 0);
+  light.sampledLight = 1;
   set4(panel.baseColor, {0.85f, 0.65f, 0.15f}, 1);
   panel.alphaMode = 2;
   set4(glass.baseColor, {0.98f, 0.98f, 0.98f}, 1);

@@ -23,8 +23,8 @@ struct Material {
   float alphaCutoff;
   float roughness;
   float ior;
-  float pad0;
-  float pad1;
+  uint sampledLight;  // 1: the emitter is the scene's quad light, which diffuse bounces sample directly
+  float pad;
 };
 struct Texture {
   uint offset;  // first texel in texels[]
