@@ -234,7 +234,7 @@ Scene cornell() {
   std::memcpy(room.transform, kIdentity, sizeof kIdentity);
   s.placements.push_back(room);
   s.camera({0, 1, 3.9f}, {0, 1, 0}, 0.6981f);  // 40 degrees
-  set4(s.info.params, {0.0005f, 4.0f, 0}, 0);
+  set4(s.info.params, {0.0005f, 1.0f, 0}, 0);
   return s;
 }
 
