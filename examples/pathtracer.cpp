@@ -1086,10 +1086,13 @@ int main(int argc, char** argv) {
     else
       bad = true;
   }
-  if (bad || width == 0 || height == 0 || width > 16384 || height > 16384 || spp == 0 || bounces > 64) {
+  // A pixel's ray count is 32 bits: at most 1 + 2 x bounces rays a path (the path rays and a shadow ray a bounce).
+  const bool countFits = uint64_t(spp) * (1 + 2 * uint64_t(bounces)) < (uint64_t(1) << 32);
+  if (bad || width == 0 || height == 0 || width > 16384 || height > 16384 || spp == 0 || bounces > 64 || !countFits) {
     std::fprintf(stderr,
                  "usage: pathtracer [--scene cornell|file.glb|file.gltf] [--width W] [--height H] [--spp N] "
-                 "[--bounces N (0-64)] [--seed S] [--out file.png] [--pass-spp N]\n");
+                 "[--bounces N (0-64)] [--seed S] [--out file.png] [--pass-spp N]\n"
+                 "  (width and height up to 16384, spp x (1 + 2 x bounces) below 2^32)\n");
     return 2;
   }
   const auto t0 = std::chrono::steady_clock::now();
