@@ -37,6 +37,7 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
 
+#include "example_vk.hpp"
 #include "pt.rgen.spv.h"
 #include "pt.rmiss.spv.h"
 #include "pt_alpha.rahit.spv.h"
@@ -48,40 +49,12 @@
 #include "pt_sphere.rint.spv.h"
 #include "pt_triangle.rchit.spv.h"
 
-// The Vulkan 1.3.239 headers predate VK_EXT_pipeline_library_group_handles (extension 499).
-#ifndef VK_EXT_pipeline_library_group_handles
-#define VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME "VK_EXT_pipeline_library_group_handles"
-#define VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT \
-  static_cast<VkStructureType>(1000498000)
-typedef struct VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT {
-  VkStructureType sType;
-  void* pNext;
-  VkBool32 pipelineLibraryGroupHandles;
-} VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT;
-#endif
-
 namespace {
 
-#define CHECK(call)                                                                     \
-  do {                                                                                  \
-    VkResult r_ = (call);                                                               \
-    if (r_ != VK_SUCCESS) {                                                             \
-      std::fprintf(stderr, "pathtracer: %s failed with VkResult %d\n", #call, (int)r_); \
-      std::exit(1);                                                                     \
-    }                                                                                   \
-  } while (0)
-
-[[noreturn]] void fail(const std::string& what) {
-  std::fprintf(stderr, "pathtracer: %s\n", what.c_str());
-  std::exit(1);
-}
-
-template <class F>
-F load(VkDevice dev, const char* name) {
-  auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(dev, name));
-  if (!f) fail(std::string("the driver has no ") + name);
-  return f;
-}
+using example::Buffer;
+using example::Built;
+using example::Context;
+using example::fail;
 
 // ------------------------------------------------------------------------------------- scene tables (pt.glsl)
 
@@ -493,103 +466,6 @@ Scene loadGltf(const std::string& path) {
 
 // ---------------------------------------------------------------------------------------------------- Vulkan
 
-struct Buffer {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* data = nullptr;
-  VkDeviceAddress address = 0;
-  VkDeviceSize size = 0;
-};
-
-struct Context {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physical = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  uint32_t queueFamily = 0;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
-  std::vector<Buffer> buffers;
-  std::vector<VkAccelerationStructureKHR> structures;
-  PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes;
-  PFN_vkCreateAccelerationStructureKHR createAs;
-  PFN_vkDestroyAccelerationStructureKHR destroyAs;
-  PFN_vkCmdBuildAccelerationStructuresKHR cmdBuild;
-  PFN_vkGetAccelerationStructureDeviceAddressKHR asAddress;
-  PFN_vkCreateRayTracingPipelinesKHR createPipelines;
-  PFN_vkGetRayTracingShaderGroupHandlesKHR groupHandles;
-  PFN_vkGetRayTracingShaderGroupStackSizeKHR groupStackSize;
-  PFN_vkCmdSetRayTracingPipelineStackSizeKHR setStackSize;
-  PFN_vkCmdTraceRaysKHR traceRays;
-
-  // A host-visible buffer with a device address (the demo writes its tables and reads its results through the
-  // mapping).
-  Buffer buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readBack = false) {
-    Buffer b;
-    b.size = size;
-    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bci.size = size;
-    bci.usage = usage | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-    CHECK(vkCreateBuffer(device, &bci, nullptr, &b.buffer));
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(device, b.buffer, &req);
-    VkPhysicalDeviceMemoryProperties mp;
-    vkGetPhysicalDeviceMemoryProperties(physical, &mp);
-    // Device-local where the device has host-visible device memory (a GPU's BAR), else any host-visible coherent
-    // memory; host-cached first for what the host reads back.
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    const VkMemoryPropertyFlags prefer =
-        readBack ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    uint32_t type = UINT32_MAX;
-    for (VkMemoryPropertyFlags flags : {want | prefer, want})
-      for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-        if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) type = i;
-    if (type == UINT32_MAX) fail("no host-visible coherent memory type for a buffer");
-    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
-    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = type;
-    CHECK(vkAllocateMemory(device, &mai, nullptr, &b.memory));
-    CHECK(vkBindBufferMemory(device, b.buffer, b.memory, 0));
-    CHECK(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
-    VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
-    ai.buffer = b.buffer;
-    b.address = vkGetBufferDeviceAddress(device, &ai);
-    buffers.push_back(b);
-    return b;
-  }
-  template <class T>
-  Buffer upload(const std::vector<T>& v, VkBufferUsageFlags usage) {
-    Buffer b = buffer(std::max<VkDeviceSize>(v.size() * sizeof(T), 16), usage);
-    if (!v.empty()) std::memcpy(b.data, v.data(), v.size() * sizeof(T));
-    return b;
-  }
-
-  VkCommandBuffer begin() {
-    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    ai.commandPool = pool;
-    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    ai.commandBufferCount = 1;
-    VkCommandBuffer cb;
-    CHECK(vkAllocateCommandBuffers(device, &ai, &cb));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    CHECK(vkBeginCommandBuffer(cb, &bi));
-    return cb;
-  }
-  void submit(VkCommandBuffer cb) {
-    CHECK(vkEndCommandBuffer(cb));
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cb;
-    CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    CHECK(vkQueueWaitIdle(queue));
-    vkFreeCommandBuffers(device, pool, 1, &cb);
-  }
-};
-
 bool hasExtension(const std::vector<VkExtensionProperties>& all, const char* name) {
   return std::any_of(all.begin(), all.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
@@ -677,59 +553,7 @@ void createDevice(Context& c) {
   dci.enabledExtensionCount = uint32_t(std::size(kDeviceExtensions));
   dci.ppEnabledExtensionNames = kDeviceExtensions;
   CHECK(vkCreateDevice(c.physical, &dci, nullptr, &c.device));
-  vkGetDeviceQueue(c.device, c.queueFamily, 0, &c.queue);
-  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.queueFamilyIndex = c.queueFamily;
-  CHECK(vkCreateCommandPool(c.device, &pci, nullptr, &c.pool));
-  c.buildSizes = load<PFN_vkGetAccelerationStructureBuildSizesKHR>(c.device, "vkGetAccelerationStructureBuildSizesKHR");
-  c.createAs = load<PFN_vkCreateAccelerationStructureKHR>(c.device, "vkCreateAccelerationStructureKHR");
-  c.destroyAs = load<PFN_vkDestroyAccelerationStructureKHR>(c.device, "vkDestroyAccelerationStructureKHR");
-  c.cmdBuild = load<PFN_vkCmdBuildAccelerationStructuresKHR>(c.device, "vkCmdBuildAccelerationStructuresKHR");
-  c.asAddress =
-      load<PFN_vkGetAccelerationStructureDeviceAddressKHR>(c.device, "vkGetAccelerationStructureDeviceAddressKHR");
-  c.createPipelines = load<PFN_vkCreateRayTracingPipelinesKHR>(c.device, "vkCreateRayTracingPipelinesKHR");
-  c.groupHandles = load<PFN_vkGetRayTracingShaderGroupHandlesKHR>(c.device, "vkGetRayTracingShaderGroupHandlesKHR");
-  c.groupStackSize =
-      load<PFN_vkGetRayTracingShaderGroupStackSizeKHR>(c.device, "vkGetRayTracingShaderGroupStackSizeKHR");
-  c.setStackSize = load<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(c.device, "vkCmdSetRayTracingPipelineStackSizeKHR");
-  c.traceRays = load<PFN_vkCmdTraceRaysKHR>(c.device, "vkCmdTraceRaysKHR");
-}
-
-struct Built {
-  VkAccelerationStructureKHR as;
-  VkDeviceAddress address;
-};
-
-Built build(Context& c, VkAccelerationStructureTypeKHR type, const std::vector<VkAccelerationStructureGeometryKHR>& g,
-            const std::vector<uint32_t>& primitives) {
-  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
-  info.type = type;
-  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-  info.geometryCount = uint32_t(g.size());
-  info.pGeometries = g.data();
-  VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
-  c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, primitives.data(), &sizes);
-  Buffer storage = c.buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
-  Buffer scratch = c.buffer(sizes.buildScratchSize + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
-  ci.buffer = storage.buffer;
-  ci.size = sizes.accelerationStructureSize;
-  ci.type = type;
-  Built b;
-  CHECK(c.createAs(c.device, &ci, nullptr, &b.as));
-  c.structures.push_back(b.as);
-  info.dstAccelerationStructure = b.as;
-  info.scratchData.deviceAddress = (scratch.address + 255) / 256 * 256;
-  std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
-  for (uint32_t p : primitives) ranges.push_back({p, 0, 0, 0});
-  const VkAccelerationStructureBuildRangeInfoKHR* pr = ranges.data();
-  VkCommandBuffer cb = c.begin();
-  c.cmdBuild(cb, 1, &info, &pr);
-  c.submit(cb);
-  VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-  ai.accelerationStructure = b.as;
-  b.address = c.asAddress(c.device, &ai);
-  return b;
+  c.deviceCreated();
 }
 
 // The scene's structures: a BLAS per mesh (a geometry per part; alpha-tested parts are not opaque, so that the
@@ -767,7 +591,7 @@ VkAccelerationStructureKHR buildScene(Context& c, const Scene& s, std::vector<Ge
       gs.push_back(g);
       counts.push_back(p.indexCount / 3);
     }
-    meshes.push_back(build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, gs, counts));
+    meshes.push_back(c.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, gs, counts));
   }
   std::vector<VkAccelerationStructureInstanceKHR> instances;
   for (const Placement& p : s.placements) {
@@ -792,7 +616,7 @@ VkAccelerationStructureKHR buildScene(Context& c, const Scene& s, std::vector<Ge
     g.geometry.aabbs.data.deviceAddress =
         c.upload(boxes, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
     g.geometry.aabbs.stride = sizeof(VkAabbPositionsKHR);
-    Built spheres = build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, {uint32_t(boxes.size())});
+    Built spheres = c.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, {uint32_t(boxes.size())});
     VkAccelerationStructureInstanceKHR in{};
     std::memcpy(in.transform.matrix, kIdentity, sizeof kIdentity);
     in.instanceCustomIndex = 0;  // spheres[0 + gl_PrimitiveID]
@@ -806,7 +630,7 @@ VkAccelerationStructureKHR buildScene(Context& c, const Scene& s, std::vector<Ge
   ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
   ig.geometry.instances.data.deviceAddress =
       c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
-  return build(c, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {ig}, {uint32_t(instances.size())}).as;
+  return c.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {ig}, {uint32_t(instances.size())}).as;
 }
 
 // ---------------------------------------------------------------------------------------------- the pipeline
@@ -1057,6 +881,7 @@ bool parseUint(const char* s, uint32_t* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  example::gProgram = "pathtracer";
   uint32_t width = 640, height = 480, spp = 64, bounces = 6, seed = 1, passSpp = 0;
   std::string sceneArg = "cornell", out = "pathtracer.png";
   bool bad = false;
@@ -1216,13 +1041,6 @@ int main(int argc, char** argv) {
   for (VkPipeline l : p.libraries) vkDestroyPipeline(c.device, l, nullptr);
   vkDestroyPipelineLayout(c.device, p.layout, nullptr);
   vkDestroyDescriptorSetLayout(c.device, p.setLayout, nullptr);
-  for (VkAccelerationStructureKHR as : c.structures) c.destroyAs(c.device, as, nullptr);
-  for (const Buffer& b : c.buffers) {
-    vkDestroyBuffer(c.device, b.buffer, nullptr);
-    vkFreeMemory(c.device, b.memory, nullptr);
-  }
-  vkDestroyCommandPool(c.device, c.pool, nullptr);
-  vkDestroyDevice(c.device, nullptr);
-  vkDestroyInstance(c.instance, nullptr);
+  c.destroy();
   return 0;
 }
