@@ -50,6 +50,19 @@ struct Built {
   VkDeviceAddress address = 0;
 };
 
+// A shader group: its type and its general, closest-hit, any-hit and intersection shaders (VK_SHADER_UNUSED_KHR
+// where none).
+inline VkRayTracingShaderGroupCreateInfoKHR group(VkRayTracingShaderGroupTypeKHR type, uint32_t general,
+                                                  uint32_t closestHit, uint32_t anyHit, uint32_t intersection) {
+  VkRayTracingShaderGroupCreateInfoKHR r{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+  r.type = type;
+  r.generalShader = general;
+  r.closestHitShader = closestHit;
+  r.anyHitShader = anyHit;
+  r.intersectionShader = intersection;
+  return r;
+}
+
 // A device with a queue and a command pool (the program creates them), the ray tracing entry points, and the
 // buffers and acceleration structures it made (destroy() frees them with the device).
 struct Context {
@@ -192,6 +205,60 @@ struct Context {
     ai.accelerationStructure = b.as;
     b.address = asAddress(device, &ai);
     return b;
+  }
+
+  // A top-level structure over `instances` (uploaded to a build-input buffer).
+  Built buildTopLevel(const std::vector<VkAccelerationStructureInstanceKHR>& instances) {
+    VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+    ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    ig.geometry.instances.data.deviceAddress =
+        upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
+    return build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {ig}, {uint32_t(instances.size())});
+  }
+
+  VkShaderModule shaderModule(const uint32_t* words, size_t bytes) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = words;
+    VkShaderModule m;
+    CHECK(vkCreateShaderModule(device, &ci, nullptr, &m));
+    return m;
+  }
+
+  // A descriptor set of `layout` from a pool of its own (*pool, for the caller to destroy): binding 0 the top-level
+  // structure, bindings 1, 2, ... the whole of each buffer, as storage buffers.
+  VkDescriptorSet sceneSet(VkDescriptorSetLayout layout, VkAccelerationStructureKHR tlas,
+                           const std::vector<VkBuffer>& storage, VkDescriptorPool* pool) {
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, uint32_t(storage.size())}};
+    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpci.maxSets = 1;
+    dpci.poolSizeCount = 2;
+    dpci.pPoolSizes = sizes;
+    CHECK(vkCreateDescriptorPool(device, &dpci, nullptr, pool));
+    VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dai.descriptorPool = *pool;
+    dai.descriptorSetCount = 1;
+    dai.pSetLayouts = &layout;
+    VkDescriptorSet set;
+    CHECK(vkAllocateDescriptorSets(device, &dai, &set));
+    VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+    asw.accelerationStructureCount = 1;
+    asw.pAccelerationStructures = &tlas;
+    std::vector<VkDescriptorBufferInfo> infos;
+    for (VkBuffer b : storage) infos.push_back({b, 0, VK_WHOLE_SIZE});
+    std::vector<VkWriteDescriptorSet> w(storage.size() + 1, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
+    for (uint32_t i = 0; i < w.size(); ++i) {
+      w[i].dstSet = set;
+      w[i].dstBinding = i;
+      w[i].descriptorCount = 1;
+      w[i].descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      if (i) w[i].pBufferInfo = &infos[i - 1];
+    }
+    w[0].pNext = &asw;
+    vkUpdateDescriptorSets(device, uint32_t(w.size()), w.data(), 0, nullptr);
+    return set;
   }
 
   // Frees what the context made, then the device and the instance.

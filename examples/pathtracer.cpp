@@ -625,24 +625,10 @@ VkAccelerationStructureKHR buildScene(Context& c, const Scene& s, std::vector<Ge
     in.accelerationStructureReference = spheres.address;
     instances.push_back(in);
   }
-  VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
-  ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
-  ig.geometry.instances.data.deviceAddress =
-      c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
-  return c.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {ig}, {uint32_t(instances.size())}).as;
+  return c.buildTopLevel(instances).as;
 }
 
 // ---------------------------------------------------------------------------------------------- the pipeline
-
-VkShaderModule shaderModule(Context& c, const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = bytes;
-  ci.pCode = words;
-  VkShaderModule m;
-  CHECK(vkCreateShaderModule(c.device, &ci, nullptr, &m));
-  return m;
-}
 
 constexpr uint32_t kBindings = 11;
 struct PushConstants {
@@ -714,21 +700,13 @@ Pipeline createPipeline(Context& c) {
                    VkShaderStageFlagBits s) {
     VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     st.stage = s;
-    st.module = shaderModule(c, words, bytes);
+    st.module = c.shaderModule(words, bytes);
     st.pName = "main";
     modules.push_back(st.module);
     stages.push_back(st);
     return uint32_t(stages.size() - 1);
   };
-  auto group = [](VkRayTracingShaderGroupTypeKHR t, uint32_t g, uint32_t ch, uint32_t ah, uint32_t is) {
-    VkRayTracingShaderGroupCreateInfoKHR r{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
-    r.type = t;
-    r.generalShader = g;
-    r.closestHitShader = ch;
-    r.anyHitShader = ah;
-    r.intersectionShader = is;
-    return r;
-  };
+  using example::group;
   const uint32_t U = VK_SHADER_UNUSED_KHR;
   const auto G = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
              T = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR,
@@ -944,40 +922,11 @@ int main(int argc, char** argv) {
          geoms = c.upload(geometries, ssbo), mats = c.upload(scene.materials, ssbo),
          texs = c.upload(scene.textures, ssbo), texels = c.upload(scene.texels, ssbo),
          spheres = c.upload(scene.spheres, ssbo), info = c.upload(std::vector<SceneInfo>{scene.info}, ssbo);
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1}};
-  VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  dpci.maxSets = 1;
-  dpci.poolSizeCount = 2;
-  dpci.pPoolSizes = sizes;
   VkDescriptorPool pool;
-  CHECK(vkCreateDescriptorPool(c.device, &dpci, nullptr, &pool));
-  VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  dai.descriptorPool = pool;
-  dai.descriptorSetCount = 1;
-  dai.pSetLayouts = &p.setLayout;
-  VkDescriptorSet set;
-  CHECK(vkAllocateDescriptorSets(c.device, &dai, &set));
-  VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
-  asw.accelerationStructureCount = 1;
-  asw.pAccelerationStructures = &tlas;
-  const Buffer* bound[kBindings] = {nullptr, &accum, &rayCounts, &vertices, &indices, &geoms,
-                                    &mats,   &texs,  &texels,    &spheres,  &info};
-  VkDescriptorBufferInfo infos[kBindings];
-  VkWriteDescriptorSet w[kBindings];
-  for (uint32_t i = 0; i < kBindings; ++i) {
-    w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w[i].dstSet = set;
-    w[i].dstBinding = i;
-    w[i].descriptorCount = 1;
-    w[i].descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    if (i) {
-      infos[i] = {bound[i]->buffer, 0, VK_WHOLE_SIZE};
-      w[i].pBufferInfo = &infos[i];
-    }
-  }
-  w[0].pNext = &asw;
-  vkUpdateDescriptorSets(c.device, kBindings, w, 0, nullptr);
+  const VkDescriptorSet set = c.sceneSet(p.setLayout, tlas,
+                                         {accum.buffer, rayCounts.buffer, vertices.buffer, indices.buffer, geoms.buffer,
+                                          mats.buffer, texs.buffer, texels.buffer, spheres.buffer, info.buffer},
+                                         &pool);
   const auto t1 = std::chrono::steady_clock::now();
   std::printf("pathtracer: scene, acceleration structures and pipeline ready in %.2f s\n",
               std::chrono::duration<double>(t1 - t0).count());

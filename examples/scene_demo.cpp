@@ -189,24 +189,10 @@ VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTa
       instanceOf(sphereAs, 0, 0.45f, 0.35f, 0.3f, 0.35f, kMirror, 2),
       instanceOf(sphereAs, 0, -0.25f, 0.22f, 0.55f, 0.22f, kBlue, 2),
   };
-  VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
-  ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
-  ig.geometry.instances.data.deviceAddress =
-      c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
-  return c.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, {ig}, {uint32_t(instances.size())}).as;
+  return c.buildTopLevel(instances).as;
 }
 
 // ---------------------------------------------------------------------------------------------- the pipeline
-
-VkShaderModule shaderModule(Context& c, const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = bytes;
-  ci.pCode = words;
-  VkShaderModule m;
-  CHECK(vkCreateShaderModule(c.device, &ci, nullptr, &m));
-  return m;
-}
 
 struct Pipeline {
   VkPipeline pipeline;
@@ -248,19 +234,11 @@ Pipeline createPipeline(Context& c) {
   for (const S& s : shaders) {
     VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     st.stage = s.stage;
-    st.module = shaderModule(c, s.words, s.bytes);
+    st.module = c.shaderModule(s.words, s.bytes);
     st.pName = "main";
     stages.push_back(st);
   }
-  auto group = [](VkRayTracingShaderGroupTypeKHR t, uint32_t g, uint32_t ch, uint32_t ah, uint32_t is) {
-    VkRayTracingShaderGroupCreateInfoKHR r{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
-    r.type = t;
-    r.generalShader = g;
-    r.closestHitShader = ch;
-    r.anyHitShader = ah;
-    r.intersectionShader = is;
-    return r;
-  };
+  using example::group;
   const uint32_t U = VK_SHADER_UNUSED_KHR;
   const auto G = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
              T = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR,
@@ -496,38 +474,9 @@ int main(int argc, char** argv) {
   Buffer spheres = c.upload(sphereTable, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<float> materials(&kMaterials[0][0], &kMaterials[0][0] + sizeof kMaterials / sizeof(float));
   Buffer mats = c.upload(materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
-  VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  dpci.maxSets = 1;
-  dpci.poolSizeCount = 2;
-  dpci.pPoolSizes = sizes;
   VkDescriptorPool pool;
-  CHECK(vkCreateDescriptorPool(c.device, &dpci, nullptr, &pool));
-  VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  dai.descriptorPool = pool;
-  dai.descriptorSetCount = 1;
-  dai.pSetLayouts = &p.setLayout;
-  VkDescriptorSet set;
-  CHECK(vkAllocateDescriptorSets(c.device, &dai, &set));
-  VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
-  asw.accelerationStructureCount = 1;
-  asw.pAccelerationStructures = &tlas;
-  VkDescriptorBufferInfo infos[4] = {{image.buffer, 0, VK_WHOLE_SIZE},
-                                     {tris.buffer, 0, VK_WHOLE_SIZE},
-                                     {spheres.buffer, 0, VK_WHOLE_SIZE},
-                                     {mats.buffer, 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet w[5];
-  for (uint32_t i = 0; i < 5; ++i) {
-    w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w[i].dstSet = set;
-    w[i].dstBinding = i;
-    w[i].descriptorCount = 1;
-    w[i].descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    if (i) w[i].pBufferInfo = &infos[i - 1];
-  }
-  w[0].pNext = &asw;
-  vkUpdateDescriptorSets(c.device, 5, w, 0, nullptr);
+  const VkDescriptorSet set =
+      c.sceneSet(p.setLayout, tlas, {image.buffer, tris.buffer, spheres.buffer, mats.buffer}, &pool);
 
   auto recordTrace = [&](VkCommandBuffer cb) {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline);
