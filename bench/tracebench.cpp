@@ -37,6 +37,7 @@
 #include "trace_hit.rchit.spv.h"
 #include "trace_miss.rmiss.spv.h"
 #include "trace_paths.rgen.spv.h"
+#include "vkrt_commit.h"
 
 namespace vkrt::bench {
 namespace {
@@ -702,17 +703,6 @@ std::string cpuModel() {
   return model;
 }
 
-std::string gitCommit() {
-  std::string out;
-  if (FILE* p = popen("git -C '" VKRT_SOURCE_DIR "' rev-parse HEAD 2>/dev/null", "r")) {
-    char buf[128];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
-  return out.empty() ? "unknown" : out;
-}
-
 std::string utcNow() {
   const std::time_t now = std::time(nullptr);
   char buf[64];
@@ -786,7 +776,7 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
   for (char& c : cpu)
     if (c == '"' || c == '\\') c = ' ';
   std::fprintf(j, "{\n  \"program\": \"vkrt_tracebench\",\n  \"date\": \"%s\",\n  \"git_commit\": \"%s\",\n",
-               utcNow().c_str(), gitCommit().c_str());
+               utcNow().c_str(), VKRT_COMMIT);
   std::fprintf(j, "  \"machine\": {\"cpu\": \"%s\", \"hardware_threads\": %u},\n", cpu.c_str(),
                std::thread::hardware_concurrency());
   std::fprintf(j,
