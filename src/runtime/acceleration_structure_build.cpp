@@ -15,7 +15,9 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 
+#include "exec/thread_pool.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/memory.hpp"
@@ -81,32 +83,55 @@ uint32_t indexSize(VkIndexType t) {
   }
 }
 
+// Runs f(begin, end) over [0, n) in chunks on the thread pool and the calling thread: a build of millions of
+// triangles reads and converts hundreds of megabytes, which one core would do alone.
+template <class F>
+void forChunks(uint64_t n, const F& f) {
+  constexpr uint64_t kChunk = uint64_t(1) << 16;
+  const uint64_t chunks = (n + kChunk - 1) / kChunk;
+  if (chunks <= 1) {
+    if (n) f(uint64_t(0), n);
+    return;
+  }
+  exec::ThreadPool::instance().runConcurrently(chunks,
+                                               [&](uint64_t c) { f(c * kChunk, std::min(n, (c + 1) * kChunk)); });
+}
+
 bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrianglesDataKHR& t,
                    const VkAccelerationStructureBuildRangeInfoKHR& r, uint32_t g, accel::TriangleGeometry* out,
                    BuildError* e) {
   const uint64_t n = r.primitiveCount, stride = t.vertexStride;
   const uint32_t isz = indexSize(t.indexType);
-  // The vertices used, as absolute vertex numbers [lo, hi], and the geometry's indices relative to lo.
-  uint64_t lo = 0, hi = 0;
-  std::vector<uint64_t> absolute(n * 3);
-  if (isz) {
-    const uint8_t* idx = src.at(t.indexData.deviceAddress + r.primitiveOffset, n * 3 * isz, "index data", g, e);
-    if (!idx && n) return false;
-    for (uint64_t i = 0; i < n * 3; ++i) {
-      uint32_t v = isz == 4 ? load<uint32_t>(idx + i * 4) : isz == 2 ? load<uint16_t>(idx + i * 2) : idx[i];
-      absolute[i] = uint64_t(r.firstVertex) + v;
-    }
-  } else {
-    for (uint64_t i = 0; i < n * 3; ++i) absolute[i] = uint64_t(r.firstVertex) + i;
-  }
-  if (n) {
-    lo = hi = absolute[0];
-    for (uint64_t v : absolute) {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
+  // The vertices used, as absolute vertex numbers [lo, hi] (firstVertex + index, or firstVertex + 3p + k without
+  // indices), and the geometry's indices relative to lo.
+  uint64_t lo = r.firstVertex, hi = r.firstVertex + (n ? 3 * n - 1 : 0);
+  const uint8_t* idx = nullptr;
+  auto indexAt = [&](uint64_t i) -> uint32_t {
+    return isz == 4 ? load<uint32_t>(idx + i * 4) : isz == 2 ? load<uint16_t>(idx + i * 2) : idx[i];
+  };
+  uint32_t minIndex = 0;
+  if (isz && n) {
+    idx = src.at(t.indexData.deviceAddress + r.primitiveOffset, n * 3 * isz, "index data", g, e);
+    if (!idx) return false;
+    // The smallest and largest index, per chunk, then over the chunks.
+    std::mutex m;
+    uint32_t mn = UINT32_MAX, mx = 0;
+    forChunks(n * 3, [&](uint64_t begin, uint64_t end) {
+      uint32_t a = UINT32_MAX, b = 0;
+      for (uint64_t i = begin; i < end; ++i) {
+        const uint32_t v = indexAt(i);
+        a = std::min(a, v);
+        b = std::max(b, v);
+      }
+      std::lock_guard lock(m);
+      mn = std::min(mn, a);
+      mx = std::max(mx, b);
+    });
+    minIndex = mn;
+    lo = uint64_t(r.firstVertex) + mn;
+    hi = uint64_t(r.firstVertex) + mx;
     // VUID-VkAccelerationStructureGeometryTrianglesDataKHR-maxVertex: indices address at most maxVertex.
-    if (isz && hi > t.maxVertex) {
+    if (hi > t.maxVertex) {
       e->vuid = "VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03712";
       e->message =
           format("pGeometries[%u]: a triangle addresses vertex %llu (firstVertex %u + index), beyond maxVertex %u", g,
@@ -129,18 +154,34 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
     std::memcpy(m, tp, sizeof m);
   }
   out->vertices.resize(count * 3);
-  for (uint64_t i = 0; i < count; ++i) {
-    float p[3];
-    decodeVertex(t.vertexFormat, v + i * stride, p);
-    float* o = out->vertices.data() + i * 3;
-    if (transformed) {
-      for (int k = 0; k < 3; ++k) o[k] = m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + m[k][3];
-    } else {
-      o[0] = p[0], o[1] = p[1], o[2] = p[2];
-    }
+  float* const vertices = out->vertices.data();
+  if (!transformed && t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT && stride == 12) {
+    forChunks(count, [&](uint64_t begin, uint64_t end) {
+      std::memcpy(vertices + begin * 3, v + begin * 12, (end - begin) * 12);
+    });
+  } else {
+    forChunks(count, [&](uint64_t begin, uint64_t end) {
+      for (uint64_t i = begin; i < end; ++i) {
+        float p[3];
+        decodeVertex(t.vertexFormat, v + i * stride, p);
+        float* o = vertices + i * 3;
+        if (transformed) {
+          for (int k = 0; k < 3; ++k) o[k] = m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + m[k][3];
+        } else {
+          o[0] = p[0], o[1] = p[1], o[2] = p[2];
+        }
+      }
+    });
   }
   out->indices.resize(n * 3);
-  for (uint64_t i = 0; i < n * 3; ++i) out->indices[i] = uint32_t(absolute[i] - lo);
+  uint32_t* const indices = out->indices.data();
+  forChunks(n * 3, [&](uint64_t begin, uint64_t end) {
+    if (isz) {
+      for (uint64_t i = begin; i < end; ++i) indices[i] = indexAt(i) - minIndex;
+    } else {
+      for (uint64_t i = begin; i < end; ++i) indices[i] = uint32_t(i);
+    }
+  });
   return true;
 }
 
@@ -213,6 +254,13 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
     o.sbtOffset = in.instanceShaderBindingTableRecordOffset;
     o.flags = in.flags;
     (*refs)[i] = in.accelerationStructureReference;
+    // Instances of one bottom level usually come together: the previous instance's resolution is reused (one
+    // lookup under the device's lock per run of equal references, not one per instance).
+    if (i > 0 && in.accelerationStructureReference == (*refs)[i - 1] && (*out)[i - 1].blas) {
+      o.blas = (*out)[i - 1].blas;
+      (*addresses)[i] = (*addresses)[i - 1];
+      continue;
+    }
     o.blas = resolveBlas(dev, in.accelerationStructureReference, host, uint32_t(i), e, &(*addresses)[i]);
     if (!o.blas && in.accelerationStructureReference) return false;
   }

@@ -17,6 +17,81 @@ TEST_F(TraceBasics, TrianglesThroughInstancesWithTransformsCustomIndicesAndSbtOf
   expectBasicScene(trace(p, s, top, 8, 8), 8);
 }
 
+// Builds large enough for vkrt to spread their reading over threads (more than 65,536 vertices and indices,
+// more than 4,096 instances): the geometry traced is what the application gave. A grid of q x q quads over
+// [-2, 2]^2 in the plane z = 0 (vertex (c, r) at index r * (q + 1) + c after `skip` unused vertices; quad (c, r)
+// is triangles 2k = (v0, v1, v2) and 2k + 1 = (v2, v1, v3), k = r * q + c); the visible instance sits among
+// thousands of others far away (and some with mask 0) at z = 5.
+TEST_F(TraceBasics, LargeBuildsTraceTheirGeometryAndInstanceIds) {
+  struct Grid {
+    std::vector<float> vertices;
+    std::vector<uint32_t> indices;
+  };
+  auto grid = [](uint32_t q, uint32_t skip, uint32_t floatsPerVertex) {
+    Grid g;
+    g.vertices.assign(size_t(skip) * floatsPerVertex, 1e6f);  // unused, far away
+    for (uint32_t r = 0; r <= q; ++r)
+      for (uint32_t c = 0; c <= q; ++c) {
+        g.vertices.insert(g.vertices.end(), {-2 + 4.0f * c / q, -2 + 4.0f * r / q, 0});
+        if (floatsPerVertex == 4) g.vertices.push_back(0);
+      }
+    for (uint32_t r = 0; r < q; ++r)
+      for (uint32_t c = 0; c < q; ++c) {
+        const uint32_t v0 = skip + r * (q + 1) + c, v1 = v0 + 1, v2 = v0 + q + 1, v3 = v2 + 1;
+        g.indices.insert(g.indices.end(), {v0, v1, v2, v2, v1, v3});
+      }
+    return g;
+  };
+  // Bottom level A: 301 x 301 quads, float3, 32-bit indices starting at vertex 1000 (90,601 + 1,000 vertices,
+  // 543,606 indices). Bottom level B: 180 x 180 quads, 16-byte vertex stride, 16-bit indices, and a transform
+  // that lifts it by 1 (t is then 1 more).
+  const uint32_t qa = 301, qb = 180;
+  const Grid a = grid(qa, 1000, 3), b = grid(qb, 0, 4);
+  VkAccelerationStructureKHR blasA = blas({triangles(a.vertices, a.indices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  Geometry gb = triangles(b.vertices, b.indices, VK_GEOMETRY_OPAQUE_BIT_KHR);
+  auto& tb = gb.geometry.geometry.triangles;
+  tb.vertexStride = 16;
+  tb.maxVertex = uint32_t(b.vertices.size() / 4 - 1);
+  std::vector<uint16_t> shortIndices(b.indices.begin(), b.indices.end());
+  tb.indexType = VK_INDEX_TYPE_UINT16;
+  tb.indexData.deviceAddress = upload(shortIndices);
+  const VkTransformMatrixKHR lift = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 1}}};
+  tb.transformData.deviceAddress = upload(std::vector<VkTransformMatrixKHR>{lift});
+  VkAccelerationStructureKHR blasB = blas({gb});
+
+  Desc d = basicDesc();
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  const uint32_t kInstances = 5000;
+  for (int which = 0; which < 2; ++which) {
+    SCOPED_TRACE(which ? "bottom level B" : "bottom level A");
+    const uint32_t visible = which ? 4321 : 1234, q = which ? qb : qa;
+    std::vector<VkAccelerationStructureInstanceKHR> instances;
+    for (uint32_t i = 0; i < kInstances; ++i) {
+      // The others: in rows far to the side (x >= 100), every seventh with mask 0.
+      const bool shown = i == visible;
+      instances.push_back(instance(which ? blasB : blasA, shown ? 0 : 100 + 5.0f * (i % 100),
+                                   shown ? 0 : 5.0f * (i / 100), 5, i, 0, shown || i % 7 ? 0xff : 0));
+    }
+    const std::vector<TracePayload> r = trace(p, s, tlas(instances), 8, 8);
+    for (uint32_t y = 0; y < 8; ++y)
+      for (uint32_t x = 0; x < 8; ++x) {
+        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+        const TracePayload& h = r[y * 8 + x];
+        const double wx = cellCentre(x, 8), wy = cellCentre(y, 8);
+        EXPECT_NEAR(h.hit[0], which ? 16.0f : 15.0f, 1e-4f) << "gl_HitTEXT";
+        EXPECT_EQ(h.ids[0], visible) << "gl_InstanceCustomIndexEXT";
+        EXPECT_EQ(h.ids[1], visible) << "gl_InstanceID";
+        const double gx = (wx + 2) / 4 * q, gy = (wy + 2) / 4 * q;
+        const double fx = gx - std::floor(gx), fy = gy - std::floor(gy);
+        if (std::fabs(fx + fy - 1) < 1e-3) continue;  // on a quad's diagonal: either triangle
+        const uint32_t k = uint32_t(std::floor(gy)) * q + uint32_t(std::floor(gx));
+        EXPECT_EQ(h.ids[2], 2 * k + (fx + fy > 1 ? 1 : 0)) << "gl_PrimitiveID";
+      }
+  }
+}
+
 }  // namespace
 }  // namespace vkrt::test
 
