@@ -12,6 +12,7 @@
 #include "exec/thread_pool.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
 #include <sanitizer/common_interface_defs.h>
 #define VKRT_ASAN_FIBERS 1
 #endif
@@ -240,6 +241,11 @@ void runWorkgroup(const ComputeDispatch& d, const InvocationContext& proto, uint
               __tsan_destroy_fiber(scratch.fibers[k].tsanFiber);
               scratch.fibers[k].tsanFiber = nullptr;
             }
+#endif
+#if VKRT_ASAN_FIBERS
+          // The abandoned frames' redzones would otherwise stay poisoned for the next workgroup's fibers.
+          for (uint64_t k = 0; k < invocations; ++k)
+            __asan_unpoison_memory_region(scratch.stacks[k] + kGuardBytes, kFiberStackBytes);
 #endif
           abortTask();
         }
