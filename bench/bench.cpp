@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "ao_query.comp.spv.h"
+#include "bench_common.hpp"
 #include "mandelbrot.comp.spv.h"
 #include "matmul.comp.spv.h"
 #include "native_kernels.hpp"
@@ -31,152 +32,6 @@
 
 namespace vkrt::bench {
 namespace {
-
-[[noreturn]] void fail(const char* what, VkResult r) {
-  std::fprintf(stderr, "vkrt_bench: %s failed (VkResult %d)\n", what, int(r));
-  std::exit(1);
-}
-#define CHECK(call)                        \
-  do {                                     \
-    VkResult r_ = (call);                  \
-    if (r_ != VK_SUCCESS) fail(#call, r_); \
-  } while (0)
-
-struct Context {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physical = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  // VK_KHR_acceleration_structure and VK_KHR_ray_query with their features, where the driver has them (the
-  // ambient occlusion benchmark needs them; the others do not).
-  bool rayQuery = false;
-  PFN_vkCreateAccelerationStructureKHR createAs = nullptr;
-  PFN_vkDestroyAccelerationStructureKHR destroyAs = nullptr;
-  PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes = nullptr;
-  PFN_vkCmdBuildAccelerationStructuresKHR cmdBuild = nullptr;
-  PFN_vkGetAccelerationStructureDeviceAddressKHR asAddress = nullptr;
-
-  Context() {
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.pApplicationName = "vkrt_bench";
-    app.apiVersion = VK_API_VERSION_1_3;
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ici.pApplicationInfo = &app;
-    CHECK(vkCreateInstance(&ici, nullptr, &instance));
-    uint32_t count = 1;
-    VkResult r = vkEnumeratePhysicalDevices(instance, &count, &physical);
-    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0) fail("vkEnumeratePhysicalDevices", r);
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(physical, &props);
-    std::fprintf(stderr, "device: %s\n", props.deviceName);
-    float priority = 1;
-    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    qci.queueCount = 1;
-    qci.pQueuePriorities = &priority;
-    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    f13.maintenance4 = VK_TRUE;
-    const char* extensions[] = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
-                                VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME};
-    uint32_t available = 0;
-    vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, nullptr);
-    std::vector<VkExtensionProperties> props2(available);
-    vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, props2.data());
-    rayQuery = std::all_of(std::begin(extensions), std::end(extensions), [&](const char* e) {
-      return std::any_of(props2.begin(), props2.end(),
-                         [&](const VkExtensionProperties& p) { return std::strcmp(p.extensionName, e) == 0; });
-    });
-    VkPhysicalDeviceRayQueryFeaturesKHR rqf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-    rqf.rayQuery = VK_TRUE;
-    VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rqf};
-    asf.accelerationStructure = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &asf};
-    f12.bufferDeviceAddress = VK_TRUE;
-    if (rayQuery) f13.pNext = &f12;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f13};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &qci;
-    if (rayQuery) {
-      dci.enabledExtensionCount = uint32_t(std::size(extensions));
-      dci.ppEnabledExtensionNames = extensions;
-    }
-    CHECK(vkCreateDevice(physical, &dci, nullptr, &device));
-    vkGetDeviceQueue(device, 0, 0, &queue);
-    if (rayQuery) {
-      load(createAs, "vkCreateAccelerationStructureKHR");
-      load(destroyAs, "vkDestroyAccelerationStructureKHR");
-      load(buildSizes, "vkGetAccelerationStructureBuildSizesKHR");
-      load(cmdBuild, "vkCmdBuildAccelerationStructuresKHR");
-      load(asAddress, "vkGetAccelerationStructureDeviceAddressKHR");
-    }
-    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    CHECK(vkCreateCommandPool(device, &pci, nullptr, &pool));
-  }
-  template <class F>
-  void load(F& f, const char* name) {
-    f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
-    if (!f) fail(name, VK_ERROR_EXTENSION_NOT_PRESENT);
-  }
-  ~Context() {
-    vkDestroyCommandPool(device, pool, nullptr);
-    vkDestroyDevice(device, nullptr);
-    vkDestroyInstance(instance, nullptr);
-  }
-};
-
-Context& ctx() {
-  static Context c;
-  return c;
-}
-
-struct Buffer {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* data = nullptr;
-  VkDeviceSize size = 0;
-
-  explicit Buffer(VkDeviceSize bytes, VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) : size(bytes) {
-    VkDevice d = ctx().device;
-    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bci.size = bytes;
-    bci.usage = usage;
-    CHECK(vkCreateBuffer(d, &bci, nullptr, &buffer));
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(d, buffer, &req);
-    VkPhysicalDeviceMemoryProperties mp;
-    vkGetPhysicalDeviceMemoryProperties(ctx().physical, &mp);
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    uint32_t type = 0;
-    while (type < mp.memoryTypeCount &&
-           !((req.memoryTypeBits >> type & 1) && (mp.memoryTypes[type].propertyFlags & want) == want))
-      ++type;
-    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
-    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ai.pNext = &flags;
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = type;
-    CHECK(vkAllocateMemory(d, &ai, nullptr, &memory));
-    CHECK(vkBindBufferMemory(d, buffer, memory, 0));
-    CHECK(vkMapMemory(d, memory, 0, VK_WHOLE_SIZE, 0, &data));
-  }
-  Buffer(const Buffer&) = delete;
-  Buffer& operator=(const Buffer&) = delete;
-  ~Buffer() {
-    vkDestroyBuffer(ctx().device, buffer, nullptr);
-    vkFreeMemory(ctx().device, memory, nullptr);
-  }
-  VkDeviceAddress address() const {
-    VkBufferDeviceAddressInfo i{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
-    i.buffer = buffer;
-    return vkGetBufferDeviceAddress(ctx().device, &i);
-  }
-  template <class T>
-  T* as() {
-    return static_cast<T*>(data);
-  }
-};
 
 // A compute pipeline whose set 0 has `bindings` storage buffers (binding 0 an acceleration structure instead where
 // `accelerationStructure0`), with `pushBytes` of push constants.
@@ -478,29 +333,11 @@ const AoScene& aoScene() {
 }
 
 // ao_query.comp's hash and directions, the same integer operations and exact float scalings.
-uint32_t aoHash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
 void aoDirection(uint32_t point, uint32_t k, float d[3]) {
-  uint32_t h1 = aoHash(point * kAoRays + k), h2 = aoHash(h1), h3 = aoHash(h2);
+  uint32_t h1 = hash32(point * kAoRays + k), h2 = hash32(h1), h3 = hash32(h2);
   d[0] = float(int32_t(h1 >> 16) - 32768) * (1.0f / 32768.0f);
   d[1] = float(int32_t(h2 >> 16) - 32768) * (1.0f / 32768.0f);
   d[2] = float((h3 >> 16) + 1u) * (1.0f / 65536.0f);
-}
-
-// The thread count of both sides: VKRT_THREADS as vkrt reads it (1..256), else the hardware threads.
-unsigned aoThreads() {
-  unsigned n = std::thread::hardware_concurrency();
-  if (const char* env = std::getenv("VKRT_THREADS")) {
-    long v = std::strtol(env, nullptr, 10);
-    if (v >= 1 && v <= 256) n = unsigned(v);
-  }
-  return std::max(1u, n);
 }
 
 // Raw Embree: the same triangles in one scene (no instance level), robust and built at HIGH quality as vkrt builds
@@ -589,21 +426,11 @@ struct AoEmbree {
       masks[p] = mask;
     }
   }
-  // Every point over aoThreads() threads (std::thread; the calling thread is one of them), which take chunks of 64
-  // points from an atomic counter as they go: a thread that loses its core on a loaded machine holds up no fixed
-  // share (vkrt's pool hands out workgroups in chunks the same way).
+  // Every point, in chunks of 64 (parallelChunks).
   template <class F>
   void parallel(F f, uint32_t* masks) const {
-    constexpr uint32_t kChunk = 64;
-    std::atomic<uint32_t> next{0};
-    auto work = [&] {
-      for (uint32_t p; (p = next.fetch_add(kChunk, std::memory_order_relaxed)) < kAoPoints;)
-        (this->*f)(p, std::min(p + kChunk, kAoPoints), masks);
-    };
-    std::vector<std::thread> threads;
-    for (unsigned t = 1; t < aoThreads(); ++t) threads.emplace_back(work);
-    work();
-    for (auto& t : threads) t.join();
+    parallelChunks(kAoPoints, 64,
+                   [&](uint64_t begin, uint64_t end) { (this->*f)(uint32_t(begin), uint32_t(end), masks); });
   }
 };
 
@@ -643,13 +470,6 @@ bool aoCompare(benchmark::State& state, const char* who, const uint32_t* masks, 
   return true;
 }
 
-// The process's CPU time (every thread's), in seconds.
-double processCpuSeconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
-}
-
 // Mrays per second of real time, and per second of the whole process's CPU time since `cpuStart` (less sensitive to
 // other load on a shared machine than real time: a thread waiting for a core does not count).
 void aoRate(benchmark::State& state, double cpuStart) {
@@ -661,102 +481,17 @@ void aoRate(benchmark::State& state, double cpuStart) {
 // vkrt: a BLAS of the scene, a TLAS with one identity instance of it, both built with
 // vkCmdBuildAccelerationStructuresKHR (PREFER_FAST_TRACE) before the timed loop.
 struct AoVkrt {
-  std::vector<std::unique_ptr<Buffer>> buffers;
+  AccelStructures structures;
   VkAccelerationStructureKHR blas = VK_NULL_HANDLE, tlas = VK_NULL_HANDLE;
-
-  static constexpr VkBufferUsageFlags kInput =
-      VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-
-  Buffer& buffer(VkDeviceSize bytes, VkBufferUsageFlags usage) {
-    buffers.push_back(std::make_unique<Buffer>(bytes, usage));
-    return *buffers.back();
-  }
-  VkDeviceAddress upload(const void* data, size_t bytes) {
-    Buffer& b = buffer(bytes, kInput);
-    std::memcpy(b.data, data, bytes);
-    return b.address();
-  }
-  VkAccelerationStructureKHR build(VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
-                                   uint32_t primitives) {
-    Context& c = ctx();
-    VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
-    info.type = type;
-    info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
-    info.geometryCount = 1;
-    info.pGeometries = &g;
-    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
-    c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &primitives, &sizes);
-    Buffer& storage = buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
-                                                                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
-    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
-    ci.buffer = storage.buffer;
-    ci.size = sizes.accelerationStructureSize;
-    ci.type = type;
-    VkAccelerationStructureKHR as = VK_NULL_HANDLE;
-    CHECK(c.createAs(c.device, &ci, nullptr, &as));
-    Buffer& scratch = buffer(sizes.buildScratchSize + 256,
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
-    info.dstAccelerationStructure = as;
-    info.scratchData.deviceAddress = (scratch.address() + 255) / 256 * 256;
-    VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
-    const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
-    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    cai.commandPool = c.pool;
-    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cai.commandBufferCount = 1;
-    VkCommandBuffer cb;
-    CHECK(vkAllocateCommandBuffers(c.device, &cai, &cb));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    CHECK(vkBeginCommandBuffer(cb, &bi));
-    c.cmdBuild(cb, 1, &info, &pr);
-    // The TLAS build and the compute shader read what this build wrote.
-    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
-    mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         0, 1, &mb, 0, nullptr, 0, nullptr);
-    CHECK(vkEndCommandBuffer(cb));
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cb;
-    CHECK(vkQueueSubmit(c.queue, 1, &si, VK_NULL_HANDLE));
-    CHECK(vkQueueWaitIdle(c.queue));
-    vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
-    return as;
-  }
 
   AoVkrt() {
     const AoScene& s = aoScene();
-    VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-    auto& t = g.geometry.triangles;
-    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-    t.vertexData.deviceAddress = upload(s.vertices.data(), s.vertices.size() * 4);
-    t.vertexStride = 12;
-    t.maxVertex = uint32_t(s.vertices.size() / 3 - 1);
-    t.indexType = VK_INDEX_TYPE_UINT32;
-    t.indexData.deviceAddress = upload(s.indices.data(), s.indices.size() * 4);
-    blas = build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, uint32_t(s.indices.size() / 3));
-    VkAccelerationStructureInstanceKHR in{};
-    in.transform.matrix[0][0] = in.transform.matrix[1][1] = in.transform.matrix[2][2] = 1;
-    in.mask = 0xff;
-    VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-    ai.accelerationStructure = blas;
-    in.accelerationStructureReference = ctx().asAddress(ctx().device, &ai);
-    VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-    ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
-    ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
-    ig.geometry.instances.data.deviceAddress = upload(&in, sizeof in);
-    tlas = build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 1);
-  }
-  ~AoVkrt() {
-    ctx().destroyAs(ctx().device, tlas, nullptr);
-    ctx().destroyAs(ctx().device, blas, nullptr);
+    blas = structures.build(
+        VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+        structures.triangles(s.vertices.data(), s.vertices.size() / 3, s.indices.data(), s.indices.size()),
+        uint32_t(s.indices.size() / 3));
+    VkAccelerationStructureInstanceKHR in = structures.identityInstance(blas);
+    tlas = structures.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, structures.instances(&in, 1), 1);
   }
 };
 

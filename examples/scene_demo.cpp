@@ -24,6 +24,7 @@
 #include <stb/stb_image_write.h>
 
 #include "cutout.rahit.spv.h"
+#include "example_vk.hpp"
 #include "scene.rgen.spv.h"
 #include "scene.rmiss.spv.h"
 #include "shadow.rmiss.spv.h"
@@ -33,111 +34,11 @@
 
 namespace {
 
-#define CHECK(call)                                                                     \
-  do {                                                                                  \
-    VkResult r_ = (call);                                                               \
-    if (r_ != VK_SUCCESS) {                                                             \
-      std::fprintf(stderr, "scene_demo: %s failed with VkResult %d\n", #call, (int)r_); \
-      std::exit(1);                                                                     \
-    }                                                                                   \
-  } while (0)
+using example::Buffer;
+using example::Built;
 
-template <class F>
-F load(VkDevice dev, const char* name) {
-  auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(dev, name));
-  if (!f) {
-    std::fprintf(stderr, "scene_demo: the driver has no %s\n", name);
-    std::exit(1);
-  }
-  return f;
-}
-
-struct Buffer {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* data = nullptr;
-  VkDeviceAddress address = 0;
-  VkDeviceSize size = 0;
-};
-
-struct Context {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physical = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
-  std::vector<Buffer> buffers;
-  PFN_vkGetAccelerationStructureBuildSizesKHR buildSizes;
-  PFN_vkCreateAccelerationStructureKHR createAs;
-  PFN_vkCmdBuildAccelerationStructuresKHR cmdBuild;
-  PFN_vkGetAccelerationStructureDeviceAddressKHR asAddress;
-  PFN_vkCreateRayTracingPipelinesKHR createPipelines;
-  PFN_vkGetRayTracingShaderGroupHandlesKHR groupHandles;
-  PFN_vkGetRayTracingShaderGroupStackSizeKHR groupStackSize;
-  PFN_vkCmdSetRayTracingPipelineStackSizeKHR setStackSize;
-  PFN_vkCmdTraceRaysKHR traceRays;
+struct Context : example::Context {
   bool present = false;  // --present: the instance and device have the presentation extensions
-
-  // A host-visible buffer with a device address (vkrt's memory is all host-visible; a GPU driver's too, here).
-  Buffer buffer(VkDeviceSize size, VkBufferUsageFlags usage) {
-    Buffer b;
-    b.size = size;
-    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bci.size = size;
-    bci.usage = usage | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-    CHECK(vkCreateBuffer(device, &bci, nullptr, &b.buffer));
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(device, b.buffer, &req);
-    VkPhysicalDeviceMemoryProperties mp;
-    vkGetPhysicalDeviceMemoryProperties(physical, &mp);
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    uint32_t type = UINT32_MAX;
-    for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-      if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
-    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
-    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = type;
-    CHECK(vkAllocateMemory(device, &mai, nullptr, &b.memory));
-    CHECK(vkBindBufferMemory(device, b.buffer, b.memory, 0));
-    CHECK(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
-    VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
-    ai.buffer = b.buffer;
-    b.address = vkGetBufferDeviceAddress(device, &ai);
-    buffers.push_back(b);
-    return b;
-  }
-  template <class T>
-  Buffer upload(const std::vector<T>& v, VkBufferUsageFlags usage) {
-    Buffer b = buffer(std::max<VkDeviceSize>(v.size() * sizeof(T), 16), usage);
-    std::memcpy(b.data, v.data(), v.size() * sizeof(T));
-    return b;
-  }
-
-  VkCommandBuffer begin() {
-    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    ai.commandPool = pool;
-    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    ai.commandBufferCount = 1;
-    VkCommandBuffer cb;
-    CHECK(vkAllocateCommandBuffers(device, &ai, &cb));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    CHECK(vkBeginCommandBuffer(cb, &bi));
-    return cb;
-  }
-  void submit(VkCommandBuffer cb) {
-    CHECK(vkEndCommandBuffer(cb));
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cb;
-    CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    CHECK(vkQueueWaitIdle(queue));
-    vkFreeCommandBuffers(device, pool, 1, &cb);
-  }
 };
 
 void createDevice(Context& c) {
@@ -181,21 +82,7 @@ void createDevice(Context& c) {
   dci.enabledExtensionCount = c.present ? 4 : 3;
   dci.ppEnabledExtensionNames = exts;
   CHECK(vkCreateDevice(c.physical, &dci, nullptr, &c.device));
-  vkGetDeviceQueue(c.device, 0, 0, &c.queue);
-  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  CHECK(vkCreateCommandPool(c.device, &pci, nullptr, &c.pool));
-  c.buildSizes = load<PFN_vkGetAccelerationStructureBuildSizesKHR>(c.device, "vkGetAccelerationStructureBuildSizesKHR");
-  c.createAs = load<PFN_vkCreateAccelerationStructureKHR>(c.device, "vkCreateAccelerationStructureKHR");
-  c.cmdBuild = load<PFN_vkCmdBuildAccelerationStructuresKHR>(c.device, "vkCmdBuildAccelerationStructuresKHR");
-  c.asAddress =
-      load<PFN_vkGetAccelerationStructureDeviceAddressKHR>(c.device, "vkGetAccelerationStructureDeviceAddressKHR");
-  c.createPipelines = load<PFN_vkCreateRayTracingPipelinesKHR>(c.device, "vkCreateRayTracingPipelinesKHR");
-  c.groupHandles = load<PFN_vkGetRayTracingShaderGroupHandlesKHR>(c.device, "vkGetRayTracingShaderGroupHandlesKHR");
-  c.groupStackSize =
-      load<PFN_vkGetRayTracingShaderGroupStackSizeKHR>(c.device, "vkGetRayTracingShaderGroupStackSizeKHR");
-  c.setStackSize = load<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(c.device, "vkCmdSetRayTracingPipelineStackSizeKHR");
-  c.traceRays = load<PFN_vkCmdTraceRaysKHR>(c.device, "vkCmdTraceRaysKHR");
+  c.deviceCreated();
 }
 
 // ------------------------------------------------------------------------------------------------- the scene
@@ -230,41 +117,6 @@ enum Material : uint32_t { kWhite, kRed, kGreen, kMirror, kBlue, kYellow };
 const float kMaterials[][4] = {{0.75f, 0.75f, 0.72f, 0},  {0.75f, 0.12f, 0.1f, 0}, {0.15f, 0.6f, 0.15f, 0},
                                {0.9f, 0.9f, 0.9f, 0.85f}, {0.15f, 0.3f, 0.8f, 0},  {0.85f, 0.7f, 0.1f, 0}};
 
-struct Built {
-  VkAccelerationStructureKHR as;
-  VkDeviceAddress address;
-};
-
-Built build(Context& c, VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
-            uint32_t primitives) {
-  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
-  info.type = type;
-  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-  info.geometryCount = 1;
-  info.pGeometries = &g;
-  VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
-  c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &primitives, &sizes);
-  Buffer storage = c.buffer(sizes.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
-  Buffer scratch = c.buffer(sizes.buildScratchSize + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
-  ci.buffer = storage.buffer;
-  ci.size = sizes.accelerationStructureSize;
-  ci.type = type;
-  Built b;
-  CHECK(c.createAs(c.device, &ci, nullptr, &b.as));
-  info.dstAccelerationStructure = b.as;
-  info.scratchData.deviceAddress = (scratch.address + 255) / 256 * 256;
-  VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
-  const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
-  VkCommandBuffer cb = c.begin();
-  c.cmdBuild(cb, 1, &info, &pr);
-  c.submit(cb);
-  VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-  ai.accelerationStructure = b.as;
-  b.address = c.asAddress(c.device, &ai);
-  return b;
-}
-
 Built buildMesh(Context& c, const Mesh& m, bool opaque) {
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
@@ -279,7 +131,7 @@ Built buildMesh(Context& c, const Mesh& m, bool opaque) {
   t.indexType = VK_INDEX_TYPE_UINT32;
   t.indexData.deviceAddress =
       c.upload(m.indices, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
-  return build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, uint32_t(m.indices.size() / 3));
+  return c.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, {uint32_t(m.indices.size() / 3)});
 }
 
 VkAccelerationStructureInstanceKHR instanceOf(const Built& b, float angle, float tx, float ty, float tz, float scale,
@@ -328,7 +180,7 @@ VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTa
                                                  VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR)
                                             .address;
   g.geometry.aabbs.stride = sizeof(VkAabbPositionsKHR);
-  Built sphereAs = build(c, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, g, 1);
+  Built sphereAs = c.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, {1});
   // SBT hit records: 0 opaque triangles, 1 the alpha-tested panel, 2 spheres.
   std::vector<VkAccelerationStructureInstanceKHR> instances = {
       instanceOf(roomAs, 0, 0, 0, 0, 1, offsets[0], 0),
@@ -337,24 +189,10 @@ VkAccelerationStructureKHR buildScene(Context& c, std::vector<float>* triangleTa
       instanceOf(sphereAs, 0, 0.45f, 0.35f, 0.3f, 0.35f, kMirror, 2),
       instanceOf(sphereAs, 0, -0.25f, 0.22f, 0.55f, 0.22f, kBlue, 2),
   };
-  VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
-  ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
-  ig.geometry.instances.data.deviceAddress =
-      c.upload(instances, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR).address;
-  return build(c, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, uint32_t(instances.size())).as;
+  return c.buildTopLevel(instances).as;
 }
 
 // ---------------------------------------------------------------------------------------------- the pipeline
-
-VkShaderModule shaderModule(Context& c, const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = bytes;
-  ci.pCode = words;
-  VkShaderModule m;
-  CHECK(vkCreateShaderModule(c.device, &ci, nullptr, &m));
-  return m;
-}
 
 struct Pipeline {
   VkPipeline pipeline;
@@ -396,19 +234,11 @@ Pipeline createPipeline(Context& c) {
   for (const S& s : shaders) {
     VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     st.stage = s.stage;
-    st.module = shaderModule(c, s.words, s.bytes);
+    st.module = c.shaderModule(s.words, s.bytes);
     st.pName = "main";
     stages.push_back(st);
   }
-  auto group = [](VkRayTracingShaderGroupTypeKHR t, uint32_t g, uint32_t ch, uint32_t ah, uint32_t is) {
-    VkRayTracingShaderGroupCreateInfoKHR r{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
-    r.type = t;
-    r.generalShader = g;
-    r.closestHitShader = ch;
-    r.anyHitShader = ah;
-    r.intersectionShader = is;
-    return r;
-  };
+  using example::group;
   const uint32_t U = VK_SHADER_UNUSED_KHR;
   const auto G = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR,
              T = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR,
@@ -586,6 +416,7 @@ void presentFrames(Context& c, int frames, uint32_t width, uint32_t height, cons
 }  // namespace
 
 int main(int argc, char** argv) {
+  example::gProgram = "scene_demo";
   uint32_t width = 800, height = 600;
   std::string out = "scene.png";
   int frames = 0;
@@ -643,38 +474,9 @@ int main(int argc, char** argv) {
   Buffer spheres = c.upload(sphereTable, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<float> materials(&kMaterials[0][0], &kMaterials[0][0] + sizeof kMaterials / sizeof(float));
   Buffer mats = c.upload(materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
-  VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  dpci.maxSets = 1;
-  dpci.poolSizeCount = 2;
-  dpci.pPoolSizes = sizes;
   VkDescriptorPool pool;
-  CHECK(vkCreateDescriptorPool(c.device, &dpci, nullptr, &pool));
-  VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  dai.descriptorPool = pool;
-  dai.descriptorSetCount = 1;
-  dai.pSetLayouts = &p.setLayout;
-  VkDescriptorSet set;
-  CHECK(vkAllocateDescriptorSets(c.device, &dai, &set));
-  VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
-  asw.accelerationStructureCount = 1;
-  asw.pAccelerationStructures = &tlas;
-  VkDescriptorBufferInfo infos[4] = {{image.buffer, 0, VK_WHOLE_SIZE},
-                                     {tris.buffer, 0, VK_WHOLE_SIZE},
-                                     {spheres.buffer, 0, VK_WHOLE_SIZE},
-                                     {mats.buffer, 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet w[5];
-  for (uint32_t i = 0; i < 5; ++i) {
-    w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w[i].dstSet = set;
-    w[i].dstBinding = i;
-    w[i].descriptorCount = 1;
-    w[i].descriptorType = i == 0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    if (i) w[i].pBufferInfo = &infos[i - 1];
-  }
-  w[0].pNext = &asw;
-  vkUpdateDescriptorSets(c.device, 5, w, 0, nullptr);
+  const VkDescriptorSet set =
+      c.sceneSet(p.setLayout, tlas, {image.buffer, tris.buffer, spheres.buffer, mats.buffer}, &pool);
 
   auto recordTrace = [&](VkCommandBuffer cb) {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline);

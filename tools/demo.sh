@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Builds vkrt (release) and runs the demo through the standard Vulkan loader: scene_demo traces a box with triangle
-# meshes, spheres (an intersection shader), an alpha-tested panel (an any-hit shader), a mirror and shadows (a second
-# trace) through a ray tracing pipeline on vkrt, and writes the image to build/scene.png.
+# Builds vkrt (release) and runs the demos through the standard Vulkan loader.
 #
-#   tools/demo.sh               one frame, build/scene.png
-#   tools/demo.sh --present N   N frames presented through a headless swapchain, each written by vkrt to
-#                               build/frames/frame-NNNNNN.png (VKRT_PRESENT_DIR); the last one also to build/scene.png
+#   tools/demo.sh               the path tracer (examples/pathtracer) on the glTF model 2CylinderEngine.glb (Debian's
+#                               assimp-testmodels), 640x480, 32 samples per pixel: build/pathtracer.png
+#   tools/demo.sh --present N   scene_demo (a box with triangle meshes, spheres from an intersection shader, an
+#                               alpha-tested panel, a mirror and shadows) traces N frames presented through a
+#                               headless swapchain, each written by vkrt to build/frames/frame-NNNNNN.png
+#                               (VKRT_PRESENT_DIR); the last one also to build/scene.png
 set -euo pipefail
 frames=0
 if [ $# -gt 0 ]; then
@@ -29,5 +30,8 @@ if [ "$frames" -gt 0 ]; then
     --present "$frames"
   echo "demo: $frames frames in $build/frames"
 else
-  "$build/examples/scene_demo" --width 800 --height 600 --out "$build/scene.png"
+  model=$(dpkg -L assimp-testmodels | grep '/2CylinderEngine-glTF-Binary/2CylinderEngine.glb$' | head -n 1)
+  [ -n "$model" ] || { echo "demo: assimp-testmodels has no 2CylinderEngine.glb" >&2; exit 1; }
+  "$build/examples/pathtracer" --scene "$model" --width 640 --height 480 --spp 32 --bounces 6 --seed 1 \
+    --out "$build/pathtracer.png"
 fi

@@ -8,7 +8,7 @@ packages=(
   libvulkan-dev libvulkan1 vulkan-tools vulkan-validationlayers
   spirv-headers spirv-tools glslang-tools glslc
   llvm-15-dev libembree-dev libtbb-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libstb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libstb-dev libtinygltf-dev assimp-testmodels
   gfxreconstruct
   clang-14 libclang-rt-14-dev
 )

@@ -18,15 +18,7 @@ layout(push_constant) uniform Params {
   float tMax;
 };
 
-// A 32-bit integer hash (xor-shift-multiply, "lowbias32").
-uint hash(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+#include "hash.glsl"
 
 // x, y in [-1, 1), z in (0, 1]: 16-bit integers scaled by powers of two, exact in float.
 vec3 aoDirection(uint point, uint k) {

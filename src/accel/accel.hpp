@@ -198,6 +198,11 @@ class HitHandler {
 // misses.
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 
+// The number of threads Embree's builders use, for the process's Embree device (created at the first build; a
+// call after that changes nothing). 0, the default: every hardware thread. The runtime passes its worker pool's
+// count, so that VKRT_THREADS sizes builds as it sizes launches and dispatches.
+void setBuildThreads(unsigned threads);
+
 // ------------------------------------------------------------------------------------------ serialization
 //
 // The opaque part of a serialized structure (the runtime writes the header the Vulkan specification defines

@@ -1,6 +1,19 @@
 #include "accel/embree_device.hpp"
 
-namespace vkrt::accel::detail {
+#include <atomic>
+
+#include "accel/accel.hpp"
+
+namespace vkrt::accel {
+namespace {
+
+std::atomic<unsigned> gBuildThreads{0};  // 0: Embree's default
+
+}  // namespace
+
+void setBuildThreads(unsigned threads) { gBuildThreads.store(threads); }
+
+namespace detail {
 namespace {
 
 // The innermost EmbreeErrors scope of this thread: where the error callback appends.
@@ -19,8 +32,12 @@ struct Device {
   std::string error;
 
   Device() {
-    // verbose=0: Embree prints nothing; its errors come back through the callback as strings.
-    handle = rtcNewDevice("verbose=0");
+    // verbose=0: Embree prints nothing; its errors come back through the callback as strings. threads: Embree's
+    // builders use as many threads as setBuildThreads() asked for (the runtime passes its worker pool's count),
+    // else every hardware thread.
+    std::string config = "verbose=0";
+    if (const unsigned threads = gBuildThreads.load()) config += ",threads=" + std::to_string(threads);
+    handle = rtcNewDevice(config.c_str());
     if (!handle) {
       error = "Embree: cannot create a device (RTCError " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")";
       return;
@@ -85,4 +102,5 @@ bool EmbreeErrors::failed(const char* what, std::string* error) {
   return true;
 }
 
-}  // namespace vkrt::accel::detail
+}  // namespace detail
+}  // namespace vkrt::accel

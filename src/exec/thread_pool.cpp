@@ -71,6 +71,17 @@ void ThreadPool::workerMain(unsigned index) {
   }
 }
 
+void ThreadPool::runWithWorkers(const std::shared_ptr<Job>& job) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    jobs_.push_back(job);
+  }
+  wake_.notify_all();
+  runJob(*job, threadCount());
+  std::unique_lock<std::mutex> lock(job->doneMutex);
+  job->done.wait(lock, [&] { return job->finished.load(std::memory_order_acquire) == job->count; });
+}
+
 void ThreadPool::parallelFor(uint64_t count, const std::function<void(uint64_t, unsigned)>& fn) {
   if (count == 0) return;
   std::lock_guard<std::mutex> slot(callerSlot_);
@@ -84,14 +95,21 @@ void ThreadPool::parallelFor(uint64_t count, const std::function<void(uint64_t, 
   // chunks of them still leave about 16 per worker for balancing uneven work.
   job->chunk = std::max<uint64_t>(1, count / (uint64_t(workerSlots()) * 16));
   job->fn = &fn;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    jobs_.push_back(job);
+  runWithWorkers(job);
+}
+
+void ThreadPool::runConcurrently(uint64_t count, const std::function<void(uint64_t)>& fn) {
+  if (count == 0) return;
+  if (threads_.empty() || count == 1) {
+    for (uint64_t i = 0; i < count; ++i) fn(i);
+    return;
   }
-  wake_.notify_all();
-  runJob(*job, threadCount());
-  std::unique_lock<std::mutex> lock(job->doneMutex);
-  job->done.wait(lock, [&] { return job->finished.load(std::memory_order_acquire) == job->count; });
+  const std::function<void(uint64_t, unsigned)> each = [&fn](uint64_t i, unsigned) { fn(i); };
+  auto job = std::make_shared<Job>();
+  job->count = count;
+  job->chunk = 1;  // coarse work: one index at a time balances best
+  job->fn = &each;
+  runWithWorkers(job);
 }
 
 }  // namespace vkrt::exec

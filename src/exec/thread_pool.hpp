@@ -28,6 +28,12 @@ class ThreadPool {
   // when all are done. Calls from several threads are serialized; fn must not call parallelFor itself.
   void parallelFor(uint64_t count, const std::function<void(uint64_t index, unsigned worker)>& fn);
 
+  // Runs fn(index) for every index in [0, count) on the pool's threads and the caller, and returns when all are
+  // done. Unlike parallelFor, any number of threads may call it at once (fn gets no worker index, so it needs no
+  // per-worker scratch): for coarse independent work such as compiling a pipeline's stages. Behind a running
+  // parallelFor the pool's threads join only once its indices are all taken; the caller works meanwhile.
+  void runConcurrently(uint64_t count, const std::function<void(uint64_t index)>& fn);
+
   unsigned threadCount() const { return unsigned(threads_.size()); }
   // Distinct worker indices handed to fn: the pool's threads plus one per concurrently calling thread is
   // bounded by this (callers share the last slot under a lock, see parallelFor).
@@ -37,6 +43,8 @@ class ThreadPool {
   struct Job;
   void workerMain(unsigned index);
   static void runJob(Job& job, unsigned worker);
+  // Queues the job for the workers, works on it on the calling thread, and returns when every index is done.
+  void runWithWorkers(const std::shared_ptr<Job>& job);
 
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -199,13 +199,22 @@ struct TraceFrame final : accel::HitHandler {
   Invocation& caller;
   const abi::TraceRayArgs& args;
   LaunchState& state;
+  // OpTraceRayKHR uses only the low 4 bits of the SBT offset and stride, 16 of the miss index (8 of the cull
+  // mask: setRay() and traceRay() mask it).
+  const uint32_t sbtOffset, sbtStride, missIndex;
   uint8_t committedAttributes[kMaxAttributeBytes] = {};  // of the procedural hit committed last
   uint64_t committedAttributeBytes = 0;
 
-  TraceFrame(Invocation& caller, const abi::TraceRayArgs& args) : caller(caller), args(args), state(*caller.state) {}
+  TraceFrame(Invocation& caller, const abi::TraceRayArgs& args)
+      : caller(caller),
+        args(args),
+        state(*caller.state),
+        sbtOffset(args.sbtOffset & 0xF),
+        sbtStride(args.sbtStride & 0xF),
+        missIndex(args.missIndex & 0xFFFF) {}
 
   uint64_t recordIndex(const accel::HitInfo& h) const {
-    return uint64_t(h.sbtOffset) + args.sbtOffset + uint64_t(args.sbtStride) * h.geometryIndex;
+    return uint64_t(h.sbtOffset) + sbtOffset + uint64_t(sbtStride) * h.geometryIndex;
   }
 
   // The hit group for `h`, checked against the geometry kind; null when there is none to run.
@@ -308,7 +317,7 @@ struct TraceFrame final : accel::HitHandler {
 
   void miss() {
     const uint8_t* record;
-    const RayGroup* g = state.miss.get(SbtRegion::Miss, args.missIndex, *state.launch->resolver, &record);
+    const RayGroup* g = state.miss.get(SbtRegion::Miss, missIndex, *state.launch->resolver, &record);
     if (!g || !g->general.entry) return;
     Invocation inv{};
     begin(inv, &state, &caller);
@@ -317,19 +326,15 @@ struct TraceFrame final : accel::HitHandler {
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
     inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
-    inv.shaderRecordBytes = state.miss.dataBytes(args.missIndex);
+    inv.shaderRecordBytes = state.miss.dataBytes(missIndex);
     run(inv, g->general);
   }
 };
 
-void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* passed) {
-  // OpTraceRayKHR uses only the low 4 bits of the SBT offset and stride, 16 of the miss index, 8 of the cull mask.
-  abi::TraceRayArgs masked = *passed;
-  masked.sbtOffset &= 0xF;
-  masked.sbtStride &= 0xF;
-  masked.missIndex &= 0xFFFF;
-  masked.cullMask &= 0xFF;
-  const abi::TraceRayArgs* args = &masked;
+void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
+  // The shader has just stored *args field by field: the fields are read one by one (TraceFrame masks what
+  // OpTraceRayKHR masks), as a copy of the whole struct in wide loads would wait for those stores to retire
+  // (a failed store-to-load forward, per ray).
   Invocation& caller = *static_cast<Invocation*>(callerBase);
   LaunchState& state = *caller.state;
   const RayLaunch& launch = *state.launch;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "exec/thread_pool.hpp"
 #include "rt/library_link.hpp"
 #include "rt/stack_size.hpp"
 #include "runtime/alloc.hpp"
@@ -68,7 +69,9 @@ struct Job {
   std::vector<PreparedStage> prepared;  // per stage: the checked code and compile request (runtime/shader_stage.hpp)
   // VkPipelineCreationFeedbackCreateInfo (core in Vulkan 1.3), written once the pipeline is built.
   const VkPipelineCreationFeedbackCreateInfo* feedback = nullptr;
-  std::vector<VkPipelineCreationFeedback> stageFeedback;  // per stage, filled by the build
+  std::vector<VkPipelineCreationFeedback> stageFeedback;  // per stage, filled by compileStage
+  std::vector<VkResult> stageResults;                     // per stage, filled by compileStage
+  std::chrono::steady_clock::time_point start;            // when the command prepared the job
   struct Group {
     VkRayTracingShaderGroupTypeKHR type;
     uint32_t shader[4];
@@ -401,25 +404,34 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
 }
 
 // The compiled code of stage `s`, shared through the device (runtime/shader_cache.hpp): compiled, found live, or
-// loaded from the job's VkPipelineCache. Sets job.result and returns false when it cannot be had.
-bool compileStage(Device* dev, Job& job, size_t s) {
+// loaded from the job's VkPipelineCache. Writes only the stage's own slots, so that the stages of a job compile
+// concurrently.
+void compileStage(Device* dev, Job& job, size_t s) {
   ShaderDesc& d = *job.stages[s];
   char what[96];
   std::snprintf(what, sizeof(what), "%s: pCreateInfos[%u].pStages[%zu]", job.fn, job.index, s);
   CompiledStage c = vkrt::compileStage(dev, job.prepared[s], !(job.flags & kFailOnCompile), job.cache, job.fn, what);
-  job.stageFeedback.push_back(c.feedback);
+  job.stageFeedback[s] = c.feedback;
+  job.stageResults[s] = c.result;
   d.compiled = c.shader;
-  job.result = c.result;
-  return c.result == VK_SUCCESS;
 }
 
-// The build: the stages' code (compiled once per device and shared, or found in the pipeline cache), the
-// layout and interface checks, group records, linking. Runs on the calling thread or on a thread joining the
-// deferred operation.
-void build(Device* dev, Job& job) {
-  const auto start = std::chrono::steady_clock::now();
-  for (size_t s = 0; s < job.stages.size(); ++s)
-    if (!compileStage(dev, job, s)) return;
+// Every stage of the job, on the thread pool's threads and the calling one (a pipeline of 16 stages compiles in
+// about the time of its slowest shader when the pool has 16 threads).
+void compileStages(Job& job, Device* dev) {
+  exec::ThreadPool::instance().runConcurrently(job.stages.size(), [&](uint64_t s) { compileStage(dev, job, s); });
+}
+
+// The rest of the build once every stage was compiled (compileStage): the layout and interface checks, group
+// records, linking. Runs on the calling thread or on the thread that ends the deferred operation.
+void assemble(Device* dev, Job& job) {
+  // The first stage that could not be had decides the result (the order of the create info, not of completion).
+  for (VkResult r : job.stageResults) {
+    if (r != VK_SUCCESS) {
+      job.result = r;
+      return;
+    }
+  }
   // VUID-VkRayTracingPipelineCreateInfoKHR-layout-03427: the layout provides every resource of every stage.
   for (size_t s = 0; s < job.stages.size(); ++s) {
     const ShaderDesc& d = *job.stages[s];
@@ -528,7 +540,7 @@ void build(Device* dev, Job& job) {
     for (const VkPipelineCreationFeedback& f : job.stageFeedback)
       allHit &= (f.flags & VK_PIPELINE_CREATION_FEEDBACK_APPLICATION_PIPELINE_CACHE_HIT_BIT) != 0;
     const auto ns =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - job.start).count();
     if (job.feedback->pPipelineCreationFeedback)
       *job.feedback->pPipelineCreationFeedback = {
           VkPipelineCreationFeedbackFlags(
@@ -608,18 +620,31 @@ VkResult createPipelines(Device* dev, DeferredOperation* op, VkPipelineCache pip
     if (!validate(dev, pCreateInfos[i], i, pCreateInfos, j) || !prepare(dev, pCreateInfos[i], i, j))
       return VK_ERROR_VALIDATION_FAILED_EXT;
   }
+  for (Job& j : *jobs) {
+    j.stageFeedback.assign(j.stages.size(), VkPipelineCreationFeedback{});
+    j.stageResults.assign(j.stages.size(), VK_SUCCESS);
+    j.start = std::chrono::steady_clock::now();
+  }
   if (!op) {
     for (Job& j : *jobs) {
-      build(dev, j);
+      compileStages(j, dev);
+      assemble(dev, j);
       // VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT: the later pipelines are not created (not even built, so
       // they leave no entries in the cache). finish() writes VK_NULL_HANDLE for them.
       if (j.result == VK_PIPELINE_COMPILE_REQUIRED && (j.flags & kEarlyReturn)) break;
     }
     return finish(*jobs, pPipelines);
   }
+  // Deferred: each stage of each pipeline is a task for the threads that join the operation (as many can work as
+  // there are stages); the thread that ends the last one assembles the pipelines and writes pPipelines.
   std::vector<std::function<void()>> tasks;
-  for (uint32_t i = 0; i < createInfoCount; ++i) tasks.push_back([dev, jobs, i] { build(dev, (*jobs)[i]); });
-  op->start(std::move(tasks), [jobs, pPipelines] { return finish(*jobs, pPipelines); });
+  for (uint32_t i = 0; i < createInfoCount; ++i)
+    for (size_t s = 0; s < (*jobs)[i].stages.size(); ++s)
+      tasks.push_back([dev, jobs, i, s] { compileStage(dev, (*jobs)[i], s); });
+  op->start(std::move(tasks), [dev, jobs, pPipelines] {
+    for (Job& j : *jobs) assemble(dev, j);
+    return finish(*jobs, pPipelines);
+  });
   return VK_OPERATION_DEFERRED_KHR;
 }
 

@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "accel/accel.hpp"
+#include "exec/thread_pool.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/fence.hpp"
@@ -20,6 +22,8 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
   device = this;
   for (uint32_t i = 0; i < info.enabledExtensionCount; ++i) enabledExtensions.insert(info.ppEnabledExtensionNames[i]);
   features = enabledFeatures(info);
+  // Builds run on as many threads as launches and dispatches (VKRT_THREADS).
+  accel::setBuildThreads(exec::ThreadPool::instance().workerSlots());
   if (const char* env = std::getenv("VKRT_SHADER_TIMEOUT_MS")) {
     char* end = nullptr;
     unsigned long v = std::strtoul(env, &end, 10);

@@ -49,6 +49,36 @@ TEST(ThreadPool, EveryIndexRunsOnceOverSeveralWorkers) {
   pool.parallelFor(0, [&](uint64_t, unsigned) { ADD_FAILURE() << "no index to run"; });
 }
 
+// runConcurrently (pipeline stages): every index once, spread over threads, and not serialized behind a running
+// parallelFor: a caller makes progress on its own while the workers are busy with another job.
+TEST(ThreadPool, RunConcurrentlyIsNotSerializedBehindParallelFor) {
+  exec::ThreadPool pool(3);
+  std::vector<std::atomic<int>> hits(64);
+  std::mutex m;
+  std::set<std::thread::id> threads;
+  pool.runConcurrently(hits.size(), [&](uint64_t i) {
+    hits[i].fetch_add(1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::lock_guard<std::mutex> lock(m);
+    threads.insert(std::this_thread::get_id());
+  });
+  for (size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << i;
+  EXPECT_GT(threads.size(), 1u);
+  // A parallelFor whose every index waits until the concurrent run below has finished: with runConcurrently
+  // queued behind it (or serialized like parallelFor) this would never end.
+  std::atomic<bool> released{false};
+  std::thread busy([&] {
+    pool.parallelFor(4, [&](uint64_t, unsigned) {
+      while (!released.load()) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    });
+  });
+  std::atomic<uint64_t> ran{0};
+  pool.runConcurrently(10, [&](uint64_t) { ran.fetch_add(1); });
+  EXPECT_EQ(ran.load(), 10u);
+  released = true;
+  busy.join();
+}
+
 class ComputePipelineSharing : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -1,0 +1,891 @@
+// vkrt's trace benchmark (a program, not a test): ray tracing pipelines through the Vulkan loader on vkrt next to
+// raw Embree 3 tracing the same rays in the same process, and acceleration structure builds next to Embree's own.
+//
+// Scenes: procedural terrains of exactly N triangles (a grid of rows x cols quads, 2 triangles each, rows * cols =
+// N / 2, with smooth hills and per-vertex noise). Per scene:
+// - Builds: the terrain's BLAS (vkCmdBuildAccelerationStructuresKHR, PREFER_FAST_TRACE) next to rtcCommitScene of
+//   the same triangles at the quality and flags vkrt uses for it (HIGH, robust); a TLAS of max(1000, N / 100)
+//   instances of a 128-triangle BLAS next to rtcCommitScene of as many Embree instances. Mtriangles/s (Minstances/s
+//   for TLAS), best of the repetitions.
+// - Primary rays: one camera ray per pixel, the closest-hit shader only records t and the primitive
+//   (bench/shaders/trace_*.r*), next to rtcIntersect1, rtcIntersect8 (coherent packets of 8 pixels of a row)
+//   and rtcIntersect16 (8x2 pixels).
+// - Paths: the camera ray and up to 4 cosine-weighted diffuse bounces per pixel (a deterministic hash per pixel
+//   and bounce), next to rtcIntersect1 and rtcIntersect8/16 (8 or 16 pixels' paths in lockstep) on the same rays: the
+//   bounce is computed from the hit's t and primitive with the same operations on both sides, so Embree does the
+//   traversal only. Each side writes per pixel the rays traced and a checksum of the primitives hit; the program
+//   reports how many pixels agree and how the ray totals compare (the shader's float rounding, e.g. contracted
+//   multiply-adds or its own sin/cos, can move a bounce ray slightly, and a path then diverges).
+// Both sides run on the same number of threads: VKRT_THREADS (--threads sets it before the Vulkan instance
+// exists), the Embree side with std::threads taking chunks of 8x8-pixel tiles like vkrt's launch tiles.
+// Rates are the best of repeated runs (real time), as a loaded machine slows some runs down.
+//
+// Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
+//                        [--min-time S] [--vkrt-only]
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "bench_common.hpp"
+#include "trace_hit.rchit.spv.h"
+#include "trace_miss.rmiss.spv.h"
+#include "trace_paths.rgen.spv.h"
+#include "vkrt_commit.h"
+
+namespace vkrt::bench {
+namespace {
+
+struct Options {
+  unsigned threads = 0;  // 0: VKRT_THREADS or every hardware thread
+  std::vector<uint64_t> sizes = {10000, 1000000, 10000000};
+  std::string json;
+  bool quick = false;
+  uint32_t width = 1024, height = 1024;
+  double minTime = 1.0;  // seconds of repetitions per figure
+  uint32_t bounces = 4;
+  bool vkrtOnly = false;  // --vkrt-only: no Embree tracing (for profiling vkrt's side)
+};
+
+// Seconds from vkQueueSubmit of an empty command buffer to vkQueueWaitIdle's return: the fixed cost in every
+// vkrt figure (a build or a launch runs on the queue's thread).
+double emptySubmitSeconds() {
+  VkCommandBuffer cb = ctx().allocate();
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  CHECK(vkBeginCommandBuffer(cb, &bi));
+  CHECK(vkEndCommandBuffer(cb));
+  double best = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double start = wallSeconds();
+    ctx().submit(cb);
+    const double took = wallSeconds() - start;
+    if (i == 0 || took < best) best = took;
+  }
+  vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+  return best;
+}
+
+// ---- the scene
+
+struct Terrain {
+  uint32_t rows = 0, cols = 0;
+  std::vector<float> vertices;  // xyz
+  std::vector<uint32_t> indices;
+  uint64_t triangles() const { return indices.size() / 3; }
+};
+
+// Exactly `triangles` (even) triangles over [0, 100]^2: rows x cols quads with rows the largest divisor of the
+// quad count not above its square root.
+Terrain makeTerrain(uint64_t triangles) {
+  Terrain t;
+  const uint64_t quads = triangles / 2;
+  uint64_t rows = uint64_t(std::sqrt(double(quads)));
+  while (rows > 1 && quads % rows) --rows;
+  t.rows = uint32_t(rows);
+  t.cols = uint32_t(quads / rows);
+  const uint32_t row = t.cols + 1;
+  const float dx = 100.0f / float(t.cols), dy = 100.0f / float(t.rows);
+  t.vertices.resize(size_t(t.rows + 1) * row * 3);
+  for (uint32_t j = 0; j <= t.rows; ++j)
+    for (uint32_t i = 0; i <= t.cols; ++i) {
+      const float x = float(i) * dx, y = float(j) * dy;
+      const float noise = float(hash32(j * row + i) >> 8) * (1.0f / 16777216.0f) - 0.5f;
+      const float z = 12.0f * std::sin(0.12f * x) * std::cos(0.1f * y) + 5.0f * std::sin(0.45f * x + 0.3f * y) +
+                      2.0f * std::sin(1.3f * x) * std::sin(1.1f * y) + 0.5f * std::min(dx, dy) * noise;
+      float* v = &t.vertices[(size_t(j) * row + i) * 3];
+      v[0] = x, v[1] = y, v[2] = z;
+    }
+  t.indices.resize(size_t(quads) * 6);
+  uint32_t* ix = t.indices.data();
+  for (uint32_t j = 0; j < t.rows; ++j)
+    for (uint32_t i = 0; i < t.cols; ++i) {
+      const uint32_t v = j * row + i;
+      const uint32_t q[6] = {v, v + 1, v + row, v + row, v + 1, v + row + 1};
+      std::memcpy(ix, q, sizeof q);
+      ix += 6;
+    }
+  return t;
+}
+
+// The push constants of trace_paths.rgen.
+struct Camera {
+  float origin[4], lowerLeft[4], du[4], dv[4];
+  uint32_t bounces;
+};
+
+Camera makeCamera(uint32_t width, uint32_t height, uint32_t bounces) {
+  const float eye[3] = {-12.0f, -12.0f, 32.0f}, target[3] = {60.0f, 60.0f, 0.0f};
+  float f[3], r[3], u[3];
+  for (int i = 0; i < 3; ++i) f[i] = target[i] - eye[i];
+  const float fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  for (float& c : f) c /= fl;
+  r[0] = f[1], r[1] = -f[0], r[2] = 0;  // forward x (0, 0, 1)
+  const float rl = std::sqrt(r[0] * r[0] + r[1] * r[1]);
+  r[0] /= rl, r[1] /= rl;
+  u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
+  const float halfH = std::tan(0.5f * 50.0f * 3.14159265f / 180.0f), halfW = halfH * float(width) / float(height);
+  Camera c{};
+  for (int i = 0; i < 3; ++i) {
+    c.origin[i] = eye[i];
+    c.lowerLeft[i] = f[i] - halfW * r[i] - halfH * u[i];
+    c.du[i] = 2 * halfW * r[i] / float(width);
+    c.dv[i] = 2 * halfH * u[i] / float(height);
+  }
+  c.bounces = bounces;
+  return c;
+}
+
+// ---- the paths, as trace_paths.rgen computes them
+
+void cameraRay(const Camera& c, uint32_t x, uint32_t y, float o[3], float d[3]) {
+  for (int i = 0; i < 3; ++i) {
+    o[i] = c.origin[i];
+    d[i] = c.lowerLeft[i] + (float(x) + 0.5f) * c.du[i] + (float(y) + 0.5f) * c.dv[i];
+  }
+}
+
+// The next ray of `pixel`'s path after bounce `b` hit primitive `p` at `t`: from the hit point off the
+// surface, cosine-weighted around the normal facing the ray.
+void bounceRay(const Terrain& s, uint32_t pixel, uint32_t b, float t, uint32_t p, float o[3], float d[3]) {
+  const float* v[3];
+  for (int k = 0; k < 3; ++k) v[k] = &s.vertices[size_t(s.indices[size_t(p) * 3 + k]) * 3];
+  float e1[3], e2[3], n[3];
+  for (int i = 0; i < 3; ++i) e1[i] = v[1][i] - v[0][i], e2[i] = v[2][i] - v[0][i];
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  const float inv = 1.0f / std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (float& c : n) c *= inv;
+  if (n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0)
+    for (float& c : n) c = -c;
+  for (int i = 0; i < 3; ++i) o[i] = o[i] + t * d[i] + 1e-3f * n[i];
+  const uint32_t h1 = hash32(pixel * 8u + b), h2 = hash32(h1);
+  const float u1 = float(h1 >> 8) * (1.0f / 16777216.0f), u2 = float(h2 >> 8) * (1.0f / 16777216.0f);
+  const float r = std::sqrt(u1), phi = 6.2831853f * u2;
+  const float sg = n[2] >= 0 ? 1.0f : -1.0f;
+  const float a = -1.0f / (sg + n[2]), c = n[0] * n[1] * a;
+  const float t1[3] = {1.0f + sg * n[0] * n[0] * a, sg * c, -sg * n[0]}, t2[3] = {c, sg + n[1] * n[1] * a, -n[1]};
+  const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
+  for (int i = 0; i < 3; ++i) d[i] = x * t1[i] + y * t2[i] + z * n[i];
+}
+
+// Per pixel: rays traced, checksum of the primitives hit (each + 1).
+struct PixelResults {
+  std::vector<uint32_t> rays, checksum;
+  explicit PixelResults(size_t pixels) : rays(pixels), checksum(pixels) {}
+  uint64_t totalRays() const {
+    uint64_t n = 0;
+    for (uint32_t r : rays) n += r;
+    return n;
+  }
+};
+
+constexpr uint32_t kTile = 8;  // the Embree side's tiles: 8x8 pixels, as vkrt's launch tiles
+
+// ---- raw Embree
+
+// The terrain in one Embree scene (no instance level), robust at HIGH quality as vkrt builds a PREFER_FAST_TRACE
+// BLAS (src/accel/blas.cpp).
+struct EmbreeScene {
+  RTCDevice device;
+  RTCScene scene = nullptr;
+  double commitSeconds = 0;
+
+  EmbreeScene(RTCDevice device, const Terrain& t) : device(device) {
+    scene = rtcNewScene(device);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    void* v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, t.vertices.size() / 3);
+    std::memcpy(v, t.vertices.data(), t.vertices.size() * 4);
+    void* ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, t.triangles());
+    std::memcpy(ix, t.indices.data(), t.indices.size() * 4);
+    rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    const double start = wallSeconds();
+    rtcCommitScene(scene);
+    commitSeconds = wallSeconds() - start;
+  }
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+  ~EmbreeScene() { rtcReleaseScene(scene); }
+};
+
+void initRay(RTCRayHit& rh, const float o[3], const float d[3]) {
+  rh.ray.org_x = o[0], rh.ray.org_y = o[1], rh.ray.org_z = o[2];
+  rh.ray.dir_x = d[0], rh.ray.dir_y = d[1], rh.ray.dir_z = d[2];
+  rh.ray.tnear = 0;
+  rh.ray.tfar = 1e30f;
+  rh.ray.time = 0;
+  rh.ray.mask = ~0u;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Every pixel's path with rtcIntersect1, tile by tile.
+void traceEmbree1(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h, PixelResults& out) {
+  const uint32_t tilesX = w / kTile, tiles = tilesX * (h / kTile);
+  parallelChunks(tiles, 1, [&](uint64_t tile, uint64_t) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const uint32_t x0 = uint32_t(tile % tilesX) * kTile, y0 = uint32_t(tile / tilesX) * kTile;
+    for (uint32_t y = y0; y < y0 + kTile; ++y)
+      for (uint32_t x = x0; x < x0 + kTile; ++x) {
+        const uint32_t pixel = y * w + x;
+        float o[3], d[3];
+        cameraRay(cam, x, y, o, d);
+        uint32_t rays = 0, checksum = 0;
+        for (uint32_t b = 0;; ++b) {
+          RTCRayHit rh;
+          initRay(rh, o, d);
+          rtcIntersect1(scene, &context, &rh);
+          ++rays;
+          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+          checksum += rh.hit.primID + 1;
+          if (b == cam.bounces) break;
+          bounceRay(s, pixel, b, rh.ray.tfar, rh.hit.primID, o, d);
+        }
+        out.rays[pixel] = rays;
+        out.checksum[pixel] = checksum;
+      }
+  });
+}
+
+// Embree's packet types and calls by width.
+template <int N>
+struct Packet;
+template <>
+struct Packet<8> {
+  using RayHit = RTCRayHit8;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect8(valid, s, c, r);
+  }
+};
+template <>
+struct Packet<16> {
+  using RayHit = RTCRayHit16;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect16(valid, s, c, r);
+  }
+};
+
+// The same with rtcIntersect8 (each row of a tile a packet) or rtcIntersect16 (each pair of rows): the packet's
+// paths in lockstep, finished lanes invalid.
+template <int N>
+void traceEmbreePackets(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h,
+                        PixelResults& out) {
+  static_assert(kTile == 8 && N % kTile == 0);
+  constexpr uint32_t kRows = N / kTile;
+  const uint32_t tilesX = w / kTile, tiles = tilesX * (h / kTile);
+  parallelChunks(tiles, 1, [&](uint64_t tile, uint64_t) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const uint32_t x0 = uint32_t(tile % tilesX) * kTile, y0 = uint32_t(tile / tilesX) * kTile;
+    for (uint32_t y = y0; y < y0 + kTile; y += kRows) {
+      float o[N][3], d[N][3];
+      uint32_t pixel[N], rays[N] = {}, checksum[N] = {};
+      alignas(64) int valid[N];
+      for (uint32_t l = 0; l < N; ++l) {
+        const uint32_t px = x0 + l % kTile, py = y + l / kTile;
+        pixel[l] = py * w + px;
+        cameraRay(cam, px, py, o[l], d[l]);
+        valid[l] = -1;
+      }
+      for (uint32_t b = 0;; ++b) {
+        // Primary rays of a row are coherent; bounce rays are not.
+        context.flags = b == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        alignas(64) typename Packet<N>::RayHit rh;
+        for (uint32_t l = 0; l < N; ++l) {
+          rh.ray.org_x[l] = o[l][0], rh.ray.org_y[l] = o[l][1], rh.ray.org_z[l] = o[l][2];
+          rh.ray.dir_x[l] = d[l][0], rh.ray.dir_y[l] = d[l][1], rh.ray.dir_z[l] = d[l][2];
+          rh.ray.tnear[l] = 0;
+          rh.ray.tfar[l] = 1e30f;
+          rh.ray.time[l] = 0;
+          rh.ray.mask[l] = ~0u;
+          rh.ray.id[l] = l;
+          rh.ray.flags[l] = 0;
+          rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+        }
+        Packet<N>::intersect(valid, scene, &context, &rh);
+        bool any = false;
+        for (uint32_t l = 0; l < N; ++l) {
+          if (!valid[l]) continue;
+          ++rays[l];
+          const bool hit = rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
+          if (hit) checksum[l] += rh.hit.primID[l] + 1;
+          if (!hit || b == cam.bounces) {
+            valid[l] = 0;
+            continue;
+          }
+          bounceRay(s, pixel[l], b, rh.ray.tfar[l], rh.hit.primID[l], o[l], d[l]);
+          any = true;
+        }
+        if (!any) break;
+      }
+      for (uint32_t l = 0; l < N; ++l) {
+        out.rays[pixel[l]] = rays[l];
+        out.checksum[pixel[l]] = checksum[l];
+      }
+    }
+  });
+}
+
+// ---- vkrt
+
+VkShaderModule shaderModule(const uint32_t* words, size_t bytes) {
+  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  ci.codeSize = bytes;
+  ci.pCode = words;
+  VkShaderModule m;
+  CHECK(vkCreateShaderModule(ctx().device, &ci, nullptr, &m));
+  return m;
+}
+
+VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+// The pipeline (raygen, miss, triangle hit group), its SBT, and a descriptor set with the TLAS and the terrain.
+struct TracePipeline {
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  std::unique_ptr<Buffer> sbt;
+  VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
+
+  TracePipeline() {
+    Context& c = ctx();
+    const VkShaderStageFlags rg = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    const VkDescriptorSetLayoutBinding b[4] = {{0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rg, nullptr},
+                                               {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, rg, nullptr},
+                                               {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, rg, nullptr},
+                                               {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, rg, nullptr}};
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = 4;
+    dl.pBindings = b;
+    CHECK(vkCreateDescriptorSetLayout(c.device, &dl, nullptr, &setLayout));
+    VkPushConstantRange range{rg, 0, sizeof(Camera)};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 1;
+    pl.pSetLayouts = &setLayout;
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &range;
+    CHECK(vkCreatePipelineLayout(c.device, &pl, nullptr, &layout));
+
+    VkShaderModule modules[3] = {shaderModule(kSpv_trace_paths_rgen, sizeof kSpv_trace_paths_rgen),
+                                 shaderModule(kSpv_trace_miss_rmiss, sizeof kSpv_trace_miss_rmiss),
+                                 shaderModule(kSpv_trace_hit_rchit, sizeof kSpv_trace_hit_rchit)};
+    const VkShaderStageFlagBits stageBits[3] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
+                                                VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR};
+    VkPipelineShaderStageCreateInfo stages[3];
+    VkRayTracingShaderGroupCreateInfoKHR groups[3];
+    for (uint32_t i = 0; i < 3; ++i) {
+      stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+      stages[i].stage = stageBits[i];
+      stages[i].module = modules[i];
+      stages[i].pName = "main";
+      groups[i] = {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+      groups[i].type = i == 2 ? VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR
+                              : VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
+      groups[i].generalShader = i == 2 ? VK_SHADER_UNUSED_KHR : i;
+      groups[i].closestHitShader = i == 2 ? 2 : VK_SHADER_UNUSED_KHR;
+      groups[i].anyHitShader = VK_SHADER_UNUSED_KHR;
+      groups[i].intersectionShader = VK_SHADER_UNUSED_KHR;
+    }
+    VkRayTracingPipelineCreateInfoKHR pci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+    pci.stageCount = 3;
+    pci.pStages = stages;
+    pci.groupCount = 3;
+    pci.pGroups = groups;
+    pci.maxPipelineRayRecursionDepth = 1;
+    pci.layout = layout;
+    CHECK(c.createRtPipelines(c.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &pci, nullptr, &pipeline));
+    for (VkShaderModule m : modules) vkDestroyShaderModule(c.device, m, nullptr);
+
+    // The SBT: one record per region, each region at the base alignment.
+    VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rt};
+    vkGetPhysicalDeviceProperties2(c.physical, &p2);
+    const VkDeviceSize handle = rt.shaderGroupHandleSize;
+    const VkDeviceSize stride = alignUp(handle, rt.shaderGroupHandleAlignment);
+    const VkDeviceSize region = alignUp(stride, rt.shaderGroupBaseAlignment);
+    std::vector<uint8_t> handles(3 * handle);
+    CHECK(c.groupHandles(c.device, pipeline, 0, 3, handles.size(), handles.data()));
+    sbt = std::make_unique<Buffer>(
+        3 * region + rt.shaderGroupBaseAlignment,
+        VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    const VkDeviceAddress base = alignUp(sbt->address(), rt.shaderGroupBaseAlignment);
+    VkStridedDeviceAddressRegionKHR* regions[3] = {&raygen, &miss, &hit};
+    for (uint32_t i = 0; i < 3; ++i) {
+      std::memcpy(sbt->as<uint8_t>() + (base - sbt->address()) + i * region, &handles[i * handle], handle);
+      *regions[i] = {base + i * region, stride, stride};
+    }
+
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dp.maxSets = 1;
+    dp.poolSizeCount = 2;
+    dp.pPoolSizes = sizes;
+    CHECK(vkCreateDescriptorPool(c.device, &dp, nullptr, &pool));
+    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    da.descriptorPool = pool;
+    da.descriptorSetCount = 1;
+    da.pSetLayouts = &setLayout;
+    CHECK(vkAllocateDescriptorSets(c.device, &da, &set));
+  }
+  TracePipeline(const TracePipeline&) = delete;
+  TracePipeline& operator=(const TracePipeline&) = delete;
+  ~TracePipeline() {
+    VkDevice d = ctx().device;
+    vkDestroyDescriptorPool(d, pool, nullptr);
+    vkDestroyPipeline(d, pipeline, nullptr);
+    vkDestroyPipelineLayout(d, layout, nullptr);
+    vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+  }
+
+  void bind(VkAccelerationStructureKHR tlas, const Buffer& vertices, const Buffer& indices, const Buffer& results) {
+    VkWriteDescriptorSetAccelerationStructureKHR asw{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+    asw.accelerationStructureCount = 1;
+    asw.pAccelerationStructures = &tlas;
+    const VkDescriptorBufferInfo bi[3] = {
+        {vertices.buffer, 0, VK_WHOLE_SIZE}, {indices.buffer, 0, VK_WHOLE_SIZE}, {results.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet w[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, &asw},
+                                 {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    w[0].dstSet = set;
+    w[0].dstBinding = 0;
+    w[0].descriptorCount = 1;
+    w[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    w[1].dstSet = set;
+    w[1].dstBinding = 1;
+    w[1].descriptorCount = 3;
+    w[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w[1].pBufferInfo = bi;
+    vkUpdateDescriptorSets(ctx().device, 2, w, 0, nullptr);
+  }
+
+  // A command buffer with one vkCmdTraceRaysKHR of w x h.
+  VkCommandBuffer record(const Camera& cam, uint32_t w, uint32_t h) {
+    Context& c = ctx();
+    VkCommandBuffer cb = c.allocate();
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    CHECK(vkBeginCommandBuffer(cb, &bi));
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, layout, 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_RAYGEN_BIT_KHR, 0, sizeof cam, &cam);
+    c.cmdTraceRays(cb, &raygen, &miss, &hit, &callable, w, h, 1);
+    CHECK(vkEndCommandBuffer(cb));
+    return cb;
+  }
+};
+
+// ---- measuring
+
+struct Timing {
+  double best = 0;       // seconds, the fastest run
+  double cpuPerRun = 0;  // process CPU seconds per run, averaged
+};
+
+// Runs f once untimed, then again until `minTime` has passed (at least twice, at most `maxRuns` times).
+template <class F>
+Timing measure(double minTime, F f, uint32_t maxRuns = 1000) {
+  f();
+  Timing t;
+  const double start = wallSeconds(), cpuStart = processCpuSeconds();
+  uint32_t runs = 0;
+  for (; runs < 2 || (wallSeconds() - start < minTime && runs < maxRuns); ++runs) {
+    const double s = wallSeconds();
+    f();
+    const double took = wallSeconds() - s;
+    if (runs == 0 || took < t.best) t.best = took;
+  }
+  t.cpuPerRun = (processCpuSeconds() - cpuStart) / runs;
+  return t;
+}
+
+struct Compared {
+  uint64_t vkrtRays = 0, embreeRays = 0;
+  double pixelsAgreeing = 0;  // fraction with the same rays and checksum
+};
+
+Compared compare(const PixelResults& vk, const PixelResults& em) {
+  Compared c;
+  c.vkrtRays = vk.totalRays();
+  c.embreeRays = em.totalRays();
+  size_t same = 0;
+  for (size_t i = 0; i < vk.rays.size(); ++i) same += vk.rays[i] == em.rays[i] && vk.checksum[i] == em.checksum[i];
+  c.pixelsAgreeing = double(same) / double(vk.rays.size());
+  return c;
+}
+
+struct TraceFigures {
+  Compared rays;
+  double vkrt = 0, embree1 = 0, embree8 = 0, embree16 = 0;              // Mrays/s (real time, best run)
+  double vkrtCpu = 0, embree1Cpu = 0, embree8Cpu = 0, embree16Cpu = 0;  // Mrays per CPU second
+  bool embree8Agrees = false, embree16Agrees = false;  // the packets traced exactly rtcIntersect1's paths
+  double bestPacket() const { return std::max(embree8, embree16); }
+};
+
+struct SizeFigures {
+  uint64_t triangles = 0;
+  uint32_t rows = 0, cols = 0;
+  double blasVkrt = 0, blasEmbree = 0, blasEmbreeWithSetup = 0;  // Mtriangles/s
+  uint32_t tlasInstances = 0;
+  double tlasVkrt = 0, tlasEmbree = 0, tlasEmbreeWithSetup = 0;  // Minstances/s
+  TraceFigures primary, paths;
+};
+
+// vkrt's launch and both Embree calls on the scene, for one camera (its bounces).
+TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, RTCScene scene, const Terrain& t,
+                          const Camera& cam) {
+  TraceFigures f;
+  const size_t pixels = size_t(o.width) * o.height;
+  VkCommandBuffer cb = tp.record(cam, o.width, o.height);
+  PixelResults vk(pixels), em1(pixels), em8(pixels), em16(pixels);
+  const Timing tv = measure(o.minTime, [&] { ctx().submit(cb); });
+  vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+  const uint32_t* r = results.as<uint32_t>();
+  for (size_t i = 0; i < pixels; ++i) vk.rays[i] = r[2 * i], vk.checksum[i] = r[2 * i + 1];
+  if (o.vkrtOnly) {
+    f.rays.vkrtRays = vk.totalRays();
+    f.vkrt = double(f.rays.vkrtRays) * 1e-6 / tv.best;
+    f.vkrtCpu = double(f.rays.vkrtRays) * 1e-6 / tv.cpuPerRun;
+    return f;
+  }
+  const Timing t1 = measure(o.minTime, [&] { traceEmbree1(scene, t, cam, o.width, o.height, em1); });
+  const Timing t8 = measure(o.minTime, [&] { traceEmbreePackets<8>(scene, t, cam, o.width, o.height, em8); });
+  const Timing t16 = measure(o.minTime, [&] { traceEmbreePackets<16>(scene, t, cam, o.width, o.height, em16); });
+  f.rays = compare(vk, em1);
+  const Compared c8 = compare(em8, em1);
+  f.embree8Agrees = c8.pixelsAgreeing == 1.0;
+  const Compared c16 = compare(em16, em1);
+  f.embree16Agrees = c16.pixelsAgreeing == 1.0;
+  // Each side's rate counts the rays that side traced.
+  const double vkRays = double(f.rays.vkrtRays) * 1e-6, emRays = double(f.rays.embreeRays) * 1e-6;
+  const double em8Rays = double(c8.vkrtRays) * 1e-6, em16Rays = double(c16.vkrtRays) * 1e-6;
+  f.vkrt = vkRays / tv.best;
+  f.embree1 = emRays / t1.best;
+  f.embree8 = em8Rays / t8.best;
+  f.embree16 = em16Rays / t16.best;
+  f.vkrtCpu = vkRays / tv.cpuPerRun;
+  f.embree1Cpu = emRays / t1.cpuPerRun;
+  f.embree8Cpu = em8Rays / t8.cpuPerRun;
+  f.embree16Cpu = em16Rays / t16.cpuPerRun;
+  return f;
+}
+
+SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
+  SizeFigures f;
+  std::fprintf(stderr, "scene: %llu triangles\n", (unsigned long long)triangles);
+  const Terrain t = makeTerrain(triangles);
+  f.triangles = t.triangles();
+  f.rows = t.rows;
+  f.cols = t.cols;
+  const double mtris = double(f.triangles) * 1e-6;
+
+  // BLAS: Embree's own build first (its time sets the repetitions of both).
+  std::unique_ptr<EmbreeScene> embree;
+  double embreeBest = 0, embreeSetupBest = 0, total = 0;
+  for (uint32_t i = 0; i < 20 && (i < 2 || total < o.minTime); ++i) {
+    embree.reset();
+    const double start = wallSeconds();
+    embree = std::make_unique<EmbreeScene>(device, t);
+    const double setup = wallSeconds() - start;
+    total += setup;
+    if (i == 0 || embree->commitSeconds < embreeBest) embreeBest = embree->commitSeconds;
+    if (i == 0 || setup < embreeSetupBest) embreeSetupBest = setup;
+  }
+  f.blasEmbree = mtris / embreeBest;
+  f.blasEmbreeWithSetup = mtris / embreeSetupBest;
+  const uint32_t repeat = uint32_t(std::clamp(o.minTime / embreeSetupBest, 2.0, 20.0));
+  AccelStructures as;
+  const VkAccelerationStructureGeometryKHR geometry =
+      as.triangles(t.vertices.data(), t.vertices.size() / 3, t.indices.data(), t.indices.size());
+  f.blasVkrt =
+      mtris / as.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometry, uint32_t(f.triangles), repeat);
+  const VkAccelerationStructureKHR blas =
+      as.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometry, uint32_t(f.triangles));
+  const VkAccelerationStructureInstanceKHR one = as.identityInstance(blas);
+  const VkAccelerationStructureKHR tlas =
+      as.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, as.instances(&one, 1), 1);
+
+  // TLAS: instances of a small terrain on a grid.
+  {
+    f.tlasInstances = uint32_t(std::max<uint64_t>(1000, f.triangles / 100));
+    const Terrain small = makeTerrain(128);
+    AccelStructures tas;
+    const VkAccelerationStructureKHR smallBlas = tas.build(
+        VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+        tas.triangles(small.vertices.data(), small.vertices.size() / 3, small.indices.data(), small.indices.size()),
+        uint32_t(small.triangles()));
+    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(f.tlasInstances))));
+    std::vector<VkAccelerationStructureInstanceKHR> instances(f.tlasInstances, tas.identityInstance(smallBlas));
+    for (uint32_t i = 0; i < f.tlasInstances; ++i) {
+      instances[i].transform.matrix[0][3] = 110.0f * float(i % side);
+      instances[i].transform.matrix[1][3] = 110.0f * float(i / side);
+      instances[i].instanceCustomIndex = i;
+    }
+    EmbreeScene smallEmbree(device, small);
+    double eBest = 0, eSetupBest = 0, eTotal = 0;
+    for (uint32_t i = 0; i < 20 && (i < 2 || eTotal < o.minTime); ++i) {
+      const double start = wallSeconds();
+      RTCScene scene = rtcNewScene(device);
+      for (uint32_t k = 0; k < f.tlasInstances; ++k) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, smallEmbree.scene);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &instances[k].transform.matrix[0][0]);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(scene, g, k);
+        rtcReleaseGeometry(g);
+      }
+      rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+      rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+      const double commit = wallSeconds();
+      rtcCommitScene(scene);
+      const double end = wallSeconds();
+      rtcReleaseScene(scene);
+      eTotal += end - start;
+      if (i == 0 || end - commit < eBest) eBest = end - commit;
+      if (i == 0 || end - start < eSetupBest) eSetupBest = end - start;
+    }
+    const double minst = double(f.tlasInstances) * 1e-6;
+    f.tlasEmbree = minst / eBest;
+    f.tlasEmbreeWithSetup = minst / eSetupBest;
+    f.tlasVkrt = minst / tas.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
+                                        tas.instances(instances.data(), instances.size()), f.tlasInstances,
+                                        uint32_t(std::clamp(o.minTime / eSetupBest, 2.0, 20.0)));
+  }
+
+  // Tracing.
+  Buffer vertices(t.vertices.size() * 4), indices(t.indices.size() * 4);
+  std::memcpy(vertices.data, t.vertices.data(), t.vertices.size() * 4);
+  std::memcpy(indices.data, t.indices.data(), t.indices.size() * 4);
+  Buffer results(size_t(o.width) * o.height * 8);
+  TracePipeline tp;
+  tp.bind(tlas, vertices, indices, results);
+  std::fprintf(stderr, "  primary rays\n");
+  f.primary = traceFigures(o, tp, results, embree->scene, t, makeCamera(o.width, o.height, 0));
+  std::fprintf(stderr, "  paths\n");
+  f.paths = traceFigures(o, tp, results, embree->scene, t, makeCamera(o.width, o.height, o.bounces));
+  return f;
+}
+
+// ---- reporting
+
+std::string cpuModel() {
+  std::string model = "unknown";
+  if (FILE* f = std::fopen("/proc/cpuinfo", "r")) {
+    char line[512];
+    while (std::fgets(line, sizeof line, f)) {
+      if (std::strncmp(line, "model name", 10) == 0) {
+        const char* colon = std::strchr(line, ':');
+        if (colon) {
+          model = colon + 1 + (colon[1] == ' ');
+          while (!model.empty() && (model.back() == '\n' || model.back() == ' ')) model.pop_back();
+        }
+        break;
+      }
+    }
+    std::fclose(f);
+  }
+  return model;
+}
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return buf;
+}
+
+void printTable(const Options& o, const std::vector<SizeFigures>& all, double submit) {
+  std::printf(
+      "\nvkrt_tracebench: %u threads, %ux%u pixels, %u bounces, best of runs (real time); an empty vkrt "
+      "submit takes %.0f us\n",
+      workerThreads(), o.width, o.height, o.bounces, submit * 1e6);
+  std::printf("%-10s %-8s %8s %8s %8s %8s %6s %6s %9s %8s\n", "triangles", "rays", "vkrt", "rtcInt1", "rtcInt8",
+              "rtcInt16", "/Int1", "/best", "rays/px", "agree");
+  for (const SizeFigures& f : all) {
+    const TraceFigures* figs[2] = {&f.primary, &f.paths};
+    const char* names[2] = {"primary", "paths"};
+    for (int k = 0; k < 2; ++k) {
+      const TraceFigures& t = *figs[k];
+      const double pixels = double(o.width) * o.height;
+      std::printf("%-10llu %-8s %8.2f %8.2f %8.2f %8.2f %6.2f %6.2f %4.2f/%4.2f %7.2f%%\n",
+                  (unsigned long long)f.triangles, names[k], t.vkrt, t.embree1, t.embree8, t.embree16,
+                  t.vkrt / t.embree1, t.vkrt / t.bestPacket(), double(t.rays.vkrtRays) / pixels,
+                  double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
+    }
+  }
+  std::printf(
+      "(Mrays/s; /best: vkrt / the faster packet call; rays/px: vkrt/Embree rays per pixel; agree: pixels with the "
+      "same rays and hits%s)\n\n",
+      o.vkrtOnly ? "; --vkrt-only: no Embree columns" : "");
+  std::printf("%-10s %10s %10s %7s %10s %10s %10s %7s\n", "triangles", "BLAS vkrt", "Embree", "ratio", "instances",
+              "TLAS vkrt", "Embree", "ratio");
+  for (const SizeFigures& f : all)
+    std::printf("%-10llu %10.2f %10.2f %7.2f %10u %10.2f %10.2f %7.2f\n", (unsigned long long)f.triangles, f.blasVkrt,
+                f.blasEmbree, f.blasVkrt / f.blasEmbree, f.tlasInstances, f.tlasVkrt, f.tlasEmbree,
+                f.tlasVkrt / f.tlasEmbree);
+  std::printf("(BLAS Mtriangles/s, TLAS Minstances/s; Embree: rtcCommitScene alone)\n");
+}
+
+// A JSON number, or null where it is not finite (a ratio with a side that did not run).
+std::string jnum(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  return buf;
+}
+
+void writeTrace(FILE* j, const char* name, const TraceFigures& t, bool comma) {
+  std::fprintf(j,
+               "      \"%s\": {\"vkrt_mrays_per_s\": %s, \"embree1_mrays_per_s\": %s, \"embree8_mrays_per_s\": "
+               "%s, \"embree16_mrays_per_s\": %s, \"ratio_vs_embree1\": %s, \"ratio_vs_embree8\": %s, "
+               "\"ratio_vs_embree16\": %s, \"ratio_vs_best_packet\": %s, \"vkrt_mrays_per_cpu_s\": %s, "
+               "\"embree1_mrays_per_cpu_s\": %s, \"embree8_mrays_per_cpu_s\": %s, \"embree16_mrays_per_cpu_s\": %s, "
+               "\"vkrt_rays\": %llu, \"embree_rays\": %llu, \"pixels_agreeing\": %.6f, "
+               "\"embree8_agrees_with_embree1\": %s, \"embree16_agrees_with_embree1\": %s}%s\n",
+               name, jnum(t.vkrt).c_str(), jnum(t.embree1).c_str(), jnum(t.embree8).c_str(), jnum(t.embree16).c_str(),
+               jnum(t.vkrt / t.embree1).c_str(), jnum(t.vkrt / t.embree8).c_str(), jnum(t.vkrt / t.embree16).c_str(),
+               jnum(t.vkrt / t.bestPacket()).c_str(), jnum(t.vkrtCpu).c_str(), jnum(t.embree1Cpu).c_str(),
+               jnum(t.embree8Cpu).c_str(), jnum(t.embree16Cpu).c_str(), (unsigned long long)t.rays.vkrtRays,
+               (unsigned long long)t.rays.embreeRays, t.rays.pixelsAgreeing, t.embree8Agrees ? "true" : "false",
+               t.embree16Agrees ? "true" : "false", comma ? "," : "");
+}
+
+void writeJson(const Options& o, const std::vector<SizeFigures>& all, double submit) {
+  FILE* j = std::fopen(o.json.c_str(), "w");
+  if (!j) {
+    std::fprintf(stderr, "vkrt_tracebench: cannot write %s\n", o.json.c_str());
+    std::exit(1);
+  }
+  std::string cpu = cpuModel();
+  for (char& c : cpu)
+    if (c == '"' || c == '\\') c = ' ';
+  std::fprintf(j, "{\n  \"program\": \"vkrt_tracebench\",\n  \"date\": \"%s\",\n  \"git_commit\": \"%s\",\n",
+               utcNow().c_str(), VKRT_COMMIT);
+  std::fprintf(j, "  \"machine\": {\"cpu\": \"%s\", \"hardware_threads\": %u},\n", cpu.c_str(),
+               std::thread::hardware_concurrency());
+  std::fprintf(j,
+               "  \"threads\": %u,\n  \"image\": [%u, %u],\n  \"bounces\": %u,\n  \"min_time_s\": %.3f,\n"
+               "  \"empty_submit_us\": %.1f,\n  \"sizes\": [\n",
+               workerThreads(), o.width, o.height, o.bounces, o.minTime, submit * 1e6);
+  for (size_t i = 0; i < all.size(); ++i) {
+    const SizeFigures& f = all[i];
+    std::fprintf(j, "    {\"triangles\": %llu, \"grid\": [%u, %u],\n", (unsigned long long)f.triangles, f.cols, f.rows);
+    std::fprintf(j,
+                 "      \"blas\": {\"vkrt_mtris_per_s\": %s, \"embree_commit_mtris_per_s\": %s, "
+                 "\"embree_with_setup_mtris_per_s\": %s, \"ratio\": %s},\n",
+                 jnum(f.blasVkrt).c_str(), jnum(f.blasEmbree).c_str(), jnum(f.blasEmbreeWithSetup).c_str(),
+                 jnum(f.blasVkrt / f.blasEmbree).c_str());
+    std::fprintf(j,
+                 "      \"tlas\": {\"instances\": %u, \"vkrt_minst_per_s\": %s, \"embree_commit_minst_per_s\": %s, "
+                 "\"embree_with_setup_minst_per_s\": %s, \"ratio\": %s},\n",
+                 f.tlasInstances, jnum(f.tlasVkrt).c_str(), jnum(f.tlasEmbree).c_str(),
+                 jnum(f.tlasEmbreeWithSetup).c_str(), jnum(f.tlasVkrt / f.tlasEmbree).c_str());
+    writeTrace(j, "primary", f.primary, true);
+    writeTrace(j, "paths", f.paths, false);
+    std::fprintf(j, "    }%s\n", i + 1 < all.size() ? "," : "");
+  }
+  std::fprintf(j, "  ]\n}\n");
+  std::fclose(j);
+  std::fprintf(stderr, "wrote %s\n", o.json.c_str());
+}
+
+[[noreturn]] void usage() {
+  std::fprintf(
+      stderr,
+      "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
+      "[--min-time S] [--vkrt-only]\n  sizes: even triangle counts (1e6 style allowed); image sides multiples of 8\n");
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  bool sizesGiven = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc) usage();
+      return argv[++i];
+    };
+    if (a == "--threads") {
+      const long n = std::strtol(value(), nullptr, 10);
+      if (n < 1 || n > 256) usage();
+      o.threads = unsigned(n);
+    } else if (a == "--sizes") {
+      o.sizes.clear();
+      sizesGiven = true;
+      std::string list = value();
+      for (size_t p = 0; p <= list.size();) {
+        size_t q = list.find(',', p);
+        if (q == std::string::npos) q = list.size();
+        const double v = std::strtod(list.substr(p, q - p).c_str(), nullptr);
+        if (!(v >= 2 && v <= 4e9) || uint64_t(v) % 2) usage();
+        o.sizes.push_back(uint64_t(v));
+        p = q + 1;
+      }
+    } else if (a == "--json") {
+      o.json = value();
+    } else if (a == "--vkrt-only") {
+      o.vkrtOnly = true;
+    } else if (a == "--quick") {
+      o.quick = true;
+    } else if (a == "--image") {
+      if (std::sscanf(value(), "%ux%u", &o.width, &o.height) != 2 || !o.width || !o.height || o.width % 8 ||
+          o.height % 8)
+        usage();
+    } else if (a == "--min-time") {
+      o.minTime = std::strtod(value(), nullptr);
+      if (!(o.minTime >= 0)) usage();
+    } else {
+      usage();
+    }
+  }
+  if (o.quick) {
+    if (!sizesGiven) o.sizes = {10000, 1000000};
+    o.minTime = std::min(o.minTime, 0.3);
+    o.width = std::min(o.width, 512u);
+    o.height = std::min(o.height, 512u);
+  }
+  return o;
+}
+
+}  // namespace
+}  // namespace vkrt::bench
+
+int main(int argc, char** argv) {
+  using namespace vkrt::bench;
+  const Options o = parse(argc, argv);
+  setenv("VK_DRIVER_FILES", VKRT_BENCH_ICD_JSON, 0);  // unless set already
+  // vkrt reads VKRT_THREADS when its thread pool and Embree device start (at the first device); so does
+  // workerThreads() for the Embree side.
+  if (o.threads) setenv("VKRT_THREADS", std::to_string(o.threads).c_str(), 1);
+  if (!ctx().rayTracingPipeline) {
+    std::fprintf(stderr, "vkrt_tracebench: the driver has no VK_KHR_ray_tracing_pipeline\n");
+    return 1;
+  }
+  // Raw Embree's device builds on as many threads as vkrt's (src/accel/embree_device.cpp).
+  const std::string config = "verbose=0,threads=" + std::to_string(workerThreads());
+  RTCDevice device = rtcNewDevice(config.c_str());
+  const double submit = emptySubmitSeconds();
+  std::vector<SizeFigures> all;
+  for (uint64_t n : o.sizes) all.push_back(runSize(o, device, n));
+  printTable(o, all, submit);
+  if (!o.json.empty()) writeJson(o, all, submit);
+  rtcReleaseDevice(device);
+  return 0;
+}
