@@ -71,6 +71,11 @@ struct InvocationContext {
   void (*barrier)(InvocationContext*);     // 120  OpControlBarrier with Workgroup scope
   void* executor;                          // 128  the executor's per-invocation state
   uint8_t* sink;                           // 136  kSinkBytes bytes: out-of-bounds atomics land here
+  // 144  the executor's cancellation flag (null: never cancelled). Compiled loops load it at each back edge
+  // (relaxed) and, when it is nonzero, call `cancelled`, which does not return when the executor supervises the
+  // work (exec/supervise.hpp: the watchdog's timeout, or a device being destroyed).
+  const uint32_t* cancel;
+  void (*cancelled)(InvocationContext*);  // 152
 };
 
 inline constexpr uint32_t kPushConstantBytes = 256;
@@ -82,7 +87,8 @@ static_assert(offsetof(InvocationContext, globalId) == 0 && offsetof(InvocationC
                   offsetof(InvocationContext, resources) == 96 && offsetof(InvocationContext, pushConstants) == 104 &&
                   offsetof(InvocationContext, workgroupMemory) == 112 && offsetof(InvocationContext, barrier) == 120 &&
                   offsetof(InvocationContext, executor) == 128 && offsetof(InvocationContext, sink) == 136 &&
-                  offsetof(InvocationContext, rayQueries) == 88,
+                  offsetof(InvocationContext, rayQueries) == 88 && offsetof(InvocationContext, cancel) == 144 &&
+                  offsetof(InvocationContext, cancelled) == 152 && sizeof(InvocationContext) == 160,
               "the compiler bakes these offsets into shader code");
 static_assert(sizeof(ResourceSlot) == 16, "the compiler bakes the resource slot size into shader code");
 
@@ -179,41 +185,41 @@ inline constexpr uint32_t kRayStatusTerminate = 2;  // OpTerminateRayKHR (or an 
 
 struct RayInvocation {
   InvocationContext base;       // 0
-  uint32_t launchId[4];         // 144  LaunchIdKHR
-  uint32_t launchSize[4];       // 160  LaunchSizeKHR
-  float worldRayOrigin[4];      // 176  WorldRayOriginKHR
-  float worldRayDirection[4];   // 192  WorldRayDirectionKHR
-  float objectRayOrigin[4];     // 208  ObjectRayOriginKHR
-  float objectRayDirection[4];  // 224  ObjectRayDirectionKHR
-  float rayTmin;                // 240  RayTminKHR
-  float rayTmax;                // 244  RayTmaxKHR, HitTNV
-  uint32_t incomingRayFlags;    // 248  IncomingRayFlagsKHR
-  uint32_t cullMask;            // 252  CullMaskKHR
-  int32_t instanceCustomIndex;  // 256  InstanceCustomIndexKHR
-  int32_t instanceId;           // 260  InstanceId
-  int32_t primitiveId;          // 264  PrimitiveId
-  int32_t geometryIndex;        // 268  RayGeometryIndexKHR
-  uint32_t hitKind;             // 272  HitKindKHR
-  uint32_t status;              // 276  written by the shader: kRayStatus*
-  uint64_t pad0;                // 280
-  float objectToWorld[4][3];    // 288  ObjectToWorldKHR
-  float worldToObject[4][3];    // 336  WorldToObjectKHR
-  void* incoming;               // 384  incoming payload or callable data
-  uint64_t incomingBytes;       // 392
-  const void* hitAttributes;    // 400  any-hit / closest-hit: the hit's attributes
-  uint64_t hitAttributeBytes;   // 408
-  uint8_t* shaderRecord;        // 416  ShaderRecordBufferKHR: the record's bytes after the handle
-  uint64_t shaderRecordBytes;   // 424
-  const RayRuntime* runtime;    // 432
+  uint32_t launchId[4];         // 160  LaunchIdKHR
+  uint32_t launchSize[4];       // 176  LaunchSizeKHR
+  float worldRayOrigin[4];      // 192  WorldRayOriginKHR
+  float worldRayDirection[4];   // 208  WorldRayDirectionKHR
+  float objectRayOrigin[4];     // 224  ObjectRayOriginKHR
+  float objectRayDirection[4];  // 240  ObjectRayDirectionKHR
+  float rayTmin;                // 256  RayTminKHR
+  float rayTmax;                // 260  RayTmaxKHR, HitTNV
+  uint32_t incomingRayFlags;    // 264  IncomingRayFlagsKHR
+  uint32_t cullMask;            // 268  CullMaskKHR
+  int32_t instanceCustomIndex;  // 272  InstanceCustomIndexKHR
+  int32_t instanceId;           // 276  InstanceId
+  int32_t primitiveId;          // 280  PrimitiveId
+  int32_t geometryIndex;        // 284  RayGeometryIndexKHR
+  uint32_t hitKind;             // 288  HitKindKHR
+  uint32_t status;              // 292  written by the shader: kRayStatus*
+  uint64_t pad0;                // 296
+  float objectToWorld[4][3];    // 304  ObjectToWorldKHR
+  float worldToObject[4][3];    // 352  WorldToObjectKHR
+  void* incoming;               // 400  incoming payload or callable data
+  uint64_t incomingBytes;       // 408
+  const void* hitAttributes;    // 416  any-hit / closest-hit: the hit's attributes
+  uint64_t hitAttributeBytes;   // 424
+  uint8_t* shaderRecord;        // 432  ShaderRecordBufferKHR: the record's bytes after the handle
+  uint64_t shaderRecordBytes;   // 440
+  const RayRuntime* runtime;    // 448
 };
 
 static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 &&
                   offsetof(TraceRayArgs, payload) == 64,
               "the compiler bakes these offsets into shader code");
-static_assert(offsetof(RayInvocation, launchId) == 144 && offsetof(RayInvocation, rayTmin) == 240 &&
-                  offsetof(RayInvocation, status) == 276 && offsetof(RayInvocation, objectToWorld) == 288 &&
-                  offsetof(RayInvocation, worldToObject) == 336 && offsetof(RayInvocation, incoming) == 384 &&
-                  offsetof(RayInvocation, shaderRecord) == 416 && offsetof(RayInvocation, runtime) == 432 &&
+static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation, rayTmin) == 256 &&
+                  offsetof(RayInvocation, status) == 292 && offsetof(RayInvocation, objectToWorld) == 304 &&
+                  offsetof(RayInvocation, worldToObject) == 352 && offsetof(RayInvocation, incoming) == 400 &&
+                  offsetof(RayInvocation, shaderRecord) == 432 && offsetof(RayInvocation, runtime) == 448 &&
                   offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16,
               "the compiler bakes these offsets into shader code");
 

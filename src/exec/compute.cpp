@@ -6,11 +6,13 @@
 #include <atomic>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "exec/thread_pool.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
 #include <sanitizer/common_interface_defs.h>
 #define VKRT_ASAN_FIBERS 1
 #endif
@@ -33,6 +35,8 @@ struct Scheduler;
 
 struct Fiber {
   ucontext_t context;
+  sigjmp_buf recovery;  // where a fault or a cancellation of this fiber's shader code jumps (exec/supervise.hpp)
+  bool aborted = false;
   uint8_t* stack = nullptr;  // usable stack (the guard page is just below)
   InvocationContext inv;
   bool done = false;
@@ -97,7 +101,12 @@ void fiberMain() {
 #if VKRT_ASAN_FIBERS
   __sanitizer_finish_switch_fiber(nullptr, &f->scheduler->mainBottom, &f->scheduler->mainSize);
 #endif
-  f->scheduler->entry(&f->inv);
+  // A fault or a cancellation comes back here, on the fiber's own stack; the fiber then ends as usual.
+  if (sigsetjmp(f->recovery, 0) == 0) {
+    f->scheduler->entry(&f->inv);
+  } else {
+    f->aborted = true;
+  }
   f->done = true;
 #if VKRT_ASAN_FIBERS
   __sanitizer_start_switch_fiber(nullptr, f->scheduler->mainBottom, f->scheduler->mainSize);
@@ -131,6 +140,8 @@ void resume(Scheduler& s, Fiber& f) {
   __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
 #endif
   tlsStarting = &f;
+  sigjmp_buf* outer = swapRecoveryPoint(&f.recovery);
+  setRunning(nullptr, f.inv.globalId, Abort::GlobalInvocation);
 #if VKRT_TSAN_FIBERS
   if (!f.tsanFiber) f.tsanFiber = __tsan_create_fiber(0);
   s.tsanMain = __tsan_get_current_fiber();
@@ -140,6 +151,7 @@ void resume(Scheduler& s, Fiber& f) {
 #if VKRT_ASAN_FIBERS
   __sanitizer_finish_switch_fiber(fake, nullptr, nullptr);
 #endif
+  swapRecoveryPoint(outer);
 }
 
 void setIds(InvocationContext& inv, const uint32_t wg[3], const uint32_t local[3], const uint32_t size[3]) {
@@ -151,28 +163,12 @@ void setIds(InvocationContext& inv, const uint32_t wg[3], const uint32_t local[3
   inv.localIndex = (local[2] * size[1] + local[1]) * size[0] + local[0];
 }
 
-}  // namespace
-
-bool runCompute(const ComputeDispatch& d) {
+// One workgroup (a task of runCompute's, run under supervision).
+void runWorkgroup(const ComputeDispatch& d, const InvocationContext& proto, uint64_t g, std::atomic<bool>& failed) {
   const ComputeKernel& sh = d.kernel;
   const uint32_t* size = sh.localSize;
-  uint64_t groups = uint64_t(d.count[0]) * d.count[1] * d.count[2];
-  uint64_t invocations = uint64_t(size[0]) * size[1] * size[2];
-  if (groups == 0 || invocations == 0) return true;
-  bool ok = true;
-
-  InvocationContext proto{};
-  for (int i = 0; i < 3; ++i) {
-    proto.numWorkgroups[i] = d.count[i];
-    proto.workgroupSize[i] = size[i];
-  }
-  proto.resources = d.resources;
-  proto.pushConstants = d.pushConstants;
-  proto.rayQueries = d.rayQueries;
-  proto.barrier = sh.usesBarrier ? fiberBarrier : noBarrier;
-
-  std::atomic<bool> failed{false};
-  ThreadPool::instance().parallelFor(groups, [&](uint64_t g, unsigned) {
+  const uint64_t invocations = uint64_t(size[0]) * size[1] * size[2];
+  {
     thread_local WorkerScratch scratch;
     uint32_t wg[3] = {uint32_t(g % d.count[0]) + d.base[0], uint32_t(g / d.count[0] % d.count[1]) + d.base[1],
                       uint32_t(g / (uint64_t(d.count[0]) * d.count[1])) + d.base[2]};
@@ -186,11 +182,14 @@ bool runCompute(const ComputeDispatch& d) {
       inv.workgroupMemory = wgMem;
       inv.sink = scratch.sink;
       if (sh.groupEntry) {
-        // One call runs the workgroup: the compiled loop sets the invocation built-ins itself.
+        // One call runs the workgroup: the compiled loop sets the invocation built-ins itself (a report can
+        // name the workgroup only).
         for (int i = 0; i < 3; ++i) inv.workgroupId[i] = wg[i];
+        setRunning(nullptr, inv.workgroupId, Abort::Workgroup);
         sh.groupEntry(&inv);
         return;
       }
+      setRunning(nullptr, inv.globalId, Abort::GlobalInvocation);
       uint32_t local[3];
       for (local[2] = 0; local[2] < size[2]; ++local[2])
         for (local[1] = 0; local[1] < size[1]; ++local[1])
@@ -210,6 +209,7 @@ bool runCompute(const ComputeDispatch& d) {
     for (uint64_t i = 0; i < invocations; ++i) {
       Fiber& f = scratch.fibers[i];
       f.done = false;
+      f.aborted = false;
       f.scheduler = &s;
       f.stack = scratch.stacks[i] + kGuardBytes;
       f.inv = proto;
@@ -232,9 +232,58 @@ bool runCompute(const ComputeDispatch& d) {
         Fiber& f = scratch.fibers[i];
         if (f.done) continue;
         resume(s, f);
+        if (f.aborted) {
+          // The workgroup ends here: the fibers still waiting at a barrier are abandoned (each workgroup makes
+          // its contexts afresh).
+#if VKRT_TSAN_FIBERS
+          for (uint64_t k = 0; k < invocations; ++k)
+            if (scratch.fibers[k].tsanFiber) {
+              __tsan_destroy_fiber(scratch.fibers[k].tsanFiber);
+              scratch.fibers[k].tsanFiber = nullptr;
+            }
+#endif
+#if VKRT_ASAN_FIBERS
+          // The abandoned frames' redzones would otherwise stay poisoned for the next workgroup's fibers.
+          for (uint64_t k = 0; k < invocations; ++k)
+            __asan_unpoison_memory_region(scratch.stacks[k] + kGuardBytes, kFiberStackBytes);
+#endif
+          abortTask();
+        }
         again |= !f.done;
       }
     }
+  }
+}
+
+}  // namespace
+
+bool runCompute(const ComputeDispatch& d) {
+  const ComputeKernel& sh = d.kernel;
+  const uint32_t* size = sh.localSize;
+  uint64_t groups = uint64_t(d.count[0]) * d.count[1] * d.count[2];
+  uint64_t invocations = uint64_t(size[0]) * size[1] * size[2];
+  if (groups == 0 || invocations == 0) return true;
+  bool ok = true;
+
+  InvocationContext proto{};
+  for (int i = 0; i < 3; ++i) {
+    proto.numWorkgroups[i] = d.count[i];
+    proto.workgroupSize[i] = size[i];
+  }
+  proto.resources = d.resources;
+  proto.pushConstants = d.pushConstants;
+  proto.rayQueries = d.rayQueries;
+  proto.barrier = sh.usesBarrier ? fiberBarrier : noBarrier;
+  std::optional<Job> ownJob;
+  Job& job = d.job ? *d.job : ownJob.emplace(nullptr, 0);
+  proto.cancel = reinterpret_cast<const uint32_t*>(&job.cancel);
+  proto.cancelled = &cancelled;
+
+  std::atomic<bool> failed{false};
+  ThreadPool::instance().parallelFor(groups, [&](uint64_t g, unsigned) {
+    auto task = [&] { runWorkgroup(d, proto, g, failed); };
+    runSupervised(
+        job, [](void* t) { (*static_cast<decltype(task)*>(t))(); }, &task);
   });
   if (failed) ok = false;
   return ok;

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "abi/abi.hpp"
+#include "exec/supervise.hpp"
 
 namespace vkrt::exec {
 
@@ -26,6 +27,9 @@ struct ComputeDispatch {
   uint32_t base[3] = {0, 0, 0};                    // vkCmdDispatchBase's first workgroup
   uint32_t count[3] = {1, 1, 1};                   // workgroups
   const abi::RayQueryScope* rayQueries = nullptr;  // the ray query runtime (exec/ray_query.hpp), for every invocation
+  // The supervision (exec/supervise.hpp): the watchdog's time limit, fault recovery. Null: a job of its own
+  // without a time limit. When the job was ended, workgroups not started are skipped; job->abort() says why.
+  Job* job = nullptr;
 };
 
 // Runs the dispatch to completion. Returns false when fiber stacks could not be allocated (the workgroups that

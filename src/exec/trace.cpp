@@ -5,6 +5,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "exec/thread_pool.hpp"
 
@@ -67,6 +68,7 @@ class RecordCache {
 struct LaunchState {
   explicit LaunchState(const RayLaunch& l) : launch(&l), queries(l.resolver) {}
   const RayLaunch* launch = nullptr;
+  Job* job = nullptr;
   RecordCache miss, hit, callable;
   RayQueryScope queries;  // the shaders' ray queries (they resolve through the launch's resolver too)
 
@@ -124,6 +126,8 @@ void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
   inv.base.sink = tlsSink;
   inv.runtime = &kRuntime;
   inv.base.rayQueries = &state->queries;
+  inv.base.cancel = reinterpret_cast<const uint32_t*>(&state->job->cancel);
+  inv.base.cancelled = &cancelled;
   if (caller) {
     std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
     std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
@@ -150,7 +154,14 @@ bool run(Invocation& inv, const RayShader& shader) {
   inv.stackUsed = needed;
   inv.shader = &shader;
   inv.base.resources = shader.resources;
+  // For the report of a fault or a timeout: the shader running, and its launch index.
+  const char* callerName;
+  const uint32_t* callerId;
+  Abort::IdKind callerKind;
+  getRunning(&callerName, &callerId, &callerKind);
+  setRunning(shader.name, inv.launchId, Abort::LaunchId);
   shader.entry(&inv);
+  setRunning(callerName, callerId, callerKind);
   return true;
 }
 
@@ -376,20 +387,13 @@ uint32_t reportIntersection(abi::RayInvocation* callerBase, float t, uint32_t hi
   return inv.frame->report(inv, t, hitKind, attributes, bytes);
 }
 
-}  // namespace
-
-void runRays(const RayLaunch& launch) {
-  if (!launch.raygenGroup || !launch.raygenGroup->general.entry) return;
-  const uint64_t w = launch.size[0], h = launch.size[1], d = launch.size[2];
-  if (w == 0 || h == 0 || d == 0) return;
-  LaunchState state(launch);
-  state.miss.init(launch.miss);
-  state.hit.init(launch.hit);
-  state.callable.init(launch.callable);
-  const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
+// The raygen invocations of one tile (a task of runRays', run under supervision).
+void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY) {
+  const RayLaunch& launch = *state.launch;
+  const uint64_t w = launch.size[0], h = launch.size[1];
   const RayShader& raygen = launch.raygenGroup->general;
   const uint64_t raygenBytes = launch.raygen.size > kHandleBytes ? launch.raygen.size - kHandleBytes : 0;
-  ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
+  {
     const uint32_t z = uint32_t(tile / (tilesX * tilesY));
     const uint64_t inLayer = tile % (tilesX * tilesY);
     const uint32_t x0 = uint32_t(inLayer % tilesX) * kTile, y0 = uint32_t(inLayer / tilesX) * kTile;
@@ -407,6 +411,26 @@ void runRays(const RayLaunch& launch) {
         run(inv, raygen);
       }
     }
+  }
+}
+
+}  // namespace
+
+void runRays(const RayLaunch& launch) {
+  if (!launch.raygenGroup || !launch.raygenGroup->general.entry) return;
+  const uint64_t w = launch.size[0], h = launch.size[1], d = launch.size[2];
+  if (w == 0 || h == 0 || d == 0) return;
+  LaunchState state(launch);
+  std::optional<Job> ownJob;
+  state.job = launch.job ? launch.job : &ownJob.emplace(nullptr, 0);
+  state.miss.init(launch.miss);
+  state.hit.init(launch.hit);
+  state.callable.init(launch.callable);
+  const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
+  ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
+    auto task = [&] { runTile(state, tile, tilesX, tilesY); };
+    runSupervised(
+        *state.job, [](void* t) { (*static_cast<decltype(task)*>(t))(); }, &task);
   });
 }
 

@@ -20,6 +20,7 @@
 #include "abi/abi.hpp"
 #include "accel/accel.hpp"
 #include "exec/ray_query.hpp"
+#include "exec/supervise.hpp"
 
 namespace vkrt::exec {
 
@@ -77,6 +78,9 @@ struct RayLaunch {
   uint32_t pipelineRayFlags = 0;           // accel::kRaySkipTriangles / kRaySkipAabbs from the pipeline flags
   const uint8_t* pushConstants = nullptr;  // abi::kPushConstantBytes bytes
   LaunchResolver* resolver = nullptr;
+  // The supervision (exec/supervise.hpp), as for ComputeDispatch::job: tiles not started once the job was ended
+  // are skipped; job->abort() names the shader and the launch index that was running.
+  Job* job = nullptr;
 };
 
 // Runs the launch to completion on the thread pool (the calling thread works too).

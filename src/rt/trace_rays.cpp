@@ -288,7 +288,13 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
     l.pipelineRayFlags |= accel::kRaySkipAabbs;
   l.pushConstants = st.pushConstants;
   l.resolver = this;
+  // Supervised, as dispatches are (runtime/dispatch_commands.cpp says why the job comes before the check).
+  Device* dev = cb_->device;
+  exec::Job job(dev, dev->shaderTimeoutMs);
+  if (dev->halted()) return;
+  l.job = &job;
   exec::runRays(l);
+  if (job.aborted()) dev->shaderAborted(pipeline_, fn_, job.abort());
 }
 
 const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, const uint8_t* record, uint32_t g) {

@@ -163,7 +163,10 @@ bool CommandBuffer::refersTo(const Object* o) const {
 }
 
 void CommandBuffer::execute(ExecState& st) const {
-  for (const Command& c : commands) c(st);
+  for (const Command& c : commands) {
+    if (device->halted()) return;  // Lost Device (or vkDestroyDevice): the rest does not run
+    c(st);
+  }
 }
 
 void CommandBuffer::reset(bool releaseResources) {

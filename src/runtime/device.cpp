@@ -1,11 +1,14 @@
 #include "runtime/device.hpp"
 
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 
 #include "accel/accel.hpp"
 #include "exec/thread_pool.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/command_buffer.hpp"
+#include "runtime/fence.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/queue.hpp"
@@ -21,9 +24,64 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
   features = enabledFeatures(info);
   // Builds run on as many threads as launches and dispatches (VKRT_THREADS).
   accel::setBuildThreads(exec::ThreadPool::instance().workerSlots());
+  if (const char* env = std::getenv("VKRT_SHADER_TIMEOUT_MS")) {
+    char* end = nullptr;
+    unsigned long v = std::strtoul(env, &end, 10);
+    if (end != env && *end == '\0' && v <= UINT32_MAX) {
+      shaderTimeoutMs = uint32_t(v);
+    } else {
+      report(physical, Severity::Warning, nullptr,
+             "vkCreateDevice: VKRT_SHADER_TIMEOUT_MS=\"%s\" is not a number of milliseconds; the default %u ms is "
+             "used",
+             env, kDefaultShaderTimeoutMs);
+    }
+  }
 }
 
 Device::~Device() = default;
+
+void Device::lose() {
+  {
+    std::lock_guard lock(sync::mutex());
+    if (lost.exchange(true, std::memory_order_acq_rel)) return;
+    // Batches blocked on a semaphore or an event that will never come give up (they still signal theirs).
+    for (Queue* q : queues) q->abandonWaits();
+  }
+  sync::notifyAll();
+}
+
+void Device::shaderAborted(const Object* pipeline, const char* fn, const exec::Abort& a) {
+  if (a.kind == exec::Abort::Cancelled && closing.load(std::memory_order_acquire)) return;  // vkDestroyDevice
+  char who[160];
+  const char* shader = a.shader ? a.shader : "a shader";
+  switch (a.idKind) {
+    case exec::Abort::GlobalInvocation:
+      std::snprintf(who, sizeof who, "the invocation with GlobalInvocationId (%u, %u, %u)", a.id[0], a.id[1], a.id[2]);
+      break;
+    case exec::Abort::Workgroup:
+      std::snprintf(who, sizeof who, "an invocation of the workgroup with WorkgroupId (%u, %u, %u)", a.id[0], a.id[1],
+                    a.id[2]);
+      break;
+    case exec::Abort::LaunchId:
+      std::snprintf(who, sizeof who, "the invocation with LaunchIdKHR (%u, %u, %u)", a.id[0], a.id[1], a.id[2]);
+      break;
+    default: std::snprintf(who, sizeof who, "an invocation"); break;
+  }
+  unsigned long long handle = pipeline ? (unsigned long long)pipeline->handleValue() : 0;
+  if (a.kind == exec::Abort::Fault) {
+    report(pipeline, Severity::Error, nullptr,
+           "%s: device lost (VK_ERROR_DEVICE_LOST): %s of pipeline 0x%llx faulted (%s) accessing address 0x%llx (an "
+           "address no memory is mapped at, such as a wild buffer device address) in %s; the rest of the work was "
+           "skipped",
+           fn, shader, handle, a.signal == SIGBUS ? "SIGBUS" : "SIGSEGV", (unsigned long long)a.address, who);
+  } else {
+    report(pipeline, Severity::Error, nullptr,
+           "%s: device lost (VK_ERROR_DEVICE_LOST): %s of pipeline 0x%llx ran longer than the shader time limit of "
+           "%u ms (VKRT_SHADER_TIMEOUT_MS); %s was still running; the rest of the work was cancelled",
+           fn, shader, handle, shaderTimeoutMs, who);
+  }
+  lose();
+}
 
 bool Device::deferIfPending(Object* obj, std::function<void()> destroy, const char* fn, const char* vuid) {
   std::lock_guard lock(deferredMutex_);
@@ -147,6 +205,15 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroyDevice(VkDevice device, const VkAllocatio
            "vkDestroyDevice: 0x%llx is not a live VkDevice", (unsigned long long)rawHandle(device));
     return;
   }
+  // Work still running is cancelled (a shader that never ends would keep this call from returning), work not
+  // started is skipped (closing, set before the cancellation: a command that registers its job afterwards sees it).
+  {
+    std::lock_guard lock(sync::mutex());
+    dev->closing.store(true, std::memory_order_release);
+    for (Queue* q : dev->queues) q->abandonWaits();
+  }
+  sync::notifyAll();
+  exec::cancelJobsOf(dev);
   for (Queue* q : dev->queues) q->waitIdle();
   for (Queue* q : dev->queues) destroyObject(q, pAllocator);
   dev->runDeferred(true);
@@ -183,7 +250,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDeviceQueue2(VkDevice device, const VkDeviceQ
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_DeviceWaitIdle(VkDevice device) {
   Device* dev = fromHandleUnchecked<Device>(device);
   for (Queue* q : dev->queues) q->waitIdle();
-  return VK_SUCCESS;
+  // Lost Device: the queues still drain (their batches complete without running), then the loss is returned.
+  return dev->lost ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_SetDebugUtilsObjectNameEXT(VkDevice device,

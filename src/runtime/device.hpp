@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "exec/supervise.hpp"
 #include "runtime/object.hpp"
 #include "runtime/supported_features.hpp"
 
@@ -64,6 +65,23 @@ class Device : public Object {
   void runDeferred(bool all);
 
   const VkAllocationCallbacks* allocator = nullptr;
+
+  // Robustness (the specification's "Lost Device"). `lost`: a shader ran past the time limit or faulted; never
+  // cleared. From then on command buffers stop at their next command, queue batches still waiting for a semaphore
+  // or an event give up, every batch still signals its semaphores and fence, and the submits and waits return
+  // VK_ERROR_DEVICE_LOST. `closing`: vkDestroyDevice has begun; work not started is skipped and running shaders
+  // are cancelled. Both are set under sync::mutex() and announced on sync::changed().
+  std::atomic<bool> lost{false};
+  std::atomic<bool> closing{false};
+  bool halted() const { return lost.load(std::memory_order_acquire) || closing.load(std::memory_order_acquire); }
+  void lose();
+  // The watchdog's limit for one dispatch or ray tracing launch (exec/supervise.hpp): VKRT_SHADER_TIMEOUT_MS at
+  // device creation (milliseconds; 0 turns the watchdog off), else kDefaultShaderTimeoutMs.
+  static constexpr uint32_t kDefaultShaderTimeoutMs = 30000;
+  uint32_t shaderTimeoutMs = kDefaultShaderTimeoutMs;
+  // After a supervised command `fn` was ended (job.aborted()): reports which shader of `pipeline` faulted or ran
+  // too long, and which invocation, and loses the device (nothing when vkDestroyDevice cancelled it).
+  void shaderAborted(const Object* pipeline, const char* fn, const exec::Abort& abort);
 
  private:
   struct Deferred {

@@ -2,6 +2,7 @@
 // bound compute pipeline's resources from the bound descriptor sets and run the workgroups on the executor
 // (src/exec/compute.hpp).
 #include <cstring>
+#include <string>
 
 #include "exec/compute.hpp"
 #include "runtime/acceleration_structure.hpp"
@@ -52,8 +53,17 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
     d.base[k] = base[k];
     d.count[k] = count[k];
   }
+  // Supervised (the watchdog's time limit, fault recovery): registered before the device's halted() check, so
+  // that vkDestroyDevice either finds the job to cancel or has already made the check fail.
+  Device* dev = cb->device;
+  const std::string shaderName = "compute shader \"" + sh.entryName + "\"";
+  exec::Job job(dev, dev->shaderTimeoutMs);
+  job.shaderName = shaderName.c_str();
+  if (dev->halted()) return;
+  d.job = &job;
   if (!exec::runCompute(d))
     report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
+  if (job.aborted()) dev->shaderAborted(pipeline, fn, job.abort());
 }
 
 const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) {

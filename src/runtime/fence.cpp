@@ -128,6 +128,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetFenceStatus(VkDevice device, VkFence fenc
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   std::lock_guard lock(sync::mutex());
+  if (f->device->lost) return VK_ERROR_DEVICE_LOST;  // Lost Device
   return f->signaled ? VK_SUCCESS : VK_NOT_READY;
 }
 
@@ -139,16 +140,20 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_WaitForFences(VkDevice device, uint32_t fenc
                   "VUID-vkWaitForFences-fenceCount-arraylength"))
     return VK_ERROR_VALIDATION_FAILED_EXT;
   std::unique_lock lock(sync::mutex());
+  // Lost Device: a fence of a submission still completes (the queue drains without running anything), one that
+  // was never submitted never will, so it counts as done; the wait then returns VK_ERROR_DEVICE_LOST.
+  auto done = [&](const Fence* f) { return f->signaled || (dev->lost && !f->pendingOn); };
   bool ok = sync::waitFor(lock, timeout, [&] {
     if (waitAll) {
       for (Fence* f : fences)
-        if (!f->signaled) return false;
+        if (!done(f)) return false;
       return true;
     }
     for (Fence* f : fences)
-      if (f->signaled) return true;
+      if (done(f)) return true;
     return false;
   });
+  if (dev->lost) return VK_ERROR_DEVICE_LOST;
   return ok ? VK_SUCCESS : VK_TIMEOUT;
 }
 

@@ -158,6 +158,8 @@ namespace {
 // and enqueues them. Returns the call's result.
 VkResult submit(Queue* q, std::vector<Batch>& batches, VkFence fenceHandle, bool v2) {
   const char* fn = v2 ? "vkQueueSubmit2" : "vkQueueSubmit";
+  // Lost Device: nothing is submitted, and nothing the call names changes.
+  if (q->device->lost) return VK_ERROR_DEVICE_LOST;
   Fence* fence = nullptr;
   if (fenceHandle) {
     fence = fromHandle<Fence>(fenceHandle);
@@ -399,7 +401,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueWaitIdle(VkQueue queue) {
   Queue* q = liveQueue(queue, "vkQueueWaitIdle", "VUID-vkQueueWaitIdle-queue-parameter");
   if (!q) return VK_ERROR_VALIDATION_FAILED_EXT;
   q->waitIdle();
-  return VK_SUCCESS;
+  return q->device->lost ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_QueueBeginDebugUtilsLabelEXT(VkQueue queue, const VkDebugUtilsLabelEXT* pLabelInfo) {

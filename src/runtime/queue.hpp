@@ -66,6 +66,9 @@ class Queue : public Object {
 
   // True once the destructor runs: a worker blocked on a semaphore or event gives up (read under sync::mutex()).
   bool abandoning() const { return abandon_; }
+  // Sets abandoning (the caller holds sync::mutex() and announces the change): the device was lost or is being
+  // destroyed.
+  void abandonWaits() { abandon_ = true; }
 
   // Debug-utils label stack (vkQueueBegin/EndDebugUtilsLabelEXT), for reports.
   std::mutex labelMutex;

@@ -99,7 +99,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetSemaphoreCounterValue(VkDevice device, Vk
   }
   std::lock_guard lock(sync::mutex());
   *pValue = s->value;
-  return VK_SUCCESS;
+  return s->device->lost ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;  // Lost Device
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_SignalSemaphore(VkDevice device, const VkSemaphoreSignalInfo* pSignalInfo) {
@@ -157,14 +157,17 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_WaitSemaphores(VkDevice device, const VkSema
   }
   const bool any = (pWaitInfo->flags & VK_SEMAPHORE_WAIT_ANY_BIT) != 0;
   std::unique_lock lock(sync::mutex());
+  // Lost Device: signals already submitted still happen (the queues drain without running anything); a value no
+  // pending signal reaches never will, so it counts as reached, and the wait returns VK_ERROR_DEVICE_LOST.
   bool ok = sync::waitFor(lock, timeout, [&] {
     for (uint32_t i = 0; i < pWaitInfo->semaphoreCount; ++i) {
-      bool reached = sems[i]->value >= pWaitInfo->pValues[i];
+      bool reached = sems[i]->value >= pWaitInfo->pValues[i] || (dev->lost && sems[i]->pendingSignals.empty());
       if (any && reached) return true;
       if (!any && !reached) return false;
     }
     return !any;
   });
+  if (dev->lost) return VK_ERROR_DEVICE_LOST;
   return ok ? VK_SUCCESS : VK_TIMEOUT;
 }
 

@@ -270,6 +270,7 @@ bool Codegen::declareFunctions() {
     if (!ret) return unsupported(in, "function return type");
     auto* f = llvm::Function::Create(llvm::FunctionType::get(ret, params, false), llvm::Function::InternalLinkage,
                                      "spv_" + std::to_string(in.word(2)), out);
+    f->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));  // jit.cpp's cancellation polls read it
     functions[in.word(2)] = f;
   }
   return true;
@@ -368,6 +369,7 @@ bool Codegen::run(const EntryPoint& ep) {
                                       llvm::Function::ExternalLinkage, "vkrt_main", out);
   fn = main;
   ctxArg = main->getArg(0);
+  main->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
   allocaBlock = llvm::BasicBlock::Create(c, "entry", main);
   b.SetInsertPoint(allocaBlock);
   auto* priv = b.CreateAlloca(b.getInt8Ty(), i64(std::max<uint64_t>(privateSize, 16)));
@@ -414,6 +416,7 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   auto* group = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
                                        llvm::Function::ExternalLinkage, "vkrt_group", out);
   llvm::Value* ctx = group->getArg(0);
+  group->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
   auto* entry = llvm::BasicBlock::Create(c, "entry", group);
   b.SetInsertPoint(entry);
   auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));

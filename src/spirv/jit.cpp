@@ -1,12 +1,18 @@
 // compile(): specialization, a support check against the application's module, SPIRV-Tools' optimizer,
 // LLVM IR generation (Codegen), LLVM's O2 pipeline and ORC LLJIT. LLVM's fatal errors are turned into
 // messages here (a handler that throws, caught at this boundary), never an abort.
+#include <llvm/Analysis/LoopInfo.h>
 #include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/ExecutionEngine/Orc/RTDyldObjectLinkingLayer.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/ExecutionEngine/SectionMemoryManager.h>
+#include <llvm/IR/Dominators.h>
+#include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/LegacyPassManager.h>
+#include <llvm/IR/MDBuilder.h>
 #include <llvm/IR/Verifier.h>
 #include <llvm/Object/ObjectFile.h>
 #include <llvm/Passes/PassBuilder.h>
@@ -32,12 +38,21 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "abi/jit_code.hpp"
 #include "spirv/codegen.hpp"
 
 namespace vkrt::spirv {
 
 struct CompiledShader::Jit {
   std::unique_ptr<llvm::orc::LLJIT> lljit;
+  // The code sections' slots in abi::JitCode (the fault handler's "is this shader code"), released before the
+  // code is unmapped.
+  std::shared_ptr<std::vector<uint32_t>> codeSlots;
+  ~Jit() {
+    if (codeSlots)
+      for (uint32_t slot : *codeSlots) abi::JitCode::remove(slot);
+    lljit.reset();
+  }
 };
 
 CompiledShader::CompiledShader() = default;
@@ -448,13 +463,86 @@ uint32_t frameBytesOf(std::string_view object) {
   return uint32_t(std::min<uint64_t>(total, UINT32_MAX));
 }
 
+// Cancellation polls (robustness: a shader that loops forever must not keep the device busy forever): at the
+// header of every loop of the optimized code, a relaxed load of the executor's cancellation flag
+// (InvocationContext::cancel, read once per function call into a register; null: a constant zero) and, when it is
+// nonzero, a call of InvocationContext::cancelled (exec/supervise.hpp), which does not come back when the work is
+// supervised. Added after LLVM's optimizations so that they see the loops as they were (unrolling, vectorization);
+// a loop that survives them pays one load and one predicted branch per iteration. The context is the argument the
+// code generator marks "vkrt-ctx" (a function whose context argument was dropped as unused has no loop to poll
+// from it: such a function is left as it is).
+void addCancellationPolls(llvm::Module& mod) {
+  llvm::LLVMContext& c = mod.getContext();
+  llvm::Type* i8 = llvm::Type::getInt8Ty(c);
+  llvm::Type* i32 = llvm::Type::getInt32Ty(c);
+  llvm::PointerType* ptr = llvm::PointerType::get(c, 0);
+  llvm::GlobalVariable* never = nullptr;
+  for (llvm::Function& f : mod) {
+    if (f.isDeclaration()) continue;
+    llvm::Argument* ctx = nullptr;
+    for (llvm::Argument& a : f.args())
+      if (f.getAttributes().hasParamAttr(a.getArgNo(), "vkrt-ctx")) ctx = &a;
+    if (!ctx) continue;
+    std::vector<llvm::BasicBlock*> headers;
+    {
+      llvm::DominatorTree dt(f);
+      llvm::LoopInfo loops(dt);
+      for (llvm::Loop* l : loops.getLoopsInPreorder()) headers.push_back(l->getHeader());
+    }
+    if (headers.empty()) continue;
+    if (!never)
+      never = new llvm::GlobalVariable(mod, i32, true, llvm::GlobalValue::PrivateLinkage,
+                                       llvm::ConstantInt::get(i32, 0), "vkrt.never_cancelled");
+    llvm::IRBuilder<> b(&*f.getEntryBlock().getFirstInsertionPt());
+    llvm::Value* flag = b.CreateLoad(ptr, b.CreateConstGEP1_64(i8, ctx, offsetof(abi::InvocationContext, cancel)));
+    flag = b.CreateSelect(b.CreateIsNull(flag), never, flag, "vkrt.cancel");
+    llvm::FunctionType* cancelledType = llvm::FunctionType::get(b.getVoidTy(), {ptr}, false);
+    llvm::MDNode* unlikely = llvm::MDBuilder(c).createBranchWeights(1, 1u << 20);
+    for (llvm::BasicBlock* h : headers) {
+      llvm::BasicBlock* body = h->splitBasicBlock(h->getFirstNonPHI(), h->getName() + ".polled");
+      h->getTerminator()->eraseFromParent();
+      b.SetInsertPoint(h);
+      llvm::LoadInst* v = b.CreateLoad(i32, flag);
+      v->setAtomic(llvm::AtomicOrdering::Monotonic);
+      v->setAlignment(llvm::Align(4));
+      auto* cancel = llvm::BasicBlock::Create(c, "vkrt.cancelled", &f);
+      b.CreateCondBr(b.CreateICmpNE(v, b.getInt32(0)), cancel, body, unlikely);
+      b.SetInsertPoint(cancel);
+      llvm::Value* fn = b.CreateLoad(ptr, b.CreateConstGEP1_64(i8, ctx, offsetof(abi::InvocationContext, cancelled)));
+      b.CreateCall(cancelledType, fn, {ctx});
+      b.CreateBr(body);
+    }
+  }
+}
+
 // Creates the shader's JIT, loads `object` (an ELF relocatable object of vkrt_main and its callees) and
 // resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main, a RayEntry for ray tracing stages).
 bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, const abi::HostSymbol* hostSymbols,
                 std::string* error) {
   auto jtmb = hostMachine(error);
   if (!jtmb) return false;
-  auto lljit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
+  // The object layer LLJIT would make (RuntimeDyld with a SectionMemoryManager), told to register the code
+  // sections it loads with abi::JitCode.
+  auto codeSlots = std::make_shared<std::vector<uint32_t>>();
+  auto lljit = llvm::orc::LLJITBuilder()
+                   .setJITTargetMachineBuilder(std::move(*jtmb))
+                   .setObjectLinkingLayerCreator(
+                       [codeSlots](llvm::orc::ExecutionSession& es,
+                                   const llvm::Triple&) -> llvm::Expected<std::unique_ptr<llvm::orc::ObjectLayer>> {
+                         auto layer = std::make_unique<llvm::orc::RTDyldObjectLinkingLayer>(
+                             es, [] { return std::make_unique<llvm::SectionMemoryManager>(); });
+                         layer->setNotifyLoaded([codeSlots](llvm::orc::MaterializationResponsibility&,
+                                                            const llvm::object::ObjectFile& obj,
+                                                            const llvm::RuntimeDyld::LoadedObjectInfo& info) {
+                           for (const llvm::object::SectionRef& section : obj.sections()) {
+                             if (!section.isText() || section.getSize() == 0) continue;
+                             uint64_t address = info.getSectionLoadAddress(section);
+                             if (address) codeSlots->push_back(abi::JitCode::add(address, address + section.getSize()));
+                           }
+                         });
+                         return std::unique_ptr<llvm::orc::ObjectLayer>(std::move(layer));
+                       })
+                   .create();
   if (!lljit) {
     *error = "LLVM: " + errText(lljit.takeError());
     return false;
@@ -485,12 +573,13 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
   }
   shader.jit = std::make_unique<CompiledShader::Jit>();
   shader.jit->lljit = std::move(*lljit);
+  shader.jit->codeSlots = std::move(codeSlots);
   return true;
 }
 
 // ---- the pipeline cache form of a compiled shader
 //
-//   char magic[8] "VKRTSHD3"; uint8 sha256[32] of the payload; payload:
+//   char magic[8] "VKRTSHD4"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
 //   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
@@ -499,7 +588,7 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 static_assert(sizeof(CompiledShader) == 176,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '3'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '4'};
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -767,6 +856,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     pb.crossRegisterProxies(lam, fam, cgam, mam);
     pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2).run(*mod, mam);
   }
+  addCancellationPolls(*mod);
 
   // Code generation to an object file (kept for VkPipelineCache), then loaded into the JIT: the cold and the
   // cached path run exactly the same bytes.

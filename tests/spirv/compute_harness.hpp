@@ -26,6 +26,7 @@ struct ComputeHarness {
   alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
   std::map<uint32_t, uint64_t> structures;         // binding -> acceleration structure address
   const abi::RayQueryScope* rayQueries = nullptr;  // the dispatch's ray query runtime
+  exec::Job* job = nullptr;                        // the supervision (exec/supervise.hpp); null: the executor's own
 
   template <size_t N>
   bool compile(const uint32_t (&words)[N], std::vector<spirv::SpecValue> spec = {}) {
@@ -81,6 +82,7 @@ struct ComputeHarness {
     d.resources = slots.data();
     d.pushConstants = push;
     d.rayQueries = rayQueries;
+    d.job = job;
     d.count[0] = x;
     d.count[1] = y;
     d.count[2] = z;
