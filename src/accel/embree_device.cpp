@@ -14,10 +14,6 @@ std::atomic<unsigned> gBuildThreads{0};  // 0: Embree's default
 void setBuildThreads(unsigned threads) { gBuildThreads.store(threads); }
 
 namespace detail {
-unsigned buildThreads() { return gBuildThreads.load(); }
-}  // namespace detail
-
-namespace detail {
 namespace {
 
 // The innermost EmbreeErrors scope of this thread: where the error callback appends.

@@ -12,9 +12,6 @@ namespace vkrt::accel::detail {
 // create it or lacks a feature traversal relies on (ray masks, filter functions, user geometry, instancing).
 RTCDevice device(std::string* error);
 
-// The thread count setBuildThreads() asked for; 0 for every hardware thread.
-unsigned buildThreads();
-
 // Collects the messages Embree reports on this thread while it lives. Embree calls its error callback on the
 // thread whose API call failed (build work on TBB's threads is rethrown to the committing thread), and keeps
 // its error code per thread, so concurrent builds on other threads do not mix their errors into this one.
