@@ -98,7 +98,25 @@ struct TlasSummary {
   bool opaqueTriangles = false;    // opaque after the instance flags
   bool noOpaqueTriangles = false;  // not opaque after the instance flags
   bool facingCullable = false;     // an instance with triangles and without TRIANGLE_FACING_CULL_DISABLE
+  // Over the instances in the Embree scene: the most an instance's world-to-object transform can grow a ray's
+  // largest origin or direction component (its linear part's largest row sum of magnitudes), and the largest
+  // magnitude in its translation column. rayInEmbreeRange (traverse.cpp) bounds instance-space rays with them.
+  double maxInverseGain = 0;
+  double maxInverseOffset = 0;
 };
+
+// Embree 3 traces only rays whose origin and direction components lie within +-1.844e18 (its FLT_LARGE), in world
+// space and in every instance's space; Debian's libembree3 asserts it (aborting the process). vkrt keeps every
+// component it passes within 2^60 (the margin covers Embree's float rounding of the instance transform).
+inline constexpr double kEmbreeRayLimit = 0x1p60;
+
+// Whether a ray with largest origin component `origin` and largest direction component `direction` (magnitudes)
+// stays within kEmbreeRayLimit in world space and in the space of every instance of a Tlas summarized by `s`.
+inline bool rayInEmbreeRange(const TlasSummary& s, double origin, double direction) {
+  return origin <= kEmbreeRayLimit && direction <= kEmbreeRayLimit &&
+         s.maxInverseGain * origin + s.maxInverseOffset <= kEmbreeRayLimit &&
+         s.maxInverseGain * direction <= kEmbreeRayLimit;
+}
 
 // Whether a ray with `rayFlags` through a Tlas summarized by `s` needs the triangle filter callback at all
 // (traverse.cpp). False is the fast path: Embree runs with no callback for triangles, as raw rtcIntersect1 does.
