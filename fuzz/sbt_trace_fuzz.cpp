@@ -66,14 +66,12 @@ State makeState() {
   lci.pushConstantRangeCount = 1;
   lci.pPushConstantRanges = &pc;
   check(vkrt_CreatePipelineLayout(s.device, &lci, nullptr, &s.layout));
-  VkShaderModule modules[kGroups] = {
-      module(s.device, kSpv_pipeline_raygen_rgen, sizeof kSpv_pipeline_raygen_rgen),
-      module(s.device, kSpv_pipeline_miss_rmiss, sizeof kSpv_pipeline_miss_rmiss),
-      module(s.device, kSpv_pipeline_chit_rchit, sizeof kSpv_pipeline_chit_rchit),
-      module(s.device, kSpv_pipeline_call_rcall, sizeof kSpv_pipeline_call_rcall)};
+  VkShaderModule modules[kGroups] = {module(s.device, kSpv_pipeline_raygen_rgen, sizeof kSpv_pipeline_raygen_rgen),
+                                     module(s.device, kSpv_pipeline_miss_rmiss, sizeof kSpv_pipeline_miss_rmiss),
+                                     module(s.device, kSpv_pipeline_chit_rchit, sizeof kSpv_pipeline_chit_rchit),
+                                     module(s.device, kSpv_pipeline_call_rcall, sizeof kSpv_pipeline_call_rcall)};
   const VkShaderStageFlagBits stages[kGroups] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
-                                                 VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR,
-                                                 VK_SHADER_STAGE_CALLABLE_BIT_KHR};
+                                                 VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, VK_SHADER_STAGE_CALLABLE_BIT_KHR};
   VkPipelineShaderStageCreateInfo st[kGroups];
   VkRayTracingShaderGroupCreateInfoKHR groups[kGroups];
   for (uint32_t i = 0; i < kGroups; ++i) {

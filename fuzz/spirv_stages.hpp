@@ -89,8 +89,7 @@ inline VkResult createStagePipeline(VkDevice device, VkPipelineLayout layout, Vk
         g.generalShader = 0;
         break;
     }
-    VkRayTracingPipelineInterfaceCreateInfoKHR iface{
-        VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_INTERFACE_CREATE_INFO_KHR};
+    VkRayTracingPipelineInterfaceCreateInfoKHR iface{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_INTERFACE_CREATE_INFO_KHR};
     iface.maxPipelineRayPayloadSize = 64;
     iface.maxPipelineRayHitAttributeSize = 32;
     VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
@@ -111,8 +110,7 @@ inline VkResult createStagePipeline(VkDevice device, VkPipelineLayout layout, Vk
 
 // vkCreateShaderModule on `words`; when the module is accepted, a pipeline per entry point (at most `maxEntries`).
 inline void modulePipelines(VkDevice device, VkPipelineLayout layout, const std::vector<uint32_t>& words,
-                            VkPipelineCreateFlags flags, const uint8_t* specBytes, size_t specSize,
-                            size_t maxEntries) {
+                            VkPipelineCreateFlags flags, const uint8_t* specBytes, size_t specSize, size_t maxEntries) {
   VkShaderModuleCreateInfo mci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   mci.codeSize = words.size() * 4;
   mci.pCode = words.data();
