@@ -68,19 +68,8 @@ void RefitPool::give(RTCScene scene) {
 
 namespace {
 
-// Embree's threads run with denormals flushed to zero (inputs and results), so an extent below the smallest normal
-// float is none to it. Its top-level builder (which also joins a Blas's geometries) asserts, aborting the process,
-// when a group of the nodes it sorts has no extent at all on any axis; a hierarchy node holding only primitives
-// without extent is one. So no primitive Embree sees is without extent: see boxBounds and pointTriangle.
-float flushDenormal(float v) { return std::fpclassify(v) == FP_SUBNORMAL ? 0.0f : v; }
-
-bool hasExtent(const float lower[3], const float upper[3]) {
-  for (int k = 0; k < 3; ++k)
-    if (double(flushDenormal(upper[k])) - double(flushDenormal(lower[k])) >= std::numeric_limits<float>::min())
-      return true;
-  return false;
-}
-
+// Primitives without extent (structures.hpp, hasExtent) are never given to Embree: see boxBounds and pointTriangle.
+//
 // Embree asks a user geometry for each primitive's bounds at build and refit. An inactive box (NaN min x) gets
 // NaN bounds, which Embree leaves out of the hierarchy: it is never hit and keeps its index. A box without extent
 // (hasExtent) gets bounds widened on every axis by a normal float's worth (relative to its coordinates, at least

@@ -3,6 +3,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -104,6 +106,19 @@ struct TlasSummary {
   double maxInverseGain = 0;
   double maxInverseOffset = 0;
 };
+
+// Embree's threads run with denormals flushed to zero (inputs and results), so an extent below the smallest normal
+// float is none to it. Its top-level builder (for a Tlas's instances, and to join a Blas's geometries) asserts,
+// aborting the process, when a group of the nodes it sorts has no extent at all on any axis. So vkrt gives Embree no
+// primitive (blas.cpp) and no instance (tlas.cpp) without extent.
+inline float flushDenormal(float v) { return std::fpclassify(v) == FP_SUBNORMAL ? 0.0f : v; }
+
+inline bool hasExtent(const float lower[3], const float upper[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (double(flushDenormal(upper[k])) - double(flushDenormal(lower[k])) >= std::numeric_limits<float>::min())
+      return true;
+  return false;
+}
 
 // Embree 3 traces only rays whose origin and direction components lie within +-1.844e18 (its FLT_LARGE), in world
 // space and in every instance's space; Debian's libembree3 asserts it (aborting the process). vkrt keeps every

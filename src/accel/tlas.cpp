@@ -1,6 +1,7 @@
 // Top-level structures: the instances, their transforms and inverses, and an Embree scene of instance geometries.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "accel/embree_device.hpp"
 #include "accel/structures.hpp"
@@ -114,6 +115,28 @@ void makeRecords(Tlas::Impl& impl) {
   }
 }
 
+// Whether an instance's world bounds, as Embree computes them (its Blas's bounds, each corner transformed in float
+// with denormals flushed: x * vx + (y * vy + (z * vz + p))), have extent (structures.hpp, hasExtent). A Blas far
+// smaller than the float resolution at its instance's position has none: a translation absorbs it.
+bool worldBoundsHaveExtent(const RTCBounds& b, const float m[3][4]) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lower[3] = {kInf, kInf, kInf}, upper[3] = {-kInf, -kInf, -kInf};
+  for (int corner = 0; corner < 8; ++corner) {
+    const float p[3] = {flushDenormal(corner & 1 ? b.upper_x : b.lower_x),
+                        flushDenormal(corner & 2 ? b.upper_y : b.lower_y),
+                        flushDenormal(corner & 4 ? b.upper_z : b.lower_z)};
+    for (int row = 0; row < 3; ++row) {
+      auto f = [](float v) { return flushDenormal(v); };
+      const float z = f(f(p[2] * m[row][2]) + f(m[row][3]));
+      const float y = f(f(p[1] * m[row][1]) + z);
+      const float w = f(f(p[0] * m[row][0]) + y);
+      lower[row] = std::min(lower[row], w);
+      upper[row] = std::max(upper[row], w);
+    }
+  }
+  return hasExtent(lower, upper);
+}
+
 RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
   RTCDevice device = detail::device(error);
   if (!device) return nullptr;
@@ -132,6 +155,10 @@ RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
     const InstanceRecord& r = impl.records[i];
     const uint32_t mask = impl.instances[i].mask & 0xFF;
     if (!r.blas || !r.blas->scene || !r.blas->primitives || !mask) continue;  // never hit; the index stays
+    // An instance without extent in world space is left out too (never hit): Embree's builder would abort.
+    RTCBounds bounds;
+    rtcGetSceneBounds(r.blas->scene, &bounds);
+    if (!worldBoundsHaveExtent(bounds, r.objectToWorld)) continue;
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
     if (!geometry) break;
     rtcSetGeometryInstancedScene(geometry, r.blas->scene);

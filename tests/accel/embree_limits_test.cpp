@@ -85,6 +85,23 @@ TEST(EmbreeLimits, BoxesOfZeroSizeBuildAndStayCandidates) {
   EXPECT_FALSE(t.info.triangle);
 }
 
+// Found by the fuzzer too: a Blas far smaller than the float resolution at its instance's position (here 1e-10
+// across, translated to x = 1000, where floats are 6e-5 apart) has no extent in world space as Embree computes it,
+// and two such instances made its top-level builder abort. Such an instance is left out (never hit); one whose
+// extent survives the translation is hit as before.
+TEST(EmbreeLimits, InstanceWithoutWorldExtentIsLeftOut) {
+  Geometry tiny;
+  tiny.triangles.flags = kGeometryOpaque;
+  tiny.triangles.vertices = {0, 0, 1e-10f, 1e-10f, 0, 1e-10f, 0, 1e-10f, 1e-10f};
+  tiny.triangles.indices = {0, 1, 2};
+  auto blas = makeBlas({tiny});
+  auto tlas = makeTlas({translated(blas, 1000, 0, 0), translated(blas, 1000, 0, 0), translated(blas, 0, 0, 0)});
+  EXPECT_FALSE(traceOnce(*tlas, rayFrom(1000, 0, -1, 0, 0, 1)).hit);
+  Traced atOrigin = traceOnce(*tlas, rayFrom(2e-11f, 2e-11f, -1, 0, 0, 1));
+  ASSERT_TRUE(atOrigin.hit);
+  EXPECT_EQ(atOrigin.info.instanceIndex, 2u);
+}
+
 TEST(EmbreeLimits, UpdateThatCollapsesATriangleRebuilds) {
   BuildOptions o;
   o.allowUpdate = true;
