@@ -33,6 +33,12 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   return 0;
 }
 
+extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t maxSize);
+
+extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t maxSize, unsigned int seed) {
+  return vkrt::fuzz::mutateSpirv(data, size, maxSize, seed, LLVMFuzzerMutate);
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace vkrt;
   std::vector<uint32_t> words = fuzz::wordsOf(data, size);

@@ -11,10 +11,29 @@
 // Per-input work is capped by the input length (-max_len in tools/fuzz.sh) and libFuzzer's -timeout.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
+#include "runtime/shader_cache.hpp"
 #include "spirv_stages.hpp"
+
+// How many inputs reached the compiler (most mutations are refused by the validator first), printed at exit: the
+// figure the README's executions "through the JIT" are.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  std::atexit([] {
+    std::fprintf(stderr, "vkrt_fuzz_spirv_pipeline: %llu shader compilations\n",
+                 (unsigned long long)vkrt::shaderCompileCount());
+  });
+  return 0;
+}
+
+extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t maxSize);
+
+extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t maxSize, unsigned int seed) {
+  return vkrt::fuzz::mutateSpirv(data, size, maxSize, seed, LLVMFuzzerMutate);
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace vkrt;

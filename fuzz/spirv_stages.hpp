@@ -118,14 +118,52 @@ inline void modulePipelines(VkDevice device, VkPipelineLayout layout, const std:
   if (vkrt_CreateShaderModule(device, &mci, nullptr, &module) != VK_SUCCESS) return;
   spirv::Module parsed;
   std::string error;
-  // A module vkCreateShaderModule accepted parses (the reader's contract): anything else is a finding.
-  if (!parsed.parse(words.data(), words.size(), &error)) __builtin_trap();
+  // The reader may refuse what SPIRV-Tools' validator lets through (e.g. a LocalSizeId operand that is not a
+  // constant): the pipeline then reports it (VUID-VkPipelineShaderStageCreateInfo-pName-00707). Try "main".
+  if (!parsed.parse(words.data(), words.size(), &error)) {
+    parsed = spirv::Module{};
+    parsed.entryPoints.push_back({spv::ExecutionModelGLCompute, 0, "main", {}});
+  }
   size_t n = 0;
   for (const spirv::EntryPoint& ep : parsed.entryPoints) {
     if (n++ >= maxEntries) break;
     createStagePipeline(device, layout, module, parsed, ep, flags, specBytes, specSize);
   }
   vkrt_DestroyShaderModule(device, module, nullptr);
+}
+
+// A structure-aware mutation for libFuzzer's custom mutator: half of the time libFuzzer's own byte mutations; the
+// other half one operand word of one instruction (never a word count or opcode, so the module stays a sequence of
+// instructions and SPIRV-Tools' validator accepts far more of the results): a small value, a neighbour, a bit
+// flipped, or another word of the module (often an id).
+inline size_t mutateSpirv(uint8_t* data, size_t size, size_t maxSize, unsigned seed,
+                          size_t (*libFuzzerMutate)(uint8_t*, size_t, size_t)) {
+  uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
+  auto next = [&] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return uint32_t(state >> 11);
+  };
+  const size_t n = size / 4;
+  if (next() % 2 || n < 6 || (reinterpret_cast<const uint32_t*>(data)[0] != 0x07230203u))
+    return libFuzzerMutate(data, size, maxSize);
+  uint32_t* words = reinterpret_cast<uint32_t*>(data);  // libFuzzer's buffers are suitably aligned
+  // The operand words (not the header, not an instruction's first word).
+  std::vector<uint32_t> operands;
+  for (size_t at = 5; at < n;) {
+    const uint32_t count = words[at] >> 16;
+    if (count == 0 || at + count > n) break;
+    for (uint32_t i = 1; i < count; ++i) operands.push_back(uint32_t(at + i));
+    at += count;
+  }
+  if (operands.empty()) return libFuzzerMutate(data, size, maxSize);
+  uint32_t& w = words[operands[next() % operands.size()]];
+  switch (next() % 4) {
+    case 0: w = next() % 8; break;
+    case 1: w += (next() % 2) ? 1 : -1; break;
+    case 2: w ^= 1u << (next() % 32); break;
+    default: w = words[operands[next() % operands.size()]]; break;
+  }
+  return size;
 }
 
 }  // namespace vkrt::fuzz

@@ -38,7 +38,7 @@ for t in "${targets[@]}"; do
     -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$build/findings/$t-" ${VKRT_FUZZ_ARGS:-} \
     "$work" "$root/fuzz/corpus/${corpus[$t]}" > "$log" 2>&1; then
     echo "fuzz $t: $(grep -m1 -o 'stat::number_of_executed_units: [0-9]*' "$log" | grep -o '[0-9]*$') executions" \
-         "in ${secs} s, no finding"
+         "in ${secs} s, no finding $(grep -m1 -o '[0-9]* shader compilations' "$log" || true)"
   else
     echo "fuzz $t: FINDING (log: $log; inputs in $build/findings/)"
     tail -n 60 "$log"

@@ -16,7 +16,9 @@ cmake --build "$build" -j "$(nproc)"
 (cd "$build" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
 # libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 15) seconds.
 if [ "${VKRT_FUZZ_SECONDS:-15}" != 0 ]; then
+  fuzzStart=$SECONDS
   "$root/tools/fuzz.sh" || status=1
+  echo "fuzz step (build-fuzz/ build and runs): $((SECONDS - fuzzStart)) s"
 fi
 # ThreadSanitizer: build-tsan/, the unit and end-to-end tests (tests/CMakeLists.txt registers only those there).
 tsan="$root/build-tsan"
