@@ -4,7 +4,7 @@
 // A top level is given no bottom levels, one, and 64 (null entries, as for inactive instances).
 //
 // Seeds: with VKRT_FUZZ_SEEDS=<folder> set, the target first writes a serialized bottom level of triangles, one of
-// boxes and a top level with one instance of each there (fuzz/CMakeLists.txt says how to run it).
+// boxes and a top level with one instance of each there (fuzz/corpus/accel_deserialize holds them).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

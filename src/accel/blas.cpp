@@ -1,4 +1,5 @@
 // Bottom-level structures: copies of the geometries, and an Embree scene built (or refitted) from them.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -67,18 +68,49 @@ void RefitPool::give(RTCScene scene) {
 
 namespace {
 
+// Primitives without extent (structures.hpp, hasExtent) are never given to Embree: see boxBounds and pointTriangle.
+//
 // Embree asks a user geometry for each primitive's bounds at build and refit. An inactive box (NaN min x) gets
-// NaN bounds, which Embree leaves out of the hierarchy: it is never hit and keeps its index.
+// NaN bounds, which Embree leaves out of the hierarchy: it is never hit and keeps its index. A box without extent
+// (hasExtent) gets bounds widened on every axis by a normal float's worth (relative to its coordinates, at least
+// the smallest normal float). The bounds only cull; the intersection callback tests the box as given, so nothing
+// it hits changes.
 void boxBounds(const RTCBoundsFunctionArguments* args) {
   const auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
   const float* b = info->boxes + 6 * size_t(args->primID);
+  float lower[3] = {b[0], b[1], b[2]}, upper[3] = {b[3], b[4], b[5]};
+  if (lower[0] <= upper[0] && lower[1] <= upper[1] && lower[2] <= upper[2] && !hasExtent(lower, upper)) {
+    for (int k = 0; k < 3; ++k) {
+      const float pad = std::max(std::fabs(lower[k]) * 0x1p-20f, std::numeric_limits<float>::min());
+      lower[k] = flushDenormal(lower[k]) - pad;
+      upper[k] = flushDenormal(upper[k]) + pad;
+    }
+  }
   RTCBounds* out = args->bounds_o;
-  out->lower_x = b[0];
-  out->lower_y = b[1];
-  out->lower_z = b[2];
-  out->upper_x = b[3];
-  out->upper_y = b[4];
-  out->upper_z = b[5];
+  out->lower_x = lower[0];
+  out->lower_y = lower[1];
+  out->lower_z = lower[2];
+  out->upper_x = upper[0];
+  out->upper_y = upper[1];
+  out->upper_z = upper[2];
+}
+
+// A triangle without extent (hasExtent: its vertices are one point, to Embree's arithmetic). It has no area, so no
+// ray hits it; it is left out of Embree's hierarchy (its indices in Embree's copy point past the vertices, which
+// Embree skips, so every other triangle keeps its index).
+bool pointTriangle(const TriangleGeometry& t, size_t p) {
+  const size_t vertexCount = t.vertices.size() / 3;
+  const uint32_t* i = &t.indices[3 * p];
+  if (i[0] >= vertexCount || i[1] >= vertexCount || i[2] >= vertexCount) return false;
+  float lower[3], upper[3];
+  for (int k = 0; k < 3; ++k) {
+    const float a = t.vertices[3 * size_t(i[0]) + k], b = t.vertices[3 * size_t(i[1]) + k];
+    const float c = t.vertices[3 * size_t(i[2]) + k];
+    if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c)) return false;  // Embree leaves it out itself
+    lower[k] = std::min({a, b, c});
+    upper[k] = std::max({a, b, c});
+  }
+  return !hasExtent(lower, upper);
 }
 
 bool validate(const std::vector<Geometry>& geometries, std::string* error) {
@@ -152,7 +184,11 @@ void copyTriangles(RTCGeometry geometry, const TriangleGeometry& t, bool withInd
   if (!withIndices) return;
   void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
                                           t.indices.size() / 3);
-  if (indices) std::memcpy(indices, t.indices.data(), t.indices.size() * sizeof(uint32_t));
+  if (!indices) return;
+  std::memcpy(indices, t.indices.data(), t.indices.size() * sizeof(uint32_t));
+  for (size_t p = 0; p < t.indices.size() / 3; ++p)
+    if (pointTriangle(t, p))
+      for (int k = 0; k < 3; ++k) static_cast<uint32_t*>(indices)[3 * p + k] = std::numeric_limits<uint32_t>::max();
 }
 
 RTCGeometry newGeometry(RTCDevice device, Blas::Impl& impl, size_t i, RTCBuildQuality quality) {
@@ -244,7 +280,8 @@ bool inactive(const Geometry& g, size_t primitive) {
 
 // Whether `b` may refit a scene built from `a`: same geometries, kinds, flags, counts, indices, and the same
 // primitives active (Vulkan forbids changing any of these in an update; where a caller does, vkrt builds anew
-// rather than refit a hierarchy that no longer fits).
+// rather than refit a hierarchy that no longer fits), and the same triangles collapsed to a point (those are out of
+// Embree's hierarchy, pointTriangle: a refit cannot move a triangle in or out of it).
 bool sameTopology(const std::vector<Geometry>& a, const std::vector<Geometry>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i) {
@@ -263,6 +300,9 @@ bool sameTopology(const std::vector<Geometry>& a, const std::vector<Geometry>& b
     }
     for (size_t p = 0; p < primitives; ++p)
       if (inactive(x, p) != inactive(y, p)) return false;
+    if (x.kind == Geometry::Triangles)
+      for (size_t p = 0; p < primitives; ++p)
+        if (pointTriangle(x.triangles, p) != pointTriangle(y.triangles, p)) return false;
   }
   return true;
 }

@@ -3,6 +3,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -98,7 +100,38 @@ struct TlasSummary {
   bool opaqueTriangles = false;    // opaque after the instance flags
   bool noOpaqueTriangles = false;  // not opaque after the instance flags
   bool facingCullable = false;     // an instance with triangles and without TRIANGLE_FACING_CULL_DISABLE
+  // Over the instances in the Embree scene: the most an instance's world-to-object transform can grow a ray's
+  // largest origin or direction component (its linear part's largest row sum of magnitudes), and the largest
+  // magnitude in its translation column. rayInEmbreeRange (traverse.cpp) bounds instance-space rays with them.
+  double maxInverseGain = 0;
+  double maxInverseOffset = 0;
 };
+
+// Embree's threads run with denormals flushed to zero (inputs and results), so an extent below the smallest normal
+// float is none to it. Its top-level builder (for a Tlas's instances, and to join a Blas's geometries) asserts,
+// aborting the process, when a group of the nodes it sorts has no extent at all on any axis. So vkrt gives Embree no
+// primitive (blas.cpp) and no instance (tlas.cpp) without extent.
+inline float flushDenormal(float v) { return std::fpclassify(v) == FP_SUBNORMAL ? 0.0f : v; }
+
+inline bool hasExtent(const float lower[3], const float upper[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (double(flushDenormal(upper[k])) - double(flushDenormal(lower[k])) >= std::numeric_limits<float>::min())
+      return true;
+  return false;
+}
+
+// Embree 3 traces only rays whose origin and direction components lie within +-1.844e18 (its FLT_LARGE), in world
+// space and in every instance's space; Debian's libembree3 asserts it (aborting the process). vkrt keeps every
+// component it passes within 2^60 (the margin covers Embree's float rounding of the instance transform).
+inline constexpr double kEmbreeRayLimit = 0x1p60;
+
+// Whether a ray with largest origin component `origin` and largest direction component `direction` (magnitudes)
+// stays within kEmbreeRayLimit in world space and in the space of every instance of a Tlas summarized by `s`.
+inline bool rayInEmbreeRange(const TlasSummary& s, double origin, double direction) {
+  return origin <= kEmbreeRayLimit && direction <= kEmbreeRayLimit &&
+         s.maxInverseGain * origin + s.maxInverseOffset <= kEmbreeRayLimit &&
+         s.maxInverseGain * direction <= kEmbreeRayLimit;
+}
 
 // Whether a ray with `rayFlags` through a Tlas summarized by `s` needs the triangle filter callback at all
 // (traverse.cpp). False is the fast path: Embree runs with no callback for triangles, as raw rtcIntersect1 does.

@@ -1,5 +1,7 @@
 // Top-level structures: the instances, their transforms and inverses, and an Embree scene of instance geometries.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "accel/embree_device.hpp"
 #include "accel/structures.hpp"
@@ -35,9 +37,44 @@ bool invertAffine(const float m[3][4], float out[3][4]) {
 
 namespace {
 
+// The inverse of the linear part as Embree 3 computes it for an instance (in float: adjoint over determinant), so
+// that the bound on instance-space rays holds for Embree's own world-to-object transform too; false when it is not
+// finite or the determinant is not a normal float (Embree flushes denormals to zero: its inverse would be infinite
+// and every ray through the instance NaN).
+bool embreeInverseGain(const float m[3][4], double* gain, double* offset) {
+  // Embree's columns (vx, vy, vz) are the rows' components by column.
+  const float vx[3] = {m[0][0], m[1][0], m[2][0]}, vy[3] = {m[0][1], m[1][1], m[2][1]};
+  const float vz[3] = {m[0][2], m[1][2], m[2][2]};
+  auto cross = [](const float a[3], const float b[3], float out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  float cyz[3], czx[3], cxy[3];
+  cross(vy, vz, cyz);
+  cross(vz, vx, czx);
+  cross(vx, vy, cxy);
+  const float det = vx[0] * cyz[0] + vx[1] * cyz[1] + vx[2] * cyz[2];
+  if (!std::isnormal(det)) return false;
+  // Rows of the inverse: cross(vy, vz), cross(vz, vx), cross(vx, vy), each over the determinant.
+  const float* rows[3] = {cyz, czx, cxy};
+  double g = 0, o = 0;
+  for (const float* row : rows) {
+    float inv[3] = {row[0] / det, row[1] / det, row[2] / det};
+    float t = -(inv[0] * m[0][3] + inv[1] * m[1][3] + inv[2] * m[2][3]);
+    if (!std::isfinite(inv[0]) || !std::isfinite(inv[1]) || !std::isfinite(inv[2]) || !std::isfinite(t)) return false;
+    g = std::max(g, double(std::fabs(inv[0])) + std::fabs(inv[1]) + std::fabs(inv[2]));
+    o = std::max(o, double(std::fabs(t)));
+  }
+  *gain = g;
+  *offset = o;
+  return true;
+}
+
 // Fills the per-instance records and the Tlas summary. An instance is inactive (never hit, index kept) when its
 // Blas is null (Vulkan: reference 0) or its transform has no inverse (Vulkan requires an invertible one; a
-// zero scale is sometimes used to hide an instance, and hiding it is what such an instance gets).
+// zero scale is sometimes used to hide an instance, and hiding it is what such an instance gets), in double or in
+// the float arithmetic Embree inverts it with.
 void makeRecords(Tlas::Impl& impl) {
   impl.records.resize(impl.instances.size());
   for (size_t i = 0; i < impl.instances.size(); ++i) {
@@ -48,7 +85,9 @@ void makeRecords(Tlas::Impl& impl) {
     r.customIndex = in.customIndex & 0xFFFFFF;
     r.sbtOffset = in.sbtOffset & 0xFFFFFF;
     r.flags = in.flags;
-    if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject)) {
+    double gain = 0, offset = 0;
+    if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject) ||
+        !embreeInverseGain(r.objectToWorld, &gain, &offset)) {
       for (auto& row : r.worldToObject)
         for (float& v : row) v = 0;
       continue;
@@ -57,6 +96,13 @@ void makeRecords(Tlas::Impl& impl) {
     const BlasSummary& b = r.blas->summary;
     TlasSummary& s = impl.summary;
     if ((in.mask & 0xFF) == 0) continue;  // no ray sees it
+    // Our double inverse bounds it as well (rayInEmbreeRange takes the larger).
+    for (const auto& row : r.worldToObject) {
+      gain = std::max(gain, double(std::fabs(row[0])) + std::fabs(row[1]) + std::fabs(row[2]));
+      offset = std::max(offset, double(std::fabs(row[3])));
+    }
+    s.maxInverseGain = std::max(s.maxInverseGain, gain);
+    s.maxInverseOffset = std::max(s.maxInverseOffset, offset);
     s.aabbs |= b.aabbs;
     if (!b.triangles) continue;
     s.triangles = true;
@@ -67,6 +113,28 @@ void makeRecords(Tlas::Impl& impl) {
     s.opaqueTriangles |= forcedOpaque || (!forcedNoOpaque && b.opaqueTriangles);
     s.noOpaqueTriangles |= forcedNoOpaque || (!forcedOpaque && b.noOpaqueTriangles);
   }
+}
+
+// Whether an instance's world bounds, as Embree computes them (its Blas's bounds, each corner transformed in float
+// with denormals flushed: x * vx + (y * vy + (z * vz + p))), have extent (structures.hpp, hasExtent). A Blas far
+// smaller than the float resolution at its instance's position has none: a translation absorbs it.
+bool worldBoundsHaveExtent(const RTCBounds& b, const float m[3][4]) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lower[3] = {kInf, kInf, kInf}, upper[3] = {-kInf, -kInf, -kInf};
+  for (int corner = 0; corner < 8; ++corner) {
+    const float p[3] = {flushDenormal(corner & 1 ? b.upper_x : b.lower_x),
+                        flushDenormal(corner & 2 ? b.upper_y : b.lower_y),
+                        flushDenormal(corner & 4 ? b.upper_z : b.lower_z)};
+    for (int row = 0; row < 3; ++row) {
+      auto f = [](float v) { return flushDenormal(v); };
+      const float z = f(f(p[2] * m[row][2]) + f(m[row][3]));
+      const float y = f(f(p[1] * m[row][1]) + z);
+      const float w = f(f(p[0] * m[row][0]) + y);
+      lower[row] = std::min(lower[row], w);
+      upper[row] = std::max(upper[row], w);
+    }
+  }
+  return hasExtent(lower, upper);
 }
 
 RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
@@ -91,6 +159,10 @@ RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
     const InstanceRecord& r = impl.records[i];
     const uint32_t mask = impl.instances[i].mask & 0xFF;
     if (!r.blas || !r.blas->scene || !r.blas->primitives || !mask) continue;  // never hit; the index stays
+    // An instance without extent in world space is left out too (never hit): Embree's builder would abort.
+    RTCBounds bounds;
+    rtcGetSceneBounds(r.blas->scene, &bounds);
+    if (!worldBoundsHaveExtent(bounds, r.objectToWorld)) continue;
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
     if (!geometry) {
       outOfMemory = true;

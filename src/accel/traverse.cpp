@@ -330,6 +330,17 @@ inline float nextDown(float t) {
 
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
+double maxMagnitude(const float v[3]) {
+  return std::max({double(std::fabs(v[0])), double(std::fabs(v[1])), double(std::fabs(v[2]))});
+}
+
+// A ray Embree can trace through `t` (structures.hpp, rayInEmbreeRange): one that is not misses, as a ray Vulkan
+// does not allow does. (A finite ray beyond 2^60 in world or instance space is far outside any geometry Embree
+// keeps: it drops vertices and boxes beyond 1.844e18.)
+bool inEmbreeRange(const Tlas::Impl& t, const Ray& ray) {
+  return rayInEmbreeRange(t.summary, maxMagnitude(ray.origin), maxMagnitude(ray.direction));
+}
+
 // The committed hit's built-ins.
 void report(const TraceContext& ctx, const Committed& c, HitInfo* hit) {
   HitInfo& h = *hit;
@@ -378,9 +389,10 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   using namespace detail;
   const Tlas::Impl& t = *tlas.impl;
   const uint32_t cull = ray.cullMask & 0xFF;
-  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses.
+  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses (as does a ray beyond
+  // what Embree can trace).
   if (!cull || !t.scene || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
-      !(ray.tMin <= ray.tMax))
+      !(ray.tMin <= ray.tMax) || !inEmbreeRange(t, ray))
     return false;
 
   TraceContext ctx;
@@ -538,7 +550,7 @@ void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
   const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
                      ray.tMin >= 0 && ray.tMin <= ray.tMax;
-  q.tlas = valid && tlas && tlas->impl->scene ? tlas : nullptr;
+  q.tlas = valid && tlas && tlas->impl->scene && detail::inEmbreeRange(*tlas->impl, ray) ? tlas : nullptr;
 }
 
 bool queryProceed(RayQuery& q) {

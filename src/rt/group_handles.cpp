@@ -57,7 +57,9 @@ uint32_t perturbSlot(const Digest& d, uint32_t attempt) {
   return static_cast<uint32_t>(fmix(d.lo ^ rotl(d.hi, 17) ^ (0x9e3779b97f4a7c15ull * attempt)));
 }
 
-const char* typeName(VkRayTracingShaderGroupTypeKHR t) {
+// Takes the type as a 32-bit word: capture data from the application may carry any value there, and one past
+// the enum's range (0x7fffffff) does not fit VkRayTracingShaderGroupTypeKHR.
+const char* typeName(uint32_t t) {
   switch (t) {
     case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR: return "GENERAL";
     case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR: return "TRIANGLES_HIT_GROUP";
@@ -240,8 +242,8 @@ bool GroupRegistry::checkCapture(const GroupDesc& g, const Digest& contentDigest
   if (get32(c + 28) != kHandleMagic || (get32(c + 24) >> 8) != kHandleVersion)
     return fail("corrupt capture data: the handle it carries is not a vkrt handle");
   if (get32(c + 56) != static_cast<uint32_t>(g.type)) {
-    std::snprintf(buf, sizeof(buf), "captured from a %s group, given to a %s group",
-                  typeName(VkRayTracingShaderGroupTypeKHR(get32(c + 56))), typeName(g.type));
+    std::snprintf(buf, sizeof(buf), "captured from a %s group, given to a %s group", typeName(get32(c + 56)),
+                  typeName(g.type));
     return fail(buf);
   }
   Digest captured{get64(c + 40), get64(c + 48)};

@@ -90,8 +90,12 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
 
   for (const Instruction& in : instructions) {
     auto need = [&](uint32_t n) { return in.count >= n; };
+    // SPIR-V's enumerants are below 2^31 (spirv.hpp's enums end at ...Max = 0x7fffffff, so that is also what the
+    // C++ enums can hold): a larger word where the reader keeps an enumerant is not SPIR-V.
+    auto enumerant = [&](uint32_t i) { return in.word(i) <= 0x7fffffffu; };
     switch (in.op) {
       case spv::OpCapability:
+        if (!enumerant(1)) return fail(in.offset, "OpCapability operand out of range");
         if (need(2)) capabilities.push_back(spv::Capability(in.word(1)));
         break;
       case spv::OpExtInstImport:
@@ -102,6 +106,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         break;
       case spv::OpEntryPoint: {
         if (!need(4)) return fail(in.offset, "short OpEntryPoint");
+        if (!enumerant(1)) return fail(in.offset, "OpEntryPoint execution model out of range");
         EntryPoint ep;
         ep.model = spv::ExecutionModel(in.word(1));
         ep.function = in.word(2);
@@ -186,6 +191,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         break;
       }
       case spv::OpTypePointer: {
+        if (!enumerant(2)) return fail(in.offset, "OpTypePointer storage class out of range");
         Type& t = types[in.word(1)];
         t.kind = Type::Pointer;
         t.storage = spv::StorageClass(in.word(2));

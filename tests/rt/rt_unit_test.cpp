@@ -164,6 +164,25 @@ TEST(CaptureReplay, RoundTripAndRefusals) {
   EXPECT_NE(e.reason.find("GENERAL"), std::string::npos) << e.reason;
 }
 
+// Found by fuzz/group_handles_fuzz.cpp (fuzz/corpus/group_handles/regress-capture-type-out-of-range): capture
+// data whose group type word is past VkRayTracingShaderGroupTypeKHR's range (with a valid checksum) made the
+// refusal's message convert it to the enum, undefined behaviour. It is refused naming an unknown type.
+TEST(CaptureReplay, GroupTypeOutOfRangeIsRefused) {
+  auto m = shader(kSpv_pipeline_miss_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  GroupRegistry capture;
+  auto data = capture.acquire(general(m), nullptr)->captureData();
+  const uint32_t type = 0xca20d260u, sum = 0;
+  std::memcpy(data.data() + 56, &type, 4);
+  std::memcpy(data.data() + 60, &sum, 4);
+  const uint32_t checksum = uint32_t(hash128(data.data(), 60).lo);
+  std::memcpy(data.data() + 60, &checksum, 4);
+  GroupRegistry replay;
+  ReplayError e;
+  EXPECT_EQ(replay.replay(general(m), data.data(), &e), nullptr);
+  EXPECT_NE(e.reason.find("captured from a unknown group"), std::string::npos) << e.reason;
+  EXPECT_EQ(replay.size(), 0u);
+}
+
 TEST(StackSize, SpecFormula) {
   StageStackMax m;
   m.rayGen = 100;

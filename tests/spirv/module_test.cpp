@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #include "compute_push_spec.comp.spv.h"
 #include "compute_shared.comp.spv.h"
@@ -123,6 +125,29 @@ TEST(SpirvModule, MalformedInputIsAnErrorNotACrash) {
   words[7] = 0;
   Module c;
   EXPECT_FALSE(c.parse(words.data(), words.size(), &error));
+}
+
+// Found by fuzz/spirv_module_fuzz.cpp (the inputs are fuzz/corpus/spirv/regress-enumerant-*): an operand the
+// reader keeps as a C++ enum (capability, execution model, storage class) above 0x7fffffff is not SPIR-V, and
+// storing it in the enum was undefined behaviour; it is a parse error.
+TEST(SpirvModule, EnumerantPastTheEnumsIsAnError) {
+  const size_t n = wordCount(kSpv_compute_shared_comp);
+  for (auto [op, operand, what] :
+       {std::tuple{spv::OpCapability, 1u, "OpCapability"}, std::tuple{spv::OpEntryPoint, 1u, "OpEntryPoint"},
+        std::tuple{spv::OpTypePointer, 2u, "OpTypePointer"}}) {
+    std::vector<uint32_t> words(kSpv_compute_shared_comp, kSpv_compute_shared_comp + n);
+    size_t at = 5;
+    while (at < n && spv::Op(words[at] & 0xffff) != op) at += words[at] >> 16;
+    ASSERT_LT(at, n) << what;
+    Module ok;
+    std::string error;
+    ASSERT_TRUE(ok.parse(words.data(), n, &error)) << error;
+    words[at + operand] = 0xc3000000u;
+    Module bad;
+    EXPECT_FALSE(bad.parse(words.data(), n, &error)) << what;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+    EXPECT_NE(error.find("out of range"), std::string::npos) << error;
+  }
 }
 
 TEST(SpirvModule, OpcodeNames) {
