@@ -178,7 +178,8 @@ void installHandlers() {
 // ---- the watchdog
 
 // One thread (started with the first job that has a time limit) sleeps until the earliest deadline of the jobs
-// running, and ends the jobs past theirs. Never destroyed: jobs may run during static destruction.
+// running, and ends the jobs past theirs that completed no task since it was set (else sets it anew). Never destroyed:
+// jobs may run during static destruction.
 struct Watchdog {
   std::mutex mutex;
   std::condition_variable wake;
@@ -211,7 +212,14 @@ struct Watchdog {
       for (Job* j : jobs) {
         if (j->deadlineNs_ == 0 || j->aborted()) continue;
         if (j->deadlineNs_ <= now) {
-          j->end(Abort::Timeout);
+          // A task completed since the deadline was set: the work progresses, the limit starts anew.
+          if (j->progressed.load(std::memory_order_relaxed)) {
+            j->progressed.store(false, std::memory_order_relaxed);
+            j->deadlineNs_ = now + uint64_t(j->timeoutMs_) * 1000000;
+            next = std::min(next, j->deadlineNs_);
+          } else {
+            j->end(Abort::Timeout);
+          }
         } else {
           next = std::min(next, j->deadlineNs_);
         }
@@ -292,6 +300,8 @@ bool runSupervised(Job& job, void (*task)(void*), void* arg) {
   w.target = &point;
   task(arg);
   w.target = nullptr;
+  // Progress for the watchdog; read first so that the shared line is written once per watchdog period at most.
+  if (!job.progressed.load(std::memory_order_relaxed)) job.progressed.store(true, std::memory_order_relaxed);
   return true;
 }
 

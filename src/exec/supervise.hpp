@@ -1,7 +1,7 @@
-// Supervising shader work (robustness): a watchdog that cancels a dispatch or launch running past its time
-// limit, and the recovery of faults raised by compiled shader code on vkrt's worker threads. Either ends the work
-// early; the Job then says what happened (the shader, an invocation that was still running, the faulting
-// address) and the runtime reports it and loses the device (the specification's "Lost Device").
+// Supervising shader work (robustness): a watchdog that cancels a dispatch or launch in which no workgroup or
+// tile of rays completed for its time limit, and the recovery of faults raised by compiled shader code on vkrt's worker
+// threads. Either ends the work early; the Job then says what happened (the shader, an invocation that was still
+// running, the faulting address) and the runtime reports it and loses the device (the specification's "Lost Device").
 //
 // Cancellation: compiled loops poll InvocationContext::cancel at every loop header (src/spirv/jit.cpp) and, when it
 // is set, call InvocationContext::cancelled (exec::cancelled), which jumps back to the worker's recovery point.
@@ -48,6 +48,10 @@ class Job {
 
   // The flag compiled loops poll (InvocationContext::cancel): nonzero once the job is ending.
   std::atomic<uint32_t> cancel{0};
+  // Set when a task (a workgroup, a tile of rays) completes; the watchdog clears it. The time limit is on the
+  // work's progress, not its length: a job is ended when no task completed for timeoutMs, so that a long launch
+  // that keeps finishing tiles (a CTS case of maxRayDispatchInvocationCount rays, a large render) is not lost.
+  std::atomic<bool> progressed{false};
   const char* shaderName = nullptr;  // for compute: the shader (the trace executor names each shader itself)
 
   bool aborted() const { return aborted_.load(std::memory_order_acquire); }

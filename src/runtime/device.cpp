@@ -76,8 +76,9 @@ void Device::shaderAborted(const Object* pipeline, const char* fn, const exec::A
            fn, shader, handle, a.signal == SIGBUS ? "SIGBUS" : "SIGSEGV", (unsigned long long)a.address, who);
   } else {
     report(pipeline, Severity::Error, nullptr,
-           "%s: device lost (VK_ERROR_DEVICE_LOST): %s of pipeline 0x%llx ran longer than the shader time limit of "
-           "%u ms (VKRT_SHADER_TIMEOUT_MS); %s was still running; the rest of the work was cancelled",
+           "%s: device lost (VK_ERROR_DEVICE_LOST): %s of pipeline 0x%llx made no progress (no workgroup or tile of "
+           "rays completed) for the shader time limit of %u ms (VKRT_SHADER_TIMEOUT_MS); %s was still running; the "
+           "rest of the work was cancelled",
            fn, shader, handle, shaderTimeoutMs, who);
   }
   lose();

@@ -43,6 +43,23 @@ TEST(SpirvSupervision, TheWatchdogEndsAnEndlessLoopAtItsTimeLimit) {
   EXPECT_EQ(job.abort().id[0], 1u);
 }
 
+// The limit is on progress: a job whose tasks keep completing runs past it (a long launch is not lost); one whose
+// tasks stop completing is ended a limit after the last one.
+TEST(SpirvSupervision, TheWatchdogLimitsTimeWithoutProgressNotTheJobsLength) {
+  exec::Job job(nullptr, 100);
+  auto sleep20 = [](void*) { std::this_thread::sleep_for(std::chrono::milliseconds(20)); };
+  auto t0 = std::chrono::steady_clock::now();
+  int ran = 0;
+  while (secondsSince(t0) < 0.5 && exec::runSupervised(job, sleep20, nullptr)) ++ran;
+  EXPECT_FALSE(job.aborted()) << "ended after " << ran << " tasks of 20 ms under a 100 ms limit";
+  // Now nothing completes: the job ends within about a limit.
+  auto t1 = std::chrono::steady_clock::now();
+  while (!job.aborted() && secondsSince(t1) < 20) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_TRUE(job.aborted());
+  EXPECT_LT(secondsSince(t1), 5.0);
+  EXPECT_FALSE(exec::runSupervised(job, sleep20, nullptr)) << "an ended job starts no task";
+}
+
 // The same with a barrier (fibers): the invocation is named; a job ended from another thread (as vkDestroyDevice
 // does) stops as well.
 TEST(SpirvSupervision, AnEndedJobStopsTheLoopsOfItsFibers) {
