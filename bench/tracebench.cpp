@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "gltf_util.hpp"
 #include "trace_hit.rchit.spv.h"
 #include "trace_miss.rmiss.spv.h"
 #include "trace_paths.rgen.spv.h"
@@ -46,6 +47,7 @@ struct Options {
   unsigned threads = 0;  // 0: VKRT_THREADS or every hardware thread
   std::vector<uint64_t> sizes = {10000, 1000000, 10000000};
   std::string json;
+  std::string gltf;  // --gltf file.glb: also the model's triangles (one mesh, world space)
   bool quick = false;
   uint32_t width = 1024, height = 1024;
   double minTime = 1.0;  // seconds of repetitions per figure
@@ -74,11 +76,74 @@ double emptySubmitSeconds() {
 // ---- the scene
 
 struct Terrain {
-  uint32_t rows = 0, cols = 0;
+  uint32_t rows = 0, cols = 0;  // 0 for a glTF model
   std::vector<float> vertices;  // xyz
   std::vector<uint32_t> indices;
+  float eye[3] = {-12.0f, -12.0f, 32.0f}, target[3] = {60.0f, 60.0f, 0.0f};  // the camera
+  float up[3] = {0, 0, 1};
+  std::string name;  // the glTF file, or empty for a terrain
   uint64_t triangles() const { return indices.size() / 3; }
 };
+
+// --gltf: every triangle primitive of the default scene of a glTF 2.0 file, in world space (node transforms
+// applied), as one mesh; the camera looks at the model's bounds from the front and above (glTF is y-up).
+Terrain loadModel(const std::string& path) {
+  example::gProgram = "vkrt_tracebench";
+  const tinygltf::Model model = gltf::load(path);
+  Terrain t;
+  t.name = path.substr(path.find_last_of('/') + 1);
+  const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
+  if (model.scenes.empty() || size_t(sceneIndex) >= model.scenes.size()) example::fail(path + " has no scene");
+  struct Pending {
+    int node;
+    gltf::Mat4 parent;
+    size_t depth;
+  };
+  std::vector<Pending> stack;
+  for (int n : model.scenes[size_t(sceneIndex)].nodes)
+    stack.push_back({n, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, 0});
+  while (!stack.empty()) {
+    const Pending at = stack.back();
+    stack.pop_back();
+    if (at.node < 0 || size_t(at.node) >= model.nodes.size() || at.depth >= model.nodes.size())
+      example::fail(path + ": a bad node index or a cycle");
+    const tinygltf::Node& node = model.nodes[size_t(at.node)];
+    const gltf::Mat4 world = gltf::mul(at.parent, gltf::nodeMatrix(node));
+    if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size()) {
+      for (const tinygltf::Primitive& prim : model.meshes[size_t(node.mesh)].primitives) {
+        const auto pos = prim.attributes.find("POSITION");
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES || pos == prim.attributes.end() || prim.indices < 0) continue;
+        const tinygltf::Accessor& pa = model.accessors.at(size_t(pos->second));
+        const tinygltf::Accessor& ia = model.accessors.at(size_t(prim.indices));
+        const uint32_t base = uint32_t(t.vertices.size() / 3);
+        for (size_t i = 0; i < pa.count; ++i) {
+          double p[3];
+          for (int c = 0; c < 3; ++c) p[c] = gltf::readComponent(model, pa, i, c);
+          for (int r = 0; r < 3; ++r)
+            t.vertices.push_back(float(world[r] * p[0] + world[4 + r] * p[1] + world[8 + r] * p[2] + world[12 + r]));
+        }
+        for (size_t i = 0; i + 2 < ia.count; i += 3)
+          for (size_t k = 0; k < 3; ++k) t.indices.push_back(base + gltf::readIndex(model, ia, i + k));
+      }
+    }
+    for (int c : node.children) stack.push_back({c, world, at.depth + 1});
+  }
+  if (t.indices.empty()) example::fail(path + " has no indexed triangle meshes in its default scene");
+  float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+  for (size_t i = 0; i < t.vertices.size(); ++i) {
+    lo[i % 3] = std::min(lo[i % 3], t.vertices[i]);
+    hi[i % 3] = std::max(hi[i % 3], t.vertices[i]);
+  }
+  const float radius = 0.5f * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const float dir[3] = {0.45f, 0.35f, 0.82f};  // from the model's centre towards the eye, about unit length
+  for (int c = 0; c < 3; ++c) {
+    t.target[c] = 0.5f * (lo[c] + hi[c]);
+    t.eye[c] = t.target[c] + dir[c] * 2.2f * radius;
+    t.up[c] = c == 1 ? 1.0f : 0.0f;
+  }
+  return t;
+}
 
 // Exactly `triangles` (even) triangles over [0, 100]^2: rows x cols quads with rows the largest divisor of the
 // quad count not above its square root.
@@ -119,15 +184,16 @@ struct Camera {
   uint32_t bounces;
 };
 
-Camera makeCamera(uint32_t width, uint32_t height, uint32_t bounces) {
-  const float eye[3] = {-12.0f, -12.0f, 32.0f}, target[3] = {60.0f, 60.0f, 0.0f};
+Camera makeCamera(const Terrain& t, uint32_t width, uint32_t height, uint32_t bounces) {
+  const float *eye = t.eye, *target = t.target, *up = t.up;
   float f[3], r[3], u[3];
   for (int i = 0; i < 3; ++i) f[i] = target[i] - eye[i];
   const float fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
   for (float& c : f) c /= fl;
-  r[0] = f[1], r[1] = -f[0], r[2] = 0;  // forward x (0, 0, 1)
-  const float rl = std::sqrt(r[0] * r[0] + r[1] * r[1]);
-  r[0] /= rl, r[1] /= rl;
+  // right = forward x up
+  r[0] = f[1] * up[2] - f[2] * up[1], r[1] = f[2] * up[0] - f[0] * up[2], r[2] = f[0] * up[1] - f[1] * up[0];
+  const float rl = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  r[0] /= rl, r[1] /= rl, r[2] /= rl;
   u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
   const float halfH = std::tan(0.5f * 50.0f * 3.14159265f / 180.0f), halfW = halfH * float(width) / float(height);
   Camera c{};
@@ -539,6 +605,7 @@ struct TraceFigures {
 };
 
 struct SizeFigures {
+  std::string name;  // the glTF file (--gltf), or empty for a terrain
   uint64_t triangles = 0;
   uint32_t rows = 0, cols = 0;
   double blasVkrt = 0, blasEmbree = 0, blasEmbreeWithSetup = 0;  // Mtriangles/s
@@ -586,10 +653,11 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
   return f;
 }
 
-SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
+SizeFigures runScene(const Options& o, RTCDevice device, const Terrain& t) {
   SizeFigures f;
-  std::fprintf(stderr, "scene: %llu triangles\n", (unsigned long long)triangles);
-  const Terrain t = makeTerrain(triangles);
+  std::fprintf(stderr, "scene: %s%llu triangles\n", t.name.empty() ? "" : (t.name + ", ").c_str(),
+               (unsigned long long)t.triangles());
+  f.name = t.name;
   f.triangles = t.triangles();
   f.rows = t.rows;
   f.cols = t.cols;
@@ -676,9 +744,9 @@ SizeFigures runSize(const Options& o, RTCDevice device, uint64_t triangles) {
   TracePipeline tp;
   tp.bind(tlas, vertices, indices, results);
   std::fprintf(stderr, "  primary rays\n");
-  f.primary = traceFigures(o, tp, results, embree->scene, t, makeCamera(o.width, o.height, 0));
+  f.primary = traceFigures(o, tp, results, embree->scene, t, makeCamera(t, o.width, o.height, 0));
   std::fprintf(stderr, "  paths\n");
-  f.paths = traceFigures(o, tp, results, embree->scene, t, makeCamera(o.width, o.height, o.bounces));
+  f.paths = traceFigures(o, tp, results, embree->scene, t, makeCamera(t, o.width, o.height, o.bounces));
   return f;
 }
 
@@ -710,6 +778,9 @@ std::string utcNow() {
   return buf;
 }
 
+// A row's scene: the terrain's triangle count, or the model's (with a *, named under the table).
+std::string label(const SizeFigures& f) { return std::to_string(f.triangles) + (f.name.empty() ? "" : "*"); }
+
 void printTable(const Options& o, const std::vector<SizeFigures>& all, double submit) {
   std::printf(
       "\nvkrt_tracebench: %u threads, %ux%u pixels, %u bounces, best of runs (real time); an empty vkrt "
@@ -723,10 +794,9 @@ void printTable(const Options& o, const std::vector<SizeFigures>& all, double su
     for (int k = 0; k < 2; ++k) {
       const TraceFigures& t = *figs[k];
       const double pixels = double(o.width) * o.height;
-      std::printf("%-10llu %-8s %8.2f %8.2f %8.2f %8.2f %6.2f %6.2f %4.2f/%4.2f %7.2f%%\n",
-                  (unsigned long long)f.triangles, names[k], t.vkrt, t.embree1, t.embree8, t.embree16,
-                  t.vkrt / t.embree1, t.vkrt / t.bestPacket(), double(t.rays.vkrtRays) / pixels,
-                  double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
+      std::printf("%-10s %-8s %8.2f %8.2f %8.2f %8.2f %6.2f %6.2f %4.2f/%4.2f %7.2f%%\n", label(f).c_str(), names[k],
+                  t.vkrt, t.embree1, t.embree8, t.embree16, t.vkrt / t.embree1, t.vkrt / t.bestPacket(),
+                  double(t.rays.vkrtRays) / pixels, double(t.rays.embreeRays) / pixels, 100.0 * t.rays.pixelsAgreeing);
     }
   }
   std::printf(
@@ -736,10 +806,11 @@ void printTable(const Options& o, const std::vector<SizeFigures>& all, double su
   std::printf("%-10s %10s %10s %7s %10s %10s %10s %7s\n", "triangles", "BLAS vkrt", "Embree", "ratio", "instances",
               "TLAS vkrt", "Embree", "ratio");
   for (const SizeFigures& f : all)
-    std::printf("%-10llu %10.2f %10.2f %7.2f %10u %10.2f %10.2f %7.2f\n", (unsigned long long)f.triangles, f.blasVkrt,
-                f.blasEmbree, f.blasVkrt / f.blasEmbree, f.tlasInstances, f.tlasVkrt, f.tlasEmbree,
-                f.tlasVkrt / f.tlasEmbree);
+    std::printf("%-10s %10.2f %10.2f %7.2f %10u %10.2f %10.2f %7.2f\n", label(f).c_str(), f.blasVkrt, f.blasEmbree,
+                f.blasVkrt / f.blasEmbree, f.tlasInstances, f.tlasVkrt, f.tlasEmbree, f.tlasVkrt / f.tlasEmbree);
   std::printf("(BLAS Mtriangles/s, TLAS Minstances/s; Embree: rtcCommitScene alone)\n");
+  for (const SizeFigures& f : all)
+    if (!f.name.empty()) std::printf("*: %s (glTF, all its triangles as one mesh)\n", f.name.c_str());
 }
 
 // A JSON number, or null where it is not finite (a ratio with a side that did not run).
@@ -785,7 +856,8 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
                workerThreads(), o.width, o.height, o.bounces, o.minTime, submit * 1e6);
   for (size_t i = 0; i < all.size(); ++i) {
     const SizeFigures& f = all[i];
-    std::fprintf(j, "    {\"triangles\": %llu, \"grid\": [%u, %u],\n", (unsigned long long)f.triangles, f.cols, f.rows);
+    std::fprintf(j, "    {\"scene\": \"%s\", \"triangles\": %llu, \"grid\": [%u, %u],\n",
+                 f.name.empty() ? "terrain" : f.name.c_str(), (unsigned long long)f.triangles, f.cols, f.rows);
     std::fprintf(j,
                  "      \"blas\": {\"vkrt_mtris_per_s\": %s, \"embree_commit_mtris_per_s\": %s, "
                  "\"embree_with_setup_mtris_per_s\": %s, \"ratio\": %s},\n",
@@ -806,10 +878,10 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
 }
 
 [[noreturn]] void usage() {
-  std::fprintf(
-      stderr,
-      "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
-      "[--min-time S] [--vkrt-only]\n  sizes: even triangle counts (1e6 style allowed); image sides multiples of 8\n");
+  std::fprintf(stderr,
+               "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
+               "[--min-time S] [--vkrt-only] [--gltf model.glb]\n  sizes: even triangle counts (1e6 style allowed); "
+               "image sides multiples of 8\n");
   std::exit(2);
 }
 
@@ -840,6 +912,8 @@ Options parse(int argc, char** argv) {
       }
     } else if (a == "--json") {
       o.json = value();
+    } else if (a == "--gltf") {
+      o.gltf = value();
     } else if (a == "--vkrt-only") {
       o.vkrtOnly = true;
     } else if (a == "--quick") {
@@ -883,7 +957,8 @@ int main(int argc, char** argv) {
   RTCDevice device = rtcNewDevice(config.c_str());
   const double submit = emptySubmitSeconds();
   std::vector<SizeFigures> all;
-  for (uint64_t n : o.sizes) all.push_back(runSize(o, device, n));
+  for (uint64_t n : o.sizes) all.push_back(runScene(o, device, makeTerrain(n)));
+  if (!o.gltf.empty()) all.push_back(runScene(o, device, loadModel(o.gltf)));
   printTable(o, all, submit);
   if (!o.json.empty()) writeJson(o, all, submit);
   rtcReleaseDevice(device);

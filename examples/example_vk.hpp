@@ -12,17 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "example_fail.hpp"
 #include "runtime/vk_compat.h"  // tokens newer than Debian 12's Vulkan headers (VK_EXT_pipeline_library_group_handles)
 
 namespace example {
-
-// The program's name, for messages (main sets it).
-inline const char* gProgram = "example";
-
-[[noreturn]] inline void fail(const std::string& what) {
-  std::fprintf(stderr, "%s: %s\n", gProgram, what.c_str());
-  std::exit(1);
-}
 
 #define CHECK(call)                                                                                          \
   do {                                                                                                       \
