@@ -47,10 +47,14 @@ Context::Context() {
   vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, nullptr);
   std::vector<VkExtensionProperties> props2(available);
   vkEnumerateDeviceExtensionProperties(physical, nullptr, &available, props2.data());
+  // Acceleration structures, then ray queries and ray tracing pipelines each where the driver has them (NVIDIA's
+  // driver on the device machine has pipelines but no ray queries: the trace benchmark runs there too).
   std::vector<const char*> extensions = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
-                                         VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME};
-  rayQuery = hasAll(props2, extensions);
-  rayTracingPipeline = rayQuery && hasAll(props2, {VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME});
+                                         VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME};
+  const bool accelerationStructures = hasAll(props2, extensions);
+  rayQuery = accelerationStructures && hasAll(props2, {VK_KHR_RAY_QUERY_EXTENSION_NAME});
+  rayTracingPipeline = accelerationStructures && hasAll(props2, {VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME});
+  if (rayQuery) extensions.push_back(VK_KHR_RAY_QUERY_EXTENSION_NAME);
   if (rayTracingPipeline) extensions.push_back(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13.maintenance4 = VK_TRUE;
@@ -61,21 +65,24 @@ Context::Context() {
                                           rayTracingPipeline ? &rtf : nullptr};
   rqf.rayQuery = VK_TRUE;
   VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rqf};
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, rayQuery ? static_cast<void*>(&rqf)
+                                                                             : rayTracingPipeline
+                                                                                 ? static_cast<void*>(&rtf)
+                                                                                 : nullptr};
   asf.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &asf};
   f12.bufferDeviceAddress = VK_TRUE;
-  if (rayQuery) f13.pNext = &f12;
+  if (accelerationStructures) f13.pNext = &f12;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f13};
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
-  if (rayQuery) {
+  if (accelerationStructures) {
     dci.enabledExtensionCount = uint32_t(extensions.size());
     dci.ppEnabledExtensionNames = extensions.data();
   }
   CHECK(vkCreateDevice(physical, &dci, nullptr, &device));
   vkGetDeviceQueue(device, 0, 0, &queue);
-  if (rayQuery) {
+  if (accelerationStructures) {
     load(createAs, "vkCreateAccelerationStructureKHR");
     load(destroyAs, "vkDestroyAccelerationStructureKHR");
     load(buildSizes, "vkGetAccelerationStructureBuildSizesKHR");
