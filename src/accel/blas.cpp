@@ -174,21 +174,31 @@ bool hasNoDuplicateAnyHit(const Blas::Impl& impl) {
 
 // Embree copies: its own vertex and index buffers (rtcSetNewGeometryBuffer pads the vertex buffer so that every
 // vertex can be read with one 16-byte load, as Embree's kernels do), so that the Blas's copies stay exactly
-// what the caller gave.
+// what the caller gave. Large copies and the scan for triangles collapsed to a point run in chunks on Embree's
+// build threads: one after the other they cost as much as Embree's whole build of 10^7 triangles on 16 threads
+// (the copies also take the first touch of Embree's fresh pages, which the kernel zeroes).
 void copyTriangles(RTCGeometry geometry, const TriangleGeometry& t, bool withIndices) {
+  constexpr size_t kChunk = size_t(1) << 15, kSerialBelow = size_t(1) << 16;  // vertices or triangles
   const size_t vertexCount = t.vertices.size() / 3;
-  void* vertices = withIndices ? rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), vertexCount)
-                               : rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
-  if (vertices) std::memcpy(vertices, t.vertices.data(), vertexCount * 3 * sizeof(float));
+  auto* vertices =
+      static_cast<float*>(withIndices ? rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                3 * sizeof(float), vertexCount)
+                                      : rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_VERTEX, 0));
+  if (vertices)
+    parallelChunks(vertexCount, kChunk, kSerialBelow, [&](size_t begin, size_t end) {
+      std::memcpy(vertices + 3 * begin, t.vertices.data() + 3 * begin, (end - begin) * 3 * sizeof(float));
+    });
   if (!withIndices) return;
-  void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
-                                          t.indices.size() / 3);
+  const size_t triangleCount = t.indices.size() / 3;
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(uint32_t), triangleCount));
   if (!indices) return;
-  std::memcpy(indices, t.indices.data(), t.indices.size() * sizeof(uint32_t));
-  for (size_t p = 0; p < t.indices.size() / 3; ++p)
-    if (pointTriangle(t, p))
-      for (int k = 0; k < 3; ++k) static_cast<uint32_t*>(indices)[3 * p + k] = std::numeric_limits<uint32_t>::max();
+  parallelChunks(triangleCount, kChunk, kSerialBelow, [&](size_t begin, size_t end) {
+    std::memcpy(indices + 3 * begin, t.indices.data() + 3 * begin, (end - begin) * 3 * sizeof(uint32_t));
+    for (size_t p = begin; p < end; ++p)
+      if (pointTriangle(t, p))
+        for (int k = 0; k < 3; ++k) indices[3 * p + k] = std::numeric_limits<uint32_t>::max();
+  });
 }
 
 RTCGeometry newGeometry(RTCDevice device, Blas::Impl& impl, size_t i, RTCBuildQuality quality) {

@@ -1,5 +1,9 @@
 #include "accel/embree_device.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <atomic>
 
 #include "accel/accel.hpp"
@@ -14,6 +18,21 @@ std::atomic<unsigned> gBuildThreads{0};  // 0: Embree's default
 void setBuildThreads(unsigned threads) { gBuildThreads.store(threads); }
 
 namespace detail {
+
+void parallelChunks(size_t n, size_t grain, size_t serialBelow, const std::function<void(size_t, size_t)>& body) {
+  if (n == 0) return;
+  const unsigned threads = gBuildThreads.load();
+  if (n < serialBelow || threads == 1) {
+    body(0, n);
+    return;
+  }
+  tbb::task_arena arena(threads ? int(threads) : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<size_t>& range) { body(range.begin(), range.end()); });
+  });
+}
+
 namespace {
 
 // The innermost EmbreeErrors scope of this thread: where the error callback appends.

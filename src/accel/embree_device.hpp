@@ -4,6 +4,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 namespace vkrt::accel::detail {
@@ -11,6 +13,12 @@ namespace vkrt::accel::detail {
 // The process's Embree device, created on first use (thread-safe). Null, with `error` set, when Embree cannot
 // create it or lacks a feature traversal relies on (ray masks, filter functions, user geometry, instancing).
 RTCDevice device(std::string* error);
+
+// Runs body(begin, end) over [0, n) in chunks of `grain` on Embree's build threads (a TBB arena of the thread
+// count setBuildThreads() asked for), or on the calling thread alone when n is under `serialBelow`. For the
+// serial parts of a build (copies and scans of the inputs, making instance geometries), so that they scale with
+// Embree's own build.
+void parallelChunks(size_t n, size_t grain, size_t serialBelow, const std::function<void(size_t, size_t)>& body);
 
 // Collects the messages Embree reports on this thread while it lives. Embree calls its error callback on the
 // thread whose API call failed (build work on TBB's threads is rethrown to the committing thread), and keeps
