@@ -157,9 +157,9 @@ RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
   // The geometries are made and committed on Embree's build threads, then attached one after the other in index
   // order (attached in parallel too, 10^5 instances took 2.5x longer on the 16-core machine: the attachments
   // contend for the scene's lock). Made in parallel, a build of 10^5 instances went from 1.35-1.50 to 1.78-2.16
-  // Minstances/s there; Embree's making of instance objects scales poorly (about 220 ns an instance on one thread,
-  // 140-170 ns on 8-16), so these per-instance objects, not Embree's build, remain most of a large top level's
-  // build time.
+  // Minstances/s there; Embree's making of instance objects scales poorly (bench/embree_instances.cpp: about 180 ns
+  // an instance on one thread, 120-150 ns on 4-16), so these per-instance objects, not Embree's build, remain most
+  // of a large top level's build time.
   const size_t n = impl.instances.size();
   std::vector<RTCGeometry> geometries(n, nullptr);
   std::atomic<bool> outOfMemory{false};
