@@ -336,6 +336,195 @@ bool checkSupport(const Module& m, std::string* error) {
   return true;
 }
 
+// OpSpecConstantOp, checked against the rules of the instruction it names before SPIRV-Tools folds it. Debian's
+// SPIRV-Tools validator checks none of its operands, and its folding dereferences whatever it is given: an
+// OpSpecConstantOp CompositeExtract of a scalar (found by vkrt_fuzz_spirv_pipeline), an index past a composite, a
+// VectorShuffle component past both vectors or an OpQuantizeToF16 of an integer crashed the optimizer. The rules
+// are the SPIR-V specification's for each opcode that Shader modules may name.
+constexpr uint32_t kUndefinedComponent = 0xFFFFFFFF;  // OpVectorShuffle: the component is undefined
+
+class SpecConstantOpCheck {
+ public:
+  explicit SpecConstantOpCheck(const Module& m) : m_(m) {}
+
+  // Empty when `in` (an OpSpecConstantOp) keeps its opcode's rules, else the rule it breaks.
+  std::string broken(const Instruction& in) const {
+    const uint32_t result = in.word(1);
+    const auto op = spv::Op(in.word(3));
+    auto operand = [&](uint32_t k) { return m_.typeOf(in.word(4 + k)); };
+    const uint32_t operands = in.count > 4 ? in.count - 4 : 0;
+    switch (op) {
+      case spv::OpCompositeExtract: {
+        if (operands < 2) return "needs a composite and at least one index";
+        uint32_t t = operand(0);
+        for (uint32_t k = 1; k < operands; ++k)
+          if (!(t = member(t, in.word(4 + k)))) return "an index is outside the composite's type";
+        return t == result ? "" : "the result type is not the type of the selected part";
+      }
+      case spv::OpCompositeInsert: {
+        if (operands < 3) return "needs an object, a composite and at least one index";
+        if (operand(1) != result) return "the composite's type is not the result type";
+        uint32_t t = result;
+        for (uint32_t k = 2; k < operands; ++k)
+          if (!(t = member(t, in.word(4 + k)))) return "an index is outside the composite's type";
+        return t == operand(0) ? "" : "the object's type is not the type of the selected part";
+      }
+      case spv::OpVectorShuffle: {
+        const Type* r = m_.type(result);
+        const Type* a = m_.type(operand(0));
+        const Type* b = m_.type(operand(1));
+        if (!r || !a || !b || r->kind != Type::Vector || a->kind != Type::Vector || b->kind != Type::Vector)
+          return "the result and both vectors must be vectors";
+        if (a->element != r->element || b->element != r->element)
+          return "the vectors' component type is not the result's";
+        if (operands < 2 || operands - 2 != r->count) return "the component count is not the result's";
+        for (uint32_t k = 2; k < operands; ++k)
+          if (in.word(4 + k) >= a->count + b->count && in.word(4 + k) != kUndefinedComponent)
+            return "a component selects past both vectors";
+        return "";
+      }
+      case spv::OpSConvert:
+      case spv::OpUConvert:
+        return operands == 1 && is(result, Type::Int) && is(operand(0), Type::Int) && sameCount(result, operand(0))
+                   ? ""
+                   : "needs an integer operand and result with the same component count";
+      case spv::OpFConvert:
+        return operands == 1 && is(result, Type::Float) && is(operand(0), Type::Float) && sameCount(result, operand(0))
+                   ? ""
+                   : "needs a float operand and result with the same component count";
+      case spv::OpQuantizeToF16:
+        return operands == 1 && is(result, Type::Float) && width(result) == 32 && operand(0) == result
+                   ? ""
+                   : "needs a 32-bit float operand of the result type";
+      case spv::OpSNegate:
+      case spv::OpNot:
+        return operands == 1 && is(result, Type::Int) && intLike(operand(0), result)
+                   ? ""
+                   : "needs an integer operand with the result's component count and width";
+      case spv::OpIAdd:
+      case spv::OpISub:
+      case spv::OpIMul:
+      case spv::OpUDiv:
+      case spv::OpSDiv:
+      case spv::OpUMod:
+      case spv::OpSRem:
+      case spv::OpSMod:
+      case spv::OpBitwiseOr:
+      case spv::OpBitwiseXor:
+      case spv::OpBitwiseAnd:
+        return operands == 2 && is(result, Type::Int) && intLike(operand(0), result) && intLike(operand(1), result)
+                   ? ""
+                   : "needs integer operands with the result's component count and width";
+      case spv::OpShiftRightLogical:
+      case spv::OpShiftRightArithmetic:
+      case spv::OpShiftLeftLogical:
+        return operands == 2 && is(result, Type::Int) && intLike(operand(0), result) && is(operand(1), Type::Int) &&
+                       sameCount(operand(1), result)
+                   ? ""
+                   : "needs integer operands with the result's component count (the base also its width)";
+      case spv::OpLogicalOr:
+      case spv::OpLogicalAnd:
+      case spv::OpLogicalEqual:
+      case spv::OpLogicalNotEqual:
+        return operands == 2 && is(result, Type::Bool) && operand(0) == result && operand(1) == result
+                   ? ""
+                   : "needs boolean operands of the result type";
+      case spv::OpLogicalNot:
+        return operands == 1 && is(result, Type::Bool) && operand(0) == result
+                   ? ""
+                   : "needs a boolean operand of the result type";
+      case spv::OpSelect:
+        return operands == 3 && is(operand(0), Type::Bool) &&
+                       (sameCount(operand(0), result) || count(operand(0)) == 1) && operand(1) == result &&
+                       operand(2) == result
+                   ? ""
+                   : "needs a boolean condition (one, or one per component) and objects of the result type";
+      case spv::OpIEqual:
+      case spv::OpINotEqual:
+      case spv::OpULessThan:
+      case spv::OpSLessThan:
+      case spv::OpUGreaterThan:
+      case spv::OpSGreaterThan:
+      case spv::OpULessThanEqual:
+      case spv::OpSLessThanEqual:
+      case spv::OpUGreaterThanEqual:
+      case spv::OpSGreaterThanEqual:
+        return operands == 2 && is(result, Type::Bool) && is(operand(0), Type::Int) && is(operand(1), Type::Int) &&
+                       sameCount(operand(0), result) && sameCount(operand(1), result) &&
+                       width(operand(0)) == width(operand(1))
+                   ? ""
+                   : "needs integer operands of one width with the result's component count";
+      default: return "";  // not an opcode a Shader module may name here: the validator refuses it
+    }
+  }
+
+ private:
+  // The scalar type of a scalar or vector type (0 for others).
+  const Type* scalar(uint32_t typeId) const {
+    const Type* t = m_.type(typeId);
+    if (t && t->kind == Type::Vector) t = m_.type(t->element);
+    return t && (t->kind == Type::Int || t->kind == Type::Float || t->kind == Type::Bool) ? t : nullptr;
+  }
+  bool is(uint32_t typeId, Type::Kind kind) const {
+    const Type* t = scalar(typeId);
+    return t && t->kind == kind;
+  }
+  uint32_t width(uint32_t typeId) const {
+    const Type* t = scalar(typeId);
+    return t ? t->width : 0;
+  }
+  uint32_t count(uint32_t typeId) const {
+    const Type* t = m_.type(typeId);
+    return t && t->kind == Type::Vector ? t->count : 1;
+  }
+  bool sameCount(uint32_t a, uint32_t b) const { return count(a) == count(b); }
+  bool intLike(uint32_t operand, uint32_t result) const {
+    return is(operand, Type::Int) && sameCount(operand, result) && width(operand) == width(result);
+  }
+  // The type of part `index` of a composite type, or 0 when there is none.
+  uint32_t member(uint32_t typeId, uint32_t index) const {
+    const Type* t = m_.type(typeId);
+    if (!t) return 0;
+    switch (t->kind) {
+      case Type::Vector:
+      case Type::Matrix:
+      case Type::Array: return index < t->count ? t->element : 0;  // an array of unknown length: refused
+      case Type::Struct: return index < t->members.size() ? t->members[index] : 0;
+      default: return 0;
+    }
+  }
+
+  const Module& m_;
+};
+
+// An OpSpecConstantOp VectorShuffle component 0xFFFFFFFF (undefined: the CTS's opspecconstantop.vector_related
+// uses it) becomes 0, one of the values it may take: SPIRV-Tools' folding indexed the vectors with it.
+void defineUndefinedShuffleComponents(std::vector<uint32_t>& words) {
+  for (size_t at = 5; at < words.size();) {
+    const uint32_t count = words[at] >> 16;
+    if (count == 0 || at + count > words.size()) return;  // the parse before refuses such a module
+    if ((words[at] & 0xFFFF) == spv::OpSpecConstantOp && count > 6 && words[at + 3] == spv::OpVectorShuffle)
+      for (uint32_t k = 6; k < count; ++k)
+        if (words[at + k] == kUndefinedComponent) words[at + k] = 0;
+    at += count;
+  }
+}
+
+bool checkSpecConstantOps(const Module& m, std::string* error) {
+  const SpecConstantOpCheck check(m);
+  for (const Instruction& in : m.instructions) {
+    if (in.op != spv::OpSpecConstantOp) continue;
+    const std::string rule = check.broken(in);
+    if (rule.empty()) continue;
+    char buf[320];
+    std::snprintf(buf, sizeof buf, "invalid SPIR-V: OpSpecConstantOp %s (result %%%u, at word %u): %s",
+                  opName(spv::Op(in.word(3))).c_str(), in.word(2), in.offset, rule.c_str());
+    *error = buf;
+    return false;
+  }
+  return true;
+}
+
 // The C library functions generated code may call, resolved to vkrt's own imports (the application's
 // global symbol scope need not contain libm).
 void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymbols) {
@@ -778,9 +967,10 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
       *error = "the module has no entry point \"" + req.entryName + "\" for this stage";
       return nullptr;
     }
-    if (!checkSupport(original, error)) return nullptr;
+    if (!checkSupport(original, error) || !checkSpecConstantOps(original, error)) return nullptr;
   }
 
+  defineUndefinedShuffleComponents(words);
   keepOnlyEntryPoint(words, req.model, req.entryName);
   // Freeze specialization constants, fold what depends on them, inline every call into the entry point, drop
   // what it does not use.

@@ -131,6 +131,73 @@ TEST(SpirvConformance, SpecConstantOpDivisionSizesAnArray) {
   }
 }
 
+// OpSpecConstantOp's composite operations: a valid extract, insert and shuffle of a composite that depends on a
+// specialization constant compute their values; broken ones, which Debian's SPIRV-Tools validator lets through and
+// its folding crashed on (the first found by vkrt_fuzz_spirv_pipeline: fuzz/corpus/spirv/regress-*), are refused
+// at compilation with the rule they break.
+TEST(SpirvConformance, SpecConstantOpCompositesFoldAndBrokenOnesAreRefused) {
+  const std::string types = "%v2uint = OpTypeVector %uint 2";
+  const std::string globals =
+      "%s = OpSpecConstant %uint 3\n"
+      "%uint_7 = OpConstant %uint 7\n"
+      "%uint_10 = OpConstant %uint 10\n"
+      "%uint_100 = OpConstant %uint 100\n"
+      "%uint_1000 = OpConstant %uint 1000\n"
+      "%v3c = OpSpecConstantComposite %v3uint %uint_7 %s %uint_1\n"
+      "%e = OpSpecConstantOp %uint CompositeExtract %v3c 1\n"
+      "%ins = OpSpecConstantOp %v3uint CompositeInsert %uint_7 %v3c 1\n"
+      "%e2 = OpSpecConstantOp %uint CompositeExtract %ins 1\n"
+      "%sh = OpSpecConstantOp %v2uint VectorShuffle %v3c %ins 1 4\n"
+      "%sh1 = OpSpecConstantOp %uint CompositeExtract %sh 0\n"
+      "%sh2 = OpSpecConstantOp %uint CompositeExtract %sh 1\n"
+      "%shu = OpSpecConstantOp %v2uint VectorShuffle %v3c %v3c 4294967295 2\n"
+      "%shu1 = OpSpecConstantOp %uint CompositeExtract %shu 1\n";
+  const std::string body =
+      "%a1 = OpIMul %uint %e %uint_1000\n"
+      "%a2 = OpIMul %uint %e2 %uint_100\n"
+      "%a3 = OpIMul %uint %sh1 %uint_10\n"
+      "%t1 = OpIAdd %uint %a1 %a2\n"
+      "%t2 = OpIAdd %uint %t1 %a3\n"
+      "%t3 = OpIAdd %uint %t2 %sh2\n"
+      "%t4 = OpIAdd %uint %t3 %shu1\n"
+      "OpStore %slot %t4";
+  const std::string decorations = "OpDecorate %s SpecId 4";
+  for (uint32_t s : {3u, 5u}) {
+    ComputeHarness h;
+    ASSERT_TRUE(compileText(h, module("", decorations, "%uint", "4", globals, body, types),
+                            s == 3 ? std::vector<spirv::SpecValue>{} : std::vector{specU32(4, s)}))
+        << h.error;
+    h.zeroBuffer<uint32_t>(0, 2);
+    ASSERT_TRUE(h.run(2));
+    // extract(v3c, 1) = s; insert(7, v3c, 1) = (7, 7, 1), its part 1 = 7; shuffle(v3c, ins; 1, 4) = (s, 7);
+    // shuffle(v3c, v3c; undefined, 2) = (?, 1) (an undefined component is allowed, as the CTS's vector_related has).
+    const uint32_t expected = s * 1000 + 7 * 100 + s * 10 + 7 + 1;
+    auto r = h.get<uint32_t>(0);
+    for (uint32_t g = 0; g < 2; ++g) EXPECT_EQ(r[g], expected) << "s " << s << ", invocation " << g;
+  }
+  const struct {
+    const char* line;
+    const char* rule;
+  } broken[] = {
+      {"%bad = OpSpecConstantOp %v3uint CompositeExtract %uint_1 8", "an index is outside the composite's type"},
+      {"%bad = OpSpecConstantOp %uint CompositeExtract %v3c 5", "an index is outside the composite's type"},
+      {"%bad = OpSpecConstantOp %uint CompositeExtract %v3c 0 0", "an index is outside the composite's type"},
+      {"%bad = OpSpecConstantOp %float CompositeExtract %v3c 1",
+       "the result type is not the type of the selected part"},
+      {"%bad = OpSpecConstantOp %v3uint CompositeInsert %uint_1 %v3c 7", "an index is outside the composite's type"},
+      {"%bad = OpSpecConstantOp %v2uint VectorShuffle %v3c %v3c 0 9", "a component selects past both vectors"},
+      {"%bad = OpSpecConstantOp %float QuantizeToF16 %s", "needs a 32-bit float operand of the result type"},
+      {"%bad = OpSpecConstantOp %uint IAdd %v3c %uint_1",
+       "needs integer operands with the result's component count and width"},
+  };
+  for (const auto& b : broken) {
+    ComputeHarness h;
+    EXPECT_FALSE(compileText(h, module("", decorations, "%uint", "4", globals + b.line, body, types))) << b.line;
+    EXPECT_NE(h.error.find("invalid SPIR-V: OpSpecConstantOp"), std::string::npos) << b.line << ": " << h.error;
+    EXPECT_NE(h.error.find(b.rule), std::string::npos) << b.line << ": " << h.error;
+  }
+}
+
 // Shifts whose amount has another signedness or width than the shifted value: SPIRV-Tools' folding leaves them,
 // and vkrt evaluates what is left.
 TEST(SpirvConformance, SpecConstantOpShiftsAreEvaluated) {
