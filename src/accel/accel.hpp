@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace vkrt::accel {
@@ -202,6 +203,16 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 // call after that changes nothing). 0, the default: every hardware thread. The runtime passes its worker pool's
 // count, so that VKRT_THREADS sizes builds as it sizes launches and dispatches.
 void setBuildThreads(unsigned threads);
+
+// The Embree kernels (instruction set) of the process's Embree device: "sse2", "sse4.2", "avx", "avx2" or
+// "avx512" (Embree's `isa=` option), or empty for the CPU's best. Like setBuildThreads, it applies to the device
+// created at the first build; false (with `error` set) for a name Embree does not know, or once the device exists
+// with another choice. Embree falls back to the best set the CPU runs when the one named is beyond it; isaInUse()
+// says which set that is.
+bool setIsa(std::string_view isa, std::string* error);
+// The instruction set Embree's kernels use (or will use, before the first build): the one setIsa() chose, capped
+// by what the CPU runs and what Debian's Embree was compiled for (SSE2, SSE4.2, AVX, AVX2, AVX-512).
+const char* isaInUse();
 
 // ------------------------------------------------------------------------------------------ serialization
 //

@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <mutex>
 
 #include "accel/accel.hpp"
 
@@ -13,9 +14,72 @@ namespace {
 
 std::atomic<unsigned> gBuildThreads{0};  // 0: Embree's default
 
+// The instruction sets Debian's Embree 3 is compiled for, worst to best, with the CPU features each of Embree's
+// kernels needs (Embree's own ISA definitions: AVX2 brings FMA3, BMI1/2 and LZCNT; its AVX-512 is Skylake's).
+struct Isa {
+  const char* name;  // Embree's `isa=` name
+  bool (*runs)();    // whether this CPU runs it
+};
+const Isa kIsas[] = {
+    {"sse2", [] { return bool(__builtin_cpu_supports("sse2")); }},
+    {"sse4.2", [] { return __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt"); }},
+    {"avx", [] { return __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("avx"); }},
+    {"avx2",
+     [] {
+       return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+              __builtin_cpu_supports("bmi2");
+     }},
+    {"avx512",
+     [] {
+       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+              __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+              __builtin_cpu_supports("avx512vl");
+     }},
+};
+constexpr int kIsaCount = int(sizeof kIsas / sizeof kIsas[0]);
+
+std::mutex gIsaMutex;
+int gIsaChosen = kIsaCount - 1;  // an index into kIsas: the best unless setIsa() said otherwise
+bool gIsaSet = false;            // setIsa() named one (Embree's `isa=` option is passed)
+bool gDeviceMade = false;        // the device exists: the choice is fixed
+
 }  // namespace
 
 void setBuildThreads(unsigned threads) { gBuildThreads.store(threads); }
+
+bool setIsa(std::string_view isa, std::string* error) {
+  int chosen = kIsaCount - 1;
+  bool named = !isa.empty();
+  if (named) {
+    chosen = -1;
+    for (int i = 0; i < kIsaCount; ++i)
+      if (isa == kIsas[i].name) chosen = i;
+    if (chosen < 0) {
+      if (error) *error = "\"" + std::string(isa) + "\" is not one of Embree's sets: sse2, sse4.2, avx, avx2, avx512";
+      return false;
+    }
+  }
+  std::lock_guard lock(gIsaMutex);
+  if (gDeviceMade && (chosen != gIsaChosen || named != gIsaSet)) {
+    if (error)
+      *error = std::string("Embree's kernels were chosen when the process's first device was created (") +
+               kIsas[gIsaChosen].name + "); they cannot change while the process runs";
+    return false;
+  }
+  gIsaChosen = chosen;
+  gIsaSet = named;
+  return true;
+}
+
+const char* isaInUse() {
+  int chosen;
+  {
+    std::lock_guard lock(gIsaMutex);
+    chosen = gIsaChosen;
+  }
+  while (chosen > 0 && !kIsas[chosen].runs()) --chosen;  // Embree falls back the same way
+  return kIsas[chosen].name;
+}
 
 namespace detail {
 
@@ -64,8 +128,14 @@ struct Device {
     // verbose=0: Embree prints nothing; its errors come back through the callback as strings. threads: Embree's
     // builders use as many threads as setBuildThreads() asked for (the runtime passes its worker pool's count),
     // else every hardware thread.
+    // isa: the kernels setIsa() chose (Embree caps them at what the CPU runs).
     std::string config = "verbose=0";
     if (const unsigned threads = gBuildThreads.load()) config += ",threads=" + std::to_string(threads);
+    {
+      std::lock_guard lock(gIsaMutex);
+      gDeviceMade = true;
+      if (gIsaSet) config += std::string(",isa=") + kIsas[gIsaChosen].name;
+    }
     handle = rtcNewDevice(config.c_str());
     if (!handle) {
       error = "Embree: cannot create a device (RTCError " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")";

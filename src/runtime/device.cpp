@@ -13,9 +13,29 @@
 #include "runtime/physical_device.hpp"
 #include "runtime/queue.hpp"
 #include "runtime/report.hpp"
+#include "spirv/compiler.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
+
+namespace {
+
+// VKRT_EMBREE_ISA (Embree's kernels) and VKRT_JIT_CPU (the CPU compiled shaders target): instruction sets below
+// the CPU's best, so that a machine with more runs what a machine with less would (docs/testing.md). A value
+// that cannot apply is reported and the default is kept.
+void applyInstructionSetSettings(PhysicalDevice* physical) {
+  std::string error;
+  if (const char* isa = std::getenv("VKRT_EMBREE_ISA"); isa && *isa && !accel::setIsa(isa, &error))
+    report(physical, Severity::Warning, nullptr, "vkCreateDevice: VKRT_EMBREE_ISA=\"%s\" is not applied: %s", isa,
+           error.c_str());
+  if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu && !spirv::setTargetCpu(cpu, &error))
+    report(physical, Severity::Warning, nullptr, "vkCreateDevice: VKRT_JIT_CPU=\"%s\" is not applied: %s", cpu,
+           error.c_str());
+  report(physical, Severity::Info, nullptr, "vkCreateDevice: Embree's %s kernels; shaders compiled for %s",
+         accel::isaInUse(), spirv::targetCpu().c_str());
+}
+
+}  // namespace
 
 Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
     : Object(kType, physical->instance, nullptr), physicalDevice(physical) {
@@ -24,6 +44,7 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
   features = enabledFeatures(info);
   // Builds run on as many threads as launches and dispatches (VKRT_THREADS).
   accel::setBuildThreads(exec::ThreadPool::instance().workerSlots());
+  applyInstructionSetSettings(physical);
   if (const char* env = std::getenv("VKRT_SHADER_TIMEOUT_MS")) {
     char* end = nullptr;
     unsigned long v = std::strtoul(env, &end, 10);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "abi/abi.hpp"
@@ -96,8 +97,16 @@ struct CompileRequest {
 // instructions: "unsupported instruction OpXxx at word N").
 std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error);
 
+// The CPU compiled code targets: "native" (or empty), the host CPU and every feature it has, the default; or an
+// x86-64 CPU LLVM knows ("x86-64-v2", "x86-64-v3", "haswell", ...), whose features alone code may use. False,
+// with `error` set, for a name LLVM does not know or a CPU with a feature this one lacks. Applies to every later
+// compilation in the process; part of cacheKey().
+bool setTargetCpu(std::string_view cpu, std::string* error);
+// The target setTargetCpu() chose: "native (<host CPU name>)" or the CPU's name.
+std::string targetCpu();
+
 // The VkPipelineCache key of a compilation: a SHA-256 over the SPIR-V, entry point, stage, specialization
-// bytes, LLVM's version, vkrt's build id and the host CPU (compiled code is only reused where it can run).
+// bytes, LLVM's version, vkrt's build id and the target CPU (compiled code is only reused where it can run).
 std::string cacheKey(const CompileRequest& request);
 // Loads a shader from a CompiledShader::cacheBlob without running LLVM's optimizer or code generator.
 // Malformed or damaged blobs (checked by a checksum before LLVM sees the object) fail with `error` set.

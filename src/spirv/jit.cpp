@@ -40,6 +40,16 @@
 
 #include "abi/jit_code.hpp"
 #include "spirv/codegen.hpp"
+#include "spirv/target.hpp"
+
+// Half-precision conversions: on a CPU without F16C (x86-64-v2 and older; VKRT_JIT_CPU=x86-64-v2 compiles for
+// one), LLVM lowers fpext/fptrunc of half to these runtime library calls, which GCC's libgcc (12 and later)
+// provides with the same calling convention as LLVM 15 (the half in an XMM register). Declared here only to take
+// their addresses.
+extern "C" void __extendhfsf2();
+extern "C" void __extendhfdf2();
+extern "C" void __truncsfhf2();
+extern "C" void __truncdfhf2();
 
 namespace vkrt::spirv {
 
@@ -583,6 +593,10 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymb
   add("memset", static_cast<void* (*)(void*, int, size_t)>(::memset));
   add("memcpy", static_cast<void* (*)(void*, const void*, size_t)>(::memcpy));
   add("memmove", static_cast<void* (*)(void*, const void*, size_t)>(::memmove));
+  add("__extendhfsf2", &::__extendhfsf2);
+  add("__extendhfdf2", &::__extendhfdf2);
+  add("__truncsfhf2", &::__truncsfhf2);
+  add("__truncdfhf2", &::__truncdfhf2);
   for (const abi::HostSymbol* s = hostSymbols; s && s->name; ++s) add(s->name, s->address);
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }
@@ -592,27 +606,6 @@ std::string errText(llvm::Error e) {
   llvm::raw_string_ostream os(s);
   os << e;
   return os.str();
-}
-
-// The host's target description (detected once: CPUID is slow under virtualization).
-std::optional<llvm::orc::JITTargetMachineBuilder> hostMachine(std::string* error) {
-  static std::mutex mutex;
-  static std::optional<llvm::orc::JITTargetMachineBuilder> host;
-  static std::string hostError;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (!host && hostError.empty()) {
-    auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
-    if (!jtmb) {
-      hostError = "LLVM: " + errText(jtmb.takeError());
-    } else {
-      jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
-      // Every function's frame size goes into a .stack_sizes section (frameBytes of RayStageInfo).
-      jtmb->getOptions().EmitStackSizeSection = true;
-      host = std::move(*jtmb);
-    }
-  }
-  if (!host) *error = hostError;
-  return host;
 }
 
 // The native stack the object's code uses: the sum of every function's frame (its .stack_sizes entry: an
@@ -708,7 +701,7 @@ void addCancellationPolls(llvm::Module& mod) {
 // resolves the entry point (vkrt_group when `hasGroupEntry`, else vkrt_main, a RayEntry for ray tracing stages).
 bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEntry, const abi::HostSymbol* hostSymbols,
                 std::string* error) {
-  auto jtmb = hostMachine(error);
+  auto jtmb = detail::targetMachine(error);
   if (!jtmb) return false;
   // The object layer LLJIT would make (RuntimeDyld with a SectionMemoryManager), told to register the code
   // sections it loads with abi::JitCode.
@@ -1024,7 +1017,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     return nullptr;
   }
 
-  auto jtmb = hostMachine(error);
+  auto jtmb = detail::targetMachine(error);
   if (!jtmb) return nullptr;
   auto tm = jtmb->createTargetMachine();
   if (!tm) {
@@ -1083,19 +1076,7 @@ std::string cacheKey(const CompileRequest& req) {
   addStr("vkrt compiled shader 3");
   addStr(LLVM_VERSION_STRING);
   addStr(buildId());
-  static const std::string host = [] {
-    std::string text = llvm::sys::getHostCPUName().str() + ":";
-    llvm::StringMap<bool> features;
-    if (llvm::sys::getHostCPUFeatures(features)) {
-      std::vector<std::string> on;
-      for (auto& f : features)
-        if (f.second) on.push_back(f.first().str());
-      std::sort(on.begin(), on.end());
-      for (auto& f : on) text += f + ",";
-    }
-    return text;
-  }();
-  addStr(host);
+  addStr(detail::targetKey());
   add(req.words, req.wordCount * sizeof(uint32_t));
   addStr(req.entryName);
   uint32_t model = req.model, inl = req.inlineFunctions;
