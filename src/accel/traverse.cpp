@@ -132,6 +132,22 @@ inline bool opacityCulled(bool opaque, uint32_t rayFlags) {
   return (rayFlags & (opaque ? kRayCullOpaque : kRayCullNoOpaque)) != 0;
 }
 
+// The next float up and down from a non-negative t (inline: std::nextafter is a library call per ray).
+inline float nextUp(float t) { return t == kInf ? t : std::bit_cast<float>(std::bit_cast<uint32_t>(t) + 1); }
+inline float nextDown(float t) {
+  return t == 0 ? -std::numeric_limits<float>::denorm_min() : std::bit_cast<float>(std::bit_cast<uint32_t>(t) - 1);
+}
+
+// A triangle's t as vkrt reports it: inside (tMin, tMax), the interval the rule admits, on every set of Embree
+// kernels. Embree accepts a triangle when its t lies in [tnear, tfar], set one float inside the ray's ends (trace),
+// but its kernels compute that t through different reciprocal estimates (SSE/AVX: 12 bits and a Newton step;
+// AVX-512: 14 bits), so the t it then reports may differ from the one it tested by its last bits. Where that puts
+// it on or past an end, it is the nearest float inside: the same crossing, never a t the rule excludes.
+inline float insideOpen(float t, float tMin, float tMax) {
+  const float lo = nextUp(tMin), hi = nextDown(tMax);
+  return lo <= hi ? std::min(std::max(t, lo), hi) : t;
+}
+
 // The built-ins every hit has: the instance's, the primitive's indices and the object-space ray.
 void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive) {
   const InstanceRecord& r = ctx.tlas->records[instance];
@@ -171,6 +187,7 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     args->valid[0] = 0;
     return;
   }
+  if (!ctx.query) ray.tfar = insideOpen(ray.tfar, ctx.ray->tMin, ctx.ray->tMax);
   // A ray query's traversal runs over [tMin, tMax] with both ends (boxes need them): triangles need tMin < t < tMax.
   if (ctx.query && !(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
     args->valid[0] = 0;
@@ -322,12 +339,6 @@ void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, 
   ctx.handler->intersect(candidate);
 }
 
-// The next float up and down from a non-negative t (inline: std::nextafter is a library call per ray).
-inline float nextUp(float t) { return t == kInf ? t : std::bit_cast<float>(std::bit_cast<uint32_t>(t) + 1); }
-inline float nextDown(float t) {
-  return t == 0 ? -std::numeric_limits<float>::denorm_min() : std::bit_cast<float>(std::bit_cast<uint32_t>(t) - 1);
-}
-
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 double maxMagnitude(const float v[3]) {
@@ -448,6 +459,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
   const bool box = t.records[c.instance].blas->info[c.geometry].kind == Geometry::Aabbs;
   c.hitKind = box ? ctx.last.hitKind : 0;
+  if (!box) c.t = insideOpen(c.t, ray.tMin, ray.tMax);
   report(ctx, c, hit);
   return true;
 }

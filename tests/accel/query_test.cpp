@@ -9,7 +9,8 @@ namespace vkrt::accel::test {
 namespace {
 
 // Runs a query to its end; `decide` answers each candidate (true: confirm a triangle / generate a box at `t` = the
-// candidate's entry t). Returns the candidates' t in the order they came.
+// candidate's entry t). Returns the candidates' t in the order they came. (A triangle's t is compared within
+// hitDistanceTolerance: Embree's kernels round it differently, tests/hit_distance.hpp.)
 template <class F>
 std::vector<float> drive(RayQuery& q, F decide) {
   std::vector<float> seen;
@@ -29,20 +30,20 @@ TEST(AccelQuery, NonOpaqueTrianglesComeNearestFirstAndOnce) {
   RayQuery q;
   queryInitialize(q, tlas.get(), rayUp());
   std::vector<float> seen = drive(q, [](RayQuery&) { return false; });
-  EXPECT_EQ(seen, (std::vector<float>{2, 3, 5, 8}));
+  EXPECT_TRUE(nearHits(seen, {2, 3, 5, 8}));
   EXPECT_EQ(q.committed.type, 0u) << "all ignored";
   EXPECT_FALSE(queryProceed(q)) << "a finished query stays finished";
 
   // Confirming each: the first (nearest) stays committed and nothing behind it comes.
   queryInitialize(q, tlas.get(), rayUp());
   seen = drive(q, [](RayQuery&) { return true; });
-  EXPECT_EQ(seen, (std::vector<float>{2}));
+  EXPECT_TRUE(nearHits(seen, {2}));
   EXPECT_EQ(q.committed.type, 1u);
-  EXPECT_EQ(q.committed.t, 2.0f);
+  EXPECT_TRUE(nearHit(q.committed.t, 2.0f)) << q.committed.t;
   EXPECT_EQ(q.committed.geometry, 0u);
   const HitInfo h = queryHitInfo(q, true);
   EXPECT_TRUE(h.triangle);
-  EXPECT_EQ(h.t, 2.0f);
+  EXPECT_TRUE(nearHit(h.t, 2.0f)) << h.t;
   EXPECT_EQ(h.hitKind, kHitKindBackFacingTriangle) << "counterclockwise from +z, seen from below";
 }
 
@@ -52,20 +53,20 @@ TEST(AccelQuery, OpaqueTrianglesAreCommittedByTheTraversal) {
   RayQuery q;
   queryInitialize(q, tlas.get(), rayUp());
   std::vector<float> seen = drive(q, [](RayQuery&) { return false; });
-  EXPECT_EQ(seen, (std::vector<float>{2}));
+  EXPECT_TRUE(nearHits(seen, {2}));
   EXPECT_EQ(q.committed.type, 1u);
-  EXPECT_EQ(q.committed.t, 4.0f);
+  EXPECT_TRUE(nearHit(q.committed.t, 4.0f)) << q.committed.t;
   EXPECT_EQ(q.committed.geometry, 0u);
   // OpaqueKHR: no candidate, the nearest committed.
   queryInitialize(q, tlas.get(), rayUp(kRayOpaque));
   EXPECT_TRUE(drive(q, [](RayQuery&) { return true; }).empty());
-  EXPECT_EQ(q.committed.t, 2.0f);
+  EXPECT_TRUE(nearHit(q.committed.t, 2.0f)) << q.committed.t;
   // NoOpaqueKHR: everything in front of a confirmed one comes.
   queryInitialize(q, tlas.get(), rayUp(kRayNoOpaque));
-  EXPECT_EQ(drive(q, [](RayQuery&) { return false; }), (std::vector<float>{2, 4, 5, 6, 7}));
+  EXPECT_TRUE(nearHits(drive(q, [](RayQuery&) { return false; }), {2, 4, 5, 6, 7}));
   // CullOpaqueKHR: the opaque ones are not met at all.
   queryInitialize(q, tlas.get(), rayUp(kRayCullOpaque));
-  EXPECT_EQ(drive(q, [](RayQuery&) { return false; }), (std::vector<float>{2, 5, 7}));
+  EXPECT_TRUE(nearHits(drive(q, [](RayQuery&) { return false; }), {2, 5, 7}));
   EXPECT_EQ(q.committed.type, 0u);
   // TerminateOnFirstHitKHR: the first commit ends the query (here the opaque one, found in the first traversal).
   queryInitialize(q, tlas.get(), rayUp(kRayTerminateOnFirstHit));
@@ -85,7 +86,7 @@ TEST(AccelQuery, BoxesGenerateAndTerminate) {
     EXPECT_FALSE(r.candidate.opaque);
     return false;
   });
-  EXPECT_EQ(seen, (std::vector<float>{1, 3, 4}));
+  EXPECT_TRUE(nearHits(seen, {1, 3, 4}));
   EXPECT_EQ(types, (std::vector<uint32_t>{2, 1, 2}));
   // Generating at 1.5 in the first box: nothing behind it comes.
   queryInitialize(q, tlas.get(), rayUp());
@@ -112,8 +113,9 @@ TEST(AccelQuery, BoxesGenerateAndTerminate) {
   EXPECT_EQ(q.committed.t, 1.25f);
   // SkipAABBsKHR / SkipTrianglesKHR.
   queryInitialize(q, tlas.get(), rayUp(kRaySkipAabbs));
-  EXPECT_EQ(drive(q, [](RayQuery&) { return false; }), (std::vector<float>{3}));
+  EXPECT_TRUE(nearHits(drive(q, [](RayQuery&) { return false; }), {3}));
   queryInitialize(q, tlas.get(), rayUp(kRaySkipTriangles));
+  // (Boxes only: their entry t is vkrt's own arithmetic, exact on every kernel.)
   EXPECT_EQ(drive(q, [](RayQuery&) { return false; }), (std::vector<float>{1, 4}));
 }
 

@@ -12,8 +12,14 @@
 #include <vector>
 
 #include "accel/accel.hpp"
+#include "hit_distance.hpp"
 
 namespace vkrt::accel::test {
+
+using ::vkrt::test::boundaryMargin;
+using ::vkrt::test::hitDistanceTolerance;
+using ::vkrt::test::nearHit;
+using ::vkrt::test::nearHits;
 
 // The quad [x0, x1] x [y0, y1] in the plane z = z, as two triangles (v0, v1, v2) = (x0 y0, x1 y0, x1 y1) and
 // (x0 y0, x1 y1, x0 y1): both wound counterclockwise seen from +z, so (v1 - v0) x (v2 - v0) points to +z.

@@ -13,6 +13,7 @@
 
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/trace_fixture.hpp"
+#include "hit_distance.hpp"
 #include "ray_query_address.comp.spv.h"
 #include "ray_query_raygen.rgen.spv.h"
 #include "ray_query_scene.comp.spv.h"
@@ -540,7 +541,7 @@ TEST_F(RayQueryMisuseTest, AWildOrDestroyedStructureAddressIsReportedAndFindsNot
   EXPECT_EQ(r[0], 1u) << "committed type: triangle";
   float t;
   std::memcpy(&t, &r[1], 4);
-  EXPECT_EQ(t, 15.0f);
+  EXPECT_TRUE(nearHit(t, 15.0f, 10)) << t;  // a triangle's t, within the kernels' rounding (hit_distance.hpp)
   EXPECT_EQ(r[2], 1u);
   EXPECT_TRUE(vkrtMessages().empty());
 

@@ -18,6 +18,7 @@ using accel::kGeometryOpaque;
 using accel::Tlas;
 using accel::test::makeBlas;
 using accel::test::makeTlas;
+using accel::test::nearHit;
 using accel::test::quad;
 
 constexpr uint64_t kAddress = 0x5000;
@@ -91,7 +92,8 @@ TEST(SpirvRayQuery, ComputeShaderRunsPerWorkgroupAndCommitsTheSceneHits) {
     EXPECT_EQ(r.hit[3], 1.0f) << "a triangle";
     const bool near = inNear && rays[i].mode == 0;
     (near ? front : back)++;
-    EXPECT_EQ(r.hit[0], near ? 15.0f : 18.0f);
+    // A triangle's t within the kernels' rounding (tests/hit_distance.hpp; coordinates up to 10).
+    EXPECT_TRUE(nearHit(r.hit[0], near ? 15.0f : 18.0f, 10)) << r.hit[0];
     EXPECT_EQ(r.ids[0], 3u) << "custom index";
     EXPECT_EQ(r.ids[1], 0u) << "instance";
     EXPECT_EQ(r.ids[2], y > x ? 1u : 0u) << "primitive";
