@@ -55,7 +55,4 @@ class PhysicalDevice : public Object {
 // The features a VkDeviceCreateInfo enables (pEnabledFeatures and every feature structure of its chain).
 FeatureSet enabledFeatures(const VkDeviceCreateInfo& info);
 
-// Number of worker threads vkrt uses (VKRT_THREADS, or the number of cores).
-unsigned workerThreadCount();
-
 }  // namespace vkrt
