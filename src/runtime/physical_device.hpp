@@ -32,7 +32,7 @@ class PhysicalDevice : public Object {
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkQueueFamilyProperties queueFamily{};
 
-  // Device extensions vkrt advertises now (some depend on the environment, see the README).
+  // Device extensions vkrt advertises: a fixed list (the constructor's and runtime/ray_tracing_features.cpp's).
   const std::vector<VkExtensionProperties>& extensions() const { return extensions_; }
   bool supportsExtension(const char* name) const;
 
