@@ -20,7 +20,7 @@
 #include "spirv_stages.hpp"
 
 // How many inputs reached the compiler (most mutations are refused by the validator first), printed at exit: the
-// figure the README's executions "through the JIT" are.
+// figure docs/testing.md ("Fuzzing") gives as the executions "compiled".
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   std::atexit([] {
     std::fprintf(stderr, "vkrt_fuzz_spirv_pipeline: %llu shader compilations\n",

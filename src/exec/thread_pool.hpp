@@ -1,7 +1,10 @@
-// The process-wide pool of worker threads that runs shader work (compute workgroups now, rays later).
+// The process-wide pool of worker threads. It runs shader work, the workgroups of compute dispatches and the tiles of
+// ray tracing launches (parallelFor), and coarse independent tasks: the stages of a pipeline to compile, the chunks of
+// a large acceleration structure build's inputs to read (runConcurrently).
 //
-// Size: VKRT_THREADS if set (1..256), else the number of hardware threads. The thread calling parallelFor()
-// works too, so a pool of N runs N + 1 threads at most; each gets a distinct worker index < workerSlots().
+// Size: VKRT_THREADS threads in all if set (1..256), else the number of hardware threads. The thread calling
+// parallelFor() works too, so the pool starts one thread fewer (a pool of N runs N + 1 threads at most); each gets
+// a distinct worker index < workerSlots().
 #pragma once
 
 #include <condition_variable>

@@ -3,11 +3,15 @@
 // through accel::trace with the any-hit and intersection shaders of the shader binding table (SBT), then the
 // closest-hit or miss shader; executeCallableEXT; reportIntersectionEXT.
 //
-// No Vulkan object here: the caller (src/rt) resolves the pipeline's groups, the bound resources and the SBT
-// regions into a RayLaunch, and answers, through a LaunchResolver, what needs the device: which group an SBT
-// record's handle denotes, which acceleration structure an address is, and the reports. Each record and each
-// address is resolved once per launch (cached here); the per-ray path allocates nothing, takes no lock and makes
-// no hash lookup.
+// No Vulkan object here: the caller (src/rt) resolves the pipeline's groups, the bound resources and the SBT regions
+// into a RayLaunch, and answers, through a LaunchResolver, what needs the device: which group an SBT record's handle
+// denotes, which acceleration structure an address is, and the reports. Each record is resolved once per launch and
+// cached here (the first 2^20 records of each region; a record past them is resolved at each use, a hash lookup).
+// Acceleration structure addresses are cached in a table of 16 slots per launch (LaunchState::kCachedStructures) that
+// rays read without a lock: while a launch meets at most 16 distinct addresses and its records are cached, the per-ray
+// path allocates nothing, takes no lock and makes no hash lookup. Beyond 16, each traceRayEXT on an address the table
+// does not hold takes the launch's mutex and asks the resolver again, which looks the address up in the device's
+// registry (a mutex and a hash lookup) and appends the structure to the launch's list of structures it keeps alive.
 //
 // SBT record index of a hit (the specification's formula): instance SBT offset + the trace's sbtRecordOffset +
 // sbtRecordStride x geometry index. A record whose handle is all zeros is a group with no shaders (a miss or

@@ -1,5 +1,5 @@
-// Shader-group handles and capture/replay data (the README's "shader-group handles and capture/replay data"
-// section gives the byte layouts and why they are stable).
+// Shader-group handles and capture/replay data (docs/handles-and-capture-replay.md gives the byte layouts and why
+// they are stable).
 //
 // A group's handle depends only on what the group does: its type and, for each of its shaders, the SPIR-V
 // (the module's words), the entry point name, the stage, the stage flags and the specialization constants

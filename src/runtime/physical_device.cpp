@@ -3,9 +3,7 @@
 #include <sys/sysinfo.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
-#include <thread>
 
 #include "runtime/alloc.hpp"
 #include "runtime/instance.hpp"
@@ -31,15 +29,6 @@ VkDeviceSize heapSize() {
 }
 
 }  // namespace
-
-unsigned workerThreadCount() {
-  if (const char* v = std::getenv("VKRT_THREADS")) {
-    int n = std::atoi(v);
-    if (n > 0) return static_cast<unsigned>(n);
-  }
-  unsigned n = std::thread::hardware_concurrency();
-  return n ? n : 1;
-}
 
 PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   // Properties.

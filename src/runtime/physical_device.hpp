@@ -32,7 +32,7 @@ class PhysicalDevice : public Object {
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkQueueFamilyProperties queueFamily{};
 
-  // Device extensions vkrt advertises now (some depend on the environment, see the README).
+  // Device extensions vkrt advertises: a fixed list (the constructor's and runtime/ray_tracing_features.cpp's).
   const std::vector<VkExtensionProperties>& extensions() const { return extensions_; }
   bool supportsExtension(const char* name) const;
 
@@ -54,8 +54,5 @@ class PhysicalDevice : public Object {
 
 // The features a VkDeviceCreateInfo enables (pEnabledFeatures and every feature structure of its chain).
 FeatureSet enabledFeatures(const VkDeviceCreateInfo& info);
-
-// Number of worker threads vkrt uses (VKRT_THREADS, or the number of cores).
-unsigned workerThreadCount();
 
 }  // namespace vkrt

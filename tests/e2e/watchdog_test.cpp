@@ -1,8 +1,7 @@
-// Robustness of shader execution (the README's "Runaway and faulting shaders"): a shader that never ends is
-// stopped by vkrt's watchdog after VKRT_SHADER_TIMEOUT_MS, a shader that stores through a wild device address
-// faults; either loses the device (the specification's "Lost Device"): one report names the pipeline, the shader
-// and an invocation, the fence and semaphore waits return VK_ERROR_DEVICE_LOST, later submissions are refused, and
-// everything can still be destroyed.
+// Robustness of shader execution (docs/device-loss.md): a shader that never ends is stopped by vkrt's watchdog after
+// VKRT_SHADER_TIMEOUT_MS, a shader that stores through a wild device address faults; either loses the device (the
+// specification's "Lost Device"): one report names the pipeline, the shader and an invocation, the fence and semaphore
+// waits return VK_ERROR_DEVICE_LOST, later submissions are refused, and everything can still be destroyed.
 //
 // The time limit and the fault recovery are vkrt's: other drivers have their own timeouts (seconds) and treat
 // faults their own way, so the tests run on vkrt only. The limit is set to kTimeoutMs before each device is made.

@@ -1,5 +1,6 @@
-// The device address arena (runtime/memory.hpp): reserved at the base the README documents, in every build
-// (release, AddressSanitizer, ThreadSanitizer), so that opaque capture addresses mean the same in every process.
+// The device address arena (runtime/memory.hpp): reserved at the base docs/handles-and-capture-replay.md documents,
+// in every build (release, AddressSanitizer, ThreadSanitizer), so that opaque capture addresses mean the same in
+// every process.
 #include <gtest/gtest.h>
 
 #include <cstring>
