@@ -18,21 +18,35 @@ cmake --build "$build" -j "$(nproc)"
 (cd "$build" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
 # The instruction-set matrix (docs/testing.md): nothing vkrt does may depend on the CPU's instruction set beyond
 # what the specification allows, so the tests that the instruction set can change run again, in the same build,
-# once per set below this CPU's best: the acceleration structure, ray query and tracing tests with each set of
-# Embree kernels (VKRT_EMBREE_ISA), the compiler's tests with code compiled for each x86-64 baseline
-# (VKRT_JIT_CPU). tools/isa_matrix.sh lists the sets.
+# once per set below this CPU's best (tools/isa_matrix.sh lists them): the acceleration structure, ray query and
+# tracing tests with each set of Embree kernels (VKRT_EMBREE_ISA), the compiler's tests with code compiled for each
+# x86-64 baseline (VKRT_JIT_CPU). Each run is one test process per binary (a test process per test, as ctest
+# starts them, would double the suite's time), the unit and end-to-end binaries side by side.
 matrixStart=$SECONDS
-embreeTests='^(Accel|LargeBuilds|EmbreeLimits|SpirvRayQuery|SpirvRayTracing|Trace|NvTrace|RayQuery)'
-jitTests='^Spirv'
+embreeUnit='Accel*:LargeBuilds*:EmbreeLimits*:SpirvRayQuery*:SpirvRayTracing*'
+embreeE2e='Trace*:NvTrace*:RayQuery*'
+matrix() {  # matrix NAME=VALUE unit-filter [e2e-filter]
+  local log="$build/matrix-${1//[^A-Za-z0-9.=_-]/_}"
+  echo "== $1"
+  env "$1" "$build/tests/vkrt_unit_tests" --gtest_brief=1 --gtest_filter="$2" > "$log-unit.log" 2>&1 &
+  local unit=$!
+  local ok=0
+  if [ -n "${3:-}" ]; then
+    env "$1" VK_DRIVER_FILES="$build/vkrt_icd.json" "$build/tests/vkrt_e2e_tests" --gtest_brief=1 \
+      --gtest_filter="$3" > "$log-e2e.log" 2>&1 || ok=1
+    tail -n 3 "$log-e2e.log"
+    [ $ok = 0 ] || cat "$log-e2e.log"
+  fi
+  wait $unit || ok=2
+  tail -n 3 "$log-unit.log"
+  [ $ok != 2 ] || cat "$log-unit.log"
+  return $ok
+}
 for isa in $("$root/tools/isa_matrix.sh" embree); do
-  echo "== VKRT_EMBREE_ISA=$isa"
-  (cd "$build" && VKRT_EMBREE_ISA=$isa ctest -j "$(nproc)" --output-on-failure --timeout 600 -R "$embreeTests" "$@") ||
-    status=1
+  matrix "VKRT_EMBREE_ISA=$isa" "$embreeUnit" "$embreeE2e" || status=1
 done
 for cpu in $("$root/tools/isa_matrix.sh" jit); do
-  echo "== VKRT_JIT_CPU=$cpu"
-  (cd "$build" && VKRT_JIT_CPU=$cpu ctest -j "$(nproc)" --output-on-failure --timeout 600 -R "$jitTests" "$@") ||
-    status=1
+  matrix "VKRT_JIT_CPU=$cpu" 'Spirv*' || status=1
 done
 echo "instruction-set matrix: $((SECONDS - matrixStart)) s"
 # libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 15) seconds.
