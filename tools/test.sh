@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds vkrt with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test (unit, end-to-end
-# through the Vulkan loader with the validation layer, vulkaninfo, ...), then runs each libFuzzer target for a short
+# through the Vulkan loader with the validation layer, vulkaninfo, ...), then builds the Debian package and checks it
+# installed (tools/package.sh in build-pkg/, tests/check_package.sh), then runs each libFuzzer target for a short
 # fixed time (tools/fuzz.sh: clang-14, build-fuzz/), then builds vkrt with ThreadSanitizer and runs the unit and
 # end-to-end tests again. Usage: tools/test.sh [ctest args...] (given to both ctest runs)
 # VKRT_FUZZ_SECONDS: seconds per fuzz target (tools/fuzz.sh; 0 skips the fuzz step).
@@ -14,6 +15,16 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=O
   { cat "$root/.configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)"
 (cd "$build" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
+# The Debian package: a Release build of the driver in build-pkg/ (tools/package.sh), its contents and fields, and
+# the loader finding it installed, without VK_DRIVER_FILES (tests/check_package.sh, with build-test/'s path tracer).
+packageStart=$SECONDS
+if deb=$("$root/tools/package.sh" "$root/build-pkg"); then
+  "$root/tests/check_package.sh" "$deb" "$build/examples/pathtracer" || status=1
+else
+  echo "package step: tools/package.sh failed"
+  status=1
+fi
+echo "package step (build-pkg/ build, package and checks): $((SECONDS - packageStart)) s"
 # libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 15) seconds.
 if [ "${VKRT_FUZZ_SECONDS:-15}" != 0 ]; then
   fuzzStart=$SECONDS
