@@ -49,8 +49,9 @@ set(CPACK_STRIP_FILES ON)
 # The files go where the build was configured to install them (tools/package.sh: /usr). CPack installs into its
 # staging folder through DESTDIR, with CMAKE_INSTALL_PREFIX this prefix: the manifest names the real path.
 set(CPACK_PACKAGING_INSTALL_PREFIX "${CMAKE_INSTALL_PREFIX}")
-# CPack adds a postinst and a postrm that run ldconfig (it does so for any library in /usr/lib); harmless, and
-# not needed: the loader opens the library by its absolute path.
+# CPack adds a postinst and a postrm that run ldconfig (it does so for any library in /usr/lib and its
+# subfolders); harmless, and not needed: the loader opens the library by its absolute path. (Having a postrm,
+# the package stays in dpkg's list as "rc" after `apt-get remove` until `apt-get purge`, as any such package.)
 # Only the driver component (build dir; project; component; subdirectory).
 set(CPACK_INSTALL_CMAKE_PROJECTS "${CMAKE_BINARY_DIR};vkrt;driver;/")
 include(CPack)

@@ -47,7 +47,7 @@ if [ "${1:-}" = --in-namespace ]; then
   # The path tracer (it may be built with AddressSanitizer; the driver is not instrumented, so its allocations
   # at exit are not the program's leaks).
   rm -f "$out"
-  ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 300 "$pathtracer" --width 32 --height 24 --spp 2 --out "$out" \
+  ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 timeout 300 "$pathtracer" --width 32 --height 24 --spp 2 --out "$out" \
     > "$out.log" 2>&1 || { cat "$out.log"; fail "the path tracer failed through the installed package"; }
   python3 - "$out" <<'PY' || { cat "$out.log"; fail "the path tracer's PNG"; }
 import struct, sys
@@ -116,9 +116,10 @@ done
 scratch=$(mktemp -d /tmp/vkrt-package.XXXXXX)
 trap 'rm -rf "$scratch"' EXIT
 dpkg-deb -x "$deb" "$scratch/root"
+ldconfig=$(command -v ldconfig || echo /sbin/ldconfig)
 # The package of each library the driver links is declared (dpkg-shlibdeps ran and found them all).
 for soname in $(readelf -d "$scratch/root$library" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
-  path=$(ldconfig -p | awk -v s="$soname" '$1 == s && /x86-64/ { print $NF; exit }')
+  path=$("$ldconfig" -p | awk -v s="$soname" '$1 == s && /x86-64/ { print $NF; exit }')
   [ -n "$path" ] || fail "the driver links $soname, which the dynamic linker does not know"
   # Debian 12 merges /lib into /usr/lib; dpkg knows each file under the path its package ships it.
   owner=$( (dpkg -S "$path" || dpkg -S "${path#/usr}" || dpkg -S "/usr$path") 2> /dev/null | head -n 1 | cut -d: -f1)
