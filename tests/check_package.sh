@@ -36,13 +36,13 @@ if [ "${1:-}" = --in-namespace ]; then
     XDG_DATA_DIRS XDG_CONFIG_DIRS VK_INSTANCE_LAYERS VK_LOADER_LAYERS_ENABLE
   # The loader's own report: which manifest it found and which library it loaded from it.
   log=$(VK_LOADER_DEBUG=driver vulkaninfo --summary 2>&1) || { echo "$log"; fail "vulkaninfo --summary failed"; }
-  echo "$log" | grep -q "Found ICD manifest file $manifest" ||
+  grep -q "Found ICD manifest file $manifest" <<< "$log" ||
     { echo "$log"; fail "the loader did not find $manifest"; }
-  echo "$log" | grep -q "Searching for ICD drivers named $library" ||
+  grep -q "Searching for ICD drivers named $library" <<< "$log" ||
     { echo "$log"; fail "the loader did not load $library"; }
   # vulkaninfo as a user runs it: vkrt listed, nothing reported (the same check as the vulkaninfo tests).
   summary=$("$here/run_vulkaninfo.sh" vulkaninfo --summary) || { echo "$summary"; fail "vulkaninfo --summary"; }
-  echo "$summary" | grep -q "driverName *= vkrt" || { echo "$summary"; fail "no driverName vkrt"; }
+  grep -q "driverName *= vkrt" <<< "$summary" || { echo "$summary"; fail "no driverName vkrt"; }
   echo "$summary" | grep -E "deviceName|driverName|driverInfo|deviceType" | sed 's/^ */  vulkaninfo: /'
   # The path tracer (it may be built with AddressSanitizer; the driver is not instrumented, so its allocations
   # at exit are not the program's leaks).
@@ -88,8 +88,8 @@ while read -r type owner path; do
   [ "$type" = d ] || continue
   case ".$library/ .$manifest/" in *"$path"*) ;; *) fail "unexpected folder $path" ;; esac
 done <<< "$entries"
-echo "$listing" | grep -q -- "^-rw-r--r-- .* \.$library$" || fail "$library is not a plain 0644 file"
-echo "$listing" | grep -q -- "^-rw-r--r-- .* \.$manifest$" || fail "$manifest is not a plain 0644 file"
+grep -q -- "^-rw-r--r-- .* \.$library$" <<< "$listing" || fail "$library is not a plain 0644 file"
+grep -q -- "^-rw-r--r-- .* \.$manifest$" <<< "$listing" || fail "$manifest is not a plain 0644 file"
 
 # ---- 2. Control fields ----
 field() { dpkg-deb -f "$deb" "$1"; }
@@ -100,7 +100,7 @@ for f in Version Maintainer Section Description; do [ -n "$(field $f)" ] || fail
 depends=$(field Depends)
 echo "  Depends: $depends"
 depNames=$(echo "$depends" | tr ',|' '\n\n' | sed 's/(.*)//; s/:any//; s/ //g' | grep .)
-echo "$depNames" | grep -qx libvulkan1 || fail "Depends lacks the loader, libvulkan1"
+grep -qx libvulkan1 <<< "$depNames" || fail "Depends lacks the loader, libvulkan1"
 # Each dependency is installed here, at a version that satisfies it.
 echo "$depends" | tr ',' '\n' | while read -r dep; do
   alt=${dep%%|*}
@@ -119,14 +119,14 @@ dpkg-deb -x "$deb" "$scratch/root"
 ldconfig=$(command -v ldconfig || echo /sbin/ldconfig)
 # The package of each library the driver links is declared (dpkg-shlibdeps ran and found them all).
 for soname in $(readelf -d "$scratch/root$library" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
-  path=$("$ldconfig" -p | awk -v s="$soname" '$1 == s && /x86-64/ { print $NF; exit }')
+  path=$("$ldconfig" -p | awk -v s="$soname" -v d="/$multiarch/" '$1 == s && index($NF, d) { print $NF }' | sed -n 1p)
   [ -n "$path" ] || fail "the driver links $soname, which the dynamic linker does not know"
   # Debian 12 merges /lib into /usr/lib; dpkg knows each file under the path its package ships it.
-  owner=$( (dpkg -S "$path" || dpkg -S "${path#/usr}" || dpkg -S "/usr$path") 2> /dev/null | head -n 1 | cut -d: -f1)
+  owner=$( (dpkg -S "$path" || dpkg -S "${path#/usr}" || dpkg -S "/usr$path") 2> /dev/null | awk -F: 'NR == 1 { print $1 }')
   [ -n "$owner" ] || fail "no package owns $path ($soname)"
-  echo "$depNames" | grep -qx "$owner" || fail "the driver links $soname ($owner), which Depends does not name"
+  grep -qx "$owner" <<< "$depNames" || fail "the driver links $soname ($owner), which Depends does not name"
 done
-readelf -S "$scratch/root$library" | grep -q '\.symtab' && fail "$library is not stripped"
+[ "$(readelf -S "$scratch/root$library" | grep -c '\.symtab')" = 0 ] || fail "$library is not stripped"
 
 # ---- 3. The manifest ----
 python3 - "$scratch/root$manifest" "$library" <<'PY' || fail "the packaged manifest"
