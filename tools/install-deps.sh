@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libstb-dev libtinygltf-dev assimp-testmodels
   gfxreconstruct
   clang-14 libclang-rt-14-dev
+  dpkg-dev file  # the Debian package: CPack's dpkg-shlibdeps (and `file`), dpkg-architecture in its check
 )
 
 missing=()

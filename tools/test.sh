@@ -2,9 +2,10 @@
 # Builds vkrt with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test (unit, end-to-end
 # through the Vulkan loader with the validation layer, vulkaninfo, ...), then the tests the CPU's instruction set
 # can change once per set below this CPU's best (Embree's kernels, the compiler's target: tools/isa_matrix.sh),
+# then builds the Debian package and checks it installed (tools/package.sh in build-pkg/, tests/check_package.sh),
 # then runs each libFuzzer target for a short fixed time (tools/fuzz.sh: clang-14, build-fuzz/), then builds vkrt
 # with ThreadSanitizer and runs the unit and end-to-end tests again. Usage: tools/test.sh [ctest args...] (given
-# to every ctest run)
+# to both ctest runs)
 # VKRT_FUZZ_SECONDS: seconds per fuzz target (tools/fuzz.sh; 0 skips the fuzz step).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -49,6 +50,16 @@ for cpu in $("$root/tools/isa_matrix.sh" jit); do
   matrix "VKRT_JIT_CPU=$cpu" 'Spirv*' || status=1
 done
 echo "instruction-set matrix: $((SECONDS - matrixStart)) s"
+# The Debian package: a Release build of the driver in build-pkg/ (tools/package.sh), its contents and fields, and
+# the loader finding it installed, without VK_DRIVER_FILES (tests/check_package.sh, with build-test/'s path tracer).
+packageStart=$SECONDS
+if deb=$("$root/tools/package.sh" "$root/build-pkg"); then
+  "$root/tests/check_package.sh" "$deb" "$build/examples/pathtracer" || status=1
+else
+  echo "package step: tools/package.sh failed"
+  status=1
+fi
+echo "package step (build-pkg/ build, package and checks): $((SECONDS - packageStart)) s"
 # libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 15) seconds.
 if [ "${VKRT_FUZZ_SECONDS:-15}" != 0 ]; then
   fuzzStart=$SECONDS

@@ -34,7 +34,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   // Properties.
   VkPhysicalDeviceLimits& l = properties10.limits;
   properties10.apiVersion = VK_MAKE_API_VERSION(0, 1, 3, VK_HEADER_VERSION);
-  properties10.driverVersion = VK_MAKE_VERSION(0, 1, 0);
+  properties10.driverVersion = VK_MAKE_VERSION(VKRT_VERSION_MAJOR, VKRT_VERSION_MINOR, VKRT_VERSION_PATCH);
   properties10.vendorID = kVendorId;
   properties10.deviceID = kDeviceId;
   properties10.deviceType = VK_PHYSICAL_DEVICE_TYPE_CPU;
