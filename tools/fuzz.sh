@@ -4,17 +4,18 @@
 # memory fails the run; the input that did it is left in build-fuzz/findings/. New inputs the fuzzer finds go to
 # build-fuzz/corpus/<target>/ (the seeds in the repository are only read).
 # Usage: tools/fuzz.sh [target...]   (default: all; a target is its name without vkrt_fuzz_, e.g. spirv_module)
-# VKRT_FUZZ_SECONDS: seconds per target (default 15; the JIT target gets twice as long). tools/test.sh runs this.
+# VKRT_FUZZ_SECONDS: seconds per target (default 8; the JIT target gets twice as long). tools/test.sh runs this.
 # VKRT_FUZZ_ARGS: more libFuzzer options for every target (e.g. -jobs=2 -workers=2).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build-fuzz"
-seconds=${VKRT_FUZZ_SECONDS:-15}
+seconds=${VKRT_FUZZ_SECONDS:-8}
+source "$root/tools/compiler_cache.sh"
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(spirv_module spirv_pipeline group_handles sbt_trace accel_build accel_deserialize)
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 \
-  -DCMAKE_CXX_COMPILER=clang++-14 -DVKRT_FUZZ=ON -DVKRT_BUILD_TESTS=OFF -DVKRT_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_COMPILER=clang++-14 -DVKRT_FUZZ=ON -DVKRT_BUILD_TESTS=OFF -DVKRT_BUILD_BENCH=OFF "${launcher[@]}" \
   > "$root/.configure-fuzz.log" 2>&1 || { cat "$root/.configure-fuzz.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/vkrt_fuzz_}"
 

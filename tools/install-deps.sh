@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config python3 clang-format
+  build-essential cmake ninja-build pkg-config python3 clang-format ccache
   libvulkan-dev libvulkan1 vulkan-tools vulkan-validationlayers
   spirv-headers spirv-tools glslang-tools glslc
   llvm-15-dev libembree-dev libtbb-dev

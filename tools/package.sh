@@ -8,12 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(realpath -m "${1:-$root/build-pkg}")
 "$root/tools/install-deps.sh" >&2
-launcher=()
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  # Cache hits across checkouts in other folders (paths below the tree are rewritten relative).
-  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}
-fi
+source "$root/tools/compiler_cache.sh"
 mkdir -p "$build"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
   -DVKRT_BUILD_TESTS=OFF -DVKRT_BUILD_BENCH=OFF -DVKRT_BUILD_EXAMPLES=OFF -DVKRT_SANITIZE=OFF -DVKRT_FUZZ=OFF \

@@ -10,13 +10,19 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/install-deps.sh"
+source "$root/tools/compiler_cache.sh"
 status=0
 # AddressSanitizer + UndefinedBehaviorSanitizer: build-test/, every test.
 build="$root/build-test"
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=ON > "$root/.configure.log" 2>&1 ||
+start=$SECONDS
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=ON "${launcher[@]}" \
+  > "$root/.configure.log" 2>&1 ||
   { cat "$root/.configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)"
+echo "AddressSanitizer build (build-test/): $((SECONDS - start)) s"
+start=$SECONDS
 (cd "$build" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
+echo "AddressSanitizer tests: $((SECONDS - start)) s"
 # The instruction-set matrix (docs/testing.md): nothing vkrt does may depend on the CPU's instruction set beyond
 # what the specification allows, so the tests that the instruction set can change run again, in the same build,
 # once per set below this CPU's best (tools/isa_matrix.sh lists them): the acceleration structure, ray query and
@@ -60,16 +66,20 @@ else
   status=1
 fi
 echo "package step (build-pkg/ build, package and checks): $((SECONDS - packageStart)) s"
-# libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 15) seconds.
-if [ "${VKRT_FUZZ_SECONDS:-15}" != 0 ]; then
+# libFuzzer targets: build-fuzz/ (clang-14), each on its seed corpus for VKRT_FUZZ_SECONDS (default 8) seconds.
+if [ "${VKRT_FUZZ_SECONDS:-8}" != 0 ]; then
   fuzzStart=$SECONDS
   "$root/tools/fuzz.sh" || status=1
   echo "fuzz step (build-fuzz/ build and runs): $((SECONDS - fuzzStart)) s"
 fi
 # ThreadSanitizer: build-tsan/, the unit and end-to-end tests (tests/CMakeLists.txt registers only those there).
 tsan="$root/build-tsan"
-cmake -S "$root" -B "$tsan" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=thread > "$root/.configure-tsan.log" 2>&1 ||
+start=$SECONDS
+cmake -S "$root" -B "$tsan" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVKRT_SANITIZE=thread "${launcher[@]}" \
+  > "$root/.configure-tsan.log" 2>&1 ||
   { cat "$root/.configure-tsan.log"; exit 1; }
 cmake --build "$tsan" -j "$(nproc)" --target vkrt_unit_tests vkrt_e2e_tests
+echo "ThreadSanitizer build (build-tsan/): $((SECONDS - start)) s"
+# (Its time is ctest's "Total Test time"; ctest's summary stays the last lines the command prints.)
 (cd "$tsan" && ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
 exit $status
