@@ -102,30 +102,6 @@ const abi::RayQueryRuntime kRuntime = {&initialize, &proceed, &terminate, &gener
 
 const abi::RayQueryRuntime& rayQueryRuntime() { return kRuntime; }
 
-RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) {
-  runtime = &kRuntime;
-  for (uint32_t i = 0; i < kCached; ++i) {
-    address_[i].store(0, std::memory_order_relaxed);
-    tlas_[i].store(nullptr, std::memory_order_relaxed);
-  }
-}
-
-const accel::Tlas* RayQueryScope::topLevel(uint64_t address) {
-  uint32_t n = count_.load(std::memory_order_acquire);
-  for (uint32_t i = 0; i < n; ++i)
-    if (address_[i].load(std::memory_order_relaxed) == address) return tlas_[i].load(std::memory_order_relaxed);
-  if (!resolver_) return nullptr;
-  std::lock_guard<std::mutex> lock(mutex_);
-  n = count_.load(std::memory_order_relaxed);
-  for (uint32_t i = 0; i < n; ++i)
-    if (address_[i].load(std::memory_order_relaxed) == address) return tlas_[i].load(std::memory_order_relaxed);
-  const accel::Tlas* t = resolver_->topLevel(address);
-  if (n < kCached) {
-    address_[n].store(address, std::memory_order_relaxed);
-    tlas_[n].store(t, std::memory_order_relaxed);
-    count_.store(n + 1, std::memory_order_release);
-  }
-  return t;
-}
+RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) { runtime = &kRuntime; }
 
 }  // namespace vkrt::exec

@@ -17,7 +17,9 @@ class TopLevelResolver {
  public:
   virtual ~TopLevelResolver() = default;
   // The top-level structure at `address`, kept alive until the dispatch or launch ends, or null after reporting
-  // (no structure there, a destroyed or a bottom-level one): the query finds nothing.
+  // (no structure there, a destroyed or a bottom-level one): the query finds nothing. Called per ray and per ray
+  // query from any worker: it must take no lock, make no hash lookup and allocate nothing once an address has been
+  // resolved (runtime's TopLevelTable resolves each address once per dispatch or launch).
   virtual const accel::Tlas* topLevel(uint64_t address) = 0;
 };
 
@@ -25,15 +27,10 @@ class TopLevelResolver {
 class RayQueryScope : public abi::RayQueryScope {
  public:
   explicit RayQueryScope(TopLevelResolver* resolver);
-  const accel::Tlas* topLevel(uint64_t address);
+  const accel::Tlas* topLevel(uint64_t address) { return resolver_ ? resolver_->topLevel(address) : nullptr; }
 
  private:
   TopLevelResolver* resolver_;
-  static constexpr uint32_t kCached = 16;
-  std::atomic<uint64_t> address_[kCached];
-  std::atomic<const accel::Tlas*> tlas_[kCached];
-  std::atomic<uint32_t> count_{0};
-  std::mutex mutex_;
 };
 
 const abi::RayQueryRuntime& rayQueryRuntime();

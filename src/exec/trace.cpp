@@ -72,28 +72,9 @@ struct LaunchState {
   RecordCache miss, hit, callable;
   RayQueryScope queries;  // the shaders' ray queries (they resolve through the launch's resolver too)
 
-  static constexpr uint32_t kCachedStructures = 16;
-  std::atomic<uint64_t> asAddress[kCachedStructures];
-  std::atomic<const accel::Tlas*> asTlas[kCachedStructures];
-  std::atomic<uint32_t> asCount{0};
-  std::mutex asMutex;
-
-  const accel::Tlas* topLevel(uint64_t address) {
-    uint32_t n = asCount.load(std::memory_order_acquire);
-    for (uint32_t i = 0; i < n; ++i)
-      if (asAddress[i].load(std::memory_order_relaxed) == address) return asTlas[i].load(std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(asMutex);
-    n = asCount.load(std::memory_order_relaxed);
-    for (uint32_t i = 0; i < n; ++i)
-      if (asAddress[i].load(std::memory_order_relaxed) == address) return asTlas[i].load(std::memory_order_relaxed);
-    const accel::Tlas* t = launch->resolver->topLevel(address);
-    if (n < kCachedStructures) {
-      asAddress[n].store(address, std::memory_order_relaxed);
-      asTlas[n].store(t, std::memory_order_relaxed);
-      asCount.store(n + 1, std::memory_order_release);
-    }
-    return t;
-  }
+  // The top level at `address`: the resolver resolves each address once per launch and answers without a lock
+  // (runtime's TopLevelTable).
+  const accel::Tlas* topLevel(uint64_t address) { return launch->resolver->topLevel(address); }
 };
 
 struct TraceFrame;

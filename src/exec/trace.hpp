@@ -7,11 +7,10 @@
 // into a RayLaunch, and answers, through a LaunchResolver, what needs the device: which group an SBT record's handle
 // denotes, which acceleration structure an address is, and the reports. Each record is resolved once per launch and
 // cached here (the first 2^20 records of each region; a record past them is resolved at each use, a hash lookup).
-// Acceleration structure addresses are cached in a table of 16 slots per launch (LaunchState::kCachedStructures) that
-// rays read without a lock: while a launch meets at most 16 distinct addresses and its records are cached, the per-ray
-// path allocates nothing, takes no lock and makes no hash lookup. Beyond 16, each traceRayEXT on an address the table
-// does not hold takes the launch's mutex and asks the resolver again, which looks the address up in the device's
-// registry (a mutex and a hash lookup) and appends the structure to the launch's list of structures it keeps alive.
+// Acceleration structure addresses are resolved by the resolver, once per address and launch (runtime's
+// TopLevelTable: a bisection of the launch's sorted addresses without a lock). So while a launch's records are
+// cached, the per-ray path allocates nothing, takes no lock and makes no hash lookup, however many acceleration
+// structures it reaches.
 //
 // SBT record index of a hit (the specification's formula): instance SBT offset + the trace's sbtRecordOffset +
 // sbtRecordStride x geometry index. A record whose handle is all zeros is a group with no shaders (a miss or

@@ -185,7 +185,7 @@ std::string describe(const GroupRecord& g) {
 class Launch final : public exec::LaunchResolver {
  public:
   Launch(const CommandBuffer* cb, const char* fn, RayTracingPipeline* pipeline)
-      : cb_(cb), fn_(fn), pipeline_(pipeline), dev_(cb->device) {}
+      : cb_(cb), fn_(fn), pipeline_(pipeline), dev_(cb->device), structures_(cb->device) {}
 
   void run(const ExecState& st, const SbtRegions& sbt, const uint32_t size[3]);
 
@@ -206,7 +206,6 @@ class Launch final : public exec::LaunchResolver {
     kMismatch,
     kRecursion,
     kStack,
-    kNoStructure,
     kRuleCount
   };
   // True the first time `rule` is reported in this launch.
@@ -222,9 +221,8 @@ class Launch final : public exec::LaunchResolver {
   std::vector<exec::RayGroup> groups_;                      // by pipeline group index
   std::unordered_map<const GroupRecord*, uint32_t> index_;  // group record -> pipeline group index
   std::unordered_map<const spirv::CompiledShader*, BoundResources> resources_;
-  std::deque<std::string> names_;                               // RayShader::name storage
-  std::mutex mutex_;                                            // structures_
-  std::vector<std::shared_ptr<const accel::Tlas>> structures_;  // kept alive while the launch runs
+  std::deque<std::string> names_;  // RayShader::name storage
+  TopLevelTable structures_;       // the acceleration structures the launch reaches, resolved once each
   std::atomic<bool> reported_[kRuleCount] = {};
 };
 
@@ -402,19 +400,15 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
 }
 
 const accel::Tlas* Launch::topLevel(uint64_t address) {
-  std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
-  if (!t) {
-    if (first(kNoStructure))
-      report(cb_, Severity::Error, nullptr,
-             "%s: traceRayEXT or rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is "
-             "not the address of a built top-level acceleration structure of this device; those rays miss (those ray "
-             "queries find no intersection)",
-             fn_, (ull)address);
-    return nullptr;
-  }
-  std::lock_guard<std::mutex> lock(mutex_);
-  structures_.push_back(t);
-  return t.get();
+  bool firstMiss = false;
+  const accel::Tlas* t = structures_.find(address, &firstMiss);
+  if (firstMiss)
+    report(cb_, Severity::Error, nullptr,
+           "%s: traceRayEXT or rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is "
+           "not the address of a built top-level acceleration structure of this device; those rays miss (those ray "
+           "queries find no intersection)",
+           fn_, (ull)address);
+  return t;
 }
 
 void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {

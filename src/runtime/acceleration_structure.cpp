@@ -1,5 +1,6 @@
 #include "runtime/acceleration_structure.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "runtime/alloc.hpp"
@@ -122,20 +123,46 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
   return fresh->tlas;
 }
 
-const accel::Tlas* DispatchStructures::topLevel(uint64_t address) {
-  std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
-  std::lock_guard lock(mutex_);
-  if (!t) {
-    if (!reported_)
-      report(about_, Severity::Error, nullptr,
-             "%s: rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is not the address "
-             "of a built top-level acceleration structure of this device; those ray queries find no intersection",
-             fn_, (ull)address);
-    reported_ = true;
-    return nullptr;
+void TopLevelTable::snapshot() {
+  std::lock_guard lock(dev_->accelerationStructuresMutex);
+  addresses_.reserve(dev_->accelerationStructures.size());
+  for (const auto& [address, as] : dev_->accelerationStructures)  // (a std::map: the addresses come sorted)
+    if (as->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) addresses_.push_back(address);
+  entries_ = std::make_unique<Entry[]>(addresses_.size());
+}
+
+const accel::Tlas* TopLevelTable::miss(bool* firstMiss) {
+  *firstMiss = !missed_.exchange(true, std::memory_order_relaxed);
+  return nullptr;
+}
+
+const accel::Tlas* TopLevelTable::find(uint64_t address, bool* firstMiss) {
+  *firstMiss = false;
+  std::call_once(snapshotOnce_, [this] { snapshot(); });
+  const auto it = std::lower_bound(addresses_.begin(), addresses_.end(), address);
+  if (it == addresses_.end() || *it != address) return miss(firstMiss);
+  Entry& e = entries_[it - addresses_.begin()];
+  if (!e.resolved.load(std::memory_order_acquire)) {
+    std::lock_guard lock(mutex_);
+    if (!e.resolved.load(std::memory_order_relaxed)) {
+      std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
+      e.tlas = t.get();
+      if (t) kept_.push_back(std::move(t));
+      e.resolved.store(true, std::memory_order_release);
+    }
   }
-  kept_.push_back(t);
-  return t.get();
+  return e.tlas ? e.tlas : miss(firstMiss);
+}
+
+const accel::Tlas* DispatchStructures::topLevel(uint64_t address) {
+  bool firstMiss = false;
+  const accel::Tlas* t = table_.find(address, &firstMiss);
+  if (firstMiss)
+    report(about_, Severity::Error, nullptr,
+           "%s: rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is not the address "
+           "of a built top-level acceleration structure of this device; those ray queries find no intersection",
+           fn_, (ull)address);
+  return t;
 }
 
 VkDeviceSize requiredSize(uint64_t primitives) {

@@ -101,21 +101,48 @@ AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
 // once, and kept (a launch resolves each top level once).
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);
 
-// Resolves the acceleration structure addresses of one dispatch's ray queries (exec/ray_query.hpp): each through
-// topLevelAt, kept alive until the dispatch ends; an address that is no built top-level structure is reported once
-// per dispatch (naming `about` and `fn`), and those queries find nothing.
+// The top-level structures one dispatch or launch reaches through addresses (traceRayEXT and ray queries alike),
+// each resolved once. On first use it takes the addresses of the device's structures that may hold a top level (any
+// not created as bottom-level) in one sorted array: the work's one allocation for them. Every later resolution is a
+// bisection of that array without a lock; an address's structure is resolved through topLevelAt the first time any
+// invocation meets it (under the table's lock) and kept alive until the work ends, and an address that denotes no
+// built top level resolves to null, also once. So no invocation takes a lock, looks up a hash table or allocates per
+// ray, however many structures the work reaches (at most one resolution per structure and per work).
+class TopLevelTable {
+ public:
+  explicit TopLevelTable(Device* dev) : dev_(dev) {}
+  // The built top level at `address`, or null; `*firstMiss` is set when this null is the work's first.
+  const accel::Tlas* find(uint64_t address, bool* firstMiss);
+
+ private:
+  struct Entry {
+    std::atomic<bool> resolved{false};
+    const accel::Tlas* tlas = nullptr;  // written once, before `resolved`
+  };
+  void snapshot();
+  const accel::Tlas* miss(bool* firstMiss);
+
+  Device* dev_;
+  std::once_flag snapshotOnce_;
+  std::vector<uint64_t> addresses_;  // sorted
+  std::unique_ptr<Entry[]> entries_;
+  std::mutex mutex_;                                      // resolutions, kept_
+  std::vector<std::shared_ptr<const accel::Tlas>> kept_;  // one per resolved structure, alive until the work ends
+  std::atomic<bool> missed_{false};
+};
+
+// Resolves the acceleration structure addresses of one dispatch's ray queries (exec/ray_query.hpp) through a
+// TopLevelTable; an address that is no built top-level structure is reported once per dispatch (naming `about`
+// and `fn`), and those queries find nothing.
 class DispatchStructures final : public exec::TopLevelResolver {
  public:
-  DispatchStructures(Device* dev, const Object* about, const char* fn) : dev_(dev), about_(about), fn_(fn) {}
+  DispatchStructures(Device* dev, const Object* about, const char* fn) : table_(dev), about_(about), fn_(fn) {}
   const accel::Tlas* topLevel(uint64_t address) override;
 
  private:
-  Device* dev_;
+  TopLevelTable table_;
   const Object* about_;
   const char* fn_;
-  bool reported_ = false;
-  std::mutex mutex_;
-  std::vector<std::shared_ptr<const accel::Tlas>> kept_;
 };
 
 // The size an acceleration structure of `primitives` primitives (or instances) needs in its buffer, as

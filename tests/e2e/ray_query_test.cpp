@@ -15,6 +15,7 @@
 #include "e2e/trace_fixture.hpp"
 #include "hit_distance.hpp"
 #include "ray_query_address.comp.spv.h"
+#include "ray_query_many.comp.spv.h"
 #include "ray_query_raygen.rgen.spv.h"
 #include "ray_query_scene.comp.spv.h"
 
@@ -496,6 +497,76 @@ class RayQueryMisuseTest : public RayQueryTest {
  protected:
   bool layer() override { return false; }
 };
+
+// Hundreds of top levels reached in one dispatch, each invocation choosing one by address: each resolves once per
+// dispatch (runtime's TopLevelTable), rays take no lock, make no hash lookup and allocate nothing however many
+// structures there are. Before, a dispatch's first 16 addresses were cached and every ray on a later one took two
+// locks, a hash lookup and kept another reference in a list that grew with every ray (about 10 bytes a ray, without
+// bound): the resident memory is checked over three dispatches of 2^18 queries. A bottom-level address and a wild
+// one among them find nothing, reported once.
+TEST_F(RayQueryMisuseTest, HundredsOfTopLevelsInOneDispatchResolveOnceEach) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own diagnostics";
+  constexpr uint32_t kLevels = 300, kInvocations = 1u << 18;
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  std::vector<uint64_t> addresses;
+  for (uint32_t k = 0; k < kLevels; ++k) addresses.push_back(addressOf(tlas({instance(quad, 0, 0, 0, k + 1)})));
+  addresses[100] = addressOf(quad);  // a bottom level: no top level there
+  addresses[200] = 0x1234560;        // nothing at all
+  HostBuffer& in = buffer(addresses.size() * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(in.data, addresses.data(), addresses.size() * 8);
+  HostBuffer& out = buffer(kInvocations * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  ComputePipeline p = makeComputePipeline(device, kSpv_ray_query_many_comp, sizeof kSpv_ray_query_many_comp,
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, 4);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  VkDescriptorBufferInfo bi[2] = {{in.buffer, 0, VK_WHOLE_SIZE}, {out.buffer, 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet w[2];
+  for (uint32_t b = 0; b < 2; ++b) {
+    w[b] = VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w[b].dstSet = p.set;
+    w[b].dstBinding = b;
+    w[b].descriptorCount = 1;
+    w[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w[b].pBufferInfo = &bi[b];
+  }
+  vkUpdateDescriptorSets(device, 2, w, 0, nullptr);
+  auto residentBytes = [] {
+    long pages = 0, resident = 0;
+    FILE* f = std::fopen("/proc/self/statm", "r");
+    if (f) {
+      if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+      std::fclose(f);
+    }
+    return uint64_t(resident) * 4096;
+  };
+  uint64_t afterFirst = 0;
+  for (int round = 0; round < 3; ++round) {
+    std::memset(out.data, 0xee, kInvocations * 4);
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+    vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, &kLevels);
+    vkCmdDispatch(cb, kInvocations / 64, 1, 1);
+    submitAndWait(cb);
+    const uint32_t* r = static_cast<const uint32_t*>(out.data);
+    size_t wrong = 0;
+    for (uint32_t i = 0; i < kInvocations; ++i) {
+      const uint32_t k = uint32_t((uint64_t(i) * 7919u) % kLevels);
+      const uint32_t expected = k == 100 || k == 200 ? 0xFFFFFFFFu : k + 1;
+      if (r[i] != expected && ++wrong <= 5) ADD_FAILURE() << "invocation " << i << ": " << r[i] << ", not " << expected;
+    }
+    EXPECT_EQ(wrong, 0u) << "round " << round;
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u) << "one report per dispatch for the two addresses without a top level";
+    EXPECT_NE(msgs[0].text.find("not the address of a built top-level acceleration structure"), std::string::npos)
+        << msgs[0].text;
+    clearMessages();
+    if (round == 0) afterFirst = residentBytes();
+  }
+  // Two more dispatches of 2^18 queries each, 98% of them on structures past the 16th: at 10 bytes a ray they
+  // took 5 MB; nothing grows per ray now (the bound leaves room for the allocator's own variation).
+  const uint64_t growth = residentBytes() - std::min(afterFirst, residentBytes());
+  EXPECT_LT(growth, 2u << 20) << "resident memory grew by " << growth << " bytes over two dispatches";
+}
 
 TEST_F(RayQueryMisuseTest, AWildOrDestroyedStructureAddressIsReportedAndFindsNothing) {
   if (!onVkrt()) GTEST_SKIP() << "vkrt's own diagnostics";
