@@ -66,7 +66,7 @@ constexpr F kSupported[] = {
     // convert from and to the bound view's format at run time, for every storage format (src/spirv/image.cpp,
     // runtime/image_functions.cpp; format.cpp reports STORAGE_READ/WRITE_WITHOUT_FORMAT for them). Storage texel
     // buffers are not compiled at all, with or without a format. tests/spirv SpirvFormatlessImages, tests/e2e
-    // ComputeImageTest.Formatless*, FormatlessRaygenTest.
+    // ComputeFormatless*, FormatlessRaygenTest.
     F::shaderStorageImageReadWithoutFormat,
     F::shaderStorageImageWriteWithoutFormat,
     // Workgroup memory: zeroed for every workgroup, so initializers (OpConstantNull) hold; explicit layouts of
