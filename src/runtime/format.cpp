@@ -74,6 +74,17 @@ VkFormatFeatureFlags formatFeatures(VkFormat format) {
   return flags;
 }
 
+VkFormatFeatureFlags2 formatFeatures2(VkFormat format) {
+  VkFormatFeatureFlags2 flags = formatFeatures(format);
+  // Formats ("Formats Without Shader Storage Format"): with shaderStorageImage{Read,Write}WithoutFormat supported,
+  // Vulkan 1.3 requires these bits for the listed formats that support storage images, and a storage format with
+  // no SPIR-V Image Format (B8G8R8A8_UNORM) must have one of them. vkrt reports both for every storage format:
+  // the image functions convert texels from and to the view's format whatever the shader declares.
+  if (flags & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)
+    flags |= VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
+  return flags;
+}
+
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
   // Vertex formats of acceleration structure builds (the spec's mandatory ones and the 8/16-bit normalized ones).
   const VkFormatFeatureFlags vertex =
@@ -106,8 +117,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFormatProperties2(VkPhysicalDev
   for (auto* s = static_cast<VkBaseOutStructure*>(pFormatProperties->pNext); s; s = s->pNext) {
     if (s->sType == VK_STRUCTURE_TYPE_FORMAT_PROPERTIES_3) {
       auto* p3 = reinterpret_cast<VkFormatProperties3*>(s);
-      p3->linearTilingFeatures = formatFeatures(format);
-      p3->optimalTilingFeatures = formatFeatures(format);
+      p3->linearTilingFeatures = formatFeatures2(format);
+      p3->optimalTilingFeatures = formatFeatures2(format);
+      // Storage texel buffers are not compiled yet: no format-less access to them.
       p3->bufferFeatures = bufferFormatFeatures(format);
     }
   }

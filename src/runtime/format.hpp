@@ -26,5 +26,8 @@ const FormatInfo* formatInfo(VkFormat format);
 // Format features vkrt supports for optimal/linear tiling and buffers (identical for both tilings).
 VkFormatFeatureFlags formatFeatures(VkFormat format);
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format);
+// The image features as VkFormatProperties3 reports them: formatFeatures() and the bits only VkFormatFeatureFlags2
+// has (STORAGE_READ/WRITE_WITHOUT_FORMAT on every storage format).
+VkFormatFeatureFlags2 formatFeatures2(VkFormat format);
 
 }  // namespace vkrt

@@ -62,6 +62,13 @@ constexpr F kSupported[] = {
     F::shaderStorageBufferArrayNonUniformIndexing,
     F::shaderStorageImageArrayNonUniformIndexing,
     F::runtimeDescriptorArray,
+    // Storage images read and written without a format in the shader (Image Format Unknown): the image functions
+    // convert from and to the bound view's format at run time, for every storage format (src/spirv/image.cpp,
+    // runtime/image_functions.cpp; format.cpp reports STORAGE_READ/WRITE_WITHOUT_FORMAT for them). Storage texel
+    // buffers are not compiled at all, with or without a format. tests/spirv SpirvFormatlessImages, tests/e2e
+    // ComputeFormatless*, FormatlessRaygenTest.
+    F::shaderStorageImageReadWithoutFormat,
+    F::shaderStorageImageWriteWithoutFormat,
     // Workgroup memory: zeroed for every workgroup, so initializers (OpConstantNull) hold; explicit layouts of
     // Block variables that alias (src/spirv/memory.cpp; tests/spirv SpirvConformance.WorkgroupMemory*).
     F::shaderZeroInitializeWorkgroupMemory,

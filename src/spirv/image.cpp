@@ -60,7 +60,14 @@ bool extraSupportedCapability(uint32_t cap) {
     // load and store at their own width, as in other storage classes.
     case spv::CapabilityWorkgroupMemoryExplicitLayoutKHR:
     case spv::CapabilityWorkgroupMemoryExplicitLayout8BitAccessKHR:
-    case spv::CapabilityWorkgroupMemoryExplicitLayout16BitAccessKHR: return true;
+    case spv::CapabilityWorkgroupMemoryExplicitLayout16BitAccessKHR:
+    // Storage images of Image Format Unknown (OpImageRead / OpImageWrite): nothing here depends on the declared
+    // format. The image functions convert every texel from or to the format of the view bound when the shader
+    // runs (runtime/image_functions.cpp), which is what the spec asks of format-less access ("Image Format
+    // Unknown": the view's format decides). tests/spirv/formatless_image_test.cpp, tests/e2e
+    // ComputeFormatless* and FormatlessRaygenTest.
+    case spv::CapabilityStorageImageReadWithoutFormat:
+    case spv::CapabilityStorageImageWriteWithoutFormat: return true;
     default: return false;
   }
 }

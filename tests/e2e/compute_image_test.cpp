@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compute_bda_linked_list.comp.spv.h"
+#include "compute_formatless_image.comp.spv.h"
 #include "compute_image_atomics.comp.spv.h"
 #include "compute_nonuniform_images.comp.spv.h"
 #include "compute_sample.comp.spv.h"
@@ -17,6 +18,7 @@
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
 #include "spirv/dxc_reference.hpp"
+#include "spirv/formatless_reference.hpp"
 #include "spirv/small_types_reference.hpp"
 
 namespace vkrt::test {
@@ -809,6 +811,197 @@ TEST_F(ComputeImageTest, ImageAtomicsOnR32Images) {
   for (Tex* t : all) destroy(*t);
   destroy(out);
   destroy(p);
+}
+
+// ---- storage images without a format (Image Format Unknown)
+
+// compute_formatless_image.comp over views of the formats ray tracing samples write (R8G8B8A8_UNORM,
+// B8G8R8A8_UNORM, R16G16B16A16_SFLOAT, R32G32B32A32_SFLOAT) and others (R32_SFLOAT, R32_UINT, 16- and 32-bit
+// four-component integers), with shaderStorageImageReadWithoutFormat and shaderStorageImageWriteWithoutFormat
+// enabled; texels expected from tests/spirv/formatless_reference.hpp.
+class ComputeFormatlessTest : public ComputeImageTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features.shaderStorageImageReadWithoutFormat = VK_TRUE;
+    o.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
+    return o;
+  }
+
+  // One 2 x 2 dispatch (8 x 8 texels) of `p` over new images of the formats `f`; compares every texel of the four.
+  void runRound(Pipeline& p, const testing::FormatlessImages& f, uint32_t seed) {
+    using namespace vkrt::testing;
+    SCOPED_TRACE(std::string("src ") + f.src->name + ", dst " + f.dst->name + ", acc " + f.acc->name + ", ids " +
+                 f.ids->name);
+    const StorageFormat* formats[4] = {f.src, f.dst, f.acc, f.ids};
+    std::vector<uint8_t> texels[4];
+    Tex tex[4];
+    for (uint32_t b = 0; b < 4; ++b) {
+      texels[b] = inputTexels(*formats[b], 64, seed * 4 + b);
+      tex[b] = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, formats[b]->format, {8, 8, 1}, 1, 1,
+                       formats[b]->texelSize(), VK_IMAGE_USAGE_STORAGE_BIT);
+      std::memcpy(tex[b].staging.data, texels[b].data(), texels[b].size());
+      writeImage(p, b, kStorageImage, tex[b].view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+    }
+    VkCommandBuffer cb = beginOneTime();
+    for (Tex& t : tex) upload(cb, t, VK_IMAGE_LAYOUT_GENERAL);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+    vkCmdDispatch(cb, 2, 2, 1);
+    for (Tex& t : tex) download(cb, t);
+    hostBarrier(cb);
+    submitAndWait(cb);
+    std::vector<uint8_t> src = texels[0];
+    expectedFormatless(f, 8, 8, src, texels[1], texels[2], texels[3]);
+    const char* names[4] = {"src (read only)", "dst", "acc", "ids"};
+    // The spec leaves the rounding of a float stored to a 16-bit float texel to the driver (RTE or RTZ); vkrt
+    // rounds to nearest even.
+    for (uint32_t b = 0; b < 4; ++b) {
+      const auto* got = static_cast<const uint8_t*>(tex[b].staging.data);
+      expectTexels(*formats[b], std::vector<uint8_t>(got, got + texels[b].size()), texels[b], names[b], !onVkrt());
+      destroy(tex[b]);
+    }
+  }
+  void runAllRounds() {
+    using namespace vkrt::testing;
+    Pipeline p = makePipeline(kSpv_compute_formatless_image_comp, sizeof kSpv_compute_formatless_image_comp,
+                              {kStorageImage, kStorageImage, kStorageImage, kStorageImage});
+    ASSERT_EQ(p.result, VK_SUCCESS);
+    const FormatlessImages rounds[] = {
+        {&kRgba8, &kRgba16f, &kRgba32f, &kR32ui}, {&kBgra8, &kRgba8, &kRgba16f, &kRgba16ui},
+        {&kRgba32f, &kBgra8, &kR32f, &kRgba32ui}, {&kRgba16f, &kRgba32f, &kBgra8, &kR32ui},
+        {&kR32f, &kR32f, &kRgba8, &kRgba16ui},
+    };
+    uint32_t seed = 0;
+    for (const FormatlessImages& f : rounds) runRound(p, f, ++seed);
+    destroy(p);
+  }
+};
+
+TEST_F(ComputeFormatlessTest, FeaturesAndFormatFeaturesAreReported) {
+  VkPhysicalDeviceFeatures f;
+  vkGetPhysicalDeviceFeatures(physicalDevice, &f);
+  EXPECT_TRUE(f.shaderStorageImageReadWithoutFormat);
+  EXPECT_TRUE(f.shaderStorageImageWriteWithoutFormat);
+  const VkFormatFeatureFlags2 both =
+      VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
+  // Formats, "Formats Without Shader Storage Format": with both features supported (Vulkan 1.3), each listed
+  // format that supports storage images supports both bits.
+  const VkFormat listed[] = {
+      VK_FORMAT_R8G8B8A8_UNORM,
+      VK_FORMAT_R8G8B8A8_SNORM,
+      VK_FORMAT_R8G8B8A8_UINT,
+      VK_FORMAT_R8G8B8A8_SINT,
+      VK_FORMAT_R32_UINT,
+      VK_FORMAT_R32_SINT,
+      VK_FORMAT_R32_SFLOAT,
+      VK_FORMAT_R32G32_UINT,
+      VK_FORMAT_R32G32_SINT,
+      VK_FORMAT_R32G32_SFLOAT,
+      VK_FORMAT_R32G32B32A32_UINT,
+      VK_FORMAT_R32G32B32A32_SINT,
+      VK_FORMAT_R32G32B32A32_SFLOAT,
+      VK_FORMAT_R16G16B16A16_UINT,
+      VK_FORMAT_R16G16B16A16_SINT,
+      VK_FORMAT_R16G16B16A16_SFLOAT,
+      VK_FORMAT_R16G16_SFLOAT,
+      VK_FORMAT_B10G11R11_UFLOAT_PACK32,
+      VK_FORMAT_R16_SFLOAT,
+      VK_FORMAT_R16G16B16A16_UNORM,
+      VK_FORMAT_A2B10G10R10_UNORM_PACK32,
+      VK_FORMAT_R16G16_UNORM,
+      VK_FORMAT_R8G8_UNORM,
+      VK_FORMAT_R16_UNORM,
+      VK_FORMAT_R8_UNORM,
+      VK_FORMAT_R16G16B16A16_SNORM,
+      VK_FORMAT_R16G16_SNORM,
+      VK_FORMAT_R8G8_SNORM,
+      VK_FORMAT_R16_SNORM,
+      VK_FORMAT_R8_SNORM,
+      VK_FORMAT_R16G16_SINT,
+      VK_FORMAT_R8G8_SINT,
+      VK_FORMAT_R16_SINT,
+      VK_FORMAT_R8_SINT,
+      VK_FORMAT_A2B10G10R10_UINT_PACK32,
+      VK_FORMAT_R16G16_UINT,
+      VK_FORMAT_R8G8_UINT,
+      VK_FORMAT_R16_UINT,
+      VK_FORMAT_R8_UINT,
+  };
+  auto query = [&](VkFormat format) {
+    VkFormatProperties3 p3{VK_STRUCTURE_TYPE_FORMAT_PROPERTIES_3};
+    VkFormatProperties2 p2{VK_STRUCTURE_TYPE_FORMAT_PROPERTIES_2, &p3};
+    vkGetPhysicalDeviceFormatProperties2(physicalDevice, format, &p2);
+    return p3;
+  };
+  for (VkFormat format : listed) {
+    VkFormatProperties3 p3 = query(format);
+    for (VkFormatFeatureFlags2 tiling : {p3.linearTilingFeatures, p3.optimalTilingFeatures}) {
+      if (tiling & VK_FORMAT_FEATURE_2_STORAGE_IMAGE_BIT) {
+        EXPECT_EQ(tiling & both, both) << "format " << format;
+      }
+    }
+  }
+  // The formats the tests bind, B8G8R8A8_UNORM among them (no SPIR-V Image Format names it: a storage image of it
+  // can only be accessed without a format).
+  for (const testing::StorageFormat* sf :
+       {&testing::kRgba8, &testing::kBgra8, &testing::kRgba16f, &testing::kRgba32f, &testing::kR32f, &testing::kR32ui,
+        &testing::kRgba16ui, &testing::kRgba32ui}) {
+    VkFormatProperties3 p3 = query(sf->format);
+    EXPECT_EQ(p3.optimalTilingFeatures & (both | VK_FORMAT_FEATURE_2_STORAGE_IMAGE_BIT),
+              both | VK_FORMAT_FEATURE_2_STORAGE_IMAGE_BIT)
+        << sf->name;
+  }
+  if (!onVkrt()) return;
+  // vkrt: every storage format has both bits, in both tilings; buffer features have neither (storage texel
+  // buffers are not compiled), and VkFormatProperties (Vulkan 1.0's flags) is unchanged.
+  int storageFormats = 0;
+  for (int format = VK_FORMAT_R4G4_UNORM_PACK8; format <= VK_FORMAT_ASTC_12x12_SRGB_BLOCK; ++format) {
+    VkFormatProperties3 p3 = query(VkFormat(format));
+    VkFormatProperties p1;
+    vkGetPhysicalDeviceFormatProperties(physicalDevice, VkFormat(format), &p1);
+    EXPECT_EQ(p3.optimalTilingFeatures & ~both, VkFormatFeatureFlags2(p1.optimalTilingFeatures)) << format;
+    EXPECT_EQ(p3.linearTilingFeatures, p3.optimalTilingFeatures) << format;
+    EXPECT_EQ(p3.bufferFeatures & both, 0u) << format;
+    const bool storage = p3.optimalTilingFeatures & VK_FORMAT_FEATURE_2_STORAGE_IMAGE_BIT;
+    EXPECT_EQ(p3.optimalTilingFeatures & both, storage ? both : 0) << format;
+    storageFormats += storage;
+  }
+  EXPECT_GE(storageFormats, 8);
+}
+
+TEST_F(ComputeFormatlessTest, ReadsAndWritesConvertFromAndToTheBoundViewsFormat) { runAllRounds(); }
+
+// The same pipeline on a device without the two features. On a Vulkan 1.3 device that is valid use, so vkrt
+// creates and runs it and reports nothing: the capability table (SPIR-V Environment, "Capabilities";
+// VUID-VkShaderModuleCreateInfo-pCode-01091) allows StorageImageReadWithoutFormat and
+// StorageImageWriteWithoutFormat with the feature, VK_KHR_format_feature_flags2, or Vulkan 1.3 as
+// VkPhysicalDeviceProperties::apiVersion reports it; and the NonReadable / NonWritable decorations are required
+// only where apiVersion is below 1.3 and VK_KHR_format_feature_flags2 is not supported
+// (VUID-RuntimeSpirv-apiVersion-07954 and -07955). Where the features do not apply, the view's format features
+// (STORAGE_READ/WRITE_WITHOUT_FORMAT, reported for every storage format) govern. The 1.3.239 validation layer
+// still applies those rules as 1.3.239's text worded them, without the version condition the specification added
+// later (VUID-RuntimeSpirv-OpTypeImage-06269 and -06270): exactly those messages are accepted here.
+class ComputeFormatlessWithoutFeaturesTest : public ComputeFormatlessTest {
+ protected:
+  FixtureOptions options() override { return {}; }
+};
+
+TEST_F(ComputeFormatlessWithoutFeaturesTest, AVulkan13DeviceRunsThemByTheFormatFeatures) {
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physicalDevice, &props);
+  if (VK_API_VERSION_MINOR(props.apiVersion) < 3) GTEST_SKIP() << "the features are required below Vulkan 1.3";
+  runAllRounds();
+  int layerReports = 0;
+  for (const Message& m : layerMessages()) {
+    const bool outdatedRule =
+        m.idName == "VUID-RuntimeSpirv-OpTypeImage-06269" || m.idName == "VUID-RuntimeSpirv-OpTypeImage-06270";
+    EXPECT_TRUE(outdatedRule) << "unexpected validation message: " << m.text.substr(0, 300);
+    layerReports += outdatedRule;
+  }
+  for (const Message& m : vkrtMessages()) ADD_FAILURE() << "vkrt reported valid use: " << m.text;
+  clearMessages();
+  RecordProperty("layer_reports_of_the_1_3_239_rule", layerReports);
 }
 
 }  // namespace

@@ -25,6 +25,7 @@ struct ComputeHarness {
   std::string error;
   alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
   std::map<uint32_t, uint64_t> structures;         // binding -> acceleration structure address
+  std::map<uint32_t, const void*> images;          // binding -> the image view (a vkrt Object) of its record
   const abi::RayQueryScope* rayQueries = nullptr;  // the dispatch's ray query runtime
   exec::Job* job = nullptr;                        // the supervision (exec/supervise.hpp); null: the executor's own
 
@@ -72,6 +73,8 @@ struct ComputeHarness {
         } else if (rb.set == 0 && it != buffers.end()) {
           rec.address = reinterpret_cast<uint64_t>(it->second.data());
           rec.range = sizes[key];
+        } else if (rb.set == 0 && images.count(key)) {
+          rec.object = images[key];
         }
         records[i].push_back(rec);
       }
