@@ -6,7 +6,8 @@
 // - Instance masks, SkipTrianglesKHR, SkipAABBsKHR: Embree ray masks (structures.hpp), no callback.
 // - Triangles: Embree's watertight intersector finds candidates. A context filter callback applies facing culling,
 //   opacity, opacity culling and the any-hit shader, and is installed only for rays that need it
-//   (needsTriangleFilter): a ray that can meet only opaque triangles, without culling flags, runs at Embree's speed.
+//   (needsTriangleFilter): a ray that can meet only opaque triangles, without culling flags, runs at Embree's speed
+//   (in a scene without boxes; see trace() for the interval a ray with boxes in reach needs).
 // - Boxes: Embree user geometries, whose callbacks apply opacity culling and the candidate test, and run the
 //   intersection shader (HitHandler::intersect), which commits through ProceduralCandidate.
 // - TerminateOnFirstHitKHR: an Embree occlusion query, which stops at the first accepted candidate; the filter and
@@ -69,7 +70,10 @@ struct TraceContext {
   const Ray* ray;
   HitHandler* handler;
   uint32_t flags;
-  bool firstHit;                  // TerminateOnFirstHitKHR: an occlusion query
+  bool firstHit;  // TerminateOnFirstHitKHR: an occlusion query
+  // Embree's interval is the ray's [tMin, tMax], ends included (boxes in reach, and ray queries): the filter drops
+  // the triangles at the ends. Otherwise it is one float inside each end, and the filter keeps a triangle's t there.
+  bool closedInterval = false;
   bool terminated = false;        // a commit ended the traversal
   QueryCollect* query = nullptr;  // a ray query's proceed(): candidates needing the shader are collected, not run
   Committed last;                 // the latest commit made by a callback
@@ -187,9 +191,11 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     args->valid[0] = 0;
     return;
   }
-  if (!ctx.query) ray.tfar = insideOpen(ray.tfar, ctx.ray->tMin, ctx.ray->tMax);
-  // A ray query's traversal runs over [tMin, tMax] with both ends (boxes need them): triangles need tMin < t < tMax.
-  if (ctx.query && !(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
+  // Over [tMin, tMax] with both ends (boxes need them), triangles need tMin < t < tMax. Over the interval one float
+  // inside, a t the kernel's rounding put on an end is the nearest float inside (insideOpen).
+  if (!ctx.closedInterval) {
+    ray.tfar = insideOpen(ray.tfar, ctx.ray->tMin, ctx.ray->tMax);
+  } else if (!(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
     args->valid[0] = 0;
     return;
   }
@@ -246,6 +252,17 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+// The filter of a ray over the closed interval that needs no other (it can meet only opaque triangles, and has no
+// culling flags): the triangle candidates at tMin or tMax, which Embree's inclusive test accepts, are not
+// candidates ("tMin < t < tMax"). Without it Embree would commit a triangle at tMin (a ray starting on a surface)
+// and narrow the traversal to it, hiding everything behind.
+void triangleEndsFilter(const RTCFilterFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const TraceContext& ctx = contextOf(args->context);
+  const float t = reinterpret_cast<const RTCRay*>(args->ray)->tfar;  // N == 1
+  if (!(t > ctx.ray->tMin && t < ctx.ray->tMax)) args->valid[0] = 0;
+}
+
 // The candidate test for a box: Vulkan's AABB candidates satisfy tmin <= t <= tmax, ends included, against the
 // closest hit so far ("Ray Intersection Candidate Determination"). A ray starting inside the box meets it.
 bool boxCandidate(const float* b, const float org[3], const float dir[3], float tMin, float tMax,
@@ -279,7 +296,7 @@ class BoxCandidate final : public ProceduralCandidate {
   const HitInfo& info() const override { return info_; }
   float tMin() const override { return ctx_.ray->tMin; }
   float tMax() const override {
-    // Before any commit Embree's tfar is the ray's tMax nudged down (trace()); after one it is the closest t.
+    // Before any commit the ray's tMax; after one Embree's tfar, the closest t.
     if (ctx_.terminated) return -kInf;
     return hit_ && hit_->geomID != RTC_INVALID_GEOMETRY_ID ? ray_.tfar : ctx_.ray->tMax;
   }
@@ -414,6 +431,20 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   ctx.flags = ray.flags;
   ctx.firstHit = (ray.flags & kRayTerminateOnFirstHit) != 0;
   if (needsTriangleFilter(t.summary, ray.flags)) ctx.embree.filter = triangleFilter;
+  // Triangle candidates need tMin < t < tMax, box candidates tMin <= t <= tMax ("Ray Intersection Candidate
+  // Determination"; a ray starting inside a box with tMin == tMax meets it), and Embree has one interval per ray,
+  // which its triangle test and its hierarchy's bounds test take as inclusive. Where the ray can meet boxes,
+  // Embree gets [tMin, tMax] (the box callbacks test the ends exactly) and a filter drops the triangles at the ends:
+  // triangleFilter, or where the ray needs none, triangleEndsFilter, a callback per triangle candidate that only
+  // such rays pay. Otherwise (only triangles in reach) each end moves one float inward, and opaque triangles need
+  // no callback at all. (One float inside would not do for boxes: the interval is empty when tMin == tMax, and
+  // Embree's hierarchy drops a box the ray leaves exactly at tMin = 0 or enters exactly at tMax.)
+  const bool boxesInReach = t.summary.aabbs && !(ray.flags & kRaySkipAabbs);
+  if (boxesInReach) {
+    ctx.closedInterval = true;
+    if (!ctx.embree.filter && t.summary.triangles && !(ray.flags & kRaySkipTriangles))
+      ctx.embree.filter = triangleEndsFilter;
+  }
 
   RTCRayHit rh;
   rh.ray.org_x = ray.origin[0];
@@ -422,11 +453,10 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   rh.ray.dir_x = ray.direction[0];
   rh.ray.dir_y = ray.direction[1];
   rh.ray.dir_z = ray.direction[2];
-  // Triangle candidates need tMin < t < tMax, ends excluded ("Ray Intersection Candidate Determination");
-  // Embree's watertight test accepts tnear <= t <= tfar, so each end moves one float inward. (Box candidates
-  // include both ends: their callbacks test against the ray's own tMin and tMax.)
-  rh.ray.tnear = std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
-  rh.ray.tfar = nextDown(ray.tMax);
+  // Embree's watertight test accepts tnear <= t <= tfar: without boxes each end moves one float inward (FLT_MIN
+  // at least: Embree flushes denormals).
+  rh.ray.tnear = ctx.closedInterval ? ray.tMin : std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
+  rh.ray.tfar = ctx.closedInterval ? ray.tMax : nextDown(ray.tMax);
   rh.ray.time = 0;
   rh.ray.mask =
       cull | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) | (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
@@ -587,6 +617,7 @@ bool queryProceed(RayQuery& q) {
   ctx.flags = ray.flags;
   ctx.firstHit = false;
   ctx.query = &collect;
+  ctx.closedInterval = true;
   if (t.summary.triangles && !(ray.flags & kRaySkipTriangles)) ctx.embree.filter = triangleFilter;
 
   RTCRayHit rh;

@@ -27,25 +27,34 @@ class RecordCache {
  public:
   void init(const SbtRange& range) {
     range_ = range;
-    count_ = range.stride ? range.size / range.stride : (range.size ? 1 : 0);
-    // A record must hold a handle: with a zero stride only index 0 exists.
-    cached_ = std::min(count_, kMaxCachedRecords);
+    // Record i is at base + i x stride ("Shader Binding Table" > "Indexing Rules"), and the region's size bounds
+    // the bytes a launch may read there ("All data accessed must be less than size bytes from the base
+    // address"): the record exists when its shader group handle lies inside the region. Its stride may exceed
+    // the region's size (one record of a handle's size with a stride of 64 is valid use: the CTS's callable_shader
+    // and pipeline_no_null_shaders_flag tests trace with it), and a zero stride puts every index on record 0.
+    if (range.size < kHandleBytes) {
+      count_ = 0;
+    } else {
+      count_ = range.stride ? (range.size - kHandleBytes) / range.stride + 1 : ~uint64_t(0);
+    }
+    cached_ = std::min(range.stride ? count_ : std::min<uint64_t>(count_, 1), kMaxCachedRecords);
     slots_.reset(cached_ ? new std::atomic<const RayGroup*>[cached_] : nullptr);
     for (uint64_t i = 0; i < cached_; ++i) slots_[i].store(nullptr, std::memory_order_relaxed);
   }
-  // The group of record `index`, or null (reported) when it lies outside the region or denotes no group.
+  // The group of record `index`, or null (reported) when its handle lies outside the region or denotes no group.
   const RayGroup* get(SbtRegion region, uint64_t index, LaunchResolver& resolver, const uint8_t** record) {
-    if (index >= count_ || (range_.stride == 0 && index > 0) || index * range_.stride + kHandleBytes > range_.size) {
+    if (index >= count_) {
       resolver.recordOutsideRegion(region, index, range_.stride, range_.size);
       return nullptr;
     }
     *record = range_.base + index * range_.stride;
-    if (index < cached_) {
-      const RayGroup* g = slots_[index].load(std::memory_order_acquire);
+    const uint64_t slot = range_.stride ? index : 0;  // with a zero stride every index is record 0
+    if (slot < cached_) {
+      const RayGroup* g = slots_[slot].load(std::memory_order_acquire);
       if (!g) {
         g = resolver.group(region, index, *record);
         if (!g) g = kInvalid;
-        slots_[index].store(g, std::memory_order_release);
+        slots_[slot].store(g, std::memory_order_release);
       }
       return g == kInvalid ? nullptr : g;
     }

@@ -61,7 +61,8 @@ class LaunchResolver : public TopLevelResolver {
   // (TopLevelResolver::topLevel: the top-level acceleration structure at `address`, for traceRayEXT and ray
   // queries, or null after reporting. The structure stays alive until the launch ends.)
 
-  // A record index past the end of its region.
+  // A record whose shader group handle does not lie inside its region (index x stride + shaderGroupHandleSize >
+  // size): the specification's "Indexing Rules" bound every byte a launch reads by the region's size.
   virtual void recordOutsideRegion(SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) = 0;
   // A hit group whose type does not match the geometry it was used for.
   virtual void hitGroupMismatch(uint64_t index, const RayGroup& group, bool triangles) = 0;

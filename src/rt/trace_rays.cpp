@@ -4,11 +4,12 @@
 // and at execution a Launch resolves the bound pipeline's groups and resources and runs the launch on the trace
 // executor (src/exec/trace.hpp), answering its questions about SBT records and acceleration structures.
 //
-// Every record a launch uses is checked once per launch: its handle must decode to a group of the bound pipeline
-// or of one of its libraries, of the kind its region holds (raygen, miss, hit, callable), not null where the
-// pipeline's NO_NULL_* flags forbid it, and a hit group's type must match the geometry it is used for. A
-// violation is reported once per launch and rule, naming the region, record index and address, and (where the
-// handle is one this device gave out) the group and the pipeline it was created in; that shader is not run.
+// Every record a launch uses is checked once per launch: its handle must lie inside its region (the stride may be
+// larger than the region), decode to a group of the bound pipeline or of one of its libraries, of the kind its
+// region holds (raygen, miss, hit, callable), not null where the pipeline's NO_NULL_* flags forbid it, and a hit
+// group's type must match the geometry it is used for. A violation is reported once per launch and rule, naming the
+// region, record index and address, and (where the handle is one this device gave out) the group and the pipeline it
+// was created in; that shader is not run.
 #include <algorithm>
 #include <atomic>
 #include <cinttypes>
@@ -270,9 +271,14 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
     ranges[i]->size = sbt.r[i].deviceAddress ? sbt.r[i].size : 0;
   }
   // The raygen record: one record, resolved before the launch (no raygen, no launch).
+  // Its size equals its stride (VUID-...-size-04023, checked when recorded) and bounds the bytes read ("Indexing
+  // Rules": "All data accessed must be less than pRaygenShaderBindingTable->size bytes from deviceAddress"), so
+  // a region smaller than a handle breaks a rule without a VUID.
   if (sbt.r[0].size < kHandleSize) {
-    report(cb_, Severity::Error, "VUID-vkCmdTraceRaysKHR-size-04023",
-           "%s: the raygen region (%llu bytes) cannot hold a shader group handle (%u bytes); the launch is skipped",
+    report(cb_, Severity::Error, nullptr,
+           "%s: the raygen region (%llu bytes) cannot hold a shader group handle (%u bytes), and the specification "
+           "(Shader Binding Table, Indexing Rules) requires all data accessed to lie less than size bytes from its "
+           "deviceAddress; the launch is skipped",
            fn_, (ull)sbt.r[0].size, kHandleSize);
     return;
   }
@@ -411,13 +417,20 @@ const accel::Tlas* Launch::topLevel(uint64_t address) {
   return t;
 }
 
+// The record's extent is not a VUID: "Shader Binding Table" > "Indexing Rules" states, for each region, that "all
+// data accessed must be less than size bytes from the base address", and the handle (shaderGroupHandleSize bytes
+// at the record's start) is always accessed. The stride may exceed the size: only the handle must fit. (None-03429
+// is about where a handle came from, not where it lies.) So the report names the rule by its section.
 void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) {
   if (!first(kOutside)) return;
-  report(
-      cb_, Severity::Error, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-03429"),
-      "%s: %s record %llu (stride %llu) lies outside its region of %llu bytes; it is not run (the SBT record index is "
-      "instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, missIndex for misses)",
-      fn_, kRegionNames[int(region)], (ull)index, (ull)stride, (ull)size);
+  report(cb_, Severity::Error, nullptr,
+         "%s: %s record %llu (at offset %llu = %llu x stride %llu) lies outside its region of %llu bytes: its shader "
+         "group handle (%u bytes) is not inside the region, and the specification (Shader Binding Table, Indexing "
+         "Rules) requires all data accessed to lie less than size bytes from the region's start; it is not run (the "
+         "SBT record index is instance SBT offset + sbtRecordOffset + sbtRecordStride x geometry index for hits, "
+         "missIndex for misses)",
+         fn_, kRegionNames[int(region)], (ull)index, (ull)(index * stride), (ull)index, (ull)stride, (ull)size,
+         kHandleSize);
 }
 
 void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) {

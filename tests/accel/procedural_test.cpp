@@ -1,5 +1,7 @@
 // Box primitives: when the intersection shader runs, what it sees, and its commits through ProceduralCandidate.
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "accel/scenes.hpp"
 
@@ -163,6 +165,117 @@ TEST(AccelProcedural, CandidateIntervalIncludesBothEnds) {
   EXPECT_EQ(f.boxes.size(), 1u);
   traceOnce(*tlas, rayFrom(0, 2, 5, 1, 0, 0), f);
   EXPECT_EQ(f.boxes.size(), 1u);
+}
+
+// "tmin <= t <= tmax" for boxes holds when the interval is a single point: a ray starting inside a box with
+// tMin == tMax meets it, and its intersection shader can report a hit at that t (the CTS's
+// ray_tracing_pipeline.inside_aabbs.*.ray_end_tmax_zero.*; AccelQuery.ABoxIsACandidateAtTMinEqualTMaxFromInside
+// for ray queries). Triangles still need tMin < t < tMax: none is a candidate there.
+TEST(AccelProcedural, ABoxIsACandidateAtTMinEqualTMaxFromInside) {
+  const std::array<float, 6> around = {-1, -1, -1, 1, 1, 1};
+  auto commitAtTMin = [](Recorder& rec) {
+    rec.onIntersect = [](ProceduralCandidate& c) {
+      EXPECT_EQ(c.tMin(), c.tMax());
+      c.commit(c.tMin(), 3, false);
+    };
+  };
+  for (float t : {0.0f, 0.5f}) {
+    SCOPED_TRACE("tMin == tMax == " + std::to_string(t));
+    auto tlas = sceneOf({boxes({around})});
+    Recorder rec;
+    commitAtTMin(rec);
+    Traced r = traceOnce(*tlas, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, 0, t, t), rec);
+    ASSERT_EQ(rec.boxes.size(), 1u) << "the intersection shader ran";
+    ASSERT_TRUE(r.hit);
+    EXPECT_FALSE(r.info.triangle);
+    EXPECT_EQ(r.info.t, t);
+    EXPECT_EQ(r.info.hitKind, 3u);
+    // The same through TerminateOnFirstHit (an occlusion query).
+    Recorder first;
+    commitAtTMin(first);
+    r = traceOnce(*tlas, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, kRayTerminateOnFirstHit, t, t), first);
+    ASSERT_TRUE(r.hit);
+    EXPECT_EQ(r.info.t, t);
+  }
+  // With an opaque quad through the ray's origin (its t is exactly 0 on every kernel: the origin lies in its plane)
+  // and a non-opaque one: neither triangle is a candidate at tMin == tMax == 0, the box is.
+  for (uint32_t flags : {uint32_t(kGeometryOpaque), 0u}) {
+    SCOPED_TRACE(flags ? "opaque quad" : "non-opaque quad");
+    auto mixed = sceneOf({quad(0, flags), boxes({around})});
+    Recorder rec;
+    commitAtTMin(rec);
+    Traced r = traceOnce(*mixed, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, 0, 0, 0), rec);
+    ASSERT_EQ(rec.boxes.size(), 1u);
+    EXPECT_TRUE(rec.anyHits.empty());
+    ASSERT_TRUE(r.hit);
+    EXPECT_FALSE(r.info.triangle);
+    EXPECT_EQ(r.info.t, 0.0f);
+  }
+  // A one-ulp interval [t, nextafter(t)] holds no t strictly inside it either.
+  auto tlas = sceneOf({boxes({around})});
+  Recorder rec;
+  rec.onIntersect = [](ProceduralCandidate& c) { c.commit(c.tMax(), 4, false); };
+  Traced r = traceOnce(*tlas, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, 0, std::nextafter(0.5f, 1.0f), 0.5f), rec);
+  ASSERT_TRUE(r.hit);
+  EXPECT_EQ(r.info.t, std::nextafter(0.5f, 1.0f));
+}
+
+// Both ends of the interval, where boxes and triangles are both in reach: a box the ray leaves exactly at tMin (0)
+// and one it enters exactly at tMax are candidates; a triangle at exactly tMin is not (nor one at or beyond tMax),
+// whether or not the triangle needs the filter callback (opaque, without culling flags: Embree commits it itself).
+TEST(AccelProcedural, BoxesMeetBothEndsAndTrianglesNeitherInAMixedScene) {
+  // The ray (from z = 0, along +z, tMax 5) leaves box 0 at t = 0 and enters box 1 at t = 5. Boxes along a line far
+  // beside it give Embree's hierarchy inner nodes, whose bounds it tests against the ray's interval (a hierarchy of
+  // one leaf tests nothing before the callback).
+  std::vector<std::array<float, 6>> list = {{-1, -1, -1, 1, 1, 0}, {-1, -1, 5, 1, 1, 6}};
+  for (int k = 2; k < 64; ++k) list.push_back({4.0f * k, 4.0f * k, -1, 4.0f * k + 1, 4.0f * k + 1, 0});
+  for (bool withTriangles : {false, true}) {
+    SCOPED_TRACE(withTriangles ? "with a far quad" : "boxes only");
+    std::vector<Geometry> g = {boxes(list)};
+    if (withTriangles) g.push_back(quad(50));
+    auto tlas = sceneOf(std::move(g));
+    Ray ray = rayUp();
+    ray.tMax = 5.0f;
+    Recorder rec;
+    EXPECT_FALSE(traceOnce(*tlas, ray, rec).hit);
+    std::vector<uint32_t> seen;
+    for (const HitInfo& h : rec.boxes) seen.push_back(h.primitiveIndex);
+    std::sort(seen.begin(), seen.end());
+    EXPECT_EQ(seen, (std::vector<uint32_t>{0, 1})) << "both boxes touching the interval's ends are candidates";
+    // A hit at tMin from the box behind.
+    Recorder commit;
+    commit.onIntersect = [](ProceduralCandidate& c) {
+      if (c.info().primitiveIndex == 0) c.commit(0.0f, 6, false);
+    };
+    Traced r = traceOnce(*tlas, ray, commit);
+    ASSERT_TRUE(r.hit);
+    EXPECT_FALSE(r.info.triangle);
+    EXPECT_EQ(r.info.t, 0.0f);
+    EXPECT_EQ(r.info.primitiveIndex, 0u);
+  }
+  for (uint32_t flags : {uint32_t(kGeometryOpaque), 0u}) {
+    SCOPED_TRACE(flags ? "opaque quads" : "non-opaque quads");
+    // Quads at z = 0 (the ray's origin, tMin) and z = 5, and a box far off the ray: a traversal that sees boxes.
+    auto tlas = sceneOf({quads({0, 5}, flags), boxes({{10, 10, 10, 11, 11, 11}})});
+    Recorder rec;
+    Traced r = traceOnce(*tlas, rayUp(), rec);
+    ASSERT_TRUE(r.hit) << "the quad at 5";
+    EXPECT_TRUE(r.info.triangle);
+    EXPECT_TRUE(nearHit(r.info.t, 5.0f)) << r.info.t;
+    for (const HitInfo& h : rec.anyHits) EXPECT_GT(h.t, 0.0f) << "no candidate at tMin";
+    // tMax at the quad at 5 (its t may round to either side of 5 on some kernels): a hit must lie below tMax.
+    Ray ray = rayUp();
+    ray.tMax = 5.0f;
+    r = traceOnce(*tlas, ray, rec);
+    if (r.hit) EXPECT_LT(r.info.t, 5.0f);
+    // tMin at the quad at 5: a hit must lie above it.
+    ray = rayUp();
+    ray.tMin = 5.0f;
+    r = traceOnce(*tlas, ray, rec);
+    if (r.hit) EXPECT_GT(r.info.t, 5.0f);
+    // tMin == tMax == 0 at the quad through the origin: nothing.
+    EXPECT_FALSE(traceOnce(*tlas, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, 0, 0, 0), rec).hit);
+  }
 }
 
 TEST(AccelProcedural, OpacityOfBoxes) {

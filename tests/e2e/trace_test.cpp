@@ -1,6 +1,7 @@
 // vkCmdTraceRaysKHR end to end: acceleration structures built on the device, a shader binding table written from
 // the pipeline's handles, and every launch index's result compared with the hit computed here from the geometry.
 #include "e2e/trace_fixture.hpp"
+#include "trace_box_at_tmin.rint.spv.h"
 #include "trace_miss_cullmask.rmiss.spv.h"
 
 namespace vkrt::test {
@@ -241,6 +242,44 @@ TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {300}}});
   const uint32_t n = 16;
   expectSpheresInBoxes(trace(p, s, top, n, n), n, true);
+}
+
+// A ray starting inside a box meets it, also when tMin == tMax ("tmin <= t <= tmax" for AABBs): the intersection
+// shader runs and its hit at t = tMin = tMax is committed (the CTS's ray_tracing_pipeline.inside_aabbs.*.
+// ray_end_tmax_zero.*, "Result distance nonzero (-10000)" when it is not).
+TEST_F(TraceFlags, ARayStartingInsideABoxMeetsItWhenTMinEqualsTMax) {
+  // One box around every ray origin of the launch (x, y in [-2, 2], z = -10), with a quad behind it.
+  VkAccelerationStructureKHR box = blas({aabbs({{-3, -3, -11, 3, 3, -9}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(box, 0, 0, 0, 3, 0), instance(quad, 0, 0, 5, 4, 1)});
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  const uint32_t c = d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR,
+          d.stage(module(kSpv_trace_box_at_tmin_rint, sizeof kSpv_trace_box_at_tmin_rint),
+                  VK_SHADER_STAGE_INTERSECTION_BIT_KHR));
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c);
+  d.maxHitAttr = 8;
+  d.maxPayload = sizeof(TracePayload);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 4, {0}, {{1, {7}}}, {{2, {300}}, {3, {400}}});
+  for (float tmax : {0.0f, 0.5f, 100.0f}) {
+    SCOPED_TRACE("tMin 0, tMax " + std::to_string(tmax));
+    TraceParams t;
+    t.tmax = tmax;
+    const std::vector<TracePayload> r = trace(p, s, top, 4, 4, t);
+    for (uint32_t i = 0; i < r.size(); ++i) {
+      SCOPED_TRACE("launch index " + std::to_string(i));
+      EXPECT_EQ(r[i].hit[0], 0.0f) << "gl_HitTEXT: the box's hit at tMin";
+      EXPECT_EQ(r[i].hit[2], tmax) << "gl_RayTmaxEXT in the intersection shader";
+      EXPECT_EQ(r[i].hit[3], 6.0f) << "the hit kind the intersection shader reported";
+      EXPECT_EQ(r[i].ids[0], 3u) << "the box's instance";
+      EXPECT_EQ(r[i].extra[0], 300u);
+    }
+  }
 }
 
 }  // namespace
