@@ -379,6 +379,8 @@ void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRe
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  // anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy
+  // is 1 ("Scale Factor Operation") and the one isotropic sample below is the anisotropic filter.
   // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
   float lambda = std::isnan(lod) ? 0.0f : lod + s.mipLodBias;
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));

@@ -386,8 +386,48 @@ TEST_F(ImageMisuseTest, BadCreateInfosAreReportedByVuid) {
   VkSampler s = VK_NULL_HANDLE;
   EXPECT_NE(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS);
   expectVkrtMessage("VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072");
+  si = {VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.anisotropyEnable = VK_TRUE;  // the device was created without samplerAnisotropy
+  si.maxAnisotropy = 4.0f;
+  EXPECT_NE(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS);
+  expectVkrtMessage("VUID-VkSamplerCreateInfo-anisotropyEnable-01070");
   destroy(tb);
   destroy(good);
+}
+
+class AnisotropyMisuseTest : public ImageMisuseTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = ImageMisuseTest::options();
+    o.features.samplerAnisotropy = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(AnisotropyMisuseTest, MaxAnisotropyOutsideTheLimitOrWithUnnormalizedCoordinatesIsReported) {
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.anisotropyEnable = VK_TRUE;
+  VkSampler s = VK_NULL_HANDLE;
+  for (float ok : {1.0f, 16.0f}) {  // the ends of [1, maxSamplerAnisotropy]
+    si.maxAnisotropy = ok;
+    EXPECT_EQ(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS) << ok;
+    EXPECT_TRUE(vkrtMessages().empty()) << ok;
+    vkDestroySampler(device, s, nullptr);
+  }
+  for (float bad : {0.5f, 16.5f}) {
+    si.maxAnisotropy = bad;
+    EXPECT_NE(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS) << bad;
+    expectVkrtMessage("VUID-VkSamplerCreateInfo-anisotropyEnable-01071");
+  }
+  si.maxAnisotropy = 2.0f;
+  si.unnormalizedCoordinates = VK_TRUE;
+  si.addressModeU = si.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  EXPECT_NE(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS);
+  expectVkrtMessage("VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01076");
+  si.anisotropyEnable = VK_FALSE;  // the valid neighbour: unnormalized coordinates without anisotropy
+  EXPECT_EQ(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkDestroySampler(device, s, nullptr);
 }
 
 TEST_F(ImageMisuseTest, OutOfBoundsRegionsAreReportedAndNotRecorded) {
