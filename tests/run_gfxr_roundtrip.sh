@@ -29,7 +29,7 @@ if grep -v "VUID-VkBufferDeviceAddressInfo-buffer-02600" "$work/capture.log" | g
 fi
 
 # Replay in another process, on the headless surface, with the swapchain image indices of the capture (the default
-# virtual swapchain copies each frame with vkCmdBlitImage, which vkrt does not offer).
+# virtual swapchain copies each frame with vkCmdBlitImage, a graphics-queue command; see docs/gfxreconstruct.md).
 VKRT_PRESENT_DIR="$work/replay" gfxrecon-replay --wsi headless --use-captured-swapchain-indices \
   "$work/capture.gfxr" > "$work/replay.log" 2>&1
 rc=$?

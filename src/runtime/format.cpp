@@ -66,8 +66,13 @@ const FormatInfo* formatInfo(VkFormat format) {
 VkFormatFeatureFlags formatFeatures(VkFormat format) {
   const FormatInfo* f = formatInfo(format);
   if (!f || f->texelSize == 12) return 0;  // three-component 32-bit formats are buffer-only
-  VkFormatFeatureFlags flags =
-      VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+  // Every image format blits both ways: vkCmdBlitImage decodes, filters and encodes any of them
+  // (runtime/image_blit.cpp), which covers the BLIT_SRC/BLIT_DST rows of the spec's "Required Format Support".
+  VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
+                               VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_BLIT_SRC_BIT |
+                               VK_FORMAT_FEATURE_BLIT_DST_BIT;
+  // Linear filtering (sampling and VK_FILTER_LINEAR blits) for every format but the integer ones, which the spec
+  // never filters.
   if (f->type != N::UInt && f->type != N::SInt) flags |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if (f->type != N::SRGB) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
   if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_ATOMIC_BIT;

@@ -1,12 +1,13 @@
 // Image transfer commands: vkCmdCopyBufferToImage(2), vkCmdCopyImageToBuffer(2), vkCmdCopyImage(2),
-// vkCmdClearColorImage (vkCmdBlitImage is not implemented: no format claims BLIT_SRC/BLIT_DST). Each validates its
-// regions (reporting the VUID and recording nothing when one is invalid) and records a closure that runs the routines
-// of runtime/image_copy.hpp.
+// vkCmdBlitImage(2), vkCmdClearColorImage. Each validates its regions (reporting the VUID and recording nothing when
+// one is invalid) and records a closure that runs the routines of runtime/image_copy.hpp and image_blit.hpp.
+#include <algorithm>
 #include <vector>
 
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/image.hpp"
+#include "runtime/image_blit.hpp"
 #include "runtime/image_copy.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/report.hpp"
@@ -135,6 +136,83 @@ constexpr Vuids kClear{"vkCmdClearColorImage",
                        "VUID-vkCmdClearColorImage-pRanges-01692",
                        "VUID-vkCmdClearColorImage-aspectMask-02498"};
 
+// vkCmdBlitImage(2): the image tables (bounds unused: blit regions are checked offset by offset), then the rules
+// of blits alone.
+struct BlitVuids {
+  Vuids src, dst;
+  const char* sint;         // signed integer with signed integer only
+  const char* uint;         // unsigned integer with unsigned integer only
+  const char* linear;       // VK_FILTER_LINEAR needs SAMPLED_IMAGE_FILTER_LINEAR
+  const char* cubic;        // VK_FILTER_CUBIC_EXT needs SAMPLED_IMAGE_FILTER_CUBIC
+  const char* filter;       // a valid VkFilter
+  const char* aspects;      // src and dst aspects match
+  const char* layerCounts;  // src and dst layer counts match
+  const char* threeD;       // 3D: base layer 0, one layer
+  const char* srcX;         // srcOffsets x, y, z inside the mip
+  const char* srcY;
+  const char* srcZ;
+  const char* src1D;  // 1D: srcOffsets y 0 and 1
+  const char* src2D;  // 1D/2D: srcOffsets z 0 and 1
+  const char* dstX;
+  const char* dstY;
+  const char* dstZ;
+  const char* dst1D;
+  const char* dst2D;
+  const char* overlap;  // destination regions overlap sampled source texels
+};
+
+constexpr BlitVuids kBlit{{"vkCmdBlitImage", "VUID-vkCmdBlitImage-srcImage-00219", "VUID-vkCmdBlitImage-srcImage-00220",
+                           "VUID-vkCmdBlitImage-srcImageLayout-01398", "VUID-vkCmdBlitImage-srcSubresource-01705",
+                           "VUID-vkCmdBlitImage-srcSubresource-01707", nullptr, "VUID-vkCmdBlitImage-aspectMask-00241"},
+                          {"vkCmdBlitImage", "VUID-vkCmdBlitImage-dstImage-00224", "VUID-vkCmdBlitImage-dstImage-00225",
+                           "VUID-vkCmdBlitImage-dstImageLayout-01399", "VUID-vkCmdBlitImage-dstSubresource-01706",
+                           "VUID-vkCmdBlitImage-dstSubresource-01708", nullptr, "VUID-vkCmdBlitImage-aspectMask-00242"},
+                          "VUID-vkCmdBlitImage-srcImage-00229",
+                          "VUID-vkCmdBlitImage-srcImage-00230",
+                          "VUID-vkCmdBlitImage-filter-02001",
+                          "VUID-vkCmdBlitImage-filter-02002",
+                          "VUID-vkCmdBlitImage-filter-parameter",
+                          "VUID-VkImageBlit-aspectMask-00238",
+                          "VUID-VkImageBlit-layerCount-00239",
+                          "VUID-vkCmdBlitImage-srcImage-00240",
+                          "VUID-vkCmdBlitImage-srcOffset-00243",
+                          "VUID-vkCmdBlitImage-srcOffset-00244",
+                          "VUID-vkCmdBlitImage-srcOffset-00246",
+                          "VUID-vkCmdBlitImage-srcImage-00245",
+                          "VUID-vkCmdBlitImage-srcImage-00247",
+                          "VUID-vkCmdBlitImage-dstOffset-00248",
+                          "VUID-vkCmdBlitImage-dstOffset-00249",
+                          "VUID-vkCmdBlitImage-dstOffset-00251",
+                          "VUID-vkCmdBlitImage-dstImage-00250",
+                          "VUID-vkCmdBlitImage-dstImage-00252",
+                          "VUID-vkCmdBlitImage-pRegions-00217"};
+constexpr BlitVuids kBlit2{
+    {"vkCmdBlitImage2", "VUID-VkBlitImageInfo2-srcImage-00219", "VUID-VkBlitImageInfo2-srcImage-00220",
+     "VUID-VkBlitImageInfo2-srcImageLayout-01398", "VUID-VkBlitImageInfo2-srcSubresource-01705",
+     "VUID-VkBlitImageInfo2-srcSubresource-01707", nullptr, "VUID-VkBlitImageInfo2-aspectMask-00241"},
+    {"vkCmdBlitImage2", "VUID-VkBlitImageInfo2-dstImage-00224", "VUID-VkBlitImageInfo2-dstImage-00225",
+     "VUID-VkBlitImageInfo2-dstImageLayout-01399", "VUID-VkBlitImageInfo2-dstSubresource-01706",
+     "VUID-VkBlitImageInfo2-dstSubresource-01708", nullptr, "VUID-VkBlitImageInfo2-aspectMask-00242"},
+    "VUID-VkBlitImageInfo2-srcImage-00229",
+    "VUID-VkBlitImageInfo2-srcImage-00230",
+    "VUID-VkBlitImageInfo2-filter-02001",
+    "VUID-VkBlitImageInfo2-filter-02002",
+    "VUID-VkBlitImageInfo2-filter-parameter",
+    "VUID-VkImageBlit2-aspectMask-00238",
+    "VUID-VkImageBlit2-layerCount-00239",
+    "VUID-VkBlitImageInfo2-srcImage-00240",
+    "VUID-VkBlitImageInfo2-srcOffset-00243",
+    "VUID-VkBlitImageInfo2-srcOffset-00244",
+    "VUID-VkBlitImageInfo2-srcOffset-00246",
+    "VUID-VkBlitImageInfo2-srcImage-00245",
+    "VUID-VkBlitImageInfo2-srcImage-00247",
+    "VUID-VkBlitImageInfo2-dstOffset-00248",
+    "VUID-VkBlitImageInfo2-dstOffset-00249",
+    "VUID-VkBlitImageInfo2-dstOffset-00251",
+    "VUID-VkBlitImageInfo2-dstImage-00250",
+    "VUID-VkBlitImageInfo2-dstImage-00252",
+    "VUID-VkBlitImageInfo2-pRegions-00217"};
+
 bool layoutOk(VkImageLayout l, bool dst) {
   return l == VK_IMAGE_LAYOUT_GENERAL || l == VK_IMAGE_LAYOUT_SHARED_PRESENT_KHR ||
          l == (dst ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -148,19 +226,19 @@ Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layou
            (ull)rawHandle(h));
     return nullptr;
   }
-  // VUID ...-dstImage-00177 / srcImage-00186 / image-00002 etc.: transfer usage
+  // VUID ...-dstImage-00177 / srcImage-00186 / image-00002 / srcImage-00219 / dstImage-00224 etc.: transfer usage
   if (!(img->usage & (dst ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_TRANSFER_SRC_BIT))) {
     report(img, Severity::Error, v.usage,
            "%s: the image was created without VK_IMAGE_USAGE_TRANSFER_%s_BIT (usage 0x%x)", v.fn, dst ? "DST" : "SRC",
            img->usage);
     return nullptr;
   }
-  // VUID ...-00178 / 00187 / 00127 / 00132 / image-00003: bound to memory
+  // VUID ...-00178 / 00187 / 00127 / 00132 / 00220 / 00225 / image-00003: bound to memory
   if (!img->memory) {
     report(img, Severity::Error, v.bound, "%s: the image is not bound to memory", v.fn);
     return nullptr;
   }
-  // VUID ...-dstImageLayout-01396 / srcImageLayout-01397 / 01917 / 01395 / imageLayout-01394
+  // VUID ...-dstImageLayout-01396 / srcImageLayout-01397 / 01917 / 01395 / 01398 / 01399 / imageLayout-01394
   if (!layoutOk(layout, dst)) {
     report(img, Severity::Error, v.layout, "%s: image layout %d is not GENERAL, SHARED_PRESENT or TRANSFER_%s_OPTIMAL",
            v.fn, (int)layout, dst ? "DST" : "SRC");
@@ -169,28 +247,35 @@ Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layou
   return img;
 }
 
-// Checks that [offset, offset + extent) of (mip, layers) lies inside the image.
-bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffset3D off, VkExtent3D ext,
-                   uint32_t index, const char* what, const Vuids& v) {
-  // VUID ...-aspectMask-00211 / 00142 / 00143: vkrt images have the color aspect only
+// Checks that the aspect, mip level and layers of `sub` exist in the image.
+bool subresourceInImage(const Image& img, const VkImageSubresourceLayers& sub, uint32_t index, const char* what,
+                        const Vuids& v) {
+  // VUID ...-aspectMask-00211 / 00142 / 00143 / 00241 / 00242: vkrt images have the color aspect only
   if (sub.aspectMask != VK_IMAGE_ASPECT_COLOR_BIT) {
     report(&img, Severity::Error, v.aspect, "%s: pRegions[%u].%s aspectMask 0x%x is not VK_IMAGE_ASPECT_COLOR_BIT",
            v.fn, index, what, sub.aspectMask);
     return false;
   }
-  // VUID ...-imageSubresource-01701/01703, srcSubresource-01696, dstSubresource-01697: mip level exists
+  // VUID ...-imageSubresource-01701/01703, srcSubresource-01696/01705, dstSubresource-01697/01706: the mip exists
   if (sub.mipLevel >= img.mipLevels) {
     report(&img, Severity::Error, v.mip, "%s: pRegions[%u].%s.mipLevel %u, the image has %u", v.fn, index, what,
            sub.mipLevel, img.mipLevels);
     return false;
   }
-  // VUID ...-imageSubresource-01702/01704, srcSubresource-01698, dstSubresource-01699: layers exist
+  // VUID ...-imageSubresource-01702/01704, srcSubresource-01698/01707, dstSubresource-01699/01708: layers exist
   if (sub.layerCount == 0 || sub.baseArrayLayer >= img.arrayLayers ||
       sub.layerCount > img.arrayLayers - sub.baseArrayLayer) {
     report(&img, Severity::Error, v.layers, "%s: pRegions[%u].%s layers [%u, +%u) exceed the image's %u layers", v.fn,
            index, what, sub.baseArrayLayer, sub.layerCount, img.arrayLayers);
     return false;
   }
+  return true;
+}
+
+// Checks that [offset, offset + extent) of (mip, layers) lies inside the image.
+bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffset3D off, VkExtent3D ext,
+                   uint32_t index, const char* what, const Vuids& v) {
+  if (!subresourceInImage(img, sub, index, what, v)) return false;
   // VUID ...-pRegions-06217/06220/00172/00182, srcOffset-00144, dstOffset-00150: the region fits the mip
   VkExtent3D m = img.mips[sub.mipLevel].extent;
   auto fits = [](int32_t o, uint32_t e, uint32_t size) { return o >= 0 && e > 0 && uint64_t(o) + e <= size; };
@@ -314,6 +399,157 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
   });
 }
 
+// The box [lo, hi) a blit region's offsets span in each dimension (either offset may be the larger).
+struct Box {
+  int32_t lo[3], hi[3];
+  explicit Box(const VkOffset3D o[2]) {
+    const int32_t a[3] = {o[0].x, o[0].y, o[0].z}, b[3] = {o[1].x, o[1].y, o[1].z};
+    for (int d = 0; d < 3; ++d) lo[d] = std::min(a[d], b[d]), hi[d] = std::max(a[d], b[d]);
+  }
+  bool intersects(const Box& o) const {
+    for (int d = 0; d < 3; ++d)
+      if (std::max(lo[d], o.lo[d]) >= std::min(hi[d], o.hi[d])) return false;
+    return true;
+  }
+};
+
+// Checks one side's offsets of blit region `index` against mip `sub.mipLevel` of the image (the subresource was
+// checked first). `src`: which side, for the VUIDs and the message.
+bool blitOffsetsInImage(const Image& img, const VkImageSubresourceLayers& sub, const VkOffset3D o[2], uint32_t index,
+                        bool src, const BlitVuids& v) {
+  const char* fn = v.src.fn;
+  const char* what = src ? "srcOffsets" : "dstOffsets";
+  const VkExtent3D m = img.mips[sub.mipLevel].extent;
+  auto inside = [](int32_t a, int32_t b, uint32_t size) {
+    return a >= 0 && b >= 0 && a <= int64_t(size) && b <= int64_t(size);
+  };
+  const char* vuid = nullptr;
+  // VUID ...-srcOffset-00243 / dstOffset-00248: x in [0, width]
+  if (!inside(o[0].x, o[1].x, m.width)) vuid = src ? v.srcX : v.dstX;
+  // VUID ...-srcImage-00245 / dstImage-00250: a 1D image's y offsets are 0 and 1; else
+  // VUID ...-srcOffset-00244 / dstOffset-00249: y in [0, height]
+  else if (img.type == VK_IMAGE_TYPE_1D && (o[0].y != 0 || o[1].y != 1))
+    vuid = src ? v.src1D : v.dst1D;
+  else if (!inside(o[0].y, o[1].y, m.height))
+    vuid = src ? v.srcY : v.dstY;
+  // VUID ...-srcImage-00247 / dstImage-00252: a 1D or 2D image's z offsets are 0 and 1; else
+  // VUID ...-srcOffset-00246 / dstOffset-00251: z in [0, depth]
+  else if (img.type != VK_IMAGE_TYPE_3D && (o[0].z != 0 || o[1].z != 1))
+    vuid = src ? v.src2D : v.dst2D;
+  else if (!inside(o[0].z, o[1].z, m.depth))
+    vuid = src ? v.srcZ : v.dstZ;
+  if (!vuid) return true;
+  report(&img, Severity::Error, vuid,
+         "%s: pRegions[%u].%s (%d, %d, %d) and (%d, %d, %d) are outside mip %u (%u x %u x %u) of the %uD image", fn,
+         index, what, o[0].x, o[0].y, o[0].z, o[1].x, o[1].y, o[1].z, sub.mipLevel, m.width, m.height, m.depth,
+         img.type == VK_IMAGE_TYPE_1D   ? 1u
+         : img.type == VK_IMAGE_TYPE_2D ? 2u
+                                        : 3u);
+  return false;
+}
+
+const char* numericName(NumericType t) {
+  switch (t) {
+    case NumericType::UNorm: return "UNORM";
+    case NumericType::SNorm: return "SNORM";
+    case NumericType::UInt: return "UINT";
+    case NumericType::SInt: return "SINT";
+    case NumericType::SFloat: return "SFLOAT";
+    case NumericType::SRGB: return "SRGB";
+    case NumericType::UFloat: return "UFLOAT";
+  }
+  return "?";
+}
+
+void recordBlit(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkImage dstH, VkImageLayout dstLayout,
+                std::vector<VkImageBlit2> regions, VkFilter filter, const BlitVuids& v) {
+  const char* fn = v.src.fn;
+  Image* src = transferImage(cb, srcH, false, srcLayout, v.src);
+  Image* dst = src ? transferImage(cb, dstH, true, dstLayout, v.dst) : nullptr;
+  if (!src || !dst) return;
+  const VkFormatFeatureFlags srcFeatures = formatFeatures(src->format);
+  // VUID ...-srcImage-01999 / dstImage-02000 (BLIT_SRC / BLIT_DST format features) hold for every image vkrt
+  // creates: every image format has both (runtime/format.cpp; the e2e test
+  // BlitTest.FormatFeaturesAdvertiseBlitsAndLinearFiltering checks it).
+  // VUID ...-srcImage-00229 / 00230: integer formats blit only to and from integers of the same signedness
+  // ("Integer formats can only be converted to other integer formats with the same signedness")
+  const NumericType st = src->formatInfo->type, dt = dst->formatInfo->type;
+  const bool sint = st == NumericType::SInt || dt == NumericType::SInt;
+  const bool uint = st == NumericType::UInt || dt == NumericType::UInt;
+  if ((sint && st != dt) || (uint && st != dt)) {
+    report(dst, Severity::Error, sint ? v.sint : v.uint,
+           "%s: source format %d (%s) and destination format %d (%s): %s integer format blits only to and from "
+           "%s integer formats",
+           fn, (int)src->format, numericName(st), (int)dst->format, numericName(dt), sint ? "a signed" : "an unsigned",
+           sint ? "signed" : "unsigned");
+    return;
+  }
+  // VUID ...-filter-parameter / filter-02001 / filter-02002
+  if (filter != VK_FILTER_NEAREST && filter != VK_FILTER_LINEAR) {
+    report(src, Severity::Error, filter == VK_FILTER_CUBIC_EXT ? v.cubic : v.filter,
+           "%s: filter %d is not VK_FILTER_NEAREST or VK_FILTER_LINEAR (vkrt offers no cubic filtering)", fn,
+           (int)filter);
+    return;
+  }
+  if (filter == VK_FILTER_LINEAR && !(srcFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT)) {
+    report(src, Severity::Error, v.linear,
+           "%s: VK_FILTER_LINEAR, but source format %d (%s) lacks VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT",
+           fn, (int)src->format, numericName(st));
+    return;
+  }
+  const bool any3D = src->type == VK_IMAGE_TYPE_3D || dst->type == VK_IMAGE_TYPE_3D;
+  for (uint32_t i = 0; i < regions.size(); ++i) {
+    const VkImageBlit2& r = regions[i];
+    // VUID-VkImageBlit(2)-aspectMask-00238 / layerCount-00239
+    if (r.srcSubresource.aspectMask != r.dstSubresource.aspectMask ||
+        r.srcSubresource.layerCount != r.dstSubresource.layerCount) {
+      const bool aspects = r.srcSubresource.aspectMask != r.dstSubresource.aspectMask;
+      report(dst, Severity::Error, aspects ? v.aspects : v.layerCounts,
+             "%s: pRegions[%u] blits aspects 0x%x x %u layers into aspects 0x%x x %u layers", fn, i,
+             r.srcSubresource.aspectMask, r.srcSubresource.layerCount, r.dstSubresource.aspectMask,
+             r.dstSubresource.layerCount);
+      return;
+    }
+    if (!subresourceInImage(*src, r.srcSubresource, i, "srcSubresource", v.src) ||
+        !subresourceInImage(*dst, r.dstSubresource, i, "dstSubresource", v.dst))
+      return;
+    // VUID ...-srcImage-00240: with a 3D image on either side, both sides are layer 0 alone
+    if (any3D && (r.srcSubresource.baseArrayLayer != 0 || r.srcSubresource.layerCount != 1 ||
+                  r.dstSubresource.baseArrayLayer != 0 || r.dstSubresource.layerCount != 1)) {
+      report(dst, Severity::Error, v.threeD,
+             "%s: pRegions[%u] blits layers [%u, +%u) into [%u, +%u), but with a 3D image both must be layer 0 alone",
+             fn, i, r.srcSubresource.baseArrayLayer, r.srcSubresource.layerCount, r.dstSubresource.baseArrayLayer,
+             r.dstSubresource.layerCount);
+      return;
+    }
+    if (!blitOffsetsInImage(*src, r.srcSubresource, r.srcOffsets, i, true, v) ||
+        !blitOffsetsInImage(*dst, r.dstSubresource, r.dstOffsets, i, false, v))
+      return;
+  }
+  // VUID ...-pRegions-00217: no destination region may overlap "any texel that may be sampled", in the same mip and
+  // layer of the same image. vkrt checks the source regions themselves, which are sampled whatever the rounding;
+  // the texels just outside one that a LINEAR filter may read (with weight 0 at a 1:1 scale) are left unchecked
+  // so that no valid blit is ever reported.
+  if (src == dst) {
+    for (uint32_t d = 0; d < regions.size(); ++d)
+      for (uint32_t s = 0; s < regions.size(); ++s) {
+        const VkImageSubresourceLayers &ds = regions[d].dstSubresource, &ss = regions[s].srcSubresource;
+        const bool sameLayers = ds.baseArrayLayer < ss.baseArrayLayer + ss.layerCount &&
+                                ss.baseArrayLayer < ds.baseArrayLayer + ds.layerCount;
+        if (ds.mipLevel != ss.mipLevel || !sameLayers ||
+            !Box(regions[d].dstOffsets).intersects(Box(regions[s].srcOffsets)))
+          continue;
+        report(dst, Severity::Error, v.overlap,
+               "%s: pRegions[%u]'s destination region overlaps pRegions[%u]'s source region (mip %u of the same image)",
+               fn, d, s, ds.mipLevel);
+        return;
+      }
+  }
+  cb->record([src, dst, regions = std::move(regions), filter](ExecState&) {
+    blitImage(*src, *dst, regions.data(), uint32_t(regions.size()), filter);
+  });
+}
+
 }  // namespace
 
 extern "C" {
@@ -379,6 +615,34 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImage2(VkCommandBuffer commandBuffer, con
   recordImageCopy(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout,
                   std::move(regions), kCopySrc2, kCopyDst2, "VUID-VkCopyImageInfo2-srcImage-01548",
                   "VUID-VkCopyImageInfo2-srcImage-07744");
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBlitImage(VkCommandBuffer commandBuffer, VkImage srcImage,
+                                             VkImageLayout srcImageLayout, VkImage dstImage,
+                                             VkImageLayout dstImageLayout, uint32_t regionCount,
+                                             const VkImageBlit* pRegions, VkFilter filter) {
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBlitImage");
+  if (!cb) return;
+  std::vector<VkImageBlit2> regions;
+  for (uint32_t i = 0; i < regionCount; ++i) {
+    const VkImageBlit& r = pRegions[i];
+    regions.push_back({VK_STRUCTURE_TYPE_IMAGE_BLIT_2,
+                       nullptr,
+                       r.srcSubresource,
+                       {r.srcOffsets[0], r.srcOffsets[1]},
+                       r.dstSubresource,
+                       {r.dstOffsets[0], r.dstOffsets[1]}});
+  }
+  recordBlit(cb, srcImage, srcImageLayout, dstImage, dstImageLayout, std::move(regions), filter, kBlit);
+}
+
+// Also vkCmdBlitImage2KHR (VK_KHR_copy_commands2), an alias.
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBlitImage2(VkCommandBuffer commandBuffer, const VkBlitImageInfo2* pInfo) {
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBlitImage2");
+  if (!cb) return;
+  std::vector<VkImageBlit2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
+  recordBlit(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout, std::move(regions),
+             pInfo->filter, kBlit2);
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer, VkImage image,

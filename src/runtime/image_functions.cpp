@@ -55,9 +55,43 @@ float linearToSrgb(float c) {
 }
 
 uint64_t readBits(const uint8_t* p, unsigned bytes) {
-  uint64_t v = 0;
-  std::memcpy(&v, p, bytes);  // little-endian host
-  return v;
+  // Fixed-size loads for the component sizes formats have: a memcpy of a variable size is a library call, which
+  // was half of a blit's time.
+  switch (bytes) {
+    case 1: return p[0];
+    case 2: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);  // little-endian host
+      return v;
+    }
+    case 4: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default: {
+      uint64_t v = 0;
+      std::memcpy(&v, p, bytes);
+      return v;
+    }
+  }
+}
+
+void writeBits(uint8_t* p, uint64_t v, unsigned bytes) {
+  switch (bytes) {  // fixed sizes, as in readBits
+    case 1: p[0] = uint8_t(v); return;
+    case 2: {
+      const uint16_t w = uint16_t(v);
+      std::memcpy(p, &w, 2);
+      return;
+    }
+    case 4: {
+      const uint32_t w = uint32_t(v);
+      std::memcpy(p, &w, 4);
+      return;
+    }
+    default: std::memcpy(p, &v, bytes); return;
+  }
 }
 
 // Decodes one raw component value of `bits` bits.
@@ -145,22 +179,16 @@ void encodeTexel(const FormatInfo& f, const uint32_t in[4], uint8_t* texel) {
   unsigned at = 0;
   for (unsigned i = 0; i < f.components; ++i) {
     uint64_t v = encodeComponent(f.type, c[i], f.bits[i], i == 3);
-    std::memcpy(texel + at, &v, f.bits[i] / 8);
+    writeBits(texel + at, v, f.bits[i] / 8);
     at += f.bits[i] / 8;
   }
 }
 
 namespace {
 
-// A view resolved for addressing: texel (x, y, z, layer) of view mip `level` is at image mip base + level.
-struct View {
+// An image view resolved for addressing: the TexelView the sampling code reads, and the view (swizzle, type).
+struct View : TexelView {
   const ImageView* view = nullptr;
-  const Image* image = nullptr;
-  const FormatInfo* format = nullptr;
-  uint8_t* data = nullptr;
-  int dims = 2;  // coordinate components before the layer
-  bool arrayed = false;
-  bool slicesAsLayers = false;  // a 2D (array) view of a 3D image: layers are depth slices
 };
 
 bool resolveView(const abi::DescriptorRecord* rec, View* v) {
@@ -168,8 +196,11 @@ bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   v->view = recordObject<ImageView>(rec->object);
   v->image = v->view->image;
   v->format = formatInfo(v->view->format);
-  v->data = v->image ? v->image->data() : nullptr;
-  if (!v->format || !v->data) return false;
+  if (!v->format || !v->image || !v->image->data()) return false;
+  v->baseMip = v->view->range.baseMipLevel;
+  v->levelCount = v->view->range.levelCount;
+  v->baseLayer = v->view->range.baseArrayLayer;
+  v->layerCount = v->view->range.layerCount;
   switch (v->view->viewType) {
     case VK_IMAGE_VIEW_TYPE_1D: v->dims = 1; break;
     case VK_IMAGE_VIEW_TYPE_1D_ARRAY:
@@ -187,38 +218,35 @@ bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   return true;
 }
 
-VkExtent3D levelExtent(const View& v, uint32_t level) {
-  VkExtent3D e = v.image->mips[v.view->range.baseMipLevel + level].extent;
+VkExtent3D levelExtent(const TexelView& v, uint32_t level) {
+  VkExtent3D e = v.image->mips[v.baseMip + level].extent;
   if (v.slicesAsLayers) e.depth = 1;
   return e;
 }
 
 // The texel's address, or nullptr when (x, y, z, layer) is outside mip `level` of the view.
-uint8_t* texelAt(const View& v, uint32_t level, int64_t x, int64_t y, int64_t z, int64_t layer) {
-  if (level >= v.view->range.levelCount) return nullptr;
+uint8_t* texelAt(const TexelView& v, uint32_t level, int64_t x, int64_t y, int64_t z, int64_t layer) {
+  if (level >= v.levelCount) return nullptr;
   VkExtent3D e = levelExtent(v, level);
   if (x < 0 || y < 0 || z < 0 || layer < 0 || x >= e.width || y >= e.height || z >= e.depth) return nullptr;
   if (v.slicesAsLayers) {
-    int64_t slice = int64_t(v.view->range.baseArrayLayer) + layer;
-    if (layer >= int64_t(v.view->range.layerCount) ||
-        slice >= v.image->mips[v.view->range.baseMipLevel + level].extent.depth)
-      return nullptr;
-    return v.image->texel(v.view->range.baseMipLevel + level, 0, uint32_t(x), uint32_t(y), uint32_t(slice));
+    int64_t slice = int64_t(v.baseLayer) + layer;
+    if (layer >= int64_t(v.layerCount) || slice >= v.image->mips[v.baseMip + level].extent.depth) return nullptr;
+    return v.image->texel(v.baseMip + level, 0, uint32_t(x), uint32_t(y), uint32_t(slice));
   }
-  if (layer >= int64_t(v.view->range.layerCount)) return nullptr;
-  return v.image->texel(v.view->range.baseMipLevel + level, v.view->range.baseArrayLayer + uint32_t(layer), uint32_t(x),
-                        uint32_t(y), uint32_t(z));
+  if (layer >= int64_t(v.layerCount)) return nullptr;
+  return v.image->texel(v.baseMip + level, v.baseLayer + uint32_t(layer), uint32_t(x), uint32_t(y), uint32_t(z));
 }
 
 // Splits view-order coordinates into (x, y, z, layer).
-void splitCoord(const View& v, const int64_t c[4], int64_t out[4]) {
+void splitCoord(const TexelView& v, const int64_t c[4], int64_t out[4]) {
   out[0] = c[0];
   out[1] = v.dims >= 2 ? c[1] : 0;
   out[2] = v.dims >= 3 ? c[2] : 0;
   out[3] = v.arrayed ? c[v.dims] : 0;
 }
 
-void readTexel(const View& v, uint32_t level, const int64_t xyzl[4], uint32_t out[4]) {
+void readTexel(const TexelView& v, uint32_t level, const int64_t xyzl[4], uint32_t out[4]) {
   const uint8_t* t = texelAt(v, level, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
   if (!t) {
     std::memset(out, 0, 16);
@@ -260,7 +288,7 @@ bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
   }
 }
 
-void borderColor(const View& v, VkBorderColor bc, uint32_t out[4]) {
+void borderColor(const TexelView& v, VkBorderColor bc, uint32_t out[4]) {
   bool opaque = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK || bc == VK_BORDER_COLOR_INT_OPAQUE_BLACK;
   bool white = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE || bc == VK_BORDER_COLOR_INT_OPAQUE_WHITE;
   uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
@@ -269,7 +297,7 @@ void borderColor(const View& v, VkBorderColor bc, uint32_t out[4]) {
 }
 
 // The texel at integer (i, j, k) of `level` after the address modes, as four words.
-void addressedTexel(const View& v, const VkSamplerCreateInfo& s, uint32_t level, int64_t i, int64_t j, int64_t k,
+void addressedTexel(const TexelView& v, const VkSamplerCreateInfo& s, uint32_t level, int64_t i, int64_t j, int64_t k,
                     int64_t layer, uint32_t out[4]) {
   VkExtent3D e = levelExtent(v, level);
   int64_t c[3];
@@ -291,7 +319,7 @@ void addressedTexel(const View& v, const VkSamplerCreateInfo& s, uint32_t level,
 }
 
 // Filters mip `level` at view-order coordinates (normalized unless the sampler says otherwise).
-void filterLevel(const View& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
+void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
                  int64_t layer, float out[4]) {
   VkExtent3D e = levelExtent(v, level);
   double size[3] = {double(e.width), double(e.height), double(e.depth)};
@@ -328,6 +356,13 @@ void filterLevel(const View& v, const VkSamplerCreateInfo& s, VkFilter filter, u
 }
 
 }  // namespace
+
+void filterTexels(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
+                  int64_t layer, uint32_t out[4]) {
+  float f[4];
+  filterLevel(v, s, filter, level, coord, layer, f);
+  std::memcpy(out, f, 16);
+}
 
 }  // namespace vkrt
 
@@ -378,16 +413,18 @@ void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRe
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  // anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy
+  // is 1 ("Scale Factor Operation") and the one isotropic sample below is the anisotropic filter.
   // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
   float lambda = std::isnan(lod) ? 0.0f : lod + s.mipLodBias;
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
   VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
-  float maxLevel = float(v.view->range.levelCount - 1);
+  float maxLevel = float(v.levelCount - 1);
   float d = std::clamp(lambda, 0.0f, maxLevel);
   int64_t layer = 0;
   if (v.arrayed) {
     float l = std::nearbyint(coord[v.dims]);
-    layer = int64_t(std::clamp(l, 0.0f, float(v.view->range.layerCount - 1)));
+    layer = int64_t(std::clamp(l, 0.0f, float(v.layerCount - 1)));
   }
   float result[4];
   if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
@@ -409,12 +446,12 @@ void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRe
 void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
-  if (!resolveView(img, &v) || lod < 0 || uint32_t(lod) >= v.view->range.levelCount) return;
+  if (!resolveView(img, &v) || lod < 0 || uint32_t(lod) >= v.levelCount) return;
   VkExtent3D e = levelExtent(v, uint32_t(lod));
   int32_t dims[3] = {int32_t(e.width), int32_t(e.height), int32_t(e.depth)};
   for (int i = 0; i < v.dims; ++i) out[i] = dims[i];
   if (v.arrayed) {
-    uint32_t layers = v.view->range.layerCount;
+    uint32_t layers = v.layerCount;
     if (v.view->viewType == VK_IMAGE_VIEW_TYPE_CUBE) layers = 0;
     if (v.view->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY) layers /= 6;
     if (layers) out[v.dims] = int32_t(layers);
@@ -423,7 +460,7 @@ void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[
 
 int32_t vkrt_image_levels(const abi::DescriptorRecord* img) {
   View v;
-  return resolveView(img, &v) ? int32_t(v.view->range.levelCount) : 0;
+  return resolveView(img, &v) ? int32_t(v.levelCount) : 0;
 }
 
 }  // extern "C"

@@ -82,7 +82,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxDrawIndexedIndexValue = UINT32_MAX;
   l.maxDrawIndirectCount = UINT32_MAX;
   l.maxSamplerLodBias = 15.0f;
-  l.maxSamplerAnisotropy = 1.0f;
+  l.maxSamplerAnisotropy = 16.0f;  // the minimum for samplerAnisotropy (supported_features.cpp says why it holds)
   l.maxViewports = 1;
   l.maxViewportDimensions[0] = l.maxViewportDimensions[1] = 16384;
   l.viewportBoundsRange[0] = -32768.0f;

@@ -3,6 +3,7 @@
 #include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
 #include "runtime/lookup.hpp"
+#include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -21,11 +22,27 @@ extern "C" {
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSamplerCreateInfo* pCreateInfo,
                                                   const VkAllocationCallbacks* pAllocator, VkSampler* pSampler) {
   Device* dev = fromHandleUnchecked<Device>(device);
-  // VUID-VkSamplerCreateInfo-anisotropyEnable-01070: the samplerAnisotropy feature is not supported
   if (pCreateInfo->anisotropyEnable) {
-    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-anisotropyEnable-01070",
-           "vkCreateSampler: anisotropyEnable needs the samplerAnisotropy feature, which vkrt does not support");
-    return VK_ERROR_VALIDATION_FAILED_EXT;
+    // VUID-VkSamplerCreateInfo-anisotropyEnable-01070: the samplerAnisotropy feature must be enabled
+    if (!dev->enabled(Feature::samplerAnisotropy)) {
+      report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-anisotropyEnable-01070",
+             "vkCreateSampler: anisotropyEnable is VK_TRUE, but the device was created without samplerAnisotropy");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkSamplerCreateInfo-anisotropyEnable-01071: maxAnisotropy in [1, maxSamplerAnisotropy]
+    const float limit = dev->physicalDevice->properties10.limits.maxSamplerAnisotropy;
+    if (!(pCreateInfo->maxAnisotropy >= 1.0f && pCreateInfo->maxAnisotropy <= limit)) {
+      report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-anisotropyEnable-01071",
+             "vkCreateSampler: maxAnisotropy %g is outside [1, %g] (maxSamplerAnisotropy)",
+             double(pCreateInfo->maxAnisotropy), double(limit));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01076: no anisotropy with unnormalized coordinates
+    if (pCreateInfo->unnormalizedCoordinates) {
+      report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01076",
+             "vkCreateSampler: anisotropyEnable and unnormalizedCoordinates are both VK_TRUE");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
   }
   // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072..01076
   if (pCreateInfo->unnormalizedCoordinates &&

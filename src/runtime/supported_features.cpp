@@ -15,6 +15,12 @@ constexpr F kSupported[] = {
     F::robustBufferAccess,
     // Index values are only read by draws, which vkrt does not have; the limit is the full range.
     F::fullDrawIndexUint32,
+    // Anisotropic filtering: the only sampling vkrt compiles is explicit-LOD sampling with a Lod operand (textureLod),
+    // whose derivatives are zero, so rho_max = rho_min = 0 and the ratio of anisotropy is 1 ("Scale Factor
+    // Operation"): one isotropic sample is the anisotropic filter (runtime/image_functions.cpp vkrt_image_sample;
+    // tests/e2e ComputeAnisotropyTest). Grad or implicit-LOD sampling would need ceil(eta) samples along the major
+    // axis of the footprint. maxSamplerAnisotropy is 16 (runtime/physical_device.cpp).
+    F::samplerAnisotropy,
     // 64-bit integers and floats, 8/16-bit integers and 16-bit floats in shaders, and their storage-buffer, uniform
     // and push-constant access (src/spirv; tests/spirv SixtyFourBitIntegersAndDoubles, SpirvCompilerSmallTypes,
     // tests/e2e ComputeSmallTypesTest, ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).

@@ -251,6 +251,8 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       return true;
     }
     case spv::OpImageSampleExplicitLod: {
+      // Grad would bring non-zero derivatives, hence anisotropy: the runtime advertises samplerAnisotropy only
+      // because Lod-operand sampling is isotropic (runtime/supported_features.cpp), so Grad needs both.
       if (!lod) return (ok = unsupported(in, "explicit-LOD sampling without a Lod operand (Grad)")), true;
       if (it->word(3) == spv::DimCube) return (ok = unsupported(in, "cube map sampling")), true;
       if (!isFloat(m.typeOf(coordId))) return (ok = fail(in, "sampling coordinates are not floats")), true;

@@ -36,6 +36,11 @@ class ComputeImageTest : public VulkanTest {
     std::vector<VkDeviceSize> mipOffsets;
   };
 
+  // Samples one image through every filter and address mode, with anisotropic filtering on or off (the results
+  // must be the same: textureLod has zero derivatives, so the ratio of anisotropy is 1), and checks each result
+  // against the spec's filter computed here.
+  void sampleAndFetch(bool anisotropic);
+
   Tex makeTex(VkImageType type, VkImageViewType viewType, VkFormat format, VkExtent3D extent, uint32_t mips,
               uint32_t layers, uint32_t texelSize, VkImageUsageFlags usage, uint32_t viewBaseLayer = 0,
               uint32_t viewLayers = VK_REMAINING_ARRAY_LAYERS) {
@@ -332,7 +337,7 @@ void reference(const SamplerConfig& s, float u, float v, float lod, int layer, f
   for (int k = 0; k < 4; ++k) out[k] = a[k] * (1 - t) + b[k] * t;
 }
 
-TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
+void ComputeImageTest::sampleAndFetch(bool anisotropic) {
   const bool vkrt = onVkrt();
   // vkrt filters in float; a GPU quantizes its filter weights to subTexelPrecisionBits (and the lod fraction to
   // mipmapPrecisionBits; NVIDIA: 8 and 8), so its error is the weight's step times the difference between the
@@ -410,6 +415,8 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
     si.addressModeU = si.addressModeV = si.addressModeW = configs[c].mode;
     si.borderColor = configs[c].border;
     si.maxLod = VK_LOD_CLAMP_NONE;
+    si.anisotropyEnable = anisotropic;
+    si.maxAnisotropy = anisotropic ? 16.0f : 0.0f;
     ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &samplers[c]), VK_SUCCESS);
   }
   const VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
@@ -495,6 +502,29 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
   destroy(out);
   destroy(info);
   destroy(p);
+}
+
+TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) { sampleAndFetch(false); }
+
+class ComputeAnisotropyTest : public ComputeImageTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features.samplerAnisotropy = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(ComputeAnisotropyTest, ExplicitLodSamplingWithAnisotropyIsTheIsotropicFilter) {
+  // samplerAnisotropy with maxSamplerAnisotropy at least 16 (the required limit when the feature is supported), and
+  // samplers with anisotropyEnable and maxAnisotropy 16 filtering textureLod exactly as without anisotropy.
+  VkPhysicalDeviceFeatures f;
+  vkGetPhysicalDeviceFeatures(physicalDevice, &f);
+  EXPECT_TRUE(f.samplerAnisotropy);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physicalDevice, &props);
+  EXPECT_GE(props.limits.maxSamplerAnisotropy, 16.0f);
+  sampleAndFetch(true);
 }
 
 // ---- buffer device address

@@ -1,5 +1,6 @@
 #include "e2e/fixture.hpp"
 
+#include <algorithm>
 #include <cstddef>
 
 namespace vkrt::test {
@@ -152,6 +153,14 @@ std::vector<Message> VulkanTest::vkrtMessages() {
 void VulkanTest::clearMessages() {
   std::lock_guard lock(mutex_);
   messages_.clear();
+}
+
+size_t VulkanTest::takeLayerMessages(const std::string& idName) {
+  std::lock_guard lock(mutex_);
+  auto taken = [&](const Message& m) { return m.text.rfind("vkrt: ", 0) != 0 && m.idName == idName; };
+  size_t n = size_t(std::count_if(messages_.begin(), messages_.end(), taken));
+  messages_.erase(std::remove_if(messages_.begin(), messages_.end(), taken), messages_.end());
+  return n;
 }
 
 void VulkanTest::expectVkrtMessage(const char* vuid) {

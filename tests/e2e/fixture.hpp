@@ -58,6 +58,8 @@ class VulkanTest : public ::testing::Test {
   void clearMessages();
   // Asserts that vkrt reported exactly one message naming `vuid` since the last clear, and clears.
   void expectVkrtMessage(const char* vuid);
+  // Removes the validation layer's messages named `idName` received so far; returns how many there were.
+  size_t takeLayerMessages(const std::string& idName);
 
   uint32_t memoryTypeIndex(uint32_t typeBits, VkMemoryPropertyFlags props);
 

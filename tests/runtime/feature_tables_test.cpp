@@ -130,10 +130,13 @@ TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructur
   EXPECT_TRUE(on[size_t(Feature::scalarBlockLayout)]);
   EXPECT_FALSE(on[size_t(Feature::uniformBufferStandardLayout)]);
   VkPhysicalDeviceFeatures legacy{};
-  legacy.samplerAnisotropy = VK_TRUE;
+  legacy.samplerAnisotropy = VK_TRUE;  // supported
+  legacy.geometryShader = VK_TRUE;     // not supported
   VkDeviceCreateInfo ci2{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   ci2.pEnabledFeatures = &legacy;
-  EXPECT_EQ(pd->firstUnsupportedFeature(ci2), "VkPhysicalDeviceFeatures::samplerAnisotropy");
+  EXPECT_EQ(pd->firstUnsupportedFeature(ci2), "VkPhysicalDeviceFeatures::geometryShader");
+  legacy.geometryShader = VK_FALSE;
+  EXPECT_EQ(pd->firstUnsupportedFeature(ci2), "");
 }
 
 }  // namespace
