@@ -3,6 +3,7 @@
 // every committed value compared with the scene's geometry.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
 
 #include "accel/scenes.hpp"
@@ -26,7 +27,7 @@ constexpr uint64_t kAddress = 0x5000;
 // One structure at kAddress; any other address resolves to nothing (and is counted).
 struct OneStructure : exec::TopLevelResolver {
   const Tlas* tlas = nullptr;
-  int misses = 0;
+  std::atomic<int> misses{0};  // (workers call topLevel concurrently)
   const Tlas* topLevel(uint64_t address) override {
     if (address == kAddress) return tlas;
     ++misses;
@@ -102,7 +103,7 @@ TEST(SpirvRayQuery, ComputeShaderRunsPerWorkgroupAndCommitsTheSceneHits) {
   EXPECT_GT(front, 50);
   EXPECT_GT(back, 50);
   EXPECT_GT(none, 50);
-  EXPECT_EQ(resolver.misses, 0);
+  EXPECT_EQ(resolver.misses.load(), 0);
 
   // An address that is no structure: every query finds nothing. (The executor asks the resolver for each query:
   // resolving each address once per dispatch is the resolver's part, runtime's TopLevelTable.)
@@ -111,7 +112,7 @@ TEST(SpirvRayQuery, ComputeShaderRunsPerWorkgroupAndCommitsTheSceneHits) {
   h.rayQueries = &other;
   ASSERT_TRUE(h.run(n * n / 8));
   for (const Result& r : h.get<Result>(2)) EXPECT_EQ(r.hit[3], 0.0f);
-  EXPECT_EQ(resolver.misses, int(n * n)) << "one resolution per query";
+  EXPECT_EQ(resolver.misses.load(), int(n * n)) << "one resolution per query";
 }
 
 }  // namespace
