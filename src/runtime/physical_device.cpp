@@ -153,6 +153,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.shaderRoundingModeRTEFloat16 = VK_TRUE;
   properties12.shaderRoundingModeRTEFloat32 = VK_TRUE;
   properties12.shaderRoundingModeRTEFloat64 = VK_TRUE;
+  // Descriptors are records read when a command executes, and every access is bounds-checked against the record
+  // it reads then (src/spirv/memory.cpp): robust buffer access holds for update-after-bind descriptors too.
+  properties12.robustBufferAccessUpdateAfterBind = VK_TRUE;
   properties12.maxUpdateAfterBindDescriptorsInAllPools = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindSamplers = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindUniformBuffers = 1u << 20;
@@ -224,6 +227,8 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_EXTENSION_NAME, VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_SPEC_VERSION},
       {VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_EXTENSION_NAME, VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
+      // Every feature the extension makes mandatory is supported (supported_features.cpp: descriptorIndexing).
+      {VK_EXT_DESCRIPTOR_INDEXING_EXTENSION_NAME, VK_EXT_DESCRIPTOR_INDEXING_SPEC_VERSION},
   };
   // Ray tracing (runtime/ray_tracing_features.cpp).
   appendRayTracingExtensions(extensions_);

@@ -51,17 +51,27 @@ constexpr F kSupported[] = {
     F::descriptorBindingUpdateUnusedWhilePending,
     F::descriptorBindingPartiallyBound,
     F::descriptorBindingVariableDescriptorCount,
-    // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
-    // SpirvDescriptorIndexing). Texel buffers are not compiled yet: neither their indexing nor descriptorIndexing.
+    // Descriptor arrays of buffers, images and texel buffers indexed by any value, also per invocation, and
+    // runtime-sized (src/spirv; tests/spirv SpirvDescriptorIndexing, tests/e2e TexelBufferTest). Input attachments
+    // (graphics) are not compiled: their indexing features stay off.
     F::shaderUniformBufferArrayDynamicIndexing,
     F::shaderSampledImageArrayDynamicIndexing,
     F::shaderStorageBufferArrayDynamicIndexing,
     F::shaderStorageImageArrayDynamicIndexing,
+    F::shaderUniformTexelBufferArrayDynamicIndexing,
+    F::shaderStorageTexelBufferArrayDynamicIndexing,
     F::shaderUniformBufferArrayNonUniformIndexing,
     F::shaderSampledImageArrayNonUniformIndexing,
     F::shaderStorageBufferArrayNonUniformIndexing,
     F::shaderStorageImageArrayNonUniformIndexing,
+    F::shaderUniformTexelBufferArrayNonUniformIndexing,
+    F::shaderStorageTexelBufferArrayNonUniformIndexing,
     F::runtimeDescriptorArray,
+    // Every feature the specification's Feature Requirements ask of descriptorIndexing (and of the
+    // VK_EXT_descriptor_indexing extension) is in this list: the indexing above, the update-after-bind flags of
+    // sampled and storage images, storage buffers and both texel buffers, unused-while-pending, partially bound
+    // and runtime arrays.
+    F::descriptorIndexing,
     // Workgroup memory: zeroed for every workgroup, so initializers (OpConstantNull) hold; explicit layouts of
     // Block variables that alias (src/spirv/memory.cpp; tests/spirv SpirvConformance.WorkgroupMemory*).
     F::shaderZeroInitializeWorkgroupMemory,

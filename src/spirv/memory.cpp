@@ -151,7 +151,10 @@ bool Codegen::declareGlobals() {
         else if (ti->op == spv::OpTypeSampler)
           r.kind = ResourceBinding::Sampler;
         else if (ti->op == spv::OpTypeSampledImage)
-          r.kind = ResourceBinding::CombinedImageSampler;
+          r.kind =
+              isTexelBuffer(ti->word(2)) ? ResourceBinding::UniformTexelBuffer : ResourceBinding::CombinedImageSampler;
+        else if (isTexelBuffer(elem))
+          r.kind = ti->word(7) == 2 ? ResourceBinding::StorageTexelBuffer : ResourceBinding::UniformTexelBuffer;
         else
           r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
         g.slot = int(info.resources.size());
