@@ -150,6 +150,8 @@ bool supportedOp(spv::Op op) {
     case spv::OpAccessChain:
     case spv::OpInBoundsAccessChain:
     case spv::OpArrayLength:
+    case spv::OpPtrEqual:
+    case spv::OpPtrNotEqual:
     case spv::OpVectorExtractDynamic:
     case spv::OpVectorInsertDynamic:
     case spv::OpVectorShuffle:

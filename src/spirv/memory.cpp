@@ -707,6 +707,19 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       store(dst, v);
       return true;
     }
+    case spv::OpPtrEqual:
+    case spv::OpPtrNotEqual: {
+      // SPIR-V 1.4. Without variable pointers a Vulkan module may compare StorageBuffer pointers only under the
+      // PhysicalStorageBuffer64 addressing model; whatever the class, two pointers are equal when they address
+      // the same byte (a pointer into a descriptor array not indexed yet has no address: refused).
+      Ptr x, y;
+      if (!operandPtr(*this, in, in.word(3), &x) || !operandPtr(*this, in, in.word(4), &y)) return (ok = false), true;
+      if (x.slot >= 0 || y.slot >= 0) return (ok = unsupported(in, "comparison of descriptor array pointers")), true;
+      llvm::Value* ax = b.CreatePtrToInt(b.CreateGEP(b.getInt8Ty(), x.base, x.offset), b.getInt64Ty());
+      llvm::Value* ay = b.CreatePtrToInt(b.CreateGEP(b.getInt8Ty(), y.base, y.offset), b.getInt64Ty());
+      set(in.word(2), in.op == spv::OpPtrEqual ? b.CreateICmpEQ(ax, ay) : b.CreateICmpNE(ax, ay));
+      return true;
+    }
     case spv::OpArrayLength: {
       Ptr p;
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
