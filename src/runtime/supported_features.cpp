@@ -29,6 +29,9 @@ constexpr F kSupported[] = {
     F::storageBuffer8BitAccess,
     F::uniformAndStorageBuffer8BitAccess,
     F::storagePushConstant8,
+    // VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE in the image functions' addressing (runtime/image_functions.cpp;
+    // tests/e2e ComputeMirrorClampTest).
+    F::samplerMirrorClampToEdge,
     // Timeline semaphores (runtime/semaphore.cpp), host query reset (runtime/query_pool.cpp).
     F::timelineSemaphore,
     F::hostQueryReset,

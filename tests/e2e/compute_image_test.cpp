@@ -1,5 +1,6 @@
 // Compute shaders on images and device addresses, end to end with the validation layer on: storage image
-// loads/stores of several formats and dimensions, sampling with samplers of every filter and address mode,
+// loads/stores of several formats and dimensions, sampling with samplers of every filter and address mode (mirror
+// clamp to edge with the samplerMirrorClampToEdge feature),
 // texel fetches, size queries, and buffer_reference pointers. Expected values are computed here on the CPU.
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,12 @@ namespace {
 
 class ComputeImageTest : public VulkanTest {
  protected:
+  // VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE is sampled too (SampleAndFetchWithEveryFilterAndAddressMode).
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features12.samplerMirrorClampToEdge = VK_TRUE;
+    return o;
+  }
   struct Tex {
     VkImage image = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -286,6 +293,7 @@ void reference(const SamplerConfig& s, float u, float v, float lod, int layer, f
         case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER:
           if (c < 0 || c >= n) *border = true;
           return c;
+        case VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE: return std::min(c >= 0 ? c : -(1 + c), n - 1);
         default: return std::clamp(c, 0, n - 1);
       }
     };
@@ -398,6 +406,10 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
        VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
       {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
        VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
   };
   const uint32_t nc = sizeof configs / sizeof configs[0];
   std::vector<VkSampler> samplers(nc);
@@ -486,6 +498,12 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) {
   EXPECT_FLOAT_EQ(h[0], 100.5f);
   reference(configs[1], 1.125f, 0.125f, 0.0f, 1, h);
   EXPECT_FLOAT_EQ(h[0], 100.0f);
+  // Mirror clamp to edge mirrors once about 0 (u = -0.3: texel -2, mirrored to 1), then clamps (u = 1.9: texel 7,
+  // clamped to 3).
+  reference(configs[7], -0.3f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 101.0f);
+  reference(configs[7], 1.9f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 103.0f);
   for (VkSampler s : samplers) vkDestroySampler(device, s, nullptr);
   vkDestroyImageView(device, arrView, nullptr);
   destroy(img);
