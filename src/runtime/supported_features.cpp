@@ -29,9 +29,19 @@ constexpr F kSupported[] = {
     F::storageBuffer8BitAccess,
     F::uniformAndStorageBuffer8BitAccess,
     F::storagePushConstant8,
+    // Image accesses outside the view read zeros and write nothing (runtime/image_functions.cpp: every texel address
+    // is checked against the view's extent, layers and levels; tests/e2e ComputeImageRobustnessTest).
+    F::robustImageAccess,
+    // Texel buffer view offsets aligned to a texel (VkPhysicalDeviceTexelBufferAlignmentProperties), checked by
+    // vkCreateBufferView (runtime/buffer_view.cpp); the texel buffer functions read texels at any byte.
+    F::texelBufferAlignment,
     // VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE in the image functions' addressing (runtime/image_functions.cpp;
     // tests/e2e ComputeMirrorClampTest).
     F::samplerMirrorClampToEdge,
+    // 64-bit integer atomics on storage buffers and workgroup memory: the atomic instructions are width-generic
+    // (src/spirv/memory.cpp; tests/e2e ComputeAtomicInt64Test).
+    F::shaderBufferInt64Atomics,
+    F::shaderSharedInt64Atomics,
     // Timeline semaphores (runtime/semaphore.cpp), host query reset (runtime/query_pool.cpp).
     F::timelineSemaphore,
     F::hostQueryReset,

@@ -1,7 +1,9 @@
 // Texel buffers in compute shaders, end to end with the validation layer on: uniform texel buffers (texelFetch)
 // and storage texel buffers (imageLoad, imageStore, image atomics) through buffer views of several formats and
-// offsets, their sizes, and arrays of them indexed per invocation (VK_EXT_descriptor_indexing, enabled by name).
+// offsets, their sizes, arrays of them indexed per invocation (VK_EXT_descriptor_indexing, enabled by name), and
+// views at texel-aligned offsets (VK_EXT_texel_buffer_alignment, enabled by name).
 // Expected values are computed here on the CPU.
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -82,99 +84,101 @@ class TexelBufferTest : public VulkanTest {
     vkGetPhysicalDeviceProperties(physicalDevice, &p);
     return p.limits.minTexelBufferOffsetAlignment;
   }
+
+  // The shader of compute_texel_buffers.comp over views of four formats, the R8G8B8A8_UNORM one at byte `at`.
+  void fetchLoadStoreAtomicsAndSizes(VkDeviceSize at) {
+    const bool vkrt = onVkrt();
+    ComputePipeline p =
+        makeComputePipeline(device, kSpv_compute_texel_buffers_comp, sizeof kSpv_compute_texel_buffers_comp,
+                            {kUniformTexel, kUniformTexel, kStorageTexel, kStorageTexel, kStorageBuffer});
+    ASSERT_EQ(p.result, VK_SUCCESS);
+    constexpr uint32_t kN = 32, kUnorm = 20, kInts = 24, kFloats = 28, kCounters = 34;
+    // R8G8B8A8_UNORM at an offset (the bytes before it are not texels of the view): texel i = {i, 2i, 255 - i, 51}.
+    Texels unorm = makeTexels(VK_FORMAT_R8G8B8A8_UNORM, at + kUnorm * 4 + 64, at, kUnorm * 4,
+                              VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    auto* u8 = static_cast<uint8_t*>(unorm.buffer.data);
+    std::memset(u8, 0xff, unorm.buffer.size);
+    for (uint32_t i = 0; i < kUnorm; ++i) {
+      uint8_t* t = u8 + at + 4 * i;
+      t[0] = uint8_t(i);
+      t[1] = uint8_t(2 * i);
+      t[2] = uint8_t(255 - i);
+      t[3] = 51;
+    }
+    // R16_SINT over the whole buffer: texel i = 3i - 20 (negative below 7).
+    Texels ints = makeTexels(VK_FORMAT_R16_SINT, kInts * 2, 0, VK_WHOLE_SIZE, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    auto* i16 = static_cast<int16_t*>(ints.buffer.data);
+    for (uint32_t i = 0; i < kInts; ++i) i16[i] = int16_t(3 * int(i) - 20);
+    // R32G32B32A32_SFLOAT, kFloats texels of a buffer of kN: the texels past the view keep their -7.
+    Texels floats =
+        makeTexels(VK_FORMAT_R32G32B32A32_SFLOAT, kN * 16, 0, kFloats * 16, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+    auto* f32 = static_cast<float*>(floats.buffer.data);
+    for (uint32_t i = 0; i < kN * 4; ++i) f32[i] = -7.0f;
+    // R32_UINT: texels 0-3 are counters (start at 1000 c), texel k >= 4 holds 7k.
+    Texels counters =
+        makeTexels(VK_FORMAT_R32_UINT, kCounters * 4, 0, VK_WHOLE_SIZE, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+    auto* c32 = static_cast<uint32_t*>(counters.buffer.data);
+    for (uint32_t k = 0; k < kCounters; ++k) c32[k] = k < 4 ? 1000 * k : 7 * k;
+    HostBuffer out = createHostBuffer(4 * (4 + 2 * kN), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    std::memset(out.data, 0x5a, out.size);
+    writeTexels(p, 0, kUniformTexel, unorm.view);
+    writeTexels(p, 1, kUniformTexel, ints.view);
+    writeTexels(p, 2, kStorageTexel, floats.view);
+    writeTexels(p, 3, kStorageTexel, counters.view);
+    writeBuffer(p, 4, out);
+    dispatch(p, 1);
+
+    const auto* o = static_cast<const int32_t*>(out.data);
+    EXPECT_EQ(o[0], int32_t(kUnorm)) << "textureSize(unorm view)";
+    EXPECT_EQ(o[1], int32_t(kInts)) << "textureSize(VK_WHOLE_SIZE view)";
+    EXPECT_EQ(o[2], int32_t(kFloats)) << "imageSize(float view)";
+    EXPECT_EQ(o[3], int32_t(kCounters)) << "imageSize(counters)";
+    const auto* loaded = reinterpret_cast<const uint32_t*>(o + 4);
+    for (uint32_t i = 0; i < kN; ++i) {
+      SCOPED_TRACE("invocation " + std::to_string(i));
+      // texelFetch: normalized to [0, 1]; the integer's missing components read 0, 0, 1.
+      bool inUnorm = i < kUnorm, inInts = i < kInts;
+      float want[4] = {0, 0, 0, 0};
+      if (inUnorm) {
+        want[0] = 2.0f * float(i) / 255.0f;
+        want[1] = 2.0f * float(2 * i) / 255.0f;
+        want[2] = 2.0f * float(255 - i) / 255.0f;
+        want[3] = 2.0f * 51.0f / 255.0f;
+      }
+      if (inInts) {
+        want[0] += float(3 * int(i) - 20);
+        want[3] += 1.0f;
+      }
+      // Past a view's end, robust access reads zeros on vkrt (other drivers may return other values there).
+      if (i < kFloats && (vkrt || (inUnorm && inInts))) {
+        for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(f32[i * 4 + k], want[k]) << "imageStore component " << k;
+      }
+      if (i + 4 < kCounters) {
+        EXPECT_EQ(loaded[i], 7 * (i + 4)) << "imageLoad";
+      } else if (vkrt) {
+        EXPECT_EQ(loaded[i], 0u) << "imageLoad past the view";
+      }
+    }
+    if (vkrt) {
+      for (uint32_t i = kFloats; i < kN; ++i)
+        EXPECT_EQ(f32[i * 4], -7.0f) << "texel " << i << " is past the view: the store is dropped";
+    }
+    for (uint32_t c = 0; c < 4; ++c) {
+      uint32_t sum = 1000 * c;
+      for (uint32_t i = c; i < kN; i += 4) sum += i + 1;
+      EXPECT_EQ(c32[c], sum) << "imageAtomicAdd on counter " << c;
+    }
+    for (uint32_t k = 4; k < kCounters; ++k) EXPECT_EQ(c32[k], 7 * k) << "texel " << k << " is only read";
+    destroy(unorm);
+    destroy(ints);
+    destroy(floats);
+    destroy(counters);
+    destroy(out);
+    destroyComputePipeline(device, p);
+  }
 };
 
-TEST_F(TexelBufferTest, FetchLoadStoreAtomicsAndSizes) {
-  const bool vkrt = onVkrt();
-  ComputePipeline p =
-      makeComputePipeline(device, kSpv_compute_texel_buffers_comp, sizeof kSpv_compute_texel_buffers_comp,
-                          {kUniformTexel, kUniformTexel, kStorageTexel, kStorageTexel, kStorageBuffer});
-  ASSERT_EQ(p.result, VK_SUCCESS);
-  constexpr uint32_t kN = 32, kUnorm = 20, kInts = 24, kFloats = 28, kCounters = 34;
-  // R8G8B8A8_UNORM at an offset (the bytes before it are not texels of the view): texel i = {i, 2i, 255 - i, 51}.
-  const VkDeviceSize at = texelOffsetAlignment();
-  Texels unorm = makeTexels(VK_FORMAT_R8G8B8A8_UNORM, at + kUnorm * 4 + 64, at, kUnorm * 4,
-                            VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-  auto* u8 = static_cast<uint8_t*>(unorm.buffer.data);
-  std::memset(u8, 0xff, unorm.buffer.size);
-  for (uint32_t i = 0; i < kUnorm; ++i) {
-    uint8_t* t = u8 + at + 4 * i;
-    t[0] = uint8_t(i);
-    t[1] = uint8_t(2 * i);
-    t[2] = uint8_t(255 - i);
-    t[3] = 51;
-  }
-  // R16_SINT over the whole buffer: texel i = 3i - 20 (negative below 7).
-  Texels ints = makeTexels(VK_FORMAT_R16_SINT, kInts * 2, 0, VK_WHOLE_SIZE, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-  auto* i16 = static_cast<int16_t*>(ints.buffer.data);
-  for (uint32_t i = 0; i < kInts; ++i) i16[i] = int16_t(3 * int(i) - 20);
-  // R32G32B32A32_SFLOAT, kFloats texels of a buffer of kN: the texels past the view keep their -7.
-  Texels floats =
-      makeTexels(VK_FORMAT_R32G32B32A32_SFLOAT, kN * 16, 0, kFloats * 16, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
-  auto* f32 = static_cast<float*>(floats.buffer.data);
-  for (uint32_t i = 0; i < kN * 4; ++i) f32[i] = -7.0f;
-  // R32_UINT: texels 0-3 are counters (start at 1000 c), texel k >= 4 holds 7k.
-  Texels counters =
-      makeTexels(VK_FORMAT_R32_UINT, kCounters * 4, 0, VK_WHOLE_SIZE, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
-  auto* c32 = static_cast<uint32_t*>(counters.buffer.data);
-  for (uint32_t k = 0; k < kCounters; ++k) c32[k] = k < 4 ? 1000 * k : 7 * k;
-  HostBuffer out = createHostBuffer(4 * (4 + 2 * kN), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  std::memset(out.data, 0x5a, out.size);
-  writeTexels(p, 0, kUniformTexel, unorm.view);
-  writeTexels(p, 1, kUniformTexel, ints.view);
-  writeTexels(p, 2, kStorageTexel, floats.view);
-  writeTexels(p, 3, kStorageTexel, counters.view);
-  writeBuffer(p, 4, out);
-  dispatch(p, 1);
-
-  const auto* o = static_cast<const int32_t*>(out.data);
-  EXPECT_EQ(o[0], int32_t(kUnorm)) << "textureSize(unorm view)";
-  EXPECT_EQ(o[1], int32_t(kInts)) << "textureSize(VK_WHOLE_SIZE view)";
-  EXPECT_EQ(o[2], int32_t(kFloats)) << "imageSize(float view)";
-  EXPECT_EQ(o[3], int32_t(kCounters)) << "imageSize(counters)";
-  const auto* loaded = reinterpret_cast<const uint32_t*>(o + 4);
-  for (uint32_t i = 0; i < kN; ++i) {
-    SCOPED_TRACE("invocation " + std::to_string(i));
-    // texelFetch: normalized to [0, 1]; the integer's missing components read 0, 0, 1.
-    bool inUnorm = i < kUnorm, inInts = i < kInts;
-    float want[4] = {0, 0, 0, 0};
-    if (inUnorm) {
-      want[0] = 2.0f * float(i) / 255.0f;
-      want[1] = 2.0f * float(2 * i) / 255.0f;
-      want[2] = 2.0f * float(255 - i) / 255.0f;
-      want[3] = 2.0f * 51.0f / 255.0f;
-    }
-    if (inInts) {
-      want[0] += float(3 * int(i) - 20);
-      want[3] += 1.0f;
-    }
-    // Past a view's end, robust access reads zeros on vkrt (other drivers may return other values there).
-    if (i < kFloats && (vkrt || (inUnorm && inInts))) {
-      for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(f32[i * 4 + k], want[k]) << "imageStore component " << k;
-    }
-    if (i + 4 < kCounters) {
-      EXPECT_EQ(loaded[i], 7 * (i + 4)) << "imageLoad";
-    } else if (vkrt) {
-      EXPECT_EQ(loaded[i], 0u) << "imageLoad past the view";
-    }
-  }
-  if (vkrt) {
-    for (uint32_t i = kFloats; i < kN; ++i)
-      EXPECT_EQ(f32[i * 4], -7.0f) << "texel " << i << " is past the view: the store is dropped";
-  }
-  for (uint32_t c = 0; c < 4; ++c) {
-    uint32_t sum = 1000 * c;
-    for (uint32_t i = c; i < kN; i += 4) sum += i + 1;
-    EXPECT_EQ(c32[c], sum) << "imageAtomicAdd on counter " << c;
-  }
-  for (uint32_t k = 4; k < kCounters; ++k) EXPECT_EQ(c32[k], 7 * k) << "texel " << k << " is only read";
-  destroy(unorm);
-  destroy(ints);
-  destroy(floats);
-  destroy(counters);
-  destroy(out);
-  destroyComputePipeline(device, p);
-}
+TEST_F(TexelBufferTest, FetchLoadStoreAtomicsAndSizes) { fetchLoadStoreAtomicsAndSizes(texelOffsetAlignment()); }
 
 class TexelBufferIndexingTest : public TexelBufferTest {
  protected:
@@ -270,6 +274,103 @@ TEST_F(TexelBufferIndexingTest, NonUniformAndDynamicIndicesIntoTexelBufferArrays
   for (Texels& b : bins) destroy(b);
   destroy(out);
   destroyComputePipeline(device, p);
+}
+
+// ---- VK_EXT_texel_buffer_alignment (by name, with texelBufferAlignment): views at texel-aligned offsets
+
+class TexelBufferAlignmentTest : public TexelBufferTest {
+ protected:
+  VkPhysicalDeviceTexelBufferAlignmentFeaturesEXT alignmentFeature{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TEXEL_BUFFER_ALIGNMENT_FEATURES_EXT};
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.deviceExtensions = {VK_EXT_TEXEL_BUFFER_ALIGNMENT_EXTENSION_NAME};
+    alignmentFeature.texelBufferAlignment = VK_TRUE;
+    o.featureChain = &alignmentFeature;
+    return o;
+  }
+  VkPhysicalDeviceTexelBufferAlignmentProperties alignments() {
+    VkPhysicalDeviceTexelBufferAlignmentProperties a{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_TEXEL_BUFFER_ALIGNMENT_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &a};
+    vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+    return a;
+  }
+};
+
+TEST_F(TexelBufferAlignmentTest, ViewsAtTexelAlignedOffsetsReadTheirTexels) {
+  const VkPhysicalDeviceTexelBufferAlignmentProperties a = alignments();
+  // A 4-byte texel: the lesser of the alignment in bytes and the texel where single-texel alignment holds.
+  const VkDeviceSize unorm = a.uniformTexelBufferOffsetSingleTexelAlignment
+                                 ? std::min<VkDeviceSize>(a.uniformTexelBufferOffsetAlignmentBytes, 4)
+                                 : a.uniformTexelBufferOffsetAlignmentBytes;
+  if (onVkrt()) EXPECT_EQ(unorm, 4u) << "vkrt aligns texel buffer views to a texel";
+  fetchLoadStoreAtomicsAndSizes(unorm);
+  if (onVkrt()) {
+    // A three-component format aligns to one component; a one-byte format to a byte.
+    Texels rgb = makeTexels(VK_FORMAT_R32G32B32_SFLOAT, 64, 4, 24, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+    Texels bytes = makeTexels(VK_FORMAT_R8_UINT, 64, 3, 8, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    destroy(rgb);
+    destroy(bytes);
+  }
+}
+
+class TexelBufferAlignmentMisuseTest : public TexelBufferAlignmentTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = TexelBufferAlignmentTest::options();
+    o.validation = false;  // rules are broken on purpose; vkrt's own messages are asserted
+    return o;
+  }
+  VkResult view(VkBuffer buffer, VkFormat format, VkDeviceSize offset) {
+    VkBufferViewCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    ci.buffer = buffer;
+    ci.format = format;
+    ci.offset = offset;
+    ci.range = VK_WHOLE_SIZE;
+    VkBufferView v = VK_NULL_HANDLE;
+    VkResult r = vkCreateBufferView(device, &ci, nullptr, &v);
+    if (v) vkDestroyBufferView(device, v, nullptr);
+    return r;
+  }
+};
+
+TEST_F(TexelBufferAlignmentMisuseTest, OffsetsBelowATexelAreReported) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  HostBuffer storage = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+  HostBuffer uniform = createHostBuffer(64, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+  EXPECT_EQ(view(storage.buffer, VK_FORMAT_R32_UINT, 4), VK_SUCCESS);
+  EXPECT_EQ(view(storage.buffer, VK_FORMAT_R32_UINT, 2), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkBufferViewCreateInfo-buffer-02750");
+  EXPECT_EQ(view(uniform.buffer, VK_FORMAT_R16_SFLOAT, 2), VK_SUCCESS);
+  EXPECT_EQ(view(uniform.buffer, VK_FORMAT_R16_SFLOAT, 1), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkBufferViewCreateInfo-buffer-02751");
+  destroy(storage);
+  destroy(uniform);
+}
+
+// Without the feature, minTexelBufferOffsetAlignment (16) holds.
+class TexelBufferNoAlignmentFeatureMisuseTest : public TexelBufferTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.validation = false;
+    return o;
+  }
+};
+
+TEST_F(TexelBufferNoAlignmentFeatureMisuseTest, OffsetsBelowTheLimitAreReported) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  HostBuffer storage = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+  VkBufferViewCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  ci.buffer = storage.buffer;
+  ci.format = VK_FORMAT_R32_UINT;
+  ci.offset = 4;
+  ci.range = VK_WHOLE_SIZE;
+  VkBufferView v = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreateBufferView(device, &ci, nullptr, &v), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkBufferViewCreateInfo-offset-02749");
+  destroy(storage);
 }
 
 }  // namespace

@@ -218,14 +218,14 @@ TEST_F(FeatureTables, ListedExtensionsHaveTheFeaturesTheSpecificationRequires) {
 }
 
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {
-  VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
-  atomics.shaderBufferInt64Atomics = VK_TRUE;  // promoted to Vulkan 1.2, not supported by vkrt
+  VkPhysicalDeviceVulkanMemoryModelFeatures model{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES};
+  model.vulkanMemoryModel = VK_TRUE;  // promoted to Vulkan 1.2, not supported by vkrt
   VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
-                                                   &atomics};
+                                                   &model};
   scalar.scalarBlockLayout = VK_TRUE;
   VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &scalar};
-  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceShaderAtomicInt64Features::shaderBufferInt64Atomics");
-  atomics.shaderBufferInt64Atomics = VK_FALSE;
+  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceVulkanMemoryModelFeatures::vulkanMemoryModel");
+  model.vulkanMemoryModel = VK_FALSE;
   EXPECT_EQ(pd->firstUnsupportedFeature(ci), "");
   // Enabled through the promoted structure, the feature is enabled on the device.
   FeatureSet on = enabledFeatures(ci);
