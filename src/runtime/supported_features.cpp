@@ -95,6 +95,9 @@ constexpr F kSupported[] = {
     // Integer dot products (SPV_KHR_integer_dot_product; none reported as accelerated): src/spirv/arithmetic.cpp,
     // tests/spirv SpirvConformance.IntegerDotProducts.
     F::shaderIntegerDotProduct,
+    // Private data slots: a value per object, kept by the object's serial (runtime/private_data_slot.cpp;
+    // tests/e2e PrivateDataTest).
+    F::privateData,
     // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
     F::synchronization2,
     F::pipelineCreationCacheControl,

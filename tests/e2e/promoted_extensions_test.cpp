@@ -388,6 +388,80 @@ TEST_F(PromotedQueriesTest, MirrorClampToEdgeSampler) {
   vkDestroySampler(device, s, nullptr);
 }
 
+// ---- private data (VK_EXT_private_data by name, the privateData feature, two slots reserved)
+
+class PrivateDataTest : public PromotedTest {
+ protected:
+  VkDevicePrivateDataCreateInfo reserve{VK_STRUCTURE_TYPE_DEVICE_PRIVATE_DATA_CREATE_INFO};
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.deviceExtensions = {VK_EXT_PRIVATE_DATA_EXTENSION_NAME};
+    o.features13.privateData = VK_TRUE;
+    reserve.privateDataSlotRequestCount = 2;
+    o.featureChain = &reserve;
+    return o;
+  }
+  template <class F>
+  F load(const char* name) {
+    auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
+    EXPECT_NE(f, nullptr) << name;
+    return f;
+  }
+};
+
+TEST_F(PrivateDataTest, ValuesPerSlotAndObjectThroughTheExtensionsCommands) {
+  auto create = load<PFN_vkCreatePrivateDataSlotEXT>("vkCreatePrivateDataSlotEXT");
+  auto destroySlot = load<PFN_vkDestroyPrivateDataSlotEXT>("vkDestroyPrivateDataSlotEXT");
+  auto set = load<PFN_vkSetPrivateDataEXT>("vkSetPrivateDataEXT");
+  auto get = load<PFN_vkGetPrivateDataEXT>("vkGetPrivateDataEXT");
+  ASSERT_TRUE(create && destroySlot && set && get);
+  VkPrivateDataSlotCreateInfo ci{VK_STRUCTURE_TYPE_PRIVATE_DATA_SLOT_CREATE_INFO};
+  VkPrivateDataSlot a = VK_NULL_HANDLE, b = VK_NULL_HANDLE;
+  ASSERT_EQ(create(device, &ci, nullptr, &a), VK_SUCCESS);
+  ASSERT_EQ(create(device, &ci, nullptr, &b), VK_SUCCESS);
+  HostBuffer buf = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const uint64_t dev = uint64_t(reinterpret_cast<uintptr_t>(device));
+  const uint64_t q = uint64_t(reinterpret_cast<uintptr_t>(queue));
+  const uint64_t bh = uint64_t(buf.buffer), mh = uint64_t(buf.memory), ah = uint64_t(a);
+  // Nothing set reads 0.
+  uint64_t v = 7;
+  get(device, VK_OBJECT_TYPE_BUFFER, bh, a, &v);
+  EXPECT_EQ(v, 0u);
+  // One value per slot and object: the device itself, a queue, a buffer, its memory, a slot.
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_DEVICE, dev, a, 1), VK_SUCCESS);
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_QUEUE, q, a, 2), VK_SUCCESS);
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_BUFFER, bh, a, 0xfedcba9876543210ull), VK_SUCCESS);
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_DEVICE_MEMORY, mh, a, 4), VK_SUCCESS);
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_PRIVATE_DATA_SLOT, ah, a, 5), VK_SUCCESS);
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_BUFFER, bh, b, 6), VK_SUCCESS);
+  get(device, VK_OBJECT_TYPE_DEVICE, dev, a, &v);
+  EXPECT_EQ(v, 1u);
+  get(device, VK_OBJECT_TYPE_QUEUE, q, a, &v);
+  EXPECT_EQ(v, 2u);
+  get(device, VK_OBJECT_TYPE_BUFFER, bh, a, &v);
+  EXPECT_EQ(v, 0xfedcba9876543210ull);
+  get(device, VK_OBJECT_TYPE_DEVICE_MEMORY, mh, a, &v);
+  EXPECT_EQ(v, 4u);
+  get(device, VK_OBJECT_TYPE_PRIVATE_DATA_SLOT, ah, a, &v);
+  EXPECT_EQ(v, 5u);
+  get(device, VK_OBJECT_TYPE_BUFFER, bh, b, &v);
+  EXPECT_EQ(v, 6u) << "the other slot keeps its own value";
+  get(device, VK_OBJECT_TYPE_DEVICE_MEMORY, mh, b, &v);
+  EXPECT_EQ(v, 0u);
+  // Overwritten.
+  EXPECT_EQ(set(device, VK_OBJECT_TYPE_BUFFER, bh, a, 8), VK_SUCCESS);
+  get(device, VK_OBJECT_TYPE_BUFFER, bh, a, &v);
+  EXPECT_EQ(v, 8u);
+  // A buffer created after another was destroyed (maybe at the same address) has no value.
+  destroy(buf);
+  HostBuffer again = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  get(device, VK_OBJECT_TYPE_BUFFER, uint64_t(again.buffer), a, &v);
+  EXPECT_EQ(v, 0u);
+  destroy(again);
+  destroySlot(device, a, nullptr);
+  destroySlot(device, b, nullptr);
+}
+
 // ---- misuse: vkrt's own reports (the layer off, since it reports the same)
 
 class PromotedMisuseTest : public PromotedTest {
@@ -441,6 +515,64 @@ TEST_F(PromotedMisuseTest, ResolvesHaveNoValidSourceOnOneSampleImages) {
   submitAndWait(cb);
   vkDestroyImage(device, src, nullptr);
   vkDestroyImage(device, dst, nullptr);
+}
+
+TEST_F(PromotedMisuseTest, PrivateDataRules) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  // Without the privateData feature (this fixture does not enable it), no slot.
+  VkPrivateDataSlotCreateInfo ci{VK_STRUCTURE_TYPE_PRIVATE_DATA_SLOT_CREATE_INFO};
+  VkPrivateDataSlot slot = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreatePrivateDataSlot(device, &ci, nullptr, &slot), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkCreatePrivateDataSlot-privateData-04564");
+}
+
+class PrivateDataMisuseTest : public PrivateDataTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = PrivateDataTest::options();
+    o.validation = false;
+    return o;
+  }
+};
+
+TEST_F(PrivateDataMisuseTest, ObjectsMustBeLiveAndTheDevices) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  VkPrivateDataSlotCreateInfo ci{VK_STRUCTURE_TYPE_PRIVATE_DATA_SLOT_CREATE_INFO};
+  VkPrivateDataSlot slot = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreatePrivateDataSlot(device, &ci, nullptr, &slot), VK_SUCCESS);
+  HostBuffer buf = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const uint64_t stale = uint64_t(buf.buffer);
+  destroy(buf);
+  EXPECT_EQ(vkSetPrivateData(device, VK_OBJECT_TYPE_BUFFER, stale, slot, 1), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkSetPrivateData-objectHandle-04017");
+  // The right handle with the wrong type is not a live object of that type either.
+  EXPECT_EQ(vkSetPrivateData(device, VK_OBJECT_TYPE_IMAGE, uint64_t(slot), slot, 1), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkSetPrivateData-objectHandle-04017");
+  // A buffer of another device is not a child of this one.
+  float priority = 1;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  VkDevice other = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateDevice(physicalDevice, &dci, nullptr, &other), VK_SUCCESS);
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = 64;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer foreign = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateBuffer(other, &bci, nullptr, &foreign), VK_SUCCESS);
+  EXPECT_EQ(vkSetPrivateData(device, VK_OBJECT_TYPE_BUFFER, uint64_t(foreign), slot, 1),
+            VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkSetPrivateData-objectHandle-04016");
+  uint64_t v = 9;
+  vkGetPrivateData(device, VK_OBJECT_TYPE_BUFFER, uint64_t(foreign), slot, &v);
+  EXPECT_EQ(v, 0u);
+  expectVkrtMessage("VUID-vkGetPrivateData-objectType-04018");
+  vkDestroyBuffer(other, foreign, nullptr);
+  vkDestroyDevice(other, nullptr);
+  vkDestroyPrivateDataSlot(device, slot, nullptr);
 }
 
 TEST_F(PromotedMisuseTest, ImageFormatListRules) {
@@ -580,8 +712,7 @@ const Promoted kPromoted[] = {
     {"VK_KHR_shader_integer_dot_product", 3, kDevice, true, "integer dot products"},
     {"VK_EXT_texel_buffer_alignment", 3, kDevice, true, "TexelBufferAlignmentTest"},
     {"VK_KHR_shader_non_semantic_info", 3, kDevice, true, "PromotedQueriesTest"},
-    {"VK_EXT_private_data", 3, kDevice, false,
-     "private data slots are not implemented; privateData is mandatory with it"},
+    {"VK_EXT_private_data", 3, kDevice, true, "PrivateDataTest"},
     {"VK_EXT_pipeline_creation_cache_control", 3, kDevice, true, "compute_cache_test.cpp"},
     {"VK_KHR_synchronization2", 3, kDevice, true, "sync_test.cpp"},
     {"VK_KHR_zero_initialize_workgroup_memory", 3, kDevice, true, "ComputeZeroInitTest"},
