@@ -95,6 +95,10 @@ constexpr F kSupported[] = {
     // Integer dot products (SPV_KHR_integer_dot_product; none reported as accelerated): src/spirv/arithmetic.cpp,
     // tests/spirv SpirvConformance.IntegerDotProducts.
     F::shaderIntegerDotProduct,
+    // Subgroup size control: subgroups have one invocation, so a required size is 1 and subgroups are always full;
+    // the rules are checked for every pipeline kind (runtime/shader_stage.cpp; tests/e2e SubgroupSizeControlTest).
+    F::subgroupSizeControl,
+    F::computeFullSubgroups,
     // Private data slots: a value per object, kept by the object's serial (runtime/private_data_slot.cpp;
     // tests/e2e PrivateDataTest).
     F::privateData,

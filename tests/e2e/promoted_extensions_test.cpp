@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "compute_debug_printf.comp.spv.h"
+#include "compute_subgroup_basic.comp.spv.h"
 #include "compute_vulkan10_storage.spvasm.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -462,6 +463,119 @@ TEST_F(PrivateDataTest, ValuesPerSlotAndObjectThroughTheExtensionsCommands) {
   destroySlot(device, b, nullptr);
 }
 
+// ---- subgroup size control (VK_EXT_subgroup_size_control by name, both features)
+
+class SubgroupSizeControlTest : public PromotedTest {
+ protected:
+  bool features = true;
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.deviceExtensions = {VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME};
+    o.features13.subgroupSizeControl = o.features13.computeFullSubgroups = features;
+    return o;
+  }
+  VkPhysicalDeviceVulkan13Properties properties() {
+    VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p13};
+    vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
+    return p13;
+  }
+  // compute_subgroup_basic.comp (4 x 2 invocations a workgroup, one storage buffer) with the stage's flags and,
+  // unless `size` is 0, a required subgroup size.
+  ComputePipeline make(VkPipelineShaderStageCreateFlags flags, uint32_t size) {
+    ComputePipeline p = makeComputePipeline(device, kSpv_compute_subgroup_basic_comp,
+                                            sizeof kSpv_compute_subgroup_basic_comp, {kStorageBuffer});
+    vkDestroyPipeline(device, p.pipeline, nullptr);
+    p.pipeline = VK_NULL_HANDLE;
+    VkPipelineShaderStageRequiredSubgroupSizeCreateInfo required{
+        VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_REQUIRED_SUBGROUP_SIZE_CREATE_INFO};
+    required.requiredSubgroupSize = size;
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, size ? &required : nullptr};
+    ci.stage.flags = flags;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = p.module;
+    ci.stage.pName = "main";
+    ci.layout = p.layout;
+    p.result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline);
+    return p;
+  }
+  // Runs 2 workgroups; each invocation's {elected, gl_SubgroupSize, gl_SubgroupInvocationID, subgroups}.
+  std::vector<uint32_t> run(ComputePipeline& p) {
+    HostBuffer out = createHostBuffer(16 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    PromotedTest::run(p, {&out}, 2);
+    std::vector<uint32_t> v(static_cast<const uint32_t*>(out.data), static_cast<const uint32_t*>(out.data) + 64);
+    destroy(out);
+    return v;
+  }
+};
+
+TEST_F(SubgroupSizeControlTest, RequiredVaryingAndFullSubgroups) {
+  const VkPhysicalDeviceVulkan13Properties p13 = properties();
+  ASSERT_TRUE(p13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT);
+  ASSERT_GE(p13.maxSubgroupSize, p13.minSubgroupSize);
+  if (onVkrt()) EXPECT_EQ(p13.maxSubgroupSize, 1u);
+  // A varying size.
+  ComputePipeline varying = make(VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT, 0);
+  ASSERT_EQ(varying.result, VK_SUCCESS);
+  std::vector<uint32_t> r = run(varying);
+  for (uint32_t i = 0; i < 16; ++i) {
+    EXPECT_GE(r[4 * i + 1], p13.minSubgroupSize) << i;
+    EXPECT_LE(r[4 * i + 1], p13.maxSubgroupSize) << i;
+  }
+  destroyComputePipeline(device, varying);
+  // The smallest size, required, with full subgroups (the workgroup's x, 4, must be a multiple of it).
+  if (4 % p13.minSubgroupSize == 0) {
+    ComputePipeline full = make(VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT, p13.minSubgroupSize);
+    ASSERT_EQ(full.result, VK_SUCCESS);
+    r = run(full);
+    for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(r[4 * i + 1], p13.minSubgroupSize) << "invocation " << i;
+    destroyComputePipeline(device, full);
+  }
+}
+
+class SubgroupSizeControlMisuseTest : public SubgroupSizeControlTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = SubgroupSizeControlTest::options();
+    o.validation = false;
+    return o;
+  }
+  void expectRefused(VkPipelineShaderStageCreateFlags flags, uint32_t size, const char* vuid) {
+    ComputePipeline p = make(flags, size);
+    EXPECT_EQ(p.result, VK_ERROR_VALIDATION_FAILED_EXT) << vuid;
+    expectVkrtMessage(vuid);
+    destroyComputePipeline(device, p);
+  }
+};
+
+TEST_F(SubgroupSizeControlMisuseTest, RequiredSizesOtherThanOneAreReported) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  expectRefused(0, 2, "VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-requiredSubgroupSize-02762");
+  expectRefused(0, 3, "VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-requiredSubgroupSize-02760");
+  expectRefused(VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT, 1,
+                "VUID-VkPipelineShaderStageCreateInfo-pNext-02754");
+}
+
+class SubgroupSizeControlOffMisuseTest : public SubgroupSizeControlMisuseTest {
+ protected:
+  FixtureOptions options() override {
+    features = false;
+    FixtureOptions o = SubgroupSizeControlMisuseTest::options();
+    o.deviceExtensions.clear();
+    return o;
+  }
+};
+
+TEST_F(SubgroupSizeControlOffMisuseTest, TheFlagsAndARequiredSizeNeedTheFeatures) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
+  expectRefused(VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT, 0,
+                "VUID-VkPipelineShaderStageCreateInfo-flags-02784");
+  expectRefused(VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT, 0,
+                "VUID-VkPipelineShaderStageCreateInfo-flags-02785");
+  expectRefused(0, 1, "VUID-VkPipelineShaderStageCreateInfo-pNext-02755");
+}
+
 // ---- misuse: vkrt's own reports (the layer off, since it reports the same)
 
 class PromotedMisuseTest : public PromotedTest {
@@ -695,8 +809,7 @@ const Promoted kPromoted[] = {
     {"VK_KHR_shader_terminate_invocation", 3, kDevice, false,
      "graphics: OpTerminateInvocation exists only in fragment shaders"},
     {"VK_EXT_scalar_block_layout", 2, kDevice, true, "ComputeFeaturesTest"},
-    {"VK_EXT_subgroup_size_control", 3, kDevice, false,
-     "required subgroup sizes are not taken; subgroupSizeControl and computeFullSubgroups are mandatory with it"},
+    {"VK_EXT_subgroup_size_control", 3, kDevice, true, "SubgroupSizeControlTest"},
     {"VK_KHR_spirv_1_4", 2, kDevice, true, "spirv14_test.cpp"},
     {"VK_KHR_separate_depth_stencil_layouts", 2, kDevice, false,
      "graphics: depth/stencil attachment layouts of render passes (requires VK_KHR_create_renderpass2); no "
