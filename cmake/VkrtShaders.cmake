@@ -1,34 +1,60 @@
-# vkrt_embed_shaders(TARGET out_dir shader...): compiles each GLSL shader with glslc (Vulkan 1.3), or assembles
-# each SPIR-V assembly file (*.spvasm, SPIR-V 1.0, validated for Vulkan 1.0) with spirv-as, and embeds the
-# SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds them all.
+# vkrt_embed_shaders(TARGET out_dir shader... [SPV14 shader...]): compiles each GLSL shader with glslc (Vulkan 1.3),
+# or assembles each SPIR-V assembly file with spirv-as (*.spvasm: SPIR-V 1.0, validated for Vulkan 1.0 with the
+# block layouts VK_KHR_relaxed_block_layout allows; *.spv14.spvasm: SPIR-V 1.4, validated for Vulkan 1.1 with
+# SPIR-V 1.4), and embeds the SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds
+# them all. The GLSL shaders after SPV14 are compiled a second time as SPIR-V 1.4 modules (glslc
+# --target-env=vulkan1.1 --target-spv=spv1.4, what an application written for Vulkan 1.1 with VK_KHR_spirv_1_4
+# ships; unoptimized), embedded as `kSpv14_<identifier>` in <out_dir>/<file>.spv14.spv.h.
 find_program(GLSLC glslc REQUIRED)
 find_program(SPIRV_AS spirv-as REQUIRED)
 find_program(SPIRV_VAL spirv-val REQUIRED)
 
 function(vkrt_embed_shaders target out_dir)
+  cmake_parse_arguments(ARG "" "" "SPV14" ${ARGN})
   file(MAKE_DIRECTORY ${out_dir})
   set(headers)
-  foreach(shader ${ARGN})
-    get_filename_component(fname ${shader} NAME)
-    # Headers a GLSL shader may #include (GL_GOOGLE_include_directive) from its own folder.
-    get_filename_component(folder ${shader} DIRECTORY)
-    file(GLOB includes CONFIGURE_DEPENDS ${folder}/*.glsl)
-    set(spv ${out_dir}/${fname}.spv)
-    set(hdr ${out_dir}/${fname}.spv.h)
-    string(MAKE_C_IDENTIFIER ${fname} ident)
-    if(fname MATCHES "\\.spvasm$")
-      set(build COMMAND ${SPIRV_AS} --target-env spv1.0 -o ${spv} ${shader}
-                COMMAND ${SPIRV_VAL} --target-env vulkan1.0 ${spv})
+  foreach(variant default spv14)
+    if(variant STREQUAL "default")
+      set(shaders ${ARG_UNPARSED_ARGUMENTS})
     else()
-      set(build COMMAND ${GLSLC} --target-env=vulkan1.3 -O -o ${spv} ${shader})
+      set(shaders ${ARG_SPV14})
     endif()
-    add_custom_command(
-      OUTPUT ${hdr}
-      ${build}
-      COMMAND Python3::Interpreter ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py ${spv} ${hdr} kSpv_${ident}
-      DEPENDS ${shader} ${includes} ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py
-      COMMENT "${fname}")
-    list(APPEND headers ${hdr})
+    foreach(shader ${shaders})
+      get_filename_component(fname ${shader} NAME)
+      # Headers a GLSL shader may #include (GL_GOOGLE_include_directive) from its own folder.
+      get_filename_component(folder ${shader} DIRECTORY)
+      file(GLOB includes CONFIGURE_DEPENDS ${folder}/*.glsl)
+      string(MAKE_C_IDENTIFIER ${fname} ident)
+      if(variant STREQUAL "spv14")
+        set(spv ${out_dir}/${fname}.spv14.spv)
+        set(hdr ${out_dir}/${fname}.spv14.spv.h)
+        set(symbol kSpv14_${ident})
+        set(comment "${fname} (SPIR-V 1.4)")
+        # Not optimized: glslc's optimizer refuses SPIR-V 1.4 under Vulkan 1.1 ("Invalid SPIR-V binary version").
+        set(build COMMAND ${GLSLC} --target-env=vulkan1.1 --target-spv=spv1.4 -o ${spv} ${shader})
+      else()
+        set(spv ${out_dir}/${fname}.spv)
+        set(hdr ${out_dir}/${fname}.spv.h)
+        set(symbol kSpv_${ident})
+        set(comment "${fname}")
+        if(fname MATCHES "\\.spv14\\.spvasm$")
+          set(build COMMAND ${SPIRV_AS} --target-env spv1.4 -o ${spv} ${shader}
+                    COMMAND ${SPIRV_VAL} --target-env vulkan1.1spv1.4 ${spv})
+        elseif(fname MATCHES "\\.spvasm$")
+          set(build COMMAND ${SPIRV_AS} --target-env spv1.0 -o ${spv} ${shader}
+                    COMMAND ${SPIRV_VAL} --target-env vulkan1.0 --relax-block-layout ${spv})
+        else()
+          set(build COMMAND ${GLSLC} --target-env=vulkan1.3 -O -o ${spv} ${shader})
+        endif()
+      endif()
+      add_custom_command(
+        OUTPUT ${hdr}
+        ${build}
+        COMMAND Python3::Interpreter ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py ${spv} ${hdr} ${symbol}
+        DEPENDS ${shader} ${includes} ${CMAKE_SOURCE_DIR}/tools/embed_spirv.py
+        COMMENT "${comment}")
+      list(APPEND headers ${hdr})
+    endforeach()
   endforeach()
   add_custom_target(${target} DEPENDS ${headers})
 endfunction()

@@ -1,7 +1,8 @@
-// The image functions compiled shaders call (OpImageRead/Write/TexelPointer/Fetch/SampleExplicitLod/Query*), by symbol
-// name: the compiler emits calls to these names, and whoever runs compiled code supplies their addresses
-// (HostSymbol lists, given to the compiler; the runtime's implementation is src/runtime/image_functions.cpp,
-// which reads its image view and sampler objects through the descriptor records' opaque pointers).
+// The image functions compiled shaders call (OpImageRead/Write/TexelPointer/Fetch/SampleExplicitLod/Query*, on images
+// and on texel buffers), by symbol name: the compiler emits calls to these names, and whoever runs compiled code
+// supplies their addresses (HostSymbol lists, given to the compiler; the runtime's implementation is
+// src/runtime/image_functions.cpp, which reads its image view, buffer view and sampler objects through the
+// descriptor records' opaque pointers).
 //
 // `img` is the record holding the image view (`object`), `smp` the record holding the sampler (`sampler`); for
 // a combined image sampler both are the same record. A null record object (unwritten descriptor, index past the
@@ -43,4 +44,15 @@ void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::
 void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
 // OpImageQueryLevels.
 int32_t vkrt_image_levels(const vkrt::abi::DescriptorRecord* img);
+
+// Texel buffers (OpTypeImage of Dim Buffer): `buf` is the record holding the buffer view (`object`); `index` is
+// the texel index, out of range when negative or past the view's last texel (reads zeros, writes nothing).
+// OpImageFetch on a uniform texel buffer, OpImageRead on a storage texel buffer.
+void vkrt_texel_buffer_read(const vkrt::abi::DescriptorRecord* buf, int64_t index, uint32_t out[4]);
+// OpImageWrite on a storage texel buffer.
+void vkrt_texel_buffer_write(const vkrt::abi::DescriptorRecord* buf, int64_t index, const uint32_t in[4]);
+// OpImageTexelPointer (texel buffer atomics): the texel's address, or null as for vkrt_image_texel.
+void* vkrt_texel_buffer_texel(const vkrt::abi::DescriptorRecord* buf, int64_t index);
+// OpImageQuerySize: the view's texel count (0 when null).
+int32_t vkrt_texel_buffer_size(const vkrt::abi::DescriptorRecord* buf);
 }

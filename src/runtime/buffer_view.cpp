@@ -1,5 +1,7 @@
 #include "runtime/buffer_view.hpp"
 
+#include <algorithm>
+
 #include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/device.hpp"
@@ -54,14 +56,36 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateBufferView(VkDevice device, const VkBu
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
-  // VUID-VkBufferViewCreateInfo-offset-00925: below the size; offset-02749: aligned
-  if (pCreateInfo->offset >= buf->size || pCreateInfo->offset % l.minTexelBufferOffsetAlignment) {
+  // The offset's alignment: minTexelBufferOffsetAlignment (VUID-VkBufferViewCreateInfo-offset-02749), or with the
+  // texelBufferAlignment feature (VK_EXT_texel_buffer_alignment) the lesser of the usage's alignment in bytes and,
+  // where single-texel alignment holds, a texel (a component for three-component formats): VUID-...-buffer-02750
+  // for storage texel buffers, -02751 for uniform ones. The texel buffer functions read texels at any byte.
+  VkDeviceSize alignment = l.minTexelBufferOffsetAlignment;
+  const char* alignmentVuid = "VUID-VkBufferViewCreateInfo-offset-02749";
+  if (dev->enabled(Feature::texelBufferAlignment)) {
+    const VkPhysicalDeviceVulkan13Properties& p13 = dev->physicalDevice->properties13;
+    const VkDeviceSize texel = f->texelSize % 3 == 0 ? f->texelSize / f->components : f->texelSize;
+    auto lesser = [&](VkDeviceSize bytes, VkBool32 singleTexel) {
+      return singleTexel ? std::min(bytes, texel) : bytes;
+    };
+    alignment = 1;
+    if (storage) {
+      alignment = lesser(p13.storageTexelBufferOffsetAlignmentBytes, p13.storageTexelBufferOffsetSingleTexelAlignment);
+      alignmentVuid = "VUID-VkBufferViewCreateInfo-buffer-02750";
+    }
+    if (uniform) {
+      VkDeviceSize u =
+          lesser(p13.uniformTexelBufferOffsetAlignmentBytes, p13.uniformTexelBufferOffsetSingleTexelAlignment);
+      if (pCreateInfo->offset % u) alignmentVuid = "VUID-VkBufferViewCreateInfo-buffer-02751";
+      alignment = std::max(alignment, u);  // both are powers of two: a multiple of the larger is of both
+    }
+  }
+  // VUID-VkBufferViewCreateInfo-offset-00925: below the size; and aligned (above)
+  if (pCreateInfo->offset >= buf->size || pCreateInfo->offset % alignment) {
     report(buf, Severity::Error,
-           pCreateInfo->offset >= buf->size ? "VUID-VkBufferViewCreateInfo-offset-00925"
-                                            : "VUID-VkBufferViewCreateInfo-offset-02749",
+           pCreateInfo->offset >= buf->size ? "VUID-VkBufferViewCreateInfo-offset-00925" : alignmentVuid,
            "vkCreateBufferView: offset %llu must be below the buffer size %llu and a multiple of %llu",
-           (unsigned long long)pCreateInfo->offset, (unsigned long long)buf->size,
-           (unsigned long long)l.minTexelBufferOffsetAlignment);
+           (unsigned long long)pCreateInfo->offset, (unsigned long long)buf->size, (unsigned long long)alignment);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   const bool whole = pCreateInfo->range == VK_WHOLE_SIZE;

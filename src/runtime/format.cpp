@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "runtime/acceleration_structure_build.hpp"
+#include "runtime/alloc.hpp"
 #include "runtime/physical_device.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -171,6 +172,14 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties2(
     VkPhysicalDevice physicalDevice, const VkPhysicalDeviceImageFormatInfo2* pInfo, VkImageFormatProperties2* pProps) {
+  // External memory (core in Vulkan 1.1, VK_KHR_external_memory): vkrt exports and imports no handle type, so an
+  // image with one is not supported; handle type 0 is as if the structure were absent.
+  auto* external = findInChain<VkPhysicalDeviceExternalImageFormatInfo>(
+      pInfo->pNext, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_IMAGE_FORMAT_INFO);
+  if (external && external->handleType) {
+    pProps->imageFormatProperties = {};
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
   return vkrt_GetPhysicalDeviceImageFormatProperties(physicalDevice, pInfo->format, pInfo->type, pInfo->tiling,
                                                      pInfo->usage, pInfo->flags, &pProps->imageFormatProperties);
 }

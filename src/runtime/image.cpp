@@ -28,6 +28,9 @@ Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
       usage(info.usage),
       tiling(info.tiling),
       flags(info.flags) {
+  if (auto* list =
+          findInChain<VkImageFormatListCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_IMAGE_FORMAT_LIST_CREATE_INFO))
+    viewFormats.assign(list->pViewFormats, list->pViewFormats + list->viewFormatCount);
   VkDeviceSize offset = 0;
   for (uint32_t m = 0; m < mipLevels; ++m) {
     MipLayout l;
@@ -139,6 +142,32 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
            "vkCreateImage: format %d with usage 0x%x, flags 0x%x, type %d is not supported by vkrt", (int)ci.format,
            ci.usage, ci.flags, (int)ci.imageType);
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  // VK_KHR_image_format_list: the formats the views will have.
+  if (auto* list =
+          findInChain<VkImageFormatListCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_IMAGE_FORMAT_LIST_CREATE_INFO)) {
+    // VUID-VkImageCreateInfo-flags-04738: without MUTABLE_FORMAT, at most the image's own format
+    if (!(ci.flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT) && list->viewFormatCount > 1) {
+      report(dev, Severity::Error, "VUID-VkImageCreateInfo-flags-04738",
+             "vkCreateImage: VkImageFormatListCreateInfo::viewFormatCount is %u, but flags 0x%x has no "
+             "VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT (0 or 1 format allowed)",
+             list->viewFormatCount, ci.flags);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkImageCreateInfo-pNext-06722: each format compatible with the image's. Every format vkrt knows is an
+    // uncompressed color format, whose compatibility class is its texel size: a known format of another size is
+    // incompatible (one vkrt does not know may belong to the class: not reported).
+    const FormatInfo* own = formatInfo(ci.format);
+    for (uint32_t i = 0; i < list->viewFormatCount && own; ++i) {
+      const FormatInfo* f = formatInfo(list->pViewFormats[i]);
+      if (f && f->texelSize != own->texelSize) {
+        report(dev, Severity::Error, "VUID-VkImageCreateInfo-pNext-06722",
+               "vkCreateImage: VkImageFormatListCreateInfo::pViewFormats[%u] (format %d, %u bytes a texel) is not "
+               "compatible with the image's format %d (%u bytes)",
+               i, (int)list->pViewFormats[i], f->texelSize, (int)ci.format, own->texelSize);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+    }
   }
   *formatOut = formatInfo(ci.format);
   return VK_SUCCESS;

@@ -44,6 +44,9 @@ class Image : public Object {
   const VkImageCreateFlags flags;
   std::vector<MipLayout> mips;
   VkDeviceSize size = 0;  // bytes of all subresources
+  // VkImageFormatListCreateInfo's formats (VK_KHR_image_format_list): when not empty, the only formats the image's
+  // views may have (VUID-VkImageViewCreateInfo-pNext-01585).
+  std::vector<VkFormat> viewFormats;
 
   Memory* memory = nullptr;
   VkDeviceSize memoryOffset = 0;

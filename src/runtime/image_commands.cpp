@@ -692,4 +692,31 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
   });
 }
 
+// vkCmdResolveImage / vkCmdResolveImage2 (and vkCmdResolveImage2KHR, VK_KHR_copy_commands2): a multisampled image
+// resolved into a single-sampled one. Every vkrt image has one sample (vkGetPhysicalDeviceImageFormatProperties
+// reports sampleCounts VK_SAMPLE_COUNT_1_BIT for every format), so no call can name a valid source: each reports
+// that its source is not multisampled and records nothing.
+static void reportResolve(CommandBuffer* cb, VkImage srcImage, const char* fn, const char* vuid) {
+  Image* src = fromHandle<Image>(srcImage);
+  report(src ? static_cast<const Object*>(src) : cb, Severity::Error, vuid,
+         "%s: srcImage 0x%llx has VK_SAMPLE_COUNT_1_BIT, but a resolve's source must be multisampled (vkrt's "
+         "images have one sample)",
+         fn, (unsigned long long)rawHandle(srcImage));
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdResolveImage(VkCommandBuffer commandBuffer, VkImage srcImage, VkImageLayout, VkImage,
+                                                VkImageLayout, uint32_t, const VkImageResolve*) {
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResolveImage");
+  if (!cb) return;
+  // VUID-vkCmdResolveImage-srcImage-00257
+  reportResolve(cb, srcImage, "vkCmdResolveImage", "VUID-vkCmdResolveImage-srcImage-00257");
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdResolveImage2(VkCommandBuffer commandBuffer, const VkResolveImageInfo2* pInfo) {
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResolveImage2");
+  if (!cb) return;
+  // VUID-VkResolveImageInfo2-srcImage-00257
+  reportResolve(cb, pInfo->srcImage, "vkCmdResolveImage2", "VUID-VkResolveImageInfo2-srcImage-00257");
+}
+
 }  // extern "C"

@@ -1,10 +1,13 @@
-// The image functions compiled shaders call (abi/image_functions.hpp), on vkrt's image views and samplers.
+// The image functions compiled shaders call (abi/image_functions.hpp), on vkrt's image views, buffer views and
+// samplers.
 #include "runtime/image_functions.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
+#include "runtime/buffer.hpp"
+#include "runtime/buffer_view.hpp"
 #include "runtime/descriptor_set_layout.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
@@ -193,6 +196,9 @@ struct View : TexelView {
 
 bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   if (!rec || !rec->object) return false;
+  // A texel buffer's descriptor where the shader declares an image (a type mismatch the application should not
+  // make) reads zeros rather than a buffer view taken for an image view.
+  if (static_cast<const Object*>(rec->object)->objectType != VK_OBJECT_TYPE_IMAGE_VIEW) return false;
   v->view = recordObject<ImageView>(rec->object);
   v->image = v->view->image;
   v->format = formatInfo(v->view->format);
@@ -355,6 +361,32 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
   for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
 }
 
+// A texel buffer's view resolved: its first texel, texel count and format.
+struct TexelBuffer {
+  uint8_t* data = nullptr;
+  int64_t texels = 0;
+  const FormatInfo* format = nullptr;
+};
+
+bool resolveTexelBuffer(const abi::DescriptorRecord* rec, TexelBuffer* t) {
+  if (!rec || !rec->object) return false;
+  // An image's descriptor where the shader declares a texel buffer reads zeros (see resolveView).
+  if (static_cast<const Object*>(rec->object)->objectType != VK_OBJECT_TYPE_BUFFER_VIEW) return false;
+  const BufferView* view = recordObject<BufferView>(rec->object);
+  uint8_t* base = view->buffer ? view->buffer->data() : nullptr;
+  if (!view->formatInfo || !base) return false;
+  t->format = view->formatInfo;
+  t->data = base + view->offset;
+  t->texels = int64_t(view->range / view->formatInfo->texelSize);  // the range is a whole number of texels
+  return true;
+}
+
+// Texel `index` of the view, or nullptr outside it.
+uint8_t* texelAt(const TexelBuffer& t, int64_t index) {
+  if (index < 0 || index >= t.texels) return nullptr;
+  return t.data + uint64_t(index) * t.format->texelSize;
+}
+
 }  // namespace
 
 void filterTexels(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
@@ -463,6 +495,33 @@ int32_t vkrt_image_levels(const abi::DescriptorRecord* img) {
   return resolveView(img, &v) ? int32_t(v.levelCount) : 0;
 }
 
+// Texel buffers: a buffer view has no component mapping (texels come back as the format decodes them) and no
+// levels; an index outside the view reads zeros and writes nothing, as robustBufferAccess allows.
+void vkrt_texel_buffer_read(const abi::DescriptorRecord* buf, int64_t index, uint32_t out[4]) {
+  TexelBuffer t;
+  std::memset(out, 0, 16);
+  if (!resolveTexelBuffer(buf, &t)) return;
+  if (const uint8_t* p = texelAt(t, index)) decodeTexel(*t.format, p, out);
+}
+
+void vkrt_texel_buffer_write(const abi::DescriptorRecord* buf, int64_t index, const uint32_t in[4]) {
+  TexelBuffer t;
+  if (!resolveTexelBuffer(buf, &t)) return;
+  if (uint8_t* p = texelAt(t, index)) encodeTexel(*t.format, in, p);
+}
+
+void* vkrt_texel_buffer_texel(const abi::DescriptorRecord* buf, int64_t index) {
+  TexelBuffer t;
+  if (!resolveTexelBuffer(buf, &t) || t.format->texelSize != 4) return nullptr;  // atomics: 32-bit formats only
+  return texelAt(t, index);
+}
+
+int32_t vkrt_texel_buffer_size(const abi::DescriptorRecord* buf) {
+  TexelBuffer t;
+  // maxTexelBufferElements (2^27) bounds a view's texel count, so it fits the shader's 32-bit integer.
+  return resolveTexelBuffer(buf, &t) ? int32_t(t.texels) : 0;
+}
+
 }  // extern "C"
 
 namespace vkrt {
@@ -476,6 +535,10 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
       {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},
       {"vkrt_image_levels", reinterpret_cast<void*>(&vkrt_image_levels)},
+      {"vkrt_texel_buffer_read", reinterpret_cast<void*>(&vkrt_texel_buffer_read)},
+      {"vkrt_texel_buffer_write", reinterpret_cast<void*>(&vkrt_texel_buffer_write)},
+      {"vkrt_texel_buffer_texel", reinterpret_cast<void*>(&vkrt_texel_buffer_texel)},
+      {"vkrt_texel_buffer_size", reinterpret_cast<void*>(&vkrt_texel_buffer_size)},
       {nullptr, nullptr},
   };
   return symbols;

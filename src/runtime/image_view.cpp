@@ -1,5 +1,7 @@
 #include "runtime/image_view.hpp"
 
+#include <algorithm>
+
 #include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
 #include "runtime/format.hpp"
@@ -122,6 +124,14 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
            mutableFormat ? "VUID-VkImageViewCreateInfo-image-01018" : "VUID-VkImageViewCreateInfo-image-01019",
            "vkCreateImageView: format %d is not compatible with the image's format %d (flags 0x%x)",
            (int)pCreateInfo->format, (int)img->format, img->flags);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-pNext-01585: an image created with a format list takes views of those formats only
+  if (!img->viewFormats.empty() &&
+      std::find(img->viewFormats.begin(), img->viewFormats.end(), pCreateInfo->format) == img->viewFormats.end()) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-pNext-01585",
+           "vkCreateImageView: format %d is not among the %zu formats of the image's VkImageFormatListCreateInfo",
+           (int)pCreateInfo->format, img->viewFormats.size());
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   auto* view = createObject<ImageView>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, img);

@@ -153,6 +153,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.shaderRoundingModeRTEFloat16 = VK_TRUE;
   properties12.shaderRoundingModeRTEFloat32 = VK_TRUE;
   properties12.shaderRoundingModeRTEFloat64 = VK_TRUE;
+  // Descriptors are records read when a command executes, and every access is bounds-checked against the record
+  // it reads then (src/spirv/memory.cpp): robust buffer access holds for update-after-bind descriptors too.
+  properties12.robustBufferAccessUpdateAfterBind = VK_TRUE;
   properties12.maxUpdateAfterBindDescriptorsInAllPools = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindSamplers = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindUniformBuffers = 1u << 20;
@@ -224,6 +227,47 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_EXTENSION_NAME, VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_SPEC_VERSION},
       {VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_EXTENSION_NAME, VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_SPEC_VERSION},
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
+      // Every feature the extension makes mandatory is supported (supported_features.cpp: descriptorIndexing).
+      {VK_EXT_DESCRIPTOR_INDEXING_EXTENSION_NAME, VK_EXT_DESCRIPTOR_INDEXING_SPEC_VERSION},
+      // SPIR-V 1.4 modules (Vulkan 1.2 takes up to 1.5 and 1.3 up to 1.6 anyway): what 1.4 added that a Vulkan
+      // module may use without variable pointers is compiled (tests/e2e/spirv14_test.cpp).
+      {VK_KHR_SPIRV_1_4_EXTENSION_NAME, VK_KHR_SPIRV_1_4_SPEC_VERSION},
+      // More extensions promoted to Vulkan 1.1-1.3 that applications written for older versions still enable by
+      // name; what each adds is implemented (tests/e2e/promoted_extensions_test.cpp has the audit of every promoted
+      // extension and the reason for each one left out).
+      // SPIR-V storage and types: the StorageBuffer class, 8/16-bit storage and arithmetic, relaxed block layouts
+      // (modules are validated for Vulkan 1.3, which has them; the compiler follows the Offset decorations).
+      {VK_KHR_STORAGE_BUFFER_STORAGE_CLASS_EXTENSION_NAME, VK_KHR_STORAGE_BUFFER_STORAGE_CLASS_SPEC_VERSION},
+      {VK_KHR_16BIT_STORAGE_EXTENSION_NAME, VK_KHR_16BIT_STORAGE_SPEC_VERSION},
+      {VK_KHR_8BIT_STORAGE_EXTENSION_NAME, VK_KHR_8BIT_STORAGE_SPEC_VERSION},
+      {VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME, VK_KHR_SHADER_FLOAT16_INT8_SPEC_VERSION},
+      {VK_KHR_RELAXED_BLOCK_LAYOUT_EXTENSION_NAME, VK_KHR_RELAXED_BLOCK_LAYOUT_SPEC_VERSION},
+      // NonSemantic.* instruction sets: ignored by the compiler, as they may be.
+      {VK_KHR_SHADER_NON_SEMANTIC_INFO_EXTENSION_NAME, VK_KHR_SHADER_NON_SEMANTIC_INFO_SPEC_VERSION},
+      // Queries and structures: driver properties, tool properties (none: vkrt is no tool), VkFormatProperties3,
+      // image format lists (views checked against them), pipeline creation feedback (compute and ray tracing).
+      {VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME, VK_KHR_DRIVER_PROPERTIES_SPEC_VERSION},
+      {VK_EXT_TOOLING_INFO_EXTENSION_NAME, VK_EXT_TOOLING_INFO_SPEC_VERSION},
+      {VK_KHR_FORMAT_FEATURE_FLAGS_2_EXTENSION_NAME, VK_KHR_FORMAT_FEATURE_FLAGS_2_SPEC_VERSION},
+      {VK_KHR_IMAGE_FORMAT_LIST_EXTENSION_NAME, VK_KHR_IMAGE_FORMAT_LIST_SPEC_VERSION},
+      {VK_EXT_PIPELINE_CREATION_FEEDBACK_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_FEEDBACK_SPEC_VERSION},
+      // External memory, semaphores and fences define no handle type of their own: their structures are taken with
+      // handle types 0 and the queries answer that vkrt exports and imports none (no VK_KHR_external_*_fd).
+      {VK_KHR_EXTERNAL_MEMORY_EXTENSION_NAME, VK_KHR_EXTERNAL_MEMORY_SPEC_VERSION},
+      {VK_KHR_EXTERNAL_SEMAPHORE_EXTENSION_NAME, VK_KHR_EXTERNAL_SEMAPHORE_SPEC_VERSION},
+      {VK_KHR_EXTERNAL_FENCE_EXTENSION_NAME, VK_KHR_EXTERNAL_FENCE_SPEC_VERSION},
+      // subgroupSizeControl and computeFullSubgroups (runtime/shader_stage.cpp).
+      {VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME, VK_EXT_SUBGROUP_SIZE_CONTROL_SPEC_VERSION},
+      // Private data slots (runtime/private_data_slot.cpp) and privateData.
+      {VK_EXT_PRIVATE_DATA_EXTENSION_NAME, VK_EXT_PRIVATE_DATA_SPEC_VERSION},
+      // texelBufferAlignment (supported_features.cpp, runtime/buffer_view.cpp).
+      {VK_EXT_TEXEL_BUFFER_ALIGNMENT_EXTENSION_NAME, VK_EXT_TEXEL_BUFFER_ALIGNMENT_SPEC_VERSION},
+      // robustImageAccess (supported_features.cpp).
+      {VK_EXT_IMAGE_ROBUSTNESS_EXTENSION_NAME, VK_EXT_IMAGE_ROBUSTNESS_SPEC_VERSION},
+      // shaderBufferInt64Atomics and shaderSharedInt64Atomics (supported_features.cpp).
+      {VK_KHR_SHADER_ATOMIC_INT64_EXTENSION_NAME, VK_KHR_SHADER_ATOMIC_INT64_SPEC_VERSION},
+      // The address mode, and samplerMirrorClampToEdge (supported_features.cpp).
+      {VK_KHR_SAMPLER_MIRROR_CLAMP_TO_EDGE_EXTENSION_NAME, VK_KHR_SAMPLER_MIRROR_CLAMP_TO_EDGE_SPEC_VERSION},
   };
   // Ray tracing (runtime/ray_tracing_features.cpp).
   appendRayTracingExtensions(extensions_);

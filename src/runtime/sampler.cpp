@@ -44,6 +44,19 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSampl
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
+  // VUID-VkSamplerCreateInfo-addressModeU-01079: MIRROR_CLAMP_TO_EDGE needs samplerMirrorClampToEdge or
+  // VK_KHR_sampler_mirror_clamp_to_edge (the image functions implement it: runtime/image_functions.cpp, wrap)
+  for (VkSamplerAddressMode m : {pCreateInfo->addressModeU, pCreateInfo->addressModeV, pCreateInfo->addressModeW}) {
+    if (m == VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE && !dev->enabled(Feature::samplerMirrorClampToEdge) &&
+        !dev->extensionEnabled(VK_KHR_SAMPLER_MIRROR_CLAMP_TO_EDGE_EXTENSION_NAME)) {
+      report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-addressModeU-01079",
+             "vkCreateSampler: address mode VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE (U %d, V %d, W %d) needs the "
+             "samplerMirrorClampToEdge feature or the VK_KHR_sampler_mirror_clamp_to_edge extension, and neither is "
+             "enabled",
+             (int)pCreateInfo->addressModeU, (int)pCreateInfo->addressModeV, (int)pCreateInfo->addressModeW);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
   // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072..01076
   if (pCreateInfo->unnormalizedCoordinates &&
       (pCreateInfo->minFilter != pCreateInfo->magFilter || pCreateInfo->mipmapMode != VK_SAMPLER_MIPMAP_MODE_NEAREST ||

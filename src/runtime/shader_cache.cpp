@@ -151,6 +151,14 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
         ok = b->type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         what = "combined image sampler";
         break;
+      case RK::UniformTexelBuffer:
+        ok = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        what = "uniform texel buffer";
+        break;
+      case RK::StorageTexelBuffer:
+        ok = b->type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+        what = "storage texel buffer";
+        break;
       case RK::AccelerationStructure:
         ok = b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR ||
              b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 
+#include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
+#include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "runtime/shader_module.hpp"
 #include "spirv/module.hpp"
@@ -72,8 +74,63 @@ bool specialization(const Object* about, const VkSpecializationInfo* si, const c
 
 }  // namespace
 
+// Subgroup size control (Vulkan 1.3, VK_EXT_subgroup_size_control). vkrt's subgroups have one invocation
+// (minSubgroupSize = maxSubgroupSize = 1), so a size the application requires can only be 1, a varying size is 1,
+// and every subgroup is full: the shader runs as it would anyway, and what is left to do is the rules. (The size
+// rules on the workgroup hold for every valid workgroup: 02756's bound, 1 x maxComputeWorkgroupSubgroups, is
+// maxComputeWorkGroupInvocations; 02757, 02758 and 02759 ask for multiples of 1.)
+static bool checkSubgroupSize(const Object* about, const VkPipelineShaderStageCreateInfo& stage, const char* what) {
+  const Device* dev = about->objectType == VK_OBJECT_TYPE_DEVICE ? static_cast<const Device*>(about) : about->device;
+  const VkPhysicalDeviceVulkan13Properties& p13 = dev->physicalDevice->properties13;
+  // VUID-VkPipelineShaderStageCreateInfo-flags-02784
+  if ((stage.flags & VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT) &&
+      !dev->enabled(Feature::subgroupSizeControl)) {
+    report(about, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-flags-02784",
+           "%s.flags 0x%x has VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT, but the "
+           "subgroupSizeControl feature is not enabled",
+           what, stage.flags);
+    return false;
+  }
+  // VUID-VkPipelineShaderStageCreateInfo-flags-02785
+  if ((stage.flags & VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT) &&
+      !dev->enabled(Feature::computeFullSubgroups)) {
+    report(about, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-flags-02785",
+           "%s.flags 0x%x has VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT, but the "
+           "computeFullSubgroups feature is not enabled",
+           what, stage.flags);
+    return false;
+  }
+  auto* required = findInChain<VkPipelineShaderStageRequiredSubgroupSizeCreateInfo>(
+      stage.pNext, VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_REQUIRED_SUBGROUP_SIZE_CREATE_INFO);
+  if (!required) return true;
+  const uint32_t size = required->requiredSubgroupSize;
+  // VUID-VkPipelineShaderStageCreateInfo-pNext-02755, -02754; VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-
+  // requiredSubgroupSize-02760 / 02761 / 02762
+  const char* vuid = !dev->enabled(Feature::subgroupSizeControl) || !(stage.stage & p13.requiredSubgroupSizeStages)
+                         ? "VUID-VkPipelineShaderStageCreateInfo-pNext-02755"
+                     : (stage.flags & VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT)
+                         ? "VUID-VkPipelineShaderStageCreateInfo-pNext-02754"
+                     : size == 0 || (size & (size - 1))
+                         ? "VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-requiredSubgroupSize-02760"
+                     : size < p13.minSubgroupSize
+                         ? "VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-requiredSubgroupSize-02761"
+                     : size > p13.maxSubgroupSize
+                         ? "VUID-VkPipelineShaderStageRequiredSubgroupSizeCreateInfo-requiredSubgroupSize-02762"
+                         : nullptr;
+  if (vuid) {
+    report(about, Severity::Error, vuid,
+           "%s: VkPipelineShaderStageRequiredSubgroupSizeCreateInfo::requiredSubgroupSize %u for stage 0x%x (flags "
+           "0x%x; subgroupSizeControl %s; sizes %u-%u, a power of two; stages 0x%x)",
+           what, size, stage.stage, stage.flags, dev->enabled(Feature::subgroupSizeControl) ? "on" : "off",
+           p13.minSubgroupSize, p13.maxSubgroupSize, p13.requiredSubgroupSizeStages);
+    return false;
+  }
+  return true;
+}
+
 bool prepareStage(const Object* about, const VkPipelineShaderStageCreateInfo& stage, spv::ExecutionModel model,
                   const char* what, PreparedStage* out) {
+  if (!checkSubgroupSize(about, stage, what)) return false;
   // VUID-VkPipelineShaderStageCreateInfo-pName-parameter
   if (!stage.pName) {
     report(about, Severity::Error, "VUID-VkPipelineShaderStageCreateInfo-pName-parameter", "%s.pName is NULL", what);

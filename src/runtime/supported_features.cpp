@@ -35,6 +35,19 @@ constexpr F kSupported[] = {
     F::storageBuffer8BitAccess,
     F::uniformAndStorageBuffer8BitAccess,
     F::storagePushConstant8,
+    // Image accesses outside the view read zeros and write nothing (runtime/image_functions.cpp: every texel address
+    // is checked against the view's extent, layers and levels; tests/e2e ComputeImageRobustnessTest).
+    F::robustImageAccess,
+    // Texel buffer view offsets aligned to a texel (VkPhysicalDeviceTexelBufferAlignmentProperties), checked by
+    // vkCreateBufferView (runtime/buffer_view.cpp); the texel buffer functions read texels at any byte.
+    F::texelBufferAlignment,
+    // VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE in the image functions' addressing (runtime/image_functions.cpp;
+    // tests/e2e ComputeMirrorClampTest).
+    F::samplerMirrorClampToEdge,
+    // 64-bit integer atomics on storage buffers and workgroup memory: the atomic instructions are width-generic
+    // (src/spirv/memory.cpp; tests/e2e ComputeAtomicInt64Test).
+    F::shaderBufferInt64Atomics,
+    F::shaderSharedInt64Atomics,
     // Timeline semaphores (runtime/semaphore.cpp), host query reset (runtime/query_pool.cpp).
     F::timelineSemaphore,
     F::hostQueryReset,
@@ -57,21 +70,31 @@ constexpr F kSupported[] = {
     F::descriptorBindingUpdateUnusedWhilePending,
     F::descriptorBindingPartiallyBound,
     F::descriptorBindingVariableDescriptorCount,
-    // Descriptor arrays indexed by any value, also per invocation, and runtime-sized (src/spirv; tests/spirv
-    // SpirvDescriptorIndexing). Texel buffers are not compiled yet: neither their indexing nor descriptorIndexing.
+    // Descriptor arrays of buffers, images and texel buffers indexed by any value, also per invocation, and
+    // runtime-sized (src/spirv; tests/spirv SpirvDescriptorIndexing, tests/e2e TexelBufferTest). Input attachments
+    // (graphics) are not compiled: their indexing features stay off.
     F::shaderUniformBufferArrayDynamicIndexing,
     F::shaderSampledImageArrayDynamicIndexing,
     F::shaderStorageBufferArrayDynamicIndexing,
     F::shaderStorageImageArrayDynamicIndexing,
+    F::shaderUniformTexelBufferArrayDynamicIndexing,
+    F::shaderStorageTexelBufferArrayDynamicIndexing,
     F::shaderUniformBufferArrayNonUniformIndexing,
     F::shaderSampledImageArrayNonUniformIndexing,
     F::shaderStorageBufferArrayNonUniformIndexing,
     F::shaderStorageImageArrayNonUniformIndexing,
+    F::shaderUniformTexelBufferArrayNonUniformIndexing,
+    F::shaderStorageTexelBufferArrayNonUniformIndexing,
     F::runtimeDescriptorArray,
+    // Every feature the specification's Feature Requirements ask of descriptorIndexing (and of the
+    // VK_EXT_descriptor_indexing extension) is in this list: the indexing above, the update-after-bind flags of
+    // sampled and storage images, storage buffers and both texel buffers, unused-while-pending, partially bound
+    // and runtime arrays.
+    F::descriptorIndexing,
     // Storage images read and written without a format in the shader (Image Format Unknown): the image functions
     // convert from and to the bound view's format at run time, for every storage format (src/spirv/image.cpp,
-    // runtime/image_functions.cpp; format.cpp reports STORAGE_READ/WRITE_WITHOUT_FORMAT for them). Storage texel
-    // buffers are not compiled at all, with or without a format. tests/spirv SpirvFormatlessImages, tests/e2e
+    // runtime/image_functions.cpp; format.cpp reports STORAGE_READ/WRITE_WITHOUT_FORMAT for them). tests/spirv
+    // SpirvFormatlessImages, tests/e2e
     // ComputeFormatless*, FormatlessRaygenTest.
     F::shaderStorageImageReadWithoutFormat,
     F::shaderStorageImageWriteWithoutFormat,
@@ -85,6 +108,13 @@ constexpr F kSupported[] = {
     // Integer dot products (SPV_KHR_integer_dot_product; none reported as accelerated): src/spirv/arithmetic.cpp,
     // tests/spirv SpirvConformance.IntegerDotProducts.
     F::shaderIntegerDotProduct,
+    // Subgroup size control: subgroups have one invocation, so a required size is 1 and subgroups are always full;
+    // the rules are checked for every pipeline kind (runtime/shader_stage.cpp; tests/e2e SubgroupSizeControlTest).
+    F::subgroupSizeControl,
+    F::computeFullSubgroups,
+    // Private data slots: a value per object, kept by the object's serial (runtime/private_data_slot.cpp;
+    // tests/e2e PrivateDataTest).
+    F::privateData,
     // Vulkan 1.3: synchronization2 commands, FAIL_ON_PIPELINE_COMPILE_REQUIRED / EARLY_RETURN, maintenance4.
     F::synchronization2,
     F::pipelineCreationCacheControl,

@@ -108,6 +108,7 @@ class Codegen {
   bool memory(const Instruction& in, bool& ok);                  // memory.cpp
   bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);                   // image.cpp
+  bool texelBuffer(const Instruction& in, llvm::Value* record);  // image.cpp: image on a Dim Buffer image
   bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
   bool rayQuery(const Instruction& in, bool& ok);                // ray_query.cpp (called by rayTracing)
   bool isRayQuery(uint32_t typeId) const;                        // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
@@ -131,6 +132,7 @@ class Codegen {
   llvm::Value* descriptorRecord(int slot, llvm::Value* index);
   // Image, sampler and sampled-image values are {image record, sampler record} (image.cpp).
   bool isImageLike(uint32_t typeId) const;
+  bool isTexelBuffer(uint32_t typeId) const;  // an OpTypeImage of Dim Buffer
   llvm::Type* imageValueType();
   Ptr& ptr(uint32_t id);
   bool hasPtr(uint32_t id) const { return ptrs.count(id) != 0; }

@@ -24,8 +24,18 @@ struct ResourceBinding {
   uint32_t binding;
   uint32_t arraySize;  // descriptors the shader declares (0: runtime-sized array)
   bool uniform;        // Uniform storage class with Block (a uniform buffer); else a storage buffer
-  // Buffer (uniform/storage per `uniform`), or an image/sampler descriptor of a UniformConstant variable.
-  enum Kind : uint8_t { Buffer, StorageImage, SampledImage, Sampler, CombinedImageSampler, AccelerationStructure };
+  // Buffer (uniform/storage per `uniform`), or an image/sampler/texel buffer descriptor of a UniformConstant
+  // variable (a texel buffer is an image of Dim Buffer: uniform when Sampled is 1, storage when 2).
+  enum Kind : uint8_t {
+    Buffer,
+    StorageImage,
+    SampledImage,
+    Sampler,
+    CombinedImageSampler,
+    AccelerationStructure,
+    UniformTexelBuffer,
+    StorageTexelBuffer
+  };
   Kind kind = Buffer;
 };
 

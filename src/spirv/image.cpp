@@ -1,6 +1,6 @@
 // SPIR-V -> LLVM IR: images and samplers. Image, sampler and sampled-image values are {image record,
 // sampler record} pairs of DescriptorRecord pointers; the operations call the runtime functions of
-// image_runtime.hpp with their coordinates and texels in small stack buffers (four 32-bit words each).
+// abi/image_functions.hpp with their coordinates and texels in small stack buffers (four 32-bit words each).
 #include <llvm/IR/Constants.h>
 
 #include "spirv/codegen.hpp"
@@ -43,9 +43,16 @@ bool extraSupportedCapability(uint32_t cap) {
     case spv::CapabilityUniformAndStorageBuffer16BitAccess:
     case spv::CapabilityStoragePushConstant8:
     case spv::CapabilityStoragePushConstant16:
-    // Descriptor arrays of buffers and images indexed by any value, per invocation (every access resolves its
-    // own descriptor record); tests/spirv/descriptor_indexing_test.cpp. Texel buffers and input attachments
-    // are not compiled at all, so their indexing capabilities stay refused.
+    // Texel buffers (Dim Buffer images; Codegen::texelBuffer); tests/e2e/texel_buffer_test.cpp.
+    case spv::CapabilitySampledBuffer:
+    case spv::CapabilityImageBuffer:
+    // Descriptor arrays of buffers, images and texel buffers indexed by any value, per invocation (every access
+    // resolves its own descriptor record); tests/spirv/descriptor_indexing_test.cpp, tests/e2e/texel_buffer_test.cpp.
+    // Input attachments are not compiled at all, so their indexing capabilities stay refused.
+    case spv::CapabilityUniformTexelBufferArrayDynamicIndexing:
+    case spv::CapabilityStorageTexelBufferArrayDynamicIndexing:
+    case spv::CapabilityUniformTexelBufferArrayNonUniformIndexing:
+    case spv::CapabilityStorageTexelBufferArrayNonUniformIndexing:
     case spv::CapabilityShaderNonUniform:
     case spv::CapabilityRuntimeDescriptorArray:
     case spv::CapabilityUniformBufferArrayDynamicIndexing:
@@ -75,6 +82,11 @@ bool extraSupportedCapability(uint32_t cap) {
 bool Codegen::isImageLike(uint32_t typeId) const {
   const Instruction* d = m.def(typeId);
   return d && (d->op == spv::OpTypeImage || d->op == spv::OpTypeSampler || d->op == spv::OpTypeSampledImage);
+}
+
+bool Codegen::isTexelBuffer(uint32_t typeId) const {
+  const Instruction* d = m.def(typeId);
+  return d && d->op == spv::OpTypeImage && d->word(3) == spv::DimBuffer;
 }
 
 llvm::Type* Codegen::imageValueType() { return llvm::StructType::get(c, {b.getPtrTy(), b.getPtrTy()}); }
@@ -136,6 +148,14 @@ llvm::FunctionCallee runtimeFn(Codegen& g, const char* name, llvm::Type* ret, st
   return g.out.getOrInsertFunction(name, llvm::FunctionType::get(ret, params, false));
 }
 
+// A texel buffer's coordinate (a scalar integer of any width and signedness) as the i64 index the texel buffer
+// functions take: a negative signed index stays negative, out of range as a large unsigned one is.
+llvm::Value* texelIndex(Codegen& g, llvm::Value* coord, uint32_t coordType) {
+  if (llvm::isa<llvm::FixedVectorType>(coord->getType())) coord = g.b.CreateExtractElement(coord, uint64_t(0));
+  return g.isSignedInt(coordType) ? g.b.CreateSExtOrTrunc(coord, g.b.getInt64Ty())
+                                  : g.b.CreateZExtOrTrunc(coord, g.b.getInt64Ty());
+}
+
 }  // namespace
 
 bool Codegen::image(const Instruction& in, bool& ok) {
@@ -158,8 +178,12 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       llvm::Value* coord = value(in.word(4));
       if (image.slot < 0 || !coord) return (ok = fail(in, "image pointer or coordinate has no value")), true;
       llvm::Value* rec = descriptorRecord(image.slot, image.descIndex ? image.descIndex : i64(0));
-      llvm::Value* texel = b.CreateCall(runtimeFn(*this, "vkrt_image_texel", ptrTy, {ptrTy, ptrTy}),
-                                        {rec, toWords(*this, coord, false)});
+      llvm::Value* texel =
+          isTexelBuffer(image.type)
+              ? b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_texel", ptrTy, {ptrTy, b.getInt64Ty()}),
+                             {rec, texelIndex(*this, coord, m.typeOf(in.word(4)))})
+              : b.CreateCall(runtimeFn(*this, "vkrt_image_texel", ptrTy, {ptrTy, ptrTy}),
+                             {rec, toWords(*this, coord, false)});
       llvm::Value* none = b.CreateIsNull(texel);
       Ptr p;
       p.base = b.CreateSelect(none, zeros, texel);
@@ -184,10 +208,11 @@ bool Codegen::image(const Instruction& in, bool& ok) {
   const Instruction* it = imageTypeOf(m, imageId);
   llvm::Value* img = value(imageId);
   if (!it || !img) return (ok = fail(in, "image operand has no value")), true;
-  // Texel buffers, subpass data and multisampled images are not supported yet.
-  if (it->word(3) == spv::DimBuffer || it->word(3) == spv::DimSubpassData || it->word(6) != 0)
-    return (ok = unsupported(in, "texel buffer, subpass or multisampled image")), true;
   llvm::Value* imgRec = b.CreateExtractValue(img, {0});
+  if (it->word(3) == spv::DimBuffer) return (ok = texelBuffer(in, imgRec)), true;
+  // Subpass data and multisampled images are not supported yet.
+  if (it->word(3) == spv::DimSubpassData || it->word(6) != 0)
+    return (ok = unsupported(in, "subpass or multisampled image")), true;
   switch (in.op) {
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod: {
@@ -265,6 +290,45 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     }
     default: return false;
   }
+}
+
+// OpImageFetch / OpImageRead / OpImageWrite / OpImageQuerySize on a texel buffer (Dim Buffer: a uniform texel
+// buffer when Sampled is 1, a storage texel buffer when 2): one scalar texel index, no level, no sampler; the texel
+// buffer functions of abi/image_functions.hpp on the buffer view's record.
+bool Codegen::texelBuffer(const Instruction& in, llvm::Value* rec) {
+  llvm::Type* ptrTy = b.getPtrTy();
+  if (in.op == spv::OpImageQuerySize) {
+    llvm::Value* n = b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_size", b.getInt32Ty(), {ptrTy}), {rec});
+    set(in.word(2), b.CreateZExtOrTrunc(n, type(in.word(1))));
+    return true;
+  }
+  if (in.op != spv::OpImageFetch && in.op != spv::OpImageRead && in.op != spv::OpImageWrite)
+    return unsupported(in, "instruction on a texel buffer");
+  bool write = in.op == spv::OpImageWrite;
+  uint32_t coordId = in.word(write ? 2 : 4);
+  llvm::Value* coord = value(coordId);
+  if (!coord) return fail(in, "coordinate has no value");
+  uint32_t operandsAt = write ? 4 : 5;
+  uint32_t mask = in.count > operandsAt ? in.word(operandsAt) : 0;
+  // Texel buffers take no Lod, offsets or samples; the extension and memory-model operands change nothing here.
+  const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
+                             spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
+                             spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
+  if (mask & ~ignorable) return unsupported(in, "image operands on a texel buffer");
+  llvm::Value* index = texelIndex(*this, coord, m.typeOf(coordId));
+  if (write) {
+    llvm::Value* texel = value(in.word(3));
+    if (!texel) return fail(in, "texel has no value");
+    llvm::Value* words = toWords(*this, texel, isFloat(m.typeOf(in.word(3))));
+    b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_write", b.getVoidTy(), {ptrTy, b.getInt64Ty(), ptrTy}),
+                 {rec, index, words});
+    return true;
+  }
+  llvm::Value* out = scratch(*this);
+  b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_read", b.getVoidTy(), {ptrTy, b.getInt64Ty(), ptrTy}),
+               {rec, index, out});
+  set(in.word(2), fromWords(*this, out, in.word(1)));
+  return true;
 }
 
 }  // namespace vkrt::spirv

@@ -150,6 +150,8 @@ bool supportedOp(spv::Op op) {
     case spv::OpAccessChain:
     case spv::OpInBoundsAccessChain:
     case spv::OpArrayLength:
+    case spv::OpPtrEqual:
+    case spv::OpPtrNotEqual:
     case spv::OpVectorExtractDynamic:
     case spv::OpVectorInsertDynamic:
     case spv::OpVectorShuffle:
@@ -858,7 +860,7 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
     b.arraySize = r.u32();
     uint32_t flags = r.u32();
     b.uniform = (flags & 1) != 0;
-    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::AccelerationStructure));
+    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::StorageTexelBuffer));  // the last
     s.resources.push_back(b);
   }
   if (!r.ok || r.rest.empty()) return std::nullopt;

@@ -151,7 +151,10 @@ bool Codegen::declareGlobals() {
         else if (ti->op == spv::OpTypeSampler)
           r.kind = ResourceBinding::Sampler;
         else if (ti->op == spv::OpTypeSampledImage)
-          r.kind = ResourceBinding::CombinedImageSampler;
+          r.kind =
+              isTexelBuffer(ti->word(2)) ? ResourceBinding::UniformTexelBuffer : ResourceBinding::CombinedImageSampler;
+        else if (isTexelBuffer(elem))
+          r.kind = ti->word(7) == 2 ? ResourceBinding::StorageTexelBuffer : ResourceBinding::UniformTexelBuffer;
         else
           r.kind = ti->word(7) == 2 ? ResourceBinding::StorageImage : ResourceBinding::SampledImage;
         g.slot = int(info.resources.size());
@@ -702,6 +705,19 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       llvm::Value* v = (src.slot < 0) ? load(src) : nullptr;
       if (!v || dst.slot >= 0) return (ok = unsupported(in, "copied type")), true;
       store(dst, v);
+      return true;
+    }
+    case spv::OpPtrEqual:
+    case spv::OpPtrNotEqual: {
+      // SPIR-V 1.4. Without variable pointers a Vulkan module may compare StorageBuffer pointers only under the
+      // PhysicalStorageBuffer64 addressing model; whatever the class, two pointers are equal when they address
+      // the same byte (a pointer into a descriptor array not indexed yet has no address: refused).
+      Ptr x, y;
+      if (!operandPtr(*this, in, in.word(3), &x) || !operandPtr(*this, in, in.word(4), &y)) return (ok = false), true;
+      if (x.slot >= 0 || y.slot >= 0) return (ok = unsupported(in, "comparison of descriptor array pointers")), true;
+      llvm::Value* ax = b.CreatePtrToInt(b.CreateGEP(b.getInt8Ty(), x.base, x.offset), b.getInt64Ty());
+      llvm::Value* ay = b.CreatePtrToInt(b.CreateGEP(b.getInt8Ty(), y.base, y.offset), b.getInt64Ty());
+      set(in.word(2), in.op == spv::OpPtrEqual ? b.CreateICmpEQ(ax, ay) : b.CreateICmpNE(ax, ay));
       return true;
     }
     case spv::OpArrayLength: {

@@ -1,10 +1,11 @@
 // Compute features of the shader compiler end to end, with the features enabled and the validation layer on:
 // 8/16-bit members of uniform and push-constant blocks, buffer descriptor arrays indexed per invocation, scalar
-// block layout.
+// block layout, zero-initialized workgroup memory, 64-bit integer atomics.
 // Expected values are computed here on the CPU.
 #include <cstring>
 #include <vector>
 
+#include "compute_atomic_int64.comp.spv.h"
 #include "compute_nonuniform_buffers.comp.spv.h"
 #include "compute_scalar_layout.comp.spv.h"
 #include "compute_small_uniform_push.comp.spv.h"
@@ -280,6 +281,69 @@ TEST_F(ComputeZeroInitTest, WorkgroupVariablesStartAtZeroInEveryWorkgroup) {
     EXPECT_EQ(got[32 + i], group * 8 + (l + 1) % 8 + 100) << "invocation " << i;
   }
   destroy(out);
+  destroyComputePipeline(device, p);
+}
+
+// VK_KHR_shader_atomic_int64, enabled by name with both of its features.
+class ComputeAtomicInt64Test : public ComputeFeaturesTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = ComputeFeaturesTest::options();
+    o.deviceExtensions = {VK_KHR_SHADER_ATOMIC_INT64_EXTENSION_NAME};
+    o.features.shaderInt64 = VK_TRUE;
+    o.features12.shaderBufferInt64Atomics = o.features12.shaderSharedInt64Atomics = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(ComputeAtomicInt64Test, BufferAndWorkgroupAtomicsPast32Bits) {
+  ComputePipeline p = makeComputePipelineWithArrays(device, kSpv_compute_atomic_int64_comp,
+                                                    sizeof kSpv_compute_atomic_int64_comp, {{kStorage}});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // tests/shaders/compute_atomic_int64.comp's block.
+  struct Block {
+    uint64_t sum;
+    int64_t minimum;
+    uint64_t maximum;
+    uint64_t bits;
+    uint64_t cas;
+    uint64_t sharedSum[2];
+    int64_t sharedMin[2];
+    uint64_t returned[128];
+  };
+  HostBuffer b = createHostBuffer(sizeof(Block), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(b.data, 0, sizeof(Block));
+  auto* blk = static_cast<Block*>(b.data);
+  blk->sum = 7ull << 40;  // the sum carries into the high word from here
+  blk->returned[0] = 0xdead;
+  writeBuffers(p, 0, kStorage, {&b});
+  VkCommandBuffer cb = begin(p);
+  vkCmdDispatch(cb, 2, 1, 1);
+  hostBarrier(cb);
+  submitAndWait(cb);
+  uint64_t groupSum = 0;
+  for (uint64_t i = 0; i < 64; ++i) groupSum += (i << 33) + 5;
+  const int64_t least = -int64_t((63ull << 33) + 5);
+  EXPECT_EQ(blk->sum, (7ull << 40) + 2 * groupSum) << "atomicAdd";
+  EXPECT_EQ(blk->minimum, least) << "atomicMin (signed)";
+  EXPECT_EQ(blk->maximum, (63ull << 33) + 5) << "atomicMax (unsigned)";
+  EXPECT_EQ(blk->bits, ~0ull) << "atomicOr";
+  for (int g = 0; g < 2; ++g) {
+    EXPECT_EQ(blk->sharedSum[g], groupSum) << "workgroup " << g << ": shared atomicAdd";
+    EXPECT_EQ(blk->sharedMin[g], least) << "workgroup " << g << ": shared atomicMin";
+  }
+  // Exactly one invocation found 0 and swapped its value in; every other one saw that value.
+  int winners = 0;
+  for (uint64_t x = 0; x < 128; ++x) {
+    if (blk->returned[x] != 0) continue;
+    ++winners;
+    EXPECT_EQ(blk->cas, (x << 40) | 0xabc) << "the winner's value";
+  }
+  EXPECT_EQ(winners, 1);
+  for (uint64_t x = 0; x < 128; ++x) {
+    if (blk->returned[x] != 0) EXPECT_EQ(blk->returned[x], blk->cas) << "invocation " << x;
+  }
+  destroy(b);
   destroyComputePipeline(device, p);
 }
 

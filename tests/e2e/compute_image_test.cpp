@@ -1,5 +1,6 @@
 // Compute shaders on images and device addresses, end to end with the validation layer on: storage image
-// loads/stores of several formats and dimensions, sampling with samplers of every filter and address mode,
+// loads/stores of several formats and dimensions, sampling with samplers of every filter and address mode (mirror
+// clamp to edge with the samplerMirrorClampToEdge feature),
 // texel fetches, size queries, and buffer_reference pointers. Expected values are computed here on the CPU.
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "compute_bda_linked_list.comp.spv.h"
 #include "compute_formatless_image.comp.spv.h"
 #include "compute_image_atomics.comp.spv.h"
+#include "compute_image_robustness.comp.spv.h"
 #include "compute_nonuniform_images.comp.spv.h"
 #include "compute_sample.comp.spv.h"
 #include "compute_small_types.comp.spv.h"
@@ -26,6 +28,12 @@ namespace {
 
 class ComputeImageTest : public VulkanTest {
  protected:
+  // VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE is sampled too (SampleAndFetchWithEveryFilterAndAddressMode).
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.features12.samplerMirrorClampToEdge = VK_TRUE;
+    return o;
+  }
   struct Tex {
     VkImage image = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -293,6 +301,7 @@ void reference(const SamplerConfig& s, float u, float v, float lod, int layer, f
         case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER:
           if (c < 0 || c >= n) *border = true;
           return c;
+        case VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE: return std::min(c >= 0 ? c : -(1 + c), n - 1);
         default: return std::clamp(c, 0, n - 1);
       }
     };
@@ -405,6 +414,10 @@ void ComputeImageTest::sampleAndFetch(bool anisotropic) {
        VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
       {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
        VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK},
+      {VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
+      {VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE,
+       VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK},
   };
   const uint32_t nc = sizeof configs / sizeof configs[0];
   std::vector<VkSampler> samplers(nc);
@@ -495,6 +508,12 @@ void ComputeImageTest::sampleAndFetch(bool anisotropic) {
   EXPECT_FLOAT_EQ(h[0], 100.5f);
   reference(configs[1], 1.125f, 0.125f, 0.0f, 1, h);
   EXPECT_FLOAT_EQ(h[0], 100.0f);
+  // Mirror clamp to edge mirrors once about 0 (u = -0.3: texel -2, mirrored to 1), then clamps (u = 1.9: texel 7,
+  // clamped to 3).
+  reference(configs[7], -0.3f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 101.0f);
+  reference(configs[7], 1.9f, 0.125f, 0.0f, 1, h);
+  EXPECT_FLOAT_EQ(h[0], 103.0f);
   for (VkSampler s : samplers) vkDestroySampler(device, s, nullptr);
   vkDestroyImageView(device, arrView, nullptr);
   destroy(img);
@@ -737,6 +756,101 @@ TEST_F(ComputeImageIndexingTest, NonUniformIndicesIntoImageDescriptorArrays) {
   vkDestroySampler(device, sampler, nullptr);
   for (Tex& t : tex) destroy(t);
   for (Tex& t : img) destroy(t);
+  destroy(out);
+  destroy(p);
+}
+
+// ---- accesses outside the image (VK_EXT_image_robustness, enabled by name, and robustImageAccess)
+
+class ComputeImageRobustnessTest : public ComputeImageTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o;
+    o.deviceExtensions = {VK_EXT_IMAGE_ROBUSTNESS_EXTENSION_NAME};
+    o.features13.robustImageAccess = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(ComputeImageRobustnessTest, OutOfBoundsLoadsReadZerosAndStoresAreDropped) {
+  const bool vkrt = onVkrt();
+  Pipeline p = makePipeline(kSpv_compute_image_robustness_comp, sizeof kSpv_compute_image_robustness_comp,
+                            {kStorageImage, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // Storage image texel (x, y) = {x + 4y, 1, 2, 3}; texture level m texel (x, y) = {10m + x + 4y, 5, 6, 7}.
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {4, 4, 1}, 1, 1, 16,
+                    VK_IMAGE_USAGE_STORAGE_BIT);
+  Tex tex = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D, VK_FORMAT_R32G32B32A32_SFLOAT, {4, 4, 1}, 2, 1, 16,
+                    VK_IMAGE_USAGE_SAMPLED_BIT);
+  auto* fi = static_cast<float*>(img.staging.data);
+  for (int k = 0; k < 16; ++k) {
+    const float t[4] = {float(k), 1, 2, 3};
+    std::memcpy(fi + 4 * k, t, 16);
+  }
+  auto* ft = static_cast<float*>(tex.staging.data);
+  for (int m = 0; m < 2; ++m) {
+    int n = 4 >> m;
+    for (int k = 0; k < n * n; ++k) {
+      const float t[4] = {float(10 * m + k % n + 4 * (k / n)), 5, 6, 7};
+      std::memcpy(ft + tex.mipOffsets[m] / 4 + 4 * k, t, 16);
+    }
+  }
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, img, VK_IMAGE_LAYOUT_GENERAL);
+  upload(cb, tex, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  submitAndWait(cb);
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  si.maxLod = VK_LOD_CLAMP_NONE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+  writeImage(p, 0, kStorageImage, img.view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeImage(p, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, tex.view, sampler,
+             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  HostBuffer out = createHostBuffer(8 * 3 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x7f, out.size);
+  writeBuffer(p, 2, out);
+  std::memset(img.staging.data, 0, img.staging.size);
+  cb = beginOneTime();
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 1, 1, 1);
+  download(cb, img);
+  hostBarrier(cb);
+  submitAndWait(cb);
+
+  const auto* o = static_cast<const float*>(out.data);
+  // Outside x, y, z or layer, robustImageAccess returns zero for R, G, B and zero or one for A.
+  auto expectReplaced = [](const float* v, const char* what) {
+    EXPECT_EQ(v[0], 0.0f) << what;
+    EXPECT_EQ(v[1], 0.0f) << what;
+    EXPECT_EQ(v[2], 0.0f) << what;
+    EXPECT_TRUE(v[3] == 0.0f || v[3] == 1.0f) << what << ": alpha " << v[3];
+  };
+  for (int i = 0; i < 7; ++i) {
+    SCOPED_TRACE("invocation " + std::to_string(i));
+    expectReplaced(o + (i * 3 + 0) * 4, "imageLoad");
+    expectReplaced(o + (i * 3 + 1) * 4, "texelFetch");
+  }
+  const float inside[4] = {9, 1, 2, 3}, fetched[4] = {9, 5, 6, 7};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(o[21 * 4 + k], inside[k]) << "imageLoad inside, component " << k;
+    EXPECT_EQ(o[22 * 4 + k], fetched[k]) << "texelFetch inside, component " << k;
+  }
+  // A level past the last is not covered by robustImageAccess (undefined); vkrt reads zeros.
+  if (vkrt) {
+    for (int i = 0; i < 8; ++i)
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(o[(i * 3 + 2) * 4 + k], 0.0f) << "invocation " << i << " level " << 2 + i;
+  }
+  // Only the store inside the image landed.
+  for (int k = 0; k < 16; ++k) {
+    const float want[4] = {k == 9 ? 99.0f : float(k), k == 9 ? 98.0f : 1, k == 9 ? 97.0f : 2, k == 9 ? 96.0f : 3};
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(fi[4 * k + c], want[c]) << "texel " << k << " component " << c;
+  }
+  vkDestroySampler(device, sampler, nullptr);
+  destroy(img);
+  destroy(tex);
   destroy(out);
   destroy(p);
 }

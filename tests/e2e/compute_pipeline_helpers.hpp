@@ -90,8 +90,8 @@ inline ComputePipeline makeComputePipeline(VkDevice device, const uint32_t* word
   return makeComputePipelineWithArrays(device, words, bytes, bindings, pushBytes, spec, flags);
 }
 
-// Enables the descriptor-indexing features vkrt's compiler implements (all but texel buffers and input
-// attachments): dynamic and non-uniform indices into buffer and image arrays, runtime-sized arrays.
+// Enables the descriptor-indexing features vkrt's compiler implements (all but those of input attachments, a
+// graphics thing): dynamic and non-uniform indices into buffer, image and texel buffer arrays, runtime-sized arrays.
 inline void enableDescriptorIndexing(FixtureOptions& o) {
   o.features.shaderUniformBufferArrayDynamicIndexing = o.features.shaderSampledImageArrayDynamicIndexing = VK_TRUE;
   o.features.shaderStorageBufferArrayDynamicIndexing = o.features.shaderStorageImageArrayDynamicIndexing = VK_TRUE;
@@ -99,6 +99,8 @@ inline void enableDescriptorIndexing(FixtureOptions& o) {
   f.runtimeDescriptorArray = f.shaderUniformBufferArrayNonUniformIndexing =
       f.shaderStorageBufferArrayNonUniformIndexing = VK_TRUE;
   f.shaderSampledImageArrayNonUniformIndexing = f.shaderStorageImageArrayNonUniformIndexing = VK_TRUE;
+  f.shaderUniformTexelBufferArrayDynamicIndexing = f.shaderStorageTexelBufferArrayDynamicIndexing = VK_TRUE;
+  f.shaderUniformTexelBufferArrayNonUniformIndexing = f.shaderStorageTexelBufferArrayNonUniformIndexing = VK_TRUE;
 }
 
 inline void destroyComputePipeline(VkDevice device, ComputePipeline& p) {

@@ -97,6 +97,15 @@ void VulkanTest::SetUp() {
   f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
   f13.pipelineCreationCacheControl = opt.pipelineCreationCacheControl;
   f13.shaderZeroInitializeWorkgroupMemory = opt.zeroInitializeWorkgroupMemory;
+  {
+    constexpr size_t first = offsetof(VkPhysicalDeviceVulkan13Features, robustImageAccess);
+    constexpr size_t end = offsetof(VkPhysicalDeviceVulkan13Features, maintenance4) + sizeof(VkBool32);
+    for (size_t at = first; at < end; at += sizeof(VkBool32)) {
+      VkBool32 extra;
+      std::memcpy(&extra, reinterpret_cast<const char*>(&opt.features13) + at, sizeof extra);
+      if (extra) std::memcpy(reinterpret_cast<char*>(&f13) + at, &extra, sizeof extra);
+    }
+  }
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
   f2.features = opt.features;
 

@@ -43,6 +43,8 @@ struct FixtureOptions {
   // More Vulkan 1.2 features: each VK_TRUE member is also enabled in the fixture's own structure (a second
   // VkPhysicalDeviceVulkan12Features may not be chained).
   VkPhysicalDeviceVulkan12Features features12{};
+  // Vulkan 1.3 features alike (besides those the fixture enables itself).
+  VkPhysicalDeviceVulkan13Features features13{};
 };
 
 class VulkanTest : public ::testing::Test {

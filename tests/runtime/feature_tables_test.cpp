@@ -115,15 +115,117 @@ TEST_F(FeatureTables, EveryFeatureStructureReportsWhatIsSupported) {
   EXPECT_TRUE(rt.rayTracingPipeline && rt.rayTracingPipelineShaderGroupHandleCaptureReplayMixed);
 }
 
+// The specification's "Feature Requirements" (chapter Features): a device that lists one of these extensions
+// supports the features named with it. `any`: one of them is enough (VK_KHR_shader_float16_int8).
+struct ExtensionRequirement {
+  const char* extension;
+  std::vector<Feature> features;
+  bool any = false;
+};
+
+const std::vector<Feature> kDescriptorIndexing = {
+    Feature::shaderSampledImageArrayDynamicIndexing,
+    Feature::shaderStorageBufferArrayDynamicIndexing,
+    Feature::shaderUniformTexelBufferArrayDynamicIndexing,
+    Feature::shaderStorageTexelBufferArrayDynamicIndexing,
+    Feature::shaderSampledImageArrayNonUniformIndexing,
+    Feature::shaderStorageBufferArrayNonUniformIndexing,
+    Feature::shaderUniformTexelBufferArrayNonUniformIndexing,
+    Feature::descriptorBindingSampledImageUpdateAfterBind,
+    Feature::descriptorBindingStorageImageUpdateAfterBind,
+    Feature::descriptorBindingStorageBufferUpdateAfterBind,
+    Feature::descriptorBindingUniformTexelBufferUpdateAfterBind,
+    Feature::descriptorBindingStorageTexelBufferUpdateAfterBind,
+    Feature::descriptorBindingUpdateUnusedWhilePending,
+    Feature::descriptorBindingPartiallyBound,
+    Feature::runtimeDescriptorArray,
+};
+
+std::vector<Feature> with(std::vector<Feature> a, std::initializer_list<Feature> b) {
+  a.insert(a.end(), b);
+  return a;
+}
+
+const ExtensionRequirement kRequirements[] = {
+    {VK_EXT_DESCRIPTOR_INDEXING_EXTENSION_NAME, with(kDescriptorIndexing, {Feature::descriptorIndexing})},
+    {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+     with(kDescriptorIndexing,
+          {Feature::accelerationStructure, Feature::descriptorBindingAccelerationStructureUpdateAfterBind,
+           Feature::bufferDeviceAddress})},
+    {VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+     {Feature::rayTracingPipeline, Feature::rayTracingPipelineTraceRaysIndirect}},
+    {VK_KHR_RAY_QUERY_EXTENSION_NAME, {Feature::rayQuery}},
+    {VK_KHR_16BIT_STORAGE_EXTENSION_NAME, {Feature::storageBuffer16BitAccess}},
+    {VK_KHR_8BIT_STORAGE_EXTENSION_NAME, {Feature::storageBuffer8BitAccess}},
+    {VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME, {Feature::shaderFloat16, Feature::shaderInt8}, true},
+    {VK_EXT_SCALAR_BLOCK_LAYOUT_EXTENSION_NAME, {Feature::scalarBlockLayout}},
+    {VK_KHR_UNIFORM_BUFFER_STANDARD_LAYOUT_EXTENSION_NAME, {Feature::uniformBufferStandardLayout}},
+    {VK_KHR_SAMPLER_MIRROR_CLAMP_TO_EDGE_EXTENSION_NAME, {Feature::samplerMirrorClampToEdge}},
+    {VK_KHR_TIMELINE_SEMAPHORE_EXTENSION_NAME, {Feature::timelineSemaphore}},
+    {VK_EXT_HOST_QUERY_RESET_EXTENSION_NAME, {Feature::hostQueryReset}},
+    {VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME, {Feature::bufferDeviceAddress}},
+    {VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME, {Feature::synchronization2}},
+    {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, {Feature::pipelineCreationCacheControl}},
+    {VK_KHR_ZERO_INITIALIZE_WORKGROUP_MEMORY_EXTENSION_NAME, {Feature::shaderZeroInitializeWorkgroupMemory}},
+    {VK_KHR_WORKGROUP_MEMORY_EXPLICIT_LAYOUT_EXTENSION_NAME, {Feature::workgroupMemoryExplicitLayout}},
+    {VK_KHR_SHADER_INTEGER_DOT_PRODUCT_EXTENSION_NAME, {Feature::shaderIntegerDotProduct}},
+    {VK_KHR_MAINTENANCE_4_EXTENSION_NAME, {Feature::maintenance4}},
+    {VK_KHR_SHADER_ATOMIC_INT64_EXTENSION_NAME, {Feature::shaderBufferInt64Atomics, Feature::shaderInt64}},
+    {VK_EXT_IMAGE_ROBUSTNESS_EXTENSION_NAME, {Feature::robustImageAccess}},
+    {VK_EXT_TEXEL_BUFFER_ALIGNMENT_EXTENSION_NAME, {Feature::texelBufferAlignment}},
+    {VK_EXT_PRIVATE_DATA_EXTENSION_NAME, {Feature::privateData}},
+    {VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME, {Feature::subgroupSizeControl, Feature::computeFullSubgroups}},
+    {VK_EXT_INLINE_UNIFORM_BLOCK_EXTENSION_NAME,
+     {Feature::inlineUniformBlock, Feature::descriptorBindingInlineUniformBlockUpdateAfterBind}},
+    {VK_KHR_VARIABLE_POINTERS_EXTENSION_NAME, {Feature::variablePointersStorageBuffer}},
+    {VK_KHR_SHADER_DRAW_PARAMETERS_EXTENSION_NAME, {Feature::shaderDrawParameters}},
+    {VK_KHR_SAMPLER_YCBCR_CONVERSION_EXTENSION_NAME, {Feature::samplerYcbcrConversion}},
+    {VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME, {Feature::vulkanMemoryModel}},
+    {VK_KHR_SHADER_TERMINATE_INVOCATION_EXTENSION_NAME, {Feature::shaderTerminateInvocation}},
+    {VK_EXT_SHADER_DEMOTE_TO_HELPER_INVOCATION_EXTENSION_NAME, {Feature::shaderDemoteToHelperInvocation}},
+    {VK_KHR_SHADER_SUBGROUP_EXTENDED_TYPES_EXTENSION_NAME, {Feature::shaderSubgroupExtendedTypes}},
+    {VK_EXT_4444_FORMATS_EXTENSION_NAME, {Feature::formatA4R4G4B4}},
+    {VK_EXT_TEXTURE_COMPRESSION_ASTC_HDR_EXTENSION_NAME, {Feature::textureCompressionASTC_HDR}},
+    {VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME, {Feature::dynamicRendering}},
+    {VK_KHR_IMAGELESS_FRAMEBUFFER_EXTENSION_NAME, {Feature::imagelessFramebuffer}},
+    {VK_KHR_SEPARATE_DEPTH_STENCIL_LAYOUTS_EXTENSION_NAME, {Feature::separateDepthStencilLayouts}},
+    {VK_EXT_SAMPLER_FILTER_MINMAX_EXTENSION_NAME, {Feature::samplerFilterMinmax}},
+    {VK_KHR_DRAW_INDIRECT_COUNT_EXTENSION_NAME, {Feature::drawIndirectCount}},
+    {VK_EXT_SHADER_VIEWPORT_INDEX_LAYER_EXTENSION_NAME,
+     {Feature::shaderOutputViewportIndex, Feature::shaderOutputLayer}},
+    {VK_EXT_EXTENDED_DYNAMIC_STATE_EXTENSION_NAME, {Feature::extendedDynamicState}},
+    {VK_EXT_EXTENDED_DYNAMIC_STATE_2_EXTENSION_NAME, {Feature::extendedDynamicState2}},
+};
+
+TEST_F(FeatureTables, ListedExtensionsHaveTheFeaturesTheSpecificationRequires) {
+  int listed = 0;
+  for (const ExtensionRequirement& r : kRequirements) {
+    if (!pd->supportsExtension(r.extension)) continue;
+    ++listed;
+    SCOPED_TRACE(r.extension);
+    int have = 0;
+    for (Feature f : r.features) {
+      bool on = pd->supported[size_t(f)];
+      have += on;
+      if (!r.any) EXPECT_TRUE(on) << featureName(f);
+    }
+    if (r.any) EXPECT_GT(have, 0);
+  }
+  EXPECT_GE(listed, 15);
+  // With VK_KHR_ray_tracing_pipeline, rayTraversalPrimitiveCulling too where rayQuery is supported.
+  if (pd->supportsExtension(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME) && pd->supported[size_t(Feature::rayQuery)])
+    EXPECT_TRUE(pd->supported[size_t(Feature::rayTraversalPrimitiveCulling)]);
+}
+
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {
-  VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
-  atomics.shaderBufferInt64Atomics = VK_TRUE;  // promoted to Vulkan 1.2, not supported by vkrt
+  VkPhysicalDeviceVulkanMemoryModelFeatures model{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES};
+  model.vulkanMemoryModel = VK_TRUE;  // promoted to Vulkan 1.2, not supported by vkrt
   VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
-                                                   &atomics};
+                                                   &model};
   scalar.scalarBlockLayout = VK_TRUE;
   VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &scalar};
-  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceShaderAtomicInt64Features::shaderBufferInt64Atomics");
-  atomics.shaderBufferInt64Atomics = VK_FALSE;
+  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceVulkanMemoryModelFeatures::vulkanMemoryModel");
+  model.vulkanMemoryModel = VK_FALSE;
   EXPECT_EQ(pd->firstUnsupportedFeature(ci), "");
   // Enabled through the promoted structure, the feature is enabled on the device.
   FeatureSet on = enabledFeatures(ci);

@@ -106,6 +106,13 @@ TEST(ImageFunctions, NullDescriptorsReadZerosAndIgnoreWrites) {
   vkrt_image_size(&zero, 0, size);
   EXPECT_EQ(size[0], 0);
   EXPECT_EQ(vkrt_image_levels(&zero), 0);
+  // Texel buffers alike.
+  out[0] = 9;
+  vkrt_texel_buffer_read(&zero, 0, out);
+  EXPECT_EQ(out[0] | out[1] | out[2] | out[3], 0u);
+  vkrt_texel_buffer_write(&zero, 0, out);
+  EXPECT_EQ(vkrt_texel_buffer_texel(&zero, 0), nullptr);
+  EXPECT_EQ(vkrt_texel_buffer_size(&zero), 0);
 }
 
 }  // namespace
