@@ -1023,19 +1023,11 @@ TEST_F(PromotedAuditTest, EveryListedOneEnabledByNameAtOnceAndItsCommandsResolve
   ASSERT_EQ(vkCreateDevice(pd, &dci, nullptr, &all), VK_SUCCESS);
   const auto registry = promotedInRegistry();
   const auto dispatch = commandDispatchTypes();
-  // Commands of a listed extension that vkrt does not have yet, each with the reason: the test reports them and
-  // does not fail on them (README: "Not yet: blits").
-  const std::map<std::string, const char*> kNotYet = {
-      {"vkCmdBlitImage2KHR", "blits are not implemented yet (VK_KHR_copy_commands2's other five commands are)"}};
   int resolved = 0;
   for (const char* name : names) {
     for (const std::string& command : registry.at(name).commands) {
       const std::string& type = dispatch.at(command);
       if (type != "VkDevice" && type != "VkQueue" && type != "VkCommandBuffer") continue;  // not the device's
-      if (!vkGetDeviceProcAddr(all, command.c_str()) && kNotYet.count(command)) {
-        std::printf("%s: %s does not resolve: %s\n", name, command.c_str(), kNotYet.at(command));
-        continue;
-      }
       EXPECT_NE(vkGetDeviceProcAddr(all, command.c_str()), nullptr) << name << ": " << command;
       ++resolved;
     }
