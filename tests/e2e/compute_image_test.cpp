@@ -528,7 +528,7 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) { sampleAn
 class ComputeAnisotropyTest : public ComputeImageTest {
  protected:
   FixtureOptions options() override {
-    FixtureOptions o;
+    FixtureOptions o = ComputeImageTest::options();  // (with samplerMirrorClampToEdge: the samplers use it)
     o.features.samplerAnisotropy = VK_TRUE;
     return o;
   }

@@ -191,14 +191,21 @@ TEST_F(PromotedQueriesTest, FormatProperties3AgreesWithFormatProperties) {
     vkGetPhysicalDeviceFormatProperties2(physicalDevice, VkFormat(f), &p2);
     const VkFormatProperties& p = p2.formatProperties;
     SCOPED_TRACE("format " + std::to_string(f));
-    // The 32 bits VkFormatFeatureFlags has are the same bits in VkFormatFeatureFlags2.
-    EXPECT_EQ(uint32_t(p3.linearTilingFeatures), p.linearTilingFeatures);
-    EXPECT_EQ(uint32_t(p3.optimalTilingFeatures), p.optimalTilingFeatures);
-    EXPECT_EQ(uint32_t(p3.bufferFeatures), p.bufferFeatures);
+    // VkFormatFeatureFlagBits' bits (0-30) are the same bits in VkFormatFeatureFlags2; bit 31 and up exist only
+    // there (STORAGE_READ_WITHOUT_FORMAT is bit 31, STORAGE_WRITE_WITHOUT_FORMAT bit 32).
+    constexpr VkFormatFeatureFlags2 kLegacyBits = 0x7fffffffull;
+    EXPECT_EQ(p3.linearTilingFeatures & kLegacyBits, p.linearTilingFeatures);
+    EXPECT_EQ(p3.optimalTilingFeatures & kLegacyBits, p.optimalTilingFeatures);
+    EXPECT_EQ(p3.bufferFeatures & kLegacyBits, p.bufferFeatures);
     if (onVkrt()) {
-      // vkrt has no format feature beyond those 32 bits (no read or write without format, no depth comparison).
-      EXPECT_EQ(p3.optimalTilingFeatures >> 32, 0u);
-      EXPECT_EQ(p3.bufferFeatures >> 32, 0u);
+      // Beyond them vkrt has only the storage image reads and writes without a format (no depth comparison), and
+      // those only where the format is a storage image format.
+      const VkFormatFeatureFlags2 withoutFormat =
+          VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
+      EXPECT_EQ(p3.optimalTilingFeatures & ~kLegacyBits & ~withoutFormat, 0u);
+      if (p3.optimalTilingFeatures & withoutFormat)
+        EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
+      EXPECT_EQ(p3.bufferFeatures & ~kLegacyBits, 0u);
     }
     supported += p.optimalTilingFeatures != 0;
   }
