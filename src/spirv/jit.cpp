@@ -603,12 +603,7 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymb
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }
 
-std::string errText(llvm::Error e) {
-  std::string s;
-  llvm::raw_string_ostream os(s);
-  os << e;
-  return os.str();
-}
+using detail::errText;
 
 // The native stack the object's code uses: the sum of every function's frame (its .stack_sizes entry: an
 // address, then the size as ULEB128) plus its return address. A sum, not the deepest path: an upper bound, and

@@ -31,13 +31,6 @@ Target& target() {
   return *t;
 }
 
-std::string errText(llvm::Error e) {
-  std::string s;
-  llvm::raw_string_ostream os(s);
-  os << e;
-  return os.str();
-}
-
 }  // namespace
 
 bool setTargetCpu(std::string_view cpu, std::string* error) {
@@ -80,6 +73,13 @@ std::string targetCpu() {
 }
 
 namespace detail {
+
+std::string errText(llvm::Error e) {
+  std::string s;
+  llvm::raw_string_ostream os(s);
+  os << e;
+  return os.str();
+}
 
 std::optional<llvm::orc::JITTargetMachineBuilder> targetMachine(std::string* error) {
   Target& t = target();
