@@ -142,6 +142,9 @@ inline float nextDown(float t) {
   return t == 0 ? -std::numeric_limits<float>::denorm_min() : std::bit_cast<float>(std::bit_cast<uint32_t>(t) - 1);
 }
 
+// Whether t lies strictly inside the ray's (tMin, tMax): where a triangle candidate must lie.
+inline bool strictlyInside(float t, const Ray& ray) { return t > ray.tMin && t < ray.tMax; }
+
 // A triangle's t as vkrt reports it: inside (tMin, tMax), the interval the rule admits, on every set of Embree
 // kernels. Embree accepts a triangle when its t lies in [tnear, tfar], set one float inside the ray's ends (trace),
 // but its kernels compute that t through different reciprocal estimates (SSE/AVX: 12 bits and a Newton step;
@@ -195,7 +198,7 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   // inside, a t the kernel's rounding put on an end is the nearest float inside (insideOpen).
   if (!ctx.closedInterval) {
     ray.tfar = insideOpen(ray.tfar, ctx.ray->tMin, ctx.ray->tMax);
-  } else if (!(ray.tfar > ctx.ray->tMin && ray.tfar < ctx.ray->tMax)) {
+  } else if (!strictlyInside(ray.tfar, *ctx.ray)) {
     args->valid[0] = 0;
     return;
   }
@@ -260,7 +263,7 @@ void triangleEndsFilter(const RTCFilterFunctionNArguments* args) {
   if (!args->valid[0]) return;
   const TraceContext& ctx = contextOf(args->context);
   const float t = reinterpret_cast<const RTCRay*>(args->ray)->tfar;  // N == 1
-  if (!(t > ctx.ray->tMin && t < ctx.ray->tMax)) args->valid[0] = 0;
+  if (!strictlyInside(t, *ctx.ray)) args->valid[0] = 0;
 }
 
 // The candidate test for a box: Vulkan's AABB candidates satisfy tmin <= t <= tmax, ends included, against the
