@@ -225,4 +225,79 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
 
 using RayEntry = void (*)(RayInvocation*);
 
+// ---------------------------------------------------------------------------------------------- graphics
+//
+// Vertex and fragment shaders are `void vkrt_main(GraphicsInvocation*)`, run once per vertex and once per fragment
+// (per lane of a 2x2 quad). The InvocationContext gives resources, push constants, the sink and cancellation as for
+// compute (the compute built-ins are unused).
+//
+// User inputs and outputs travel by Location: `inputs` and `outputs` are kGraphicsLocations slots of 16 bytes. A
+// variable at Location L, Component C starts at byte 16 * L + 4 * C; each scalar or vector takes one location (a
+// 64-bit vec3/vec4 two), a matrix one location per column, an array or a struct one per element or member in order
+// (the Location rules of the "Shader Interfaces" chapter). Vertex inputs hold the attribute converted to the
+// shader's component type: four 32-bit words, floats for float/normalized/scaled formats, integers for integer ones
+// (missing components G = B = 0, A = 1). A fragment shader's Output at Location L is color attachment L; with
+// Index 1 (dual-source blending) it goes to `outputs1`.
+//
+// Quads. A fragment shader that takes derivatives (OpDPdx..., OpFwidth..., implicit-LOD sampling) or uses quad
+// group operations runs its four lanes together: `base.barrier` switches to the next lane (the executor runs the
+// lanes as fibers), `base.localIndex` is the lane (0..3: x & 1 | (y & 1) << 1), and `base.workgroupMemory` is the
+// quad's exchange area (kQuadExchangeBytes). A derivative stores the lane's value (up to 4 x 32 bits) at
+// exchange[parity][lane], calls the barrier, and reads the four values of that parity; `quadParity` alternates per
+// exchange, so a lane that runs ahead to the next exchange writes the other half while the others still read.
+// A lane that ended (returned or was killed) no longer takes part: the others pass the barrier without it (its last
+// values stay). Helper lanes (`helper` = 1) run the shader but its stores and atomics to memory have no effect.
+inline constexpr uint32_t kGraphicsLocations = 32;
+inline constexpr uint32_t kQuadExchangeBytes = 2 * 4 * 16;
+
+// GraphicsInvocation::status, written by the fragment shader.
+inline constexpr uint32_t kFragmentKilled = 1;   // OpKill / OpTerminateInvocation: outputs discarded, the lane ended
+inline constexpr uint32_t kFragmentDemoted = 2;  // OpDemoteToHelperInvocation: outputs discarded, the lane goes on
+
+struct GraphicsInvocation {
+  InvocationContext base;       // 0
+  uint32_t* inputs;             // 160  kGraphicsLocations x 16 bytes (read)
+  uint32_t* outputs;            // 168  kGraphicsLocations x 16 bytes (written)
+  uint32_t* outputs1;           // 176  fragment: Index 1 outputs (16 bytes, location 0)
+  uint64_t pad0;                // 184
+  // vertex
+  float position[4];            // 192  Position (out)
+  float pointSize;              // 208  PointSize (out)
+  int32_t vertexIndex;          // 212  VertexIndex
+  int32_t instanceIndex;        // 216  InstanceIndex
+  int32_t baseVertex;           // 220  BaseVertex
+  int32_t baseInstance;         // 224  BaseInstance
+  int32_t drawIndex;            // 228  DrawIndex
+  uint32_t viewIndex;           // 232  ViewIndex (both stages)
+  uint32_t pad1;                // 236
+  float clipDistance[8];        // 240  ClipDistance (out)
+  float cullDistance[8];        // 272  CullDistance (out)
+  // fragment
+  float fragCoord[4];           // 304  FragCoord
+  float pointCoord[2];          // 320  PointCoord
+  uint32_t frontFacing;         // 328  FrontFacing (0 or 1)
+  int32_t primitiveId;          // 332  PrimitiveId
+  int32_t sampleId;             // 336  SampleId
+  float samplePosition[2];      // 340  SamplePosition
+  uint32_t sampleMaskIn;        // 348  SampleMask (in)
+  uint32_t sampleMaskOut;       // 352  SampleMask (out; the executor presets ~0)
+  float fragDepth;              // 356  FragDepth (out; the executor presets fragCoord[2])
+  uint32_t helper;              // 360  HelperInvocation
+  uint32_t status;              // 364  kFragment*: written by the shader
+  uint32_t layer;               // 368  Layer (fragment in)
+  uint32_t quadParity;          // 372  the next exchange's half (0 or 1), kept by the compiled code
+};
+
+static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsInvocation, outputs1) == 176 &&
+                  offsetof(GraphicsInvocation, position) == 192 && offsetof(GraphicsInvocation, pointSize) == 208 &&
+                  offsetof(GraphicsInvocation, vertexIndex) == 212 && offsetof(GraphicsInvocation, viewIndex) == 232 &&
+                  offsetof(GraphicsInvocation, clipDistance) == 240 && offsetof(GraphicsInvocation, cullDistance) == 272 &&
+                  offsetof(GraphicsInvocation, fragCoord) == 304 && offsetof(GraphicsInvocation, frontFacing) == 328 &&
+                  offsetof(GraphicsInvocation, sampleMaskOut) == 352 && offsetof(GraphicsInvocation, fragDepth) == 356 &&
+                  offsetof(GraphicsInvocation, helper) == 360 && offsetof(GraphicsInvocation, status) == 364 &&
+                  offsetof(GraphicsInvocation, quadParity) == 372 && sizeof(GraphicsInvocation) == 376,
+              "the compiler bakes these offsets into shader code");
+
+using GraphicsEntry = void (*)(GraphicsInvocation*);
+
 }  // namespace vkrt::abi

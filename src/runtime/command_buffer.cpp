@@ -182,6 +182,8 @@ void CommandBuffer::reset(bool releaseResources) {
     state = State::Initial;
     usage = 0;
     labelDepth = 0;
+    insideRenderPass = false;
+    graphicsRecording.reset();
   }
   // `old`'s closures are destroyed here, outside the lock.
 }

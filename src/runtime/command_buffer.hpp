@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <unordered_set>
 #include <vector>
@@ -40,9 +41,17 @@ struct BindState {
   std::vector<uint32_t> dynamicOffsets[8];
 };
 
+// State that a layer above runtime (src/gfx) keeps in a command buffer or an execution: runtime creates none of it
+// and only destroys it (through the virtual destructor).
+struct LayerState {
+  virtual ~LayerState() = default;
+};
+
 struct ExecState {
   BindState compute;
   BindState rayTracing;
+  BindState graphics;
+  std::unique_ptr<LayerState> graphicsState;  // src/gfx/graphics_state.hpp: render pass instance, dynamic state
   alignas(16) uint8_t pushConstants[256] = {};
   uint32_t rayTracingStackSize = 0;  // vkCmdSetRayTracingPipelineStackSizeKHR
   Queue* queue = nullptr;            // the queue executing the commands
@@ -109,6 +118,12 @@ class CommandBuffer : public Object {
   std::vector<CommandBuffer*> secondaries;  // executed by this primary (vkCmdExecuteCommands)
   std::vector<CommandBuffer*> primaries;    // primaries that execute this secondary
   uint32_t labelDepth = 0;                  // open vkCmdBeginDebugUtilsLabelEXT regions
+  // Between vkCmdBeginRenderPass(2)/vkCmdBeginRendering and their end while recording: commands that may not be
+  // recorded inside a render pass instance (dispatches, copies, traces...) check it ("-renderpass" VUIDs).
+  bool insideRenderPass = false;
+  // src/gfx's recording state (the render pass instance being recorded, bound pipeline for validation); reset
+  // with the command buffer.
+  std::unique_ptr<LayerState> graphicsRecording;
   std::vector<Ref> refs;                    // what the commands refer to (record()), in no order, deduplicated
 
   // The mutex that guards every command buffer's state, pending count and links.

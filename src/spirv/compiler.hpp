@@ -60,6 +60,32 @@ struct RayStageInfo {
   }
 };
 
+// What a compiled vertex or fragment shader tells the graphics pipeline (abi::GraphicsInvocation's conventions).
+struct GraphicsStageInfo {
+  struct Location {
+    uint8_t location = 0;
+    uint8_t componentMask = 0;  // components of the location the shader declares (bit c = component c)
+    enum Interpolation : uint8_t { Smooth, NoPerspective, Flat } interpolation = Smooth;
+    bool centroid = false;
+    bool sample = false;
+    bool integer = false;  // signed or unsigned integer components (vertex inputs: the attribute's conversion)
+    bool wide = false;     // 64-bit components
+  };
+  std::vector<Location> inputs;   // user Input locations, by increasing location
+  std::vector<Location> outputs;  // user Output locations (fragment: color attachments written)
+  bool needsQuad = false;         // derivatives, implicit-LOD sampling or quad operations: lanes run as fibers
+  bool writesDepth = false;       // FragDepth
+  bool writesSampleMask = false;  // SampleMask output
+  bool readsSampleId = false;     // SampleId or SamplePosition (or a Sample-decorated input): per-sample shading
+  bool canDiscard = false;        // OpKill, OpTerminateInvocation, OpDemoteToHelperInvocation
+  bool earlyFragmentTests = false;
+  bool sideEffects = false;       // stores or atomics to buffers or images
+  bool dualSource = false;        // an output with Index 1
+  bool writesPointSize = false;
+  uint32_t clipDistances = 0;     // ClipDistance array size
+  uint32_t cullDistances = 0;
+};
+
 class CompiledShader {
  public:
   CompiledShader();
@@ -74,6 +100,8 @@ class CompiledShader {
   abi::ComputeEntry entry = nullptr;
   abi::ComputeEntry groupEntry = nullptr;
   abi::RayEntry rayEntry = nullptr;
+  abi::GraphicsEntry graphicsEntry = nullptr;  // Vertex and Fragment: vkrt_main taking a GraphicsInvocation
+  GraphicsStageInfo graphics;                  // Vertex and Fragment only
   spv::ExecutionModel model = spv::ExecutionModelGLCompute;
   RayStageInfo ray;  // ray tracing stages only
   uint32_t localSize[3] = {1, 1, 1};
@@ -93,7 +121,7 @@ struct CompileRequest {
   const uint32_t* words = nullptr;
   size_t wordCount = 0;
   std::string entryName = "main";
-  spv::ExecutionModel model = spv::ExecutionModelGLCompute;  // GLCompute or one of the six ray tracing models
+  spv::ExecutionModel model = spv::ExecutionModelGLCompute;  // GLCompute, Vertex, Fragment or a ray tracing model
   std::vector<SpecValue> specialization;
   // Inline every call with SPIRV-Tools before translation (what pipelines do). Off, each SPIR-V function
   // becomes its own LLVM function (LLVM may still inline them); the tests use this to exercise calls.

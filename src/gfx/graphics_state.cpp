@@ -1,0 +1,15 @@
+#include "gfx/graphics_state.hpp"
+
+namespace vkrt::gfx {
+
+GraphicsExecState& execState(ExecState& st) {
+  if (!st.graphicsState) st.graphicsState = std::make_unique<GraphicsExecState>();
+  return static_cast<GraphicsExecState&>(*st.graphicsState);
+}
+
+GraphicsRecordState& recordState(CommandBuffer* cb) {
+  if (!cb->graphicsRecording) cb->graphicsRecording = std::make_unique<GraphicsRecordState>();
+  return static_cast<GraphicsRecordState&>(*cb->graphicsRecording);
+}
+
+}  // namespace vkrt::gfx
