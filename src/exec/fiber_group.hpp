@@ -1,0 +1,20 @@
+// Invocations that wait for each other: a compute workgroup with OpControlBarrier, a fragment quad taking
+// derivatives. Each runs as a fiber (a stack of its own) on the calling worker; its context's `barrier` switches back
+// to the group's scheduler, which resumes every unfinished fiber in turn (round-robin), so that every invocation
+// reaches a barrier before any passes it. A fiber that returned no longer takes part: the others pass barriers
+// without it.
+#pragma once
+
+#include <cstdint>
+
+#include "abi/abi.hpp"
+
+namespace vkrt::exec {
+
+// Runs entry(invocations[i]) for every i < count as fibers and returns when all have ended. Sets each context's
+// `barrier` and `executor` (the other fields are the caller's). A fault or a cancellation in one invocation ends the
+// group (the supervision of exec/supervise.hpp: abortTask()). Returns false, running nothing, when fiber stacks could
+// not be allocated. Fiber stacks are per worker thread and reused.
+bool runFiberGroup(abi::ComputeEntry entry, abi::InvocationContext* const* invocations, uint32_t count);
+
+}  // namespace vkrt::exec
