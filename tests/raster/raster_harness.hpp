@@ -63,7 +63,7 @@ struct Image {
   }
 };
 
-enum class FragMode { Constant, Input0, Count };
+enum class FragMode { Constant, Input0, PointCoord, Facing };
 
 // A draw over a width x height framebuffer with viewport = framebuffer, RGBA32F color 0 unless changed.
 struct Harness {
@@ -81,6 +81,7 @@ struct Harness {
   std::vector<std::vector<float>> clipDist;  // clipDist[i][vertex]
   FragMode mode = FragMode::Constant;
   Vec4 constant = {1, 1, 1, 1};
+  Vec4 constant1 = {0, 0, 0, 0};  // the dual-source output
   uint32_t samples;
   bool fragDepthFromInput = false;   // FragDepth = input 0's x
   float alpha0 = -1;                 // >= 0: color 0's alpha
@@ -156,9 +157,11 @@ struct Harness {
       if (x < h.width && y < h.height) h.primIds[y * h.width + x] = q.primitiveId;
       Vec4 c = h.constant;
       if (h.mode == FragMode::Input0) std::memcpy(c.data(), q.inputs[l], 16);
+      if (h.mode == FragMode::PointCoord) c = {q.pointCoord[l][0], q.pointCoord[l][1], 0, 1};
+      if (h.mode == FragMode::Facing) c = {q.frontFacing ? 1.0f : 2.0f, float(q.viewIndex), float(q.layer), 1};
       if (h.alpha0 >= 0) c[3] = h.alpha0;
       std::memcpy(q.color[l][0], c.data(), 16);
-      std::memcpy(q.color1[l], c.data(), 16);
+      std::memcpy(q.color1[l], h.constant1.data(), 16);
       if (h.fragDepthFromInput) std::memcpy(&q.depth[l], q.inputs[l], 4);
     }
   }
