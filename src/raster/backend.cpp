@@ -1,0 +1,312 @@
+// The per-fragment operations after coverage ("Fragment Operations": Depth Bounds Test, Stencil Test, Depth Test,
+// Sample Counting is not here; "The Framebuffer": Blending, Logical Operations, Color Write Mask), per sample.
+#include <algorithm>
+#include <cmath>
+
+#include "raster/internal.hpp"
+
+namespace vkrt::raster::detail {
+namespace {
+
+inline uint8_t* texel(const Surface& s, uint32_t texelBytes, uint32_t layer, int32_t x, int32_t y, uint32_t sample) {
+  return s.base + size_t(layer) * s.layerPitch + size_t(y) * s.rowPitch + (size_t(x) * s.samples + sample) * texelBytes;
+}
+
+template <typename T>
+inline bool compare(CompareOp op, T a, T b) {  // "a op b": the new value against the stored one
+  switch (op) {
+    case CompareOp::Never: return false;
+    case CompareOp::Less: return a < b;
+    case CompareOp::Equal: return a == b;
+    case CompareOp::LessOrEqual: return a <= b;
+    case CompareOp::Greater: return a > b;
+    case CompareOp::NotEqual: return a != b;
+    case CompareOp::GreaterOrEqual: return a >= b;
+    case CompareOp::Always: return true;
+  }
+  return false;
+}
+
+uint32_t stencilValue(StencilOp op, uint32_t s, uint32_t ref) {
+  switch (op) {
+    case StencilOp::Keep: return s;
+    case StencilOp::Zero: return 0;
+    case StencilOp::Replace: return ref & 0xFF;
+    case StencilOp::IncrementAndClamp: return s < 255 ? s + 1 : 255;
+    case StencilOp::DecrementAndClamp: return s > 0 ? s - 1 : 0;
+    case StencilOp::Invert: return ~s & 0xFF;
+    case StencilOp::IncrementAndWrap: return (s + 1) & 0xFF;
+    case StencilOp::DecrementAndWrap: return (s - 1) & 0xFF;
+  }
+  return s;
+}
+
+inline void applyStencil(uint8_t* p, const StencilFace& f, StencilOp op) {
+  const uint32_t old = *p;
+  const uint32_t v = stencilValue(op, old, f.reference);
+  *p = uint8_t((old & ~f.writeMask) | (v & f.writeMask));
+}
+
+// Depth as the attachment stores it: unsigned normalized formats round to nearest ("Fixed-Point Data
+// Conversions"); the stored bits (unorm) or the float's value are what the test compares.
+struct DepthValue {
+  uint32_t u;
+  float f;
+};
+
+inline DepthValue toStored(DepthFormat fmt, float z) {
+  DepthValue v{0, z};
+  if (fmt == DepthFormat::D16UNorm) {
+    v.u = uint32_t(std::lrint(double(std::clamp(z, 0.0f, 1.0f)) * 65535.0));
+  } else if (fmt == DepthFormat::X8D24UNorm) {
+    v.u = uint32_t(std::lrint(double(std::clamp(z, 0.0f, 1.0f)) * 16777215.0));
+  }
+  return v;
+}
+
+inline DepthValue readDepth(DepthFormat fmt, const uint8_t* p) {
+  DepthValue v{0, 0};
+  if (fmt == DepthFormat::D16UNorm) {
+    uint16_t d;
+    std::memcpy(&d, p, 2);
+    v.u = d, v.f = float(d / 65535.0);
+  } else if (fmt == DepthFormat::X8D24UNorm) {
+    uint32_t d;
+    std::memcpy(&d, p, 4);
+    v.u = d & 0xFFFFFFu, v.f = float(v.u / 16777215.0);
+  } else {
+    std::memcpy(&v.f, p, 4);
+  }
+  return v;
+}
+
+inline void writeDepth(DepthFormat fmt, uint8_t* p, DepthValue v) {
+  if (fmt == DepthFormat::D16UNorm) {
+    const uint16_t d = uint16_t(v.u);
+    std::memcpy(p, &d, 2);
+  } else if (fmt == DepthFormat::X8D24UNorm) {
+    uint32_t d;
+    std::memcpy(&d, p, 4);
+    d = (d & 0xFF000000u) | v.u;  // the top 8 bits are kept (stencil, or X8 padding)
+    std::memcpy(p, &d, 4);
+  } else {
+    std::memcpy(p, &v.f, 4);
+  }
+}
+
+float blendFactor(BlendFactor f, uint32_t c, const float* s, const float* s1, const float* d, const float* k) {
+  switch (f) {
+    case BlendFactor::Zero: return 0;
+    case BlendFactor::One: return 1;
+    case BlendFactor::SrcColor: return s[c];
+    case BlendFactor::OneMinusSrcColor: return 1 - s[c];
+    case BlendFactor::DstColor: return d[c];
+    case BlendFactor::OneMinusDstColor: return 1 - d[c];
+    case BlendFactor::SrcAlpha: return s[3];
+    case BlendFactor::OneMinusSrcAlpha: return 1 - s[3];
+    case BlendFactor::DstAlpha: return d[3];
+    case BlendFactor::OneMinusDstAlpha: return 1 - d[3];
+    case BlendFactor::ConstantColor: return k[c];
+    case BlendFactor::OneMinusConstantColor: return 1 - k[c];
+    case BlendFactor::ConstantAlpha: return k[3];
+    case BlendFactor::OneMinusConstantAlpha: return 1 - k[3];
+    case BlendFactor::SrcAlphaSaturate: return c < 3 ? std::min(s[3], 1 - d[3]) : 1;
+    case BlendFactor::Src1Color: return s1[c];
+    case BlendFactor::OneMinusSrc1Color: return 1 - s1[c];
+    case BlendFactor::Src1Alpha: return s1[3];
+    case BlendFactor::OneMinusSrc1Alpha: return 1 - s1[3];
+  }
+  return 0;
+}
+
+inline float blendOp(BlendOp op, float s, float sf, float d, float df) {
+  switch (op) {
+    case BlendOp::Add: return s * sf + d * df;
+    case BlendOp::Subtract: return s * sf - d * df;
+    case BlendOp::ReverseSubtract: return d * df - s * sf;
+    case BlendOp::Min: return std::min(s, d);
+    case BlendOp::Max: return std::max(s, d);
+  }
+  return s;
+}
+
+inline uint8_t logicOp(LogicOp op, uint8_t s, uint8_t d) {
+  switch (op) {
+    case LogicOp::Clear: return 0;
+    case LogicOp::And: return s & d;
+    case LogicOp::AndReverse: return s & ~d;
+    case LogicOp::Copy: return s;
+    case LogicOp::AndInverted: return ~s & d;
+    case LogicOp::NoOp: return d;
+    case LogicOp::Xor: return s ^ d;
+    case LogicOp::Or: return s | d;
+    case LogicOp::Nor: return ~(s | d);
+    case LogicOp::Equivalent: return ~(s ^ d);
+    case LogicOp::Invert: return ~d;
+    case LogicOp::OrReverse: return s | ~d;
+    case LogicOp::CopyInverted: return ~s;
+    case LogicOp::OrInverted: return ~s | d;
+    case LogicOp::Nand: return ~(s & d);
+    case LogicOp::Set: return 0xFF;
+  }
+  return s;
+}
+
+// Clamps the shader's value (or a blend result) to the range of a normalized format.
+inline void clampToFormat(ColorFormat::Kind kind, float* v) {
+  if (kind == ColorFormat::Kind::UNorm) {
+    for (int c = 0; c < 4; ++c) v[c] = std::clamp(v[c], 0.0f, 1.0f);
+  } else if (kind == ColorFormat::Kind::SNorm) {
+    for (int c = 0; c < 4; ++c) v[c] = std::clamp(v[c], -1.0f, 1.0f);
+  }
+}
+
+inline void loadFloats(const uint32_t* w, float* f) {
+  for (int c = 0; c < 4; ++c) f[c] = asFloat(w[c]);
+}
+
+// Keeps the components outside `mask` from `dst` (words of the decoded texel).
+inline void mergeMask(uint32_t* v, const uint32_t* dst, uint32_t mask) {
+  for (int c = 0; c < 4; ++c)
+    if (!(mask >> c & 1)) v[c] = dst[c];
+}
+
+void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
+                     uint32_t coverage) {
+  const Target& tg = *ctx.target;
+  const State& st = *ctx.state;
+  const Surface& surf = tg.color[i];
+  const ColorFormat& fmt = tg.colorFormat[i];
+  const BlendAttachment& ba = st.blend[i];
+  const uint32_t mask = ba.writeMask & fmt.componentMask;
+  if (!mask || !fmt.encode) return;
+  const bool integer = fmt.kind == ColorFormat::Kind::UInt || fmt.kind == ColorFormat::Kind::SInt;
+  const bool normalized = fmt.kind == ColorFormat::Kind::UNorm || fmt.kind == ColorFormat::Kind::SNorm;
+  const bool logic = st.logicOpEnable && fmt.kind != ColorFormat::Kind::Float;
+  const bool blend = ba.enable && !integer && !st.logicOpEnable;
+  const bool fullMask = mask == (fmt.componentMask & 0xF);
+  uint32_t src[4];
+  std::memcpy(src, q.color[lane][i], 16);
+  if (!integer) {
+    float f[4];
+    loadFloats(src, f);
+    clampToFormat(fmt.kind, f);
+    for (int c = 0; c < 4; ++c) src[c] = asWord(f[c]);
+  }
+  const uint32_t bytes = fmt.texelBytes;
+  uint8_t encoded[16];
+  if (!blend && !logic && fullMask) {
+    fmt.encode(fmt.format, src, encoded);
+    for (uint32_t s = coverage; s; s &= s - 1)
+      std::memcpy(texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(s))), encoded, bytes);
+    return;
+  }
+  if (logic) fmt.encode(fmt.format, src, encoded);
+  float s0[4], s1[4], k[4];
+  if (blend) {
+    loadFloats(src, s0);
+    loadFloats(q.color1[lane], s1);
+    for (int c = 0; c < 4; ++c) k[c] = st.blendConstants[c];
+    if (normalized) clampToFormat(fmt.kind, s1), clampToFormat(fmt.kind, k);
+  }
+  for (uint32_t sm = coverage; sm; sm &= sm - 1) {
+    uint8_t* p = texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
+    uint32_t dst[4], out[4];
+    fmt.decode(fmt.format, p, dst);
+    if (logic) {
+      // Logical operations work on the texel's bits ("Logical Operations").
+      uint8_t r[16];
+      for (uint32_t b = 0; b < bytes; ++b) r[b] = logicOp(st.logicOp, encoded[b], p[b]);
+      if (fullMask) {
+        std::memcpy(p, r, bytes);
+        continue;
+      }
+      fmt.decode(fmt.format, r, out);
+    } else if (blend) {
+      float d[4], r[4];
+      loadFloats(dst, d);
+      for (uint32_t c = 0; c < 4; ++c) {
+        const bool alpha = c == 3;
+        const BlendFactor sf = alpha ? ba.srcAlpha : ba.srcColor, df = alpha ? ba.dstAlpha : ba.dstColor;
+        const BlendOp op = alpha ? ba.alphaOp : ba.colorOp;
+        r[c] = blendOp(op, s0[c], blendFactor(sf, c, s0, s1, d, k), d[c], blendFactor(df, c, s0, s1, d, k));
+      }
+      clampToFormat(fmt.kind, r);
+      for (int c = 0; c < 4; ++c) out[c] = asWord(r[c]);
+    } else {
+      std::memcpy(out, src, 16);
+    }
+    mergeMask(out, dst, mask);
+    fmt.encode(fmt.format, out, p);
+  }
+}
+
+}  // namespace
+
+uint32_t alphaCoverage(float alpha, uint32_t samples) {
+  // Alpha to coverage ("Multisample Coverage"): the first round(alpha * samples) samples.
+  if (!(alpha > 0)) return 0;
+  const uint32_t n = uint32_t(std::min<double>(std::floor(double(alpha) * samples + 0.5), samples));
+  return (1u << n) - 1;
+}
+
+uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_t y, uint32_t coverage,
+                           const float* z) {
+  const State& st = *ctx.state;
+  const DepthStencilTarget& ds = ctx.target->depthStencil;
+  const bool hasDepth = ds.depthFormat != DepthFormat::None && ds.depth.base;
+  const bool hasStencil = ds.stencilFormat != StencilFormat::None && ds.stencil.base;
+  const bool bounds = st.depthBoundsTest && hasDepth;
+  const bool stencil = st.stencilTest && hasStencil;
+  const bool depth = st.depthTest && hasDepth;
+  if (!bounds && !stencil && !depth) return coverage;
+  const StencilFace& face = front ? st.front : st.back;
+  uint32_t passed = coverage;
+  for (uint32_t sm = coverage; sm; sm &= sm - 1) {
+    const uint32_t s = uint32_t(std::countr_zero(sm));
+    uint8_t* dp = hasDepth ? texel(ds.depth, ds.depthTexelBytes, ctx.layer, x, y, s) : nullptr;
+    uint8_t* sp = hasStencil ? texel(ds.stencil, ds.stencilTexelBytes, ctx.layer, x, y, s) + ds.stencilOffset : nullptr;
+    if (bounds) {
+      // Depth bounds test: the stored depth within [minDepthBounds, maxDepthBounds].
+      const float stored = readDepth(ds.depthFormat, dp).f;
+      if (!(stored >= st.minDepthBounds && stored <= st.maxDepthBounds)) {
+        passed &= ~(1u << s);
+        continue;
+      }
+    }
+    if (stencil) {
+      const uint32_t ref = face.reference & face.compareMask, stored = *sp & face.compareMask;
+      if (!compare(face.compareOp, ref, stored)) {
+        applyStencil(sp, face, face.failOp);
+        passed &= ~(1u << s);
+        continue;
+      }
+    }
+    if (depth) {
+      const DepthValue v = toStored(ds.depthFormat, z[s]);
+      const DepthValue old = readDepth(ds.depthFormat, dp);
+      const bool pass = ds.depthFormat == DepthFormat::D32SFloat ? compare(st.depthCompare, v.f, old.f)
+                                                                 : compare(st.depthCompare, v.u, old.u);
+      if (!pass) {
+        if (stencil) applyStencil(sp, face, face.depthFailOp);
+        passed &= ~(1u << s);
+        continue;
+      }
+      if (st.depthWrite) writeDepth(ds.depthFormat, dp, v);
+    }
+    if (stencil) applyStencil(sp, face, face.passOp);
+  }
+  return passed;
+}
+
+void writeColors(const DrawContext& ctx, const FragmentQuad& quad, uint32_t lane, int32_t x, int32_t y,
+                 uint32_t coverage) {
+  const Target& tg = *ctx.target;
+  const uint32_t outputs = ctx.fragment->outputMask;
+  for (uint32_t i = 0; i < tg.colorCount; ++i) {
+    if (!tg.color[i].base || !(outputs >> i & 1)) continue;
+    writeAttachment(ctx, quad, lane, i, x, y, coverage);
+  }
+}
+
+}  // namespace vkrt::raster::detail

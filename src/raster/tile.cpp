@@ -1,0 +1,262 @@
+// One tile: the coverage of each triangle in 8x8 blocks and 2x2 quads (edge functions stepped incrementally in
+// 64-bit integers), the interpolation of the fragment shader's inputs, the shader call and the hand-off to the
+// per-fragment operations ("Rasterization": Polygon Rasterization, Multisampling, Interpolation; "Fragment
+// Operations").
+#include <algorithm>
+#include <cmath>
+
+#include "raster/internal.hpp"
+
+namespace vkrt::raster::detail {
+namespace {
+
+constexpr int32_t kBlock = 8;  // pixels per side of the blocks tested whole before their quads
+
+// The sample position (in fixed point, within the pixel) of sample s.
+inline int32_t sampleX(const DrawContext& ctx, uint32_t s) { return ctx.samples == 1 ? kCentre : kSampleX4[s]; }
+inline int32_t sampleY(const DrawContext& ctx, uint32_t s) { return ctx.samples == 1 ? kCentre : kSampleY4[s]; }
+
+inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int64_t py) {
+  const double z = t.zA * (double(px) / kSubPixel) + t.zB * (double(py) / kSubPixel) + t.zC;
+  return std::clamp(float(z), ctx.depthMin, ctx.depthMax);
+}
+
+// Screen-space barycentrics at a fixed-point position (exact edge values, one division).
+inline void barycentrics(const SetupTri& t, int64_t px, int64_t py, double b[3]) {
+  const double inv = 1.0 / double(t.area2);
+  for (int i = 0; i < 3; ++i) b[i] = double(t.a[i] * px + t.b[i] * py + t.c[i]) * inv;
+}
+
+// Fills lane `lane`'s inputs, FragCoord and PointCoord for the interpolation position (px, py), and `centroid`
+// (used by centroid inputs) when it differs.
+void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, uint32_t lane, int64_t px, int64_t py,
+                     const int64_t* centroid) {
+  double b[3], bc[3];
+  barycentrics(t, px, py, b);
+  const double invW = b[0] * t.invW[0] + b[1] * t.invW[1] + b[2] * t.invW[2];
+  q.fragCoord[lane][0] = float(px) / kSubPixel;
+  q.fragCoord[lane][1] = float(py) / kSubPixel;
+  q.fragCoord[lane][2] = depthAt(ctx, t, px, py);
+  q.fragCoord[lane][3] = float(invW);
+  if (t.isPoint) {
+    // PointCoord ("Basic Point Rasterization"): s to the right, t downwards, 0.5 at the centre.
+    q.pointCoord[lane][0] = 0.5f + (q.fragCoord[lane][0] - t.pointX) / t.pointSize;
+    q.pointCoord[lane][1] = 0.5f + (q.fragCoord[lane][1] - t.pointY) / t.pointSize;
+  } else {
+    q.pointCoord[lane][0] = q.pointCoord[lane][1] = 0;
+  }
+  const FragmentStage& fs = *ctx.fragment;
+  if (!fs.inputCount) return;
+  if (centroid) barycentrics(t, centroid[0], centroid[1], bc);
+  // Perspective-correct weights: b_i / w_i normalized ("Polygon Interpolation").
+  double p[3], pc[3];
+  auto perspective = [&](const double* in, double* out) {
+    const double w0 = in[0] * t.invW[0], w1 = in[1] * t.invW[1], w2 = in[2] * t.invW[2];
+    const double sum = w0 + w1 + w2;
+    if (sum != 0) {
+      out[0] = w0 / sum, out[1] = w1 / sum, out[2] = w2 / sum;
+    } else {
+      out[0] = in[0], out[1] = in[1], out[2] = in[2];
+    }
+  };
+  if (ctx.hasSmooth) {
+    perspective(b, p);
+    if (centroid) perspective(bc, pc);
+  }
+  uint32_t* dst = q.inputs[lane];
+  for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
+    const FragmentInput& in = fs.inputs[slot];
+    const uint32_t k = slot * 4;
+    if (in.interpolation == Interpolation::Flat) {
+      std::memcpy(dst + k, t.flat + k, 16);
+      continue;
+    }
+    const bool useCentroid = centroid && in.centroid;
+    const double* w = in.interpolation == Interpolation::Smooth ? (useCentroid ? pc : p) : (useCentroid ? bc : b);
+    for (uint32_t c = 0; c < 4; ++c) {
+      const double v =
+          w[0] * asFloat(t.var[0][k + c]) + w[1] * asFloat(t.var[1][k + c]) + w[2] * asFloat(t.var[2][k + c]);
+      dst[k + c] = asWord(float(v));
+    }
+  }
+}
+
+// After the shader: discard, the shader's sample mask, alpha to coverage, the late tests, the color writes.
+void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4]) {
+  const State& st = *ctx.state;
+  const FragmentStage& fs = *ctx.fragment;
+  for (uint32_t l = 0; l < 4; ++l) {
+    uint32_t c = q.coverage[l];
+    if (!c || (q.killed >> l & 1)) continue;
+    if (fs.writesSampleMask) c &= q.sampleMaskOut[l];
+    if (st.alphaToCoverage && (fs.outputMask & 1)) c &= alphaCoverage(asFloat(q.color[l][0][3]), ctx.samples);
+    const int32_t x = q.x + int32_t(l & 1), y = q.y + int32_t(l >> 1);
+    if (!ctx.earlyTests && c) {
+      if (fs.writesDepth) {
+        float d = q.depth[l];
+        if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
+        for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
+      }
+      c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
+    }
+    if (!c) continue;
+    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
+    writeColors(ctx, q, l, x, y, c);
+  }
+}
+
+// One quad with its per-lane coverage (already limited to the clip rectangle).
+void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, uint32_t cov[4],
+               WorkerScratch& scratch, unsigned worker) {
+  const State& st = *ctx.state;
+  const FragmentStage& fs = *ctx.fragment;
+  uint32_t any = 0;
+  for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= st.sampleMask;
+  if (!any) return;
+  float z[4][4];
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!cov[l]) continue;
+    const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel, py = int64_t(qy + int32_t(l >> 1)) * kSubPixel;
+    for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
+  }
+  if (ctx.earlyTests) {
+    any = 0;
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (cov[l])
+        any |= cov[l] = depthStencilTests(ctx, t.front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
+    }
+    if (!any || !fs.shade) return;
+  }
+  FragmentQuad& q = scratch.quad;
+  q.x = qx, q.y = qy;
+  q.frontFacing = t.front;
+  q.primitiveId = t.primitiveId;
+  q.viewIndex = ctx.viewIndex;
+  q.layer = ctx.layer;
+  const uint32_t lanes =
+      fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
+  if (ctx.perSample) {
+    // Sample shading: once per sample any lane covers, at that sample's position.
+    for (uint32_t s = 0; s < ctx.samples; ++s) {
+      if (!(any >> s & 1)) continue;
+      uint32_t sampleLanes = 0;
+      for (uint32_t l = 0; l < 4; ++l) {
+        q.coverage[l] = cov[l] & (1u << s);
+        if (q.coverage[l]) sampleLanes |= 1u << l;
+      }
+      if (!sampleLanes) continue;
+      q.sampleIndex = s;
+      for (uint32_t l = 0; l < 4; ++l) {
+        if (!(fs.needsHelpers ? true : (sampleLanes >> l & 1))) continue;
+        const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + sampleX(ctx, s);
+        const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + sampleY(ctx, s);
+        interpolateLane(ctx, t, q, l, px, py, nullptr);
+      }
+      q.killed = 0;
+      for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
+      fs.shade(fs.user, q, worker);
+      finishQuad(ctx, t, q, z);
+    }
+    return;
+  }
+  q.sampleIndex = 0;
+  for (uint32_t l = 0; l < 4; ++l) {
+    q.coverage[l] = cov[l];
+    if (!(lanes >> l & 1)) continue;
+    const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
+    const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + kCentre;
+    // Centroid: the pixel centre when every sample is covered, else the first covered sample (inside the
+    // primitive and the pixel, as "Centroid Interpolation" asks).
+    int64_t centroid[2];
+    const bool partial = cov[l] && cov[l] != ctx.allSamples;
+    if (partial) {
+      const uint32_t s = uint32_t(std::countr_zero(cov[l]));
+      centroid[0] = px - kCentre + sampleX(ctx, s);
+      centroid[1] = py - kCentre + sampleY(ctx, s);
+    }
+    interpolateLane(ctx, t, q, l, px, py, partial ? centroid : nullptr);
+  }
+  q.killed = 0;
+  for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
+  fs.shade(fs.user, q, worker);
+  finishQuad(ctx, t, q, z);
+}
+
+// Largest and smallest value of edge i over the pixel rectangle [x0, x1) x [y0, y1) (pixels), bias included.
+inline int64_t edgeMax(const SetupTri& t, int i, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+  return t.a[i] * (t.a[i] > 0 ? x1 : x0) * kSubPixel + t.b[i] * (t.b[i] > 0 ? y1 : y0) * kSubPixel + t.c[i] +
+         t.cBias[i];
+}
+inline int64_t edgeMin(const SetupTri& t, int i, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+  return t.a[i] * (t.a[i] > 0 ? x0 : x1) * kSubPixel + t.b[i] * (t.b[i] > 0 ? y0 : y1) * kSubPixel + t.c[i] +
+         t.cBias[i];
+}
+
+void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                       WorkerScratch& scratch, unsigned worker) {
+  const uint32_t S = ctx.samples;
+  // Per lane and sample, the offset of each edge from the quad's origin.
+  int64_t off[3][16];
+  for (int i = 0; i < 3; ++i)
+    for (uint32_t l = 0; l < 4; ++l)
+      for (uint32_t s = 0; s < S; ++s)
+        off[i][l * S + s] = t.a[i] * (int64_t(l & 1) * kSubPixel + sampleX(ctx, s)) +
+                            t.b[i] * (int64_t(l >> 1) * kSubPixel + sampleY(ctx, s));
+  const int32_t bx0 = x0 & ~(kBlock - 1), by0 = y0 & ~(kBlock - 1);
+  for (int32_t by = by0; by <= y1; by += kBlock) {
+    for (int32_t bx = bx0; bx <= x1; bx += kBlock) {
+      // The block, clipped to the triangle's rectangle: skip it when an edge excludes all of it.
+      const int32_t rx0 = std::max(bx, x0), ry0 = std::max(by, y0);
+      const int32_t rx1 = std::min(bx + kBlock - 1, x1), ry1 = std::min(by + kBlock - 1, y1);
+      bool reject = false, full = true;
+      for (int i = 0; i < 3 && !reject; ++i) {
+        reject = edgeMax(t, i, rx0, ry0, rx1 + 1, ry1 + 1) < 0;
+        full = full && edgeMin(t, i, rx0, ry0, rx1 + 1, ry1 + 1) >= 0;
+      }
+      if (reject) continue;
+      for (int32_t qy = ry0 & ~1; qy <= ry1; qy += 2) {
+        for (int32_t qx = rx0 & ~1; qx <= rx1; qx += 2) {
+          uint32_t cov[4] = {0, 0, 0, 0};
+          uint32_t any = 0;
+          if (full) {
+            for (uint32_t l = 0; l < 4; ++l) cov[l] = ctx.allSamples;
+          } else {
+            int64_t e[3];
+            for (int i = 0; i < 3; ++i)
+              e[i] = t.a[i] * int64_t(qx) * kSubPixel + t.b[i] * int64_t(qy) * kSubPixel + t.c[i] + t.cBias[i];
+            for (uint32_t l = 0; l < 4; ++l) {
+              uint32_t m = 0;
+              for (uint32_t s = 0; s < S; ++s) {
+                const uint32_t k = l * S + s;
+                m |= uint32_t((e[0] + off[0][k]) >= 0 && (e[1] + off[1][k]) >= 0 && (e[2] + off[2][k]) >= 0) << s;
+              }
+              cov[l] = m;
+            }
+          }
+          // Lanes outside the triangle's rectangle (the clip rectangle included) are not covered.
+          for (uint32_t l = 0; l < 4; ++l) {
+            const int32_t x = qx + int32_t(l & 1), y = qy + int32_t(l >> 1);
+            if (x < rx0 || x > rx1 || y < ry0 || y > ry1) cov[l] = 0;
+            any |= cov[l];
+          }
+          if (any) shadeQuad(ctx, t, qx, qy, cov, scratch, worker);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void rasterizeTile(const DrawContext& ctx, const SetupTri* const* tris, size_t count, int32_t tileX, int32_t tileY,
+                   WorkerScratch& scratch, unsigned worker) {
+  for (size_t i = 0; i < count; ++i) {
+    const SetupTri& t = *tris[i];
+    const int32_t x0 = std::max(t.minX, tileX), y0 = std::max(t.minY, tileY);
+    const int32_t x1 = std::min(t.maxX, tileX + kTileSize - 1), y1 = std::min(t.maxY, tileY + kTileSize - 1);
+    if (x0 > x1 || y0 > y1) continue;
+    rasterizeTriangle(ctx, t, x0, y0, x1, y1, scratch, worker);
+  }
+}
+
+}  // namespace vkrt::raster::detail

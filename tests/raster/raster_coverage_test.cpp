@@ -1,0 +1,209 @@
+// Coverage: the top-left rule against an independent exact reference, shared edges and fans written once,
+// sub-pixel snapping, 4 samples, scissor and render area, draw order across tiles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "raster_harness.hpp"
+
+namespace vkrt::raster::test {
+namespace {
+
+constexpr int32_t kSampleX[4] = {96, 224, 32, 160}, kSampleY[4] = {32, 96, 160, 224};
+
+// Draws the triangles (framebuffer coordinates in 1/256 pixel) counting writes per sample, and compares every
+// sample with the reference rule summed over the triangles.
+void checkAgainstReference(const std::vector<std::array<int64_t, 6>>& tris, uint32_t samples, uint32_t size = 64) {
+  Harness h(size, size, samples);
+  countWrites(h);
+  for (const auto& t : tris)
+    for (int i = 0; i < 3; ++i) h.vertex(float(t[2 * i]) / 256, float(t[2 * i + 1]) / 256);
+  h.run();
+  for (uint32_t y = 0; y < size; ++y) {
+    for (uint32_t x = 0; x < size; ++x) {
+      for (uint32_t s = 0; s < samples; ++s) {
+        const int64_t px = int64_t(x) * 256 + (samples == 1 ? 128 : kSampleX[s]);
+        const int64_t py = int64_t(y) * 256 + (samples == 1 ? 128 : kSampleY[s]);
+        int expected = 0;
+        for (const auto& t : tris) {
+          const int64_t X[3] = {t[0], t[2], t[4]}, Y[3] = {t[1], t[3], t[5]};
+          expected += referenceCovered(X, Y, px, py);
+        }
+        ASSERT_EQ(h.color.f(x, y, 0, s), float(expected)) << "pixel " << x << "," << y << " sample " << s;
+      }
+    }
+  }
+}
+
+TEST(RasterCoverage, RandomTrianglesMatchTheReference) {
+  std::mt19937 rng(7);
+  // Coordinates on the sub-pixel grid, many of them on pixel centres and sample rows so that edges pass through
+  // samples exactly.
+  std::uniform_int_distribution<int> coarse(0, 64 * 2), fine(0, 64 * 256);
+  for (uint32_t samples : {1u, 4u}) {
+    std::vector<std::array<int64_t, 6>> tris;
+    for (int i = 0; i < 40; ++i) {
+      std::array<int64_t, 6> t;
+      for (auto& c : t) c = (i % 2) ? fine(rng) : coarse(rng) * 128;
+      tris.push_back(t);
+    }
+    checkAgainstReference(tris, samples);
+  }
+}
+
+TEST(RasterCoverage, SharedEdgesAreWrittenOnce) {
+  // A square split along its diagonal (both windings), and a fan of 8 triangles around a point on a pixel centre.
+  const int64_t a = 3 * 256 + 128, b = 40 * 256 + 128;
+  std::vector<std::array<int64_t, 6>> tris = {{a, a, b, a, b, b}, {a, a, a, b, b, b}};
+  checkAgainstReference(tris, 1);
+  checkAgainstReference(tris, 4);
+  std::vector<std::array<int64_t, 6>> fan;
+  const int64_t cx = 32 * 256 + 128, cy = 32 * 256 + 128;
+  const int64_t ring[8][2] = {{cx + 5000, cy}, {cx + 3000, cy + 3000}, {cx, cy + 5000}, {cx - 3000, cy + 3000},
+                              {cx - 5000, cy}, {cx - 3000, cy - 3000}, {cx, cy - 5000}, {cx + 3000, cy - 3000}};
+  for (int i = 0; i < 8; ++i) {
+    const int j = (i + 1) % 8;
+    fan.push_back({cx, cy, ring[i][0], ring[i][1], ring[j][0], ring[j][1]});
+  }
+  for (uint32_t samples : {1u, 4u}) {
+    checkAgainstReference(fan, samples);
+    // and no sample inside the octagon is written twice or missed
+    Harness h(64, 64, samples);
+    countWrites(h);
+    for (const auto& t : fan)
+      for (int i = 0; i < 3; ++i) h.vertex(float(t[2 * i]) / 256, float(t[2 * i + 1]) / 256);
+    h.run();
+    for (uint32_t s = 0; s < samples; ++s) EXPECT_LE(h.color.f(32, 32, 0, s), 1.0f);
+    EXPECT_EQ(h.color.f(32, 32, 0, 0), 1.0f);
+  }
+}
+
+TEST(RasterCoverage, VerticesSnapToTheSubPixelGrid) {
+  // 1/1024 pixel off the grid snaps back: the same samples as the triangle on the grid.
+  Harness exact, off;
+  countWrites(exact);
+  countWrites(off);
+  exact.vertex(10.5f, 10.5f), exact.vertex(20.5f, 10.5f), exact.vertex(10.5f, 20.5f);
+  off.vertex(10.5f + 1.0f / 1024, 10.5f - 1.0f / 1024), off.vertex(20.5f + 1.0f / 1024, 10.5f);
+  off.vertex(10.5f, 20.5f - 1.0f / 1024);
+  exact.run();
+  off.run();
+  EXPECT_EQ(exact.color.data, off.color.data);
+  // Pixel (10, 10)'s centre is the top-left corner: on a top and a left edge, covered; (20, 10) is on the
+  // hypotenuse's end, not covered.
+  EXPECT_EQ(exact.color.f(10, 10), 1.0f);
+  EXPECT_EQ(exact.color.f(20, 10), 0.0f);
+}
+
+TEST(RasterCoverage, ScissorAndRenderAreaLimitCoverage) {
+  Harness h;
+  countWrites(h);
+  h.state.scissors[0] = Rect{5, 6, 20, 30};
+  h.target.renderArea = Rect{10, 0, 50, 30};
+  h.vertex(0, 0), h.vertex(64, 0), h.vertex(0, 64);
+  h.vertex(64, 0), h.vertex(64, 64), h.vertex(0, 64);
+  h.run();
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 64; ++x) {
+      const bool inside = x >= 10 && x < 25 && y >= 6 && y < 30;
+      ASSERT_EQ(h.color.f(x, y), inside ? 1.0f : 0.0f) << x << "," << y;
+    }
+}
+
+TEST(RasterCoverage, LaterTrianglesWinAcrossTiles) {
+  // 200 overlapping full-screen-ish triangles over 3x3 tiles, each writing its index: every pixel holds the last
+  // triangle covering it.
+  Harness h(160, 160);
+  h.mode = FragMode::Input0;
+  std::vector<Vec4> values;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-20.0f, 180.0f);
+  std::vector<std::array<float, 6>> tris;
+  for (int i = 0; i < 200; ++i) {
+    std::array<float, 6> t;
+    for (auto& c : t) c = std::round(u(rng) * 256) / 256;
+    tris.push_back(t);
+    for (int k = 0; k < 3; ++k) h.vertex(t[2 * k], t[2 * k + 1]), values.push_back(Vec4{float(i), 0, 0, 1});
+  }
+  h.addInput(Interpolation::Flat, values);
+  h.color.fillF({-1, 0, 0, 0});
+  h.run();
+  for (uint32_t y = 0; y < 160; y += 3)
+    for (uint32_t x = 0; x < 160; x += 3) {
+      float expected = -1;
+      for (int i = 0; i < 200; ++i) {
+        int64_t X[3], Y[3];
+        for (int k = 0; k < 3; ++k)
+          X[k] = std::llround(tris[i][2 * k] * 256), Y[k] = std::llround(tris[i][2 * k + 1] * 256);
+        if (referenceCovered(X, Y, int64_t(x) * 256 + 128, int64_t(y) * 256 + 128)) expected = float(i);
+      }
+      ASSERT_EQ(h.color.f(x, y), expected) << x << "," << y;
+    }
+}
+
+TEST(RasterCoverage, FourSamplesHalfCoveredPixel) {
+  // A vertical edge at x = 10.5: samples 0 and 2 (x 0.375, 0.125) of pixel 10 are left of it, 1 and 3 right.
+  Harness h(16, 16, 4);
+  countWrites(h);
+  h.vertex(10.5f, 0), h.vertex(10.5f, 16), h.vertex(0, 0);
+  h.run();
+  EXPECT_EQ(h.color.f(10, 5, 0, 0), 1.0f);
+  EXPECT_EQ(h.color.f(10, 5, 0, 1), 0.0f);
+  EXPECT_EQ(h.color.f(10, 5, 0, 2), 1.0f);
+  EXPECT_EQ(h.color.f(10, 5, 0, 3), 0.0f);
+  for (uint32_t s = 0; s < 4; ++s) EXPECT_EQ(h.color.f(11, 5, 0, s), 0.0f);
+}
+
+TEST(RasterCoverage, SampleMaskAndAlphaToCoverage) {
+  Harness h(8, 8, 4);
+  countWrites(h);
+  h.state.sampleMask = 0b1011;
+  h.vertex(0, 0), h.vertex(8, 0), h.vertex(0, 8);
+  h.vertex(8, 0), h.vertex(8, 8), h.vertex(0, 8);
+  h.run();
+  EXPECT_EQ(h.color.f(3, 3, 0, 0), 1.0f);
+  EXPECT_EQ(h.color.f(3, 3, 0, 1), 1.0f);
+  EXPECT_EQ(h.color.f(3, 3, 0, 2), 0.0f);
+  EXPECT_EQ(h.color.f(3, 3, 0, 3), 1.0f);
+
+  Harness a(8, 8, 4);
+  a.state.alphaToCoverage = true;
+  a.alpha0 = 0.5f;  // two of four samples
+  a.constant = {1, 0, 0, 0};
+  a.fs.canDiscard = false;
+  a.vertex(0, 0), a.vertex(8, 0), a.vertex(0, 8);
+  a.vertex(8, 0), a.vertex(8, 8), a.vertex(0, 8);
+  a.run();
+  int written = 0;
+  for (uint32_t s = 0; s < 4; ++s) written += a.color.f(2, 2, 0, s) == 1.0f;
+  EXPECT_EQ(written, 2);
+  // Alpha 0: nothing written.
+  Harness z(8, 8, 4);
+  z.state.alphaToCoverage = true;
+  z.alpha0 = 0;
+  z.vertex(0, 0), z.vertex(8, 0), z.vertex(0, 8);
+  z.run();
+  for (uint32_t s = 0; s < 4; ++s) EXPECT_EQ(z.color.f(1, 1, 0, s), 0.0f);
+}
+
+TEST(RasterCoverage, HelperLanesRunOnlyWhenNeeded) {
+  // One triangle covering only pixel (0, 0)'s centre within quad (0, 0); input 0 = x_f (linear), so a helper
+  // lane's input is its pixel centre's x.
+  for (bool helpers : {false, true}) {
+    Harness h(8, 8);
+    h.fs.needsHelpers = helpers;
+    h.mode = FragMode::Input0;
+    h.vertex(0, 0), h.vertex(1.5f, 0), h.vertex(0, 1.5f);
+    h.addInput(Interpolation::NoPerspective, {{0, 0, 0, 1}, {1.5f, 0, 0, 1}, {0, 0, 0, 1}});
+    h.run();
+    EXPECT_EQ(h.color.f(0, 0), 0.5f);
+    EXPECT_EQ(h.color.f(1, 0), 0.0f);
+    ASSERT_EQ(h.helperRuns.size(), helpers ? 3u : 0u);
+    for (size_t i = 0; i < h.helperRuns.size(); ++i)
+      EXPECT_FLOAT_EQ(h.helperValues[i], float(h.helperRuns[i] % 8) + 0.5f);
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test

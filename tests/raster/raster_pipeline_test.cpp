@@ -1,0 +1,307 @@
+// The geometry side: clipping (near plane, vertices behind the eye, clip and cull distances), culling and winding,
+// interpolation (perspective, linear, flat), primitive restart and IDs, points, lines, multiview.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "raster_harness.hpp"
+
+namespace vkrt::raster::test {
+namespace {
+
+// Screen-space barycentrics of (px, py) in a triangle given in framebuffer coordinates (double, independent of
+// the rasterizer's fixed point).
+void bary(const double* x, const double* y, double px, double py, double b[3]) {
+  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    b[i] = ((x[k] - x[j]) * (py - y[j]) - (y[k] - y[j]) * (px - x[j])) / area;
+  }
+}
+
+TEST(RasterInterpolation, PerspectiveLinearAndFlat) {
+  const double X[3] = {4, 60, 10}, Y[3] = {6, 20, 58}, W[3] = {1, 4, 2};
+  const Vec4 a[3] = {{1, 0, 0, 1}, {0, 10, 0, 1}, {0, 0, 100, 1}};
+  for (int mode = 0; mode < 3; ++mode) {
+    for (bool last : {false, true}) {
+      Harness h;
+      h.mode = FragMode::Input0;
+      h.state.lastVertexProvoking = last;
+      for (int i = 0; i < 3; ++i) h.vertex(float(X[i]), float(Y[i]), 0.5f, float(W[i]));
+      const Interpolation kinds[3] = {Interpolation::Smooth, Interpolation::NoPerspective, Interpolation::Flat};
+      h.addInput(kinds[mode], {a[0], a[1], a[2]});
+      h.run();
+      int checked = 0;
+      for (uint32_t y = 0; y < 64; ++y)
+        for (uint32_t x = 0; x < 64; ++x) {
+          double b[3];
+          bary(X, Y, x + 0.5, y + 0.5, b);
+          if (b[0] < 0.01 || b[1] < 0.01 || b[2] < 0.01) continue;  // well inside only
+          for (int c = 0; c < 3; ++c) {
+            double expected;
+            if (mode == 0) {
+              const double den = b[0] / W[0] + b[1] / W[1] + b[2] / W[2];
+              expected = (b[0] * a[0][c] / W[0] + b[1] * a[1][c] / W[1] + b[2] * a[2][c] / W[2]) / den;
+            } else if (mode == 1) {
+              expected = b[0] * a[0][c] + b[1] * a[1][c] + b[2] * a[2][c];
+            } else {
+              expected = a[last ? 2 : 0][c];
+            }
+            ASSERT_NEAR(h.color.f(x, y, c), expected, 1e-3 * (1 + std::fabs(expected))) << x << "," << y;
+          }
+          ++checked;
+        }
+      EXPECT_GT(checked, 300);
+    }
+  }
+}
+
+TEST(RasterClip, NearPlaneCutsTheTriangle) {
+  // Orthographic (w = 1): z from -0.5 to 1 across the triangle; z_c < 0 is clipped, so a pixel is drawn when its
+  // interpolated z is >= 0.
+  Harness h;
+  countWrites(h);
+  const double X[3] = {4, 60, 4}, Y[3] = {4, 4, 60}, Z[3] = {-0.5, 1, 1};
+  for (int i = 0; i < 3; ++i) h.vertex(float(X[i]), float(Y[i]), float(Z[i]));
+  h.run();
+  int drawn = 0;
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 64; ++x) {
+      double b[3];
+      bary(X, Y, x + 0.5, y + 0.5, b);
+      const double z = b[0] * Z[0] + b[1] * Z[1] + b[2] * Z[2];
+      const double edge = std::min({b[0], b[1], b[2]});
+      if (std::fabs(edge) < 0.02 || std::fabs(z) < 0.02) continue;
+      const float expected = edge > 0 && z > 0 ? 1.0f : 0.0f;
+      ASSERT_EQ(h.color.f(x, y), expected) << x << "," << y;
+      drawn += expected > 0;
+    }
+  EXPECT_GT(drawn, 500);
+}
+
+TEST(RasterClip, VertexBehindTheEye) {
+  // A floor triangle in view space (y = -1) with one vertex behind the eye (w < 0). Projection: x_c = x, y_c = y,
+  // w_c = -z, z_c = w_c - 0.1. Expected: the pixel's ray hits the floor inside the triangle, in front of the near
+  // plane; and the perspective-correct input (the view-space x and z) is the hit point.
+  Harness h;
+  h.mode = FragMode::Input0;
+  const double V[3][3] = {{0, -1, 2}, {-3, -1, -4}, {3, -1, -4}};
+  std::vector<Vec4> values;
+  for (const auto& v : V) {
+    const float w = float(-v[2]);
+    h.pos.push_back(Vec4{float(v[0]), float(v[1]), w - 0.1f, w});
+    values.push_back(Vec4{float(v[0]), float(v[2]), 0, 1});
+  }
+  h.addInput(Interpolation::Smooth, values);
+  h.color.fillF({0, 0, 0, 0});
+  h.run();
+  int hits = 0;
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 64; ++x) {
+      const double nx = (x + 0.5) / 32 - 1, ny = (y + 0.5) / 32 - 1;  // NDC; the ray is (nx, ny, -1) * t
+      bool inside = false, clear = true;
+      double hx = 0, hz = 0;
+      if (ny < 0) {
+        const double t = -1 / ny;
+        hx = nx * t, hz = -t;
+        // Inside the triangle in the xz plane, with a margin.
+        double minD = 1e9;
+        bool in = true;
+        for (int i = 0; i < 3; ++i) {
+          const int j = (i + 1) % 3;
+          const double ex = V[j][0] - V[i][0], ez = V[j][2] - V[i][2];
+          const double d = (ex * (hz - V[i][2]) - ez * (hx - V[i][0])) / std::sqrt(ex * ex + ez * ez);
+          minD = std::min(minD, std::fabs(d));
+          in = in && d > 0;
+        }
+        inside = in && t > 0.1;
+        clear = minD > 0.1 && std::fabs(t - 0.1) > 0.01;
+      }
+      if (!clear) continue;
+      const bool drawn = h.color.f(x, y, 3) == 1.0f;
+      ASSERT_EQ(drawn, inside) << x << "," << y;
+      if (inside) {
+        ++hits;
+        EXPECT_NEAR(h.color.f(x, y, 0), hx, 2e-3 * (1 + std::fabs(hx)));
+        EXPECT_NEAR(h.color.f(x, y, 1), hz, 2e-3 * (1 + std::fabs(hz)));
+      }
+    }
+  EXPECT_GT(hits, 200);
+}
+
+TEST(RasterClip, ClipAndCullDistances) {
+  // Clip distance = x_f - 20: the left part is cut at x = 20.
+  Harness h;
+  countWrites(h);
+  h.vs.clipDistanceCount = 1;
+  h.vertex(4, 4), h.vertex(60, 4), h.vertex(4, 60);
+  h.clipDist = {{4 - 20.0f, 60 - 20.0f, 4 - 20.0f}};
+  h.run();
+  EXPECT_EQ(h.color.f(19, 10), 0.0f);
+  EXPECT_EQ(h.color.f(20, 10), 1.0f);
+  // Cull distance negative at every vertex: dropped; negative at two only: kept whole.
+  Harness c;
+  countWrites(c);
+  c.vs.cullDistanceCount = 1;
+  c.vertex(4, 4), c.vertex(60, 4), c.vertex(4, 60);
+  c.clipDist = {{-1, -1, -1}};
+  c.run();
+  EXPECT_EQ(c.color.f(10, 10), 0.0f);
+  c.clipDist = {{-1, 1, -1}};
+  c.run();
+  EXPECT_EQ(c.color.f(5, 5), 1.0f);
+}
+
+TEST(RasterCull, WindingFrontFaceAndStrips) {
+  // (10,10) (10,50) (50,10): positive area by the spec's formula, counter-clockwise.
+  struct Case {
+    FrontFace face;
+    uint8_t cull;
+    float expected;  // 0: culled; 1: drawn front; 2: drawn back
+  } cases[] = {{FrontFace::CounterClockwise, 0, 1},
+               {FrontFace::CounterClockwise, CullBack, 1},
+               {FrontFace::CounterClockwise, CullFront, 0},
+               {FrontFace::Clockwise, 0, 2},
+               {FrontFace::Clockwise, CullBack, 0},
+               {FrontFace::Clockwise, CullFront, 2},
+               {FrontFace::CounterClockwise, CullFront | CullBack, 0}};
+  for (const Case& k : cases) {
+    for (Topology topo : {Topology::TriangleList, Topology::TriangleStrip, Topology::TriangleFan}) {
+      Harness h;
+      h.mode = FragMode::Facing;
+      h.state.frontFace = k.face;
+      h.state.cullMode = k.cull;
+      h.state.topology = topo;
+      // Strip: (10,10) (10,50) (50,10) (50,50): the second triangle (odd) keeps the first's winding.
+      // Fan: centre (10,10) then (10,50) (50,10)... as (v1, v2, v0); then (50,10) (40,0)...
+      h.vertex(10, 10), h.vertex(10, 50), h.vertex(50, 10);
+      if (topo == Topology::TriangleStrip) h.vertex(50, 50);
+      if (topo == Topology::TriangleFan) h.vertex(30, 2);
+      h.run();
+      EXPECT_EQ(h.color.f(15, 15), k.expected) << int(k.face) << " " << int(k.cull) << " " << int(topo);
+      if (topo == Topology::TriangleStrip) {
+        EXPECT_EQ(h.color.f(45, 45), k.expected);
+      }
+      if (topo == Topology::TriangleFan) {
+        EXPECT_EQ(h.color.f(30, 6), k.expected);
+      }
+    }
+  }
+}
+
+TEST(RasterAssembly, PrimitiveRestartAndIds) {
+  Harness h;
+  h.state.topology = Topology::TriangleStrip;
+  h.state.primitiveRestart = true;
+  // Strip A: 0 1 2 3 (two triangles); restart; strip B: 4 5 6.
+  h.vertex(2, 2), h.vertex(2, 20), h.vertex(20, 2), h.vertex(20, 20);
+  h.vertex(40, 40), h.vertex(40, 60), h.vertex(60, 40);
+  const uint16_t idx[] = {0, 1, 2, 3, 0xFFFF, 4, 5, 6};
+  h.draw.indexType = IndexType::UInt16;
+  h.draw.indices = idx;
+  h.draw.indexBytes = sizeof(idx);
+  h.run(8);
+  EXPECT_EQ(h.primIds[5 * 64 + 5], 0u);
+  EXPECT_EQ(h.primIds[18 * 64 + 18], 1u);
+  EXPECT_EQ(h.primIds[42 * 64 + 42], 2u);   // restart does not count
+  EXPECT_EQ(h.primIds[30 * 64 + 30], ~0u);  // no triangle bridges the restart
+  // Without restart, 0xFFFF is an index (reads vertex 0 in this shader) and bridges.
+  Harness n;
+  n.state.topology = Topology::TriangleStrip;
+  n.pos = h.pos;
+  n.draw.indexType = IndexType::UInt16;
+  n.draw.indices = idx;
+  n.draw.indexBytes = sizeof(idx);
+  n.run(8);
+  EXPECT_NE(n.primIds[42 * 64 + 42], ~0u);
+  // Indices past indexBytes read 0.
+  Harness r;
+  r.pos = h.pos;
+  const uint32_t idx32[] = {4, 5, 6, 1};
+  r.draw.indexType = IndexType::UInt32;
+  r.draw.indices = idx32;
+  r.draw.indexBytes = 12;  // the 4th index and beyond read as 0
+  r.draw.count = 6;        // triangles (4,5,6) and (0,0,0)
+  r.draw.varyingCount = 0;
+  raster::draw(r.target, r.state, r.draw, r.vs, r.fs);
+  EXPECT_EQ(r.primIds[42 * 64 + 42], 0u);
+}
+
+TEST(RasterPoint, SizeAndPointCoord) {
+  Harness h;
+  h.mode = FragMode::PointCoord;
+  h.state.topology = Topology::PointList;
+  h.vertex(20, 20);
+  h.vertex(40.5f, 40.5f);
+  h.pointSize = {4, 100};
+  h.run(1);  // the first point only
+  for (uint32_t y = 16; y < 24; ++y)
+    for (uint32_t x = 16; x < 24; ++x) {
+      const bool in = x >= 18 && x < 22 && y >= 18 && y < 22;
+      ASSERT_EQ(h.color.f(x, y, 3), in ? 1.0f : 0.0f) << x << "," << y;
+      if (in) {
+        EXPECT_FLOAT_EQ(h.color.f(x, y, 0), 0.5f + (x + 0.5f - 20) / 4);
+        EXPECT_FLOAT_EQ(h.color.f(x, y, 1), 0.5f + (y + 0.5f - 20) / 4);
+      }
+    }
+  // Size 1 on a pixel centre: exactly that pixel.
+  Harness one;
+  countWrites(one);
+  one.state.topology = Topology::PointList;
+  one.vertex(7.5f, 9.5f);
+  one.run();
+  float sum = 0;
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 64; ++x) sum += one.color.f(x, y);
+  EXPECT_EQ(sum, 1.0f);
+  EXPECT_EQ(one.color.f(7, 9), 1.0f);
+}
+
+TEST(RasterLine, WidthOneCoverage) {
+  // Horizontal: (5.5, 10.5) -> (20.5, 10.5) covers pixels 5..19 of row 10.
+  Harness h;
+  countWrites(h);
+  h.state.topology = Topology::LineList;
+  h.vertex(5.5f, 10.5f), h.vertex(20.5f, 10.5f);
+  // x-major diagonal: one pixel per column.
+  h.vertex(2, 30.3f), h.vertex(40, 50.1f);
+  h.run();
+  for (uint32_t x = 0; x < 30; ++x) {
+    EXPECT_EQ(h.color.f(x, 10), x >= 5 && x < 20 ? 1.0f : 0.0f) << x;
+    EXPECT_EQ(h.color.f(x, 9), 0.0f);
+    EXPECT_EQ(h.color.f(x, 11), 0.0f);
+  }
+  for (uint32_t x = 2; x < 40; ++x) {
+    float column = 0;
+    for (uint32_t y = 25; y < 56; ++y) column += h.color.f(x, y);
+    EXPECT_EQ(column, 1.0f) << x;
+  }
+}
+
+TEST(RasterMultiview, EachViewRendersItsLayer) {
+  Harness h;
+  h.color = Image(64, 64, 16, 1, 3);
+  h.mode = FragMode::Facing;
+  h.target.viewMask = 0b101;
+  h.vertex(0, 0), h.vertex(64, 0), h.vertex(0, 64);
+  h.run();
+  EXPECT_EQ(h.color.f(5, 5, 1, 0, 0), 0.0f);  // view 0: viewIndex 0
+  EXPECT_EQ(h.color.f(5, 5, 3, 0, 0), 1.0f);
+  EXPECT_EQ(h.color.f(5, 5, 3, 0, 1), 0.0f);  // layer 1 untouched
+  EXPECT_EQ(h.color.f(5, 5, 1, 0, 2), 2.0f);  // view 2
+  EXPECT_EQ(h.color.f(5, 5, 2, 0, 2), 2.0f);
+}
+
+TEST(RasterAssembly, InstancesKeepOrder) {
+  // Two instances; the vertex shader ignores the instance so instance 1 draws over instance 0 with the same
+  // primitive IDs; the draw must still write each pixel (count 2 with additive blending).
+  Harness h;
+  countWrites(h);
+  h.draw.instanceCount = 2;
+  h.vertex(0, 0), h.vertex(64, 0), h.vertex(0, 64);
+  h.run();
+  EXPECT_EQ(h.color.f(3, 3), 2.0f);
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
