@@ -40,6 +40,13 @@ void vkrt_image_fetch(const vkrt::abi::DescriptorRecord* img, const int32_t coor
 // OpImageSampleExplicitLod with a Lod operand: filtered with the sampler of `smp`, view swizzle applied.
 void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
                        const float coord[4], float lod, uint32_t out[4]);
+// Sampling with gradients: OpImageSampleImplicitLod in fragment shaders (the coordinates' quad derivatives, with the
+// Bias operand, NaN when none) and OpImageSampleExplicitLod with the Grad operand (bias NaN). `ddx`, `ddy`: the
+// derivatives of the coordinates (the first dims components count). The level of detail follows "Scale Factor
+// Operation" (isotropic: the larger scale factor) and "Level-of-Detail Operation" with the view's base level size,
+// the sampler's mipLodBias, minLod and maxLod.
+void vkrt_image_sample_grad(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                            const float coord[4], const float ddx[4], const float ddy[4], float bias, uint32_t out[4]);
 // OpImageQuerySize(Lod): the view's size at mip `lod` in view-type order (x, y, z or layers); zeros when null.
 void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
 // OpImageQueryLevels.

@@ -1,66 +1,13 @@
 #include "exec/compute.hpp"
 
-#include <sys/mman.h>
-#include <xmmintrin.h>
-
 #include <atomic>
 #include <cstring>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "exec/fiber_group.hpp"
 #include "exec/thread_pool.hpp"
-
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/asan_interface.h>
-#include <sanitizer/common_interface_defs.h>
-#define VKRT_ASAN_FIBERS 1
-#endif
-// ThreadSanitizer follows a thread through a fiber switch only when told which fiber runs next.
-#if defined(__SANITIZE_THREAD__)
-#include <sanitizer/tsan_interface.h>
-#define VKRT_TSAN_FIBERS 1
-#endif
-
-// The fibers' context switch: x86-64 System V keeps rbx, rbp, r12-r15, rsp and the control bits of MXCSR and the
-// x87 control word across calls, so a switch saves those on the stack it leaves, stores that stack pointer in
-// *saveSp, and loads the others from `loadSp`'s stack. Nothing else: unlike swapcontext, which saved and restored the
-// signal mask with a system call each time (rt_sigprocmask; a 256-invocation workgroup with one barrier made about
-// 1,300 of them), a switch here costs a few dozen instructions. (The signal mask is the worker thread's and no
-// fiber changes it.)
-extern "C" void vkrt_fiber_switch(void** saveSp, void* loadSp);
-asm(R"(
-  .text
-  .p2align 4
-  .globl vkrt_fiber_switch
-  .hidden vkrt_fiber_switch
-  .type vkrt_fiber_switch, @function
-vkrt_fiber_switch:
-  .cfi_startproc
-  pushq %rbp
-  pushq %rbx
-  pushq %r12
-  pushq %r13
-  pushq %r14
-  pushq %r15
-  subq $8, %rsp
-  stmxcsr (%rsp)
-  fnstcw 4(%rsp)
-  movq %rsp, (%rdi)
-  movq %rsi, %rsp
-  ldmxcsr (%rsp)
-  fldcw 4(%rsp)
-  addq $8, %rsp
-  popq %r15
-  popq %r14
-  popq %r13
-  popq %r12
-  popq %rbx
-  popq %rbp
-  ret
-  .cfi_endproc
-  .size vkrt_fiber_switch, .-vkrt_fiber_switch
-)");
 
 namespace vkrt::exec {
 
@@ -68,152 +15,16 @@ namespace {
 
 using abi::InvocationContext;
 
-constexpr size_t kFiberStackBytes = 256 * 1024;  // usable bytes; a guard page sits below each stack
-constexpr size_t kGuardBytes = 4096;
-
-struct Scheduler;
-
-struct Fiber {
-  void* sp = nullptr;   // the saved stack pointer while the fiber is not running (vkrt_fiber_switch)
-  sigjmp_buf recovery;  // where a fault or a cancellation of this fiber's shader code jumps (exec/supervise.hpp)
-  bool aborted = false;
-  uint8_t* stack = nullptr;  // usable stack (the guard page is just below)
-  InvocationContext inv;
-  bool done = false;
-  Scheduler* scheduler = nullptr;
-#if VKRT_TSAN_FIBERS
-  void* tsanFiber = nullptr;  // created on first use
-  ~Fiber() {
-    if (tsanFiber) __tsan_destroy_fiber(tsanFiber);
-  }
-#endif
-};
-
-struct Scheduler {
-  void* mainSp = nullptr;  // the worker's stack pointer while a fiber runs
-  abi::ComputeEntry entry = nullptr;
-  const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
-  size_t mainSize = 0;
-#if VKRT_TSAN_FIBERS
-  void* tsanMain = nullptr;  // the worker thread's own fiber
-#endif
-};
-
-// Per worker thread: fiber stacks, workgroup memory and the sink, reused from dispatch to dispatch.
+// Per worker thread: workgroup memory, the sink and the contexts of a workgroup with barriers, reused from dispatch to
+// dispatch (the fiber stacks are exec/fiber_group.cpp's).
 struct WorkerScratch {
-  std::vector<uint8_t*> stacks;  // mmap'd regions (guard page + stack)
-  std::unique_ptr<Fiber[]> fibers;
-  size_t fiberCount = 0;
   std::vector<uint64_t> workgroupMemory;  // 8-byte aligned; sized in bytes / 8
+  std::vector<InvocationContext> contexts;
+  std::vector<InvocationContext*> pointers;
   alignas(16) uint8_t sink[abi::kSinkBytes];
-
-  ~WorkerScratch() {
-    for (uint8_t* s : stacks) munmap(s, kFiberStackBytes + kGuardBytes);
-  }
-  bool ensureFibers(size_t n) {
-    while (stacks.size() < n) {
-      void* p = mmap(nullptr, kFiberStackBytes + kGuardBytes, PROT_READ | PROT_WRITE,
-                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-      if (p == MAP_FAILED) return false;
-      mprotect(p, kGuardBytes, PROT_NONE);  // a stack overflow faults instead of corrupting memory
-      stacks.push_back(static_cast<uint8_t*>(p));
-    }
-    if (fiberCount < n) {
-      fibers.reset(new (std::nothrow) Fiber[n]);
-      if (!fibers) return false;
-      fiberCount = n;
-    }
-    return true;
-  }
 };
-
-thread_local Fiber* tlsStarting = nullptr;
 
 void noBarrier(InvocationContext*) {}
-
-// A fiber's first function (its stack is laid out by makeFiber so that the first switch to it returns here). It
-// never returns: it ends by switching to the scheduler for good. Not instrumented by ThreadSanitizer: it switches
-// ThreadSanitizer to the scheduler's fiber before it leaves, where an instrumented function's exit would pop the
-// scheduler's shadow stack.
-#if VKRT_TSAN_FIBERS
-__attribute__((no_sanitize_thread))
-#endif
-[[noreturn]] void
-fiberMain() {
-  Fiber* f = tlsStarting;
-#if VKRT_ASAN_FIBERS
-  __sanitizer_finish_switch_fiber(nullptr, &f->scheduler->mainBottom, &f->scheduler->mainSize);
-#endif
-  // A fault or a cancellation comes back here, on the fiber's own stack; the fiber then ends as usual.
-  if (sigsetjmp(f->recovery, 0) == 0) {
-    f->scheduler->entry(&f->inv);
-  } else {
-    f->aborted = true;
-  }
-  f->done = true;
-#if VKRT_ASAN_FIBERS
-  __sanitizer_start_switch_fiber(nullptr, f->scheduler->mainBottom, f->scheduler->mainSize);
-#endif
-#if VKRT_TSAN_FIBERS
-  __tsan_switch_to_fiber(f->scheduler->tsanMain, 0);
-#endif
-  vkrt_fiber_switch(&f->sp, f->scheduler->mainSp);  // never resumed: the scheduler does not resume a done fiber
-  __builtin_unreachable();
-}
-
-// Lays out a fresh fiber's stack as vkrt_fiber_switch leaves a stack it switches away from, so that the first switch
-// to it "returns" into fiberMain: from the top, a return address slot aligned as after a call (the stack pointer is 8
-// past a multiple of 16 at a function's entry), the six callee-saved registers (zero: rbp = 0 ends the frame chain
-// for debuggers and unwinders), and the floating-point control words of the creating thread.
-void makeFiber(Fiber& f) {
-  uintptr_t top = (reinterpret_cast<uintptr_t>(f.stack) + kFiberStackBytes) & ~uintptr_t(15);
-  uint64_t* sp = reinterpret_cast<uint64_t*>(top - 16);
-  sp[0] = reinterpret_cast<uint64_t>(&fiberMain);
-  for (int r = 1; r <= 6; ++r) sp[-r] = 0;  // rbp, rbx, r12, r13, r14, r15
-  uint32_t control[2] = {_mm_getcsr(), 0};
-  uint16_t x87 = 0;
-  asm volatile("fnstcw %0" : "=m"(x87));
-  control[1] = x87;
-  std::memcpy(&sp[-7], control, 8);
-  f.sp = &sp[-7];
-}
-
-// OpControlBarrier(Workgroup): back to the scheduler, which runs the other invocations up to the barrier.
-void fiberBarrier(InvocationContext* inv) {
-  Fiber* f = static_cast<Fiber*>(inv->executor);
-  Scheduler* s = f->scheduler;
-#if VKRT_ASAN_FIBERS
-  void* fake = nullptr;
-  __sanitizer_start_switch_fiber(&fake, s->mainBottom, s->mainSize);
-#endif
-#if VKRT_TSAN_FIBERS
-  __tsan_switch_to_fiber(s->tsanMain, 0);
-#endif
-  vkrt_fiber_switch(&f->sp, s->mainSp);
-#if VKRT_ASAN_FIBERS
-  __sanitizer_finish_switch_fiber(fake, &s->mainBottom, &s->mainSize);
-#endif
-}
-
-void resume(Scheduler& s, Fiber& f) {
-#if VKRT_ASAN_FIBERS
-  void* fake = nullptr;
-  __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
-#endif
-  tlsStarting = &f;
-  sigjmp_buf* outer = swapRecoveryPoint(&f.recovery);
-  setRunning(nullptr, f.inv.globalId, Abort::GlobalInvocation);
-#if VKRT_TSAN_FIBERS
-  if (!f.tsanFiber) f.tsanFiber = __tsan_create_fiber(0);
-  s.tsanMain = __tsan_get_current_fiber();
-  __tsan_switch_to_fiber(f.tsanFiber, 0);
-#endif
-  vkrt_fiber_switch(&s.mainSp, f.sp);
-#if VKRT_ASAN_FIBERS
-  __sanitizer_finish_switch_fiber(fake, nullptr, nullptr);
-#endif
-  swapRecoveryPoint(outer);
-}
 
 void setIds(InvocationContext& inv, const uint32_t wg[3], const uint32_t local[3], const uint32_t size[3]) {
   for (int i = 0; i < 3; ++i) {
@@ -261,54 +72,22 @@ void runWorkgroup(const ComputeDispatch& d, const InvocationContext& proto, uint
       return;
     }
 
-    if (!scratch.ensureFibers(invocations)) {
-      failed = true;
-      return;
+    if (scratch.contexts.size() < invocations) {
+      scratch.contexts.resize(invocations);
+      scratch.pointers.resize(invocations);
     }
-    Scheduler s;
-    s.entry = sh.entry;
     for (uint64_t i = 0; i < invocations; ++i) {
-      Fiber& f = scratch.fibers[i];
-      f.done = false;
-      f.aborted = false;
-      f.scheduler = &s;
-      f.stack = scratch.stacks[i] + kGuardBytes;
-      f.inv = proto;
-      f.inv.workgroupMemory = wgMem;
-      f.inv.sink = scratch.sink;
-      f.inv.executor = &f;
+      InvocationContext& inv = scratch.contexts[i];
+      inv = proto;
+      inv.workgroupMemory = wgMem;
+      inv.sink = scratch.sink;
       uint32_t local[3] = {uint32_t(i % size[0]), uint32_t(i / size[0] % size[1]),
                            uint32_t(i / (uint64_t(size[0]) * size[1]))};
-      setIds(f.inv, wg, local, size);
-      makeFiber(f);
+      setIds(inv, wg, local, size);
+      scratch.pointers[i] = &inv;
     }
-    // Round-robin: each round takes every unfinished invocation to its next barrier (or its end).
-    for (bool again = true; again;) {
-      again = false;
-      for (uint64_t i = 0; i < invocations; ++i) {
-        Fiber& f = scratch.fibers[i];
-        if (f.done) continue;
-        resume(s, f);
-        if (f.aborted) {
-          // The workgroup ends here: the fibers still waiting at a barrier are abandoned (each workgroup makes
-          // its contexts afresh).
-#if VKRT_TSAN_FIBERS
-          for (uint64_t k = 0; k < invocations; ++k)
-            if (scratch.fibers[k].tsanFiber) {
-              __tsan_destroy_fiber(scratch.fibers[k].tsanFiber);
-              scratch.fibers[k].tsanFiber = nullptr;
-            }
-#endif
-#if VKRT_ASAN_FIBERS
-          // The abandoned frames' redzones would otherwise stay poisoned for the next workgroup's fibers.
-          for (uint64_t k = 0; k < invocations; ++k)
-            __asan_unpoison_memory_region(scratch.stacks[k] + kGuardBytes, kFiberStackBytes);
-#endif
-          abortTask();
-        }
-        again |= !f.done;
-      }
-    }
+    // A fault or a cancellation in one invocation ends the workgroup there (runFiberGroup calls abortTask()).
+    if (!runFiberGroup(sh.entry, scratch.pointers.data(), uint32_t(invocations))) failed = true;
   }
 }
 
@@ -330,7 +109,7 @@ bool runCompute(const ComputeDispatch& d) {
   proto.resources = d.resources;
   proto.pushConstants = d.pushConstants;
   proto.rayQueries = d.rayQueries;
-  proto.barrier = sh.usesBarrier ? fiberBarrier : noBarrier;
+  proto.barrier = noBarrier;  // runFiberGroup sets its own for shaders with barriers
   std::optional<Job> ownJob;
   Job& job = d.job ? *d.job : ownJob.emplace(nullptr, 0);
   proto.cancel = reinterpret_cast<const uint32_t*>(&job.cancel);

@@ -439,16 +439,10 @@ void vkrt_image_fetch(const abi::DescriptorRecord* img, const int32_t coord[4], 
   applySwizzle(v, out);
 }
 
-void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
-                       float lod, uint32_t out[4]) {
-  View v;
-  std::memset(out, 0, 16);
-  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
-  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
-  // anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy
-  // is 1 ("Scale Factor Operation") and the one isotropic sample below is the anisotropic filter.
-  // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
-  float lambda = std::isnan(lod) ? 0.0f : lod + s.mipLodBias;
+// The filtering at level of detail `lambda` (before the sampler's clamp; "Level-of-Detail Operation" then "Image
+// Level(s) Selection" and "Texel Filtering"), shared by the explicit-LOD and the gradient forms.
+static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float coord[4], float lambda,
+                        uint32_t out[4]) {
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
   VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
   float maxLevel = float(v.levelCount - 1);
@@ -473,6 +467,43 @@ void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRe
   }
   std::memcpy(out, result, 16);
   applySwizzle(v, out);
+}
+
+void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       float lod, uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
+  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  // anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy
+  // is 1 ("Scale Factor Operation") and the one isotropic sample below is the anisotropic filter.
+  // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
+  sampleAtLod(v, s, coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, out);
+}
+
+// "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y; the level of
+// detail is log2 of the larger ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample
+// at the larger scale factor, a blurrier result than the anisotropic filter's), plus the shader's and the sampler's
+// biases.
+void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            const float ddx[4], const float ddy[4], float bias, uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
+  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  VkExtent3D e = levelExtent(v, 0);
+  const float size[3] = {float(e.width), float(e.height), float(e.depth)};
+  float rx = 0, ry = 0;
+  for (int i = 0; i < v.dims && i < 3; ++i) {
+    float scale = s.unnormalizedCoordinates ? 1.0f : size[i];
+    rx += (ddx[i] * scale) * (ddx[i] * scale);
+    ry += (ddy[i] * scale) * (ddy[i] * scale);
+  }
+  float rho = std::sqrt(std::max(rx, ry));
+  float lambda = std::log2(rho);  // -inf for zero derivatives: the clamp below takes it to minLod
+  if (std::isnan(lambda)) lambda = 0.0f;
+  if (!std::isnan(bias)) lambda += bias;
+  sampleAtLod(v, s, coord, lambda + s.mipLodBias, out);
 }
 
 void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[4]) {
@@ -533,6 +564,7 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_image_texel", reinterpret_cast<void*>(&vkrt_image_texel)},
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
       {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
+      {"vkrt_image_sample_grad", reinterpret_cast<void*>(&vkrt_image_sample_grad)},
       {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},
       {"vkrt_image_levels", reinterpret_cast<void*>(&vkrt_image_levels)},
       {"vkrt_texel_buffer_read", reinterpret_cast<void*>(&vkrt_texel_buffer_read)},

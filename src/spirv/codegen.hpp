@@ -15,6 +15,7 @@
 #include <llvm/IR/LLVMContext.h>
 #include <llvm/IR/Module.h>
 
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -27,6 +28,7 @@ namespace vkrt::spirv {
 
 // The compiled-code ABI (src/abi) by its short names: the code generator lays out and calls against these.
 using abi::DescriptorRecord;
+using abi::GraphicsInvocation;
 using abi::InvocationContext;
 using abi::kPushConstantBytes;
 using abi::kRayStatusIgnore;
@@ -59,6 +61,9 @@ bool rayTracingOp(spv::Op op);
 bool rayTracingCapability(uint32_t capability);
 // The ray query instructions of ray_query.cpp (rayTracingOp includes them).
 bool rayQueryOp(spv::Op op);
+// The vertex and fragment instructions and capabilities of graphics.cpp.
+bool graphicsOp(spv::Op op);
+bool graphicsCapability(uint32_t capability);
 
 class Codegen {
  public:
@@ -147,6 +152,44 @@ class Codegen {
   // Returns from the current function (a zero value for a non-void one).
   void returnFromFunction();
 
+  // ---- vertex and fragment shaders (graphics.cpp)
+  struct Global;
+  bool isGraphics() const { return model == spv::ExecutionModelVertex || model == spv::ExecutionModelFragment; }
+  bool isFragment() const { return model == spv::ExecutionModelFragment; }
+  // An Input or Output variable of a vertex or fragment shader (called by declareGlobals): a built-in read or
+  // written in place in the GraphicsInvocation, or storage in the private block that vkrt_main copies in from the
+  // location slots / built-in fields at entry (inputs) and out at the end (outputs). Fills info.graphics.
+  bool declareInterface(const Instruction& var, Global& g);
+  // vkrt_main's copies (inputs: at entry; outputs: after the entry function returned).
+  void copyInterface(bool inputs);
+  // The entry point's execution modes (fragment: EarlyFragmentTests; refuses what Vulkan does not allow).
+  bool graphicsModes(const EntryPoint& ep);
+  // OpKill, OpTerminateInvocation, OpDemoteToHelperInvocation, OpIsHelperInvocationEXT, derivatives, quad operations.
+  bool graphics(const Instruction& in, bool& ok);
+  // i1: this fragment invocation is a helper lane (constant false in other stages).
+  llvm::Value* helperLane();
+  // A pointer for a store or an atomic: in fragment shaders, a buffer pointer (StorageBuffer, Uniform,
+  // PhysicalStorageBuffer) gets limit 0 in helper lanes, so that the store is dropped and the atomic acts on the sink.
+  Ptr forWrite(const Ptr& p);
+  // An image or texel buffer record written through (OpImageWrite, OpImageTexelPointer): the zero record in helper
+  // lanes of fragment shaders (writes nothing).
+  llvm::Value* writableRecord(llvm::Value* record);
+  // The quad exchange (abi.hpp): v (up to 16 bytes) of the four lanes of the quad.
+  void quadExchange(llvm::Value* v, llvm::Value* out[4]);
+  // d/dx and d/dy of a float scalar or vector: fine (the lane's row / column) or coarse (the quad's top row / left
+  // column); zero outside fragment shaders.
+  void derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::Value** dy);
+  struct IoCopy {
+    bool input;
+    uint64_t privOffset;  // in the private block
+    int slotsField;       // offset in GraphicsInvocation of the slot pointer (inputs, outputs, outputs1); -1: `at`
+                          // is an offset in the GraphicsInvocation itself (a built-in member of a block)
+    uint32_t at;          // byte offset from there
+    uint32_t bytes;
+  };
+  std::vector<IoCopy> ioCopies;
+  std::map<uint32_t, GraphicsStageInfo::Location> inputLocations, outputLocations;  // user locations so far
+
   // ---- functions (compiler.cpp / control_flow.cpp)
   bool declareFunctions();
   bool emitFunction(size_t firstInstruction, size_t* next);
@@ -178,6 +221,8 @@ class Codegen {
     int slot = -1;          // buffers: resource slot
     int builtIn = -1;       // Input
     int contextField = -1;  // a pointer the runtime provides: offset of {pointer, uint64 bytes} in RayInvocation
+    int graphicsField = -1;  // a vertex / fragment built-in variable: its offset in the GraphicsInvocation
+    bool inPrivate = false;  // a vertex / fragment Input or Output variable copied through the private block
   };
   std::unordered_map<uint32_t, Global> globals;
   uint64_t privateSize = 0;

@@ -335,7 +335,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
     }
     bool ok = true;
     if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok) ||
-        image(in, ok) || rayTracing(in, ok)) {
+        image(in, ok) || rayTracing(in, ok) || graphics(in, ok)) {
       if (!ok) return false;
       if (currentLabel) blockExits[currentLabel] = b.GetInsertBlock();
       continue;
@@ -355,6 +355,7 @@ bool Codegen::run(const EntryPoint& ep) {
       out, llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes), true, llvm::GlobalValue::PrivateLinkage,
       llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)), "vkrt_zeros");
   zeros->setAlignment(llvm::Align(16));
+  if (isGraphics() && !graphicsModes(ep)) return false;
   if (!declareGlobals() || !declareFunctions()) return false;
   for (size_t i = 0; i < m.instructions.size();) {
     if (m.instructions[i].op != spv::OpFunction) {
@@ -392,9 +393,11 @@ bool Codegen::run(const EntryPoint& ep) {
     error = "the entry point's function takes parameters";
     return false;
   }
+  if (isGraphics()) copyInterface(true);
   b.CreateCall(it->second, {ctxArg, privArg});
+  if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
-  if (!isRayTracing() && !info.usesBarrier) emitGroupEntry(main);
+  if (!isRayTracing() && !isGraphics() && !info.usesBarrier) emitGroupEntry(main);
   return true;
 }
 

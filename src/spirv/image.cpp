@@ -177,7 +177,8 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       Ptr& image = ptr(in.word(3));
       llvm::Value* coord = value(in.word(4));
       if (image.slot < 0 || !coord) return (ok = fail(in, "image pointer or coordinate has no value")), true;
-      llvm::Value* rec = descriptorRecord(image.slot, image.descIndex ? image.descIndex : i64(0));
+      // Atomics through the pointer write: none in helper lanes of fragment shaders (writableRecord).
+      llvm::Value* rec = writableRecord(descriptorRecord(image.slot, image.descIndex ? image.descIndex : i64(0)));
       llvm::Value* texel =
           isTexelBuffer(image.type)
               ? b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_texel", ptrTy, {ptrTy, b.getInt64Ty()}),
@@ -198,6 +199,7 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     case spv::OpImageWrite:
     case spv::OpImageFetch:
     case spv::OpImageSampleExplicitLod:
+    case spv::OpImageSampleImplicitLod:
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod:
     case spv::OpImageQueryLevels: break;
@@ -241,17 +243,27 @@ bool Codegen::image(const Instruction& in, bool& ok) {
   if (!coord) return (ok = fail(in, "coordinate has no value")), true;
   uint32_t operandsAt = write ? 4 : 5;
   uint32_t mask = in.count > operandsAt ? in.word(operandsAt) : 0;
-  llvm::Value* lod = nullptr;
-  const uint32_t lodBit = spv::ImageOperandsLodMask;
+  llvm::Value *lod = nullptr, *bias = nullptr, *gradX = nullptr, *gradY = nullptr;
+  const uint32_t biasBit = spv::ImageOperandsBiasMask, lodBit = spv::ImageOperandsLodMask,
+                 gradBit = spv::ImageOperandsGradMask;
   const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
                              spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
                              spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
-  if (mask & ~(lodBit | ignorable)) return (ok = unsupported(in, "image operands other than Lod")), true;
-  if (mask & lodBit) {
-    // Lod is the first operand after the mask (no lower bit this compiler accepts takes an operand).
-    lod = value(in.word(operandsAt + 1));
-    if (!lod) return (ok = fail(in, "Lod operand has no value")), true;
-  }
+  uint32_t allowed = lodBit | ignorable;
+  if (in.op == spv::OpImageSampleImplicitLod) allowed = biasBit | ignorable;
+  if (in.op == spv::OpImageSampleExplicitLod) allowed |= gradBit;
+  if (mask & ~allowed) return (ok = unsupported(in, "image operands other than Lod, Bias and Grad")), true;
+  // The operands follow the mask in the order of their bits (Bias, Lod, Grad's two).
+  uint32_t at = operandsAt + 1;
+  auto operand = [&](llvm::Value** v) {
+    *v = value(in.word(at++));
+    return *v != nullptr;
+  };
+  if ((mask & biasBit) && !operand(&bias)) return (ok = fail(in, "Bias operand has no value")), true;
+  if ((mask & lodBit) && !operand(&lod)) return (ok = fail(in, "Lod operand has no value")), true;
+  if ((mask & gradBit) && (!operand(&gradX) || !operand(&gradY)))
+    return (ok = fail(in, "Grad operands have no value")), true;
+  if (write) imgRec = writableRecord(imgRec);  // helper lanes of fragment shaders write nothing
   llvm::Value* coords = toWords(*this, coord, isFloat(m.typeOf(coordId)));
   switch (in.op) {
     case spv::OpImageRead: {
@@ -275,16 +287,34 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       set(in.word(2), fromWords(*this, out, in.word(1)));
       return true;
     }
-    case spv::OpImageSampleExplicitLod: {
-      // Grad would bring non-zero derivatives, hence anisotropy: the runtime advertises samplerAnisotropy only
-      // because Lod-operand sampling is isotropic (runtime/supported_features.cpp), so Grad needs both.
-      if (!lod) return (ok = unsupported(in, "explicit-LOD sampling without a Lod operand (Grad)")), true;
+    case spv::OpImageSampleExplicitLod:
+    case spv::OpImageSampleImplicitLod: {
       if (it->word(3) == spv::DimCube) return (ok = unsupported(in, "cube map sampling")), true;
       if (!isFloat(m.typeOf(coordId))) return (ok = fail(in, "sampling coordinates are not floats")), true;
       llvm::Value* smpRec = b.CreateExtractValue(img, {1});
       llvm::Value* out = scratch(*this);
-      b.CreateCall(runtimeFn(*this, "vkrt_image_sample", b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
-                   {imgRec, smpRec, coords, b.CreateFPCast(lod, b.getFloatTy()), out});
+      llvm::Value* nan = llvm::ConstantFP::getNaN(b.getFloatTy());
+      bool implicitHere = in.op == spv::OpImageSampleImplicitLod && isFragment();
+      if (gradX || implicitHere) {
+        // With gradients: the Grad operand's, or the coordinates' quad derivatives in fragment shaders.
+        llvm::Value *dx = gradX, *dy = gradY;
+        if (implicitHere) {
+          unsigned n = componentCount(m.typeOf(coordId));
+          llvm::Type* f32 = n > 1 ? static_cast<llvm::Type*>(llvm::FixedVectorType::get(b.getFloatTy(), n)) : b.getFloatTy();
+          derivatives(b.CreateFPCast(coord, f32), false, &dx, &dy);
+        }
+        llvm::Value* biasValue = bias ? b.CreateFPCast(bias, b.getFloatTy()) : nan;
+        b.CreateCall(runtimeFn(*this, "vkrt_image_sample_grad", b.getVoidTy(),
+                               {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
+                     {imgRec, smpRec, coords, toWords(*this, dx, true), toWords(*this, dy, true), biasValue, out});
+      } else {
+        // An explicit Lod; implicit LOD outside fragment shaders is level 0 (plus the Bias operand).
+        llvm::Value* level = lod ? lod : bias ? bias : static_cast<llvm::Value*>(llvm::ConstantFP::get(b.getFloatTy(), 0.0));
+        if (!lod && in.op == spv::OpImageSampleExplicitLod)
+          return (ok = fail(in, "explicit-LOD sampling without Lod or Grad")), true;
+        b.CreateCall(runtimeFn(*this, "vkrt_image_sample", b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
+                     {imgRec, smpRec, coords, b.CreateFPCast(level, b.getFloatTy()), out});
+      }
       set(in.word(2), fromWords(*this, out, in.word(1)));
       return true;
     }
@@ -321,7 +351,7 @@ bool Codegen::texelBuffer(const Instruction& in, llvm::Value* rec) {
     if (!texel) return fail(in, "texel has no value");
     llvm::Value* words = toWords(*this, texel, isFloat(m.typeOf(in.word(3))));
     b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_write", b.getVoidTy(), {ptrTy, b.getInt64Ty(), ptrTy}),
-                 {rec, index, words});
+                 {writableRecord(rec), index, words});
     return true;
   }
   llvm::Value* out = scratch(*this);

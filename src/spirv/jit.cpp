@@ -275,7 +275,7 @@ bool supportedOp(spv::Op op) {
     case spv::OpReturn:
     case spv::OpReturnValue:
     case spv::OpUnreachable: return true;
-    default: return extraSupportedOp(op) || rayTracingOp(op);
+    default: return extraSupportedOp(op) || rayTracingOp(op) || graphicsOp(op);
   }
 }
 
@@ -300,14 +300,14 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityDotProductInput4x8Bit:
     case spv::CapabilityDotProductInput4x8BitPacked:
     case spv::CapabilityDotProduct: return true;
-    default: return extraSupportedCapability(cap) || rayTracingCapability(cap);
+    default: return extraSupportedCapability(cap) || rayTracingCapability(cap) || graphicsCapability(cap);
   }
 }
 
 bool supportedGlsl(uint32_t inst) {
   switch (inst) {
-    // IMix was never part of the published set; InterpolateAt* exist only in fragment shaders, which vkrt
-    // does not run (compute and ray tracing only).
+    // IMix was never part of the published set; InterpolateAt* (fragment shaders) would need the interpolation
+    // at other positions than the executor's, which the GraphicsInvocation does not carry.
     case GLSLstd450IMix:
     case GLSLstd450InterpolateAtCentroid:
     case GLSLstd450InterpolateAtSample:
@@ -745,7 +745,9 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
     if (!sessionError->empty()) *error += " (" + *sessionError + ")";
     return false;
   }
-  if (shader.model != spv::ExecutionModelGLCompute) {
+  if (shader.model == spv::ExecutionModelVertex || shader.model == spv::ExecutionModelFragment) {
+    shader.graphicsEntry = sym->toPtr<abi::GraphicsEntry>();
+  } else if (shader.model != spv::ExecutionModelGLCompute) {
     shader.rayEntry = sym->toPtr<abi::RayEntry>();
   } else {
     (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<abi::ComputeEntry>();
@@ -758,16 +760,19 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 
 // ---- the pipeline cache form of a compiled shader
 //
-//   char magic[8] "VKRTSHD4"; uint8 sha256[32] of the payload; payload:
+//   char magic[8] "VKRTSHD5"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
+//   graphics: u32 flags (the GraphicsStageInfo booleans, bit by bit in declaration order), clipDistances,
+//   cullDistances; u32 n + n x 8 bytes (inputs), u32 n + n x 8 bytes (outputs): {location, componentMask,
+//   interpolation, centroid | sample << 1 | integer << 2 | wide << 3, 4 zero bytes};
 //   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 256,  // graphicsEntry and graphics: vertex and fragment shaders do not compile yet
+static_assert(sizeof(CompiledShader) == 256,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '4'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '5'};
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -782,6 +787,22 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes})
     put32(payload, v);
   put32(payload, (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u));
+  const GraphicsStageInfo& g = s.graphics;
+  uint32_t flags = 0, bit = 0;
+  for (bool f : {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
+                 g.sideEffects, g.dualSource, g.writesPointSize})
+    flags |= uint32_t(f) << bit++;
+  put32(payload, flags);
+  put32(payload, g.clipDistances);
+  put32(payload, g.cullDistances);
+  for (const auto* list : {&g.inputs, &g.outputs}) {
+    put32(payload, uint32_t(list->size()));
+    for (const GraphicsStageInfo::Location& l : *list) {
+      put32(payload, l.location | uint32_t(l.componentMask) << 8 | uint32_t(l.interpolation) << 16 |
+                         uint32_t(l.centroid | l.sample << 1 | l.integer << 2 | l.wide << 3) << 24);
+      put32(payload, 0);
+    }
+  }
   put32(payload, uint32_t(s.entryName.size()));
   payload += s.entryName;
   put32(payload, uint32_t(s.resources.size()));
@@ -844,6 +865,31 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   uint32_t rayFlags = r.u32();
   s.ray.callsOut = (rayFlags & 1) != 0;
   s.ray.readsHitAttributes = (rayFlags & 2) != 0;
+  GraphicsStageInfo& g = s.graphics;
+  uint32_t flags = r.u32(), bit = 0;
+  for (bool* f : {&g.needsQuad, &g.writesDepth, &g.writesSampleMask, &g.readsSampleId, &g.canDiscard,
+                  &g.earlyFragmentTests, &g.sideEffects, &g.dualSource, &g.writesPointSize})
+    *f = (flags >> bit++ & 1) != 0;
+  g.clipDistances = r.u32();
+  g.cullDistances = r.u32();
+  for (auto* list : {&g.inputs, &g.outputs}) {
+    uint32_t n = r.u32();
+    if (!r.ok || n > abi::kGraphicsLocations) return std::nullopt;
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t w = r.u32();
+      r.u32();
+      GraphicsStageInfo::Location l;
+      l.location = uint8_t(w);
+      l.componentMask = uint8_t(w >> 8);
+      l.interpolation = GraphicsStageInfo::Location::Interpolation(std::min<uint32_t>(w >> 16 & 0xff, 2));
+      uint32_t b = w >> 24;
+      l.centroid = b & 1;
+      l.sample = b & 2;
+      l.integer = b & 4;
+      l.wide = b & 8;
+      list->push_back(l);
+    }
+  }
   uint32_t nameSize = r.u32();
   s.entryName = std::string(r.bytes(nameSize));
   uint32_t count = r.u32();
@@ -1054,7 +1100,9 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   mod.reset();
   context.reset();
   std::string_view objectBytes(object.data(), object.size());
-  if (req.model != spv::ExecutionModelGLCompute) shader->ray.frameBytes = frameBytesOf(objectBytes);
+  if (req.model != spv::ExecutionModelGLCompute && req.model != spv::ExecutionModelVertex &&
+      req.model != spv::ExecutionModelFragment)
+    shader->ray.frameBytes = frameBytesOf(objectBytes);
   if (!loadObject(*shader, objectBytes, hasGroupEntry, req.hostSymbols, error)) return nullptr;
   shader->cacheBlob = serialize(*shader, objectBytes);
   return shader;
@@ -1070,7 +1118,7 @@ std::string cacheKey(const CompileRequest& req) {
     h.update(llvm::ArrayRef<uint8_t>(static_cast<const uint8_t*>(data), size));
   };
   auto addStr = [&](const std::string& s) { add(s.data(), s.size()); };
-  addStr("vkrt compiled shader 3");
+  addStr("vkrt compiled shader 4");
   addStr(LLVM_VERSION_STRING);
   addStr(buildId());
   addStr(detail::targetKey());

@@ -89,7 +89,14 @@ bool Codegen::declareGlobals() {
           workgroupSize = g.offset + g.size;
         }
         break;
-      case spv::StorageClassInput: g.builtIn = d.builtIn; break;
+      case spv::StorageClassInput:
+      case spv::StorageClassOutput:
+        if (isGraphics()) {
+          if (!declareInterface(in, g)) return false;
+        } else if (g.storage == spv::StorageClassInput) {
+          g.builtIn = d.builtIn;
+        }
+        break;
       // Ray tracing storage classes (abi.hpp says where each lives).
       case spv::StorageClassRayPayloadKHR:
       case spv::StorageClassCallableDataKHR:
@@ -234,6 +241,17 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
   p.type = pt.element;
   p.storage = g.storage;
   p.offset = i64(0);
+  if (g.graphicsField >= 0 || g.inPrivate) {
+    // A vertex / fragment built-in in place, or an interface variable's copy in the private block.
+    if (g.inPrivate) {
+      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), privArg, g.offset);
+    } else {
+      p.base = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, unsigned(g.graphicsField));
+    }
+    p.limit = i64(g.size);
+    *out = p;
+    return true;
+  }
   if (g.contextField >= 0) {
     // A block the runtime provides: {pointer, byte count} in the RayInvocation.
     if (!isRayTracing()) return unsupported(*in, "ray tracing storage class outside a ray tracing stage");
@@ -695,7 +713,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       if (!operandPtr(*this, in, in.word(1), &p)) return (ok = false), true;
       llvm::Value* v = value(in.word(2));
       if (!v || p.slot >= 0 || !type(p.type)) return (ok = unsupported(in, "stored value")), true;
-      store(p, v);
+      store(forWrite(p), v);
       return true;
     }
     case spv::OpCopyMemory: {
@@ -704,7 +722,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         return (ok = false), true;
       llvm::Value* v = (src.slot < 0) ? load(src) : nullptr;
       if (!v || dst.slot >= 0) return (ok = unsupported(in, "copied type")), true;
-      store(dst, v);
+      store(forWrite(dst), v);
       return true;
     }
     case spv::OpPtrEqual:
@@ -762,7 +780,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
         set(in.word(2), l);
         return true;
       }
-      llvm::Value* addr = address(p, bytes, true);
+      llvm::Value* addr = address(forWrite(p), bytes, true);
       if (isStore) {
         auto* s = b.CreateAlignedStore(value(in.word(4)), addr, llvm::Align(bytes));
         s->setAtomic(order);

@@ -51,6 +51,12 @@ void setDecoration(Decorations& d, const Instruction& in, uint32_t first) {
     case spv::DecorationBlock: d.block = true; break;
     case spv::DecorationBufferBlock: d.bufferBlock = true; break;
     case spv::DecorationFPRoundingMode: d.fpRoundingMode = int32_t(arg); break;
+    case spv::DecorationComponent: d.component = int32_t(arg); break;
+    case spv::DecorationIndex: d.index = int32_t(arg); break;
+    case spv::DecorationFlat: d.flat = true; break;
+    case spv::DecorationNoPerspective: d.noPerspective = true; break;
+    case spv::DecorationCentroid: d.centroid = true; break;
+    case spv::DecorationSample: d.sample = true; break;
     default: break;
   }
 }
@@ -121,6 +127,7 @@ bool Module::parse(const uint32_t* words, size_t wordCount, std::string* error) 
         if (!need(3)) break;
         for (EntryPoint& ep : entryPoints) {
           if (ep.function != in.word(1)) continue;
+          ep.modes.push_back(in.word(2));
           if (in.word(2) == spv::ExecutionModeLocalSize && need(6)) {
             for (int i = 0; i < 3; ++i) ep.localSize[i] = in.word(3 + i);
           } else if (in.word(2) == spv::ExecutionModeLocalSizeId && need(6)) {

@@ -51,6 +51,12 @@ struct Decorations {
   int32_t specId = -1;
   int32_t fpRoundingMode = -1;  // FPRoundingMode (spv::FPRoundingMode) of a conversion's result
   int32_t location = -1;
+  int32_t component = -1;  // Component (user Input/Output variables and block members)
+  int32_t index = -1;      // Index (fragment outputs: 1 for the second source of dual-source blending)
+  bool flat = false;       // the interpolation decorations of fragment inputs
+  bool noPerspective = false;
+  bool centroid = false;
+  bool sample = false;
   bool rowMajor = false;
   bool block = false;
   bool bufferBlock = false;
@@ -72,6 +78,7 @@ struct EntryPoint {
   std::vector<uint32_t> interface;
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t localSizeId[3] = {0, 0, 0};  // LocalSizeId: constant ids (0 when LocalSize was used)
+  std::vector<uint32_t> modes;          // every execution mode declared for it (spv::ExecutionMode)
 };
 
 class Module {

@@ -105,12 +105,21 @@ llvm::Value* scalar32(Codegen& g, uint32_t id) {
 }  // namespace
 
 void Codegen::returnIfStopped() {
-  if (model != spv::ExecutionModelAnyHitKHR && model != spv::ExecutionModelIntersectionKHR) return;
-  llvm::Value* status =
-      b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+  llvm::Value* stop = nullptr;
+  if (model == spv::ExecutionModelFragment) {
+    // A callee killed the fragment (OpKill / OpTerminateInvocation; a demoted one goes on).
+    llvm::Value* status = b.CreateAlignedLoad(
+        b.getInt32Ty(), ctxAt(*this, offsetof(abi::GraphicsInvocation, status)), llvm::Align(4));
+    stop = b.CreateICmpEQ(status, i32(abi::kFragmentKilled));
+  } else {
+    if (model != spv::ExecutionModelAnyHitKHR && model != spv::ExecutionModelIntersectionKHR) return;
+    llvm::Value* status =
+        b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(RayInvocation, status)), llvm::Align(4));
+    stop = b.CreateICmpNE(status, i32(0));
+  }
   auto* stopped = llvm::BasicBlock::Create(c, "stopped", fn);
   auto* resume = llvm::BasicBlock::Create(c, "resume", fn);
-  b.CreateCondBr(b.CreateICmpNE(status, i32(0)), stopped, resume);
+  b.CreateCondBr(stop, stopped, resume);
   b.SetInsertPoint(stopped);
   returnFromFunction();
   b.SetInsertPoint(resume);

@@ -1,0 +1,514 @@
+// Vertex and fragment shaders compiled and run below the Vulkan API, with hand-made abi::GraphicsInvocation contexts
+// (fragment quads through exec::runFiberGroup): the location layout, the built-ins, kill / terminate / demote and
+// helper lanes, derivatives and quad operations, implicit-LOD sampling, and the pipeline cache blob.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "exec/fiber_group.hpp"
+#include "gfx_builtins.frag.spv.h"
+#include "gfx_builtins.vert.spv.h"
+#include "gfx_derivs.frag.spv.h"
+#include "gfx_discard.frag.spv.h"
+#include "gfx_io.vert.spv.h"
+#include "gfx_sample.frag.spv.h"
+#include "runtime/image.hpp"
+#include "runtime/image_functions.hpp"
+#include "runtime/image_view.hpp"
+#include "runtime/sampler.hpp"
+#include "spirv/compiler.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt::testing {
+namespace {
+
+using abi::GraphicsInvocation;
+using abi::kGraphicsLocations;
+using Location = spirv::GraphicsStageInfo::Location;
+
+template <size_t N>
+std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model,
+                                                    std::string* error, bool inlineFunctions = true) {
+  spirv::CompileRequest r;
+  r.words = words;
+  r.wordCount = N;
+  r.model = model;
+  r.inlineFunctions = inlineFunctions;
+  r.hostSymbols = imageFunctionSymbols();
+  return spirv::compile(r, error);
+}
+
+// One invocation's context and its location slots.
+struct Lane {
+  GraphicsInvocation inv{};
+  alignas(16) uint32_t in[kGraphicsLocations * 4] = {};
+  alignas(16) uint32_t out[kGraphicsLocations * 4] = {};
+  alignas(16) uint32_t out1[4] = {};
+  alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
+  alignas(16) uint8_t sink[abi::kSinkBytes] = {};
+
+  Lane() {
+    inv.inputs = in;
+    inv.outputs = out;
+    inv.outputs1 = out1;
+    inv.base.pushConstants = push;
+    inv.base.sink = sink;
+    inv.sampleMaskOut = ~0u;
+  }
+  float outF(uint32_t location, uint32_t component) const {
+    float f;
+    std::memcpy(&f, &out[location * 4 + component], 4);
+    return f;
+  }
+  int32_t outI(uint32_t location, uint32_t component) const { return int32_t(out[location * 4 + component]); }
+  double outD(uint32_t location, uint32_t component) const {
+    double d;
+    std::memcpy(&d, &out[location * 4 + component], 8);
+    return d;
+  }
+  void setF(uint32_t location, uint32_t component, float f) { std::memcpy(&in[location * 4 + component], &f, 4); }
+  void setI(uint32_t location, uint32_t component, int32_t i) { in[location * 4 + component] = uint32_t(i); }
+};
+
+// A 2x2 quad at (x0, y0) (even): lane = x & 1 | (y & 1) << 1, run as a fiber group sharing the exchange area.
+struct Quad {
+  Lane lanes[4];
+  alignas(16) uint8_t exchange[abi::kQuadExchangeBytes] = {};
+  Quad(uint32_t x0, uint32_t y0) {
+    for (uint32_t l = 0; l < 4; ++l) {
+      GraphicsInvocation& g = lanes[l].inv;
+      g.base.localIndex = l;
+      g.base.workgroupMemory = exchange;
+      g.fragCoord[0] = float(x0 + (l & 1)) + 0.5f;
+      g.fragCoord[1] = float(y0 + (l >> 1)) + 0.5f;
+      g.fragCoord[3] = 1.0f;
+    }
+  }
+  bool run(const spirv::CompiledShader& s) {
+    abi::InvocationContext* ctx[4];
+    for (int l = 0; l < 4; ++l) ctx[l] = &lanes[l].inv.base;
+    return exec::runFiberGroup(reinterpret_cast<abi::ComputeEntry>(s.graphicsEntry), ctx, 4);
+  }
+};
+
+const Location* findLocation(const std::vector<Location>& list, uint32_t location) {
+  for (const Location& l : list)
+    if (l.location == location) return &l;
+  return nullptr;
+}
+
+TEST(GraphicsShader, VertexLocationsFollowTheLocationAssignmentRules) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_io_vert, spv::ExecutionModelVertex, &error);
+  ASSERT_TRUE(s) << error;
+  ASSERT_NE(s->graphicsEntry, nullptr);
+  Lane lane;
+  lane.setF(0, 0, 1.0f), lane.setF(0, 1, 2.0f), lane.setF(0, 2, 3.0f);
+  lane.setI(1, 0, 4), lane.setI(1, 1, -5), lane.setF(1, 2, 6.5f);
+  lane.setF(2, 0, 7.0f), lane.setF(2, 1, 8.0f), lane.setF(3, 0, 9.0f), lane.setF(3, 1, 10.0f);
+  s->graphicsEntry(&lane.inv);
+  // vec3 outArr[2] at 0, 1.
+  EXPECT_EQ(lane.outF(0, 0), 1.0f);
+  EXPECT_EQ(lane.outF(0, 2), 3.0f);
+  EXPECT_EQ(lane.outF(1, 0), 11.0f);
+  EXPECT_EQ(lane.outF(1, 2), 13.0f);
+  EXPECT_EQ(lane.out[1 * 4 + 3], 0u);  // not declared: untouched
+  // ivec2 at 2.xy, float at 2.z.
+  EXPECT_EQ(lane.outI(2, 0), 12);
+  EXPECT_EQ(lane.outI(2, 1), -15);
+  EXPECT_EQ(lane.outF(2, 2), 7.0f);
+  // mat3x2: a column a location.
+  EXPECT_EQ(lane.outF(3, 0), 7.0f);
+  EXPECT_EQ(lane.outF(3, 1), 8.0f);
+  EXPECT_EQ(lane.outF(4, 0), 9.0f);
+  EXPECT_EQ(lane.outF(4, 1), 10.0f);
+  EXPECT_EQ(lane.outF(5, 0), 16.0f);
+  EXPECT_EQ(lane.outF(5, 1), 18.0f);
+  // struct: a member a location.
+  EXPECT_EQ(lane.outF(6, 0), 10.0f);
+  EXPECT_EQ(lane.outF(7, 0), 6.5f);
+  EXPECT_EQ(lane.outF(7, 1), -6.5f);
+  // dvec3: x, y fill location 8, z the first half of 9.
+  EXPECT_EQ(lane.outD(8, 0), 2.0);
+  EXPECT_EQ(lane.outD(8, 2), 4.0);
+  EXPECT_EQ(lane.outD(9, 0), 6.0);
+  // gl_PerVertex.
+  EXPECT_EQ(lane.inv.position[0], 2.0f);
+  EXPECT_EQ(lane.inv.position[2], 6.0f);
+  EXPECT_EQ(lane.inv.position[3], 1.0f);
+  EXPECT_EQ(lane.inv.pointSize, 3.0f);
+  EXPECT_EQ(lane.inv.clipDistance[0], 1.0f);
+  EXPECT_EQ(lane.inv.clipDistance[1], -1.0f);
+  EXPECT_EQ(lane.inv.cullDistance[0], 0.25f);
+
+  const spirv::GraphicsStageInfo& g = s->graphics;
+  EXPECT_EQ(g.clipDistances, 2u);
+  EXPECT_EQ(g.cullDistances, 1u);
+  EXPECT_TRUE(g.writesPointSize);
+  ASSERT_EQ(g.inputs.size(), 4u);
+  EXPECT_EQ(g.inputs[0].componentMask, 0x7);
+  EXPECT_EQ(g.inputs[1].componentMask, 0x7);
+  EXPECT_TRUE(g.inputs[1].integer);
+  EXPECT_EQ(g.inputs[3].componentMask, 0x3);
+  ASSERT_EQ(g.outputs.size(), 10u);
+  const uint8_t masks[10] = {0x7, 0x7, 0x7, 0x3, 0x3, 0x3, 0x1, 0x3, 0xF, 0x3};
+  for (uint32_t l = 0; l < 10; ++l) {
+    const Location* o = findLocation(g.outputs, l);
+    ASSERT_NE(o, nullptr) << l;
+    EXPECT_EQ(o->componentMask, masks[l]) << l;
+    EXPECT_EQ(o->wide, l >= 8) << l;
+  }
+  EXPECT_TRUE(findLocation(g.outputs, 2)->integer);
+  EXPECT_EQ(findLocation(g.outputs, 2)->interpolation, Location::Flat);
+  EXPECT_FALSE(g.needsQuad);
+}
+
+TEST(GraphicsShader, VertexBuiltIns) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_builtins_vert, spv::ExecutionModelVertex, &error);
+  ASSERT_TRUE(s) << error;
+  Lane lane;
+  lane.inv.vertexIndex = 17;
+  lane.inv.instanceIndex = 3;
+  lane.inv.baseVertex = -2;
+  lane.inv.baseInstance = 1;
+  lane.inv.drawIndex = 5;
+  lane.inv.viewIndex = 1;
+  s->graphicsEntry(&lane.inv);
+  EXPECT_EQ(lane.outI(0, 0), 17);
+  EXPECT_EQ(lane.outI(0, 1), 3);
+  EXPECT_EQ(lane.outI(0, 2), -2);
+  EXPECT_EQ(lane.outI(0, 3), 1);
+  EXPECT_EQ(lane.outI(1, 0), 5);
+  EXPECT_EQ(lane.outI(1, 1), 1);
+  EXPECT_EQ(lane.inv.position[0], 17.0f);
+  EXPECT_EQ(s->graphics.clipDistances, 0u);
+  EXPECT_FALSE(s->graphics.writesPointSize);
+}
+
+TEST(GraphicsShader, FragmentBuiltInsAndInterpolationDecorations) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_builtins_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  Lane lane;
+  GraphicsInvocation& g = lane.inv;
+  const float coord[4] = {3.5f, 7.5f, 0.25f, 2.0f};
+  std::memcpy(g.fragCoord, coord, 16);
+  g.frontFacing = 1;
+  g.primitiveId = 9;
+  g.sampleId = 2;
+  g.sampleMaskIn = 4;
+  g.pointCoord[0] = 0.125f, g.pointCoord[1] = 0.875f;
+  g.samplePosition[0] = 0.375f, g.samplePosition[1] = 0.625f;
+  g.layer = 3;
+  g.viewIndex = 1;
+  g.fragDepth = coord[2];
+  lane.setI(0, 0, 4);
+  lane.setF(1, 0, 1.25f);
+  lane.setF(1, 2, 0.5f);
+  lane.setF(2, 3, 0.25f);
+  s->graphicsEntry(&g);
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(lane.outF(0, c), coord[c]) << c;
+  EXPECT_EQ(lane.outI(1, 0), 1);
+  EXPECT_EQ(lane.outI(1, 1), 9);
+  EXPECT_EQ(lane.outI(1, 2), 2);
+  EXPECT_EQ(lane.outI(1, 3), 4);
+  EXPECT_EQ(lane.outF(2, 0), 0.125f);
+  EXPECT_EQ(lane.outF(2, 1), 0.875f);
+  EXPECT_EQ(lane.outF(2, 2), 0.375f);
+  EXPECT_EQ(lane.outF(2, 3), 0.625f);
+  EXPECT_EQ(lane.out[3 * 4 + 0], 0u);  // not a helper
+  EXPECT_EQ(lane.out[3 * 4 + 1], 3u);
+  EXPECT_EQ(lane.out[3 * 4 + 2], 1u);
+  EXPECT_EQ(lane.out[3 * 4 + 3], 4u + 2u);  // 4 + uint(1.25 + 0.5 + 0.25)
+  EXPECT_EQ(g.fragDepth, 0.75f);
+  EXPECT_EQ(g.sampleMaskOut, 5u);
+  EXPECT_EQ(g.status, 0u);
+  // A helper lane reads HelperInvocation.
+  Lane helper;
+  helper.inv.helper = 1;
+  s->graphicsEntry(&helper.inv);
+  EXPECT_EQ(helper.out[3 * 4 + 0], 1u);
+
+  const spirv::GraphicsStageInfo& gi = s->graphics;
+  EXPECT_TRUE(gi.writesDepth);
+  EXPECT_TRUE(gi.writesSampleMask);
+  EXPECT_TRUE(gi.readsSampleId);
+  EXPECT_FALSE(gi.canDiscard);
+  EXPECT_FALSE(gi.sideEffects);
+  ASSERT_EQ(gi.inputs.size(), 3u);
+  EXPECT_EQ(gi.inputs[0].interpolation, Location::Flat);
+  EXPECT_TRUE(gi.inputs[0].integer);
+  EXPECT_EQ(gi.inputs[1].componentMask, 0x7);
+  EXPECT_EQ(gi.inputs[1].interpolation, Location::NoPerspective);
+  EXPECT_TRUE(gi.inputs[1].centroid);
+  EXPECT_FALSE(gi.inputs[1].sample);
+  EXPECT_EQ(gi.inputs[2].interpolation, Location::Smooth);
+  EXPECT_TRUE(gi.inputs[2].sample);
+  ASSERT_EQ(gi.outputs.size(), 4u);
+  EXPECT_TRUE(gi.outputs[1].integer);
+  EXPECT_FALSE(gi.outputs[0].integer);
+}
+
+// Kill (in a called function), terminate, demote, and helper lanes whose buffer writes and atomics land nowhere.
+void runDiscardCases(bool inlineFunctions) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_discard_frag, spv::ExecutionModelFragment, &error, inlineFunctions);
+  ASSERT_TRUE(s) << error;
+  EXPECT_TRUE(s->graphics.canDiscard);
+  EXPECT_TRUE(s->graphics.sideEffects);
+  EXPECT_FALSE(s->graphics.needsQuad);
+  ASSERT_EQ(s->resources.size(), 1u);
+  std::vector<uint32_t> buf(16, 0);
+  abi::DescriptorRecord rec{};
+  rec.address = reinterpret_cast<uint64_t>(buf.data());
+  rec.range = buf.size() * 4;
+  abi::ResourceSlot slot{&rec, 1};
+  struct Case {
+    int mode, slot;
+    uint32_t helper;
+    uint32_t status, helperAfter, stored;
+    bool counted;
+  };
+  const Case cases[] = {
+      {0, 0, 0, 0, 0, 5, true},                             // runs to its end
+      {1, 1, 0, abi::kFragmentKilled, 0, 0, false},         // discard (OpKill) in a callee
+      {2, 2, 0, abi::kFragmentKilled, 0, 0, false},         // terminateInvocation
+      {3, 3, 0, abi::kFragmentDemoted, 1, 0, false},        // demote: goes on as a helper
+      {0, 4, 1, 0, 1, 0, false},                            // a helper lane from the start
+  };
+  uint32_t count = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE("mode " + std::to_string(c.mode) + " helper " + std::to_string(c.helper));
+    Lane lane;
+    lane.inv.base.resources = &slot;
+    lane.inv.helper = c.helper;
+    lane.setI(0, 0, c.mode);
+    lane.setI(0, 1, c.slot);
+    s->graphicsEntry(&lane.inv);
+    EXPECT_EQ(lane.inv.status, c.status);
+    EXPECT_EQ(lane.inv.helper, c.helperAfter);
+    EXPECT_EQ(buf[c.slot], c.stored);
+    count += c.counted;
+    EXPECT_EQ(buf[8], count);
+    if (c.status != abi::kFragmentKilled) {
+      EXPECT_EQ(lane.outF(0, 0), 2.0f);
+      EXPECT_EQ(lane.outF(0, 1), c.helperAfter ? 1.0f : 0.0f);  // helperInvocationEXT() after the demotion
+    }
+  }
+}
+
+TEST(GraphicsShader, DiscardTerminateDemoteAndHelperStores) { runDiscardCases(true); }
+TEST(GraphicsShader, DiscardFromACalledFunction) { runDiscardCases(false); }
+
+double fn(double x, double y) { return x * x + 3 * y * y + x * y; }
+
+TEST(GraphicsShader, DerivativesFineAndCoarseAndQuadOperations) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_derivs_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_TRUE(s->graphics.needsQuad);
+  const uint32_t x0 = 6, y0 = 10;
+  Quad q(x0, y0);
+  ASSERT_TRUE(q.run(*s));
+  const double xs[2] = {x0 + 0.5, x0 + 1.5}, ys[2] = {y0 + 0.5, y0 + 1.5};
+  for (uint32_t l = 0; l < 4; ++l) {
+    SCOPED_TRACE("lane " + std::to_string(l));
+    const Lane& lane = q.lanes[l];
+    uint32_t i = l & 1, j = l >> 1;
+    double fineX = fn(xs[1], ys[j]) - fn(xs[0], ys[j]);
+    double fineY = fn(xs[i], ys[1]) - fn(xs[i], ys[0]);
+    double coarseX = fn(xs[1], ys[0]) - fn(xs[0], ys[0]);
+    double coarseY = fn(xs[0], ys[1]) - fn(xs[0], ys[0]);
+    EXPECT_NEAR(lane.outF(0, 0), fineX, 1e-3);
+    EXPECT_NEAR(lane.outF(0, 1), fineY, 1e-3);
+    EXPECT_NEAR(lane.outF(0, 2), coarseX, 1e-3);
+    EXPECT_NEAR(lane.outF(0, 3), coarseY, 1e-3);
+    EXPECT_NEAR(lane.outF(1, 0), std::fabs(fineX) + std::fabs(fineY), 1e-3);
+    EXPECT_NEAR(lane.outF(1, 1), std::fabs(coarseX) + std::fabs(coarseY), 1e-3);
+    EXPECT_NEAR(lane.outF(1, 2), fineX, 1e-3);  // dFdx: vkrt's default is fine
+    EXPECT_NEAR(lane.outF(1, 3), fineY, 1e-3);
+    EXPECT_NEAR(lane.outF(2, 0), xs[1] * ys[j] - xs[0] * ys[j], 1e-3);
+    EXPECT_EQ(lane.outF(2, 1), 0.0f);
+    EXPECT_EQ(lane.outF(2, 2), float(xs[i ^ 1]));  // subgroupQuadSwapHorizontal(x)
+    EXPECT_EQ(lane.outF(2, 3), float(ys[1]));      // subgroupQuadBroadcast(y, 2)
+    EXPECT_EQ(lane.inv.status, 0u);
+  }
+  // A lane that was killed first no longer takes part: the others go through every exchange without it.
+  Quad k(2, 4);
+  for (Lane& lane : k.lanes) lane.setI(0, 0, 1);
+  ASSERT_TRUE(k.run(*s));
+  EXPECT_EQ(k.lanes[3].inv.status, abi::kFragmentKilled);
+  const double kx[2] = {2.5, 3.5}, ky[2] = {4.5, 5.5};
+  for (uint32_t l = 0; l < 3; ++l) {
+    EXPECT_EQ(k.lanes[l].inv.status, 0u);
+    EXPECT_NEAR(k.lanes[l].outF(0, 2), fn(kx[1], ky[0]) - fn(kx[0], ky[0]), 1e-3);  // coarse: lanes 0, 1, 2 only
+    EXPECT_NEAR(k.lanes[l].outF(0, 3), fn(kx[0], ky[1]) - fn(kx[0], ky[0]), 1e-3);
+  }
+}
+
+// PixelCenterInteger is not allowed in Vulkan (glslc's validator refuses it too): gfx_builtins.frag with its
+// OriginUpperLeft execution mode turned into PixelCenterInteger.
+TEST(GraphicsShader, RefusesPixelCenterInteger) {
+  std::vector<uint32_t> words(std::begin(kSpv_gfx_builtins_frag), std::end(kSpv_gfx_builtins_frag));
+  bool patched = false;
+  for (size_t at = 5; at < words.size(); at += words[at] >> 16) {
+    if ((words[at] & 0xffff) == spv::OpExecutionMode && words[at + 2] == spv::ExecutionModeOriginUpperLeft) {
+      words[at + 2] = spv::ExecutionModePixelCenterInteger;
+      patched = true;
+    }
+    if ((words[at] >> 16) == 0) break;
+  }
+  ASSERT_TRUE(patched);
+  spirv::CompileRequest r;
+  r.words = words.data();
+  r.wordCount = words.size();
+  r.model = spv::ExecutionModelFragment;
+  r.hostSymbols = imageFunctionSymbols();
+  std::string error;
+  EXPECT_FALSE(spirv::compile(r, &error));
+  EXPECT_NE(error.find("PixelCenterInteger"), std::string::npos) << error;
+}
+
+TEST(GraphicsShader, CacheBlobRoundTripOfAFragmentShader) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_builtins_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  auto c = spirv::loadCached(s->cacheBlob, imageFunctionSymbols(), &error);
+  ASSERT_TRUE(c) << error;
+  ASSERT_NE(c->graphicsEntry, nullptr);
+  EXPECT_EQ(c->rayEntry, nullptr);
+  EXPECT_EQ(c->model, spv::ExecutionModelFragment);
+  const spirv::GraphicsStageInfo &a = s->graphics, &b = c->graphics;
+  EXPECT_EQ(a.writesDepth, b.writesDepth);
+  EXPECT_EQ(a.writesSampleMask, b.writesSampleMask);
+  EXPECT_EQ(a.readsSampleId, b.readsSampleId);
+  ASSERT_EQ(a.inputs.size(), b.inputs.size());
+  for (size_t i = 0; i < a.inputs.size(); ++i) {
+    EXPECT_EQ(a.inputs[i].location, b.inputs[i].location);
+    EXPECT_EQ(a.inputs[i].componentMask, b.inputs[i].componentMask);
+    EXPECT_EQ(a.inputs[i].interpolation, b.inputs[i].interpolation);
+    EXPECT_EQ(a.inputs[i].centroid, b.inputs[i].centroid);
+    EXPECT_EQ(a.inputs[i].sample, b.inputs[i].sample);
+    EXPECT_EQ(a.inputs[i].integer, b.inputs[i].integer);
+  }
+  ASSERT_EQ(a.outputs.size(), b.outputs.size());
+  Lane lane;
+  lane.inv.primitiveId = 42;
+  c->graphicsEntry(&lane.inv);
+  EXPECT_EQ(lane.outI(1, 1), 42);
+  EXPECT_EQ(lane.inv.fragDepth, 0.75f);
+}
+
+// Implicit-LOD sampling: a 64 x 64 R32_SFLOAT image whose mip m holds m everywhere, sampled at uv = fragCoord * k /
+// 64 (derivatives k / 64 a pixel: rho = k, lambda = log2 k, "Level-of-Detail Operation"), with a nearest mipmap mode
+// (level ceil(lambda + 0.5) - 1, "Image Level(s) Selection").
+constexpr uint32_t kSize = 64, kLevels = 7;
+
+class GraphicsShaderSampling : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
+    uint32_t n = 1;
+    VkPhysicalDevice pd = VK_NULL_HANDLE;
+    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    q.queueCount = 1;
+    q.pQueuePriorities = &prio;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &q;
+    ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = VK_FORMAT_R32_SFLOAT;
+    ci.extent = {kSize, kSize, 1};
+    ci.mipLevels = kLevels;
+    ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkrt_GetImageMemoryRequirements(device, image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    ASSERT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &memory), VK_SUCCESS);
+    ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = ci.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, kLevels, 0, 1};
+    ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    Image* img = fromHandle<Image>(image);
+    for (uint32_t m = 0; m < kLevels; ++m) {
+      uint32_t size = kSize >> m;
+      float value = float(m);
+      for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) std::memcpy(img->texel(m, 0, x, y, 0), &value, 4);
+    }
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    si.maxLod = 16.0f;
+    ASSERT_EQ(vkrt_CreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+  }
+  void TearDown() override {
+    vkrt_DestroySampler(device, sampler, nullptr);
+    vkrt_DestroyImageView(device, view, nullptr);
+    vkrt_DestroyImage(device, image, nullptr);
+    vkrt_FreeMemory(device, memory, nullptr);
+    vkrt_DestroyDevice(device, nullptr);
+    vkrt_DestroyInstance(instance, nullptr);
+  }
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+};
+
+float expectedLevel(double lambda) {
+  double d = std::clamp(lambda, 0.0, double(kLevels - 1));
+  return float(std::ceil(d + 0.5) - 1.0);
+}
+
+TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_sample_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_TRUE(s->graphics.needsQuad);
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
+  abi::ResourceSlot slot{&rec, 1};
+  for (double k : {1.0, 3.0, 4.0, 32.0, 0.5}) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    Quad q(8, 12);
+    for (Lane& lane : q.lanes) {
+      lane.inv.base.resources = &slot;
+      lane.setF(0, 0, float(lane.inv.fragCoord[0] * k / kSize));
+      lane.setF(0, 1, float(lane.inv.fragCoord[1] * k / kSize));
+    }
+    ASSERT_TRUE(q.run(*s));
+    double lambda = std::log2(k);
+    for (const Lane& lane : q.lanes) {
+      EXPECT_EQ(lane.outF(0, 0), expectedLevel(lambda));
+      EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));  // texture(tex, uv, 1.0)
+      EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::testing
