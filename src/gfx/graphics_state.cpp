@@ -8,7 +8,11 @@ GraphicsExecState& execState(ExecState& st) {
 }
 
 GraphicsRecordState& recordState(CommandBuffer* cb) {
-  if (!cb->graphicsRecording) cb->graphicsRecording = std::make_unique<GraphicsRecordState>();
+  if (!cb->graphicsRecording) {
+    auto s = std::make_unique<GraphicsRecordState>();
+    initPassRecordState(cb, s->pass);  // a secondary's inherited render pass instance
+    cb->graphicsRecording = std::move(s);
+  }
   return static_cast<GraphicsRecordState&>(*cb->graphicsRecording);
 }
 

@@ -343,6 +343,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(
   const char* fn = "vkCmdBuildAccelerationStructuresKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdBuildAccelerationStructuresKHR-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdBuildAccelerationStructuresKHR-renderpass")) return;
   std::vector<BuildJob> jobs(infoCount);
   for (uint32_t i = 0; i < infoCount; ++i) {
     if (!makeJob(cb, fn, i, pInfos[i], ppBuildRangeInfos[i], false, &jobs[i]) ||
@@ -362,6 +364,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(
   const char* fn = "vkCmdBuildAccelerationStructuresIndirectKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdBuildAccelerationStructuresIndirectKHR-renderpass")) return;
   // VUID-vkCmdBuildAccelerationStructuresIndirectKHR-accelerationStructureIndirectBuild-03650
   if (!cb->device->enabled(Feature::accelerationStructureIndirectBuild)) {
     report(cb, Severity::Error,
@@ -458,6 +462,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureKHR(VkCommandBuffer 
   const char* fn = "vkCmdCopyAccelerationStructureKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdCopyAccelerationStructureKHR-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdCopyAccelerationStructureKHR-renderpass")) return;
   AccelerationStructure *src, *dst;
   if (!checkCopy(cb->device, fn, *pInfo, &src, &dst)) return;
   cb->record([cb, src, dst, mode = pInfo->mode](ExecState&) {
@@ -484,6 +490,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureToMemoryKHR(
   const char* fn = "vkCmdCopyAccelerationStructureToMemoryKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdCopyAccelerationStructureToMemoryKHR-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdCopyAccelerationStructureToMemoryKHR-renderpass")) return;
   auto* src = liveOrReport<AccelerationStructure>(cb, pInfo->src, fn,
                                                   "VUID-VkCopyAccelerationStructureToMemoryInfoKHR-src-parameter");
   if (!src) return;
@@ -532,6 +540,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyMemoryToAccelerationStructureKHR(
   const char* fn = "vkCmdCopyMemoryToAccelerationStructureKHR";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdCopyMemoryToAccelerationStructureKHR-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdCopyMemoryToAccelerationStructureKHR-renderpass")) return;
   auto* dst = liveOrReport<AccelerationStructure>(cb, pInfo->dst, fn,
                                                   "VUID-VkCopyMemoryToAccelerationStructureInfoKHR-dst-parameter");
   if (!dst) return;

@@ -442,6 +442,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructureNV(VkCommandBuffer 
   const char* fn = "vkCmdBuildAccelerationStructureNV";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdBuildAccelerationStructureNV-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdBuildAccelerationStructureNV-renderpass")) return;
   const VkAccelerationStructureInfoNV& info = *pInfo;
   if (!checkInfo(cb, fn, info)) return;
   // VUID-vkCmdBuildAccelerationStructureNV-dst-parameter, VUID-vkCmdBuildAccelerationStructureNV-dst-07787
@@ -577,6 +579,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyAccelerationStructureNV(VkCommandBuffer c
   const char* fn = "vkCmdCopyAccelerationStructureNV";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdCopyAccelerationStructureNV-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdCopyAccelerationStructureNV-renderpass")) return;
   // VUID-vkCmdCopyAccelerationStructureNV-src-parameter, VUID-vkCmdCopyAccelerationStructureNV-buffer-03718
   AccelerationStructureNV* s = boundStructure(cb, fn, src, "src", "VUID-vkCmdCopyAccelerationStructureNV-src-parameter",
                                               "VUID-vkCmdCopyAccelerationStructureNV-buffer-03718");

@@ -5,6 +5,7 @@
 
 #include "runtime/acceleration_structure.hpp"
 #include "runtime/acceleration_structure_nv.hpp"
+#include "runtime/alloc.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
 #include "runtime/command_pool.hpp"
@@ -169,6 +170,13 @@ void CommandBuffer::execute(ExecState& st) const {
   }
 }
 
+bool CommandBuffer::outsideRenderPass(const char* fn, const char* vuid) {
+  if (!insideRenderPass) return true;
+  report(this, Severity::Error, vuid, "%s: recorded inside a render pass instance (between vkCmdBeginRenderPass or "
+         "vkCmdBeginRendering and its end, or in a secondary command buffer that continues one)", fn);
+  return false;
+}
+
 void CommandBuffer::reset(bool releaseResources) {
   std::vector<Command> old;
   {
@@ -183,6 +191,7 @@ void CommandBuffer::reset(bool releaseResources) {
     usage = 0;
     labelDepth = 0;
     insideRenderPass = false;
+    inheritance = Inheritance{};
     graphicsRecording.reset();
   }
   // `old`'s closures are destroyed here, outside the lock.
@@ -328,17 +337,43 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_BeginCommandBuffer(VkCommandBuffer commandBu
            "vkBeginCommandBuffer: a primary command buffer cannot be both ONE_TIME_SUBMIT and SIMULTANEOUS_USE");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  // VUID-VkCommandBufferBeginInfo-flags-00053: RENDER_PASS_CONTINUE needs a render pass, and vkrt has none
+  // A secondary that continues a render pass instance: its render pass and subpass, or its dynamic rendering formats.
+  CommandBuffer::Inheritance inh;
   if (secondary && (pBeginInfo->flags & VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT)) {
-    report(cb, Severity::Error, "VUID-VkCommandBufferBeginInfo-flags-00053",
-           "vkBeginCommandBuffer: VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT needs a valid render pass in "
-           "pInheritanceInfo; vkrt has no render passes");
-    return VK_ERROR_VALIDATION_FAILED_EXT;
+    const VkCommandBufferInheritanceInfo& ii = *pBeginInfo->pInheritanceInfo;
+    auto* rendering = findInChain<VkCommandBufferInheritanceRenderingInfo>(
+        ii.pNext, VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_RENDERING_INFO);
+    // VUID-VkCommandBufferBeginInfo-flags-06000: a render pass, if given, is live
+    // VUID-VkCommandBufferBeginInfo-flags-06002: without one, VkCommandBufferInheritanceRenderingInfo
+    const bool passLive = ii.renderPass && findObject(rawHandle(ii.renderPass), VK_OBJECT_TYPE_RENDER_PASS);
+    if (ii.renderPass ? !passLive : !rendering) {
+      report(cb, Severity::Error,
+             ii.renderPass ? "VUID-VkCommandBufferBeginInfo-flags-06000" : "VUID-VkCommandBufferBeginInfo-flags-06002",
+             "vkBeginCommandBuffer: VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT with pInheritanceInfo->renderPass "
+             "0x%llx (%s) and %s VkCommandBufferInheritanceRenderingInfo",
+             (unsigned long long)rawHandle(ii.renderPass), passLive ? "live" : "not a live VkRenderPass",
+             rendering ? "a" : "no");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    inh.continues = true;
+    inh.renderPass = ii.renderPass;
+    inh.subpass = ii.subpass;
+    inh.framebuffer = ii.framebuffer;
+    if (!ii.renderPass) {
+      inh.colorFormats.assign(rendering->pColorAttachmentFormats,
+                              rendering->pColorAttachmentFormats + rendering->colorAttachmentCount);
+      inh.depthFormat = rendering->depthAttachmentFormat;
+      inh.stencilFormat = rendering->stencilAttachmentFormat;
+      inh.viewMask = rendering->viewMask;
+      inh.samples = rendering->rasterizationSamples ? rendering->rasterizationSamples : VK_SAMPLE_COUNT_1_BIT;
+    }
   }
   cb->reset(false);
   std::lock_guard lock(CommandBuffer::stateMutex());
   cb->state = CommandBuffer::State::Recording;
   cb->usage = pBeginInfo->flags;
+  cb->inheritance = std::move(inh);
+  cb->insideRenderPass = cb->inheritance.continues;
   return VK_SUCCESS;
 }
 
@@ -352,6 +387,12 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_EndCommandBuffer(VkCommandBuffer commandBuff
   if (st != CommandBuffer::State::Recording) {
     report(cb, Severity::Error, "VUID-vkEndCommandBuffer-commandBuffer-00059",
            "vkEndCommandBuffer: the command buffer is in the %s state, not the recording state", stateName(st));
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-vkEndCommandBuffer-commandBuffer-00060: a primary ends no render pass instance open
+  if (cb->level == VK_COMMAND_BUFFER_LEVEL_PRIMARY && cb->insideRenderPass) {
+    report(cb, Severity::Error, "VUID-vkEndCommandBuffer-commandBuffer-00060",
+           "vkEndCommandBuffer: a render pass instance is still active (no vkCmdEndRenderPass / vkCmdEndRendering)");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-vkEndCommandBuffer-commandBuffer-01815
@@ -451,15 +492,29 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdExecuteCommands(VkCommandBuffer commandBuffer
              "%s: pCommandBuffers[%u] comes from a pool of another queue family", fn, i);
       return;
     }
+    // VUID-vkCmdExecuteCommands-contents-06018 / 00096 (inside a render pass instance: secondaries that continue
+    // it) and VUID-vkCmdExecuteCommands-pCommandBuffers-00100 (outside: none that does)
+    const bool continues = sec->usage & VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT;
+    if (continues != cb->insideRenderPass) {
+      report(sec, Severity::Error,
+             cb->insideRenderPass ? "VUID-vkCmdExecuteCommands-pCommandBuffers-00096"
+                                  : "VUID-vkCmdExecuteCommands-pCommandBuffers-00100",
+             "%s: pCommandBuffers[%u] was %srecorded with VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT, but is "
+             "executed %s a render pass instance",
+             fn, i, continues ? "" : "not ", cb->insideRenderPass ? "inside" : "outside");
+      return;
+    }
     secs[i] = sec;
   }
   for (CommandBuffer* sec : secs) {
     cb->secondaries.push_back(sec);
     sec->primaries.push_back(cb);
     cb->record([sec](ExecState& outer) {
-      ExecState inner;  // secondaries inherit no bound state
+      ExecState inner;  // secondaries inherit no bound state...
       inner.queue = outer.queue;
+      inner.graphicsState = std::move(outer.graphicsState);  // ...but render into the render pass instance
       sec->execute(inner);
+      outer.graphicsState = std::move(inner.graphicsState);
     });
   }
 }

@@ -11,7 +11,9 @@
 // (completion) Executable, or Invalid for ONE_TIME_SUBMIT; reset or begin returns to Initial/Recording; a
 // primary that executes a secondary becomes Invalid when that secondary is reset, re-recorded or freed.
 // vkCmdExecuteCommands records a closure that runs the secondary's closures inline, with a fresh ExecState
-// (secondaries inherit no bound state).
+// (secondaries inherit no bound state) that takes over the primary's graphics state for the time (a secondary that
+// continues a render pass instance renders into its attachments; the spec leaves the rest of the primary's state
+// undefined after vkCmdExecuteCommands).
 #pragma once
 
 #include <cstdint>
@@ -121,6 +123,21 @@ class CommandBuffer : public Object {
   // Between vkCmdBeginRenderPass(2)/vkCmdBeginRendering and their end while recording: commands that may not be
   // recorded inside a render pass instance (dispatches, copies, traces...) check it ("-renderpass" VUIDs).
   bool insideRenderPass = false;
+  // Reports `vuid` ("<fn> inside a render pass instance") and returns false while insideRenderPass.
+  bool outsideRenderPass(const char* fn, const char* vuid);
+  // A secondary's VkCommandBufferInheritanceInfo when it began with RENDER_PASS_CONTINUE (else `continues` false):
+  // the render pass and subpass, or the dynamic rendering formats (VkCommandBufferInheritanceRenderingInfo). src/gfx
+  // reads it to know the subpass the secondary's commands record into.
+  struct Inheritance {
+    bool continues = false;
+    VkRenderPass renderPass = VK_NULL_HANDLE;
+    uint32_t subpass = 0;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    std::vector<VkFormat> colorFormats;  // dynamic rendering only
+    VkFormat depthFormat = VK_FORMAT_UNDEFINED, stencilFormat = VK_FORMAT_UNDEFINED;
+    uint32_t viewMask = 0;
+    VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+  } inheritance;
   // src/gfx's recording state (the render pass instance being recorded, bound pipeline for validation); reset
   // with the command buffer.
   std::unique_ptr<LayerState> graphicsRecording;

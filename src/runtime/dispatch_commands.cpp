@@ -82,6 +82,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatch(VkCommandBuffer commandBuffer, uint3
   const char* fn = "vkCmdDispatch";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdDispatch-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdDispatch-renderpass")) return;
   const uint32_t count[3] = {groupCountX, groupCountY, groupCountZ};
   static const char* const kVuids[3] = {"VUID-vkCmdDispatch-groupCountX-00386", "VUID-vkCmdDispatch-groupCountY-00387",
                                         "VUID-vkCmdDispatch-groupCountZ-00388"};
@@ -119,6 +121,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchBase(VkCommandBuffer commandBuffer, u
   const char* fn = "vkCmdDispatchBase";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdDispatchBase-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdDispatchBase-renderpass")) return;
   const uint32_t base[3] = {baseGroupX, baseGroupY, baseGroupZ};
   const uint32_t count[3] = {groupCountX, groupCountY, groupCountZ};
   static const char* const kBaseVuids[3] = {"VUID-vkCmdDispatchBase-baseGroupX-00421",
@@ -157,6 +161,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdDispatchIndirect(VkCommandBuffer commandBuffe
   const char* fn = "vkCmdDispatchIndirect";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdDispatchIndirect-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdDispatchIndirect-renderpass")) return;
   Buffer* buf = fromHandle<Buffer>(buffer);
   // VUID-vkCmdDispatchIndirect-buffer-parameter
   if (!buf) {

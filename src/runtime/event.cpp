@@ -182,6 +182,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetEvent(VkCommandBuffer commandBuffer, VkEve
                                             VkPipelineStageFlags stageMask) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdSetEvent");
   if (!cb) return;
+  // VUID-vkCmdSetEvent-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdSetEvent", "VUID-vkCmdSetEvent-renderpass")) return;
   Event* e = liveEvent(cb, event, "vkCmdSetEvent", "VUID-vkCmdSetEvent-event-parameter");
   if (!e) return;
   // VUID-vkCmdSetEvent-stageMask-01149
@@ -197,6 +199,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent(VkCommandBuffer commandBuffer, VkE
                                               VkPipelineStageFlags stageMask) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResetEvent");
   if (!cb) return;
+  // VUID-vkCmdResetEvent-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdResetEvent", "VUID-vkCmdResetEvent-renderpass")) return;
   Event* e = liveEvent(cb, event, "vkCmdResetEvent", "VUID-vkCmdResetEvent-event-parameter");
   if (!e) return;
   // VUID-vkCmdResetEvent-stageMask-01153
@@ -211,6 +215,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent(VkCommandBuffer commandBuffer, VkE
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetEvent2(VkCommandBuffer commandBuffer, VkEvent event,
                                              const VkDependencyInfo* pDependencyInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdSetEvent2");
+  // VUID-vkCmdSetEvent2-renderpass: outside a render pass instance
+  if (cb && !cb->outsideRenderPass("vkCmdSetEvent2", "VUID-vkCmdSetEvent2-renderpass")) return;
   if (!cb || !checkSync2(cb, "vkCmdSetEvent2", "VUID-vkCmdSetEvent2-synchronization2-03824")) return;
   Event* e = liveEvent(cb, event, "vkCmdSetEvent2", "VUID-vkCmdSetEvent2-event-parameter");
   if (!e || !checkDependencyInfo(cb, pDependencyInfo, "vkCmdSetEvent2")) return;
@@ -220,6 +226,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetEvent2(VkCommandBuffer commandBuffer, VkEv
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent2(VkCommandBuffer commandBuffer, VkEvent event,
                                                VkPipelineStageFlags2 stageMask) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResetEvent2");
+  // VUID-vkCmdResetEvent2-renderpass: outside a render pass instance
+  if (cb && !cb->outsideRenderPass("vkCmdResetEvent2", "VUID-vkCmdResetEvent2-renderpass")) return;
   if (!cb || !checkSync2(cb, "vkCmdResetEvent2", "VUID-vkCmdResetEvent2-synchronization2-03829")) return;
   Event* e = liveEvent(cb, event, "vkCmdResetEvent2", "VUID-vkCmdResetEvent2-event-parameter");
   if (!e) return;

@@ -54,7 +54,23 @@ constexpr FormatInfo kFormats[] = {
     {VK_FORMAT_R32G32B32A32_UINT, 16, 4, {32, 32, 32, 32}, N::UInt, false, false},
     {VK_FORMAT_R32G32B32A32_SINT, 16, 4, {32, 32, 32, 32}, N::SInt, false, false},
     {VK_FORMAT_R32G32B32A32_SFLOAT, 16, 4, {32, 32, 32, 32}, N::SFloat, false, false},
+    // Depth/stencil: the FormatInfo decodes depth (as R) or, for S8_UINT, stencil.
+    {VK_FORMAT_D16_UNORM, 2, 1, {16}, N::UNorm, false, false},
+    {VK_FORMAT_X8_D24_UNORM_PACK32, 4, 1, {24}, N::UNorm, false, false},
+    {VK_FORMAT_D32_SFLOAT, 4, 1, {32}, N::SFloat, false, false},
+    {VK_FORMAT_S8_UINT, 1, 1, {8}, N::UInt, false, false},
+    {VK_FORMAT_D24_UNORM_S8_UINT, 4, 1, {24}, N::UNorm, false, false},
+    {VK_FORMAT_D32_SFLOAT_S8_UINT, 8, 1, {32}, N::SFloat, false, false},
 };
+
+// The stencil aspects of the combined formats.
+constexpr FormatInfo kD24S8Stencil{VK_FORMAT_D24_UNORM_S8_UINT, 4, 1, {8}, N::UInt, false, false, 3};
+constexpr FormatInfo kD32S8Stencil{VK_FORMAT_D32_SFLOAT_S8_UINT, 8, 1, {8}, N::UInt, false, false, 4};
+
+// The color formats the spec's "Required Format Support" tables mark COLOR_ATTACHMENT (vkrt renders to every
+// color format it has but the three-component 32-bit ones, buffer-only, and B10G11R11, whose encode is rounding
+// only: it is required, so it is included too). Blending applies to all but the integer formats.
+bool colorAttachment(const FormatInfo& f) { return f.texelSize != 12; }
 
 }  // namespace
 
@@ -64,9 +80,71 @@ const FormatInfo* formatInfo(VkFormat format) {
   return nullptr;
 }
 
+bool isDepthStencilFormat(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_S8_UINT:
+    case VK_FORMAT_D24_UNORM_S8_UINT:
+    case VK_FORMAT_D32_SFLOAT_S8_UINT: return true;
+    default: return false;
+  }
+}
+
+VkImageAspectFlags formatAspects(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D32_SFLOAT: return VK_IMAGE_ASPECT_DEPTH_BIT;
+    case VK_FORMAT_S8_UINT: return VK_IMAGE_ASPECT_STENCIL_BIT;
+    case VK_FORMAT_D24_UNORM_S8_UINT:
+    case VK_FORMAT_D32_SFLOAT_S8_UINT: return VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
+    default: return formatInfo(format) ? VK_IMAGE_ASPECT_COLOR_BIT : 0;
+  }
+}
+
+const FormatInfo* aspectFormatInfo(VkFormat format, VkImageAspectFlags aspect) {
+  if (aspect == VK_IMAGE_ASPECT_STENCIL_BIT) {
+    if (format == VK_FORMAT_D24_UNORM_S8_UINT) return &kD24S8Stencil;
+    if (format == VK_FORMAT_D32_SFLOAT_S8_UINT) return &kD32S8Stencil;
+  }
+  return formatInfo(format);
+}
+
+uint32_t aspectBufferTexelSize(VkFormat format, VkImageAspectFlags aspect) {
+  if (aspect == VK_IMAGE_ASPECT_STENCIL_BIT) return 1;
+  if (aspect == VK_IMAGE_ASPECT_DEPTH_BIT) return format == VK_FORMAT_D16_UNORM ? 2 : 4;
+  const FormatInfo* f = formatInfo(format);
+  return f ? f->texelSize : 0;
+}
+
+uint32_t aspectImageBytes(VkFormat format, VkImageAspectFlags aspect) {
+  if (aspect == VK_IMAGE_ASPECT_DEPTH_BIT &&
+      (format == VK_FORMAT_D24_UNORM_S8_UINT || format == VK_FORMAT_X8_D24_UNORM_PACK32))
+    return 3;
+  return aspectBufferTexelSize(format, aspect);
+}
+
+bool isColorAttachmentFormat(VkFormat format) {
+  const FormatInfo* f = formatInfo(format);
+  return f && !isDepthStencilFormat(format) && colorAttachment(*f);
+}
+
 VkFormatFeatureFlags formatFeatures(VkFormat format) {
   const FormatInfo* f = formatInfo(format);
   if (!f || f->texelSize == 12) return 0;  // three-component 32-bit formats are buffer-only
+  if (isDepthStencilFormat(format)) {
+    // Depth/stencil attachments (gfx/rendering.cpp clears, resolves and hands them to the rasterizer), copies per
+    // aspect (runtime/image_copy.cpp), sampling (depth as R, stencil as an unsigned integer; linear filtering of
+    // depth). Blits: BLIT_SRC as the spec's table requires it of D16_UNORM and D32_SFLOAT only; no format is a
+    // depth BLIT_DST, so no depth blit is valid (they need equal formats).
+    VkFormatFeatureFlags ds = VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT |
+                              VK_FORMAT_FEATURE_TRANSFER_DST_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+    if (formatAspects(format) & VK_IMAGE_ASPECT_DEPTH_BIT) ds |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    if (format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D32_SFLOAT) ds |= VK_FORMAT_FEATURE_BLIT_SRC_BIT;
+    return ds;
+  }
   // Every image format blits both ways: vkCmdBlitImage decodes, filters and encodes any of them
   // (runtime/image_blit.cpp), which covers the BLIT_SRC/BLIT_DST rows of the spec's "Required Format Support".
   VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
@@ -76,6 +154,11 @@ VkFormatFeatureFlags formatFeatures(VkFormat format) {
   // never filters.
   if (f->type != N::UInt && f->type != N::SInt) flags |= VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if (f->type != N::SRGB) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+  // Color attachments (gfx/rendering.cpp, raster's back end through the texel codecs), blended unless integer.
+  if (colorAttachment(*f)) {
+    flags |= VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT;
+    if (f->type != N::UInt && f->type != N::SInt) flags |= VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT;
+  }
   if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT) flags |= VK_FORMAT_FEATURE_STORAGE_IMAGE_ATOMIC_BIT;
   return flags;
 }
@@ -96,7 +179,7 @@ VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
   const VkFormatFeatureFlags vertex =
       accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0;
   const FormatInfo* f = formatInfo(format);
-  if (!f || f->type == N::SRGB) return vertex;
+  if (!f || f->type == N::SRGB || isDepthStencilFormat(format)) return vertex;
   VkFormatFeatureFlags flags =
       vertex | VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
   if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)
@@ -137,13 +220,32 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
   *pProps = {};
   VkFormatFeatureFlags features = formatFeatures(format);
   if (!features) return VK_ERROR_FORMAT_NOT_SUPPORTED;
-  if ((usage & VK_IMAGE_USAGE_STORAGE_BIT) && !(features & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
-    return VK_ERROR_FORMAT_NOT_SUPPORTED;
-  if ((usage & VK_IMAGE_USAGE_SAMPLED_BIT) && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-    return VK_ERROR_FORMAT_NOT_SUPPORTED;
-  const VkImageUsageFlags supportedUsage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
-  if (usage & ~supportedUsage) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  // Each usage needs its format feature ("Image Creation Limits").
+  const struct {
+    VkImageUsageFlags usage;
+    VkFormatFeatureFlags feature;
+  } kNeeds[] = {
+      {VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_FORMAT_FEATURE_TRANSFER_SRC_BIT},
+      {VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_FORMAT_FEATURE_TRANSFER_DST_BIT},
+      {VK_IMAGE_USAGE_SAMPLED_BIT, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT},
+      {VK_IMAGE_USAGE_STORAGE_BIT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT},
+      {VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT},
+      {VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT},
+      // Transient attachments are ordinary memory; input attachments are recorded by render passes (not read by
+      // shaders yet: maxPerStageDescriptorInputAttachments is 0), so either attachment feature admits them.
+      {VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+       VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT},
+      {VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT,
+       VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT},
+  };
+  VkImageUsageFlags known = 0;
+  for (const auto& n : kNeeds) {
+    known |= n.usage;
+    if ((usage & n.usage) && !(features & n.feature)) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  if (usage & ~known) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  // Depth/stencil images are 2D ("Depth/Stencil Formats": vkrt keeps them to the required image type).
+  if (isDepthStencilFormat(format) && type != VK_IMAGE_TYPE_2D) return VK_ERROR_FORMAT_NOT_SUPPORTED;
   if (flags &
       (VK_IMAGE_CREATE_SPARSE_BINDING_BIT | VK_IMAGE_CREATE_SPARSE_RESIDENCY_BIT | VK_IMAGE_CREATE_SPARSE_ALIASED_BIT))
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
@@ -164,9 +266,14 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
     default: return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   pProps->maxArrayLayers = type == VK_IMAGE_TYPE_3D ? 1 : l.maxImageArrayLayers;
+  // 4 samples for 2D optimal images that can be attachments ("Supported Sample Counts": the framebuffer and
+  // sampled-image sample counts are 1 | 4); storage images stay single-sampled (storageImageSampleCounts).
   pProps->sampleCounts = VK_SAMPLE_COUNT_1_BIT;
+  if (type == VK_IMAGE_TYPE_2D && tiling == VK_IMAGE_TILING_OPTIMAL && !(flags & VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT) &&
+      !(usage & VK_IMAGE_USAGE_STORAGE_BIT) &&
+      (features & (VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)))
+    pProps->sampleCounts |= VK_SAMPLE_COUNT_4_BIT;
   pProps->maxResourceSize = 1ull << 32;
-  (void)tiling;
   return VK_SUCCESS;
 }
 

@@ -18,7 +18,27 @@ struct FormatInfo {
   NumericType type;
   bool bgr;     // components stored as B,G,R(,A)
   bool packed;  // a packed format (A2B10G10R10, B10G11R11...)
+  // The byte of the texel where the decoded components start: 0, except for the stencil aspect of a combined
+  // depth/stencil format (aspectFormatInfo), which reads one byte inside the combined texel.
+  uint8_t offset = 0;
 };
+
+// Depth/stencil formats (the spec's "Depth/Stencil Formats"), stored as their texels: D16_UNORM 2 bytes,
+// X8_D24_UNORM_PACK32 4 bytes (depth in bits 0..23), D32_SFLOAT 4 bytes, S8_UINT 1 byte, D24_UNORM_S8_UINT 4 bytes
+// (depth in bits 0..23, stencil in byte 3), D32_SFLOAT_S8_UINT 8 bytes (depth in bytes 0..3, stencil in byte 4,
+// bytes 5..7 unused). Their FormatInfo decodes the depth (as R); the stencil aspect has its own (aspectFormatInfo).
+VkImageAspectFlags formatAspects(VkFormat format);  // COLOR, or DEPTH and/or STENCIL; 0 for unknown formats
+bool isDepthStencilFormat(VkFormat format);
+// The texels of one aspect of `format` as decodeTexel/encodeTexel see them (texelSize stays the whole texel's):
+// the format's own FormatInfo for color and depth, an S8 reader at byte 3 / 4 for the stencil of combined formats.
+const FormatInfo* aspectFormatInfo(VkFormat format, VkImageAspectFlags aspect);
+// Bytes a texel of one aspect takes in a buffer (vkCmdCopyBufferToImage, "Depth/Stencil Formats" packing): depth
+// of D16 2, of the D24 formats 4 (the top byte undefined on reads), of the D32 formats 4; stencil 1.
+uint32_t aspectBufferTexelSize(VkFormat format, VkImageAspectFlags aspect);
+// Bytes of the image texel one aspect's copy writes (D24 depth: 3, so the stencil byte is kept).
+uint32_t aspectImageBytes(VkFormat format, VkImageAspectFlags aspect);
+// Whether the format can be a color attachment / has blending (COLOR_ATTACHMENT(_BLEND) in formatFeatures).
+bool isColorAttachmentFormat(VkFormat format);
 
 // nullptr when vkrt does not support the format.
 const FormatInfo* formatInfo(VkFormat format);

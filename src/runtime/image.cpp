@@ -27,7 +27,10 @@ Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
       arrayLayers(info.arrayLayers),
       usage(info.usage),
       tiling(info.tiling),
-      flags(info.flags) {
+      flags(info.flags),
+      samples(uint32_t(info.samples)),
+      pixelSize(f->texelSize * uint32_t(info.samples)),
+      aspects(formatAspects(info.format)) {
   if (auto* list =
           findInChain<VkImageFormatListCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_IMAGE_FORMAT_LIST_CREATE_INFO))
     viewFormats.assign(list->pViewFormats, list->pViewFormats + list->viewFormatCount);
@@ -36,7 +39,7 @@ Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
     MipLayout l;
     l.extent = mipExtent(extent, m);
     l.offset = offset;
-    l.rowPitch = VkDeviceSize(l.extent.width) * f->texelSize;
+    l.rowPitch = VkDeviceSize(l.extent.width) * pixelSize;
     l.depthPitch = l.rowPitch * l.extent.height;
     l.arrayPitch = l.depthPitch * l.extent.depth;
     offset += l.arrayPitch * arrayLayers;
@@ -114,11 +117,15 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
            maxMipLevels(ci.extent), ci.extent.width, ci.extent.height, ci.extent.depth);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  // VUID-VkImageCreateInfo-samples-02258
-  if (ci.samples != VK_SAMPLE_COUNT_1_BIT) {
-    report(dev, Severity::Error, "VUID-VkImageCreateInfo-samples-02258",
-           "vkCreateImage: samples %u is not supported (only VK_SAMPLE_COUNT_1_BIT)", (unsigned)ci.samples);
-    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  // VUID-VkImageCreateInfo-samples-02257: multisampled images are 2D, optimal, one level, not cube-compatible
+  if (ci.samples != VK_SAMPLE_COUNT_1_BIT &&
+      (ci.imageType != VK_IMAGE_TYPE_2D || ci.tiling != VK_IMAGE_TILING_OPTIMAL || ci.mipLevels != 1 ||
+       (ci.flags & VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT))) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-samples-02257",
+           "vkCreateImage: samples %u with image type %d, tiling %d, %u mip levels, flags 0x%x (a multisampled image "
+           "is 2D, optimal, one level, not cube-compatible)",
+           (unsigned)ci.samples, (int)ci.imageType, (int)ci.tiling, ci.mipLevels, ci.flags);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   uint32_t maxDim = ci.imageType == VK_IMAGE_TYPE_1D   ? l.maxImageDimension1D
                     : ci.imageType == VK_IMAGE_TYPE_2D ? l.maxImageDimension2D
@@ -141,6 +148,13 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
     report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251",
            "vkCreateImage: format %d with usage 0x%x, flags 0x%x, type %d is not supported by vkrt", (int)ci.format,
            ci.usage, ci.flags, (int)ci.imageType);
+    return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  }
+  // VUID-VkImageCreateInfo-samples-02258: a sample count the format supports
+  if (!(props.sampleCounts & ci.samples)) {
+    report(dev, Severity::Error, "VUID-VkImageCreateInfo-samples-02258",
+           "vkCreateImage: samples %u is not among the sample counts 0x%x of format %d with usage 0x%x",
+           (unsigned)ci.samples, props.sampleCounts, (int)ci.format, ci.usage);
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   // VK_KHR_image_format_list: the formats the views will have.
@@ -341,6 +355,18 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSubresourceLayout(VkDevice device, VkIma
            pSubresource->arrayLayer);
     return;
   }
+  // VUID-vkGetImageSubresourceLayout-aspectMask-00997: one aspect the format has (VUID-...-format-04462/04463/04464)
+  const VkImageAspectFlags a = pSubresource->aspectMask;
+  if ((a & (a - 1)) || !(a & img->aspects)) {
+    report(img, Severity::Error,
+           img->aspects == VK_IMAGE_ASPECT_COLOR_BIT ? "VUID-vkGetImageSubresourceLayout-format-04461"
+           : (a & (a - 1))                           ? "VUID-vkGetImageSubresourceLayout-aspectMask-00997"
+           : (img->aspects & VK_IMAGE_ASPECT_DEPTH_BIT) ? "VUID-vkGetImageSubresourceLayout-format-04462"
+                                                        : "VUID-vkGetImageSubresourceLayout-format-04463",
+           "vkGetImageSubresourceLayout: aspectMask 0x%x is not one aspect of the image's (0x%x)", a, img->aspects);
+    return;
+  }
+  // Every aspect lies in the same texels (image.hpp): a depth/stencil aspect reports the combined texels' layout.
   const MipLayout& m = img->mips[pSubresource->mipLevel];
   pLayout->offset = m.offset + pSubresource->arrayLayer * m.arrayPitch;
   pLayout->size = m.arrayPitch;

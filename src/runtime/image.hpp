@@ -4,6 +4,10 @@
 // slice after slice; for each mip level all array layers, mip levels one after the other:
 //   offset(mip, layer, x, y, z) = mipOffset[mip] + layer * arrayPitch[mip]
 //                                 + z * depthPitch[mip] + y * rowPitch[mip] + x * texelSize
+// A multisampled image (samples 4: 2D, one mip level, optimal tiling) keeps a pixel's samples consecutively, so
+// `texelSize` above is texelSize * samples (Image::pixelSize), as raster::Surface addresses them.
+// Depth/stencil formats keep their whole texel (format.hpp: D24_UNORM_S8_UINT 4 bytes with stencil in byte 3,
+// D32_SFLOAT_S8_UINT 8 bytes with stencil in byte 4); every aspect's subresource layout is that of the texels.
 // vkGetImageSubresourceLayout reports exactly these pitches, and the image functions compiled shaders call
 // (runtime/image_functions.cpp) address texels the same way.
 #pragma once
@@ -42,6 +46,9 @@ class Image : public Object {
   const VkImageUsageFlags usage;
   const VkImageTiling tiling;
   const VkImageCreateFlags flags;
+  const uint32_t samples;    // 1 or 4
+  const uint32_t pixelSize;  // formatInfo->texelSize * samples
+  const VkImageAspectFlags aspects;  // formatAspects(format)
   std::vector<MipLayout> mips;
   VkDeviceSize size = 0;  // bytes of all subresources
   // VkImageFormatListCreateInfo's formats (VK_KHR_image_format_list): when not empty, the only formats the image's
@@ -57,10 +64,10 @@ class Image : public Object {
   std::atomic<VkImageLayout> trackedLayout{VK_IMAGE_LAYOUT_UNDEFINED};
 
   uint8_t* data() const;
-  // Address of texel (x, y, z) of (mip, layer); no bounds check.
+  // Address of texel (x, y, z) of (mip, layer) (its sample 0); no bounds check.
   uint8_t* texel(uint32_t mip, uint32_t layer, uint32_t x, uint32_t y, uint32_t z) const {
     const MipLayout& m = mips[mip];
-    return data() + m.offset + layer * m.arrayPitch + z * m.depthPitch + y * m.rowPitch + x * formatInfo->texelSize;
+    return data() + m.offset + layer * m.arrayPitch + z * m.depthPitch + y * m.rowPitch + x * pixelSize;
   }
 
   static constexpr VkDeviceSize kAlignment = 64;

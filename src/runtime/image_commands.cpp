@@ -2,12 +2,14 @@
 // vkCmdBlitImage(2), vkCmdClearColorImage. Each validates its regions (reporting the VUID and recording nothing when
 // one is invalid) and records a closure that runs the routines of runtime/image_copy.hpp and image_blit.hpp.
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_blit.hpp"
+#include "runtime/image_commands.hpp"
 #include "runtime/image_copy.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/report.hpp"
@@ -18,25 +20,6 @@ using namespace vkrt;
 namespace {
 
 using ull = unsigned long long;
-
-// The VUIDs one command reports (they differ between the 1 and 2 versions of each command).
-struct Vuids {
-  const char* fn;
-  const char* usage;   // image transfer usage
-  const char* bound;   // image bound to memory
-  const char* layout;  // image layout
-  const char* mip;     // subresource mip level
-  const char* layers;  // subresource layers
-  const char* bounds;  // region inside the (mip of the) image
-  const char* aspect;  // color aspect only
-  // Buffer <-> image only:
-  const char* bufUsage;
-  const char* bufBound;
-  const char* bufOffset;    // multiple of the texel size
-  const char* bufSize;      // buffer large enough
-  const char* rowLength;    // bufferRowLength >= width
-  const char* imageHeight;  // bufferImageHeight >= height
-};
 
 constexpr Vuids kBufferToImage{"vkCmdCopyBufferToImage",
                                "VUID-vkCmdCopyBufferToImage-dstImage-00177",
@@ -218,7 +201,10 @@ bool layoutOk(VkImageLayout l, bool dst) {
          l == (dst ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
 }
 
-// A live image bound to memory, with the transfer usage and a transfer layout; reports otherwise.
+}  // namespace
+
+namespace vkrt {
+
 Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v) {
   Image* img = fromHandle<Image>(h);
   if (!img) {
@@ -250,10 +236,10 @@ Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layou
 // Checks that the aspect, mip level and layers of `sub` exist in the image.
 bool subresourceInImage(const Image& img, const VkImageSubresourceLayers& sub, uint32_t index, const char* what,
                         const Vuids& v) {
-  // VUID ...-aspectMask-00211 / 00142 / 00143 / 00241 / 00242: vkrt images have the color aspect only
-  if (sub.aspectMask != VK_IMAGE_ASPECT_COLOR_BIT) {
-    report(&img, Severity::Error, v.aspect, "%s: pRegions[%u].%s aspectMask 0x%x is not VK_IMAGE_ASPECT_COLOR_BIT",
-           v.fn, index, what, sub.aspectMask);
+  // VUID ...-aspectMask-00211 / 00142 / 00143 / 00241 / 00242: aspects the image has
+  if (!sub.aspectMask || (sub.aspectMask & ~img.aspects)) {
+    report(&img, Severity::Error, v.aspect, "%s: pRegions[%u].%s aspectMask 0x%x is not among the image's aspects 0x%x",
+           v.fn, index, what, sub.aspectMask, img.aspects);
     return false;
   }
   // VUID ...-imageSubresource-01701/01703, srcSubresource-01696/01705, dstSubresource-01697/01706: the mip exists
@@ -288,6 +274,10 @@ bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffs
   return true;
 }
 
+}  // namespace vkrt
+
+namespace {
+
 void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkImageLayout layout,
                        std::vector<VkBufferImageCopy2> regions, bool toImage, const Vuids& v) {
   Buffer* buf = fromHandle<Buffer>(bufferH);
@@ -309,10 +299,36 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
   }
   Image* img = transferImage(cb, imageH, toImage, layout, v);
   if (!img) return;
-  const uint32_t t = img->formatInfo->texelSize;
+  const bool two = std::strchr(v.fn, '2') != nullptr;
+  // VUID-vkCmdCopyBufferToImage-dstImage-07973 / vkCmdCopyImageToBuffer-srcImage-07973 (and the 2 versions):
+  // single-sampled images only
+  if (img->samples != 1) {
+    report(img, Severity::Error,
+           toImage ? (two ? "VUID-VkCopyBufferToImageInfo2-dstImage-07973" : "VUID-vkCmdCopyBufferToImage-dstImage-07973")
+                   : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-07973" : "VUID-vkCmdCopyImageToBuffer-srcImage-07973"),
+           "%s: the image has %u samples; buffer copies need VK_SAMPLE_COUNT_1_BIT", v.fn, img->samples);
+    return;
+  }
   for (uint32_t i = 0; i < regions.size(); ++i) {
     const VkBufferImageCopy2& r = regions[i];
     if (!regionInImage(*img, r.imageSubresource, r.imageOffset, r.imageExtent, i, "imageSubresource", v)) return;
+    // VUID-VkBufferImageCopy(2)-aspectMask-00212: one aspect per region
+    const VkImageAspectFlags aspect = r.imageSubresource.aspectMask;
+    if (aspect & (aspect - 1)) {
+      report(img, Severity::Error, two ? "VUID-VkBufferImageCopy2-aspectMask-00212" : "VUID-VkBufferImageCopy-aspectMask-00212",
+             "%s: pRegions[%u].imageSubresource.aspectMask 0x%x has more than one aspect", v.fn, i, aspect);
+      return;
+    }
+    const uint32_t t = aspectBufferTexelSize(img->format, aspect);
+    // VUID-vkCmdCopyBufferToImage-srcImage-04053 (and the 3 others): depth/stencil copies at multiples of 4 bytes
+    if (aspect != VK_IMAGE_ASPECT_COLOR_BIT && r.bufferOffset % 4) {
+      report(buf, Severity::Error,
+             toImage ? (two ? "VUID-VkCopyBufferToImageInfo2-srcImage-04053" : "VUID-vkCmdCopyBufferToImage-srcImage-04053")
+                     : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-04053" : "VUID-vkCmdCopyImageToBuffer-srcImage-04053"),
+             "%s: pRegions[%u].bufferOffset %llu of a depth/stencil copy is not a multiple of 4", v.fn, i,
+             (ull)r.bufferOffset);
+      return;
+    }
     // VUID-VkBufferImageCopy(2)-bufferRowLength-00195 / bufferImageHeight-00196
     if ((r.bufferRowLength && r.bufferRowLength < r.imageExtent.width) ||
         (r.bufferImageHeight && r.bufferImageHeight < r.imageExtent.height)) {
@@ -366,8 +382,29 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
            (int)src->format, (int)dst->format, src->formatInfo->texelSize, dst->formatInfo->texelSize);
     return;
   }
+  const bool two = std::strchr(vs.fn, '2') != nullptr;
+  // VUID-vkCmdCopyImage-srcImage-01548 for depth/stencil formats: identical formats ("Format Compatibility
+  // Classes": each depth/stencil format is its own class)
+  if ((isDepthStencilFormat(src->format) || isDepthStencilFormat(dst->format)) && src->format != dst->format) {
+    report(dst, Severity::Error, sizeVuid, "%s: depth/stencil formats %d and %d differ", vs.fn, (int)src->format,
+           (int)dst->format);
+    return;
+  }
+  // VUID-vkCmdCopyImage-sampleCount-00136: the same sample count
+  if (src->samples != dst->samples) {
+    report(dst, Severity::Error, two ? "VUID-VkCopyImageInfo2-sampleCount-00136" : "VUID-vkCmdCopyImage-sampleCount-00136",
+           "%s: srcImage has %u samples, dstImage %u", vs.fn, src->samples, dst->samples);
+    return;
+  }
   for (uint32_t i = 0; i < regions.size(); ++i) {
     VkImageCopy2& r = regions[i];
+    // VUID-VkImageCopy-aspectMask-00137: the same aspects on both sides
+    if (r.srcSubresource.aspectMask != r.dstSubresource.aspectMask) {
+      report(dst, Severity::Error, two ? "VUID-VkImageCopy2-aspectMask-00137" : "VUID-VkImageCopy-aspectMask-00137",
+             "%s: pRegions[%u] copies aspects 0x%x into aspects 0x%x", vs.fn, i, r.srcSubresource.aspectMask,
+             r.dstSubresource.aspectMask);
+      return;
+    }
     // A 3D image's slices correspond to the layers of a 2D image: the 3D side has one layer and a depth.
     if (src->type == VK_IMAGE_TYPE_3D && dst->type != VK_IMAGE_TYPE_3D &&
         r.extent.depth != r.dstSubresource.layerCount) {
@@ -468,9 +505,28 @@ void recordBlit(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkImag
   Image* dst = src ? transferImage(cb, dstH, true, dstLayout, v.dst) : nullptr;
   if (!src || !dst) return;
   const VkFormatFeatureFlags srcFeatures = formatFeatures(src->format);
-  // VUID ...-srcImage-01999 / dstImage-02000 (BLIT_SRC / BLIT_DST format features) hold for every image vkrt
-  // creates: every image format has both (runtime/format.cpp; the e2e test
-  // BlitTest.FormatFeaturesAdvertiseBlitsAndLinearFiltering checks it).
+  const bool two = std::strchr(fn, '2') != nullptr;
+  // VUID ...-srcImage-01999 / dstImage-02000: BLIT_SRC / BLIT_DST format features (every color format has both;
+  // depth/stencil formats have no BLIT_DST: runtime/format.cpp)
+  const bool srcOk = srcFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT;
+  if (!srcOk || !(formatFeatures(dst->format) & VK_FORMAT_FEATURE_BLIT_DST_BIT)) {
+    report(srcOk ? dst : src, Severity::Error,
+           srcOk ? (two ? "VUID-VkBlitImageInfo2-dstImage-02000" : "VUID-vkCmdBlitImage-dstImage-02000")
+                 : (two ? "VUID-VkBlitImageInfo2-srcImage-01999" : "VUID-vkCmdBlitImage-srcImage-01999"),
+           "%s: format %d lacks VK_FORMAT_FEATURE_BLIT_%s_BIT", fn, (int)(srcOk ? dst : src)->format,
+           srcOk ? "DST" : "SRC");
+    return;
+  }
+  // VUID ...-srcImage-00233 / dstImage-00234: single-sampled images
+  if (src->samples != 1 || dst->samples != 1) {
+    const bool s = src->samples != 1;
+    report(s ? src : dst, Severity::Error,
+           s ? (two ? "VUID-VkBlitImageInfo2-srcImage-00233" : "VUID-vkCmdBlitImage-srcImage-00233")
+             : (two ? "VUID-VkBlitImageInfo2-dstImage-00234" : "VUID-vkCmdBlitImage-dstImage-00234"),
+           "%s: %s has %u samples; blits need VK_SAMPLE_COUNT_1_BIT", fn, s ? "srcImage" : "dstImage",
+           s ? src->samples : dst->samples);
+    return;
+  }
   // VUID ...-srcImage-00229 / 00230: integer formats blit only to and from integers of the same signedness
   // ("Integer formats can only be converted to other integer formats with the same signedness")
   const NumericType st = src->formatInfo->type, dt = dst->formatInfo->type;
@@ -559,6 +615,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBufferToImage(VkCommandBuffer commandBuff
                                                      uint32_t regionCount, const VkBufferImageCopy* pRegions) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyBufferToImage");
   if (!cb) return;
+  // VUID-vkCmdCopyBufferToImage-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyBufferToImage", "VUID-vkCmdCopyBufferToImage-renderpass")) return;
   std::vector<VkBufferImageCopy2> regions;
   for (uint32_t i = 0; i < regionCount; ++i) regions.push_back(toCopy2(pRegions[i]));
   recordBufferImage(cb, srcBuffer, dstImage, dstImageLayout, std::move(regions), true, kBufferToImage);
@@ -568,6 +626,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBufferToImage2(VkCommandBuffer commandBuf
                                                       const VkCopyBufferToImageInfo2* pInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyBufferToImage2");
   if (!cb) return;
+  // VUID-vkCmdCopyBufferToImage2-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyBufferToImage2", "VUID-vkCmdCopyBufferToImage2-renderpass")) return;
   std::vector<VkBufferImageCopy2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
   recordBufferImage(cb, pInfo->srcBuffer, pInfo->dstImage, pInfo->dstImageLayout, std::move(regions), true,
                     kBufferToImage2);
@@ -578,6 +638,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImageToBuffer(VkCommandBuffer commandBuff
                                                      uint32_t regionCount, const VkBufferImageCopy* pRegions) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyImageToBuffer");
   if (!cb) return;
+  // VUID-vkCmdCopyImageToBuffer-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyImageToBuffer", "VUID-vkCmdCopyImageToBuffer-renderpass")) return;
   std::vector<VkBufferImageCopy2> regions;
   for (uint32_t i = 0; i < regionCount; ++i) regions.push_back(toCopy2(pRegions[i]));
   recordBufferImage(cb, dstBuffer, srcImage, srcImageLayout, std::move(regions), false, kImageToBuffer);
@@ -587,6 +649,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImageToBuffer2(VkCommandBuffer commandBuf
                                                       const VkCopyImageToBufferInfo2* pInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyImageToBuffer2");
   if (!cb) return;
+  // VUID-vkCmdCopyImageToBuffer2-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyImageToBuffer2", "VUID-vkCmdCopyImageToBuffer2-renderpass")) return;
   std::vector<VkBufferImageCopy2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
   recordBufferImage(cb, pInfo->dstBuffer, pInfo->srcImage, pInfo->srcImageLayout, std::move(regions), false,
                     kImageToBuffer2);
@@ -598,6 +662,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImage(VkCommandBuffer commandBuffer, VkIm
                                              const VkImageCopy* pRegions) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyImage");
   if (!cb) return;
+  // VUID-vkCmdCopyImage-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyImage", "VUID-vkCmdCopyImage-renderpass")) return;
   std::vector<VkImageCopy2> regions;
   for (uint32_t i = 0; i < regionCount; ++i) {
     const VkImageCopy& r = pRegions[i];
@@ -611,6 +677,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImage(VkCommandBuffer commandBuffer, VkIm
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyImage2(VkCommandBuffer commandBuffer, const VkCopyImageInfo2* pInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyImage2");
   if (!cb) return;
+  // VUID-vkCmdCopyImage2-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyImage2", "VUID-vkCmdCopyImage2-renderpass")) return;
   std::vector<VkImageCopy2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
   recordImageCopy(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout,
                   std::move(regions), kCopySrc2, kCopyDst2, "VUID-VkCopyImageInfo2-srcImage-01548",
@@ -623,6 +691,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBlitImage(VkCommandBuffer commandBuffer, VkIm
                                              const VkImageBlit* pRegions, VkFilter filter) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBlitImage");
   if (!cb) return;
+  // VUID-vkCmdBlitImage-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdBlitImage", "VUID-vkCmdBlitImage-renderpass")) return;
   std::vector<VkImageBlit2> regions;
   for (uint32_t i = 0; i < regionCount; ++i) {
     const VkImageBlit& r = pRegions[i];
@@ -640,6 +710,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBlitImage(VkCommandBuffer commandBuffer, VkIm
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdBlitImage2(VkCommandBuffer commandBuffer, const VkBlitImageInfo2* pInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBlitImage2");
   if (!cb) return;
+  // VUID-vkCmdBlitImage2-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdBlitImage2", "VUID-vkCmdBlitImage2-renderpass")) return;
   std::vector<VkImageBlit2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
   recordBlit(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout, std::move(regions),
              pInfo->filter, kBlit2);
@@ -651,8 +723,16 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
   const char* fn = "vkCmdClearColorImage";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdClearColorImage-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdClearColorImage-renderpass")) return;
   Image* img = transferImage(cb, image, true, imageLayout, kClear);
   if (!img) return;
+  // VUID-vkCmdClearColorImage-image-00007: not a depth/stencil format
+  if (img->aspects != VK_IMAGE_ASPECT_COLOR_BIT) {
+    report(img, Severity::Error, "VUID-vkCmdClearColorImage-image-00007",
+           "%s: the image's format %d is a depth/stencil format", fn, (int)img->format);
+    return;
+  }
   std::vector<VkImageSubresourceRange> ranges(pRanges, pRanges + rangeCount);
   for (uint32_t i = 0; i < rangeCount; ++i) {
     const VkImageSubresourceRange& r = ranges[i];
@@ -690,33 +770,6 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
   cb->record([img, encoded = std::move(encoded), ranges = std::move(ranges)](ExecState&) {
     for (const auto& r : ranges) clearImage(*img, encoded.data(), r);
   });
-}
-
-// vkCmdResolveImage / vkCmdResolveImage2 (and vkCmdResolveImage2KHR, VK_KHR_copy_commands2): a multisampled image
-// resolved into a single-sampled one. Every vkrt image has one sample (vkGetPhysicalDeviceImageFormatProperties
-// reports sampleCounts VK_SAMPLE_COUNT_1_BIT for every format), so no call can name a valid source: each reports
-// that its source is not multisampled and records nothing.
-static void reportResolve(CommandBuffer* cb, VkImage srcImage, const char* fn, const char* vuid) {
-  Image* src = fromHandle<Image>(srcImage);
-  report(src ? static_cast<const Object*>(src) : cb, Severity::Error, vuid,
-         "%s: srcImage 0x%llx has VK_SAMPLE_COUNT_1_BIT, but a resolve's source must be multisampled (vkrt's "
-         "images have one sample)",
-         fn, (unsigned long long)rawHandle(srcImage));
-}
-
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdResolveImage(VkCommandBuffer commandBuffer, VkImage srcImage, VkImageLayout, VkImage,
-                                                VkImageLayout, uint32_t, const VkImageResolve*) {
-  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResolveImage");
-  if (!cb) return;
-  // VUID-vkCmdResolveImage-srcImage-00257
-  reportResolve(cb, srcImage, "vkCmdResolveImage", "VUID-vkCmdResolveImage-srcImage-00257");
-}
-
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdResolveImage2(VkCommandBuffer commandBuffer, const VkResolveImageInfo2* pInfo) {
-  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResolveImage2");
-  if (!cb) return;
-  // VUID-VkResolveImageInfo2-srcImage-00257
-  reportResolve(cb, pInfo->srcImage, "vkCmdResolveImage2", "VUID-VkResolveImageInfo2-srcImage-00257");
 }
 
 }  // extern "C"

@@ -16,10 +16,15 @@ VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
 }
 
 void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCopy2& r, bool toImage) {
-  const uint32_t t = image.formatInfo->texelSize;
+  const VkImageAspectFlags aspect = r.imageSubresource.aspectMask;
+  const uint32_t t = aspectBufferTexelSize(image.format, aspect);
   const VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
   const VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
   const size_t rowBytes = size_t(r.imageExtent.width) * t;
+  // One aspect of a depth/stencil texel: texel by texel, at the aspect's byte, as many bytes as it has.
+  const bool perTexel = aspect != VK_IMAGE_ASPECT_COLOR_BIT && t != image.formatInfo->texelSize;
+  const uint32_t at = aspect == VK_IMAGE_ASPECT_STENCIL_BIT ? aspectFormatInfo(image.format, aspect)->offset : 0;
+  const uint32_t bytes = aspectImageBytes(image.format, aspect);
   for (uint32_t l = 0; l < r.imageSubresource.layerCount; ++l) {
     for (uint32_t z = 0; z < r.imageExtent.depth; ++z) {
       for (uint32_t y = 0; y < r.imageExtent.height; ++y) {
@@ -28,7 +33,18 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
         uint8_t* i =
             image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l, uint32_t(r.imageOffset.x),
                         uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
-        if (toImage) {
+        if (perTexel) {
+          for (uint32_t x = 0; x < r.imageExtent.width; ++x) {
+            uint8_t* it = i + size_t(x) * image.pixelSize + at;
+            uint8_t* bt = b + size_t(x) * t;
+            if (toImage) {
+              std::memcpy(it, bt, bytes);
+            } else {
+              std::memset(bt, 0, t);  // D24 depth: the top byte of the 32-bit word is 0
+              std::memcpy(bt, it, bytes);
+            }
+          }
+        } else if (toImage) {
           std::memmove(i, b, rowBytes);
         } else {
           std::memmove(b, i, rowBytes);
@@ -39,7 +55,13 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
 }
 
 void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
-  const size_t rowBytes = size_t(r.extent.width) * src.formatInfo->texelSize;
+  const size_t rowBytes = size_t(r.extent.width) * src.pixelSize;
+  // One aspect of a combined depth/stencil format: only its bytes of each texel.
+  const VkImageAspectFlags aspect = r.srcSubresource.aspectMask;
+  const bool perTexel = (src.aspects & VK_IMAGE_ASPECT_DEPTH_BIT) && (src.aspects & VK_IMAGE_ASPECT_STENCIL_BIT) &&
+                        aspect != (VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT);
+  const uint32_t at = aspect == VK_IMAGE_ASPECT_STENCIL_BIT ? aspectFormatInfo(src.format, aspect)->offset : 0;
+  const uint32_t bytes = aspectImageBytes(src.format, aspect);
   // Planes: the layers of a 2D/1D image, the depth slices of a 3D image (a 3D image copies to and from the
   // layers of a 2D array image slice by slice).
   const bool src3d = src.type == VK_IMAGE_TYPE_3D, dst3d = dst.type == VK_IMAGE_TYPE_3D;
@@ -54,7 +76,13 @@ void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
           src.texel(r.srcSubresource.mipLevel, srcLayer, uint32_t(r.srcOffset.x), uint32_t(r.srcOffset.y) + y, srcZ);
       uint8_t* d =
           dst.texel(r.dstSubresource.mipLevel, dstLayer, uint32_t(r.dstOffset.x), uint32_t(r.dstOffset.y) + y, dstZ);
-      std::memmove(d, s, rowBytes);
+      if (!perTexel) {
+        std::memmove(d, s, rowBytes);
+        continue;
+      }
+      for (uint32_t x = 0; x < r.extent.width * src.samples; ++x)
+        std::memmove(d + size_t(x) * src.formatInfo->texelSize + at, s + size_t(x) * src.formatInfo->texelSize + at,
+                     bytes);
     }
   }
 }
@@ -172,6 +200,56 @@ void clearImage(const Image& image, const uint8_t* texel, const VkImageSubresour
     for (uint32_t l = range.baseArrayLayer; l < range.baseArrayLayer + layers; ++l) {
       uint8_t* p = image.data() + mip.offset + l * mip.arrayPitch;
       for (VkDeviceSize i = 0; i < mip.arrayPitch; i += t) std::memcpy(p + i, texel, t);
+    }
+  }
+}
+
+void encodeDepth(VkFormat format, float depth, uint8_t* texel) {
+  depth = std::isnan(depth) ? 0.0f : depth;
+  switch (format) {
+    case VK_FORMAT_D16_UNORM: {
+      const uint16_t v = uint16_t(std::nearbyint(double(std::clamp(depth, 0.0f, 1.0f)) * 65535.0));
+      std::memcpy(texel, &v, 2);
+      return;
+    }
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D24_UNORM_S8_UINT: {
+      const uint32_t v = uint32_t(std::nearbyint(double(std::clamp(depth, 0.0f, 1.0f)) * 16777215.0));
+      std::memcpy(texel, &v, 3);  // little-endian: bits 0..23, byte 3 (stencil) kept
+      return;
+    }
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT_S8_UINT: std::memcpy(texel, &depth, 4); return;
+    default: return;
+  }
+}
+
+void encodeStencil(VkFormat format, uint32_t stencil, uint8_t* texel) {
+  switch (format) {
+    case VK_FORMAT_S8_UINT: texel[0] = uint8_t(stencil); return;
+    case VK_FORMAT_D24_UNORM_S8_UINT: texel[3] = uint8_t(stencil); return;
+    case VK_FORMAT_D32_SFLOAT_S8_UINT: texel[4] = uint8_t(stencil); return;
+    default: return;
+  }
+}
+
+void clearDepthStencilImage(const Image& image, const VkClearDepthStencilValue& value,
+                            const VkImageSubresourceRange& range) {
+  const uint32_t t = image.formatInfo->texelSize;
+  const bool depth = range.aspectMask & image.aspects & VK_IMAGE_ASPECT_DEPTH_BIT;
+  const bool stencil = range.aspectMask & image.aspects & VK_IMAGE_ASPECT_STENCIL_BIT;
+  const uint32_t levels =
+      range.levelCount == VK_REMAINING_MIP_LEVELS ? image.mipLevels - range.baseMipLevel : range.levelCount;
+  const uint32_t layers =
+      range.layerCount == VK_REMAINING_ARRAY_LAYERS ? image.arrayLayers - range.baseArrayLayer : range.layerCount;
+  for (uint32_t m = range.baseMipLevel; m < range.baseMipLevel + levels; ++m) {
+    const MipLayout& mip = image.mips[m];
+    for (uint32_t l = range.baseArrayLayer; l < range.baseArrayLayer + layers; ++l) {
+      uint8_t* p = image.data() + mip.offset + l * mip.arrayPitch;
+      for (VkDeviceSize i = 0; i < mip.arrayPitch; i += t) {
+        if (depth) encodeDepth(image.format, value.depth, p + i);
+        if (stencil) encodeStencil(image.format, value.stencil, p + i);
+      }
     }
   }
 }

@@ -146,6 +146,7 @@ bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N:
 }  // namespace
 
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
+  texel += f.offset;  // the stencil byte of a combined depth/stencil texel
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
   if (f.packed) {
     uint32_t w = uint32_t(readBits(texel, 4));
@@ -167,6 +168,7 @@ void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
 }
 
 void encodeTexel(const FormatInfo& f, const uint32_t in[4], uint8_t* texel) {
+  texel += f.offset;
   uint32_t c[4] = {in[0], in[1], in[2], in[3]};
   if (f.packed) {
     uint32_t w = 0;
@@ -201,7 +203,8 @@ bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   if (static_cast<const Object*>(rec->object)->objectType != VK_OBJECT_TYPE_IMAGE_VIEW) return false;
   v->view = recordObject<ImageView>(rec->object);
   v->image = v->view->image;
-  v->format = formatInfo(v->view->format);
+  // A depth/stencil view reads the aspect it selects (depth as R, stencil as an unsigned integer).
+  v->format = aspectFormatInfo(v->view->format, v->view->range.aspectMask);
   if (!v->format || !v->image || !v->image->data()) return false;
   v->baseMip = v->view->range.baseMipLevel;
   v->levelCount = v->view->range.levelCount;

@@ -97,15 +97,17 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxTexelGatherOffset = 7;
   l.maxFramebufferWidth = l.maxFramebufferHeight = 16384;
   l.maxFramebufferLayers = 1024;
-  l.framebufferColorSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.framebufferDepthSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.framebufferStencilSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.framebufferNoAttachmentsSampleCounts = VK_SAMPLE_COUNT_1_BIT;
+  // 1 and 4 samples, the counts the spec requires ("Limit Requirements"): multisampled images keep a pixel's
+  // samples together (runtime/image.hpp), render passes resolve them (gfx/rendering.cpp).
+  l.framebufferColorSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.framebufferDepthSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.framebufferStencilSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.framebufferNoAttachmentsSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
   l.maxColorAttachments = 8;
-  l.sampledImageColorSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.sampledImageIntegerSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.sampledImageDepthSampleCounts = VK_SAMPLE_COUNT_1_BIT;
-  l.sampledImageStencilSampleCounts = VK_SAMPLE_COUNT_1_BIT;
+  l.sampledImageColorSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.sampledImageIntegerSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.sampledImageDepthSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
+  l.sampledImageStencilSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
   l.storageImageSampleCounts = VK_SAMPLE_COUNT_1_BIT;
   l.maxSampleMaskWords = 1;
   l.timestampComputeAndGraphics = VK_TRUE;
@@ -170,12 +172,15 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.maxDescriptorSetUpdateAfterBindStorageBuffersDynamic = 16;
   properties12.maxDescriptorSetUpdateAfterBindSampledImages = 1u << 20;
   properties12.maxDescriptorSetUpdateAfterBindStorageImages = 1u << 20;
-  properties12.supportedDepthResolveModes = VK_RESOLVE_MODE_SAMPLE_ZERO_BIT;
-  properties12.supportedStencilResolveModes = VK_RESOLVE_MODE_SAMPLE_ZERO_BIT;
+  // Depth/stencil resolves of render passes and dynamic rendering (gfx/rendering.cpp resolveDepthStencil).
+  properties12.supportedDepthResolveModes = VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_AVERAGE_BIT |
+                                            VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;
+  properties12.supportedStencilResolveModes =
+      VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;
   properties12.independentResolveNone = VK_TRUE;
   properties12.independentResolve = VK_TRUE;
   properties12.maxTimelineSemaphoreValueDifference = UINT64_MAX;
-  properties12.framebufferIntegerColorSampleCounts = VK_SAMPLE_COUNT_1_BIT;
+  properties12.framebufferIntegerColorSampleCounts = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
 
   properties13.minSubgroupSize = 1;
   properties13.maxSubgroupSize = 1;
@@ -200,7 +205,8 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
                                          VK_MEMORY_PROPERTY_HOST_COHERENT_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT,
                                      0};
 
-  queueFamily.queueFlags = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT;
+  // One family for everything: render passes and draws (src/gfx) run on the same queue workers as compute.
+  queueFamily.queueFlags = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT;
   queueFamily.queueCount = 4;
   queueFamily.timestampValidBits = 64;
   queueFamily.minImageTransferGranularity = {1, 1, 1};

@@ -263,6 +263,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetQueryPool(VkCommandBuffer commandBuffer,
                                                   uint32_t firstQuery, uint32_t queryCount) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResetQueryPool");
   if (!cb) return;
+  // VUID-vkCmdResetQueryPool-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdResetQueryPool", "VUID-vkCmdResetQueryPool-renderpass")) return;
   // VUID-vkCmdResetQueryPool-queryPool-parameter
   QueryPool* pool = livePool(cb, queryPool, "vkCmdResetQueryPool", "VUID-vkCmdResetQueryPool-queryPool-parameter");
   if (!pool) return;
@@ -316,6 +318,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyQueryPoolResults(VkCommandBuffer commandB
   const char* cmd = "vkCmdCopyQueryPoolResults";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, cmd);
   if (!cb) return;
+  // VUID-vkCmdCopyQueryPoolResults-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(cmd, "VUID-vkCmdCopyQueryPoolResults-renderpass")) return;
   // VUID-vkCmdCopyQueryPoolResults-queryPool-parameter
   QueryPool* pool = livePool(cb, queryPool, cmd, "VUID-vkCmdCopyQueryPoolResults-queryPool-parameter");
   if (!pool) return;

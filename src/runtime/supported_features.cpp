@@ -57,9 +57,16 @@ constexpr F kSupported[] = {
     // Block layouts: the compiler follows Offset/ArrayStride; modules are validated with the enabled rules.
     F::uniformBufferStandardLayout,
     F::scalarBlockLayout,
-    // Layout-only features of images and framebuffers that a compute/ray tracing device honours trivially.
+    // Separate depth/stencil layouts are accepted by barriers and attachments and have no data effect (image
+    // layouts are not tracked but for presentable images). Imageless framebuffers: VkFramebufferAttachmentsCreateInfo
+    // at creation, the views at vkCmdBeginRenderPass (gfx/framebuffer.cpp, gfx/render_pass_commands.cpp; tests/e2e
+    // RenderPassTest.ImagelessFramebuffer).
     F::separateDepthStencilLayouts,
     F::imagelessFramebuffer,
+    // Dynamic rendering: vkCmdBeginRendering/vkCmdEndRendering with load/store ops, resolves, suspend/resume and
+    // secondary command buffers inheriting VkCommandBufferInheritanceRenderingInfo (gfx/rendering.cpp; tests/e2e
+    // RenderPassDynamicTest). Draws inside come from gfx/draw*.
+    F::dynamicRendering,
     // Descriptor binding flags: descriptors are records read when a command executes (runtime/descriptor_set.cpp).
     F::descriptorBindingUniformBufferUpdateAfterBind,
     F::descriptorBindingSampledImageUpdateAfterBind,

@@ -24,7 +24,8 @@ VkSurfaceCapabilitiesKHR headlessCapabilities() {
   c.supportedTransforms = VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR;
   c.currentTransform = VK_SURFACE_TRANSFORM_IDENTITY_BIT_KHR;
   c.supportedCompositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
-  // The spec requires COLOR_ATTACHMENT among them; vkrt has no graphics queue, so an application can never use it.
+  // COLOR_ATTACHMENT (required by the spec) is real: every surface format is a color attachment format
+  // (runtime/format.cpp). STORAGE holds for the UNORM formats only (sRGB formats have no storage feature).
   c.supportedUsageFlags = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
   return c;

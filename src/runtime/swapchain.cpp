@@ -165,8 +165,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSwapchainKHR(VkDevice device, const Vk
 
   Swapchain* sc = createObject<Swapchain>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, surface, ci);
   if (!sc) return VK_ERROR_OUT_OF_HOST_MEMORY;
-  // The images: what vkspec's "swapchain-wsi-image-create-info" implies, minus the attachment usages that vkrt's
-  // images do not take (no graphics queue can use them).
+  // The images: what vkspec's "swapchain-wsi-image-create-info" implies, with the application's usage (color and
+  // input attachment usages included: render passes render into them).
   VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   ici.imageType = VK_IMAGE_TYPE_2D;
   ici.format = ci.imageFormat;
@@ -175,8 +175,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSwapchainKHR(VkDevice device, const Vk
   ici.arrayLayers = ci.imageArrayLayers;
   ici.samples = VK_SAMPLE_COUNT_1_BIT;
   ici.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ici.usage = ci.imageUsage & ~(VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT);
-  if (ici.usage == 0) ici.usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  ici.usage = ci.imageUsage;
   ici.sharingMode = ci.imageSharingMode;
   ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   const uint32_t count = std::max(ci.minImageCount, 3u);

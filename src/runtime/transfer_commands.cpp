@@ -127,6 +127,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBuffer(VkCommandBuffer commandBuffer, VkB
                                               uint32_t regionCount, const VkBufferCopy* pRegions) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyBuffer");
   if (!cb) return;
+  // VUID-vkCmdCopyBuffer-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyBuffer", "VUID-vkCmdCopyBuffer-renderpass")) return;
   recordCopy(cb, srcBuffer, dstBuffer, regionCount, pRegions, "vkCmdCopyBuffer", CopyVuids{"VUID-vkCmdCopyBuffer-"});
 }
 
@@ -134,6 +136,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdCopyBuffer2(VkCommandBuffer commandBuffer,
                                                const VkCopyBufferInfo2* pCopyBufferInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdCopyBuffer2");
   if (!cb) return;
+  // VUID-vkCmdCopyBuffer2-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass("vkCmdCopyBuffer2", "VUID-vkCmdCopyBuffer2-renderpass")) return;
   recordCopy(cb, pCopyBufferInfo->srcBuffer, pCopyBufferInfo->dstBuffer, pCopyBufferInfo->regionCount,
              pCopyBufferInfo->pRegions, "vkCmdCopyBuffer2", CopyVuids{"VUID-VkCopyBufferInfo2-"});
 }
@@ -143,6 +147,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdFillBuffer(VkCommandBuffer commandBuffer, VkB
   const char* fn = "vkCmdFillBuffer";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdFillBuffer-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdFillBuffer-renderpass")) return;
   Buffer* dst = liveBuffer(cb, dstBuffer, fn, "dstBuffer", "VUID-vkCmdFillBuffer-dstBuffer-parameter");
   if (!dst) return;
   // VUID-vkCmdFillBuffer-dstBuffer-00029
@@ -201,6 +207,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdUpdateBuffer(VkCommandBuffer commandBuffer, V
   const char* fn = "vkCmdUpdateBuffer";
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
   if (!cb) return;
+  // VUID-vkCmdUpdateBuffer-renderpass: outside a render pass instance
+  if (!cb->outsideRenderPass(fn, "VUID-vkCmdUpdateBuffer-renderpass")) return;
   Buffer* dst = liveBuffer(cb, dstBuffer, fn, "dstBuffer", "VUID-vkCmdUpdateBuffer-dstBuffer-parameter");
   if (!dst) return;
   // VUID-vkCmdUpdateBuffer-dstBuffer-00034

@@ -1,0 +1,42 @@
+// What the image transfer commands (runtime/image_commands.cpp, image_resolve.cpp) share: the VUID tables of one
+// command and the checks of its images and regions, each reporting and returning false/nullptr on misuse.
+#pragma once
+
+#include <cstdint>
+
+#include "runtime/vk.hpp"
+
+namespace vkrt {
+
+class CommandBuffer;
+class Image;
+
+// The VUIDs one command reports (they differ between the 1 and 2 versions of each command).
+struct Vuids {
+  const char* fn;
+  const char* usage;   // image transfer usage
+  const char* bound;   // image bound to memory
+  const char* layout;  // image layout
+  const char* mip;     // subresource mip level
+  const char* layers;  // subresource layers
+  const char* bounds;  // region inside the (mip of the) image
+  const char* aspect;  // color aspect only
+  // Buffer <-> image only:
+  const char* bufUsage;
+  const char* bufBound;
+  const char* bufOffset;    // multiple of the texel size
+  const char* bufSize;      // buffer large enough
+  const char* rowLength;    // bufferRowLength >= width
+  const char* imageHeight;  // bufferImageHeight >= height
+};
+
+// A live image bound to memory, with the transfer usage and a transfer layout; reports otherwise.
+Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v);
+// Checks that the aspects (a non-empty subset of the image's), mip level and layers of `sub` exist in the image.
+bool subresourceInImage(const Image& img, const VkImageSubresourceLayers& sub, uint32_t index, const char* what,
+                        const Vuids& v);
+// Checks that [offset, offset + extent) of (mip, layers) lies inside the image.
+bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffset3D off, VkExtent3D ext,
+                   uint32_t index, const char* what, const Vuids& v);
+
+}  // namespace vkrt
