@@ -1,14 +1,97 @@
 // The draw part of the graphics state (gfx/graphics_state.hpp): graphics pipelines, dynamic state, vertex input.
+//
+// Dynamic state ("Pipeline Dynamic State"): a pipeline names the states it takes from the command buffer (DynBit
+// bits of GraphicsPipeline::dynamicMask); the vkCmdSet* commands (gfx/dynamic_state.cpp) record their values into
+// DrawExecState::dynamic when they execute, and at each draw resolveState() takes every dynamic state from there
+// and the others from the pipeline. While recording, DrawRecordState tracks which states were set since they were
+// last made undefined, for the draw-time checks (VUID-vkCmdDraw-commandBuffer-02701 and its kin).
 #pragma once
 
 #include <cstdint>
 
 #include "raster/raster.hpp"
+#include "runtime/vk.hpp"
+
+namespace vkrt {
+class Buffer;
+}
 
 namespace vkrt::gfx {
 
-struct DrawExecState {};
+class GraphicsPipeline;
+struct GraphicsPipelineDesc;
 
-struct DrawRecordState {};
+inline constexpr uint32_t kMaxVertexBindings = 32;
+inline constexpr uint32_t kMaxVertexAttributes = 32;
+
+// The dynamic states vkrt supports: Vulkan 1.0's and the ones 1.3 made core (extended dynamic state 1 and 2, less
+// the patch control points and logic op states of features vkrt does not advertise).
+enum DynBit : uint32_t {
+  kDynViewport,
+  kDynScissor,
+  kDynLineWidth,
+  kDynDepthBias,
+  kDynBlendConstants,
+  kDynDepthBounds,
+  kDynStencilCompareMask,
+  kDynStencilWriteMask,
+  kDynStencilReference,
+  kDynCullMode,
+  kDynFrontFace,
+  kDynTopology,
+  kDynViewportWithCount,
+  kDynScissorWithCount,
+  kDynVertexStride,
+  kDynDepthTestEnable,
+  kDynDepthWriteEnable,
+  kDynDepthCompareOp,
+  kDynDepthBoundsTestEnable,
+  kDynStencilTestEnable,
+  kDynStencilOp,
+  kDynRasterizerDiscardEnable,
+  kDynDepthBiasEnable,
+  kDynPrimitiveRestartEnable,
+  kDynCount
+};
+
+// The bit of a VkDynamicState; -1 for a state vkrt does not support.
+int dynamicBit(VkDynamicState s);
+// The state's name for reports ("VK_DYNAMIC_STATE_VIEWPORT").
+const char* dynamicStateName(uint32_t bit);
+
+struct VertexBufferBinding {
+  const Buffer* buffer = nullptr;  // null: not bound (or VK_NULL_HANDLE)
+  uint64_t offset = 0;
+  uint64_t size = 0;     // bytes from offset (pSizes, or the rest of the buffer)
+  uint32_t stride = 0;   // vkCmdBindVertexBuffers2's pStrides (used with kDynVertexStride)
+};
+
+// While executing. The draw-time checks that depend on the bound pipeline run when the draw executes (the pipeline is
+// bound by runtime's vkCmdBindPipeline, which this layer does not see while recording), against `dynamicSet`,
+// `vertexBound` and `strideSet`, kept by the commands as they execute.
+struct DrawExecState {
+  raster::State dynamic;      // the values the vkCmdSet* commands set (the fields of dynamic states only)
+  uint32_t scissorCount = 1;  // vkCmdSetScissorWithCount
+  VertexBufferBinding vertex[kMaxVertexBindings];
+  const Buffer* indexBuffer = nullptr;
+  uint64_t indexOffset = 0;
+  raster::IndexType indexType = raster::IndexType::None;
+
+  // Validation state. Binding a pipeline makes the dynamic states it has static undefined ("Pipeline Dynamic
+  // State"): a draw that finds a pipeline other than `lastPipeline` bound clears their bits first.
+  const GraphicsPipeline* lastPipeline = nullptr;
+  uint32_t dynamicSet = 0;   // DynBit bits of states set and not made undefined since
+  uint32_t vertexBound = 0;  // bindings with a buffer bound (bit b = binding b)
+  uint32_t strideSet = 0;    // bindings bound by vkCmdBindVertexBuffers2 with pStrides
+};
+
+// While recording (for validation).
+struct DrawRecordState {
+  bool indexBound = false;  // vkCmdBindIndexBuffer was recorded
+};
+
+// The raster state of a draw: the pipeline's static state with every dynamic state of its dynamicMask taken from
+// `dyn` (scissorCount: the dynamic scissor count, used when the scissors are dynamic with count).
+void resolveState(const GraphicsPipelineDesc& pipeline, const DrawExecState& dyn, raster::State* out);
 
 }  // namespace vkrt::gfx

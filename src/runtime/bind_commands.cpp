@@ -24,12 +24,15 @@ using ull = unsigned long long;
 constexpr uint32_t kMaxSets = 8;  // BindState::sets
 
 BindState& bindState(ExecState& st, VkPipelineBindPoint bp) {
-  return bp == VK_PIPELINE_BIND_POINT_COMPUTE ? st.compute : st.rayTracing;
+  return bp == VK_PIPELINE_BIND_POINT_COMPUTE    ? st.compute
+         : bp == VK_PIPELINE_BIND_POINT_GRAPHICS ? st.graphics
+                                                 : st.rayTracing;
 }
 
-// The bind points vkrt's only queue family (compute + transfer) supports.
+// The bind points vkrt's queue family (graphics + compute + transfer) supports.
 bool supportedBindPoint(VkPipelineBindPoint bp) {
-  return bp == VK_PIPELINE_BIND_POINT_COMPUTE || bp == VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
+  return bp == VK_PIPELINE_BIND_POINT_COMPUTE || bp == VK_PIPELINE_BIND_POINT_GRAPHICS ||
+         bp == VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
 }
 
 // "Identically defined" set layouts (VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358).
@@ -61,22 +64,27 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindPipeline(VkCommandBuffer commandBuffer, V
            (ull)rawHandle(pipeline));
     return;
   }
-  // VUID-vkCmdBindPipeline-pipelineBindPoint-00778: vkrt's queue family has no graphics
+  // VUID-vkCmdBindPipeline-pipelineBindPoint-parameter (the queue family supports the three bind points)
   if (!supportedBindPoint(pipelineBindPoint)) {
-    report(cb, Severity::Error, "VUID-vkCmdBindPipeline-pipelineBindPoint-00778",
-           "%s: pipelineBindPoint %d is not supported by the queue family (compute and transfer only)", fn,
+    report(cb, Severity::Error, "VUID-vkCmdBindPipeline-pipelineBindPoint-parameter",
+           "%s: pipelineBindPoint %d is not a bind point vkrt supports (graphics, compute, ray tracing)", fn,
            (int)pipelineBindPoint);
     return;
   }
-  // VUID-vkCmdBindPipeline-pipelineBindPoint-00779, VUID-vkCmdBindPipeline-pipelineBindPoint-02392
+  // VUID-vkCmdBindPipeline-pipelineBindPoint-00779, VUID-vkCmdBindPipeline-pipelineBindPoint-00780,
+  // VUID-vkCmdBindPipeline-pipelineBindPoint-02392
   if (p->bindPoint != pipelineBindPoint) {
     const bool compute = pipelineBindPoint == VK_PIPELINE_BIND_POINT_COMPUTE;
-    report(
-        p, Severity::Error,
-        compute ? "VUID-vkCmdBindPipeline-pipelineBindPoint-00779" : "VUID-vkCmdBindPipeline-pipelineBindPoint-02392",
-        "%s: pipelineBindPoint is %s but the pipeline is not a %s pipeline", fn,
-        compute ? "VK_PIPELINE_BIND_POINT_COMPUTE" : "VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR",
-        compute ? "compute" : "ray tracing");
+    const bool graphics = pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS;
+    report(p, Severity::Error,
+           compute    ? "VUID-vkCmdBindPipeline-pipelineBindPoint-00779"
+           : graphics ? "VUID-vkCmdBindPipeline-pipelineBindPoint-00780"
+                      : "VUID-vkCmdBindPipeline-pipelineBindPoint-02392",
+           "%s: pipelineBindPoint is %s but the pipeline is not a %s pipeline", fn,
+           compute    ? "VK_PIPELINE_BIND_POINT_COMPUTE"
+           : graphics ? "VK_PIPELINE_BIND_POINT_GRAPHICS"
+                      : "VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR",
+           compute ? "compute" : graphics ? "graphics" : "ray tracing");
     return;
   }
   // VUID-vkCmdBindPipeline-pipeline-03382
@@ -102,10 +110,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
            "%s: 0x%llx is not a live VkPipelineLayout", fn, (ull)rawHandle(layout));
     return;
   }
-  // VUID-vkCmdBindDescriptorSets-pipelineBindPoint-00361
+  // VUID-vkCmdBindDescriptorSets-pipelineBindPoint-parameter (the queue family supports the three bind points)
   if (!supportedBindPoint(pipelineBindPoint)) {
-    report(cb, Severity::Error, "VUID-vkCmdBindDescriptorSets-pipelineBindPoint-00361",
-           "%s: pipelineBindPoint %d is not supported by the queue family (compute and transfer only)", fn,
+    report(cb, Severity::Error, "VUID-vkCmdBindDescriptorSets-pipelineBindPoint-parameter",
+           "%s: pipelineBindPoint %d is not a bind point vkrt supports (graphics, compute, ray tracing)", fn,
            (int)pipelineBindPoint);
     return;
   }

@@ -174,10 +174,18 @@ VkFormatFeatureFlags2 formatFeatures2(VkFormat format) {
   return flags;
 }
 
+bool vertexBufferFormat(VkFormat f) {
+  if (f < VK_FORMAT_R8_UNORM || f > VK_FORMAT_R32G32B32A32_SFLOAT) return false;
+  return f != VK_FORMAT_R8_SRGB && f != VK_FORMAT_R8G8_SRGB && f != VK_FORMAT_R8G8B8_SRGB && f != VK_FORMAT_B8G8R8_SRGB &&
+         f != VK_FORMAT_R8G8B8A8_SRGB && f != VK_FORMAT_B8G8R8A8_SRGB && f != VK_FORMAT_A8B8G8R8_SRGB_PACK32;
+}
+
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
-  // Vertex formats of acceleration structure builds (the spec's mandatory ones and the 8/16-bit normalized ones).
+  // Vertex formats of acceleration structure builds (the spec's mandatory ones and the 8/16-bit normalized ones), and
+  // of vertex input (src/gfx/vertex_input.cpp).
   const VkFormatFeatureFlags vertex =
-      accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0;
+      (accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0) |
+      (vertexBufferFormat(format) ? VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT : 0);
   const FormatInfo* f = formatInfo(format);
   if (!f || f->type == N::SRGB || isDepthStencilFormat(format)) return vertex;
   VkFormatFeatureFlags flags =

@@ -79,6 +79,21 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.subPixelPrecisionBits = 4;
   l.subTexelPrecisionBits = 8;
   l.mipmapPrecisionBits = 8;
+  // Vertex input and the stage interfaces (src/gfx): 32 attribute locations and bindings (abi::kGraphicsLocations,
+  // gfx::kMaxVertexBindings), 32 varying locations of 4 components (raster::kMaxLocations), 8 color outputs, one
+  // dual-source output, 8 clip and cull distances together (raster::kMaxClipDistances).
+  l.maxVertexInputAttributes = 32;
+  l.maxVertexInputBindings = 32;
+  l.maxVertexInputAttributeOffset = 2047;
+  l.maxVertexInputBindingStride = 2048;
+  l.maxVertexOutputComponents = 128;
+  l.maxFragmentInputComponents = 128;
+  l.maxFragmentOutputAttachments = 8;
+  l.maxFragmentDualSrcAttachments = 1;
+  l.maxFragmentCombinedOutputResources = 1u << 20;
+  l.maxClipDistances = 8;
+  l.maxCullDistances = 8;
+  l.maxCombinedClipAndCullDistances = 8;
   l.maxDrawIndexedIndexValue = UINT32_MAX;
   l.maxDrawIndirectCount = UINT32_MAX;
   l.maxSamplerLodBias = 15.0f;

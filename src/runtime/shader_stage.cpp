@@ -17,6 +17,8 @@ namespace {
 const char* modelName(spv::ExecutionModel m) {
   switch (m) {
     case spv::ExecutionModelGLCompute: return "GLCompute";
+    case spv::ExecutionModelVertex: return "Vertex";
+    case spv::ExecutionModelFragment: return "Fragment";
     case spv::ExecutionModelRayGenerationKHR: return "RayGenerationKHR";
     case spv::ExecutionModelIntersectionKHR: return "IntersectionKHR";
     case spv::ExecutionModelAnyHitKHR: return "AnyHitKHR";

@@ -13,8 +13,26 @@ using F = Feature;
 constexpr F kSupported[] = {
     // Bounds-checked buffer access in compiled shaders (src/spirv/memory.cpp).
     F::robustBufferAccess,
-    // Index values are only read by draws, which vkrt does not have; the limit is the full range.
+    // Draws (src/gfx/draw_commands.cpp, draw_executor.cpp): 32-bit index values are read as they are (the index
+    // limit is the full range); indirect draws loop over drawCount records (multiDrawIndirect), pass firstInstance
+    // through (drawIndirectFirstInstance), and the count variants read the count at execution (drawIndirectCount;
+    // tests/e2e draw_indirect_test.cpp).
     F::fullDrawIndexUint32,
+    F::multiDrawIndirect,
+    F::drawIndirectFirstInstance,
+    F::drawIndirectCount,
+    // Graphics pipeline state the rasterizer's back end implements from raster::State (src/gfx/graphics_pipeline_
+    // state.cpp captures it; src/raster applies it): per-attachment blend state, logic ops, depth clamp, depth bias
+    // clamp, depth bounds, alpha to one, sample shading, dual-source blending (fragment outputs with Index 1 reach
+    // FragmentQuad::color1).
+    F::independentBlend,
+    F::logicOp,
+    F::depthClamp,
+    F::depthBiasClamp,
+    F::depthBounds,
+    F::alphaToOne,
+    F::sampleRateShading,
+    F::dualSrcBlend,
     // Anisotropic filtering: the only sampling vkrt compiles is explicit-LOD sampling with a Lod operand (textureLod),
     // whose derivatives are zero, so rho_max = rho_min = 0 and the ratio of anisotropy is 1 ("Scale Factor
     // Operation"): one isotropic sample is the anisotropic filter (runtime/image_functions.cpp vkrt_image_sample;

@@ -1,0 +1,386 @@
+#include "gfx/draw_executor.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "abi/abi.hpp"
+#include "exec/fiber_group.hpp"
+#include "exec/supervise.hpp"
+#include "exec/thread_pool.hpp"
+#include "gfx/graphics_pipeline.hpp"
+#include "gfx/graphics_state.hpp"
+#include "gfx/vertex_input.hpp"
+#include "raster/raster.hpp"
+#include "runtime/bound_resources.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/device.hpp"
+#include "runtime/report.hpp"
+
+namespace vkrt::gfx {
+namespace {
+
+using abi::GraphicsInvocation;
+using abi::kGraphicsLocations;
+
+// One worker's invocations and their input/output storage, reused for every vertex and quad it shades.
+struct alignas(64) WorkerScratch {
+  GraphicsInvocation inv[4];
+  alignas(16) uint32_t inputs[4][kGraphicsLocations * 4];
+  alignas(16) uint32_t outputs[4][kGraphicsLocations * 4];
+  alignas(16) uint32_t outputs1[4][4];
+  alignas(16) uint8_t exchange[abi::kQuadExchangeBytes];
+  alignas(16) uint8_t sink[abi::kSinkBytes];
+};
+
+struct DrawContext {
+  const GraphicsPipeline* pipeline = nullptr;
+  exec::Job* job = nullptr;
+  AttributeFetch attributes[kMaxVertexAttributes];
+  uint32_t attributeCount = 0;
+  uint32_t varyingCount = 0;
+  uint8_t varyingLocation[raster::kMaxLocations] = {};
+  uint32_t clipCount = 0, cullCount = 0;
+  GraphicsInvocation vertexProto{}, fragmentProto{};
+  abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
+  bool quads = false;  // the fragment shader runs its four lanes together
+  uint32_t samples = 1;
+  std::unique_ptr<WorkerScratch[]> scratch;
+};
+
+// The standard sample positions ("Multisampling"): 1 sample at the centre, 4 in the standard pattern.
+constexpr float kSamplePositions4[4][2] = {{0.375f, 0.125f}, {0.875f, 0.375f}, {0.125f, 0.625f}, {0.625f, 0.875f}};
+
+struct VertexTask {
+  DrawContext* c;
+  WorkerScratch* w;
+  uint32_t instanceIndex, viewIndex;
+  const uint32_t* vertexIndex;
+  uint32_t count;
+  raster::ShadedVertex* out;
+  uint32_t done;  // vertices completed (a supervised task may end early)
+};
+
+void shadeVerticesTask(void* arg) {
+  VertexTask& t = *static_cast<VertexTask*>(arg);
+  const DrawContext& c = *t.c;
+  GraphicsInvocation& inv = t.w->inv[0];
+  uint32_t* inputs = t.w->inputs[0];
+  uint32_t* outputs = t.w->outputs[0];
+  exec::setRunning(c.pipeline->vertexName.c_str(), nullptr, exec::Abort::NoId);
+  for (uint32_t i = 0; i < t.count; ++i) {
+    inv = c.vertexProto;
+    inv.base.sink = t.w->sink;
+    inv.inputs = inputs;
+    inv.outputs = outputs;
+    inv.outputs1 = t.w->outputs1[0];
+    for (uint32_t a = 0; a < c.attributeCount; ++a) fetchAttribute(c.attributes[a], t.vertexIndex[i], t.instanceIndex, inputs);
+    for (uint32_t s = 0; s < c.varyingCount; ++s) std::memset(outputs + 4 * c.varyingLocation[s], 0, 16);
+    inv.vertexIndex = int32_t(t.vertexIndex[i]);
+    inv.instanceIndex = int32_t(t.instanceIndex);
+    inv.viewIndex = t.viewIndex;
+    c.vertexEntry(&inv);
+    raster::ShadedVertex& v = t.out[i];
+    std::memcpy(v.position, inv.position, sizeof v.position);
+    v.pointSize = inv.pointSize;
+    for (uint32_t k = 0; k < c.clipCount; ++k) v.clipDistance[k] = inv.clipDistance[k];
+    for (uint32_t k = 0; k < c.cullCount; ++k) v.clipDistance[c.clipCount + k] = inv.cullDistance[k];
+    for (uint32_t s = 0; s < c.varyingCount; ++s)
+      std::memcpy(v.varyings + 4 * s, outputs + 4 * c.varyingLocation[s], 16);
+    t.done = i + 1;
+  }
+}
+
+void shadeVertices(void* user, uint32_t instanceIndex, uint32_t viewIndex, const uint32_t* vertexIndex,
+                   uint32_t count, raster::ShadedVertex* out, unsigned worker) {
+  auto* c = static_cast<DrawContext*>(user);
+  VertexTask t{c, &c->scratch[worker], instanceIndex, viewIndex, vertexIndex, count, out, 0};
+  if (exec::runSupervised(*c->job, shadeVerticesTask, &t)) return;
+  // The job ended (a fault, the watchdog, the device going away): the vertices not shaded collapse to one point,
+  // so that their primitives cover nothing. The device is lost once the draw returns.
+  for (uint32_t i = t.done; i < count; ++i) {
+    raster::ShadedVertex& v = out[i];
+    v.position[0] = v.position[1] = v.position[2] = 0;
+    v.position[3] = 1;
+    v.pointSize = 1;
+    for (uint32_t k = 0; k < c->clipCount + c->cullCount; ++k) v.clipDistance[k] = 0;
+    for (uint32_t s = 0; s < c->varyingCount; ++s) std::memset(v.varyings + 4 * s, 0, 16);
+  }
+}
+
+struct QuadTask {
+  DrawContext* c;
+  WorkerScratch* w;
+  raster::FragmentQuad* quad;
+  bool fibersFailed;
+};
+
+void shadeQuadTask(void* arg) {
+  QuadTask& t = *static_cast<QuadTask*>(arg);
+  const DrawContext& c = *t.c;
+  raster::FragmentQuad& q = *t.quad;
+  WorkerScratch& w = *t.w;
+  exec::setRunning(c.pipeline->fragmentName.c_str(), nullptr, exec::Abort::NoId);
+  uint32_t lanes = 0;
+  for (uint32_t l = 0; l < 4; ++l)
+    if (c.quads || q.coverage[l]) lanes |= 1u << l;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!(lanes & (1u << l))) continue;
+    GraphicsInvocation& inv = w.inv[l];
+    inv = c.fragmentProto;
+    inv.base.sink = w.sink;
+    inv.inputs = w.inputs[l];
+    inv.outputs = w.outputs[l];
+    inv.outputs1 = w.outputs1[l];
+    // The quad's slots back at the shader's locations.
+    for (uint32_t s = 0; s < c.varyingCount; ++s)
+      std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
+    inv.pointCoord[0] = q.pointCoord[l][0];
+    inv.pointCoord[1] = q.pointCoord[l][1];
+    inv.frontFacing = q.frontFacing ? 1 : 0;
+    inv.primitiveId = int32_t(q.primitiveId);
+    inv.viewIndex = q.viewIndex;
+    inv.layer = q.layer;
+    inv.sampleId = int32_t(q.sampleIndex);
+    if (c.samples == 4) {
+      inv.samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
+      inv.samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+    } else {
+      inv.samplePosition[0] = inv.samplePosition[1] = 0.5f;
+    }
+    inv.sampleMaskIn = q.coverage[l];
+    inv.sampleMaskOut = ~0u;
+    inv.fragDepth = q.fragCoord[l][2];
+    inv.helper = q.coverage[l] ? 0 : 1;
+    inv.status = 0;
+    inv.quadParity = 0;
+    inv.base.localIndex = l;
+    inv.base.workgroupMemory = w.exchange;
+  }
+  if (c.quads) {
+    abi::InvocationContext* group[4] = {&w.inv[0].base, &w.inv[1].base, &w.inv[2].base, &w.inv[3].base};
+    // A GraphicsInvocation starts with its InvocationContext: the fiber group calls the entry with the context's
+    // address, which is the invocation's.
+    if (!exec::runFiberGroup(reinterpret_cast<abi::ComputeEntry>(c.fragmentEntry), group, 4)) {
+      t.fibersFailed = true;
+      q.killed = 0xF;
+      return;
+    }
+  } else {
+    for (uint32_t l = 0; l < 4; ++l)
+      if (lanes & (1u << l)) c.fragmentEntry(&w.inv[l]);
+  }
+  const uint32_t outputMask = c.pipeline->fragmentStage.outputMask;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!q.coverage[l]) continue;
+    const GraphicsInvocation& inv = w.inv[l];
+    if (inv.status & (abi::kFragmentKilled | abi::kFragmentDemoted)) {
+      q.killed |= 1u << l;
+      continue;
+    }
+    for (uint32_t m = outputMask; m; m &= m - 1) {
+      const uint32_t loc = uint32_t(__builtin_ctz(m));
+      std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+    }
+    std::memcpy(q.color1[l], w.outputs1[l], 16);
+    q.depth[l] = inv.fragDepth;
+    q.sampleMaskOut[l] = inv.sampleMaskOut;
+  }
+}
+
+void shadeQuad(void* user, raster::FragmentQuad& quad, unsigned worker) {
+  auto* c = static_cast<DrawContext*>(user);
+  QuadTask t{c, &c->scratch[worker], &quad, false};
+  if (!exec::runSupervised(*c->job, shadeQuadTask, &t)) quad.killed = 0xF;  // the job ended: nothing is written
+}
+
+// VUID-<command>-<suffix>.
+struct Vuid {
+  char text[96];
+  Vuid(const char* command, const char* suffix) { std::snprintf(text, sizeof text, "VUID-%s-%s", command, suffix); }
+};
+
+// The draw-time VUID of a dynamic state that was not set.
+const char* missingStateSuffix(uint32_t bit, uint32_t mask) {
+  const bool vp = mask & (1u << kDynViewportWithCount), sc = mask & (1u << kDynScissorWithCount);
+  switch (bit) {
+    case kDynViewportWithCount: return sc ? "viewportCount-03419" : "viewportCount-03417";
+    case kDynScissorWithCount: return vp ? "viewportCount-03419" : "scissorCount-03418";
+    case kDynTopology: return "primitiveTopology-03420";
+    case kDynRasterizerDiscardEnable: return "None-04876";
+    case kDynDepthBiasEnable: return "None-04877";
+    case kDynPrimitiveRestartEnable: return "None-04879";
+    default: return "commandBuffer-02701";
+  }
+}
+
+// The checks that need the bound pipeline; false after reporting.
+bool checkDraw(const CommandBuffer* cb, const GraphicsPipeline& p, DrawExecState& d, const PassExecState& pass,
+               const DrawParams& params, const char* command) {
+  // VUID-vkCmdDraw-colorAttachmentCount-06179 (dynamic rendering) / VUID-vkCmdDraw-renderPass-02684 (a render pass
+  // whose subpass has another number of color attachments is not compatible)
+  if (p.colorCount != pass.target.colorCount && (p.colorCount || !p.dynamicRendering)) {
+    Vuid v(command, p.dynamicRendering ? "colorAttachmentCount-06179" : "renderPass-02684");
+    report(cb, Severity::Error, v.text,
+           "%s: the bound graphics pipeline was created for %u color attachments, the render pass instance has %u; "
+           "the draw is skipped",
+           command, p.colorCount, pass.target.colorCount);
+    return false;
+  }
+  // VUID-vkCmdDraw-viewMask-06178
+  if (p.dynamicRendering && p.viewMask != pass.target.viewMask) {
+    Vuid v(command, "viewMask-06178");
+    report(cb, Severity::Error, v.text,
+           "%s: the bound graphics pipeline's viewMask 0x%x differs from the render pass instance's 0x%x; the draw is "
+           "skipped",
+           command, p.viewMask, pass.target.viewMask);
+    return false;
+  }
+  const uint32_t missing = p.dynamicMask & ~d.dynamicSet & ~(1u << kDynVertexStride);
+  if (missing) {
+    const uint32_t bit = uint32_t(__builtin_ctz(missing));
+    // VUID-vkCmdDraw-commandBuffer-02701, -viewportCount-03417, -scissorCount-03418, -viewportCount-03419,
+    // -primitiveTopology-03420, -None-04876, -None-04877, -None-04879
+    Vuid v(command, missingStateSuffix(bit, p.dynamicMask));
+    report(cb, Severity::Error, v.text,
+           "%s: the bound graphics pipeline has %s dynamic, but it was not set since it was last made undefined; the "
+           "draw is skipped",
+           command, dynamicStateName(bit));
+    return false;
+  }
+  if ((p.dynamicMask & (1u << kDynViewportWithCount)) && (p.dynamicMask & (1u << kDynScissorWithCount)) &&
+      d.dynamic.viewportCount != d.scissorCount) {
+    // VUID-vkCmdDraw-viewportCount-03419 (both counts dynamic: they must match)
+    Vuid v(command, "viewportCount-03419");
+    report(cb, Severity::Error, v.text, "%s: viewportCount %u and scissorCount %u differ; the draw is skipped", command,
+           d.dynamic.viewportCount, d.scissorCount);
+    return false;
+  }
+  // VUID-vkCmdDraw-None-04007 (every binding the vertex shader's inputs read has a buffer bound)
+  if (const uint32_t unbound = p.usedBindings & ~d.vertexBound) {
+    Vuid v(command, "None-04007");
+    report(cb, Severity::Error, v.text,
+           "%s: vertex binding %u, which the vertex shader's inputs read, has no buffer bound; the draw is skipped",
+           command, unsigned(__builtin_ctz(unbound)));
+    return false;
+  }
+  // VUID-vkCmdDraw-pStrides-04884
+  if ((p.dynamicMask & (1u << kDynVertexStride)) && (p.usedBindings & ~d.strideSet)) {
+    Vuid v(command, "pStrides-04884");
+    report(cb, Severity::Error, v.text,
+           "%s: the pipeline's vertex strides are dynamic but binding %u was not bound by vkCmdBindVertexBuffers2 with "
+           "pStrides; the draw is skipped",
+           command, unsigned(__builtin_ctz(p.usedBindings & ~d.strideSet)));
+    return false;
+  }
+  // VUID-vkCmdDrawIndexed-None-07312
+  if (params.indexed && !d.indexBuffer) {
+    Vuid v(command, "None-07312");
+    report(cb, Severity::Error, v.text, "%s: no index buffer is bound; the draw is skipped", command);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& params, const char* command) {
+  GraphicsExecState& gs = execState(st);
+  DrawExecState& d = gs.draw;
+  const Pipeline* bound = st.graphics.pipeline;
+  // VUID-vkCmdDraw-None-02700
+  if (!bound || bound->bindPoint != VK_PIPELINE_BIND_POINT_GRAPHICS) {
+    Vuid v(command, "None-02700");
+    report(cb, Severity::Error, v.text, "%s: no graphics pipeline is bound; the draw is skipped", command);
+    return;
+  }
+  const auto& p = static_cast<const GraphicsPipeline&>(*bound);
+  if (d.lastPipeline != &p) {
+    d.dynamicSet &= p.dynamicMask;  // the new pipeline's static state replaces what was set
+    d.lastPipeline = &p;
+  }
+  if (!gs.pass.active) return;  // reported when the draw was recorded (VUID-vkCmdDraw-renderpass)
+  if (!checkDraw(cb, p, d, gs.pass, params, command)) return;
+  if (params.count == 0 || params.instanceCount == 0) return;
+
+  raster::State state;
+  resolveState(p, d, &state);
+
+  DrawContext c;
+  c.pipeline = &p;
+  c.vertexEntry = p.vertex->graphicsEntry;
+  c.fragmentEntry = p.fragment ? p.fragment->graphicsEntry : nullptr;
+  c.quads = p.fragment && p.fragment->graphics.needsQuad;
+  c.samples = state.samples;
+  c.clipCount = p.vertex->graphics.clipDistances;
+  c.cullCount = p.vertex->graphics.cullDistances;
+  for (const GraphicsPipeline::Attribute& a : p.attributes) {
+    AttributeFetch& f = c.attributes[c.attributeCount++];
+    const VertexBufferBinding& b = d.vertex[a.binding];
+    f.format = a.format;
+    f.location = a.location;
+    f.base = b.buffer ? b.buffer->data() + b.offset : nullptr;
+    f.size = b.size;
+    f.offset = a.offset;
+    f.stride = (p.dynamicMask & (1u << kDynVertexStride)) ? b.stride : p.bindings[a.binding].stride;
+    f.perInstance = p.bindings[a.binding].perInstance;
+  }
+  c.varyingCount = p.varyingCount;
+  for (uint32_t s = 0; s < p.varyingCount; ++s) c.varyingLocation[s] = p.fragmentStage.inputs[s].location;
+
+  // Descriptor sets, as compute dispatches resolve them (runtime/bound_resources.hpp).
+  Vuid unbound(command, "None-02697");
+  BoundResources vsResources, fsResources;
+  vsResources.resolve(*p.vertex, st.graphics, cb, command, unbound.text);
+  if (p.fragment) fsResources.resolve(*p.fragment, st.graphics, cb, command, unbound.text);
+
+  Device* dev = cb->device;
+  exec::Job job(dev, dev->shaderTimeoutMs);
+  if (dev->halted()) return;
+  c.job = &job;
+  for (GraphicsInvocation* proto : {&c.vertexProto, &c.fragmentProto}) {
+    proto->base.pushConstants = st.pushConstants;
+    proto->base.cancel = reinterpret_cast<const uint32_t*>(&job.cancel);
+    proto->base.cancelled = &exec::cancelled;
+    proto->base.workgroupSize[0] = proto->base.workgroupSize[1] = proto->base.workgroupSize[2] = 1;
+    proto->baseVertex = params.indexed ? params.vertexOffset : int32_t(params.firstVertex);
+    proto->baseInstance = int32_t(params.firstInstance);
+    proto->drawIndex = int32_t(params.drawIndex);
+    proto->position[3] = 1.0f;
+    proto->pointSize = 1.0f;
+  }
+  c.vertexProto.base.resources = vsResources.slots();
+  c.fragmentProto.base.resources = fsResources.slots();
+  c.scratch.reset(new WorkerScratch[exec::ThreadPool::instance().workerSlots()]());
+
+  raster::VertexStage vertex;
+  vertex.user = &c;
+  vertex.shade = shadeVertices;
+  vertex.clipDistanceCount = c.clipCount;
+  vertex.cullDistanceCount = c.cullCount;
+  raster::FragmentStage fragment = p.fragmentStage;
+  fragment.user = &c;
+  fragment.shade = p.fragment ? shadeQuad : nullptr;
+
+  raster::Draw draw;
+  draw.count = params.count;
+  draw.instanceCount = params.instanceCount;
+  draw.firstVertex = params.firstVertex;
+  draw.vertexOffset = params.vertexOffset;
+  draw.firstInstance = params.firstInstance;
+  draw.varyingCount = p.varyingCount;
+  if (params.indexed) {
+    draw.indexType = d.indexType;
+    const uint64_t size = d.indexType == raster::IndexType::UInt16 ? 2 : d.indexType == raster::IndexType::UInt8 ? 1 : 4;
+    const uint64_t start = d.indexOffset + uint64_t(params.firstIndex) * size;
+    const uint64_t bufferSize = d.indexBuffer->size;
+    draw.indices = d.indexBuffer->data() + (start < bufferSize ? start : bufferSize);
+    draw.indexBytes = start < bufferSize ? bufferSize - start : 0;
+  }
+  raster::draw(gs.pass.target, state, draw, vertex, fragment);
+  if (job.aborted()) dev->shaderAborted(&p, command, job.abort());
+}
+
+}  // namespace vkrt::gfx

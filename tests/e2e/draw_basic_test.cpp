@@ -1,0 +1,259 @@
+// Draws whose pixels are computed independently (draw_fixture.hpp's reference rasterization): a triangle with
+// interpolated vertex colors, indexed draws (16- and 32-bit indices, vertexOffset, firstIndex), instanced draws with
+// per-instance attributes, and the indirect and indirect count draws.
+#include "e2e/draw_fixture.hpp"
+
+#include "draw_builtins.vert.spv.h"
+#include "draw_color.frag.spv.h"
+#include "draw_color.vert.spv.h"
+#include "draw_flat.frag.spv.h"
+#include "draw_instanced.vert.spv.h"
+
+namespace vkrt::test {
+namespace {
+
+using V = DrawTest::Vertex;
+
+class DrawBasicTest : public DrawTest {
+ protected:
+  // A pipeline of draw_color.vert/.frag with {vec2 pos, vec4 color} vertices at binding 0.
+  PipelineDesc colorPipeline() {
+    PipelineDesc d;
+    d.vs = kSpv_draw_color_vert;
+    d.vsBytes = sizeof kSpv_draw_color_vert;
+    d.fs = kSpv_draw_color_frag;
+    d.fsBytes = sizeof kSpv_draw_color_frag;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+    return d;
+  }
+};
+
+TEST_F(DrawBasicTest, TriangleWithInterpolatedColors) {
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  VkPipeline pipeline;
+  ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
+  const V tri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
+  HostBuffer vb = vertexBuffer(tri, sizeof tri);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkDeviceSize off = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+    vkCmdDraw(cb, 3, 1, 0, 0);
+  }, 0xFF202020u);
+  EXPECT_EQ(compareTriangles(pixels, {{tri[0], tri[1], tri[2]}}, 0xFF202020u), 0);
+  // Some pixels are covered and some are not (the reference is not trivially all background).
+  int covered = 0;
+  for (int py = 0; py < int(kH); ++py)
+    for (int px = 0; px < int(kW); ++px) covered += coverage(tri[0], tri[1], tri[2], px, py) == 1;
+  EXPECT_GT(covered, 200);
+  EXPECT_LT(covered, int(kW * kH) - 200);
+  destroy(vb);
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+}
+
+TEST_F(DrawBasicTest, IndexedUint16AndUint32WithOffsets) {
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  VkPipeline pipeline;
+  ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
+  // Vertices 0..3: a quad on the left (red); 4..7: a quad on the right (green). Two unused vertices first, so
+  // that vertexOffset 2 is needed.
+  const V verts[10] = {{0, 0, 0, 0, 0, 0},          {0, 0, 0, 0, 0, 0},          {-0.9f, -0.9f, 1, 0, 0, 1},
+                       {-0.1f, -0.9f, 1, 0, 0, 1},  {-0.1f, 0.9f, 1, 0, 0, 1},   {-0.9f, 0.9f, 1, 0, 0, 1},
+                       {0.1f, -0.5f, 0, 1, 0, 1},   {0.9f, -0.5f, 0, 1, 0, 1},   {0.9f, 0.5f, 0, 1, 0, 1},
+                       {0.1f, 0.5f, 0, 1, 0, 1}};
+  HostBuffer vb = vertexBuffer(verts, sizeof verts);
+  const uint16_t idx16[] = {7, 7, 0, 1, 2, 0, 2, 3};        // firstIndex 2
+  const uint32_t idx32[] = {4, 5, 6, 4, 6, 7};
+  HostBuffer ib16 = vertexBuffer(idx16, sizeof idx16, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  HostBuffer ib32 = vertexBuffer(idx32, sizeof idx32, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkDeviceSize off = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+    vkCmdBindIndexBuffer(cb, ib16.buffer, 0, VK_INDEX_TYPE_UINT16);
+    vkCmdDrawIndexed(cb, 6, 1, 2, 2, 0);
+    vkCmdBindIndexBuffer(cb, ib32.buffer, 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cb, 6, 1, 0, 2, 0);
+  });
+  const V* q = verts + 2;
+  EXPECT_EQ(compareTriangles(pixels,
+                             {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}, {q[4], q[5], q[6]}, {q[4], q[6], q[7]}}, 0,
+                             false),
+            0);
+  EXPECT_EQ(pixels[16 * kW + 4], 0xFF0000FFu);   // red quad
+  EXPECT_EQ(pixels[16 * kW + 27], 0xFF00FF00u);  // green quad
+  EXPECT_EQ(pixels[2 * kW + 27], 0u);            // above the green quad
+  destroy(ib32);
+  destroy(ib16);
+  destroy(vb);
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+}
+
+TEST_F(DrawBasicTest, InstancedWithPerInstanceAttributes) {
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  PipelineDesc d;
+  d.vs = kSpv_draw_instanced_vert;
+  d.vsBytes = sizeof kSpv_draw_instanced_vert;
+  d.fs = kSpv_draw_color_frag;
+  d.fsBytes = sizeof kSpv_draw_color_frag;
+  d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 12, VK_VERTEX_INPUT_RATE_INSTANCE}};
+  // Per instance: vec2 offset (float) and an RGBA8 UNORM color at byte 8.
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0},
+                  {2, 1, VK_FORMAT_R32G32_SFLOAT, 0},
+                  {3, 1, VK_FORMAT_R8G8B8A8_UNORM, 8}};
+  VkPipeline pipeline;
+  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+  const float tri[6] = {-0.3f, -0.3f, 0.3f, -0.3f, 0.0f, 0.3f};
+  struct Inst {
+    float dx, dy;
+    uint8_t rgba[4];
+  };
+  // Instance 0 is skipped by firstInstance = 1.
+  const Inst inst[4] = {{0, 0, {255, 255, 255, 255}},
+                        {-0.6f, -0.6f, {255, 0, 0, 255}},
+                        {0.6f, -0.6f, {0, 255, 0, 255}},
+                        {0.0f, 0.6f, {0, 0, 255, 255}}};
+  HostBuffer vb = vertexBuffer(tri, sizeof tri);
+  HostBuffer ib = vertexBuffer(inst, sizeof inst);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkBuffer bufs[2] = {vb.buffer, ib.buffer};
+    VkDeviceSize offs[2] = {0, 0};
+    vkCmdBindVertexBuffers(cb, 0, 2, bufs, offs);
+    vkCmdDraw(cb, 3, 3, 0, 1);
+  });
+  std::vector<std::array<V, 3>> tris;
+  for (int i = 1; i < 4; ++i) {
+    const float r = inst[i].rgba[0] / 255.0f, g = inst[i].rgba[1] / 255.0f, b = inst[i].rgba[2] / 255.0f;
+    std::array<V, 3> t;
+    for (int k = 0; k < 3; ++k) t[k] = {tri[2 * k] + inst[i].dx, tri[2 * k + 1] + inst[i].dy, r, g, b, 1};
+    tris.push_back(t);
+  }
+  EXPECT_EQ(compareTriangles(pixels, tris, 0, false), 0);
+  EXPECT_EQ(pixels[(kH / 2) * kW + kW / 2], 0u);  // instance 0 (centre, white) was not drawn
+  destroy(ib);
+  destroy(vb);
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+}
+
+// Indirect draws: each record draws one small triangle at its own place (firstVertex or firstIndex selects it); the
+// shader writes InstanceIndex and the provoking vertex's VertexIndex into the color, so the pixels tell which record
+// and instance drew them.
+class DrawIndirectTest : public DrawTest {
+ protected:
+  void SetUp() override {
+    DrawTest::SetUp();
+    PipelineDesc d;
+    d.vs = kSpv_draw_builtins_vert;
+    d.vsBytes = sizeof kSpv_draw_builtins_vert;
+    d.fs = kSpv_draw_flat_frag;
+    d.fsBytes = sizeof kSpv_draw_flat_frag;
+    d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}};
+    ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+    color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT);
+    // Four triangles in the four quadrants, 3 vertices each.
+    std::vector<float> v;
+    for (int q = 0; q < 4; ++q) {
+      const float cx = q & 1 ? 0.5f : -0.5f, cy = q & 2 ? 0.5f : -0.5f;
+      for (float p : {cx - 0.35f, cy - 0.35f, cx + 0.35f, cy - 0.35f, cx, cy + 0.35f}) v.push_back(p);
+      quads[q] = {V{cx - 0.35f, cy - 0.35f, 0, 0, 0, 1}, V{cx + 0.35f, cy - 0.35f, 0, 0, 0, 1},
+                  V{cx, cy + 0.35f, 0, 0, 0, 1}};
+    }
+    vb = vertexBuffer(v.data(), v.size() * 4);
+    const uint32_t idx[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+    ib = vertexBuffer(idx, sizeof idx, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  }
+  void TearDown() override {
+    if (device) {
+      destroy(ib);
+      destroy(vb);
+      vkDestroyPipeline(device, pipeline, nullptr);
+      destroy(color);
+    }
+    DrawTest::TearDown();
+  }
+  // The expected flat color of quadrant q drawn with InstanceIndex `instance` (the last instance drawn wins:
+  // instances are drawn in order); its provoking vertex is vertex 3q.
+  std::array<V, 3> expect(int q, uint32_t instance) {
+    std::array<V, 3> t = quads[q];
+    for (V& x : t) {
+      x.r = instance / 255.0f;
+      x.g = 3 * q / 255.0f;
+      x.b = 0;
+    }
+    return t;
+  }
+  void bind(VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkDeviceSize off = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+    vkCmdBindIndexBuffer(cb, ib.buffer, 0, VK_INDEX_TYPE_UINT32);
+  }
+
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  Target color;
+  HostBuffer vb, ib;
+  std::array<V, 3> quads[4];
+};
+
+TEST_F(DrawIndirectTest, DrawIndirectMultiDraw) {
+  // Record k draws quadrant k's triangle (firstVertex 3k), instanceCount 2, firstInstance 5 + k; quadrant 3 not drawn.
+  const VkDrawIndirectCommand cmds[3] = {{3, 2, 0, 5}, {3, 2, 3, 6}, {3, 2, 6, 7}};
+  HostBuffer args = vertexBuffer(cmds, sizeof cmds, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    bind(cb);
+    vkCmdDrawIndirect(cb, args.buffer, 0, 3, sizeof(VkDrawIndirectCommand));
+  });
+  EXPECT_EQ(compareTriangles(pixels, {expect(0, 6), expect(1, 7), expect(2, 8)}, 0, false), 0);
+  destroy(args);
+}
+
+TEST_F(DrawIndirectTest, DrawIndexedIndirectWithStride) {
+  // Records 32 bytes apart; record k draws quadrant 3 - k through indices 3(3-k).., one instance, firstInstance k.
+  struct Rec {
+    VkDrawIndexedIndirectCommand c;
+    uint32_t pad[3];
+  };
+  Rec recs[2] = {{{3, 1, 9, 0, 0}, {}}, {{3, 1, 6, 0, 1}, {}}};
+  HostBuffer args = vertexBuffer(recs, sizeof recs, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    bind(cb);
+    vkCmdDrawIndexedIndirect(cb, args.buffer, 0, 2, sizeof(Rec));
+  });
+  EXPECT_EQ(compareTriangles(pixels, {expect(3, 0), expect(2, 1)}, 0, false), 0);
+  destroy(args);
+}
+
+TEST_F(DrawIndirectTest, IndirectCountTakesTheSmallerOfCountAndMax) {
+  const VkDrawIndirectCommand cmds[4] = {{3, 1, 0, 0}, {3, 1, 3, 0}, {3, 1, 6, 0}, {3, 1, 9, 0}};
+  const VkDrawIndexedIndirectCommand icmds[4] = {{3, 1, 0, 0, 0}, {3, 1, 3, 0, 0}, {3, 1, 6, 0, 0}, {3, 1, 9, 0, 0}};
+  HostBuffer args = vertexBuffer(cmds, sizeof cmds, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  HostBuffer iargs = vertexBuffer(icmds, sizeof icmds, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  const uint32_t counts[2] = {2, 9};  // count 2 (< max 4); count 9 (> max 3)
+  HostBuffer count = vertexBuffer(counts, sizeof counts, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    bind(cb);
+    vkCmdDrawIndirectCount(cb, args.buffer, 0, count.buffer, 0, 4, sizeof(VkDrawIndirectCommand));
+  });
+  EXPECT_EQ(compareTriangles(pixels, {expect(0, 0), expect(1, 0)}, 0, false), 0);
+  pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    bind(cb);
+    vkCmdDrawIndexedIndirectCount(cb, iargs.buffer, 0, count.buffer, 4, 3, sizeof(VkDrawIndexedIndirectCommand));
+  });
+  EXPECT_EQ(compareTriangles(pixels, {expect(0, 0), expect(1, 0), expect(2, 0)}, 0, false), 0);
+  destroy(count);
+  destroy(iargs);
+  destroy(args);
+}
+
+}  // namespace
+}  // namespace vkrt::test
