@@ -1,6 +1,7 @@
 // SPIR-V -> LLVM IR: variables, access chains, loads, stores, atomics, descriptors (see codegen.hpp's memory
 // model).
 #include <algorithm>
+#include <unordered_set>
 
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/MDBuilder.h>
@@ -60,6 +61,18 @@ int builtInOffset(int builtIn, bool rayTracing, uint32_t* size) {
 
 bool Codegen::declareGlobals() {
   uint64_t workgroupSize = 0;
+  // The ids the functions' instructions name (the module holds only the entry point's call tree by now). A
+  // descriptor variable none of them names is not statically used (SPIR-V 1.4 modules list every global in
+  // OpEntryPoint's interface, used or not): it gets no resource slot, so the pipeline's use of descriptors (the
+  // "-None-08114" rule, VUID-vkCmdDispatch-None-08114) leaves it out. Operand words that are literals may add ids
+  // too; that only keeps a variable.
+  std::unordered_set<uint32_t> named;
+  bool inFunctions = false;
+  for (const Instruction& in : m.instructions) {
+    inFunctions = inFunctions || in.op == spv::OpFunction;
+    if (inFunctions)
+      for (uint32_t w = 1; w < in.count; ++w) named.insert(in.words[w]);
+  }
   for (const Instruction& in : m.instructions) {
     if (in.op == spv::OpFunction) break;
     if (in.op != spv::OpVariable) continue;
@@ -130,6 +143,7 @@ bool Codegen::declareGlobals() {
       case spv::StorageClassShaderRecordBufferKHR: g.contextField = offsetof(RayInvocation, shaderRecord); break;
       case spv::StorageClassUniform:
       case spv::StorageClassStorageBuffer: {
+        if (!named.count(id)) break;
         const Type& inner = spvType(pt.element);
         ResourceBinding r;
         r.set = uint32_t(std::max(d.set, 0));
@@ -143,6 +157,7 @@ bool Codegen::declareGlobals() {
       }
       case spv::StorageClassUniformConstant: {
         // Images, samplers and combined image samplers (possibly arrays of them): descriptors.
+        if (!named.count(id)) break;
         const Type& inner = spvType(pt.element);
         bool arrayed = inner.kind == Type::Array || inner.kind == Type::RuntimeArray;
         uint32_t elem = arrayed ? inner.element : pt.element;
