@@ -415,6 +415,7 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   const uint32_t blendCount = rasterizes && ci.pColorBlendState ? ci.pColorBlendState->attachmentCount : 0;
   p->renderPass = ci.renderPass;
   p->subpass = ci.subpass;
+  p->fragmentOutput = rasterizes;
   if (ci.renderPass != VK_NULL_HANDLE) {
     // The subpass's color count is checked against the blend state when the pipeline is used in a render pass
     // instance (the draw-time check of gfx/draw_commands.cpp): this layer does not look into render pass objects.
@@ -424,6 +425,7 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   p->dynamicRendering = true;
   const auto* ri = findInChain<VkPipelineRenderingCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
   const uint32_t count = ri ? ri->colorAttachmentCount : 0;
+  p->viewMask = ri ? ri->viewMask : 0;
   if (!rasterizes) return true;
   // VUID-VkGraphicsPipelineCreateInfo-renderPass-06055
   if (blendCount != count || count > raster::kMaxColorAttachments) {
@@ -434,7 +436,6 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
     return false;
   }
   p->colorCount = count;
-  p->viewMask = ri ? ri->viewMask : 0;
   for (uint32_t k = 0; k < count; ++k) {
     const VkFormat f = ri->pColorAttachmentFormats ? ri->pColorAttachmentFormats[k] : VK_FORMAT_UNDEFINED;
     // VUID-VkGraphicsPipelineCreateInfo-renderPass-06582
