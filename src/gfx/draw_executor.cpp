@@ -36,6 +36,17 @@ struct alignas(64) WorkerScratch {
   alignas(16) uint8_t sink[abi::kSinkBytes];
 };
 
+}  // namespace
+
+// One WorkerScratch per worker slot of the thread pool.
+struct DrawScratch {
+  std::unique_ptr<WorkerScratch[]> workers;
+};
+
+void DrawScratchDeleter::operator()(DrawScratch* s) const { delete s; }
+
+namespace {
+
 struct DrawContext {
   const GraphicsPipeline* pipeline = nullptr;
   exec::Job* job = nullptr;
@@ -48,7 +59,7 @@ struct DrawContext {
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
   uint32_t samples = 1;
-  std::unique_ptr<WorkerScratch[]> scratch;
+  WorkerScratch* scratch = nullptr;  // per worker slot
 };
 
 // The standard sample positions ("Multisampling"): 1 sample at the centre, 4 in the standard pattern.
@@ -360,7 +371,12 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   c.vertexProto.base.resources = vsResources.slots();
   c.fragmentProto.base.resources = fsResources.slots();
-  c.scratch.reset(new WorkerScratch[exec::ThreadPool::instance().workerSlots()]());
+  // Per-worker scratch, made once per command buffer execution (the pool's worker slots do not change).
+  if (!d.scratch) {
+    d.scratch.reset(new DrawScratch);
+    d.scratch->workers.reset(new WorkerScratch[exec::ThreadPool::instance().workerSlots()]());
+  }
+  c.scratch = d.scratch->workers.get();
 
   raster::VertexStage vertex;
   vertex.user = &c;
