@@ -135,6 +135,7 @@ void shadeQuadTask(void* arg) {
   raster::FragmentQuad& q = *t.quad;
   WorkerScratch& w = *t.w;
   exec::setRunning(c.pipeline->fragmentName.c_str(), nullptr, exec::Abort::NoId);
+  q.killed = 0;
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.quads || q.coverage[l]) lanes |= 1u << l;

@@ -450,6 +450,24 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   }
   p->depthFormat = ri ? ri->depthAttachmentFormat : VK_FORMAT_UNDEFINED;
   p->stencilFormat = ri ? ri->stencilAttachmentFormat : VK_FORMAT_UNDEFINED;
+  // The depth/stencil formats of the core API: D16_UNORM .. D32_SFLOAT_S8_UINT, S8_UINT the only one without depth;
+  // the combined ones (and S8_UINT) have stencil.
+  const VkFormat df = p->depthFormat, sf = p->stencilFormat;
+  const bool depthAspect = df >= VK_FORMAT_D16_UNORM && df <= VK_FORMAT_D32_SFLOAT_S8_UINT && df != VK_FORMAT_S8_UINT;
+  const bool stencilAspect = sf >= VK_FORMAT_S8_UINT && sf <= VK_FORMAT_D32_SFLOAT_S8_UINT;
+  // VUID-VkGraphicsPipelineCreateInfo-renderPass-06587, -06588, -06589
+  const char* vuid = df != VK_FORMAT_UNDEFINED && !depthAspect     ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06587"
+                     : sf != VK_FORMAT_UNDEFINED && !stencilAspect ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06588"
+                     : df != VK_FORMAT_UNDEFINED && sf != VK_FORMAT_UNDEFINED && df != sf
+                         ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06589"
+                         : nullptr;
+  if (vuid) {
+    report(dev, Severity::Error, vuid,
+           "%s: VkPipelineRenderingCreateInfo::depthAttachmentFormat %d, stencilAttachmentFormat %d (a depth format "
+           "with a depth aspect, a stencil format with a stencil aspect, equal when both are given)",
+           what, int(df), int(sf));
+    return false;
+  }
   return true;
 }
 
