@@ -7,12 +7,14 @@
 
 #include "abi/abi.hpp"
 #include "exec/fiber_group.hpp"
+#include "exec/ray_query.hpp"
 #include "exec/supervise.hpp"
 #include "exec/thread_pool.hpp"
 #include "gfx/graphics_pipeline.hpp"
 #include "gfx/graphics_state.hpp"
 #include "gfx/vertex_input.hpp"
 #include "raster/raster.hpp"
+#include "runtime/acceleration_structure.hpp"
 #include "runtime/bound_resources.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/device.hpp"
@@ -34,6 +36,17 @@ struct alignas(64) WorkerScratch {
   alignas(16) uint8_t sink[abi::kSinkBytes];
 };
 
+}  // namespace
+
+// One WorkerScratch per worker slot of the thread pool.
+struct DrawScratch {
+  std::unique_ptr<WorkerScratch[]> workers;
+};
+
+void DrawScratchDeleter::operator()(DrawScratch* s) const { delete s; }
+
+namespace {
+
 struct DrawContext {
   const GraphicsPipeline* pipeline = nullptr;
   exec::Job* job = nullptr;
@@ -46,7 +59,7 @@ struct DrawContext {
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
   uint32_t samples = 1;
-  std::unique_ptr<WorkerScratch[]> scratch;
+  WorkerScratch* scratch = nullptr;  // per worker slot
 };
 
 // The standard sample positions ("Multisampling"): 1 sample at the centre, 4 in the standard pattern.
@@ -122,6 +135,7 @@ void shadeQuadTask(void* arg) {
   raster::FragmentQuad& q = *t.quad;
   WorkerScratch& w = *t.w;
   exec::setRunning(c.pipeline->fragmentName.c_str(), nullptr, exec::Abort::NoId);
+  q.killed = 0;
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.quads || q.coverage[l]) lanes |= 1u << l;
@@ -221,7 +235,8 @@ bool checkDraw(const CommandBuffer* cb, const GraphicsPipeline& p, DrawExecState
                const DrawParams& params, const char* command) {
   // VUID-vkCmdDraw-colorAttachmentCount-06179 (dynamic rendering) / VUID-vkCmdDraw-renderPass-02684 (a render pass
   // whose subpass has another number of color attachments is not compatible)
-  if (p.colorCount != pass.target.colorCount && (p.colorCount || !p.dynamicRendering)) {
+  // (A pipeline without fragment output state, rasterization statically discarded, writes no attachment.)
+  if (p.fragmentOutput && p.colorCount != pass.target.colorCount) {
     Vuid v(command, p.dynamicRendering ? "colorAttachmentCount-06179" : "renderPass-02684");
     report(cb, Severity::Error, v.text,
            "%s: the bound graphics pipeline was created for %u color attachments, the render pass instance has %u; "
@@ -336,12 +351,16 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   vsResources.resolve(*p.vertex, st.graphics, cb, command, unbound.text);
   if (p.fragment) fsResources.resolve(*p.fragment, st.graphics, cb, command, unbound.text);
 
+  // Ray queries in vertex and fragment shaders resolve acceleration structures as a dispatch's do.
+  DispatchStructures structures(cb->device, cb, command);
+  exec::RayQueryScope rayQueries(&structures);
   Device* dev = cb->device;
   exec::Job job(dev, dev->shaderTimeoutMs);
   if (dev->halted()) return;
   c.job = &job;
   for (GraphicsInvocation* proto : {&c.vertexProto, &c.fragmentProto}) {
     proto->base.pushConstants = st.pushConstants;
+    proto->base.rayQueries = &rayQueries;
     proto->base.cancel = reinterpret_cast<const uint32_t*>(&job.cancel);
     proto->base.cancelled = &exec::cancelled;
     proto->base.workgroupSize[0] = proto->base.workgroupSize[1] = proto->base.workgroupSize[2] = 1;
@@ -353,7 +372,12 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   c.vertexProto.base.resources = vsResources.slots();
   c.fragmentProto.base.resources = fsResources.slots();
-  c.scratch.reset(new WorkerScratch[exec::ThreadPool::instance().workerSlots()]());
+  // Per-worker scratch, made once per command buffer execution (the pool's worker slots do not change).
+  if (!d.scratch) {
+    d.scratch.reset(new DrawScratch);
+    d.scratch->workers.reset(new WorkerScratch[exec::ThreadPool::instance().workerSlots()]());
+  }
+  c.scratch = d.scratch->workers.get();
 
   raster::VertexStage vertex;
   vertex.user = &c;

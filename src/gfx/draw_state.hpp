@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "raster/raster.hpp"
 #include "runtime/vk.hpp"
@@ -66,6 +67,12 @@ struct VertexBufferBinding {
   uint32_t stride = 0;   // vkCmdBindVertexBuffers2's pStrides (used with kDynVertexStride)
 };
 
+// The draw executor's per-worker scratch (gfx/draw_executor.cpp), kept for the command buffer's later draws.
+struct DrawScratch;
+struct DrawScratchDeleter {
+  void operator()(DrawScratch* s) const;
+};
+
 // While executing. The draw-time checks that depend on the bound pipeline run when the draw executes (the pipeline is
 // bound by runtime's vkCmdBindPipeline, which this layer does not see while recording), against `dynamicSet`,
 // `vertexBound` and `strideSet`, kept by the commands as they execute.
@@ -83,6 +90,8 @@ struct DrawExecState {
   uint32_t dynamicSet = 0;   // DynBit bits of states set and not made undefined since
   uint32_t vertexBound = 0;  // bindings with a buffer bound (bit b = binding b)
   uint32_t strideSet = 0;    // bindings bound by vkCmdBindVertexBuffers2 with pStrides
+
+  std::unique_ptr<DrawScratch, DrawScratchDeleter> scratch;  // made by the first draw
 };
 
 // While recording (for validation).

@@ -415,6 +415,7 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   const uint32_t blendCount = rasterizes && ci.pColorBlendState ? ci.pColorBlendState->attachmentCount : 0;
   p->renderPass = ci.renderPass;
   p->subpass = ci.subpass;
+  p->fragmentOutput = rasterizes;
   if (ci.renderPass != VK_NULL_HANDLE) {
     // The subpass's color count is checked against the blend state when the pipeline is used in a render pass
     // instance (the draw-time check of gfx/draw_commands.cpp): this layer does not look into render pass objects.
@@ -424,6 +425,7 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   p->dynamicRendering = true;
   const auto* ri = findInChain<VkPipelineRenderingCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
   const uint32_t count = ri ? ri->colorAttachmentCount : 0;
+  p->viewMask = ri ? ri->viewMask : 0;
   if (!rasterizes) return true;
   // VUID-VkGraphicsPipelineCreateInfo-renderPass-06055
   if (blendCount != count || count > raster::kMaxColorAttachments) {
@@ -434,7 +436,6 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
     return false;
   }
   p->colorCount = count;
-  p->viewMask = ri ? ri->viewMask : 0;
   for (uint32_t k = 0; k < count; ++k) {
     const VkFormat f = ri->pColorAttachmentFormats ? ri->pColorAttachmentFormats[k] : VK_FORMAT_UNDEFINED;
     // VUID-VkGraphicsPipelineCreateInfo-renderPass-06582
@@ -449,6 +450,24 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   }
   p->depthFormat = ri ? ri->depthAttachmentFormat : VK_FORMAT_UNDEFINED;
   p->stencilFormat = ri ? ri->stencilAttachmentFormat : VK_FORMAT_UNDEFINED;
+  // The depth/stencil formats of the core API: D16_UNORM .. D32_SFLOAT_S8_UINT, S8_UINT the only one without depth;
+  // the combined ones (and S8_UINT) have stencil.
+  const VkFormat df = p->depthFormat, sf = p->stencilFormat;
+  const bool depthAspect = df >= VK_FORMAT_D16_UNORM && df <= VK_FORMAT_D32_SFLOAT_S8_UINT && df != VK_FORMAT_S8_UINT;
+  const bool stencilAspect = sf >= VK_FORMAT_S8_UINT && sf <= VK_FORMAT_D32_SFLOAT_S8_UINT;
+  // VUID-VkGraphicsPipelineCreateInfo-renderPass-06587, -06588, -06589
+  const char* vuid = df != VK_FORMAT_UNDEFINED && !depthAspect     ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06587"
+                     : sf != VK_FORMAT_UNDEFINED && !stencilAspect ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06588"
+                     : df != VK_FORMAT_UNDEFINED && sf != VK_FORMAT_UNDEFINED && df != sf
+                         ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06589"
+                         : nullptr;
+  if (vuid) {
+    report(dev, Severity::Error, vuid,
+           "%s: VkPipelineRenderingCreateInfo::depthAttachmentFormat %d, stencilAttachmentFormat %d (a depth format "
+           "with a depth aspect, a stencil format with a stencil aspect, equal when both are given)",
+           what, int(df), int(sf));
+    return false;
+  }
   return true;
 }
 

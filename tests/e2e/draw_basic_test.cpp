@@ -150,6 +150,7 @@ class DrawIndirectTest : public DrawTest {
  protected:
   void SetUp() override {
     DrawTest::SetUp();
+    if (HasFatalFailure()) return;
     PipelineDesc d;
     d.vs = kSpv_draw_builtins_vert;
     d.vsBytes = sizeof kSpv_draw_builtins_vert;

@@ -27,6 +27,7 @@ class DrawDynamicStateTest : public DrawTest {
  protected:
   void SetUp() override {
     DrawTest::SetUp();
+    if (HasFatalFailure()) return;
     color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);
     depth = createTarget(depthStencilFormat(), VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,

@@ -20,6 +20,7 @@ class DrawValidationTest : public DrawTest {
   }
   void SetUp() override {
     DrawTest::SetUp();
+    if (HasFatalFailure()) return;
     color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);
     const V quad[6] = {{-1, -1, 1, 1, 1, 1}, {1, -1, 1, 1, 1, 1}, {1, 1, 1, 1, 1, 1},

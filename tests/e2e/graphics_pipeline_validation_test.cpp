@@ -27,6 +27,56 @@ class GraphicsPipelineValidationTest : public DrawTest {
     d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R8G8B8A8_UNORM, 8}};
     return d;
   }
+  // A vertex-shader-only pipeline (draw_color.vert, no blending state used) with the given rendering info.
+  VkResult createWithRendering(const PipelineDesc& d, const VkPipelineRenderingCreateInfo& ri, VkPipeline* out) {
+    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sm.codeSize = d.vsBytes;
+    sm.pCode = d.vs;
+    VkShaderModule m;
+    EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &m), VK_SUCCESS);
+    modules.push_back(m);
+    if (!layout) {
+      VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+      EXPECT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
+    }
+    VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stage.module = m;
+    stage.pName = "main";
+    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vi.vertexBindingDescriptionCount = uint32_t(d.bindings.size());
+    vi.pVertexBindingDescriptions = d.bindings.data();
+    vi.vertexAttributeDescriptionCount = uint32_t(d.attributes.size());
+    vi.pVertexAttributeDescriptions = d.attributes.data();
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = vp.scissorCount = 1;
+    vp.pViewports = &d.viewport;
+    vp.pScissors = &d.scissor;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = 1;
+    cb.pAttachments = &d.blend;
+    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &ri};
+    ci.stageCount = 1;
+    ci.pStages = &stage;
+    ci.pVertexInputState = &vi;
+    ci.pInputAssemblyState = &ia;
+    ci.pViewportState = &vp;
+    ci.pRasterizationState = &rs;
+    ci.pMultisampleState = &ms;
+    ci.pDepthStencilState = &ds;
+    ci.pColorBlendState = &cb;
+    ci.layout = layout;
+    ci.basePipelineIndex = -1;
+    *out = VK_NULL_HANDLE;
+    return vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, out);
+  }
   // Expects `bad` to be refused with `vuid` and `good` to succeed without a report.
   void expectBoth(const PipelineDesc& bad, const PipelineDesc& good, const char* vuid) {
     VkPipeline p;
@@ -152,6 +202,36 @@ TEST_F(GraphicsPipelineValidationTest, RenderingInfoColorCountMatchesBlendState)
   good.blendCount = 2;
   good.colorCount = 2;
   expectBoth(bad, good, "VUID-VkGraphicsPipelineCreateInfo-renderPass-06055");
+}
+
+TEST_F(GraphicsPipelineValidationTest, RenderingInfoDepthStencilFormats) {
+  // The fixture names depthStencilFormat() as both the depth and the stencil format; a color format as depth is
+  // refused.
+  PipelineDesc good = valid();
+  good.withDepthStencil = true;
+  VkPipeline p;
+  EXPECT_EQ(createPipeline(good, &p), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkDestroyPipeline(device, p, nullptr);
+  // A depth format without stencil as the stencil format.
+  PipelineDesc d = valid();
+  d.fs = nullptr;
+  VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  ri.colorAttachmentCount = 1;
+  const VkFormat colorFormat = kColorFormat;
+  ri.pColorAttachmentFormats = &colorFormat;
+  ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
+  ri.stencilAttachmentFormat = VK_FORMAT_D32_SFLOAT;
+  EXPECT_EQ(createWithRendering(d, ri, &p), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkGraphicsPipelineCreateInfo-renderPass-06588");
+  ri.depthAttachmentFormat = VK_FORMAT_R8G8B8A8_UNORM;
+  ri.stencilAttachmentFormat = VK_FORMAT_UNDEFINED;
+  EXPECT_EQ(createWithRendering(d, ri, &p), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkGraphicsPipelineCreateInfo-renderPass-06587");
+  ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
+  EXPECT_EQ(createWithRendering(d, ri, &p), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkDestroyPipeline(device, p, nullptr);
 }
 
 TEST_F(GraphicsPipelineValidationTest, InputAssemblyAndRasterization) {
