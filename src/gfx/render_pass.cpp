@@ -91,6 +91,16 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
+  // VUID-VkSubpassDescription2-multiview-06558 / VkRenderPassMultiviewCreateInfo-multiview-06555: view masks need
+  // the multiview feature (not advertised until draws render per view: docs/graphics-passes.md)
+  if (ci.subpassCount && ci.pSubpasses[0].viewMask && !dev->enabled(Feature::multiview)) {
+    report(dev, Severity::Error,
+           v.fn == kV1.fn ? "VUID-VkRenderPassMultiviewCreateInfo-multiview-06555"
+                          : "VUID-VkSubpassDescription2-multiview-06558",
+           "%s: subpass 0 has view mask 0x%x, but the multiview feature is not enabled", v.fn,
+           ci.pSubpasses[0].viewMask);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
   std::vector<SubpassDesc> subs(ci.subpassCount);
   for (uint32_t s = 0; s < ci.subpassCount; ++s) {
     const VkSubpassDescription2& d = ci.pSubpasses[s];
