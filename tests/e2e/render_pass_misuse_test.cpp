@@ -239,3 +239,80 @@ TEST_F(PassMisuseTest, ImageAndResolveRules) {
 
 }  // namespace
 }  // namespace vkrt::test
+
+namespace vkrt::test {
+namespace {
+
+TEST_F(PassMisuseTest, BlitsOfDepthAndSecondariesAndDynamicRendering) {
+  // A depth format has no BLIT_DST (only D16 and D32 have BLIT_SRC, as required).
+  Attachment d = attachment(VK_FORMAT_D32_SFLOAT, 4, 4);
+  Attachment d2 = attachment(VK_FORMAT_D32_SFLOAT, 4, 4);
+  VkImageBlit b{{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1}, {{0, 0, 0}, {4, 4, 1}}, {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1},
+                {{0, 0, 0}, {4, 4, 1}}};
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBlitImage(cb, d.img.image, VK_IMAGE_LAYOUT_GENERAL, d2.img.image, VK_IMAGE_LAYOUT_GENERAL, 1, &b,
+                 VK_FILTER_NEAREST);
+  expectVkrtMessage("VUID-vkCmdBlitImage-dstImage-02000");
+  // A secondary that continues a render pass needs a live render pass (or inherited rendering formats), and is
+  // executed inside a render pass instance only.
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, commandPool,
+                                  VK_COMMAND_BUFFER_LEVEL_SECONDARY, 1};
+  VkCommandBuffer sec = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateCommandBuffers(device, &cai, &sec), VK_SUCCESS);
+  VkCommandBufferInheritanceInfo inh{VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_INFO};
+  VkCommandBufferBeginInfo sbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr,
+                               VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT, &inh};
+  EXPECT_EQ(vkBeginCommandBuffer(sec, &sbi), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-VkCommandBufferBeginInfo-flags-06002");
+  const VkFormat color = VK_FORMAT_R8G8B8A8_UNORM;
+  VkCommandBufferInheritanceRenderingInfo ir{VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_RENDERING_INFO};
+  ir.colorAttachmentCount = 1;
+  ir.pColorAttachmentFormats = &color;
+  ir.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  inh.pNext = &ir;
+  ASSERT_EQ(vkBeginCommandBuffer(sec, &sbi), VK_SUCCESS);
+  vkCmdEndRendering(sec);
+  expectVkrtMessage("VUID-vkCmdEndRendering-commandBuffer-06162");
+  ASSERT_EQ(vkEndCommandBuffer(sec), VK_SUCCESS);
+  vkCmdExecuteCommands(cb, 1, &sec);
+  expectVkrtMessage("VUID-vkCmdExecuteCommands-pCommandBuffers-00100");
+  // vkCmdBeginRendering: a resolve of a single-sampled attachment, a render area outside the view.
+  Attachment a = attachment(color, 4, 4);
+  Attachment r = attachment(color, 4, 4);
+  VkRenderingAttachmentInfo ca{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  ca.imageView = a.view;
+  ca.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+  ca.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+  ca.resolveImageView = r.view;
+  ca.resolveImageLayout = VK_IMAGE_LAYOUT_GENERAL;
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {4, 4}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = 1;
+  ri.pColorAttachments = &ca;
+  vkCmdBeginRendering(cb, &ri);
+  expectVkrtMessage("VUID-VkRenderingAttachmentInfo-imageView-06132");
+  ca.resolveMode = VK_RESOLVE_MODE_NONE;
+  ri.renderArea = {{2, 0}, {4, 4}};
+  vkCmdBeginRendering(cb, &ri);
+  expectVkrtMessage("VUID-VkRenderingInfo-imageView-06075");
+  ri.renderArea = {{0, 0}, {4, 4}};
+  ri.layerCount = 0;
+  vkCmdBeginRendering(cb, &ri);
+  expectVkrtMessage("VUID-VkRenderingInfo-viewMask-06069");
+  ri.layerCount = 1;
+  vkCmdBeginRendering(cb, &ri);
+  vkCmdEndRenderPass(cb);
+  expectVkrtMessage("VUID-vkCmdEndRenderPass-None-06170");
+  vkCmdEndRendering(cb);
+  EXPECT_TRUE(vkrtMessages().empty());
+  submitAndWait(cb);
+  vkFreeCommandBuffers(device, commandPool, 1, &sec);
+  destroy(d);
+  destroy(d2);
+  destroy(a);
+  destroy(r);
+}
+
+}  // namespace
+}  // namespace vkrt::test

@@ -213,5 +213,51 @@ TEST_F(ResolveTest, DynamicRenderingColorResolve) {
   destroy(one);
 }
 
+// A secondary command buffer inheriting dynamic rendering formats (VkCommandBufferInheritanceRenderingInfo), executed
+// in an instance begun with VK_RENDERING_CONTENTS_SECONDARY_COMMAND_BUFFERS_BIT: its vkCmdClearAttachments clears
+// the primary's attachment.
+TEST_F(ResolveTest, DynamicRenderingSecondaryClearsTheInstance) {
+  Attachment a = attachment(VK_FORMAT_R8G8B8A8_UNORM, 4, 4);
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, commandPool,
+                                  VK_COMMAND_BUFFER_LEVEL_SECONDARY, 1};
+  VkCommandBuffer sec = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateCommandBuffers(device, &cai, &sec), VK_SUCCESS);
+  VkCommandBufferInheritanceRenderingInfo ir{VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_RENDERING_INFO};
+  ir.colorAttachmentCount = 1;
+  ir.pColorAttachmentFormats = &a.format;
+  ir.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkCommandBufferInheritanceInfo inh{VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_INFO, &ir};
+  VkCommandBufferBeginInfo sbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr,
+                               VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT, &inh};
+  ASSERT_EQ(vkBeginCommandBuffer(sec, &sbi), VK_SUCCESS);
+  VkClearAttachment clear{VK_IMAGE_ASPECT_COLOR_BIT, 0, {}};
+  clear.clearValue.color = {{0, 1, 0, 1}};
+  VkClearRect rect{{{1, 1}, {2, 2}}, 0, 1};
+  vkCmdClearAttachments(sec, 1, &clear, 1, &rect);
+  ASSERT_EQ(vkEndCommandBuffer(sec), VK_SUCCESS);
+  VkRenderingAttachmentInfo c{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  c.imageView = a.view;
+  c.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+  c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  c.clearValue.color = {{1, 0, 0, 1}};
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.flags = VK_RENDERING_CONTENTS_SECONDARY_COMMAND_BUFFERS_BIT;
+  ri.renderArea = {{0, 0}, {4, 4}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = 1;
+  ri.pColorAttachments = &c;
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBeginRendering(cb, &ri);
+  vkCmdExecuteCommands(cb, 1, &sec);
+  vkCmdEndRendering(cb);
+  submitAndWait(cb);
+  std::vector<uint8_t> p = readBack(a, VK_IMAGE_ASPECT_COLOR_BIT, 4);
+  for (uint32_t i = 0; i < 16; ++i)
+    EXPECT_EQ(texelU32(p, i), inside(rect.rect, i % 4, i / 4) ? 0xFF00FF00u : 0xFF0000FFu) << i;
+  vkFreeCommandBuffers(device, commandPool, 1, &sec);
+  destroy(a);
+}
+
 }  // namespace
 }  // namespace vkrt::test
