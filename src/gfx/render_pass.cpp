@@ -32,8 +32,8 @@ namespace {
 // The VUIDs that differ between vkCreateRenderPass and vkCreateRenderPass2.
 struct PassVuids {
   const char* fn;
-  const char* index;         // attachment index in range
-  const char* colorFormat;   // COLOR_ATTACHMENT feature
+  const char* index;        // attachment index in range
+  const char* colorFormat;  // COLOR_ATTACHMENT feature
   const char* resolveFormat;
   const char* dsFormat;      // DEPTH_STENCIL_ATTACHMENT feature
   const char* colorSamples;  // color attachments' sample counts equal
@@ -79,8 +79,8 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
   std::vector<AttachmentDesc> atts(n);
   for (uint32_t i = 0; i < n; ++i) {
     const VkAttachmentDescription2& a = ci.pAttachments[i];
-    atts[i] = {a.format, uint32_t(a.samples), a.loadOp, a.stencilLoadOp, a.storeOp, a.stencilStoreOp,
-               a.initialLayout, a.finalLayout};
+    atts[i] = {a.format,  uint32_t(a.samples), a.loadOp,        a.stencilLoadOp,
+               a.storeOp, a.stencilStoreOp,    a.initialLayout, a.finalLayout};
   }
   // VUID-VkRenderPassCreateInfo2-viewMask-03058: view masks all zero or all non-zero
   for (uint32_t s = 1; s < ci.subpassCount; ++s) {
@@ -164,11 +164,11 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
       samples = atts[a].samples;
       const uint32_t r = out.resolve.empty() ? VK_ATTACHMENT_UNUSED : out.resolve[c];
       if (r == VK_ATTACHMENT_UNUSED) continue;
-      const char* vuid = atts[a].samples == 1                                   ? v.resolveFrom1
-                         : atts[r].samples != 1                                 ? v.resolveTo1
-                         : atts[r].format != atts[a].format                     ? v.resolveSame
+      const char* vuid = atts[a].samples == 1                                                         ? v.resolveFrom1
+                         : atts[r].samples != 1                                                       ? v.resolveTo1
+                         : atts[r].format != atts[a].format                                           ? v.resolveSame
                          : !(formatFeatures(atts[r].format) & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT) ? v.resolveFormat
-                                                                                                     : nullptr;
+                                                                                                      : nullptr;
       if (vuid) {
         report(dev, Severity::Error, vuid,
                "%s: subpass %u resolves color attachment %u (format %d, %u samples) into attachment %u (format %d, "
@@ -204,7 +204,8 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
       const uint32_t ds = out.depthStencil;
       const VkImageAspectFlags aspects = formatAspects(atts[r].format);
       const char* vuid =
-          ds == VK_ATTACHMENT_UNUSED ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03177"
+          ds == VK_ATTACHMENT_UNUSED
+              ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03177"
           : atts[ds].samples == 1 ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03179"
           : atts[r].samples != 1  ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03180"
           : !(formatFeatures(atts[r].format) & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)

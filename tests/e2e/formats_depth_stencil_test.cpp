@@ -25,23 +25,40 @@ TEST_F(FormatsTest, RequiredAttachmentFeatures) {
   // "Required Format Support" (Vulkan 1.3): the color attachment rows (blending where the table marks it) and the
   // depth rows that are required alone.
   const Row rows[] = {
-      {VK_FORMAT_R8_UNORM, kCA | kBlend},           {VK_FORMAT_R8_UINT, kCA},
-      {VK_FORMAT_R8_SINT, kCA},                     {VK_FORMAT_R8G8_UNORM, kCA | kBlend},
-      {VK_FORMAT_R8G8_UINT, kCA},                   {VK_FORMAT_R8G8_SINT, kCA},
-      {VK_FORMAT_R8G8B8A8_UNORM, kCA | kBlend},     {VK_FORMAT_R8G8B8A8_UINT, kCA},
-      {VK_FORMAT_R8G8B8A8_SINT, kCA},               {VK_FORMAT_R8G8B8A8_SRGB, kCA | kBlend},
-      {VK_FORMAT_B8G8R8A8_UNORM, kCA | kBlend},     {VK_FORMAT_B8G8R8A8_SRGB, kCA | kBlend},
-      {VK_FORMAT_A2B10G10R10_UNORM_PACK32, kCA | kBlend}, {VK_FORMAT_A2B10G10R10_UINT_PACK32, kCA},
-      {VK_FORMAT_R16_UINT, kCA},                    {VK_FORMAT_R16_SINT, kCA},
-      {VK_FORMAT_R16_SFLOAT, kCA | kBlend},         {VK_FORMAT_R16G16_UINT, kCA},
-      {VK_FORMAT_R16G16_SINT, kCA},                 {VK_FORMAT_R16G16_SFLOAT, kCA | kBlend},
-      {VK_FORMAT_R16G16B16A16_UINT, kCA},           {VK_FORMAT_R16G16B16A16_SINT, kCA},
-      {VK_FORMAT_R16G16B16A16_SFLOAT, kCA | kBlend}, {VK_FORMAT_R32_UINT, kCA},
-      {VK_FORMAT_R32_SINT, kCA},                    {VK_FORMAT_R32_SFLOAT, kCA},
-      {VK_FORMAT_R32G32_UINT, kCA},                 {VK_FORMAT_R32G32_SINT, kCA},
-      {VK_FORMAT_R32G32_SFLOAT, kCA},               {VK_FORMAT_R32G32B32A32_UINT, kCA},
-      {VK_FORMAT_R32G32B32A32_SINT, kCA},           {VK_FORMAT_R32G32B32A32_SFLOAT, kCA},
-      {VK_FORMAT_D16_UNORM, kSampled | kBlitSrc | kDS}, {VK_FORMAT_D32_SFLOAT, kSampled | kBlitSrc},
+      {VK_FORMAT_R8_UNORM, kCA | kBlend},
+      {VK_FORMAT_R8_UINT, kCA},
+      {VK_FORMAT_R8_SINT, kCA},
+      {VK_FORMAT_R8G8_UNORM, kCA | kBlend},
+      {VK_FORMAT_R8G8_UINT, kCA},
+      {VK_FORMAT_R8G8_SINT, kCA},
+      {VK_FORMAT_R8G8B8A8_UNORM, kCA | kBlend},
+      {VK_FORMAT_R8G8B8A8_UINT, kCA},
+      {VK_FORMAT_R8G8B8A8_SINT, kCA},
+      {VK_FORMAT_R8G8B8A8_SRGB, kCA | kBlend},
+      {VK_FORMAT_B8G8R8A8_UNORM, kCA | kBlend},
+      {VK_FORMAT_B8G8R8A8_SRGB, kCA | kBlend},
+      {VK_FORMAT_A2B10G10R10_UNORM_PACK32, kCA | kBlend},
+      {VK_FORMAT_A2B10G10R10_UINT_PACK32, kCA},
+      {VK_FORMAT_R16_UINT, kCA},
+      {VK_FORMAT_R16_SINT, kCA},
+      {VK_FORMAT_R16_SFLOAT, kCA | kBlend},
+      {VK_FORMAT_R16G16_UINT, kCA},
+      {VK_FORMAT_R16G16_SINT, kCA},
+      {VK_FORMAT_R16G16_SFLOAT, kCA | kBlend},
+      {VK_FORMAT_R16G16B16A16_UINT, kCA},
+      {VK_FORMAT_R16G16B16A16_SINT, kCA},
+      {VK_FORMAT_R16G16B16A16_SFLOAT, kCA | kBlend},
+      {VK_FORMAT_R32_UINT, kCA},
+      {VK_FORMAT_R32_SINT, kCA},
+      {VK_FORMAT_R32_SFLOAT, kCA},
+      {VK_FORMAT_R32G32_UINT, kCA},
+      {VK_FORMAT_R32G32_SINT, kCA},
+      {VK_FORMAT_R32G32_SFLOAT, kCA},
+      {VK_FORMAT_R32G32B32A32_UINT, kCA},
+      {VK_FORMAT_R32G32B32A32_SINT, kCA},
+      {VK_FORMAT_R32G32B32A32_SFLOAT, kCA},
+      {VK_FORMAT_D16_UNORM, kSampled | kBlitSrc | kDS},
+      {VK_FORMAT_D32_SFLOAT, kSampled | kBlitSrc},
   };
   for (const Row& r : rows) {
     VkFormatProperties p;
@@ -65,8 +82,8 @@ TEST_F(FormatsTest, RequiredAttachmentFeatures) {
     VkFormatProperties p;
     vkGetPhysicalDeviceFormatProperties(physicalDevice, f, &p);
     EXPECT_TRUE(p.optimalTilingFeatures & kDS) << f;
-    EXPECT_FALSE(p.optimalTilingFeatures &
-                 (VK_FORMAT_FEATURE_BLIT_DST_BIT | kCA | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) << f;
+    EXPECT_FALSE(p.optimalTilingFeatures & (VK_FORMAT_FEATURE_BLIT_DST_BIT | kCA | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+        << f;
     EXPECT_EQ(p.bufferFeatures, 0u) << f;
   }
 }
@@ -76,15 +93,16 @@ TEST_F(FormatsTest, AttachmentSampleCountsAndLimits) {
   vkGetPhysicalDeviceProperties(physicalDevice, &props);
   const VkSampleCountFlags req = VK_SAMPLE_COUNT_1_BIT | VK_SAMPLE_COUNT_4_BIT;
   const VkPhysicalDeviceLimits& l = props.limits;
-  for (VkSampleCountFlags s : {l.framebufferColorSampleCounts, l.framebufferDepthSampleCounts,
-                               l.framebufferStencilSampleCounts, l.framebufferNoAttachmentsSampleCounts,
-                               l.sampledImageColorSampleCounts, l.sampledImageIntegerSampleCounts,
-                               l.sampledImageDepthSampleCounts, l.sampledImageStencilSampleCounts})
+  for (VkSampleCountFlags s :
+       {l.framebufferColorSampleCounts, l.framebufferDepthSampleCounts, l.framebufferStencilSampleCounts,
+        l.framebufferNoAttachmentsSampleCounts, l.sampledImageColorSampleCounts, l.sampledImageIntegerSampleCounts,
+        l.sampledImageDepthSampleCounts, l.sampledImageStencilSampleCounts})
     EXPECT_EQ(s & req, req);
   VkImageFormatProperties ip;
-  ASSERT_EQ(vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_TYPE_2D,
-                                                     VK_IMAGE_TILING_OPTIMAL, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 0, &ip),
-            VK_SUCCESS);
+  ASSERT_EQ(
+      vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_TYPE_2D,
+                                               VK_IMAGE_TILING_OPTIMAL, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 0, &ip),
+      VK_SUCCESS);
   EXPECT_EQ(ip.sampleCounts & req, req);
   ASSERT_EQ(vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_D32_SFLOAT, VK_IMAGE_TYPE_2D,
                                                      VK_IMAGE_TILING_OPTIMAL,
@@ -97,9 +115,10 @@ TEST_F(FormatsTest, AttachmentSampleCountsAndLimits) {
                                                      VK_IMAGE_TILING_OPTIMAL, VK_IMAGE_USAGE_STORAGE_BIT, 0, &ip),
             VK_SUCCESS);
   EXPECT_EQ(ip.sampleCounts, VkSampleCountFlags(VK_SAMPLE_COUNT_1_BIT));
-  EXPECT_EQ(vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_D16_UNORM, VK_IMAGE_TYPE_2D,
-                                                     VK_IMAGE_TILING_OPTIMAL, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 0, &ip),
-            VK_ERROR_FORMAT_NOT_SUPPORTED);
+  EXPECT_EQ(
+      vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_D16_UNORM, VK_IMAGE_TYPE_2D,
+                                               VK_IMAGE_TILING_OPTIMAL, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 0, &ip),
+      VK_ERROR_FORMAT_NOT_SUPPORTED);
 }
 
 // Stencil then depth uploaded into D24_UNORM_S8_UINT and D32_SFLOAT_S8_UINT: each copy keeps the other aspect;
@@ -166,7 +185,8 @@ TEST_F(FormatsTest, ClearDepthStencilImageBytes) {
   vkCmdClearDepthStencilImage(cb, d24.img.image, VK_IMAGE_LAYOUT_GENERAL, &v2, 1, &stencil);
   submitAndWait(cb);
   std::vector<uint8_t> a = readBack(d16, VK_IMAGE_ASPECT_DEPTH_BIT, 2);
-  std::vector<uint8_t> z = readBack(d24, VK_IMAGE_ASPECT_DEPTH_BIT, 4), s = readBack(d24, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
+  std::vector<uint8_t> z = readBack(d24, VK_IMAGE_ASPECT_DEPTH_BIT, 4),
+                       s = readBack(d24, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
   for (uint32_t i = 0; i < 6; ++i) {
     uint16_t h;
     std::memcpy(&h, a.data() + 2 * i, 2);

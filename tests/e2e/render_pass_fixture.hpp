@@ -49,10 +49,11 @@ class RenderPassTest : public ImageTest {
     a.height = h;
     a.layers = layers;
     const VkImageAspectFlags aspects = aspectsOf(format);
-    VkImageCreateInfo ci = imageInfo(VK_IMAGE_TYPE_2D, format, {w, h, 1}, 1, layers,
-                                     (aspects == VK_IMAGE_ASPECT_COLOR_BIT ? VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT
-                                                                           : VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) |
-                                         (samples == VK_SAMPLE_COUNT_1_BIT ? kImgXfer : 0) | extra);
+    VkImageCreateInfo ci =
+        imageInfo(VK_IMAGE_TYPE_2D, format, {w, h, 1}, 1, layers,
+                  (aspects == VK_IMAGE_ASPECT_COLOR_BIT ? VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT
+                                                        : VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) |
+                      (samples == VK_SAMPLE_COUNT_1_BIT ? kImgXfer : 0) | extra);
     ci.samples = samples;
     a.img = createImage(ci);
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
@@ -121,8 +122,15 @@ class RenderPassTest : public ImageTest {
   static VkAttachmentDescription desc(VkFormat f, VkAttachmentLoadOp load,
                                       VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT,
                                       VkAttachmentLoadOp stencilLoad = VK_ATTACHMENT_LOAD_OP_DONT_CARE) {
-    return {0, f, samples, load, VK_ATTACHMENT_STORE_OP_STORE, stencilLoad, VK_ATTACHMENT_STORE_OP_STORE,
-            VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL};
+    return {0,
+            f,
+            samples,
+            load,
+            VK_ATTACHMENT_STORE_OP_STORE,
+            stencilLoad,
+            VK_ATTACHMENT_STORE_OP_STORE,
+            VK_IMAGE_LAYOUT_GENERAL,
+            VK_IMAGE_LAYOUT_GENERAL};
   }
 
   VkRenderPass renderPass(const std::vector<VkAttachmentDescription>& atts,
@@ -152,8 +160,7 @@ class RenderPassTest : public ImageTest {
   }
 
   // The clear values are kept by the fixture until the test ends (the begin info points at them).
-  VkRenderPassBeginInfo beginInfo(VkRenderPass rp, VkFramebuffer fb, VkRect2D area,
-                                  std::vector<VkClearValue> values) {
+  VkRenderPassBeginInfo beginInfo(VkRenderPass rp, VkFramebuffer fb, VkRect2D area, std::vector<VkClearValue> values) {
     clearValues_.push_back(std::move(values));
     const std::vector<VkClearValue>& clears = clearValues_.back();
     VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
@@ -168,8 +175,8 @@ class RenderPassTest : public ImageTest {
   std::deque<std::vector<VkClearValue>> clearValues_;
 
   static bool inside(const VkRect2D& r, uint32_t x, uint32_t y) {
-    return int64_t(x) >= r.offset.x && int64_t(x) < r.offset.x + int64_t(r.extent.width) &&
-           int64_t(y) >= r.offset.y && int64_t(y) < r.offset.y + int64_t(r.extent.height);
+    return int64_t(x) >= r.offset.x && int64_t(x) < r.offset.x + int64_t(r.extent.width) && int64_t(y) >= r.offset.y &&
+           int64_t(y) < r.offset.y + int64_t(r.extent.height);
   }
 };
 

@@ -186,8 +186,8 @@ TEST_F(PassMisuseTest, EndRenderPassBeforeTheLastSubpass) {
 
 TEST_F(PassMisuseTest, ImageAndResolveRules) {
   // A multisampled image that is mip-mapped, and vkCmdResolveImage into a multisampled destination.
-  VkImageCreateInfo ci = imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {4, 4, 1}, 2, 1,
-                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+  VkImageCreateInfo ci =
+      imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R8G8B8A8_UNORM, {4, 4, 1}, 2, 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
   ci.samples = VK_SAMPLE_COUNT_4_BIT;
   VkImage img = VK_NULL_HANDLE;
   EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &img), VK_ERROR_VALIDATION_FAILED_EXT);
@@ -247,7 +247,9 @@ TEST_F(PassMisuseTest, BlitsOfDepthAndSecondariesAndDynamicRendering) {
   // A depth format has no BLIT_DST (only D16 and D32 have BLIT_SRC, as required).
   Attachment d = attachment(VK_FORMAT_D32_SFLOAT, 4, 4);
   Attachment d2 = attachment(VK_FORMAT_D32_SFLOAT, 4, 4);
-  VkImageBlit b{{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1}, {{0, 0, 0}, {4, 4, 1}}, {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1},
+  VkImageBlit b{{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1},
+                {{0, 0, 0}, {4, 4, 1}},
+                {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1},
                 {{0, 0, 0}, {4, 4, 1}}};
   VkCommandBuffer cb = beginOneTime();
   vkCmdBlitImage(cb, d.img.image, VK_IMAGE_LAYOUT_GENERAL, d2.img.image, VK_IMAGE_LAYOUT_GENERAL, 1, &b,

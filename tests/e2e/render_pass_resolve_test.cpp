@@ -49,11 +49,18 @@ TEST_F(ResolveTest, CmdResolveImageAveragesNormalizedAndTakesSampleZeroOfInteger
   VkImageResolve r{{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {}, {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {}, {4, 2, 1}};
   vkCmdResolveImage(cb, ms.img.image, VK_IMAGE_LAYOUT_GENERAL, one.img.image, VK_IMAGE_LAYOUT_GENERAL, 1, &r);
   VkImageResolve2 r2{VK_STRUCTURE_TYPE_IMAGE_RESOLVE_2, nullptr, r.srcSubresource, {}, r.dstSubresource, {}, {4, 2, 1}};
-  VkResolveImageInfo2 info{VK_STRUCTURE_TYPE_RESOLVE_IMAGE_INFO_2, nullptr, msi.img.image, VK_IMAGE_LAYOUT_GENERAL,
-                           onei.img.image, VK_IMAGE_LAYOUT_GENERAL, 1, &r2};
+  VkResolveImageInfo2 info{VK_STRUCTURE_TYPE_RESOLVE_IMAGE_INFO_2,
+                           nullptr,
+                           msi.img.image,
+                           VK_IMAGE_LAYOUT_GENERAL,
+                           onei.img.image,
+                           VK_IMAGE_LAYOUT_GENERAL,
+                           1,
+                           &r2};
   vkCmdResolveImage2(cb, &info);
   submitAndWait(cb);
-  std::vector<uint8_t> p = readBack(one, VK_IMAGE_ASPECT_COLOR_BIT, 4), q = readBack(onei, VK_IMAGE_ASPECT_COLOR_BIT, 4);
+  std::vector<uint8_t> p = readBack(one, VK_IMAGE_ASPECT_COLOR_BIT, 4),
+                       q = readBack(onei, VK_IMAGE_ASPECT_COLOR_BIT, 4);
   for (uint32_t i = 0; i < 8; ++i) {
     EXPECT_EQ(texelU32(p, i), rgbaMean(i)) << i;
     EXPECT_EQ(texelU32(q, i), 1000 * i + 7) << i;  // sample 0 (the spec lets a driver pick one sample)
@@ -136,7 +143,8 @@ TEST_F(ResolveTest, DynamicRenderingDepthStencilResolveModes) {
     vkCmdBeginRendering(cb, &ri);
     vkCmdEndRendering(cb);
     submitAndWait(cb);
-    std::vector<uint8_t> z = readBack(one, VK_IMAGE_ASPECT_DEPTH_BIT, 4), st = readBack(one, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
+    std::vector<uint8_t> z = readBack(one, VK_IMAGE_ASPECT_DEPTH_BIT, 4),
+                         st = readBack(one, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
     for (uint32_t i = 0; i < 4; ++i) {
       float v;
       std::memcpy(&v, z.data() + 4 * i, 4);

@@ -43,8 +43,8 @@ TEST_F(RenderPassTest, ClearLoadOpWritesTheRenderAreaOnlyAndLoadKeepsContents) {
   VkSubpassDescription sub{};
   sub.colorAttachmentCount = 2;
   sub.pColorAttachments = refs;
-  VkRenderPass rp = renderPass({desc(a.format, VK_ATTACHMENT_LOAD_OP_CLEAR), desc(b.format, VK_ATTACHMENT_LOAD_OP_LOAD)},
-                               {sub});
+  VkRenderPass rp =
+      renderPass({desc(a.format, VK_ATTACHMENT_LOAD_OP_CLEAR), desc(b.format, VK_ATTACHMENT_LOAD_OP_LOAD)}, {sub});
   VkFramebuffer fb = framebuffer(rp, {a.view, b.view}, 8, 8);
   const VkRect2D area{{2, 1}, {4, 3}};
   VkRenderPassBeginInfo bi = beginInfo(rp, fb, area, {colorValue(kRedF), colorValue(kBlueF)});
@@ -89,7 +89,8 @@ TEST_F(RenderPassTest, DepthAndStencilClearsOfCombinedFormats) {
     vkCmdBeginRenderPass(cb, &bi, VK_SUBPASS_CONTENTS_INLINE);
     vkCmdEndRenderPass(cb);
     submitAndWait(cb);
-    std::vector<uint8_t> depth = readBack(d, VK_IMAGE_ASPECT_DEPTH_BIT, 4), stencil = readBack(d, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
+    std::vector<uint8_t> depth = readBack(d, VK_IMAGE_ASPECT_DEPTH_BIT, 4),
+                         stencil = readBack(d, VK_IMAGE_ASPECT_STENCIL_BIT, 1);
     const bool d24 = f == VK_FORMAT_D24_UNORM_S8_UINT;
     for (uint32_t y = 0; y < 5; ++y)
       for (uint32_t x = 0; x < 6; ++x) {
@@ -122,8 +123,13 @@ TEST_F(RenderPassTest, NextSubpassWithTwoColorAttachments) {
   subs[0].pColorAttachments = &r0;
   subs[1].colorAttachmentCount = 1;
   subs[1].pColorAttachments = &r1;
-  VkSubpassDependency dep{0, 1, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0};
+  VkSubpassDependency dep{0,
+                          1,
+                          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                          0};
   std::vector<VkAttachmentDescription> atts = {desc(a.format, VK_ATTACHMENT_LOAD_OP_CLEAR),
                                                desc(b.format, VK_ATTACHMENT_LOAD_OP_CLEAR)};
   VkRenderPassCreateInfo ci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
@@ -176,7 +182,8 @@ TEST_F(RenderPassTest, ClearAttachmentsRectsAndLayers) {
   VkRenderPassBeginInfo bi = beginInfo(rp, fb, {{0, 0}, {5, 4}}, {colorValue(kRedF), dv});
   VkCommandBuffer cb = beginOneTime();
   vkCmdBeginRenderPass(cb, &bi, VK_SUBPASS_CONTENTS_INLINE);
-  VkClearAttachment clears[2] = {{VK_IMAGE_ASPECT_COLOR_BIT, 0, colorValue(kBlueF)}, {VK_IMAGE_ASPECT_DEPTH_BIT, 0, {}}};
+  VkClearAttachment clears[2] = {{VK_IMAGE_ASPECT_COLOR_BIT, 0, colorValue(kBlueF)},
+                                 {VK_IMAGE_ASPECT_DEPTH_BIT, 0, {}}};
   clears[1].clearValue.depthStencil = {0.5f, 0};
   VkClearRect colorRect{{{1, 0}, {3, 2}}, 1, 1}, depthRect{{{0, 2}, {2, 2}}, 0, 2};
   vkCmdClearAttachments(cb, 1, &clears[0], 1, &colorRect);
@@ -184,10 +191,12 @@ TEST_F(RenderPassTest, ClearAttachmentsRectsAndLayers) {
   vkCmdEndRenderPass(cb);
   submitAndWait(cb);
   for (uint32_t l = 0; l < 2; ++l) {
-    std::vector<uint8_t> pc = readBack(c, VK_IMAGE_ASPECT_COLOR_BIT, 4, l), pd = readBack(d, VK_IMAGE_ASPECT_DEPTH_BIT, 4, l);
+    std::vector<uint8_t> pc = readBack(c, VK_IMAGE_ASPECT_COLOR_BIT, 4, l),
+                         pd = readBack(d, VK_IMAGE_ASPECT_DEPTH_BIT, 4, l);
     for (uint32_t y = 0; y < 4; ++y)
       for (uint32_t x = 0; x < 5; ++x) {
-        EXPECT_EQ(texelU32(pc, y * 5 + x), l == 1 && inside(colorRect.rect, x, y) ? kBlue : kGreen) << l << ":" << x << "," << y;
+        EXPECT_EQ(texelU32(pc, y * 5 + x), l == 1 && inside(colorRect.rect, x, y) ? kBlue : kGreen)
+            << l << ":" << x << "," << y;
         float z;
         std::memcpy(&z, pd.data() + 4 * (y * 5 + x), 4);
         EXPECT_EQ(z, inside(depthRect.rect, x, y) ? 0.5f : 1.0f) << l << ":" << x << "," << y;
@@ -217,8 +226,8 @@ TEST_F(RenderPassTest, ImagelessFramebuffer) {
   VkFramebufferAttachmentsCreateInfo ai{VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENTS_CREATE_INFO};
   ai.attachmentImageInfoCount = 1;
   ai.pAttachmentImageInfos = &ii;
-  VkFramebufferCreateInfo ci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO, &ai, VK_FRAMEBUFFER_CREATE_IMAGELESS_BIT, rp, 1,
-                             nullptr, 4, 3, 1};
+  VkFramebufferCreateInfo ci{
+      VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO, &ai, VK_FRAMEBUFFER_CREATE_IMAGELESS_BIT, rp, 1, nullptr, 4, 3, 1};
   VkFramebuffer fb = VK_NULL_HANDLE;
   ASSERT_EQ(vkCreateFramebuffer(device, &ci, nullptr, &fb), VK_SUCCESS);
   VkRenderPassAttachmentBeginInfo ab{VK_STRUCTURE_TYPE_RENDER_PASS_ATTACHMENT_BEGIN_INFO, nullptr, 1, &a.view};
