@@ -63,17 +63,17 @@ bool viewFits(Device* dev, const RenderPass& pass, const VkFramebufferCreateInfo
   const VkExtent3D e = mipExtent(v->image->extent, v->range.baseMipLevel);
   bool color, ds;
   usesOf(pass, i, &color, &ds);
-  const char* vuid =
-      v->format != a.format                                                ? "VUID-VkFramebufferCreateInfo-pAttachments-00880"
-      : v->image->samples != a.samples                                     ? "VUID-VkFramebufferCreateInfo-pAttachments-00881"
-      : v->range.levelCount != 1                                           ? "VUID-VkFramebufferCreateInfo-pAttachments-00883"
-      : color && !(v->image->usage & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT) ? "VUID-VkFramebufferCreateInfo-pAttachments-00877"
-      : ds && !(v->image->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)
-          ? "VUID-VkFramebufferCreateInfo-pAttachments-02633"
-      : e.width < ci.width                                  ? "VUID-VkFramebufferCreateInfo-flags-04533"
-      : e.height < ci.height                                ? "VUID-VkFramebufferCreateInfo-flags-04534"
-      : !pass.multiview() && v->range.layerCount < ci.layers ? "VUID-VkFramebufferCreateInfo-flags-04535"
-                                                             : nullptr;
+  const char* vuid = v->format != a.format            ? "VUID-VkFramebufferCreateInfo-pAttachments-00880"
+                     : v->image->samples != a.samples ? "VUID-VkFramebufferCreateInfo-pAttachments-00881"
+                     : v->range.levelCount != 1       ? "VUID-VkFramebufferCreateInfo-pAttachments-00883"
+                     : color && !(v->image->usage & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)
+                         ? "VUID-VkFramebufferCreateInfo-pAttachments-00877"
+                     : ds && !(v->image->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)
+                         ? "VUID-VkFramebufferCreateInfo-pAttachments-02633"
+                     : e.width < ci.width                                   ? "VUID-VkFramebufferCreateInfo-flags-04533"
+                     : e.height < ci.height                                 ? "VUID-VkFramebufferCreateInfo-flags-04534"
+                     : !pass.multiview() && v->range.layerCount < ci.layers ? "VUID-VkFramebufferCreateInfo-flags-04535"
+                                                                            : nullptr;
   if (vuid) {
     report(dev, Severity::Error, vuid,
            "%s: pAttachments[%u] (format %d, %u samples, %u levels, usage 0x%x, %ux%u, %u layers) does not fit "
@@ -95,7 +95,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateFramebuffer(VkDevice device, const VkF
   Device* dev = fromHandleUnchecked<Device>(device);
   const VkFramebufferCreateInfo& ci = *pCreateInfo;
   const char* fn = "vkCreateFramebuffer";
-  RenderPass* pass = liveOrReport<RenderPass>(dev, ci.renderPass, fn, "VUID-VkFramebufferCreateInfo-renderPass-parameter");
+  RenderPass* pass =
+      liveOrReport<RenderPass>(dev, ci.renderPass, fn, "VUID-VkFramebufferCreateInfo-renderPass-parameter");
   if (!pass) return VK_ERROR_VALIDATION_FAILED_EXT;
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
   // VUID-VkFramebufferCreateInfo-width-00885/00886, height-00887/00888, layers-00889/00890
@@ -123,8 +124,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateFramebuffer(VkDevice device, const VkF
     auto* a = findInChain<VkFramebufferAttachmentsCreateInfo>(ci.pNext,
                                                               VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENTS_CREATE_INFO);
     // VUID-VkFramebufferCreateInfo-flags-03189 / 03190 / 03191
-    const char* v = !dev->enabled(Feature::imagelessFramebuffer) ? "VUID-VkFramebufferCreateInfo-flags-03189"
-                    : !a                                          ? "VUID-VkFramebufferCreateInfo-flags-03190"
+    const char* v = !dev->enabled(Feature::imagelessFramebuffer)        ? "VUID-VkFramebufferCreateInfo-flags-03189"
+                    : !a                                                ? "VUID-VkFramebufferCreateInfo-flags-03190"
                     : a->attachmentImageInfoCount != ci.attachmentCount ? "VUID-VkFramebufferCreateInfo-flags-03191"
                                                                         : nullptr;
     if (v) {
@@ -137,7 +138,8 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateFramebuffer(VkDevice device, const VkF
     }
   } else {
     for (uint32_t i = 0; i < ci.attachmentCount; ++i)
-      if (!viewFits(dev, *pass, ci, i, fromHandle<ImageView>(ci.pAttachments[i]))) return VK_ERROR_VALIDATION_FAILED_EXT;
+      if (!viewFits(dev, *pass, ci, i, fromHandle<ImageView>(ci.pAttachments[i])))
+        return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   auto* fb = createObject<Framebuffer>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, ci, pass);
   if (!fb) return VK_ERROR_OUT_OF_HOST_MEMORY;

@@ -34,8 +34,8 @@ class Framebuffer : public Object {
   const size_t passSubpassCount;
   const uint32_t width, height, layers;
   const bool imageless;
-  std::vector<ImageView*> views;              // one per attachment; empty when imageless
-  std::vector<FramebufferImageInfo> images;   // one per attachment when imageless
+  std::vector<ImageView*> views;             // one per attachment; empty when imageless
+  std::vector<FramebufferImageInfo> images;  // one per attachment when imageless
 };
 
 }  // namespace vkrt::gfx

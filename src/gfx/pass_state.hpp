@@ -39,12 +39,13 @@ struct PassRecordState {
   // The current subpass's formats (VK_FORMAT_UNDEFINED for an unused attachment / no depth or stencil).
   VkFormat colorFormats[raster::kMaxColorAttachments] = {};
   VkFormat depthFormat = VK_FORMAT_UNDEFINED, stencilFormat = VK_FORMAT_UNDEFINED;
-  bool dynamicRendering = false;  // begun with vkCmdBeginRendering (or inherited VkCommandBufferInheritanceRenderingInfo)
-  bool inherited = false;         // a secondary command buffer that continues a render pass instance
+  bool dynamicRendering =
+      false;               // begun with vkCmdBeginRendering (or inherited VkCommandBufferInheritanceRenderingInfo)
+  bool inherited = false;  // a secondary command buffer that continues a render pass instance
   const RenderPass* renderPass = nullptr;  // the instance's render pass (null with dynamic rendering)
   uint32_t subpassCount = 0;
-  VkRect2D renderArea = {};               // unknown (0x0) in a secondary
-  uint32_t layers = 1;                    // framebuffer layers / VkRenderingInfo::layerCount
+  VkRect2D renderArea = {};                // unknown (0x0) in a secondary
+  uint32_t layers = 1;                     // framebuffer layers / VkRenderingInfo::layerCount
   std::shared_ptr<PassInstance> instance;  // what the instance's commands execute with; null in a secondary
 };
 

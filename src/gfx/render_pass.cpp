@@ -32,8 +32,8 @@ namespace {
 // The VUIDs that differ between vkCreateRenderPass and vkCreateRenderPass2.
 struct PassVuids {
   const char* fn;
-  const char* index;         // attachment index in range
-  const char* colorFormat;   // COLOR_ATTACHMENT feature
+  const char* index;        // attachment index in range
+  const char* colorFormat;  // COLOR_ATTACHMENT feature
   const char* resolveFormat;
   const char* dsFormat;      // DEPTH_STENCIL_ATTACHMENT feature
   const char* colorSamples;  // color attachments' sample counts equal
@@ -79,8 +79,8 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
   std::vector<AttachmentDesc> atts(n);
   for (uint32_t i = 0; i < n; ++i) {
     const VkAttachmentDescription2& a = ci.pAttachments[i];
-    atts[i] = {a.format, uint32_t(a.samples), a.loadOp, a.stencilLoadOp, a.storeOp, a.stencilStoreOp,
-               a.initialLayout, a.finalLayout};
+    atts[i] = {a.format,  uint32_t(a.samples), a.loadOp,        a.stencilLoadOp,
+               a.storeOp, a.stencilStoreOp,    a.initialLayout, a.finalLayout};
   }
   // VUID-VkRenderPassCreateInfo2-viewMask-03058: view masks all zero or all non-zero
   for (uint32_t s = 1; s < ci.subpassCount; ++s) {
@@ -90,6 +90,16 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
              ci.pSubpasses[s].viewMask, ci.pSubpasses[0].viewMask);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
+  }
+  // VUID-VkSubpassDescription2-multiview-06558 / VkRenderPassMultiviewCreateInfo-multiview-06555: view masks need
+  // the multiview feature (not advertised until draws render per view: docs/graphics-passes.md)
+  if (ci.subpassCount && ci.pSubpasses[0].viewMask && !dev->enabled(Feature::multiview)) {
+    report(dev, Severity::Error,
+           v.fn == kV1.fn ? "VUID-VkRenderPassMultiviewCreateInfo-multiview-06555"
+                          : "VUID-VkSubpassDescription2-multiview-06558",
+           "%s: subpass 0 has view mask 0x%x, but the multiview feature is not enabled", v.fn,
+           ci.pSubpasses[0].viewMask);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   std::vector<SubpassDesc> subs(ci.subpassCount);
   for (uint32_t s = 0; s < ci.subpassCount; ++s) {
@@ -154,11 +164,11 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
       samples = atts[a].samples;
       const uint32_t r = out.resolve.empty() ? VK_ATTACHMENT_UNUSED : out.resolve[c];
       if (r == VK_ATTACHMENT_UNUSED) continue;
-      const char* vuid = atts[a].samples == 1                                   ? v.resolveFrom1
-                         : atts[r].samples != 1                                 ? v.resolveTo1
-                         : atts[r].format != atts[a].format                     ? v.resolveSame
+      const char* vuid = atts[a].samples == 1                                                         ? v.resolveFrom1
+                         : atts[r].samples != 1                                                       ? v.resolveTo1
+                         : atts[r].format != atts[a].format                                           ? v.resolveSame
                          : !(formatFeatures(atts[r].format) & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT) ? v.resolveFormat
-                                                                                                     : nullptr;
+                                                                                                      : nullptr;
       if (vuid) {
         report(dev, Severity::Error, vuid,
                "%s: subpass %u resolves color attachment %u (format %d, %u samples) into attachment %u (format %d, "
@@ -194,7 +204,8 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
       const uint32_t ds = out.depthStencil;
       const VkImageAspectFlags aspects = formatAspects(atts[r].format);
       const char* vuid =
-          ds == VK_ATTACHMENT_UNUSED ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03177"
+          ds == VK_ATTACHMENT_UNUSED
+              ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03177"
           : atts[ds].samples == 1 ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03179"
           : atts[r].samples != 1  ? "VUID-VkSubpassDescriptionDepthStencilResolve-pDepthStencilResolveAttachment-03180"
           : !(formatFeatures(atts[r].format) & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)

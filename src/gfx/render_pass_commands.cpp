@@ -25,8 +25,9 @@ static void enterSubpass(PassRecordState& r, const RenderPass& rp, uint32_t s) {
   r.colorCount = uint32_t(d.color.size());
   for (uint32_t c = 0; c < raster::kMaxColorAttachments; ++c)
     r.colorFormats[c] = c < d.color.size() && d.color[c] != VK_ATTACHMENT_UNUSED ? rp.attachments[d.color[c]].format
-                                                                                  : VK_FORMAT_UNDEFINED;
-  const VkFormat ds = d.depthStencil != VK_ATTACHMENT_UNUSED ? rp.attachments[d.depthStencil].format : VK_FORMAT_UNDEFINED;
+                                                                                 : VK_FORMAT_UNDEFINED;
+  const VkFormat ds =
+      d.depthStencil != VK_ATTACHMENT_UNUSED ? rp.attachments[d.depthStencil].format : VK_FORMAT_UNDEFINED;
   r.hasDepth = formatAspects(ds) & VK_IMAGE_ASPECT_DEPTH_BIT;
   r.hasStencil = formatAspects(ds) & VK_IMAGE_ASPECT_STENCIL_BIT;
   r.depthFormat = r.hasDepth ? ds : VK_FORMAT_UNDEFINED;
@@ -51,7 +52,8 @@ void initPassRecordState(CommandBuffer* cb, PassRecordState& s) {
   s.dynamicRendering = true;
   s.subpassCount = 1;
   s.colorCount = uint32_t(inh.colorFormats.size());
-  for (uint32_t c = 0; c < s.colorCount && c < raster::kMaxColorAttachments; ++c) s.colorFormats[c] = inh.colorFormats[c];
+  for (uint32_t c = 0; c < s.colorCount && c < raster::kMaxColorAttachments; ++c)
+    s.colorFormats[c] = inh.colorFormats[c];
   s.depthFormat = inh.depthFormat;
   s.stencilFormat = inh.stencilFormat;
   s.hasDepth = inh.depthFormat != VK_FORMAT_UNDEFINED;
@@ -71,7 +73,8 @@ namespace {
 // (checked against the framebuffer's image infos and the render pass). Empty on misuse (reported).
 bool instanceViews(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, const RenderPass& rp, const Framebuffer& fb,
                    const char* fn, std::vector<const ImageView*>* out) {
-  auto* ab = findInChain<VkRenderPassAttachmentBeginInfo>(bi.pNext, VK_STRUCTURE_TYPE_RENDER_PASS_ATTACHMENT_BEGIN_INFO);
+  auto* ab =
+      findInChain<VkRenderPassAttachmentBeginInfo>(bi.pNext, VK_STRUCTURE_TYPE_RENDER_PASS_ATTACHMENT_BEGIN_INFO);
   if (!fb.imageless) {
     // VUID-VkRenderPassBeginInfo-framebuffer-03207: attachments at begin only for imageless framebuffers
     if (ab && ab->attachmentCount) {
@@ -107,13 +110,13 @@ bool instanceViews(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, const Ren
     const VkExtent3D e = mipExtent(v->image->extent, v->range.baseMipLevel);
     // VUID-VkRenderPassBeginInfo-framebuffer-04627 (usage), 03211 / 03212 (width, height), 03213 (layers),
     // 03216 (format), 03217 (samples)
-    const char* vuid = v->image->usage != ii.usage                       ? "VUID-VkRenderPassBeginInfo-framebuffer-04627"
-                       : e.width != ii.width                              ? "VUID-VkRenderPassBeginInfo-framebuffer-03211"
-                       : e.height != ii.height                            ? "VUID-VkRenderPassBeginInfo-framebuffer-03212"
-                       : v->range.layerCount != ii.layerCount             ? "VUID-VkRenderPassBeginInfo-framebuffer-03213"
-                       : v->format != rp.attachments[i].format            ? "VUID-VkRenderPassBeginInfo-framebuffer-03216"
-                       : v->image->samples != rp.attachments[i].samples   ? "VUID-VkRenderPassBeginInfo-framebuffer-03217"
-                                                                          : nullptr;
+    const char* vuid = v->image->usage != ii.usage                      ? "VUID-VkRenderPassBeginInfo-framebuffer-04627"
+                       : e.width != ii.width                            ? "VUID-VkRenderPassBeginInfo-framebuffer-03211"
+                       : e.height != ii.height                          ? "VUID-VkRenderPassBeginInfo-framebuffer-03212"
+                       : v->range.layerCount != ii.layerCount           ? "VUID-VkRenderPassBeginInfo-framebuffer-03213"
+                       : v->format != rp.attachments[i].format          ? "VUID-VkRenderPassBeginInfo-framebuffer-03216"
+                       : v->image->samples != rp.attachments[i].samples ? "VUID-VkRenderPassBeginInfo-framebuffer-03217"
+                                                                        : nullptr;
     if (vuid) {
       report(cb, Severity::Error, vuid,
              "%s: attachment %u (usage 0x%x, %ux%u, %u layers, format %d, %u samples) does not match the framebuffer's "
@@ -171,16 +174,19 @@ void beginRenderPass(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, bool tw
   const char* fn = two ? "vkCmdBeginRenderPass2" : "vkCmdBeginRenderPass";
   // VUID-vkCmdBeginRenderPass(2)-bufferlevel
   if (cb->level != VK_COMMAND_BUFFER_LEVEL_PRIMARY) {
-    report(cb, Severity::Error, two ? "VUID-vkCmdBeginRenderPass2-bufferlevel" : "VUID-vkCmdBeginRenderPass-bufferlevel",
+    report(cb, Severity::Error,
+           two ? "VUID-vkCmdBeginRenderPass2-bufferlevel" : "VUID-vkCmdBeginRenderPass-bufferlevel",
            "%s: commandBuffer is a secondary command buffer", fn);
     return;
   }
   // VUID-vkCmdBeginRenderPass(2)-renderpass
-  if (!cb->outsideRenderPass(fn, two ? "VUID-vkCmdBeginRenderPass2-renderpass" : "VUID-vkCmdBeginRenderPass-renderpass"))
+  if (!cb->outsideRenderPass(fn,
+                             two ? "VUID-vkCmdBeginRenderPass2-renderpass" : "VUID-vkCmdBeginRenderPass-renderpass"))
     return;
   RenderPass* rp = liveOrReport<RenderPass>(cb, bi.renderPass, fn, "VUID-VkRenderPassBeginInfo-renderPass-parameter");
   Framebuffer* fb =
-      rp ? liveOrReport<Framebuffer>(cb, bi.framebuffer, fn, "VUID-VkRenderPassBeginInfo-framebuffer-parameter") : nullptr;
+      rp ? liveOrReport<Framebuffer>(cb, bi.framebuffer, fn, "VUID-VkRenderPassBeginInfo-framebuffer-parameter")
+         : nullptr;
   if (!fb) return;
   // VUID-VkRenderPassBeginInfo-renderPass-00904
   if (!compatible(*rp, fb->passAttachments, fb->passSubpassCount)) {
@@ -192,9 +198,9 @@ void beginRenderPass(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, bool tw
   }
   // VUID-VkRenderPassBeginInfo-pNext-02850/02851/02852/02853: the render area inside the framebuffer
   const VkRect2D& ra = bi.renderArea;
-  const char* vuid = ra.offset.x < 0                                      ? "VUID-VkRenderPassBeginInfo-pNext-02850"
-                     : ra.offset.y < 0                                    ? "VUID-VkRenderPassBeginInfo-pNext-02851"
-                     : uint64_t(ra.offset.x) + ra.extent.width > fb->width  ? "VUID-VkRenderPassBeginInfo-pNext-02852"
+  const char* vuid = ra.offset.x < 0                                         ? "VUID-VkRenderPassBeginInfo-pNext-02850"
+                     : ra.offset.y < 0                                       ? "VUID-VkRenderPassBeginInfo-pNext-02851"
+                     : uint64_t(ra.offset.x) + ra.extent.width > fb->width   ? "VUID-VkRenderPassBeginInfo-pNext-02852"
                      : uint64_t(ra.offset.y) + ra.extent.height > fb->height ? "VUID-VkRenderPassBeginInfo-pNext-02853"
                                                                              : nullptr;
   if (vuid) {
@@ -205,9 +211,9 @@ void beginRenderPass(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, bool tw
   // VUID-VkRenderPassBeginInfo-clearValueCount-00902: a clear value for every attachment that is cleared
   for (uint32_t i = 0; i < rp->attachments.size(); ++i) {
     const AttachmentDesc& a = rp->attachments[i];
-    const bool clears = a.loadOp == VK_ATTACHMENT_LOAD_OP_CLEAR ||
-                        ((formatAspects(a.format) & VK_IMAGE_ASPECT_STENCIL_BIT) &&
-                         a.stencilLoadOp == VK_ATTACHMENT_LOAD_OP_CLEAR);
+    const bool clears =
+        a.loadOp == VK_ATTACHMENT_LOAD_OP_CLEAR ||
+        ((formatAspects(a.format) & VK_IMAGE_ASPECT_STENCIL_BIT) && a.stencilLoadOp == VK_ATTACHMENT_LOAD_OP_CLEAR);
     if (clears && (i >= bi.clearValueCount || !bi.pClearValues)) {
       report(cb, Severity::Error, "VUID-VkRenderPassBeginInfo-clearValueCount-00902",
              "%s: attachment %u is cleared by its load op, but clearValueCount is %u", fn, i, bi.clearValueCount);
@@ -281,14 +287,14 @@ void endRenderPass(CommandBuffer* cb, bool two) {
   // 03103 (the last subpass)
   const char* vuid = !cb->insideRenderPass || !r.active
                          ? (two ? "VUID-vkCmdEndRenderPass2-renderpass" : "VUID-vkCmdEndRenderPass-renderpass")
-                     : r.dynamicRendering ? (two ? "VUID-vkCmdEndRenderPass2-None-06171" : "VUID-vkCmdEndRenderPass-None-06170")
+                     : r.dynamicRendering
+                         ? (two ? "VUID-vkCmdEndRenderPass2-None-06171" : "VUID-vkCmdEndRenderPass-None-06170")
                      : r.subpass + 1 != r.subpassCount
                          ? (two ? "VUID-vkCmdEndRenderPass2-None-03103" : "VUID-vkCmdEndRenderPass-None-00910")
                          : nullptr;
   if (vuid) {
-    report(cb, Severity::Error, vuid,
-           "%s: %s (subpass %u of %u)", fn,
-           !r.active ? "no render pass instance is active"
+    report(cb, Severity::Error, vuid, "%s: %s (subpass %u of %u)", fn,
+           !r.active            ? "no render pass instance is active"
            : r.dynamicRendering ? "the render pass instance was begun with vkCmdBeginRendering"
                                 : "the current subpass is not the last",
            r.subpass, r.subpassCount);

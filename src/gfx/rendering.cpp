@@ -36,19 +36,20 @@ bool attachmentOk(CommandBuffer* cb, const VkRenderingAttachmentInfo& a, const I
   }
   if (a.resolveMode == VK_RESOLVE_MODE_NONE) return true;
   const ImageView* r = fromHandle<ImageView>(a.resolveImageView);
-  const bool integer = usage == VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT &&
-                       (v->image->formatInfo->type == NumericType::UInt || v->image->formatInfo->type == NumericType::SInt);
+  const bool integer =
+      usage == VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT &&
+      (v->image->formatInfo->type == NumericType::UInt || v->image->formatInfo->type == NumericType::SInt);
   // VUID-VkRenderingAttachmentInfo-imageView-06129/06130 (color modes), 06132 (multisampled), 06860 (a resolve
   // view), 06864 (single-sampled), 06865 (the same format)
   const char* vuid =
       usage == VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT && !integer && a.resolveMode != VK_RESOLVE_MODE_AVERAGE_BIT
           ? "VUID-VkRenderingAttachmentInfo-imageView-06129"
       : integer && a.resolveMode != VK_RESOLVE_MODE_SAMPLE_ZERO_BIT ? "VUID-VkRenderingAttachmentInfo-imageView-06130"
-      : v->image->samples == 1                                        ? "VUID-VkRenderingAttachmentInfo-imageView-06132"
-      : !r                                                            ? "VUID-VkRenderingAttachmentInfo-imageView-06860"
-      : r->image->samples != 1                                        ? "VUID-VkRenderingAttachmentInfo-imageView-06864"
-      : r->format != v->format                                        ? "VUID-VkRenderingAttachmentInfo-imageView-06865"
-                                                                      : nullptr;
+      : v->image->samples == 1                                      ? "VUID-VkRenderingAttachmentInfo-imageView-06132"
+      : !r                                                          ? "VUID-VkRenderingAttachmentInfo-imageView-06860"
+      : r->image->samples != 1                                      ? "VUID-VkRenderingAttachmentInfo-imageView-06864"
+      : r->format != v->format                                      ? "VUID-VkRenderingAttachmentInfo-imageView-06865"
+                                                                    : nullptr;
   if (vuid) {
     report(cb, Severity::Error, vuid,
            "%s: %s resolves (mode 0x%x) a view of format %d with %u samples into %s (format %d, %u samples)", fn, what,
@@ -78,12 +79,12 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
       cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY && (ri.flags & VK_RENDERING_CONTENTS_SECONDARY_COMMAND_BUFFERS_BIT)
           ? "VUID-vkCmdBeginRendering-commandBuffer-06068"
       : ri.viewMask == 0 && ri.layerCount == 0                            ? "VUID-VkRenderingInfo-viewMask-06069"
-      : ri.viewMask != 0 && !dev->enabled(Feature::multiview)            ? "VUID-VkRenderingInfo-multiview-06127"
-      : ra.offset.x < 0                                                  ? "VUID-VkRenderingInfo-renderArea-06071"
-      : ra.offset.y < 0                                                  ? "VUID-VkRenderingInfo-renderArea-06072"
-      : uint64_t(ra.offset.x) + ra.extent.width > l.maxFramebufferWidth  ? "VUID-VkRenderingInfo-renderArea-06073"
+      : ri.viewMask != 0 && !dev->enabled(Feature::multiview)             ? "VUID-VkRenderingInfo-multiview-06127"
+      : ra.offset.x < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06071"
+      : ra.offset.y < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06072"
+      : uint64_t(ra.offset.x) + ra.extent.width > l.maxFramebufferWidth   ? "VUID-VkRenderingInfo-renderArea-06073"
       : uint64_t(ra.offset.y) + ra.extent.height > l.maxFramebufferHeight ? "VUID-VkRenderingInfo-renderArea-06074"
-      : ri.layerCount > l.maxFramebufferLayers                           ? "VUID-VkRenderingInfo-layerCount-07817"
+      : ri.layerCount > l.maxFramebufferLayers                            ? "VUID-VkRenderingInfo-layerCount-07817"
       : ri.colorAttachmentCount > l.maxColorAttachments ? "VUID-VkRenderingInfo-colorAttachmentCount-06106"
                                                         : nullptr;
   if (vuid) {
@@ -141,7 +142,8 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
       sp.resolves.push_back({i, d, VK_IMAGE_ASPECT_COLOR_BIT, a.resolveMode});
     }
   }
-  const VkRenderingAttachmentInfo* da = ri.pDepthAttachment && ri.pDepthAttachment->imageView ? ri.pDepthAttachment : nullptr;
+  const VkRenderingAttachmentInfo* da =
+      ri.pDepthAttachment && ri.pDepthAttachment->imageView ? ri.pDepthAttachment : nullptr;
   const VkRenderingAttachmentInfo* sa =
       ri.pStencilAttachment && ri.pStencilAttachment->imageView ? ri.pStencilAttachment : nullptr;
   // VUID-VkRenderingInfo-pDepthAttachment-06085: one view for depth and stencil
@@ -195,8 +197,7 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
       if (!resolves) continue;
       const uint32_t d = add(fromHandle<ImageView>(a->resolveImageView), "a depth/stencil resolve attachment");
       if (d == kFailed) return;
-      sp.resolves.push_back(
-          {i, d, depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_STENCIL_BIT, a->resolveMode});
+      sp.resolves.push_back({i, d, depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_STENCIL_BIT, a->resolveMode});
     }
     r.depthFormat = da ? v->format : VK_FORMAT_UNDEFINED;
     r.stencilFormat = sa ? v->format : VK_FORMAT_UNDEFINED;
@@ -222,7 +223,8 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
 // One VkClearAttachment over the rects, on the executing instance's target.
 void clearOne(const raster::Target& t, const VkClearAttachment& c, const std::vector<VkClearRect>& rects) {
   auto each = [&](const raster::Surface& s, uint32_t texelBytes, uint32_t offset, uint32_t bytes, const uint8_t* v) {
-    for (const VkClearRect& r : rects) fillSurface(s, texelBytes, offset, bytes, v, r.rect, r.baseArrayLayer, r.layerCount, t.viewMask);
+    for (const VkClearRect& r : rects)
+      fillSurface(s, texelBytes, offset, bytes, v, r.rect, r.baseArrayLayer, r.layerCount, t.viewMask);
   };
   uint8_t texel[16] = {};
   if (c.aspectMask & VK_IMAGE_ASPECT_COLOR_BIT) {
@@ -234,7 +236,7 @@ void clearOne(const raster::Target& t, const VkClearAttachment& c, const std::ve
   }
   const raster::DepthStencilTarget& ds = t.depthStencil;
   if ((c.aspectMask & VK_IMAGE_ASPECT_DEPTH_BIT) && ds.depthFormat != raster::DepthFormat::None) {
-    const VkFormat f = ds.depthFormat == raster::DepthFormat::D16UNorm   ? VK_FORMAT_D16_UNORM
+    const VkFormat f = ds.depthFormat == raster::DepthFormat::D16UNorm    ? VK_FORMAT_D16_UNORM
                        : ds.depthFormat == raster::DepthFormat::D32SFloat ? VK_FORMAT_D32_SFLOAT
                                                                           : VK_FORMAT_X8_D24_UNORM_PACK32;
     encodeDepth(f, c.clearValue.depthStencil.depth, texel);
@@ -250,7 +252,8 @@ void clearOne(const raster::Target& t, const VkClearAttachment& c, const std::ve
 
 extern "C" {
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdBeginRendering(VkCommandBuffer commandBuffer, const VkRenderingInfo* pRenderingInfo) {
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdBeginRendering(VkCommandBuffer commandBuffer,
+                                                  const VkRenderingInfo* pRenderingInfo) {
   if (CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdBeginRendering"))
     beginRendering(cb, *pRenderingInfo);
 }
@@ -268,7 +271,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdEndRendering(VkCommandBuffer commandBuffer) {
                                                         : nullptr;
   if (vuid) {
     report(cb, Severity::Error, vuid, "%s: %s", fn,
-           !r.active            ? "no render pass instance is active"
+           !r.active             ? "no render pass instance is active"
            : !r.dynamicRendering ? "the render pass instance was begun with vkCmdBeginRenderPass"
                                  : "the render pass instance was begun in another command buffer");
     return;
@@ -319,7 +322,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearAttachments(VkCommandBuffer commandBuffe
                         int64_t(c.rect.offset.y) + c.rect.extent.height > int64_t(ra.offset.y) + ra.extent.height)
             ? "VUID-vkCmdClearAttachments-pRects-00016"
         : knownArea && uint64_t(c.baseArrayLayer) + c.layerCount > r.layers ? "VUID-vkCmdClearAttachments-pRects-06937"
-                                                                           : nullptr;
+                                                                            : nullptr;
     if (vuid) {
       report(cb, Severity::Error, vuid,
              "%s: pRects[%u] (%d, %d) %ux%u, layers [%u, +%u) is not inside the render area (%d, %d) %ux%u and its %u "

@@ -172,8 +172,10 @@ void CommandBuffer::execute(ExecState& st) const {
 
 bool CommandBuffer::outsideRenderPass(const char* fn, const char* vuid) {
   if (!insideRenderPass) return true;
-  report(this, Severity::Error, vuid, "%s: recorded inside a render pass instance (between vkCmdBeginRenderPass or "
-         "vkCmdBeginRendering and its end, or in a secondary command buffer that continues one)", fn);
+  report(this, Severity::Error, vuid,
+         "%s: recorded inside a render pass instance (between vkCmdBeginRenderPass or "
+         "vkCmdBeginRendering and its end, or in a secondary command buffer that continues one)",
+         fn);
   return false;
 }
 

@@ -141,7 +141,7 @@ class CommandBuffer : public Object {
   // src/gfx's recording state (the render pass instance being recorded, bound pipeline for validation); reset
   // with the command buffer.
   std::unique_ptr<LayerState> graphicsRecording;
-  std::vector<Ref> refs;                    // what the commands refer to (record()), in no order, deduplicated
+  std::vector<Ref> refs;  // what the commands refer to (record()), in no order, deduplicated
 
   // The mutex that guards every command buffer's state, pending count and links.
   static std::mutex& stateMutex();

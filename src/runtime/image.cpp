@@ -359,8 +359,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetImageSubresourceLayout(VkDevice device, VkIma
   const VkImageAspectFlags a = pSubresource->aspectMask;
   if ((a & (a - 1)) || !(a & img->aspects)) {
     report(img, Severity::Error,
-           img->aspects == VK_IMAGE_ASPECT_COLOR_BIT ? "VUID-vkGetImageSubresourceLayout-format-04461"
-           : (a & (a - 1))                           ? "VUID-vkGetImageSubresourceLayout-aspectMask-00997"
+           img->aspects == VK_IMAGE_ASPECT_COLOR_BIT    ? "VUID-vkGetImageSubresourceLayout-format-04461"
+           : (a & (a - 1))                              ? "VUID-vkGetImageSubresourceLayout-aspectMask-00997"
            : (img->aspects & VK_IMAGE_ASPECT_DEPTH_BIT) ? "VUID-vkGetImageSubresourceLayout-format-04462"
                                                         : "VUID-vkGetImageSubresourceLayout-format-04463",
            "vkGetImageSubresourceLayout: aspectMask 0x%x is not one aspect of the image's (0x%x)", a, img->aspects);

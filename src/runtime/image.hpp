@@ -46,8 +46,8 @@ class Image : public Object {
   const VkImageUsageFlags usage;
   const VkImageTiling tiling;
   const VkImageCreateFlags flags;
-  const uint32_t samples;    // 1 or 4
-  const uint32_t pixelSize;  // formatInfo->texelSize * samples
+  const uint32_t samples;            // 1 or 4
+  const uint32_t pixelSize;          // formatInfo->texelSize * samples
   const VkImageAspectFlags aspects;  // formatAspects(format)
   std::vector<MipLayout> mips;
   VkDeviceSize size = 0;  // bytes of all subresources

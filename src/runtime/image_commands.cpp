@@ -304,8 +304,9 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
   // single-sampled images only
   if (img->samples != 1) {
     report(img, Severity::Error,
-           toImage ? (two ? "VUID-VkCopyBufferToImageInfo2-dstImage-07973" : "VUID-vkCmdCopyBufferToImage-dstImage-07973")
-                   : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-07973" : "VUID-vkCmdCopyImageToBuffer-srcImage-07973"),
+           toImage
+               ? (two ? "VUID-VkCopyBufferToImageInfo2-dstImage-07973" : "VUID-vkCmdCopyBufferToImage-dstImage-07973")
+               : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-07973" : "VUID-vkCmdCopyImageToBuffer-srcImage-07973"),
            "%s: the image has %u samples; buffer copies need VK_SAMPLE_COUNT_1_BIT", v.fn, img->samples);
     return;
   }
@@ -315,18 +316,21 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
     // VUID-VkBufferImageCopy(2)-aspectMask-00212: one aspect per region
     const VkImageAspectFlags aspect = r.imageSubresource.aspectMask;
     if (aspect & (aspect - 1)) {
-      report(img, Severity::Error, two ? "VUID-VkBufferImageCopy2-aspectMask-00212" : "VUID-VkBufferImageCopy-aspectMask-00212",
+      report(img, Severity::Error,
+             two ? "VUID-VkBufferImageCopy2-aspectMask-00212" : "VUID-VkBufferImageCopy-aspectMask-00212",
              "%s: pRegions[%u].imageSubresource.aspectMask 0x%x has more than one aspect", v.fn, i, aspect);
       return;
     }
     const uint32_t t = aspectBufferTexelSize(img->format, aspect);
     // VUID-vkCmdCopyBufferToImage-srcImage-04053 (and the 3 others): depth/stencil copies at multiples of 4 bytes
     if (aspect != VK_IMAGE_ASPECT_COLOR_BIT && r.bufferOffset % 4) {
-      report(buf, Severity::Error,
-             toImage ? (two ? "VUID-VkCopyBufferToImageInfo2-srcImage-04053" : "VUID-vkCmdCopyBufferToImage-srcImage-04053")
-                     : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-04053" : "VUID-vkCmdCopyImageToBuffer-srcImage-04053"),
-             "%s: pRegions[%u].bufferOffset %llu of a depth/stencil copy is not a multiple of 4", v.fn, i,
-             (ull)r.bufferOffset);
+      report(
+          buf, Severity::Error,
+          toImage
+              ? (two ? "VUID-VkCopyBufferToImageInfo2-srcImage-04053" : "VUID-vkCmdCopyBufferToImage-srcImage-04053")
+              : (two ? "VUID-VkCopyImageToBufferInfo2-srcImage-04053" : "VUID-vkCmdCopyImageToBuffer-srcImage-04053"),
+          "%s: pRegions[%u].bufferOffset %llu of a depth/stencil copy is not a multiple of 4", v.fn, i,
+          (ull)r.bufferOffset);
       return;
     }
     // VUID-VkBufferImageCopy(2)-bufferRowLength-00195 / bufferImageHeight-00196
@@ -392,7 +396,8 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
   }
   // VUID-vkCmdCopyImage-sampleCount-00136: the same sample count
   if (src->samples != dst->samples) {
-    report(dst, Severity::Error, two ? "VUID-VkCopyImageInfo2-sampleCount-00136" : "VUID-vkCmdCopyImage-sampleCount-00136",
+    report(dst, Severity::Error,
+           two ? "VUID-VkCopyImageInfo2-sampleCount-00136" : "VUID-vkCmdCopyImage-sampleCount-00136",
            "%s: srcImage has %u samples, dstImage %u", vs.fn, src->samples, dst->samples);
     return;
   }

@@ -22,9 +22,9 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
   const VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
   const size_t rowBytes = size_t(r.imageExtent.width) * t;
   // One aspect of a depth/stencil texel: texel by texel, at the aspect's byte, as many bytes as it has.
-  const bool perTexel = aspect != VK_IMAGE_ASPECT_COLOR_BIT && t != image.formatInfo->texelSize;
   const uint32_t at = aspect == VK_IMAGE_ASPECT_STENCIL_BIT ? aspectFormatInfo(image.format, aspect)->offset : 0;
   const uint32_t bytes = aspectImageBytes(image.format, aspect);
+  const bool perTexel = aspect != VK_IMAGE_ASPECT_COLOR_BIT && (t != image.formatInfo->texelSize || bytes != t);
   for (uint32_t l = 0; l < r.imageSubresource.layerCount; ++l) {
     for (uint32_t z = 0; z < r.imageExtent.depth; ++z) {
       for (uint32_t y = 0; y < r.imageExtent.height; ++y) {

@@ -37,7 +37,8 @@ void encodeStencil(VkFormat format, uint32_t stencil, uint8_t* texel);
 // Resolves one region of a multisampled image into a single-sampled one of the same format: the average of the
 // samples for float and normalized formats (sRGB averaged in linear space), sample 0 for integer formats.
 void resolveImage(const Image& src, const Image& dst, const VkImageResolve2& r);
-// One pixel: `src` holds `samples` consecutive texels of `f`; the result is written to `dst` (runtime/image_resolve.cpp).
+// One pixel: `src` holds `samples` consecutive texels of `f`; the result is written to `dst`
+// (runtime/image_resolve.cpp).
 void resolveColorPixel(const FormatInfo& f, const uint8_t* src, uint32_t samples, uint8_t* dst);
 // One pixel of one aspect of a depth/stencil format with a resolve mode (SAMPLE_ZERO, AVERAGE for depth, MIN, MAX);
 // only that aspect's bytes of `dst` are written.

@@ -146,19 +146,21 @@ void recordResolve(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkI
     report(s ? src : dst, Severity::Error,
            s ? (two ? "VUID-VkResolveImageInfo2-srcImage-00257" : "VUID-vkCmdResolveImage-srcImage-00257")
              : (two ? "VUID-VkResolveImageInfo2-dstImage-00259" : "VUID-vkCmdResolveImage-dstImage-00259"),
-           "%s: srcImage has %u samples and dstImage %u (a multisampled source into a single-sampled destination)",
-           fn, src->samples, dst->samples);
+           "%s: srcImage has %u samples and dstImage %u (a multisampled source into a single-sampled destination)", fn,
+           src->samples, dst->samples);
     return;
   }
   // VUID-vkCmdResolveImage-srcImage-01386: the same format
   if (src->format != dst->format) {
-    report(dst, Severity::Error, two ? "VUID-VkResolveImageInfo2-srcImage-01386" : "VUID-vkCmdResolveImage-srcImage-01386",
+    report(dst, Severity::Error,
+           two ? "VUID-VkResolveImageInfo2-srcImage-01386" : "VUID-vkCmdResolveImage-srcImage-01386",
            "%s: srcImage format %d differs from dstImage format %d", fn, (int)src->format, (int)dst->format);
     return;
   }
   // VUID-vkCmdResolveImage-dstImage-02003: COLOR_ATTACHMENT format feature
   if (!(formatFeatures(dst->format) & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT)) {
-    report(dst, Severity::Error, two ? "VUID-VkResolveImageInfo2-dstImage-02003" : "VUID-vkCmdResolveImage-dstImage-02003",
+    report(dst, Severity::Error,
+           two ? "VUID-VkResolveImageInfo2-dstImage-02003" : "VUID-vkCmdResolveImage-dstImage-02003",
            "%s: dstImage format %d lacks VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT", fn, (int)dst->format);
     return;
   }
@@ -173,7 +175,8 @@ void recordResolve(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkI
     }
     // VUID-VkImageResolve-layerCount-00267: srcSubresource and dstSubresource layer counts match
     if (r.srcSubresource.layerCount != r.dstSubresource.layerCount) {
-      report(dst, Severity::Error, two ? "VUID-VkImageResolve2-layerCount-00267" : "VUID-VkImageResolve-layerCount-00267",
+      report(dst, Severity::Error,
+             two ? "VUID-VkImageResolve2-layerCount-00267" : "VUID-VkImageResolve-layerCount-00267",
              "%s: pRegions[%u] resolves %u layers into %u", fn, i, r.srcSubresource.layerCount,
              r.dstSubresource.layerCount);
       return;
@@ -188,7 +191,12 @@ void recordResolve(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkI
 }
 
 VkImageResolve2 toResolve2(const VkImageResolve& r) {
-  return {VK_STRUCTURE_TYPE_IMAGE_RESOLVE_2, nullptr, r.srcSubresource, r.srcOffset, r.dstSubresource, r.dstOffset,
+  return {VK_STRUCTURE_TYPE_IMAGE_RESOLVE_2,
+          nullptr,
+          r.srcSubresource,
+          r.srcOffset,
+          r.dstSubresource,
+          r.dstOffset,
           r.extent};
 }
 
@@ -211,16 +219,15 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResolveImage2(VkCommandBuffer commandBuffer, 
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdResolveImage2");
   if (!cb) return;
   std::vector<VkImageResolve2> regions(pInfo->pRegions, pInfo->pRegions + pInfo->regionCount);
-  recordResolve(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout,
-                std::move(regions), true);
+  recordResolve(cb, pInfo->srcImage, pInfo->srcImageLayout, pInfo->dstImage, pInfo->dstImageLayout, std::move(regions),
+                true);
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearDepthStencilImage(VkCommandBuffer commandBuffer, VkImage image,
                                                           VkImageLayout imageLayout,
                                                           const VkClearDepthStencilValue* pDepthStencil,
                                                           uint32_t rangeCount, const VkImageSubresourceRange* pRanges) {
-  static constexpr Vuids kClearDs{"vkCmdClearDepthStencilImage",
-                                  "VUID-vkCmdClearDepthStencilImage-pRanges-02660",
+  static constexpr Vuids kClearDs{"vkCmdClearDepthStencilImage", "VUID-vkCmdClearDepthStencilImage-pRanges-02660",
                                   "VUID-vkCmdClearDepthStencilImage-image-00010",
                                   "VUID-vkCmdClearDepthStencilImage-imageLayout-00012"};
   const char* fn = kClearDs.fn;

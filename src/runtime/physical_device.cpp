@@ -188,8 +188,8 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.maxDescriptorSetUpdateAfterBindSampledImages = 1u << 20;
   properties12.maxDescriptorSetUpdateAfterBindStorageImages = 1u << 20;
   // Depth/stencil resolves of render passes and dynamic rendering (gfx/rendering.cpp resolveDepthStencil).
-  properties12.supportedDepthResolveModes = VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_AVERAGE_BIT |
-                                            VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;
+  properties12.supportedDepthResolveModes =
+      VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_AVERAGE_BIT | VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;
   properties12.supportedStencilResolveModes =
       VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;
   properties12.independentResolveNone = VK_TRUE;

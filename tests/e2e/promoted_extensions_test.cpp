@@ -603,9 +603,9 @@ TEST_F(PromotedMisuseTest, MirrorClampToEdgeNeedsTheFeatureOrTheExtension) {
   expectVkrtMessage("VUID-VkSamplerCreateInfo-addressModeU-01079");
 }
 
-// VK_KHR_copy_commands2's vkCmdResolveImage2KHR (and the core resolves): every vkrt image has one sample, so every
-// resolve names a source that is not multisampled.
-TEST_F(PromotedMisuseTest, ResolvesHaveNoValidSourceOnOneSampleImages) {
+// VK_KHR_copy_commands2's vkCmdResolveImage2KHR (and the core resolves): a single-sampled source is reported
+// (resolves of multisampled images: tests/e2e/render_pass_resolve_test.cpp).
+TEST_F(PromotedMisuseTest, ResolvesOfOneSampleSourcesAreReported) {
   if (!onVkrt()) GTEST_SKIP() << "vkrt's own reports";
   VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   ci.imageType = VK_IMAGE_TYPE_2D;
@@ -618,6 +618,16 @@ TEST_F(PromotedMisuseTest, ResolvesHaveNoValidSourceOnOneSampleImages) {
   VkImage src = VK_NULL_HANDLE, dst = VK_NULL_HANDLE;
   ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &src), VK_SUCCESS);
   ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &dst), VK_SUCCESS);
+  VkDeviceMemory mem[2];
+  for (int i = 0; i < 2; ++i) {
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, i ? dst : src, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
+    ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, &mem[i]), VK_SUCCESS);
+    ASSERT_EQ(vkBindImageMemory(device, i ? dst : src, mem[i], 0), VK_SUCCESS);
+  }
   VkImageResolve region{{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {}, {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {}, {4, 4, 1}};
   VkCommandBuffer cb = beginOneTime();
   vkCmdResolveImage(cb, src, VK_IMAGE_LAYOUT_GENERAL, dst, VK_IMAGE_LAYOUT_GENERAL, 1, &region);
@@ -636,6 +646,7 @@ TEST_F(PromotedMisuseTest, ResolvesHaveNoValidSourceOnOneSampleImages) {
   submitAndWait(cb);
   vkDestroyImage(device, src, nullptr);
   vkDestroyImage(device, dst, nullptr);
+  for (VkDeviceMemory m : mem) vkFreeMemory(device, m, nullptr);
 }
 
 TEST_F(PromotedMisuseTest, PrivateDataRules) {
