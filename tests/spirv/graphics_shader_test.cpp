@@ -187,6 +187,7 @@ TEST(GraphicsShader, VertexBuiltIns) {
   EXPECT_EQ(lane.outI(0, 3), 1);
   EXPECT_EQ(lane.outI(1, 0), 5);
   EXPECT_EQ(lane.outI(1, 1), 1);
+  EXPECT_EQ(lane.outI(1, 2), 1);  // gl_SubgroupSize
   EXPECT_EQ(lane.inv.position[0], 17.0f);
   EXPECT_EQ(s->graphics.clipDistances, 0u);
   EXPECT_FALSE(s->graphics.writesPointSize);
