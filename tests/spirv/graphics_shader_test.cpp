@@ -16,6 +16,7 @@
 #include "gfx_builtins.vert.spv.h"
 #include "gfx_derivs.frag.spv.h"
 #include "gfx_discard.frag.spv.h"
+#include "gfx_grad.vert.spv.h"
 #include "gfx_helper_image.frag.spv.h"
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
@@ -510,6 +511,22 @@ TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
       EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
     }
   }
+}
+
+TEST_F(GraphicsShaderSampling, GradSamplingInAVertexShader) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_grad_vert, spv::ExecutionModelVertex, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_FALSE(s->graphics.needsQuad);
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
+  abi::ResourceSlot slot{&rec, 1};
+  Lane lane;
+  lane.inv.base.resources = &slot;
+  s->graphicsEntry(&lane.inv);
+  EXPECT_EQ(lane.outF(0, 0), expectedLevel(std::log2(4.0)));
+  EXPECT_EQ(lane.outF(0, 1), 5.0f);
 }
 
 // Level 0 of the image, written at each lane's fragment coordinate: not by the helper lane.
