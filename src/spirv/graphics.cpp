@@ -234,6 +234,12 @@ bool Codegen::declareInterface(const Instruction& var, Global& g) {
     }
   };
   auto elements = [&](uint32_t t) { return spvType(t).kind == Type::Array ? spvType(t).count : 1u; };
+  if (input && (d.builtIn == spv::BuiltInDeviceIndex || d.builtIn == spv::BuiltInSubgroupSize ||
+                d.builtIn == spv::BuiltInSubgroupLocalInvocationId)) {
+    // As in compute shaders (variablePtr): one physical device, subgroups of one invocation.
+    g.builtIn = d.builtIn;
+    return true;
+  }
   if (d.builtIn >= 0) {
     // A built-in variable: read or written in place.
     uint32_t size = 0;

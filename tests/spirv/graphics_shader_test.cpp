@@ -16,6 +16,8 @@
 #include "gfx_builtins.vert.spv.h"
 #include "gfx_derivs.frag.spv.h"
 #include "gfx_discard.frag.spv.h"
+#include "gfx_grad.vert.spv.h"
+#include "gfx_helper_image.frag.spv.h"
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
 #include "runtime/image.hpp"
@@ -187,6 +189,7 @@ TEST(GraphicsShader, VertexBuiltIns) {
   EXPECT_EQ(lane.outI(0, 3), 1);
   EXPECT_EQ(lane.outI(1, 0), 5);
   EXPECT_EQ(lane.outI(1, 1), 1);
+  EXPECT_EQ(lane.outI(1, 2), 1);  // gl_SubgroupSize
   EXPECT_EQ(lane.inv.position[0], 17.0f);
   EXPECT_EQ(s->graphics.clipDistances, 0u);
   EXPECT_FALSE(s->graphics.writesPointSize);
@@ -434,7 +437,7 @@ class GraphicsShaderSampling : public ::testing::Test {
     ci.mipLevels = kLevels;
     ci.arrayLayers = 1;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
     ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
     VkMemoryRequirements req;
     vkrt_GetImageMemoryRequirements(device, image, &req);
@@ -507,6 +510,47 @@ TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
       EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));  // texture(tex, uv, 1.0)
       EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
     }
+  }
+}
+
+TEST_F(GraphicsShaderSampling, GradSamplingInAVertexShader) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_grad_vert, spv::ExecutionModelVertex, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_FALSE(s->graphics.needsQuad);
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
+  abi::ResourceSlot slot{&rec, 1};
+  Lane lane;
+  lane.inv.base.resources = &slot;
+  s->graphicsEntry(&lane.inv);
+  EXPECT_EQ(lane.outF(0, 0), expectedLevel(std::log2(4.0)));
+  EXPECT_EQ(lane.outF(0, 1), 5.0f);
+}
+
+// Level 0 of the image, written at each lane's fragment coordinate: not by the helper lane.
+TEST_F(GraphicsShaderSampling, HelperLanesWriteNoImage) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_helper_image_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_TRUE(s->graphics.sideEffects);
+  EXPECT_FALSE(s->graphics.needsQuad);
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  abi::ResourceSlot slot{&rec, 1};
+  Quad q(4, 6);
+  q.lanes[3].inv.helper = 1;
+  for (Lane& lane : q.lanes) {
+    lane.inv.base.resources = &slot;
+    s->graphicsEntry(&lane.inv);
+  }
+  Image* img = fromHandle<Image>(image);
+  for (uint32_t l = 0; l < 4; ++l) {
+    uint32_t x = 4 + (l & 1), y = 6 + (l >> 1);
+    float v;
+    std::memcpy(&v, img->texel(0, 0, x, y, 0), 4);
+    EXPECT_EQ(v, l == 3 ? 0.0f : float(x + 0.5) + 100.0f * float(y + 0.5)) << l;
   }
 }
 
