@@ -225,6 +225,9 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
       !fs.shade || fs.earlyFragmentTests ||
       (!fs.writesDepth && !fs.canDiscard && !fs.hasSideEffects && !fs.writesSampleMask && !st.alphaToCoverage);
 
+  const bool depthAttachment =
+      target.depthStencil.depthFormat != DepthFormat::None && target.depthStencil.depth.base != nullptr;
+  ctx.needsDepth = depthAttachment && (st.depthTest || st.depthBoundsTest);
   // Viewport 0 ("Coordinate Transformations").
   const Viewport& vp = st.viewports[0];
   ctx.scaleX = vp.width / 2, ctx.offX = vp.x + vp.width / 2;

@@ -188,6 +188,7 @@ void emitTriangle(const DrawContext& ctx, const ScreenVert* const in[3], bool fr
   }
   t.area2 = area2;
   const double inv = 1.0 / double(area2);
+  t.invArea2 = inv;
   double zA = 0, zB = 0, zC = 0;
   for (int i = 0; i < 3; ++i) {
     zA += double(v[i]->z) * double(t.a[i]) * kSubPixel * inv;
