@@ -305,3 +305,47 @@ TEST(RasterAssembly, InstancesKeepOrder) {
 
 }  // namespace
 }  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterAssembly, ProvokingVertexPerTopology) {
+  // Flat input = the vertex's index; each primitive's pixels show its provoking vertex.
+  struct Case {
+    Topology topo;
+    std::vector<std::array<float, 2>> verts;
+    std::array<float, 2> probe[2];  // a pixel inside primitive 0 and 1
+    float first[2], last[2];
+  };
+  const Case cases[] = {
+      // Strip (0,1,2) then odd (1,3,2): provoking v0 / v2, then v1 / v3.
+      {Topology::TriangleStrip, {{4, 4}, {4, 40}, {40, 4}, {40, 40}}, {{8, 8}, {36, 36}}, {0, 1}, {2, 3}},
+      // Fan (v1, v2, v0), (v2, v3, v0): provoking v1 / v2, then v2 / v3.
+      {Topology::TriangleFan, {{4, 4}, {4, 40}, {40, 40}, {40, 4}}, {{8, 30}, {30, 8}}, {1, 2}, {2, 3}},
+      // Line strip: segment i provoked by v_i / v_i+1.
+      {Topology::LineStrip, {{2, 10.5f}, {30, 10.5f}, {30, 40.5f}}, {{10, 10}, {29, 20}}, {0, 1}, {1, 2}},
+  };
+  for (const Case& c : cases) {
+    for (bool last : {false, true}) {
+      Harness h;
+      h.mode = FragMode::Input0;
+      h.state.topology = c.topo;
+      h.state.lastVertexProvoking = last;
+      std::vector<Vec4> values;
+      for (size_t i = 0; i < c.verts.size(); ++i) {
+        h.vertex(c.verts[i][0], c.verts[i][1]);
+        values.push_back(Vec4{float(i), 0, 0, 1});
+      }
+      h.addInput(Interpolation::Flat, values);
+      h.color.fillF({-1, 0, 0, 0});
+      h.run();
+      for (int p = 0; p < 2; ++p) {
+        const uint32_t x = uint32_t(c.probe[p][0]), y = uint32_t(c.probe[p][1]);
+        EXPECT_EQ(h.color.f(x, y), last ? c.last[p] : c.first[p]) << int(c.topo) << " last " << last << " prim " << p;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
