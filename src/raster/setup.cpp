@@ -15,6 +15,7 @@ enum : uint32_t { kPlaneW, kPlaneNear, kPlaneFar, kPlaneXMax, kPlaneXMin, kPlane
 constexpr uint32_t kMaxPlanes = kFixedPlanes + kMaxClipDistances;
 constexpr uint32_t kMaxPolygon = 3 + kMaxPlanes;
 constexpr float kMinW = 1e-29f;
+constexpr float kMaxCoordinate = 1 << 17;  // framebuffer coordinates past the guard band (and points/lines on it)
 
 struct ClipVert {
   float pos[4];
@@ -98,7 +99,7 @@ uint32_t clipPolygon(const DrawContext& ctx, ClipVert* poly, uint32_t n, uint32_
       const ClipVert& b = poly[(i + 1) % n];
       const float da = a.d[plane], db = b.d[plane];
       const bool aIn = da >= 0, bIn = db >= 0;
-      if (aIn) tmp[m++] = a;
+      if (aIn && m < kMaxPolygon) tmp[m++] = a;
       if (aIn != bIn && m < kMaxPolygon) {
         // Always from the inside vertex, so that an edge shared by two primitives is cut at the same point.
         if (aIn) {
@@ -150,6 +151,10 @@ void emitTriangle(const DrawContext& ctx, const ScreenVert* const in[3], bool fr
                   uint32_t primitiveId, int kind, std::vector<SetupTri>& out) {
   const ScreenVert* v[3] = {in[0], in[1], in[2]};
   int64_t X[3], Y[3];
+  for (int i = 0; i < 3; ++i) {
+    // NaN or runaway coordinates (a NaN position got through clipping's comparisons): not rasterized.
+    if (!(std::fabs(v[i]->x) <= kMaxCoordinate && std::fabs(v[i]->y) <= kMaxCoordinate)) return;
+  }
   for (int i = 0; i < 3; ++i) {
     X[i] = std::llrint(double(v[i]->x) * kSubPixel);
     Y[i] = std::llrint(double(v[i]->y) * kSubPixel);
