@@ -361,6 +361,7 @@ void setupTrianglePrim(const DrawContext& ctx, const AssembledPrim& prim, std::v
   const bool front = (area > 0) == (ctx.state->frontFace == FrontFace::CounterClockwise);
   if (ctx.state->cullMode & (front ? CullFront : CullBack)) return;
   const uint32_t* flat = prim.v[prim.provoking]->varyings;
+  const size_t first = out.size();
   switch (ctx.state->polygonMode) {
     case PolygonMode::Fill:
       for (uint32_t i = 1; i + 1 < n; ++i) {
@@ -373,11 +374,23 @@ void setupTrianglePrim(const DrawContext& ctx, const AssembledPrim& prim, std::v
       break;
     case PolygonMode::Point:
       for (uint32_t i = 0; i < n; ++i) {
-        const size_t first = out.size();
+        const size_t from = out.size();
         emitPoint(ctx, s[i], 1.0f, prim.primitiveId, out);
-        for (size_t k = first; k < out.size(); ++k) out[k].front = front, out[k].flat = flat;
+        for (size_t k = from; k < out.size(); ++k) out[k].front = front, out[k].flat = flat;
       }
       break;
+  }
+  // Depth bias applies to polygons in every polygon mode ("Depth Bias"): Line and Point take the slope of the
+  // polygon's plane (its first fan triangle, unsnapped).
+  if (ctx.state->depthBiasEnable && ctx.state->polygonMode != PolygonMode::Fill && out.size() > first) {
+    const double x1 = s[1].x - s[0].x, y1 = s[1].y - s[0].y, z1 = s[1].z - s[0].z;
+    const double x2 = s[2].x - s[0].x, y2 = s[2].y - s[0].y, z2 = s[2].z - s[0].z;
+    const double det = x1 * y2 - y1 * x2;
+    const double dzdx = det != 0 ? (z1 * y2 - z2 * y1) / det : 0, dzdy = det != 0 ? (z2 * x1 - z1 * x2) / det : 0;
+    float z[kMaxPolygon];
+    for (uint32_t i = 0; i < n; ++i) z[i] = s[i].z;
+    const double bias = depthBias(ctx, dzdx, dzdy, z, n);
+    for (size_t k = first; k < out.size(); ++k) out[k].zC += bias;
   }
 }
 

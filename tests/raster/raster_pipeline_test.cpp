@@ -378,3 +378,29 @@ TEST(RasterClip, DegenerateAndNonFiniteVerticesAreSafe) {
 
 }  // namespace
 }  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterPolygonMode, LineModeDrawsEdgesWithDepthBias) {
+  Harness h;
+  Image depth(64, 64, 4);
+  depth.fillF({1, 1, 1, 1});
+  h.target.depthStencil.depthFormat = DepthFormat::D32SFloat;
+  h.target.depthStencil.depth = depth.surface();
+  h.target.depthStencil.depthTexelBytes = 4;
+  h.state.depthTest = h.state.depthWrite = true;
+  h.state.depthCompare = CompareOp::Always;
+  h.state.depthBiasEnable = true;
+  h.state.depthBiasConstant = 1000;
+  h.state.polygonMode = PolygonMode::Line;
+  h.vertex(10.5f, 10.5f), h.vertex(10.5f, 40.5f), h.vertex(40.5f, 10.5f);
+  h.run();
+  EXPECT_EQ(h.color.f(20, 10, 3), 1.0f);  // top edge (x-major line on row 10)
+  EXPECT_EQ(h.color.f(10, 20, 3), 1.0f);  // left edge (y-major line: column 10)
+  EXPECT_EQ(h.color.f(18, 18, 3), 0.0f);  // interior
+  EXPECT_FLOAT_EQ(depth.f(20, 10), float(0.5 + 1000 * std::ldexp(1.0, -24)));
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
