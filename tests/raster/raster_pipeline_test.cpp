@@ -404,3 +404,47 @@ TEST(RasterPolygonMode, LineModeDrawsEdgesWithDepthBias) {
 
 }  // namespace
 }  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterClip, DepthClampKeepsFarGeometryAndDiscardDrawsNothing) {
+  // z_c = 1.5 w_c is past the far plane: clipped normally; with depth clamp (no depth clip) drawn at the
+  // viewport's maxDepth.
+  for (bool clamp : {false, true}) {
+    Harness h;
+    Image depth(64, 64, 4);
+    depth.fillF({1, 1, 1, 1});
+    h.target.depthStencil.depthFormat = DepthFormat::D32SFloat;
+    h.target.depthStencil.depth = depth.surface();
+    h.target.depthStencil.depthTexelBytes = 4;
+    h.state.viewports[0].minDepth = 0.2f;
+    h.state.viewports[0].maxDepth = 0.8f;
+    h.state.depthTest = h.state.depthWrite = true;
+    h.state.depthCompare = CompareOp::Always;
+    h.state.depthClamp = clamp;
+    h.state.depthClipEnable = !clamp;
+    h.vertex(0, 0, 1.5f), h.vertex(64, 0, 1.5f), h.vertex(0, 64, 1.5f);
+    h.run();
+    EXPECT_EQ(h.color.f(5, 5, 3), clamp ? 1.0f : 0.0f);
+    EXPECT_EQ(depth.f(5, 5), clamp ? 0.8f : 1.0f);
+  }
+  // Rasterizer discard: the vertex stage runs, nothing is rasterized.
+  Harness d;
+  countWrites(d);
+  d.state.rasterizerDiscard = true;
+  static int calls;
+  calls = 0;
+  d.vs.shade = [](void* user, uint32_t inst, uint32_t view, const uint32_t* idx, uint32_t n, ShadedVertex* out,
+                  unsigned w) {
+    ++calls;  // one chunk: the draw has 3 vertices
+    Harness::vertexShader(user, inst, view, idx, n, out, w);
+  };
+  d.vertex(0, 0), d.vertex(64, 0), d.vertex(0, 64);
+  d.run();
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(d.color.f(5, 5), 0.0f);
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
