@@ -16,10 +16,11 @@ using detail::kTileSize;
 using detail::SetupTri;
 
 constexpr uint32_t kRestart = ~0u;
-constexpr uint32_t kVertexChunk = 64;          // vertices per vertex-shading task
-constexpr uint32_t kPrimChunk = 256;           // primitives per setup task
-constexpr uint64_t kBatchVertices = 1u << 18;  // shaded vertices held at once (instances are batched by this)
-constexpr float kGuardPixels = 65536.0f;       // framebuffer coordinates stay within +-2^16 pixels (fixed point 2^24)
+constexpr uint32_t kVertexChunk = 64;            // vertices per vertex-shading task
+constexpr uint32_t kPrimChunk = 256;             // primitives per setup task
+constexpr uint64_t kBatchVertices = 1u << 18;    // shaded vertices held at once (instances are batched by this)
+constexpr size_t kKeepBytes = size_t(64) << 20;  // per-thread storage kept between draws
+constexpr float kGuardPixels = 65536.0f;         // framebuffer coordinates stay within +-2^16 pixels (fixed point 2^24)
 
 // A primitive as slots into the draw's unique vertices.
 struct PrimRef {
@@ -225,6 +226,9 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
       !fs.shade || fs.earlyFragmentTests ||
       (!fs.writesDepth && !fs.canDiscard && !fs.hasSideEffects && !fs.writesSampleMask && !st.alphaToCoverage);
 
+  const bool depthAttachment =
+      target.depthStencil.depthFormat != DepthFormat::None && target.depthStencil.depth.base != nullptr;
+  ctx.needsDepth = depthAttachment && (st.depthTest || st.depthBoundsTest);
   // Viewport 0 ("Coordinate Transformations").
   const Viewport& vp = st.viewports[0];
   ctx.scaleX = vp.width / 2, ctx.offX = vp.x + vp.width / 2;
@@ -252,7 +256,7 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
 
 // Per batch of instances: the shaded vertices and the setup output of each primitive chunk.
 struct Batch {
-  std::vector<ShadedVertex> vertices;
+  std::vector<ShadedVertex> vertices;  // every field is written before use (resize keeps old contents)
   std::vector<uint32_t> varyings;
   struct Chunk {
     std::vector<SetupTri> tris;
@@ -351,8 +355,12 @@ void draw(const Target& target, const State& state, const Draw& d, const VertexS
   if (unique == 0) return;
   const std::vector<PrimRef> prims = assemble(state, set.slots);
   DrawContext ctx = makeContext(target, state, d, vertex, fragment);
-  std::vector<detail::WorkerScratch> scratch(exec::ThreadPool::instance().workerSlots());
-  Batch batch;
+  // Storage kept by the calling thread from draw to draw (no page faults or clearing per draw); a draw that grew
+  // it past kKeepBytes gives it back at its end.
+  thread_local std::vector<detail::WorkerScratch> scratch;
+  thread_local Batch batch;
+  if (scratch.size() < exec::ThreadPool::instance().workerSlots())
+    scratch.resize(exec::ThreadPool::instance().workerSlots());
   const uint32_t perBatch = uint32_t(std::clamp<uint64_t>(kBatchVertices / unique, 1, d.instanceCount));
   const uint32_t views = target.viewMask ? target.viewMask : 1;
   for (uint32_t vm = views; vm; vm &= vm - 1) {
@@ -367,6 +375,7 @@ void draw(const Target& target, const State& state, const Draw& d, const VertexS
       rasterizeBatch(ctx, batch, scratch);
     }
   }
+  if (batch.vertices.capacity() * sizeof(ShadedVertex) + batch.varyings.capacity() * 4 > kKeepBytes) batch = Batch();
 }
 
 }  // namespace vkrt::raster

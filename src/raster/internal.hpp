@@ -53,6 +53,7 @@ class Arena {
 struct SetupTri {
   int64_t a[3], b[3], c[3];
   int64_t area2;                   // E_0 + E_1 + E_2 (twice the area in fixed-point units squared), > 0
+  double invArea2;                 // 1 / area2
   int64_t cBias[3];                // 0 or -1
   double zA, zB, zC;               // z_f = zA * x + zB * y + zC, x and y in pixels, bias included (before clamping)
   float invW[3];                   // 1 / w_c per vertex
@@ -80,6 +81,7 @@ struct DrawContext {
   bool perSample;                    // shade once per covered sample
   bool earlyTests;                   // depth/stencil before the shader
   bool hasSmooth, hasNoPerspective;  // any input of that kind
+  bool needsDepth;  // some test reads the fragment's depth (else the per-sample depths are not computed)
   // Viewport 0: x_f = x_ndc * scaleX + offX, likewise y; z_f = z_ndc * scaleZ + offZ.
   float scaleX, offX, scaleY, offY, scaleZ, offZ;
   float depthMin, depthMax;  // the clamp range of fragment depth: viewport range with depth clamp, else [0, 1]

@@ -15,6 +15,7 @@ enum : uint32_t { kPlaneW, kPlaneNear, kPlaneFar, kPlaneXMax, kPlaneXMin, kPlane
 constexpr uint32_t kMaxPlanes = kFixedPlanes + kMaxClipDistances;
 constexpr uint32_t kMaxPolygon = 3 + kMaxPlanes;
 constexpr float kMinW = 1e-29f;
+constexpr float kMaxCoordinate = 1 << 17;  // framebuffer coordinates past the guard band (and points/lines on it)
 
 struct ClipVert {
   float pos[4];
@@ -98,7 +99,7 @@ uint32_t clipPolygon(const DrawContext& ctx, ClipVert* poly, uint32_t n, uint32_
       const ClipVert& b = poly[(i + 1) % n];
       const float da = a.d[plane], db = b.d[plane];
       const bool aIn = da >= 0, bIn = db >= 0;
-      if (aIn) tmp[m++] = a;
+      if (aIn && m < kMaxPolygon) tmp[m++] = a;
       if (aIn != bIn && m < kMaxPolygon) {
         // Always from the inside vertex, so that an edge shared by two primitives is cut at the same point.
         if (aIn) {
@@ -151,6 +152,10 @@ void emitTriangle(const DrawContext& ctx, const ScreenVert* const in[3], bool fr
   const ScreenVert* v[3] = {in[0], in[1], in[2]};
   int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) {
+    // NaN or runaway coordinates (a NaN position got through clipping's comparisons): not rasterized.
+    if (!(std::fabs(v[i]->x) <= kMaxCoordinate && std::fabs(v[i]->y) <= kMaxCoordinate)) return;
+  }
+  for (int i = 0; i < 3; ++i) {
     X[i] = std::llrint(double(v[i]->x) * kSubPixel);
     Y[i] = std::llrint(double(v[i]->y) * kSubPixel);
   }
@@ -188,6 +193,7 @@ void emitTriangle(const DrawContext& ctx, const ScreenVert* const in[3], bool fr
   }
   t.area2 = area2;
   const double inv = 1.0 / double(area2);
+  t.invArea2 = inv;
   double zA = 0, zB = 0, zC = 0;
   for (int i = 0; i < 3; ++i) {
     zA += double(v[i]->z) * double(t.a[i]) * kSubPixel * inv;
@@ -355,6 +361,7 @@ void setupTrianglePrim(const DrawContext& ctx, const AssembledPrim& prim, std::v
   const bool front = (area > 0) == (ctx.state->frontFace == FrontFace::CounterClockwise);
   if (ctx.state->cullMode & (front ? CullFront : CullBack)) return;
   const uint32_t* flat = prim.v[prim.provoking]->varyings;
+  const size_t first = out.size();
   switch (ctx.state->polygonMode) {
     case PolygonMode::Fill:
       for (uint32_t i = 1; i + 1 < n; ++i) {
@@ -367,11 +374,23 @@ void setupTrianglePrim(const DrawContext& ctx, const AssembledPrim& prim, std::v
       break;
     case PolygonMode::Point:
       for (uint32_t i = 0; i < n; ++i) {
-        const size_t first = out.size();
+        const size_t from = out.size();
         emitPoint(ctx, s[i], 1.0f, prim.primitiveId, out);
-        for (size_t k = first; k < out.size(); ++k) out[k].front = front, out[k].flat = flat;
+        for (size_t k = from; k < out.size(); ++k) out[k].front = front, out[k].flat = flat;
       }
       break;
+  }
+  // Depth bias applies to polygons in every polygon mode ("Depth Bias"): Line and Point take the slope of the
+  // polygon's plane (its first fan triangle, unsnapped).
+  if (ctx.state->depthBiasEnable && ctx.state->polygonMode != PolygonMode::Fill && out.size() > first) {
+    const double x1 = s[1].x - s[0].x, y1 = s[1].y - s[0].y, z1 = s[1].z - s[0].z;
+    const double x2 = s[2].x - s[0].x, y2 = s[2].y - s[0].y, z2 = s[2].z - s[0].z;
+    const double det = x1 * y2 - y1 * x2;
+    const double dzdx = det != 0 ? (z1 * y2 - z2 * y1) / det : 0, dzdy = det != 0 ? (z2 * x1 - z1 * x2) / det : 0;
+    float z[kMaxPolygon];
+    for (uint32_t i = 0; i < n; ++i) z[i] = s[i].z;
+    const double bias = depthBias(ctx, dzdx, dzdy, z, n);
+    for (size_t k = first; k < out.size(); ++k) out[k].zC += bias;
   }
 }
 

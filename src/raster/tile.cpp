@@ -23,8 +23,7 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 
 // Screen-space barycentrics at a fixed-point position (exact edge values, one division).
 inline void barycentrics(const SetupTri& t, int64_t px, int64_t py, double b[3]) {
-  const double inv = 1.0 / double(t.area2);
-  for (int i = 0; i < 3; ++i) b[i] = double(t.a[i] * px + t.b[i] * py + t.c[i]) * inv;
+  for (int i = 0; i < 3; ++i) b[i] = double(t.a[i] * px + t.b[i] * py + t.c[i]) * t.invArea2;
 }
 
 // Fills lane `lane`'s inputs, FragCoord and PointCoord for the interpolation position (px, py), and `centroid`
@@ -48,17 +47,21 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   const FragmentStage& fs = *ctx.fragment;
   if (!fs.inputCount) return;
   if (centroid) barycentrics(t, centroid[0], centroid[1], bc);
-  // Perspective-correct weights: b_i / w_i normalized ("Polygon Interpolation").
-  double p[3], pc[3];
-  auto perspective = [&](const double* in, double* out) {
+  // Perspective-correct weights: b_i / w_i normalized ("Polygon Interpolation"); the sums in float.
+  float p[3], pc[3], l[3], lc[3];
+  auto perspective = [&](const double* in, float* out) {
     const double w0 = in[0] * t.invW[0], w1 = in[1] * t.invW[1], w2 = in[2] * t.invW[2];
     const double sum = w0 + w1 + w2;
+    const double r = sum != 0 ? 1.0 / sum : 0;
     if (sum != 0) {
-      out[0] = w0 / sum, out[1] = w1 / sum, out[2] = w2 / sum;
+      out[0] = float(w0 * r), out[1] = float(w1 * r), out[2] = float(w2 * r);
     } else {
-      out[0] = in[0], out[1] = in[1], out[2] = in[2];
+      out[0] = float(in[0]), out[1] = float(in[1]), out[2] = float(in[2]);
     }
   };
+  for (int i = 0; i < 3; ++i) l[i] = float(b[i]);
+  if (centroid)
+    for (int i = 0; i < 3; ++i) lc[i] = float(bc[i]);
   if (ctx.hasSmooth) {
     perspective(b, p);
     if (centroid) perspective(bc, pc);
@@ -72,11 +75,12 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
       continue;
     }
     const bool useCentroid = centroid && in.centroid;
-    const double* w = in.interpolation == Interpolation::Smooth ? (useCentroid ? pc : p) : (useCentroid ? bc : b);
+    const float* w = in.interpolation == Interpolation::Smooth ? (useCentroid ? pc : p) : (useCentroid ? lc : l);
+    // f0 + w1 (f1 - f0) + w2 (f2 - f0): a value equal at the three vertices interpolates to exactly itself.
     for (uint32_t c = 0; c < 4; ++c) {
-      const double v =
-          w[0] * asFloat(t.var[0][k + c]) + w[1] * asFloat(t.var[1][k + c]) + w[2] * asFloat(t.var[2][k + c]);
-      dst[k + c] = asWord(float(v));
+      const float f0 = asFloat(t.var[0][k + c]);
+      const float v = f0 + w[1] * (asFloat(t.var[1][k + c]) - f0) + w[2] * (asFloat(t.var[2][k + c]) - f0);
+      dst[k + c] = asWord(v);
     }
   }
 }
@@ -114,7 +118,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= st.sampleMask;
   if (!any) return;
   float z[4][4];
-  for (uint32_t l = 0; l < 4; ++l) {
+  for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
     if (!cov[l]) continue;
     const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel, py = int64_t(qy + int32_t(l >> 1)) * kSubPixel;
     for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
@@ -202,6 +206,7 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
       for (uint32_t s = 0; s < S; ++s)
         off[i][l * S + s] = t.a[i] * (int64_t(l & 1) * kSubPixel + sampleX(ctx, s)) +
                             t.b[i] * (int64_t(l >> 1) * kSubPixel + sampleY(ctx, s));
+  const int64_t stepX[3] = {t.a[0] * 2 * kSubPixel, t.a[1] * 2 * kSubPixel, t.a[2] * 2 * kSubPixel};
   const int32_t bx0 = x0 & ~(kBlock - 1), by0 = y0 & ~(kBlock - 1);
   for (int32_t by = by0; by <= y1; by += kBlock) {
     for (int32_t bx = bx0; bx <= x1; bx += kBlock) {
@@ -215,20 +220,21 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
       }
       if (reject) continue;
       for (int32_t qy = ry0 & ~1; qy <= ry1; qy += 2) {
-        for (int32_t qx = rx0 & ~1; qx <= rx1; qx += 2) {
+        const int32_t qxStart = rx0 & ~1;
+        int64_t e[3];  // the edges at the quad's origin, stepped along the row
+        for (int i = 0; i < 3; ++i)
+          e[i] = t.a[i] * int64_t(qxStart) * kSubPixel + t.b[i] * int64_t(qy) * kSubPixel + t.c[i] + t.cBias[i];
+        for (int32_t qx = qxStart; qx <= rx1; qx += 2, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2]) {
           uint32_t cov[4] = {0, 0, 0, 0};
           uint32_t any = 0;
           if (full) {
             for (uint32_t l = 0; l < 4; ++l) cov[l] = ctx.allSamples;
           } else {
-            int64_t e[3];
-            for (int i = 0; i < 3; ++i)
-              e[i] = t.a[i] * int64_t(qx) * kSubPixel + t.b[i] * int64_t(qy) * kSubPixel + t.c[i] + t.cBias[i];
             for (uint32_t l = 0; l < 4; ++l) {
               uint32_t m = 0;
               for (uint32_t s = 0; s < S; ++s) {
                 const uint32_t k = l * S + s;
-                m |= uint32_t((e[0] + off[0][k]) >= 0 && (e[1] + off[1][k]) >= 0 && (e[2] + off[2][k]) >= 0) << s;
+                m |= uint32_t(((e[0] + off[0][k]) | (e[1] + off[1][k]) | (e[2] + off[2][k])) >= 0) << s;
               }
               cov[l] = m;
             }

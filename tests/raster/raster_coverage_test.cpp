@@ -207,3 +207,51 @@ TEST(RasterCoverage, HelperLanesRunOnlyWhenNeeded) {
 
 }  // namespace
 }  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterMultisample, CentroidAndPerSampleInterpolation) {
+  // Input 0 = x_f (linear). Pixel 10 is half covered (samples 0 and 2, left of x = 10.5).
+  for (bool centroid : {false, true}) {
+    Harness h(16, 16, 4);
+    h.mode = FragMode::Input0;
+    h.vertex(10.5f, 0), h.vertex(10.5f, 16), h.vertex(0, 0);
+    h.addInput(Interpolation::NoPerspective, {{10.5f, 0, 0, 1}, {10.5f, 0, 0, 1}, {0, 0, 0, 1}}, centroid);
+    h.run();
+    EXPECT_EQ(h.color.f(10, 12, 0, 0), centroid ? 10.375f : 10.5f);
+    EXPECT_EQ(h.color.f(10, 12, 0, 2), centroid ? 10.375f : 10.5f);
+    EXPECT_EQ(h.color.f(9, 12, 0, 1), 9.5f);  // fully covered: the centre either way
+  }
+  // Sample shading: each sample shaded at its own position.
+  Harness s(16, 16, 4);
+  s.mode = FragMode::Input0;
+  s.state.sampleShading = true;
+  s.vertex(0, 0), s.vertex(16, 0), s.vertex(0, 16);
+  s.addInput(Interpolation::NoPerspective, {{0, 0, 0, 1}, {16, 0, 0, 1}, {0, 0, 0, 1}});
+  s.run();
+  const float sx[4] = {0.375f, 0.875f, 0.125f, 0.625f};
+  for (uint32_t i = 0; i < 4; ++i) EXPECT_FLOAT_EQ(s.color.f(3, 4, 0, i), 3 + sx[i]);
+}
+
+TEST(RasterDepth, EarlyFragmentTestsWriteDepthEvenWhenDiscarded) {
+  for (bool early : {false, true}) {
+    Harness h(8, 8);
+    Image depth(8, 8, 4);
+    h.target.depthStencil.depthFormat = DepthFormat::D32SFloat;
+    h.target.depthStencil.depth = depth.surface();
+    h.target.depthStencil.depthTexelBytes = 4;
+    depth.fillF({1, 1, 1, 1});
+    h.state.depthTest = h.state.depthWrite = true;
+    h.fs.canDiscard = true;
+    h.fs.earlyFragmentTests = early;
+    h.killAll = true;
+    h.vertex(0, 0, 0.25f), h.vertex(8, 0, 0.25f), h.vertex(0, 8, 0.25f);
+    h.run();
+    EXPECT_EQ(depth.f(1, 1), early ? 0.25f : 1.0f);
+    EXPECT_EQ(h.color.f(1, 1, 3), 0.0f);
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test

@@ -85,6 +85,7 @@ struct Harness {
   uint32_t samples;
   bool fragDepthFromInput = false;   // FragDepth = input 0's x
   float alpha0 = -1;                 // >= 0: color 0's alpha
+  bool killAll = false;              // every lane discards (after writing its outputs)
   std::vector<uint32_t> helperRuns;  // pixels (y * width + x) of helper lanes the shader ran
   std::vector<float> helperValues;   // their input 0's x
   std::vector<uint32_t> primIds;     // per pixel: the last primitive ID, ~0 when none
@@ -164,6 +165,7 @@ struct Harness {
       std::memcpy(q.color1[l], h.constant1.data(), 16);
       if (h.fragDepthFromInput) std::memcpy(&q.depth[l], q.inputs[l], 4);
     }
+    if (h.killAll) q.killed = 0xF;
   }
 };
 

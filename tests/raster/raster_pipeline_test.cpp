@@ -305,3 +305,146 @@ TEST(RasterAssembly, InstancesKeepOrder) {
 
 }  // namespace
 }  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterAssembly, ProvokingVertexPerTopology) {
+  // Flat input = the vertex's index; each primitive's pixels show its provoking vertex.
+  struct Case {
+    Topology topo;
+    std::vector<std::array<float, 2>> verts;
+    std::array<float, 2> probe[2];  // a pixel inside primitive 0 and 1
+    float first[2], last[2];
+  };
+  const Case cases[] = {
+      // Strip (0,1,2) then odd (1,3,2): provoking v0 / v2, then v1 / v3.
+      {Topology::TriangleStrip, {{4, 4}, {4, 40}, {40, 4}, {40, 40}}, {{8, 8}, {36, 36}}, {0, 1}, {2, 3}},
+      // Fan (v1, v2, v0), (v2, v3, v0): provoking v1 / v2, then v2 / v3.
+      {Topology::TriangleFan, {{4, 4}, {4, 40}, {40, 40}, {40, 4}}, {{8, 30}, {30, 8}}, {1, 2}, {2, 3}},
+      // Line strip: segment i provoked by v_i / v_i+1.
+      {Topology::LineStrip, {{2, 10.5f}, {30, 10.5f}, {30, 40.5f}}, {{10, 10}, {29, 20}}, {0, 1}, {1, 2}},
+  };
+  for (const Case& c : cases) {
+    for (bool last : {false, true}) {
+      Harness h;
+      h.mode = FragMode::Input0;
+      h.state.topology = c.topo;
+      h.state.lastVertexProvoking = last;
+      std::vector<Vec4> values;
+      for (size_t i = 0; i < c.verts.size(); ++i) {
+        h.vertex(c.verts[i][0], c.verts[i][1]);
+        values.push_back(Vec4{float(i), 0, 0, 1});
+      }
+      h.addInput(Interpolation::Flat, values);
+      h.color.fillF({-1, 0, 0, 0});
+      h.run();
+      for (int p = 0; p < 2; ++p) {
+        const uint32_t x = uint32_t(c.probe[p][0]), y = uint32_t(c.probe[p][1]);
+        EXPECT_EQ(h.color.f(x, y), last ? c.last[p] : c.first[p]) << int(c.topo) << " last " << last << " prim " << p;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterClip, DegenerateAndNonFiniteVerticesAreSafe) {
+  // A NaN vertex, an infinite one, w = 0 and huge coordinates: nothing crashes or overflows (ASan/UBSan), and a
+  // sane triangle in the same draw still renders.
+  Harness h;
+  countWrites(h);
+  const float nan = std::nanf(""), inf = INFINITY;
+  h.pos = {{nan, 0, 0.5f, 1},
+           {0.5f, 0.5f, 0.5f, 1},
+           {0, 0.9f, 0.5f, 1},
+           {inf, 0, 0.5f, 1},
+           {0.5f, 0.5f, 0.5f, 1},
+           {0, 0.9f, 0.5f, 1},
+           {0, 0, 0, 0},
+           {0.5f, 0.5f, 0.5f, 1},
+           {0, 0.9f, 0.5f, 1},
+           {1e30f, -1e30f, 0.5f, 1},
+           {-1e30f, 1e30f, 0.5f, 1},
+           {1e30f, 1e30f, 0.5f, 1}};
+  h.vertex(1, 1), h.vertex(1, 6), h.vertex(6, 1);
+  h.run();
+  EXPECT_GE(h.color.f(2, 2), 1.0f);
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterPolygonMode, LineModeDrawsEdgesWithDepthBias) {
+  Harness h;
+  Image depth(64, 64, 4);
+  depth.fillF({1, 1, 1, 1});
+  h.target.depthStencil.depthFormat = DepthFormat::D32SFloat;
+  h.target.depthStencil.depth = depth.surface();
+  h.target.depthStencil.depthTexelBytes = 4;
+  h.state.depthTest = h.state.depthWrite = true;
+  h.state.depthCompare = CompareOp::Always;
+  h.state.depthBiasEnable = true;
+  h.state.depthBiasConstant = 1000;
+  h.state.polygonMode = PolygonMode::Line;
+  h.vertex(10.5f, 10.5f), h.vertex(10.5f, 40.5f), h.vertex(40.5f, 10.5f);
+  h.run();
+  EXPECT_EQ(h.color.f(20, 10, 3), 1.0f);  // top edge (x-major line on row 10)
+  EXPECT_EQ(h.color.f(10, 20, 3), 1.0f);  // left edge (y-major line: column 10)
+  EXPECT_EQ(h.color.f(18, 18, 3), 0.0f);  // interior
+  EXPECT_FLOAT_EQ(depth.f(20, 10), float(0.5 + 1000 * std::ldexp(1.0, -24)));
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
+
+namespace vkrt::raster::test {
+namespace {
+
+TEST(RasterClip, DepthClampKeepsFarGeometryAndDiscardDrawsNothing) {
+  // z_c = 1.5 w_c is past the far plane: clipped normally; with depth clamp (no depth clip) drawn at the
+  // viewport's maxDepth.
+  for (bool clamp : {false, true}) {
+    Harness h;
+    Image depth(64, 64, 4);
+    depth.fillF({1, 1, 1, 1});
+    h.target.depthStencil.depthFormat = DepthFormat::D32SFloat;
+    h.target.depthStencil.depth = depth.surface();
+    h.target.depthStencil.depthTexelBytes = 4;
+    h.state.viewports[0].minDepth = 0.2f;
+    h.state.viewports[0].maxDepth = 0.8f;
+    h.state.depthTest = h.state.depthWrite = true;
+    h.state.depthCompare = CompareOp::Always;
+    h.state.depthClamp = clamp;
+    h.state.depthClipEnable = !clamp;
+    h.vertex(0, 0, 1.5f), h.vertex(64, 0, 1.5f), h.vertex(0, 64, 1.5f);
+    h.run();
+    EXPECT_EQ(h.color.f(5, 5, 3), clamp ? 1.0f : 0.0f);
+    EXPECT_EQ(depth.f(5, 5), clamp ? 0.8f : 1.0f);
+  }
+  // Rasterizer discard: the vertex stage runs, nothing is rasterized.
+  Harness d;
+  countWrites(d);
+  d.state.rasterizerDiscard = true;
+  static int calls;
+  calls = 0;
+  d.vs.shade = [](void* user, uint32_t inst, uint32_t view, const uint32_t* idx, uint32_t n, ShadedVertex* out,
+                  unsigned w) {
+    ++calls;  // one chunk: the draw has 3 vertices
+    Harness::vertexShader(user, inst, view, idx, n, out, w);
+  };
+  d.vertex(0, 0), d.vertex(64, 0), d.vertex(0, 64);
+  d.run();
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(d.color.f(5, 5), 0.0f);
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
