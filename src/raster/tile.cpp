@@ -240,9 +240,10 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
             }
           }
           // Lanes outside the triangle's rectangle (the clip rectangle included) are not covered.
+          const bool edgeQuad = qx < rx0 || qx + 1 > rx1 || qy < ry0 || qy + 1 > ry1;
           for (uint32_t l = 0; l < 4; ++l) {
             const int32_t x = qx + int32_t(l & 1), y = qy + int32_t(l >> 1);
-            if (x < rx0 || x > rx1 || y < ry0 || y > ry1) cov[l] = 0;
+            if (edgeQuad && (x < rx0 || x > rx1 || y < ry0 || y > ry1)) cov[l] = 0;
             any |= cov[l];
           }
           if (any) shadeQuad(ctx, t, qx, qy, cov, scratch, worker);
