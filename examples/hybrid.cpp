@@ -58,8 +58,8 @@ Vec3 normalize(Vec3 a) { return a * (1.0f / std::sqrt(dot(a, a))); }
 const float kAlbedo[][3] = {{0.8f, 0.8f, 0.76f}, {0.8f, 0.15f, 0.12f}, {0.15f, 0.35f, 0.85f}, {0.9f, 0.72f, 0.12f}};
 const Vec3 kToLight = normalize({-0.45f, 0.8f, 0.4f});
 const Vec3 kEye = {5.5f, 4.5f, 7.5f}, kTarget = {0.0f, 0.7f, 0.0f};
-const float kFovY = 0.7854f;  // 45 degrees
-const float kAmbient = 0.25f;  // as in hybrid.frag
+const float kFovY = 0.7854f;                           // 45 degrees
+const float kAmbient = 0.25f;                          // as in hybrid.frag
 const float kOverlay[4] = {0.05f, 0.08f, 0.2f, 0.6f};  // as in overlay.frag
 const float kOverlayRows = 0.125f;                     // the band's height, a fraction of the image (overlay.vert)
 
@@ -187,8 +187,8 @@ Shade reference(const Mesh& m, const Camera& c, uint32_t width, uint32_t height,
   if (tri < 0) {
     std::copy(kSky, kSky + 3, s.rgb);
   } else {
-    const Vec3 n = normalize({m.triangles[4 * size_t(tri)], m.triangles[4 * size_t(tri) + 1],
-                              m.triangles[4 * size_t(tri) + 2]});
+    const Vec3 n =
+        normalize({m.triangles[4 * size_t(tri)], m.triangles[4 * size_t(tri) + 1], m.triangles[4 * size_t(tri) + 2]});
     const Vec3 p = kEye + d * t;
     float diffuse = std::max(dot(n, kToLight), 0.0f);
     float shadowT;
@@ -208,8 +208,8 @@ Shade reference(const Mesh& m, const Camera& c, uint32_t width, uint32_t height,
         const Vec3 px = kEye + dx * (-kEye.y / dx.y), py = kEye + dy * (-kEye.y / dy.y);
         const float wx = std::fabs(px.x - p.x) + std::fabs(py.x - p.x);
         const float wz = std::fabs(px.z - p.z) + std::fabs(py.z - p.z);
-        const float cell = std::min(std::fabs(p.x - std::floor(p.x) - 0.5f) / wx,
-                                    std::fabs(p.z - std::floor(p.z) - 0.5f) / wz);
+        const float cell =
+            std::min(std::fabs(p.x - std::floor(p.x) - 0.5f) / wx, std::fabs(p.z - std::floor(p.z) - 0.5f) / wz);
         s.floorLine = cell < 2.5f;
         s.lineCentre = cell < 0.25f;
       }
@@ -363,7 +363,8 @@ Image createImage(Context& c, VkFormat format, VkImageUsageFlags usage, VkImageA
   VkPhysicalDeviceMemoryProperties mp;
   vkGetPhysicalDeviceMemoryProperties(c.physical, &mp);
   uint32_t type = UINT32_MAX;
-  for (VkMemoryPropertyFlags want : {VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT), VkMemoryPropertyFlags(0)})
+  for (VkMemoryPropertyFlags want :
+       {VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT), VkMemoryPropertyFlags(0)})
     for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
       if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -663,9 +664,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hybrid: could not write %s\n", out.c_str());
     status = 1;
   }
-  std::printf("hybrid: %ux%u, %zu triangles rasterized with ray query shadows and an overlay in %.3f s; set-up %.3f s\n",
-              width, height, mesh.indices.size() / 3, std::chrono::duration<double>(t2 - t1).count(),
-              std::chrono::duration<double>(t1 - t0).count());
+  std::printf(
+      "hybrid: %ux%u, %zu triangles rasterized with ray query shadows and an overlay in %.3f s; set-up %.3f s\n", width,
+      height, mesh.indices.size() / 3, std::chrono::duration<double>(t2 - t1).count(),
+      std::chrono::duration<double>(t1 - t0).count());
   if (status == 0) std::printf("hybrid: wrote %s\n", out.c_str());
   if (doCheck && check(mesh, cam, width, height, rgba) != 0) status = 1;
 

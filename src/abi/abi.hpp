@@ -255,47 +255,49 @@ inline constexpr uint32_t kFragmentKilled = 1;   // OpKill / OpTerminateInvocati
 inline constexpr uint32_t kFragmentDemoted = 2;  // OpDemoteToHelperInvocation: outputs discarded, the lane goes on
 
 struct GraphicsInvocation {
-  InvocationContext base;       // 0
-  uint32_t* inputs;             // 160  kGraphicsLocations x 16 bytes (read)
-  uint32_t* outputs;            // 168  kGraphicsLocations x 16 bytes (written)
-  uint32_t* outputs1;           // 176  fragment: Index 1 outputs (16 bytes, location 0)
-  uint64_t pad0;                // 184
+  InvocationContext base;  // 0
+  uint32_t* inputs;        // 160  kGraphicsLocations x 16 bytes (read)
+  uint32_t* outputs;       // 168  kGraphicsLocations x 16 bytes (written)
+  uint32_t* outputs1;      // 176  fragment: Index 1 outputs (16 bytes, location 0)
+  uint64_t pad0;           // 184
   // vertex
-  float position[4];            // 192  Position (out)
-  float pointSize;              // 208  PointSize (out)
-  int32_t vertexIndex;          // 212  VertexIndex
-  int32_t instanceIndex;        // 216  InstanceIndex
-  int32_t baseVertex;           // 220  BaseVertex
-  int32_t baseInstance;         // 224  BaseInstance
-  int32_t drawIndex;            // 228  DrawIndex
-  uint32_t viewIndex;           // 232  ViewIndex (both stages)
-  uint32_t pad1;                // 236
-  float clipDistance[8];        // 240  ClipDistance (out)
-  float cullDistance[8];        // 272  CullDistance (out)
+  float position[4];      // 192  Position (out)
+  float pointSize;        // 208  PointSize (out)
+  int32_t vertexIndex;    // 212  VertexIndex
+  int32_t instanceIndex;  // 216  InstanceIndex
+  int32_t baseVertex;     // 220  BaseVertex
+  int32_t baseInstance;   // 224  BaseInstance
+  int32_t drawIndex;      // 228  DrawIndex
+  uint32_t viewIndex;     // 232  ViewIndex (both stages)
+  uint32_t pad1;          // 236
+  float clipDistance[8];  // 240  ClipDistance (out)
+  float cullDistance[8];  // 272  CullDistance (out)
   // fragment
-  float fragCoord[4];           // 304  FragCoord
-  float pointCoord[2];          // 320  PointCoord
-  uint32_t frontFacing;         // 328  FrontFacing (0 or 1)
-  int32_t primitiveId;          // 332  PrimitiveId
-  int32_t sampleId;             // 336  SampleId
-  float samplePosition[2];      // 340  SamplePosition
-  uint32_t sampleMaskIn;        // 348  SampleMask (in)
-  uint32_t sampleMaskOut;       // 352  SampleMask (out; the executor presets ~0)
-  float fragDepth;              // 356  FragDepth (out; the executor presets fragCoord[2])
-  uint32_t helper;              // 360  HelperInvocation
-  uint32_t status;              // 364  kFragment*: written by the shader
-  uint32_t layer;               // 368  Layer (fragment in)
-  uint32_t quadParity;          // 372  the next exchange's half (0 or 1), kept by the compiled code
+  float fragCoord[4];       // 304  FragCoord
+  float pointCoord[2];      // 320  PointCoord
+  uint32_t frontFacing;     // 328  FrontFacing (0 or 1)
+  int32_t primitiveId;      // 332  PrimitiveId
+  int32_t sampleId;         // 336  SampleId
+  float samplePosition[2];  // 340  SamplePosition
+  uint32_t sampleMaskIn;    // 348  SampleMask (in)
+  uint32_t sampleMaskOut;   // 352  SampleMask (out; the executor presets ~0)
+  float fragDepth;          // 356  FragDepth (out; the executor presets fragCoord[2])
+  uint32_t helper;          // 360  HelperInvocation
+  uint32_t status;          // 364  kFragment*: written by the shader
+  uint32_t layer;           // 368  Layer (fragment in)
+  uint32_t quadParity;      // 372  the next exchange's half (0 or 1), kept by the compiled code
 };
 
 static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsInvocation, outputs1) == 176 &&
                   offsetof(GraphicsInvocation, position) == 192 && offsetof(GraphicsInvocation, pointSize) == 208 &&
                   offsetof(GraphicsInvocation, vertexIndex) == 212 && offsetof(GraphicsInvocation, viewIndex) == 232 &&
-                  offsetof(GraphicsInvocation, clipDistance) == 240 && offsetof(GraphicsInvocation, cullDistance) == 272 &&
-                  offsetof(GraphicsInvocation, fragCoord) == 304 && offsetof(GraphicsInvocation, frontFacing) == 328 &&
-                  offsetof(GraphicsInvocation, sampleMaskOut) == 352 && offsetof(GraphicsInvocation, fragDepth) == 356 &&
-                  offsetof(GraphicsInvocation, helper) == 360 && offsetof(GraphicsInvocation, status) == 364 &&
-                  offsetof(GraphicsInvocation, quadParity) == 372 && sizeof(GraphicsInvocation) == 376,
+                  offsetof(GraphicsInvocation, clipDistance) == 240 &&
+                  offsetof(GraphicsInvocation, cullDistance) == 272 && offsetof(GraphicsInvocation, fragCoord) == 304 &&
+                  offsetof(GraphicsInvocation, frontFacing) == 328 &&
+                  offsetof(GraphicsInvocation, sampleMaskOut) == 352 &&
+                  offsetof(GraphicsInvocation, fragDepth) == 356 && offsetof(GraphicsInvocation, helper) == 360 &&
+                  offsetof(GraphicsInvocation, status) == 364 && offsetof(GraphicsInvocation, quadParity) == 372 &&
+                  sizeof(GraphicsInvocation) == 376,
               "the compiler bakes these offsets into shader code");
 
 using GraphicsEntry = void (*)(GraphicsInvocation*);

@@ -23,7 +23,9 @@ struct Vuid {
   Vuid(const char* command, const char* suffix) { std::snprintf(text, sizeof text, "VUID-%s-%s", command, suffix); }
 };
 
-const VkPhysicalDeviceLimits& limits(const CommandBuffer* cb) { return cb->device->physicalDevice->properties10.limits; }
+const VkPhysicalDeviceLimits& limits(const CommandBuffer* cb) {
+  return cb->device->physicalDevice->properties10.limits;
+}
 
 // VUID-vkCmdDraw*-renderpass: inside a render pass instance (or a secondary that continues one).
 bool checkInsideRenderPass(CommandBuffer* cb, const char* command) {
@@ -80,8 +82,8 @@ bool checkFirstInstance(const CommandBuffer* cb, uint32_t firstInstance, bool in
 }
 
 // Runs the draws of an indirect command at execution.
-void executeIndirect(const CommandBuffer* cb, ExecState& st, const Buffer* buf, VkDeviceSize offset,
-                     uint32_t drawCount, uint32_t stride, bool indexed, const char* command) {
+void executeIndirect(const CommandBuffer* cb, ExecState& st, const Buffer* buf, VkDeviceSize offset, uint32_t drawCount,
+                     uint32_t stride, bool indexed, const char* command) {
   for (uint32_t k = 0; k < drawCount; ++k) {
     const uint8_t* at = buf->data() + offset + uint64_t(k) * stride;
     DrawParams p;
@@ -120,9 +122,11 @@ void recordIndirect(VkCommandBuffer commandBuffer, VkBuffer buffer, VkDeviceSize
   // VUID-vkCmdDrawIndirect-drawCount-02718 / VUID-vkCmdDrawIndexedIndirect-drawCount-02718
   if (drawCount > 1 && !cb->device->enabled(Feature::multiDrawIndirect)) suffix = "drawCount-02718";
   // VUID-vkCmdDrawIndirect-drawCount-02719 / VUID-vkCmdDrawIndexedIndirect-drawCount-02719
-  else if (drawCount > limits(cb).maxDrawIndirectCount) suffix = "drawCount-02719";
+  else if (drawCount > limits(cb).maxDrawIndirectCount)
+    suffix = "drawCount-02719";
   // VUID-vkCmdDrawIndirect-drawCount-00476 / VUID-vkCmdDrawIndexedIndirect-drawCount-00528
-  else if (drawCount > 1 && (stride % 4 || stride < size)) suffix = indexed ? "drawCount-00528" : "drawCount-00476";
+  else if (drawCount > 1 && (stride % 4 || stride < size))
+    suffix = indexed ? "drawCount-00528" : "drawCount-00476";
   // VUID-vkCmdDrawIndirect-drawCount-00487, -00488 / VUID-vkCmdDrawIndexedIndirect-drawCount-00539, -00540
   else if (!fits(buf, offset, drawCount, stride, size))
     suffix = drawCount == 1 ? (indexed ? "drawCount-00539" : "drawCount-00487")
@@ -172,19 +176,26 @@ void recordIndirectCount(VkCommandBuffer commandBuffer, VkBuffer buffer, VkDevic
   const char* suffix = nullptr;
   // VUID-<command>-countBuffer-02715, -countBuffer-02714, -countBufferOffset-02716, -countBufferOffset-04129,
   // -stride-03110 / -stride-03142, -maxDrawCount-03111 / -maxDrawCount-03143
-  if (!(count->usage & VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT)) suffix = "countBuffer-02715";
-  else if (!count->memory) suffix = "countBuffer-02714";
-  else if (countBufferOffset % 4) suffix = "countBufferOffset-02716";
-  else if (countBufferOffset > count->size || count->size - countBufferOffset < 4) suffix = "countBufferOffset-04129";
-  else if (stride % 4 || stride < size) suffix = indexed ? "stride-03142" : "stride-03110";
-  else if (!fits(buf, offset, maxDrawCount, stride, size)) suffix = indexed ? "maxDrawCount-03143" : "maxDrawCount-03111";
+  if (!(count->usage & VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT))
+    suffix = "countBuffer-02715";
+  else if (!count->memory)
+    suffix = "countBuffer-02714";
+  else if (countBufferOffset % 4)
+    suffix = "countBufferOffset-02716";
+  else if (countBufferOffset > count->size || count->size - countBufferOffset < 4)
+    suffix = "countBufferOffset-04129";
+  else if (stride % 4 || stride < size)
+    suffix = indexed ? "stride-03142" : "stride-03110";
+  else if (!fits(buf, offset, maxDrawCount, stride, size))
+    suffix = indexed ? "maxDrawCount-03143" : "maxDrawCount-03111";
   if (suffix) {
     Vuid v(command, suffix);
-    report(cb, Severity::Error, v.text,
-           "%s: countBuffer usage 0x%x (%s), countBufferOffset %llu, count buffer size %llu; stride %u (a multiple of 4, "
-           "at least %u), maxDrawCount %u, offset %llu, buffer size %llu",
-           command, count->usage, count->memory ? "bound" : "not bound to memory", (ull)countBufferOffset,
-           (ull)count->size, stride, size, maxDrawCount, (ull)offset, (ull)buf->size);
+    report(
+        cb, Severity::Error, v.text,
+        "%s: countBuffer usage 0x%x (%s), countBufferOffset %llu, count buffer size %llu; stride %u (a multiple of 4, "
+        "at least %u), maxDrawCount %u, offset %llu, buffer size %llu",
+        command, count->usage, count->memory ? "bound" : "not bound to memory", (ull)countBufferOffset,
+        (ull)count->size, stride, size, maxDrawCount, (ull)offset, (ull)buf->size);
     return;
   }
   if (indexed && !recordState(cb).draw.indexBound) {
@@ -225,12 +236,18 @@ void bindVertexBuffers(VkCommandBuffer commandBuffer, uint32_t firstBinding, uin
     // VUID-vkCmdBindVertexBuffers-pBuffers-04001 / VUID-vkCmdBindVertexBuffers2-pBuffers-04111 (nullDescriptor is not
     // supported), -pBuffers-00627 / -03359, -pBuffers-00628 / -03360, -pOffsets-00626 / -03357,
     // VUID-vkCmdBindVertexBuffers2-pSizes-03358, -pStrides-03362
-    if (!buf) suffix = two ? "pBuffers-04111" : "pBuffers-04001";
-    else if (!(buf->usage & VK_BUFFER_USAGE_VERTEX_BUFFER_BIT)) suffix = two ? "pBuffers-03359" : "pBuffers-00627";
-    else if (!buf->memory) suffix = two ? "pBuffers-03360" : "pBuffers-00628";
-    else if (pOffsets[k] >= buf->size) suffix = two ? "pOffsets-03357" : "pOffsets-00626";
-    else if (pSizes && pSizes[k] != VK_WHOLE_SIZE && pSizes[k] > buf->size - pOffsets[k]) suffix = "pSizes-03358";
-    else if (pStrides && pStrides[k] > limits(cb).maxVertexInputBindingStride) suffix = "pStrides-03362";
+    if (!buf)
+      suffix = two ? "pBuffers-04111" : "pBuffers-04001";
+    else if (!(buf->usage & VK_BUFFER_USAGE_VERTEX_BUFFER_BIT))
+      suffix = two ? "pBuffers-03359" : "pBuffers-00627";
+    else if (!buf->memory)
+      suffix = two ? "pBuffers-03360" : "pBuffers-00628";
+    else if (pOffsets[k] >= buf->size)
+      suffix = two ? "pOffsets-03357" : "pOffsets-00626";
+    else if (pSizes && pSizes[k] != VK_WHOLE_SIZE && pSizes[k] > buf->size - pOffsets[k])
+      suffix = "pSizes-03358";
+    else if (pStrides && pStrides[k] > limits(cb).maxVertexInputBindingStride)
+      suffix = "pStrides-03362";
     if (suffix) {
       Vuid v(command, suffix);
       report(cb, Severity::Error, v.text,
@@ -254,8 +271,10 @@ void bindVertexBuffers(VkCommandBuffer commandBuffer, uint32_t firstBinding, uin
       const uint32_t b = firstBinding + uint32_t(k);
       d.vertex[b] = bindings[k];
       d.vertexBound |= 1u << b;
-      if (strides) d.strideSet |= 1u << b;
-      else d.strideSet &= ~(1u << b);
+      if (strides)
+        d.strideSet |= 1u << b;
+      else
+        d.strideSet &= ~(1u << b);
     }
   });
 }
@@ -290,8 +309,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindIndexBuffer(VkCommandBuffer commandBuffer
   if (!cb) return;
   const Buffer* buf = fromHandle<Buffer>(buffer);
   if (!buf) {
-    report(cb, Severity::Error, "VUID-vkCmdBindIndexBuffer-buffer-parameter", "%s: buffer 0x%llx is not a live VkBuffer",
-           fn, (ull)rawHandle(buffer));
+    report(cb, Severity::Error, "VUID-vkCmdBindIndexBuffer-buffer-parameter",
+           "%s: buffer 0x%llx is not a live VkBuffer", fn, (ull)rawHandle(buffer));
     return;
   }
   // VUID-vkCmdBindIndexBuffer-indexType-02507 (NONE), VUID-vkCmdBindIndexBuffer-indexType-02765 (UINT8:
@@ -307,10 +326,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindIndexBuffer(VkCommandBuffer commandBuffer
   // VUID-vkCmdBindIndexBuffer-buffer-00433, -buffer-00434, -offset-00431, -offset-00432 (memory offsets are 64-byte
   // aligned: the buffer's own offset decides)
   const char* vuid = !(buf->usage & VK_BUFFER_USAGE_INDEX_BUFFER_BIT) ? "VUID-vkCmdBindIndexBuffer-buffer-00433"
-                     : !buf->memory                                  ? "VUID-vkCmdBindIndexBuffer-buffer-00434"
-                     : offset >= buf->size                           ? "VUID-vkCmdBindIndexBuffer-offset-00431"
-                     : (buf->memoryOffset + offset) % size           ? "VUID-vkCmdBindIndexBuffer-offset-00432"
-                                                                     : nullptr;
+                     : !buf->memory                                   ? "VUID-vkCmdBindIndexBuffer-buffer-00434"
+                     : offset >= buf->size                            ? "VUID-vkCmdBindIndexBuffer-offset-00431"
+                     : (buf->memoryOffset + offset) % size            ? "VUID-vkCmdBindIndexBuffer-offset-00432"
+                                                                      : nullptr;
   if (vuid) {
     report(buf, Severity::Error, vuid,
            "%s: buffer usage 0x%x (needs VK_BUFFER_USAGE_INDEX_BUFFER_BIT), %s, size %llu; offset %llu (a multiple of "
@@ -319,7 +338,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindIndexBuffer(VkCommandBuffer commandBuffer
     return;
   }
   recordState(cb).draw.indexBound = true;
-  const raster::IndexType type = indexType == VK_INDEX_TYPE_UINT16 ? raster::IndexType::UInt16 : raster::IndexType::UInt32;
+  const raster::IndexType type =
+      indexType == VK_INDEX_TYPE_UINT16 ? raster::IndexType::UInt16 : raster::IndexType::UInt32;
   cb->record([buf, offset, type](ExecState& st) {
     DrawExecState& d = execState(st).draw;
     d.indexBuffer = buf;

@@ -88,7 +88,8 @@ void shadeVerticesTask(void* arg) {
     inv.inputs = inputs;
     inv.outputs = outputs;
     inv.outputs1 = t.w->outputs1[0];
-    for (uint32_t a = 0; a < c.attributeCount; ++a) fetchAttribute(c.attributes[a], t.vertexIndex[i], t.instanceIndex, inputs);
+    for (uint32_t a = 0; a < c.attributeCount; ++a)
+      fetchAttribute(c.attributes[a], t.vertexIndex[i], t.instanceIndex, inputs);
     for (uint32_t s = 0; s < c.varyingCount; ++s) std::memset(outputs + 4 * c.varyingLocation[s], 0, 16);
     inv.vertexIndex = int32_t(t.vertexIndex[i]);
     inv.instanceIndex = int32_t(t.instanceIndex);
@@ -105,8 +106,8 @@ void shadeVerticesTask(void* arg) {
   }
 }
 
-void shadeVertices(void* user, uint32_t instanceIndex, uint32_t viewIndex, const uint32_t* vertexIndex,
-                   uint32_t count, raster::ShadedVertex* out, unsigned worker) {
+void shadeVertices(void* user, uint32_t instanceIndex, uint32_t viewIndex, const uint32_t* vertexIndex, uint32_t count,
+                   raster::ShadedVertex* out, unsigned worker) {
   auto* c = static_cast<DrawContext*>(user);
   VertexTask t{c, &c->scratch[worker], instanceIndex, viewIndex, vertexIndex, count, out, 0};
   if (exec::runSupervised(*c->job, shadeVerticesTask, &t)) return;
@@ -397,7 +398,9 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   draw.varyingCount = p.varyingCount;
   if (params.indexed) {
     draw.indexType = d.indexType;
-    const uint64_t size = d.indexType == raster::IndexType::UInt16 ? 2 : d.indexType == raster::IndexType::UInt8 ? 1 : 4;
+    const uint64_t size = d.indexType == raster::IndexType::UInt16  ? 2
+                          : d.indexType == raster::IndexType::UInt8 ? 1
+                                                                    : 4;
     const uint64_t start = d.indexOffset + uint64_t(params.firstIndex) * size;
     const uint64_t bufferSize = d.indexBuffer->size;
     draw.indices = d.indexBuffer->data() + (start < bufferSize ? start : bufferSize);

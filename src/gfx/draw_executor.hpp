@@ -17,7 +17,7 @@ struct DrawParams {
   uint32_t firstIndex = 0;   // indexed
   int32_t vertexOffset = 0;  // indexed
   uint32_t firstInstance = 0;
-  uint32_t drawIndex = 0;    // DrawIndex: the draw's index in an indirect (count) command
+  uint32_t drawIndex = 0;  // DrawIndex: the draw's index in an indirect (count) command
   bool indexed = false;
 };
 

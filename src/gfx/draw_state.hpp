@@ -63,8 +63,8 @@ const char* dynamicStateName(uint32_t bit);
 struct VertexBufferBinding {
   const Buffer* buffer = nullptr;  // null: not bound (or VK_NULL_HANDLE)
   uint64_t offset = 0;
-  uint64_t size = 0;     // bytes from offset (pSizes, or the rest of the buffer)
-  uint32_t stride = 0;   // vkCmdBindVertexBuffers2's pStrides (used with kDynVertexStride)
+  uint64_t size = 0;    // bytes from offset (pSizes, or the rest of the buffer)
+  uint32_t stride = 0;  // vkCmdBindVertexBuffers2's pStrides (used with kDynVertexStride)
 };
 
 // The draw executor's per-worker scratch (gfx/draw_executor.cpp), kept for the command buffer's later draws.

@@ -124,13 +124,15 @@ void recordSetter(CommandBuffer* cb, uint32_t bits, F&& apply) {
   });
 }
 
-const VkPhysicalDeviceLimits& limits(const CommandBuffer* cb) { return cb->device->physicalDevice->properties10.limits; }
+const VkPhysicalDeviceLimits& limits(const CommandBuffer* cb) {
+  return cb->device->physicalDevice->properties10.limits;
+}
 
 bool checkScissors(CommandBuffer* cb, const char* fn, uint32_t count, const VkRect2D* rects, const char* xVuid,
                    const char* wVuid, const char* hVuid) {
   for (uint32_t k = 0; k < count; ++k) {
     const VkRect2D& r = rects[k];
-    const char* vuid = r.offset.x < 0 || r.offset.y < 0                           ? xVuid
+    const char* vuid = r.offset.x < 0 || r.offset.y < 0                             ? xVuid
                        : int64_t(r.offset.x) + int64_t(r.extent.width) > INT32_MAX  ? wVuid
                        : int64_t(r.offset.y) + int64_t(r.extent.height) > INT32_MAX ? hVuid
                                                                                     : nullptr;
@@ -184,8 +186,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetViewport(VkCommandBuffer commandBuffer, ui
   const uint32_t max = limits(cb).maxViewports;
   // VUID-vkCmdSetViewport-viewportCount-arraylength, VUID-vkCmdSetViewport-firstViewport-01224 (multiViewport is
   // not supported), VUID-vkCmdSetViewport-firstViewport-01223
-  const char* vuid = viewportCount == 0 ? "VUID-vkCmdSetViewport-viewportCount-arraylength"
-                     : firstViewport != 0 ? "VUID-vkCmdSetViewport-firstViewport-01224"
+  const char* vuid = viewportCount == 0                              ? "VUID-vkCmdSetViewport-viewportCount-arraylength"
+                     : firstViewport != 0                            ? "VUID-vkCmdSetViewport-firstViewport-01224"
                      : uint64_t(firstViewport) + viewportCount > max ? "VUID-vkCmdSetViewport-firstViewport-01223"
                                                                      : nullptr;
   if (vuid) {
@@ -206,8 +208,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetScissor(VkCommandBuffer commandBuffer, uin
   const uint32_t max = limits(cb).maxViewports;
   // VUID-vkCmdSetScissor-scissorCount-arraylength, VUID-vkCmdSetScissor-firstScissor-00593 (multiViewport is not
   // supported), VUID-vkCmdSetScissor-firstScissor-00592
-  const char* vuid = scissorCount == 0 ? "VUID-vkCmdSetScissor-scissorCount-arraylength"
-                     : firstScissor != 0 ? "VUID-vkCmdSetScissor-firstScissor-00593"
+  const char* vuid = scissorCount == 0                             ? "VUID-vkCmdSetScissor-scissorCount-arraylength"
+                     : firstScissor != 0                           ? "VUID-vkCmdSetScissor-firstScissor-00593"
                      : uint64_t(firstScissor) + scissorCount > max ? "VUID-vkCmdSetScissor-firstScissor-00592"
                                                                    : nullptr;
   if (vuid) {
@@ -216,8 +218,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetScissor(VkCommandBuffer commandBuffer, uin
     return;
   }
   // VUID-vkCmdSetScissor-x-00595, VUID-vkCmdSetScissor-offset-00596, VUID-vkCmdSetScissor-offset-00597
-  if (!checkScissors(cb, fn, scissorCount, pScissors, "VUID-vkCmdSetScissor-x-00595", "VUID-vkCmdSetScissor-offset-00596",
-                     "VUID-vkCmdSetScissor-offset-00597"))
+  if (!checkScissors(cb, fn, scissorCount, pScissors, "VUID-vkCmdSetScissor-x-00595",
+                     "VUID-vkCmdSetScissor-offset-00596", "VUID-vkCmdSetScissor-offset-00597"))
     return;
   std::vector<VkRect2D> r(pScissors, pScissors + scissorCount);
   recordSetter(cb, 1u << kDynScissor,
@@ -245,7 +247,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetDepthBias(VkCommandBuffer commandBuffer, f
   // VUID-vkCmdSetDepthBias-depthBiasClamp-00790
   if (depthBiasClamp != 0.0f && !cb->device->enabled(Feature::depthBiasClamp)) {
     report(cb, Severity::Error, "VUID-vkCmdSetDepthBias-depthBiasClamp-00790",
-           "%s: depthBiasClamp %g is not 0.0 and the depthBiasClamp feature is not enabled", fn, double(depthBiasClamp));
+           "%s: depthBiasClamp %g is not 0.0 and the depthBiasClamp feature is not enabled", fn,
+           double(depthBiasClamp));
     return;
   }
   recordSetter(cb, 1u << kDynDepthBias, [=](DrawExecState& d) {

@@ -51,7 +51,8 @@ bool checkDerivative(const Device* dev, const VkGraphicsPipelineCreateInfo& ci, 
   } else if (ci.basePipelineHandle != VK_NULL_HANDLE) {
     base = fromHandle<Pipeline>(ci.basePipelineHandle);
     // VUID-VkGraphicsPipelineCreateInfo-flags-00722
-    if (!base || base->bindPoint != VK_PIPELINE_BIND_POINT_GRAPHICS) vuid = "VUID-VkGraphicsPipelineCreateInfo-flags-00722";
+    if (!base || base->bindPoint != VK_PIPELINE_BIND_POINT_GRAPHICS)
+      vuid = "VUID-VkGraphicsPipelineCreateInfo-flags-00722";
   } else if (ci.basePipelineIndex < 0) {
     // VUID-VkGraphicsPipelineCreateInfo-flags-00723
     vuid = "VUID-VkGraphicsPipelineCreateInfo-flags-00723";
@@ -215,9 +216,8 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
   p->fragment = fsc.shader;
   p->vertexName = "vertex shader \"" + p->vertex->entryName + "\"";
   if (p->fragment) p->fragmentName = "fragment shader \"" + p->fragment->entryName + "\"";
-  for (const auto& [shader, stage, where] :
-       {std::tuple{p->vertex.get(), VK_SHADER_STAGE_VERTEX_BIT, vsWhat},
-        std::tuple{p->fragment.get(), VK_SHADER_STAGE_FRAGMENT_BIT, fsWhat}}) {
+  for (const auto& [shader, stage, where] : {std::tuple{p->vertex.get(), VK_SHADER_STAGE_VERTEX_BIT, vsWhat},
+                                             std::tuple{p->fragment.get(), VK_SHADER_STAGE_FRAGMENT_BIT, fsWhat}}) {
     if (!shader) continue;
     std::string detail;
     // VUID-VkGraphicsPipelineCreateInfo-layout-00756
@@ -235,8 +235,8 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
   if (made->fragment) storeInCache(cache, fsPrep.request, *made->fragment);
   // Pipeline creation feedback (core in 1.3): the pipeline's time, each stage's from its compilation, in pStages
   // order.
-  if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(ci.pNext,
-                                                                   VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
+  if (auto* fb = findInChain<VkPipelineCreationFeedbackCreateInfo>(
+          ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO)) {
     const uint64_t ns = uint64_t(
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
     VkPipelineCreationFeedbackFlags hit = vsc.feedback.flags & (fsInfo ? fsc.feedback.flags : ~0u) &
@@ -245,8 +245,10 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
       *fb->pPipelineCreationFeedback = {VK_PIPELINE_CREATION_FEEDBACK_VALID_BIT | hit, ns};
     for (uint32_t s = 0; s < fb->pipelineStageCreationFeedbackCount && fb->pPipelineStageCreationFeedbacks; ++s) {
       VkPipelineCreationFeedback f{};
-      if (s == vsIndex) f = vsc.feedback;
-      else if (fsInfo && s == fsIndex) f = fsc.feedback;
+      if (s == vsIndex)
+        f = vsc.feedback;
+      else if (fsInfo && s == fsIndex)
+        f = fsc.feedback;
       fb->pPipelineStageCreationFeedbacks[s] = f;
     }
   }

@@ -57,7 +57,7 @@ struct GraphicsPipelineDesc {
   VkRenderPass renderPass = VK_NULL_HANDLE;
   uint32_t subpass = 0;
   bool fragmentOutput = true;  // the pipeline has fragment output state (rasterization not statically discarded)
-  uint32_t colorCount = 0;     // VkPipelineRenderingCreateInfo::colorAttachmentCount or pColorBlendState->attachmentCount
+  uint32_t colorCount = 0;  // VkPipelineRenderingCreateInfo::colorAttachmentCount or pColorBlendState->attachmentCount
   uint32_t viewMask = 0;
   VkFormat colorFormats[raster::kMaxColorAttachments] = {};
   VkFormat depthFormat = VK_FORMAT_UNDEFINED, stencilFormat = VK_FORMAT_UNDEFINED;

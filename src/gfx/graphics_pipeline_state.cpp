@@ -135,12 +135,17 @@ bool captureVertexInput(const Device* dev, const VkGraphicsPipelineCreateInfo& c
     const VkVertexInputAttributeDescription& a = vi->pVertexAttributeDescriptions[k];
     const char* vuid = nullptr;
     // VUID-VkVertexInputAttributeDescription-location-00620, -binding-00621, -offset-00622, -format-00623
-    if (a.location >= lim.maxVertexInputAttributes) vuid = "VUID-VkVertexInputAttributeDescription-location-00620";
-    else if (a.binding >= lim.maxVertexInputBindings) vuid = "VUID-VkVertexInputAttributeDescription-binding-00621";
-    else if (a.offset > lim.maxVertexInputAttributeOffset) vuid = "VUID-VkVertexInputAttributeDescription-offset-00622";
-    else if (!vertexFormat(a.format)) vuid = "VUID-VkVertexInputAttributeDescription-format-00623";
+    if (a.location >= lim.maxVertexInputAttributes)
+      vuid = "VUID-VkVertexInputAttributeDescription-location-00620";
+    else if (a.binding >= lim.maxVertexInputBindings)
+      vuid = "VUID-VkVertexInputAttributeDescription-binding-00621";
+    else if (a.offset > lim.maxVertexInputAttributeOffset)
+      vuid = "VUID-VkVertexInputAttributeDescription-offset-00622";
+    else if (!vertexFormat(a.format))
+      vuid = "VUID-VkVertexInputAttributeDescription-format-00623";
     // VUID-VkPipelineVertexInputStateCreateInfo-binding-00615
-    else if (!(p->bindingMask & (1u << a.binding))) vuid = "VUID-VkPipelineVertexInputStateCreateInfo-binding-00615";
+    else if (!(p->bindingMask & (1u << a.binding)))
+      vuid = "VUID-VkPipelineVertexInputStateCreateInfo-binding-00615";
     // VUID-VkPipelineVertexInputStateCreateInfo-pVertexAttributeDescriptions-00617
     else if (locations & (1u << a.location))
       vuid = "VUID-VkPipelineVertexInputStateCreateInfo-pVertexAttributeDescriptions-00617";
@@ -177,7 +182,8 @@ bool captureRasterState(const Device* dev, const VkGraphicsPipelineCreateInfo& c
   const VkPrimitiveTopology t = ia->topology;
   if (!isDyn(kDynTopology)) {
     // VUID-VkPipelineInputAssemblyStateCreateInfo-topology-00429 (geometryShader is not supported)
-    if (t >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY && t <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY) {
+    if (t >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY &&
+        t <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY) {
       report(dev, Severity::Error, "VUID-VkPipelineInputAssemblyStateCreateInfo-topology-00429",
              "%s.pInputAssemblyState->topology %d is an adjacency topology, which needs the geometryShader feature",
              what, int(t));
@@ -376,11 +382,12 @@ bool captureRasterState(const Device* dev, const VkGraphicsPipelineCreateInfo& c
         return false;
       }
       if (!dev->enabled(Feature::dualSrcBlend)) {
-        const char* vuid = isSrc1(a.srcColorBlendFactor)   ? "VUID-VkPipelineColorBlendAttachmentState-srcColorBlendFactor-00608"
-                           : isSrc1(a.dstColorBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-dstColorBlendFactor-00609"
-                           : isSrc1(a.srcAlphaBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-srcAlphaBlendFactor-00610"
-                           : isSrc1(a.dstAlphaBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-dstAlphaBlendFactor-00611"
-                                                           : nullptr;
+        const char* vuid =
+            isSrc1(a.srcColorBlendFactor)   ? "VUID-VkPipelineColorBlendAttachmentState-srcColorBlendFactor-00608"
+            : isSrc1(a.dstColorBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-dstColorBlendFactor-00609"
+            : isSrc1(a.srcAlphaBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-srcAlphaBlendFactor-00610"
+            : isSrc1(a.dstAlphaBlendFactor) ? "VUID-VkPipelineColorBlendAttachmentState-dstAlphaBlendFactor-00611"
+                                            : nullptr;
         // VUID-VkPipelineColorBlendAttachmentState-srcColorBlendFactor-00608, -dstColorBlendFactor-00609,
         // -srcAlphaBlendFactor-00610, -dstAlphaBlendFactor-00611
         if (vuid) {
@@ -423,7 +430,8 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
     return true;
   }
   p->dynamicRendering = true;
-  const auto* ri = findInChain<VkPipelineRenderingCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
+  const auto* ri =
+      findInChain<VkPipelineRenderingCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
   const uint32_t count = ri ? ri->colorAttachmentCount : 0;
   p->viewMask = ri ? ri->viewMask : 0;
   if (!rasterizes) return true;
@@ -456,8 +464,9 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
   const bool depthAspect = df >= VK_FORMAT_D16_UNORM && df <= VK_FORMAT_D32_SFLOAT_S8_UINT && df != VK_FORMAT_S8_UINT;
   const bool stencilAspect = sf >= VK_FORMAT_S8_UINT && sf <= VK_FORMAT_D32_SFLOAT_S8_UINT;
   // VUID-VkGraphicsPipelineCreateInfo-renderPass-06587, -06588, -06589
-  const char* vuid = df != VK_FORMAT_UNDEFINED && !depthAspect     ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06587"
-                     : sf != VK_FORMAT_UNDEFINED && !stencilAspect ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06588"
+  const char* vuid = df != VK_FORMAT_UNDEFINED && !depthAspect ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06587"
+                     : sf != VK_FORMAT_UNDEFINED && !stencilAspect
+                         ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06588"
                      : df != VK_FORMAT_UNDEFINED && sf != VK_FORMAT_UNDEFINED && df != sf
                          ? "VUID-VkGraphicsPipelineCreateInfo-renderPass-06589"
                          : nullptr;

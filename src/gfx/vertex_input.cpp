@@ -21,16 +21,23 @@ struct Group {
 };
 
 constexpr Group kGroups[] = {
-    {VK_FORMAT_R8_UNORM, 1, 8, VL::Plain, false},          {VK_FORMAT_R8G8_UNORM, 2, 8, VL::Plain, false},
-    {VK_FORMAT_R8G8B8_UNORM, 3, 8, VL::Plain, false},      {VK_FORMAT_B8G8R8_UNORM, 3, 8, VL::Bgra, false},
-    {VK_FORMAT_R8G8B8A8_UNORM, 4, 8, VL::Plain, false},    {VK_FORMAT_B8G8R8A8_UNORM, 4, 8, VL::Bgra, false},
+    {VK_FORMAT_R8_UNORM, 1, 8, VL::Plain, false},
+    {VK_FORMAT_R8G8_UNORM, 2, 8, VL::Plain, false},
+    {VK_FORMAT_R8G8B8_UNORM, 3, 8, VL::Plain, false},
+    {VK_FORMAT_B8G8R8_UNORM, 3, 8, VL::Bgra, false},
+    {VK_FORMAT_R8G8B8A8_UNORM, 4, 8, VL::Plain, false},
+    {VK_FORMAT_B8G8R8A8_UNORM, 4, 8, VL::Bgra, false},
     {VK_FORMAT_A8B8G8R8_UNORM_PACK32, 4, 8, VL::A8B8G8R8, false},
     {VK_FORMAT_A2R10G10B10_UNORM_PACK32, 4, 10, VL::A2R10G10B10, false},
     {VK_FORMAT_A2B10G10R10_UNORM_PACK32, 4, 10, VL::A2B10G10R10, false},
-    {VK_FORMAT_R16_UNORM, 1, 16, VL::Plain, false},        {VK_FORMAT_R16G16_UNORM, 2, 16, VL::Plain, false},
-    {VK_FORMAT_R16G16B16_UNORM, 3, 16, VL::Plain, false},  {VK_FORMAT_R16G16B16A16_UNORM, 4, 16, VL::Plain, false},
-    {VK_FORMAT_R32_UINT, 1, 32, VL::Plain, true},          {VK_FORMAT_R32G32_UINT, 2, 32, VL::Plain, true},
-    {VK_FORMAT_R32G32B32_UINT, 3, 32, VL::Plain, true},    {VK_FORMAT_R32G32B32A32_UINT, 4, 32, VL::Plain, true},
+    {VK_FORMAT_R16_UNORM, 1, 16, VL::Plain, false},
+    {VK_FORMAT_R16G16_UNORM, 2, 16, VL::Plain, false},
+    {VK_FORMAT_R16G16B16_UNORM, 3, 16, VL::Plain, false},
+    {VK_FORMAT_R16G16B16A16_UNORM, 4, 16, VL::Plain, false},
+    {VK_FORMAT_R32_UINT, 1, 32, VL::Plain, true},
+    {VK_FORMAT_R32G32_UINT, 2, 32, VL::Plain, true},
+    {VK_FORMAT_R32G32B32_UINT, 3, 32, VL::Plain, true},
+    {VK_FORMAT_R32G32B32A32_UINT, 4, 32, VL::Plain, true},
 };
 
 constexpr VkFormat kLast = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -93,7 +100,8 @@ uint32_t convertComponent(uint32_t v, uint32_t bits, VN n) {
   const uint32_t signBit = bits < 32 ? 1u << (bits - 1) : 0x80000000u;
   const int32_t s = bits < 32 ? int32_t((v ^ signBit) - signBit) : int32_t(v);
   switch (n) {
-    case VN::UNorm: return floatBits(bits == 32 ? float(double(v) / 4294967295.0) : float(double(v) / double((1ull << bits) - 1)));
+    case VN::UNorm:
+      return floatBits(bits == 32 ? float(double(v) / 4294967295.0) : float(double(v) / double((1ull << bits) - 1)));
     case VN::SNorm: {
       const double d = double(s) / double((1ull << (bits - 1)) - 1);
       return floatBits(float(d < -1.0 ? -1.0 : d));

@@ -21,29 +21,75 @@
 namespace vkrt::raster {
 
 inline constexpr uint32_t kSubPixelBits = 8;
-inline constexpr uint32_t kMaxLocations = 32;         // user inputs/outputs, 4 x 32-bit components each
+inline constexpr uint32_t kMaxLocations = 32;  // user inputs/outputs, 4 x 32-bit components each
 inline constexpr uint32_t kMaxColorAttachments = 8;
-inline constexpr uint32_t kMaxClipDistances = 8;      // clip + cull distances together
+inline constexpr uint32_t kMaxClipDistances = 8;  // clip + cull distances together
 inline constexpr uint32_t kMaxViewports = 16;
 
 // Enumerations in the numeric order of the Vulkan ones, so the graphics layer converts with a cast.
 enum class CompareOp : uint8_t { Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always };
 enum class StencilOp : uint8_t {
-  Keep, Zero, Replace, IncrementAndClamp, DecrementAndClamp, Invert, IncrementAndWrap, DecrementAndWrap
+  Keep,
+  Zero,
+  Replace,
+  IncrementAndClamp,
+  DecrementAndClamp,
+  Invert,
+  IncrementAndWrap,
+  DecrementAndWrap
 };
 enum class BlendFactor : uint8_t {
-  Zero, One, SrcColor, OneMinusSrcColor, DstColor, OneMinusDstColor, SrcAlpha, OneMinusSrcAlpha, DstAlpha,
-  OneMinusDstAlpha, ConstantColor, OneMinusConstantColor, ConstantAlpha, OneMinusConstantAlpha, SrcAlphaSaturate,
-  Src1Color, OneMinusSrc1Color, Src1Alpha, OneMinusSrc1Alpha
+  Zero,
+  One,
+  SrcColor,
+  OneMinusSrcColor,
+  DstColor,
+  OneMinusDstColor,
+  SrcAlpha,
+  OneMinusSrcAlpha,
+  DstAlpha,
+  OneMinusDstAlpha,
+  ConstantColor,
+  OneMinusConstantColor,
+  ConstantAlpha,
+  OneMinusConstantAlpha,
+  SrcAlphaSaturate,
+  Src1Color,
+  OneMinusSrc1Color,
+  Src1Alpha,
+  OneMinusSrc1Alpha
 };
 enum class BlendOp : uint8_t { Add, Subtract, ReverseSubtract, Min, Max };
 enum class LogicOp : uint8_t {
-  Clear, And, AndReverse, Copy, AndInverted, NoOp, Xor, Or, Nor, Equivalent, Invert, OrReverse, CopyInverted,
-  OrInverted, Nand, Set
+  Clear,
+  And,
+  AndReverse,
+  Copy,
+  AndInverted,
+  NoOp,
+  Xor,
+  Or,
+  Nor,
+  Equivalent,
+  Invert,
+  OrReverse,
+  CopyInverted,
+  OrInverted,
+  Nand,
+  Set
 };
 enum class Topology : uint8_t {
-  PointList, LineList, LineStrip, TriangleList, TriangleStrip, TriangleFan, LineListWithAdjacency,
-  LineStripWithAdjacency, TriangleListWithAdjacency, TriangleStripWithAdjacency, PatchList
+  PointList,
+  LineList,
+  LineStrip,
+  TriangleList,
+  TriangleStrip,
+  TriangleFan,
+  LineListWithAdjacency,
+  LineStripWithAdjacency,
+  TriangleListWithAdjacency,
+  TriangleStripWithAdjacency,
+  PatchList
 };
 enum class PolygonMode : uint8_t { Fill, Line, Point };
 enum class FrontFace : uint8_t { CounterClockwise, Clockwise };
@@ -60,7 +106,7 @@ enum class Interpolation : uint8_t { Smooth, NoPerspective, Flat };
 struct ColorFormat {
   enum class Kind : uint8_t { UNorm, SNorm, Float, UInt, SInt } kind = Kind::UNorm;
   uint32_t texelBytes = 4;
-  uint8_t componentMask = 0xF;  // the components the format has (R = 1, G = 2, B = 4, A = 8)
+  uint8_t componentMask = 0xF;   // the components the format has (R = 1, G = 2, B = 4, A = 8)
   const void* format = nullptr;  // passed back to decode/encode
   // Texel -> four 32-bit words (floats for UNorm/SNorm/Float/sRGB, integers for UInt/SInt); A = 1 where absent.
   void (*decode)(const void* format, const uint8_t* texel, uint32_t out[4]) = nullptr;
@@ -153,7 +199,8 @@ struct State {
   uint32_t samples = 1;
   uint32_t sampleMask = ~0u;
   bool alphaToCoverage = false, alphaToOne = false;
-  bool sampleShading = false;  // the fragment shader runs once per covered sample (sample shading, or it reads SampleId)
+  bool sampleShading =
+      false;  // the fragment shader runs once per covered sample (sample shading, or it reads SampleId)
 
   bool depthTest = false, depthWrite = false;
   CompareOp depthCompare = CompareOp::Less;
@@ -177,7 +224,7 @@ struct ShadedVertex {
   float position[4];
   float pointSize;
   float clipDistance[kMaxClipDistances];  // the first clipDistanceCount are clip distances, the next cull distances
-  uint32_t* varyings;                      // Draw::varyingCount slots of 4 words
+  uint32_t* varyings;                     // Draw::varyingCount slots of 4 words
 };
 
 // The vertex stage: shades `count` vertices of one instance. `vertexIndex[i]` is the vertex's index (the index
@@ -214,9 +261,9 @@ struct FragmentQuad {
   alignas(16) uint32_t inputs[4][kMaxLocations * 4];  // slot order of FragmentStage::inputs, 4 words each
 
   // Written by the shader:
-  uint32_t killed = 0;          // lanes that discarded (bit i = lane i)
+  uint32_t killed = 0;  // lanes that discarded (bit i = lane i)
   uint32_t sampleMaskOut[4] = {~0u, ~0u, ~0u, ~0u};
-  float depth[4];               // FragDepth, read when FragmentStage::writesDepth
+  float depth[4];                                          // FragDepth, read when FragmentStage::writesDepth
   alignas(16) uint32_t color[4][kMaxColorAttachments][4];  // per lane, per output location, 4 words
   alignas(16) uint32_t color1[4][4];                       // Index 1 output of location 0 (dual-source blending)
 };
@@ -226,8 +273,8 @@ struct FragmentStage {
   // Runs the shader for the quad's lanes: the covered ones, and the helper lanes too when `needsHelpers`. Null: no
   // fragment shader (depth/stencil only; color outputs undefined, nothing written to color).
   void (*shade)(void* user, FragmentQuad& quad, unsigned worker) = nullptr;
-  bool needsHelpers = false;        // derivatives or quad operations: all four lanes run
-  bool writesDepth = false;         // FragDepth
+  bool needsHelpers = false;  // derivatives or quad operations: all four lanes run
+  bool writesDepth = false;   // FragDepth
   bool writesSampleMask = false;
   bool canDiscard = false;          // OpKill, OpTerminateInvocation or OpDemoteToHelperInvocation
   bool earlyFragmentTests = false;  // the EarlyFragmentTests execution mode
@@ -249,7 +296,7 @@ struct Draw {
   uint32_t firstInstance = 0;
   IndexType indexType = IndexType::None;
   const void* indices = nullptr;
-  uint64_t indexBytes = 0;  // bytes readable at `indices`
+  uint64_t indexBytes = 0;    // bytes readable at `indices`
   uint32_t varyingCount = 0;  // = fragment.inputCount
 };
 

@@ -84,7 +84,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindPipeline(VkCommandBuffer commandBuffer, V
            compute    ? "VK_PIPELINE_BIND_POINT_COMPUTE"
            : graphics ? "VK_PIPELINE_BIND_POINT_GRAPHICS"
                       : "VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR",
-           compute ? "compute" : graphics ? "graphics" : "ray tracing");
+           compute    ? "compute"
+           : graphics ? "graphics"
+                      : "ray tracing");
     return;
   }
   // VUID-vkCmdBindPipeline-pipeline-03382

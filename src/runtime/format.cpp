@@ -176,8 +176,9 @@ VkFormatFeatureFlags2 formatFeatures2(VkFormat format) {
 
 bool vertexBufferFormat(VkFormat f) {
   if (f < VK_FORMAT_R8_UNORM || f > VK_FORMAT_R32G32B32A32_SFLOAT) return false;
-  return f != VK_FORMAT_R8_SRGB && f != VK_FORMAT_R8G8_SRGB && f != VK_FORMAT_R8G8B8_SRGB && f != VK_FORMAT_B8G8R8_SRGB &&
-         f != VK_FORMAT_R8G8B8A8_SRGB && f != VK_FORMAT_B8G8R8A8_SRGB && f != VK_FORMAT_A8B8G8R8_SRGB_PACK32;
+  return f != VK_FORMAT_R8_SRGB && f != VK_FORMAT_R8G8_SRGB && f != VK_FORMAT_R8G8B8_SRGB &&
+         f != VK_FORMAT_B8G8R8_SRGB && f != VK_FORMAT_R8G8B8A8_SRGB && f != VK_FORMAT_B8G8R8A8_SRGB &&
+         f != VK_FORMAT_A8B8G8R8_SRGB_PACK32;
 }
 
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {

@@ -46,9 +46,9 @@ const FormatInfo* formatInfo(VkFormat format);
 // Format features vkrt supports for optimal/linear tiling and buffers (identical for both tilings).
 VkFormatFeatureFlags formatFeatures(VkFormat format);
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format);
-// Whether `format` is a vertex buffer format (VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT): the formats src/gfx/vertex_input.cpp
-// converts, every 8/16/32-bit UNORM, SNORM, USCALED, SSCALED, UINT, SINT and SFLOAT format from R8_UNORM to
-// R32G32B32A32_SFLOAT (the packed 8- and 10-bit ones included), sRGB excepted.
+// Whether `format` is a vertex buffer format (VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT): the formats
+// src/gfx/vertex_input.cpp converts, every 8/16/32-bit UNORM, SNORM, USCALED, SSCALED, UINT, SINT and SFLOAT format
+// from R8_UNORM to R32G32B32A32_SFLOAT (the packed 8- and 10-bit ones included), sRGB excepted.
 bool vertexBufferFormat(VkFormat format);
 // The image features as VkFormatProperties3 reports them: formatFeatures() and the bits only VkFormatFeatureFlags2
 // has (STORAGE_READ/WRITE_WITHOUT_FORMAT on every storage format).

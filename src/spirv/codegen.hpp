@@ -218,9 +218,9 @@ class Codegen {
     spv::StorageClass storage;
     uint64_t offset = 0;  // Private: in the private block; Workgroup: in workgroup memory
     uint64_t size = 0;
-    int slot = -1;          // buffers: resource slot
-    int builtIn = -1;       // Input
-    int contextField = -1;  // a pointer the runtime provides: offset of {pointer, uint64 bytes} in RayInvocation
+    int slot = -1;           // buffers: resource slot
+    int builtIn = -1;        // Input
+    int contextField = -1;   // a pointer the runtime provides: offset of {pointer, uint64 bytes} in RayInvocation
     int graphicsField = -1;  // a vertex / fragment built-in variable: its offset in the GraphicsInvocation
     bool inPrivate = false;  // a vertex / fragment Input or Output variable copied through the private block
   };

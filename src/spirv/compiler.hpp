@@ -79,10 +79,10 @@ struct GraphicsStageInfo {
   bool readsSampleId = false;     // SampleId or SamplePosition (or a Sample-decorated input): per-sample shading
   bool canDiscard = false;        // OpKill, OpTerminateInvocation, OpDemoteToHelperInvocation
   bool earlyFragmentTests = false;
-  bool sideEffects = false;       // stores or atomics to buffers or images
-  bool dualSource = false;        // an output with Index 1
+  bool sideEffects = false;  // stores or atomics to buffers or images
+  bool dualSource = false;   // an output with Index 1
   bool writesPointSize = false;
-  uint32_t clipDistances = 0;     // ClipDistance array size
+  uint32_t clipDistances = 0;  // ClipDistance array size
   uint32_t cullDistances = 0;
 };
 

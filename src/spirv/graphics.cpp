@@ -152,7 +152,8 @@ void noteLocation(std::map<uint32_t, GraphicsStageInfo::Location>& table, uint32
 // a struct its members in order, a member's own Location restarting the count.
 class InterfaceWalk {
  public:
-  InterfaceWalk(Codegen& g, const Instruction& var, bool input, int slotsField, std::map<uint32_t, GraphicsStageInfo::Location>& table)
+  InterfaceWalk(Codegen& g, const Instruction& var, bool input, int slotsField,
+                std::map<uint32_t, GraphicsStageInfo::Location>& table)
       : g_(g), var_(var), input_(input), slotsField_(slotsField), table_(table) {}
 
   bool walk(uint32_t typeId, uint64_t priv, uint32_t& location, uint32_t component, const Decorations& outer,
@@ -354,7 +355,8 @@ llvm::Value* field(Codegen& g, size_t offset) { return g.b.CreateConstGEP1_64(g.
 
 llvm::Value* Codegen::helperLane() {
   if (!isFragment()) return b.getFalse();
-  llvm::Value* h = b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(GraphicsInvocation, helper)), llvm::Align(4));
+  llvm::Value* h =
+      b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(GraphicsInvocation, helper)), llvm::Align(4));
   return b.CreateICmpNE(h, i32(0));
 }
 
@@ -379,8 +381,8 @@ void Codegen::quadExchange(llvm::Value* v, llvm::Value* out[4]) {
   info.graphics.needsQuad = true;
   llvm::Value* parityAt = field(*this, offsetof(GraphicsInvocation, quadParity));
   llvm::Value* parity = b.CreateAlignedLoad(b.getInt32Ty(), parityAt, llvm::Align(4));
-  llvm::Value* lane = b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)),
-                                          llvm::Align(4));
+  llvm::Value* lane =
+      b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)), llvm::Align(4));
   auto area = [&] {
     llvm::Value* exchange =
         b.CreateAlignedLoad(b.getPtrTy(), field(*this, offsetof(InvocationContext, workgroupMemory)), llvm::Align(8));
@@ -410,9 +412,9 @@ void Codegen::derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::V
     *dy = b.CreateFSub(q[2], q[0]);
     return;
   }
-  llvm::Value* lane = b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)),
-                                          llvm::Align(4));
-  llvm::Value* odd = b.CreateICmpNE(b.CreateAnd(lane, i32(2)), i32(0));   // the bottom row
+  llvm::Value* lane =
+      b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)), llvm::Align(4));
+  llvm::Value* odd = b.CreateICmpNE(b.CreateAnd(lane, i32(2)), i32(0));    // the bottom row
   llvm::Value* right = b.CreateICmpNE(b.CreateAnd(lane, i32(1)), i32(0));  // the right column
   *dx = b.CreateSelect(odd, b.CreateFSub(q[3], q[2]), b.CreateFSub(q[1], q[0]));
   *dy = b.CreateSelect(right, b.CreateFSub(q[3], q[1]), b.CreateFSub(q[2], q[0]));
@@ -448,8 +450,9 @@ bool Codegen::graphics(const Instruction& in, bool& ok) {
         return (ok = fail(in, "derivative of a value that is not a float scalar or vector")), true;
       // The exchange carries 32-bit floats.
       llvm::Type* ty = v->getType();
-      llvm::Type* f32 = ty->isVectorTy() ? llvm::FixedVectorType::get(b.getFloatTy(), componentCount(m.typeOf(in.word(3))))
-                                         : b.getFloatTy();
+      llvm::Type* f32 = ty->isVectorTy()
+                            ? llvm::FixedVectorType::get(b.getFloatTy(), componentCount(m.typeOf(in.word(3))))
+                            : b.getFloatTy();
       llvm::Value* x = b.CreateFPCast(v, f32);
       bool coarse = in.op == spv::OpDPdxCoarse || in.op == spv::OpDPdyCoarse || in.op == spv::OpFwidthCoarse;
       llvm::Value *dx, *dy;
@@ -497,8 +500,8 @@ bool Codegen::graphics(const Instruction& in, bool& ok) {
         index = b.CreateAnd(b.CreateZExtOrTrunc(sel, b.getInt32Ty()), i32(3));
       } else {
         // Direction 0: horizontal (lane ^ 1), 1: vertical (lane ^ 2), 2: diagonal (lane ^ 3).
-        llvm::Value* lane = b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)),
-                                                llvm::Align(4));
+        llvm::Value* lane =
+            b.CreateAlignedLoad(b.getInt32Ty(), field(*this, offsetof(InvocationContext, localIndex)), llvm::Align(4));
         llvm::Value* d = b.CreateZExtOrTrunc(sel, b.getInt32Ty());
         index = b.CreateXor(lane, b.CreateAdd(d, i32(1)));
         index = b.CreateAnd(index, i32(3));

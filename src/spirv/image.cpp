@@ -300,7 +300,8 @@ bool Codegen::image(const Instruction& in, bool& ok) {
         llvm::Value *dx = gradX, *dy = gradY;
         if (implicitHere) {
           unsigned n = componentCount(m.typeOf(coordId));
-          llvm::Type* f32 = n > 1 ? static_cast<llvm::Type*>(llvm::FixedVectorType::get(b.getFloatTy(), n)) : b.getFloatTy();
+          llvm::Type* f32 =
+              n > 1 ? static_cast<llvm::Type*>(llvm::FixedVectorType::get(b.getFloatTy(), n)) : b.getFloatTy();
           derivatives(b.CreateFPCast(coord, f32), false, &dx, &dy);
         }
         llvm::Value* biasValue = bias ? b.CreateFPCast(bias, b.getFloatTy()) : nan;
@@ -309,7 +310,9 @@ bool Codegen::image(const Instruction& in, bool& ok) {
                      {imgRec, smpRec, coords, toWords(*this, dx, true), toWords(*this, dy, true), biasValue, out});
       } else {
         // An explicit Lod; implicit LOD outside fragment shaders is level 0 (plus the Bias operand).
-        llvm::Value* level = lod ? lod : bias ? bias : static_cast<llvm::Value*>(llvm::ConstantFP::get(b.getFloatTy(), 0.0));
+        llvm::Value* level = lod    ? lod
+                             : bias ? bias
+                                    : static_cast<llvm::Value*>(llvm::ConstantFP::get(b.getFloatTy(), 0.0));
         if (!lod && in.op == spv::OpImageSampleExplicitLod)
           return (ok = fail(in, "explicit-LOD sampling without Lod or Grad")), true;
         b.CreateCall(runtimeFn(*this, "vkrt_image_sample", b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),

@@ -108,8 +108,8 @@ void Codegen::returnIfStopped() {
   llvm::Value* stop = nullptr;
   if (model == spv::ExecutionModelFragment) {
     // A callee killed the fragment (OpKill / OpTerminateInvocation; a demoted one goes on).
-    llvm::Value* status = b.CreateAlignedLoad(
-        b.getInt32Ty(), ctxAt(*this, offsetof(abi::GraphicsInvocation, status)), llvm::Align(4));
+    llvm::Value* status =
+        b.CreateAlignedLoad(b.getInt32Ty(), ctxAt(*this, offsetof(abi::GraphicsInvocation, status)), llvm::Align(4));
     stop = b.CreateICmpEQ(status, i32(abi::kFragmentKilled));
   } else {
     if (model != spv::ExecutionModelAnyHitKHR && model != spv::ExecutionModelIntersectionKHR) return;

@@ -36,12 +36,15 @@ TEST_F(DrawBasicTest, TriangleWithInterpolatedColors) {
   ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
   const V tri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
   HostBuffer vb = vertexBuffer(tri, sizeof tri);
-  auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    VkDeviceSize off = 0;
-    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-    vkCmdDraw(cb, 3, 1, 0, 0);
-  }, 0xFF202020u);
+  auto pixels = render(
+      color, nullptr,
+      [&](VkCommandBuffer cb) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        VkDeviceSize off = 0;
+        vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+        vkCmdDraw(cb, 3, 1, 0, 0);
+      },
+      0xFF202020u);
   EXPECT_EQ(compareTriangles(pixels, {{tri[0], tri[1], tri[2]}}, 0xFF202020u), 0);
   // Some pixels are covered and some are not (the reference is not trivially all background).
   int covered = 0;
@@ -61,12 +64,12 @@ TEST_F(DrawBasicTest, IndexedUint16AndUint32WithOffsets) {
   ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
   // Vertices 0..3: a quad on the left (red); 4..7: a quad on the right (green). Two unused vertices first, so
   // that vertexOffset 2 is needed.
-  const V verts[10] = {{0, 0, 0, 0, 0, 0},          {0, 0, 0, 0, 0, 0},          {-0.9f, -0.9f, 1, 0, 0, 1},
-                       {-0.1f, -0.9f, 1, 0, 0, 1},  {-0.1f, 0.9f, 1, 0, 0, 1},   {-0.9f, 0.9f, 1, 0, 0, 1},
-                       {0.1f, -0.5f, 0, 1, 0, 1},   {0.9f, -0.5f, 0, 1, 0, 1},   {0.9f, 0.5f, 0, 1, 0, 1},
+  const V verts[10] = {{0, 0, 0, 0, 0, 0},         {0, 0, 0, 0, 0, 0},        {-0.9f, -0.9f, 1, 0, 0, 1},
+                       {-0.1f, -0.9f, 1, 0, 0, 1}, {-0.1f, 0.9f, 1, 0, 0, 1}, {-0.9f, 0.9f, 1, 0, 0, 1},
+                       {0.1f, -0.5f, 0, 1, 0, 1},  {0.9f, -0.5f, 0, 1, 0, 1}, {0.9f, 0.5f, 0, 1, 0, 1},
                        {0.1f, 0.5f, 0, 1, 0, 1}};
   HostBuffer vb = vertexBuffer(verts, sizeof verts);
-  const uint16_t idx16[] = {7, 7, 0, 1, 2, 0, 2, 3};        // firstIndex 2
+  const uint16_t idx16[] = {7, 7, 0, 1, 2, 0, 2, 3};  // firstIndex 2
   const uint32_t idx32[] = {4, 5, 6, 4, 6, 7};
   HostBuffer ib16 = vertexBuffer(idx16, sizeof idx16, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   HostBuffer ib32 = vertexBuffer(idx32, sizeof idx32, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
@@ -80,9 +83,8 @@ TEST_F(DrawBasicTest, IndexedUint16AndUint32WithOffsets) {
     vkCmdDrawIndexed(cb, 6, 1, 0, 2, 0);
   });
   const V* q = verts + 2;
-  EXPECT_EQ(compareTriangles(pixels,
-                             {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}, {q[4], q[5], q[6]}, {q[4], q[6], q[7]}}, 0,
-                             false),
+  EXPECT_EQ(compareTriangles(pixels, {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}, {q[4], q[5], q[6]}, {q[4], q[6], q[7]}},
+                             0, false),
             0);
   EXPECT_EQ(pixels[16 * kW + 4], 0xFF0000FFu);   // red quad
   EXPECT_EQ(pixels[16 * kW + 27], 0xFF00FF00u);  // green quad
@@ -104,9 +106,8 @@ TEST_F(DrawBasicTest, InstancedWithPerInstanceAttributes) {
   d.fsBytes = sizeof kSpv_draw_color_frag;
   d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 12, VK_VERTEX_INPUT_RATE_INSTANCE}};
   // Per instance: vec2 offset (float) and an RGBA8 UNORM color at byte 8.
-  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0},
-                  {2, 1, VK_FORMAT_R32G32_SFLOAT, 0},
-                  {3, 1, VK_FORMAT_R8G8B8A8_UNORM, 8}};
+  d.attributes = {
+      {0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {2, 1, VK_FORMAT_R32G32_SFLOAT, 0}, {3, 1, VK_FORMAT_R8G8B8A8_UNORM, 8}};
   VkPipeline pipeline;
   ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
   const float tri[6] = {-0.3f, -0.3f, 0.3f, -0.3f, 0.0f, 0.3f};

@@ -210,8 +210,10 @@ TEST_F(DrawDynamicStateTest, PrimitiveRestartEnable) {
       strip.clear();
     };
     for (uint16_t i : idx) {
-      if (restart && i == 0xFFFF) flush();
-      else strip.push_back(i);
+      if (restart && i == 0xFFFF)
+        flush();
+      else
+        strip.push_back(i);
     }
     flush();
     EXPECT_EQ(compareTriangles(pixels, tris, 0, false), 0) << "restart " << restart;
@@ -239,8 +241,14 @@ TEST_F(DrawDynamicStateTest, ViewportAndScissorWithCount) {
 TEST_F(DrawDynamicStateTest, ViewportScissorAndBlendConstants) {
   PipelineDesc d = desc({VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_BLEND_CONSTANTS});
   // Color = src * CONSTANT_COLOR: the blend constants scale the rectangle's white.
-  d.blend = {VK_TRUE, VK_BLEND_FACTOR_CONSTANT_COLOR, VK_BLEND_FACTOR_ZERO, VK_BLEND_OP_ADD,
-             VK_BLEND_FACTOR_CONSTANT_ALPHA, VK_BLEND_FACTOR_ZERO, VK_BLEND_OP_ADD, 0xF};
+  d.blend = {VK_TRUE,
+             VK_BLEND_FACTOR_CONSTANT_COLOR,
+             VK_BLEND_FACTOR_ZERO,
+             VK_BLEND_OP_ADD,
+             VK_BLEND_FACTOR_CONSTANT_ALPHA,
+             VK_BLEND_FACTOR_ZERO,
+             VK_BLEND_OP_ADD,
+             0xF};
   VkPipeline p = make(d);
   const Rect r{-0.5f, -0.5f, 0.5f, 0.5f, 0.5f, 0xFFFFFFFFu};
   VkBuffer vb = rects({r});
@@ -260,8 +268,8 @@ TEST_F(DrawDynamicStateTest, ViewportScissorAndBlendConstants) {
 }
 
 TEST_F(DrawDynamicStateTest, DepthTestWriteAndCompareOp) {
-  VkPipeline p = make(desc({VK_DYNAMIC_STATE_DEPTH_TEST_ENABLE, VK_DYNAMIC_STATE_DEPTH_WRITE_ENABLE,
-                            VK_DYNAMIC_STATE_DEPTH_COMPARE_OP}));
+  VkPipeline p = make(desc(
+      {VK_DYNAMIC_STATE_DEPTH_TEST_ENABLE, VK_DYNAMIC_STATE_DEPTH_WRITE_ENABLE, VK_DYNAMIC_STATE_DEPTH_COMPARE_OP}));
   const Rect nearRect{-0.75f, -0.75f, 0.25f, 0.25f, 0.25f, kRed}, farRect{-0.25f, -0.25f, 0.75f, 0.75f, 0.75f, kGreen};
   VkBuffer vb = rects({nearRect, farRect});
   struct Case {
@@ -269,10 +277,10 @@ TEST_F(DrawDynamicStateTest, DepthTestWriteAndCompareOp) {
     VkCompareOp op;
     std::vector<Rect> expect;  // painted in order
   } cases[] = {
-      {VK_FALSE, VK_TRUE, VK_COMPARE_OP_LESS, {nearRect, farRect}},          // no test: draw order
-      {VK_TRUE, VK_TRUE, VK_COMPARE_OP_LESS, {farRect, nearRect}},           // the nearer wins
-      {VK_TRUE, VK_FALSE, VK_COMPARE_OP_LESS, {nearRect, farRect}},          // nothing written: both pass vs 1.0
-      {VK_TRUE, VK_TRUE, VK_COMPARE_OP_GREATER, {}},                         // nothing is farther than 1.0
+      {VK_FALSE, VK_TRUE, VK_COMPARE_OP_LESS, {nearRect, farRect}},  // no test: draw order
+      {VK_TRUE, VK_TRUE, VK_COMPARE_OP_LESS, {farRect, nearRect}},   // the nearer wins
+      {VK_TRUE, VK_FALSE, VK_COMPARE_OP_LESS, {nearRect, farRect}},  // nothing written: both pass vs 1.0
+      {VK_TRUE, VK_TRUE, VK_COMPARE_OP_GREATER, {}},                 // nothing is farther than 1.0
       {VK_TRUE, VK_TRUE, VK_COMPARE_OP_ALWAYS, {nearRect, farRect}},
   };
   for (const Case& c : cases) {
@@ -316,9 +324,9 @@ TEST_F(DrawDynamicStateTest, DepthBoundsTestEnableAndBounds) {
 }
 
 TEST_F(DrawDynamicStateTest, StencilTestEnableOpAndReference) {
-  PipelineDesc d = desc({VK_DYNAMIC_STATE_STENCIL_TEST_ENABLE, VK_DYNAMIC_STATE_STENCIL_OP,
-                         VK_DYNAMIC_STATE_STENCIL_REFERENCE, VK_DYNAMIC_STATE_STENCIL_COMPARE_MASK,
-                         VK_DYNAMIC_STATE_STENCIL_WRITE_MASK});
+  PipelineDesc d =
+      desc({VK_DYNAMIC_STATE_STENCIL_TEST_ENABLE, VK_DYNAMIC_STATE_STENCIL_OP, VK_DYNAMIC_STATE_STENCIL_REFERENCE,
+            VK_DYNAMIC_STATE_STENCIL_COMPARE_MASK, VK_DYNAMIC_STATE_STENCIL_WRITE_MASK});
   VkPipeline p = make(d);
   const Rect mask{-0.5f, -0.5f, 0.5f, 0.0f, 0.5f, kRed}, full{-1, -1, 1, 1, 0.4f, kGreen};
   VkBuffer vb = rects({mask, full});
@@ -361,8 +369,9 @@ TEST_F(DrawDynamicStateTest, RasterizerDiscardEnable) {
 }
 
 TEST_F(DrawDynamicStateTest, DepthBiasEnableAndDepthBias) {
-  PipelineDesc d = desc({VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE, VK_DYNAMIC_STATE_DEPTH_BIAS, VK_DYNAMIC_STATE_DEPTH_TEST_ENABLE,
-                         VK_DYNAMIC_STATE_DEPTH_WRITE_ENABLE, VK_DYNAMIC_STATE_DEPTH_COMPARE_OP});
+  PipelineDesc d =
+      desc({VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE, VK_DYNAMIC_STATE_DEPTH_BIAS, VK_DYNAMIC_STATE_DEPTH_TEST_ENABLE,
+            VK_DYNAMIC_STATE_DEPTH_WRITE_ENABLE, VK_DYNAMIC_STATE_DEPTH_COMPARE_OP});
   VkPipeline p = make(d);
   // Two rectangles at the same depth 0.5; the second passes LESS only when a negative bias moves it nearer ("Depth
   // Bias": o = m * slopeFactor + r * constantFactor, r at most 2^-23 relative to 0.5 for any depth format: 1000 r is

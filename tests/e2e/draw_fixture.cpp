@@ -143,8 +143,9 @@ std::vector<uint32_t> DrawTest::render(const Target& color, const Target* depth,
     if (!t) continue;
     VkImageMemoryBarrier& b = barriers[k];
     b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-    b.dstAccessMask = k == 0 ? VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT
-                             : VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    b.dstAccessMask = k == 0
+                          ? VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT
+                          : VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
     b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     b.newLayout = k == 0 ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
     b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
@@ -250,15 +251,16 @@ int DrawTest::compareTriangles(const std::vector<uint32_t>& pixels, const std::v
         if (cov < 0) known = false;
         if (cov == 1) {
           known = true;
-          const auto c = smooth ? interpolate(t[0], t[1], t[2], px, py)
-                                : std::array<double, 4>{t[0].r, t[0].g, t[0].b, t[0].a};
+          const auto c =
+              smooth ? interpolate(t[0], t[1], t[2], px, py) : std::array<double, 4>{t[0].r, t[0].g, t[0].b, t[0].a};
           want = rgba8(c[0], c[1], c[2], c[3]);
         }
       }
       if (!known) continue;
       const uint32_t got = pixels[py * kW + px];
       if (!near(got, want)) {
-        if (++bad <= 5) ADD_FAILURE() << "pixel (" << px << ", " << py << "): got 0x" << std::hex << got << ", want 0x" << want;
+        if (++bad <= 5)
+          ADD_FAILURE() << "pixel (" << px << ", " << py << "): got 0x" << std::hex << got << ", want 0x" << want;
       }
     }
   }

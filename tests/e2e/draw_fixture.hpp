@@ -67,8 +67,14 @@ class DrawTest : public VulkanTest {
     VkBool32 depthBiasEnable = VK_FALSE;
     float depthBiasConstant = 0;
     VkPipelineDepthStencilStateCreateInfo depthStencil{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    VkPipelineColorBlendAttachmentState blend{VK_FALSE, VK_BLEND_FACTOR_ONE, VK_BLEND_FACTOR_ZERO, VK_BLEND_OP_ADD,
-                                              VK_BLEND_FACTOR_ONE, VK_BLEND_FACTOR_ZERO, VK_BLEND_OP_ADD, 0xF};
+    VkPipelineColorBlendAttachmentState blend{VK_FALSE,
+                                              VK_BLEND_FACTOR_ONE,
+                                              VK_BLEND_FACTOR_ZERO,
+                                              VK_BLEND_OP_ADD,
+                                              VK_BLEND_FACTOR_ONE,
+                                              VK_BLEND_FACTOR_ZERO,
+                                              VK_BLEND_OP_ADD,
+                                              0xF};
     float blendConstants[4] = {0, 0, 0, 0};
     std::vector<VkDynamicState> dynamic;
     bool withDepthStencil = false;  // the rendering info names the depth/stencil format
@@ -87,8 +93,8 @@ class DrawTest : public VulkanTest {
   // Records: barriers to attachment layouts, vkCmdBeginRendering (color cleared to `clear`, depth to 1, stencil to
   // 0), `draw`, vkCmdEndRendering, and a copy of the color target to a host buffer; submits, waits and returns the
   // pixels (RGBA8 as uint32_t, row-major). `depth` may be null.
-  std::vector<uint32_t> render(const Target& color, const Target* depth, const std::function<void(VkCommandBuffer)>& draw,
-                               uint32_t clear = 0);
+  std::vector<uint32_t> render(const Target& color, const Target* depth,
+                               const std::function<void(VkCommandBuffer)>& draw, uint32_t clear = 0);
 
   HostBuffer vertexBuffer(const void* data, size_t bytes,
                           VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT) {

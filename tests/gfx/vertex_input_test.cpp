@@ -20,7 +20,7 @@ enum class Kind { UNorm, SNorm, UScaled, SScaled, UInt, SInt, SFloat };
 struct Ref {
   VkFormat format;
   int components;
-  int bits;   // per component (10-bit packs: R, G, B; A has 2)
+  int bits;  // per component (10-bit packs: R, G, B; A has 2)
   Kind kind;
   const char* order;  // memory order of the components ("RGBA", "BGRA"), or "PACK8" / "PACK_ARGB" / "PACK_ABGR"
 };
@@ -130,7 +130,8 @@ TEST(GfxVertexFormat, ConversionMatchesTheSpecFormulas) {
         const uint64_t range = 1ull << componentBits[c];
         raw[c] = uint32_t(rng() % range);
         // Extremes often: 0, 1, max, the sign boundary.
-        if (trial < 4) raw[c] = uint32_t(trial == 0 ? 0 : trial == 1 ? range - 1 : trial == 2 ? range / 2 : range / 2 + 1);
+        if (trial < 4)
+          raw[c] = uint32_t(trial == 0 ? 0 : trial == 1 ? range - 1 : trial == 2 ? range / 2 : range / 2 + 1);
       }
       if (!packed) {
         for (int c = 0; c < r.components; ++c) {

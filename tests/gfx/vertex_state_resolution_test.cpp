@@ -56,26 +56,42 @@ int takenFromDynamic(uint32_t bit, const raster::State& r) {
   auto pick = [](bool dyn, bool stat) { return dyn ? 1 : stat ? 0 : -1; };
   switch (bit) {
     case kDynViewport:
-    case kDynViewportWithCount: return pick(r.viewports[0].x == 1 && r.viewports[0].maxDepth == 0.75f, r.viewports[0].width == 10);
+    case kDynViewportWithCount:
+      return pick(r.viewports[0].x == 1 && r.viewports[0].maxDepth == 0.75f, r.viewports[0].width == 10);
     case kDynScissor:
-    case kDynScissorWithCount: return pick(r.scissors[0].x == 3 && r.scissors[0].height == 6, r.scissors[0].width == 10);
+    case kDynScissorWithCount:
+      return pick(r.scissors[0].x == 3 && r.scissors[0].height == 6, r.scissors[0].width == 10);
     case kDynLineWidth: return pick(r.lineWidth == 2, r.lineWidth == 1);
-    case kDynDepthBias: return pick(r.depthBiasConstant == 7 && r.depthBiasClamp == 8 && r.depthBiasSlope == 9, r.depthBiasConstant == 1 && r.depthBiasSlope == 3);
+    case kDynDepthBias:
+      return pick(r.depthBiasConstant == 7 && r.depthBiasClamp == 8 && r.depthBiasSlope == 9,
+                  r.depthBiasConstant == 1 && r.depthBiasSlope == 3);
     case kDynBlendConstants: return pick(r.blendConstants[0] == 0.5f, r.blendConstants[0] == 0.25f);
-    case kDynDepthBounds: return pick(r.minDepthBounds == 0.2f && r.maxDepthBounds == 0.3f, r.minDepthBounds == 0.1f && r.maxDepthBounds == 0.9f);
-    case kDynStencilCompareMask: return pick(r.front.compareMask == 11 && r.back.compareMask == 12, r.front.compareMask == 1 && r.back.compareMask == 2);
-    case kDynStencilWriteMask: return pick(r.front.writeMask == 13 && r.back.writeMask == 14, r.front.writeMask == 3 && r.back.writeMask == 4);
-    case kDynStencilReference: return pick(r.front.reference == 15 && r.back.reference == 16, r.front.reference == 5 && r.back.reference == 6);
+    case kDynDepthBounds:
+      return pick(r.minDepthBounds == 0.2f && r.maxDepthBounds == 0.3f,
+                  r.minDepthBounds == 0.1f && r.maxDepthBounds == 0.9f);
+    case kDynStencilCompareMask:
+      return pick(r.front.compareMask == 11 && r.back.compareMask == 12,
+                  r.front.compareMask == 1 && r.back.compareMask == 2);
+    case kDynStencilWriteMask:
+      return pick(r.front.writeMask == 13 && r.back.writeMask == 14, r.front.writeMask == 3 && r.back.writeMask == 4);
+    case kDynStencilReference:
+      return pick(r.front.reference == 15 && r.back.reference == 16, r.front.reference == 5 && r.back.reference == 6);
     case kDynCullMode: return pick(r.cullMode == raster::CullFront, r.cullMode == raster::CullBack);
-    case kDynFrontFace: return pick(r.frontFace == raster::FrontFace::Clockwise, r.frontFace == raster::FrontFace::CounterClockwise);
-    case kDynTopology: return pick(r.topology == raster::Topology::TriangleStrip, r.topology == raster::Topology::TriangleList);
+    case kDynFrontFace:
+      return pick(r.frontFace == raster::FrontFace::Clockwise, r.frontFace == raster::FrontFace::CounterClockwise);
+    case kDynTopology:
+      return pick(r.topology == raster::Topology::TriangleStrip, r.topology == raster::Topology::TriangleList);
     case kDynDepthTestEnable: return pick(r.depthTest, !r.depthTest);
     case kDynDepthWriteEnable: return pick(r.depthWrite, !r.depthWrite);
-    case kDynDepthCompareOp: return pick(r.depthCompare == raster::CompareOp::Greater, r.depthCompare == raster::CompareOp::Less);
+    case kDynDepthCompareOp:
+      return pick(r.depthCompare == raster::CompareOp::Greater, r.depthCompare == raster::CompareOp::Less);
     case kDynDepthBoundsTestEnable: return pick(r.depthBoundsTest, !r.depthBoundsTest);
     case kDynStencilTestEnable: return pick(r.stencilTest, !r.stencilTest);
-    case kDynStencilOp: return pick(r.front.failOp == raster::StencilOp::Zero && r.back.passOp == raster::StencilOp::Invert && r.front.compareOp == raster::CompareOp::Equal,
-                                    r.front.failOp == raster::StencilOp::Keep && r.back.passOp == raster::StencilOp::Keep && r.front.compareOp == raster::CompareOp::Always);
+    case kDynStencilOp:
+      return pick(r.front.failOp == raster::StencilOp::Zero && r.back.passOp == raster::StencilOp::Invert &&
+                      r.front.compareOp == raster::CompareOp::Equal,
+                  r.front.failOp == raster::StencilOp::Keep && r.back.passOp == raster::StencilOp::Keep &&
+                      r.front.compareOp == raster::CompareOp::Always);
     case kDynRasterizerDiscardEnable: return pick(r.rasterizerDiscard, !r.rasterizerDiscard);
     case kDynDepthBiasEnable: return pick(r.depthBiasEnable, !r.depthBiasEnable);
     case kDynPrimitiveRestartEnable: return pick(r.primitiveRestart, !r.primitiveRestart);

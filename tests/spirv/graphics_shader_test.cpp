@@ -280,11 +280,11 @@ void runDiscardCases(bool inlineFunctions) {
     bool counted;
   };
   const Case cases[] = {
-      {0, 0, 0, 0, 0, 5, true},                             // runs to its end
-      {1, 1, 0, abi::kFragmentKilled, 0, 0, false},         // discard (OpKill) in a callee
-      {2, 2, 0, abi::kFragmentKilled, 0, 0, false},         // terminateInvocation
-      {3, 3, 0, abi::kFragmentDemoted, 1, 0, false},        // demote: goes on as a helper
-      {0, 4, 1, 0, 1, 0, false},                            // a helper lane from the start
+      {0, 0, 0, 0, 0, 5, true},                       // runs to its end
+      {1, 1, 0, abi::kFragmentKilled, 0, 0, false},   // discard (OpKill) in a callee
+      {2, 2, 0, abi::kFragmentKilled, 0, 0, false},   // terminateInvocation
+      {3, 3, 0, abi::kFragmentDemoted, 1, 0, false},  // demote: goes on as a helper
+      {0, 4, 1, 0, 1, 0, false},                      // a helper lane from the start
   };
   uint32_t count = 0;
   for (const Case& c : cases) {
@@ -507,7 +507,7 @@ TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
     double lambda = std::log2(k);
     for (const Lane& lane : q.lanes) {
       EXPECT_EQ(lane.outF(0, 0), expectedLevel(lambda));
-      EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));  // texture(tex, uv, 1.0)
+      EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));             // texture(tex, uv, 1.0)
       EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
     }
   }
