@@ -7,11 +7,17 @@
 #                               alpha-tested panel, a mirror and shadows) traces N frames presented through a
 #                               headless swapchain, each written by vkrt to build/frames/frame-NNNNNN.png
 #                               (VKRT_PRESENT_DIR); the last one also to build/scene.png
+#   tools/demo.sh --hybrid      hybrid (a rasterized scene whose fragment shader finds shadows with ray queries, grid
+#                               lines from derivatives, a blended overlay), 800x600, checked against its CPU
+#                               reference: build/hybrid.png
 set -euo pipefail
 frames=0
-if [ $# -gt 0 ]; then
+hybrid=0
+if [ $# -eq 1 ] && [ "$1" = "--hybrid" ]; then
+  hybrid=1
+elif [ $# -gt 0 ]; then
   if [ $# -ne 2 ] || [ "$1" != "--present" ] || ! [ "$2" -ge 1 ] 2>/dev/null; then
-    echo "usage: tools/demo.sh [--present N]" >&2
+    echo "usage: tools/demo.sh [--present N | --hybrid]" >&2
     exit 2
   fi
   frames=$2
@@ -23,7 +29,9 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DVKRT_BUILD_TE
   { cat "$root/.configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)"
 export VK_DRIVER_FILES="$build/vkrt_icd.json"
-if [ "$frames" -gt 0 ]; then
+if [ "$hybrid" = 1 ]; then
+  "$build/examples/hybrid" --width 800 --height 600 --check --out "$build/hybrid.png"
+elif [ "$frames" -gt 0 ]; then
   rm -rf "$build/frames"
   mkdir -p "$build/frames"
   VKRT_PRESENT_DIR="$build/frames" "$build/examples/scene_demo" --width 800 --height 600 --out "$build/scene.png" \
