@@ -1,10 +1,11 @@
 # vkrt_embed_shaders(TARGET out_dir shader... [SPV14 shader...]): compiles each GLSL shader with glslc (Vulkan 1.3),
 # or assembles each SPIR-V assembly file with spirv-as (*.spvasm: SPIR-V 1.0, validated for Vulkan 1.0 with the
 # block layouts VK_KHR_relaxed_block_layout allows; *.spv14.spvasm: SPIR-V 1.4, validated for Vulkan 1.1 with
-# SPIR-V 1.4), and embeds the SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds
-# them all. The GLSL shaders after SPV14 are compiled a second time as SPIR-V 1.4 modules (glslc
-# --target-env=vulkan1.1 --target-spv=spv1.4, what an application written for Vulkan 1.1 with VK_KHR_spirv_1_4
-# ships; unoptimized), embedded as `kSpv14_<identifier>` in <out_dir>/<file>.spv14.spv.h.
+# SPIR-V 1.4; *.newer.spvasm: SPIR-V 1.4 with tokens newer than SPIRV-Tools, left to the driver to validate), and
+# embeds the SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds them all. The GLSL
+# shaders after SPV14 are compiled a second time as SPIR-V 1.4 modules (glslc --target-env=vulkan1.1
+# --target-spv=spv1.4, what an application written for Vulkan 1.1 with VK_KHR_spirv_1_4 ships; unoptimized), embedded
+# as `kSpv14_<identifier>` in <out_dir>/<file>.spv14.spv.h.
 find_program(GLSLC glslc REQUIRED)
 find_program(SPIRV_AS spirv-as REQUIRED)
 find_program(SPIRV_VAL spirv-val REQUIRED)
@@ -37,7 +38,11 @@ function(vkrt_embed_shaders target out_dir)
         set(hdr ${out_dir}/${fname}.spv.h)
         set(symbol kSpv_${ident})
         set(comment "${fname}")
-        if(fname MATCHES "\\.spv14\\.spvasm$")
+        if(fname MATCHES "\\.newer\\.spvasm$")
+          # SPIR-V newer than the installed SPIRV-Tools (raw !words for its tokens, numeric ids that they name):
+          # assembled as SPIR-V 1.4, validated by the driver when the test creates the module.
+          set(build COMMAND ${SPIRV_AS} --target-env spv1.4 --preserve-numeric-ids -o ${spv} ${shader})
+        elseif(fname MATCHES "\\.spv14\\.spvasm$")
           set(build COMMAND ${SPIRV_AS} --target-env spv1.4 -o ${spv} ${shader}
                     COMMAND ${SPIRV_VAL} --target-env vulkan1.1spv1.4 ${spv})
         elseif(fname MATCHES "\\.spvasm$")

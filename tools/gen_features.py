@@ -35,7 +35,10 @@ RENAMES = {("VkPhysicalDeviceSubgroupProperties", "supportedStages"): "subgroupS
 # (struct, sType token, extension, [VkBool32 members]) newer than the installed vk.xml.
 SUPPLEMENT = [("VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT",
                "VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT",
-               "VK_EXT_pipeline_library_group_handles", ["pipelineLibraryGroupHandles"])]
+               "VK_EXT_pipeline_library_group_handles", ["pipelineLibraryGroupHandles"]),
+              ("VkPhysicalDeviceRayTracingPositionFetchFeaturesKHR",
+               "VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_POSITION_FETCH_FEATURES_KHR",
+               "VK_KHR_ray_tracing_position_fetch", ["rayTracingPositionFetch"])]
 
 
 def for_vulkan(elem):

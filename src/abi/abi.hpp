@@ -106,7 +106,8 @@ using ComputeEntry = void (*)(InvocationContext*);
 // RayQueryRuntime::get writes the value of OpRayQueryGet*KHR `op` (the SPIR-V opcode) for the candidate
 // (committed = 0) or the committed intersection (1) at `out` (up to 64 bytes), laid out as the result type in
 // the natural layout: scalars, vectors packed, matrices (ObjectToWorld/WorldToObject: 4 columns of 3 floats)
-// column by column; booleans as a 32-bit 0 or 1.
+// column by column, arrays packed (OpRayQueryGetIntersectionTriangleVertexPositionsKHR: 3 vec3, 36 bytes);
+// booleans as a 32-bit 0 or 1.
 inline constexpr uint64_t kRayQueryStateBytes = 384;
 
 struct RayQueryScope;
@@ -211,6 +212,9 @@ struct RayInvocation {
   uint8_t* shaderRecord;        // 432  ShaderRecordBufferKHR: the record's bytes after the handle
   uint64_t shaderRecordBytes;   // 440
   const RayRuntime* runtime;    // 448
+  // 456  HitTriangleVertexPositionsKHR (any-hit, closest-hit of a triangle hit; SPV_KHR_ray_tracing_position_fetch):
+  // the triangle's three object-space vertices, x, y, z each (an array of 3 vec3 in the natural layout).
+  float hitTriangleVertexPositions[3][3];
 };
 
 static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 &&
@@ -220,6 +224,7 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
                   offsetof(RayInvocation, status) == 292 && offsetof(RayInvocation, objectToWorld) == 304 &&
                   offsetof(RayInvocation, worldToObject) == 352 && offsetof(RayInvocation, incoming) == 400 &&
                   offsetof(RayInvocation, shaderRecord) == 432 && offsetof(RayInvocation, runtime) == 448 &&
+                  offsetof(RayInvocation, hitTriangleVertexPositions) == 456 &&
                   offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16,
               "the compiler bakes these offsets into shader code");
 

@@ -162,7 +162,15 @@ struct HitInfo {
   const float (*worldToObject)[4] = nullptr;
   float objectRayOrigin[3] = {};  // the ray in the instance's object space
   float objectRayDirection[3] = {};
+  const Blas::Impl* blas = nullptr;  // the instance's Blas (valid while the Tlas lives): see trianglePositions
 };
+
+// VK_KHR_ray_tracing_position_fetch (HitTriangleVertexPositionsKHR, OpRayQueryGetIntersectionTriangleVertex-
+// PositionsKHR): the three vertex positions of `hit`'s triangle in object space, as the Blas keeps them (after the
+// build's transform; before the instance's), in the order of its indices. Every Blas keeps its vertices (also
+// through updates, copies, compaction and serialization), whether or not it was built with ALLOW_DATA_ACCESS.
+// Returns false with `out` zeroed when the hit is no triangle of a Blas (a box, no hit).
+bool trianglePositions(const HitInfo& hit, float out[3][3]);
 
 enum class AnyHitResult { Accept, Ignore, AcceptAndTerminate };
 

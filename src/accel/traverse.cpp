@@ -165,6 +165,7 @@ void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t
   h.primitiveIndex = primitive;
   h.objectToWorld = r.objectToWorld;
   h.worldToObject = r.worldToObject;
+  h.blas = r.blas;
   objectRay(r, *ctx.ray, h.objectRayOrigin, h.objectRayDirection);
 }
 
@@ -721,8 +722,22 @@ HitInfo queryHitInfo(const RayQuery& q, bool committed) {
   h.barycentrics[1] = s.barycentrics[1];
   h.objectToWorld = r.objectToWorld;
   h.worldToObject = r.worldToObject;
+  h.blas = r.blas;
   detail::objectRay(r, q.ray, h.objectRayOrigin, h.objectRayDirection);
   return h;
+}
+
+bool trianglePositions(const HitInfo& hit, float out[3][3]) {
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) out[k][c] = 0;
+  if (!hit.blas || !hit.triangle || hit.geometryIndex >= hit.blas->info.size()) return false;
+  const detail::GeometryInfo& g = hit.blas->info[hit.geometryIndex];
+  if (g.kind != Geometry::Triangles || !g.vertices || hit.primitiveIndex >= g.primitiveCount) return false;
+  const uint32_t* index = g.indices + 3 * size_t(hit.primitiveIndex);
+  for (int k = 0; k < 3; ++k)
+    if (index[k] < g.vertexCount)
+      for (int c = 0; c < 3; ++c) out[k][c] = g.vertices[3 * size_t(index[k]) + c];
+  return true;
 }
 
 }  // namespace vkrt::accel

@@ -30,6 +30,7 @@ enum : uint32_t {
   kGetIntersectionObjectToWorld = 6031,
   kGetIntersectionWorldToObject = 6032,
   kGetIntersectionType = 4479,
+  kGetIntersectionTriangleVertexPositions = 5340,  // SPV_KHR_ray_tracing_position_fetch
 };
 
 accel::RayQuery& stateOf(void* query) { return *static_cast<accel::RayQuery*>(query); }
@@ -90,6 +91,12 @@ void get(void* query, uint32_t op, uint32_t committed, void* out) {
       const float(*m)[4] = op == kGetIntersectionObjectToWorld ? h.objectToWorld : h.worldToObject;
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 3; ++r) f[3 * c + r] = m[r][c];
+      return;
+    }
+    case kGetIntersectionTriangleVertexPositions: {  // 3 vec3, packed (zeros for a box)
+      float v[3][3];
+      accel::trianglePositions(h, v);
+      std::memcpy(f, v, sizeof v);
       return;
     }
     default: return;

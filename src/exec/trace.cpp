@@ -182,6 +182,8 @@ void setHit(Invocation& inv, const accel::HitInfo& h) {
       inv.objectToWorld[c][r] = h.objectToWorld ? h.objectToWorld[r][c] : (c == r ? 1.0f : 0.0f);
       inv.worldToObject[c][r] = h.worldToObject ? h.worldToObject[r][c] : (c == r ? 1.0f : 0.0f);
     }
+  // HitTriangleVertexPositionsKHR (zeros for a procedural hit, where the built-in is not allowed).
+  accel::trianglePositions(h, inv.hitTriangleVertexPositions);
 }
 
 // One traceRayEXT: the traversal's HitHandler (any-hit and intersection shaders), then closest-hit or miss.

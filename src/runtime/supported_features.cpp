@@ -157,6 +157,9 @@ constexpr F kSupported[] = {
     // Ray queries in compute and ray tracing shaders (src/spirv/ray_query.cpp, src/exec/ray_query.cpp, accel's
     // queryProceed; tests/e2e ray_query_test.cpp).
     F::rayQuery,
+    // VK_KHR_ray_tracing_position_fetch: a triangle hit's object-space vertices, from the Blas's copy
+    // (accel::trianglePositions), in any-hit and closest-hit shaders and ray queries (tests/e2e PositionFetch*).
+    F::rayTracingPositionFetch,
     // Acceleration structures on src/accel: capture/replay at the buffer's address, indirect and host builds (the
     // device's memory is host memory), update-after-bind descriptors (tests/e2e trace_as_test.cpp).
     F::accelerationStructure,

@@ -28,3 +28,18 @@ typedef struct VkBufferUsageFlags2CreateInfoKHR {
   uint64_t usage;
 } VkBufferUsageFlags2CreateInfoKHR;
 #endif
+
+#ifndef VK_KHR_ray_tracing_position_fetch
+#define VK_KHR_ray_tracing_position_fetch 1
+#define VK_KHR_RAY_TRACING_POSITION_FETCH_SPEC_VERSION 1
+#define VK_KHR_RAY_TRACING_POSITION_FETCH_EXTENSION_NAME "VK_KHR_ray_tracing_position_fetch"
+// Extension number 482: 1000000000 + (482 - 1) * 1000 + 0.
+#define VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_POSITION_FETCH_FEATURES_KHR \
+  static_cast<VkStructureType>(1000481000)
+#define VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_DATA_ACCESS_KHR static_cast<VkBuildAccelerationStructureFlagBitsKHR>(0x800)
+typedef struct VkPhysicalDeviceRayTracingPositionFetchFeaturesKHR {
+  VkStructureType sType;
+  void* pNext;
+  VkBool32 rayTracingPositionFetch;
+} VkPhysicalDeviceRayTracingPositionFetchFeaturesKHR;
+#endif

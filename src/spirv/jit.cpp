@@ -40,6 +40,7 @@
 
 #include "abi/jit_code.hpp"
 #include "spirv/codegen.hpp"
+#include "spirv/newer_tokens.hpp"
 #include "spirv/target.hpp"
 
 // Half-precision conversions: on a CPU without F16C (x86-64-v2 and older; VKRT_JIT_CPU=x86-64-v2 compiles for
@@ -1008,6 +1009,9 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
 
   defineUndefinedShuffleComponents(words);
   keepOnlyEntryPoint(words, req.model, req.entryName);
+  // Tokens Debian's SPIRV-Tools does not know are hidden from its optimizer and put back after it.
+  HiddenTokens hidden;
+  hideNewerTokensForOptimizer(words, &hidden);
   // Freeze specialization constants, fold what depends on them, inline every call into the entry point, drop
   // what it does not use.
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_3);
@@ -1029,6 +1033,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     *error = "SPIRV-Tools optimizer failed: " + optError;
     return nullptr;
   }
+  restoreNewerTokens(optimized, hidden);
 
   Module m;
   if (!m.parse(optimized.data(), optimized.size(), error)) return nullptr;

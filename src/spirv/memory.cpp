@@ -7,6 +7,7 @@
 #include <llvm/IR/MDBuilder.h>
 
 #include "spirv/codegen.hpp"
+#include "spirv/newer_tokens.hpp"
 
 namespace vkrt::spirv {
 
@@ -39,6 +40,7 @@ int builtInOffset(int builtIn, bool rayTracing, uint32_t* size) {
     case spv::BuiltInObjectRayDirectionKHR: return offsetof(RayInvocation, objectRayDirection);
     case spv::BuiltInObjectToWorldKHR: *size = 48; return offsetof(RayInvocation, objectToWorld);
     case spv::BuiltInWorldToObjectKHR: *size = 48; return offsetof(RayInvocation, worldToObject);
+    case kBuiltInHitTriangleVertexPositionsKHR: *size = 36; return offsetof(RayInvocation, hitTriangleVertexPositions);
     default: break;
   }
   *size = 4;

@@ -1,4 +1,5 @@
 #include "spirv/module.hpp"
+#include "spirv/newer_tokens.hpp"
 
 #include <cstdio>
 #include <cstring>
@@ -64,6 +65,7 @@ void setDecoration(Decorations& d, const Instruction& in, uint32_t first) {
 bool hasResult(spv::Op op, bool* hasType) {
   bool r = false, t = false;
   spv::HasResultAndType(op, &r, &t);
+  if (uint32_t(op) == kOpRayQueryGetIntersectionTriangleVertexPositionsKHR) r = t = true;  // newer than spirv.hpp
   *hasType = t;
   return r;
 }

@@ -6,6 +6,7 @@
 #include <llvm/IR/Constants.h>
 
 #include "spirv/codegen.hpp"
+#include "spirv/newer_tokens.hpp"
 
 namespace vkrt::spirv {
 
@@ -38,7 +39,7 @@ bool rayQueryOp(spv::Op op) {
     case spv::OpRayQueryGetWorldRayOriginKHR:
     case spv::OpRayQueryGetIntersectionObjectToWorldKHR:
     case spv::OpRayQueryGetIntersectionWorldToObjectKHR: return true;
-    default: return false;
+    default: return uint32_t(op) == kOpRayQueryGetIntersectionTriangleVertexPositionsKHR;
   }
 }
 
@@ -100,7 +101,8 @@ bool Codegen::rayQuery(const Instruction& in, bool& ok) {
   // Operand 1 (no result) or 3 (with a result) is the query variable.
   const bool hasResult =
       in.op == spv::OpRayQueryProceedKHR || in.op == spv::OpRayQueryGetIntersectionTypeKHR ||
-      (in.op >= spv::OpRayQueryGetRayTMinKHR && in.op <= spv::OpRayQueryGetIntersectionWorldToObjectKHR);
+      (in.op >= spv::OpRayQueryGetRayTMinKHR && in.op <= spv::OpRayQueryGetIntersectionWorldToObjectKHR) ||
+      uint32_t(in.op) == kOpRayQueryGetIntersectionTriangleVertexPositionsKHR;
   const uint32_t queryId = in.word(hasResult ? 3 : 1);
   Ptr& p = ptr(queryId);
   if (!p.base || p.slot >= 0 || !isRayQuery(p.type))

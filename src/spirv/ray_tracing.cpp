@@ -12,6 +12,7 @@
 #include <llvm/IR/Constants.h>
 
 #include "spirv/codegen.hpp"
+#include "spirv/newer_tokens.hpp"
 
 namespace vkrt::spirv {
 
@@ -34,10 +35,13 @@ bool rayTracingOp(spv::Op op) {
 
 bool rayTracingCapability(uint32_t cap) {
   // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads; RayCullMaskKHR
-  // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills.
+  // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills; the
+  // position fetch capabilities (newer_tokens.hpp) the HitTriangleVertexPositionsKHR built-in and
+  // OpRayQueryGetIntersectionTriangleVertexPositionsKHR.
   return cap == spv::CapabilityRayTracingKHR || cap == spv::CapabilityRayTraversalPrimitiveCullingKHR ||
          cap == spv::CapabilityRayCullMaskKHR || cap == spv::CapabilityRayTracingNV ||
-         cap == spv::CapabilityRayQueryKHR;
+         cap == spv::CapabilityRayQueryKHR || cap == kCapabilityRayTracingPositionFetchKHR ||
+         cap == kCapabilityRayQueryPositionFetchKHR;
 }
 
 bool Codegen::isRayTracing() const {
