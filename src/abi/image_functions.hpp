@@ -30,6 +30,12 @@ struct HostSymbol {
 extern "C" {
 // OpImageRead on a storage image.
 void vkrt_image_read(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]);
+// OpImageRead on an input attachment (Dim SubpassData): texel (x, y) of layer `layer` (relative to the view's base
+// layer) of the view's first mip, sample `sample` of a multisampled image (sample 0 otherwise); zeros outside the
+// view or past its samples. No swizzle: input attachment views have the identity swizzle (the spec's
+// VUID-VkWriteDescriptorSet-descriptorType-00336 wants identity component mapping for them).
+void vkrt_image_read_subpass(const vkrt::abi::DescriptorRecord* img, int32_t x, int32_t y, int32_t layer,
+                             int32_t sample, uint32_t out[4]);
 // OpImageWrite on a storage image.
 void vkrt_image_write(const vkrt::abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]);
 // OpImageTexelPointer (image atomics): the address of texel `coord` of a storage image's first mip, or null when

@@ -73,7 +73,10 @@ bool viewFits(Device* dev, const RenderPass& pass, const VkFramebufferCreateInfo
                      : e.width < ci.width                                   ? "VUID-VkFramebufferCreateInfo-flags-04533"
                      : e.height < ci.height                                 ? "VUID-VkFramebufferCreateInfo-flags-04534"
                      : !pass.multiview() && v->range.layerCount < ci.layers ? "VUID-VkFramebufferCreateInfo-flags-04535"
-                                                                            : nullptr;
+                     // VUID-VkFramebufferCreateInfo-renderPass-04536: layers for every view
+                     : pass.used(i) && v->range.layerCount < pass.viewLayers()
+                         ? "VUID-VkFramebufferCreateInfo-renderPass-04536"
+                         : nullptr;
   if (vuid) {
     report(dev, Severity::Error, vuid,
            "%s: pAttachments[%u] (format %d, %u samples, %u levels, usage 0x%x, %ux%u, %u layers) does not fit "
@@ -135,6 +138,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateFramebuffer(VkDevice device, const VkF
              fn, dev->enabled(Feature::imagelessFramebuffer) ? "enabled" : "not enabled", a ? "a" : "no",
              a ? a->attachmentImageInfoCount : 0, ci.attachmentCount);
       return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkFramebufferCreateInfo-renderPass-03198: with multiview, layers for every view
+    for (uint32_t i = 0; i < ci.attachmentCount; ++i) {
+      if (pass->used(i) && a->pAttachmentImageInfos[i].layerCount < pass->viewLayers()) {
+        report(dev, Severity::Error, "VUID-VkFramebufferCreateInfo-renderPass-03198",
+               "%s: pAttachmentImageInfos[%u].layerCount %u, but the render pass's view masks need %u layers", fn, i,
+               a->pAttachmentImageInfos[i].layerCount, pass->viewLayers());
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
     }
   } else {
     for (uint32_t i = 0; i < ci.attachmentCount; ++i)

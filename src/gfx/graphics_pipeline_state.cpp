@@ -434,6 +434,17 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
       findInChain<VkPipelineRenderingCreateInfo>(ci.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
   const uint32_t count = ri ? ri->colorAttachmentCount : 0;
   p->viewMask = ri ? ri->viewMask : 0;
+  // VUID-VkGraphicsPipelineCreateInfo-multiview-06577, renderPass-06578: a view mask needs the multiview feature
+  // and view indices below maxMultiviewViewCount
+  const uint32_t maxViews = dev->physicalDevice->properties11.maxMultiviewViewCount;
+  if (p->viewMask && (!dev->enabled(Feature::multiview) || p->viewMask >> maxViews)) {
+    report(dev, Severity::Error,
+           !dev->enabled(Feature::multiview) ? "VUID-VkGraphicsPipelineCreateInfo-multiview-06577"
+                                             : "VUID-VkGraphicsPipelineCreateInfo-renderPass-06578",
+           "%s: VkPipelineRenderingCreateInfo::viewMask 0x%x (multiview %s, maxMultiviewViewCount %u)", what,
+           p->viewMask, dev->enabled(Feature::multiview) ? "enabled" : "not enabled", maxViews);
+    return false;
+  }
   if (!rasterizes) return true;
   // VUID-VkGraphicsPipelineCreateInfo-renderPass-06055
   if (blendCount != count || count > raster::kMaxColorAttachments) {

@@ -173,6 +173,18 @@ raster::Target buildTarget(const PassInstance& p, uint32_t si) {
   t.renderArea = {p.renderArea.offset.x, p.renderArea.offset.y, p.renderArea.extent.width, p.renderArea.extent.height};
   t.samples = sp.samples;
   t.viewMask = sp.viewMask;
+  // Views past an attachment's layers render nowhere (the raster writes the layer of each view unchecked). Valid use
+  // never has them: VUID-VkFramebufferCreateInfo-renderPass-04536/03198 for render passes; dynamic rendering's views
+  // in the attachments' layers is the application's duty ("Dynamic Render Pass Instances"), unchecked here.
+  auto keep = [&](const raster::Surface& s) {
+    if (s.base && s.layers < 32) t.viewMask &= (1u << s.layers) - 1;
+  };
+  if (t.viewMask) {
+    for (uint32_t c = 0; c < t.colorCount; ++c) keep(t.color[c]);
+    keep(t.depthStencil.depth);
+    keep(t.depthStencil.stencil);
+    if (!t.viewMask) t.renderArea.width = t.renderArea.height = 0;  // no view left: draws cover nothing
+  }
   return t;
 }
 

@@ -92,7 +92,7 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
     }
   }
   // VUID-VkSubpassDescription2-multiview-06558 / VkRenderPassMultiviewCreateInfo-multiview-06555: view masks need
-  // the multiview feature (not advertised until draws render per view: docs/graphics-passes.md)
+  // the multiview feature
   if (ci.subpassCount && ci.pSubpasses[0].viewMask && !dev->enabled(Feature::multiview)) {
     report(dev, Severity::Error,
            v.fn == kV1.fn ? "VUID-VkRenderPassMultiviewCreateInfo-multiview-06555"
@@ -100,6 +100,19 @@ VkResult createPass(Device* dev, const VkRenderPassCreateInfo2& ci, const PassVu
            "%s: subpass 0 has view mask 0x%x, but the multiview feature is not enabled", v.fn,
            ci.pSubpasses[0].viewMask);
     return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkSubpassDescription2-viewMask-06706 / VkRenderPassMultiviewCreateInfo-pViewMasks-06697: every view
+  // index below maxMultiviewViewCount
+  const uint32_t maxViews = dev->physicalDevice->properties11.maxMultiviewViewCount;
+  for (uint32_t s = 0; s < ci.subpassCount; ++s) {
+    if (ci.pSubpasses[s].viewMask >> maxViews) {
+      report(dev, Severity::Error,
+             v.fn == kV1.fn ? "VUID-VkRenderPassMultiviewCreateInfo-pViewMasks-06697"
+                            : "VUID-VkSubpassDescription2-viewMask-06706",
+             "%s: subpass %u has view mask 0x%x (maxMultiviewViewCount %u)", v.fn, s, ci.pSubpasses[s].viewMask,
+             maxViews);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
   }
   std::vector<SubpassDesc> subs(ci.subpassCount);
   for (uint32_t s = 0; s < ci.subpassCount; ++s) {

@@ -49,6 +49,22 @@ class RenderPass : public Object {
   const std::vector<SubpassDesc> subpasses;
   const uint32_t dependencyCount;
   bool multiview() const { return subpasses[0].viewMask != 0; }
+  // The layers an attachment needs with multiview: one more than the highest view index of any subpass (0 without).
+  uint32_t viewLayers() const {
+    uint32_t m = 0;
+    for (const SubpassDesc& s : subpasses) m |= s.viewMask;
+    return m ? 32 - uint32_t(__builtin_clz(m)) : 0;
+  }
+  // Whether attachment `a` is a color, resolve, input or depth/stencil (resolve) attachment of any subpass.
+  bool used(uint32_t a) const {
+    for (const SubpassDesc& s : subpasses) {
+      for (const auto* list : {&s.color, &s.resolve, &s.input})
+        for (uint32_t x : *list)
+          if (x == a) return true;
+      if (s.depthStencil == a || s.depthStencilResolve == a) return true;
+    }
+    return false;
+  }
 };
 
 // Render pass compatibility ("Render Pass Compatibility"), as far as framebuffers and secondary command buffers

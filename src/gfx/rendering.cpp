@@ -73,13 +73,14 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
   if (!cb->outsideRenderPass(fn, "VUID-vkCmdBeginRendering-renderpass")) return;
   const VkPhysicalDeviceLimits& l = dev->physicalDevice->properties10.limits;
   const VkRect2D& ra = ri.renderArea;
-  // VUID-vkCmdBeginRendering-commandBuffer-06068, VUID-VkRenderingInfo-viewMask-06069, multiview-06127,
+  // VUID-vkCmdBeginRendering-commandBuffer-06068, VUID-VkRenderingInfo-viewMask-06069, multiview-06127, viewMask-06128,
   // renderArea-06071/06072/06073/06074, layerCount-07817, colorAttachmentCount-06106
   const char* vuid =
       cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY && (ri.flags & VK_RENDERING_CONTENTS_SECONDARY_COMMAND_BUFFERS_BIT)
           ? "VUID-vkCmdBeginRendering-commandBuffer-06068"
       : ri.viewMask == 0 && ri.layerCount == 0                            ? "VUID-VkRenderingInfo-viewMask-06069"
       : ri.viewMask != 0 && !dev->enabled(Feature::multiview)             ? "VUID-VkRenderingInfo-multiview-06127"
+      : ri.viewMask >> dev->physicalDevice->properties11.maxMultiviewViewCount ? "VUID-VkRenderingInfo-viewMask-06128"
       : ra.offset.x < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06071"
       : ra.offset.y < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06072"
       : uint64_t(ra.offset.x) + ra.extent.width > l.maxFramebufferWidth   ? "VUID-VkRenderingInfo-renderArea-06073"

@@ -214,7 +214,8 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     case VK_DESCRIPTOR_TYPE_SAMPLER:
     case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
     case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
-    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: {
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: {
       auto& ii = *reinterpret_cast<const VkDescriptorImageInfo*>(src);
       if (type != VK_DESCRIPTOR_TYPE_SAMPLER) {
         // VUID-VkWriteDescriptorSet-descriptorType-02997

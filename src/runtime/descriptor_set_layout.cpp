@@ -46,12 +46,13 @@ bool descriptorTypeSupported(const Device* dev, VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC: return true;
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
+    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return true;  // image view records (spirv Codegen::subpassRead)
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR:
       return dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV:  // the same descriptor: a structure's address (abi.hpp)
       return dev->extensionEnabled(VK_NV_RAY_TRACING_EXTENSION_NAME);
-    default: return false;  // input attachments (no graphics), inline uniform blocks (feature not exposed), others
+    default: return false;  // inline uniform blocks (feature not exposed), others
   }
 }
 
@@ -168,6 +169,12 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
           FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-00282",
                "%s: pBindings[%u].pImmutableSamplers[%u] (0x%llx) is not a live VkSampler", cmd, i, k,
                (unsigned long long)rawHandle(b.pImmutableSamplers[k]));
+    // VUID-VkDescriptorSetLayoutBinding-descriptorType-01510: input attachments only in fragment shaders
+    if (b.descriptorType == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT && b.descriptorCount &&
+        b.stageFlags != 0 && b.stageFlags != VK_SHADER_STAGE_FRAGMENT_BIT)
+      FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-01510",
+           "%s: pBindings[%u] (binding %u) is an input attachment with stageFlags 0x%x (0 or FRAGMENT only)", cmd, i,
+           b.binding, b.stageFlags);
     anyDynamic = anyDynamic || isDynamicBufferType(b.descriptorType);
     VkDescriptorBindingFlags fl = (bf && bf->bindingCount) ? bf->pBindingFlags[i] : 0;
     if (!fl) continue;
@@ -206,7 +213,7 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
                "not enabled",
                cmd, i, descriptorTypeName(b.descriptorType));
       // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-None-03011
-      if (isDynamicBufferType(b.descriptorType))
+      if (isDynamicBufferType(b.descriptorType) || b.descriptorType == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT)
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-None-03011",
              "%s: pBindings[%u] is %s and must not use VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT", cmd, i,
              descriptorTypeName(b.descriptorType));
@@ -230,7 +237,7 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
              "not enabled",
              cmd, i);
       // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-pBindingFlags-03015
-      if (isDynamicBufferType(b.descriptorType))
+      if (isDynamicBufferType(b.descriptorType) || b.descriptorType == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT)
         FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-pBindingFlags-03015",
              "%s: pBindings[%u] is %s and cannot have a variable descriptor count", cmd, i,
              descriptorTypeName(b.descriptorType));

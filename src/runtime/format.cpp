@@ -240,8 +240,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
       {VK_IMAGE_USAGE_STORAGE_BIT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT},
       {VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT},
       {VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT},
-      // Transient attachments are ordinary memory; input attachments are recorded by render passes (not read by
-      // shaders yet: maxPerStageDescriptorInputAttachments is 0), so either attachment feature admits them.
+      // Transient attachments are ordinary memory; input attachments are read by shaders through the texel codecs
+      // every attachment format has (runtime/image_functions.cpp vkrt_image_read_subpass), so either attachment
+      // feature admits them.
       {VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
        VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT},
       {VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT,

@@ -414,6 +414,16 @@ void vkrt_image_read(const abi::DescriptorRecord* img, const int32_t coord[4], u
   readTexel(v, 0, xyzl, out);
 }
 
+void vkrt_image_read_subpass(const abi::DescriptorRecord* img, int32_t x, int32_t y, int32_t layer, int32_t sample,
+                             uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || sample < 0 || uint32_t(sample) >= v.image->samples) return;
+  const uint8_t* t = texelAt(v, 0, x, y, 0, layer);
+  // Samples of a pixel are consecutive texels (Image::texel's pixelSize covers them all).
+  if (t) decodeTexel(*v.format, t + size_t(sample) * v.image->formatInfo->texelSize, out);
+}
+
 void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
   View v;
   if (!resolveView(img, &v)) return;
@@ -563,6 +573,7 @@ namespace vkrt {
 const abi::HostSymbol* imageFunctionSymbols() {
   static const abi::HostSymbol symbols[] = {
       {"vkrt_image_read", reinterpret_cast<void*>(&vkrt_image_read)},
+      {"vkrt_image_read_subpass", reinterpret_cast<void*>(&vkrt_image_read_subpass)},
       {"vkrt_image_write", reinterpret_cast<void*>(&vkrt_image_write)},
       {"vkrt_image_texel", reinterpret_cast<void*>(&vkrt_image_texel)},
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},

@@ -60,7 +60,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxPerStageDescriptorStorageBuffers = 1u << 20;
   l.maxPerStageDescriptorSampledImages = 1u << 20;
   l.maxPerStageDescriptorStorageImages = 1u << 20;
-  l.maxPerStageDescriptorInputAttachments = 0;
+  l.maxPerStageDescriptorInputAttachments = 1u << 20;  // image view records (spirv Codegen::subpassRead)
   l.maxPerStageResources = 1u << 20;
   l.maxDescriptorSetSamplers = 1u << 20;
   l.maxDescriptorSetUniformBuffers = 1u << 20;
@@ -69,7 +69,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxDescriptorSetStorageBuffersDynamic = 16;
   l.maxDescriptorSetSampledImages = 1u << 20;
   l.maxDescriptorSetStorageImages = 1u << 20;
-  l.maxDescriptorSetInputAttachments = 0;
+  l.maxDescriptorSetInputAttachments = 1u << 20;
   l.maxComputeSharedMemorySize = 65536;  // heap memory per workgroup (exec/compute.cpp)
   l.maxComputeWorkGroupCount[0] = l.maxComputeWorkGroupCount[1] = l.maxComputeWorkGroupCount[2] = 65535;
   l.maxComputeWorkGroupInvocations = 1024;
@@ -179,6 +179,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.maxPerStageDescriptorUpdateAfterBindStorageBuffers = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindSampledImages = 1u << 20;
   properties12.maxPerStageDescriptorUpdateAfterBindStorageImages = 1u << 20;
+  properties12.maxPerStageDescriptorUpdateAfterBindInputAttachments = 1u << 20;
   properties12.maxPerStageUpdateAfterBindResources = 1u << 20;
   properties12.maxDescriptorSetUpdateAfterBindSamplers = 1u << 20;
   properties12.maxDescriptorSetUpdateAfterBindUniformBuffers = 1u << 20;
@@ -187,6 +188,7 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   properties12.maxDescriptorSetUpdateAfterBindStorageBuffersDynamic = 16;
   properties12.maxDescriptorSetUpdateAfterBindSampledImages = 1u << 20;
   properties12.maxDescriptorSetUpdateAfterBindStorageImages = 1u << 20;
+  properties12.maxDescriptorSetUpdateAfterBindInputAttachments = 1u << 20;
   // Depth/stencil resolves of render passes and dynamic rendering (gfx/rendering.cpp resolveDepthStencil).
   properties12.supportedDepthResolveModes =
       VK_RESOLVE_MODE_SAMPLE_ZERO_BIT | VK_RESOLVE_MODE_AVERAGE_BIT | VK_RESOLVE_MODE_MIN_BIT | VK_RESOLVE_MODE_MAX_BIT;

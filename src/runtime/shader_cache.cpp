@@ -159,6 +159,10 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
         ok = b->type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
         what = "storage texel buffer";
         break;
+      case RK::InputAttachment:
+        ok = b->type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT;
+        what = "input attachment";
+        break;
       case RK::AccelerationStructure:
         ok = b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR ||
              b->type == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV;

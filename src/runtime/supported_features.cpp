@@ -18,6 +18,11 @@ constexpr F kSupported[] = {
     // through (drawIndirectFirstInstance), and the count variants read the count at execution (drawIndirectCount;
     // tests/e2e draw_indirect_test.cpp).
     F::fullDrawIndexUint32,
+    // Multiview: the rasterizer draws once per view of the subpass's (or vkCmdBeginRendering's) view mask into the
+    // layer of the view's index (src/raster/draw.cpp), with ViewIndex in vertex and fragment shaders
+    // (src/spirv/graphics.cpp); clears, loads and resolves run per view (src/gfx/pass_exec.cpp; tests/e2e
+    // MultiviewTest). Not multiviewGeometryShader / multiviewTessellationShader (no such stages).
+    F::multiview,
     F::multiDrawIndirect,
     F::drawIndirectFirstInstance,
     F::drawIndirectCount,

@@ -114,6 +114,7 @@ class Codegen {
   bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool texelBuffer(const Instruction& in, llvm::Value* record);  // image.cpp: image on a Dim Buffer image
+  bool subpassRead(const Instruction& in, const Instruction& imageType, llvm::Value* record);  // image.cpp
   bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
   bool rayQuery(const Instruction& in, bool& ok);                // ray_query.cpp (called by rayTracing)
   bool isRayQuery(uint32_t typeId) const;                        // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state

@@ -34,7 +34,8 @@ struct ResourceBinding {
     CombinedImageSampler,
     AccelerationStructure,
     UniformTexelBuffer,
-    StorageTexelBuffer
+    StorageTexelBuffer,
+    InputAttachment  // an image of Dim SubpassData
   };
   Kind kind = Buffer;
 };

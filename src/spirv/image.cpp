@@ -48,7 +48,8 @@ bool extraSupportedCapability(uint32_t cap) {
     case spv::CapabilityImageBuffer:
     // Descriptor arrays of buffers, images and texel buffers indexed by any value, per invocation (every access
     // resolves its own descriptor record); tests/spirv/descriptor_indexing_test.cpp, tests/e2e/texel_buffer_test.cpp.
-    // Input attachments are not compiled at all, so their indexing capabilities stay refused.
+    // Arrays of input attachments are not offered (shaderInputAttachmentArray*Indexing), so their indexing
+    // capabilities stay refused.
     case spv::CapabilityUniformTexelBufferArrayDynamicIndexing:
     case spv::CapabilityStorageTexelBufferArrayDynamicIndexing:
     case spv::CapabilityUniformTexelBufferArrayNonUniformIndexing:
@@ -74,7 +75,10 @@ bool extraSupportedCapability(uint32_t cap) {
     // Unknown": the view's format decides). tests/spirv/formatless_image_test.cpp, tests/e2e
     // ComputeFormatless* and FormatlessRaygenTest.
     case spv::CapabilityStorageImageReadWithoutFormat:
-    case spv::CapabilityStorageImageWriteWithoutFormat: return true;
+    case spv::CapabilityStorageImageWriteWithoutFormat:
+    // Input attachments: images of Dim SubpassData read at the fragment's own position (Codegen::subpassRead;
+    // tests/e2e InputAttachmentTest).
+    case spv::CapabilityInputAttachment: return true;
     default: return false;
   }
 }
@@ -212,9 +216,9 @@ bool Codegen::image(const Instruction& in, bool& ok) {
   if (!it || !img) return (ok = fail(in, "image operand has no value")), true;
   llvm::Value* imgRec = b.CreateExtractValue(img, {0});
   if (it->word(3) == spv::DimBuffer) return (ok = texelBuffer(in, imgRec)), true;
-  // Subpass data and multisampled images are not supported yet.
-  if (it->word(3) == spv::DimSubpassData || it->word(6) != 0)
-    return (ok = unsupported(in, "subpass or multisampled image")), true;
+  if (it->word(3) == spv::DimSubpassData) return (ok = subpassRead(in, *it, imgRec)), true;
+  // Multisampled sampled and storage images are not supported yet.
+  if (it->word(6) != 0) return (ok = unsupported(in, "multisampled image")), true;
   switch (in.op) {
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod: {
@@ -323,6 +327,53 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     }
     default: return false;
   }
+}
+
+// OpImageRead on an image of Dim SubpassData (an input attachment, "Input Attachment Operations" in the spec's
+// fragment chapter): the texel at the fragment's own framebuffer position, (int) FragCoord.xy plus the coordinate
+// operand (a constant offset, which the Vulkan environment requires to be zero but SPIR-V defines as an offset), in
+// the layer of the fragment (with multiview: the view index's; GraphicsInvocation::layer holds either); the Sample
+// operand picks the sample of a multisampled attachment (subpassInputMS).
+bool Codegen::subpassRead(const Instruction& in, const Instruction& imageType, llvm::Value* record) {
+  if (in.op != spv::OpImageRead) return unsupported(in, "subpass data other than OpImageRead");
+  if (!isFragment()) return fail(in, "subpass data outside a fragment shader");
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::Value* coord = value(in.word(4));
+  if (!coord) return fail(in, "coordinate has no value");
+  const uint32_t mask = in.count > 5 ? in.word(5) : 0;
+  const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
+                             spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
+                             spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
+  if (mask & ~(ignorable | spv::ImageOperandsSampleMask)) return unsupported(in, "subpass data image operands");
+  llvm::Value* sample = i32(0);
+  if (mask & spv::ImageOperandsSampleMask) {
+    // Sample is the only operand before the memory-model ones, which take ids after it.
+    llvm::Value* s = in.count > 6 ? value(in.word(6)) : nullptr;
+    if (!s) return fail(in, "Sample operand has no value");
+    sample = b.CreateSExtOrTrunc(s, b.getInt32Ty());
+  } else if (imageType.word(6) != 0) {
+    return fail(in, "multisampled subpass data read without a Sample operand");
+  }
+  auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(coord->getType());
+  if (!vt || vt->getNumElements() < 2 || !vt->getElementType()->isIntegerTy())
+    return fail(in, "subpass data coordinate is not an integer 2-vector");
+  llvm::Value* fragCoord = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(abi::GraphicsInvocation, fragCoord));
+  llvm::Value* xy[2];
+  for (unsigned k = 0; k < 2; ++k) {
+    llvm::Value* f = b.CreateAlignedLoad(b.getFloatTy(), b.CreateConstGEP1_64(b.getFloatTy(), fragCoord, k),
+                                         llvm::Align(4));
+    llvm::Value* off = b.CreateSExtOrTrunc(b.CreateExtractElement(coord, uint64_t(k)), b.getInt32Ty());
+    xy[k] = b.CreateAdd(b.CreateFPToSI(f, b.getInt32Ty()), off);
+  }
+  llvm::Value* layer = b.CreateAlignedLoad(
+      b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(abi::GraphicsInvocation, layer)),
+      llvm::Align(4));
+  llvm::Value* out = scratch(*this);
+  b.CreateCall(runtimeFn(*this, "vkrt_image_read_subpass", b.getVoidTy(),
+                         {ptrTy, b.getInt32Ty(), b.getInt32Ty(), b.getInt32Ty(), b.getInt32Ty(), ptrTy}),
+               {record, xy[0], xy[1], layer, sample, out});
+  set(in.word(2), fromWords(*this, out, in.word(1)));
+  return true;
 }
 
 // OpImageFetch / OpImageRead / OpImageWrite / OpImageQuerySize on a texel buffer (Dim Buffer: a uniform texel

@@ -902,7 +902,7 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
     b.arraySize = r.u32();
     uint32_t flags = r.u32();
     b.uniform = (flags & 1) != 0;
-    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::StorageTexelBuffer));  // the last
+    b.kind = ResourceBinding::Kind(std::min<uint32_t>(flags >> 1, ResourceBinding::InputAttachment));  // the last
     s.resources.push_back(b);
   }
   if (!r.ok || r.rest.empty()) return std::nullopt;

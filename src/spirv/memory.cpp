@@ -177,6 +177,8 @@ bool Codegen::declareGlobals() {
         else if (ti->op == spv::OpTypeSampledImage)
           r.kind =
               isTexelBuffer(ti->word(2)) ? ResourceBinding::UniformTexelBuffer : ResourceBinding::CombinedImageSampler;
+        else if (ti->op == spv::OpTypeImage && ti->word(3) == spv::DimSubpassData)
+          r.kind = ResourceBinding::InputAttachment;
         else if (isTexelBuffer(elem))
           r.kind = ti->word(7) == 2 ? ResourceBinding::StorageTexelBuffer : ResourceBinding::UniformTexelBuffer;
         else
