@@ -142,6 +142,21 @@ constexpr F kSupported[] = {
     // the rules are checked for every pipeline kind (runtime/shader_stage.cpp; tests/e2e SubgroupSizeControlTest).
     F::subgroupSizeControl,
     F::computeFullSubgroups,
+    // Fragment termination: OpTerminateInvocation ends the fragment, OpDemoteToHelperInvocation makes it a helper
+    // whose writes land nowhere; neither writes the attachments (src/spirv/graphics.cpp, gfx/draw_executor.cpp;
+    // tests/spirv GraphicsShader.Discard*, tests/e2e DrawTerminationTest).
+    F::shaderDemoteToHelperInvocation,
+    F::shaderTerminateInvocation,
+    // Subgroups of one invocation with the vote and ballot operations: a broadcast reads the only invocation
+    // whatever its id, constant or dynamic, and whatever the value's type, 8/16/64-bit included (the basic, vote and
+    // ballot operations are all there is: src/spirv/arithmetic.cpp; tests/e2e Vulkan13RequirementsTest.Subgroup*).
+    F::subgroupBroadcastDynamicId,
+    F::shaderSubgroupExtendedTypes,
+    // The Vulkan memory model, also at Device scope: the compiler accepts its capabilities and operands; its atomics
+    // are sequentially consistent and its barriers full fences on coherent host memory (src/spirv/jit.cpp says why
+    // that is enough; tests/e2e MemoryModelTest). Availability/visibility chains stay off.
+    F::vulkanMemoryModel,
+    F::vulkanMemoryModelDeviceScope,
     // Private data slots: a value per object, kept by the object's serial (runtime/private_data_slot.cpp;
     // tests/e2e PrivateDataTest).
     F::privateData,

@@ -272,8 +272,53 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       }
       return unaryOp([&](auto a) { return a; });
     }
-    // ---- subgroups of one invocation (subgroupSize 1, the basic operations): each invocation is elected
+    // ---- subgroups of one invocation (subgroupSize 1; basic, vote and ballot operations): each invocation is elected
     case spv::OpGroupNonUniformElect: set(result, b.getTrue()); return true;
+    // Vote: the one invocation's predicate is the subgroup's; its value equals itself.
+    case spv::OpGroupNonUniformAll:
+    case spv::OpGroupNonUniformAny:
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      set(result, operand(4));
+      return true;
+    case spv::OpGroupNonUniformAllEqual: set(result, b.getTrue()); return true;
+    // Ballot: every broadcast reads the only invocation, whatever the id (constant or dynamic: an id of another
+    // invocation is undefined behaviour) and whatever the value's type (subgroupExtendedTypes); a ballot has bit 0.
+    case spv::OpGroupNonUniformBroadcast:
+    case spv::OpGroupNonUniformBroadcastFirst:
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      set(result, operand(4));
+      return true;
+    case spv::OpGroupNonUniformBallot: {
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* v = llvm::Constant::getNullValue(rt);
+      set(result, b.CreateInsertElement(v, b.CreateZExt(operand(4), rt->getScalarType()), uint64_t(0)));
+      return true;
+    }
+    case spv::OpGroupNonUniformInverseBallot:
+      // The bit of the invocation's own index, 0.
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      set(result, b.CreateTrunc(b.CreateExtractElement(operand(4), uint64_t(0)), b.getInt1Ty()));
+      return true;
+    case spv::OpGroupNonUniformBallotBitExtract: {
+      if (!need({4, 5})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* index = b.CreateZExtOrTrunc(operand(5), b.getInt32Ty());
+      llvm::Value* word = b.CreateExtractElement(operand(4), b.CreateAnd(b.CreateLShr(index, 5), 3));
+      set(result, b.CreateTrunc(b.CreateLShr(word, b.CreateAnd(index, 31)), b.getInt1Ty()));
+      return true;
+    }
+    case spv::OpGroupNonUniformBallotBitCount: {
+      // Only bit 0 counts (the bits of the subgroup's invocations); an exclusive scan counts none.
+      if (!need({5})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* bit = b.CreateAnd(b.CreateExtractElement(operand(5), uint64_t(0)), 1);
+      set(result, in.word(4) == spv::GroupOperationExclusiveScan ? llvm::Constant::getNullValue(rt)
+                                                                  : b.CreateZExtOrTrunc(bit, rt));
+      return true;
+    }
+    case spv::OpGroupNonUniformBallotFindLSB:
+    case spv::OpGroupNonUniformBallotFindMSB:
+      // Only bit 0 is considered: it is the answer when set, and any answer is allowed when it is not.
+      set(result, llvm::Constant::getNullValue(type(resultType)));
+      return true;
     // ---- integer dot products (SPV_KHR_integer_dot_product)
     case spv::OpSDot:
     case spv::OpUDot:

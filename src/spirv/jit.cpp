@@ -171,6 +171,17 @@ bool supportedOp(spv::Op op) {
     case spv::OpFConvert:
     case spv::OpQuantizeToF16:
     case spv::OpGroupNonUniformElect:
+    case spv::OpGroupNonUniformAll:
+    case spv::OpGroupNonUniformAny:
+    case spv::OpGroupNonUniformAllEqual:
+    case spv::OpGroupNonUniformBroadcast:
+    case spv::OpGroupNonUniformBroadcastFirst:
+    case spv::OpGroupNonUniformBallot:
+    case spv::OpGroupNonUniformInverseBallot:
+    case spv::OpGroupNonUniformBallotBitExtract:
+    case spv::OpGroupNonUniformBallotBitCount:
+    case spv::OpGroupNonUniformBallotFindLSB:
+    case spv::OpGroupNonUniformBallotFindMSB:
     case spv::OpSDot:
     case spv::OpUDot:
     case spv::OpSUDot:
@@ -292,6 +303,13 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityInt64Atomics:
     case spv::CapabilityDeviceGroup:      // DeviceIndex: always 0 (one physical device)
     case spv::CapabilityGroupNonUniform:  // subgroups of one invocation: elect, the built-ins, barriers
+    case spv::CapabilityGroupNonUniformVote:    // arithmetic.cpp: a subgroup's vote is its invocation's
+    case spv::CapabilityGroupNonUniformBallot:  // arithmetic.cpp: broadcasts read the only invocation
+    // The Vulkan memory model: every atomic is sequentially consistent and every barrier a sequentially consistent
+    // fence (memory.cpp, control_flow.cpp), stronger than any semantics asks; availability and visibility operations
+    // on loads and stores (NonPrivatePointer, MakePointerAvailable/Visible) have nothing to do on coherent host memory.
+    case spv::CapabilityVulkanMemoryModel:
+    case spv::CapabilityVulkanMemoryModelDeviceScope:
     // Float controls the compiled code honours as it is (runtime/physical_device.cpp says why).
     case spv::CapabilityDenormPreserve:
     case spv::CapabilitySignedZeroInfNanPreserve:

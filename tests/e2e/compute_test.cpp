@@ -262,7 +262,7 @@ TEST_F(ComputeMisuseTest, UnsupportedInstructionFailsCreationWithItsName) {
   EXPECT_EQ(p.pipeline, VK_NULL_HANDLE);
   auto msgs = vkrtMessages();
   ASSERT_EQ(msgs.size(), 1u);
-  EXPECT_NE(msgs[0].text.find("unsupported instruction OpGroupNonUniformBallot at word"), std::string::npos)
+  EXPECT_NE(msgs[0].text.find("unsupported instruction OpGroupNonUniformShuffle at word"), std::string::npos)
       << msgs[0].text;
   clearMessages();
   destroy(p);

@@ -1,5 +1,5 @@
 #version 460
-// The basic subgroup operations vkrt advertises (VkPhysicalDeviceSubgroupProperties: size 1, BASIC, compute):
+// The basic subgroup operations vkrt advertises (VkPhysicalDeviceSubgroupProperties: size 1, compute):
 // every invocation is its own subgroup, elected, with subgroup barriers that synchronize nothing else.
 #extension GL_KHR_shader_subgroup_basic : require
 layout(local_size_x = 4, local_size_y = 2) in;

@@ -149,14 +149,15 @@ TEST(SpirvAssembly, FunctionCallsWithPointerParametersAndLoopPhis) {
 }
 
 TEST(SpirvAssembly, UnsupportedInstructionNamesItsWordOffset) {
-  // Subgroup votes are not compiled (only the basic subgroup operations are; the scope constant 3 is Subgroup).
+  // Subgroup shuffles are not compiled (the basic, vote and ballot operations are; the scope constant 3 is
+  // Subgroup).
   std::vector<uint32_t> words =
-      assemble("OpCapability GroupNonUniformVote", "%q = OpGroupNonUniformAll %bool %uint_3 %cond");
-  uint32_t at = offsetOf(words, spv::OpGroupNonUniformAll);
+      assemble("OpCapability GroupNonUniformShuffle", "%q = OpGroupNonUniformShuffle %uint %uint_3 %uint_3 %uint_3");
+  uint32_t at = offsetOf(words, spv::OpGroupNonUniformShuffle);
   ASSERT_NE(at, 0u);
   std::string error;
   EXPECT_EQ(compileWords(words, true, &error), nullptr);
-  EXPECT_EQ(error, "unsupported instruction OpGroupNonUniformAll at word " + std::to_string(at));
+  EXPECT_EQ(error, "unsupported instruction OpGroupNonUniformShuffle at word " + std::to_string(at));
 }
 
 TEST(SpirvAssembly, UnsupportedCapabilityIsNamed) {
