@@ -8,7 +8,7 @@
 //   VK_DRIVER_FILES=<build>/vkrt_icd.json ./vkrt_rasterbench [--width 1920] [--height 1080] [--frames 30]
 //       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--out image.png]
 //
-// Plain Vulkan 1.0 through the loader: it runs unchanged on vkrt, lavapipe or a GPU driver. vkrt's thread count is
+// Plain Vulkan 1.3 through the loader: it runs unchanged on vkrt, lavapipe or a GPU driver. vkrt's thread count is
 // VKRT_THREADS; lavapipe's is LP_NUM_THREADS.
 #include <tiny_gltf.h>
 #include <vulkan/vulkan.h>
@@ -295,7 +295,7 @@ struct PushConstants {
 // A perspective camera looking down -z at the grid of copies, column-major, Vulkan clip space (y down, z in 0..1).
 void viewProjection(float aspect, uint32_t grid, float out[16]) {
   const float f = 1.0f / std::tan(0.5f * 0.9f);  // ~52 degree vertical field of view
-  const float dist = 1.2f * float(grid) * 0.5f / std::tan(0.45f) * 1.05f + 0.8f;
+  const float dist = 1.2f * float(grid) * 0.5f / std::tan(0.45f) * 1.3f + 0.8f;
   const float nearZ = 0.1f, farZ = dist + 10.0f;
   // View: translate by -dist along z. Projection: reversed nothing, standard 0..1 depth.
   std::fill(out, out + 16, 0.0f);
@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
   Gpu g;
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "vkrt_rasterbench";
-  app.apiVersion = VK_API_VERSION_1_0;
+  app.apiVersion = VK_API_VERSION_1_3;  // the shaders are SPIR-V 1.6 (glslc, Vulkan 1.3)
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
   CHECK(vkCreateInstance(&ici, nullptr, &g.instance));
