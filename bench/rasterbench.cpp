@@ -266,8 +266,8 @@ void recordTextureUpload(VkCommandBuffer cb, const Image& tex, VkBuffer staging,
     blit.srcOffsets[1] = {int32_t(std::max(w >> (level - 1), 1u)), int32_t(std::max(h >> (level - 1), 1u)), 1};
     blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
     blit.dstOffsets[1] = {int32_t(std::max(w >> level, 1u)), int32_t(std::max(h >> level, 1u)), 1};
-    vkCmdBlitImage(cb, tex.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tex.image,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+    vkCmdBlitImage(cb, tex.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tex.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                   1, &blit, VK_FILTER_LINEAR);
   }
   if (levels > 1)
     barrier(cb, tex.image, 0, levels - 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
@@ -316,15 +316,24 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     auto number = [&]() { return uint32_t(std::max(1L, std::strtol(next().c_str(), nullptr, 10))); };
-    if (a == "--width") o.width = number();
-    else if (a == "--height") o.height = number();
-    else if (a == "--frames") o.frames = number();
-    else if (a == "--warmup") o.warmup = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
-    else if (a == "--grid") o.grid = number();
-    else if (a == "--quads") o.quads = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
-    else if (a == "--model") o.model = next();
-    else if (a == "--out") o.out = next();
-    else fail("unknown option " + a);
+    if (a == "--width")
+      o.width = number();
+    else if (a == "--height")
+      o.height = number();
+    else if (a == "--frames")
+      o.frames = number();
+    else if (a == "--warmup")
+      o.warmup = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
+    else if (a == "--grid")
+      o.grid = number();
+    else if (a == "--quads")
+      o.quads = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
+    else if (a == "--model")
+      o.model = next();
+    else if (a == "--out")
+      o.out = next();
+    else
+      fail("unknown option " + a);
   }
   return o;
 }
@@ -379,8 +388,7 @@ int main(int argc, char** argv) {
   CHECK(vkCreateFence(g.device, &fci, nullptr, &fence));
 
   // Geometry, texture staging and the read-back buffer (host-visible; the draws read the geometry in place).
-  const HostBuffer vertices =
-      hostBuffer(g, model.vertices.size() * sizeof(Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+  const HostBuffer vertices = hostBuffer(g, model.vertices.size() * sizeof(Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
   std::memcpy(vertices.data, model.vertices.data(), model.vertices.size() * sizeof(Vertex));
   const HostBuffer indices = hostBuffer(g, model.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   std::memcpy(indices.data, model.indices.data(), model.indices.size() * 4);
@@ -391,13 +399,13 @@ int main(int argc, char** argv) {
 
   uint32_t levels = 1;
   while ((std::max(model.texWidth, model.texHeight) >> levels) > 0) ++levels;
-  const Image tex = makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, model.texWidth, model.texHeight, levels,
-                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                                  VK_IMAGE_USAGE_SAMPLED_BIT,
-                              VK_IMAGE_ASPECT_COLOR_BIT);
-  const Image color = makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,
-                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                VK_IMAGE_ASPECT_COLOR_BIT);
+  const Image tex =
+      makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, model.texWidth, model.texHeight, levels,
+                VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                VK_IMAGE_ASPECT_COLOR_BIT);
+  const Image color =
+      makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,
+                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
   const Image depth = makeImage(g, VK_FORMAT_D32_SFLOAT, opt.width, opt.height, 1,
                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
   {
@@ -622,8 +630,8 @@ int main(int argc, char** argv) {
   VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(frame, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr,
-                       0, nullptr);
+  vkCmdPipelineBarrier(frame, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                       nullptr);
   CHECK(vkEndCommandBuffer(frame));
 
   std::vector<double> seconds;
@@ -637,9 +645,8 @@ int main(int argc, char** argv) {
   const double median = seconds[seconds.size() / 2];
   const char* threads = std::getenv("VKRT_THREADS");
   std::printf("device: %s\n", g.name.c_str());
-  std::printf("model: %s (%zu triangles x %u copies, %u blended quads), texture %ux%u, %u levels\n",
-              opt.model.c_str(), model.indices.size() / 3, opt.grid * opt.grid, opt.quads, model.texWidth,
-              model.texHeight, levels);
+  std::printf("model: %s (%zu triangles x %u copies, %u blended quads), texture %ux%u, %u levels\n", opt.model.c_str(),
+              model.indices.size() / 3, opt.grid * opt.grid, opt.quads, model.texWidth, model.texHeight, levels);
   std::printf("%ux%u, %u frames after %u warm-up, VKRT_THREADS=%s: median %.2f ms, min %.2f ms -> %.2f frames/s\n",
               opt.width, opt.height, opt.frames, opt.warmup, threads ? threads : "(unset)", median * 1e3,
               seconds.front() * 1e3, 1.0 / median);

@@ -78,14 +78,14 @@ void beginRendering(CommandBuffer* cb, const VkRenderingInfo& ri) {
   const char* vuid =
       cb->level == VK_COMMAND_BUFFER_LEVEL_SECONDARY && (ri.flags & VK_RENDERING_CONTENTS_SECONDARY_COMMAND_BUFFERS_BIT)
           ? "VUID-vkCmdBeginRendering-commandBuffer-06068"
-      : ri.viewMask == 0 && ri.layerCount == 0                            ? "VUID-VkRenderingInfo-viewMask-06069"
-      : ri.viewMask != 0 && !dev->enabled(Feature::multiview)             ? "VUID-VkRenderingInfo-multiview-06127"
+      : ri.viewMask == 0 && ri.layerCount == 0                                 ? "VUID-VkRenderingInfo-viewMask-06069"
+      : ri.viewMask != 0 && !dev->enabled(Feature::multiview)                  ? "VUID-VkRenderingInfo-multiview-06127"
       : ri.viewMask >> dev->physicalDevice->properties11.maxMultiviewViewCount ? "VUID-VkRenderingInfo-viewMask-06128"
-      : ra.offset.x < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06071"
-      : ra.offset.y < 0                                                   ? "VUID-VkRenderingInfo-renderArea-06072"
-      : uint64_t(ra.offset.x) + ra.extent.width > l.maxFramebufferWidth   ? "VUID-VkRenderingInfo-renderArea-06073"
-      : uint64_t(ra.offset.y) + ra.extent.height > l.maxFramebufferHeight ? "VUID-VkRenderingInfo-renderArea-06074"
-      : ri.layerCount > l.maxFramebufferLayers                            ? "VUID-VkRenderingInfo-layerCount-07817"
+      : ra.offset.x < 0                                                        ? "VUID-VkRenderingInfo-renderArea-06071"
+      : ra.offset.y < 0                                                        ? "VUID-VkRenderingInfo-renderArea-06072"
+      : uint64_t(ra.offset.x) + ra.extent.width > l.maxFramebufferWidth        ? "VUID-VkRenderingInfo-renderArea-06073"
+      : uint64_t(ra.offset.y) + ra.extent.height > l.maxFramebufferHeight      ? "VUID-VkRenderingInfo-renderArea-06074"
+      : ri.layerCount > l.maxFramebufferLayers                                 ? "VUID-VkRenderingInfo-layerCount-07817"
       : ri.colorAttachmentCount > l.maxColorAttachments ? "VUID-VkRenderingInfo-colorAttachmentCount-06106"
                                                         : nullptr;
   if (vuid) {

@@ -170,8 +170,8 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
                "%s: pBindings[%u].pImmutableSamplers[%u] (0x%llx) is not a live VkSampler", cmd, i, k,
                (unsigned long long)rawHandle(b.pImmutableSamplers[k]));
     // VUID-VkDescriptorSetLayoutBinding-descriptorType-01510: input attachments only in fragment shaders
-    if (b.descriptorType == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT && b.descriptorCount &&
-        b.stageFlags != 0 && b.stageFlags != VK_SHADER_STAGE_FRAGMENT_BIT)
+    if (b.descriptorType == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT && b.descriptorCount && b.stageFlags != 0 &&
+        b.stageFlags != VK_SHADER_STAGE_FRAGMENT_BIT)
       FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-01510",
            "%s: pBindings[%u] (binding %u) is an input attachment with stageFlags 0x%x (0 or FRAGMENT only)", cmd, i,
            b.binding, b.stageFlags);

@@ -36,7 +36,8 @@ typedef struct VkBufferUsageFlags2CreateInfoKHR {
 // Extension number 482: 1000000000 + (482 - 1) * 1000 + 0.
 #define VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_POSITION_FETCH_FEATURES_KHR \
   static_cast<VkStructureType>(1000481000)
-#define VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_DATA_ACCESS_KHR static_cast<VkBuildAccelerationStructureFlagBitsKHR>(0x800)
+#define VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_DATA_ACCESS_KHR \
+  static_cast<VkBuildAccelerationStructureFlagBitsKHR>(0x800)
 typedef struct VkPhysicalDeviceRayTracingPositionFetchFeaturesKHR {
   VkStructureType sType;
   void* pNext;

@@ -311,7 +311,7 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       if (!need({5})) return (ok = fail(in, "operand has no value")), true;
       llvm::Value* bit = b.CreateAnd(b.CreateExtractElement(operand(5), uint64_t(0)), 1);
       set(result, in.word(4) == spv::GroupOperationExclusiveScan ? llvm::Constant::getNullValue(rt)
-                                                                  : b.CreateZExtOrTrunc(bit, rt));
+                                                                 : b.CreateZExtOrTrunc(bit, rt));
       return true;
     }
     case spv::OpGroupNonUniformBallotFindLSB:

@@ -115,9 +115,9 @@ class Codegen {
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool texelBuffer(const Instruction& in, llvm::Value* record);  // image.cpp: image on a Dim Buffer image
   bool subpassRead(const Instruction& in, const Instruction& imageType, llvm::Value* record);  // image.cpp
-  bool rayTracing(const Instruction& in, bool& ok);              // ray_tracing.cpp
-  bool rayQuery(const Instruction& in, bool& ok);                // ray_query.cpp (called by rayTracing)
-  bool isRayQuery(uint32_t typeId) const;                        // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
+  bool rayTracing(const Instruction& in, bool& ok);                                            // ray_tracing.cpp
+  bool rayQuery(const Instruction& in, bool& ok);  // ray_query.cpp (called by rayTracing)
+  bool isRayQuery(uint32_t typeId) const;          // OpTypeRayQueryKHR: abi::kRayQueryStateBytes of state
   // OpLoad / OpStore of a whole ray query (ray_query.cpp, called by memory)
   bool rayQueryValue(const Instruction& in, bool& ok);
 

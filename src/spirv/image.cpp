@@ -360,8 +360,8 @@ bool Codegen::subpassRead(const Instruction& in, const Instruction& imageType, l
   llvm::Value* fragCoord = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(abi::GraphicsInvocation, fragCoord));
   llvm::Value* xy[2];
   for (unsigned k = 0; k < 2; ++k) {
-    llvm::Value* f = b.CreateAlignedLoad(b.getFloatTy(), b.CreateConstGEP1_64(b.getFloatTy(), fragCoord, k),
-                                         llvm::Align(4));
+    llvm::Value* f =
+        b.CreateAlignedLoad(b.getFloatTy(), b.CreateConstGEP1_64(b.getFloatTy(), fragCoord, k), llvm::Align(4));
     llvm::Value* off = b.CreateSExtOrTrunc(b.CreateExtractElement(coord, uint64_t(k)), b.getInt32Ty());
     xy[k] = b.CreateAdd(b.CreateFPToSI(f, b.getInt32Ty()), off);
   }

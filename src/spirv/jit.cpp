@@ -301,8 +301,8 @@ bool supportedCapability(uint32_t cap) {
     case spv::CapabilityFloat64:
     case spv::CapabilityFloat16:
     case spv::CapabilityInt64Atomics:
-    case spv::CapabilityDeviceGroup:      // DeviceIndex: always 0 (one physical device)
-    case spv::CapabilityGroupNonUniform:  // subgroups of one invocation: elect, the built-ins, barriers
+    case spv::CapabilityDeviceGroup:            // DeviceIndex: always 0 (one physical device)
+    case spv::CapabilityGroupNonUniform:        // subgroups of one invocation: elect, the built-ins, barriers
     case spv::CapabilityGroupNonUniformVote:    // arithmetic.cpp: a subgroup's vote is its invocation's
     case spv::CapabilityGroupNonUniformBallot:  // arithmetic.cpp: broadcasts read the only invocation
     // The Vulkan memory model: every atomic is sequentially consistent and every barrier a sequentially consistent

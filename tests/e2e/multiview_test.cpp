@@ -98,7 +98,7 @@ TEST_F(MultiviewTest, FeatureAndLimitsAdvertised) {
   VkPhysicalDeviceMultiviewProperties p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MULTIVIEW_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p};
   vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
-  EXPECT_GE(p.maxMultiviewViewCount, 6u);                 // the spec's required limit
+  EXPECT_GE(p.maxMultiviewViewCount, 6u);                  // the spec's required limit
   EXPECT_GE(p.maxMultiviewInstanceIndex, (1u << 27) - 1);  // likewise
 }
 

@@ -772,8 +772,9 @@ struct Promoted {
 const Promoted kPromoted[] = {
     {"VK_KHR_sampler_mirror_clamp_to_edge", 2, kDevice, true,
      "samplerMirrorClampToEdge; PromotedQueriesTest, ComputeImageTest"},
-    {"VK_KHR_dynamic_rendering", 3, kDevice, false, "graphics: rendering"},
-    {"VK_KHR_multiview", 1, kDevice, false, "graphics: multiview render passes (no render passes)"},
+    {"VK_KHR_dynamic_rendering", 3, kDevice, true,
+     "vkCmdBeginRendering; ResolveTest.DynamicRendering*, DrawBasicTest, MultiviewTest.DynamicRenderingTwoViews"},
+    {"VK_KHR_multiview", 1, kDevice, true, "multiview render passes; MultiviewTest"},
     {"VK_KHR_get_physical_device_properties2", 1, kInstance, true, "instance"},
     {"VK_KHR_device_group", 1, kDevice, true, "a group of one device; swapchain_test.cpp"},
     {"VK_KHR_shader_draw_parameters", 1, kDevice, false,
@@ -789,8 +790,8 @@ const Promoted kPromoted[] = {
     {"VK_KHR_shader_float16_int8", 2, kDevice, true, "Vulkan10StorageTest"},
     {"VK_KHR_16bit_storage", 1, kDevice, true, "Vulkan10StorageTest"},
     {"VK_KHR_descriptor_update_template", 1, kDevice, true, "descriptor_test.cpp"},
-    {"VK_KHR_imageless_framebuffer", 2, kDevice, false, "graphics: framebuffers"},
-    {"VK_KHR_create_renderpass2", 2, kDevice, false, "graphics: render passes"},
+    {"VK_KHR_imageless_framebuffer", 2, kDevice, true, "imageless framebuffers; RenderPassTest"},
+    {"VK_KHR_create_renderpass2", 2, kDevice, true, "vkCreateRenderPass2; RenderPassTest, ResolveTest"},
     {"VK_KHR_external_fence_capabilities", 1, kInstance, true, "instance"},
     {"VK_KHR_external_fence", 1, kDevice, true, "no handle types; PromotedQueriesTest"},
     {"VK_KHR_maintenance2", 1, kDevice, false,
@@ -813,23 +814,21 @@ const Promoted kPromoted[] = {
     {"VK_EXT_descriptor_indexing", 2, kDevice, true, "texel_buffer_test.cpp"},
     {"VK_EXT_shader_viewport_index_layer", 2, kDevice, false, "graphics: vertex and tessellation shader outputs"},
     {"VK_KHR_maintenance3", 1, kDevice, true, "core 1.1"},
-    {"VK_KHR_draw_indirect_count", 2, kDevice, false, "graphics: draws"},
+    {"VK_KHR_draw_indirect_count", 2, kDevice, true, "vkCmdDrawIndirectCount; DrawIndirectTest"},
     {"VK_KHR_shader_subgroup_extended_types", 2, kDevice, true, "SubgroupVoteBallotTest"},
     {"VK_KHR_8bit_storage", 2, kDevice, true, "Vulkan10StorageTest"},
     {"VK_KHR_shader_atomic_int64", 2, kDevice, true, "ComputeAtomicInt64Test"},
     {"VK_EXT_pipeline_creation_feedback", 3, kDevice, true, "PromotedQueriesTest"},
     {"VK_KHR_driver_properties", 2, kDevice, true, "PromotedQueriesTest"},
     {"VK_KHR_shader_float_controls", 2, kDevice, true, "compute float controls"},
-    {"VK_KHR_depth_stencil_resolve", 2, kDevice, false, "graphics: render pass resolve attachments"},
+    {"VK_KHR_depth_stencil_resolve", 2, kDevice, true, "depth/stencil resolve attachments; ResolveTest"},
     {"VK_KHR_timeline_semaphore", 2, kDevice, true, "sync_test.cpp"},
     {"VK_KHR_vulkan_memory_model", 2, kDevice, true, "MemoryModelTest"},
     {"VK_KHR_shader_terminate_invocation", 3, kDevice, true, "DrawTerminationTest"},
     {"VK_EXT_scalar_block_layout", 2, kDevice, true, "ComputeFeaturesTest"},
     {"VK_EXT_subgroup_size_control", 3, kDevice, true, "SubgroupSizeControlTest"},
     {"VK_KHR_spirv_1_4", 2, kDevice, true, "spirv14_test.cpp"},
-    {"VK_KHR_separate_depth_stencil_layouts", 2, kDevice, false,
-     "graphics: depth/stencil attachment layouts of render passes (requires VK_KHR_create_renderpass2); no "
-     "depth/stencil formats"},
+    {"VK_KHR_separate_depth_stencil_layouts", 2, kDevice, true, "separateDepthStencilLayouts; RenderPassTest"},
     {"VK_EXT_tooling_info", 3, kDevice, true, "no tools; PromotedQueriesTest"},
     {"VK_EXT_separate_stencil_usage", 2, kDevice, false, "no depth/stencil formats"},
     {"VK_KHR_uniform_buffer_standard_layout", 2, kDevice, true, "ComputeStandardLayoutTest"},
@@ -1014,7 +1013,7 @@ TEST_F(PromotedAuditTest, EveryListedOneEnabledByNameAtOnceAndItsCommandsResolve
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  f12.samplerMirrorClampToEdge = f12.descriptorIndexing = VK_TRUE;
+  f12.samplerMirrorClampToEdge = f12.descriptorIndexing = f12.drawIndirectCount = VK_TRUE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;

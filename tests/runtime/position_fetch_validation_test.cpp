@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <spirv-tools/libspirv.hpp>
+#include <spirv/unified1/spirv.hpp>
 
 #include <string>
 #include <vector>
