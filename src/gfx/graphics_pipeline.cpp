@@ -269,38 +269,13 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateGraphicsPipelines(VkDevice device, VkP
                                                             const VkGraphicsPipelineCreateInfo* pCreateInfos,
                                                             const VkAllocationCallbacks* pAllocator,
                                                             VkPipeline* pPipelines) {
-  Device* dev = fromHandle<Device>(device);
-  // VUID-vkCreateGraphicsPipelines-device-parameter
-  if (!dev) {
-    report(nullptr, Severity::Error, "VUID-vkCreateGraphicsPipelines-device-parameter",
-           "vkCreateGraphicsPipelines: device 0x%llx is not a live VkDevice", (unsigned long long)rawHandle(device));
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  PipelineCache* cache = fromHandle<PipelineCache>(pipelineCache);
-  // VUID-vkCreateGraphicsPipelines-pipelineCache-parameter
-  if (pipelineCache && !cache) {
-    report(dev, Severity::Error, "VUID-vkCreateGraphicsPipelines-pipelineCache-parameter",
-           "vkCreateGraphicsPipelines: pipelineCache 0x%llx is not a live VkPipelineCache",
-           (unsigned long long)rawHandle(pipelineCache));
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;
-  VkResult result = VK_SUCCESS;
-  for (uint32_t i = 0; i < createInfoCount; ++i) {
-    const VkResult r = createOne(dev, cache, pCreateInfos[i], i, pAllocator, pPipelines, &pPipelines[i]);
-    if (r == VK_SUCCESS) continue;
-    if (r == VK_ERROR_VALIDATION_FAILED_EXT || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
-      // A misuse or an allocation failure: the call has no other effect.
-      for (uint32_t k = 0; k < i; ++k) {
-        destroyObject(fromHandleUnchecked<Pipeline>(pPipelines[k]), pAllocator);
-        pPipelines[k] = VK_NULL_HANDLE;
-      }
-      return r;
-    }
-    if (result == VK_SUCCESS) result = r;
-    if (pCreateInfos[i].flags & VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT) break;
-  }
-  return result;
+  static constexpr PipelineBatchCommand kCommand{"vkCreateGraphicsPipelines",
+                                                 "VUID-vkCreateGraphicsPipelines-device-parameter",
+                                                 "VUID-vkCreateGraphicsPipelines-pipelineCache-parameter"};
+  return createPipelineBatch(kCommand, device, pipelineCache, createInfoCount, pCreateInfos, pAllocator, pPipelines,
+                             [&](Device* dev, PipelineCache* cache, uint32_t i, VkPipeline* out) {
+                               return createOne(dev, cache, pCreateInfos[i], i, pAllocator, pPipelines, out);
+                             });
 }
 
 }  // extern "C"

@@ -30,7 +30,7 @@ constexpr VkPipelineCreateFlags kForbiddenFlags[][2] = {
 };
 
 // Creates pipeline i; returns its result (pipeline set only on success).
-VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePipelineCreateInfo& ci, uint32_t i,
+VkResult createOne(Device* dev, PipelineCache* cache, const VkComputePipelineCreateInfo& ci, uint32_t i,
                    const VkAllocationCallbacks* alloc, VkPipeline* out) {
   const char* fn = "vkCreateComputePipelines";
   const auto start = std::chrono::steady_clock::now();
@@ -63,7 +63,6 @@ VkResult createOne(Device* dev, VkPipelineCache pipelineCache, const VkComputePi
   std::snprintf(what, sizeof what, "%s: pCreateInfos[%u].stage", fn, i);
   PreparedStage stage;
   if (!prepareStage(dev, ci.stage, spv::ExecutionModelGLCompute, what, &stage)) return VK_ERROR_VALIDATION_FAILED_EXT;
-  PipelineCache* cache = fromHandle<PipelineCache>(pipelineCache);
   CompiledStage compiled =
       compileStage(dev, stage, !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT), cache, fn, what);
   if (compiled.result != VK_SUCCESS) return compiled.result;
@@ -139,37 +138,13 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateComputePipelines(VkDevice device, VkPi
                                                            const VkComputePipelineCreateInfo* pCreateInfos,
                                                            const VkAllocationCallbacks* pAllocator,
                                                            VkPipeline* pPipelines) {
-  Device* dev = fromHandle<Device>(device);
-  // VUID-vkCreateComputePipelines-device-parameter
-  if (!dev) {
-    report(nullptr, Severity::Error, "VUID-vkCreateComputePipelines-device-parameter",
-           "vkCreateComputePipelines: device 0x%llx is not a live VkDevice", (unsigned long long)rawHandle(device));
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  // VUID-vkCreateComputePipelines-pipelineCache-parameter
-  if (pipelineCache && !fromHandle<PipelineCache>(pipelineCache)) {
-    report(dev, Severity::Error, "VUID-vkCreateComputePipelines-pipelineCache-parameter",
-           "vkCreateComputePipelines: pipelineCache 0x%llx is not a live VkPipelineCache",
-           (unsigned long long)rawHandle(pipelineCache));
-    return VK_ERROR_VALIDATION_FAILED_EXT;
-  }
-  for (uint32_t i = 0; i < createInfoCount; ++i) pPipelines[i] = VK_NULL_HANDLE;
-  VkResult result = VK_SUCCESS;
-  for (uint32_t i = 0; i < createInfoCount; ++i) {
-    VkResult r = createOne(dev, pipelineCache, pCreateInfos[i], i, pAllocator, &pPipelines[i]);
-    if (r == VK_SUCCESS) continue;
-    if (r == VK_ERROR_VALIDATION_FAILED_EXT || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
-      // A misuse or an allocation failure: the call has no other effect.
-      for (uint32_t k = 0; k < i; ++k) {
-        destroyObject(fromHandleUnchecked<Pipeline>(pPipelines[k]), pAllocator);
-        pPipelines[k] = VK_NULL_HANDLE;
-      }
-      return r;
-    }
-    if (result == VK_SUCCESS) result = r;
-    if (pCreateInfos[i].flags & VK_PIPELINE_CREATE_EARLY_RETURN_ON_FAILURE_BIT) break;
-  }
-  return result;
+  static constexpr PipelineBatchCommand kCommand{"vkCreateComputePipelines",
+                                                 "VUID-vkCreateComputePipelines-device-parameter",
+                                                 "VUID-vkCreateComputePipelines-pipelineCache-parameter"};
+  return createPipelineBatch(kCommand, device, pipelineCache, createInfoCount, pCreateInfos, pAllocator, pPipelines,
+                             [&](Device* dev, PipelineCache* cache, uint32_t i, VkPipeline* out) {
+                               return createOne(dev, cache, pCreateInfos[i], i, pAllocator, out);
+                             });
 }
 
 }  // extern "C"
