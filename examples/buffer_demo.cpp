@@ -11,16 +11,9 @@
 #include <cstring>
 #include <vector>
 
-namespace {
+#include "example_vk.hpp"
 
-#define CHECK(call)                                                             \
-  do {                                                                          \
-    VkResult r_ = (call);                                                       \
-    if (r_ != VK_SUCCESS) {                                                     \
-      std::fprintf(stderr, "buffer_demo: %s failed with %d\n", #call, (int)r_); \
-      std::exit(1);                                                             \
-    }                                                                           \
-  } while (0)
+namespace {
 
 struct HostBuffer {
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -36,19 +29,10 @@ HostBuffer makeBuffer(VkPhysicalDevice pd, VkDevice dev, VkDeviceSize size) {
   CHECK(vkCreateBuffer(dev, &bci, nullptr, &b.buffer));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(dev, b.buffer, &req);
-  VkPhysicalDeviceMemoryProperties mp;
-  vkGetPhysicalDeviceMemoryProperties(pd, &mp);
-  const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  uint32_t type = UINT32_MAX;
-  for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-    if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
-  if (type == UINT32_MAX) {
-    std::fprintf(stderr, "buffer_demo: no host-visible coherent memory type\n");
-    std::exit(1);
-  }
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   mai.allocationSize = req.size;
-  mai.memoryTypeIndex = type;
+  mai.memoryTypeIndex = example::memoryType(
+      pd, req.memoryTypeBits, {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}, "a buffer");
   CHECK(vkAllocateMemory(dev, &mai, nullptr, &b.memory));
   CHECK(vkBindBufferMemory(dev, b.buffer, b.memory, 0));
   void* p = nullptr;
@@ -66,35 +50,15 @@ void printBytes(const char* name, const uint8_t* bytes, size_t n) {
 }  // namespace
 
 int main() {
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "buffer_demo";
-  app.apiVersion = VK_API_VERSION_1_3;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  VkInstance instance;
-  CHECK(vkCreateInstance(&ici, nullptr, &instance));
-  uint32_t count = 1;
-  VkPhysicalDevice pd = VK_NULL_HANDLE;
-  VkResult er = vkEnumeratePhysicalDevices(instance, &count, &pd);
-  if ((er != VK_SUCCESS && er != VK_INCOMPLETE) || count == 0) {
-    std::fprintf(stderr, "buffer_demo: no Vulkan device\n");
-    return 1;
-  }
-
-  float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = 0;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
+  example::gProgram = "buffer_demo";
+  const VkInstance instance = example::createInstance("buffer_demo");
+  const VkPhysicalDevice pd = example::pickPhysicalDevice(instance);
+  const uint32_t family = example::queueFamily(pd, VK_QUEUE_COMPUTE_BIT);  // compute queues do transfers too
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12.timelineSemaphore = VK_TRUE;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  VkDevice dev;
-  CHECK(vkCreateDevice(pd, &dci, nullptr, &dev));
+  const VkDevice dev = example::createDevice(pd, family, &f12);
   VkQueue queue;
-  vkGetDeviceQueue(dev, 0, 0, &queue);
+  vkGetDeviceQueue(dev, family, 0, &queue);
 
   constexpr VkDeviceSize kSize = 64;
   HostBuffer src = makeBuffer(pd, dev, kSize);
@@ -103,7 +67,7 @@ int main() {
   std::memset(dst.bytes, 0, kSize);
 
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.queueFamilyIndex = 0;
+  pci.queueFamilyIndex = family;
   VkCommandPool pool;
   CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};

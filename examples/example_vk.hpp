@@ -1,6 +1,7 @@
-// What the ray tracing examples (scene_demo, pathtracer) share: error exits, host-visible buffers with device
-// addresses, one-shot command buffers, the ray tracing entry points, and acceleration structure builds. Plain Vulkan
-// through the loader; nothing here knows which driver runs it.
+// What the examples (scene_demo, pathtracer, hybrid) and bench/rasterbench share: error exits, instance and device
+// creation, memory types, images with a view, the colour + depth render pass; and, for the ray tracing examples
+// (example::Context), host-visible buffers with device addresses, one-shot command buffers, the ray tracing entry
+// points and acceleration structure builds. Plain Vulkan through the loader; nothing here knows which driver runs it.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -9,11 +10,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 #include "example_fail.hpp"
-#include "runtime/vk_compat.h"  // tokens newer than Debian 12's Vulkan headers (VK_EXT_pipeline_library_group_handles)
 
 namespace example {
 
@@ -29,6 +31,192 @@ F load(VkDevice dev, const char* name) {
   if (!f) fail(std::string("the driver has no ") + name);
   return f;
 }
+
+// ------------------------------------------------------------------------------------ instance and device
+
+// A Vulkan 1.3 instance (the examples' shaders are SPIR-V 1.6) for the application `app`, with `extensions`.
+inline VkInstance createInstance(const char* app, const std::vector<const char*>& extensions = {}) {
+  VkApplicationInfo ai{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  ai.pApplicationName = app;
+  ai.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &ai;
+  ici.enabledExtensionCount = uint32_t(extensions.size());
+  ici.ppEnabledExtensionNames = extensions.data();
+  VkInstance instance;
+  CHECK(vkCreateInstance(&ici, nullptr, &instance));
+  return instance;
+}
+
+// The first physical device of `instance` that `accept` takes (the first of all when `accept` is empty); fails
+// with `missing` when there is none.
+inline VkPhysicalDevice pickPhysicalDevice(VkInstance instance,
+                                           const std::function<bool(VkPhysicalDevice)>& accept = {},
+                                           const char* missing = "no Vulkan device") {
+  uint32_t n = 0;
+  CHECK(vkEnumeratePhysicalDevices(instance, &n, nullptr));
+  std::vector<VkPhysicalDevice> devices(n);
+  CHECK(vkEnumeratePhysicalDevices(instance, &n, devices.data()));
+  for (VkPhysicalDevice d : devices)
+    if (!accept || accept(d)) return d;
+  fail(missing);
+}
+
+// The first queue family of `physical` with every flag of `flags`; fails when there is none.
+inline uint32_t queueFamily(VkPhysicalDevice physical, VkQueueFlags flags) {
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> families(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &n, families.data());
+  for (uint32_t i = 0; i < n; ++i)
+    if ((families[i].queueFlags & flags) == flags) return i;
+  fail("the device has no queue family with flags 0x" + std::to_string(flags));
+}
+
+// A device with one queue of `family`, the feature structures chained from `features` (null for none; a
+// VkPhysicalDeviceFeatures2 or any feature structure) and `extensions`.
+inline VkDevice createDevice(VkPhysicalDevice physical, uint32_t family, const void* features,
+                             const std::vector<const char*>& extensions = {}) {
+  const float priority = 1;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = family;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, features};
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  dci.enabledExtensionCount = uint32_t(extensions.size());
+  dci.ppEnabledExtensionNames = extensions.data();
+  VkDevice device;
+  CHECK(vkCreateDevice(physical, &dci, nullptr, &device));
+  return device;
+}
+
+// ------------------------------------------------------------------------------- memory, images, render pass
+
+// A memory type of `physical` allowed by `allowed` (VkMemoryRequirements::memoryTypeBits) with every flag of the
+// first set in `choices` that some allowed type has; fails with `what` when no set matches.
+inline uint32_t memoryType(VkPhysicalDevice physical, uint32_t allowed,
+                           std::initializer_list<VkMemoryPropertyFlags> choices, const char* what) {
+  VkPhysicalDeviceMemoryProperties mp;
+  vkGetPhysicalDeviceMemoryProperties(physical, &mp);
+  for (VkMemoryPropertyFlags flags : choices)
+    for (uint32_t i = 0; i < mp.memoryTypeCount; ++i)
+      if ((allowed & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  fail(std::string("no memory type for ") + what);
+}
+
+// A 2D image, its memory (device-local where the device has it) and a view of all its `levels` mip levels.
+struct Image {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+};
+
+// A width x height image of `format` with `levels` mip levels, optimal tiling, one sample, bound to memory, and a
+// 2D view of `aspect`.
+inline Image createImage(VkDevice device, VkPhysicalDevice physical, VkFormat format, uint32_t width, uint32_t height,
+                         uint32_t levels, VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+  Image im;
+  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ici.imageType = VK_IMAGE_TYPE_2D;
+  ici.format = format;
+  ici.extent = {width, height, 1};
+  ici.mipLevels = levels;
+  ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ici.usage = usage;
+  CHECK(vkCreateImage(device, &ici, nullptr, &im.image));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device, im.image, &req);
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = memoryType(physical, req.memoryTypeBits, {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0}, "an image");
+  CHECK(vkAllocateMemory(device, &mai, nullptr, &im.memory));
+  CHECK(vkBindImageMemory(device, im.image, im.memory, 0));
+  VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vci.image = im.image;
+  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vci.format = format;
+  vci.subresourceRange = {aspect, 0, levels, 0, 1};
+  CHECK(vkCreateImageView(device, &vci, nullptr, &im.view));
+  return im;
+}
+
+inline void destroyImage(VkDevice device, const Image& im) {
+  vkDestroyImageView(device, im.view, nullptr);
+  vkDestroyImage(device, im.image, nullptr);
+  vkFreeMemory(device, im.memory, nullptr);
+}
+
+// One subpass drawing into a colour attachment of `colorFormat` and a depth attachment of `depthFormat`, both
+// cleared at the start; the colour image ends in TRANSFER_SRC_OPTIMAL, ready to be copied out, and the depth
+// image's contents are not kept. Its dependencies let a command buffer render the pass again and again: the pass
+// waits for the copy of the previous frame and its depth writes, and the copy after the pass waits for the pass.
+inline VkRenderPass createColorDepthRenderPass(VkDevice device, VkFormat colorFormat, VkFormat depthFormat) {
+  VkAttachmentDescription at[2] = {};
+  at[0].format = colorFormat;
+  at[0].samples = VK_SAMPLE_COUNT_1_BIT;
+  at[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  at[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  at[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  at[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  at[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  at[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  at[1] = at[0];
+  at[1].format = depthFormat;
+  at[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  at[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription sub{};
+  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  sub.colorAttachmentCount = 1;
+  sub.pColorAttachments = &color;
+  sub.pDepthStencilAttachment = &depth;
+  VkSubpassDependency deps[2] = {};
+  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  deps[0].dstSubpass = 0;
+  deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  deps[1].srcSubpass = 0;
+  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  rpci.attachmentCount = 2;
+  rpci.pAttachments = at;
+  rpci.subpassCount = 1;
+  rpci.pSubpasses = &sub;
+  rpci.dependencyCount = 2;
+  rpci.pDependencies = deps;
+  VkRenderPass rp;
+  CHECK(vkCreateRenderPass(device, &rpci, nullptr, &rp));
+  return rp;
+}
+
+// A width x height framebuffer of `renderPass` over the colour and depth views.
+inline VkFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, VkImageView color, VkImageView depth,
+                                       uint32_t width, uint32_t height) {
+  const VkImageView views[2] = {color, depth};
+  VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  fci.renderPass = renderPass;
+  fci.attachmentCount = 2;
+  fci.pAttachments = views;
+  fci.width = width;
+  fci.height = height;
+  fci.layers = 1;
+  VkFramebuffer fb;
+  CHECK(vkCreateFramebuffer(device, &fci, nullptr, &fb));
+  return fb;
+}
+
+// ----------------------------------------------------------------------------------- ray tracing examples
 
 struct Buffer {
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -80,6 +268,24 @@ struct Context {
   PFN_vkCmdSetRayTracingPipelineStackSizeKHR setStackSize = nullptr;
   PFN_vkCmdTraceRaysKHR traceRays = nullptr;
 
+  // Creates the instance (with `instanceExtensions`), takes the first physical device that `accept` takes (see
+  // pickPhysicalDevice), reads its ray tracing properties into `rt`, prints "<program>: device <name>", and creates
+  // the device with one queue of the first family with `queueFlags`, the feature chain `features` and
+  // `deviceExtensions` (which must hold VK_KHR_ray_tracing_pipeline and VK_KHR_acceleration_structure: every ray
+  // tracing entry point is loaded); then the queue and the command pool.
+  void open(VkQueueFlags queueFlags, const void* features, const std::vector<const char*>& deviceExtensions,
+            const std::vector<const char*>& instanceExtensions = {},
+            const std::function<bool(VkPhysicalDevice)>& accept = {}, const char* missing = "no Vulkan device") {
+    instance = createInstance(gProgram, instanceExtensions);
+    physical = pickPhysicalDevice(instance, accept, missing);
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rt};
+    vkGetPhysicalDeviceProperties2(physical, &p2);
+    std::printf("%s: device %s\n", gProgram, p2.properties.deviceName);
+    queueFamily = example::queueFamily(physical, queueFlags);
+    device = createDevice(physical, queueFamily, features, deviceExtensions);
+    deviceCreated();
+  }
+
   // After vkCreateDevice: the queue, a command pool, and the ray tracing entry points.
   void deviceCreated() {
     vkGetDeviceQueue(device, queueFamily, 0, &queue);
@@ -111,16 +317,10 @@ struct Context {
     CHECK(vkCreateBuffer(device, &bci, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device, b.buffer, &req);
-    VkPhysicalDeviceMemoryProperties mp;
-    vkGetPhysicalDeviceMemoryProperties(physical, &mp);
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     const VkMemoryPropertyFlags prefer =
         readBack ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    uint32_t type = UINT32_MAX;
-    for (VkMemoryPropertyFlags flags : {want | prefer, want})
-      for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-        if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) type = i;
-    if (type == UINT32_MAX) fail("no host-visible coherent memory type for a buffer");
+    const uint32_t type = memoryType(physical, req.memoryTypeBits, {want | prefer, want}, "a host-visible buffer");
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};

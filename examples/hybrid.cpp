@@ -39,6 +39,7 @@ using example::Buffer;
 using example::Built;
 using example::Context;
 using example::fail;
+using example::Image;
 using example::Mesh;
 
 // ------------------------------------------------------------------------------------------------- vectors
@@ -273,28 +274,6 @@ uint32_t check(const Mesh& m, const Camera& c, uint32_t width, uint32_t height, 
 // ------------------------------------------------------------------------------------------------- Vulkan
 
 void createDevice(Context& c) {
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "hybrid";
-  app.apiVersion = VK_API_VERSION_1_3;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  CHECK(vkCreateInstance(&ici, nullptr, &c.instance));
-  uint32_t n = 1;
-  VkResult r = vkEnumeratePhysicalDevices(c.instance, &n, &c.physical);
-  if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || n == 0) fail("no Vulkan device");
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &c.rt};
-  vkGetPhysicalDeviceProperties2(c.physical, &p2);
-  std::printf("hybrid: device %s\n", p2.properties.deviceName);
-  uint32_t families = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(c.physical, &families, nullptr);
-  std::vector<VkQueueFamilyProperties> fp(families);
-  vkGetPhysicalDeviceQueueFamilyProperties(c.physical, &families, fp.data());
-  c.queueFamily = UINT32_MAX;
-  for (uint32_t i = 0; i < families && c.queueFamily == UINT32_MAX; ++i)
-    if (fp[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) c.queueFamily = i;
-  if (c.queueFamily == UINT32_MAX) fail("the device has no graphics queue");
-  const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
-                        VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME};
   VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
   rq.rayQuery = VK_TRUE;
   VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
@@ -302,19 +281,10 @@ void createDevice(Context& c) {
   asf.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &asf};
   f12.bufferDeviceAddress = VK_TRUE;
-  float priority = 1;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = c.queueFamily;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
   // The ray tracing pipeline extension only for example::Context's entry points (it loads them all).
-  dci.enabledExtensionCount = 4;
-  dci.ppEnabledExtensionNames = exts;
-  CHECK(vkCreateDevice(c.physical, &dci, nullptr, &c.device));
-  c.deviceCreated();
+  c.open(VK_QUEUE_GRAPHICS_BIT, &f12,
+         {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
+          VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME});
 }
 
 Built buildScene(Context& c, const Mesh& m) {
@@ -339,98 +309,8 @@ Built buildScene(Context& c, const Mesh& m) {
   return c.buildTopLevel({in});
 }
 
-struct Image {
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
-};
-
-Image createImage(Context& c, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, uint32_t width,
-                  uint32_t height) {
-  Image im;
-  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  ici.imageType = VK_IMAGE_TYPE_2D;
-  ici.format = format;
-  ici.extent = {width, height, 1};
-  ici.mipLevels = 1;
-  ici.arrayLayers = 1;
-  ici.samples = VK_SAMPLE_COUNT_1_BIT;
-  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ici.usage = usage;
-  CHECK(vkCreateImage(c.device, &ici, nullptr, &im.image));
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(c.device, im.image, &req);
-  VkPhysicalDeviceMemoryProperties mp;
-  vkGetPhysicalDeviceMemoryProperties(c.physical, &mp);
-  uint32_t type = UINT32_MAX;
-  for (VkMemoryPropertyFlags want :
-       {VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT), VkMemoryPropertyFlags(0)})
-    for (uint32_t i = 0; i < mp.memoryTypeCount && type == UINT32_MAX; ++i)
-      if ((req.memoryTypeBits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) type = i;
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.allocationSize = req.size;
-  mai.memoryTypeIndex = type;
-  CHECK(vkAllocateMemory(c.device, &mai, nullptr, &im.memory));
-  CHECK(vkBindImageMemory(c.device, im.image, im.memory, 0));
-  VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  vci.image = im.image;
-  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  vci.format = format;
-  vci.subresourceRange = {aspect, 0, 1, 0, 1};
-  CHECK(vkCreateImageView(c.device, &vci, nullptr, &im.view));
-  return im;
-}
-
-void destroyImage(Context& c, Image& im) {
-  vkDestroyImageView(c.device, im.view, nullptr);
-  vkDestroyImage(c.device, im.image, nullptr);
-  vkFreeMemory(c.device, im.memory, nullptr);
-}
-
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
-
-// One colour and one depth attachment; the colour image ends ready to be copied.
-VkRenderPass createRenderPass(Context& c) {
-  VkAttachmentDescription at[2] = {};
-  at[0].format = kColorFormat;
-  at[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  at[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  at[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  at[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  at[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  at[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  at[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  at[1] = at[0];
-  at[1].format = kDepthFormat;
-  at[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  at[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription sub{};
-  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &color;
-  sub.pDepthStencilAttachment = &depth;
-  // The copy after the pass reads what the pass wrote.
-  VkSubpassDependency dep{};
-  dep.srcSubpass = 0;
-  dep.dstSubpass = VK_SUBPASS_EXTERNAL;
-  dep.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dep.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  dep.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dep.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rpci.attachmentCount = 2;
-  rpci.pAttachments = at;
-  rpci.subpassCount = 1;
-  rpci.pSubpasses = &sub;
-  rpci.dependencyCount = 1;
-  rpci.pDependencies = &dep;
-  VkRenderPass rp;
-  CHECK(vkCreateRenderPass(c.device, &rpci, nullptr, &rp));
-  return rp;
-}
 
 struct Pipelines {
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
@@ -577,22 +457,15 @@ int main(int argc, char** argv) {
   const Built tlas = buildScene(c, mesh);
   const std::vector<float> stream = vertexStream(mesh);
   Buffer vertices = c.upload(stream, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-  VkRenderPass rp = createRenderPass(c);
+  // One colour and one depth attachment; the colour image ends ready to be copied.
+  VkRenderPass rp = example::createColorDepthRenderPass(c.device, kColorFormat, kDepthFormat);
   Pipelines p = createPipelines(c, rp, width, height);
-  Image color = createImage(c, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                            VK_IMAGE_ASPECT_COLOR_BIT, width, height);
-  Image depth = createImage(c, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT,
-                            width, height);
-  VkImageView views[2] = {color.view, depth.view};
-  VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fci.renderPass = rp;
-  fci.attachmentCount = 2;
-  fci.pAttachments = views;
-  fci.width = width;
-  fci.height = height;
-  fci.layers = 1;
-  VkFramebuffer fb;
-  CHECK(vkCreateFramebuffer(c.device, &fci, nullptr, &fb));
+  const Image color = example::createImage(c.device, c.physical, kColorFormat, width, height, 1,
+                                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                           VK_IMAGE_ASPECT_COLOR_BIT);
+  const Image depth = example::createImage(c.device, c.physical, kDepthFormat, width, height, 1,
+                                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+  VkFramebuffer fb = example::createFramebuffer(c.device, rp, color.view, depth.view, width, height);
 
   VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1};
   VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -672,8 +545,8 @@ int main(int argc, char** argv) {
   if (doCheck && check(mesh, cam, width, height, rgba) != 0) status = 1;
 
   vkDestroyFramebuffer(c.device, fb, nullptr);
-  destroyImage(c, color);
-  destroyImage(c, depth);
+  example::destroyImage(c.device, color);
+  example::destroyImage(c.device, depth);
   vkDestroyRenderPass(c.device, rp, nullptr);
   vkDestroyPipeline(c.device, p.scene, nullptr);
   vkDestroyPipeline(c.device, p.overlay, nullptr);

@@ -49,6 +49,7 @@
 #include "pt_sphere.rchit.spv.h"
 #include "pt_sphere.rint.spv.h"
 #include "pt_triangle.rchit.spv.h"
+#include "runtime/vk_compat.h"  // tokens newer than Debian 12's Vulkan headers (VK_EXT_pipeline_library_group_handles)
 
 namespace {
 
@@ -392,61 +393,33 @@ const char* const kDeviceExtensions[] = {
     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_PIPELINE_LIBRARY_EXTENSION_NAME,
     VK_EXT_PIPELINE_LIBRARY_GROUP_HANDLES_EXTENSION_NAME};
 
-// Picks the first device with the extensions and features the path tracer needs.
-void createDevice(Context& c) {
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "pathtracer";
-  app.apiVersion = VK_API_VERSION_1_3;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  CHECK(vkCreateInstance(&ici, nullptr, &c.instance));
-  uint32_t n = 0;
-  CHECK(vkEnumeratePhysicalDevices(c.instance, &n, nullptr));
-  std::vector<VkPhysicalDevice> devices(n);
-  CHECK(vkEnumeratePhysicalDevices(c.instance, &n, devices.data()));
-  for (VkPhysicalDevice d : devices) {
-    uint32_t e = 0;
-    CHECK(vkEnumerateDeviceExtensionProperties(d, nullptr, &e, nullptr));
-    std::vector<VkExtensionProperties> exts(e);
-    CHECK(vkEnumerateDeviceExtensionProperties(d, nullptr, &e, exts.data()));
-    if (!std::all_of(std::begin(kDeviceExtensions), std::end(kDeviceExtensions),
-                     [&](const char* x) { return hasExtension(exts, x); }))
-      continue;
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(d, &props);
-    if (props.apiVersion < VK_API_VERSION_1_2) continue;
-    VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
-    VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &lgh};
-    VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR, &asf};
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &rtf};
-    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
-    vkGetPhysicalDeviceFeatures2(d, &f2);
-    if (f12.bufferDeviceAddress && rtf.rayTracingPipeline && asf.accelerationStructure &&
-        lgh.pipelineLibraryGroupHandles) {
-      c.physical = d;
-      break;
-    }
-  }
-  if (!c.physical)
-    fail(
-        "no Vulkan device with VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure, VK_KHR_pipeline_library "
-        "and VK_EXT_pipeline_library_group_handles (and their features)");
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &c.rt};
-  vkGetPhysicalDeviceProperties2(c.physical, &p2);
-  std::printf("pathtracer: device %s (shader group handles of %u bytes, ray recursion depth up to %u)\n",
-              p2.properties.deviceName, c.rt.shaderGroupHandleSize, c.rt.maxRayRecursionDepth);
-  uint32_t families = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(c.physical, &families, nullptr);
-  std::vector<VkQueueFamilyProperties> qf(families);
-  vkGetPhysicalDeviceQueueFamilyProperties(c.physical, &families, qf.data());
-  c.queueFamily = UINT32_MAX;
-  for (uint32_t i = 0; i < families && c.queueFamily == UINT32_MAX; ++i)
-    if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) c.queueFamily = i;
-  if (c.queueFamily == UINT32_MAX) fail("the device has no compute queue");
+// Whether `d` has the extensions and features the path tracer needs.
+bool suitable(VkPhysicalDevice d) {
+  uint32_t e = 0;
+  CHECK(vkEnumerateDeviceExtensionProperties(d, nullptr, &e, nullptr));
+  std::vector<VkExtensionProperties> exts(e);
+  CHECK(vkEnumerateDeviceExtensionProperties(d, nullptr, &e, exts.data()));
+  if (!std::all_of(std::begin(kDeviceExtensions), std::end(kDeviceExtensions),
+                   [&](const char* x) { return hasExtension(exts, x); }))
+    return false;
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(d, &props);
+  if (props.apiVersion < VK_API_VERSION_1_2) return false;
+  VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &lgh};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR,
+                                                    &asf};
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &rtf};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
+  vkGetPhysicalDeviceFeatures2(d, &f2);
+  return f12.bufferDeviceAddress && rtf.rayTracingPipeline && asf.accelerationStructure &&
+         lgh.pipelineLibraryGroupHandles;
+}
 
+// Opens the first suitable device with those extensions and features.
+void createDevice(Context& c) {
   VkPhysicalDevicePipelineLibraryGroupHandlesFeaturesEXT lgh{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_LIBRARY_GROUP_HANDLES_FEATURES_EXT};
   lgh.pipelineLibraryGroupHandles = VK_TRUE;
@@ -458,18 +431,11 @@ void createDevice(Context& c) {
   rtf.rayTracingPipeline = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &rtf};
   f12.bufferDeviceAddress = VK_TRUE;
-  float priority = 1;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = c.queueFamily;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  dci.enabledExtensionCount = uint32_t(std::size(kDeviceExtensions));
-  dci.ppEnabledExtensionNames = kDeviceExtensions;
-  CHECK(vkCreateDevice(c.physical, &dci, nullptr, &c.device));
-  c.deviceCreated();
+  c.open(VK_QUEUE_COMPUTE_BIT, &f12, {std::begin(kDeviceExtensions), std::end(kDeviceExtensions)}, {}, suitable,
+         "no Vulkan device with VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure, VK_KHR_pipeline_library "
+         "and VK_EXT_pipeline_library_group_handles (and their features)");
+  std::printf("pathtracer: shader group handles of %u bytes, ray recursion depth up to %u\n",
+              c.rt.shaderGroupHandleSize, c.rt.maxRayRecursionDepth);
 }
 
 // The scene's structures: a BLAS per mesh (a geometry per part; alpha-tested parts are not opaque, so that the

@@ -44,28 +44,6 @@ struct Context : example::Context {
 };
 
 void createDevice(Context& c) {
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "scene_demo";
-  app.apiVersion = VK_API_VERSION_1_3;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  const char* instanceExts[] = {VK_KHR_SURFACE_EXTENSION_NAME, VK_EXT_HEADLESS_SURFACE_EXTENSION_NAME};
-  if (c.present) {
-    ici.enabledExtensionCount = 2;
-    ici.ppEnabledExtensionNames = instanceExts;
-  }
-  CHECK(vkCreateInstance(&ici, nullptr, &c.instance));
-  uint32_t n = 1;
-  VkResult r = vkEnumeratePhysicalDevices(c.instance, &n, &c.physical);
-  if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || n == 0) {
-    std::fprintf(stderr, "scene_demo: no Vulkan device\n");
-    std::exit(1);
-  }
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &c.rt};
-  vkGetPhysicalDeviceProperties2(c.physical, &p2);
-  std::printf("scene_demo: device %s\n", p2.properties.deviceName);
-  const char* exts[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
-                        VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_SWAPCHAIN_EXTENSION_NAME};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR asf{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   asf.accelerationStructure = VK_TRUE;
@@ -74,17 +52,15 @@ void createDevice(Context& c) {
   rtf.rayTracingPipeline = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &rtf};
   f12.bufferDeviceAddress = VK_TRUE;
-  float priority = 1;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f12};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  dci.enabledExtensionCount = c.present ? 4 : 3;
-  dci.ppEnabledExtensionNames = exts;
-  CHECK(vkCreateDevice(c.physical, &dci, nullptr, &c.device));
-  c.deviceCreated();
+  std::vector<const char*> exts = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                   VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+                                   VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+  std::vector<const char*> instanceExts;
+  if (c.present) {
+    exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    instanceExts = {VK_KHR_SURFACE_EXTENSION_NAME, VK_EXT_HEADLESS_SURFACE_EXTENSION_NAME};
+  }
+  c.open(VK_QUEUE_COMPUTE_BIT, &f12, exts, instanceExts);
 }
 
 // ------------------------------------------------------------------------------------------------- the scene
