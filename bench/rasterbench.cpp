@@ -25,6 +25,7 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
 
+#include "example_vk.hpp"
 #include "gltf_util.hpp"
 #include "raster_model.frag.spv.h"
 #include "raster_model.vert.spv.h"
@@ -34,11 +35,6 @@
 namespace {
 
 using example::fail;
-
-void check(VkResult r, const char* what) {
-  if (r != VK_SUCCESS) fail(std::string(what) + " failed with VkResult " + std::to_string(int(r)));
-}
-#define CHECK(call) check((call), #call)
 
 constexpr const char* kDefaultModel = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
 
