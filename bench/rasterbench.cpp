@@ -342,39 +342,14 @@ int main(int argc, char** argv) {
   const Model model = loadModel(opt.model);
 
   Gpu g;
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "vkrt_rasterbench";
-  app.apiVersion = VK_API_VERSION_1_3;  // the shaders are SPIR-V 1.6 (glslc, Vulkan 1.3)
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  CHECK(vkCreateInstance(&ici, nullptr, &g.instance));
-  uint32_t count = 0;
-  CHECK(vkEnumeratePhysicalDevices(g.instance, &count, nullptr));
-  if (count == 0) fail("no Vulkan device");
-  std::vector<VkPhysicalDevice> physicals(count);
-  CHECK(vkEnumeratePhysicalDevices(g.instance, &count, physicals.data()));
-  g.physical = physicals[0];
+  g.instance = example::createInstance("vkrt_rasterbench");
+  g.physical = example::pickPhysicalDevice(g.instance);
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(g.physical, &props);
   g.name = props.deviceName;
   vkGetPhysicalDeviceMemoryProperties(g.physical, &g.memory);
-  uint32_t familyCount = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(g.physical, &familyCount, nullptr);
-  std::vector<VkQueueFamilyProperties> families(familyCount);
-  vkGetPhysicalDeviceQueueFamilyProperties(g.physical, &familyCount, families.data());
-  uint32_t family = UINT32_MAX;
-  for (uint32_t i = 0; i < familyCount && family == UINT32_MAX; ++i)
-    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) family = i;
-  if (family == UINT32_MAX) fail("no graphics queue");
-  const float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = family;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  CHECK(vkCreateDevice(g.physical, &dci, nullptr, &g.device));
+  const uint32_t family = example::queueFamily(g.physical, VK_QUEUE_GRAPHICS_BIT);
+  g.device = example::createDevice(g.physical, family, nullptr);
   vkGetDeviceQueue(g.device, family, 0, &g.queue);
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pci.queueFamilyIndex = family;
