@@ -35,6 +35,7 @@
 namespace {
 
 using example::fail;
+using example::Image;
 
 constexpr const char* kDefaultModel = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
 
@@ -197,38 +198,6 @@ HostBuffer hostBuffer(const Gpu& g, VkDeviceSize size, VkBufferUsageFlags usage)
   return b;
 }
 
-struct Image {
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
-};
-
-Image makeImage(const Gpu& g, VkFormat format, uint32_t w, uint32_t h, uint32_t levels, VkImageUsageFlags usage,
-                VkImageAspectFlags aspect) {
-  Image im;
-  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  ici.imageType = VK_IMAGE_TYPE_2D;
-  ici.format = format;
-  ici.extent = {w, h, 1};
-  ici.mipLevels = levels;
-  ici.arrayLayers = 1;
-  ici.samples = VK_SAMPLE_COUNT_1_BIT;
-  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ici.usage = usage;
-  CHECK(vkCreateImage(g.device, &ici, nullptr, &im.image));
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(g.device, im.image, &req);
-  im.memory = g.allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  CHECK(vkBindImageMemory(g.device, im.image, im.memory, 0));
-  VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  vci.image = im.image;
-  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  vci.format = format;
-  vci.subresourceRange = {aspect, 0, levels, 0, 1};
-  CHECK(vkCreateImageView(g.device, &vci, nullptr, &im.view));
-  return im;
-}
-
 void barrier(VkCommandBuffer cb, VkImage image, uint32_t level, uint32_t levels, VkImageLayout from, VkImageLayout to,
              VkAccessFlags srcAccess, VkAccessFlags dstAccess, VkPipelineStageFlags srcStage,
              VkPipelineStageFlags dstStage) {
@@ -370,15 +339,15 @@ int main(int argc, char** argv) {
 
   uint32_t levels = 1;
   while ((std::max(model.texWidth, model.texHeight) >> levels) > 0) ++levels;
-  const Image tex =
-      makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, model.texWidth, model.texHeight, levels,
-                VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                VK_IMAGE_ASPECT_COLOR_BIT);
-  const Image color =
-      makeImage(g, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,
-                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
-  const Image depth = makeImage(g, VK_FORMAT_D32_SFLOAT, opt.width, opt.height, 1,
-                                VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+  const Image tex = example::createImage(
+      g.device, g.physical, VK_FORMAT_R8G8B8A8_UNORM, model.texWidth, model.texHeight, levels,
+      VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+      VK_IMAGE_ASPECT_COLOR_BIT);
+  const Image color = example::createImage(g.device, g.physical, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,
+                                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                           VK_IMAGE_ASPECT_COLOR_BIT);
+  const Image depth = example::createImage(g.device, g.physical, VK_FORMAT_D32_SFLOAT, opt.width, opt.height, 1,
+                                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
   {
     const VkCommandBuffer cb = g.commandBuffer();
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -396,60 +365,12 @@ int main(int argc, char** argv) {
   VkSampler sampler;
   CHECK(vkCreateSampler(g.device, &sci, nullptr, &sampler));
 
-  // Render pass: colour and depth cleared; colour ends ready for the copy to the read-back buffer.
-  VkAttachmentDescription att[2] = {};
-  att[0].format = VK_FORMAT_R8G8B8A8_UNORM;
-  att[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  att[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  att[1] = att[0];
-  att[1].format = VK_FORMAT_D32_SFLOAT;
-  att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription sub{};
-  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &colorRef;
-  sub.pDepthStencilAttachment = &depthRef;
-  // The copy after the pass reads what the pass wrote; the next frame's clear waits for the previous copy.
-  VkSubpassDependency deps[2] = {};
-  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-  deps[0].dstSubpass = 0;
-  deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-  deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[1].srcSubpass = 0;
-  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-  deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rpci.attachmentCount = 2;
-  rpci.pAttachments = att;
-  rpci.subpassCount = 1;
-  rpci.pSubpasses = &sub;
-  rpci.dependencyCount = 2;
-  rpci.pDependencies = deps;
-  VkRenderPass renderPass;
-  CHECK(vkCreateRenderPass(g.device, &rpci, nullptr, &renderPass));
-  VkImageView views[2] = {color.view, depth.view};
-  VkFramebufferCreateInfo fbci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fbci.renderPass = renderPass;
-  fbci.attachmentCount = 2;
-  fbci.pAttachments = views;
-  fbci.width = opt.width;
-  fbci.height = opt.height;
-  fbci.layers = 1;
-  VkFramebuffer framebuffer;
-  CHECK(vkCreateFramebuffer(g.device, &fbci, nullptr, &framebuffer));
+  // Render pass: colour and depth cleared; colour ends ready for the copy to the read-back buffer; the next frame's
+  // clear waits for the previous copy.
+  const VkRenderPass renderPass =
+      example::createColorDepthRenderPass(g.device, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT);
+  const VkFramebuffer framebuffer =
+      example::createFramebuffer(g.device, renderPass, color.view, depth.view, opt.width, opt.height);
 
   // The texture's descriptor set and the pipeline layout (push constants: the camera, the grid, the turn).
   VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
@@ -635,11 +556,7 @@ int main(int argc, char** argv) {
   vkDestroyFramebuffer(g.device, framebuffer, nullptr);
   vkDestroyRenderPass(g.device, renderPass, nullptr);
   vkDestroySampler(g.device, sampler, nullptr);
-  for (const Image* im : {&tex, &color, &depth}) {
-    vkDestroyImageView(g.device, im->view, nullptr);
-    vkDestroyImage(g.device, im->image, nullptr);
-    vkFreeMemory(g.device, im->memory, nullptr);
-  }
+  for (const Image* im : {&tex, &color, &depth}) example::destroyImage(g.device, *im);
   for (const HostBuffer* b : {&vertices, &indices, &staging, &readBack}) {
     vkDestroyBuffer(g.device, b->buffer, nullptr);
     vkFreeMemory(g.device, b->memory, nullptr);
