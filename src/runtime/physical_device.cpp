@@ -76,7 +76,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
   l.maxComputeWorkGroupSize[0] = 1024;
   l.maxComputeWorkGroupSize[1] = 1024;
   l.maxComputeWorkGroupSize[2] = 64;
-  l.subPixelPrecisionBits = 4;
+  // The rasterizer snaps framebuffer positions to raster::kSubPixelBits (8) bits of sub-pixel precision
+  // (raster/setup.cpp); runtime sits below raster, so the number is written here.
+  l.subPixelPrecisionBits = 8;
   l.subTexelPrecisionBits = 8;
   l.mipmapPrecisionBits = 8;
   // Vertex input and the stage interfaces (src/gfx): 32 attribute locations and bindings (abi::kGraphicsLocations,
