@@ -4,6 +4,7 @@
 // (tests/shaders/compute_inline_block.comp) and a ray generation shader (inline_block_raygen.rgen, written after
 // the set was bound: update-after-bind) as uniform blocks, and compared word for word with the bytes written; the
 // pool counts bytes and inline bindings; and each rule vkrt checks for them is broken once and kept once.
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -135,6 +136,39 @@ class InlineBlockTest : public VulkanTest {
     return dst;
   }
 
+  // Runs compute_inline_block.comp (32 invocations) over `set` of layout `l`, whose binding 2 is `out` (32 words,
+  // filled with 0xee first); returns `out`'s words.
+  std::vector<uint32_t> dispatch(VkDescriptorSetLayout l, VkDescriptorSet set, const HostBuffer& out) {
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = 1;
+    plci.pSetLayouts = &l;
+    VkPipelineLayout pl = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreatePipelineLayout(device, &plci, nullptr, &pl), VK_SUCCESS);
+    VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sm.codeSize = sizeof kSpv_compute_inline_block_comp;
+    sm.pCode = kSpv_compute_inline_block_comp;
+    VkShaderModule m = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateShaderModule(device, &sm, nullptr, &m), VK_SUCCESS);
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = m;
+    ci.stage.pName = "main";
+    ci.layout = pl;
+    VkPipeline pipe = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), VK_SUCCESS);
+    std::memset(out.data, 0xee, out.size);
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cb, 1, 1, 1);
+    submitAndWait(cb);
+    vkDestroyPipeline(device, pipe, nullptr);
+    vkDestroyShaderModule(device, m, nullptr);
+    vkDestroyPipelineLayout(device, pl, nullptr);
+    return std::vector<uint32_t>(static_cast<uint32_t*>(out.data), static_cast<uint32_t*>(out.data) + 32);
+  }
+
   void TearDown() override {
     if (device) {
       vkDeviceWaitIdle(device);
@@ -203,47 +237,16 @@ TEST_F(InlineBlockTest, ComputeReadsBytesOfWriteTemplateAndCopy) {
   write(b, 1, 0, other.data(), 32);
   copyDescriptors(b, 1, 8, a, 1, 8, 16);
 
-  VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  plci.setLayoutCount = 1;
-  plci.pSetLayouts = &l;
-  VkPipelineLayout pl = VK_NULL_HANDLE;
-  ASSERT_EQ(vkCreatePipelineLayout(device, &plci, nullptr, &pl), VK_SUCCESS);
-  VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  sm.codeSize = sizeof kSpv_compute_inline_block_comp;
-  sm.pCode = kSpv_compute_inline_block_comp;
-  VkShaderModule m = VK_NULL_HANDLE;
-  ASSERT_EQ(vkCreateShaderModule(device, &sm, nullptr, &m), VK_SUCCESS);
-  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  ci.stage.module = m;
-  ci.stage.pName = "main";
-  ci.layout = pl;
-  VkPipeline pipe = VK_NULL_HANDLE;
-  ASSERT_EQ(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), VK_SUCCESS);
-
-  auto run = [&] {
-    std::memset(out.data, 0xee, out.size);
-    VkCommandBuffer cb = beginOneTime();
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &a, 0, nullptr);
-    vkCmdDispatch(cb, 1, 1, 1);
-    submitAndWait(cb);
-    return std::vector<uint32_t>(static_cast<uint32_t*>(out.data), static_cast<uint32_t*>(out.data) + 32);
-  };
-  std::vector<uint32_t> got = run();
+  std::vector<uint32_t> got = dispatch(l, a, out);
   for (uint32_t i = 0; i < 24; ++i) EXPECT_EQ(got[i], want[i]) << "word " << i;
   for (uint32_t i = 24; i < 32; ++i) EXPECT_EQ(got[i], 0xeeeeeeeeu) << "word " << i << " is past the blocks";
 
   // The bytes live in the set: a later write is what the next dispatch reads.
   const std::vector<uint32_t> again = pattern(24, 3);
   write(a, 0, 0, again.data(), 96);
-  got = run();
+  got = dispatch(l, a, out);
   for (uint32_t i = 0; i < 24; ++i) EXPECT_EQ(got[i], again[i]) << "word " << i;
 
-  vkDestroyPipeline(device, pipe, nullptr);
-  vkDestroyShaderModule(device, m, nullptr);
-  vkDestroyPipelineLayout(device, pl, nullptr);
   destroy(out);
 }
 
@@ -293,6 +296,41 @@ TEST_F(InlineBlockTest, VariableSizeIsBytes) {
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p13};
   vkGetPhysicalDeviceProperties2(physicalDevice, &p2);
   EXPECT_EQ(vs.maxVariableDescriptorCount, p13.maxInlineUniformBlockSize);
+}
+
+// With robustBufferAccess, reads of a block the shader declares larger than the binding stay inside the binding:
+// binding 1 has 16 bytes here, the shader's block 32, and binding 1 is the last bytes of the set's storage.
+class InlineBlockRobustTest : public InlineBlockTest {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = InlineBlockTest::options();
+    o.features.robustBufferAccess = VK_TRUE;
+    return o;
+  }
+};
+
+TEST_F(InlineBlockRobustTest, ReadsPastTheBindingStayInside) {
+  VkDescriptorSetLayout l = makeLayout({{0, kInline, 64, kCompute, nullptr},
+                                        {1, kInline, 16, kCompute, nullptr},
+                                        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr}});
+  VkDescriptorPool p = makePool({{kInline, 80}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}}, 1, 2);
+  VkDescriptorSet a = VK_NULL_HANDLE;
+  ASSERT_EQ(allocate(p, l, &a), VK_SUCCESS);
+  HostBuffer out = createHostBuffer(32 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffer(a, 2, out.buffer);
+  const std::vector<uint32_t> want = pattern(20, 7);
+  write(a, 0, 0, want.data(), 80);
+  std::vector<uint32_t> got = dispatch(l, a, out);
+  for (uint32_t i = 0; i < 20; ++i) EXPECT_EQ(got[i], want[i]) << "word " << i;
+  // Past the binding: zero on vkrt; the spec allows any value from within the binding, or zero.
+  for (uint32_t i = 20; i < 24; ++i) {
+    if (onVkrt()) {
+      EXPECT_EQ(got[i], 0u) << "word " << i;
+    } else {
+      EXPECT_TRUE(got[i] == 0 || std::find(want.begin() + 16, want.end(), got[i]) != want.end()) << "word " << i;
+    }
+  }
+  destroy(out);
 }
 
 // Rules vkrt checks (the layer is off: it would report the same misuse). Each broken rule reports its VUID and
