@@ -497,10 +497,9 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
     }
     // VUID-VkWriteDescriptorSetInlineUniformBlock-dataSize-02222 is VUID-VkWriteDescriptorSet-descriptorType-02220
     // here (dataSize equals descriptorCount).
-    return writeInlineBlock(set, w.dstBinding, w.dstArrayElement, w.descriptorCount,
-                            static_cast<const uint8_t*>(ib->pData), apply, what,
-                            "VUID-VkWriteDescriptorSet-descriptorType-02219",
-                            "VUID-VkWriteDescriptorSet-descriptorType-02220");
+    return writeInlineBlock(
+        set, w.dstBinding, w.dstArrayElement, w.descriptorCount, static_cast<const uint8_t*>(ib->pData), apply, what,
+        "VUID-VkWriteDescriptorSet-descriptorType-02219", "VUID-VkWriteDescriptorSet-descriptorType-02220");
   }
   size_t stride = 0;
   const uint8_t* src = writeSource(set, w, stride, what);

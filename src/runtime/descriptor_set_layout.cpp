@@ -47,10 +47,8 @@ bool descriptorTypeSupported(const Device* dev, VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
-    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return true;  // image view records (spirv Codegen::subpassRead)
-    // A core 1.3 type; layouts need the inlineUniformBlock feature (VUID-VkDescriptorSetLayoutBinding-
-    // descriptorType-04604), pools and updates take it like any other.
-    case VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK: return true;
+    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return true;      // image view records (spirv Codegen::subpassRead)
+    case VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK: return true;  // core 1.3 (layouts check the feature: 04604)
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR:
       return dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV:  // the same descriptor: a structure's address (abi.hpp)

@@ -4,13 +4,13 @@
 // each descriptor type puts in it). Binding b's element i lives at record index `layout->bindingAt(b)->offset + i`
 // (offsets are precomputed at layout creation). A binding with VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT
 // is always the highest binding, so it is last, and a set allocated with a smaller variable count simply has
-// fewer records.
+// fewer records. A record's `object` and `sampler` point at the Object base of the vkrt object (what a handle
+// points at); recordObject<T>() converts back.
 //
 // An inline uniform block binding (VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK) counts bytes, not descriptors: its
 // `count` is the block's size (a variable count is a size too). Its bytes live in the set's inline storage at
 // `inlineOffset`, and it takes one record (when its size is not 0), which points at them like a uniform buffer
-// descriptor: address = the bytes, range = the size. Shaders read it as a uniform buffer. A record's `object` and `sampler` point at the Object base of the vkrt object (what a handle
-// points at); recordObject<T>() converts back.
+// descriptor: address = the bytes, range = the size. Shaders read it as a uniform buffer.
 #pragma once
 
 #include <atomic>

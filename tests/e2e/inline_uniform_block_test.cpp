@@ -447,9 +447,9 @@ TEST_F(InlineBlockMisuseTest, Writes) {
 }
 
 TEST_F(InlineBlockMisuseTest, VariableSizeBoundsWrites) {
-  VkDescriptorSetLayout l = makeLayout(
-      {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr}, {1, kInline, 64, kCompute, nullptr}},
-      {0, VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT});
+  VkDescriptorSetLayout l =
+      makeLayout({{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kCompute, nullptr}, {1, kInline, 64, kCompute, nullptr}},
+                 {0, VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT});
   VkDescriptorPool p = makePool({{kInline, 64}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}}, 1, 1);
   VkDescriptorSet s = VK_NULL_HANDLE;
   ASSERT_EQ(allocate(p, l, &s, 32), VK_SUCCESS);
@@ -461,8 +461,8 @@ TEST_F(InlineBlockMisuseTest, VariableSizeBoundsWrites) {
 }
 
 TEST_F(InlineBlockMisuseTest, Copies) {
-  VkDescriptorSetLayout l = makeLayout({{0, kInline, 32, kCompute, nullptr},
-                                        {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kCompute, nullptr}});
+  VkDescriptorSetLayout l =
+      makeLayout({{0, kInline, 32, kCompute, nullptr}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kCompute, nullptr}});
   VkDescriptorPool p = makePool({{kInline, 64}, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2}}, 2, 2);
   VkDescriptorSet a = VK_NULL_HANDLE, b = VK_NULL_HANDLE;
   ASSERT_EQ(allocate(p, l, &a), VK_SUCCESS);
@@ -597,7 +597,8 @@ TEST_F(InlineBlockRaygenTest, RaygenReadsBlockWrittenAfterBind) {
 
   Desc d;
   d.layout = pl;
-  d.general(module(kSpv_inline_block_raygen_rgen, sizeof kSpv_inline_block_raygen_rgen), VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(module(kSpv_inline_block_raygen_rgen, sizeof kSpv_inline_block_raygen_rgen),
+            VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   VkPipeline p = make(d);
   ASSERT_NE(p, VK_NULL_HANDLE);
   const Sbt s = sbt(p, 1, {0}, {}, {});

@@ -220,8 +220,7 @@ TEST_F(FeatureTables, ListedExtensionsHaveTheFeaturesTheSpecificationRequires) {
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {
   VkPhysicalDeviceVariablePointersFeatures vp{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VARIABLE_POINTERS_FEATURES};
   vp.variablePointersStorageBuffer = VK_TRUE;  // promoted to Vulkan 1.1, not supported by vkrt
-  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
-                                                   &vp};
+  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES, &vp};
   scalar.scalarBlockLayout = VK_TRUE;
   VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &scalar};
   EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceVariablePointersFeatures::variablePointersStorageBuffer");
