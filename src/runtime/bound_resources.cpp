@@ -56,6 +56,8 @@ void BoundResources::resolve(const spirv::CompiledShader& shader, const BindStat
     }
     uint32_t n = set->elementCount(*b);
     if (!reportedUnwritten) reportedUnwritten = reportUnwritten(*set, *b, rb, n, cb, command);
+    // An inline uniform block's record already points into the set's storage with its size as range
+    // (DescriptorSet's constructor): the shader reads it as a uniform buffer, bounds-checked against the range.
     const abi::DescriptorRecord* records = set->records() + b->offset;
     if (isDynamicBufferType(b->type)) {
       const std::vector<uint32_t>& offs = bs.dynamicOffsets[rb.set];

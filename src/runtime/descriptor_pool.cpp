@@ -16,6 +16,7 @@ void descriptorDemand(const DescriptorSetLayout& layout, uint32_t variableCount,
   for (const DescriptorBinding& b : layout.bindings) {
     uint32_t n = (b.flags & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT) ? variableCount : b.count;
     if (n) out[b.type] += n;
+    if (n && isInlineBlock(b.type)) out[kInlineBindings] += 1;
   }
 }
 
@@ -23,6 +24,9 @@ DescriptorPool::DescriptorPool(Device* dev, const VkDescriptorPoolCreateInfo& in
     : Object(kType, dev->instance, dev), flags(info.flags), maxSets(info.maxSets) {
   for (uint32_t i = 0; i < info.poolSizeCount; ++i)
     capacity_[info.pPoolSizes[i].type] += info.pPoolSizes[i].descriptorCount;
+  auto* ib = findInChain<VkDescriptorPoolInlineUniformBlockCreateInfo>(
+      info.pNext, VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_INLINE_UNIFORM_BLOCK_CREATE_INFO);
+  if (ib) capacity_[kInlineBindings] = ib->maxInlineUniformBlockBindings;
 }
 
 DescriptorPool::~DescriptorPool() {
@@ -82,8 +86,27 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorPool(VkDevice device, const 
            "vkCreateDescriptorPool: maxSets must be greater than 0");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
+  auto* inlineInfo = findInChain<VkDescriptorPoolInlineUniformBlockCreateInfo>(
+      pCreateInfo->pNext, VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_INLINE_UNIFORM_BLOCK_CREATE_INFO);
   for (uint32_t i = 0; i < pCreateInfo->poolSizeCount; ++i) {
     const VkDescriptorPoolSize& s = pCreateInfo->pPoolSizes[i];
+    if (isInlineBlock(s.type)) {
+      // VUID-VkDescriptorPoolSize-type-02218
+      if (s.descriptorCount % 4) {
+        report(dev, Severity::Error, "VUID-VkDescriptorPoolSize-type-02218",
+               "vkCreateDescriptorPool: pPoolSizes[%u] has %u bytes of inline uniform blocks, not a multiple of 4", i,
+               s.descriptorCount);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+      // VUID-VkDescriptorPoolCreateInfo-pPoolSizes-09424
+      if (!inlineInfo || inlineInfo->maxInlineUniformBlockBindings == 0) {
+        report(dev, Severity::Error, "VUID-VkDescriptorPoolCreateInfo-pPoolSizes-09424",
+               "vkCreateDescriptorPool: pPoolSizes[%u] is VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK but the pNext chain "
+               "has no VkDescriptorPoolInlineUniformBlockCreateInfo with maxInlineUniformBlockBindings > 0 (%s)",
+               i, inlineInfo ? "it is 0" : "none");
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+    }
     // VUID-VkDescriptorPoolSize-descriptorCount-00302
     if (s.descriptorCount == 0) {
       report(dev, Severity::Error, "VUID-VkDescriptorPoolSize-descriptorCount-00302",

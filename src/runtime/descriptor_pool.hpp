@@ -1,4 +1,6 @@
-// VkDescriptorPool: enforces maxSets and the per-type descriptor counts of pPoolSizes; owns its sets.
+// VkDescriptorPool: enforces maxSets and the per-type descriptor counts of pPoolSizes (bytes for inline uniform
+// blocks, whose bindings are also counted against VkDescriptorPoolInlineUniformBlockCreateInfo::
+// maxInlineUniformBlockBindings); owns its sets.
 #pragma once
 
 #include <cstdint>
@@ -45,7 +47,11 @@ class DescriptorPool : public Object {
   std::unordered_set<DescriptorSet*> sets_;
 };
 
-// Descriptors of each type a set of `layout` takes from a pool.
+// What a pool's capacity is counted in: descriptors of each type (bytes for VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK)
+// and, under kInlineBindings, inline uniform block bindings.
+inline constexpr VkDescriptorType kInlineBindings = VK_DESCRIPTOR_TYPE_MAX_ENUM;
+
+// Descriptors of each type a set of `layout` takes from a pool (and its inline uniform block bindings).
 void descriptorDemand(const DescriptorSetLayout& layout, uint32_t variableCount,
                       std::map<VkDescriptorType, uint64_t>& out);
 

@@ -1,5 +1,6 @@
 #include "runtime/descriptor_set.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -23,8 +24,21 @@ DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLay
       records_(new DescriptorRecord[recordCount ? recordCount : 1]()),
       written_(new std::atomic<uint8_t>[recordCount ? recordCount : 1]()) {
   layout->retain();
-  // Immutable samplers are part of the set from the start.
+  const uint32_t inlineBytes = layout->inlineBytesFor(this->variableCount);
+  inline_.reset(new uint8_t[inlineBytes ? inlineBytes : 1]());
   for (const DescriptorBinding& b : layout->bindings) {
+    if (isInlineBlock(b.type)) {
+      if (!b.count) continue;  // no record
+      // The block's record points at its bytes like a uniform buffer descriptor (descriptor_set_layout.hpp). The
+      // descriptor is valid from allocation: only its bytes are undefined until written, so it never counts as
+      // unwritten (VUID-vkCmdDispatch-None-08114).
+      DescriptorRecord& r = records_[b.offset];
+      r.address = reinterpret_cast<uint64_t>(inlineData(b));
+      r.range = inlineSize(b);
+      written_[b.offset].store(1, std::memory_order_relaxed);
+      continue;
+    }
+    // Immutable samplers are part of the set from the start.
     uint32_t n = elementCount(b);
     for (uint32_t i = 0; i < n && i < b.immutableSamplers.size(); ++i)
       records_[b.offset + i].sampler = b.immutableSamplers[i];
@@ -34,6 +48,12 @@ DescriptorSet::DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLay
 DescriptorSet::~DescriptorSet() { DescriptorSetLayout::release(layout); }
 
 uint32_t DescriptorSet::elementCount(const DescriptorBinding& b) const {
+  const uint32_t n = (b.flags & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT) ? variableCount : b.count;
+  return isInlineBlock(b.type) ? (n ? 1 : 0) : n;
+}
+
+uint32_t DescriptorSet::inlineSize(const DescriptorBinding& b) const {
+  if (!isInlineBlock(b.type)) return 0;
   return (b.flags & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT) ? variableCount : b.count;
 }
 
@@ -103,6 +123,60 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
     ++e;
   }
   return true;
+}
+
+// One piece of an inline uniform block update: `size` bytes from byte `offset` of binding `b`.
+struct InlinePiece {
+  const DescriptorBinding* b;
+  uint32_t offset, size;
+};
+
+// Splits `size` bytes from byte `offset` of inline uniform block `binding` over it and the consecutive bindings
+// after it (an inline block's bytes play the part of array elements: "Descriptor Set Updates"). Reports with
+// `v` and returns false on error. The pieces are contiguous in the set's inline storage, from byte
+// `bindingAt(binding)->inlineOffset + offset`.
+bool inlinePieces(const DescriptorSet* set, uint32_t binding, uint32_t offset, uint32_t size, const SpanVuids& v,
+                  const char* what, std::vector<InlinePiece>& out) {
+  const DescriptorSetLayout& l = *set->layout;
+  const DescriptorBinding* b = l.bindingAt(binding);
+  if (!b || set->elementCount(*b) == 0) {
+    report(set, Severity::Error, v.noBinding,
+           "%s: binding %u does not exist in the set's layout (or has no descriptors)", what, binding);
+    return false;
+  }
+  if (!isInlineBlock(b->type)) {
+    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK",
+           what, binding, descriptorTypeName(b->type));
+    return false;
+  }
+  out.clear();
+  size_t idx = static_cast<size_t>(b - l.bindings.data());
+  uint32_t at = offset, left = size;
+  for (;;) {
+    const DescriptorBinding& cur = l.bindings[idx];
+    const uint32_t have = set->inlineSize(cur);
+    if (left && at < have) {
+      const uint32_t n = std::min(left, have - at);
+      out.push_back({&cur, at, n});
+      left -= n;
+      at += n;
+    }
+    if (!left) return true;
+    at -= have;
+    if (++idx >= l.bindings.size()) {
+      report(set, Severity::Error, v.overflow,
+             "%s: %u bytes from byte %u of inline uniform block binding %u run past the end of the set", what, size,
+             offset, binding);
+      return false;
+    }
+    const DescriptorBinding& n = l.bindings[idx];
+    if (set->elementCount(n) && (n.type != b->type || n.stages != b->stages || n.flags != b->flags)) {
+      report(set, Severity::Error, v.consecutive,
+             "%s: the update runs from binding %u into binding %u, whose type, stages or flags differ", what, binding,
+             n.binding);
+      return false;
+    }
+  }
 }
 
 // Computes descriptor `i`'s record from its source. Reports and returns false on a bad source.
@@ -317,6 +391,34 @@ bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElemen
   return true;
 }
 
+bool writeInlineBlock(DescriptorSet* set, uint32_t binding, uint32_t offset, uint32_t size, const uint8_t* data,
+                      bool apply, const char* what, const char* offsetVuid, const char* sizeVuid) {
+  // offsetVuid: VUID-VkWriteDescriptorSet-descriptorType-02219 or VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226
+  if (offset % 4) {
+    report(set, Severity::Error, offsetVuid,
+           "%s: the inline uniform block update starts at byte %u, not a multiple of 4", what, offset);
+    return false;
+  }
+  // sizeVuid: VUID-VkWriteDescriptorSet-descriptorType-02220 or VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227
+  if (size % 4) {
+    report(set, Severity::Error, sizeVuid, "%s: the inline uniform block update has %u bytes, not a multiple of 4",
+           what, size);
+    return false;
+  }
+  static const SpanVuids kVuids = {
+      "VUID-VkWriteDescriptorSet-dstBinding-00315", "VUID-VkWriteDescriptorSet-descriptorType-00319",
+      "VUID-VkWriteDescriptorSet-dstArrayElement-00321", "VUID-VkWriteDescriptorSet-descriptorCount-00317"};
+  std::vector<InlinePiece> pieces;
+  if (!inlinePieces(set, binding, offset, size, kVuids, what, pieces)) return false;
+  if (apply) {
+    for (const InlinePiece& p : pieces) {
+      std::memcpy(set->inlineData(*p.b) + p.offset, data, p.size);
+      data += p.size;
+    }
+  }
+  return true;
+}
+
 }  // namespace vkrt
 
 using namespace vkrt;
@@ -376,6 +478,29 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
            "%s: dstSet 0x%llx is not a live VkDescriptorSet", what, (unsigned long long)rawHandle(w.dstSet));
     return false;
   }
+  if (isInlineBlock(w.descriptorType)) {
+    auto* ib = findInChain<VkWriteDescriptorSetInlineUniformBlock>(
+        w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_INLINE_UNIFORM_BLOCK);
+    // VUID-VkWriteDescriptorSet-descriptorType-02221
+    if (!ib || ib->dataSize != w.descriptorCount) {
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02221",
+             "%s: an inline uniform block write of %u bytes needs a VkWriteDescriptorSetInlineUniformBlock with "
+             "dataSize %u in its pNext chain (%s)",
+             what, w.descriptorCount, w.descriptorCount, ib ? "its dataSize differs" : "there is none");
+      return false;
+    }
+    // VUID-VkWriteDescriptorSetInlineUniformBlock-pData-parameter
+    if (!ib->pData) {
+      report(set, Severity::Error, "VUID-VkWriteDescriptorSetInlineUniformBlock-pData-parameter",
+             "%s: VkWriteDescriptorSetInlineUniformBlock::pData is null", what);
+      return false;
+    }
+    // VUID-VkWriteDescriptorSetInlineUniformBlock-dataSize-02222 is VUID-VkWriteDescriptorSet-descriptorType-02220
+    // here (dataSize equals descriptorCount).
+    return writeInlineBlock(
+        set, w.dstBinding, w.dstArrayElement, w.descriptorCount, static_cast<const uint8_t*>(ib->pData), apply, what,
+        "VUID-VkWriteDescriptorSet-descriptorType-02219", "VUID-VkWriteDescriptorSet-descriptorType-02220");
+  }
   size_t stride = 0;
   const uint8_t* src = writeSource(set, w, stride, what);
   // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
@@ -398,6 +523,57 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
                           what);
 }
 
+// A copy from an inline uniform block: srcArrayElement, dstArrayElement and descriptorCount are bytes.
+bool copyInline(DescriptorSet* src, DescriptorSet* dst, const VkCopyDescriptorSet& c, bool apply, const char* what) {
+  // VUID-VkCopyDescriptorSet-srcBinding-02223, VUID-VkCopyDescriptorSet-dstBinding-02224,
+  // VUID-VkCopyDescriptorSet-srcBinding-02225
+  const char* vuid = c.srcArrayElement % 4   ? "VUID-VkCopyDescriptorSet-srcBinding-02223"
+                     : c.dstArrayElement % 4 ? "VUID-VkCopyDescriptorSet-dstBinding-02224"
+                     : c.descriptorCount % 4 ? "VUID-VkCopyDescriptorSet-srcBinding-02225"
+                                             : nullptr;
+  if (vuid) {
+    report(dst, Severity::Error, vuid,
+           "%s: an inline uniform block copy needs srcArrayElement (%u), dstArrayElement (%u) and descriptorCount (%u) "
+           "to be multiples of 4 (they are bytes)",
+           what, c.srcArrayElement, c.dstArrayElement, c.descriptorCount);
+    return false;
+  }
+  static const SpanVuids kSrc = {
+      "VUID-VkCopyDescriptorSet-srcBinding-00345", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+      "VUID-VkCopyDescriptorSet-srcArrayElement-00346", "VUID-VkCopyDescriptorSet-srcArrayElement-00346"};
+  static const SpanVuids kDst = {
+      "VUID-VkCopyDescriptorSet-dstBinding-00347", "VUID-VkCopyDescriptorSet-dstBinding-02632",
+      "VUID-VkCopyDescriptorSet-dstArrayElement-00348", "VUID-VkCopyDescriptorSet-dstArrayElement-00348"};
+  std::vector<InlinePiece> s, d;
+  if (!inlinePieces(src, c.srcBinding, c.srcArrayElement, c.descriptorCount, kSrc, what, s)) return false;
+  if (!inlinePieces(dst, c.dstBinding, c.dstArrayElement, c.descriptorCount, kDst, what, d)) return false;
+  // VUID-VkCopyDescriptorSet-srcSet-00349 (the pieces are contiguous in the set's inline storage)
+  const uint64_t from = uint64_t(src->layout->bindingAt(c.srcBinding)->inlineOffset) + c.srcArrayElement;
+  const uint64_t to = uint64_t(dst->layout->bindingAt(c.dstBinding)->inlineOffset) + c.dstArrayElement;
+  if (src == dst && from < to + c.descriptorCount && to < from + c.descriptorCount) {
+    report(dst, Severity::Error, "VUID-VkCopyDescriptorSet-srcSet-00349",
+           "%s: source bytes [%llu, %llu) and destination bytes [%llu, %llu) of the set's inline uniform blocks "
+           "overlap",
+           what, (unsigned long long)from, (unsigned long long)(from + c.descriptorCount), (unsigned long long)to,
+           (unsigned long long)(to + c.descriptorCount));
+    return false;
+  }
+  if (apply) {
+    std::vector<uint8_t> bytes;
+    bytes.reserve(c.descriptorCount);
+    for (const InlinePiece& p : s) {
+      const uint8_t* at = src->inlineData(*p.b) + p.offset;
+      bytes.insert(bytes.end(), at, at + p.size);
+    }
+    const uint8_t* next = bytes.data();
+    for (const InlinePiece& p : d) {
+      std::memcpy(dst->inlineData(*p.b) + p.offset, next, p.size);
+      next += p.size;
+    }
+  }
+  return true;
+}
+
 bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool apply) {
   char what[64];
   std::snprintf(what, sizeof what, "vkUpdateDescriptorSets: pDescriptorCopies[%u]", index);
@@ -411,6 +587,8 @@ bool doCopy(Device* dev, const VkCopyDescriptorSet& c, uint32_t index, bool appl
            (unsigned long long)rawHandle(!src ? c.srcSet : c.dstSet));
     return false;
   }
+  const DescriptorBinding* sb = src->layout->bindingAt(c.srcBinding);
+  if (sb && isInlineBlock(sb->type)) return copyInline(src, dst, c, apply, what);
   Span s, d;
   static const SpanVuids kSrc = {
       "VUID-VkCopyDescriptorSet-srcBinding-00345", "VUID-VkCopyDescriptorSet-dstBinding-02632",

@@ -30,8 +30,12 @@ class DescriptorSet : public Object {
   // The records compiled code reads: records()[binding.offset + arrayElement].
   DescriptorRecord* records() { return records_.get(); }
   const DescriptorRecord* records() const { return records_.get(); }
-  // Elements binding `b` has in this set (the variable count for a variable-sized binding).
+  // Elements binding `b` has in this set (the variable count for a variable-sized binding); an inline uniform
+  // block has one (its record) unless its size is 0.
   uint32_t elementCount(const DescriptorBinding& b) const;
+  // Inline uniform block binding `b`: its size in this set and its bytes (zero until written).
+  uint32_t inlineSize(const DescriptorBinding& b) const;
+  uint8_t* inlineData(const DescriptorBinding& b) { return inline_.get() + b.inlineOffset; }
 
   // Whether record `i` has been written (or copied from a written one) since the set was allocated; read when a
   // dispatch or launch executes (VUID-vkCmdDispatch-None-08114), possibly while an update-after-bind write runs.
@@ -41,6 +45,7 @@ class DescriptorSet : public Object {
  private:
   std::unique_ptr<DescriptorRecord[]> records_;
   std::unique_ptr<std::atomic<uint8_t>[]> written_;
+  std::unique_ptr<uint8_t[]> inline_;  // the inline uniform blocks' bytes (layout->inlineBytesFor(variableCount))
 };
 
 // Writes `count` descriptors of `type` starting at (binding, arrayElement), crossing into consecutive bindings
@@ -49,5 +54,12 @@ class DescriptorSet : public Object {
 // (reporting the first problem, naming `what`) and returns false on error; with apply=true stores the records.
 bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
                       VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what);
+
+// Writes `size` bytes from `data` into inline uniform block `binding` from byte `offset`, the rest into the
+// consecutive bindings after it from their byte 0 ("Descriptor Set Updates"). Reports (naming `what`) and returns
+// false when the binding is not an inline uniform block, the bytes run past the set, a consecutive binding differs,
+// or offset or size is not a multiple of 4 (under `offsetVuid`, `sizeVuid`); with apply=false only checks.
+bool writeInlineBlock(DescriptorSet* set, uint32_t binding, uint32_t offset, uint32_t size, const uint8_t* data,
+                      bool apply, const char* what, const char* offsetVuid, const char* sizeVuid);
 
 }  // namespace vkrt

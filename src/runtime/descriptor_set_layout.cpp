@@ -47,12 +47,13 @@ bool descriptorTypeSupported(const Device* dev, VkDescriptorType type) {
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
-    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return true;  // image view records (spirv Codegen::subpassRead)
+    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT: return true;      // image view records (spirv Codegen::subpassRead)
+    case VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK: return true;  // core 1.3 (layouts check the feature: 04604)
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR:
       return dev->extensionEnabled(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     case VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV:  // the same descriptor: a structure's address (abi.hpp)
       return dev->extensionEnabled(VK_NV_RAY_TRACING_EXTENSION_NAME);
-    default: return false;  // inline uniform blocks (feature not exposed), others
+    default: return false;
   }
 }
 
@@ -85,7 +86,13 @@ DescriptorSetLayout::DescriptorSetLayout(Device* dev, const VkDescriptorSetLayou
             [](const DescriptorBinding& a, const DescriptorBinding& b) { return a.binding < b.binding; });
   for (DescriptorBinding& d : bindings) {
     d.offset = recordCount;
-    recordCount += d.count;
+    if (isInlineBlock(d.type)) {  // one record pointing at `count` bytes of the set's inline storage
+      d.inlineOffset = inlineBytes;
+      inlineBytes += d.count;
+      recordCount += d.count ? 1 : 0;
+    } else {
+      recordCount += d.count;
+    }
     if (isDynamicBufferType(d.type)) {
       d.dynamicIndex = dynamicCount;
       dynamicCount += d.count;
@@ -101,8 +108,13 @@ const DescriptorBinding* DescriptorSetLayout::bindingAt(uint32_t binding) const 
 }
 
 uint32_t DescriptorSetLayout::recordCountFor(uint32_t variableCount) const {
-  if (!hasVariableCount) return recordCount;
+  if (!hasVariableCount || isInlineBlock(bindings.back().type)) return recordCount;  // an inline block keeps its record
   return recordCount - bindings.back().count + std::min(variableCount, bindings.back().count);
+}
+
+uint32_t DescriptorSetLayout::inlineBytesFor(uint32_t variableCount) const {
+  if (!hasVariableCount || !isInlineBlock(bindings.back().type)) return inlineBytes;
+  return inlineBytes - bindings.back().count + std::min(variableCount, bindings.back().count);
 }
 
 void DescriptorSetLayout::release(DescriptorSetLayout* layout) {
@@ -175,6 +187,26 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
       FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-01510",
            "%s: pBindings[%u] (binding %u) is an input attachment with stageFlags 0x%x (0 or FRAGMENT only)", cmd, i,
            b.binding, b.stageFlags);
+    if (isInlineBlock(b.descriptorType)) {
+      // VUID-VkDescriptorSetLayoutBinding-descriptorType-04604
+      if (!on(Feature::inlineUniformBlock))
+        FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-04604",
+             "%s: pBindings[%u] (binding %u) is VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK but the inlineUniformBlock "
+             "feature is not enabled",
+             cmd, i, b.binding);
+      // VUID-VkDescriptorSetLayoutBinding-descriptorType-02209
+      if (b.descriptorCount % 4)
+        FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-02209",
+             "%s: pBindings[%u] (binding %u) is an inline uniform block of %u bytes, not a multiple of 4", cmd, i,
+             b.binding, b.descriptorCount);
+      // VUID-VkDescriptorSetLayoutBinding-descriptorType-08004
+      const uint32_t maxSize = dev->physicalDevice->properties13.maxInlineUniformBlockSize;
+      if (b.descriptorCount > maxSize)
+        FAIL("VUID-VkDescriptorSetLayoutBinding-descriptorType-08004",
+             "%s: pBindings[%u] (binding %u) is an inline uniform block of %u bytes, more than "
+             "maxInlineUniformBlockSize %u",
+             cmd, i, b.binding, b.descriptorCount, maxSize);
+    }
     anyDynamic = anyDynamic || isDynamicBufferType(b.descriptorType);
     VkDescriptorBindingFlags fl = (bf && bf->bindingCount) ? bf->pBindingFlags[i] : 0;
     if (!fl) continue;
@@ -202,6 +234,8 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingUniformTexelBufferUpdateAfterBind-03009"},
           {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, on(Feature::descriptorBindingStorageTexelBufferUpdateAfterBind),
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingStorageTexelBufferUpdateAfterBind-03010"},
+          {VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK, on(Feature::descriptorBindingInlineUniformBlockUpdateAfterBind),
+           "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingInlineUniformBlockUpdateAfterBind-02211"},
           {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_FALSE,
            "VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-descriptorBindingAccelerationStructureUpdateAfterBind-"
            "03570"},
@@ -306,7 +340,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDescriptorSetLayoutSupport(VkDevice device,
   auto* bf = findInChain<VkDescriptorSetLayoutBindingFlagsCreateInfo>(
       pCreateInfo->pNext, VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO);
   for (uint32_t i = 0; i < pCreateInfo->bindingCount; ++i) {
-    total += pCreateInfo->pBindings[i].descriptorCount;
+    const VkDescriptorSetLayoutBinding& b = pCreateInfo->pBindings[i];
+    // An inline uniform block is one descriptor of descriptorCount bytes (its size is checked by validateLayout).
+    total += isInlineBlock(b.descriptorType) ? (b.descriptorCount ? 1 : 0) : b.descriptorCount;
     if (bf && bf->bindingCount == pCreateInfo->bindingCount &&
         (bf->pBindingFlags[i] & VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT))
       variableBinding = i;
@@ -316,11 +352,16 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetDescriptorSetLayoutSupport(VkDevice device,
   for (auto* s = static_cast<VkBaseOutStructure*>(pSupport->pNext); s; s = s->pNext) {
     if (s->sType == VK_STRUCTURE_TYPE_DESCRIPTOR_SET_VARIABLE_DESCRIPTOR_COUNT_LAYOUT_SUPPORT) {
       auto* v = reinterpret_cast<VkDescriptorSetVariableDescriptorCountLayoutSupport*>(s);
-      // The variable binding may grow to whatever the per-set limit leaves once the other bindings are counted.
-      v->maxVariableDescriptorCount =
-          (ok && variableBinding != UINT32_MAX)
-              ? maxPerSet - static_cast<uint32_t>(total - pCreateInfo->pBindings[variableBinding].descriptorCount)
-              : 0;
+      // The variable binding may grow to whatever the per-set limit leaves once the other bindings are counted;
+      // an inline uniform block's bound is a size: maxInlineUniformBlockSize ("Descriptor Set Layout" support).
+      if (!ok || variableBinding == UINT32_MAX) {
+        v->maxVariableDescriptorCount = 0;
+      } else if (isInlineBlock(pCreateInfo->pBindings[variableBinding].descriptorType)) {
+        v->maxVariableDescriptorCount = dev->physicalDevice->properties13.maxInlineUniformBlockSize;
+      } else {
+        v->maxVariableDescriptorCount =
+            maxPerSet - static_cast<uint32_t>(total - pCreateInfo->pBindings[variableBinding].descriptorCount);
+      }
     }
   }
 }

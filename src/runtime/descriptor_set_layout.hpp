@@ -6,6 +6,11 @@
 // is always the highest binding, so it is last, and a set allocated with a smaller variable count simply has
 // fewer records. A record's `object` and `sampler` point at the Object base of the vkrt object (what a handle
 // points at); recordObject<T>() converts back.
+//
+// An inline uniform block binding (VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK) counts bytes, not descriptors: its
+// `count` is the block's size (a variable count is a size too). Its bytes live in the set's inline storage at
+// `inlineOffset`, and it takes one record (when its size is not 0), which points at them like a uniform buffer
+// descriptor: address = the bytes, range = the size. Shaders read it as a uniform buffer.
 #pragma once
 
 #include <atomic>
@@ -33,6 +38,7 @@ struct DescriptorBinding {
   VkDescriptorBindingFlags flags = 0;
   uint32_t offset = 0;                           // first record of this binding within the set
   uint32_t dynamicIndex = 0;                     // dynamic buffers: index of element 0 in the set's dynamic offsets
+  uint32_t inlineOffset = 0;                     // inline uniform blocks: first byte in the set's inline storage
   std::vector<const Object*> immutableSamplers;  // empty, or `count` samplers
 };
 
@@ -47,12 +53,16 @@ class DescriptorSetLayout : public Object {
   std::vector<DescriptorBinding> bindings;  // sorted by binding number
   uint32_t recordCount = 0;                 // records of a set (variable binding at its upper bound)
   uint32_t dynamicCount = 0;                // dynamic uniform + storage buffer descriptors
+  uint32_t inlineBytes = 0;                 // inline uniform block bytes of a set (variable binding at its bound)
   bool hasVariableCount = false;            // the last binding is variable-sized
 
   // The binding with number `binding`, or nullptr if the layout has none.
   const DescriptorBinding* bindingAt(uint32_t binding) const;
   // Records of a set allocated with `variableCount` elements in its variable-sized binding.
   uint32_t recordCountFor(uint32_t variableCount) const;
+  // Inline uniform block bytes of a set allocated with `variableCount` (bytes, when the variable-sized binding is
+  // an inline uniform block).
+  uint32_t inlineBytesFor(uint32_t variableCount) const;
 
   // Reference counting: the application's handle holds one reference, and so does every pipeline layout,
   // descriptor set and update template made with this layout, so the application may destroy the handle
@@ -76,5 +86,6 @@ DescriptorSetLayout* liveSetLayout(VkDescriptorSetLayout h);
 bool descriptorTypeSupported(const Device* dev, VkDescriptorType type);
 const char* descriptorTypeName(VkDescriptorType type);
 bool isDynamicBufferType(VkDescriptorType type);
+inline bool isInlineBlock(VkDescriptorType type) { return type == VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK; }
 
 }  // namespace vkrt

@@ -56,10 +56,25 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorUpdateTemplate(
              i, e.dstBinding, descriptorTypeName(e.descriptorType));
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
+    if (isInlineBlock(e.descriptorType)) {
+      // VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226, VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227
+      if (e.dstArrayElement % 4 || e.descriptorCount % 4) {
+        report(dev, Severity::Error,
+               e.dstArrayElement % 4 ? "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226"
+                                     : "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227",
+               "vkCreateDescriptorUpdateTemplate: pDescriptorUpdateEntries[%u] updates an inline uniform block from "
+               "byte %u for %u bytes; both must be multiples of 4",
+               i, e.dstArrayElement, e.descriptorCount);
+        return VK_ERROR_VALIDATION_FAILED_EXT;
+      }
+    }
     // VUID-VkDescriptorUpdateTemplateEntry-dstArrayElement-00355 (checked against the largest set; a set with a
-    // smaller variable count is checked again at update time)
-    uint64_t end = uint64_t(b->offset) + e.dstArrayElement + e.descriptorCount;
-    if (end > layout->recordCount) {
+    // smaller variable count is checked again at update time). An inline uniform block counts bytes, in the set's
+    // inline storage.
+    const uint64_t end = isInlineBlock(e.descriptorType)
+                             ? uint64_t(b->inlineOffset) + e.dstArrayElement + e.descriptorCount
+                             : uint64_t(b->offset) + e.dstArrayElement + e.descriptorCount;
+    if (end > (isInlineBlock(e.descriptorType) ? layout->inlineBytes : layout->recordCount)) {
       report(
           dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateEntry-dstArrayElement-00355",
           "vkCreateDescriptorUpdateTemplate: pDescriptorUpdateEntries[%u]: %u descriptors from element %u of binding "
@@ -112,9 +127,14 @@ VKAPI_ATTR void VKAPI_CALL vkrt_UpdateDescriptorSetWithTemplate(VkDevice device,
       const VkDescriptorUpdateTemplateEntry& e = t->entries[i];
       char what[96];
       std::snprintf(what, sizeof what, "vkUpdateDescriptorSetWithTemplate: pDescriptorUpdateEntries[%zu]", i);
-      if (!writeDescriptors(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, e.descriptorType, data + e.offset,
-                            e.stride, apply, what))
-        return;
+      // An inline uniform block entry's data is its bytes, from pData + offset (stride is ignored).
+      const bool ok = isInlineBlock(e.descriptorType)
+                          ? writeInlineBlock(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, data + e.offset,
+                                             apply, what, "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226",
+                                             "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227")
+                          : writeDescriptors(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, e.descriptorType,
+                                             data + e.offset, e.stride, apply, what);
+      if (!ok) return;
     }
   }
 }

@@ -255,6 +255,8 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_EXTENSION_NAME, VK_EXT_PIPELINE_CREATION_CACHE_CONTROL_SPEC_VERSION},
       // Every feature the extension makes mandatory is supported (supported_features.cpp: descriptorIndexing).
       {VK_EXT_DESCRIPTOR_INDEXING_EXTENSION_NAME, VK_EXT_DESCRIPTOR_INDEXING_SPEC_VERSION},
+      // inlineUniformBlock and its update-after-bind feature (supported_features.cpp).
+      {VK_EXT_INLINE_UNIFORM_BLOCK_EXTENSION_NAME, VK_EXT_INLINE_UNIFORM_BLOCK_SPEC_VERSION},
       // SPIR-V 1.4 modules (Vulkan 1.2 takes up to 1.5 and 1.3 up to 1.6 anyway): what 1.4 added that a Vulkan
       // module may use without variable pointers is compiled (tests/e2e/spirv14_test.cpp).
       {VK_KHR_SPIRV_1_4_EXTENSION_NAME, VK_KHR_SPIRV_1_4_SPEC_VERSION},

@@ -124,8 +124,10 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
       *detail = buf;
       return LayoutMismatch::Missing;
     }
-    bool uniformType =
-        b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    // An inline uniform block is a uniform buffer to the shader (descriptor_set_layout.hpp).
+    bool uniformType = b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER ||
+                       b->type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC ||
+                       b->type == VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK;
     bool storageType =
         b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || b->type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
     bool ok = false;
@@ -175,9 +177,12 @@ LayoutMismatch checkLayoutProvides(const PipelineLayout& layout, const spirv::Co
       *detail = buf;
       return LayoutMismatch::Type;
     }
-    if (rb.arraySize > b->count) {
+    // An inline uniform block binding is one block (its count is its size; no arrays of them, "Inline Uniform
+    // Block" in the interfaces chapter).
+    const uint32_t elements = b->type == VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK ? 1 : b->count;
+    if (rb.arraySize > elements) {
       std::snprintf(buf, sizeof buf, "the shader declares %u descriptors at set %u binding %u, the layout only %u",
-                    rb.arraySize, rb.set, rb.binding, b->count);
+                    rb.arraySize, rb.set, rb.binding, elements);
       *detail = buf;
       return LayoutMismatch::Count;
     }

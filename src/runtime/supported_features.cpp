@@ -100,6 +100,11 @@ constexpr F kSupported[] = {
     F::descriptorBindingUpdateUnusedWhilePending,
     F::descriptorBindingPartiallyBound,
     F::descriptorBindingVariableDescriptorCount,
+    // Inline uniform blocks: the bytes live in the descriptor set, whose record for the binding points at them as a
+    // uniform buffer's does (runtime/descriptor_set.cpp); writes, copies, templates and update-after-bind
+    // (tests/e2e inline_uniform_block_test.cpp).
+    F::inlineUniformBlock,
+    F::descriptorBindingInlineUniformBlockUpdateAfterBind,
     // Descriptor arrays of buffers, images and texel buffers indexed by any value, also per invocation, and
     // runtime-sized (src/spirv; tests/spirv SpirvDescriptorIndexing, tests/e2e TexelBufferTest). Input attachments
     // (graphics) are not compiled: their indexing features stay off.

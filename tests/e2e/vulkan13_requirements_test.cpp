@@ -84,10 +84,8 @@ TEST_F(Vulkan13RequirementsTest, RequiredFeaturesAreReported) {
         });
   }
   // vkrt's known gaps: required, not implemented yet. Each is expected to read false, so that closing one fails
-  // this test until it leaves the list: inline uniform blocks (the descriptor type).
-  const std::set<std::string> gaps =
-      onVkrt() ? std::set<std::string>{"inlineUniformBlock", "descriptorBindingInlineUniformBlockUpdateAfterBind"}
-               : std::set<std::string>{};
+  // this test until it leaves the list (none now: inline uniform blocks, the last, are implemented).
+  const std::set<std::string> gaps;
   for (const Required& r : required) {
     if (gaps.count(r.name))
       EXPECT_FALSE(r.value) << r.name << " is reported now: take it off the list of gaps";

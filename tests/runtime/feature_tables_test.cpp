@@ -218,14 +218,13 @@ TEST_F(FeatureTables, ListedExtensionsHaveTheFeaturesTheSpecificationRequires) {
 }
 
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {
-  VkPhysicalDeviceInlineUniformBlockFeatures inline_{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_INLINE_UNIFORM_BLOCK_FEATURES};
-  inline_.inlineUniformBlock = VK_TRUE;  // promoted to Vulkan 1.3, not supported by vkrt
-  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES,
-                                                   &inline_};
+  VkPhysicalDeviceVariablePointersFeatures vp{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VARIABLE_POINTERS_FEATURES};
+  vp.variablePointersStorageBuffer = VK_TRUE;  // promoted to Vulkan 1.1, not supported by vkrt
+  VkPhysicalDeviceScalarBlockLayoutFeatures scalar{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES, &vp};
   scalar.scalarBlockLayout = VK_TRUE;
   VkDeviceCreateInfo ci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &scalar};
-  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceInlineUniformBlockFeatures::inlineUniformBlock");
-  inline_.inlineUniformBlock = VK_FALSE;
+  EXPECT_EQ(pd->firstUnsupportedFeature(ci), "VkPhysicalDeviceVariablePointersFeatures::variablePointersStorageBuffer");
+  vp.variablePointersStorageBuffer = VK_FALSE;
   EXPECT_EQ(pd->firstUnsupportedFeature(ci), "");
   // Enabled through the promoted structure, the feature is enabled on the device.
   FeatureSet on = enabledFeatures(ci);
