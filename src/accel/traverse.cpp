@@ -62,7 +62,8 @@ struct Offered {
 inline bool samePoint(const float a[3], const float b[3], bool exact) {
   if (exact) return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
   for (int c = 0; c < 3; ++c) {
-    const float tolerance = 4 * std::numeric_limits<float>::epsilon() * std::max({1.0f, std::fabs(a[c]), std::fabs(b[c])});
+    const float tolerance =
+        4 * std::numeric_limits<float>::epsilon() * std::max({1.0f, std::fabs(a[c]), std::fabs(b[c])});
     if (!(std::fabs(a[c] - b[c]) <= tolerance)) return false;
   }
   return true;

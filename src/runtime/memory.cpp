@@ -46,8 +46,8 @@ struct Arena {
       fd = -1;
     }
     const int kind = fd >= 0 ? MAP_SHARED : MAP_PRIVATE | MAP_ANONYMOUS;
-    void* p = mmap(reinterpret_cast<void*>(kHint), kCapacity, PROT_NONE, kind | MAP_NORESERVE | MAP_FIXED_NOREPLACE,
-                   fd, 0);
+    void* p =
+        mmap(reinterpret_cast<void*>(kHint), kCapacity, PROT_NONE, kind | MAP_NORESERVE | MAP_FIXED_NOREPLACE, fd, 0);
     if (p == MAP_FAILED) {
       // The fixed range is taken: work anywhere. Opaque capture addresses then differ between processes.
       p = mmap(nullptr, kCapacity, PROT_NONE, kind | MAP_NORESERVE, fd, 0);
