@@ -257,7 +257,7 @@ struct QueryHit {
 struct QueryCrossing {  // a triangle candidate already returned (for the shared-edge rule, see traverse.cpp)
   uint32_t instance;
   float t;
-  float v[3][3];
+  float v[3][3];  // world space
 };
 
 struct RayQuery {

@@ -45,21 +45,46 @@ struct Committed {
 // triangle there (it is inclusive, with a small tolerance). The spec's watertightness rules only forbid gaps, but
 // an application counting any-hit calls, and NO_DUPLICATE_ANY_HIT geometry, expect one crossing of a closed
 // surface to be one candidate; so do the CTS (misc.cullmask_*, misc.maxrtinvocations_*: rays through cube
-// corners and face diagonals). A candidate that shares a vertex position with a triangle of the same instance
-// already offered to this ray, at the same t up to rounding, is the same crossing and is dropped. (Exact
-// ownership rules on the edge functions are not enough on their own: Embree's and any other exact test disagree
-// near edges, and dropping the triangle Embree offered would open a gap.)
+// corners and face diagonals, watertightness.closedFan2.*: a closed fan whose triangles are each in an instance
+// of their own). A candidate that shares a vertex position with a triangle already offered to this ray, at the
+// same t up to rounding, is the same crossing and is dropped. Positions are compared in world space, where
+// instances meet: within one instance exactly (one transform of equal object-space positions gives equal world
+// positions), across instances up to the rounding of their transforms; there a triangle whose three vertices all
+// match the offered one is a second surface in the same place (another instance of it), not the same crossing.
+// (Exact ownership rules on the edge functions are not enough on their own: Embree's and any other exact test
+// disagree near edges, and dropping the triangle Embree offered would open a gap.)
 struct Offered {
   uint32_t instance;
   float t;
-  float v[3][3];
+  float v[3][3];  // world space
 };
 
-bool sharesVertex(const float a[3][3], const float b[3][3]) {
+inline bool samePoint(const float a[3], const float b[3], bool exact) {
+  if (exact) return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+  for (int c = 0; c < 3; ++c) {
+    const float tolerance =
+        4 * std::numeric_limits<float>::epsilon() * std::max({1.0f, std::fabs(a[c]), std::fabs(b[c])});
+    if (!(std::fabs(a[c] - b[c]) <= tolerance)) return false;
+  }
+  return true;
+}
+
+// Whether the triangles share a vertex position; across instances (not exact), not when they share all three.
+bool sharesVertex(const float a[3][3], const float b[3][3], bool exact) {
+  int shared = 0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      if (a[i][0] == b[j][0] && a[i][1] == b[j][1] && a[i][2] == b[j][2]) return true;
-  return false;
+      if (samePoint(a[i], b[j], exact)) {
+        ++shared;
+        break;
+      }
+  return shared > 0 && (exact || shared < 3);
+}
+
+// A triangle's object-space vertices `v` in world space, through the instance's object-to-world transform.
+void worldVertices(const float (*m)[4], const float v[3][3], float w[3][3]) {
+  for (int k = 0; k < 3; ++k)
+    for (int r = 0; r < 3; ++r) w[k][r] = m[r][0] * v[k][0] + m[r][1] * v[k][1] + m[r][2] * v[k][2] + m[r][3];
 }
 
 struct QueryCollect;
@@ -82,18 +107,21 @@ struct TraceContext {
   Offered offered[kOffered];
   uint32_t offeredCount = 0;
 
-  // Whether the triangle `v` at `t` in `instance` is a crossing already offered; records it otherwise.
+  // Whether the triangle `v` (object space) at `t` in `instance` is a crossing already offered; records it
+  // otherwise.
   bool sameCrossingOffered(uint32_t instance, float t, const float v[3][3]) {
+    float w[3][3];
+    worldVertices(tlas->records[instance].objectToWorld, v, w);
     const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
     const uint32_t n = std::min(offeredCount, kOffered);
     for (uint32_t k = 0; k < n; ++k) {
       const Offered& o = offered[k];
-      if (o.instance == instance && std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, v)) return true;
+      if (std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, w, o.instance == instance)) return true;
     }
     Offered& slot = offered[offeredCount++ % kOffered];
     slot.instance = instance;
     slot.t = t;
-    std::memcpy(slot.v, v, sizeof(slot.v));
+    std::memcpy(slot.v, w, sizeof(slot.v));
     return false;
   }
 };
@@ -530,7 +558,7 @@ struct QueryCollect {
   bool found = false;
   Key best{};
   QueryHit hit;
-  float v[3][3] = {};
+  float v[3][3] = {};  // the best triangle's vertices in world space (becomes a QueryCrossing)
 };
 
 // Whether `key` is a candidate this traversal should consider: above the last one returned, below the best so far.
@@ -545,9 +573,11 @@ void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t 
   if (!better(c, key)) return;
   const RayQuery& q = *c.q;
   const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
+  float w[3][3];  // compared in world space, as a traced ray's candidates are (TraceContext::sameCrossingOffered)
+  worldVertices(ctx.tlas->records[key.instance].objectToWorld, v, w);
   for (uint32_t k = 0; k < std::min(q.crossingCount, RayQuery::kCrossings); ++k) {
     const QueryCrossing& o = q.crossings[k];
-    if (o.instance == key.instance && std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, v)) return;
+    if (std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, w, o.instance == key.instance)) return;
   }
   c.found = true;
   c.best = key;
@@ -560,7 +590,7 @@ void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t 
   c.hit.type = 1;
   c.hit.barycentrics[0] = hit.u;
   c.hit.barycentrics[1] = hit.v;
-  std::memcpy(c.v, v, sizeof c.v);
+  std::memcpy(c.v, w, sizeof c.v);
 }
 
 void offerQueryBox(TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive, float entry,

@@ -30,6 +30,10 @@ Buffer::Buffer(Device* dev, const VkBufferCreateInfo& info)
     requestedCaptureAddress = c->opaqueCaptureAddress;
 }
 
+Buffer::~Buffer() {
+  if (alias) arena::unalias(alias, size);
+}
+
 uint8_t* Buffer::data() const { return memory ? memory->base + memoryOffset : nullptr; }
 
 VkDeviceSize Buffer::rangeFrom(VkDeviceSize offset, VkDeviceSize range) const {
@@ -65,17 +69,38 @@ VkResult bindBuffer(Device* dev, const VkBindBufferMemoryInfo& info, uint32_t in
            (unsigned long long)Buffer::kAlignment);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  if (buf->requestedCaptureAddress &&
-      reinterpret_cast<uint64_t>(mem->base + info.memoryOffset) != buf->requestedCaptureAddress) {
+  // A buffer's device address is the host address of its bytes, normally where its memory lies. A capture/replay
+  // buffer ("Buffer Device Address Capture and Replay": a replayed buffer gets the device address it was captured
+  // with) whose memory is not where its address must be gets a second mapping of those bytes: at its requested
+  // address on replay, or, captured on ordinary memory (not DEVICE_ADDRESS_CAPTURE_REPLAY, so placed bottom-up
+  // among the allocations a replay makes before it), in the top-down range of capture/replay memory, where the
+  // replay finds it free.
+  uint8_t* const host = mem->base + info.memoryOffset;
+  const uint64_t requested = buf->requestedCaptureAddress;
+  uint8_t* alias = nullptr;
+  if (buf->flags & VK_BUFFER_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT) {
+    if (requested && requested != reinterpret_cast<uint64_t>(host)) {
+      alias = arena::alias(host, buf->size, requested);
+    } else if (!requested && !(mem->allocateFlags & VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT)) {
+      alias = arena::alias(host, buf->size, 0);  // none: the address is where the memory lies, as for any buffer
+    }
+  }
+  if (requested && !alias && reinterpret_cast<uint64_t>(host) != requested) {
     report(buf, Severity::Error, nullptr,
            "vkBindBufferMemory: the buffer was created with opaque capture address 0x%llx but this binding gives "
-           "it address 0x%llx; replay the memory with its captured address and bind at the captured offset",
-           (unsigned long long)buf->requestedCaptureAddress,
-           (unsigned long long)reinterpret_cast<uint64_t>(mem->base + info.memoryOffset));
+           "it address 0x%llx, and the bytes cannot be mapped at 0x%llx (%s)",
+           (unsigned long long)requested, (unsigned long long)reinterpret_cast<uint64_t>(host),
+           (unsigned long long)requested,
+           (buf->flags & VK_BUFFER_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT)
+               ? requested % 4096 != reinterpret_cast<uint64_t>(host) % 4096
+                     ? "its offset within a 4096-byte page differs from the binding's"
+                     : arena::whyUnavailable(requested, buf->size).c_str()
+               : "the buffer lacks VK_BUFFER_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT");
     return VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS;
   }
   buf->memory = mem;
   buf->memoryOffset = info.memoryOffset;
+  buf->alias = alias;
   return VK_SUCCESS;
 }
 
@@ -168,7 +193,7 @@ VKAPI_ATTR VkDeviceAddress VKAPI_CALL vkrt_GetBufferDeviceAddress(VkDevice devic
            "vkGetBufferDeviceAddress: buffer was not created with VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT");
     return 0;
   }
-  return reinterpret_cast<VkDeviceAddress>(buf->data());
+  return reinterpret_cast<VkDeviceAddress>(buf->deviceAddress());
 }
 
 VKAPI_ATTR uint64_t VKAPI_CALL vkrt_GetBufferOpaqueCaptureAddress(VkDevice device,
@@ -181,7 +206,7 @@ VKAPI_ATTR uint64_t VKAPI_CALL vkrt_GetBufferOpaqueCaptureAddress(VkDevice devic
            (unsigned long long)rawHandle(pInfo->buffer));
     return 0;
   }
-  return reinterpret_cast<uint64_t>(buf->data());
+  return reinterpret_cast<uint64_t>(buf->deviceAddress());
 }
 
 }  // extern "C"

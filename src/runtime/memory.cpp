@@ -1,6 +1,7 @@
 #include "runtime/memory.hpp"
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -28,21 +29,40 @@ constexpr uint64_t kHint = 0x567000000000ull;
 constexpr VkDeviceSize kCapacity = 64ull << 30;
 constexpr VkDeviceSize kPage = 4096;
 
+// The arena's bytes are a memory file (memfd) mapped shared over the whole range, offset o at base + o, so that
+// the pages of an allocation can be mapped a second time at another address of the range (alias): a buffer
+// replayed at its captured device address sees the bytes of the memory it is bound to. Where no memory file can
+// be made the arena is anonymous memory (fd < 0) and there are no aliases.
 struct Arena {
   std::mutex mutex;
   uint8_t* base = nullptr;
+  int fd = -1;
   std::map<uint64_t, uint64_t> freeRanges;  // offset -> size, coalesced
 
   Arena() {
-    void* p = mmap(reinterpret_cast<void*>(kHint), kCapacity, PROT_NONE,
-                   MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_FIXED_NOREPLACE, -1, 0);
+    fd = memfd_create("vkrt-device-memory", MFD_CLOEXEC);
+    if (fd >= 0 && ftruncate(fd, off_t(kCapacity)) != 0) {
+      close(fd);
+      fd = -1;
+    }
+    const int kind = fd >= 0 ? MAP_SHARED : MAP_PRIVATE | MAP_ANONYMOUS;
+    void* p =
+        mmap(reinterpret_cast<void*>(kHint), kCapacity, PROT_NONE, kind | MAP_NORESERVE | MAP_FIXED_NOREPLACE, fd, 0);
     if (p == MAP_FAILED) {
       // The fixed range is taken: work anywhere. Opaque capture addresses then differ between processes.
-      p = mmap(nullptr, kCapacity, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+      p = mmap(nullptr, kCapacity, PROT_NONE, kind | MAP_NORESERVE, fd, 0);
     }
     if (p == MAP_FAILED) return;
     base = static_cast<uint8_t*>(p);
     freeRanges[0] = kCapacity;
+  }
+
+  // Whether [offset, offset + size) lies in one free range.
+  bool isFree(uint64_t offset, uint64_t size) const {
+    auto it = freeRanges.upper_bound(offset);
+    if (it == freeRanges.begin()) return false;
+    --it;
+    return offset + size <= it->first + it->second;
   }
 
   uint8_t* take(uint64_t offset, uint64_t size) {
@@ -94,10 +114,7 @@ uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop) {
     if (requestedAddress < base || requestedAddress % kPage || requestedAddress - base + rounded > kCapacity)
       return nullptr;
     uint64_t off = requestedAddress - base;
-    auto it = a.freeRanges.upper_bound(off);
-    if (it == a.freeRanges.begin()) return nullptr;
-    --it;
-    if (off + rounded > it->first + it->second) return nullptr;
+    if (!a.isFree(off, rounded)) return nullptr;
     return a.take(off, rounded);
   }
   if (fromTop) {
@@ -115,11 +132,53 @@ uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop) {
 void release(uint8_t* p, VkDeviceSize size) {
   Arena& a = get();
   uint64_t rounded = (size + kPage - 1) / kPage * kPage;
-  // Give the pages back to the system and make them inaccessible: a stale device address faults.
-  madvise(p, rounded, MADV_DONTNEED);
+  // Give the pages back to the system (of a memory file: punch them out of it, which an alias sees too) and make
+  // them inaccessible: a stale device address faults.
+  madvise(p, rounded, a.fd >= 0 ? MADV_REMOVE : MADV_DONTNEED);
   mprotect(p, rounded, PROT_NONE);
   std::lock_guard lock(a.mutex);
   a.give(static_cast<uint64_t>(p - a.base), rounded);
+}
+
+uint8_t* alias(const uint8_t* source, VkDeviceSize size, uint64_t requestedAddress) {
+  Arena& a = get();
+  if (!a.base || a.fd < 0 || size == 0) return nullptr;
+  const uint64_t base = reinterpret_cast<uint64_t>(a.base);
+  const uint64_t src = reinterpret_cast<uint64_t>(source);
+  const uint64_t within = src % kPage;
+  if (requestedAddress && requestedAddress % kPage != within) return nullptr;  // pages map whole
+  const uint64_t srcPage = src - within - base;
+  const uint64_t rounded = (within + size + kPage - 1) / kPage * kPage;
+  std::lock_guard lock(a.mutex);
+  uint64_t off = 0;
+  if (requestedAddress) {
+    if (requestedAddress < base || requestedAddress - within - base > kCapacity - rounded) return nullptr;
+    off = requestedAddress - within - base;
+    if (!a.isFree(off, rounded)) return nullptr;
+  } else {  // top-down, with memory that may be captured (see vkrt_AllocateMemory)
+    auto it = std::find_if(a.freeRanges.rbegin(), a.freeRanges.rend(), [&](auto& r) { return r.second >= rounded; });
+    if (it == a.freeRanges.rend()) return nullptr;
+    off = it->first + it->second - rounded;
+  }
+  if (!a.take(off, rounded)) return nullptr;
+  // The source's pages of the memory file, mapped over the taken range in place of its own.
+  if (mmap(a.base + off, rounded, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED, a.fd, off_t(srcPage)) == MAP_FAILED) {
+    mmap(a.base + off, rounded, PROT_NONE, MAP_SHARED | MAP_FIXED, a.fd, off_t(off));
+    a.give(off, rounded);
+    return nullptr;
+  }
+  return a.base + off + within;
+}
+
+void unalias(uint8_t* p, VkDeviceSize size) {
+  Arena& a = get();
+  const uint64_t within = reinterpret_cast<uint64_t>(p) % kPage;
+  const uint64_t off = uint64_t(p - a.base) - within;
+  const uint64_t rounded = (within + size + kPage - 1) / kPage * kPage;
+  // The range's own pages of the memory file again, inaccessible as free ranges are (the source's bytes stay).
+  mmap(a.base + off, rounded, PROT_NONE, MAP_SHARED | MAP_FIXED, a.fd, off_t(off));
+  std::lock_guard lock(a.mutex);
+  a.give(off, rounded);
 }
 
 bool contains(uint64_t address, VkDeviceSize size) {

@@ -36,6 +36,13 @@ class Memory : public Object {
 namespace arena {
 uint8_t* allocate(VkDeviceSize size, uint64_t requestedAddress, bool fromTop);
 void release(uint8_t* base, VkDeviceSize size);
+// Maps the pages holding [source, source + size), allocated memory, a second time: at requestedAddress, which must
+// have source's offset within a page and lie in free pages, or (0) at the highest free range. Returns the address
+// of source's first byte there, or nullptr (range not free, offsets differ, or the arena cannot alias). Writes
+// through either address are seen through the other; releasing the memory punches its pages out of both.
+uint8_t* alias(const uint8_t* source, VkDeviceSize size, uint64_t requestedAddress);
+// Unmaps an alias made by `alias` (its address and the size given there) and frees its range.
+void unalias(uint8_t* address, VkDeviceSize size);
 bool contains(uint64_t address, VkDeviceSize size);
 // Whether every byte of [address, address + size) belongs to allocated device memory (so reading it cannot fault).
 bool accessible(uint64_t address, VkDeviceSize size);

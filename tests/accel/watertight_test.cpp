@@ -3,6 +3,8 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <random>
 
 #include "accel/scenes.hpp"
@@ -120,6 +122,69 @@ TEST(AccelWatertight, ARayThroughACubesCornerMeetsOneFrontFace) {
     for (const HitInfo& h : rec.anyHits) front += h.hitKind == kHitKindFrontFacingTriangle;
     EXPECT_EQ(front, 1u) << "ray flags " << flags;
     EXPECT_EQ(rec.anyHits.size(), flags ? 1u : 2u) << "the far corner's back faces, once, unless culled";
+  }
+}
+
+// The CTS's closed fan (watertightness.closedFan2.*): n triangles around the origin in the plane z = 0, sharing
+// the centre vertex and each edge with a neighbour, every triangle in a Blas of its own and an instance of its own
+// (identity transforms), non-opaque with NO_DUPLICATE_ANY_HIT. The fan and the rays are computed as the CTS
+// computes them (float sin and cos).
+std::shared_ptr<Tlas> closedFan(uint32_t n) {
+  const float pi = 3.14159265358979f, angleDiff = 2.0f * pi / float(n);
+  std::vector<std::array<float, 3>> rim;
+  for (uint32_t k = 0; k < n; ++k) {
+    const float angle = float(k) * angleDiff - pi;
+    rim.push_back({std::sin(angle), std::cos(angle), 0.0f});
+  }
+  std::vector<Instance> instances;
+  for (uint32_t k = 0; k < n; ++k) {
+    Geometry g;
+    g.kind = Geometry::Triangles;
+    g.triangles.flags = kGeometryNoDuplicateAnyHit;
+    const auto& b = rim[k];
+    const auto& c = rim[(k + 1) % n];
+    g.triangles.vertices = {0, 0, 0, b[0], b[1], b[2], c[0], c[1], c[2]};
+    g.triangles.indices = {0, 1, 2};
+    instances.push_back(instanceOf(makeBlas({g})));
+  }
+  return makeTlas(instances);
+}
+
+// The CTS's ray r of the fan of n: from (0, 0, -1) over [0.01, 9]; ray 0 at the centre, ray r at the midpoint of
+// the edge from the centre to rim vertex r - 1.
+Ray fanRay(uint32_t n, uint32_t r) {
+  const float pi = 3.14159265358979f, angleDiff = 2.0f * pi / float(n);
+  const float angle = r == 0 ? 0.0f : angleDiff * float(r - 1) - pi;
+  const float tx = r == 0 ? 0.0f : 0.5f * std::sin(angle), ty = r == 0 ? 0.0f : 0.5f * std::cos(angle);
+  const float len = std::sqrt(tx * tx + ty * ty + 1.0f);
+  return rayFrom(0, 0, -1, tx / len, ty / len, 1 / len, 0, 9.0f, 0.01f);
+}
+
+// Each ray crosses the fan once: one any-hit call (the CTS counts them per ray, summed over the instances since
+// its Geometry index is 0 in each; the any-hit accepts), and no miss.
+TEST(AccelWatertight, AClosedFanOfOneTrianglePerInstanceIsCrossedOnce) {
+  for (uint32_t n : {4u, 16u, 64u, 256u, 1024u}) {
+    auto tlas = closedFan(n);
+    for (uint32_t r = 0; r <= n; ++r) {
+      Recorder rec;
+      const Traced t = traceOnce(*tlas, fanRay(n, r), rec);
+      EXPECT_TRUE(t.hit) << n << " triangles, ray " << r;
+      EXPECT_EQ(rec.anyHits.size(), 1u) << n << " triangles, ray " << r;
+    }
+  }
+}
+
+// The same through a ray query that ignores every candidate: one candidate per ray.
+TEST(AccelWatertight, ARayQueryThroughAClosedFanOfOneTrianglePerInstanceGetsOneCandidate) {
+  for (uint32_t n : {4u, 64u, 1024u}) {
+    auto tlas = closedFan(n);
+    for (uint32_t r = 0; r <= n; ++r) {
+      RayQuery q;
+      queryInitialize(q, tlas.get(), fanRay(n, r));
+      int candidates = 0;
+      while (queryProceed(q)) ++candidates;
+      EXPECT_EQ(candidates, 1) << n << " triangles, ray " << r;
+    }
   }
 }
 

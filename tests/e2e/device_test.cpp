@@ -246,6 +246,64 @@ TEST_F(BufferCaptureReplayTest, ReplayedMemoryAndBufferGetTheCapturedAddresses) 
   vkFreeMemory(device, replayed, nullptr);
 }
 
+// The CTS's ray_tracing_pipeline.capture_replay.shader_binding_tables.pipeline_before_captured: a capture/replay
+// buffer captured on ordinary memory (DEVICE_ADDRESS without CAPTURE_REPLAY, no memory capture address); on
+// replay ordinary allocations come first (where the capture's memory was), then the buffer is created with its
+// opaque capture address and bound to new ordinary memory. It must get the captured device address, and that
+// address must reach the bytes of the memory it is bound to.
+TEST_F(BufferCaptureReplayTest, ABufferCapturedOnOrdinaryMemoryReplaysItsAddressAfterOtherAllocations) {
+  const bool vkrt = isVkrt(physicalDevice);
+  VkDeviceMemory mem = allocate(4096, 0, VK_SUCCESS, /*captureReplay=*/false);
+  VkBuffer buf = buffer(mem, 0, 0);
+  VkBufferDeviceAddressInfo bi{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, buf};
+  const uint64_t captured = vkGetBufferOpaqueCaptureAddress(device, &bi);
+  const VkDeviceAddress address = vkGetBufferDeviceAddress(device, &bi);
+  ASSERT_NE(address, 0u);
+  vkDestroyBuffer(device, buf, nullptr);
+  vkFreeMemory(device, mem, nullptr);
+
+  // Replay: first the ordinary allocations (the CTS's first pipeline's tables), bound to ordinary buffers.
+  std::vector<VkDeviceMemory> others;
+  std::vector<VkBuffer> otherBuffers;
+  for (int k = 0; k < 3; ++k) {
+    others.push_back(allocate(4096, 0, VK_SUCCESS, /*captureReplay=*/false));
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = 1024;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+    VkBuffer b = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateBuffer(device, &bci, nullptr, &b), VK_SUCCESS);
+    ASSERT_EQ(vkBindBufferMemory(device, b, others.back(), 0), VK_SUCCESS);
+    otherBuffers.push_back(b);
+  }
+  VkDeviceMemory replayedMem = allocate(4096, 0, VK_SUCCESS, /*captureReplay=*/false);
+  uint32_t* mapped = nullptr;
+  ASSERT_EQ(vkMapMemory(device, replayedMem, 0, VK_WHOLE_SIZE, 0, reinterpret_cast<void**>(&mapped)), VK_SUCCESS);
+  for (uint32_t i = 0; i < 256; ++i) mapped[i] = 0xC0DE0000u + i;
+  VkBuffer replayed = buffer(replayedMem, 0, captured);
+  VkBufferDeviceAddressInfo ri{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, replayed};
+  EXPECT_EQ(vkGetBufferDeviceAddress(device, &ri), address);
+  if (captured) {
+    EXPECT_EQ(vkGetBufferOpaqueCaptureAddress(device, &ri), captured);
+  }
+  if (vkrt) {
+    // vkrt's device address is the host address of the bytes: the memory's bytes are seen there, and the other way.
+    auto* at = reinterpret_cast<uint32_t*>(address);
+    for (uint32_t i = 0; i < 256; ++i) ASSERT_EQ(at[i], 0xC0DE0000u + i) << i;
+    at[7] = 77;
+    EXPECT_EQ(mapped[7], 77u);
+  }
+  vkUnmapMemory(device, replayedMem);
+  vkDestroyBuffer(device, replayed, nullptr);
+  vkFreeMemory(device, replayedMem, nullptr);
+  for (VkBuffer b : otherBuffers) vkDestroyBuffer(device, b, nullptr);
+  for (VkDeviceMemory m : others) vkFreeMemory(device, m, nullptr);
+  if (vkrt) {
+    // The replayed buffer's address range is free again once the buffer is gone.
+    VkDeviceMemory again = allocate(4096, address, VK_SUCCESS);
+    vkFreeMemory(device, again, nullptr);
+  }
+}
+
 class BufferCaptureReplayMisuseTest : public BufferCaptureReplayTest {
  protected:
   FixtureOptions options() override {
@@ -273,6 +331,36 @@ TEST_F(BufferCaptureReplayMisuseTest, AddressAlreadyInUseFailsWithInvalidOpaqueC
   EXPECT_NE(msgs[0].text.find(range), std::string::npos) << msgs[0].text;
   clearMessages();
   vkFreeMemory(device, mem, nullptr);
+}
+
+// A buffer replayed at an opaque capture address that other memory holds cannot be given it: vkBindBufferMemory
+// returns VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS (which the specification allows) and says where the range is held.
+TEST_F(BufferCaptureReplayMisuseTest, ABufferReplayedAtAnAddressInUseFailsToBind) {
+  if (!isVkrt(physicalDevice)) GTEST_SKIP() << "vkrt's own diagnostics";
+  VkDeviceMemory holder = allocate(1 << 16, 0, VK_SUCCESS, /*captureReplay=*/false);
+  VkDeviceMemoryOpaqueCaptureAddressInfo mi{VK_STRUCTURE_TYPE_DEVICE_MEMORY_OPAQUE_CAPTURE_ADDRESS_INFO, nullptr,
+                                            holder};
+  const uint64_t taken = vkGetDeviceMemoryOpaqueCaptureAddress(device, &mi);
+  VkDeviceMemory mem = allocate(4096, 0, VK_SUCCESS, /*captureReplay=*/false);
+  VkBufferOpaqueCaptureAddressCreateInfo cap{VK_STRUCTURE_TYPE_BUFFER_OPAQUE_CAPTURE_ADDRESS_CREATE_INFO};
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, &cap};
+  bci.flags = VK_BUFFER_CREATE_DEVICE_ADDRESS_CAPTURE_REPLAY_BIT;
+  bci.size = 1024;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  for (uint64_t requested : {taken + 4096, taken + 4096 + 64}) {  // held; then also off the binding's page offset
+    cap.opaqueCaptureAddress = requested;
+    VkBuffer b = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateBuffer(device, &bci, nullptr, &b), VK_SUCCESS);
+    EXPECT_EQ(vkBindBufferMemory(device, b, mem, 0), VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS);
+    auto msgs = vkrtMessages();
+    ASSERT_EQ(msgs.size(), 1u);
+    const char* why = requested % 4096 ? "offset within a 4096-byte page differs" : "of it is held";
+    EXPECT_NE(msgs[0].text.find(why), std::string::npos) << msgs[0].text;
+    clearMessages();
+    vkDestroyBuffer(device, b, nullptr);
+  }
+  vkFreeMemory(device, mem, nullptr);
+  vkFreeMemory(device, holder, nullptr);
 }
 
 }  // namespace
