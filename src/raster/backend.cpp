@@ -171,6 +171,42 @@ inline void mergeMask(uint32_t* v, const uint32_t* dst, uint32_t mask) {
     if (!(mask >> c & 1)) v[c] = dst[c];
 }
 
+// The inline codecs of ColorFormat::Layout's 8-bit UNorm layouts (the runtime's decode/encode, bit for bit).
+struct Unorm8Table {
+  float v[256];
+  Unorm8Table() {
+    for (uint32_t i = 0; i < 256; ++i) v[i] = float(double(i) / 255.0);
+  }
+};
+const Unorm8Table kUnorm8;
+
+inline uint32_t encodeUnorm8(uint32_t word) {
+  float f = asFloat(word);
+  f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+  // Round to nearest even (the default rounding mode, as nearbyint): adding and subtracting 2^52 leaves no fraction
+  // bits for values in [0, 255].
+  const double d = double(f) * 255.0;
+  return uint32_t((d + 0x1p52) - 0x1p52);
+}
+
+// A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
+inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
+  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
+  out[0] = asWord(kUnorm8.v[p[bgra ? 2 : 0]]);
+  out[1] = asWord(kUnorm8.v[p[1]]);
+  out[2] = asWord(kUnorm8.v[p[bgra ? 0 : 2]]);
+  out[3] = asWord(kUnorm8.v[p[3]]);
+}
+
+inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.encode(fmt.format, in, p);
+  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
+  const uint32_t r = encodeUnorm8(in[0]), g = encodeUnorm8(in[1]), b = encodeUnorm8(in[2]), a = encodeUnorm8(in[3]);
+  const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
+  std::memcpy(p, &w, 4);
+}
+
 void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
                      uint32_t coverage) {
   const Target& tg = *ctx.target;
@@ -196,12 +232,12 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const uint32_t bytes = fmt.texelBytes;
   uint8_t encoded[16];
   if (!blend && !logic && fullMask) {
-    fmt.encode(fmt.format, src, encoded);
+    encodeColor(fmt, src, encoded);
     for (uint32_t s = coverage; s; s &= s - 1)
       std::memcpy(texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(s))), encoded, bytes);
     return;
   }
-  if (logic) fmt.encode(fmt.format, src, encoded);
+  if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
   if (blend) {
     loadFloats(src, s0);
@@ -212,7 +248,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
     uint32_t dst[4], out[4];
-    fmt.decode(fmt.format, p, dst);
+    decodeColor(fmt, p, dst);
     if (logic) {
       // Logical operations work on the texel's bits ("Logical Operations").
       uint8_t r[16];
@@ -221,7 +257,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
         std::memcpy(p, r, bytes);
         continue;
       }
-      fmt.decode(fmt.format, r, out);
+      decodeColor(fmt, r, out);
     } else if (blend) {
       float d[4], r[4];
       loadFloats(dst, d);
@@ -237,7 +273,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
       std::memcpy(out, src, 16);
     }
     mergeMask(out, dst, mask);
-    fmt.encode(fmt.format, out, p);
+    encodeColor(fmt, out, p);
   }
 }
 

@@ -97,9 +97,23 @@ void writeBits(uint8_t* p, uint64_t v, unsigned bytes) {
   }
 }
 
+// 8-bit UNorm and sRGB components, the most sampled, by table: the values decodeComponent computes below.
+struct Unorm8Tables {
+  float unorm[256], srgb[256];
+  Unorm8Tables() {
+    for (uint32_t i = 0; i < 256; ++i) {
+      unorm[i] = float(double(i) / 255.0);
+      srgb[i] = srgbToLinear(unorm[i]);
+    }
+  }
+};
+const Unorm8Tables kUnorm8;
+
 // Decodes one raw component value of `bits` bits.
 uint32_t decodeComponent(N type, uint64_t raw, unsigned bits, bool alpha) {
   uint64_t maxU = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+  if (bits == 8 && (type == N::UNorm || type == N::SRGB))
+    return fbits(type == N::SRGB && !alpha ? kUnorm8.srgb[raw] : kUnorm8.unorm[raw]);
   switch (type) {
     case N::UNorm: return fbits(float(double(raw) / double(maxU)));
     case N::SRGB: {
@@ -147,6 +161,17 @@ bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N:
 
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
   texel += f.offset;  // the stencil byte of a combined depth/stencil texel
+  if (!f.packed && f.components == 4 && f.texelSize == 4 && (f.type == N::UNorm || f.type == N::SRGB)) {
+    // Four 8-bit normalized components (RGBA8, BGRA8 and their sRGB forms), the most common: by table, each word
+    // written once (no small stores read back as one wide load).
+    const float* rgb = f.type == N::SRGB ? kUnorm8.srgb : kUnorm8.unorm;
+    const unsigned r = f.bgr ? 2 : 0;
+    out[0] = fbits(rgb[texel[r]]);
+    out[1] = fbits(rgb[texel[1]]);
+    out[2] = fbits(rgb[texel[2 - r]]);
+    out[3] = fbits(kUnorm8.unorm[texel[3]]);
+    return;
+  }
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
   if (f.packed) {
     uint32_t w = uint32_t(readBits(texel, 4));
