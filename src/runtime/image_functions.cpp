@@ -162,14 +162,13 @@ bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N:
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
   texel += f.offset;  // the stencil byte of a combined depth/stencil texel
   if (!f.packed && f.components == 4 && f.texelSize == 4 && (f.type == N::UNorm || f.type == N::SRGB)) {
-    // Four 8-bit normalized components (RGBA8, BGRA8 and their sRGB forms), the most common: by table, each word
-    // written once (no small stores read back as one wide load).
+    // Four 8-bit normalized components (RGBA8, BGRA8 and their sRGB forms), the most common: by table, stored as
+    // one 16-byte vector (callers read the words back in wider loads, which small stores would stall).
+    using Words = float __attribute__((vector_size(16)));
     const float* rgb = f.type == N::SRGB ? kUnorm8.srgb : kUnorm8.unorm;
     const unsigned r = f.bgr ? 2 : 0;
-    out[0] = fbits(rgb[texel[r]]);
-    out[1] = fbits(rgb[texel[1]]);
-    out[2] = fbits(rgb[texel[2 - r]]);
-    out[3] = fbits(kUnorm8.unorm[texel[3]]);
+    const Words v = {rgb[texel[r]], rgb[texel[1]], rgb[texel[2 - r]], kUnorm8.unorm[texel[3]]};
+    std::memcpy(out, &v, 16);
     return;
   }
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
