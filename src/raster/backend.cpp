@@ -193,10 +193,10 @@ inline uint32_t encodeUnorm8(uint32_t word) {
 inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
   if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
   const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
-  out[0] = asWord(kUnorm8.v[p[bgra ? 2 : 0]]);
-  out[1] = asWord(kUnorm8.v[p[1]]);
-  out[2] = asWord(kUnorm8.v[p[bgra ? 0 : 2]]);
-  out[3] = asWord(kUnorm8.v[p[3]]);
+  // One 16-byte store: the words are read back as one vector, which four small stores would stall.
+  using Words = float __attribute__((vector_size(16)));
+  const Words v = {kUnorm8.v[p[bgra ? 2 : 0]], kUnorm8.v[p[1]], kUnorm8.v[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
+  std::memcpy(out, &v, 16);
 }
 
 inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
