@@ -374,17 +374,22 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
     i0[d] = int64_t(std::floor(f));
     w[d] = f - std::floor(f);
   }
-  double acc[4] = {0, 0, 0, 0};
+  // The texels first, then their weighted sum (in the same order): the sum stays in registers instead of being
+  // kept in memory across each texel's call.
+  double weight[8];
+  alignas(16) uint32_t t[8][4];
+  int n = 0;
   int nk = v.dims >= 3 ? 2 : 1, nj = v.dims >= 2 ? 2 : 1;
   for (int dk = 0; dk < nk; ++dk)
     for (int dj = 0; dj < nj; ++dj)
-      for (int di = 0; di < 2; ++di) {
-        double weight = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
-                        (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
-        uint32_t t[4];
-        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t);
-        for (int c = 0; c < 4; ++c) acc[c] += weight * double(bitsf(t[c]));
+      for (int di = 0; di < 2; ++di, ++n) {
+        weight[n] = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
+                    (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
+        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t[n]);
       }
+  double acc[4] = {0, 0, 0, 0};
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 4; ++c) acc[c] += weight[k] * double(bitsf(t[k][c]));
   for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
 }
 
