@@ -308,6 +308,11 @@ void applySwizzle(const View& v, uint32_t c[4]) {
 
 // Applies the address mode to integer texel coordinate i of a dimension with `size` texels; false: border.
 bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
+  // Inside the level every mode leaves the coordinate as it is (and the divisions below are slow).
+  if (i >= 0 && i < size) {
+    *out = i;
+    return true;
+  }
   switch (mode) {
     case VK_SAMPLER_ADDRESS_MODE_REPEAT: *out = ((i % size) + size) % size; return true;
     case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT: {
