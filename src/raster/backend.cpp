@@ -119,6 +119,12 @@ float blendFactor(BlendFactor f, uint32_t c, const float* s, const float* s1, co
   return 0;
 }
 
+// Whether a blend factor reads the destination (else it is the same for every sample of a fragment).
+inline bool readsDestination(BlendFactor f) {
+  return f == BlendFactor::DstColor || f == BlendFactor::OneMinusDstColor || f == BlendFactor::DstAlpha ||
+         f == BlendFactor::OneMinusDstAlpha || f == BlendFactor::SrcAlphaSaturate;
+}
+
 inline float blendOp(BlendOp op, float s, float sf, float d, float df) {
   switch (op) {
     case BlendOp::Add: return s * sf + d * df;
@@ -239,11 +245,21 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   }
   if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
+  // The blend factors that do not read the destination, once for the lane's samples (the same values as per sample).
+  float sfConst[4], dfConst[4];
+  bool sfPerSample = false, dfPerSample = false;
   if (blend) {
     loadFloats(src, s0);
     loadFloats(q.color1[lane], s1);
     for (int c = 0; c < 4; ++c) k[c] = st.blendConstants[c];
     if (normalized) clampToFormat(fmt.kind, s1), clampToFormat(fmt.kind, k);
+    sfPerSample = readsDestination(ba.srcColor) || readsDestination(ba.srcAlpha);
+    dfPerSample = readsDestination(ba.dstColor) || readsDestination(ba.dstAlpha);
+    const float none[4] = {0, 0, 0, 0};
+    for (uint32_t c = 0; c < 4; ++c) {
+      sfConst[c] = blendFactor(c == 3 ? ba.srcAlpha : ba.srcColor, c, s0, s1, none, k);
+      dfConst[c] = blendFactor(c == 3 ? ba.dstAlpha : ba.dstColor, c, s0, s1, none, k);
+    }
   }
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
@@ -265,7 +281,9 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
         const bool alpha = c == 3;
         const BlendFactor sf = alpha ? ba.srcAlpha : ba.srcColor, df = alpha ? ba.dstAlpha : ba.dstColor;
         const BlendOp op = alpha ? ba.alphaOp : ba.colorOp;
-        r[c] = blendOp(op, s0[c], blendFactor(sf, c, s0, s1, d, k), d[c], blendFactor(df, c, s0, s1, d, k));
+        const float sfv = sfPerSample ? blendFactor(sf, c, s0, s1, d, k) : sfConst[c];
+        const float dfv = dfPerSample ? blendFactor(df, c, s0, s1, d, k) : dfConst[c];
+        r[c] = blendOp(op, s0[c], sfv, d[c], dfv);
       }
       clampToFormat(fmt.kind, r);
       for (int c = 0; c < 4; ++c) out[c] = asWord(r[c]);
