@@ -15,11 +15,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -657,10 +657,11 @@ int main(int argc, char** argv) {
   std::printf("device: %s\n", g.name.c_str());
   std::printf("model: %s (%zu triangles x %u copies, %u blended quads), texture %ux%u, %u levels\n", opt.model.c_str(),
               model.indices.size() / 3, opt.grid * opt.grid, opt.quads, model.texWidth, model.texHeight, levels);
-  std::printf("%ux%u, %u frames after %u warm-up, VKRT_THREADS=%s: median %.2f ms, min %.2f ms -> %.2f frames/s"
-              " (process CPU time per frame: median %.2f ms)\n",
-              opt.width, opt.height, opt.frames, opt.warmup, threads ? threads : "(unset)", median * 1e3,
-              seconds.front() * 1e3, 1.0 / median, cpu[cpu.size() / 2] * 1e3);
+  std::printf(
+      "%ux%u, %u frames after %u warm-up, VKRT_THREADS=%s: median %.2f ms, min %.2f ms -> %.2f frames/s"
+      " (process CPU time per frame: median %.2f ms)\n",
+      opt.width, opt.height, opt.frames, opt.warmup, threads ? threads : "(unset)", median * 1e3, seconds.front() * 1e3,
+      1.0 / median, cpu[cpu.size() / 2] * 1e3);
 
   if (!opt.out.empty() &&
       !stbi_write_png(opt.out.c_str(), int(opt.width), int(opt.height), 4, readBack.data, int(opt.width * 4)))

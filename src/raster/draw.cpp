@@ -353,8 +353,12 @@ void rasterizeBatch(const DrawContext& ctx, Batch& b, std::vector<detail::Worker
   exec::ThreadPool::instance().parallelFor(b.busyTiles.size(), [&](uint64_t i, unsigned worker) {
     const uint32_t tile = b.busyTiles[i];
     const int32_t tx = int32_t(tile % tilesX) + tx0, ty = int32_t(tile / tilesX) + ty0;
-    TileWork w{&ctx,         b.tileTris.data() + b.tileStart[tile], b.tileStart[tile + 1] - b.tileStart[tile],
-               tx * kTileSize, ty * kTileSize,                      &scratch[worker],
+    TileWork w{&ctx,
+               b.tileTris.data() + b.tileStart[tile],
+               b.tileStart[tile + 1] - b.tileStart[tile],
+               tx * kTileSize,
+               ty * kTileSize,
+               &scratch[worker],
                worker};
     if (fs.runTile) {
       fs.runTile(fs.user, TileWork::run, &w, worker);

@@ -64,12 +64,12 @@ TEST(RasterFormat, Unorm8LayoutsWriteWhatTheFormatCodecsWrite) {
   const Case cases[] = {
       {{0.25f, 0.5f, 0.75f, 1.0f}, false, 0xF, false},
       {{0.5f / 255, 1.5f / 255, 2.5f / 255, 254.5f / 255}, false, 0xF, false},  // halfway values round to even
-      {{-0.5f, 2.0f, nan, 0.999f}, false, 0xF, false},                           // clamped; NaN writes 0
-      {{0.3f, 0.6f, 0.9f, 0.45f}, true, 0xF, false},                             // src-alpha blending
-      {{1.2f, -0.1f, 0.33f, 0.7f}, true, 0b1010, false},                         // blending, G and A written
-      {{0.3f, 0.6f, 0.9f, 0.45f}, false, 0b0101, false},                         // R and B written
-      {{1.0f, 0.0f, 0.5f, 0.2f}, false, 0xF, true},                              // logic op XOR
-      {{1.0f, 0.0f, 0.5f, 0.2f}, true, 0b0011, true},                            // XOR with a write mask
+      {{-0.5f, 2.0f, nan, 0.999f}, false, 0xF, false},                          // clamped; NaN writes 0
+      {{0.3f, 0.6f, 0.9f, 0.45f}, true, 0xF, false},                            // src-alpha blending
+      {{1.2f, -0.1f, 0.33f, 0.7f}, true, 0b1010, false},                        // blending, G and A written
+      {{0.3f, 0.6f, 0.9f, 0.45f}, false, 0b0101, false},                        // R and B written
+      {{1.0f, 0.0f, 0.5f, 0.2f}, false, 0xF, true},                             // logic op XOR
+      {{1.0f, 0.0f, 0.5f, 0.2f}, true, 0b0011, true},                           // XOR with a write mask
   };
   for (const auto& [vkFormat, layout] : {std::pair{VK_FORMAT_R8G8B8A8_UNORM, ColorFormat::Layout::RGBA8UNorm},
                                          std::pair{VK_FORMAT_B8G8R8A8_UNORM, ColorFormat::Layout::BGRA8UNorm}}) {
