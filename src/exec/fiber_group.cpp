@@ -3,7 +3,6 @@
 #include "exec/fiber_group.hpp"
 
 #include <sys/mman.h>
-#include <xmmintrin.h>
 
 #include <cstring>
 #include <memory>
@@ -23,12 +22,15 @@
 #define VKRT_TSAN_FIBERS 1
 #endif
 
-// The fibers' context switch: x86-64 System V keeps rbx, rbp, r12-r15, rsp and the control bits of MXCSR and the
-// x87 control word across calls, so a switch saves those on the stack it leaves, stores that stack pointer in
-// *saveSp, and loads the others from `loadSp`'s stack. Nothing else: unlike swapcontext, which saved and restored the
-// signal mask with a system call each time (rt_sigprocmask; a 256-invocation workgroup with one barrier made about
-// 1,300 of them), a switch here costs a few dozen instructions. (The signal mask is the worker thread's and no
-// fiber changes it.)
+// The fibers' context switch: x86-64 System V keeps rbx, rbp, r12-r15 and rsp across calls, so a switch saves those
+// on the stack it leaves, stores that stack pointer in *saveSp, and loads the others from `loadSp`'s stack. Nothing
+// else: unlike swapcontext, which saved and restored the signal mask with a system call each time (rt_sigprocmask; a
+// 256-invocation workgroup with one barrier made about 1,300 of them), a switch here costs a few dozen instructions.
+// (The signal mask is the worker thread's and no fiber changes it.) The ABI's other preserved state, the control
+// bits of MXCSR and the x87 control word, is not switched either: every fiber runs with its worker's, since no code
+// vkrt runs on a fiber changes them (the compiler emits no control-word write: FPRoundingMode RTZ is done in
+// arithmetic, src/spirv/arithmetic.cpp). Saving them cost more than the rest of the switch (stmxcsr and fnstcw are
+// microcoded), and a fragment quad that takes derivatives switches 16 times.
 extern "C" void vkrt_fiber_switch(void** saveSp, void* loadSp);
 asm(R"(
   .text
@@ -44,14 +46,8 @@ vkrt_fiber_switch:
   pushq %r13
   pushq %r14
   pushq %r15
-  subq $8, %rsp
-  stmxcsr (%rsp)
-  fnstcw 4(%rsp)
   movq %rsp, (%rdi)
   movq %rsi, %rsp
-  ldmxcsr (%rsp)
-  fldcw 4(%rsp)
-  addq $8, %rsp
   popq %r15
   popq %r14
   popq %r13
@@ -81,6 +77,7 @@ struct Fiber {
   uint8_t* stack = nullptr;  // usable stack (the guard page is just below)
   InvocationContext* inv = nullptr;
   bool done = false;
+  bool started = false;  // resumed at least once (fiberMain read tlsStarting)
   Scheduler* scheduler = nullptr;
 #if VKRT_TSAN_FIBERS
   void* tsanFiber = nullptr;  // created on first use
@@ -160,19 +157,14 @@ fiberMain() {
 
 // Lays out a fresh fiber's stack as vkrt_fiber_switch leaves a stack it switches away from, so that the first switch
 // to it "returns" into fiberMain: from the top, a return address slot aligned as after a call (the stack pointer is 8
-// past a multiple of 16 at a function's entry), the six callee-saved registers (zero: rbp = 0 ends the frame chain
-// for debuggers and unwinders), and the floating-point control words of the creating thread.
+// past a multiple of 16 at a function's entry) and the six callee-saved registers (zero: rbp = 0 ends the frame chain
+// for debuggers and unwinders).
 void makeFiber(Fiber& f) {
   uintptr_t top = (reinterpret_cast<uintptr_t>(f.stack) + kFiberStackBytes) & ~uintptr_t(15);
   uint64_t* sp = reinterpret_cast<uint64_t*>(top - 16);
   sp[0] = reinterpret_cast<uint64_t>(&fiberMain);
   for (int r = 1; r <= 6; ++r) sp[-r] = 0;  // rbp, rbx, r12, r13, r14, r15
-  uint32_t control[2] = {_mm_getcsr(), 0};
-  uint16_t x87 = 0;
-  asm volatile("fnstcw %0" : "=m"(x87));
-  control[1] = x87;
-  std::memcpy(&sp[-7], control, 8);
-  f.sp = &sp[-7];
+  f.sp = &sp[-6];
 }
 
 // The group's barrier: back to the scheduler, which runs the other invocations up to the barrier.
@@ -197,7 +189,10 @@ void resume(Scheduler& s, Fiber& f) {
   void* fake = nullptr;
   __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
 #endif
-  tlsStarting = &f;
+  if (!f.started) {
+    tlsStarting = &f;
+    f.started = true;
+  }
   sigjmp_buf* outer = swapRecoveryPoint(&f.recovery);
   setRunning(nullptr, f.inv->globalId, Abort::GlobalInvocation);
 #if VKRT_TSAN_FIBERS
@@ -223,6 +218,7 @@ bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocation
   for (uint32_t i = 0; i < count; ++i) {
     Fiber& f = scratch.fibers[i];
     f.done = false;
+    f.started = false;
     f.aborted = false;
     f.scheduler = &s;
     f.stack = scratch.stacks[i] + kGuardBytes;

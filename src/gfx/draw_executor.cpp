@@ -123,31 +123,61 @@ void shadeVertices(void* user, uint32_t instanceIndex, uint32_t viewIndex, const
   }
 }
 
-struct QuadTask {
+// The fragment stage's supervision, once per tile (raster::FragmentStage::runTile): the worker's four invocations
+// start from the draw's prototype here, so that a quad writes only the fields that change (shadeQuad); a fault or
+// the watchdog in the tile's shader code ends the tile (and the job) through exec::runSupervised.
+struct TileTask {
   DrawContext* c;
   WorkerScratch* w;
-  raster::FragmentQuad* quad;
-  bool fibersFailed;
+  void (*body)(void*);
+  void* arg;
 };
 
-void shadeQuadTask(void* arg) {
-  QuadTask& t = *static_cast<QuadTask*>(arg);
+void runTileTask(void* arg) {
+  TileTask& t = *static_cast<TileTask*>(arg);
   const DrawContext& c = *t.c;
-  raster::FragmentQuad& q = *t.quad;
   WorkerScratch& w = *t.w;
   exec::setRunning(c.pipeline->fragmentName.c_str(), nullptr, exec::Abort::NoId);
+  for (uint32_t l = 0; l < 4; ++l) {
+    GraphicsInvocation& inv = w.inv[l];
+    inv = c.fragmentProto;
+    inv.base.sink = w.sink;
+    inv.base.localIndex = l;
+    inv.base.workgroupMemory = w.exchange;
+    inv.inputs = w.inputs[l];
+    inv.outputs = w.outputs[l];
+    inv.outputs1 = w.outputs1[l];
+  }
+  t.body(t.arg);
+}
+
+bool runTile(void* user, void (*body)(void*), void* arg, unsigned worker) {
+  auto* c = static_cast<DrawContext*>(user);
+  TileTask t{c, &c->scratch[worker], body, arg};
+  return exec::runSupervised(*c->job, runTileTask, &t);
+}
+
+// One quad, inside runTile's supervision (the fields runTileTask set stay as they are: no shader writes them).
+void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
+  const DrawContext& c = *static_cast<DrawContext*>(user);
+  WorkerScratch& w = c.scratch[worker];
+  // The job is ending (a fault or the watchdog on another worker): the rest of the tile writes nothing.
+  if (c.job->cancel.load(std::memory_order_relaxed)) {
+    q.killed = 0xF;
+    return;
+  }
   q.killed = 0;
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.quads || q.coverage[l]) lanes |= 1u << l;
+  float samplePosition[2] = {0.5f, 0.5f};
+  if (c.samples == 4) {
+    samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
+    samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+  }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
-    inv = c.fragmentProto;
-    inv.base.sink = w.sink;
-    inv.inputs = w.inputs[l];
-    inv.outputs = w.outputs[l];
-    inv.outputs1 = w.outputs1[l];
     // The quad's slots back at the shader's locations.
     for (uint32_t s = 0; s < c.varyingCount; ++s)
       std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
@@ -159,28 +189,21 @@ void shadeQuadTask(void* arg) {
     inv.viewIndex = q.viewIndex;
     inv.layer = q.layer;
     inv.sampleId = int32_t(q.sampleIndex);
-    if (c.samples == 4) {
-      inv.samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
-      inv.samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
-    } else {
-      inv.samplePosition[0] = inv.samplePosition[1] = 0.5f;
-    }
+    inv.samplePosition[0] = samplePosition[0];
+    inv.samplePosition[1] = samplePosition[1];
     inv.sampleMaskIn = q.coverage[l];
     inv.sampleMaskOut = ~0u;
     inv.fragDepth = q.fragCoord[l][2];
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;
-    inv.base.localIndex = l;
-    inv.base.workgroupMemory = w.exchange;
   }
   if (c.quads) {
     abi::InvocationContext* group[4] = {&w.inv[0].base, &w.inv[1].base, &w.inv[2].base, &w.inv[3].base};
     // A GraphicsInvocation starts with its InvocationContext: the fiber group calls the entry with the context's
     // address, which is the invocation's.
     if (!exec::runFiberGroup(reinterpret_cast<abi::ComputeEntry>(c.fragmentEntry), group, 4)) {
-      t.fibersFailed = true;
-      q.killed = 0xF;
+      q.killed = 0xF;  // no fiber stacks: nothing is written
       return;
     }
   } else {
@@ -203,12 +226,6 @@ void shadeQuadTask(void* arg) {
     q.depth[l] = inv.fragDepth;
     q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
-}
-
-void shadeQuad(void* user, raster::FragmentQuad& quad, unsigned worker) {
-  auto* c = static_cast<DrawContext*>(user);
-  QuadTask t{c, &c->scratch[worker], &quad, false};
-  if (!exec::runSupervised(*c->job, shadeQuadTask, &t)) quad.killed = 0xF;  // the job ended: nothing is written
 }
 
 // VUID-<command>-<suffix>.
@@ -388,6 +405,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   raster::FragmentStage fragment = p.fragmentStage;
   fragment.user = &c;
   fragment.shade = p.fragment ? shadeQuad : nullptr;
+  fragment.runTile = p.fragment ? runTile : nullptr;
 
   raster::Draw draw;
   draw.count = params.count;

@@ -119,6 +119,12 @@ float blendFactor(BlendFactor f, uint32_t c, const float* s, const float* s1, co
   return 0;
 }
 
+// Whether a blend factor reads the destination (else it is the same for every sample of a fragment).
+inline bool readsDestination(BlendFactor f) {
+  return f == BlendFactor::DstColor || f == BlendFactor::OneMinusDstColor || f == BlendFactor::DstAlpha ||
+         f == BlendFactor::OneMinusDstAlpha || f == BlendFactor::SrcAlphaSaturate;
+}
+
 inline float blendOp(BlendOp op, float s, float sf, float d, float df) {
   switch (op) {
     case BlendOp::Add: return s * sf + d * df;
@@ -171,6 +177,42 @@ inline void mergeMask(uint32_t* v, const uint32_t* dst, uint32_t mask) {
     if (!(mask >> c & 1)) v[c] = dst[c];
 }
 
+// The inline codecs of ColorFormat::Layout's 8-bit UNorm layouts (the runtime's decode/encode, bit for bit).
+struct Unorm8Table {
+  float v[256];
+  Unorm8Table() {
+    for (uint32_t i = 0; i < 256; ++i) v[i] = float(double(i) / 255.0);
+  }
+};
+const Unorm8Table kUnorm8;
+
+inline uint32_t encodeUnorm8(uint32_t word) {
+  float f = asFloat(word);
+  f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+  // Round to nearest even (the default rounding mode, as nearbyint): adding and subtracting 2^52 leaves no fraction
+  // bits for values in [0, 255].
+  const double d = double(f) * 255.0;
+  return uint32_t((d + 0x1p52) - 0x1p52);
+}
+
+// A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
+inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
+  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
+  // One 16-byte store: the words are read back as one vector, which four small stores would stall.
+  using Words = float __attribute__((vector_size(16)));
+  const Words v = {kUnorm8.v[p[bgra ? 2 : 0]], kUnorm8.v[p[1]], kUnorm8.v[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
+  std::memcpy(out, &v, 16);
+}
+
+inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.encode(fmt.format, in, p);
+  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
+  const uint32_t r = encodeUnorm8(in[0]), g = encodeUnorm8(in[1]), b = encodeUnorm8(in[2]), a = encodeUnorm8(in[3]);
+  const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
+  std::memcpy(p, &w, 4);
+}
+
 void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
                      uint32_t coverage) {
   const Target& tg = *ctx.target;
@@ -196,23 +238,33 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const uint32_t bytes = fmt.texelBytes;
   uint8_t encoded[16];
   if (!blend && !logic && fullMask) {
-    fmt.encode(fmt.format, src, encoded);
+    encodeColor(fmt, src, encoded);
     for (uint32_t s = coverage; s; s &= s - 1)
       std::memcpy(texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(s))), encoded, bytes);
     return;
   }
-  if (logic) fmt.encode(fmt.format, src, encoded);
+  if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
+  // The blend factors that do not read the destination, once for the lane's samples (the same values as per sample).
+  float sfConst[4], dfConst[4];
+  bool sfPerSample = false, dfPerSample = false;
   if (blend) {
     loadFloats(src, s0);
     loadFloats(q.color1[lane], s1);
     for (int c = 0; c < 4; ++c) k[c] = st.blendConstants[c];
     if (normalized) clampToFormat(fmt.kind, s1), clampToFormat(fmt.kind, k);
+    sfPerSample = readsDestination(ba.srcColor) || readsDestination(ba.srcAlpha);
+    dfPerSample = readsDestination(ba.dstColor) || readsDestination(ba.dstAlpha);
+    const float none[4] = {0, 0, 0, 0};
+    for (uint32_t c = 0; c < 4; ++c) {
+      sfConst[c] = blendFactor(c == 3 ? ba.srcAlpha : ba.srcColor, c, s0, s1, none, k);
+      dfConst[c] = blendFactor(c == 3 ? ba.dstAlpha : ba.dstColor, c, s0, s1, none, k);
+    }
   }
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
     uint32_t dst[4], out[4];
-    fmt.decode(fmt.format, p, dst);
+    decodeColor(fmt, p, dst);
     if (logic) {
       // Logical operations work on the texel's bits ("Logical Operations").
       uint8_t r[16];
@@ -221,7 +273,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
         std::memcpy(p, r, bytes);
         continue;
       }
-      fmt.decode(fmt.format, r, out);
+      decodeColor(fmt, r, out);
     } else if (blend) {
       float d[4], r[4];
       loadFloats(dst, d);
@@ -229,7 +281,9 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
         const bool alpha = c == 3;
         const BlendFactor sf = alpha ? ba.srcAlpha : ba.srcColor, df = alpha ? ba.dstAlpha : ba.dstColor;
         const BlendOp op = alpha ? ba.alphaOp : ba.colorOp;
-        r[c] = blendOp(op, s0[c], blendFactor(sf, c, s0, s1, d, k), d[c], blendFactor(df, c, s0, s1, d, k));
+        const float sfv = sfPerSample ? blendFactor(sf, c, s0, s1, d, k) : sfConst[c];
+        const float dfv = dfPerSample ? blendFactor(df, c, s0, s1, d, k) : dfConst[c];
+        r[c] = blendOp(op, s0[c], sfv, d[c], dfv);
       }
       clampToFormat(fmt.kind, r);
       for (int c = 0; c < 4; ++c) out[c] = asWord(r[c]);
@@ -237,7 +291,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
       std::memcpy(out, src, 16);
     }
     mergeMask(out, dst, mask);
-    fmt.encode(fmt.format, out, p);
+    encodeColor(fmt, out, p);
   }
 }
 

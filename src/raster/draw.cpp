@@ -337,11 +337,34 @@ void rasterizeBatch(const DrawContext& ctx, Batch& b, std::vector<detail::Worker
   const int32_t tx0 = ctx.clipX0 / kTileSize, ty0 = ctx.clipY0 / kTileSize;
   const int32_t tilesX = (ctx.clipX1 - 1) / kTileSize - tx0 + 1, tilesY = (ctx.clipY1 - 1) / kTileSize - ty0 + 1;
   bin(ctx, b, tx0, ty0, tilesX, tilesY);
+  struct TileWork {
+    const DrawContext* ctx;
+    const SetupTri* const* tris;
+    size_t count;
+    int32_t x, y;
+    detail::WorkerScratch* scratch;
+    unsigned worker;
+    static void run(void* arg) {
+      const TileWork& w = *static_cast<const TileWork*>(arg);
+      detail::rasterizeTile(*w.ctx, w.tris, w.count, w.x, w.y, *w.scratch, w.worker);
+    }
+  };
+  const FragmentStage& fs = *ctx.fragment;
   exec::ThreadPool::instance().parallelFor(b.busyTiles.size(), [&](uint64_t i, unsigned worker) {
     const uint32_t tile = b.busyTiles[i];
     const int32_t tx = int32_t(tile % tilesX) + tx0, ty = int32_t(tile / tilesX) + ty0;
-    detail::rasterizeTile(ctx, b.tileTris.data() + b.tileStart[tile], b.tileStart[tile + 1] - b.tileStart[tile],
-                          tx * kTileSize, ty * kTileSize, scratch[worker], worker);
+    TileWork w{&ctx,
+               b.tileTris.data() + b.tileStart[tile],
+               b.tileStart[tile + 1] - b.tileStart[tile],
+               tx * kTileSize,
+               ty * kTileSize,
+               &scratch[worker],
+               worker};
+    if (fs.runTile) {
+      fs.runTile(fs.user, TileWork::run, &w, worker);
+    } else {
+      TileWork::run(&w);
+    }
   });
 }
 

@@ -111,6 +111,11 @@ struct ColorFormat {
   // Texel -> four 32-bit words (floats for UNorm/SNorm/Float/sRGB, integers for UInt/SInt); A = 1 where absent.
   void (*decode)(const void* format, const uint8_t* texel, uint32_t out[4]) = nullptr;
   void (*encode)(const void* format, const uint32_t in[4], uint8_t* texel) = nullptr;
+  // Set by the graphics layer for the common formats whose texels are four linear 8-bit unsigned normalized
+  // components in memory order R, G, B, A (R8G8B8A8_UNORM) or B, G, R, A (B8G8R8A8_UNORM):
+  // the back end then converts inline instead of through decode/encode, with the same results (decode: the byte
+  // / 255 rounded to float; encode: NaN to 0, clamped to [0, 1], times 255 rounded to nearest even).
+  enum class Layout : uint8_t { Generic, RGBA8UNorm, BGRA8UNorm } layout = Layout::Generic;
 };
 
 // A 2D view of an image's level: pixel (x, y) of layer `l` sample `s` is at
@@ -273,6 +278,11 @@ struct FragmentStage {
   // Runs the shader for the quad's lanes: the covered ones, and the helper lanes too when `needsHelpers`. Null: no
   // fragment shader (depth/stencil only; color outputs undefined, nothing written to color).
   void (*shade)(void* user, FragmentQuad& quad, unsigned worker) = nullptr;
+  // Runs body(arg), the rasterization of one tile (every call of `shade` for it), on worker `worker` under the
+  // stage's supervision, so that the stage sets up once per tile what is the same for all its quads. The body may
+  // be left midway (a shader fault or a time limit ends the work: exec/supervise.hpp); runTile then returns false
+  // and the rest of the tile is not rasterized. Null: body runs directly.
+  bool (*runTile)(void* user, void (*body)(void*), void* arg, unsigned worker) = nullptr;
   bool needsHelpers = false;  // derivatives or quad operations: all four lanes run
   bool writesDepth = false;   // FragDepth
   bool writesSampleMask = false;

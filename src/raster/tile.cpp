@@ -21,6 +21,13 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
   return std::clamp(float(z), ctx.depthMin, ctx.depthMax);
 }
 
+using Float4 = float __attribute__((vector_size(16)));
+inline Float4 load4(const uint32_t* p) {
+  Float4 v;
+  std::memcpy(&v, p, 16);
+  return v;
+}
+
 // Screen-space barycentrics at a fixed-point position (exact edge values, one division).
 inline void barycentrics(const SetupTri& t, int64_t px, int64_t py, double b[3]) {
   for (int i = 0; i < 3; ++i) b[i] = double(t.a[i] * px + t.b[i] * py + t.c[i]) * t.invArea2;
@@ -76,12 +83,11 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     }
     const bool useCentroid = centroid && in.centroid;
     const float* w = in.interpolation == Interpolation::Smooth ? (useCentroid ? pc : p) : (useCentroid ? lc : l);
-    // f0 + w1 (f1 - f0) + w2 (f2 - f0): a value equal at the three vertices interpolates to exactly itself.
-    for (uint32_t c = 0; c < 4; ++c) {
-      const float f0 = asFloat(t.var[0][k + c]);
-      const float v = f0 + w[1] * (asFloat(t.var[1][k + c]) - f0) + w[2] * (asFloat(t.var[2][k + c]) - f0);
-      dst[k + c] = asWord(v);
-    }
+    // f0 + w1 (f1 - f0) + w2 (f2 - f0): a value equal at the three vertices interpolates to exactly itself. The
+    // four components at once (the same operations, in the same order, per component).
+    const Float4 f0 = load4(t.var[0] + k);
+    const Float4 v = f0 + w[1] * (load4(t.var[1] + k) - f0) + w[2] * (load4(t.var[2] + k) - f0);
+    std::memcpy(dst + k, &v, 16);
   }
 }
 

@@ -97,9 +97,23 @@ void writeBits(uint8_t* p, uint64_t v, unsigned bytes) {
   }
 }
 
+// 8-bit UNorm and sRGB components, the most sampled, by table: the values decodeComponent computes below.
+struct Unorm8Tables {
+  float unorm[256], srgb[256];
+  Unorm8Tables() {
+    for (uint32_t i = 0; i < 256; ++i) {
+      unorm[i] = float(double(i) / 255.0);
+      srgb[i] = srgbToLinear(unorm[i]);
+    }
+  }
+};
+const Unorm8Tables kUnorm8;
+
 // Decodes one raw component value of `bits` bits.
 uint32_t decodeComponent(N type, uint64_t raw, unsigned bits, bool alpha) {
   uint64_t maxU = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+  if (bits == 8 && (type == N::UNorm || type == N::SRGB))
+    return fbits(type == N::SRGB && !alpha ? kUnorm8.srgb[raw] : kUnorm8.unorm[raw]);
   switch (type) {
     case N::UNorm: return fbits(float(double(raw) / double(maxU)));
     case N::SRGB: {
@@ -147,6 +161,16 @@ bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N:
 
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
   texel += f.offset;  // the stencil byte of a combined depth/stencil texel
+  if (!f.packed && f.components == 4 && f.texelSize == 4 && (f.type == N::UNorm || f.type == N::SRGB)) {
+    // Four 8-bit normalized components (RGBA8, BGRA8 and their sRGB forms), the most common: by table, stored as
+    // one 16-byte vector (callers read the words back in wider loads, which small stores would stall).
+    using Words = float __attribute__((vector_size(16)));
+    const float* rgb = f.type == N::SRGB ? kUnorm8.srgb : kUnorm8.unorm;
+    const unsigned r = f.bgr ? 2 : 0;
+    const Words v = {rgb[texel[r]], rgb[texel[1]], rgb[texel[2 - r]], kUnorm8.unorm[texel[3]]};
+    std::memcpy(out, &v, 16);
+    return;
+  }
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
   if (f.packed) {
     uint32_t w = uint32_t(readBits(texel, 4));
@@ -284,6 +308,11 @@ void applySwizzle(const View& v, uint32_t c[4]) {
 
 // Applies the address mode to integer texel coordinate i of a dimension with `size` texels; false: border.
 bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
+  // Inside the level every mode leaves the coordinate as it is (and the divisions below are slow).
+  if (i >= 0 && i < size) {
+    *out = i;
+    return true;
+  }
   switch (mode) {
     case VK_SAMPLER_ADDRESS_MODE_REPEAT: *out = ((i % size) + size) % size; return true;
     case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT: {
@@ -350,17 +379,22 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
     i0[d] = int64_t(std::floor(f));
     w[d] = f - std::floor(f);
   }
-  double acc[4] = {0, 0, 0, 0};
+  // The texels first, then their weighted sum (in the same order): the sum stays in registers instead of being
+  // kept in memory across each texel's call.
+  double weight[8];
+  alignas(16) uint32_t t[8][4];
+  int n = 0;
   int nk = v.dims >= 3 ? 2 : 1, nj = v.dims >= 2 ? 2 : 1;
   for (int dk = 0; dk < nk; ++dk)
     for (int dj = 0; dj < nj; ++dj)
-      for (int di = 0; di < 2; ++di) {
-        double weight = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
-                        (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
-        uint32_t t[4];
-        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t);
-        for (int c = 0; c < 4; ++c) acc[c] += weight * double(bitsf(t[c]));
+      for (int di = 0; di < 2; ++di, ++n) {
+        weight[n] = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
+                    (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
+        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t[n]);
       }
+  double acc[4] = {0, 0, 0, 0};
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 4; ++c) acc[c] += weight[k] * double(bitsf(t[k][c]));
   for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
 }
 

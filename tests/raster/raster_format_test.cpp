@@ -1,0 +1,97 @@
+// The back end's inline colour codecs (ColorFormat::layout, RGBA8 and BGRA8 UNorm) against the runtime's texel codecs
+// (decodeTexel/encodeTexel, which the graphics layer passes as decode/encode): the same draw, once through each, writes
+// the same bytes, for every stored byte value, out-of-range and NaN sources, blending, write masks and logic ops.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "raster_harness.hpp"
+#include "runtime/format.hpp"
+#include "runtime/image_functions.hpp"
+
+namespace vkrt::raster::test {
+namespace {
+
+void decodeRuntime(const void* f, const uint8_t* t, uint32_t out[4]) {
+  decodeTexel(*static_cast<const FormatInfo*>(f), t, out);
+}
+void encodeRuntime(const void* f, const uint32_t in[4], uint8_t* t) {
+  encodeTexel(*static_cast<const FormatInfo*>(f), in, t);
+}
+// Codecs a draw must not reach (the layout's inline path replaces them).
+void decodeWrong(const void*, const uint8_t*, uint32_t out[4]) { std::memset(out, 0, 16); }
+void encodeWrong(const void*, const uint32_t*, uint8_t* t) { std::memset(t, 0x55, 4); }
+
+struct Case {
+  Vec4 source;
+  bool blend;
+  uint8_t writeMask;
+  bool logic;
+};
+
+// A 16x16 RGBA8/BGRA8 target whose texels hold every byte value (texel i: bytes i, 255 - i, 3i, 7i + 1), covered by
+// two triangles writing `c.source`; returns the target's bytes.
+std::vector<uint8_t> render(VkFormat vkFormat, ColorFormat::Layout layout, const Case& c, bool wrongCodecs = false) {
+  Harness h(16, 16);
+  h.color = Image(16, 16, 4);
+  for (uint32_t i = 0; i < 256; ++i) {
+    uint8_t* p = h.color.data.data() + 4 * i;
+    p[0] = uint8_t(i), p[1] = uint8_t(255 - i), p[2] = uint8_t(3 * i), p[3] = uint8_t(7 * i + 1);
+  }
+  ColorFormat& f = h.target.colorFormat[0];
+  f.kind = ColorFormat::Kind::UNorm;
+  f.texelBytes = 4;
+  f.format = formatInfo(vkFormat);
+  f.decode = wrongCodecs ? decodeWrong : decodeRuntime;
+  f.encode = wrongCodecs ? encodeWrong : encodeRuntime;
+  f.layout = layout;
+  h.constant = c.source;
+  BlendAttachment& b = h.state.blend[0];
+  b.enable = c.blend;
+  b.srcColor = BlendFactor::SrcAlpha, b.dstColor = BlendFactor::OneMinusSrcAlpha;
+  b.srcAlpha = BlendFactor::One, b.dstAlpha = BlendFactor::OneMinusDstAlpha;
+  b.writeMask = c.writeMask;
+  h.state.logicOpEnable = c.logic;
+  h.state.logicOp = LogicOp::Xor;
+  h.vertex(0, 0), h.vertex(16, 0), h.vertex(0, 16);
+  h.vertex(16, 0), h.vertex(16, 16), h.vertex(0, 16);
+  h.run();
+  return h.color.data;
+}
+
+TEST(RasterFormat, Unorm8LayoutsWriteWhatTheFormatCodecsWrite) {
+  const float nan = std::nanf("");
+  const Case cases[] = {
+      {{0.25f, 0.5f, 0.75f, 1.0f}, false, 0xF, false},
+      {{0.5f / 255, 1.5f / 255, 2.5f / 255, 254.5f / 255}, false, 0xF, false},  // halfway values round to even
+      {{-0.5f, 2.0f, nan, 0.999f}, false, 0xF, false},                          // clamped; NaN writes 0
+      {{0.3f, 0.6f, 0.9f, 0.45f}, true, 0xF, false},                            // src-alpha blending
+      {{1.2f, -0.1f, 0.33f, 0.7f}, true, 0b1010, false},                        // blending, G and A written
+      {{0.3f, 0.6f, 0.9f, 0.45f}, false, 0b0101, false},                        // R and B written
+      {{1.0f, 0.0f, 0.5f, 0.2f}, false, 0xF, true},                             // logic op XOR
+      {{1.0f, 0.0f, 0.5f, 0.2f}, true, 0b0011, true},                           // XOR with a write mask
+  };
+  for (const auto& [vkFormat, layout] : {std::pair{VK_FORMAT_R8G8B8A8_UNORM, ColorFormat::Layout::RGBA8UNorm},
+                                         std::pair{VK_FORMAT_B8G8R8A8_UNORM, ColorFormat::Layout::BGRA8UNorm}}) {
+    for (size_t i = 0; i < std::size(cases); ++i) {
+      const std::vector<uint8_t> generic = render(vkFormat, ColorFormat::Layout::Generic, cases[i]);
+      const std::vector<uint8_t> inline_ = render(vkFormat, layout, cases[i]);
+      ASSERT_EQ(generic.size(), inline_.size());
+      for (size_t b = 0; b < generic.size(); ++b)
+        ASSERT_EQ(int(generic[b]), int(inline_[b])) << "format " << vkFormat << " case " << i << " byte " << b;
+    }
+  }
+  // The inline path is what ran: with codecs that would write 0x55, the layout's draw writes the values the format's
+  // rule gives (components times 255, rounded to nearest even), computed here by hand.
+  const std::vector<uint8_t> out = render(VK_FORMAT_B8G8R8A8_UNORM, ColorFormat::Layout::BGRA8UNorm,
+                                          {{0.25f, 0.5f, 0.75f, 1.0f}, true, 0xF, false}, true);
+  // Alpha 1 blended with SRC_ALPHA / ONE_MINUS_SRC_ALPHA over texel 0 (B 0, G 255, R 0, A 1): the source alone;
+  // alpha ONE / ONE_MINUS_DST_ALPHA: 1 + (1 - 1/255) * 1/255, clamped to 1.
+  EXPECT_EQ(out[0], 191);  // B: 0.75 * 255 = 191.25
+  EXPECT_EQ(out[1], 128);  // G: 127.5 rounds to even
+  EXPECT_EQ(out[2], 64);   // R: 63.75
+  EXPECT_EQ(out[3], 255);
+}
+
+}  // namespace
+}  // namespace vkrt::raster::test
