@@ -1,4 +1,4 @@
-// The image functions compiled shaders call (OpImageRead/Write/TexelPointer/Fetch/SampleExplicitLod/Query*, on images
+// The image functions compiled shaders call (OpImageRead/Write/TexelPointer/Fetch/Sample*/*Gather/Query*, on images
 // and on texel buffers), by symbol name: the compiler emits calls to these names, and whoever runs compiled code
 // supplies their addresses (HostSymbol lists, given to the compiler; the runtime's implementation is
 // src/runtime/image_functions.cpp, which reads its image view, buffer view and sampler objects through the
@@ -53,6 +53,29 @@ void vkrt_image_sample(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::
 // the sampler's mipLodBias, minLod and maxLod.
 void vkrt_image_sample_grad(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
                             const float coord[4], const float ddx[4], const float ddy[4], float bias, uint32_t out[4]);
+// The two above with the ConstOffset operand: `offset` (the Dim's components) moves the texels every level's filter
+// reads by whole texels.
+void vkrt_image_sample_offset(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                              const float coord[4], float lod, const int32_t offset[4], uint32_t out[4]);
+void vkrt_image_sample_grad_offset(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                                   const float coord[4], const float ddx[4], const float ddy[4], float bias,
+                                   const int32_t offset[4], uint32_t out[4]);
+// The Dref forms (OpImageSample[Proj]DrefExplicitLod, OpImageSample[Proj]DrefImplicitLod; the compiler divides
+// coordinates and `dref` by q for the Proj forms), `offset` null without ConstOffset: each texel's depth (R) is
+// compared with `dref` by the sampler's compareOp before filtering ("Depth Compare Operation"); out[0] is the
+// filtered 0.0 / 1.0 results.
+void vkrt_image_sample_dref(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                            const float coord[4], float lod, float dref, const int32_t offset[4], uint32_t out[4]);
+void vkrt_image_sample_grad_dref(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                                 const float coord[4], const float ddx[4], const float ddy[4], float bias, float dref,
+                                 const int32_t offset[4], uint32_t out[4]);
+// OpImageGather: component `component` (0-3, after the view swizzle) of the four texels the LINEAR filter would read
+// in the view's base level ("Texel Gathering"), as (i0j1, i1j1, i1j0, i0j0); zeros unless the view is 2D (array).
+void vkrt_image_gather(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                       const float coord[4], int32_t component, uint32_t out[4]);
+// OpImageDrefGather: the same four texels' depth comparisons with `dref` (0.0 or 1.0 each).
+void vkrt_image_gather_dref(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                            const float coord[4], float dref, uint32_t out[4]);
 // OpImageQuerySize(Lod): the view's size at mip `lod` in view-type order (x, y, z or layers); zeros when null.
 void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
 // OpImageQueryLevels.

@@ -171,6 +171,10 @@ VkFormatFeatureFlags2 formatFeatures2(VkFormat format) {
   // the image functions convert texels from and to the view's format whatever the shader declares.
   if (flags & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)
     flags |= VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
+  // Depth comparison (OpImage*Dref*, "Depth Compare Operation") on the depth aspect of every sampled depth format:
+  // the image functions compare each texel's depth before filtering (runtime/image_functions.cpp).
+  if ((flags & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) && (formatAspects(format) & VK_IMAGE_ASPECT_DEPTH_BIT))
+    flags |= VK_FORMAT_FEATURE_2_SAMPLED_IMAGE_DEPTH_COMPARISON_BIT;
   return flags;
 }
 

@@ -356,9 +356,42 @@ void addressedTexel(const TexelView& v, const VkSamplerCreateInfo& s, uint32_t l
   readTexel(v, level, xyzl, out);
 }
 
-// Filters mip `level` at view-order coordinates (normalized unless the sampler says otherwise).
+// The depth comparison of an OpImage*Dref* instruction ("Depth Compare Operation"): the reference value (already
+// clamped to [0, 1] for UNORM depth) and the operator, applied to each texel before filtering.
+struct DepthCompare {
+  float ref = 0;
+  VkCompareOp op = VK_COMPARE_OP_NEVER;
+};
+
+// "reference op test" (VkCompareOp), with the texel's depth as the test value; 1.0 or 0.0.
+float compareDepth(const DepthCompare& c, float test) {
+  bool pass = false;
+  switch (c.op) {
+    case VK_COMPARE_OP_LESS: pass = c.ref < test; break;
+    case VK_COMPARE_OP_EQUAL: pass = c.ref == test; break;
+    case VK_COMPARE_OP_LESS_OR_EQUAL: pass = c.ref <= test; break;
+    case VK_COMPARE_OP_GREATER: pass = c.ref > test; break;
+    case VK_COMPARE_OP_NOT_EQUAL: pass = c.ref != test; break;
+    case VK_COMPARE_OP_GREATER_OR_EQUAL: pass = c.ref >= test; break;
+    case VK_COMPARE_OP_ALWAYS: pass = true; break;
+    default: break;  // NEVER
+  }
+  return pass ? 1.0f : 0.0f;
+}
+
+// The texel (after the address modes and border replacement) with its depth, R, replaced by the comparison's
+// result when there is one.
+void comparedTexel(const TexelView& v, const VkSamplerCreateInfo& s, uint32_t level, int64_t i, int64_t j, int64_t k,
+                   int64_t layer, const DepthCompare* cmp, uint32_t out[4]) {
+  addressedTexel(v, s, level, i, j, k, layer, out);
+  if (cmp) out[0] = fbits(compareDepth(*cmp, bitsf(out[0])));
+}
+
+// Filters mip `level` at view-order coordinates (normalized unless the sampler says otherwise); `offset` (null: none)
+// moves the texels the filter reads by whole texels (the ConstOffset operand, "Texel Coordinate Systems"); with
+// `cmp`, each texel's depth is compared before the filter averages the results (percentage-closer filtering).
 void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
-                 int64_t layer, float out[4]) {
+                 int64_t layer, const int32_t* offset, const DepthCompare* cmp, float out[4]) {
   VkExtent3D e = levelExtent(v, level);
   double size[3] = {double(e.width), double(e.height), double(e.depth)};
   double u[3] = {0, 0, 0};
@@ -366,9 +399,9 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
   bool isInt = isIntFormat(*v.format);
   if (filter == VK_FILTER_NEAREST || isInt) {
     int64_t i[3];
-    for (int d = 0; d < 3; ++d) i[d] = int64_t(std::floor(u[d]));
+    for (int d = 0; d < 3; ++d) i[d] = int64_t(std::floor(u[d])) + (offset && d < v.dims ? offset[d] : 0);
     uint32_t t[4];
-    addressedTexel(v, s, level, i[0], i[1], i[2], layer, t);
+    comparedTexel(v, s, level, i[0], i[1], i[2], layer, cmp, t);
     std::memcpy(out, t, 16);
     return;
   }
@@ -376,7 +409,7 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
   double w[3] = {0, 0, 0};
   for (int d = 0; d < v.dims; ++d) {
     double f = u[d] - 0.5;
-    i0[d] = int64_t(std::floor(f));
+    i0[d] = int64_t(std::floor(f)) + (offset ? offset[d] : 0);
     w[d] = f - std::floor(f);
   }
   // The texels first, then their weighted sum (in the same order): the sum stays in registers instead of being
@@ -390,7 +423,7 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
       for (int di = 0; di < 2; ++di, ++n) {
         weight[n] = (di ? w[0] : 1 - w[0]) * (v.dims >= 2 ? (dj ? w[1] : 1 - w[1]) : 1.0) *
                     (v.dims >= 3 ? (dk ? w[2] : 1 - w[2]) : 1.0);
-        addressedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, t[n]);
+        comparedTexel(v, s, level, i0[0] + di, i0[1] + dj, i0[2] + dk, layer, cmp, t[n]);
       }
   double acc[4] = {0, 0, 0, 0};
   for (int k = 0; k < n; ++k)
@@ -429,7 +462,7 @@ uint8_t* texelAt(const TexelBuffer& t, int64_t index) {
 void filterTexels(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level, const float* coord,
                   int64_t layer, uint32_t out[4]) {
   float f[4];
-  filterLevel(v, s, filter, level, coord, layer, f);
+  filterLevel(v, s, filter, level, coord, layer, nullptr, nullptr, f);
   std::memcpy(out, f, 16);
 }
 
@@ -486,54 +519,74 @@ void vkrt_image_fetch(const abi::DescriptorRecord* img, const int32_t coord[4], 
   applySwizzle(v, out);
 }
 
+// The layer a sampling instruction's array coordinate selects ("Image Level(s) Selection" rounds it, then clamps
+// it to the view's layers).
+static int64_t arrayLayer(const View& v, const float coord[4]) {
+  if (!v.arrayed) return 0;
+  float l = std::nearbyint(coord[v.dims]);
+  return int64_t(std::clamp(l, 0.0f, float(v.layerCount - 1)));
+}
+
+// The depth comparison an OpImage*Dref* instruction makes with sampler `s` ("Depth Compare Operation"): the
+// sampler's compareOp; Dref clamped to [0, 1] when the view's depth is UNORM (D16, X8_D24, D24S8; not D32_SFLOAT,
+// whose Dref is compared as given). A Dref instruction with a sampler whose compareEnable is VK_FALSE has undefined
+// results ("Texel Input Operations"); vkrt then compares with the sampler's compareOp when it is a valid one (what
+// the spec's note on compareEnable says some implementations do: follow the shader) and with NEVER (0.0) otherwise.
+static DepthCompare depthCompare(const View& v, const VkSamplerCreateInfo& s, float dref) {
+  DepthCompare c;
+  c.op = s.compareOp >= VK_COMPARE_OP_NEVER && s.compareOp <= VK_COMPARE_OP_ALWAYS ? s.compareOp : VK_COMPARE_OP_NEVER;
+  c.ref = v.format->type == N::UNorm ? std::clamp(dref, 0.0f, 1.0f) : dref;
+  return c;
+}
+
 // The filtering at level of detail `lambda` (before the sampler's clamp; "Level-of-Detail Operation" then "Image
-// Level(s) Selection" and "Texel Filtering"), shared by the explicit-LOD and the gradient forms.
+// Level(s) Selection" and "Texel Filtering"), shared by the explicit-LOD and the gradient forms; `cmp` for the Dref
+// forms.
 static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float coord[4], float lambda,
-                        uint32_t out[4]) {
+                        const int32_t* offset, const DepthCompare* cmp, uint32_t out[4]) {
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
   VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
   float maxLevel = float(v.levelCount - 1);
   float d = std::clamp(lambda, 0.0f, maxLevel);
-  int64_t layer = 0;
-  if (v.arrayed) {
-    float l = std::nearbyint(coord[v.dims]);
-    layer = int64_t(std::clamp(l, 0.0f, float(v.layerCount - 1)));
-  }
+  int64_t layer = arrayLayer(v, coord);
   float result[4];
   if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
     // Nearest: level ceil(d + 0.5) - 1, i.e. d rounded with halves going down.
     uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
-    filterLevel(v, s, filter, level, coord, layer, result);
+    filterLevel(v, s, filter, level, coord, layer, offset, cmp, result);
   } else {
     uint32_t lo = uint32_t(std::floor(d));
     uint32_t hi = std::min(lo + 1, uint32_t(maxLevel));
     float a[4], bb[4], t = d - std::floor(d);
-    filterLevel(v, s, filter, lo, coord, layer, a);
-    filterLevel(v, s, filter, hi, coord, layer, bb);
+    filterLevel(v, s, filter, lo, coord, layer, offset, cmp, a);
+    filterLevel(v, s, filter, hi, coord, layer, offset, cmp, bb);
     for (int c = 0; c < 4; ++c) result[c] = a[c] * (1 - t) + bb[c] * t;
   }
   std::memcpy(out, result, 16);
   applySwizzle(v, out);
 }
 
-void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
-                       float lod, uint32_t out[4]) {
+// The explicit-LOD forms: the level of detail is the Lod operand plus the sampler's bias, then the sampler's clamp.
+// anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy is
+// 1 ("Scale Factor Operation") and the one isotropic sample is the anisotropic filter.
+static void sampleLod(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                      float lod, const float* dref, const int32_t* offset, uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
-  // anisotropyEnable changes nothing here: with an explicit Lod the derivatives are zero, so the ratio of anisotropy
-  // is 1 ("Scale Factor Operation") and the one isotropic sample below is the anisotropic filter.
-  // Level of detail: bias, then the sampler's clamp; then the level(s) it selects.
-  sampleAtLod(v, s, coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, out);
+  DepthCompare cmp;
+  if (dref) cmp = depthCompare(v, s, *dref);
+  sampleAtLod(v, s, coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, offset, dref ? &cmp : nullptr, out);
 }
 
 // "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y; the level of
 // detail is log2 of the larger ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample
 // at the larger scale factor, a blurrier result than the anisotropic filter's), plus the shader's and the sampler's
 // biases.
-void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
-                            const float ddx[4], const float ddy[4], float bias, uint32_t out[4]) {
+static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       const float ddx[4], const float ddy[4], float bias, const float* dref, const int32_t* offset,
+                       uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
@@ -550,7 +603,77 @@ void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::Descrip
   float lambda = std::log2(rho);  // -inf for zero derivatives: the clamp below takes it to minLod
   if (std::isnan(lambda)) lambda = 0.0f;
   if (!std::isnan(bias)) lambda += bias;
-  sampleAtLod(v, s, coord, lambda + s.mipLodBias, out);
+  DepthCompare cmp;
+  if (dref) cmp = depthCompare(v, s, *dref);
+  sampleAtLod(v, s, coord, lambda + s.mipLodBias, offset, dref ? &cmp : nullptr, out);
+}
+
+// "Texel Gathering": the 2 x 2 texels the LINEAR filter would weigh in the view's base level, each compared (Dref
+// form), swizzled, and reduced to component `component`, as (i0 j1, i1 j1, i1 j0, i0 j0).
+static void gather(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                   int32_t component, const float* dref, uint32_t out[4]) {
+  View v;
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &v) || !smp || !smp->sampler || v.dims != 2) return;
+  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  DepthCompare cmp;
+  if (dref) cmp = depthCompare(v, s, *dref);
+  VkExtent3D e = levelExtent(v, 0);
+  const double size[2] = {double(e.width), double(e.height)};
+  int64_t i0[2];
+  for (int d = 0; d < 2; ++d)
+    i0[d] = int64_t(std::floor((s.unnormalizedCoordinates ? double(coord[d]) : double(coord[d]) * size[d]) - 0.5));
+  const int64_t layer = arrayLayer(v, coord);
+  static constexpr int kOffsets[4][2] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  const uint32_t comp = uint32_t(component) & 3;
+  for (int k = 0; k < 4; ++k) {
+    uint32_t t[4];
+    comparedTexel(v, s, 0, i0[0] + kOffsets[k][0], i0[1] + kOffsets[k][1], 0, layer, dref ? &cmp : nullptr, t);
+    applySwizzle(v, t);
+    out[k] = t[comp];
+  }
+}
+
+void vkrt_image_sample(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       float lod, uint32_t out[4]) {
+  sampleLod(img, smp, coord, lod, nullptr, nullptr, out);
+}
+
+void vkrt_image_sample_offset(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                              float lod, const int32_t offset[4], uint32_t out[4]) {
+  sampleLod(img, smp, coord, lod, nullptr, offset, out);
+}
+
+void vkrt_image_sample_dref(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            float lod, float dref, const int32_t offset[4], uint32_t out[4]) {
+  sampleLod(img, smp, coord, lod, &dref, offset, out);
+}
+
+void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            const float ddx[4], const float ddy[4], float bias, uint32_t out[4]) {
+  sampleGrad(img, smp, coord, ddx, ddy, bias, nullptr, nullptr, out);
+}
+
+void vkrt_image_sample_grad_offset(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
+                                   const float coord[4], const float ddx[4], const float ddy[4], float bias,
+                                   const int32_t offset[4], uint32_t out[4]) {
+  sampleGrad(img, smp, coord, ddx, ddy, bias, nullptr, offset, out);
+}
+
+void vkrt_image_sample_grad_dref(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
+                                 const float coord[4], const float ddx[4], const float ddy[4], float bias, float dref,
+                                 const int32_t offset[4], uint32_t out[4]) {
+  sampleGrad(img, smp, coord, ddx, ddy, bias, &dref, offset, out);
+}
+
+void vkrt_image_gather(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       int32_t component, uint32_t out[4]) {
+  gather(img, smp, coord, component, nullptr, out);
+}
+
+void vkrt_image_gather_dref(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            float dref, uint32_t out[4]) {
+  gather(img, smp, coord, 0, &dref, out);
 }
 
 void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[4]) {
@@ -613,6 +736,12 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
       {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
       {"vkrt_image_sample_grad", reinterpret_cast<void*>(&vkrt_image_sample_grad)},
+      {"vkrt_image_sample_offset", reinterpret_cast<void*>(&vkrt_image_sample_offset)},
+      {"vkrt_image_sample_grad_offset", reinterpret_cast<void*>(&vkrt_image_sample_grad_offset)},
+      {"vkrt_image_sample_dref", reinterpret_cast<void*>(&vkrt_image_sample_dref)},
+      {"vkrt_image_sample_grad_dref", reinterpret_cast<void*>(&vkrt_image_sample_grad_dref)},
+      {"vkrt_image_gather", reinterpret_cast<void*>(&vkrt_image_gather)},
+      {"vkrt_image_gather_dref", reinterpret_cast<void*>(&vkrt_image_gather_dref)},
       {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},
       {"vkrt_image_levels", reinterpret_cast<void*>(&vkrt_image_levels)},
       {"vkrt_texel_buffer_read", reinterpret_cast<void*>(&vkrt_texel_buffer_read)},

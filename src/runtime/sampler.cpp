@@ -57,18 +57,51 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSampler(VkDevice device, const VkSampl
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
   }
-  // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072..01076
-  if (pCreateInfo->unnormalizedCoordinates &&
-      (pCreateInfo->minFilter != pCreateInfo->magFilter || pCreateInfo->mipmapMode != VK_SAMPLER_MIPMAP_MODE_NEAREST ||
-       pCreateInfo->minLod != 0.0f || pCreateInfo->maxLod != 0.0f ||
-       (pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
-        pCreateInfo->addressModeU != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
-       (pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
-        pCreateInfo->addressModeV != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
-       pCreateInfo->compareEnable)) {
-    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072",
-           "vkCreateSampler: unnormalizedCoordinates requires equal min/mag filters, nearest mipmaps, lod 0, clamped "
-           "U/V addressing and no compare");
+  if (pCreateInfo->unnormalizedCoordinates) {
+    // The limits of unnormalized coordinates (01076, anisotropy, is checked above).
+    const VkSamplerCreateInfo& ci = *pCreateInfo;
+    auto clamped = [](VkSamplerAddressMode m) {
+      return m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+    };
+    const struct {
+      bool violated;
+      const char* vuid;
+      const char* what;
+    } rules[] = {
+        // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072: minFilter == magFilter
+        {ci.minFilter != ci.magFilter, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072",
+         "minFilter and magFilter differ"},
+        // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01073: mipmapMode NEAREST
+        {ci.mipmapMode != VK_SAMPLER_MIPMAP_MODE_NEAREST, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01073",
+         "mipmapMode is not VK_SAMPLER_MIPMAP_MODE_NEAREST"},
+        // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01074: minLod and maxLod zero
+        {ci.minLod != 0.0f || ci.maxLod != 0.0f, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01074",
+         "minLod or maxLod is not zero"},
+        // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01075: U and V clamp to edge or border
+        {!clamped(ci.addressModeU) || !clamped(ci.addressModeV),
+         "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01075",
+         "addressModeU or addressModeV is neither CLAMP_TO_EDGE nor CLAMP_TO_BORDER"},
+        // VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01077: no depth comparison
+        {ci.compareEnable != VK_FALSE, "VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01077",
+         "compareEnable is VK_TRUE"},
+    };
+    for (const auto& r : rules) {
+      if (!r.violated) continue;
+      report(dev, Severity::Error, r.vuid,
+             "vkCreateSampler: unnormalizedCoordinates is VK_TRUE, but %s (minFilter %d, magFilter %d, mipmapMode %d, "
+             "minLod %g, maxLod %g, addressModeU %d, addressModeV %d, compareEnable %u)",
+             r.what, (int)ci.minFilter, (int)ci.magFilter, (int)ci.mipmapMode, double(ci.minLod), double(ci.maxLod),
+             (int)ci.addressModeU, (int)ci.addressModeV, ci.compareEnable);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  // VUID-VkSamplerCreateInfo-compareEnable-01080: with compareEnable, compareOp is a VkCompareOp (the image functions
+  // apply it to each texel of OpImage*Dref* instructions; "Depth Compare Operation")
+  if (pCreateInfo->compareEnable &&
+      !(pCreateInfo->compareOp >= VK_COMPARE_OP_NEVER && pCreateInfo->compareOp <= VK_COMPARE_OP_ALWAYS)) {
+    report(dev, Severity::Error, "VUID-VkSamplerCreateInfo-compareEnable-01080",
+           "vkCreateSampler: compareEnable is VK_TRUE, but compareOp %d is not a valid VkCompareOp",
+           (int)pCreateInfo->compareOp);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   auto* s = createObject<Sampler>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo);

@@ -19,6 +19,15 @@ bool extraSupportedOp(spv::Op op) {
     case spv::OpImageTexelPointer:
     case spv::OpImageFetch:
     case spv::OpImageSampleExplicitLod:
+    // The Dref, Proj and Gather forms (Codegen::image); the implicit-LOD ones take derivatives in fragment shaders.
+    case spv::OpImageSampleDrefImplicitLod:
+    case spv::OpImageSampleDrefExplicitLod:
+    case spv::OpImageSampleProjImplicitLod:
+    case spv::OpImageSampleProjExplicitLod:
+    case spv::OpImageSampleProjDrefImplicitLod:
+    case spv::OpImageSampleProjDrefExplicitLod:
+    case spv::OpImageGather:
+    case spv::OpImageDrefGather:
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod:
     case spv::OpImageQueryLevels:
@@ -160,6 +169,124 @@ llvm::Value* texelIndex(Codegen& g, llvm::Value* coord, uint32_t coordType) {
                                   : g.b.CreateZExtOrTrunc(coord, g.b.getInt64Ty());
 }
 
+// What kind of sampling instruction `op` is.
+struct SampleKind {
+  bool implicit = false, explicitLod = false, dref = false, proj = false, gather = false;
+};
+
+SampleKind sampleKind(spv::Op op) {
+  SampleKind k;
+  switch (op) {
+    case spv::OpImageSampleImplicitLod: k.implicit = true; break;
+    case spv::OpImageSampleExplicitLod: k.explicitLod = true; break;
+    case spv::OpImageSampleDrefImplicitLod: k.implicit = k.dref = true; break;
+    case spv::OpImageSampleDrefExplicitLod: k.explicitLod = k.dref = true; break;
+    case spv::OpImageSampleProjImplicitLod: k.implicit = k.proj = true; break;
+    case spv::OpImageSampleProjExplicitLod: k.explicitLod = k.proj = true; break;
+    case spv::OpImageSampleProjDrefImplicitLod: k.implicit = k.proj = k.dref = true; break;
+    case spv::OpImageSampleProjDrefExplicitLod: k.explicitLod = k.proj = k.dref = true; break;
+    case spv::OpImageGather: k.gather = true; break;
+    case spv::OpImageDrefGather: k.gather = k.dref = true; break;
+    default: break;
+  }
+  return k;
+}
+
+// The sampling instructions (OpImageSample*, OpImage*Gather) on image `img` ({image record, sampler record}) with
+// their coordinate and the image operands image() has read. The Proj forms divide the coordinates (and Dref) by
+// their last component ("Projection Operation"); the implicit-LOD forms take the coordinates' quad derivatives in
+// fragment shaders and level 0 elsewhere (plus the Bias operand); the explicit ones take Lod or Grad.
+bool sample(Codegen& g, const Instruction& in, const SampleKind& kind, const Instruction& imageType, llvm::Value* img,
+            llvm::Value* coord, uint32_t coordId, llvm::Value* lod, llvm::Value* bias, llvm::Value* gradX,
+            llvm::Value* gradY, llvm::Value* offset) {
+  llvm::Type* ptrTy = g.b.getPtrTy();
+  if (imageType.word(3) == spv::DimCube) return g.unsupported(in, "cube map sampling");
+  if (!g.isFloat(g.m.typeOf(coordId))) return g.fail(in, "sampling coordinates are not floats");
+  if (kind.explicitLod && !lod && !gradX) return g.fail(in, "explicit-LOD sampling without Lod or Grad");
+  llvm::Value* imgRec = g.b.CreateExtractValue(img, {0});
+  llvm::Value* smpRec = g.b.CreateExtractValue(img, {1});
+  llvm::Type* f32 = g.b.getFloatTy();
+  // The coordinates as f32 (a scalar or a vector of their component count).
+  unsigned n = g.componentCount(g.m.typeOf(coordId));
+  llvm::Value* c = g.b.CreateFPCast(coord, n > 1 ? static_cast<llvm::Type*>(llvm::FixedVectorType::get(f32, n)) : f32);
+  llvm::Value* dref = nullptr;
+  if (kind.dref) {
+    dref = g.value(in.word(5));
+    if (!dref) return g.fail(in, "Dref has no value");
+    dref = g.b.CreateFPCast(dref, f32);
+  }
+  if (kind.proj) {
+    // (u [, v] [, w], q): q follows the Dim's coordinates; Proj takes no arrayed image.
+    const uint32_t dim = imageType.word(3);
+    const unsigned dims = dim == spv::Dim1D ? 1 : dim == spv::Dim3D ? 3 : 2;
+    if (imageType.word(5) != 0 || n <= dims) return g.fail(in, "projective sampling of an arrayed image or without q");
+    llvm::Value* q = g.b.CreateExtractElement(c, uint64_t(dims));
+    llvm::Value* p =
+        dims > 1 ? static_cast<llvm::Value*>(llvm::UndefValue::get(llvm::FixedVectorType::get(f32, dims))) : nullptr;
+    for (unsigned i = 0; i < dims; ++i) {
+      llvm::Value* e = g.b.CreateFDiv(g.b.CreateExtractElement(c, uint64_t(i)), q);
+      p = dims > 1 ? g.b.CreateInsertElement(p, e, uint64_t(i)) : e;
+    }
+    c = p;
+    if (dref) dref = g.b.CreateFDiv(dref, q);
+  }
+  llvm::Value* coords = toWords(g, c, true);
+  llvm::Value* out = scratch(g);
+  if (kind.gather) {
+    if (imageType.word(3) != spv::Dim2D) return g.fail(in, "gather from an image that is not 2D");
+    if (dref) {
+      g.b.CreateCall(runtimeFn(g, "vkrt_image_gather_dref", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, f32, ptrTy}),
+                     {imgRec, smpRec, coords, dref, out});
+    } else {
+      llvm::Value* component = g.value(in.word(5));
+      if (!component) return g.fail(in, "Component has no value");
+      g.b.CreateCall(runtimeFn(g, "vkrt_image_gather", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, g.b.getInt32Ty(), ptrTy}),
+                     {imgRec, smpRec, coords, g.b.CreateSExtOrTrunc(component, g.b.getInt32Ty()), out});
+    }
+    g.set(in.word(2), fromWords(g, out, in.word(1)));
+    return true;
+  }
+  // ConstOffset: its integers as four words, or a null pointer (the Dref functions take either).
+  llvm::Value* offsetWords = offset ? toWords(g, offset, false) : llvm::ConstantPointerNull::get(g.b.getPtrTy());
+  const bool implicitHere = kind.implicit && g.isFragment();
+  if (gradX || implicitHere) {
+    // With gradients: the Grad operand's, or the coordinates' quad derivatives in fragment shaders.
+    llvm::Value *dx = gradX, *dy = gradY;
+    if (implicitHere) g.derivatives(c, false, &dx, &dy);
+    llvm::Value* biasValue = bias ? g.b.CreateFPCast(bias, f32) : llvm::ConstantFP::getNaN(f32);
+    llvm::Value* ddx = toWords(g, dx, true);
+    llvm::Value* ddy = toWords(g, dy, true);
+    if (dref)
+      g.b.CreateCall(runtimeFn(g, "vkrt_image_sample_grad_dref", g.b.getVoidTy(),
+                               {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, f32, f32, ptrTy, ptrTy}),
+                     {imgRec, smpRec, coords, ddx, ddy, biasValue, dref, offsetWords, out});
+    else if (offset)
+      g.b.CreateCall(runtimeFn(g, "vkrt_image_sample_grad_offset", g.b.getVoidTy(),
+                               {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, f32, ptrTy, ptrTy}),
+                     {imgRec, smpRec, coords, ddx, ddy, biasValue, offsetWords, out});
+    else
+      g.b.CreateCall(
+          runtimeFn(g, "vkrt_image_sample_grad", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, f32, ptrTy}),
+          {imgRec, smpRec, coords, ddx, ddy, biasValue, out});
+  } else {
+    // An explicit Lod; implicit LOD outside fragment shaders is level 0 (plus the Bias operand).
+    llvm::Value* level = g.b.CreateFPCast(lod ? lod : bias ? bias : llvm::ConstantFP::get(f32, 0.0), f32);
+    if (dref)
+      g.b.CreateCall(
+          runtimeFn(g, "vkrt_image_sample_dref", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, f32, f32, ptrTy, ptrTy}),
+          {imgRec, smpRec, coords, level, dref, offsetWords, out});
+    else if (offset)
+      g.b.CreateCall(
+          runtimeFn(g, "vkrt_image_sample_offset", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, f32, ptrTy, ptrTy}),
+          {imgRec, smpRec, coords, level, offsetWords, out});
+    else
+      g.b.CreateCall(runtimeFn(g, "vkrt_image_sample", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, f32, ptrTy}),
+                     {imgRec, smpRec, coords, level, out});
+  }
+  g.set(in.word(2), fromWords(g, out, in.word(1)));
+  return true;
+}
+
 }  // namespace
 
 bool Codegen::image(const Instruction& in, bool& ok) {
@@ -204,6 +331,14 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     case spv::OpImageFetch:
     case spv::OpImageSampleExplicitLod:
     case spv::OpImageSampleImplicitLod:
+    case spv::OpImageSampleDrefImplicitLod:
+    case spv::OpImageSampleDrefExplicitLod:
+    case spv::OpImageSampleProjImplicitLod:
+    case spv::OpImageSampleProjExplicitLod:
+    case spv::OpImageSampleProjDrefImplicitLod:
+    case spv::OpImageSampleProjDrefExplicitLod:
+    case spv::OpImageGather:
+    case spv::OpImageDrefGather:
     case spv::OpImageQuerySize:
     case spv::OpImageQuerySizeLod:
     case spv::OpImageQueryLevels: break;
@@ -245,19 +380,24 @@ bool Codegen::image(const Instruction& in, bool& ok) {
   uint32_t coordId = in.word(write ? 2 : 4);
   llvm::Value* coord = value(coordId);
   if (!coord) return (ok = fail(in, "coordinate has no value")), true;
-  uint32_t operandsAt = write ? 4 : 5;
+  const SampleKind kind = sampleKind(in.op);
+  // The Dref and Gather forms have one operand (Dref, Component) before the image operands.
+  uint32_t operandsAt = write ? 4 : (kind.dref || kind.gather) ? 6 : 5;
   uint32_t mask = in.count > operandsAt ? in.word(operandsAt) : 0;
-  llvm::Value *lod = nullptr, *bias = nullptr, *gradX = nullptr, *gradY = nullptr;
+  llvm::Value *lod = nullptr, *bias = nullptr, *gradX = nullptr, *gradY = nullptr, *offset = nullptr;
   const uint32_t biasBit = spv::ImageOperandsBiasMask, lodBit = spv::ImageOperandsLodMask,
-                 gradBit = spv::ImageOperandsGradMask;
+                 gradBit = spv::ImageOperandsGradMask, offsetBit = spv::ImageOperandsConstOffsetMask;
   const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
                              spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
                              spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
   uint32_t allowed = lodBit | ignorable;
-  if (in.op == spv::OpImageSampleImplicitLod) allowed = biasBit | ignorable;
-  if (in.op == spv::OpImageSampleExplicitLod) allowed |= gradBit;
-  if (mask & ~allowed) return (ok = unsupported(in, "image operands other than Lod, Bias and Grad")), true;
-  // The operands follow the mask in the order of their bits (Bias, Lod, Grad's two).
+  if (kind.implicit) allowed = biasBit | ignorable;
+  if (kind.explicitLod) allowed |= gradBit;
+  // ConstOffset on the sampling instructions; on gathers it needs ImageGatherExtended, which is not offered.
+  if (kind.implicit || kind.explicitLod) allowed |= offsetBit;
+  if (kind.gather) allowed = ignorable;
+  if (mask & ~allowed) return (ok = unsupported(in, "image operands other than Lod, Bias, Grad and ConstOffset")), true;
+  // The operands follow the mask in the order of their bits (Bias, Lod, Grad's two, ConstOffset).
   uint32_t at = operandsAt + 1;
   auto operand = [&](llvm::Value** v) {
     *v = value(in.word(at++));
@@ -267,6 +407,9 @@ bool Codegen::image(const Instruction& in, bool& ok) {
   if ((mask & lodBit) && !operand(&lod)) return (ok = fail(in, "Lod operand has no value")), true;
   if ((mask & gradBit) && (!operand(&gradX) || !operand(&gradY)))
     return (ok = fail(in, "Grad operands have no value")), true;
+  if ((mask & offsetBit) && !operand(&offset)) return (ok = fail(in, "ConstOffset operand has no value")), true;
+  if (kind.implicit || kind.explicitLod || kind.gather)
+    return (ok = sample(*this, in, kind, *it, img, coord, coordId, lod, bias, gradX, gradY, offset)), true;
   if (write) imgRec = writableRecord(imgRec);  // helper lanes of fragment shaders write nothing
   llvm::Value* coords = toWords(*this, coord, isFloat(m.typeOf(coordId)));
   switch (in.op) {
@@ -288,40 +431,6 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       llvm::Value* out = scratch(*this);
       b.CreateCall(runtimeFn(*this, "vkrt_image_fetch", b.getVoidTy(), {ptrTy, ptrTy, b.getInt32Ty(), ptrTy}),
                    {imgRec, coords, level, out});
-      set(in.word(2), fromWords(*this, out, in.word(1)));
-      return true;
-    }
-    case spv::OpImageSampleExplicitLod:
-    case spv::OpImageSampleImplicitLod: {
-      if (it->word(3) == spv::DimCube) return (ok = unsupported(in, "cube map sampling")), true;
-      if (!isFloat(m.typeOf(coordId))) return (ok = fail(in, "sampling coordinates are not floats")), true;
-      llvm::Value* smpRec = b.CreateExtractValue(img, {1});
-      llvm::Value* out = scratch(*this);
-      llvm::Value* nan = llvm::ConstantFP::getNaN(b.getFloatTy());
-      bool implicitHere = in.op == spv::OpImageSampleImplicitLod && isFragment();
-      if (gradX || implicitHere) {
-        // With gradients: the Grad operand's, or the coordinates' quad derivatives in fragment shaders.
-        llvm::Value *dx = gradX, *dy = gradY;
-        if (implicitHere) {
-          unsigned n = componentCount(m.typeOf(coordId));
-          llvm::Type* f32 =
-              n > 1 ? static_cast<llvm::Type*>(llvm::FixedVectorType::get(b.getFloatTy(), n)) : b.getFloatTy();
-          derivatives(b.CreateFPCast(coord, f32), false, &dx, &dy);
-        }
-        llvm::Value* biasValue = bias ? b.CreateFPCast(bias, b.getFloatTy()) : nan;
-        b.CreateCall(runtimeFn(*this, "vkrt_image_sample_grad", b.getVoidTy(),
-                               {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
-                     {imgRec, smpRec, coords, toWords(*this, dx, true), toWords(*this, dy, true), biasValue, out});
-      } else {
-        // An explicit Lod; implicit LOD outside fragment shaders is level 0 (plus the Bias operand).
-        llvm::Value* level = lod    ? lod
-                             : bias ? bias
-                                    : static_cast<llvm::Value*>(llvm::ConstantFP::get(b.getFloatTy(), 0.0));
-        if (!lod && in.op == spv::OpImageSampleExplicitLod)
-          return (ok = fail(in, "explicit-LOD sampling without Lod or Grad")), true;
-        b.CreateCall(runtimeFn(*this, "vkrt_image_sample", b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getFloatTy(), ptrTy}),
-                     {imgRec, smpRec, coords, b.CreateFPCast(level, b.getFloatTy()), out});
-      }
       set(in.word(2), fromWords(*this, out, in.word(1)));
       return true;
     }

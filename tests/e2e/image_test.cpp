@@ -385,7 +385,7 @@ TEST_F(ImageMisuseTest, BadCreateInfosAreReportedByVuid) {
   si.addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT;
   VkSampler s = VK_NULL_HANDLE;
   EXPECT_NE(vkCreateSampler(device, &si, nullptr, &s), VK_SUCCESS);
-  expectVkrtMessage("VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01072");
+  expectVkrtMessage("VUID-VkSamplerCreateInfo-unnormalizedCoordinates-01075");
   si = {VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   si.anisotropyEnable = VK_TRUE;  // the device was created without samplerAnisotropy
   si.maxAnisotropy = 4.0f;

@@ -198,13 +198,17 @@ TEST_F(PromotedQueriesTest, FormatProperties3AgreesWithFormatProperties) {
     EXPECT_EQ(p3.optimalTilingFeatures & kLegacyBits, p.optimalTilingFeatures);
     EXPECT_EQ(p3.bufferFeatures & kLegacyBits, p.bufferFeatures);
     if (onVkrt()) {
-      // Beyond them vkrt has only the storage image reads and writes without a format (no depth comparison), and
-      // those only where the format is a storage image format.
+      // Beyond them vkrt has only the storage image reads and writes without a format, and those only where the
+      // format is a storage image format, and depth comparison, only on sampled depth formats.
       const VkFormatFeatureFlags2 withoutFormat =
           VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
-      EXPECT_EQ(p3.optimalTilingFeatures & ~kLegacyBits & ~withoutFormat, 0u);
+      const VkFormatFeatureFlags2 depthCompare = VK_FORMAT_FEATURE_2_SAMPLED_IMAGE_DEPTH_COMPARISON_BIT;
+      EXPECT_EQ(p3.optimalTilingFeatures & ~kLegacyBits & ~withoutFormat & ~depthCompare, 0u);
       if (p3.optimalTilingFeatures & withoutFormat)
         EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
+      if (p3.optimalTilingFeatures & depthCompare)
+        EXPECT_TRUE((p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) &&
+                    (p.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT));
       EXPECT_EQ(p3.bufferFeatures & ~kLegacyBits, 0u);
     }
     supported += p.optimalTilingFeatures != 0;

@@ -102,6 +102,26 @@ TEST(ImageFunctions, NullDescriptorsReadZerosAndIgnoreWrites) {
   out[0] = 9;
   vkrt_image_sample(&zero, &zero, fc, 0.0f, out);
   EXPECT_EQ(out[0], 0u);
+  // The depth-comparison, offset and gather forms alike (unwritten descriptors read zeros).
+  const float d[4] = {0, 0, 0, 0};
+  const int32_t off[4] = {1, -1, 0, 0};
+  auto expectZeros = [&](const char* what) {
+    EXPECT_EQ(out[0] | out[1] | out[2] | out[3], 0u) << what;
+    out[0] = out[1] = out[2] = out[3] = 9;
+  };
+  out[0] = out[1] = out[2] = out[3] = 9;
+  vkrt_image_sample_dref(&zero, &zero, fc, 0.0f, 0.5f, nullptr, out);
+  expectZeros("sample_dref");
+  vkrt_image_sample_grad_dref(&zero, &zero, fc, d, d, NAN, 0.5f, off, out);
+  expectZeros("sample_grad_dref");
+  vkrt_image_sample_offset(&zero, &zero, fc, 0.0f, off, out);
+  expectZeros("sample_offset");
+  vkrt_image_sample_grad_offset(&zero, &zero, fc, d, d, NAN, off, out);
+  expectZeros("sample_grad_offset");
+  vkrt_image_gather(&zero, &zero, fc, 1, out);
+  expectZeros("gather");
+  vkrt_image_gather_dref(&zero, &zero, fc, 0.5f, out);
+  expectZeros("gather_dref");
   int32_t size[4];
   vkrt_image_size(&zero, 0, size);
   EXPECT_EQ(size[0], 0);
