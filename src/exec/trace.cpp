@@ -60,10 +60,15 @@ class RecordCache {
     }
     return resolver.group(region, index, *record);
   }
-  // The shader-record bytes after the handle of a record (the stride's worth, or what is left of the region).
+  // The shader-record bytes after the handle of a record: the stride's worth where the memory there can be read,
+  // else what is left of the region. "Indexing Rules" asks that all data accessed lie less than `size` bytes from
+  // the base, but a region of one handle with a larger stride whose shader reads its record data past `size` is
+  // common (the CTS's pipeline_no_null_shaders_flag and callable_shader tests; GPUs read the bytes): vkrt reads
+  // them too when they are the application's memory, and bounds the read by the region otherwise.
   uint64_t dataBytes(uint64_t index) const {
     uint64_t start = index * range_.stride + kHandleBytes;
-    uint64_t end = range_.stride ? std::min(start - kHandleBytes + range_.stride, range_.size) : range_.size;
+    const uint64_t limit = std::max(range_.size, range_.readable);
+    uint64_t end = range_.stride ? std::min(start - kHandleBytes + range_.stride, limit) : range_.size;
     return end > start ? end - start : 0;
   }
 

@@ -48,6 +48,9 @@ struct SbtRange {
   const uint8_t* base = nullptr;  // host address of the region (device addresses are host addresses)
   uint64_t stride = 0;
   uint64_t size = 0;
+  // Bytes from `base` that can be read without a fault (>= size): the records' shader-record data may run past
+  // `size` up to the stride, inside the application's buffer (see RecordCache::dataBytes).
+  uint64_t readable = 0;
 };
 
 // What the executor asks the caller while a launch runs. Calls come from any worker thread, at most once per

@@ -269,6 +269,13 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
     ranges[i]->base = reinterpret_cast<const uint8_t*>(sbt.r[i].deviceAddress);
     ranges[i]->stride = sbt.r[i].stride;
     ranges[i]->size = sbt.r[i].deviceAddress ? sbt.r[i].size : 0;
+    // The last record's stride-worth of data, when that memory is allocated (exec::SbtRange::readable).
+    const uint64_t size = ranges[i]->size, stride = ranges[i]->stride;
+    ranges[i]->readable = size;
+    if (size >= kHandleSize && stride > 0) {
+      const uint64_t extent = (size - kHandleSize) / stride * stride + stride;
+      if (extent > size && arena::accessible(sbt.r[i].deviceAddress, extent)) ranges[i]->readable = extent;
+    }
   }
   // The raygen record: one record, resolved before the launch (no raygen, no launch).
   // Its size equals its stride (VUID-...-size-04023, checked when recorded) and bounds the bytes read ("Indexing

@@ -121,6 +121,23 @@ TEST_F(TraceSbtTest, AHitRecordWhoseDataEndsTheRegionRunsWithALargerStride) {
   EXPECT_EQ(r[kMiss].extra[0], 7u);
 }
 
+// The CTS's pipeline_no_null_shaders_flag.* give a region of one handle (size 32) with a stride of 64 and read
+// the record's data after the handle: vkrt reads the stride's worth where it is the application's memory, as GPUs
+// do (it read zeros before, and 185 CTS cases failed).
+TEST_F(TraceSbtTest, ShaderRecordDataPastARegionOfOneHandleIsReadUpToTheStride) {
+  Desc d = basicDesc();
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  s.hit = region(handles(p, 0, 3), 2, {0}, 64, rtProps.shaderGroupHandleSize, 123);
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  EXPECT_NEAR(r[kHit].hit[0], 15.0f, 1e-4f) << "the closest-hit shader ran";
+  EXPECT_EQ(r[kHit].extra[0], 123u) << "with its record's tag, past the region's 32 bytes";
+  s.miss = region(handles(p, 0, 3), 1, {0}, 64, rtProps.shaderGroupHandleSize, 9);
+  r = trace(p, s, top, 4, 4);
+  EXPECT_EQ(r[kMiss].extra[0], 9u) << "the miss shader read its record's tag";
+}
+
 TEST_F(TraceSbtTest, ARaygenRegionOfExactlyAHandleRuns) {
   Desc d = basicDesc();
   VkPipeline p = make(d);
