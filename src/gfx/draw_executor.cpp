@@ -254,7 +254,11 @@ bool checkDraw(const CommandBuffer* cb, const GraphicsPipeline& p, DrawExecState
   // VUID-vkCmdDraw-colorAttachmentCount-06179 (dynamic rendering) / VUID-vkCmdDraw-renderPass-02684 (a render pass
   // whose subpass has another number of color attachments is not compatible)
   // (A pipeline without fragment output state, rasterization statically discarded, writes no attachment.)
-  if (p.fragmentOutput && p.colorCount != pass.target.colorCount) {
+  // A subpass without color attachments takes any pColorBlendState->attachmentCount (VUID-VkGraphicsPipelineCreateInfo-
+  // renderPass-06042 binds the count only "if the subpass uses color attachments"; the CTS's barrier.*_to_frag
+  // cases draw so, with one blend attachment state, in a render pass of no attachment).
+  const bool anyCount = !p.dynamicRendering && pass.target.colorCount == 0;
+  if (p.fragmentOutput && p.colorCount != pass.target.colorCount && !anyCount) {
     Vuid v(command, p.dynamicRendering ? "colorAttachmentCount-06179" : "renderPass-02684");
     report(cb, Severity::Error, v.text,
            "%s: the bound graphics pipeline was created for %u color attachments, the render pass instance has %u; "

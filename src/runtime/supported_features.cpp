@@ -90,6 +90,12 @@ constexpr F kSupported[] = {
     // secondary command buffers inheriting VkCommandBufferInheritanceRenderingInfo (gfx/rendering.cpp; tests/e2e
     // RenderPassDynamicTest). Draws inside come from gfx/draw*.
     F::dynamicRendering,
+    // Stores and atomics to storage buffers and images in vertex and fragment shaders: the compiler's stores and
+    // atomics of every stage; helper lanes of fragment quads write nothing (Codegen::forWrite, writableRecord in
+    // src/spirv/graphics.cpp; tests/e2e DrawRenderPassTest counts fragments with atomics, tests/spirv
+    // GraphicsShader helper-lane tests).
+    F::vertexPipelineStoresAndAtomics,
+    F::fragmentStoresAndAtomics,
     // Descriptor binding flags: descriptors are records read when a command executes (runtime/descriptor_set.cpp).
     F::descriptorBindingUniformBufferUpdateAfterBind,
     F::descriptorBindingSampledImageUpdateAfterBind,

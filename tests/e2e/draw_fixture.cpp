@@ -44,6 +44,8 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
     VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     lci.pushConstantRangeCount = uint32_t(d.pushRanges.size());
     lci.pPushConstantRanges = d.pushRanges.data();
+    lci.setLayoutCount = d.setLayout ? 1 : 0;
+    lci.pSetLayouts = &d.setLayout;
     EXPECT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
   }
   auto module = [&](const uint32_t* words, size_t bytes) {
@@ -127,6 +129,10 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
   ci.pColorBlendState = &cb;
   ci.pDynamicState = &dyn;
   ci.layout = layout;
+  if (d.renderPass) {
+    ci.pNext = nullptr;
+    ci.renderPass = d.renderPass;
+  }
   ci.basePipelineHandle = d.base;
   ci.basePipelineIndex = -1;
   *out = VK_NULL_HANDLE;

@@ -86,6 +86,8 @@ class DrawTest : public VulkanTest {
     VkPipeline base = VK_NULL_HANDLE;
     std::vector<VkPipelineShaderStageCreateInfo> extraStages;
     std::vector<VkPushConstantRange> pushRanges;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;  // set 0 of the layout, when not null
+    VkRenderPass renderPass = VK_NULL_HANDLE;          // subpass 0 of it instead of dynamic rendering, when not null
   };
   // Creates the pipeline (and its layout, kept in `layout`); returns vkCreateGraphicsPipelines' result.
   VkResult createPipeline(const PipelineDesc& d, VkPipeline* out);
