@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Runs CTS case patterns in N parallel deqp-vk processes (one case list each), resuming after a crash; a case
+# cut off by the time budget is "Timeout", one the process died in "Crash", the rest "NotReached". EXCLUDE (an
+# extended regex) drops cases, by default acceleration_structures.* and opacity_micromap.*. Prints counts per group.
+# Usage: run_parallel.sh <deqp-vk> <ICD manifest> <N> <budget_s> <outdir> <pattern>...
+set -u
+bin=$(realpath "$1"); icd=$(realpath "$2"); n=$3; budget=$4; out=$(realpath -m "$5"); shift 5
+mkdir -p "$out"; cd "$(dirname "$bin")"
+: > "$out/all.txt"
+for p in "$@"; do
+  rm -f TestResults.qpa dEQP-VK-cases.txt
+  "$bin" --deqp-runmode=txt-caselist --deqp-case="$p" >/dev/null 2>&1
+  grep '^TEST: ' dEQP-VK-cases.txt | sed 's/^TEST: //' >> "$out/all.txt"
+done
+grep -v -E "${EXCLUDE:-acceleration_structures\.|opacity_micromap\.}" "$out/all.txt" > "$out/cases.txt" || true
+echo "cases: $(wc -l < "$out/cases.txt")"
+awk -v n="$n" -v o="$out" '{print > (o "/shard" (NR % n) ".list")}' "$out/cases.txt"
+deadline=$(( $(date +%s) + budget ))
+shard() {
+  local list=$1 k=0
+  while [ -s "$list" ] && [ "$(date +%s)" -lt "$deadline" ]; do
+    k=$((k+1)); local log="$list.$k.qpa"
+    timeout $(( deadline - $(date +%s) )) env VK_DRIVER_FILES="$icd" "$bin" --deqp-caselist-file="$list" --deqp-log-filename="$log" \
+      --deqp-log-images=disable --deqp-log-shader-sources=disable >/dev/null 2>&1
+    local rc=$?
+    # results: name status duration_us
+    awk '/^#beginTestCaseResult/ {c=$2; d=""} /Name="TestDuration"/ {match($0, />[0-9]+</); d=substr($0, RSTART+1, RLENGTH-2)}
+         /StatusCode="/ {match($0, /StatusCode="[A-Za-z]*"/); s=substr($0, RSTART+12, RLENGTH-13)}
+         /^#endTestCaseResult/ {print c, s, d; c=""} /^#terminateTestCaseResult/ {print c, "Crash"; c=""}
+         END {if (c != "") print c, (rc == 124 ? "Timeout" : "Crash")}' rc=$rc "$log" >> "$list.res"
+    awk '{print $1}' "$list.res" | sort > "$list.done"
+    sort "$list" | comm -23 - "$list.done" > "$list.rest"; mv "$list.rest" "$list"
+  done
+  [ -s "$list" ] && sed 's/$/ NotReached/' "$list" >> "$list.res"
+  true
+}
+for f in "$out"/shard*.list; do shard "$f" & done; wait
+cat "$out"/shard*.list.res > "$out/results.txt"
+echo "--- all"; awk '{print $2}' "$out/results.txt" | sort | uniq -c
+echo "--- per group (pass notsup fail other)"
+awk '{split($1,a,"."); g=a[2]"."a[3]; t[g]++; if($2=="Pass")p[g]++; else if($2=="NotSupported")ns[g]++; else if($2=="Fail")f[g]++; else o[g]++}
+     END {for (g in t) printf "%-60s %5d %5d %5d %5d\n", g, p[g], ns[g], f[g], o[g]}' "$out/results.txt" | sort
+echo "--- slowest"; sort -k3 -n -r "$out/results.txt" | head -5
+echo "--- not pass/notsupported"; grep -v -E ' (Pass|NotSupported|QualityWarning|CompatibilityWarning)( |$)' "$out/results.txt" | head -60
