@@ -6,9 +6,9 @@
 // needs the counts equal: the draw is reported and skipped.
 #include <cstring>
 
-#include "e2e/draw_fixture.hpp"
 #include "draw_color.vert.spv.h"
 #include "draw_count_fragments.frag.spv.h"
+#include "e2e/draw_fixture.hpp"
 
 namespace vkrt::test {
 namespace {
@@ -61,9 +61,14 @@ class DrawRenderPassTest : public DrawTest {
 
   // A render pass of one subpass using the color attachment `color` (null: no attachment), and its framebuffer.
   void makePass(const Target* color, VkRenderPass* rp, VkFramebuffer* fb) {
-    VkAttachmentDescription a{0, kColorFormat, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR,
-                              VK_ATTACHMENT_STORE_OP_STORE, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                              VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+    VkAttachmentDescription a{0,
+                              kColorFormat,
+                              VK_SAMPLE_COUNT_1_BIT,
+                              VK_ATTACHMENT_LOAD_OP_CLEAR,
+                              VK_ATTACHMENT_STORE_OP_STORE,
+                              VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                              VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                              VK_IMAGE_LAYOUT_UNDEFINED,
                               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription sub{};
