@@ -144,18 +144,12 @@ struct Gpu {
   VkDevice device = VK_NULL_HANDLE;
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool pool = VK_NULL_HANDLE;
-  VkPhysicalDeviceMemoryProperties memory{};
   std::string name;
 
-  uint32_t memoryType(uint32_t bits, VkMemoryPropertyFlags want) const {
-    for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
-      if ((bits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & want) == want) return i;
-    fail("no suitable memory type");
-  }
   VkDeviceMemory allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags want) const {
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memoryType(req.memoryTypeBits, want);
+    mai.memoryTypeIndex = example::memoryType(physical, req.memoryTypeBits, {want}, "a rasterbench allocation");
     VkDeviceMemory mem;
     CHECK(vkAllocateMemory(device, &mai, nullptr, &mem));
     return mem;
@@ -317,7 +311,6 @@ int main(int argc, char** argv) {
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(g.physical, &props);
   g.name = props.deviceName;
-  vkGetPhysicalDeviceMemoryProperties(g.physical, &g.memory);
   const uint32_t family = example::queueFamily(g.physical, VK_QUEUE_GRAPHICS_BIT);
   g.device = example::createDevice(g.physical, family, nullptr);
   vkGetDeviceQueue(g.device, family, 0, &g.queue);
