@@ -101,6 +101,84 @@ TEST_F(TraceMisuseTest, AProceduralHitGroupUsedForTrianglesIsReported) {
   EXPECT_EQ(r[5].hit[0], -1.0f);
 }
 
+// The CTS's pipeline_no_null_shaders_flag.*.tri_and_box.* cases without "isect" (56 of them) trace a scene of
+// triangles and boxes whose every hit record holds one procedural hit group (closest-hit + intersection): the
+// triangles' records too, which VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735 forbids ("Any non-zero hit
+// shader group entries ... accessed by this call from a geometry with a geometryType of
+// VK_GEOMETRY_TYPE_TRIANGLES_KHR must have been created with VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR";
+// the NO_NULL_* flags change nothing there). That scene, the same with a triangles hit group in the triangles'
+// record (tools/cts/hit-group-types.patch: valid, nothing reported, every hit runs), and the converse (04736).
+TEST_F(TraceMisuseTest, HitGroupTypesInASceneOfTrianglesAndBoxes) {
+  // A quad over world x in [-2, 0] at z = 5 (instance 0, record 0); a sphere of radius 0.5 around (1, 0, 5) in its
+  // box (instance 1, record 1).
+  setSpheres({{1, 0, 5, 0.5f}});
+  VkAccelerationStructureKHR box = blas({aabbs({{0.5f, -0.5f, 4.5f, 1.5f, 0.5f, 5.5f}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR scene = tlas({instance(quad, -1, 0, 5, 1, 0), instance(box, 0, 0, 0, 2, 1)});
+  Desc d;
+  d.layout = traceLayout;
+  d.flags = VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_CLOSEST_HIT_SHADERS_BIT_KHR |
+            VK_PIPELINE_CREATE_RAY_TRACING_NO_NULL_MISS_SHADERS_BIT_KHR;  // as the CTS's "chit_or_miss" case
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  const uint32_t c = d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, VK_SHADER_UNUSED_KHR,
+          d.stage(tsphere, VK_SHADER_STAGE_INTERSECTION_BIT_KHR));                             // group 2
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c);  // group 3
+  d.maxHitAttr = 8;
+  d.maxPayload = sizeof(TracePayload);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  const uint32_t n = 8;                    // cell centres -1.75 .. 1.75
+  const uint32_t quadPixel = 3 * n + 1;    // (-1.25, -0.25): the quad, t = 15
+  const uint32_t spherePixel = 4 * n + 6;  // (1.25, 0.25): the sphere, t = 15 - sqrt(0.125)
+  const uint32_t missPixel = 0;            // (-1.75, -1.75)
+  const float sphereT = 15.0f - std::sqrt(0.125f);
+  struct Case {
+    const char* what;
+    int32_t triangleGroup, boxGroup;
+    const char* vuid;  // null: valid
+    std::initializer_list<const char*> parts;
+  };
+  const Case cases[] = {
+      {"the CTS's records: the procedural group for the triangles too",
+       2,
+       2,
+       "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04735",
+       {"hit record 0", "triangle", "procedural hit group"}},
+      {"each geometry type its group (the patched CTS)", 3, 2, nullptr, {}},
+      {"the triangles group for the boxes",
+       3,
+       3,
+       "VUID-vkCmdTraceRaysKHR-pHitShaderBindingTable-04736",
+       {"hit record 1", "AABB", "triangles hit group"}},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.what);
+    Sbt s = sbt(p, 4, {0}, {{1, {7}}}, {{k.triangleGroup, {400}}, {k.boxGroup, {300}}});
+    clearMessages();
+    const std::vector<TracePayload> r = trace(p, s, scene, n, n);
+    if (k.vuid)
+      expectReport(k.vuid, k.parts);
+    else
+      EXPECT_TRUE(vkrtMessages().empty()) << "valid use is not reported";
+    EXPECT_EQ(r[missPixel].hit[0], -2.0f) << "a ray that meets nothing runs the miss shader";
+    if (k.triangleGroup == 3) {
+      EXPECT_EQ(r[quadPixel].hit[0], 15.0f);
+      EXPECT_EQ(r[quadPixel].ids[0], 1u);
+      EXPECT_EQ(r[quadPixel].extra[0], 400u);
+    } else {
+      EXPECT_EQ(r[quadPixel].hit[0], -1.0f) << "the triangle's record is not run: the payload is as raygen set it";
+    }
+    if (k.boxGroup == 2) {
+      EXPECT_NEAR(r[spherePixel].hit[0], sphereT, 1e-4f);
+      EXPECT_EQ(r[spherePixel].ids[0], 2u);
+      EXPECT_EQ(r[spherePixel].extra[0], 300u);
+    } else {
+      EXPECT_EQ(r[spherePixel].hit[0], -2.0f) << "the box's record is not run: no intersection shader, a miss";
+    }
+  }
+}
+
 TEST_F(TraceMisuseTest, AnUndersizedDynamicStackIsReportedWithTheShaderChain) {
   VkDynamicState dyn = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
   VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
