@@ -146,7 +146,9 @@ static_assert(offsetof(RayQueryScope, runtime) == 0 && offsetof(RayQueryRuntime,
 // IncomingRayPayloadKHR / IncomingCallableDataKHR read and write `incoming` (the caller's variable, same
 // layout: caller and callee are compiled by the same rules), HitAttributeKHR in any-hit and closest-hit
 // shaders reads `hitAttributes`, ShaderRecordBufferKHR reads `shaderRecord` (explicit layout). Each is bounded
-// by its byte count: a callee declaring a larger payload than its caller passed reads zeros past the end.
+// by its byte count: a callee declaring a larger payload than its caller passed reads zeros past the end. A
+// shader record read is also checked against `shaderRecordRegionBytes` (the SBT region's end), and one past it
+// is told to the runtime (RayRuntime::shaderRecordOutsideRegion) before it reads what shaderRecordBytes allows.
 //
 // gl_HitTEXT is RayTmaxKHR (the runtime keeps `rayTmax` at the hit's t in any-hit and closest-hit shaders,
 // at the closest t so far in intersection shaders). ObjectToWorldKHR / WorldToObjectKHR are 4 columns of 3
@@ -178,6 +180,9 @@ struct RayRuntime {
   // kRayStatusTerminate: the intersection shader stops.
   uint32_t (*reportIntersection)(RayInvocation* caller, float hitT, uint32_t hitKind, const void* attributes,
                                  uint64_t attributeBytes);
+  // A read of `bytes` at `offset` of the shader record that ends past shaderRecordRegionBytes (the compiled code
+  // calls it before the read, which then goes on as bounded by shaderRecordBytes).
+  void (*shaderRecordOutsideRegion)(RayInvocation* caller, uint64_t offset, uint64_t bytes);
 };
 
 // RayInvocation::status: what ended the shader. 0: it ran to its end (any-hit: the hit is accepted).
@@ -215,6 +220,10 @@ struct RayInvocation {
   // 456  HitTriangleVertexPositionsKHR (any-hit, closest-hit of a triangle hit; SPV_KHR_ray_tracing_position_fetch):
   // the triangle's three object-space vertices, x, y, z each (an array of 3 vec3 in the natural layout).
   float hitTriangleVertexPositions[3][3];
+  uint32_t pad1;  // 492
+  // 496  The bytes from `shaderRecord` to the end of the SBT region (what "Indexing Rules" lets a launch read; it
+  // may be more or less than shaderRecordBytes). A read that ends past it calls shaderRecordOutsideRegion first.
+  uint64_t shaderRecordRegionBytes;
 };
 
 static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 &&
@@ -225,7 +234,9 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
                   offsetof(RayInvocation, worldToObject) == 352 && offsetof(RayInvocation, incoming) == 400 &&
                   offsetof(RayInvocation, shaderRecord) == 432 && offsetof(RayInvocation, runtime) == 448 &&
                   offsetof(RayInvocation, hitTriangleVertexPositions) == 456 &&
-                  offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16,
+                  offsetof(RayInvocation, shaderRecordRegionBytes) == 496 &&
+                  offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16 &&
+                  offsetof(RayRuntime, shaderRecordOutsideRegion) == 24,
               "the compiler bakes these offsets into shader code");
 
 using RayEntry = void (*)(RayInvocation*);

@@ -38,8 +38,11 @@ class RecordCache {
       count_ = range.stride ? (range.size - kHandleBytes) / range.stride + 1 : ~uint64_t(0);
     }
     cached_ = std::min(range.stride ? count_ : std::min<uint64_t>(count_, 1), kMaxCachedRecords);
-    slots_.reset(cached_ ? new std::atomic<const RayGroup*>[cached_] : nullptr);
-    for (uint64_t i = 0; i < cached_; ++i) slots_[i].store(nullptr, std::memory_order_relaxed);
+    slots_.reset(cached_ ? new Slot[cached_] : nullptr);
+    for (uint64_t i = 0; i < cached_; ++i) {
+      slots_[i].group.store(nullptr, std::memory_order_relaxed);
+      slots_[i].dataOutside.store(false, std::memory_order_relaxed);
+    }
   }
   // The group of record `index`, or null (reported) when its handle lies outside the region or denotes no group.
   const RayGroup* get(SbtRegion region, uint64_t index, LaunchResolver& resolver, const uint8_t** record) {
@@ -50,11 +53,11 @@ class RecordCache {
     *record = range_.base + index * range_.stride;
     const uint64_t slot = range_.stride ? index : 0;  // with a zero stride every index is record 0
     if (slot < cached_) {
-      const RayGroup* g = slots_[slot].load(std::memory_order_acquire);
+      const RayGroup* g = slots_[slot].group.load(std::memory_order_acquire);
       if (!g) {
         g = resolver.group(region, index, *record);
         if (!g) g = kInvalid;
-        slots_[slot].store(g, std::memory_order_release);
+        slots_[slot].group.store(g, std::memory_order_release);
       }
       return g == kInvalid ? nullptr : g;
     }
@@ -71,11 +74,27 @@ class RecordCache {
     uint64_t end = range_.stride ? std::min(start - kHandleBytes + range_.stride, limit) : range_.size;
     return end > start ? end - start : 0;
   }
+  // The bytes from the record's shader-record data to the region's end: what "Indexing Rules" lets a shader read.
+  uint64_t regionBytes(uint64_t index) const {
+    const uint64_t start = index * range_.stride + kHandleBytes;
+    return range_.size > start ? range_.size - start : 0;
+  }
+  // Whether a read of record `index` past the region was reported in this launch (records past the cached ones
+  // share one flag).
+  std::atomic<bool>* dataOutsideReported(uint64_t index) {
+    const uint64_t slot = range_.stride ? index : 0;
+    return slot < cached_ ? &slots_[slot].dataOutside : &uncachedDataOutside_;
+  }
 
  private:
+  struct Slot {
+    std::atomic<const RayGroup*> group;
+    std::atomic<bool> dataOutside;
+  };
   SbtRange range_;
   uint64_t count_ = 0, cached_ = 0;
-  std::unique_ptr<std::atomic<const RayGroup*>[]> slots_;
+  std::unique_ptr<Slot[]> slots_;
+  std::atomic<bool> uncachedDataOutside_{false};
 };
 
 // The launch's shared state: the SBT caches and the acceleration structures met so far.
@@ -84,6 +103,7 @@ struct LaunchState {
   const RayLaunch* launch = nullptr;
   Job* job = nullptr;
   RecordCache miss, hit, callable;
+  std::atomic<bool> raygenDataOutside{false};  // the raygen record's RecordCache::dataOutsideReported
   RayQueryScope queries;  // the shaders' ray queries (they resolve through the launch's resolver too)
 
   // The top level at `address`: the resolver resolves each address once per launch and answers without a lock
@@ -102,7 +122,22 @@ struct Invocation : abi::RayInvocation {
   uint64_t stackUsed = 0;       // the stack sizes of this shader and its callers
   TraceFrame* frame = nullptr;  // intersection shaders: the traversal they serve
   accel::ProceduralCandidate* candidate = nullptr;
+  // The SBT record whose shader runs (for the report of a read past its region).
+  SbtRegion recordRegion = SbtRegion::Raygen;
+  uint64_t recordIndex = 0;
+  std::atomic<bool>* recordDataOutside = nullptr;
 };
+
+// The invocation's shader record: record `index` of `region` at `record`, its data bytes up to the stride where
+// they can be read (RecordCache::dataBytes), and the bytes "Indexing Rules" lets it read.
+void setRecord(Invocation& inv, RecordCache& cache, SbtRegion region, uint64_t index, const uint8_t* record) {
+  inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
+  inv.shaderRecordBytes = cache.dataBytes(index);
+  inv.shaderRecordRegionBytes = cache.regionBytes(index);
+  inv.recordRegion = region;
+  inv.recordIndex = index;
+  inv.recordDataOutside = cache.dataOutsideReported(index);
+}
 
 thread_local uint8_t tlsSink[abi::kSinkBytes];
 
@@ -110,8 +145,9 @@ void traceRay(abi::RayInvocation* caller, const abi::TraceRayArgs* args);
 void executeCallable(abi::RayInvocation* caller, uint32_t index, void* data, uint64_t bytes);
 uint32_t reportIntersection(abi::RayInvocation* caller, float t, uint32_t hitKind, const void* attributes,
                             uint64_t bytes);
+void shaderRecordOutsideRegion(abi::RayInvocation* caller, uint64_t offset, uint64_t bytes);
 
-const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection};
+const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection, &shaderRecordOutsideRegion};
 
 // A new invocation called by `caller` (null for raygen): launch index, push constants, runtime.
 void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
@@ -232,8 +268,7 @@ struct TraceFrame final : accel::HitHandler {
     inv.depth = caller.depth + 1;
     setRay(inv, args, tMax);
     setHit(inv, h);
-    inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
-    inv.shaderRecordBytes = state.hit.dataBytes(index);
+    setRecord(inv, state.hit, SbtRegion::Hit, index, record);
   }
 
   accel::AnyHitResult runAnyHit(const accel::HitInfo& h, const void* attributes, uint64_t attributeBytes) {
@@ -322,8 +357,7 @@ struct TraceFrame final : accel::HitHandler {
     setRay(inv, args, args.tMax);
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
-    inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
-    inv.shaderRecordBytes = state.miss.dataBytes(missIndex);
+    setRecord(inv, state.miss, SbtRegion::Miss, missIndex, record);
     run(inv, g->general);
   }
 };
@@ -372,8 +406,7 @@ void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data,
   begin(inv, &state, &caller);
   inv.incoming = data;
   inv.incomingBytes = bytes;
-  inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
-  inv.shaderRecordBytes = state.callable.dataBytes(index);
+  setRecord(inv, state.callable, SbtRegion::Callable, index, record);
   run(inv, g->general);
 }
 
@@ -382,6 +415,15 @@ uint32_t reportIntersection(abi::RayInvocation* callerBase, float t, uint32_t hi
   Invocation& inv = *static_cast<Invocation*>(callerBase);
   if (!inv.frame || !inv.candidate) return 0;  // only intersection shaders report (the compiler ensures it)
   return inv.frame->report(inv, t, hitKind, attributes, bytes);
+}
+
+// A shader's read of its record past the region (checked by the compiled code): reported once per launch and record.
+void shaderRecordOutsideRegion(abi::RayInvocation* callerBase, uint64_t offset, uint64_t bytes) {
+  Invocation& inv = *static_cast<Invocation*>(callerBase);
+  std::atomic<bool>* reported = inv.recordDataOutside;
+  if (!reported || reported->load(std::memory_order_relaxed) || reported->exchange(true)) return;
+  inv.state->launch->resolver->recordDataOutsideRegion(inv.recordRegion, inv.recordIndex, offset, bytes,
+                                                       inv.shaderRecordRegionBytes, inv.shaderRecordBytes, *inv.shader);
 }
 
 // The raygen invocations of one tile (a task of runRays', run under supervision).
@@ -404,7 +446,8 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
         inv.launchId[2] = z;
         for (int i = 0; i < 3; ++i) inv.launchSize[i] = launch.size[i];
         inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
-        inv.shaderRecordBytes = raygenBytes;
+        inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
+        inv.recordDataOutside = &state.raygenDataOutside;
         run(inv, raygen);
       }
     }

@@ -15,7 +15,9 @@
 // SBT record index of a hit (the specification's formula): instance SBT offset + the trace's sbtRecordOffset +
 // sbtRecordStride x geometry index. A record whose handle is all zeros is a group with no shaders (a miss or
 // hit that does nothing). Recursion deeper than the pipeline's maxPipelineRayRecursionDepth, and a call chain
-// whose shaders' stack sizes add up to more than the pipeline stack size, are reported and not run.
+// whose shaders' stack sizes add up to more than the pipeline stack size, are reported and not run. A shader record
+// read that ends past the SBT region (RayInvocation::shaderRecordRegionBytes) reaches the resolver once per launch and
+// record (RayRuntime::shaderRecordOutsideRegion), and the read goes on.
 #pragma once
 
 #include <cstdint>
@@ -67,6 +69,11 @@ class LaunchResolver : public TopLevelResolver {
   // A record whose shader group handle does not lie inside its region (index x stride + shaderGroupHandleSize >
   // size): the specification's "Indexing Rules" bound every byte a launch reads by the region's size.
   virtual void recordOutsideRegion(SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) = 0;
+  // A shader of record `index` read `bytes` at `offset` of its shader-record data, past the region's end
+  // (`regionBytes` of the data lie inside the region; the read is bounded by `readableBytes`): once per launch and
+  // record.
+  virtual void recordDataOutsideRegion(SbtRegion region, uint64_t index, uint64_t offset, uint64_t bytes,
+                                       uint64_t regionBytes, uint64_t readableBytes, const RayShader& reader) = 0;
   // A hit group whose type does not match the geometry it was used for.
   virtual void hitGroupMismatch(uint64_t index, const RayGroup& group, bool triangles) = 0;
   // A traceRayEXT at `depth` beyond the pipeline's maximum recursion depth.

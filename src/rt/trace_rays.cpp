@@ -9,7 +9,8 @@
 // region holds (raygen, miss, hit, callable), not null where the pipeline's NO_NULL_* flags forbid it, and a hit
 // group's type must match the geometry it is used for. A violation is reported once per launch and rule, naming the
 // region, record index and address, and (where the handle is one this device gave out) the group and the pipeline it
-// was created in; that shader is not run.
+// was created in; that shader is not run. A shader that reads its record's data past the region is reported once
+// per launch and record (the compiled code checks each read), and its read goes on.
 #include <algorithm>
 #include <atomic>
 #include <cinttypes>
@@ -193,6 +194,8 @@ class Launch final : public exec::LaunchResolver {
   const exec::RayGroup* group(exec::SbtRegion region, uint64_t index, const uint8_t* record) override;
   const accel::Tlas* topLevel(uint64_t address) override;
   void recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) override;
+  void recordDataOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t offset, uint64_t bytes,
+                               uint64_t regionBytes, uint64_t readableBytes, const exec::RayShader& reader) override;
   void hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) override;
   void recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) override;
   void stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) override;
@@ -438,6 +441,24 @@ void Launch::recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_
          "missIndex for misses)",
          fn_, kRegionNames[int(region)], (ull)index, (ull)(index * stride), (ull)index, (ull)stride, (ull)size,
          kHandleSize);
+}
+
+// The same rule for the shader record data a shader reads (the compiled code checks each read; the executor
+// reports each record once per launch). The read is not refused: it returns the bytes up to the stride where they
+// are the application's memory, as GPUs do, and zeros past them.
+void Launch::recordDataOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t offset, uint64_t bytes,
+                                     uint64_t regionBytes, uint64_t readableBytes, const exec::RayShader& reader) {
+  const uint64_t end = offset + bytes;
+  report(cb_, Severity::Error, nullptr,
+         "%s: the %s, run for %s record %llu, reads its shader record data at bytes [%llu, %llu) (after the %u-byte "
+         "handle), "
+         "past the end of the %s region (the record has %llu bytes of data inside it): the specification (Shader "
+         "Binding Table, Indexing Rules) requires all data accessed to lie less than size bytes from the region's "
+         "start; the read returns %s",
+         fn_, reader.name, kRegionNames[int(region)], (ull)index, (ull)offset, (ull)end, kHandleSize,
+         kRegionNames[int(region)], (ull)regionBytes,
+         end <= readableBytes ? "the bytes there (the application's memory, inside the record's stride)"
+                              : "zeros where it passes the record's stride or the application's memory");
 }
 
 void Launch::hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) {

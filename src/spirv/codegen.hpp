@@ -152,6 +152,9 @@ class Codegen {
   void returnIfStopped();
   // Returns from the current function (a zero value for a non-void one).
   void returnFromFunction();
+  // Before a read of `bytes` at shader record pointer p: tells the runtime when the read ends past the SBT
+  // region (RayInvocation::shaderRecordRegionBytes; "Indexing Rules"), on a cold branch. Called by guardedLoad.
+  void checkShaderRecordRead(const Ptr& p, uint64_t bytes);
 
   // ---- vertex and fragment shaders (graphics.cpp)
   struct Global;

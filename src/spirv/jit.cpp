@@ -779,7 +779,7 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 
 // ---- the pipeline cache form of a compiled shader
 //
-//   char magic[8] "VKRTSHD5"; uint8 sha256[32] of the payload; payload:
+//   char magic[8] "VKRTSHD6"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
 //   graphics: u32 flags (the GraphicsStageInfo booleans, bit by bit in declaration order), clipDistances,
@@ -791,7 +791,8 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 static_assert(sizeof(CompiledShader) == 256,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '5'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S',
+                                'H', 'D', '6'};  // 6: shader record reads call RayRuntime::shaderRecordOutsideRegion
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 

@@ -401,6 +401,8 @@ static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok) {
 llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align) {
   // Where the block is closed already (code placed before its terminator), the address is selected instead.
   bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
+  // A shader record read is checked against the SBT region (not in a closed block: no branch can be placed there).
+  if (p.storage == spv::StorageClassShaderRecordBufferKHR && !closed) checkShaderRecordRead(p, bytes);
   llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
   if (!ok) {
     return b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset),

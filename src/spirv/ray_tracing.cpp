@@ -10,6 +10,8 @@
 // OpIgnoreIntersectionNV and OpTerminateRayNV are not block terminators (glslang follows them with the rest of
 // the block): they end the invocation the same way, and what follows them in the block is unreachable.
 #include <llvm/IR/Constants.h>
+#include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/MDBuilder.h>
 
 #include "spirv/codegen.hpp"
 #include "spirv/newer_tokens.hpp"
@@ -107,6 +109,29 @@ llvm::Value* scalar32(Codegen& g, uint32_t id) {
 }
 
 }  // namespace
+
+// "Indexing Rules" (Shader Binding Table): all data a launch accesses must lie less than the region's size from
+// its start. The record's bytes past the region (up to the stride, in the application's memory) are still read,
+// as GPUs read them, but such a read is told to the runtime, which reports it once per launch and record. One
+// comparison per read with a field the invocation keeps (invariant); the call is on a cold branch.
+void Codegen::checkShaderRecordRead(const Ptr& p, uint64_t bytes) {
+  auto* regionLoad = b.CreateAlignedLoad(b.getInt64Ty(), ctxAt(*this, offsetof(RayInvocation, shaderRecordRegionBytes)),
+                                         llvm::Align(8));
+  regionLoad->setMetadata(llvm::LLVMContext::MD_invariant_load, llvm::MDNode::get(c, {}));
+  // offset + bytes <= region, without overflow (as inBounds).
+  llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, regionLoad, i64(bytes ? bytes - 1 : 0));
+  llvm::Value* inside = b.CreateICmpULT(p.offset, end);
+  auto* outside = llvm::BasicBlock::Create(c, "record.outside", fn);
+  auto* join = llvm::BasicBlock::Create(c, "record.checked", fn);
+  b.CreateCondBr(inside, join, outside, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+  b.SetInsertPoint(outside);
+  llvm::FunctionType* ty =
+      llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt64Ty(), b.getInt64Ty()}, false);
+  b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, shaderRecordOutsideRegion)),
+               {ctxArg, p.offset, i64(bytes)});
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+}
 
 void Codegen::returnIfStopped() {
   llvm::Value* stop = nullptr;

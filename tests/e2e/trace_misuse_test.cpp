@@ -107,7 +107,7 @@ TEST_F(TraceMisuseTest, AProceduralHitGroupUsedForTrianglesIsReported) {
 // shader group entries ... accessed by this call from a geometry with a geometryType of
 // VK_GEOMETRY_TYPE_TRIANGLES_KHR must have been created with VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR";
 // the NO_NULL_* flags change nothing there). That scene, the same with a triangles hit group in the triangles'
-// record (tools/cts/hit-group-types.patch: valid, nothing reported, every hit runs), and the converse (04736).
+// record (tools/cts/pipeline-flags-test.patch: valid, nothing reported, every hit runs), and the converse (04736).
 TEST_F(TraceMisuseTest, HitGroupTypesInASceneOfTrianglesAndBoxes) {
   // A quad over world x in [-2, 0] at z = 5 (instance 0, record 0); a sphere of radius 0.5 around (1, 0, 5) in its
   // box (instance 1, record 1).

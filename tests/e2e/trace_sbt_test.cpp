@@ -3,7 +3,8 @@
 // "Indexing Rules"). A record whose handle (and the shader record data its shader reads) lies inside the region is
 // valid even when the stride is larger than the size (one handle-sized record with a stride of 64, as the CTS's
 // callable_shader.* and pipeline_no_null_shaders_flag.* tests trace): it runs, and nothing is reported. A record
-// whose handle lies past the region is reported (without a VUID: the rule has none) and not run. The raygen
+// whose handle lies past the region is reported (without a VUID: the rule has none) and not run; a shader that
+// reads its record's data past the region is reported too, and its read returns the bytes there. The raygen
 // region's size must equal its stride (VUID-vkCmdTraceRaysKHR-size-04023) and hold the handle.
 #include <initializer_list>
 
@@ -121,23 +122,6 @@ TEST_F(TraceSbtTest, AHitRecordWhoseDataEndsTheRegionRunsWithALargerStride) {
   EXPECT_EQ(r[kMiss].extra[0], 7u);
 }
 
-// The CTS's pipeline_no_null_shaders_flag.* give a region of one handle (size 32) with a stride of 64 and read
-// the record's data after the handle: vkrt reads the stride's worth where it is the application's memory, as GPUs
-// do (it read zeros before, and 185 CTS cases failed).
-TEST_F(TraceSbtTest, ShaderRecordDataPastARegionOfOneHandleIsReadUpToTheStride) {
-  Desc d = basicDesc();
-  VkPipeline p = make(d);
-  ASSERT_NE(p, VK_NULL_HANDLE);
-  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
-  s.hit = region(handles(p, 0, 3), 2, {0}, 64, rtProps.shaderGroupHandleSize, 123);
-  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
-  EXPECT_NEAR(r[kHit].hit[0], 15.0f, 1e-4f) << "the closest-hit shader ran";
-  EXPECT_EQ(r[kHit].extra[0], 123u) << "with its record's tag, past the region's 32 bytes";
-  s.miss = region(handles(p, 0, 3), 1, {0}, 64, rtProps.shaderGroupHandleSize, 9);
-  r = trace(p, s, top, 4, 4);
-  EXPECT_EQ(r[kMiss].extra[0], 9u) << "the miss shader read its record's tag";
-}
-
 TEST_F(TraceSbtTest, ARaygenRegionOfExactlyAHandleRuns) {
   Desc d = basicDesc();
   VkPipeline p = make(d);
@@ -169,6 +153,49 @@ class TraceSbtMisuseTest : public TraceSbtTest {
     clearMessages();
   }
 };
+
+// The CTS's pipeline_no_null_shaders_flag.* give their miss region one handle of size (32) with a stride of 64,
+// and the miss shader reads the record's data after the handle: past the region, which "Indexing Rules" forbids
+// ("All data accessed must be less than size bytes from the base address"). GPUs read the bytes there; vkrt
+// reads the stride's worth where it is the application's memory too (zeros before: 185 CTS cases failed), and
+// reports the read (no VUID), once per launch and record. A record whose data ends the region is not reported
+// (AHitRecordWhoseDataEndsTheRegionRunsWithALargerStride).
+TEST_F(TraceSbtMisuseTest, ShaderRecordDataReadPastTheRegionIsReportedAndStillRead) {
+  Desc d = basicDesc();
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  const std::vector<uint8_t> h = handles(p, 0, 3);
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  const Sbt valid = s;
+  s.hit = region(h, 2, {0}, 64, rtProps.shaderGroupHandleSize, 123);
+  for (int launch = 0; launch < 2; ++launch) {
+    SCOPED_TRACE("launch " + std::to_string(launch));
+    std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+    // Every hit of the launch reads hit record 0's tag: one report per launch.
+    expectReport(nullptr, {"closest-hit shader \"main\", run for hit record 0", "bytes [0, 4)",
+                           "past the end of the hit region (the record has 0 bytes of data inside it)",
+                           "Indexing Rules", "returns the bytes there"});
+    EXPECT_NEAR(r[kHit].hit[0], 15.0f, 1e-4f) << "the closest-hit shader ran";
+    EXPECT_EQ(r[kHit].extra[0], 123u) << "with its record's tag, past the region's 32 bytes";
+    EXPECT_EQ(r[kMiss].extra[0], 7u);
+  }
+  s = valid;
+  s.miss = region(h, 1, {0}, 64, rtProps.shaderGroupHandleSize, 9);
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  expectReport(nullptr, {"miss shader \"main\", run for miss record 0", "bytes [0, 4)"});
+  EXPECT_EQ(r[kMiss].extra[0], 9u) << "the miss shader read its record's tag";
+  EXPECT_EQ(r[kHit].extra[0], 100u);
+  // Two miss records, 64 apart, in a region of 96 bytes: record 0's tag lies inside the region, record 1's (bytes
+  // [96, 100) from the start) past it; only record 1 is reported.
+  s.miss = region(h, 1, {0, 64}, 64, 64 + rtProps.shaderGroupHandleSize, 9);
+  trace(p, s, top, 4, 4);
+  EXPECT_TRUE(vkrtMessages().empty()) << "miss record 0's data lies inside the region";
+  TraceParams t;
+  t.missIndex = 1;
+  r = trace(p, s, top, 4, 4, t);
+  expectReport(nullptr, {"miss record 1", "bytes [0, 4)"});
+  EXPECT_EQ(r[kMiss].extra[0], 9u);
+}
 
 TEST_F(TraceSbtMisuseTest, AMissRecordWhoseHandleLiesPastTheRegionIsReportedAndNotRun) {
   VkPipeline p = handleOnlyMiss();

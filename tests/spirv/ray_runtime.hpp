@@ -122,8 +122,9 @@ class RayTestRuntime {
     inv.base.sink = sink;
     inv.runtime = this;
     inv.depth = caller ? caller->depth : 0;
-    static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection};
+    static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection, &recordOutsideRegion};
     inv.abi::RayInvocation::runtime = &table;
+    inv.shaderRecordRegionBytes = UINT64_MAX;  // records here are not in SBT regions: no read is past one
     if (caller) {
       std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
       std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
@@ -294,6 +295,11 @@ class RayTestRuntime {
     inv.shaderRecord = c.data.data();
     inv.shaderRecordBytes = c.data.size();
     rt.run(*c.general, inv);
+  }
+
+  // Never called here (shaderRecordRegionBytes is the largest value): an error if it is.
+  static void recordOutsideRegion(abi::RayInvocation* callerBase, uint64_t, uint64_t) {
+    static_cast<Invocation*>(callerBase)->runtime->errors.push_back("a shader record read past its region");
   }
 
   // Ray / triangle (Moller-Trumbore); (u, v) are the weights of vertices 1 and 2.
