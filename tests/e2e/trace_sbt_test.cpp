@@ -11,6 +11,7 @@
 #include "e2e/trace_fixture.hpp"
 #include "pipeline_call.rcall.spv.h"
 #include "trace_chit_calls.rchit.spv.h"
+#include "trace_miss_cts_record.rmiss.spv.h"
 #include "trace_miss_handle_only.rmiss.spv.h"
 
 namespace vkrt::test {
@@ -26,10 +27,10 @@ class TraceSbtTest : public TraceTest {
   }
   // A region of `size` bytes with `stride` in a buffer of its own (512 bytes: every stride used here is at most
   // the buffer's size, VUID-VkStridedDeviceAddressRegionKHR-size-04632): the handle of `group` (from `h`) at each
-  // byte offset of `at`, each followed by `tag` as shader record data when it is not 0.
+  // byte offset of `at`, each followed by `data` as shader record data.
   VkStridedDeviceAddressRegionKHR region(const std::vector<uint8_t>& h, uint32_t group,
                                          std::initializer_list<uint64_t> at, VkDeviceSize stride, VkDeviceSize size,
-                                         uint32_t tag = 0) {
+                                         const std::vector<uint32_t>& data = {}) {
     const uint32_t hs = rtProps.shaderGroupHandleSize, align = rtProps.shaderGroupBaseAlignment;
     HostBuffer& b = buffer(512 + align, VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR);
     const VkDeviceAddress base = (addressOf(b) + align - 1) / align * align;
@@ -37,7 +38,7 @@ class TraceSbtTest : public TraceTest {
     std::memset(bytes, 0, 512);
     for (uint64_t offset : at) {
       std::memcpy(bytes + offset, h.data() + size_t(group) * hs, hs);
-      if (tag) std::memcpy(bytes + offset + hs, &tag, 4);
+      if (!data.empty()) std::memcpy(bytes + offset + hs, data.data(), data.size() * 4);
     }
     return {base, stride, size};
   }
@@ -115,7 +116,7 @@ TEST_F(TraceSbtTest, AHitRecordWhoseDataEndsTheRegionRunsWithALargerStride) {
   ASSERT_NE(p, VK_NULL_HANDLE);
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
   // The handle and the 4-byte tag trace_chit reads: 36 bytes of region, stride 64.
-  s.hit = region(handles(p, 0, 3), 2, {0}, 64, rtProps.shaderGroupHandleSize + 4, 123);
+  s.hit = region(handles(p, 0, 3), 2, {0}, 64, rtProps.shaderGroupHandleSize + 4, {123});
   std::vector<TracePayload> r = trace(p, s, top, 4, 4);
   EXPECT_NEAR(r[kHit].hit[0], 15.0f, 1e-4f) << "the closest-hit shader ran";
   EXPECT_EQ(r[kHit].extra[0], 123u) << "with its record's tag";
@@ -167,7 +168,7 @@ TEST_F(TraceSbtMisuseTest, ShaderRecordDataReadPastTheRegionIsReportedAndStillRe
   const std::vector<uint8_t> h = handles(p, 0, 3);
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
   const Sbt valid = s;
-  s.hit = region(h, 2, {0}, 64, rtProps.shaderGroupHandleSize, 123);
+  s.hit = region(h, 2, {0}, 64, rtProps.shaderGroupHandleSize, {123});
   for (int launch = 0; launch < 2; ++launch) {
     SCOPED_TRACE("launch " + std::to_string(launch));
     std::vector<TracePayload> r = trace(p, s, top, 4, 4);
@@ -180,14 +181,14 @@ TEST_F(TraceSbtMisuseTest, ShaderRecordDataReadPastTheRegionIsReportedAndStillRe
     EXPECT_EQ(r[kMiss].extra[0], 7u);
   }
   s = valid;
-  s.miss = region(h, 1, {0}, 64, rtProps.shaderGroupHandleSize, 9);
+  s.miss = region(h, 1, {0}, 64, rtProps.shaderGroupHandleSize, {9});
   std::vector<TracePayload> r = trace(p, s, top, 4, 4);
   expectReport(nullptr, {"miss shader \"main\", run for miss record 0", "bytes [0, 4)"});
   EXPECT_EQ(r[kMiss].extra[0], 9u) << "the miss shader read its record's tag";
   EXPECT_EQ(r[kHit].extra[0], 100u);
   // Two miss records, 64 apart, in a region of 96 bytes: record 0's tag lies inside the region, record 1's (bytes
   // [96, 100) from the start) past it; only record 1 is reported.
-  s.miss = region(h, 1, {0, 64}, 64, 64 + rtProps.shaderGroupHandleSize, 9);
+  s.miss = region(h, 1, {0, 64}, 64, 64 + rtProps.shaderGroupHandleSize, {9});
   trace(p, s, top, 4, 4);
   EXPECT_TRUE(vkrtMessages().empty()) << "miss record 0's data lies inside the region";
   TraceParams t;
@@ -195,6 +196,41 @@ TEST_F(TraceSbtMisuseTest, ShaderRecordDataReadPastTheRegionIsReportedAndStillRe
   r = trace(p, s, top, 4, 4, t);
   expectReport(nullptr, {"miss record 1", "bytes [0, 4)"});
   EXPECT_EQ(r[kMiss].extra[0], 9u);
+}
+
+// The CTS's miss shader itself (trace_miss_cts_record.rmiss reads the ivec4 at bytes 16..31 of its record): with
+// the region holding the handle only (the test as upstream has it), half of the record (24 bytes: the vector's
+// first half) and all of it (tools/cts/pipeline-flags-test.patch). Only a read that ends past the region is
+// reported, and each returns the record's values.
+TEST_F(TraceSbtMisuseTest, TheCtsMissShadersVectorReadIsCheckedAgainstTheRegion) {
+  Desc d;
+  d.layout = traceLayout;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(module(kSpv_trace_miss_cts_record_rmiss, sizeof kSpv_trace_miss_cts_record_rmiss),
+            VK_SHADER_STAGE_MISS_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  const std::vector<uint8_t> h = handles(p, 0, 3);
+  Sbt s = sbt(p, 3, {0}, {{1}}, {{2, {100}}});
+  const uint32_t hs = rtProps.shaderGroupHandleSize;
+  const std::vector<uint32_t> record = {1, 0xffffffffu, 0, 0, 0, '-', 0, 0};  // geomType, geomIndex, 2 pad, retValue
+  for (uint32_t inside : {0u, 24u, 32u}) {
+    SCOPED_TRACE(std::to_string(inside) + " bytes of the record inside the region");
+    s.miss = region(h, 1, {0}, 64, hs + inside, record);
+    std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+    if (inside < 32) {
+      expectReport(nullptr, {"miss shader \"main\", run for miss record 0", "bytes [16, 32)",
+                             ("the record has " + std::to_string(inside) + " bytes of data inside it").c_str()});
+    } else {
+      EXPECT_TRUE(vkrtMessages().empty()) << "the read ends at the region's end";
+    }
+    EXPECT_EQ(r[kMiss].hit[0], -2.0f) << "the miss shader ran";
+    EXPECT_EQ(r[kMiss].extra[0], 0u);
+    EXPECT_EQ(r[kMiss].extra[1], uint32_t('-')) << "retValue.y, read past the region or not";
+    EXPECT_EQ(r[kHit].extra[0], 100u);
+  }
 }
 
 TEST_F(TraceSbtMisuseTest, AMissRecordWhoseHandleLiesPastTheRegionIsReportedAndNotRun) {
