@@ -450,11 +450,10 @@ void Launch::recordDataOutsideRegion(exec::SbtRegion region, uint64_t index, uin
                                      uint64_t regionBytes, uint64_t readableBytes, const exec::RayShader& reader) {
   const uint64_t end = offset + bytes;
   report(cb_, Severity::Error, nullptr,
-         "%s: the %s, run for %s record %llu, reads its shader record data at bytes [%llu, %llu) (after the %u-byte "
-         "handle), "
-         "past the end of the %s region (the record has %llu bytes of data inside it): the specification (Shader "
-         "Binding Table, Indexing Rules) requires all data accessed to lie less than size bytes from the region's "
-         "start; the read returns %s",
+         "%s: the %s, run for %s record %llu, reads its shader record data at bytes [%llu, %llu) (after the "
+         "%u-byte handle), past the end of the %s region (the record has %llu bytes of data inside it): the "
+         "specification (Shader Binding Table, Indexing Rules) requires all data accessed to lie less than size "
+         "bytes from the region's start; the read returns %s",
          fn_, reader.name, kRegionNames[int(region)], (ull)index, (ull)offset, (ull)end, kHandleSize,
          kRegionNames[int(region)], (ull)regionBytes,
          end <= readableBytes ? "the bytes there (the application's memory, inside the record's stride)"

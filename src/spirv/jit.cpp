@@ -791,8 +791,8 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 static_assert(sizeof(CompiledShader) == 256,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S',
-                                'H', 'D', '6'};  // 6: shader record reads call RayRuntime::shaderRecordOutsideRegion
+// 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide.
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '6'};
 
 void put32(std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
 
