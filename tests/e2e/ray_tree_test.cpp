@@ -287,14 +287,14 @@ class RayTreeTest : public TraceTest {
 
   // The scene above and its pipeline: groups 0 raygen, 1 miss, 2 triangles (ray_tree_chit, trace_ahit), 3
   // procedural (trace_chit, trace_sphere); hit records 0 (tag 100, mode 3: ignore odd primitives) and 1 (tag 101).
-  void makeScene() {
+  void makeScene(uint32_t depth = 2) {
     setSpheres({{3, -0.5f, 4.5f, 0.5f}});
     VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, 0)});
     VkAccelerationStructureKHR box = blas({aabbs({{2.5f, -1, 4, 3.5f, 0, 5}}, VK_GEOMETRY_OPAQUE_BIT_KHR)});
     top = tlas({instance(quad, -1, -1, 2, 10, 0), instance(quad, 0, 0, 5, 20, 0), instance(box, 0, 0, 0, 30, 1)});
     Desc d;
     d.layout = traceLayout;
-    d.depth = 2;
+    d.depth = depth;
     d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     VkShaderModule chit = module(kSpv_ray_tree_chit_rchit, sizeof kSpv_ray_tree_chit_rchit);
@@ -469,6 +469,23 @@ TEST_F(RayTreeTest, NamedLaunchIdIsDeliveredAsText) {
   run();
   ASSERT_EQ(trees.size(), 2u);
   EXPECT_NE(trees[1].find("in vkCmdTraceRaysKHR #1 "), std::string::npos);
+}
+
+// A pipeline of recursion depth 1: the closest-hit shader's traces are not run (reported once, as without the
+// setting); the tree notes each where it would be.
+TEST_F(RayTreeTest, TracesPastTheRecursionDepthAreNoted) {
+  makeScene(1);
+  run();
+  expectVkrtMessage("VUID-vkCmdTraceRaysKHR-maxPipelineRayRecursionDepth-03679");
+  ASSERT_EQ(trees.size(), 1u);
+  const std::string note =
+      "        note: traceRay at depth 2 beyond maxPipelineRayRecursionDepth 1: not run (reported)\n";
+  const std::string& text = trees[0];
+  const size_t first = text.find("      closest-hit shader \"main\": group 2, record 0 at ");
+  ASSERT_NE(first, std::string::npos) << text;
+  const size_t line = text.find('\n', first) + 1;
+  EXPECT_EQ(text.substr(line, 2 * note.size()), note + note) << text;
+  EXPECT_EQ(text.find("traceRay as", line), std::string::npos) << "no nested trace ran";
 }
 
 // With VKRT_RAY_TREE_OUT=*.json: one JSON object per line per named launch id and launch, no message.
