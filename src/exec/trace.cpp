@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "exec/thread_pool.hpp"
 
@@ -104,7 +107,8 @@ struct LaunchState {
   Job* job = nullptr;
   RecordCache miss, hit, callable;
   std::atomic<bool> raygenDataOutside{false};  // the raygen record's RecordCache::dataOutsideReported
-  RayQueryScope queries;  // the shaders' ray queries (they resolve through the launch's resolver too)
+  RayQueryScope queries;                // the shaders' ray queries (they resolve through the launch's resolver too)
+  RayTreeRecorder* recorder = nullptr;  // null unless VKRT_RAY_TREE names launch ids
 
   // The top level at `address`: the resolver resolves each address once per launch and answers without a lock
   // (runtime's TopLevelTable).
@@ -126,6 +130,7 @@ struct Invocation : abi::RayInvocation {
   SbtRegion recordRegion = SbtRegion::Raygen;
   uint64_t recordIndex = 0;
   std::atomic<bool>* recordDataOutside = nullptr;
+  RayTreeInvocation* tree = nullptr;  // the ray tree this invocation records into (a named launch id), or null
 };
 
 // The invocation's shader record: record `index` of `region` at `record`, its data bytes up to the stride where
@@ -138,6 +143,8 @@ void setRecord(Invocation& inv, RecordCache& cache, SbtRegion region, uint64_t i
   inv.recordIndex = index;
   inv.recordDataOutside = cache.dataOutsideReported(index);
 }
+
+using TreeKind = RayTreeNode::Kind;
 
 thread_local uint8_t tlsSink[abi::kSinkBytes];
 
@@ -156,7 +163,7 @@ void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
   inv.base.pushConstants = state->launch->pushConstants;
   inv.base.sink = tlsSink;
   inv.runtime = &kRuntime;
-  inv.base.rayQueries = &state->queries;
+  inv.base.rayQueries = caller ? caller->base.rayQueries : &state->queries;  // a recorded chain keeps its scope
   inv.base.cancel = reinterpret_cast<const uint32_t*>(&state->job->cancel);
   inv.base.cancelled = &cancelled;
   if (caller) {
@@ -164,6 +171,7 @@ void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
     std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
     inv.depth = caller->depth;
     inv.stackUsed = caller->stackUsed;
+    inv.tree = caller->tree;
   }
 }
 
@@ -194,6 +202,33 @@ bool run(Invocation& inv, const RayShader& shader) {
   shader.entry(&inv);
   setRunning(callerName, callerId, callerKind);
   return true;
+}
+
+// run() for an invocation of a recorded chain: a shader node (stage, group, SBT record) under the tree's current
+// node, current while the shader runs.
+bool runShader(Invocation& inv, const RayShader& shader, const char* stage, const RayGroup& group, uint64_t index,
+               const uint8_t* record) {
+  if (!inv.tree) return run(inv, shader);
+  RayTreeNode* n = inv.tree->add(TreeKind::Shader);
+  if (n) {
+    n->stage = stage;
+    n->name = shader.name;
+    n->group = group.index;
+    n->recordIndex = index;
+    n->record = reinterpret_cast<uintptr_t>(record);
+  }
+  RayTreeInvocation::Enter enter(inv.tree, n);
+  const bool ran = run(inv, shader);
+  if (!ran && n)
+    if (RayTreeNode* note = inv.tree->add(TreeKind::Note))
+      note->name = "not run: the call chain's stack would exceed the pipeline stack size (reported)";
+  return ran;
+}
+
+RayTreeNode::Verdict verdictOf(accel::AnyHitResult r) {
+  if (r == accel::AnyHitResult::Ignore) return RayTreeNode::Verdict::Ignored;
+  if (r == accel::AnyHitResult::AcceptAndTerminate) return RayTreeNode::Verdict::Terminated;
+  return RayTreeNode::Verdict::Accepted;
 }
 
 void setRay(Invocation& inv, const abi::TraceRayArgs& a, float tMax) {
@@ -237,6 +272,8 @@ struct TraceFrame final : accel::HitHandler {
   const uint32_t sbtOffset, sbtStride, missIndex;
   uint8_t committedAttributes[kMaxAttributeBytes] = {};  // of the procedural hit committed last
   uint64_t committedAttributeBytes = 0;
+  RayTreeNode* node = nullptr;  // a recorded trace: its node (current while it traverses), else null
+  RayTreeNode::Verdict boxVerdict = RayTreeNode::Verdict::Ignored;  // a recorded box candidate's reports
 
   TraceFrame(Invocation& caller, const abi::TraceRayArgs& args)
       : caller(caller),
@@ -282,17 +319,41 @@ struct TraceFrame final : accel::HitHandler {
     inv.incomingBytes = args.payloadBytes;
     inv.hitAttributes = attributes;
     inv.hitAttributeBytes = attributeBytes;
-    if (!run(inv, g->anyHit)) return accel::AnyHitResult::Accept;
+    if (!runShader(inv, g->anyHit, "any-hit", *g, index, record)) return accel::AnyHitResult::Accept;
     if (inv.status == abi::kRayStatusIgnore) return accel::AnyHitResult::Ignore;
     if (inv.status == abi::kRayStatusTerminate) return accel::AnyHitResult::AcceptAndTerminate;
     return accel::AnyHitResult::Accept;
   }
 
   accel::AnyHitResult anyHit(const accel::HitInfo& candidate) override {
-    return runAnyHit(candidate, candidate.barycentrics, sizeof candidate.barycentrics);
+    if (!node) return runAnyHit(candidate, candidate.barycentrics, sizeof candidate.barycentrics);
+    RayTreeNode* n = caller.tree->add(TreeKind::Candidate);
+    if (n) {
+      n->hasCandidate = true;
+      n->candidate = treeHit(candidate);
+    }
+    RayTreeInvocation::Enter enter(caller.tree, n);
+    const accel::AnyHitResult r = runAnyHit(candidate, candidate.barycentrics, sizeof candidate.barycentrics);
+    if (n) n->verdict = verdictOf(r);
+    return r;
   }
 
   void intersect(accel::ProceduralCandidate& c) override {
+    if (!node) return runIntersection(c);
+    RayTreeNode* n = caller.tree->add(TreeKind::Candidate);
+    if (n) {
+      n->hasCandidate = true;
+      n->candidate = treeHit(c.info());
+      n->candidate.t = std::numeric_limits<float>::quiet_NaN();  // a box has no t until a report gives one
+      n->candidate.hitKind = 0;
+    }
+    boxVerdict = RayTreeNode::Verdict::Ignored;
+    RayTreeInvocation::Enter enter(caller.tree, n);
+    runIntersection(c);
+    if (n) n->verdict = boxVerdict;
+  }
+
+  void runIntersection(accel::ProceduralCandidate& c) {
     const accel::HitInfo& h = c.info();
     const uint8_t* record;
     uint64_t index;
@@ -303,20 +364,31 @@ struct TraceFrame final : accel::HitHandler {
     inv.hitKind = 0;
     inv.frame = this;
     inv.candidate = &c;
-    run(inv, g->intersection);
+    runShader(inv, g->intersection, "intersection", *g, index, record);
   }
 
   // reportIntersectionEXT from the intersection shader `inv`.
   uint32_t report(Invocation& inv, float t, uint32_t hitKind, const void* attributes, uint64_t bytes) {
     accel::ProceduralCandidate& c = *inv.candidate;
-    if (!(t >= c.tMin() && t <= c.tMax())) return 0;  // NaN fails too
+    RayTreeNode* n = inv.tree ? inv.tree->add(TreeKind::Report) : nullptr;
     accel::HitInfo h = c.info();
     h.t = t;
     h.hitKind = hitKind;
+    if (n) {
+      n->hasCandidate = true;
+      n->candidate = treeHit(h);
+      n->verdict = RayTreeNode::Verdict::Outside;
+    }
+    if (!(t >= c.tMin() && t <= c.tMax())) return 0;  // NaN fails too
     bytes = std::min<uint64_t>(bytes, kMaxAttributeBytes);
     uint8_t candidateAttributes[kMaxAttributeBytes] = {};
     if (attributes && bytes) std::memcpy(candidateAttributes, attributes, bytes);
+    RayTreeInvocation::Enter enter(inv.tree, n);
     accel::AnyHitResult r = c.opaque() ? accel::AnyHitResult::Accept : runAnyHit(h, candidateAttributes, bytes);
+    if (n) {
+      n->verdict = verdictOf(r);
+      if (r != accel::AnyHitResult::Ignore && boxVerdict != RayTreeNode::Verdict::Terminated) boxVerdict = n->verdict;
+    }
     if (r == accel::AnyHitResult::Ignore) return 0;
     bool terminate = r == accel::AnyHitResult::AcceptAndTerminate || (args.rayFlags & accel::kRayTerminateOnFirstHit);
     c.commit(t, hitKind, terminate);
@@ -344,7 +416,7 @@ struct TraceFrame final : accel::HitHandler {
       inv.hitAttributes = committedAttributes;
       inv.hitAttributeBytes = committedAttributeBytes;
     }
-    run(inv, g->closestHit);
+    runShader(inv, g->closestHit, "closest-hit", *g, index, record);
   }
 
   void miss() {
@@ -358,9 +430,33 @@ struct TraceFrame final : accel::HitHandler {
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
     setRecord(inv, state.miss, SbtRegion::Miss, missIndex, record);
-    run(inv, g->general);
+    runShader(inv, g->general, "miss", *g, missIndex, record);
   }
 };
+
+void copyPayload(const abi::TraceRayArgs& a, std::vector<uint8_t>* out) {
+  const auto* p = static_cast<const uint8_t*>(a.payload);
+  if (p) out->assign(p, p + a.payloadBytes);
+}
+
+// A recorded trace's node, with its arguments as OpTraceRayKHR uses them (TraceFrame's masks) and the payload.
+RayTreeNode* traceNode(RayTreeInvocation& tree, const TraceFrame& f) {
+  RayTreeNode* n = tree.add(TreeKind::Trace);
+  if (!n) return nullptr;
+  const abi::TraceRayArgs& a = f.args;
+  n->accelerationStructure = a.accelerationStructure;
+  n->rayFlags = a.rayFlags;
+  n->cullMask = a.cullMask & 0xFF;
+  n->sbtOffset = f.sbtOffset;
+  n->sbtStride = f.sbtStride;
+  n->missIndex = f.missIndex;
+  std::memcpy(n->origin, a.origin, sizeof n->origin);
+  std::memcpy(n->direction, a.direction, sizeof n->direction);
+  n->tMin = a.tMin;
+  n->tMax = a.tMax;
+  copyPayload(a, &n->payloadBefore);
+  return n;
+}
 
 void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   // The shader has just stored *args field by field: the fields are read one by one (TraceFrame masks what
@@ -371,9 +467,15 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   const RayLaunch& launch = *state.launch;
   if (caller.depth + 1 > launch.maxRecursionDepth) {
     launch.resolver->recursionTooDeep(caller.depth + 1, launch.maxRecursionDepth, *caller.shader);
+    if (caller.tree)
+      if (RayTreeNode* note = caller.tree->add(TreeKind::Note))
+        note->name = "traceRay at depth " + std::to_string(caller.depth + 1) + " beyond maxPipelineRayRecursionDepth " +
+                     std::to_string(launch.maxRecursionDepth) + ": not run (reported)";
     return;
   }
   TraceFrame frame(caller, *args);
+  if (caller.tree) frame.node = traceNode(*caller.tree, frame);
+  RayTreeInvocation::Enter enter(caller.tree, frame.node);
   const accel::Tlas* tlas = state.topLevel(args->accelerationStructure);
   accel::HitInfo hit;
   bool found = false;
@@ -389,11 +491,16 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
     ray.cullMask = args->cullMask & 0xFF;
     found = accel::trace(*tlas, ray, frame, &hit);
   }
+  if (frame.node) {
+    frame.node->hasCommitted = found;
+    if (found) frame.node->committed = treeHit(hit);
+  }
   if (found) {
     frame.closestHit(hit);
   } else {
     frame.miss();
   }
+  if (frame.node) copyPayload(*args, &frame.node->payloadAfter);
 }
 
 void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data, uint64_t bytes) {
@@ -407,7 +514,7 @@ void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data,
   inv.incoming = data;
   inv.incomingBytes = bytes;
   setRecord(inv, state.callable, SbtRegion::Callable, index, record);
-  run(inv, g->general);
+  runShader(inv, g->general, "callable", *g, index, record);
 }
 
 uint32_t reportIntersection(abi::RayInvocation* callerBase, float t, uint32_t hitKind, const void* attributes,
@@ -448,6 +555,19 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
         inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
         inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
         inv.recordDataOutside = &state.raygenDataOutside;
+        if (state.recorder) {
+          if (RayTreeInvocation* tree = state.recorder->find(inv.launchId)) {
+            // A named launch id: its raygen is the tree's root, and its ray queries go through the tree's scope.
+            inv.tree = tree;
+            inv.base.rayQueries = &tree->queries;
+            tree->ran = true;
+            RayTreeNode& root = tree->root;
+            root.stage = "raygen";
+            root.name = raygen.name;
+            root.group = launch.raygenGroup->index;
+            root.record = reinterpret_cast<uintptr_t>(launch.raygen.base);
+          }
+        }
         run(inv, raygen);
       }
     }
@@ -466,6 +586,8 @@ void runRays(const RayLaunch& launch) {
   state.miss.init(launch.miss);
   state.hit.init(launch.hit);
   state.callable.init(launch.callable);
+  state.recorder = launch.rayTree;
+  if (state.recorder) state.recorder->setQueryScope(&state.queries);
   const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
   ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
     auto task = [&] { runTile(state, tile, tilesX, tilesY); };

@@ -25,6 +25,7 @@
 #include "abi/abi.hpp"
 #include "accel/accel.hpp"
 #include "exec/ray_query.hpp"
+#include "exec/ray_tree.hpp"
 #include "exec/supervise.hpp"
 
 namespace vkrt::exec {
@@ -42,6 +43,7 @@ struct RayGroup {
   enum Type : uint8_t { General, Triangles, Procedural, Empty } type = Empty;  // Empty: a zero handle
   RayShader general, closestHit, anyHit, intersection;
   const void* id = nullptr;  // the caller's group (for reports)
+  uint32_t index = 0;        // the pipeline's group index (for ray trees)
 };
 
 enum class SbtRegion : uint8_t { Raygen, Miss, Hit, Callable };
@@ -95,6 +97,9 @@ struct RayLaunch {
   // The supervision (exec/supervise.hpp), as for ComputeDispatch::job: tiles not started once the job was ended
   // are skipped; job->abort() names the shader and the launch index that was running.
   Job* job = nullptr;
+  // The ray trees to record (exec/ray_tree.hpp), or null: the caller creates one only when the setting names launch
+  // ids. Each raygen invocation is looked up in it once; the named ones record everything below them.
+  RayTreeRecorder* rayTree = nullptr;
 };
 
 // Runs the launch to completion on the thread pool (the calling thread works too).

@@ -34,6 +34,7 @@
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/ray_tracing_features.hpp"
+#include "runtime/ray_tree_output.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -251,6 +252,7 @@ void Launch::prepareGroups(const BindState& bs) {
     index_.emplace(r, i);
     exec::RayGroup& g = groups_[i];
     g.id = r;
+    g.index = i;
     switch (r->desc.type) {
       case VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR: g.type = exec::RayGroup::General; break;
       case VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR: g.type = exec::RayGroup::Triangles; break;
@@ -307,8 +309,18 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
   exec::Job job(dev, dev->shaderTimeoutMs);
   if (dev->halted()) return;
   l.job = &job;
+  // VKRT_RAY_TREE: a recorder only when the setting names launch ids (decided here, once per launch).
+  std::unique_ptr<exec::RayTreeRecorder> rayTree = rayTreeRecorder(dev, false);
+  l.rayTree = rayTree.get();
   exec::runRays(l);
   if (job.aborted()) dev->shaderAborted(pipeline_, fn_, job.abort());
+  if (rayTree) {
+    exec::RayTreeContext ctx;
+    ctx.command = fn_;
+    ctx.pipeline = pipeline_->handleValue();
+    for (int k = 0; k < 3; ++k) ctx.size[k] = size[k];
+    deliverRayTrees(cb_, dev, *rayTree, std::move(ctx), false);
+  }
 }
 
 const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, const uint8_t* record, uint32_t g) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "exec/ray_tree.hpp"
 #include "exec/supervise.hpp"
 #include "runtime/object.hpp"
 #include "runtime/supported_features.hpp"
@@ -82,6 +83,13 @@ class Device : public Object {
   // After a supervised command `fn` was ended (job.aborted()): reports which shader of `pipeline` faulted or ran
   // too long, and which invocation, and loses the device (nothing when vkDestroyDevice cancelled it).
   void shaderAborted(const Object* pipeline, const char* fn, const exec::Abort& abort);
+
+  // VKRT_RAY_TREE (docs/ray-tree.md), read at device creation: the launch ids and compute global invocation ids
+  // whose ray trees are recorded (empty: none, and launches get no recorder), and VKRT_RAY_TREE_OUT, the file they
+  // are appended to (empty: INFO messages). `rayTreeSequence` numbers the launches and dispatches that recorded.
+  exec::RayTreeSelection rayTree;
+  std::string rayTreeOut;
+  std::atomic<uint64_t> rayTreeSequence{0};
 
  private:
   struct Deferred {

@@ -45,12 +45,7 @@ const char* severityWord(Severity s) {
   return "error";
 }
 
-}  // namespace
-
-void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args) {
-  char body[2048];
-  std::vsnprintf(body, sizeof(body), format, args);
-
+void deliver(const Object* about, Severity severity, const char* vuid, const char* idName, const char* body) {
   std::string objectText;
   std::string name;
   if (about) {
@@ -72,7 +67,7 @@ void reportV(const Object* about, Severity severity, const char* vuid, const cha
     object.objectHandle = about->handleValue();
     object.pObjectName = name.empty() ? nullptr : name.c_str();
     VkDebugUtilsMessengerCallbackDataEXT data{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CALLBACK_DATA_EXT};
-    data.pMessageIdName = vuid ? vuid : "vkrt";
+    data.pMessageIdName = idName;
     data.messageIdNumber = 0;
     data.pMessage = message.c_str();
     data.objectCount = 1;
@@ -87,6 +82,18 @@ void reportV(const Object* about, Severity severity, const char* vuid, const cha
     Severity threshold = stderrThreshold(&silent);
     if (!silent && severity >= threshold) std::fprintf(stderr, "%s (%s)\n", message.c_str(), severityWord(severity));
   }
+}
+
+}  // namespace
+
+void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args) {
+  char body[2048];
+  std::vsnprintf(body, sizeof(body), format, args);
+  deliver(about, severity, vuid, vuid ? vuid : "vkrt", body);
+}
+
+void reportText(const Object* about, Severity severity, const char* idName, const std::string& text) {
+  deliver(about, severity, nullptr, idName, text.c_str());
 }
 
 void report(const Object* about, Severity severity, const char* vuid, const char* format, ...) {

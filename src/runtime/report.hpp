@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdarg>
+#include <string>
 
 #include "runtime/object.hpp"
 
@@ -20,5 +21,8 @@ void report(const Object* about, Severity severity, const char* vuid, const char
 
 // The same with the arguments as a va_list.
 void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args);
+
+// A report of any length that is no rule's (no VUID), under the message id name `idName` (a ray tree).
+void reportText(const Object* about, Severity severity, const char* idName, const std::string& text);
 
 }  // namespace vkrt

@@ -2,7 +2,10 @@
 // memory, built, compacted, cloned, referred to by their 8-byte handles), NV pipelines (with deferred compilation)
 // and vkCmdTraceRaysNV trace the basic scene of the KHR tests, with GL_NV_ray_tracing shaders, to the payloads the
 // scene's geometry gives and to the very bytes the KHR path gives. On vkrt, a group's NV handle is its KHR handle.
-// NvMisuseTest (layer off, vkrt only) asserts vkrt's reports of NV misuse by VUID.
+// NvMisuseTest (layer off, vkrt only) asserts vkrt's reports of NV misuse by VUID; NvRayTreeTest, the ray tree of
+// a launch id of vkCmdTraceRaysNV (VKRT_RAY_TREE).
+#include <fstream>
+
 #include "e2e/trace_fixture.hpp"
 #include "trace_nv_chit.rchit.spv.h"
 #include "trace_nv_miss.rmiss.spv.h"
@@ -512,6 +515,54 @@ TEST_F(NvTraceTest, IntersectionShadersReportSpheresInNvBoxes) {
   expectSpheresInBoxes(viaNv, n, false);
   EXPECT_EQ(std::memcmp(viaNv.data(), viaKhr.data(), viaNv.size() * sizeof(TracePayload)), 0)
       << "the NV path's payloads differ from the KHR path's";
+}
+
+// VKRT_RAY_TREE (docs/ray-tree.md) through vkCmdTraceRaysNV: the KHR launch records it, named by the NV command.
+class NvRayTreeTest : public NvTraceTest {
+ protected:
+  void SetUp() override {
+    out = ::testing::TempDir() + "vkrt_nv_ray_tree_" + std::to_string(getpid()) + ".json";
+    std::remove(out.c_str());
+    setenv("VKRT_RAY_TREE", "4,4", 1);
+    setenv("VKRT_RAY_TREE_OUT", out.c_str(), 1);
+    NvTraceTest::SetUp();
+  }
+  void TearDown() override {
+    NvTraceTest::TearDown();
+    unsetenv("VKRT_RAY_TREE");
+    unsetenv("VKRT_RAY_TREE_OUT");
+    std::remove(out.c_str());
+  }
+  std::string out;
+};
+
+// Launch id (4, 4) of the 8 x 8 launch shoots at world (0.25, 0.25): the basic scene's opaque quad of instance 0
+// (custom index 10), committed without a candidate, then the closest-hit shader.
+TEST_F(NvRayTreeTest, TheNvCommandIsNamed) {
+  if (!onVkrt()) GTEST_SKIP() << "VKRT_RAY_TREE is vkrt's";
+  VkPipeline nv = nvPipeline(nvRgen, nvMiss, nvChit, nvLayout);
+  ASSERT_TRUE(nv);
+  std::vector<TracePayload> r = traceNvPath(nv, nvSbt(nv), nvBasicScene(), 8);
+  expectBasicScene(r, 8);
+  std::ifstream f(out);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(f, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 1u);
+  const std::string& j = lines[0];
+  EXPECT_EQ(j.rfind("{\"command\":\"vkCmdTraceRaysNV\",\"sequence\":0,", 0), 0u) << j;
+  EXPECT_NE(j.find("\"launchSize\":[8,8,1],\"launchId\":[4,4,0],\"truncated\":false,\"tree\":{\"kind\":\"shader\","
+                   "\"stage\":\"raygen\""),
+            std::string::npos)
+      << j;
+  const TracePayload& p = r[4 * 8 + 4];
+  EXPECT_EQ(p.ids[0], 10u);
+  EXPECT_NE(j.find("\"instanceIndex\":0,\"instanceCustomIndex\":10,\"geometryIndex\":0,\"primitiveIndex\":" +
+                   std::to_string(p.ids[2]) +
+                   ",\"hitKind\":255},\"children\":[{\"kind\":\"shader\",\"stage\":"
+                   "\"closest-hit\""),
+            std::string::npos)
+      << j;
+  EXPECT_EQ(j.find("\"kind\":\"candidate\""), std::string::npos) << "opaque triangles are no candidates";
 }
 
 // ---------------------------------------------------------------------------------------------------------------
