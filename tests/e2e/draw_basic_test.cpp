@@ -31,33 +31,39 @@ class DrawBasicTest : public DrawTest {
     d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
     return d;
   }
+  // The triangle of TriangleWithInterpolatedColors drawn into `color` (cleared to `clear`) with colorPipeline():
+  // its pixels, after checking them against the reference.
+  static constexpr V kTri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
+  std::vector<uint32_t> renderTriangle(const Target& color, uint32_t clear) {
+    VkPipeline pipeline;
+    EXPECT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
+    HostBuffer vb = vertexBuffer(kTri, sizeof kTri);
+    auto pixels = render(
+        color, nullptr,
+        [&](VkCommandBuffer cb) {
+          vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+          VkDeviceSize off = 0;
+          vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+          vkCmdDraw(cb, 3, 1, 0, 0);
+        },
+        clear);
+    EXPECT_EQ(compareTriangles(pixels, {{kTri[0], kTri[1], kTri[2]}}, clear), 0);
+    destroy(vb);
+    vkDestroyPipeline(device, pipeline, nullptr);
+    return pixels;
+  }
 };
 
 TEST_F(DrawBasicTest, TriangleWithInterpolatedColors) {
   Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT);
-  VkPipeline pipeline;
-  ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
-  const V tri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
-  HostBuffer vb = vertexBuffer(tri, sizeof tri);
-  auto pixels = render(
-      color, nullptr,
-      [&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        VkDeviceSize off = 0;
-        vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-        vkCmdDraw(cb, 3, 1, 0, 0);
-      },
-      0xFF202020u);
-  EXPECT_EQ(compareTriangles(pixels, {{tri[0], tri[1], tri[2]}}, 0xFF202020u), 0);
+  renderTriangle(color, 0xFF202020u);
   // Some pixels are covered and some are not (the reference is not trivially all background).
   int covered = 0;
   for (int py = 0; py < int(kH); ++py)
-    for (int px = 0; px < int(kW); ++px) covered += coverage(tri[0], tri[1], tri[2], px, py) == 1;
+    for (int px = 0; px < int(kW); ++px) covered += coverage(kTri[0], kTri[1], kTri[2], px, py) == 1;
   EXPECT_GT(covered, 200);
   EXPECT_LT(covered, int(kW * kH) - 200);
-  destroy(vb);
-  vkDestroyPipeline(device, pipeline, nullptr);
   destroy(color);
 }
 
@@ -86,23 +92,8 @@ TEST_F(DrawBasicTest, AViewOfAnotherFormatRendersAndClearsInTheViewsFormat) {
   vi.format = kColorFormat;
   vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &color.view), VK_SUCCESS);
-  VkPipeline pipeline;
-  ASSERT_EQ(createPipeline(colorPipeline(), &pipeline), VK_SUCCESS);
-  const V tri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
-  HostBuffer vb = vertexBuffer(tri, sizeof tri);
-  auto pixels = render(
-      color, nullptr,
-      [&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        VkDeviceSize off = 0;
-        vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-        vkCmdDraw(cb, 3, 1, 0, 0);
-      },
-      0xFF402010u);
+  const std::vector<uint32_t> pixels = renderTriangle(color, 0xFF402010u);
   EXPECT_EQ(pixels[0], 0xFF402010u);  // a corner no triangle covers: the clear, as RGBA8 bytes
-  EXPECT_EQ(compareTriangles(pixels, {{tri[0], tri[1], tri[2]}}, 0xFF402010u), 0);
-  destroy(vb);
-  vkDestroyPipeline(device, pipeline, nullptr);
   destroy(color);
 }
 
