@@ -31,6 +31,20 @@ class DrawBasicTest : public DrawTest {
     d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
     return d;
   }
+  // colorPipeline() with a depth/stencil attachment, the depth test `compare` and depth writes `write`.
+  PipelineDesc depthPipeline(VkCompareOp compare, bool write) {
+    PipelineDesc d = colorPipeline();
+    d.withDepthStencil = true;
+    d.depthStencil.depthTestEnable = VK_TRUE;
+    d.depthStencil.depthWriteEnable = write;
+    d.depthStencil.depthCompareOp = compare;
+    return d;
+  }
+  // A depth/stencil target of depthStencilFormat().
+  Target depthTarget() {
+    return createTarget(depthStencilFormat(), VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                        VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT);
+  }
   // The triangle of TriangleWithInterpolatedColors drawn into `color` (cleared to `clear`) with colorPipeline():
   // its pixels, after checking them against the reference.
   static constexpr V kTri[3] = {{-0.8f, -0.9f, 1, 0, 0, 1}, {0.9f, -0.3f, 0, 1, 0, 1}, {-0.2f, 0.85f, 0, 0, 1, 1}};
@@ -304,22 +318,13 @@ TEST_F(DrawIndirectTest, IndirectCountTakesTheSmallerOfCountAndMax) {
 TEST_F(DrawBasicTest, FragDepthInitializerIsTheFragmentsDepth) {
   Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT);
-  Target depth = createTarget(depthStencilFormat(), VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                              VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT);
-  PipelineDesc d = colorPipeline();
-  d.withDepthStencil = true;
-  d.depthStencil.depthTestEnable = VK_TRUE;
-  d.depthStencil.depthWriteEnable = VK_TRUE;
-  d.depthStencil.depthCompareOp = VK_COMPARE_OP_ALWAYS;
+  Target depth = depthTarget();
+  PipelineDesc d = depthPipeline(VK_COMPARE_OP_ALWAYS, true);
   d.fs = kSpv_draw_depth_initializer_frag_spvasm;
   d.fsBytes = sizeof kSpv_draw_depth_initializer_frag_spvasm;
   VkPipeline first, second;
   ASSERT_EQ(createPipeline(d, &first), VK_SUCCESS);
-  d = colorPipeline();
-  d.withDepthStencil = true;
-  d.depthStencil.depthTestEnable = VK_TRUE;
-  d.depthStencil.depthCompareOp = VK_COMPARE_OP_LESS;
-  ASSERT_EQ(createPipeline(d, &second), VK_SUCCESS);
+  ASSERT_EQ(createPipeline(depthPipeline(VK_COMPARE_OP_LESS, false), &second), VK_SUCCESS);
   const V verts[6] = {{-1, -1, 0, 1, 0, 1}, {1, -1, 0, 1, 0, 1}, {1, 1, 0, 1, 0, 1},
                       {-1, -1, 0, 1, 0, 1}, {1, 1, 0, 1, 0, 1},  {-1, 1, 0, 1, 0, 1}};
   HostBuffer vb = vertexBuffer(verts, sizeof verts);
@@ -358,18 +363,10 @@ class DrawOcclusionTest : public DrawBasicTest {
 TEST_F(DrawOcclusionTest, QueriesCountTheSamplesThatPassTheDepthTest) {
   Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT);
-  const VkFormat dsf = depthStencilFormat();
-  Target depth = createTarget(dsf, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                              VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT);
-  PipelineDesc d = colorPipeline();
-  d.withDepthStencil = true;
-  d.depthStencil.depthTestEnable = VK_TRUE;
-  d.depthStencil.depthWriteEnable = VK_TRUE;
-  d.depthStencil.depthCompareOp = VK_COMPARE_OP_LESS;
+  Target depth = depthTarget();
   VkPipeline less, lessEqual;
-  ASSERT_EQ(createPipeline(d, &less), VK_SUCCESS);
-  d.depthStencil.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-  ASSERT_EQ(createPipeline(d, &lessEqual), VK_SUCCESS);
+  ASSERT_EQ(createPipeline(depthPipeline(VK_COMPARE_OP_LESS, true), &less), VK_SUCCESS);
+  ASSERT_EQ(createPipeline(depthPipeline(VK_COMPARE_OP_LESS_OR_EQUAL, true), &lessEqual), VK_SUCCESS);
   auto quad = [](float x0, float y0, float x1, float y1) {
     return std::array<V, 6>{V{x0, y0, 1, 1, 1, 1}, V{x1, y0, 1, 1, 1, 1}, V{x1, y1, 1, 1, 1, 1},
                             V{x0, y0, 1, 1, 1, 1}, V{x1, y1, 1, 1, 1, 1}, V{x0, y1, 1, 1, 1, 1}};
