@@ -418,6 +418,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   draw.vertexOffset = params.vertexOffset;
   draw.firstInstance = params.firstInstance;
   draw.varyingCount = p.varyingCount;
+  draw.samplesPassed = d.occlusion;
   if (params.indexed) {
     draw.indexType = d.indexType;
     const uint64_t size = d.indexType == raster::IndexType::UInt16  ? 2

@@ -7,6 +7,7 @@
 // last made undefined, for the draw-time checks (VUID-vkCmdDraw-commandBuffer-02701 and its kin).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 
@@ -15,7 +16,8 @@
 
 namespace vkrt {
 class Buffer;
-}
+class QueryPool;
+}  // namespace vkrt
 
 namespace vkrt::gfx {
 
@@ -92,11 +94,18 @@ struct DrawExecState {
   uint32_t strideSet = 0;    // bindings bound by vkCmdBindVertexBuffers2 with pStrides
 
   std::unique_ptr<DrawScratch, DrawScratchDeleter> scratch;  // made by the first draw
+
+  // The active occlusion query's counter (vkCmdBeginQuery .. vkCmdEndQuery, gfx/query_commands.cpp): draws add the
+  // samples that pass to it (raster::Draw::samplesPassed).
+  std::atomic<uint64_t>* occlusion = nullptr;
 };
 
 // While recording (for validation).
 struct DrawRecordState {
   bool indexBound = false;  // vkCmdBindIndexBuffer was recorded
+  // The occlusion query begun and not yet ended in this command buffer (pool null: none).
+  const QueryPool* occlusionPool = nullptr;
+  uint32_t occlusionQuery = 0;
 };
 
 // The raster state of a draw: the pipeline's static state with every dynamic state of its dynamicMask taken from

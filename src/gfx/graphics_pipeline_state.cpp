@@ -446,8 +446,10 @@ bool captureRendering(const Device* dev, const VkGraphicsPipelineCreateInfo& ci,
     return false;
   }
   if (!rasterizes) return true;
-  // VUID-VkGraphicsPipelineCreateInfo-renderPass-06055
-  if (blendCount != count || count > raster::kMaxColorAttachments) {
+  // VUID-VkGraphicsPipelineCreateInfo-renderPass-06055. Without color attachments pColorBlendState is ignored
+  // ("is ignored if ... the subpass ... does not use any color attachments"; the validation layer compares the
+  // counts only then too): the CTS's depth-only dynamic rendering cases pass one blend attachment state there.
+  if ((count != 0 && blendCount != count) || count > raster::kMaxColorAttachments) {
     report(dev, Severity::Error, "VUID-VkGraphicsPipelineCreateInfo-renderPass-06055",
            "%s: pColorBlendState->attachmentCount (%u) is not VkPipelineRenderingCreateInfo::colorAttachmentCount "
            "(%u)%s",

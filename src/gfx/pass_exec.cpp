@@ -76,7 +76,9 @@ bool clip(const VkRect2D& r, uint32_t width, uint32_t height, uint32_t* x0, uint
 void clearAttachment(const PassInstance& p, const PassSubpass& sp, const PassClear& c) {
   const PassAttachment& a = p.attachments[c.attachment];
   const raster::Surface s = surfaceOf(a);
-  const FormatInfo& f = *a.image->formatInfo;
+  // The view's format: a view of a mutable-format image renders, clears and resolves in its own format ("Image
+  // Views": the view's format reinterprets the image's texels), not the image's.
+  const FormatInfo& f = *formatInfo(a.format);
   uint8_t texel[16] = {};
   if (c.aspects & VK_IMAGE_ASPECT_COLOR_BIT) {
     encodeTexel(f, c.value.color.uint32, texel);
@@ -98,7 +100,8 @@ void resolve(const PassInstance& p, const PassSubpass& sp, const PassResolve& r)
   const PassAttachment& src = p.attachments[r.src];
   const PassAttachment& dst = p.attachments[r.dst];
   const raster::Surface s = surfaceOf(src), d = surfaceOf(dst);
-  const uint32_t st = src.image->formatInfo->texelSize, dt = dst.image->formatInfo->texelSize;
+  const FormatInfo& sf = *formatInfo(src.format);
+  const uint32_t st = sf.texelSize, dt = formatInfo(dst.format)->texelSize;
   uint32_t x0, y0, x1, y1;
   if (!clip(p.renderArea, std::min(s.width, d.width), std::min(s.height, d.height), &x0, &y0, &x1, &y1)) return;
   forEachLayer(0, p.layers, sp.viewMask, [&](uint32_t l) {
@@ -108,7 +111,7 @@ void resolve(const PassInstance& p, const PassSubpass& sp, const PassResolve& r)
         const uint8_t* from = s.base + l * s.layerPitch + y * s.rowPitch + size_t(x) * s.samples * st;
         uint8_t* to = d.base + l * d.layerPitch + y * d.rowPitch + size_t(x) * dt;
         if (r.aspect == VK_IMAGE_ASPECT_COLOR_BIT)
-          resolveColorPixel(*src.image->formatInfo, from, s.samples, to);
+          resolveColorPixel(sf, from, s.samples, to);
         else
           resolveDepthStencilPixel(src.format, r.aspect, r.mode, from, s.samples, to);
       }
@@ -150,7 +153,7 @@ raster::Target buildTarget(const PassInstance& p, uint32_t si) {
     if (sp.color[c] == VK_ATTACHMENT_UNUSED) continue;
     const PassAttachment& a = p.attachments[sp.color[c]];
     t.color[c] = surfaceOf(a);
-    t.colorFormat[c] = colorFormatOf(*a.image->formatInfo);
+    t.colorFormat[c] = colorFormatOf(*formatInfo(a.format));
   }
   if (sp.depthStencil != VK_ATTACHMENT_UNUSED) {
     const PassAttachment& a = p.attachments[sp.depthStencil];

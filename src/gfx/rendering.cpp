@@ -38,7 +38,7 @@ bool attachmentOk(CommandBuffer* cb, const VkRenderingAttachmentInfo& a, const I
   const ImageView* r = fromHandle<ImageView>(a.resolveImageView);
   const bool integer =
       usage == VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT &&
-      (v->image->formatInfo->type == NumericType::UInt || v->image->formatInfo->type == NumericType::SInt);
+      (formatInfo(v->format)->type == NumericType::UInt || formatInfo(v->format)->type == NumericType::SInt);
   // VUID-VkRenderingAttachmentInfo-imageView-06129/06130 (color modes), 06132 (multisampled), 06860 (a resolve
   // view), 06864 (single-sampled), 06865 (the same format)
   const char* vuid =

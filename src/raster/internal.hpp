@@ -92,6 +92,7 @@ struct DrawContext {
 // Per-worker scratch of the tile stage.
 struct WorkerScratch {
   FragmentQuad quad;
+  uint64_t samplesPassed = 0;  // this worker's count for Draw::samplesPassed, added at the end of each tile
 };
 
 // setup.cpp: clips and sets up one assembled primitive (vertex pointers in primitive order, the provoking one

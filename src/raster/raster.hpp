@@ -15,6 +15,7 @@
 //   vertex of the primitive, or the last with lastVertexProvoking).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 
@@ -308,6 +309,10 @@ struct Draw {
   const void* indices = nullptr;
   uint64_t indexBytes = 0;    // bytes readable at `indices`
   uint32_t varyingCount = 0;  // = fragment.inputCount
+  // When set, the number of samples that pass the per-fragment tests (the shader's discard and sample mask, alpha
+  // to coverage, depth bounds, stencil and depth: what an occlusion query counts, "Occlusion Queries") is added to
+  // it, once per tile from each worker's own count.
+  std::atomic<uint64_t>* samplesPassed = nullptr;
 };
 
 // Runs one draw to completion (on the thread pool; returns when every fragment is written). The attachments are read

@@ -3,6 +3,7 @@
 // per-fragment operations ("Rasterization": Polygon Rasterization, Multisampling, Interpolation; "Fragment
 // Operations").
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "raster/internal.hpp"
@@ -92,7 +93,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 }
 
 // After the shader: discard, the shader's sample mask, alpha to coverage, the late tests, the color writes.
-void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4]) {
+void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4], WorkerScratch& scratch) {
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
   for (uint32_t l = 0; l < 4; ++l) {
@@ -110,6 +111,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
       c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
     }
     if (!c) continue;
+    scratch.samplesPassed += uint32_t(std::popcount(c));
     if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
     writeColors(ctx, q, l, x, y, c);
   }
@@ -135,7 +137,11 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
       if (cov[l])
         any |= cov[l] = depthStencilTests(ctx, t.front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
     }
-    if (!any || !fs.shade) return;
+    if (!any) return;
+    if (!fs.shade) {  // no fragment shader: the early tests are all there is
+      for (uint32_t l = 0; l < 4; ++l) scratch.samplesPassed += uint32_t(std::popcount(cov[l]));
+      return;
+    }
   }
   FragmentQuad& q = scratch.quad;
   q.x = qx, q.y = qy;
@@ -165,7 +171,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
       q.killed = 0;
       for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
       fs.shade(fs.user, q, worker);
-      finishQuad(ctx, t, q, z);
+      finishQuad(ctx, t, q, z, scratch);
     }
     return;
   }
@@ -189,7 +195,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   q.killed = 0;
   for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
   fs.shade(fs.user, q, worker);
-  finishQuad(ctx, t, q, z);
+  finishQuad(ctx, t, q, z, scratch);
 }
 
 // Largest and smallest value of edge i over the pixel rectangle [x0, x1) x [y0, y1) (pixels), bias included.
@@ -269,6 +275,10 @@ void rasterizeTile(const DrawContext& ctx, const SetupTri* const* tris, size_t c
     const int32_t x1 = std::min(t.maxX, tileX + kTileSize - 1), y1 = std::min(t.maxY, tileY + kTileSize - 1);
     if (x0 > x1 || y0 > y1) continue;
     rasterizeTriangle(ctx, t, x0, y0, x1, y1, scratch, worker);
+  }
+  if (scratch.samplesPassed) {
+    if (ctx.draw->samplesPassed) ctx.draw->samplesPassed->fetch_add(scratch.samplesPassed, std::memory_order_relaxed);
+    scratch.samplesPassed = 0;
   }
 }
 

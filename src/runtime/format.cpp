@@ -233,6 +233,16 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
   *pProps = {};
   VkFormatFeatureFlags features = formatFeatures(format);
   if (!features) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  // VK_IMAGE_CREATE_EXTENDED_USAGE_BIT with MUTABLE_FORMAT: a usage may be one that only some format of the image's
+  // views supports ("Image Creation Limits"); the views of a mutable color image may have any color format of its
+  // texel size (vkrt's formats are uncompressed: one compatibility class per size, "Format Compatibility Classes").
+  // The view's own format then has to support it (vkCreateImageView).
+  const VkImageCreateFlags extended = VK_IMAGE_CREATE_EXTENDED_USAGE_BIT | VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+  if ((flags & extended) == extended && !isDepthStencilFormat(format)) {
+    const uint8_t size = formatInfo(format)->texelSize;
+    for (const FormatInfo& f : kFormats)
+      if (f.texelSize == size && !isDepthStencilFormat(f.format)) features |= formatFeatures(f.format);
+  }
   // Each usage needs its format feature ("Image Creation Limits").
   const struct {
     VkImageUsageFlags usage;

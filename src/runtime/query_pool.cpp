@@ -36,6 +36,20 @@ void QueryPool::reset(uint32_t first, uint32_t n) {
 
 void QueryPool::writeTimestamp(uint32_t query) { writeValue(query, now()); }
 
+void QueryPool::begin(uint32_t query) {
+  std::lock_guard lock(mutex_);
+  slots_[query].available.store(0, std::memory_order_relaxed);
+  slots_[query].value.store(0, std::memory_order_relaxed);
+}
+
+void QueryPool::end(uint32_t query) {
+  {
+    std::lock_guard lock(mutex_);
+    slots_[query].available.store(1, std::memory_order_release);
+  }
+  cv_.notify_all();
+}
+
 void QueryPool::writeValue(uint32_t query, uint64_t value) {
   {
     std::lock_guard lock(mutex_);
@@ -75,10 +89,13 @@ bool QueryPool::copyResults(uint32_t first, uint32_t n, uint8_t* dst, VkDeviceSi
     if (flags & VK_QUERY_RESULT_WAIT_BIT) waitAvailable(q);
     bool avail = available(q);
     uint8_t* p = dst + i * stride;
+    // Unavailable: the value is not written, but with PARTIAL (occlusion queries; invalid for timestamps), which
+    // asks for "an intermediate result value between zero and the final result value": 0.
     if (avail)
-      put(p, value(q));  // unavailable: the value is not written (PARTIAL is invalid for timestamps)
-    else
-      all = false;
+      put(p, value(q));
+    else if (flags & VK_QUERY_RESULT_PARTIAL_BIT)
+      put(p, 0);
+    all = all && avail;
     if (flags & VK_QUERY_RESULT_WITH_AVAILABILITY_BIT) put(p + (is64 ? 8 : 4), avail ? 1 : 0);
   }
   return all;
@@ -167,12 +184,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateQueryPool(VkDevice device, const VkQue
              "vkCreateQueryPool: VK_QUERY_TYPE_PIPELINE_STATISTICS needs the pipelineStatisticsQuery feature, which "
              "vkrt does not support");
       return VK_ERROR_VALIDATION_FAILED_EXT;
-    case VK_QUERY_TYPE_OCCLUSION:
-      // Occlusion queries need a graphics queue to be begun on; vkrt has none, so it refuses the pool.
-      report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",
-             "vkCreateQueryPool: VK_QUERY_TYPE_OCCLUSION is not supported: vkrt has no graphics queue to run "
-             "occlusion queries on");
-      return VK_ERROR_FEATURE_NOT_PRESENT;
+    case VK_QUERY_TYPE_OCCLUSION: break;
     default:
       // VUID-VkQueryPoolCreateInfo-queryType-parameter
       report(dev, Severity::Error, "VUID-VkQueryPoolCreateInfo-queryType-parameter",

@@ -1,7 +1,8 @@
-// VkQueryPool: timestamp queries (VK_QUERY_TYPE_TIMESTAMP) and acceleration structure property queries
-// (compacted size, serialization size, size, bottom-level pointers). Timestamps are nanoseconds of CLOCK_MONOTONIC
-// (timestampPeriod 1.0, 64 valid bits). Each query is a value and an availability flag; commands write them on
-// the queue worker, the host reads them with vkGetQueryPoolResults.
+// VkQueryPool: timestamp queries (VK_QUERY_TYPE_TIMESTAMP), occlusion queries (VK_QUERY_TYPE_OCCLUSION: the samples
+// that passed the per-fragment tests between vkCmdBeginQuery and vkCmdEndQuery, src/gfx/query_commands.cpp) and
+// acceleration structure property queries (compacted size, serialization size, size, bottom-level pointers). Timestamps
+// are nanoseconds of CLOCK_MONOTONIC (timestampPeriod 1.0, 64 valid bits). Each query is a value and an availability
+// flag; commands write them on the queue worker, the host reads them with vkGetQueryPoolResults.
 #pragma once
 
 #include <atomic>
@@ -28,6 +29,11 @@ class QueryPool : public Object {
   void writeTimestamp(uint32_t query);
   // Makes `query` available with `value` (acceleration structure property queries).
   void writeValue(uint32_t query, uint64_t value);
+  // Occlusion queries: begin() makes `query` unavailable with a count of 0; the rasterizer adds the samples that
+  // pass to counter(query) (atomically, from its workers); end() makes it available with the count.
+  void begin(uint32_t query);
+  std::atomic<uint64_t>* counter(uint32_t query) { return &slots_[query].value; }
+  void end(uint32_t query);
   bool available(uint32_t query) const;
   uint64_t value(uint32_t query) const;
   // Blocks until `query` is available.

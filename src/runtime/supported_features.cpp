@@ -38,6 +38,9 @@ constexpr F kSupported[] = {
     F::alphaToOne,
     F::sampleRateShading,
     F::dualSrcBlend,
+    // Occlusion queries count every sample that passes exactly (src/gfx/query_commands.cpp), so the precise count
+    // VK_QUERY_CONTROL_PRECISE_BIT asks for is the one always given (tests/e2e DrawOcclusionTest).
+    F::occlusionQueryPrecise,
     // Anisotropic filtering: the only sampling vkrt compiles is explicit-LOD sampling with a Lod operand (textureLod),
     // whose derivatives are zero, so rho_max = rho_min = 0 and the ratio of anisotropy is 1 ("Scale Factor
     // Operation"): one isotropic sample is the anisotropic filter (runtime/image_functions.cpp vkrt_image_sample;

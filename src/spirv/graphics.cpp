@@ -251,6 +251,9 @@ bool Codegen::declareInterface(const Instruction& var, Global& g) {
     g.graphicsField = field;
     g.size = bytes;
     noteBuiltIn(d.builtIn, elements(typeId));
+    // An output built-in's initializer is its value until the shader stores one (OpVariable "Initializer"): a
+    // FragDepth initialized and never stored writes that depth (CTS renderpass.depth_stencil_write_conditions.*).
+    if (!input && var.count > 4) privateInits.push_back({id, var.word(4)});
     return true;
   }
   // Storage in the private block, copied from or to the invocation.

@@ -85,6 +85,13 @@ bool extraSupportedCapability(uint32_t cap) {
     // ComputeFormatless* and FormatlessRaygenTest.
     case spv::CapabilityStorageImageReadWithoutFormat:
     case spv::CapabilityStorageImageWriteWithoutFormat:
+    // Vulkan 1.0 enables these three unconditionally (vk.xml's spirvcapability table). The declared format of a
+    // storage image changes nothing here (above), so the extended formats are as any other; 1D images and
+    // samplers take one coordinate (and a layer) through the same image functions, which read the view's type
+    // (runtime/image_functions.cpp). tests/e2e ComputeImageTest.OneDimensionalImagesAndExtendedStorageFormats.
+    case spv::CapabilityStorageImageExtendedFormats:
+    case spv::CapabilityImage1D:
+    case spv::CapabilitySampled1D:
     // Input attachments: images of Dim SubpassData read at the fragment's own position (Codegen::subpassRead;
     // tests/e2e InputAttachmentTest).
     case spv::CapabilityInputAttachment: return true;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "compute_1d_extended_formats.comp.spv.h"
 #include "compute_bda_linked_list.comp.spv.h"
 #include "compute_formatless_image.comp.spv.h"
 #include "compute_image_atomics.comp.spv.h"
@@ -263,6 +264,80 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
     for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;
   }
   for (Tex* t : all) destroy(*t);
+  destroy(out);
+  destroy(p);
+}
+
+// 1D storage images and a 1D sampler with formats from the "storage image extended formats" list (rg16f, rg8_snorm)
+// declared in the shader: Vulkan 1.0 enables the Image1D, Sampled1D and StorageImageExtendedFormats capabilities
+// unconditionally (vk.xml), and the CTS's image.* groups use them throughout. Before, vkrt refused such modules at
+// pipeline creation ("unsupported capability").
+TEST_F(ComputeImageTest, OneDimensionalImagesAndExtendedStorageFormats) {
+  Pipeline p = makePipeline(kSpv_compute_1d_extended_formats_comp, sizeof kSpv_compute_1d_extended_formats_comp,
+                            {kStorageImage, kStorageImage, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  const VkImageUsageFlags st = VK_IMAGE_USAGE_STORAGE_BIT;
+  Tex halves = makeTex(VK_IMAGE_TYPE_1D, VK_IMAGE_VIEW_TYPE_1D, VK_FORMAT_R16G16_SFLOAT, {8, 1, 1}, 1, 1, 4, st);
+  Tex snorms = makeTex(VK_IMAGE_TYPE_1D, VK_IMAGE_VIEW_TYPE_1D_ARRAY, VK_FORMAT_R8G8_SNORM, {8, 1, 1}, 1, 2, 2, st);
+  Tex bytes = makeTex(VK_IMAGE_TYPE_1D, VK_IMAGE_VIEW_TYPE_1D, VK_FORMAT_R8_UNORM, {8, 1, 1}, 1, 1, 1,
+                      VK_IMAGE_USAGE_SAMPLED_BIT);
+  HostBuffer out = createHostBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x7F, 256);
+  auto* h = static_cast<uint16_t*>(halves.staging.data);
+  for (int x = 0; x < 8; ++x) h[2 * x] = floatToHalf(float(x) * 0.25f), h[2 * x + 1] = floatToHalf(float(x) * 1.5f);
+  auto* sn = static_cast<int8_t*>(snorms.staging.data);  // (r, g) per texel, 8 texels per layer
+  std::vector<int8_t> snIn(32);
+  for (int i = 0; i < 32; ++i) snIn[i] = sn[i] = int8_t((i % 16) * 15 - 113 + (i / 16) * 7);
+  auto* b8 = static_cast<uint8_t*>(bytes.staging.data);
+  for (int x = 0; x < 8; ++x) b8[x] = uint8_t(x * 31 + 5);
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VkSampler sampler;
+  ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+  writeImage(p, 0, kStorageImage, halves.view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeImage(p, 1, kStorageImage, snorms.view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeImage(p, 2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, bytes.view, sampler,
+             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  writeBuffer(p, 3, out);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, halves, VK_IMAGE_LAYOUT_GENERAL);
+  upload(cb, snorms, VK_IMAGE_LAYOUT_GENERAL);
+  upload(cb, bytes, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdDispatch(cb, 1, 1, 1);
+  download(cb, halves);
+  download(cb, snorms);
+  hostBarrier(cb);
+  submitAndWait(cb);
+
+  for (int x = 0; x < 8; ++x) {
+    // (x/4 * 2 + 1/2, 3x/2 - x): exact in half precision
+    EXPECT_EQ(h[2 * x], floatToHalf(float(x) * 0.5f + 0.5f)) << x;
+    EXPECT_EQ(h[2 * x + 1], floatToHalf(float(x) * 0.5f)) << x;
+    for (int l = 0; l < 2; ++l) {
+      const int t = l * 16 + 2 * x;
+      const float s = std::max(float(snIn[t]) / 127.0f, -1.0f);
+      const float v = std::clamp(-s * 0.5f + float(l) * 0.25f, -1.0f, 1.0f);
+      EXPECT_LE(std::abs(int(sn[t]) - int(std::lround(v * 127.0f))), 1) << x << " layer " << l;
+      EXPECT_EQ(sn[t + 1], snIn[t + 1] == -128 ? -127 : snIn[t + 1]) << x << " layer " << l;  // -128 reads as -1.0
+    }
+    const float* smp = static_cast<const float*>(out.data) + 4 * x;
+    EXPECT_FLOAT_EQ(smp[0], float(x * 31 + 5) / 255.0f) << x;
+    EXPECT_EQ(smp[1], 0.0f) << x;
+    EXPECT_EQ(smp[2], 0.0f) << x;
+    EXPECT_EQ(smp[3], 1.0f) << x;
+  }
+  const int32_t* sizes = static_cast<const int32_t*>(out.data) + 32;
+  EXPECT_EQ(sizes[0], 8);
+  EXPECT_EQ(sizes[1], 8);
+  EXPECT_EQ(sizes[2], 2);
+  EXPECT_EQ(sizes[3], 8);
+  vkDestroySampler(device, sampler, nullptr);
+  destroy(halves);
+  destroy(snorms);
+  destroy(bytes);
   destroy(out);
   destroy(p);
 }

@@ -213,6 +213,13 @@ TEST_F(GraphicsPipelineValidationTest, RenderingInfoColorCountMatchesBlendState)
   good.blendCount = 2;
   good.colorCount = 2;
   expectBoth(bad, good, "VUID-VkGraphicsPipelineCreateInfo-renderPass-06055");
+  // Without color attachments pColorBlendState is ignored, whatever its count (a depth-only pipeline with one blend
+  // attachment state, as the CTS's draw.dynamic_rendering.* depth-only cases create; vkrt reported 06055 for them).
+  PipelineDesc depthOnly = valid();
+  depthOnly.colorCount = 0;
+  depthOnly.blendCount = 1;
+  depthOnly.withDepthStencil = true;
+  expectBoth(bad, depthOnly, "VUID-VkGraphicsPipelineCreateInfo-renderPass-06055");
 }
 
 TEST_F(GraphicsPipelineValidationTest, RenderingInfoDepthStencilFormats) {

@@ -309,6 +309,44 @@ TEST_F(ImageTest, ViewsBufferViewsAndSamplers) {
   destroy(img);
 }
 
+// VK_IMAGE_CREATE_EXTENDED_USAGE_BIT (Vulkan 1.1) with MUTABLE_FORMAT: an R8G8B8A8_SRGB image (no storage feature)
+// may have the storage usage that its R8G8B8A8_UNORM views support ("Image Creation Limits"); without the flag it may
+// not. Before, vkrt checked the usage against the image's own format only and refused the image (CTS
+// image.extended_usage_bit.*, image.extended_usage_bit_compatibility.*).
+TEST_F(ImageTest, ExtendedUsageIsCheckedAgainstTheFormatsOfTheViews) {
+  VkFormatProperties srgb;
+  vkGetPhysicalDeviceFormatProperties(physicalDevice, VK_FORMAT_R8G8B8A8_SRGB, &srgb);
+  ASSERT_FALSE(srgb.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);  // else the test shows nothing
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  const VkImageCreateFlags extended = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
+  VkImageFormatProperties props;
+  EXPECT_EQ(vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_R8G8B8A8_SRGB, VK_IMAGE_TYPE_2D,
+                                                     VK_IMAGE_TILING_OPTIMAL, usage, VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT,
+                                                     &props),
+            VK_ERROR_FORMAT_NOT_SUPPORTED);
+  ASSERT_EQ(vkGetPhysicalDeviceImageFormatProperties(physicalDevice, VK_FORMAT_R8G8B8A8_SRGB, VK_IMAGE_TYPE_2D,
+                                                     VK_IMAGE_TILING_OPTIMAL, usage, extended, &props),
+            VK_SUCCESS);
+  EXPECT_GE(props.maxExtent.width, 4096u);
+  VkImageCreateInfo ci = imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_R8G8B8A8_SRGB, {8, 8, 1}, 1, 1, usage);
+  ci.flags = extended;
+  Img img = createImage(ci);
+  // A storage view of a format that has the feature; the image's own format is not used for storage.
+  VkImageViewUsageCreateInfo vu{VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO};
+  vu.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.pNext = &vu;
+  vi.image = img.image;
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = VK_FORMAT_R8G8B8A8_UNORM;
+  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageView view = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkDestroyImageView(device, view, nullptr);
+  destroy(img);
+}
+
 class ImageMisuseTest : public ImageTest {
  protected:
   FixtureOptions options() override {

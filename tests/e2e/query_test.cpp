@@ -155,12 +155,39 @@ TEST_F(QueryMisuseTest, UnsupportedTypesAndBadArguments) {
   ci.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
   EXPECT_NE(vkCreateQueryPool(device, &ci, nullptr, &p), VK_SUCCESS);
   expectVkrtMessage("VUID-VkQueryPoolCreateInfo-queryType-00791");
-  ci.queryType = VK_QUERY_TYPE_OCCLUSION;
-  EXPECT_NE(vkCreateQueryPool(device, &ci, nullptr, &p), VK_SUCCESS);
-  expectVkrtMessage("VUID-VkQueryPoolCreateInfo-queryType-parameter");
   EXPECT_EQ(p, VK_NULL_HANDLE);
 
   VkQueryPool pool = timestampPool(2);
+  // Occlusion pools are created; a timestamp pool is not begun, a query not begun is not ended, PRECISE needs the
+  // occlusionQueryPrecise feature (not enabled here), and one occlusion query is active at a time.
+  ci.queryType = VK_QUERY_TYPE_OCCLUSION;
+  ci.queryCount = 2;
+  VkQueryPool occlusion = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateQueryPool(device, &ci, nullptr, &occlusion), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBeginQuery(cb, pool, 0, 0);
+  expectVkrtMessage("VUID-vkCmdBeginQuery-queryType-02804");
+  vkCmdEndQuery(cb, occlusion, 0);
+  expectVkrtMessage("VUID-vkCmdEndQuery-None-01923");
+  vkCmdBeginQuery(cb, occlusion, 2, 0);
+  expectVkrtMessage("VUID-vkCmdBeginQuery-query-00802");
+  vkCmdBeginQuery(cb, occlusion, 0, VK_QUERY_CONTROL_PRECISE_BIT);
+  expectVkrtMessage("VUID-vkCmdBeginQuery-queryType-00800");
+  vkCmdResetQueryPool(cb, occlusion, 0, 2);
+  vkCmdBeginQuery(cb, occlusion, 0, 0);
+  vkCmdBeginQuery(cb, occlusion, 1, 0);
+  expectVkrtMessage("VUID-vkCmdBeginQuery-queryPool-01922");
+  vkCmdEndQuery(cb, occlusion, 0);
+  EXPECT_TRUE(vkrtMessages().empty());
+  submitAndWait(cb);
+  uint64_t counts[2] = {7, 7};
+  // Query 0 ran (no draw: 0 samples); query 1 was never begun, so it stays unavailable (VK_NOT_READY).
+  EXPECT_EQ(vkGetQueryPoolResults(device, occlusion, 0, 1, 8, counts, 8, VK_QUERY_RESULT_64_BIT), VK_SUCCESS);
+  EXPECT_EQ(counts[0], 0u);
+  EXPECT_EQ(vkGetQueryPoolResults(device, occlusion, 1, 1, 8, counts + 1, 8, VK_QUERY_RESULT_64_BIT), VK_NOT_READY);
+  vkDestroyQueryPool(device, occlusion, nullptr);
+
   vkResetQueryPool(device, pool, 0, 2);
   uint64_t r[4];
   EXPECT_EQ(
