@@ -288,6 +288,21 @@ Queue* liveQueue(VkQueue h, const char* fn, const char* vuid) {
 
 extern "C" {
 
+// vkQueueBindSparse (core 1.0): vkrt's one queue family has no VK_QUEUE_SPARSE_BINDING_BIT (no sparse feature is
+// supported, so no sparse resource exists), so every call breaks VUID-vkQueueBindSparse-queuetype: reported, and
+// nothing is waited on, bound or signalled.
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueBindSparse(VkQueue queue, uint32_t bindInfoCount,
+                                                    const VkBindSparseInfo* pBindInfo, VkFence fence) {
+  const char* fn = "vkQueueBindSparse";
+  Queue* q = liveQueue(queue, fn, "VUID-vkQueueBindSparse-queue-parameter");
+  if (!q) return VK_ERROR_VALIDATION_FAILED_EXT;
+  report(q, Severity::Error, "VUID-vkQueueBindSparse-queuetype",
+         "%s: the queue's family has no VK_QUEUE_SPARSE_BINDING_BIT (vkrt supports no sparse binding); %u bind "
+         "infos, fence 0x%llx: nothing is done",
+         fn, bindInfoCount, (unsigned long long)rawHandle(fence));
+  return VK_ERROR_VALIDATION_FAILED_EXT;
+}
+
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_QueueSubmit(VkQueue queue, uint32_t submitCount, const VkSubmitInfo* pSubmits,
                                                 VkFence fence) {
   const char* fn = "vkQueueSubmit";

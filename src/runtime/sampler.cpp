@@ -116,4 +116,28 @@ VKAPI_ATTR void VKAPI_CALL vkrt_DestroySampler(VkDevice device, VkSampler sample
                                       "VUID-vkDestroySampler-sampler-parameter", "VUID-vkDestroySampler-sampler-01082");
 }
 
+// Sampler Y'CbCr conversion (core 1.1) needs the samplerYcbcrConversion feature, which vkrt does not support (none of
+// the multi-planar formats has a format feature), so no conversion can be created: every call is reported.
+VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateSamplerYcbcrConversion(VkDevice device,
+                                                                 const VkSamplerYcbcrConversionCreateInfo* pCreateInfo,
+                                                                 const VkAllocationCallbacks* pAllocator,
+                                                                 VkSamplerYcbcrConversion* pYcbcrConversion) {
+  Device* dev = fromHandleUnchecked<Device>(device);
+  // VUID-vkCreateSamplerYcbcrConversion-None-01648: the samplerYcbcrConversion feature must be enabled
+  report(dev, Severity::Error, "VUID-vkCreateSamplerYcbcrConversion-None-01648",
+         "vkCreateSamplerYcbcrConversion: the samplerYcbcrConversion feature is not enabled (vkrt does not support "
+         "it); format %d",
+         (int)pCreateInfo->format);
+  return VK_ERROR_VALIDATION_FAILED_EXT;
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_DestroySamplerYcbcrConversion(VkDevice device, VkSamplerYcbcrConversion ycbcrConversion,
+                                                              const VkAllocationCallbacks* pAllocator) {
+  if (!ycbcrConversion) return;  // VK_NULL_HANDLE: nothing to do
+  // No conversion can be created on vkrt, so any other handle is not a live one.
+  report(fromHandle<Device>(device), Severity::Error, "VUID-vkDestroySamplerYcbcrConversion-ycbcrConversion-parameter",
+         "vkDestroySamplerYcbcrConversion: 0x%llx is not a live VkSamplerYcbcrConversion",
+         (unsigned long long)rawHandle(ycbcrConversion));
+}
+
 }  // extern "C"

@@ -1,6 +1,7 @@
 // Instance, physical device, device, memory and buffers through the loader.
 #include <cstdio>
 #include <cstring>
+#include <vector>
 
 #include "e2e/fixture.hpp"
 
@@ -361,6 +362,59 @@ TEST_F(BufferCaptureReplayMisuseTest, ABufferReplayedAtAnAddressInUseFailsToBind
   }
   vkFreeMemory(device, mem, nullptr);
   vkFreeMemory(device, holder, nullptr);
+}
+
+// Core commands of features vkrt does not support still resolve (a 1.3 driver's core commands are never NULL),
+// and a call, which is always invalid on vkrt, is reported and has no effect.
+class UnsupportedCoreFeatureTest : public MemoryMisuseTest {};
+
+TEST_F(UnsupportedCoreFeatureTest, SparseBindingAndYcbcrConversionResolveAndReportTheirRule) {
+  auto bindSparse = reinterpret_cast<PFN_vkQueueBindSparse>(vkGetDeviceProcAddr(device, "vkQueueBindSparse"));
+  auto createConversion = reinterpret_cast<PFN_vkCreateSamplerYcbcrConversion>(
+      vkGetDeviceProcAddr(device, "vkCreateSamplerYcbcrConversion"));
+  auto destroyConversion = reinterpret_cast<PFN_vkDestroySamplerYcbcrConversion>(
+      vkGetDeviceProcAddr(device, "vkDestroySamplerYcbcrConversion"));
+  ASSERT_NE(bindSparse, nullptr);
+  ASSERT_NE(createConversion, nullptr);
+  ASSERT_NE(destroyConversion, nullptr);
+  if (!onVkrt()) GTEST_SKIP() << "the rules below hold where sparse binding and Y'CbCr conversion are unsupported";
+
+  // The queue family has no sparse binding: a bind, even an empty one with a fence, is reported and the fence is
+  // not signalled.
+  uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &count, families.data());
+  for (const VkQueueFamilyProperties& f : families) EXPECT_FALSE(f.queueFlags & VK_QUEUE_SPARSE_BINDING_BIT);
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateFence(device, &fci, nullptr, &fence), VK_SUCCESS);
+  VkBindSparseInfo bind{VK_STRUCTURE_TYPE_BIND_SPARSE_INFO};
+  EXPECT_EQ(bindSparse(queue, 1, &bind, fence), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkQueueBindSparse-queuetype");
+  EXPECT_EQ(vkGetFenceStatus(device, fence), VK_NOT_READY);
+  vkDestroyFence(device, fence, nullptr);
+
+  // samplerYcbcrConversion is not supported, so no conversion is created.
+  VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_FALSE(f11.samplerYcbcrConversion);
+  VkSamplerYcbcrConversionCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_YCBCR_CONVERSION_CREATE_INFO};
+  ci.format = VK_FORMAT_G8_B8R8_2PLANE_420_UNORM;
+  ci.ycbcrModel = VK_SAMPLER_YCBCR_MODEL_CONVERSION_YCBCR_709;
+  ci.ycbcrRange = VK_SAMPLER_YCBCR_RANGE_ITU_FULL;
+  ci.chromaFilter = VK_FILTER_NEAREST;
+  VkSamplerYcbcrConversion conversion = VK_NULL_HANDLE;
+  EXPECT_EQ(createConversion(device, &ci, nullptr, &conversion), VK_ERROR_VALIDATION_FAILED_EXT);
+  expectVkrtMessage("VUID-vkCreateSamplerYcbcrConversion-None-01648");
+  EXPECT_EQ(conversion, VK_NULL_HANDLE);
+
+  // Destroying VK_NULL_HANDLE is valid and silent; any other handle cannot be a live conversion.
+  destroyConversion(device, VK_NULL_HANDLE, nullptr);
+  EXPECT_TRUE(vkrtMessages().empty());
+  destroyConversion(device, reinterpret_cast<VkSamplerYcbcrConversion>(uintptr_t(0x1234560)), nullptr);
+  expectVkrtMessage("VUID-vkDestroySamplerYcbcrConversion-ycbcrConversion-parameter");
 }
 
 }  // namespace
