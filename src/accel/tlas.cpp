@@ -235,6 +235,14 @@ RTCScene newScene(Tlas::Impl& impl, std::string* error) {
   // remain most of a large top level's build time.
   std::vector<RTCGeometry> geometries(n, nullptr);
   std::atomic<bool> outOfMemory{false};
+  // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
+  // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
+  // the same scene, re-entering its std::call_once.
+  for (size_t i = 0; i < n; ++i) {
+    const InstanceRecord& r = impl.records[i];
+    if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && (impl.instances[i].mask & 0xFF))
+      r.blas->sceneFor();
+  }
   parallelChunks(n, 1024, 4096, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const InstanceRecord& r = impl.records[i];

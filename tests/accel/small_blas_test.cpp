@@ -157,5 +157,36 @@ TEST(AccelSmallBlas, ThousandsOfOneTriangleStructuresHitExactly) {
   }
 }
 
+// Past the bound of flattened triangles a top level holds (2^20), the remaining instances of small structures are
+// instanced, their structure's scene made then: 65,537 instances of a 16-triangle structure (the last one past the
+// bound) are all hit where they must be, flattened or not.
+TEST(AccelSmallBlas, InstancesPastTheFlattenedBoundAreInstanced) {
+  Geometry g;
+  g.kind = Geometry::Triangles;
+  g.triangles.flags = kGeometryOpaque;
+  for (uint32_t q = 0; q < 8; ++q)  // 8 quads = 16 triangles side by side over [0, 8] x [0, 1] at z = 1
+    addQuad(g.triangles, float(q), 0, float(q + 1), 1, 1);
+  auto blas = makeBlas({g});
+  constexpr uint32_t kInstances = 65537, kRow = 256;
+  std::vector<Instance> instances(kInstances, instanceOf(blas));
+  for (uint32_t k = 0; k < kInstances; ++k) {
+    instances[k].transform[0][3] = 10.0f * float(k % kRow);
+    instances[k].transform[1][3] = 2.0f * float(k / kRow);
+    instances[k].customIndex = k;
+  }
+  auto tlas = makeTlas(instances);
+  for (uint32_t k : {0u, 1u, 65535u, 65536u}) {
+    for (uint32_t q : {0u, 7u}) {
+      const float x = 10.0f * float(k % kRow) + float(q) + 0.2f, y = 2.0f * float(k / kRow) + 0.7f;
+      const Traced t = traceOnce(*tlas, rayFrom(x, y, 0, 0, 0, 1));
+      ASSERT_TRUE(t.hit) << "instance " << k << ", quad " << q;
+      EXPECT_EQ(t.info.instanceIndex, k);
+      EXPECT_EQ(t.info.customIndex, k);
+      EXPECT_EQ(t.info.primitiveIndex, 2 * q + 1) << "the quad's second triangle (x0 y0, x1 y1, x0 y1)";
+      EXPECT_TRUE(nearHit(t.info.t, 1.0f)) << t.info.t;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace vkrt::accel::test
