@@ -185,15 +185,6 @@ TEST_F(TraceMisuseTest, HundredsOfTopLevelsInOneLaunchResolveOnceEach) {
   asw.accelerationStructureCount = 1;
   asw.pAccelerationStructures = &top;
   VkDescriptorSet set = sceneSet(pool, setLayout, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, &asw, out);
-  auto residentBytes = [] {
-    long pages = 0, resident = 0;
-    FILE* f = std::fopen("/proc/self/statm", "r");
-    if (f) {
-      if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-      std::fclose(f);
-    }
-    return uint64_t(resident) * 4096;
-  };
   uint64_t afterFirst = 0;
   for (int round = 0; round < 3; ++round) {
     std::memset(out.data, 0xee, out.size);
