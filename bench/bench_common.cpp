@@ -70,6 +70,14 @@ Context::Context() {
                                                                                  ? static_cast<void*>(&rtf)
                                                                                  : nullptr};
   asf.accelerationStructure = VK_TRUE;
+  if (accelerationStructures) {
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR supported{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supported};
+    vkGetPhysicalDeviceFeatures2(physical, &f2);
+    hostCommands = supported.accelerationStructureHostCommands;
+    asf.accelerationStructureHostCommands = supported.accelerationStructureHostCommands;
+  }
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &asf};
   f12.bufferDeviceAddress = VK_TRUE;
   if (accelerationStructures) f13.pNext = &f12;
@@ -88,7 +96,12 @@ Context::Context() {
     load(buildSizes, "vkGetAccelerationStructureBuildSizesKHR");
     load(cmdBuild, "vkCmdBuildAccelerationStructuresKHR");
     load(asAddress, "vkGetAccelerationStructureDeviceAddressKHR");
+    load(createDeferred, "vkCreateDeferredOperationKHR");
+    load(joinDeferred, "vkDeferredOperationJoinKHR");
+    load(deferredResult, "vkGetDeferredOperationResultKHR");
+    load(destroyDeferred, "vkDestroyDeferredOperationKHR");
   }
+  if (hostCommands) load(hostBuild, "vkBuildAccelerationStructuresKHR");
   if (rayTracingPipeline) {
     load(createRtPipelines, "vkCreateRayTracingPipelinesKHR");
     load(groupHandles, "vkGetRayTracingShaderGroupHandlesKHR");

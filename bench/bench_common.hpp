@@ -38,6 +38,13 @@ struct Context {
   PFN_vkCreateRayTracingPipelinesKHR createRtPipelines = nullptr;
   PFN_vkGetRayTracingShaderGroupHandlesKHR groupHandles = nullptr;
   PFN_vkCmdTraceRaysKHR cmdTraceRays = nullptr;
+  // accelerationStructureHostCommands, where the driver has it (builds on the host, joined deferred operations).
+  bool hostCommands = false;
+  PFN_vkBuildAccelerationStructuresKHR hostBuild = nullptr;
+  PFN_vkCreateDeferredOperationKHR createDeferred = nullptr;
+  PFN_vkDeferredOperationJoinKHR joinDeferred = nullptr;
+  PFN_vkGetDeferredOperationResultKHR deferredResult = nullptr;
+  PFN_vkDestroyDeferredOperationKHR destroyDeferred = nullptr;
 
   Context();
   ~Context();

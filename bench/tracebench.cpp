@@ -20,8 +20,15 @@
 // exists), the Embree side with std::threads taking chunks of 8x8-pixel tiles like vkrt's launch tiles.
 // Rates are the best of repeated runs (real time), as a loaded machine slows some runs down.
 //
+// Many structures (each mode alone runs no terrain scene unless --sizes is given):
+// - --many-tlas 1,16,17,256,1000: primary rays through N top levels chosen per pixel by address, next to raw
+//   Embree tracing the same rays through N instance scenes (runManyTlas).
+// - --many-blas 65536: N one-triangle bottom levels and their top level, built on the host (one deferred operation
+//   per structure, joined by the calling thread, or with --join-thread by a new thread each, as the CTS does) and
+//   in one recorded command, next to Embree building N scenes and an instance scene (runManyBlas).
+//
 // Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
-//                        [--min-time S] [--vkrt-only]
+//                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread]]
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -36,6 +43,7 @@
 #include "bench_common.hpp"
 #include "gltf_util.hpp"
 #include "trace_hit.rchit.spv.h"
+#include "trace_many.rgen.spv.h"
 #include "trace_miss.rmiss.spv.h"
 #include "trace_paths.rgen.spv.h"
 #include "vkrt_commit.h"
@@ -52,7 +60,11 @@ struct Options {
   uint32_t width = 1024, height = 1024;
   double minTime = 1.0;  // seconds of repetitions per figure
   uint32_t bounces = 4;
-  bool vkrtOnly = false;  // --vkrt-only: no Embree tracing (for profiling vkrt's side)
+  bool vkrtOnly = false;               // --vkrt-only: no Embree tracing (for profiling vkrt's side)
+  std::vector<uint32_t> manyTlas;      // --many-tlas 1,16,17,256,1000: top-level counts (runManyTlas)
+  uint64_t manyTlasTriangles = 10000;  // the terrain they instance
+  uint32_t manyBlas = 0;               // --many-blas N: one-triangle bottom levels (runManyBlas)
+  bool joinThread = false;             // --join-thread: each host build joined by a thread of its own (as the CTS)
 };
 
 // Seconds from vkQueueSubmit of an empty command buffer to vkQueueWaitIdle's return: the fixed cost in every
@@ -298,32 +310,37 @@ void initRay(RTCRayHit& rh, const float o[3], const float d[3]) {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// Every pixel's path with rtcIntersect1, tile by tile.
-void traceEmbree1(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h, PixelResults& out) {
+// Runs f(context, x, y, pixel) for every pixel of a w x h image, tile by tile on the Embree side's threads.
+template <class F>
+void forEachPixel(uint32_t w, uint32_t h, F f) {
   const uint32_t tilesX = w / kTile, tiles = tilesX * (h / kTile);
   parallelChunks(tiles, 1, [&](uint64_t tile, uint64_t) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     const uint32_t x0 = uint32_t(tile % tilesX) * kTile, y0 = uint32_t(tile / tilesX) * kTile;
     for (uint32_t y = y0; y < y0 + kTile; ++y)
-      for (uint32_t x = x0; x < x0 + kTile; ++x) {
-        const uint32_t pixel = y * w + x;
-        float o[3], d[3];
-        cameraRay(cam, x, y, o, d);
-        uint32_t rays = 0, checksum = 0;
-        for (uint32_t b = 0;; ++b) {
-          RTCRayHit rh;
-          initRay(rh, o, d);
-          rtcIntersect1(scene, &context, &rh);
-          ++rays;
-          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-          checksum += rh.hit.primID + 1;
-          if (b == cam.bounces) break;
-          bounceRay(s, pixel, b, rh.ray.tfar, rh.hit.primID, o, d);
-        }
-        out.rays[pixel] = rays;
-        out.checksum[pixel] = checksum;
-      }
+      for (uint32_t x = x0; x < x0 + kTile; ++x) f(context, x, y, y * w + x);
+  });
+}
+
+// Every pixel's path with rtcIntersect1, tile by tile.
+void traceEmbree1(RTCScene scene, const Terrain& s, const Camera& cam, uint32_t w, uint32_t h, PixelResults& out) {
+  forEachPixel(w, h, [&](RTCIntersectContext& context, uint32_t x, uint32_t y, uint32_t pixel) {
+    float o[3], d[3];
+    cameraRay(cam, x, y, o, d);
+    uint32_t rays = 0, checksum = 0;
+    for (uint32_t b = 0;; ++b) {
+      RTCRayHit rh;
+      initRay(rh, o, d);
+      rtcIntersect1(scene, &context, &rh);
+      ++rays;
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+      checksum += rh.hit.primID + 1;
+      if (b == cam.bounces) break;
+      bounceRay(s, pixel, b, rh.ray.tfar, rh.hit.primID, o, d);
+    }
+    out.rays[pixel] = rays;
+    out.checksum[pixel] = checksum;
   });
 }
 
@@ -430,7 +447,9 @@ struct TracePipeline {
   std::unique_ptr<Buffer> sbt;
   VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
 
-  TracePipeline() {
+  // `raygen`: trace_paths.rgen, or trace_many.rgen (the same layout: binding 0 unused there).
+  explicit TracePipeline(const uint32_t* raygenWords = kSpv_trace_paths_rgen,
+                         size_t raygenBytes = sizeof kSpv_trace_paths_rgen) {
     Context& c = ctx();
     const VkShaderStageFlags rg = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
     const VkDescriptorSetLayoutBinding b[4] = {{0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rg, nullptr},
@@ -449,7 +468,7 @@ struct TracePipeline {
     pl.pPushConstantRanges = &range;
     CHECK(vkCreatePipelineLayout(c.device, &pl, nullptr, &layout));
 
-    VkShaderModule modules[3] = {shaderModule(kSpv_trace_paths_rgen, sizeof kSpv_trace_paths_rgen),
+    VkShaderModule modules[3] = {shaderModule(raygenWords, raygenBytes),
                                  shaderModule(kSpv_trace_miss_rmiss, sizeof kSpv_trace_miss_rmiss),
                                  shaderModule(kSpv_trace_hit_rchit, sizeof kSpv_trace_hit_rchit)};
     const VkShaderStageFlagBits stageBits[3] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
@@ -750,6 +769,303 @@ SizeFigures runScene(const Options& o, RTCDevice device, const Terrain& t) {
   return f;
 }
 
+// ---- many structures
+
+// --many-tlas: the terrain's primary rays, each through one of N top-level structures chosen per pixel by its
+// address (bench/shaders/trace_many.rgen); each top level is one identity instance of the terrain's BLAS, so every
+// N traces the same rays to the same hits, and rays/s should not depend on N (the launch resolves each address
+// once). Rates are against N = 1 of the same run.
+struct ManyTlasFigures {
+  uint32_t levels = 0;
+  double vkrt = 0;                   // Mrays/s (best run)
+  double vkrtCpu = 0;                // Mrays per CPU second (all threads' time, averaged over the runs)
+  double agreeing = 0;               // fraction of pixels with the hits of the first N
+  double embree = 0, embreeCpu = 0;  // raw Embree: N instance scenes of the terrain's scene, rtcIntersect1
+};
+
+std::vector<ManyTlasFigures> runManyTlas(const Options& o, RTCDevice device) {
+  const Terrain t = makeTerrain(o.manyTlasTriangles);
+  std::fprintf(stderr, "many top levels over a terrain of %llu triangles\n", (unsigned long long)t.triangles());
+  AccelStructures as;
+  const VkAccelerationStructureKHR blas =
+      as.build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+               as.triangles(t.vertices.data(), t.vertices.size() / 3, t.indices.data(), t.indices.size()),
+               uint32_t(t.triangles()));
+  const uint32_t most = *std::max_element(o.manyTlas.begin(), o.manyTlas.end());
+  Buffer addresses(size_t(most) * 8), count(4), results(size_t(o.width) * o.height * 8);
+  std::vector<VkAccelerationStructureKHR> tops;
+  TracePipeline tp(kSpv_trace_many_rgen, sizeof kSpv_trace_many_rgen);
+  const Camera cam = makeCamera(t, o.width, o.height, 0);
+  // Raw Embree: the terrain's scene and N scenes of one instance of it, each pixel's ray through the one its hash
+  // picks (as trace_many.rgen picks), with rtcIntersect1 tile by tile.
+  std::unique_ptr<EmbreeScene> terrain;
+  std::vector<RTCScene> embreeTops;
+  if (!o.vkrtOnly) terrain = std::make_unique<EmbreeScene>(device, t);
+  PixelResults em(size_t(o.width) * o.height);
+  auto traceEmbree = [&](uint32_t n) {
+    forEachPixel(o.width, o.height, [&](RTCIntersectContext& context, uint32_t x, uint32_t y, uint32_t pixel) {
+      float org[3], dir[3];
+      cameraRay(cam, x, y, org, dir);
+      RTCRayHit rh;
+      initRay(rh, org, dir);
+      rtcIntersect1(embreeTops[hash32(pixel) % n], &context, &rh);
+      em.rays[pixel] = 1;
+      em.checksum[pixel] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.primID + 1;
+    });
+  };
+  std::vector<uint32_t> first;
+  std::vector<ManyTlasFigures> out;
+  for (uint32_t n : o.manyTlas) {
+    while (tops.size() < n) {
+      VkAccelerationStructureInstanceKHR one = as.identityInstance(blas);
+      one.instanceCustomIndex = uint32_t(tops.size());
+      tops.push_back(as.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, as.instances(&one, 1), 1));
+      addresses.as<uint64_t>()[tops.size() - 1] = as.address(tops.back());
+    }
+    *count.as<uint32_t>() = n;
+    tp.bind(tops[0], addresses, count, results);
+    VkCommandBuffer cb = tp.record(cam, o.width, o.height);
+    const Timing tv = measure(o.minTime, [&] { ctx().submit(cb); });
+    vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+    const uint32_t* r = results.as<uint32_t>();
+    const size_t pixels = size_t(o.width) * o.height;
+    std::vector<uint32_t> hits(pixels);
+    for (size_t i = 0; i < pixels; ++i) hits[i] = r[2 * i + 1];
+    if (first.empty()) first = hits;
+    size_t same = 0;
+    for (size_t i = 0; i < pixels; ++i) same += hits[i] == first[i];
+    ManyTlasFigures f;
+    if (terrain) {
+      while (embreeTops.size() < n) {
+        RTCScene top = rtcNewScene(device);
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, terrain->scene);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(top, g);
+        rtcReleaseGeometry(g);
+        rtcSetSceneFlags(top, RTC_SCENE_FLAG_ROBUST);
+        rtcCommitScene(top);
+        embreeTops.push_back(top);
+      }
+      const Timing te = measure(o.minTime, [&] { traceEmbree(n); });
+      f.embree = double(pixels) * 1e-6 / te.best;
+      f.embreeCpu = double(pixels) * 1e-6 / te.cpuPerRun;
+    }
+    f.levels = n;
+    f.vkrt = double(pixels) * 1e-6 / tv.best;
+    f.vkrtCpu = double(pixels) * 1e-6 / tv.cpuPerRun;
+    f.agreeing = double(same) / double(pixels);
+    std::fprintf(stderr, "  %u top levels: %.2f Mrays/s\n", n, f.vkrt);
+    out.push_back(f);
+  }
+  for (RTCScene s : embreeTops) rtcReleaseScene(s);
+  return out;
+}
+
+// --many-blas N: N bottom-level structures of one triangle each and a top level of N instances of them, as the
+// CTS's ray_tracing_pipeline.build.*.level_instances.triangles_65536_1_1 builds them (cell k of a square grid
+// holds triangle k): on the host (one vkBuildAccelerationStructuresKHR per structure with a deferred operation
+// that the calling thread joins, as the cpuht_1 variant does) and recorded (one vkCmdBuildAccelerationStructuresKHR
+// with N infos), next to Embree building N scenes and an instance scene over them in the same process.
+struct ManyBlasFigures {
+  uint32_t count = 0;
+  double hostBlas = 0, hostTlas = 0;      // seconds
+  double deviceBlas = 0, deviceTlas = 0;  // seconds (submit to idle)
+  double embreeBlas = 0, embreeTlas = 0;  // seconds (scene set-up and commits; the instance scene's)
+};
+
+ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
+  Context& c = ctx();
+  const uint32_t n = o.manyBlas;
+  ManyBlasFigures f;
+  f.count = n;
+  std::fprintf(stderr, "%u one-triangle bottom levels\n", n);
+  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
+  std::vector<float> vertices(size_t(n) * 9);
+  for (uint32_t k = 0; k < n; ++k) {
+    const float x0 = float(k % side) / float(side), y0 = float(k / side) / float(side), e = 1.0f / float(side);
+    const float v[9] = {x0, y0, 1, x0 + e, y0 + 0.5f * e, 1, x0 + 0.5f * e, y0 + e, 1};
+    std::memcpy(&vertices[size_t(k) * 9], v, sizeof v);
+  }
+  VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+  g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+  auto& tri = g.geometry.triangles;
+  tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+  tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+  tri.vertexStride = 12;
+  tri.maxVertex = 2;
+  tri.indexType = VK_INDEX_TYPE_NONE_KHR;
+  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+  info.geometryCount = 1;
+  info.pGeometries = &g;
+  const uint32_t one = 1;
+  VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+  c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_HOST_OR_DEVICE_KHR, &info, &one, &sizes);
+  const VkDeviceSize each = alignUp(sizes.accelerationStructureSize, 256);
+  const VkDeviceSize scratchEach = alignUp(std::max<VkDeviceSize>(sizes.buildScratchSize, 1), 256);
+  const VkAccelerationStructureBuildRangeInfoKHR range{1, 0, 0, 0};
+  const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+
+  // N structures in one buffer (as the CTS's pool places them), and a top level over them.
+  struct Set {
+    AccelStructures as;
+    std::vector<VkAccelerationStructureKHR> blases;
+    Set(uint32_t n, VkDeviceSize each) {
+      Buffer& storage = as.buffer(
+          n * each, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+      blases.resize(n);
+      for (uint32_t k = 0; k < n; ++k) {
+        VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+        ci.buffer = storage.buffer;
+        ci.offset = k * each;
+        ci.size = each;
+        ci.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+        CHECK(ctx().createAs(ctx().device, &ci, nullptr, &blases[k]));
+      }
+      as.structures = blases;  // destroyed with `as`
+    }
+  };
+
+  if (c.hostCommands) {
+    Set host(n, each);
+    std::vector<uint8_t> scratch(scratchEach);
+    double start = wallSeconds();
+    for (uint32_t k = 0; k < n; ++k) {
+      tri.vertexData.hostAddress = &vertices[size_t(k) * 9];
+      info.dstAccelerationStructure = host.blases[k];
+      info.scratchData.hostAddress = scratch.data();
+      VkDeferredOperationKHR op;
+      CHECK(c.createDeferred(c.device, nullptr, &op));
+      VkResult r = c.hostBuild(c.device, op, 1, &info, &pr);
+      if (r == VK_OPERATION_DEFERRED_KHR) {
+        auto join = [&] {
+          VkResult j;
+          while ((j = c.joinDeferred(c.device, op)) != VK_SUCCESS)
+            if (j != VK_THREAD_IDLE_KHR && j != VK_THREAD_DONE_KHR) fail("vkDeferredOperationJoinKHR", j);
+        };
+        if (o.joinThread) {
+          std::thread t(join);  // the CTS's finishDeferredOperation with one worker thread
+          t.join();
+        } else {
+          join();
+        }
+        r = c.deferredResult(c.device, op);
+      } else if (r == VK_OPERATION_NOT_DEFERRED_KHR) {
+        r = VK_SUCCESS;
+      }
+      if (r != VK_SUCCESS) fail("vkBuildAccelerationStructuresKHR", r);
+      c.destroyDeferred(c.device, op, nullptr);
+    }
+    f.hostBlas = wallSeconds() - start;
+    // The top level on the host: instances refer to structures by handle.
+    std::vector<VkAccelerationStructureInstanceKHR> instances(n);
+    for (uint32_t k = 0; k < n; ++k) {
+      instances[k] = host.as.identityInstance(host.blases[k]);
+      instances[k].accelerationStructureReference = reinterpret_cast<uint64_t>(host.blases[k]);
+    }
+    VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+    ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    ig.geometry.instances.data.hostAddress = instances.data();
+    VkAccelerationStructureBuildGeometryInfoKHR ti{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    ti.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+    ti.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    ti.geometryCount = 1;
+    ti.pGeometries = &ig;
+    VkAccelerationStructureBuildSizesInfoKHR ts{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_HOST_OR_DEVICE_KHR, &ti, &n, &ts);
+    Buffer& storage =
+        host.as.buffer(ts.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                                         VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.buffer = storage.buffer;
+    ci.size = ts.accelerationStructureSize;
+    ci.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+    VkAccelerationStructureKHR top;
+    CHECK(c.createAs(c.device, &ci, nullptr, &top));
+    host.as.structures.push_back(top);
+    std::vector<uint8_t> topScratch(ts.buildScratchSize + 1);
+    ti.dstAccelerationStructure = top;
+    ti.scratchData.hostAddress = topScratch.data();
+    const VkAccelerationStructureBuildRangeInfoKHR tr{n, 0, 0, 0};
+    const VkAccelerationStructureBuildRangeInfoKHR* ptr = &tr;
+    start = wallSeconds();
+    CHECK(c.hostBuild(c.device, VK_NULL_HANDLE, 1, &ti, &ptr));
+    f.hostTlas = wallSeconds() - start;
+  }
+
+  {
+    Set dev(n, each);
+    Buffer& vb = dev.as.buffer(vertices.size() * 4, AccelStructures::kInput);
+    std::memcpy(vb.data, vertices.data(), vertices.size() * 4);
+    Buffer& scratch = dev.as.buffer(n * scratchEach + 256,
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    const VkDeviceAddress scratchBase = alignUp(scratch.address(), 256);
+    std::vector<VkAccelerationStructureGeometryKHR> geometries(n, g);
+    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n, info);
+    std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges(n, &range);
+    for (uint32_t k = 0; k < n; ++k) {
+      geometries[k].geometry.triangles.vertexData.deviceAddress = vb.address() + VkDeviceAddress(k) * 36;
+      infos[k].pGeometries = &geometries[k];
+      infos[k].dstAccelerationStructure = dev.blases[k];
+      infos[k].scratchData.deviceAddress = scratchBase + k * scratchEach;
+    }
+    VkCommandBuffer cb = c.allocate();
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    CHECK(vkBeginCommandBuffer(cb, &bi));
+    c.cmdBuild(cb, n, infos.data(), ranges.data());
+    CHECK(vkEndCommandBuffer(cb));
+    double start = wallSeconds();
+    c.submit(cb);
+    f.deviceBlas = wallSeconds() - start;
+    vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
+    std::vector<VkAccelerationStructureInstanceKHR> instances(n);
+    for (uint32_t k = 0; k < n; ++k) instances[k] = dev.as.identityInstance(dev.blases[k]);
+    const VkAccelerationStructureGeometryKHR ig = dev.as.instances(instances.data(), n);
+    f.deviceTlas = dev.as.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, n, 1);
+  }
+
+  if (!o.vkrtOnly) {
+    // Embree: each triangle in a scene of its own (robust, as vkrt builds), then an instance scene over them.
+    std::vector<RTCScene> scenes(n);
+    double start = wallSeconds();
+    for (uint32_t k = 0; k < n; ++k) {
+      RTCScene s = rtcNewScene(device);
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      void* v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3);
+      std::memcpy(v, &vertices[size_t(k) * 9], 36);
+      auto* ix =
+          static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
+      ix[0] = 0, ix[1] = 1, ix[2] = 2;
+      rtcCommitGeometry(geo);
+      rtcAttachGeometryByID(s, geo, 0);
+      rtcReleaseGeometry(geo);
+      rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+      rtcCommitScene(s);
+      scenes[k] = s;
+    }
+    f.embreeBlas = wallSeconds() - start;
+    start = wallSeconds();
+    RTCScene top = rtcNewScene(device);
+    for (uint32_t k = 0; k < n; ++k) {
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(geo, scenes[k]);
+      rtcCommitGeometry(geo);
+      rtcAttachGeometryByID(top, geo, k);
+      rtcReleaseGeometry(geo);
+    }
+    rtcSetSceneFlags(top, RTC_SCENE_FLAG_ROBUST);
+    rtcCommitScene(top);
+    f.embreeTlas = wallSeconds() - start;
+    rtcReleaseScene(top);
+    for (RTCScene s : scenes) rtcReleaseScene(s);
+  }
+  return f;
+}
+
 // ---- reporting
 
 std::string cpuModel() {
@@ -880,8 +1196,9 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
 [[noreturn]] void usage() {
   std::fprintf(stderr,
                "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
-               "[--min-time S] [--vkrt-only] [--gltf model.glb]\n  sizes: even triangle counts (1e6 style allowed); "
-               "image sides multiples of 8\n");
+               "[--min-time S] [--vkrt-only] [--gltf model.glb] [--many-tlas N,N,...] [--many-blas N "
+               "[--join-thread]]\n  sizes: even "
+               "triangle counts (1e6 style allowed); image sides multiples of 8\n");
   std::exit(2);
 }
 
@@ -914,6 +1231,22 @@ Options parse(int argc, char** argv) {
       o.json = value();
     } else if (a == "--gltf") {
       o.gltf = value();
+    } else if (a == "--many-tlas") {
+      std::string list = value();
+      for (size_t p = 0; p <= list.size();) {
+        size_t q = list.find(',', p);
+        if (q == std::string::npos) q = list.size();
+        const long v = std::strtol(list.substr(p, q - p).c_str(), nullptr, 10);
+        if (v < 1 || v > 1000000) usage();
+        o.manyTlas.push_back(uint32_t(v));
+        p = q + 1;
+      }
+    } else if (a == "--many-blas") {
+      const double v = std::strtod(value(), nullptr);
+      if (!(v >= 1 && v <= 1e7)) usage();
+      o.manyBlas = uint32_t(v);
+    } else if (a == "--join-thread") {
+      o.joinThread = true;
     } else if (a == "--vkrt-only") {
       o.vkrtOnly = true;
     } else if (a == "--quick") {
@@ -929,8 +1262,10 @@ Options parse(int argc, char** argv) {
       usage();
     }
   }
+  // The many-structure modes alone run no terrain scene unless --sizes asks for some.
+  if (!sizesGiven && (!o.manyTlas.empty() || o.manyBlas)) o.sizes.clear();
   if (o.quick) {
-    if (!sizesGiven) o.sizes = {10000, 1000000};
+    if (!sizesGiven && o.manyTlas.empty() && !o.manyBlas) o.sizes = {10000, 1000000};
     o.minTime = std::min(o.minTime, 0.3);
     o.width = std::min(o.width, 512u);
     o.height = std::min(o.height, 512u);
@@ -959,8 +1294,38 @@ int main(int argc, char** argv) {
   std::vector<SizeFigures> all;
   for (uint64_t n : o.sizes) all.push_back(runScene(o, device, makeTerrain(n)));
   if (!o.gltf.empty()) all.push_back(runScene(o, device, loadModel(o.gltf)));
-  printTable(o, all, submit);
-  if (!o.json.empty()) writeJson(o, all, submit);
+  if (!all.empty()) printTable(o, all, submit);
+  if (!o.manyTlas.empty()) {
+    const std::vector<ManyTlasFigures> m = runManyTlas(o, device);
+    std::printf(
+        "\nvkrt_tracebench --many-tlas: %u threads, %ux%u primary rays of a %llu-triangle terrain, each "
+        "through one of N top levels chosen per pixel by address\n",
+        workerThreads(), o.width, o.height, (unsigned long long)o.manyTlasTriangles);
+    std::printf("%-8s %10s %8s %12s %8s %8s | %10s %8s %12s %8s\n", "N", "Mrays/s", "/N=1", "Mrays/cpu-s", "/N=1",
+                "agree", "Embree", "/N=1", "Embree/cpu-s", "/N=1");
+    for (const ManyTlasFigures& f : m)
+      std::printf("%-8u %10.2f %8.2f %12.2f %8.2f %7.2f%% | %10.2f %8.2f %12.2f %8.2f\n", f.levels, f.vkrt,
+                  f.vkrt / m[0].vkrt, f.vkrtCpu, f.vkrtCpu / m[0].vkrtCpu, 100.0 * f.agreeing, f.embree,
+                  f.embree / m[0].embree, f.embreeCpu, f.embreeCpu / m[0].embreeCpu);
+  }
+  if (o.manyBlas) {
+    const ManyBlasFigures f = runManyBlas(o, device);
+    std::printf(
+        "\nvkrt_tracebench --many-blas: %u threads, %u one-triangle bottom levels and a top level of %u "
+        "instances (seconds)\n",
+        workerThreads(), f.count, f.count);
+    std::printf("%-28s %10s %10s %10s\n", "", "BLASes", "TLAS", "total");
+    if (ctx().hostCommands)
+      std::printf("%-28s %10.3f %10.3f %10.3f\n",
+                  o.joinThread ? "vkrt host (deferred, thread)" : "vkrt host (deferred, joined)", f.hostBlas,
+                  f.hostTlas, f.hostBlas + f.hostTlas);
+    std::printf("%-28s %10.3f %10.3f %10.3f\n", "vkrt recorded (one command)", f.deviceBlas, f.deviceTlas,
+                f.deviceBlas + f.deviceTlas);
+    if (!o.vkrtOnly)
+      std::printf("%-28s %10.3f %10.3f %10.3f\n", "Embree (scenes, instances)", f.embreeBlas, f.embreeTlas,
+                  f.embreeBlas + f.embreeTlas);
+  }
+  if (!o.json.empty() && !all.empty()) writeJson(o, all, submit);
   rtcReleaseDevice(device);
   return 0;
 }

@@ -320,7 +320,15 @@ bool sameTopology(const std::vector<Geometry>& a, const std::vector<Geometry>& b
 }  // namespace
 }  // namespace detail
 
+RTCScene Blas::Impl::sceneFor() const {
+  if (!small) return scene;
+  // (newScene only points Embree at `info`; nothing of this Blas changes.)
+  std::call_once(sceneOnce_, [this] { lazyScene_ = detail::newScene(const_cast<Impl&>(*this), nullptr); });
+  return lazyScene_;
+}
+
 Blas::Impl::~Impl() {
+  if (lazyScene_) rtcReleaseScene(lazyScene_);
   if (!scene) return;
   if (pool)
     pool->give(scene);  // its family's next update refits it
@@ -333,9 +341,12 @@ Blas::~Blas() = default;
 std::shared_ptr<Blas> Blas::build(std::vector<Geometry> geometries, const BuildOptions& options, std::string* error) {
   if (!detail::validate(geometries, error)) return nullptr;
   auto impl = detail::makeImpl(std::move(geometries), options);
-  impl->scene = detail::newScene(*impl, error);
-  if (!impl->scene) return nullptr;
-  if (options.allowUpdate) impl->pool = std::make_shared<detail::RefitPool>();
+  impl->small = impl->primitives <= kSmallBlasPrimitives;
+  if (!impl->small) {
+    impl->scene = detail::newScene(*impl, error);
+    if (!impl->scene) return nullptr;
+    if (options.allowUpdate) impl->pool = std::make_shared<detail::RefitPool>();
+  }
   auto blas = std::make_shared<Blas>();
   blas->impl = std::move(impl);
   return blas;
@@ -343,7 +354,8 @@ std::shared_ptr<Blas> Blas::build(std::vector<Geometry> geometries, const BuildO
 
 std::shared_ptr<Blas> Blas::update(std::vector<Geometry> geometries, std::string* error) const {
   if (!detail::validate(geometries, error)) return nullptr;
-  if (!impl->options.allowUpdate || !detail::sameTopology(impl->geometries, geometries))
+  // A small structure has no hierarchy to refit: its update is a build (as cheap).
+  if (impl->small || !impl->options.allowUpdate || !detail::sameTopology(impl->geometries, geometries))
     return build(std::move(geometries), impl->options, error);
   auto next = detail::makeImpl(std::move(geometries), impl->options);
   next->pool = impl->pool;

@@ -68,16 +68,31 @@ struct BlasSummary {
 
 namespace vkrt::accel {
 
+// A bottom level of at most this many primitives is small: its build makes no Embree scene (an Embree scene and its
+// commit cost about 5 KB and 5-15 us whatever their size, which dominated builds of thousands of one-triangle
+// structures). A top level puts the triangles of the small ones it instances into its own scene, in world space
+// (tlas.cpp: "flattened"), and gives the others an Embree scene made on first use (sceneFor()).
+inline constexpr uint64_t kSmallBlasPrimitives = 16;
+
 struct Blas::Impl {
   std::vector<Geometry> geometries;
   BuildOptions options;
   std::vector<detail::GeometryInfo> info;  // per geometry, pointing into `geometries`
   detail::BlasSummary summary;
   uint64_t primitives = 0;
-  RTCScene scene = nullptr;                 // committed, read-only after build
-  std::shared_ptr<detail::RefitPool> pool;  // allowUpdate only
+  bool small = false;                       // primitives <= kSmallBlasPrimitives: no scene until sceneFor()
+  RTCScene scene = nullptr;                 // committed, read-only after build (small: made by sceneFor())
+  std::shared_ptr<detail::RefitPool> pool;  // allowUpdate, not small
+
+  // The committed Embree scene (a small one's is built on the first call, once, thread-safely); null when Embree
+  // cannot build it (out of memory).
+  RTCScene sceneFor() const;
 
   ~Impl();
+
+ private:
+  mutable std::once_flag sceneOnce_;
+  mutable RTCScene lazyScene_ = nullptr;
 };
 
 namespace detail {
@@ -139,15 +154,59 @@ bool needsTriangleFilter(const TlasSummary& s, uint32_t rayFlags);
 
 }  // namespace detail
 
+namespace detail {
+
+// A flattened triangle (tlas.cpp): the triangle of a small bottom level that a top level's scene holds in world
+// space, as the instance, geometry and primitive traversal reports for it.
+struct FlatTriangle {
+  uint32_t instance, geometry, primitive;
+};
+
+// Flattened triangles sit in the top level's scene itself, not in an instance, so Embree's instance mask test does
+// not apply to them: their geometries carry the instances' 8-bit mask shifted here, and a ray's Embree mask carries
+// its cull mask here too unless it skips triangles (embreeRayMask).
+inline constexpr unsigned kFlatMaskShift = 10;
+
+// A ray's Embree mask: its cull mask (instances), the primitive kinds it does not skip (geometries inside
+// instances), and its cull mask again for flattened triangles unless it skips triangles.
+inline unsigned embreeRayMask(const Ray& ray) {
+  const unsigned cull = ray.cullMask & 0xFF;
+  const bool triangles = !(ray.flags & kRaySkipTriangles);
+  return cull | (triangles ? kTriangleMaskBit | cull << kFlatMaskShift : 0) |
+         (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
+}
+
+}  // namespace detail
+
 struct Tlas::Impl {
   std::vector<Instance> instances;
   BuildOptions options;
   std::vector<detail::InstanceRecord> records;
   detail::TlasSummary summary;
   RTCScene scene = nullptr;
+  // Flattened triangles: the scene's geometry flatBase + g holds flat[g] (one geometry per instance mask), its
+  // primitive p being flat[g][p]. Instances are geometries 0 .. instances.size() - 1 (Embree's instID).
+  uint32_t flatBase = 0;
+  std::vector<std::vector<detail::FlatTriangle>> flat;
 
   ~Impl();
 };
+
+namespace detail {
+
+// The instance, geometry and primitive of an Embree hit: its own IDs inside an instance, or the flattened
+// triangle's (no instance: instID is RTC_INVALID_GEOMETRY_ID).
+struct HitIds {
+  uint32_t instance, geometry, primitive;
+  bool flat;
+};
+inline HitIds hitIds(const Tlas::Impl& t, unsigned instID, unsigned geomID, unsigned primID) {
+  if (instID != RTC_INVALID_GEOMETRY_ID) return {instID, geomID, primID, false};
+  const FlatTriangle& f = t.flat[geomID - t.flatBase][primID];
+  return {f.instance, f.geometry, f.primitive, true};
+}
+
+}  // namespace detail
 
 namespace detail {
 

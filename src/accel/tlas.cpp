@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -139,7 +140,61 @@ bool worldBoundsHaveExtent(const RTCBounds& b, const float m[3][4]) {
   return hasExtent(lower, upper);
 }
 
-RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
+// Flattening: the triangles of a small bottom level (kSmallBlasPrimitives) go into the top level's own scene in
+// world space, one triangle geometry per instance mask, instead of an Embree instance of a scene of their own: no
+// per-structure Embree object at all, which is what builds of thousands of one-triangle structures paid for. Each
+// vertex is transformed once per instance (a vertex shared within an instance stays bit-identical, so Embree's
+// watertight test closes the instance's edges as it does in object space). Traversal maps a flattened hit back to
+// its instance, geometry and primitive (hitIds) and computes facing from the object-space triangle, as for an
+// instanced one. Bounded: at most kFlatTriangles triangles a top level; past them, instances get scenes.
+constexpr uint64_t kFlatTriangles = uint64_t(1) << 20;
+
+// Whether `blas` is flattened (small, triangles only).
+bool flattenable(const Blas::Impl& blas) { return blas.small && !blas.summary.aabbs; }
+
+// One mask's flattened triangles: world-space vertices (three per triangle) and what each triangle is.
+struct FlatGroup {
+  std::vector<float> vertices;
+  std::vector<FlatTriangle> triangles;
+};
+
+// Appends the active triangles of instance `i` (a flattenable Blas) to `group`. A triangle with a vertex that is not
+// finite (inactive, or one Embree would leave out) or an index out of range, or that has no extent in world space
+// (structures.hpp, hasExtent), is left out: never hit.
+void flattenInstance(const InstanceRecord& r, uint32_t i, FlatGroup& group) {
+  const float(*m)[4] = r.objectToWorld;
+  for (uint32_t g = 0; g < r.blas->info.size(); ++g) {
+    const GeometryInfo& geom = r.blas->info[g];
+    if (geom.kind != Geometry::Triangles || !geom.vertices) continue;
+    for (uint32_t p = 0; p < geom.primitiveCount; ++p) {
+      float w[3][3];
+      bool usable = true;
+      for (int k = 0; k < 3 && usable; ++k) {
+        const uint32_t index = geom.indices[3 * size_t(p) + k];
+        if (index >= geom.vertexCount) {
+          usable = false;
+          break;
+        }
+        const float* v = geom.vertices + 3 * size_t(index);
+        for (int row = 0; row < 3; ++row) {
+          w[k][row] = m[row][0] * v[0] + m[row][1] * v[1] + m[row][2] * v[2] + m[row][3];
+          usable &= std::isfinite(w[k][row]) && std::isfinite(v[row]);
+        }
+      }
+      if (!usable) continue;
+      float lower[3], upper[3];
+      for (int c = 0; c < 3; ++c) {
+        lower[c] = std::min({w[0][c], w[1][c], w[2][c]});
+        upper[c] = std::max({w[0][c], w[1][c], w[2][c]});
+      }
+      if (!hasExtent(lower, upper)) continue;
+      group.vertices.insert(group.vertices.end(), &w[0][0], &w[0][0] + 9);
+      group.triangles.push_back({i, g, p});
+    }
+  }
+}
+
+RTCScene newScene(Tlas::Impl& impl, std::string* error) {
   RTCDevice device = detail::device(error);
   if (!device) return nullptr;
   EmbreeErrors errors;
@@ -149,35 +204,65 @@ RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
     errors.failed("Tlas build", error);
     return nullptr;
   }
-  // Robust here too: the instance hierarchy's box tests are conservative, so a ray grazing an instance's bounds
-  // still enters it. (No filter runs at this level: the context filter is called for primitives only.)
-  rtcSetSceneFlags(scene, RTCSceneFlags(settings.sceneFlags & ~RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
-  rtcSetSceneBuildQuality(scene, settings.sceneQuality);  // (Embree's instance builders tell only LOW from the rest)
-  // One instance geometry per active instance, attached under its index (Embree's instID = the instance index).
-  // The geometries are made and committed on Embree's build threads, then attached one after the other in index
-  // order (attached in parallel too, 10^5 instances took 2.5x longer on the 16-core machine: the attachments
-  // contend for the scene's lock). Made in parallel, a build of 10^5 instances went from 1.35-1.50 to 1.78-2.16
-  // Minstances/s there; Embree's making of instance objects scales poorly (bench/embree_instances.cpp: about 180 ns
-  // an instance on one thread, 120-150 ns on 4-16), so these per-instance objects, not Embree's build, remain most
-  // of a large top level's build time.
   const size_t n = impl.instances.size();
+  // Which instances are flattened (in index order, up to the bound), grouped by mask.
+  std::vector<uint8_t> flat(n, 0);
+  FlatGroup groups[256];
+  uint64_t flatTriangles = 0;
+  if (n <= 0xFFFFFFFEu - 256) {
+    for (size_t i = 0; i < n; ++i) {
+      const InstanceRecord& r = impl.records[i];
+      const uint32_t mask = impl.instances[i].mask & 0xFF;
+      if (!r.blas || !r.blas->primitives || !mask || !flattenable(*r.blas)) continue;
+      if (flatTriangles + r.blas->primitives > kFlatTriangles) break;
+      flatTriangles += r.blas->primitives;
+      flat[i] = 1;
+      flattenInstance(r, uint32_t(i), groups[mask]);
+    }
+  }
+  // Robust here too: the instance hierarchy's box tests are conservative, so a ray grazing an instance's bounds
+  // still enters it. The context filter runs for flattened triangles (no filter runs for instances themselves).
+  int flags = settings.sceneFlags;
+  if (!flatTriangles) flags &= ~RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
+  rtcSetSceneFlags(scene, RTCSceneFlags(flags));
+  rtcSetSceneBuildQuality(scene, settings.sceneQuality);  // (Embree's instance builders tell only LOW from the rest)
+  // One instance geometry per active instance that is not flattened, attached under its index (Embree's instID = the
+  // instance index). The geometries are made and committed on Embree's build threads, then attached one after the
+  // other in index order (attached in parallel too, 10^5 instances took 2.5x longer on the 16-core machine: the
+  // attachments contend for the scene's lock). Made in parallel, a build of 10^5 instances went from 1.35-1.50 to
+  // 1.78-2.16 Minstances/s there; Embree's making of instance objects scales poorly (bench/embree_instances.cpp:
+  // about 180 ns an instance on one thread, 120-150 ns on 4-16), so these per-instance objects, not Embree's build,
+  // remain most of a large top level's build time.
   std::vector<RTCGeometry> geometries(n, nullptr);
   std::atomic<bool> outOfMemory{false};
+  // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
+  // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
+  // the same scene, re-entering its std::call_once.
+  for (size_t i = 0; i < n; ++i) {
+    const InstanceRecord& r = impl.records[i];
+    if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && (impl.instances[i].mask & 0xFF))
+      r.blas->sceneFor();
+  }
   parallelChunks(n, 1024, 4096, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const InstanceRecord& r = impl.records[i];
       const uint32_t mask = impl.instances[i].mask & 0xFF;
-      if (!r.blas || !r.blas->scene || !r.blas->primitives || !mask) continue;  // never hit; the index stays
+      if (flat[i] || !r.blas || !r.blas->primitives || !mask) continue;  // never hit (or flattened); the index stays
+      RTCScene inner = r.blas->sceneFor();
+      if (!inner) {
+        outOfMemory.store(true, std::memory_order_relaxed);
+        return;
+      }
       // An instance without extent in world space is left out too (never hit): Embree's builder would abort.
       RTCBounds bounds;
-      rtcGetSceneBounds(r.blas->scene, &bounds);
+      rtcGetSceneBounds(inner, &bounds);
       if (!worldBoundsHaveExtent(bounds, r.objectToWorld)) continue;
       RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
       if (!geometry) {
         outOfMemory.store(true, std::memory_order_relaxed);
         return;
       }
-      rtcSetGeometryInstancedScene(geometry, r.blas->scene);
+      rtcSetGeometryInstancedScene(geometry, inner);
       rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &r.objectToWorld[0][0]);
       rtcSetGeometryMask(geometry, mask);
       rtcCommitGeometry(geometry);
@@ -192,6 +277,34 @@ RTCScene newScene(const Tlas::Impl& impl, std::string* error) {
     for (size_t i = begin; i < end; ++i)
       if (geometries[i]) rtcReleaseGeometry(geometries[i]);
   });
+  // The flattened triangles: one geometry per mask, IDs from flatBase on (after every instance's).
+  impl.flatBase = uint32_t(n);
+  for (unsigned mask = 1; mask < 256 && !outOfMemory.load(); ++mask) {
+    FlatGroup& g = groups[mask];
+    if (g.triangles.empty()) continue;
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = geometry ? static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                                     RTC_FORMAT_FLOAT3, 12, g.triangles.size() * 3))
+                       : nullptr;
+    auto* ix = geometry ? static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                         RTC_FORMAT_UINT3, 12, g.triangles.size()))
+                        : nullptr;
+    if (!v || !ix) {
+      if (geometry) rtcReleaseGeometry(geometry);
+      outOfMemory.store(true);
+      break;
+    }
+    std::memcpy(v, g.vertices.data(), g.vertices.size() * sizeof(float));
+    for (uint32_t k = 0; k < 3 * g.triangles.size(); ++k) ix[k] = k;
+    rtcSetGeometryMask(geometry, mask << kFlatMaskShift);
+    // MEDIUM: each triangle in exactly one leaf (no spatial splits: VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT).
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_MEDIUM);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(scene, geometry, impl.flatBase + unsigned(impl.flat.size()));
+    rtcReleaseGeometry(geometry);
+    impl.flat.push_back(std::move(g.triangles));
+    // flat[] is indexed by geometry ID - flatBase: masks without triangles take no ID.
+  }
   if (outOfMemory.load()) {
     if (error) *error = "Tlas build: Embree could not create an instance geometry (out of memory)";
     rtcReleaseScene(scene);

@@ -197,7 +197,29 @@ void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t
   objectRay(r, *ctx.ray, h.objectRayOrigin, h.objectRayDirection);
 }
 
-void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t hitKind, const float v[3][3]);
+void offerQueryTriangle(TraceContext& ctx, const HitIds& ids, const RTCHit& hit, float t, uint32_t hitKind,
+                        const float v[3][3]);
+
+// The object-space vertices of primitive `p` of `geom` (zeros for an index out of range); false when the geometry
+// keeps none or `p` is out of range.
+bool objectTriangle(const GeometryInfo& geom, uint32_t p, float v[3][3]) {
+  if (!geom.vertices || p >= geom.primitiveCount) return false;
+  const uint32_t* index = geom.indices + 3 * size_t(p);
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) v[k][c] = index[k] < geom.vertexCount ? geom.vertices[3 * size_t(index[k]) + c] : 0;
+  return true;
+}
+
+// A triangle's geometric normal as Embree reports it for an instanced one: (v1 - v0) x (v2 - v0) in object space.
+// A flattened triangle's (tlas.cpp) is computed here from its object-space vertices, since Embree's is in world
+// space, where a mirroring instance would turn it around.
+void objectNormal(const float v[3][3], float ng[3]) {
+  const float e1[3] = {v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
+  const float e2[3] = {v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
+  ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
 void offerQueryBox(TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive, float entry,
                    bool opaque);
 
@@ -209,14 +231,18 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   TraceContext& ctx = contextOf(args->context);
   RTCRay& ray = *reinterpret_cast<RTCRay*>(args->ray);  // N == 1: rtcIntersect1/rtcOccluded1
   const RTCHit& hit = *reinterpret_cast<const RTCHit*>(args->hit);
-  const InstanceRecord& inst = ctx.tlas->records[hit.instID[0]];
-  const GeometryInfo& geom = inst.blas->info[hit.geomID];
+  const HitIds ids = hitIds(*ctx.tlas, hit.instID[0], hit.geomID, hit.primID);
+  const InstanceRecord& inst = ctx.tlas->records[ids.instance];
+  const GeometryInfo& geom = inst.blas->info[ids.geometry];
+  float v[3][3];
+  const bool hasVertices = objectTriangle(geom, ids.primitive, v);
 
   float dir[3];
   const float(*m)[4] = inst.worldToObject;
   for (int i = 0; i < 3; ++i)
     dir[i] = m[i][0] * ctx.ray->direction[0] + m[i][1] * ctx.ray->direction[1] + m[i][2] * ctx.ray->direction[2];
-  const float ng[3] = {hit.Ng_x, hit.Ng_y, hit.Ng_z};
+  float ng[3] = {hit.Ng_x, hit.Ng_y, hit.Ng_z};
+  if (ids.flat) objectNormal(v, ng);
   const int face = facing(ng, dir, inst.flags);
   const bool opaque = effectiveOpaque(geom.flags, inst.flags, ctx.flags);
   if (ctx.terminated || facingCulled(face, inst.flags, ctx.flags) || opacityCulled(opaque, ctx.flags)) {
@@ -232,17 +258,13 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     return;
   }
   const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
-  if (geom.vertices && hit.primID < geom.primitiveCount) {
-    const uint32_t* index = geom.indices + 3 * size_t(hit.primID);
-    float v[3][3];
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) v[k][c] = index[k] < geom.vertexCount ? geom.vertices[3 * size_t(index[k]) + c] : 0;
+  if (hasVertices) {
     if (ctx.query && !opaque) {  // a ray query's candidate: collected for the shader, never accepted here
-      offerQueryTriangle(ctx, hit, ray.tfar, hitKind, v);
+      offerQueryTriangle(ctx, ids, hit, ray.tfar, hitKind, v);
       args->valid[0] = 0;
       return;
     }
-    if (ctx.sameCrossingOffered(hit.instID[0], ray.tfar, v)) {
+    if (ctx.sameCrossingOffered(ids.instance, ray.tfar, v)) {
       args->valid[0] = 0;
       return;
     }
@@ -256,7 +278,7 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   if (!opaque) {
     // A non-opaque candidate goes to the any-hit shader ("Triangle and Generated Intersection Candidates").
     HitInfo info;
-    fillCommon(info, ctx, hit.instID[0], hit.geomID, hit.primID);
+    fillCommon(info, ctx, ids.instance, ids.geometry, ids.primitive);
     info.t = ray.tfar;
     info.hitKind = hitKind;
     info.triangle = true;
@@ -271,9 +293,9 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   }
   Committed& c = ctx.last;
   c.t = ray.tfar;
-  c.instance = hit.instID[0];
-  c.geometry = hit.geomID;
-  c.primitive = hit.primID;
+  c.instance = ids.instance;
+  c.geometry = ids.geometry;
+  c.primitive = ids.primitive;
   c.hitKind = hitKind;
   c.u = hit.u;
   c.v = hit.v;
@@ -490,8 +512,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   rh.ray.tnear = ctx.closedInterval ? ray.tMin : std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
   rh.ray.tfar = ctx.closedInterval ? ray.tMax : nextDown(ray.tMax);
   rh.ray.time = 0;
-  rh.ray.mask =
-      cull | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) | (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
+  rh.ray.mask = embreeRayMask(ray);
   rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -511,13 +532,16 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
     return true;
   }
   Committed c;
+  const HitIds ids = hitIds(t, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID);
   c.t = rh.ray.tfar;
-  c.instance = rh.hit.instID[0];
-  c.geometry = rh.hit.geomID;
-  c.primitive = rh.hit.primID;
+  c.instance = ids.instance;
+  c.geometry = ids.geometry;
+  c.primitive = ids.primitive;
   c.u = rh.hit.u;
   c.v = rh.hit.v;
   c.ng[0] = rh.hit.Ng_x, c.ng[1] = rh.hit.Ng_y, c.ng[2] = rh.hit.Ng_z;
+  float v[3][3];
+  if (ids.flat && objectTriangle(t.records[c.instance].blas->info[c.geometry], c.primitive, v)) objectNormal(v, c.ng);
   // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
   const bool box = t.records[c.instance].blas->info[c.geometry].kind == Geometry::Aabbs;
   c.hitKind = box ? ctx.last.hitKind : 0;
@@ -567,9 +591,10 @@ bool better(const QueryCollect& c, const Key& key) {
   return !c.found || keyLess(key, c.best);
 }
 
-void offerQueryTriangle(TraceContext& ctx, const RTCHit& hit, float t, uint32_t hitKind, const float v[3][3]) {
+void offerQueryTriangle(TraceContext& ctx, const HitIds& ids, const RTCHit& hit, float t, uint32_t hitKind,
+                        const float v[3][3]) {
   QueryCollect& c = *ctx.query;
-  const Key key{t, 1, hit.instID[0], hit.geomID, hit.primID};
+  const Key key{t, 1, ids.instance, ids.geometry, ids.primitive};
   if (!better(c, key)) return;
   const RayQuery& q = *c.q;
   const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
@@ -666,8 +691,7 @@ bool queryProceed(RayQuery& q) {
   rh.ray.tnear = ray.tMin;
   rh.ray.tfar = ray.tMax;
   rh.ray.time = 0;
-  rh.ray.mask = (ray.cullMask & 0xFF) | (ray.flags & kRaySkipTriangles ? 0 : kTriangleMaskBit) |
-                (ray.flags & kRaySkipAabbs ? 0 : kAabbMaskBit);
+  rh.ray.mask = embreeRayMask(ray);
   rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;

@@ -125,33 +125,51 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
 
 void TopLevelTable::snapshot() {
   std::lock_guard lock(dev_->accelerationStructuresMutex);
-  addresses_.reserve(dev_->accelerationStructures.size());
+  size_t n = 0;
+  for (const auto& entry : dev_->accelerationStructures)
+    n += entry.second->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  entries_ = std::make_unique<Entry[]>(n);
   for (const auto& [address, as] : dev_->accelerationStructures)  // (a std::map: the addresses come sorted)
-    if (as->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) addresses_.push_back(address);
-  entries_ = std::make_unique<Entry[]>(addresses_.size());
+    if (as->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) entries_[count_++].address = address;
 }
 
 const accel::Tlas* TopLevelTable::miss(bool* firstMiss) {
-  *firstMiss = !missed_.exchange(true, std::memory_order_relaxed);
+  // A load first: rays that miss after the first write nothing, so they do not contend for the flag's cache line.
+  *firstMiss = !missed_.load(std::memory_order_relaxed) && !missed_.exchange(true, std::memory_order_relaxed);
   return nullptr;
 }
+
+namespace {
+// What an entry holds once its address turned out to be no built top level (kept, so it is resolved once).
+const accel::Tlas* const kUnresolvable = reinterpret_cast<const accel::Tlas*>(uintptr_t(1));
+}  // namespace
 
 const accel::Tlas* TopLevelTable::find(uint64_t address, bool* firstMiss) {
   *firstMiss = false;
   std::call_once(snapshotOnce_, [this] { snapshot(); });
-  const auto it = std::lower_bound(addresses_.begin(), addresses_.end(), address);
-  if (it == addresses_.end() || *it != address) return miss(firstMiss);
-  Entry& e = entries_[it - addresses_.begin()];
-  if (!e.resolved.load(std::memory_order_acquire)) {
+  if (!count_) return miss(firstMiss);
+  // Bisection without branches on the data (the addresses rays pick are as unpredictable as the application
+  // makes them): `e` ends on the last entry whose address is <= `address`, if any.
+  const Entry* e = entries_.get();
+  for (size_t n = count_; n > 1;) {
+    const size_t half = n / 2;
+    e = e[half].address <= address ? e + half : e;
+    n -= half;
+  }
+  if (e->address != address) return miss(firstMiss);
+  Entry& entry = const_cast<Entry&>(*e);
+  const accel::Tlas* t = entry.tlas.load(std::memory_order_acquire);
+  if (!t) {
     std::lock_guard lock(mutex_);
-    if (!e.resolved.load(std::memory_order_relaxed)) {
-      std::shared_ptr<const accel::Tlas> t = topLevelAt(dev_, address);
-      e.tlas = t.get();
-      if (t) kept_.push_back(std::move(t));
-      e.resolved.store(true, std::memory_order_release);
+    t = entry.tlas.load(std::memory_order_relaxed);
+    if (!t) {
+      std::shared_ptr<const accel::Tlas> kept = topLevelAt(dev_, address);
+      t = kept ? kept.get() : kUnresolvable;
+      if (kept) kept_.push_back(std::move(kept));
+      entry.tlas.store(t, std::memory_order_release);
     }
   }
-  return e.tlas ? e.tlas : miss(firstMiss);
+  return t != kUnresolvable ? t : miss(firstMiss);
 }
 
 const accel::Tlas* DispatchStructures::topLevel(uint64_t address) {

@@ -115,17 +115,19 @@ class TopLevelTable {
   const accel::Tlas* find(uint64_t address, bool* firstMiss);
 
  private:
+  // An address and what it resolved to, side by side (one cache line holds both): null until resolved, then the
+  // structure or kUnresolvable.
   struct Entry {
-    std::atomic<bool> resolved{false};
-    const accel::Tlas* tlas = nullptr;  // written once, before `resolved`
+    uint64_t address = 0;
+    std::atomic<const accel::Tlas*> tlas{nullptr};
   };
   void snapshot();
   const accel::Tlas* miss(bool* firstMiss);
 
   Device* dev_;
   std::once_flag snapshotOnce_;
-  std::vector<uint64_t> addresses_;  // sorted
-  std::unique_ptr<Entry[]> entries_;
+  std::unique_ptr<Entry[]> entries_;  // sorted by address
+  size_t count_ = 0;
   std::mutex mutex_;                                      // resolutions, kept_
   std::vector<std::shared_ptr<const accel::Tlas>> kept_;  // one per resolved structure, alive until the work ends
   std::atomic<bool> missed_{false};

@@ -6,9 +6,11 @@
 //   driverUUID (16) | compatibility UUID (16) | u64 serialized size | u64 deserialized size |
 //   u64 N: bottom-level references | N x u64 references (device addresses of the referenced bottom-level
 //   structures, which the application may patch before deserializing) | accel's serialized structure
+#include <atomic>
 #include <cstring>
 #include <functional>
 
+#include "exec/thread_pool.hpp"
 #include "runtime/acceleration_structure.hpp"
 #include "runtime/acceleration_structure_build.hpp"
 #include "runtime/buffer.hpp"
@@ -211,6 +213,29 @@ bool runAndReport(const Object* about, const char* fn, const BuildJob& job) {
   return false;
 }
 
+// Runs the builds of one command. Its infos build distinct structures and none may read what another writes
+// (VUID-vkCmdBuildAccelerationStructuresKHR-dstAccelerationStructure-03698 to -03702: no destination overlaps another
+// info's source, destination or scratch), so they run concurrently on the thread pool: a command of thousands of small
+// bottom levels (one Embree scene each) keeps every core busy. Top levels go after the bottom levels of the command,
+// as recorded, for an application that puts both in one command (their order is then its only synchronization).
+// Returns whether every build built.
+bool runJobs(const Object* about, const char* fn, const std::vector<BuildJob>& jobs) {
+  std::vector<const BuildJob*> bottom, top;
+  for (const BuildJob& job : jobs)
+    (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR ? top : bottom).push_back(&job);
+  std::atomic<bool> ok{true};
+  for (const std::vector<const BuildJob*>* group : {&bottom, &top}) {
+    if (group->size() == 1) {
+      ok = runAndReport(about, fn, *group->front()) && ok;
+      continue;
+    }
+    exec::ThreadPool::instance().runConcurrently(group->size(), [&](uint64_t i) {
+      if (!runAndReport(about, fn, *(*group)[i])) ok.store(false, std::memory_order_relaxed);
+    });
+  }
+  return ok.load();
+}
+
 // Host commands: runs `tasks` now, or defers them to `op`'s joining threads. Returns the command's result.
 VkResult runHost(Device* dev, VkDeferredOperationKHR deferred, const char* fn,
                  std::vector<std::function<bool()>> tasks) {
@@ -352,9 +377,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(
       return;
   }
   if (!checkDistinct(cb, fn, jobs)) return;
-  cb->record([cb, jobs](ExecState&) {
-    for (const BuildJob& job : jobs) runAndReport(cb, "vkCmdBuildAccelerationStructuresKHR", job);
-  });
+  cb->record([cb, jobs](ExecState&) { runJobs(cb, "vkCmdBuildAccelerationStructuresKHR", jobs); });
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(
@@ -449,6 +472,8 @@ vkrt_BuildAccelerationStructuresKHR(VkDevice device, VkDeferredOperationKHR defe
     if (!makeJob(dev, fn, i, pInfos[i], ppBuildRangeInfos[i], true, &jobs[i]) || !checkBuild(dev, fn, jobs[i], dev))
       return VK_ERROR_VALIDATION_FAILED_EXT;
   if (!checkDistinct(dev, fn, jobs)) return VK_ERROR_VALIDATION_FAILED_EXT;
+  // Without a deferred operation the builds run now, concurrently (runJobs).
+  if (!deferredOperation) return runJobs(dev, fn, jobs) ? VK_SUCCESS : VK_ERROR_VALIDATION_FAILED_EXT;
   // The inputs are the application's host memory, which it may change once the call returns: deferred builds read
   // them when they run, as the specification allows until the operation completes.
   std::vector<std::function<bool()>> tasks;

@@ -529,15 +529,6 @@ TEST_F(RayQueryMisuseTest, HundredsOfTopLevelsInOneDispatchResolveOnceEach) {
     w[b].pBufferInfo = &bi[b];
   }
   vkUpdateDescriptorSets(device, 2, w, 0, nullptr);
-  auto residentBytes = [] {
-    long pages = 0, resident = 0;
-    FILE* f = std::fopen("/proc/self/statm", "r");
-    if (f) {
-      if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-      std::fclose(f);
-    }
-    return uint64_t(resident) * 4096;
-  };
   uint64_t afterFirst = 0;
   for (int round = 0; round < 3; ++round) {
     std::memset(out.data, 0xee, kInvocations * 4);

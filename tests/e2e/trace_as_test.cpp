@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "e2e/trace_fixture.hpp"
+#include "hit_distance.hpp"
 
 namespace vkrt::test {
 namespace {
@@ -324,6 +325,135 @@ TEST_F(TraceAsTest, HostBuildsWithADeferredOperationTraceTheSame) {
   VkAccelerationStructureKHR top = hostBuildOf(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 2, op);
   destroyOp(device, op, nullptr);
   expectBasicScene(trace(p, s, top, 8, 8), 8);
+}
+
+// Thousands of small bottom-level structures built by one command (one info each: 1 to 3 triangles, no index
+// buffer), as scenes of many small meshes and the CTS's build.*.level_instances.* cases build them, under a top level
+// of one instance each in a shuffled order: every ray of a 64 x 64 launch hits the one triangle in its cell, and
+// reports the instance, custom index, primitive and distance it must. Built on the device (one
+// vkCmdBuildAccelerationStructuresKHR with 4096 infos) and, where the driver has host commands, on the host (one
+// vkBuildAccelerationStructuresKHR with 4096 infos): the builds of one command run concurrently (nothing in one
+// command may depend on another of its builds).
+TEST_F(TraceAsTest, ThousandsOfSmallBottomLevelsFromOneCommandHitExactly) {
+  constexpr uint32_t kSide = 64, kCount = kSide * kSide;
+  // Structure b: triangle b % 3 covers the cell (b % kSide, b / kSide) of [-2, 2]^2 at z = 1 (the centre of the cell,
+  // where the launch's ray passes, well inside); the others lie outside the launch's square.
+  std::vector<float> vertices;
+  std::vector<uint32_t> first(kCount), triangles(kCount);
+  const float e = 4.0f / float(kSide);
+  for (uint32_t b = 0; b < kCount; ++b) {
+    first[b] = uint32_t(vertices.size() / 3);
+    triangles[b] = b % 3 + 1;
+    for (uint32_t t = 0; t < triangles[b]; ++t) {
+      const bool inCell = t == b % 3;
+      const float x0 = -2.0f + e * float(b % kSide) + (inCell ? 0.0f : 10.0f + float(t)),
+                  y0 = -2.0f + e * float(b / kSide);
+      const float tri[9] = {x0, y0, 1, x0 + e, y0 + 0.5f * e, 1, x0 + 0.5f * e, y0 + e, 1};
+      vertices.insert(vertices.end(), tri, tri + 9);
+    }
+  }
+  // Instance i instantiates structure perm(i) (1237 is odd: a permutation of 0..4095), custom index 1000 + perm(i).
+  auto perm = [](uint32_t i) { return (i * 1237u) % kCount; };
+  std::vector<uint32_t> instanceOf(kCount);
+  for (uint32_t i = 0; i < kCount; ++i) instanceOf[perm(i)] = i;
+  auto check = [&](VkAccelerationStructureKHR top, const char* how) {
+    SCOPED_TRACE(how);
+    std::vector<TracePayload> r = trace(p, s, top, kSide, kSide);
+    size_t wrong = 0;
+    for (uint32_t c = 0; c < kCount; ++c) {
+      const TracePayload& q = r[c];
+      const bool ok = nearHit(q.hit[0], 11.0f) && q.ids[0] == 1000 + c && q.ids[1] == instanceOf[c] &&
+                      q.ids[2] == c % 3 && q.ids[3] == 0 && q.extra[0] == 100u;
+      if (!ok && ++wrong <= 5)
+        ADD_FAILURE() << "cell " << c << ": t " << q.hit[0] << ", custom index " << q.ids[0] << ", instance "
+                      << q.ids[1] << ", primitive " << q.ids[2] << "; expected t 11, " << 1000 + c << ", "
+                      << instanceOf[c] << ", " << c % 3;
+    }
+    EXPECT_EQ(wrong, 0u);
+  };
+  // The infos of one command for the structures in `blases`, reading vertices at `vertexBase` (an address).
+  auto infosFor = [&](const std::vector<VkAccelerationStructureKHR>& blases, bool host, const void* hostVertices,
+                      VkDeviceAddress deviceVertices, std::vector<VkAccelerationStructureGeometryKHR>& geometries,
+                      std::vector<VkAccelerationStructureBuildRangeInfoKHR>& ranges, std::vector<uint8_t>& hostScratch,
+                      VkDeviceAddress scratch) {
+    geometries.assign(kCount,
+                      VkAccelerationStructureGeometryKHR{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR});
+    ranges.resize(kCount);
+    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(
+        kCount, {VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR});
+    hostScratch.resize(size_t(kCount) * 256);
+    for (uint32_t b = 0; b < kCount; ++b) {
+      VkAccelerationStructureGeometryKHR& g = geometries[b];
+      g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+      g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+      auto& t = g.geometry.triangles;
+      t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+      t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+      if (host)
+        t.vertexData.hostAddress = static_cast<const float*>(hostVertices) + size_t(first[b]) * 3;
+      else
+        t.vertexData.deviceAddress = deviceVertices + VkDeviceAddress(first[b]) * 12;
+      t.vertexStride = 12;
+      t.maxVertex = 3 * triangles[b] - 1;
+      t.indexType = VK_INDEX_TYPE_NONE_KHR;
+      ranges[b] = {triangles[b], 0, 0, 0};
+      VkAccelerationStructureBuildGeometryInfoKHR& info = infos[b];
+      info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+      info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+      info.geometryCount = 1;
+      info.pGeometries = &g;
+      info.dstAccelerationStructure = blases[b];
+      if (host)
+        info.scratchData.hostAddress = hostScratch.data() + size_t(b) * 256;
+      else
+        info.scratchData.deviceAddress = scratch + VkDeviceAddress(b) * 256;
+    }
+    return infos;
+  };
+  auto makeBlases = [&]() {
+    std::vector<VkAccelerationStructureKHR> blases(kCount);
+    HostBuffer& storage = buffer(VkDeviceSize(kCount) * 512, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR);
+    for (uint32_t b = 0; b < kCount; ++b) {
+      VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+      ci.buffer = storage.buffer;
+      ci.offset = VkDeviceSize(b) * 512;
+      ci.size = 512;
+      ci.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+      EXPECT_EQ(createAs(device, &ci, nullptr, &blases[b]), VK_SUCCESS);
+      structures.push_back(blases[b]);
+    }
+    return blases;
+  };
+  std::vector<VkAccelerationStructureGeometryKHR> geometries;
+  std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
+  std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> rangePointers(kCount);
+  std::vector<uint8_t> hostScratch;
+  {
+    const std::vector<VkAccelerationStructureKHR> blases = makeBlases();
+    const VkDeviceAddress vb = upload(vertices);
+    HostBuffer& scratch = buffer(VkDeviceSize(kCount) * 256 + 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto infos =
+        infosFor(blases, false, nullptr, vb, geometries, ranges, hostScratch, (addressOf(scratch) + 255) / 256 * 256);
+    for (uint32_t b = 0; b < kCount; ++b) rangePointers[b] = &ranges[b];
+    VkCommandBuffer cb = beginOneTime();
+    cmdBuild(cb, kCount, infos.data(), rangePointers.data());
+    submitAndWait(cb);
+    std::vector<VkAccelerationStructureInstanceKHR> instances(kCount);
+    for (uint32_t i = 0; i < kCount; ++i) instances[i] = instance(blases[perm(i)], 0, 0, 0, 1000 + perm(i));
+    check(tlas(instances), "built on the device");
+  }
+  if (asf.accelerationStructureHostCommands) {
+    PFN_vkBuildAccelerationStructuresKHR hostBuild = nullptr;
+    load(hostBuild, "vkBuildAccelerationStructuresKHR");
+    const std::vector<VkAccelerationStructureKHR> blases = makeBlases();
+    auto infos = infosFor(blases, true, vertices.data(), 0, geometries, ranges, hostScratch, 0);
+    for (uint32_t b = 0; b < kCount; ++b) rangePointers[b] = &ranges[b];
+    ASSERT_EQ(hostBuild(device, VK_NULL_HANDLE, kCount, infos.data(), rangePointers.data()), VK_SUCCESS);
+    // The top level on the device, over the host-built structures (their addresses are theirs either way).
+    std::vector<VkAccelerationStructureInstanceKHR> instances(kCount);
+    for (uint32_t i = 0; i < kCount; ++i) instances[i] = instance(blases[perm(i)], 0, 0, 0, 1000 + perm(i));
+    check(tlas(instances), "built on the host");
+  }
 }
 
 // Capture/replay of addresses as a capture tool replays them (GFXReconstruct: memory at its opaque address, buffers

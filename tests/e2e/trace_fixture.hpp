@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -96,6 +97,17 @@ inline void expectSpheresInBoxes(const std::vector<TracePayload>& r, uint32_t n,
       EXPECT_EQ(q.extra[0], 300u);
     }
   EXPECT_GT(hits, 4);
+}
+
+// The process's resident memory in bytes (/proc/self/statm), for the tests that check that work does not grow it.
+inline uint64_t residentBytes() {
+  long pages = 0, resident = 0;
+  FILE* f = std::fopen("/proc/self/statm", "r");
+  if (f) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return uint64_t(resident) * 4096;
 }
 
 class TraceTest : public RtTest {

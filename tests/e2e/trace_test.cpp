@@ -1,6 +1,7 @@
 // vkCmdTraceRaysKHR end to end: acceleration structures built on the device, a shader binding table written from
 // the pipeline's handles, and every launch index's result compared with the hit computed here from the geometry.
 #include "e2e/trace_fixture.hpp"
+#include "hit_distance.hpp"
 #include "trace_box_at_tmin.rint.spv.h"
 #include "trace_miss_cullmask.rmiss.spv.h"
 
@@ -274,7 +275,10 @@ TEST_F(TraceFlags, ARayStartingInsideABoxMeetsItWhenTMinEqualsTMax) {
     for (uint32_t i = 0; i < r.size(); ++i) {
       SCOPED_TRACE("launch index " + std::to_string(i));
       EXPECT_EQ(r[i].hit[0], 0.0f) << "gl_HitTEXT: the box's hit at tMin";
-      EXPECT_EQ(r[i].hit[2], tmax) << "gl_RayTmaxEXT in the intersection shader";
+      // gl_RayTmaxEXT in the intersection shader: tMax, or the quad's t (15) where the traversal committed the quad
+      // first (the order in which candidates are met is the implementation's; a small quad's triangles lie in the
+      // top level's scene, which Embree traverses before its instances).
+      EXPECT_TRUE(r[i].hit[2] == tmax || (tmax > 15.0f && nearHit(r[i].hit[2], 15.0f))) << r[i].hit[2];
       EXPECT_EQ(r[i].hit[3], 6.0f) << "the hit kind the intersection shader reported";
       EXPECT_EQ(r[i].ids[0], 3u) << "the box's instance";
       EXPECT_EQ(r[i].extra[0], 300u);

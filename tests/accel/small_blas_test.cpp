@@ -1,0 +1,192 @@
+// Small bottom levels (16 primitives or fewer) have no Embree scene of their own: a top level holds their
+// triangles in world space ("flattened", src/accel/tlas.cpp). Checked against the instanced path, which the same
+// triangles take in a bottom level padded past the bound (with triangles no ray reaches): random triangles under
+// random transforms (mirroring ones included), masks and ray flags, traced and queried, give the same hits.
+#include <random>
+#include <set>
+#include <utility>
+
+#include "accel/scenes.hpp"
+
+namespace vkrt::accel::test {
+namespace {
+
+// Two triangles sharing an edge, at random, and the same followed by 20 far-away triangles (so past the bound).
+struct Pair {
+  std::shared_ptr<Blas> small, padded;
+};
+Pair randomPair(std::mt19937& rng, uint32_t flags) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  Geometry g;
+  g.kind = Geometry::Triangles;
+  g.triangles.flags = flags;
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 3; ++c) g.triangles.vertices.push_back(2 * u(rng));
+  g.triangles.indices = {0, 1, 2, 2, 1, 3};
+  Geometry padded = g;
+  for (uint32_t k = 0; k < 20; ++k) {
+    const uint32_t base = uint32_t(padded.triangles.vertices.size() / 3);
+    const float x = 1000.0f + 3.0f * float(k);
+    padded.triangles.vertices.insert(padded.triangles.vertices.end(),
+                                     {x, 1000, 1000, x + 1, 1000, 1000, x, 1001, 1000});
+    padded.triangles.indices.insert(padded.triangles.indices.end(), {base, base + 1, base + 2});
+  }
+  return {makeBlas({g}), makeBlas({padded})};
+}
+
+struct Outcome {
+  bool hit = false;
+  float t = 0, u = 0, v = 0;
+  uint32_t instance = 0, primitive = 0, hitKind = 0;
+  // The any-hit candidates (instance, primitive) at or before the committed hit: those are offered whatever order
+  // the traversal meets candidates in (later ones may be culled by a closer commit, depending on that order).
+  std::set<std::pair<uint32_t, uint32_t>> anyHitsBefore;
+};
+
+Outcome traced(const Tlas& tlas, const Ray& ray) {
+  Recorder rec;
+  const Traced t = traceOnce(tlas, ray, rec);
+  Outcome o;
+  o.hit = t.hit;
+  for (const HitInfo& h : rec.anyHits)
+    if (t.hit && h.t <= t.info.t * (1 + 1e-5f)) o.anyHitsBefore.insert({h.instanceIndex, h.primitiveIndex});
+  if (t.hit) {
+    o.t = t.info.t;
+    o.u = t.info.barycentrics[0];
+    o.v = t.info.barycentrics[1];
+    o.instance = t.info.instanceIndex;
+    o.primitive = t.info.primitiveIndex;
+    o.hitKind = t.info.hitKind;
+  }
+  return o;
+}
+
+TEST(AccelSmallBlas, FlattenedTrianglesTraceAsInstancedOnes) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> u(-1, 1);
+  const uint32_t rayFlags[] = {0,
+                               kRayCullBackFacingTriangles,
+                               kRayCullFrontFacingTriangles,
+                               kRayNoOpaque,
+                               kRayTerminateOnFirstHit | kRayOpaque,
+                               kRaySkipTriangles,
+                               kRayCullOpaque};
+  int hits = 0, compared = 0;
+  for (int scene = 0; scene < 12; ++scene) {
+    // Eight instances of random pairs (half non-opaque), random transforms (every third mirroring), masks and flags.
+    std::vector<Instance> smallInstances, paddedInstances;
+    for (uint32_t i = 0; i < 8; ++i) {
+      const Pair p = randomPair(rng, i % 2 ? kGeometryOpaque : 0u);
+      Instance in;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) in.transform[r][c] = (r == c ? 1.2f : 0.0f) + 0.4f * u(rng);
+        in.transform[r][3] = 1.5f * u(rng);
+      }
+      if (i % 3 == 0)
+        for (int c = 0; c < 4; ++c) in.transform[2][c] = -in.transform[2][c];
+      in.customIndex = i;
+      in.mask = i % 4 == 3 ? 0x0F : 0xF0;
+      in.flags = i == 5 ? uint32_t(kInstanceTriangleFlipFacing) : i == 6 ? uint32_t(kInstanceForceOpaque) : 0u;
+      in.blas = p.small;
+      smallInstances.push_back(in);
+      in.blas = p.padded;
+      paddedInstances.push_back(in);
+    }
+    auto flat = makeTlas(smallInstances), instanced = makeTlas(paddedInstances);
+    for (int r = 0; r < 200; ++r) {
+      Ray ray = rayFrom(3 * u(rng), 3 * u(rng), -6, 0.3f * u(rng), 0.3f * u(rng), 1, rayFlags[r % 7], 20.0f);
+      ray.cullMask = r % 5 == 0 ? 0x0F : 0xFF;
+      const Outcome a = traced(*flat, ray), b = traced(*instanced, ray);
+      SCOPED_TRACE("scene " + std::to_string(scene) + ", ray " + std::to_string(r));
+      ++compared;
+      ASSERT_EQ(a.hit, b.hit);
+      // Which hit TerminateOnFirstHit commits is the traversal's first: any of them.
+      if (!a.hit || (ray.flags & kRayTerminateOnFirstHit)) continue;
+      EXPECT_EQ(a.anyHitsBefore, b.anyHitsBefore);
+      ++hits;
+      EXPECT_TRUE(nearHit(a.t, b.t, 20)) << a.t << " vs " << b.t;
+      EXPECT_EQ(a.instance, b.instance);
+      EXPECT_EQ(a.primitive, b.primitive);
+      EXPECT_EQ(a.hitKind, b.hitKind);
+      EXPECT_NEAR(a.u, b.u, 1e-3f);
+      EXPECT_NEAR(a.v, b.v, 1e-3f);
+    }
+    // Ray queries that confirm every candidate: the same committed hit.
+    for (int r = 0; r < 50; ++r) {
+      Ray ray = rayFrom(3 * u(rng), 3 * u(rng), -6, 0.3f * u(rng), 0.3f * u(rng), 1, rayFlags[r % 4], 20.0f);
+      RayQuery qa, qb;
+      queryInitialize(qa, flat.get(), ray);
+      queryInitialize(qb, instanced.get(), ray);
+      int ca = 0, cb = 0;
+      while (queryProceed(qa)) ++ca, queryConfirm(qa);
+      while (queryProceed(qb)) ++cb, queryConfirm(qb);
+      EXPECT_EQ(ca, cb) << "candidates, ray " << r;
+      EXPECT_EQ(qa.committed.type, qb.committed.type);
+      EXPECT_EQ(qa.committed.instance, qb.committed.instance);
+      EXPECT_EQ(qa.committed.primitive, qb.committed.primitive);
+    }
+  }
+  EXPECT_GT(hits, compared / 10);
+}
+
+// Thousands of one-triangle structures under one top level (as the CTS's build.*.level_instances.* cases make):
+// each ray hits the one triangle in its cell, with the instance, custom index, primitive and distance it must.
+TEST(AccelSmallBlas, ThousandsOfOneTriangleStructuresHitExactly) {
+  constexpr uint32_t kSide = 64;
+  std::vector<Instance> instances;
+  for (uint32_t k = 0; k < kSide * kSide; ++k) {
+    Geometry g;
+    g.kind = Geometry::Triangles;
+    g.triangles.flags = kGeometryOpaque;
+    const float x = float(k % kSide), y = float(k / kSide);
+    g.triangles.vertices = {x, y, 1, x + 1, y + 0.5f, 1, x + 0.5f, y + 1, 1};
+    g.triangles.indices = {0, 1, 2};
+    Instance in = instanceOf(makeBlas({g}));
+    in.customIndex = k;
+    instances.push_back(in);
+  }
+  auto tlas = makeTlas(instances);
+  for (uint32_t k = 0; k < kSide * kSide; ++k) {
+    const float x = float(k % kSide) + 0.5f, y = float(k / kSide) + 0.5f;
+    const Traced t = traceOnce(*tlas, rayFrom(x, y, 0, 0, 0, 1));
+    ASSERT_TRUE(t.hit) << k;
+    EXPECT_EQ(t.info.instanceIndex, k);
+    EXPECT_EQ(t.info.customIndex, k);
+    EXPECT_EQ(t.info.primitiveIndex, 0u);
+    EXPECT_TRUE(nearHit(t.info.t, 1.0f)) << t.info.t;  // (the kernels' reciprocal estimates: hit_distance.hpp)
+  }
+}
+
+// Past the bound of flattened triangles a top level holds (2^20), the remaining instances of small structures are
+// instanced, their structure's scene made then: 65,537 instances of a 16-triangle structure (the last one past the
+// bound) are all hit where they must be, flattened or not.
+TEST(AccelSmallBlas, InstancesPastTheFlattenedBoundAreInstanced) {
+  Geometry g;
+  g.kind = Geometry::Triangles;
+  g.triangles.flags = kGeometryOpaque;
+  for (uint32_t q = 0; q < 8; ++q)  // 8 quads = 16 triangles side by side over [0, 8] x [0, 1] at z = 1
+    addQuad(g.triangles, float(q), 0, float(q + 1), 1, 1);
+  auto blas = makeBlas({g});
+  constexpr uint32_t kInstances = 65537, kRow = 256;
+  std::vector<Instance> instances(kInstances, instanceOf(blas));
+  for (uint32_t k = 0; k < kInstances; ++k) {
+    instances[k].transform[0][3] = 10.0f * float(k % kRow);
+    instances[k].transform[1][3] = 2.0f * float(k / kRow);
+    instances[k].customIndex = k;
+  }
+  auto tlas = makeTlas(instances);
+  for (uint32_t k : {0u, 1u, 65535u, 65536u}) {
+    for (uint32_t q : {0u, 7u}) {
+      const float x = 10.0f * float(k % kRow) + float(q) + 0.2f, y = 2.0f * float(k / kRow) + 0.7f;
+      const Traced t = traceOnce(*tlas, rayFrom(x, y, 0, 0, 0, 1));
+      ASSERT_TRUE(t.hit) << "instance " << k << ", quad " << q;
+      EXPECT_EQ(t.info.instanceIndex, k);
+      EXPECT_EQ(t.info.customIndex, k);
+      EXPECT_EQ(t.info.primitiveIndex, 2 * q + 1) << "the quad's second triangle (x0 y0, x1 y1, x0 y1)";
+      EXPECT_TRUE(nearHit(t.info.t, 1.0f)) << t.info.t;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vkrt::accel::test
