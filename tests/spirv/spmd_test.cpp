@@ -36,8 +36,10 @@ struct Shape {
 };
 
 // Runs spmd_control.comp for `shape` with SPMD on or off; returns both output buffers' bytes.
-std::vector<uint32_t> runControl(const Shape& shape, bool spmd, uint32_t* lanes) {
+// `lanes`: the shader's spmdLanes; `targetLanes`: the setting's (0 when off).
+std::vector<uint32_t> runControl(const Shape& shape, bool spmd, uint32_t* lanes, uint32_t* targetLanes) {
   SpmdSetting setting(spmd);
+  *targetLanes = spirv::spmdLanes();
   ComputeHarness h;
   EXPECT_TRUE(
       h.compile(kSpv_spmd_control_comp, {spec(0, shape.size[0]), spec(1, shape.size[1]), spec(2, shape.size[2])}))
@@ -65,11 +67,12 @@ std::vector<uint32_t> runControl(const Shape& shape, bool spmd, uint32_t* lanes)
 }
 
 void compareControl(const Shape& shape) {
-  uint32_t scalarLanes = 99, spmdLanes = 0;
-  std::vector<uint32_t> scalar = runControl(shape, false, &scalarLanes);
-  std::vector<uint32_t> spmd = runControl(shape, true, &spmdLanes);
+  uint32_t scalarLanes = 99, spmdLanes = 0, target = 0, off = 99;
+  std::vector<uint32_t> scalar = runControl(shape, false, &scalarLanes, &off);
+  std::vector<uint32_t> spmd = runControl(shape, true, &spmdLanes, &target);
+  EXPECT_EQ(off, 0u);
   EXPECT_EQ(scalarLanes, 0u) << "VKRT_SPMD=0's path runs invocations one by one";
-  EXPECT_EQ(spmdLanes, spirv::spmdLanes()) << "the shader did not take the SPMD path";
+  EXPECT_EQ(spmdLanes, target) << "the shader did not take the SPMD path";
   EXPECT_GE(spmdLanes, 4u);
   ASSERT_EQ(scalar.size(), spmd.size());
   ASSERT_FALSE(scalar.empty());
