@@ -31,6 +31,7 @@
 #include <spirv/unified1/GLSL.std.450.h>
 
 #include <atomic>
+#include <functional>
 
 #include "spirv/codegen.hpp"
 #include "spirv/target.hpp"
@@ -171,6 +172,18 @@ struct LanePtr {
   bool interleaved = false;  // a Function variable with storage per lane (see the top of the file)
   int builtIn = -1;          // GlobalInvocationId, LocalInvocationId, LocalInvocationIndex
   int component = -1;        // of the built-in vector (-1: the whole)
+  // Where known: lane l's offset is first + l * laneStride whenever `linear` (i1) holds (checked once per access,
+  // a scalar test, instead of comparing the lanes' offsets).
+  llvm::Value* first = nullptr;
+  int64_t laneStride = 0;
+  llvm::Value* linear = nullptr;
+};
+
+// Lane l of a varying integer holds base + l * stride (in the integer's width, wrapping): the invocation index and
+// x ids, and sums, differences, products and shifts of those by uniform values.
+struct Affine {
+  llvm::Value* base;
+  int64_t stride;
 };
 
 class Spmd {
@@ -216,6 +229,18 @@ class Spmd {
   std::unordered_map<uint32_t, std::vector<uint32_t>> liveOuts;
   std::unordered_map<uint32_t, std::vector<llvm::AllocaInst*>> liveOutSlots;
   llvm::Value* mask = nullptr;
+  std::unordered_map<uint64_t, Affine> affine;  // (id << 2 | component)
+  static uint64_t key(uint32_t id, uint32_t k) { return uint64_t(id) << 2 | k; }
+  // The affine form of component k of `id` (a uniform one has stride 0), or false.
+  bool affineOf(uint32_t id, uint32_t k, Affine* out) {
+    auto it = affine.find(key(id, k));
+    if (it != affine.end()) return (*out = it->second), true;
+    llvm::Value* v = comp(id, k);
+    if (!v || isLane(v) || !v->getType()->isIntegerTy()) return false;
+    *out = {v, 0};
+    return true;
+  }
+  void affineResult(const Instruction& in, uint32_t k, uint32_t kk);
   llvm::Value* laneIndex = nullptr;  // <N x i32>: the lanes' LocalInvocationIndex
   llvm::Value* batchBase = nullptr;  // i32: the first lane's
   llvm::Value* wgBase[3] = {};       // WorkgroupId * WorkgroupSize
@@ -305,12 +330,40 @@ class Spmd {
   bool loadInst(const Instruction& in);
   bool storeInst(const Instruction& in);
   LanePtr* lanePtr(uint32_t id);
-  bool builtInComps(int builtIn, std::vector<llvm::Value*>& out);
+  bool builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff);
   // A scalar at `delta` bytes from lp, for an access of `span` bytes at lp that is in or out of bounds as a whole
   // (a packed vector, as the scalar code checks it).
   llvm::Value* loadLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, uint64_t span);
   void storeLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, llvm::Value* v, uint64_t span);
   // The lanes whose `span` bytes at lp are in bounds (lp's offset varying), and the same for a uniform offset.
+  // Whether the lanes' offsets (offs, at `delta` from lp) are consecutive `bytes` apart, lane 0's offset, and the lanes
+  // in bounds for an access of `span` bytes at lp (evaluated where the addresses are consecutive).
+  struct Contiguity {
+    llvm::Value* consecutive;
+    llvm::Value* first;
+    std::function<llvm::Value*()> inBounds;
+  };
+  Contiguity contiguity(const LanePtr& lp, uint64_t delta, uint64_t bytes, uint64_t span, llvm::Value* offs) {
+    if (lp.linear && lp.first && lp.laneStride == int64_t(bytes)) {
+      // Known linear: one scalar test; lane l is in bounds where l * bytes < end - first.
+      llvm::Value* first0 = lp.first;
+      return {lp.linear, b.CreateAdd(first0, b.getInt64(delta)), [this, &lp, first0, bytes, span] {
+                llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, lp.p.limit, b.getInt64(span - 1));
+                llvm::Value* room = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, end, first0);
+                room = b.CreateTrunc(b.CreateBinaryIntrinsic(llvm::Intrinsic::umin, room, b.getInt64(1u << 30)),
+                                     b.getInt32Ty());
+                std::vector<llvm::Constant*> steps;
+                for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt32(uint32_t(l * bytes)));
+                return b.CreateICmpULT(llvm::ConstantVector::get(steps), splat(room));
+              }};
+    }
+    llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
+    std::vector<llvm::Constant*> steps;
+    for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(l * bytes));
+    llvm::Value* consecutive =
+        b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+    return {consecutive, first, [this, &lp, span] { return inBoundsLanes(lp, span); }};
+  }
   // An offset (uniform or per lane) plus `bytes`.
   llvm::Value* addBytes(llvm::Value* offset, uint64_t bytes) {
     return b.CreateAdd(offset, isLane(offset) ? splat(b.getInt64(bytes)) : b.getInt64(bytes));
@@ -561,6 +614,7 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpCompositeExtract: {
       if (in.count != 5) return fail("OpCompositeExtract of a nested composite");
       comps.push_back(comp(in.word(3), in.word(4)));
+      if (auto a = affine.find(key(in.word(3), in.word(4))); a != affine.end()) affine[key(id, 0)] = a->second;
       break;
     }
     case spv::OpCompositeInsert: {
@@ -606,6 +660,34 @@ bool Spmd::instruction(const Instruction& in) {
   return define(id, rt, comps);
 }
 
+// Component k of an integer add, subtract, multiply or shift whose operands are affine (or uniform): affine too.
+void Spmd::affineResult(const Instruction& in, uint32_t k, uint32_t n) {
+  if (in.count != 5) return;
+  auto opk = [&](uint32_t w) { return count(m.typeOf(in.word(w))) == n ? k : 0; };
+  Affine a, c2;
+  if (!affineOf(in.word(3), opk(3), &a) || !affineOf(in.word(4), opk(4), &c2)) return;
+  if (a.base->getType() != c2.base->getType()) return;
+  auto* kc = llvm::dyn_cast<llvm::ConstantInt>(c2.base);
+  auto* ka = llvm::dyn_cast<llvm::ConstantInt>(a.base);
+  Affine r{nullptr, 0};
+  switch (in.op) {
+    case spv::OpIAdd: r = {b.CreateAdd(a.base, c2.base), a.stride + c2.stride}; break;
+    case spv::OpISub: r = {b.CreateSub(a.base, c2.base), a.stride - c2.stride}; break;
+    case spv::OpIMul:
+      if (kc && !c2.stride && kc->getBitWidth() <= 64)
+        r = {b.CreateMul(a.base, kc), a.stride * kc->getSExtValue()};
+      else if (ka && !a.stride && ka->getBitWidth() <= 64)
+        r = {b.CreateMul(c2.base, ka), c2.stride * ka->getSExtValue()};
+      break;
+    case spv::OpShiftLeftLogical:
+      if (kc && !c2.stride && kc->getZExtValue() < 32)
+        r = {b.CreateShl(a.base, kc), a.stride * (int64_t(1) << kc->getZExtValue())};
+      break;
+    default: break;
+  }
+  if (r.base && r.stride > 0 && r.stride < (1 << 20)) affine[key(in.word(2), k)] = r;
+}
+
 // An elementwise instruction on varying operands: the scalar family emitters, once per component, on N-lane
 // vectors (a scalar operand of a vector instruction counts for every component).
 bool Spmd::componentwise(const Instruction& in) {
@@ -646,6 +728,7 @@ bool Spmd::componentwise(const Instruction& in) {
     if (it == e.values.end()) return fail("no result");
     comps.push_back(it->second);
     e.values.erase(it);
+    if (varyingComp(id, k)) affineResult(in, k, n);
     for (uint32_t w = firstOperand; w < in.count; ++w) e.values.erase(kFakeId + w);
   }
   return define(id, rt, comps);
@@ -668,11 +751,18 @@ LanePtr* Spmd::lanePtr(uint32_t id) {
   return nullptr;
 }
 
-bool Spmd::builtInComps(int builtIn, std::vector<llvm::Value*>& out) {
+bool Spmd::builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff) {
   const uint32_t* size = g.info.localSize;
   if (builtIn == spv::BuiltInLocalInvocationIndex) {
     out = {laneIndex};
+    aff = {{batchBase, 1}};
     return true;
+  }
+  // x is base + lane where a batch stays within a row.
+  aff = {{nullptr, 0}, {nullptr, 0}, {nullptr, 0}};
+  if (size[0] % N == 0) {
+    llvm::Value* x0 = b.CreateURem(batchBase, b.getInt32(size[0]));
+    aff[0] = {builtIn == spv::BuiltInGlobalInvocationId ? b.CreateAdd(wgBase[0], x0) : x0, 1};
   }
   // Per component: uniform where the analysis says so (a batch within one row / slice), from the first lane.
   bool yUniform = size[0] % N == 0, zUniform = (size[0] * size[1]) % N == 0;
@@ -765,6 +855,7 @@ bool Spmd::accessChain(const Instruction& in) {
     Ptr& p = sc.ptr(base);
     if (!p.base && p.slot < 0) return fail("an access chain on an untracked pointer");
     lp.p = p;
+    lp.linear = b.getTrue();
   }
   if (lp.builtIn >= 0) {
     uint64_t k = 0;
@@ -782,10 +873,12 @@ bool Spmd::accessChain(const Instruction& in) {
       sc.resolveDescriptor(p, sc.value(idx));
       continue;
     }
+    if (lp.linear && !lp.first && !isLane(p.offset)) lp.first = p.offset;
     const Type& t = g.spvType(p.type);
     uint64_t k = 0;
     bool isConst = m.constantU64(idx, &k);
     llvm::Value* iv;
+    Affine ia{nullptr, 0};  // a varying index's affine form, extended to i64 (lane 0's, and the lanes' step)
     if (isConst) {
       const Constant* kc = m.constant(idx);
       if (kc && g.isSignedInt(kc->type) && g.spvType(kc->type).width < 64) {
@@ -797,9 +890,27 @@ bool Spmd::accessChain(const Instruction& in) {
       iv = comp(idx, 0);
       if (!iv) return fail("an index without a value");
       llvm::Type* i64t = isLane(iv) ? laneTy(b.getInt64Ty()) : b.getInt64Ty();
-      iv = g.isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, i64t) : b.CreateZExtOrTrunc(iv, i64t);
+      bool sgn = g.isSignedInt(m.typeOf(idx));
+      Affine a;
+      if (isLane(iv) && lp.linear && affine.count(key(idx, 0)) && affineOf(idx, 0, &a)) {
+        // The lanes' indices are consecutive after the extension when lane N-1's does not wrap.
+        unsigned w = a.base->getType()->getIntegerBitWidth();
+        if (w < 64) {
+          llvm::APInt top = sgn ? llvm::APInt::getSignedMaxValue(w) : llvm::APInt::getMaxValue(w);
+          llvm::APInt span(w, uint64_t(a.stride) * (N - 1));
+          llvm::Value* room = llvm::ConstantInt::get(a.base->getType(), top - span);
+          llvm::Value* ok = sgn ? b.CreateICmpSLE(a.base, room) : b.CreateICmpULE(a.base, room);
+          if (!sgn || a.base->getType()->getIntegerBitWidth() == 32) {
+            lp.linear = b.CreateAnd(lp.linear, ok);
+            ia = {sgn ? b.CreateSExt(a.base, b.getInt64Ty()) : b.CreateZExt(a.base, b.getInt64Ty()), a.stride};
+          }
+        }
+      }
+      if (isLane(iv) && !ia.base) lp.linear = nullptr;
+      iv = sgn ? b.CreateSExtOrTrunc(iv, i64t) : b.CreateZExtOrTrunc(iv, i64t);
     }
     auto add = [&](llvm::Value* bytes) {
+      if (lp.linear && lp.first && !isLane(bytes)) lp.first = b.CreateAdd(lp.first, bytes);
       if (isLane(bytes) != isLane(p.offset)) {
         if (!isLane(bytes)) bytes = splat(bytes);
         if (!isLane(p.offset)) p.offset = splat(p.offset);
@@ -807,6 +918,10 @@ bool Spmd::accessChain(const Instruction& in) {
       p.offset = b.CreateAdd(p.offset, bytes);
     };
     auto scaled = [&](uint64_t stride) {
+      if (ia.base && lp.linear && lp.first) {
+        lp.first = b.CreateAdd(lp.first, b.CreateMul(ia.base, b.getInt64(stride)));
+        lp.laneStride += ia.stride * int64_t(stride);
+      }
       return b.CreateMul(iv, isLane(iv) ? splat(b.getInt64(stride)) : b.getInt64(stride));
     };
     switch (t.kind) {
@@ -864,29 +979,27 @@ llvm::Value* Spmd::loadLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId
     r = b.CreateSelect(ok, b.CreateAlignedLoad(vt, at, llvm::Align(4)), zero);
   } else {
     llvm::Value* offs = laneOffsets(lp, delta);
-    llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
     llvm::Align align(bytes);
     if (lp.interleaved) {
+      llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
       // Lane l's bytes of offset o at o * N + 4 l.
       std::vector<llvm::Constant*> lane4;
       for (unsigned l = 0; l < N; ++l) lane4.push_back(b.getInt64(4 * l));
       llvm::Value* at = b.CreateAdd(b.CreateMul(offs, splat(b.getInt64(N))), llvm::ConstantVector::get(lane4));
       r = b.CreateMaskedGather(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, at), align, active, zero);
     } else {
-      // Consecutive addresses (checked here): one masked load; otherwise a gather.
-      llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
-      std::vector<llvm::Constant*> steps;
-      for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(l * bytes));
-      llvm::Value* consecutive =
-          b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+      // Consecutive addresses: one masked load; otherwise a gather.
+      Contiguity ct = contiguity(lp, delta, bytes, span, offs);
       auto* contiguous = llvm::BasicBlock::Create(c, "spmd.contiguous", fn);
       auto* scattered = llvm::BasicBlock::Create(c, "spmd.gather", fn);
       auto* join = llvm::BasicBlock::Create(c, "spmd.load", fn);
-      b.CreateCondBr(consecutive, contiguous, scattered);
+      b.CreateCondBr(ct.consecutive, contiguous, scattered);
       b.SetInsertPoint(contiguous);
-      llvm::Value* v1 = b.CreateMaskedLoad(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, first), align, active, zero);
+      llvm::Value* v1 = b.CreateMaskedLoad(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, ct.first), align,
+                                           b.CreateAnd(mask, ct.inBounds()), zero);
       b.CreateBr(join);
       b.SetInsertPoint(scattered);
+      llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
       llvm::Value* v2 = b.CreateMaskedGather(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, offs), align, active, zero);
       b.CreateBr(join);
       b.SetInsertPoint(join);
@@ -918,27 +1031,24 @@ void Spmd::storeLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, llvm:
     return;
   }
   llvm::Value* offs = laneOffsets(lp, delta);
-  llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
   if (lp.interleaved) {
+    llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
     std::vector<llvm::Constant*> lane4;
     for (unsigned l = 0; l < N; ++l) lane4.push_back(b.getInt64(4 * l));
     llvm::Value* at = b.CreateAdd(b.CreateMul(offs, splat(b.getInt64(N))), llvm::ConstantVector::get(lane4));
     b.CreateMaskedScatter(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, at), align, active);
     return;
   }
-  llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
-  std::vector<llvm::Constant*> steps;
-  for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(l * bytes));
-  llvm::Value* consecutive =
-      b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+  Contiguity ct = contiguity(lp, delta, bytes, span, offs);
   auto* contiguous = llvm::BasicBlock::Create(c, "spmd.contiguous", fn);
   auto* scattered = llvm::BasicBlock::Create(c, "spmd.scatter", fn);
   auto* join = llvm::BasicBlock::Create(c, "spmd.stored", fn);
-  b.CreateCondBr(consecutive, contiguous, scattered);
+  b.CreateCondBr(ct.consecutive, contiguous, scattered);
   b.SetInsertPoint(contiguous);
-  b.CreateMaskedStore(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, first), align, active);
+  b.CreateMaskedStore(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, ct.first), align, b.CreateAnd(mask, ct.inBounds()));
   b.CreateBr(join);
   b.SetInsertPoint(scattered);
+  llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
   // Lanes with the same address: the highest lane's value stays, as when the invocations run in order.
   b.CreateMaskedScatter(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, offs), align, active);
   b.CreateBr(join);
@@ -960,9 +1070,15 @@ bool Spmd::loadInst(const Instruction& in) {
   }
   std::vector<llvm::Value*> comps;
   if (lp->builtIn >= 0) {
-    if (!builtInComps(lp->builtIn, comps)) return false;
-    if (lp->component >= 0) comps = {comps[lp->component]};
+    std::vector<Affine> aff;
+    if (!builtInComps(lp->builtIn, comps, aff)) return false;
+    if (lp->component >= 0) {
+      comps = {comps[lp->component]};
+      aff = {aff[lp->component]};
+    }
     comps.resize(count(rt));
+    for (uint32_t k = 0; k < comps.size() && k < aff.size(); ++k)
+      if (aff[k].base && varyingComp(id, k)) affine[key(id, k)] = aff[k];
     return define(id, rt, comps);
   }
   const Type& t = g.spvType(rt);
@@ -1143,12 +1259,8 @@ bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
   if (!lanes) return false;
   Spmd s(g, lanes);
   std::string whyNot;
-  if (!s.supported(ep, &whyNot)) {
-    if (getenv("VKRT_SPMD_DEBUG")) fprintf(stderr, "spmd: %s\n", whyNot.c_str());
-    return false;
-  }
+  if (!s.supported(ep, &whyNot)) return false;
   if (!s.emit(ep, main)) {
-    if (getenv("VKRT_SPMD_DEBUG")) fprintf(stderr, "spmd emit: %s\n", s.why.c_str());
     if (llvm::Function* f = g.out.getFunction("vkrt_group")) {
       f->dropAllReferences();
       f->eraseFromParent();
