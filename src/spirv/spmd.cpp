@@ -166,6 +166,19 @@ bool elementwiseExt(uint32_t inst) {
   }
 }
 
+// The GLSL.std.450 instructions on whole vectors that spmd.cpp computes from the components.
+bool vectorExt(uint32_t inst) {
+  switch (inst) {
+    case GLSLstd450Length:
+    case GLSLstd450Distance:
+    case GLSLstd450Normalize:
+    case GLSLstd450Cross:
+    case GLSLstd450Reflect:
+    case GLSLstd450FaceForward: return true;
+    default: return false;
+  }
+}
+
 // A pointer the SPMD code tracks itself: a varying offset, a per-lane Function variable, or an invocation id.
 struct LanePtr {
   Ptr p;                     // p.offset: i64 (uniform) or <N x i64>
@@ -325,6 +338,7 @@ class Spmd {
   // ---- instructions
   bool instruction(const Instruction& in);
   bool componentwise(const Instruction& in);
+  bool vectorFunction(const Instruction& in, std::vector<llvm::Value*>& comps);
   bool accessChain(const Instruction& in);
   bool variable(const Instruction& in);
   bool loadInst(const Instruction& in);
@@ -428,7 +442,9 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           ok = pt.storage == spv::StorageClassFunction && !g.isRayQuery(pt.element);
           break;
         }
-        case spv::OpExtInst: ok = in.word(3) == g.glslSet && g.glslSet && elementwiseExt(in.word(4)); break;
+        case spv::OpExtInst:
+          ok = in.word(3) == g.glslSet && g.glslSet && (elementwiseExt(in.word(4)) || vectorExt(in.word(4)));
+          break;
         default: break;
       }
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
@@ -655,9 +671,74 @@ bool Spmd::instruction(const Instruction& in) {
       comps.push_back(r);
       break;
     }
+    case spv::OpExtInst:
+      if (!vectorExt(in.word(4))) return componentwise(in);
+      if (!vectorFunction(in, comps)) return false;
+      break;
     default: return componentwise(in);
   }
   return define(id, rt, comps);
+}
+
+// Length, Distance, Normalize, Cross, Reflect and FaceForward of varying vectors, in the scalar code's order of
+// operations (glsl_std450.cpp: a dot product is ((0 + x0 y0) + x1 y1) + ..., a scalar's is the product alone).
+bool Spmd::vectorFunction(const Instruction& in, std::vector<llvm::Value*>& comps) {
+  uint32_t inst = in.word(4);
+  auto vec = [&](uint32_t w) {
+    std::vector<llvm::Value*> v;
+    for (uint32_t k = 0; k < count(m.typeOf(in.word(w))); ++k) v.push_back(laneComp(in.word(w), k));
+    return v;
+  };
+  auto dot = [&](const std::vector<llvm::Value*>& x, const std::vector<llvm::Value*>& y) -> llvm::Value* {
+    if (x.size() == 1) return b.CreateFMul(x[0], y[0]);
+    llvm::Value* r = llvm::ConstantFP::get(x[0]->getType(), 0.0);
+    for (size_t k = 0; k < x.size(); ++k) r = b.CreateFAdd(r, b.CreateFMul(x[k], y[k]));
+    return r;
+  };
+  auto length = [&](const std::vector<llvm::Value*>& x) {
+    return b.CreateUnaryIntrinsic(llvm::Intrinsic::sqrt, dot(x, x));
+  };
+  for (uint32_t w = 5; w < in.count; ++w)
+    for (uint32_t k = 0; k < count(m.typeOf(in.word(w))); ++k)
+      if (!comp(in.word(w), k)) return fail("an operand without a value");
+  switch (inst) {
+    case GLSLstd450Length: comps = {length(vec(5))}; return true;
+    case GLSLstd450Distance: {
+      std::vector<llvm::Value*> a = vec(5), c2 = vec(6);
+      for (size_t k = 0; k < a.size(); ++k) a[k] = b.CreateFSub(a[k], c2[k]);
+      comps = {length(a)};
+      return true;
+    }
+    case GLSLstd450Normalize: {
+      std::vector<llvm::Value*> x = vec(5);
+      llvm::Value* len = length(x);
+      for (llvm::Value* v : x) comps.push_back(b.CreateFDiv(v, len));
+      return true;
+    }
+    case GLSLstd450Cross: {
+      std::vector<llvm::Value*> x = vec(5), y = vec(6);
+      if (x.size() != 3) return fail("a cross product of other than 3 components");
+      for (int k = 0; k < 3; ++k) {
+        int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        comps.push_back(b.CreateFSub(b.CreateFMul(x[k1], y[k2]), b.CreateFMul(x[k2], y[k1])));
+      }
+      return true;
+    }
+    case GLSLstd450Reflect: {
+      std::vector<llvm::Value*> i = vec(5), n = vec(6);
+      llvm::Value* d = dot(n, i);
+      llvm::Value* twice = b.CreateFMul(llvm::ConstantFP::get(d->getType(), 2.0), d);
+      for (size_t k = 0; k < i.size(); ++k) comps.push_back(b.CreateFSub(i[k], b.CreateFMul(twice, n[k])));
+      return true;
+    }
+    case GLSLstd450FaceForward: {
+      std::vector<llvm::Value*> n = vec(5), i = vec(6), nref = vec(7);
+      llvm::Value* back = b.CreateFCmpOLT(dot(nref, i), llvm::ConstantFP::get(n[0]->getType(), 0.0));
+      for (llvm::Value* v : n) comps.push_back(b.CreateSelect(back, v, b.CreateFNeg(v)));
+      return true;
+    }
+    default: return fail("a GLSL.std.450 instruction the SPMD path does not compute");
+  }
 }
 
 // Component k of an integer add, subtract, multiply or shift whose operands are affine (or uniform): affine too.
