@@ -30,6 +30,7 @@
 #include <llvm/Support/X86TargetParser.h>
 #include <spirv/unified1/GLSL.std.450.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 
@@ -322,6 +323,7 @@ class Spmd {
 
   // ---- control flow
   bool edge(uint32_t from, uint32_t to, llvm::Value* edgeMask);
+  bool overwrites(uint32_t from, uint32_t to) const;
   bool block(size_t bi);
   // Emits `body` only when a lane of `mk` is active.
   template <class F>
@@ -477,6 +479,23 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
 
 // ---------------------------------------------------------------------------------------------- control flow
 
+// Whether the edge may store its phi values for every lane instead of blending them under its mask: the lanes the
+// target runs with in this pass take this edge or a later one (which blends over it), never an earlier one. That
+// holds for a loop's back edge (the header runs only the lanes it brings back) and for the first edge into a block
+// in the module's order, unless it leaves a loop (lanes leave in different iterations).
+bool Spmd::overwrites(uint32_t from, uint32_t to) const {
+  const Cfg::Block& src = cfg.blocks[cfg.index.at(from)];
+  if (std::count(src.successors.begin(), src.successors.end(), to) != 1) return false;
+  size_t fi = cfg.index.at(from), ti = cfg.index.at(to);
+  if (cfg.blocks[ti].loop && fi >= ti) return true;
+  for (const auto& [header, blocks] : cfg.loopBlocks)
+    if (blocks.count(from) && !blocks.count(to)) return false;
+  for (size_t i = 0; i < fi; ++i)
+    for (uint32_t t : cfg.blocks[i].successors)
+      if (t == to) return false;
+  return true;
+}
+
 bool Spmd::edge(uint32_t from, uint32_t to, llvm::Value* edgeMask) {
   auto mi = masks.find(to);
   if (mi == masks.end()) return fail("a branch to an unknown block");
@@ -496,6 +515,7 @@ bool Spmd::edge(uint32_t from, uint32_t to, llvm::Value* edgeMask) {
     }
   }
   const Cfg::Block& target = cfg.blocks[cfg.index.at(to)];
+  bool whole = overwrites(from, to);
   for (size_t i = target.first + 1; i < target.last && m.instructions[i].op == spv::OpPhi; ++i) {
     const Instruction& phi = m.instructions[i];
     for (uint32_t w = 3; w + 1 < phi.count; w += 2) {
@@ -505,6 +525,10 @@ bool Spmd::edge(uint32_t from, uint32_t to, llvm::Value* edgeMask) {
         llvm::Type* t = slots[k]->getAllocatedType();
         llvm::Value* v = t->isVectorTy() ? laneComp(phi.word(w), k) : comp(phi.word(w), k);
         if (!v) return fail("a phi operand without a value");
+        if (whole) {
+          b.CreateStore(v, slots[k]);
+          continue;
+        }
         llvm::Value* old = b.CreateLoad(t, slots[k]);
         llvm::Value* sel = t->isVectorTy() ? edgeMask : any(edgeMask);
         b.CreateStore(b.CreateSelect(sel, v, old), slots[k]);
