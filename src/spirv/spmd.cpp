@@ -18,8 +18,9 @@
 //   code: out of bounds it reads zeros and writes nothing. Function variables that need storage per lane keep lane
 //   l's bytes o..o+3 at o * N + 4 * l (32-bit leaves only), so that a uniform offset is one vector access.
 //
-// The rest (barriers, atomics, images, subgroup operations, 64-bit or 16-bit locals, switches, calls, Private
-// variables) is left to the scalar vkrt_group: emitSpmdGroup() returns false before emitting anything.
+// The rest (barriers, atomics, images, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
+// matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first, and
+// removes what it emitted where the emission still fails.
 #include "spirv/spmd.hpp"
 
 #include <llvm/ADT/StringMap.h>
