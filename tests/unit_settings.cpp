@@ -1,7 +1,7 @@
 // The unit tests call the layers directly, without vkCreateDevice, which is where the driver applies
-// VKRT_EMBREE_ISA and VKRT_JIT_CPU (runtime/device.cpp): this applies them the same way before any test runs, so
-// that the test command's instruction-set matrix (tools/test.sh) reaches the unit tests too. A value that cannot
-// apply fails the run: a matrix entry that silently ran the defaults would prove nothing.
+// VKRT_EMBREE_ISA, VKRT_JIT_CPU and VKRT_SPMD (runtime/device.cpp): this applies them the same way before any test
+// runs, so that the test command's instruction-set matrix (tools/test.sh) reaches the unit tests too. A value that
+// cannot apply fails the run: a matrix entry that silently ran the defaults would prove nothing.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -23,6 +23,7 @@ class InstructionSetSettings : public ::testing::Environment {
     }
     if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu)
       ASSERT_TRUE(vkrt::spirv::setTargetCpu(cpu, &error)) << "VKRT_JIT_CPU=" << cpu << ": " << error;
+    if (const char* spmd = std::getenv("VKRT_SPMD"); spmd && *spmd) vkrt::spirv::setSpmd(std::string(spmd) != "0");
   }
 };
 

@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <string_view>
 
 #include "accel/accel.hpp"
 #include "exec/thread_pool.hpp"
@@ -31,8 +32,12 @@ void applyInstructionSetSettings(PhysicalDevice* physical) {
   if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu && !spirv::setTargetCpu(cpu, &error))
     report(physical, Severity::Warning, nullptr, "vkCreateDevice: VKRT_JIT_CPU=\"%s\" is not applied: %s", cpu,
            error.c_str());
-  report(physical, Severity::Info, nullptr, "vkCreateDevice: Embree's %s kernels; shaders compiled for %s",
-         accel::isaInUse(), spirv::targetCpu().c_str());
+  // VKRT_SPMD=0: compute shaders run one invocation at a time (the reference the SPMD code is tested against).
+  if (const char* spmd = std::getenv("VKRT_SPMD"); spmd && *spmd) spirv::setSpmd(std::string_view(spmd) != "0");
+  report(physical, Severity::Info, nullptr,
+         "vkCreateDevice: Embree's %s kernels; shaders compiled for %s; compute shaders in batches of %u lanes (SPMD; "
+         "0: off)",
+         accel::isaInUse(), spirv::targetCpu().c_str(), spirv::spmdLanes());
 }
 
 }  // namespace

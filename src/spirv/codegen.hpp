@@ -74,6 +74,8 @@ class Codegen {
   bool run(const EntryPoint& ep);
   // vkrt_group, the per-workgroup loop around vkrt_main (`main`), for shaders without barriers.
   void emitGroupEntry(llvm::Function* main);
+  // vkrt_group's local copy of the context `ctx` (push constants, resource table), made where the builder stands.
+  llvm::Value* groupContext(llvm::Value* ctx);
   std::string error;
 
   // Reports an instruction this compiler cannot translate.

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "spirv/codegen.hpp"
+#include "spirv/spmd.hpp"
 
 namespace vkrt::spirv {
 
@@ -397,31 +398,13 @@ bool Codegen::run(const EntryPoint& ep) {
   b.CreateCall(it->second, {ctxArg, privArg});
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
-  if (!isRayTracing() && !isGraphics() && !info.usesBarrier) emitGroupEntry(main);
+  // Shaders without barriers: the SPMD form of vkrt_group where it supports the shader (spmd.cpp), else the loop.
+  if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
   return true;
 }
 
-// vkrt_group(ctx): the whole workgroup in one call, for shaders without barriers (the invocations need not
-// interleave). It copies the context into a local one, then loops over the local ids (x fastest), setting the
-// built-ins and running vkrt_main's body, inlined: LLVM then keeps the built-ins in registers and may vectorize
-// the loop.
-//
-// The local context also points to local copies of what the shader reads through it that cannot change during
-// the dispatch: the push constants, the resource table and, for buffer bindings that are not arrays, their
-// descriptor record (a null record where nothing is bound, with a count of 0, as the shader code expects).
-// Their loads then read memory LLVM knows it may read anywhere (allocas), so that it can hoist them out of
-// the loop even where the shader reads them under a condition (an `if` around the buffer accesses), and
-// forward them as values; reading the application's descriptor memory itself would have to stay inside.
-void Codegen::emitGroupEntry(llvm::Function* main) {
-  // Only vkrt_group is called then: vkrt_main, internal, is compiled once (inlined) and not kept on its own.
-  main->setLinkage(llvm::Function::InternalLinkage);
-  main->addFnAttr(llvm::Attribute::AlwaysInline);
-  auto* group = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
-                                       llvm::Function::ExternalLinkage, "vkrt_group", out);
-  llvm::Value* ctx = group->getArg(0);
-  group->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
-  auto* entry = llvm::BasicBlock::Create(c, "entry", group);
-  b.SetInsertPoint(entry);
+// The local context of vkrt_group (see emitGroupEntry), built where the builder stands: returns it.
+llvm::Value* Codegen::groupContext(llvm::Value* ctx) {
   auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
@@ -462,6 +445,32 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
     }
     b.CreateAlignedStore(slots, field(offsetof(InvocationContext, resources), 0), llvm::Align(8));
   }
+  return local;
+}
+
+// vkrt_group(ctx): the whole workgroup in one call, for shaders without barriers (the invocations need not
+// interleave). It copies the context into a local one, then loops over the local ids (x fastest), setting the
+// built-ins and running vkrt_main's body, inlined: LLVM then keeps the built-ins in registers and may vectorize
+// the loop.
+//
+// The local context also points to local copies of what the shader reads through it that cannot change during
+// the dispatch: the push constants, the resource table and, for buffer bindings that are not arrays, their
+// descriptor record (a null record where nothing is bound, with a count of 0, as the shader code expects).
+// Their loads then read memory LLVM knows it may read anywhere (allocas), so that it can hoist them out of
+// the loop even where the shader reads them under a condition (an `if` around the buffer accesses), and
+// forward them as values; reading the application's descriptor memory itself would have to stay inside.
+void Codegen::emitGroupEntry(llvm::Function* main) {
+  // Only vkrt_group is called then: vkrt_main, internal, is compiled once (inlined) and not kept on its own.
+  main->setLinkage(llvm::Function::InternalLinkage);
+  main->addFnAttr(llvm::Attribute::AlwaysInline);
+  auto* group = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
+                                       llvm::Function::ExternalLinkage, "vkrt_group", out);
+  llvm::Value* ctx = group->getArg(0);
+  group->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
+  auto* entry = llvm::BasicBlock::Create(c, "entry", group);
+  b.SetInsertPoint(entry);
+  llvm::Value* local = groupContext(ctx);
+  auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
   llvm::Value* base[3];
   for (int i = 0; i < 3; ++i) {
     llvm::Value* wg =

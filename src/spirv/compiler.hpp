@@ -108,6 +108,8 @@ class CompiledShader {
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t workgroupMemorySize = 0;
   bool usesBarrier = false;
+  // Invocations groupEntry runs per pass (SPMD, spirv/spmd.hpp): 4, 8 or 16; 0 where it runs them one by one.
+  uint8_t spmdLanes = 0;
   std::vector<ResourceBinding> resources;  // abi::ResourceSlot order
   uint32_t pushConstantBytes = 0;          // bytes of push constants the shader may read
   std::string entryName;
@@ -135,6 +137,14 @@ struct CompileRequest {
 // Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported
 // instructions: "unsupported instruction OpXxx at word N").
 std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error);
+
+// SPMD compilation of compute shaders (on by default; VKRT_SPMD=0 turns it off): a workgroup runs in batches of the
+// target's vector width (CompiledShader::spmdLanes) where the compiler supports every instruction of the shader.
+// Applies to every later compilation in the process; part of cacheKey().
+void setSpmd(bool enabled);
+bool spmdEnabled();
+// The lanes of a batch for the target CPU (16 with AVX-512, 8 with AVX2, 4 below), 0 when SPMD is off.
+unsigned spmdLanes();
 
 // The CPU compiled code targets: "native" (or empty), the host CPU and every feature it has, the default; or an
 // x86-64 CPU LLVM knows ("x86-64-v2", "x86-64-v3", "haswell", ...), whose features alone code may use. False,

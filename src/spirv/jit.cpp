@@ -41,6 +41,7 @@
 #include "abi/jit_code.hpp"
 #include "spirv/codegen.hpp"
 #include "spirv/newer_tokens.hpp"
+#include "spirv/spmd.hpp"
 #include "spirv/target.hpp"
 
 // Half-precision conversions: on a CPU without F16C (x86-64-v2 and older; VKRT_JIT_CPU=x86-64-v2 compiles for
@@ -780,7 +781,7 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
 // ---- the pipeline cache form of a compiled shader
 //
 //   char magic[8] "VKRTSHD6"; uint8 sha256[32] of the payload; payload:
-//   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry, pushConstantBytes, model;
+//   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry | spmdLanes << 8, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
 //   graphics: u32 flags (the GraphicsStageInfo booleans, bit by bit in declaration order), clipDistances,
 //   cullDistances; u32 n + n x 8 bytes (inputs), u32 n + n x 8 bytes (outputs): {location, componentMask,
@@ -801,7 +802,7 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   for (uint32_t v : s.localSize) put32(payload, v);
   put32(payload, s.workgroupMemorySize);
   put32(payload, s.usesBarrier ? 1 : 0);
-  put32(payload, s.groupEntry ? 1 : 0);
+  put32(payload, s.groupEntry ? 1u | uint32_t(s.spmdLanes) << 8 : 0);  // hasGroupEntry, SPMD lanes
   put32(payload, s.pushConstantBytes);
   put32(payload, uint32_t(s.model));
   for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes})
@@ -875,7 +876,9 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   for (uint32_t& v : s.localSize) v = r.u32();
   s.workgroupMemorySize = r.u32();
   s.usesBarrier = r.u32() != 0;
-  *hasGroupEntry = r.u32() != 0;
+  uint32_t group = r.u32();
+  *hasGroupEntry = (group & 1) != 0;
+  s.spmdLanes = uint8_t(group >> 8);
   s.pushConstantBytes = r.u32();
   s.model = spv::ExecutionModel(r.u32());
   s.ray.payloadBytes = r.u32();
@@ -1146,6 +1149,7 @@ std::string cacheKey(const CompileRequest& req) {
   addStr(LLVM_VERSION_STRING);
   addStr(buildId());
   addStr(detail::targetKey());
+  addStr(spmdKey());
   add(req.words, req.wordCount * sizeof(uint32_t));
   addStr(req.entryName);
   uint32_t model = req.model, inl = req.inlineFunctions;

@@ -1,0 +1,1381 @@
+// SPMD compilation of compute shaders (spmd.hpp). The entry function's blocks are emitted once, in the module's
+// order, for a batch of N lanes:
+//
+// - Values. A uniform value (uniformity.hpp) is what the scalar code generator makes of it, and the scalar code
+//   generator (a second Codegen, `sc`, emitting into vkrt_group) emits it: arithmetic, uniform loads, descriptors.
+//   A value with a varying component is held component by component, each a scalar or an <N x T> vector; the
+//   scalar emitters of the arithmetic and GLSL.std.450 families make the vectors too, through a third Codegen
+//   (`lc`) whose scalar types are N lanes wide, fed one component at a time.
+// - Control flow. Every block has an execution mask (<N x i1>, kept in an alloca that SROA turns into SSA): the
+//   union of the masks of the edges into it, consumed (and cleared) when the block is emitted. A conditional branch
+//   splits its block's mask between its targets, both of which run in turn; a phi is a variable that every edge
+//   into its block blends its incoming value into under the edge's mask. A loop is a real loop: its back edge adds
+//   lanes to the header's mask, and the loop repeats while any lane is left there; the lanes that leave collect in
+//   the merge block's mask. A lane that returns takes no edge: it drops out of every later mask.
+// - Memory. Buffers, push constants and uniform blocks: a uniform address is one scalar access (a store happens when
+//   any lane is active); a varying one is a masked load or store where the lanes' addresses are consecutive (checked
+//   when the code runs), else a masked gather or scatter. Each lane's access is bounds-checked as in the scalar
+//   code: out of bounds it reads zeros and writes nothing. Function variables that need storage per lane keep lane
+//   l's bytes o..o+3 at o * N + 4 * l (32-bit leaves only), so that a uniform offset is one vector access.
+//
+// The rest (barriers, atomics, images, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
+// matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first, and
+// removes what it emitted where the emission still fails.
+#include "spirv/spmd.hpp"
+
+#include <llvm/ADT/StringMap.h>
+#include <llvm/IR/Constants.h>
+#include <llvm/IR/IntrinsicInst.h>
+#include <llvm/IR/Intrinsics.h>
+#include <llvm/Support/Host.h>
+#include <llvm/Support/X86TargetParser.h>
+#include <spirv/unified1/GLSL.std.450.h>
+
+#include <algorithm>
+#include <atomic>
+#include <functional>
+
+#include "spirv/codegen.hpp"
+#include "spirv/target.hpp"
+#include "spirv/uniformity.hpp"
+
+namespace vkrt::spirv {
+
+namespace {
+
+std::atomic<bool> spmdOn{true};
+
+// Ids the per-component emitters see for operands (above any id a module may have: the bound is < 2^22 in
+// practice, and ids are < 2^32 - 1).
+constexpr uint32_t kFakeId = 0xfff00000u;
+
+bool elementwiseOp(spv::Op op) {
+  switch (op) {
+    case spv::OpIAdd:
+    case spv::OpISub:
+    case spv::OpIMul:
+    case spv::OpUDiv:
+    case spv::OpUMod:
+    case spv::OpSDiv:
+    case spv::OpSRem:
+    case spv::OpSMod:
+    case spv::OpFAdd:
+    case spv::OpFSub:
+    case spv::OpFMul:
+    case spv::OpFDiv:
+    case spv::OpFRem:
+    case spv::OpFMod:
+    case spv::OpFNegate:
+    case spv::OpSNegate:
+    case spv::OpNot:
+    case spv::OpLogicalNot:
+    case spv::OpBitwiseAnd:
+    case spv::OpLogicalAnd:
+    case spv::OpBitwiseOr:
+    case spv::OpLogicalOr:
+    case spv::OpBitwiseXor:
+    case spv::OpLogicalNotEqual:
+    case spv::OpLogicalEqual:
+    case spv::OpShiftLeftLogical:
+    case spv::OpShiftRightLogical:
+    case spv::OpShiftRightArithmetic:
+    case spv::OpIEqual:
+    case spv::OpINotEqual:
+    case spv::OpUGreaterThan:
+    case spv::OpSGreaterThan:
+    case spv::OpUGreaterThanEqual:
+    case spv::OpSGreaterThanEqual:
+    case spv::OpULessThan:
+    case spv::OpSLessThan:
+    case spv::OpULessThanEqual:
+    case spv::OpSLessThanEqual:
+    case spv::OpFOrdEqual:
+    case spv::OpFUnordEqual:
+    case spv::OpFOrdNotEqual:
+    case spv::OpFUnordNotEqual:
+    case spv::OpFOrdLessThan:
+    case spv::OpFUnordLessThan:
+    case spv::OpFOrdGreaterThan:
+    case spv::OpFUnordGreaterThan:
+    case spv::OpFOrdLessThanEqual:
+    case spv::OpFUnordLessThanEqual:
+    case spv::OpFOrdGreaterThanEqual:
+    case spv::OpFUnordGreaterThanEqual:
+    case spv::OpIsNan:
+    case spv::OpIsInf:
+    case spv::OpSelect:
+    case spv::OpConvertFToU:
+    case spv::OpConvertFToS:
+    case spv::OpConvertSToF:
+    case spv::OpConvertUToF:
+    case spv::OpUConvert:
+    case spv::OpSConvert:
+    case spv::OpFConvert:
+    case spv::OpBitcast:
+    case spv::OpBitCount:
+    case spv::OpBitReverse:
+    case spv::OpCopyObject: return true;
+    default: return false;
+  }
+}
+
+// The GLSL.std.450 instructions that act component by component on scalars and vectors.
+bool elementwiseExt(uint32_t inst) {
+  switch (inst) {
+    case GLSLstd450Round:
+    case GLSLstd450RoundEven:
+    case GLSLstd450Trunc:
+    case GLSLstd450FAbs:
+    case GLSLstd450SAbs:
+    case GLSLstd450FSign:
+    case GLSLstd450SSign:
+    case GLSLstd450Floor:
+    case GLSLstd450Ceil:
+    case GLSLstd450Fract:
+    case GLSLstd450Radians:
+    case GLSLstd450Degrees:
+    case GLSLstd450Sin:
+    case GLSLstd450Cos:
+    case GLSLstd450Tan:
+    case GLSLstd450Asin:
+    case GLSLstd450Acos:
+    case GLSLstd450Atan:
+    case GLSLstd450Atan2:
+    case GLSLstd450Pow:
+    case GLSLstd450Exp:
+    case GLSLstd450Log:
+    case GLSLstd450Exp2:
+    case GLSLstd450Log2:
+    case GLSLstd450Sqrt:
+    case GLSLstd450InverseSqrt:
+    case GLSLstd450FMin:
+    case GLSLstd450NMin:
+    case GLSLstd450FMax:
+    case GLSLstd450NMax:
+    case GLSLstd450UMin:
+    case GLSLstd450SMin:
+    case GLSLstd450UMax:
+    case GLSLstd450SMax:
+    case GLSLstd450FClamp:
+    case GLSLstd450NClamp:
+    case GLSLstd450UClamp:
+    case GLSLstd450SClamp:
+    case GLSLstd450FMix:
+    case GLSLstd450Step:
+    case GLSLstd450SmoothStep:
+    case GLSLstd450Fma: return true;
+    default: return false;
+  }
+}
+
+// The GLSL.std.450 instructions on whole vectors that spmd.cpp computes from the components.
+bool vectorExt(uint32_t inst) {
+  switch (inst) {
+    case GLSLstd450Length:
+    case GLSLstd450Distance:
+    case GLSLstd450Normalize:
+    case GLSLstd450Cross:
+    case GLSLstd450Reflect:
+    case GLSLstd450FaceForward: return true;
+    default: return false;
+  }
+}
+
+// A pointer the SPMD code tracks itself: a varying offset, a per-lane Function variable, or an invocation id.
+struct LanePtr {
+  Ptr p;                     // p.offset: i64 (uniform) or <N x i64>
+  bool interleaved = false;  // a Function variable with storage per lane (see the top of the file)
+  int builtIn = -1;          // GlobalInvocationId, LocalInvocationId, LocalInvocationIndex
+  int component = -1;        // of the built-in vector (-1: the whole)
+  // Where known: lane l's offset is first + l * laneStride whenever `linear` (i1) holds (checked once per access,
+  // a scalar test, instead of comparing the lanes' offsets).
+  llvm::Value* first = nullptr;
+  int64_t laneStride = 0;
+  llvm::Value* linear = nullptr;
+};
+
+// Lane l of a varying integer holds base + l * stride (in the integer's width, wrapping): the invocation index and
+// x ids, and sums, differences, products and shifts of those by uniform values.
+struct Affine {
+  llvm::Value* base;
+  int64_t stride;
+};
+
+class Spmd {
+ public:
+  Spmd(Codegen& g, unsigned lanes)
+      : g(g), m(g.m), c(g.c), N(lanes), sc(g.m, g.c, g.out, g.info), lc(g.m, g.c, g.out, g.info), b(sc.b) {
+    for (Codegen* x : {&sc, &lc}) {
+      x->globals = g.globals;
+      x->zeros = g.zeros;
+      x->glslSet = g.glslSet;
+      x->model = g.model;
+      x->privateSize = g.privateSize;
+    }
+    // The lane emitter's scalar types are N lanes wide.
+    for (const auto& [id, t] : m.types)
+      if (t.kind == Type::Bool || t.kind == Type::Int || t.kind == Type::Float)
+        if (llvm::Type* s = g.type(id)) lc.typeCache[id] = llvm::FixedVectorType::get(s, N);
+  }
+
+  bool supported(const EntryPoint& ep, std::string* why);
+  bool emit(const EntryPoint& ep, llvm::Function* main);
+  std::string why;
+
+ private:
+  Codegen& g;
+  const Module& m;
+  llvm::LLVMContext& c;
+  unsigned N;
+  Codegen sc, lc;
+  llvm::IRBuilder<>& b;
+  Cfg cfg;
+  Uniformity u;
+  size_t firstInstruction = 0;
+
+  llvm::Function* fn = nullptr;
+  llvm::BasicBlock* allocaBlock = nullptr;
+  std::unordered_map<uint32_t, std::vector<llvm::Value*>> lanesOf;  // values with a varying component
+  std::unordered_map<uint32_t, LanePtr> lptrs;
+  std::unordered_map<uint32_t, llvm::AllocaInst*> masks;                  // block label -> incoming mask
+  std::unordered_map<uint32_t, std::vector<llvm::AllocaInst*>> phiSlots;  // phi id -> per component
+  std::unordered_map<uint32_t, llvm::BasicBlock*> loopHeads;
+  // Divergent loops: the values used after them, and per value and component the lanes' values when they left.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> liveOuts;
+  std::unordered_map<uint32_t, std::vector<llvm::AllocaInst*>> liveOutSlots;
+  llvm::Value* mask = nullptr;
+  std::unordered_map<uint64_t, Affine> affine;  // (id << 2 | component)
+  static uint64_t key(uint32_t id, uint32_t k) { return uint64_t(id) << 2 | k; }
+  // The affine form of component k of `id` (a uniform one has stride 0), or false.
+  bool affineOf(uint32_t id, uint32_t k, Affine* out) {
+    auto it = affine.find(key(id, k));
+    if (it != affine.end()) return (*out = it->second), true;
+    llvm::Value* v = comp(id, k);
+    if (!v || isLane(v) || !v->getType()->isIntegerTy()) return false;
+    *out = {v, 0};
+    return true;
+  }
+  void affineResult(const Instruction& in, uint32_t k, uint32_t kk);
+  llvm::Value* laneIndex = nullptr;  // <N x i32>: the lanes' LocalInvocationIndex
+  llvm::Value* batchBase = nullptr;  // i32: the first lane's
+  llvm::Value* wgBase[3] = {};       // WorkgroupId * WorkgroupSize
+
+  bool fail(const char* what) {
+    why = what;
+    return false;
+  }
+  llvm::Type* laneTy(llvm::Type* s) { return llvm::FixedVectorType::get(s, N); }
+  llvm::Type* maskTy() { return laneTy(b.getInt1Ty()); }
+  llvm::Value* splat(llvm::Value* s) { return b.CreateVectorSplat(N, s); }
+  llvm::Value* any(llvm::Value* mk) { return b.CreateOrReduce(mk); }
+  static bool isLane(llvm::Value* v) { return v->getType()->isVectorTy(); }  // components are SPIR-V scalars
+  uint32_t count(uint32_t typeId) const { return g.componentCount(typeId); }
+  bool varyingComp(uint32_t id, uint32_t k) const { return (u.bits(id) >> k) & 1; }
+  llvm::AllocaInst* slot(llvm::Type* t) {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock->getTerminator());
+    return b.CreateAlloca(t);
+  }
+
+  // ---- values
+  llvm::Value* comp(uint32_t id, uint32_t k) {
+    auto it = lanesOf.find(id);
+    if (it != lanesOf.end()) return k < it->second.size() ? it->second[k] : nullptr;
+    llvm::Value* v = sc.value(id);
+    if (!v) return nullptr;
+    return v->getType()->isVectorTy() ? b.CreateExtractElement(v, uint64_t(k)) : v;
+  }
+  llvm::Value* laneComp(uint32_t id, uint32_t k) {
+    llvm::Value* v = comp(id, k);
+    return v && !isLane(v) ? splat(v) : v;
+  }
+  // The value of `id` from its components, conformed to the analysis (uniform ones assembled for `sc`).
+  bool define(uint32_t id, uint32_t typeId, std::vector<llvm::Value*> comps) {
+    uint32_t bitsv = u.bits(id);
+    for (uint32_t k = 0; k < comps.size(); ++k) {
+      if (!comps[k]) return fail("a component without a value");
+      bool lane = isLane(comps[k]);
+      if ((bitsv >> k) & 1) {
+        if (!lane) comps[k] = splat(comps[k]);
+      } else if (lane) {
+        return fail("internal: a uniform value computed per lane");
+      }
+    }
+    if (bitsv) {
+      sc.values.erase(id);
+      lanesOf[id] = std::move(comps);
+      return true;
+    }
+    lanesOf.erase(id);
+    sc.set(id, assemble(typeId, comps));
+    return true;
+  }
+  llvm::Value* assemble(uint32_t typeId, const std::vector<llvm::Value*>& comps) {
+    if (g.spvType(typeId).kind != Type::Vector) return comps[0];
+    llvm::Value* v = llvm::UndefValue::get(g.type(typeId));
+    for (uint32_t k = 0; k < comps.size(); ++k) v = b.CreateInsertElement(v, comps[k], uint64_t(k));
+    return v;
+  }
+  bool uniformOperands(const Instruction& in, uint32_t first) {
+    for (uint32_t w = first; w < in.count; ++w)
+      if (u.bits(in.word(w))) return false;
+    return true;
+  }
+
+  // ---- control flow
+  bool edge(uint32_t from, uint32_t to, llvm::Value* edgeMask);
+  bool overwrites(uint32_t from, uint32_t to) const;
+  bool block(size_t bi);
+  // Emits `body` only when a lane of `mk` is active.
+  template <class F>
+  void ifAny(llvm::Value* mk, F body) {
+    auto* then = llvm::BasicBlock::Create(c, "spmd.any", fn);
+    auto* join = llvm::BasicBlock::Create(c, "spmd.any.join", fn);
+    b.CreateCondBr(any(mk), then, join);
+    b.SetInsertPoint(then);
+    body();
+    b.CreateBr(join);
+    b.SetInsertPoint(join);
+  }
+
+  // ---- instructions
+  bool instruction(const Instruction& in);
+  bool componentwise(const Instruction& in);
+  bool vectorFunction(const Instruction& in, std::vector<llvm::Value*>& comps);
+  bool accessChain(const Instruction& in);
+  bool variable(const Instruction& in);
+  bool loadInst(const Instruction& in);
+  bool storeInst(const Instruction& in);
+  LanePtr* lanePtr(uint32_t id);
+  bool builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff);
+  // A scalar at `delta` bytes from lp, for an access of `span` bytes at lp that is in or out of bounds as a whole
+  // (a packed vector, as the scalar code checks it).
+  llvm::Value* loadLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, uint64_t span);
+  void storeLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, llvm::Value* v, uint64_t span);
+  // The lanes whose `span` bytes at lp are in bounds (lp's offset varying), and the same for a uniform offset.
+  // Whether the lanes' offsets (offs, at `delta` from lp) are consecutive `bytes` apart, lane 0's offset, and the lanes
+  // in bounds for an access of `span` bytes at lp (evaluated where the addresses are consecutive).
+  struct Contiguity {
+    llvm::Value* consecutive;
+    llvm::Value* first;
+    std::function<llvm::Value*()> inBounds;
+  };
+  Contiguity contiguity(const LanePtr& lp, uint64_t delta, uint64_t bytes, uint64_t span, llvm::Value* offs) {
+    if (lp.linear && lp.first && lp.laneStride == int64_t(bytes)) {
+      // Known linear: one scalar test; lane l is in bounds where l * bytes < end - first.
+      llvm::Value* first0 = lp.first;
+      return {lp.linear, b.CreateAdd(first0, b.getInt64(delta)), [this, &lp, first0, bytes, span] {
+                llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, lp.p.limit, b.getInt64(span - 1));
+                llvm::Value* room = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, end, first0);
+                room = b.CreateTrunc(b.CreateBinaryIntrinsic(llvm::Intrinsic::umin, room, b.getInt64(1u << 30)),
+                                     b.getInt32Ty());
+                std::vector<llvm::Constant*> steps;
+                for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt32(uint32_t(l * bytes)));
+                return b.CreateICmpULT(llvm::ConstantVector::get(steps), splat(room));
+              }};
+    }
+    llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
+    std::vector<llvm::Constant*> steps;
+    for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(l * bytes));
+    llvm::Value* consecutive =
+        b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+    return {consecutive, first, [this, &lp, span] { return inBoundsLanes(lp, span); }};
+  }
+  // An offset (uniform or per lane) plus `bytes`.
+  llvm::Value* addBytes(llvm::Value* offset, uint64_t bytes) {
+    return b.CreateAdd(offset, isLane(offset) ? splat(b.getInt64(bytes)) : b.getInt64(bytes));
+  }
+  llvm::Value* inBoundsLanes(const LanePtr& lp, uint64_t span) {
+    llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, lp.p.limit, b.getInt64(span - 1));
+    return b.CreateICmpULT(laneOffsets(lp, 0), splat(end));
+  }
+  llvm::Value* inBoundsUniform(const LanePtr& lp, uint64_t span) {
+    uint64_t limit = llvm::cast<llvm::ConstantInt>(lp.p.limit)->getZExtValue();
+    return limit < span ? b.getFalse() : b.CreateICmpULE(lp.p.offset, b.getInt64(limit - span));
+  }
+  llvm::Value* laneOffsets(const LanePtr& lp, uint64_t delta) {
+    llvm::Value* o = lp.p.offset;
+    if (!isLane(o)) o = splat(o);
+    return b.CreateAdd(o, splat(b.getInt64(delta)));
+  }
+};
+
+// ---------------------------------------------------------------------------------------------- support
+
+bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
+  if (g.privateSize > 0 || !g.privateInits.empty()) return (*whyNot = "Private variables"), false;
+  for (size_t i = 0; i < m.instructions.size(); ++i) {
+    const Instruction& in = m.instructions[i];
+    if (in.op == spv::OpFunction && in.word(2) == ep.function) firstInstruction = i;
+  }
+  if (m.instructions[firstInstruction].op != spv::OpFunction) return (*whyNot = "no entry function"), false;
+  if (!cfg.build(m, firstInstruction, whyNot)) return false;
+  for (const Cfg::Block& blk : cfg.blocks) {
+    for (size_t i = blk.first + 1; i <= blk.last; ++i) {
+      const Instruction& in = m.instructions[i];
+      bool ok = elementwiseOp(in.op);
+      switch (in.op) {
+        case spv::OpLine:
+        case spv::OpNoLine:
+        case spv::OpNop:
+        case spv::OpUndef:
+        case spv::OpSelectionMerge:
+        case spv::OpLoopMerge:
+        case spv::OpBranch:
+        case spv::OpBranchConditional:
+        case spv::OpSwitch:
+        case spv::OpReturn:
+        case spv::OpUnreachable:
+        case spv::OpPhi:
+        case spv::OpLoad:
+        case spv::OpStore:
+        case spv::OpAccessChain:
+        case spv::OpInBoundsAccessChain:
+        case spv::OpArrayLength:
+        case spv::OpCompositeConstruct:
+        case spv::OpCompositeExtract:
+        case spv::OpCompositeInsert:
+        case spv::OpVectorShuffle:
+        case spv::OpVectorTimesScalar:
+        case spv::OpDot:
+        case spv::OpAny:
+        case spv::OpAll: ok = true; break;
+        case spv::OpVariable: {
+          const Type& pt = g.spvType(in.word(1));
+          ok = pt.storage == spv::StorageClassFunction && !g.isRayQuery(pt.element);
+          break;
+        }
+        case spv::OpExtInst:
+          ok = in.word(3) == g.glslSet && g.glslSet && (elementwiseExt(in.word(4)) || vectorExt(in.word(4)));
+          break;
+        default: break;
+      }
+      if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
+      // Values of composite types other than vectors (matrices, structs, arrays) are left to the scalar path.
+      if (in.count >= 3 && in.op != spv::OpVariable && in.op != spv::OpAccessChain &&
+          in.op != spv::OpInBoundsAccessChain && in.op != spv::OpStore && m.type(in.word(1))) {
+        const Type& t = g.spvType(in.word(1));
+        if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
+          return (*whyNot = "a value of a composite type (" + opName(in.op) + ")"), false;
+      }
+    }
+  }
+  // Module-scope variables the function reads: buffers, push constants and the compute built-ins only.
+  for (const auto& [id, gl] : g.globals) {
+    if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate ||
+        gl.storage == spv::StorageClassUniformConstant)
+      return (*whyNot = "workgroup, private or image variables"), false;
+    if (gl.storage == spv::StorageClassInput) switch (gl.builtIn) {
+        case spv::BuiltInGlobalInvocationId:
+        case spv::BuiltInLocalInvocationId:
+        case spv::BuiltInLocalInvocationIndex:
+        case spv::BuiltInWorkgroupId:
+        case spv::BuiltInNumWorkgroups:
+        case spv::BuiltInWorkgroupSize: break;
+        default: return (*whyNot = "a built-in the SPMD path does not compute"), false;
+      }
+  }
+  return u.analyze(m, cfg, g.info.localSize, N, whyNot);
+}
+
+// ---------------------------------------------------------------------------------------------- control flow
+
+// Whether the edge may store its phi values for every lane instead of blending them under its mask: the lanes the
+// target runs with in this pass take this edge or a later one (which blends over it), never an earlier one. That
+// holds for a loop's back edge (the header runs only the lanes it brings back) and for the first edge into a block
+// in the module's order, unless it leaves a loop (lanes leave in different iterations).
+bool Spmd::overwrites(uint32_t from, uint32_t to) const {
+  const Cfg::Block& src = cfg.blocks[cfg.index.at(from)];
+  if (std::count(src.successors.begin(), src.successors.end(), to) != 1) return false;
+  size_t fi = cfg.index.at(from), ti = cfg.index.at(to);
+  if (cfg.blocks[ti].loop && fi >= ti) return true;
+  for (const auto& [header, blocks] : cfg.loopBlocks)
+    if (blocks.count(from) && !blocks.count(to)) return false;
+  for (size_t i = 0; i < fi; ++i)
+    for (uint32_t t : cfg.blocks[i].successors)
+      if (t == to) return false;
+  return true;
+}
+
+bool Spmd::edge(uint32_t from, uint32_t to, llvm::Value* edgeMask) {
+  auto mi = masks.find(to);
+  if (mi == masks.end()) return fail("a branch to an unknown block");
+  b.CreateStore(b.CreateOr(b.CreateLoad(maskTy(), mi->second), edgeMask), mi->second);
+  // Leaving a divergent loop: the leaving lanes keep the values the code after the loop reads.
+  for (const auto& [loop, ids] : liveOuts) {
+    const auto& blocks = cfg.loopBlocks.at(loop);
+    if (!blocks.count(from) || blocks.count(to)) continue;
+    for (uint32_t id : ids) {
+      auto& slots = liveOutSlots[id];
+      for (uint32_t k = 0; k < slots.size(); ++k) {
+        llvm::Value* v = laneComp(id, k);
+        if (!v) return fail("a value used after its loop without a value");
+        llvm::Value* old = b.CreateLoad(slots[k]->getAllocatedType(), slots[k]);
+        b.CreateStore(b.CreateSelect(edgeMask, v, old), slots[k]);
+      }
+    }
+  }
+  const Cfg::Block& target = cfg.blocks[cfg.index.at(to)];
+  bool whole = overwrites(from, to);
+  for (size_t i = target.first + 1; i < target.last && m.instructions[i].op == spv::OpPhi; ++i) {
+    const Instruction& phi = m.instructions[i];
+    for (uint32_t w = 3; w + 1 < phi.count; w += 2) {
+      if (phi.word(w + 1) != from) continue;
+      auto& slots = phiSlots[phi.word(2)];
+      for (uint32_t k = 0; k < slots.size(); ++k) {
+        llvm::Type* t = slots[k]->getAllocatedType();
+        llvm::Value* v = t->isVectorTy() ? laneComp(phi.word(w), k) : comp(phi.word(w), k);
+        if (!v) return fail("a phi operand without a value");
+        if (whole) {
+          b.CreateStore(v, slots[k]);
+          continue;
+        }
+        llvm::Value* old = b.CreateLoad(t, slots[k]);
+        llvm::Value* sel = t->isVectorTy() ? edgeMask : any(edgeMask);
+        b.CreateStore(b.CreateSelect(sel, v, old), slots[k]);
+      }
+    }
+  }
+  return true;
+}
+
+bool Spmd::block(size_t bi) {
+  const Cfg::Block& blk = cfg.blocks[bi];
+  if (blk.loop) {
+    auto* head = llvm::BasicBlock::Create(c, "spmd.loop", fn);
+    b.CreateBr(head);
+    b.SetInsertPoint(head);
+    loopHeads[blk.label] = head;
+  }
+  llvm::AllocaInst* mine = masks[blk.label];
+  llvm::Value* incoming = b.CreateLoad(maskTy(), mine);
+  b.CreateStore(llvm::Constant::getNullValue(maskTy()), mine);
+  mask = bi == 0 ? mask : incoming;
+  size_t i = blk.first + 1;
+  for (; i < blk.last && m.instructions[i].op == spv::OpPhi; ++i) {
+    const Instruction& phi = m.instructions[i];
+    std::vector<llvm::Value*> comps;
+    for (llvm::AllocaInst* s : phiSlots[phi.word(2)]) comps.push_back(b.CreateLoad(s->getAllocatedType(), s));
+    if (!define(phi.word(2), phi.word(1), comps)) return false;
+  }
+  for (; i < blk.last; ++i)
+    if (!instruction(m.instructions[i])) return false;
+  const Instruction& term = m.instructions[blk.last];
+  if (term.op == spv::OpBranch) {
+    if (!edge(blk.label, term.word(1), mask)) return false;
+  } else if (term.op == spv::OpBranchConditional) {
+    llvm::Value* cond = comp(term.word(1), 0);
+    if (!cond) return fail("a branch condition without a value");
+    cond = b.CreateFreeze(isLane(cond) ? cond : splat(cond));
+    if (!edge(blk.label, term.word(2), b.CreateAnd(mask, cond)) ||
+        !edge(blk.label, term.word(3), b.CreateAnd(mask, b.CreateNot(cond))))
+      return false;
+  } else if (term.op == spv::OpSwitch) {
+    // Each case takes the lanes whose selector matches its literal; the default those no case takes.
+    llvm::Value* sel = comp(term.word(1), 0);
+    if (!sel) return fail("a switch selector without a value");
+    sel = b.CreateFreeze(isLane(sel) ? sel : splat(sel));
+    auto* it = llvm::cast<llvm::IntegerType>(sel->getType()->getScalarType());
+    uint32_t width = it->getBitWidth() > 32 ? 2 : 1;
+    llvm::Value* rest = mask;
+    for (uint32_t w = 3; w + width < term.count; w += width + 1) {
+      uint64_t lit = term.word(w);
+      if (width == 2) lit |= uint64_t(term.word(w + 1)) << 32;
+      llvm::Value* hit = b.CreateAnd(mask, b.CreateICmpEQ(sel, splat(llvm::ConstantInt::get(it, lit))));
+      if (!edge(blk.label, term.word(w + width), hit)) return false;
+      rest = b.CreateAnd(rest, b.CreateNot(hit));
+    }
+    if (!edge(blk.label, term.word(2), rest)) return false;
+  }
+  // A back edge: the loop repeats while any lane is left at its header.
+  for (uint32_t s : blk.successors) {
+    size_t si = cfg.index.at(s);
+    if (si > bi) continue;
+    auto head = loopHeads.find(s);
+    if (head == loopHeads.end()) return fail("a backward branch that is not a loop's back edge");
+    for (uint32_t l : cfg.loopBlocks.at(s)) {
+      size_t li = cfg.index.at(l);
+      if (li < si || li > bi) return fail("a loop whose blocks are not all between its header and its back edge");
+    }
+    auto* exit = llvm::BasicBlock::Create(c, "spmd.loop.exit", fn);
+    b.CreateCondBr(any(b.CreateLoad(maskTy(), masks[s])), head->second, exit);
+    b.SetInsertPoint(exit);
+    loopHeads.erase(head);
+    auto lo = liveOuts.find(s);
+    if (lo != liveOuts.end())
+      for (uint32_t id : lo->second) {
+        std::vector<llvm::Value*> comps;
+        for (llvm::AllocaInst* a : liveOutSlots[id]) comps.push_back(b.CreateLoad(a->getAllocatedType(), a));
+        if (!define(id, m.typeOf(id), comps)) return false;
+      }
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------- instructions
+
+bool Spmd::instruction(const Instruction& in) {
+  switch (in.op) {
+    case spv::OpLine:
+    case spv::OpNoLine:
+    case spv::OpNop:
+    case spv::OpUndef:
+    case spv::OpSelectionMerge:
+    case spv::OpLoopMerge: return true;
+    case spv::OpVariable: return variable(in);
+    case spv::OpAccessChain:
+    case spv::OpInBoundsAccessChain: return accessChain(in);
+    case spv::OpLoad: return loadInst(in);
+    case spv::OpStore: return storeInst(in);
+    case spv::OpArrayLength: {
+      if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
+      bool ok = true;
+      return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+    }
+    default: break;
+  }
+  uint32_t rt = in.word(1), id = in.word(2);
+  uint32_t n = count(rt);
+  uint32_t firstOperand = in.op == spv::OpExtInst ? 5 : 3;
+  bool uniform = u.bits(id) == 0 && uniformOperands(in, firstOperand);
+  if (in.op == spv::OpCompositeExtract || in.op == spv::OpCompositeInsert || in.op == spv::OpVectorShuffle)
+    uniform = u.bits(id) == 0 && !u.bits(in.word(3)) && (in.op == spv::OpCompositeExtract || !u.bits(in.word(4)));
+  if (in.op == spv::OpCopyObject && lptrs.count(in.word(3))) {
+    lptrs[id] = lptrs[in.word(3)];
+    return true;
+  }
+  if (uniform) {
+    // The scalar code generator's own emitters, on uniform values.
+    bool ok = true;
+    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok)) return ok ? true : fail(sc.error.c_str());
+    return fail("an instruction the scalar emitters do not know");
+  }
+  std::vector<llvm::Value*> comps;
+  switch (in.op) {
+    case spv::OpCompositeExtract: {
+      if (in.count != 5) return fail("OpCompositeExtract of a nested composite");
+      comps.push_back(comp(in.word(3), in.word(4)));
+      if (auto a = affine.find(key(in.word(3), in.word(4))); a != affine.end()) affine[key(id, 0)] = a->second;
+      break;
+    }
+    case spv::OpCompositeInsert: {
+      if (in.count != 6) return fail("OpCompositeInsert into a nested composite");
+      for (uint32_t k = 0; k < n; ++k) comps.push_back(k == in.word(5) ? comp(in.word(3), 0) : comp(in.word(4), k));
+      break;
+    }
+    case spv::OpCompositeConstruct:
+      for (uint32_t w = 3; w < in.count; ++w)
+        for (uint32_t k = 0; k < count(m.typeOf(in.word(w))); ++k) comps.push_back(comp(in.word(w), k));
+      comps.resize(n);
+      break;
+    case spv::OpVectorShuffle: {
+      uint32_t n1 = count(m.typeOf(in.word(3)));
+      for (uint32_t w = 5; w < in.count; ++w) {
+        uint32_t k = in.word(w);
+        comps.push_back(k == 0xffffffffu ? llvm::Constant::getNullValue(g.type(g.scalarType(rt)))
+                        : k < n1         ? comp(in.word(3), k)
+                                         : comp(in.word(4), k - n1));
+      }
+      break;
+    }
+    case spv::OpAny:
+    case spv::OpAll: {
+      llvm::Value* r = nullptr;
+      for (uint32_t k = 0; k < count(m.typeOf(in.word(3))); ++k) {
+        llvm::Value* v = laneComp(in.word(3), k);
+        r = !r ? v : in.op == spv::OpAny ? b.CreateOr(r, v) : b.CreateAnd(r, v);
+      }
+      comps.push_back(r);
+      break;
+    }
+    case spv::OpDot: {
+      // As the scalar code's ordered reduction: ((0 + x0 y0) + x1 y1) + ...
+      llvm::Value* r = splat(llvm::ConstantFP::get(g.type(rt), 0.0));
+      for (uint32_t k = 0; k < count(m.typeOf(in.word(3))); ++k)
+        r = b.CreateFAdd(r, b.CreateFMul(laneComp(in.word(3), k), laneComp(in.word(4), k)));
+      comps.push_back(r);
+      break;
+    }
+    case spv::OpExtInst:
+      if (!vectorExt(in.word(4))) return componentwise(in);
+      if (!vectorFunction(in, comps)) return false;
+      break;
+    default: return componentwise(in);
+  }
+  return define(id, rt, comps);
+}
+
+// Length, Distance, Normalize, Cross, Reflect and FaceForward of varying vectors, in the scalar code's order of
+// operations (glsl_std450.cpp: a dot product is ((0 + x0 y0) + x1 y1) + ..., a scalar's is the product alone).
+bool Spmd::vectorFunction(const Instruction& in, std::vector<llvm::Value*>& comps) {
+  uint32_t inst = in.word(4);
+  auto vec = [&](uint32_t w) {
+    std::vector<llvm::Value*> v;
+    for (uint32_t k = 0; k < count(m.typeOf(in.word(w))); ++k) v.push_back(laneComp(in.word(w), k));
+    return v;
+  };
+  auto dot = [&](const std::vector<llvm::Value*>& x, const std::vector<llvm::Value*>& y) -> llvm::Value* {
+    if (x.size() == 1) return b.CreateFMul(x[0], y[0]);
+    llvm::Value* r = llvm::ConstantFP::get(x[0]->getType(), 0.0);
+    for (size_t k = 0; k < x.size(); ++k) r = b.CreateFAdd(r, b.CreateFMul(x[k], y[k]));
+    return r;
+  };
+  auto length = [&](const std::vector<llvm::Value*>& x) {
+    return b.CreateUnaryIntrinsic(llvm::Intrinsic::sqrt, dot(x, x));
+  };
+  for (uint32_t w = 5; w < in.count; ++w)
+    for (uint32_t k = 0; k < count(m.typeOf(in.word(w))); ++k)
+      if (!comp(in.word(w), k)) return fail("an operand without a value");
+  switch (inst) {
+    case GLSLstd450Length: comps = {length(vec(5))}; return true;
+    case GLSLstd450Distance: {
+      std::vector<llvm::Value*> a = vec(5), c2 = vec(6);
+      for (size_t k = 0; k < a.size(); ++k) a[k] = b.CreateFSub(a[k], c2[k]);
+      comps = {length(a)};
+      return true;
+    }
+    case GLSLstd450Normalize: {
+      std::vector<llvm::Value*> x = vec(5);
+      llvm::Value* len = length(x);
+      for (llvm::Value* v : x) comps.push_back(b.CreateFDiv(v, len));
+      return true;
+    }
+    case GLSLstd450Cross: {
+      std::vector<llvm::Value*> x = vec(5), y = vec(6);
+      if (x.size() != 3) return fail("a cross product of other than 3 components");
+      for (int k = 0; k < 3; ++k) {
+        int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        comps.push_back(b.CreateFSub(b.CreateFMul(x[k1], y[k2]), b.CreateFMul(x[k2], y[k1])));
+      }
+      return true;
+    }
+    case GLSLstd450Reflect: {
+      std::vector<llvm::Value*> i = vec(5), n = vec(6);
+      llvm::Value* d = dot(n, i);
+      llvm::Value* twice = b.CreateFMul(llvm::ConstantFP::get(d->getType(), 2.0), d);
+      for (size_t k = 0; k < i.size(); ++k) comps.push_back(b.CreateFSub(i[k], b.CreateFMul(twice, n[k])));
+      return true;
+    }
+    case GLSLstd450FaceForward: {
+      std::vector<llvm::Value*> n = vec(5), i = vec(6), nref = vec(7);
+      llvm::Value* back = b.CreateFCmpOLT(dot(nref, i), llvm::ConstantFP::get(n[0]->getType(), 0.0));
+      for (llvm::Value* v : n) comps.push_back(b.CreateSelect(back, v, b.CreateFNeg(v)));
+      return true;
+    }
+    default: return fail("a GLSL.std.450 instruction the SPMD path does not compute");
+  }
+}
+
+// Component k of an integer add, subtract, multiply or shift whose operands are affine (or uniform): affine too.
+void Spmd::affineResult(const Instruction& in, uint32_t k, uint32_t n) {
+  if (in.count != 5) return;
+  auto opk = [&](uint32_t w) { return count(m.typeOf(in.word(w))) == n ? k : 0; };
+  Affine a, c2;
+  if (!affineOf(in.word(3), opk(3), &a) || !affineOf(in.word(4), opk(4), &c2)) return;
+  if (a.base->getType() != c2.base->getType()) return;
+  auto* kc = llvm::dyn_cast<llvm::ConstantInt>(c2.base);
+  auto* ka = llvm::dyn_cast<llvm::ConstantInt>(a.base);
+  Affine r{nullptr, 0};
+  switch (in.op) {
+    case spv::OpIAdd: r = {b.CreateAdd(a.base, c2.base), a.stride + c2.stride}; break;
+    case spv::OpISub: r = {b.CreateSub(a.base, c2.base), a.stride - c2.stride}; break;
+    case spv::OpIMul:
+      if (kc && !c2.stride && kc->getBitWidth() <= 64)
+        r = {b.CreateMul(a.base, kc), a.stride * kc->getSExtValue()};
+      else if (ka && !a.stride && ka->getBitWidth() <= 64)
+        r = {b.CreateMul(c2.base, ka), c2.stride * ka->getSExtValue()};
+      break;
+    case spv::OpShiftLeftLogical:
+      if (kc && !c2.stride && kc->getZExtValue() < 32)
+        r = {b.CreateShl(a.base, kc), a.stride * (int64_t(1) << kc->getZExtValue())};
+      break;
+    default: break;
+  }
+  if (r.base && r.stride > 0 && r.stride < (1 << 20)) affine[key(in.word(2), k)] = r;
+}
+
+// An elementwise instruction on varying operands: the scalar family emitters, once per component, on N-lane
+// vectors (a scalar operand of a vector instruction counts for every component).
+bool Spmd::componentwise(const Instruction& in) {
+  uint32_t rt = in.word(1), id = in.word(2);
+  uint32_t n = count(rt);
+  uint32_t firstOperand = in.op == spv::OpExtInst ? 5 : 3;
+  spv::Op op = in.op == spv::OpVectorTimesScalar ? spv::OpFMul : in.op;
+  if (!elementwiseOp(op) && !(op == spv::OpExtInst && elementwiseExt(in.word(4))))
+    return fail("an instruction the SPMD path does not vectorize");
+  if (op == spv::OpBitcast && count(m.typeOf(in.word(3))) != n) return fail("a bitcast between vector sizes");
+  std::vector<uint32_t> words(in.words, in.words + in.count);
+  words[0] = (in.count << 16) | uint32_t(op);
+  words[1] = g.scalarType(rt);
+  std::vector<llvm::Value*> comps;
+  for (uint32_t k = 0; k < n; ++k) {
+    bool allUniform = true;
+    std::vector<llvm::Value*> ops;
+    for (uint32_t w = firstOperand; w < in.count; ++w) {
+      uint32_t id2 = in.word(w);
+      uint32_t kk = count(m.typeOf(id2)) == n ? k : 0;
+      llvm::Value* v = comp(id2, kk);
+      if (!v) return fail("an operand without a value");
+      allUniform = allUniform && !isLane(v);
+      ops.push_back(v);
+    }
+    Codegen& e = allUniform && !varyingComp(id, k) ? sc : lc;
+    for (uint32_t w = firstOperand; w < in.count; ++w) {
+      llvm::Value* v = ops[w - firstOperand];
+      words[w] = kFakeId + w;
+      e.set(kFakeId + w, &e == &lc && !isLane(v) ? splat(v) : v);
+    }
+    e.b.SetInsertPoint(b.GetInsertBlock());
+    const Instruction one{op, in.offset, in.count, words.data()};
+    bool ok = true;
+    if (!(e.arithmetic(one, ok) || e.extInst(one, ok)) || !ok)
+      return fail(ok ? "not an arithmetic instruction" : e.error.c_str());
+    auto it = e.values.find(id);
+    if (it == e.values.end()) return fail("no result");
+    comps.push_back(it->second);
+    e.values.erase(it);
+    if (varyingComp(id, k)) affineResult(in, k, n);
+    for (uint32_t w = firstOperand; w < in.count; ++w) e.values.erase(kFakeId + w);
+  }
+  return define(id, rt, comps);
+}
+
+// ---------------------------------------------------------------------------------------------- memory
+
+LanePtr* Spmd::lanePtr(uint32_t id) {
+  auto it = lptrs.find(id);
+  if (it != lptrs.end()) return &it->second;
+  // A module-scope invocation id: computed per lane.
+  auto gl = g.globals.find(id);
+  if (gl != g.globals.end() && gl->second.storage == spv::StorageClassInput &&
+      (gl->second.builtIn == spv::BuiltInGlobalInvocationId || gl->second.builtIn == spv::BuiltInLocalInvocationId ||
+       gl->second.builtIn == spv::BuiltInLocalInvocationIndex)) {
+    LanePtr lp;
+    lp.builtIn = gl->second.builtIn;
+    return &(lptrs[id] = lp);
+  }
+  return nullptr;
+}
+
+bool Spmd::builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff) {
+  const uint32_t* size = g.info.localSize;
+  if (builtIn == spv::BuiltInLocalInvocationIndex) {
+    out = {laneIndex};
+    aff = {{batchBase, 1}};
+    return true;
+  }
+  // x is base + lane where a batch stays within a row.
+  aff = {{nullptr, 0}, {nullptr, 0}, {nullptr, 0}};
+  if (size[0] % N == 0) {
+    llvm::Value* x0 = b.CreateURem(batchBase, b.getInt32(size[0]));
+    aff[0] = {builtIn == spv::BuiltInGlobalInvocationId ? b.CreateAdd(wgBase[0], x0) : x0, 1};
+  }
+  // Per component: uniform where the analysis says so (a batch within one row / slice), from the first lane.
+  bool yUniform = size[0] % N == 0, zUniform = (size[0] * size[1]) % N == 0;
+  llvm::Value* lx = b.CreateURem(laneIndex, splat(b.getInt32(size[0])));
+  llvm::Value* yIdx = yUniform ? batchBase : laneIndex;
+  llvm::Value* zIdx = zUniform ? batchBase : laneIndex;
+  auto k = [&](llvm::Value* like, uint32_t v) -> llvm::Value* {
+    return isLane(like) ? splat(b.getInt32(v)) : b.getInt32(v);
+  };
+  llvm::Value* ly = b.CreateURem(b.CreateUDiv(yIdx, k(yIdx, size[0])), k(yIdx, size[1]));
+  llvm::Value* lz = b.CreateUDiv(zIdx, k(zIdx, size[0] * size[1]));
+  out = {lx, ly, lz};
+  if (builtIn == spv::BuiltInGlobalInvocationId)
+    for (int i = 0; i < 3; ++i) out[i] = b.CreateAdd(isLane(out[i]) ? splat(wgBase[i]) : wgBase[i], out[i]);
+  return true;
+}
+
+bool Spmd::variable(const Instruction& in) {
+  uint32_t id = in.word(2);
+  const Type& pt = g.spvType(in.word(1));
+  if (!u.laneVariables.count(id)) {
+    // Uniform: the scalar code's byte array (its initializer stored at the top of the function, every batch).
+    bool ok = true;
+    if (in.count > 4 && u.bits(in.word(4))) return fail("a varying initializer");
+    return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+  }
+  // Storage per lane: 32-bit leaves only, interleaved lane by lane.
+  std::vector<uint32_t> work = {pt.element};
+  while (!work.empty()) {
+    const Type& t = g.spvType(work.back());
+    work.pop_back();
+    switch (t.kind) {
+      case Type::Bool: break;
+      case Type::Int:
+      case Type::Float:
+        if (t.width != 32) return fail("a per-lane variable of 8-, 16- or 64-bit values");
+        break;
+      case Type::Vector:
+      case Type::Matrix:
+      case Type::Array: work.push_back(t.element); break;
+      case Type::Struct: work.insert(work.end(), t.members.begin(), t.members.end()); break;
+      default: return fail("a per-lane variable of this type");
+    }
+  }
+  uint64_t size = std::max<uint64_t>(g.layoutSize(pt.element, 0, false), 4);
+  llvm::AllocaInst* a;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock->getTerminator());
+    a = b.CreateAlloca(b.getInt8Ty(), b.getInt64(size * N));
+    a->setAlignment(llvm::Align(64));
+  }
+  LanePtr lp;
+  lp.p.base = a;
+  lp.p.offset = b.getInt64(0);
+  lp.p.limit = b.getInt64(size);
+  lp.p.type = pt.element;
+  lp.p.storage = spv::StorageClassFunction;
+  lp.interleaved = true;
+  lptrs[id] = lp;
+  if (in.count > 4) {
+    // An initializer (a constant): every lane's copy, whatever the mask.
+    const Type& t = g.spvType(pt.element);
+    if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
+      return fail("an initializer of a composite per-lane variable");
+    llvm::Value* saved = mask;
+    mask = llvm::Constant::getAllOnesValue(maskTy());
+    uint32_t sid = g.scalarType(pt.element);
+    uint64_t cs = g.layoutSize(sid, 0, false);
+    for (uint32_t k = 0; k < count(pt.element); ++k)
+      storeLeaf(lp, k * cs, sid, laneComp(in.word(4), k), cs * count(pt.element));
+    mask = saved;
+  }
+  return true;
+}
+
+bool Spmd::accessChain(const Instruction& in) {
+  uint32_t base = in.word(3);
+  LanePtr* from = lanePtr(base);
+  bool varyingIndex = false;
+  for (uint32_t w = 4; w < in.count; ++w) varyingIndex = varyingIndex || u.bits(in.word(w));
+  if (!from && !varyingIndex) {
+    bool ok = true;
+    return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+  }
+  LanePtr lp;
+  if (from) {
+    lp = *from;
+  } else {
+    Ptr& p = sc.ptr(base);
+    if (!p.base && p.slot < 0) return fail("an access chain on an untracked pointer");
+    lp.p = p;
+    lp.linear = b.getTrue();
+  }
+  if (lp.builtIn >= 0) {
+    uint64_t k = 0;
+    if (in.count != 5 || lp.component >= 0 || !m.constantU64(in.word(4), &k) || k > 2)
+      return fail("a dynamic index into an invocation id");
+    lp.component = int(k);
+    lptrs[in.word(2)] = lp;
+    return true;
+  }
+  Ptr& p = lp.p;
+  for (uint32_t w = 4; w < in.count; ++w) {
+    uint32_t idx = in.word(w);
+    if (p.slot >= 0) {
+      if (u.bits(idx) || p.storage == spv::StorageClassUniformConstant) return fail("a varying descriptor index");
+      sc.resolveDescriptor(p, sc.value(idx));
+      continue;
+    }
+    if (lp.linear && !lp.first && !isLane(p.offset)) lp.first = p.offset;
+    const Type& t = g.spvType(p.type);
+    uint64_t k = 0;
+    bool isConst = m.constantU64(idx, &k);
+    llvm::Value* iv;
+    Affine ia{nullptr, 0};  // a varying index's affine form, extended to i64 (lane 0's, and the lanes' step)
+    if (isConst) {
+      const Constant* kc = m.constant(idx);
+      if (kc && g.isSignedInt(kc->type) && g.spvType(kc->type).width < 64) {
+        uint32_t wd = g.spvType(kc->type).width;
+        if (k >> (wd - 1)) k |= ~((1ull << wd) - 1);
+      }
+      iv = b.getInt64(k);
+    } else {
+      iv = comp(idx, 0);
+      if (!iv) return fail("an index without a value");
+      llvm::Type* i64t = isLane(iv) ? laneTy(b.getInt64Ty()) : b.getInt64Ty();
+      bool sgn = g.isSignedInt(m.typeOf(idx));
+      Affine a;
+      if (isLane(iv) && lp.linear && affine.count(key(idx, 0)) && affineOf(idx, 0, &a)) {
+        // The lanes' indices are consecutive after the extension when lane N-1's does not wrap.
+        unsigned w = a.base->getType()->getIntegerBitWidth();
+        if (w < 64) {
+          llvm::APInt top = sgn ? llvm::APInt::getSignedMaxValue(w) : llvm::APInt::getMaxValue(w);
+          llvm::APInt span(w, uint64_t(a.stride) * (N - 1));
+          llvm::Value* room = llvm::ConstantInt::get(a.base->getType(), top - span);
+          llvm::Value* ok = sgn ? b.CreateICmpSLE(a.base, room) : b.CreateICmpULE(a.base, room);
+          if (!sgn || a.base->getType()->getIntegerBitWidth() == 32) {
+            lp.linear = b.CreateAnd(lp.linear, ok);
+            ia = {sgn ? b.CreateSExt(a.base, b.getInt64Ty()) : b.CreateZExt(a.base, b.getInt64Ty()), a.stride};
+          }
+        }
+      }
+      if (isLane(iv) && !ia.base) lp.linear = nullptr;
+      iv = sgn ? b.CreateSExtOrTrunc(iv, i64t) : b.CreateZExtOrTrunc(iv, i64t);
+    }
+    auto add = [&](llvm::Value* bytes) {
+      if (lp.linear && lp.first && !isLane(bytes)) lp.first = b.CreateAdd(lp.first, bytes);
+      if (isLane(bytes) != isLane(p.offset)) {
+        if (!isLane(bytes)) bytes = splat(bytes);
+        if (!isLane(p.offset)) p.offset = splat(p.offset);
+      }
+      p.offset = b.CreateAdd(p.offset, bytes);
+    };
+    auto scaled = [&](uint64_t stride) {
+      if (ia.base && lp.linear && lp.first) {
+        lp.first = b.CreateAdd(lp.first, b.CreateMul(ia.base, b.getInt64(stride)));
+        lp.laneStride += ia.stride * int64_t(stride);
+      }
+      return b.CreateMul(iv, isLane(iv) ? splat(b.getInt64(stride)) : b.getInt64(stride));
+    };
+    switch (t.kind) {
+      case Type::Struct: {
+        if (!isConst || k >= t.members.size()) return fail("struct index is not a valid constant");
+        const Decorations& d = m.memberDecor(p.type, uint32_t(k));
+        add(b.getInt64(g.memberOffset(p.type, uint32_t(k))));
+        p.type = t.members[k];
+        p.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
+        p.rowMajor = d.rowMajor;
+        p.vecStride = 0;
+        break;
+      }
+      case Type::Array:
+      case Type::RuntimeArray:
+        add(scaled(g.arrayStride(p.type, p.matrixStride, p.rowMajor)));
+        p.type = t.element;
+        break;
+      case Type::Matrix: {
+        uint32_t stride = p.matrixStride ? p.matrixStride : g.naturalMatrixStride(p.type);
+        uint64_t cs = g.layoutSize(g.scalarType(t.element), 0, false);
+        add(scaled(p.rowMajor ? cs : stride));
+        p.vecStride = p.rowMajor ? stride : 0;
+        p.type = t.element;
+        break;
+      }
+      case Type::Vector: {
+        uint64_t cs = g.layoutSize(t.element, 0, false);
+        add(scaled(p.vecStride ? p.vecStride : cs));
+        p.vecStride = 0;
+        p.type = t.element;
+        break;
+      }
+      default: return fail("an access chain into a non-composite");
+    }
+  }
+  lptrs[in.word(2)] = lp;
+  return true;
+}
+
+llvm::Value* Spmd::loadLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, uint64_t span) {
+  const Type& t = g.spvType(scalarId);
+  bool isBool = t.kind == Type::Bool;
+  llvm::Type* memTy = isBool ? b.getInt32Ty() : g.type(scalarId);
+  uint64_t bytes = isBool ? 4 : t.width / 8;
+  llvm::Type* vt = laneTy(memTy);
+  llvm::Value* zero = llvm::Constant::getNullValue(vt);
+  llvm::Value* r;
+  if (lp.interleaved && !isLane(lp.p.offset)) {
+    // One vector: lane l's word at o * N + 4 l. Out of bounds: zeros (the access reads the variable's start).
+    llvm::Value* o = b.CreateAdd(lp.p.offset, b.getInt64(delta));
+    llvm::Value* ok = inBoundsUniform(lp, span);
+    llvm::Value* at =
+        b.CreateGEP(b.getInt8Ty(), lp.p.base, b.CreateSelect(ok, b.CreateMul(o, b.getInt64(N)), b.getInt64(0)));
+    r = b.CreateSelect(ok, b.CreateAlignedLoad(vt, at, llvm::Align(4)), zero);
+  } else {
+    llvm::Value* offs = laneOffsets(lp, delta);
+    llvm::Align align(bytes);
+    if (lp.interleaved) {
+      llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
+      // Lane l's bytes of offset o at o * N + 4 l.
+      std::vector<llvm::Constant*> lane4;
+      for (unsigned l = 0; l < N; ++l) lane4.push_back(b.getInt64(4 * l));
+      llvm::Value* at = b.CreateAdd(b.CreateMul(offs, splat(b.getInt64(N))), llvm::ConstantVector::get(lane4));
+      r = b.CreateMaskedGather(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, at), align, active, zero);
+    } else {
+      // Consecutive addresses: one masked load; otherwise a gather.
+      Contiguity ct = contiguity(lp, delta, bytes, span, offs);
+      auto* contiguous = llvm::BasicBlock::Create(c, "spmd.contiguous", fn);
+      auto* scattered = llvm::BasicBlock::Create(c, "spmd.gather", fn);
+      auto* join = llvm::BasicBlock::Create(c, "spmd.load", fn);
+      b.CreateCondBr(ct.consecutive, contiguous, scattered);
+      b.SetInsertPoint(contiguous);
+      llvm::Value* v1 = b.CreateMaskedLoad(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, ct.first), align,
+                                           b.CreateAnd(mask, ct.inBounds()), zero);
+      b.CreateBr(join);
+      b.SetInsertPoint(scattered);
+      llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
+      llvm::Value* v2 = b.CreateMaskedGather(vt, b.CreateGEP(b.getInt8Ty(), lp.p.base, offs), align, active, zero);
+      b.CreateBr(join);
+      b.SetInsertPoint(join);
+      auto* phi = b.CreatePHI(vt, 2);
+      phi->addIncoming(v1, contiguous);
+      phi->addIncoming(v2, scattered);
+      r = phi;
+    }
+  }
+  return isBool ? b.CreateICmpNE(r, zero) : r;
+}
+
+void Spmd::storeLeaf(const LanePtr& lp, uint64_t delta, uint32_t scalarId, llvm::Value* v, uint64_t span) {
+  const Type& t = g.spvType(scalarId);
+  bool isBool = t.kind == Type::Bool;
+  llvm::Type* memTy = isBool ? b.getInt32Ty() : g.type(scalarId);
+  uint64_t bytes = isBool ? 4 : t.width / 8;
+  llvm::Type* vt = laneTy(memTy);
+  if (isBool) v = b.CreateZExt(v, vt);
+  llvm::Align align(bytes);
+  if (lp.interleaved && !isLane(lp.p.offset)) {
+    // Blended into the lanes' vector (inactive lanes keep theirs); out of bounds, written back unchanged.
+    llvm::Value* o = b.CreateAdd(lp.p.offset, b.getInt64(delta));
+    llvm::Value* ok = inBoundsUniform(lp, span);
+    llvm::Value* at =
+        b.CreateGEP(b.getInt8Ty(), lp.p.base, b.CreateSelect(ok, b.CreateMul(o, b.getInt64(N)), b.getInt64(0)));
+    llvm::Value* old = b.CreateAlignedLoad(vt, at, llvm::Align(4));
+    b.CreateAlignedStore(b.CreateSelect(b.CreateAnd(mask, splat(ok)), v, old), at, llvm::Align(4));
+    return;
+  }
+  llvm::Value* offs = laneOffsets(lp, delta);
+  if (lp.interleaved) {
+    llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
+    std::vector<llvm::Constant*> lane4;
+    for (unsigned l = 0; l < N; ++l) lane4.push_back(b.getInt64(4 * l));
+    llvm::Value* at = b.CreateAdd(b.CreateMul(offs, splat(b.getInt64(N))), llvm::ConstantVector::get(lane4));
+    b.CreateMaskedScatter(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, at), align, active);
+    return;
+  }
+  Contiguity ct = contiguity(lp, delta, bytes, span, offs);
+  auto* contiguous = llvm::BasicBlock::Create(c, "spmd.contiguous", fn);
+  auto* scattered = llvm::BasicBlock::Create(c, "spmd.scatter", fn);
+  auto* join = llvm::BasicBlock::Create(c, "spmd.stored", fn);
+  b.CreateCondBr(ct.consecutive, contiguous, scattered);
+  b.SetInsertPoint(contiguous);
+  b.CreateMaskedStore(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, ct.first), align, b.CreateAnd(mask, ct.inBounds()));
+  b.CreateBr(join);
+  b.SetInsertPoint(scattered);
+  llvm::Value* active = b.CreateAnd(mask, inBoundsLanes(lp, span));
+  // Lanes with the same address: the highest lane's value stays, as when the invocations run in order.
+  b.CreateMaskedScatter(v, b.CreateGEP(b.getInt8Ty(), lp.p.base, offs), align, active);
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+}
+
+bool Spmd::loadInst(const Instruction& in) {
+  uint32_t rt = in.word(1), id = in.word(2);
+  LanePtr* lp = lanePtr(in.word(3));
+  if (!lp) {
+    bool ok = true;
+    if (!(sc.memory(in, ok) && ok)) return fail(sc.error.empty() ? "a load the scalar code refused" : sc.error.c_str());
+    if (!u.bits(id)) return true;
+    // Uniform here, varying where it is read (a value used after a divergent loop): held per lane.
+    std::vector<llvm::Value*> comps;
+    for (uint32_t k = 0; k < count(rt); ++k) comps.push_back(comp(id, k));
+    sc.values.erase(id);
+    return define(id, rt, comps);
+  }
+  std::vector<llvm::Value*> comps;
+  if (lp->builtIn >= 0) {
+    std::vector<Affine> aff;
+    if (!builtInComps(lp->builtIn, comps, aff)) return false;
+    if (lp->component >= 0) {
+      comps = {comps[lp->component]};
+      aff = {aff[lp->component]};
+    }
+    comps.resize(count(rt));
+    for (uint32_t k = 0; k < comps.size() && k < aff.size(); ++k)
+      if (aff[k].base && varyingComp(id, k)) affine[key(id, k)] = aff[k];
+    return define(id, rt, comps);
+  }
+  const Type& t = g.spvType(rt);
+  uint32_t sid = g.scalarType(rt);
+  uint64_t cs = g.layoutSize(sid, 0, false);
+  uint64_t stride = t.kind == Type::Vector && lp->p.vecStride ? lp->p.vecStride : cs;
+  // A packed vector is in or out of bounds as a whole; strided components (row-major columns) one by one.
+  uint64_t span = stride == cs ? cs * count(rt) : cs;
+  for (uint32_t k = 0; k < count(rt); ++k) {
+    LanePtr at = *lp;
+    uint64_t delta = k * stride;
+    if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
+      at.p.offset = addBytes(at.p.offset, delta);
+      delta = 0;
+    }
+    comps.push_back(loadLeaf(at, delta, sid, span));
+  }
+  // A uniform Function variable read through a per-lane pointer cannot happen (the analysis makes it per lane).
+  return define(id, rt, comps);
+}
+
+bool Spmd::storeInst(const Instruction& in) {
+  uint32_t ptrId = in.word(1), v = in.word(2);
+  uint32_t ty = m.typeOf(v);
+  LanePtr* lp = lanePtr(ptrId);
+  const Type& t = g.spvType(ty);
+  if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
+    return fail("a store of a composite");
+  if (!lp) {
+    Ptr& p = sc.ptr(ptrId);
+    if (!p.base || p.slot >= 0) return fail("a store through an untracked pointer");
+    Ptr target = p;
+    llvm::Value* value = nullptr;
+    if (!u.bits(v)) {
+      value = sc.value(v);
+    } else {
+      // A varying value to one address: the last active lane's (the invocations' order).
+      llvm::Value* bitsv = b.CreateBitCast(mask, b.getIntNTy(N));
+      llvm::Value* last =
+          b.CreateSub(b.getIntN(N, N - 1), b.CreateBinaryIntrinsic(llvm::Intrinsic::ctlz, bitsv, b.getTrue()));
+      last = b.CreateZExt(last, b.getInt32Ty());
+      std::vector<llvm::Value*> comps;
+      for (uint32_t k = 0; k < count(ty); ++k) comps.push_back(b.CreateExtractElement(laneComp(v, k), last));
+      value = assemble(ty, comps);
+    }
+    if (!value) return fail("a stored value without a value");
+    ifAny(mask, [&] {
+      sc.b.SetInsertPoint(b.GetInsertBlock());
+      sc.store(target, value);
+    });
+    return true;
+  }
+  if (lp->builtIn >= 0) return fail("a store to an input");
+  uint32_t sid = g.scalarType(ty);
+  uint64_t cs = g.layoutSize(sid, 0, false);
+  uint64_t stride = t.kind == Type::Vector && lp->p.vecStride ? lp->p.vecStride : cs;
+  uint64_t span = stride == cs ? cs * count(ty) : cs;
+  for (uint32_t k = 0; k < count(ty); ++k) {
+    llvm::Value* x = laneComp(v, k);
+    if (!x) return fail("a stored value without a value");
+    LanePtr at = *lp;
+    uint64_t delta = k * stride;
+    if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
+      at.p.offset = addBytes(at.p.offset, delta);
+      delta = 0;
+    }
+    storeLeaf(at, delta, sid, x, span);
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------- the entry
+
+bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
+  (void)main;
+  const uint32_t* size = g.info.localSize;
+  uint32_t total = size[0] * size[1] * size[2];
+  fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
+                              llvm::Function::ExternalLinkage, "vkrt_group", g.out);
+  fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
+  if (N == 16) fn->addFnAttr("prefer-vector-width", "512");
+  allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
+  b.SetInsertPoint(allocaBlock);
+  llvm::Value* local = sc.groupContext(fn->getArg(0));
+  for (int i = 0; i < 3; ++i) {
+    llvm::Value* wg = b.CreateAlignedLoad(
+        b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, workgroupId) + 4 * i),
+        llvm::Align(4));
+    wgBase[i] = b.CreateMul(wg, b.getInt32(size[i]));
+  }
+  auto* batch = llvm::BasicBlock::Create(c, "spmd.batch", fn);
+  b.CreateBr(batch);
+  for (Codegen* x : {&sc, &lc}) {
+    x->fn = fn;
+    x->ctxArg = local;
+    x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
+    x->allocaBlock = allocaBlock;
+  }
+  // Masks and phis: zero between batches (every block consumes its mask).
+  for (const Cfg::Block& blk : cfg.blocks) {
+    llvm::AllocaInst* a = slot(maskTy());
+    {
+      llvm::IRBuilderBase::InsertPointGuard guard(b);
+      b.SetInsertPoint(allocaBlock->getTerminator());
+      b.CreateStore(llvm::Constant::getNullValue(maskTy()), a);
+    }
+    masks[blk.label] = a;
+    for (size_t i = blk.first + 1; i < blk.last && m.instructions[i].op == spv::OpPhi; ++i) {
+      const Instruction& phi = m.instructions[i];
+      uint32_t n = count(phi.word(1));
+      llvm::Type* s = g.type(g.scalarType(phi.word(1)));
+      if (!s) return fail("a phi type");
+      for (uint32_t k = 0; k < n; ++k)
+        phiSlots[phi.word(2)].push_back(slot(varyingComp(phi.word(2), k) ? laneTy(s) : s));
+    }
+  }
+  for (uint32_t loop : u.divergentLoops) {
+    liveOuts[loop] = Uniformity::liveOuts(m, cfg, loop);
+    for (uint32_t id : liveOuts[loop]) {
+      if (liveOutSlots.count(id)) continue;
+      llvm::Type* s = g.type(g.scalarType(m.typeOf(id)));
+      if (!s) return fail("a value used after its loop of a type the SPMD path does not hold");
+      for (uint32_t k = 0; k < count(m.typeOf(id)); ++k) liveOutSlots[id].push_back(slot(laneTy(s)));
+    }
+  }
+  b.SetInsertPoint(batch);
+  auto* base = b.CreatePHI(b.getInt32Ty(), 2);
+  base->addIncoming(b.getInt32(0), allocaBlock);
+  batchBase = base;
+  std::vector<llvm::Constant*> iota;
+  for (unsigned l = 0; l < N; ++l) iota.push_back(b.getInt32(l));
+  laneIndex = b.CreateAdd(splat(base), llvm::ConstantVector::get(iota));
+  mask = b.CreateICmpULT(laneIndex, splat(b.getInt32(total)));  // the tail of the last batch is off
+  for (size_t bi = 0; bi < cfg.blocks.size(); ++bi)
+    if (!block(bi)) return false;
+  if (!loopHeads.empty()) return fail("a loop without a back edge");
+  llvm::Value* next = b.CreateAdd(base, b.getInt32(N));
+  base->addIncoming(next, b.GetInsertBlock());
+  auto* done = llvm::BasicBlock::Create(c, "spmd.done", fn);
+  b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(total)), batch, done);
+  b.SetInsertPoint(done);
+  b.CreateRetVoid();
+  (void)ep;
+  return true;
+}
+
+}  // namespace
+
+void setSpmd(bool enabled) { spmdOn = enabled; }
+bool spmdEnabled() { return spmdOn; }
+
+unsigned spmdLanes() {
+  if (!spmdOn) return 0;
+  std::string error;
+  auto jtmb = detail::targetMachine(&error);
+  if (!jtmb) return 0;
+  bool avx2 = false, avx512 = false;
+  for (const std::string& f : jtmb->getFeatures().getFeatures()) {
+    avx2 = avx2 || f == "+avx2";
+    avx512 = avx512 || f == "+avx512f";
+  }
+  if (!jtmb->getCPU().empty() && jtmb->getFeatures().getFeatures().empty()) {
+    // A named CPU: its own features.
+    llvm::SmallVector<llvm::StringRef, 64> features;
+    llvm::X86::getFeaturesForCPU(jtmb->getCPU(), features);
+    for (llvm::StringRef f : features) {
+      avx2 = avx2 || f == "avx2";
+      avx512 = avx512 || f == "avx512f";
+    }
+  }
+  return avx512 ? 16 : avx2 ? 8 : 4;
+}
+
+std::string spmdKey() { return "spmd " + std::to_string(spmdLanes()); }
+
+bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
+  unsigned lanes = spmdLanes();
+  if (!lanes) return false;
+  Spmd s(g, lanes);
+  std::string whyNot;
+  if (!s.supported(ep, &whyNot)) return false;
+  if (!s.emit(ep, main)) {
+    if (llvm::Function* f = g.out.getFunction("vkrt_group")) {
+      f->dropAllReferences();
+      f->eraseFromParent();
+    }
+    return false;
+  }
+  main->setLinkage(llvm::Function::InternalLinkage);
+  g.info.spmdLanes = uint8_t(lanes);
+  return true;
+}
+
+}  // namespace vkrt::spirv

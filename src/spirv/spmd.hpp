@@ -1,0 +1,25 @@
+// Private to src/spirv: SPMD compilation of compute shaders (spmd.cpp). vkrt_group runs a workgroup in batches of
+// spmdLanes() invocations, one batch per pass of its code, each SPIR-V value a scalar (uniform) or an LLVM vector of
+// one element per lane (varying), with an execution mask for control flow that diverges.
+#pragma once
+
+#include <llvm/IR/Function.h>
+
+#include <string>
+
+#include "spirv/compiler.hpp"
+
+namespace vkrt::spirv {
+
+class Codegen;
+struct EntryPoint;
+
+// What the pipeline cache key holds of the SPMD setting.
+std::string spmdKey();
+
+// Emits vkrt_group in SPMD form for the entry point `ep` of `g` (vkrt_main, `main`, made internal then), when every
+// instruction of the entry function is one the SPMD path supports; otherwise returns false and leaves the module as
+// it was (the caller emits the scalar vkrt_group). Sets g.info.spmdLanes.
+bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main);
+
+}  // namespace vkrt::spirv
