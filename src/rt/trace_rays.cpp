@@ -34,6 +34,7 @@
 #include "runtime/physical_device.hpp"
 #include "runtime/ray_tracing_features.hpp"
 #include "runtime/report.hpp"
+#include "runtime/shader_messages.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt::rt {
@@ -306,6 +307,7 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
   l.job = &job;
   exec::runRays(l);
   if (job.aborted()) dev->shaderAborted(pipeline_, fn_, job.abort());
+  deliverShaderMessages(cb_, pipeline_, fn_, job.messages);
 }
 
 const exec::RayGroup* Launch::checkKind(exec::SbtRegion region, uint64_t index, const uint8_t* record, uint32_t g) {

@@ -50,7 +50,10 @@ const char* severityWord(Severity s) {
 void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args) {
   char body[2048];
   std::vsnprintf(body, sizeof(body), format, args);
+  reportWithId(about, severity, vuid, 0, body);
+}
 
+void reportWithId(const Object* about, Severity severity, const char* vuid, int32_t idNumber, const std::string& body) {
   std::string objectText;
   std::string name;
   if (about) {
@@ -73,7 +76,7 @@ void reportV(const Object* about, Severity severity, const char* vuid, const cha
     object.pObjectName = name.empty() ? nullptr : name.c_str();
     VkDebugUtilsMessengerCallbackDataEXT data{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CALLBACK_DATA_EXT};
     data.pMessageIdName = vuid ? vuid : "vkrt";
-    data.messageIdNumber = 0;
+    data.messageIdNumber = idNumber;
     data.pMessage = message.c_str();
     data.objectCount = 1;
     data.pObjects = &object;

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdarg>
+#include <cstdint>
+#include <string>
 
 #include "runtime/object.hpp"
 
@@ -20,5 +22,10 @@ void report(const Object* about, Severity severity, const char* vuid, const char
 
 // The same with the arguments as a va_list.
 void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args);
+
+// A report whose message id is not a VUID (shader debugging, runtime/shader_messages.cpp): `idName` goes to
+// pMessageIdName and into the text like a VUID, `idNumber` to messageIdNumber; the type is VALIDATION.
+void reportWithId(const Object* about, Severity severity, const char* idName, int32_t idNumber,
+                  const std::string& body);
 
 }  // namespace vkrt
