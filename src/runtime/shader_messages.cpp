@@ -84,16 +84,11 @@ void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const c
   char buf[256];
   std::string resource;
   if (s.set != ~0u) {
-    // An element of ~0: not known (vkrt_group keeps no element of a descriptor array: shader_debug_codegen.cpp).
-    if (r.element == ~uint64_t(0)) {
-      std::snprintf(buf, sizeof buf, "set %u, binding %u", s.set, s.binding);
-    } else {
-      std::snprintf(buf, sizeof buf, "set %u, binding %u, element %llu", s.set, s.binding,
-                    static_cast<unsigned long long>(r.element));
-    }
+    std::snprintf(buf, sizeof buf, "set %u, binding %u, element %llu", s.set, s.binding,
+                  static_cast<unsigned long long>(r.element));
     resource = buf;
     if (!s.variable.empty()) resource += ", variable \"" + s.variable + "\"";
-    std::string object = namer && r.element != ~uint64_t(0) ? namer(s.set, s.binding, r.element) : std::string();
+    std::string object = namer ? namer(s.set, s.binding, r.element) : std::string();
     if (!object.empty()) resource += ", " + object;
   }
   std::string what;
@@ -103,13 +98,8 @@ void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const c
     what = std::string(buf) + " (" + resource + "); the access uses a null descriptor";
   } else {
     const char* kind = s.kind == abi::kAccessLoad ? "load" : s.kind == abi::kAccessStore ? "store" : "atomic";
-    if (r.range == ~uint64_t(0)) {
-      std::snprintf(buf, sizeof buf, "%s of %u bytes at offset %llu is outside the range", kind, s.bytes,
-                    static_cast<unsigned long long>(r.offset));
-    } else {
-      std::snprintf(buf, sizeof buf, "%s of %u bytes at offset %llu is outside the %llu bytes in range", kind, s.bytes,
-                    static_cast<unsigned long long>(r.offset), static_cast<unsigned long long>(r.range));
-    }
+    std::snprintf(buf, sizeof buf, "%s of %u bytes at offset %llu is outside the %llu bytes in range", kind, s.bytes,
+                  static_cast<unsigned long long>(r.offset), static_cast<unsigned long long>(r.range));
     what = std::string(buf) + " of the buffer (" + resource + "); " +
            (s.kind == abi::kAccessLoad    ? "the load reads zeros"
             : s.kind == abi::kAccessStore ? "the store is dropped"

@@ -162,21 +162,9 @@ class Codegen {
   void setLine(const Instruction* line) { currentLine = line; }
   // The out-of-bounds report of an access through `p` (a buffer reached through a descriptor; nullptr for other
   // pointers): the block the failing branch runs, which calls vkrt_out_of_bounds and branches to `join`.
-  // In compute shaders run by vkrt_group (no workgroup barrier), whose loop over the invocations LLVM vectorizes, a
-  // call in the failing branch would keep it from vectorizing (LLVM 15 predicates no calls): there the access
-  // instead keeps, branch-free, the largest (offset, invocation) key of the failing accesses of each site in a slot
-  // after the local context (a umax reduction LLVM vectorizes), and vkrt_group reports the sites after its loop
-  // (groupSites; returns nullptr). `ok` is the access's in-bounds condition.
-  llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join,
-                                     llvm::Value* ok);
-  void keepGroupSite(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* ok, llvm::Value* offset);
-  struct GroupSite {
-    llvm::Constant* site;
-    int resource;
-    uint32_t kind;
-  };
-  std::vector<GroupSite> groupSites;
-  bool groupReports = false;  // the code runs inside vkrt_group (set by run())
+  // In compute shaders the call keeps LLVM 15 from vectorizing vkrt_group's loop over the invocations (it predicates
+  // no calls): the price of the report (docs/shader-debugging.md, "Cost").
+  llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join);
   // The AccessSite of the current instruction (a constant of the module).
   llvm::Constant* accessSiteFor(const Ptr& p, uint32_t kind, uint64_t bytes);
   // Emits a call of vkrt_out_of_bounds(ctx, site, offset, range, element) at the builder.

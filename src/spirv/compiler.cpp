@@ -5,7 +5,6 @@
 #include <cstdarg>
 #include <cstdio>
 
-#include "abi/shader_debug.hpp"
 #include "spirv/codegen.hpp"
 
 namespace vkrt::spirv {
@@ -360,16 +359,6 @@ bool Codegen::run(const EntryPoint& ep) {
       llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)), "vkrt_zeros");
   zeros->setAlignment(llvm::Align(16));
   if (isGraphics() && !graphicsModes(ep)) return false;
-  // Compute shaders without a workgroup barrier run in vkrt_group (emitGroupEntry): their out-of-bounds reports
-  // are kept per site and made after the workgroup (Codegen::outOfBoundsBlock says why).
-  if (model == spv::ExecutionModelGLCompute) {
-    groupReports = true;
-    for (const Instruction& in : m.instructions) {
-      uint64_t scope = 0;
-      if (in.op == spv::OpControlBarrier && m.constantU64(in.word(1), &scope) && scope == spv::ScopeWorkgroup)
-        groupReports = false;
-    }
-  }
   if (!declareGlobals() || !declareFunctions()) return false;
   for (size_t i = 0; i < m.instructions.size();) {
     if (m.instructions[i].op != spv::OpFunction) {
@@ -412,10 +401,6 @@ bool Codegen::run(const EntryPoint& ep) {
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier) emitGroupEntry(main);
-  if (model == spv::ExecutionModelGLCompute && groupReports == info.usesBarrier) {
-    error = "internal compiler error: the out-of-bounds reports assumed the wrong entry";
-    return false;
-  }
   return true;
 }
 
@@ -440,14 +425,9 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   group->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
   auto* entry = llvm::BasicBlock::Create(c, "entry", group);
   b.SetInsertPoint(entry);
-  // The local context, then the out-of-bounds slot of each site (Codegen::keepGroupSite), zeroed.
-  const uint64_t slotBytes = 8 * groupSites.size();
-  auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext) + slotBytes));
+  auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
-  if (slotBytes)
-    b.CreateMemSet(b.CreateConstGEP1_64(b.getInt8Ty(), local, sizeof(InvocationContext)), b.getInt8(0), i64(slotBytes),
-                   llvm::MaybeAlign(16));
   auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
   auto ctxPointer = [&](size_t offset) {
     return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctx, offset), llvm::Align(8));
@@ -459,7 +439,6 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
                  llvm::MaybeAlign(1), i64(kPushConstantBytes));
   b.CreateAlignedStore(push, field(offsetof(InvocationContext, pushConstants), 0), llvm::Align(8));
   // Resources: the slot table, and element 0 of each buffer binding that is not an array.
-  std::vector<llvm::Value*> resourceCounts, resourceRanges;  // per resource: bound descriptors, element 0's range
   if (size_t n = info.resources.size()) {
     llvm::Value* table = ctxPointer(offsetof(InvocationContext, resources));
     auto* slots = b.CreateAlloca(b.getInt8Ty(), i64(n * sizeof(ResourceSlot)));
@@ -483,12 +462,6 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
       }
       b.CreateAlignedStore(rec, to, llvm::Align(8));
       b.CreateAlignedStore(count, b.CreateConstGEP1_64(b.getInt8Ty(), to, 8), llvm::Align(8));
-      resourceCounts.push_back(count);
-      // A non-array buffer's record is the local copy by now (zeros when nothing is bound).
-      resourceRanges.push_back(
-          r.kind == ResourceBinding::Buffer && r.arraySize == 1
-              ? b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 8), llvm::Align(8))
-              : i64(0));
     }
     b.CreateAlignedStore(slots, field(offsetof(InvocationContext, resources), 0), llvm::Align(8));
   }
@@ -527,44 +500,6 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
     auto* exit = llvm::BasicBlock::Create(c, std::string("done") + char('x' + i), group);
     b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(info.localSize[i])), headers[i], exit);
     b.SetInsertPoint(exit);
-  }
-  // The out-of-bounds sites the workgroup reached: each reported once, with its largest offset and the invocation
-  // that made it (its ids set in the local context, which vkrt_out_of_bounds reads). The range: that of a binding
-  // that is not an array (an array's element is not kept: ~0, unknown); a descriptor index's: the bound count.
-  ctxArg = local;
-  for (size_t k = 0; k < groupSites.size(); ++k) {
-    const GroupSite& site = groupSites[k];
-    llvm::Value* key = b.CreateAlignedLoad(
-        b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), local, sizeof(InvocationContext) + 8 * k), llvm::Align(8));
-    auto* report = llvm::BasicBlock::Create(c, "outofbounds.report", group);
-    auto* next = llvm::BasicBlock::Create(c, "outofbounds.next", group);
-    b.CreateCondBr(b.CreateICmpNE(key, i64(0)), report, next);
-    b.SetInsertPoint(report);
-    llvm::Value* index = b.CreateSub(b.CreateTrunc(b.CreateAnd(key, i64(0xffffff)), b.getInt32Ty()), b.getInt32(1));
-    llvm::Value* xy = b.getInt32(info.localSize[0] * info.localSize[1]);
-    llvm::Value* local3[3] = {
-        b.CreateURem(index, b.getInt32(info.localSize[0])),
-        b.CreateURem(b.CreateUDiv(index, b.getInt32(info.localSize[0])), b.getInt32(info.localSize[1])),
-        b.CreateUDiv(index, xy)};
-    for (int i = 0; i < 3; ++i)
-      b.CreateAlignedStore(b.CreateAdd(base[i], local3[i]), field(offsetof(InvocationContext, globalId), i),
-                           llvm::Align(4));
-    llvm::Value* range = i64(~uint64_t(0));
-    llvm::Value* element = i64(0);
-    if (site.resource >= 0 && size_t(site.resource) < resourceCounts.size()) {
-      const ResourceBinding& r = info.resources[site.resource];
-      if (site.kind == abi::kAccessDescriptorIndex) {
-        range = resourceCounts[site.resource];
-        element = b.CreateLShr(key, 24);
-      } else if (r.arraySize == 1) {
-        range = resourceRanges[site.resource];
-      } else {
-        element = i64(~uint64_t(0));
-      }
-    }
-    callOutOfBounds(site.site, b.CreateLShr(key, 24), range, element);
-    b.CreateBr(next);
-    b.SetInsertPoint(next);
   }
   b.CreateRetVoid();
 }

@@ -210,10 +210,6 @@ static llvm::Value* invariant(llvm::LoadInst* load) {
 }
 
 void Codegen::reportDescriptorIndex(const Ptr& p, llvm::Value* index, llvm::Value* count) {
-  if (groupReports) {
-    keepGroupSite(p, abi::kAccessDescriptorIndex, 0, b.CreateICmpULT(index, count), index);
-    return;
-  }
   llvm::Function* f = b.GetInsertBlock()->getParent();
   auto* report = llvm::BasicBlock::Create(c, "descriptor.outofbounds", f);
   auto* join = llvm::BasicBlock::Create(c, "descriptor.inbounds", f);
@@ -406,7 +402,7 @@ llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
   if (write && !b.GetInsertBlock()->getTerminator()) {
     // An atomic: the failing branch reports it, then both go on to the select below.
     auto* join = llvm::BasicBlock::Create(c, "atomic.join", b.GetInsertBlock()->getParent());
-    if (llvm::BasicBlock* report = outOfBoundsBlock(p, abi::kAccessAtomic, bytes, join, ok)) {
+    if (llvm::BasicBlock* report = outOfBoundsBlock(p, abi::kAccessAtomic, bytes, join)) {
       b.CreateCondBr(ok, join, report, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
       b.SetInsertPoint(join);
     } else {
@@ -427,7 +423,7 @@ static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok, const Ptr& p,
   *failed = g.b.GetInsertBlock();
   auto* then = llvm::BasicBlock::Create(g.c, "inbounds", f);
   auto* join = llvm::BasicBlock::Create(g.c, "inbounds.join", f);
-  llvm::BasicBlock* report = g.outOfBoundsBlock(p, kind, bytes, join, ok);
+  llvm::BasicBlock* report = g.outOfBoundsBlock(p, kind, bytes, join);
   if (report) *failed = report;
   // Out-of-bounds accesses are the exception: the weights make the in-bounds path the straight one.
   g.b.CreateCondBr(ok, then, report ? report : join, llvm::MDBuilder(g.c).createBranchWeights(1u << 20, 1));

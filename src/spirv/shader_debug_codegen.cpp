@@ -111,30 +111,8 @@ void Codegen::callOutOfBounds(llvm::Constant* site, llvm::Value* offset, llvm::V
   call->addFnAttr(llvm::Attribute::Cold);
 }
 
-void Codegen::keepGroupSite(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* ok, llvm::Value* offset) {
-  // key = min(offset, 2^40 - 1) << 24 | (LocalInvocationIndex + 1): the largest offset out of bounds and the
-  // invocation that made it (workgroups have at most 2^24 invocations).
-  const size_t slot = groupSites.size();
-  groupSites.push_back({accessSiteFor(p, kind, bytes), p.resource, kind});
-  llvm::Type* i64t = b.getInt64Ty();
-  llvm::Value* index = b.CreateAlignedLoad(
-      b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, localIndex)),
-      llvm::Align(4));
-  llvm::Value* clamped = b.CreateBinaryIntrinsic(llvm::Intrinsic::umin, offset, i64((uint64_t(1) << 40) - 1));
-  llvm::Value* key = b.CreateOr(b.CreateShl(clamped, 24), b.CreateZExt(b.CreateAdd(index, b.getInt32(1)), i64t));
-  llvm::Value* at = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, sizeof(InvocationContext) + 8 * slot);
-  llvm::Value* kept = b.CreateAlignedLoad(i64t, at, llvm::Align(8));
-  llvm::Value* failed = b.CreateSelect(ok, i64(0), key);
-  b.CreateAlignedStore(b.CreateBinaryIntrinsic(llvm::Intrinsic::umax, kept, failed), at, llvm::Align(8));
-}
-
-llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join,
-                                            llvm::Value* ok) {
+llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join) {
   if (p.resource < 0 || !ctxArg) return nullptr;
-  if (groupReports) {
-    keepGroupSite(p, kind, bytes, ok, p.offset);
-    return nullptr;
-  }
   llvm::IRBuilderBase::InsertPointGuard guard(b);
   llvm::Function* f = b.GetInsertBlock()->getParent();
   auto* block = llvm::BasicBlock::Create(c, "outofbounds", f);
