@@ -162,13 +162,27 @@ class Codegen {
   void setLine(const Instruction* line) { currentLine = line; }
   // The out-of-bounds report of an access through `p` (a buffer reached through a descriptor; nullptr for other
   // pointers): the block the failing branch runs, which calls vkrt_out_of_bounds and branches to `join`.
-  // In compute shaders the call keeps LLVM 15 from vectorizing vkrt_group's loop over the invocations (it predicates
-  // no calls): the price of the report (docs/shader-debugging.md, "Cost").
+  // In compute shaders run by vkrt_group (no workgroup barrier) a call would keep LLVM 15 from vectorizing the loop
+  // over the invocations (it predicates no calls): there the failing branch stores the site, element and offset in
+  // the invocation's word of a log (a masked store when vectorized; the local context's `executor` points at it),
+  // and vkrt_group reports the log after its loop (groupSites).
   llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join);
+  // The failing branch's work at the builder: the call, or in vkrt_group the log entry.
+  void outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* offset, llvm::Value* range,
+                   llvm::Value* element);
+  struct GroupSite {
+    llvm::Constant* site;
+    int resource;
+    uint32_t kind;
+  };
+  std::vector<GroupSite> groupSites;
+  bool groupLog = false;  // the code runs inside vkrt_group (set by run())
+  // vkrt_group's report of the log (after its loop over the invocations).
+  void reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]);
   // The AccessSite of the current instruction (a constant of the module).
   llvm::Constant* accessSiteFor(const Ptr& p, uint32_t kind, uint64_t bytes);
   // Emits a call of vkrt_out_of_bounds(ctx, site, offset, range, element) at the builder.
-  void callOutOfBounds(llvm::Constant* site, llvm::Value* offset, llvm::Value* range, llvm::Value* element);
+  void callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Value* range, llvm::Value* element);
   const Instruction* currentInstruction = nullptr;
   const Instruction* currentLine = nullptr;
   uint32_t debugPrintfSet = 0;  // id of the NonSemantic.DebugPrintf import

@@ -359,6 +359,16 @@ bool Codegen::run(const EntryPoint& ep) {
       llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)), "vkrt_zeros");
   zeros->setAlignment(llvm::Align(16));
   if (isGraphics() && !graphicsModes(ep)) return false;
+  // Compute shaders without a workgroup barrier run in vkrt_group (emitGroupEntry): their out-of-bounds accesses
+  // go to its log (Codegen::outOfBoundsBlock says why).
+  if (model == spv::ExecutionModelGLCompute) {
+    groupLog = true;
+    for (const Instruction& in : m.instructions) {
+      uint64_t scope = 0;
+      if (in.op == spv::OpControlBarrier && m.constantU64(in.word(1), &scope) && scope == spv::ScopeWorkgroup)
+        groupLog = false;
+    }
+  }
   if (!declareGlobals() || !declareFunctions()) return false;
   for (size_t i = 0; i < m.instructions.size();) {
     if (m.instructions[i].op != spv::OpFunction) {
@@ -401,6 +411,10 @@ bool Codegen::run(const EntryPoint& ep) {
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier) emitGroupEntry(main);
+  if (groupLog && info.usesBarrier) {
+    error = "internal compiler error: the out-of-bounds log assumed vkrt_group";
+    return false;
+  }
   return true;
 }
 
@@ -428,6 +442,18 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  // The out-of-bounds log: a word per invocation (Codegen::outOfBounds), zeroed; `executor` points at it (compiled
+  // code reads that field nowhere else; only executors of shaders with barriers use it, and they run no vkrt_group).
+  llvm::Value* log = nullptr;
+  if (!groupSites.empty()) {
+    const uint64_t invocations = uint64_t(info.localSize[0]) * info.localSize[1] * info.localSize[2];
+    auto* a = b.CreateAlloca(b.getInt8Ty(), i64(8 * invocations));
+    a->setAlignment(llvm::Align(16));
+    b.CreateMemSet(a, b.getInt8(0), i64(8 * invocations), llvm::MaybeAlign(16));
+    b.CreateAlignedStore(a, b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, executor)),
+                         llvm::Align(8));
+    log = a;
+  }
   auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
   auto ctxPointer = [&](size_t offset) {
     return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctx, offset), llvm::Align(8));
@@ -501,6 +527,7 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
     b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(info.localSize[i])), headers[i], exit);
     b.SetInsertPoint(exit);
   }
+  if (log) reportGroupLog(ctx, local, log, base);
   b.CreateRetVoid();
 }
 

@@ -215,7 +215,7 @@ void Codegen::reportDescriptorIndex(const Ptr& p, llvm::Value* index, llvm::Valu
   auto* join = llvm::BasicBlock::Create(c, "descriptor.inbounds", f);
   b.CreateCondBr(b.CreateICmpULT(index, count), join, report, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
   b.SetInsertPoint(report);
-  callOutOfBounds(accessSiteFor(p, abi::kAccessDescriptorIndex, 0), index, count, index);
+  outOfBounds(p, abi::kAccessDescriptorIndex, 0, index, count, index);
   b.CreateBr(join);
   b.SetInsertPoint(join);
 }
