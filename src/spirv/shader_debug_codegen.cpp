@@ -154,7 +154,10 @@ void Codegen::outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Val
   llvm::Value* log = b.CreateAlignedLoad(
       b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, executor)), llvm::Align(8));
   llvm::Value* at = b.CreateGEP(b.getInt8Ty(), log, b.CreateMul(b.CreateZExt(invocation, i64t), i64(8)));
-  b.CreateAlignedStore(word, at, llvm::Align(8));
+  // The invocation's first failing access is kept (a descriptor index before the access through the null descriptor
+  // it selects).
+  llvm::Value* kept = b.CreateAlignedLoad(i64t, at, llvm::Align(8));
+  b.CreateAlignedStore(b.CreateSelect(b.CreateICmpEQ(kept, i64(0)), word, kept), at, llvm::Align(8));
 }
 
 void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]) {

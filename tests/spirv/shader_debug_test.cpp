@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "exec/supervise.hpp"
+#include "oob_barrier.comp.spv.h"
+#include "oob_index.comp.spv.h"
 #include "oob_read.comp.spv.h"
 #include "printf_compute.comp.spv.h"
 #include "shader_debug_scan.hpp"
@@ -175,6 +177,61 @@ TEST(OutOfBoundsCompiled, AReadPastTheBufferIsNamedByWordOffset) {
   const uint32_t x = sites[0].id.v[0];
   EXPECT_LT(x, 4u);
   EXPECT_EQ(sites[0].offset, uint64_t(x + shift) * 4);
+}
+
+// An index past the two bound descriptors of a four-element array: reported with the bound count. In vkrt_group's
+// log an invocation keeps its first failing access, so the load through the null descriptor that follows is not
+// reported.
+TEST(OutOfBoundsCompiled, ADescriptorIndexPastTheBoundOnes) {
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_index_comp)) << h.error;
+  h.setBuffer<uint32_t>(100, {7});
+  h.setBuffer<uint32_t>(101, {8});
+  h.arrays[0] = {100, 101};
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  const uint32_t index = 3;
+  std::memcpy(h.push, &index, 4);
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));
+  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+  ASSERT_EQ(sites.size(), 1u);
+  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+  EXPECT_EQ(s.kind, abi::kAccessDescriptorIndex);
+  EXPECT_EQ(s.binding, 0u);
+  EXPECT_EQ(sites[0].element, 3u);
+  EXPECT_EQ(sites[0].offset, 3u);
+  EXPECT_EQ(sites[0].range, 2u);  // the bound descriptors
+  // The valid side: index 1 reads the second buffer and reports nothing.
+  const uint32_t valid = 1;
+  std::memcpy(h.push, &valid, 4);
+  exec::Job job2(nullptr, 0);
+  h.job = &job2;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{8, 8, 8, 8}));
+  EXPECT_TRUE(job2.messages.empty());
+}
+
+// A shader with a workgroup barrier runs invocation by invocation: its store past the end is reported by a call
+// from the failing branch, with the invocation that made it.
+TEST(OutOfBoundsCompiled, AStoreAfterABarrier) {
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_barrier_comp)) << h.error;
+  ASSERT_TRUE(h.shader->usesBarrier);
+  h.setBuffer<uint32_t>(0, {5, 5, 5, 5});
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(2));
+  EXPECT_EQ(h.get<uint32_t>(0), (std::vector<uint32_t>{5, 5, 5, 5}));
+  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+  ASSERT_EQ(sites.size(), 1u);
+  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+  EXPECT_EQ(s.kind, abi::kAccessStore);
+  EXPECT_EQ(sites[0].range, 16u);
+  const uint32_t x = sites[0].id.v[0];
+  EXPECT_LT(x, 8u);
+  EXPECT_EQ(sites[0].offset, uint64_t(x + 100) * 4);
 }
 
 TEST(OutOfBoundsCompiled, InBoundsAccessesReportNothing) {
