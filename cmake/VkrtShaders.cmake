@@ -1,7 +1,8 @@
 # vkrt_embed_shaders(TARGET out_dir shader... [SPV14 shader...]): compiles each GLSL shader with glslc (Vulkan 1.3),
 # or assembles each SPIR-V assembly file with spirv-as (*.spvasm: SPIR-V 1.0, validated for Vulkan 1.0 with the
 # block layouts VK_KHR_relaxed_block_layout allows; *.spv14.spvasm: SPIR-V 1.4, validated for Vulkan 1.1 with
-# SPIR-V 1.4; *.newer.spvasm: SPIR-V 1.4 with tokens newer than SPIRV-Tools, left to the driver to validate), and
+# SPIR-V 1.4; *.newer.spvasm: SPIR-V 1.4 with tokens newer than SPIRV-Tools, left to the driver to validate; GLSL
+# *.g.<stage>: compiled with -g, debug information and no optimization), and
 # embeds the SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds them all. The GLSL
 # shaders after SPV14 are compiled a second time as SPIR-V 1.4 modules (glslc --target-env=vulkan1.1
 # --target-spv=spv1.4, what an application written for Vulkan 1.1 with VK_KHR_spirv_1_4 ships; unoptimized), embedded
@@ -48,6 +49,10 @@ function(vkrt_embed_shaders target out_dir)
         elseif(fname MATCHES "\\.spvasm$")
           set(build COMMAND ${SPIRV_AS} --target-env spv1.0 -o ${spv} ${shader}
                     COMMAND ${SPIRV_VAL} --target-env vulkan1.0 --relax-block-layout ${spv})
+        elseif(fname MATCHES "\\.g\\.[a-z]+$")
+          # *.g.<stage>: with debug information (glslc -g: OpSource with the text, OpString file names, OpLine),
+          # not optimized, as an application builds shaders to debug them.
+          set(build COMMAND ${GLSLC} --target-env=vulkan1.3 -g -o ${spv} ${shader})
         else()
           set(build COMMAND ${GLSLC} --target-env=vulkan1.3 -O -o ${spv} ${shader})
         endif()

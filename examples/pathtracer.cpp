@@ -2,7 +2,7 @@
 // box with analytic spheres, and writes the image as a PNG.
 //
 //   VK_DRIVER_FILES=<build>/vkrt_icd.json ./pathtracer [--scene cornell|file.glb|file.gltf] [--width W]
-//       [--height H] [--spp N] [--bounces N] [--seed S] [--out file.png]
+//       [--height H] [--spp N] [--bounces N] [--seed S] [--out file.png] [--printf 1]
 //
 // What it uses of the ray tracing pipeline extensions:
 // - the pipeline is linked from three pipeline libraries (VK_KHR_pipeline_library): the ray generation and miss
@@ -553,7 +553,7 @@ VkPipeline library(Context& c, const Pipeline& p, const std::vector<VkPipelineSh
   return out;
 }
 
-Pipeline createPipeline(Context& c) {
+Pipeline createPipeline(Context& c, bool printPixels) {
   if (c.rt.maxRayRecursionDepth < kRecursionDepth) fail("the device's maxRayRecursionDepth is below 1");
   Pipeline p;
   const VkShaderStageFlags all = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
@@ -596,6 +596,11 @@ Pipeline createPipeline(Context& c) {
   {  // Library 0: the camera and the misses.
     std::vector<VkPipelineShaderStageCreateInfo> st;
     const uint32_t rgen = stage(st, kSpv_pt_rgen, sizeof kSpv_pt_rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+    // --printf: pt.rgen's kPrintPixels (constant_id 0).
+    static const VkBool32 print = VK_TRUE;
+    static const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
+    static const VkSpecializationInfo spec{1, &entry, sizeof print, &print};
+    if (printPixels) st[rgen].pSpecializationInfo = &spec;
     const uint32_t miss = stage(st, kSpv_pt_rmiss, sizeof kSpv_pt_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     const uint32_t shadow = stage(st, kSpv_pt_shadow_rmiss, sizeof kSpv_pt_shadow_rmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     p.libraries[0] = library(c, p, st, {group(G, rgen, U, U, U), group(G, miss, U, U, U), group(G, shadow, U, U, U)});
@@ -742,7 +747,7 @@ bool parseUint(const char* s, uint32_t* out) {
 
 int main(int argc, char** argv) {
   example::gProgram = "pathtracer";
-  uint32_t width = 640, height = 480, spp = 64, bounces = 6, seed = 1, passSpp = 0;
+  uint32_t width = 640, height = 480, spp = 64, bounces = 6, seed = 1, passSpp = 0, printPixels = 0;
   std::string sceneArg = "cornell", out = "pathtracer.png";
   bool bad = false;
   for (int i = 1; i < argc; i += 2) {
@@ -768,6 +773,8 @@ int main(int argc, char** argv) {
       bad |= !parseUint(v, &seed);
     else if (a == "--pass-spp")
       bad |= !parseUint(v, &passSpp);
+    else if (a == "--printf")
+      bad |= !parseUint(v, &printPixels);
     else
       bad = true;
   }
@@ -776,7 +783,7 @@ int main(int argc, char** argv) {
   if (bad || width == 0 || height == 0 || width > 16384 || height > 16384 || spp == 0 || bounces > 64 || !countFits) {
     std::fprintf(stderr,
                  "usage: pathtracer [--scene cornell|file.glb|file.gltf] [--width W] [--height H] [--spp N] "
-                 "[--bounces N (0-64)] [--seed S] [--out file.png] [--pass-spp N]\n"
+                 "[--bounces N (0-64)] [--seed S] [--out file.png] [--pass-spp N] [--printf 1]\n"
                  "  (width and height up to 16384, spp x (1 + 2 x bounces) below 2^32)\n");
     return 2;
   }
@@ -786,7 +793,7 @@ int main(int argc, char** argv) {
   createDevice(c);
   std::vector<Geometry> geometries;
   VkAccelerationStructureKHR tlas = buildScene(c, scene, &geometries);
-  Pipeline p = createPipeline(c);
+  Pipeline p = createPipeline(c, printPixels != 0);
   const Sbt sbt = writeSbt(c, p);
   size_t triangles = scene.indices.size() / 3;
   std::printf(

@@ -17,7 +17,7 @@ namespace vkrt::exec {
 namespace {
 
 // Reads up to three comma-separated decimal numbers (at least `minCount`) of one entry; spaces around them.
-bool parseId(std::string_view s, size_t minCount, InvocationId* id, std::string* error) {
+bool parseId(std::string_view s, size_t minCount, RayTreeId* id, std::string* error) {
   *id = {0, 0, 0};
   size_t count = 0, i = 0;
   auto skipSpaces = [&] {
@@ -77,7 +77,7 @@ bool parseRayTreeSelection(std::string_view text, RayTreeSelection* out, std::st
       return false;
     }
     constexpr std::string_view kCompute = "compute:";
-    InvocationId id;
+    RayTreeId id;
     if (entry.substr(0, kCompute.size()) == kCompute) {
       if (!parseId(entry.substr(kCompute.size()), 1, &id, error)) return false;
       sel.computeIds.push_back(id);
@@ -196,8 +196,7 @@ const abi::RayQueryRuntime kRecordingRuntime = {&recordInitialize, &recordProcee
 
 }  // namespace
 
-RayTreeRecorder::RayTreeRecorder(const std::vector<InvocationId>& ids, RayQueryScope* queries)
-    : invocations_(ids.size()) {
+RayTreeRecorder::RayTreeRecorder(const std::vector<RayTreeId>& ids, RayQueryScope* queries) : invocations_(ids.size()) {
   for (size_t i = 0; i < ids.size(); ++i) {
     RayTreeInvocation& inv = invocations_[i];
     inv.id = ids[i];
@@ -212,9 +211,9 @@ void RayTreeRecorder::setQueryScope(RayQueryScope* queries) {
 }
 
 RayTreeInvocation* RayTreeRecorder::find(const uint32_t id[3]) {
-  const InvocationId key{id[0], id[1], id[2]};
+  const RayTreeId key{id[0], id[1], id[2]};
   auto it = std::lower_bound(invocations_.begin(), invocations_.end(), key,
-                             [](const RayTreeInvocation& a, const InvocationId& b) { return a.id < b; });
+                             [](const RayTreeInvocation& a, const RayTreeId& b) { return a.id < b; });
   return it != invocations_.end() && it->id == key ? &*it : nullptr;
 }
 
@@ -419,7 +418,7 @@ void json(const RayTreeNode& n, std::string& out) {
   out += "]}";
 }
 
-std::string idText(const InvocationId& id) {
+std::string idText(const RayTreeId& id) {
   return std::to_string(id[0]) + "," + std::to_string(id[1]) + "," + std::to_string(id[2]);
 }
 

@@ -27,14 +27,14 @@ namespace vkrt::exec {
 
 class RayQueryScope;
 
-using InvocationId = std::array<uint32_t, 3>;
+using RayTreeId = std::array<uint32_t, 3>;
 
 // VKRT_RAY_TREE's value: entries separated by ';', each `x,y[,z]` (a ray tracing launch id; z defaults to 0) or
 // `compute:x[,y[,z]]` (a compute global invocation id; y and z default to 0). Numbers are decimal, spaces
 // around them are allowed. Both lists are sorted and without duplicates.
 struct RayTreeSelection {
-  std::vector<InvocationId> launchIds;
-  std::vector<InvocationId> computeIds;
+  std::vector<RayTreeId> launchIds;
+  std::vector<RayTreeId> computeIds;
   bool empty() const { return launchIds.empty() && computeIds.empty(); }
 };
 
@@ -87,7 +87,7 @@ class RayTreeInvocation {
  public:
   static constexpr size_t kMaxNodes = 1u << 16;  // beyond it nothing more is recorded (the output says so)
 
-  InvocationId id{};
+  RayTreeId id{};
   RayTreeNode root;              // the raygen (or compute) shader
   RayTreeNode* current = &root;  // where the next node goes
   bool ran = false;
@@ -131,7 +131,7 @@ class RayTreeInvocation {
 class RayTreeRecorder {
  public:
   // `ids` sorted and unique (RayTreeSelection's); `queries`: the scope the recorded invocations' ray queries use.
-  RayTreeRecorder(const std::vector<InvocationId>& ids, RayQueryScope* queries = nullptr);
+  RayTreeRecorder(const std::vector<RayTreeId>& ids, RayQueryScope* queries = nullptr);
   // The scope the recorded invocations' ray queries resolve through (the executor's, set when the launch starts).
   void setQueryScope(RayQueryScope* queries);
   // The invocation `id` names, or null: a bisection of the small sorted list.

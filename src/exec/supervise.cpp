@@ -30,6 +30,7 @@ constexpr size_t kAltStackBytes = 64 * 1024;
 
 struct WorkerState {
   sigjmp_buf* target = nullptr;  // where a fault or a cancellation jumps (null: nothing supervised runs)
+  Job* job = nullptr;            // the job of the task running (runSupervised)
   // What runs now (executor's stores), and its copy taken when the work was ended.
   const char* shader = nullptr;
   const uint32_t* id = nullptr;
@@ -284,9 +285,12 @@ bool runSupervised(Job& job, void (*task)(void*), void* arg) {
   w.idKind = Abort::NoId;
   w.signal = 0;
   sigjmp_buf point;
+  Job* const previousJob = w.job;
+  w.job = &job;
   if (sigsetjmp(point, 0) != 0) {
     WorkerState* ended = tlsWorker;
     ended->target = nullptr;
+    ended->job = previousJob;
     Abort a;
     a.signal = ended->signal;
     a.address = ended->address;
@@ -300,9 +304,15 @@ bool runSupervised(Job& job, void (*task)(void*), void* arg) {
   w.target = &point;
   task(arg);
   w.target = nullptr;
+  w.job = previousJob;
   // Progress for the watchdog; read first so that the shared line is written once per watchdog period at most.
   if (!job.progressed.load(std::memory_order_relaxed)) job.progressed.store(true, std::memory_order_relaxed);
   return true;
+}
+
+Job* runningJob() {
+  WorkerState* w = tlsWorker;
+  return w ? w->job : nullptr;
 }
 
 void setRunning(const char* shader, const uint32_t* id, Abort::IdKind kind) {

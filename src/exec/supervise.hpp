@@ -21,6 +21,7 @@
 #include <mutex>
 
 #include "abi/abi.hpp"
+#include "exec/shader_debug.hpp"
 
 namespace vkrt::exec {
 
@@ -53,6 +54,8 @@ class Job {
   // that keeps finishing tiles (a CTS case of maxRayDispatchInvocationCount rays, a large render) is not lost.
   std::atomic<bool> progressed{false};
   const char* shaderName = nullptr;  // for compute: the shader (the trace executor names each shader itself)
+  // What the job's shaders printed and the accesses they made out of bounds (exec/shader_debug.hpp).
+  ShaderMessages messages;
 
   bool aborted() const { return aborted_.load(std::memory_order_acquire); }
   // What ended the job (read once the work has returned).
@@ -87,6 +90,9 @@ void cancelled(abi::InvocationContext* ctx);
 // Runs task(arg) on this thread under `job`: returns false when the job is ending (the task did not start) or
 // the task was ended by a fault or a cancellation (recorded in the job).
 bool runSupervised(Job& job, void (*task)(void*), void* arg);
+
+// The job whose task this thread runs now (null outside runSupervised).
+Job* runningJob();
 
 // What the worker runs now, kept up to date by the executor (stores only) for the abort report.
 void setRunning(const char* shader, const uint32_t* id, Abort::IdKind kind);

@@ -19,6 +19,7 @@
 #include "runtime/buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/report.hpp"
+#include "runtime/shader_messages.hpp"
 
 namespace vkrt::gfx {
 namespace {
@@ -431,6 +432,13 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   raster::draw(gs.pass.target, state, draw, vertex, fragment);
   if (job.aborted()) dev->shaderAborted(&p, command, job.abort());
+  // Both stages read the same bound sets: whichever uses the binding names its descriptor.
+  DescriptorNamer vsNames = descriptorNamer(*p.vertex, vsResources.slots());
+  DescriptorNamer fsNames = p.fragment ? descriptorNamer(*p.fragment, fsResources.slots()) : DescriptorNamer();
+  deliverShaderMessages(cb, &p, command, job.messages, [&](uint32_t set, uint32_t binding, uint64_t element) {
+    std::string name = vsNames(set, binding, element);
+    return name.empty() && fsNames ? fsNames(set, binding, element) : name;
+  });
 }
 
 }  // namespace vkrt::gfx

@@ -36,6 +36,7 @@
 #include "runtime/ray_tracing_features.hpp"
 #include "runtime/ray_tree_output.hpp"
 #include "runtime/report.hpp"
+#include "runtime/shader_messages.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt::rt {
@@ -314,6 +315,7 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
   l.rayTree = rayTree.get();
   exec::runRays(l);
   if (job.aborted()) dev->shaderAborted(pipeline_, fn_, job.abort());
+  deliverShaderMessages(cb_, pipeline_, fn_, job.messages);
   if (rayTree) {
     exec::RayTreeContext ctx;
     ctx.command = fn_;

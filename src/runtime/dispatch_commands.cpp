@@ -13,6 +13,7 @@
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
+#include "runtime/shader_messages.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -64,6 +65,7 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
   if (!exec::runCompute(d))
     report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
   if (job.aborted()) dev->shaderAborted(pipeline, fn, job.abort());
+  deliverShaderMessages(cb, pipeline, fn, job.messages, descriptorNamer(sh, d.resources));
 }
 
 const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) {

@@ -2,6 +2,8 @@
 // samplers.
 #include "runtime/image_functions.hpp"
 
+#include "abi/shader_debug.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -748,6 +750,9 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_texel_buffer_write", reinterpret_cast<void*>(&vkrt_texel_buffer_write)},
       {"vkrt_texel_buffer_texel", reinterpret_cast<void*>(&vkrt_texel_buffer_texel)},
       {"vkrt_texel_buffer_size", reinterpret_cast<void*>(&vkrt_texel_buffer_size)},
+      // Shader debugging (abi/shader_debug.hpp; exec/shader_debug.cpp collects, runtime/shader_messages.cpp delivers).
+      {"vkrt_debug_printf", reinterpret_cast<void*>(&vkrt_debug_printf)},
+      {"vkrt_out_of_bounds", reinterpret_cast<void*>(&vkrt_out_of_bounds)},
       {nullptr, nullptr},
   };
   return symbols;

@@ -11,7 +11,7 @@
 namespace vkrt {
 
 std::unique_ptr<exec::RayTreeRecorder> rayTreeRecorder(const Device* dev, bool compute) {
-  const std::vector<exec::InvocationId>& ids = compute ? dev->rayTree.computeIds : dev->rayTree.launchIds;
+  const std::vector<exec::RayTreeId>& ids = compute ? dev->rayTree.computeIds : dev->rayTree.launchIds;
   if (ids.empty()) return nullptr;
   return std::make_unique<exec::RayTreeRecorder>(ids);
 }

@@ -45,7 +45,8 @@ const char* severityWord(Severity s) {
   return "error";
 }
 
-void deliver(const Object* about, Severity severity, const char* vuid, const char* idName, const char* body) {
+void deliver(const Object* about, Severity severity, const char* vuid, const char* idName, int32_t idNumber,
+             const char* body) {
   std::string objectText;
   std::string name;
   if (about) {
@@ -68,7 +69,7 @@ void deliver(const Object* about, Severity severity, const char* vuid, const cha
     object.pObjectName = name.empty() ? nullptr : name.c_str();
     VkDebugUtilsMessengerCallbackDataEXT data{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CALLBACK_DATA_EXT};
     data.pMessageIdName = idName;
-    data.messageIdNumber = 0;
+    data.messageIdNumber = idNumber;
     data.pMessage = message.c_str();
     data.objectCount = 1;
     data.pObjects = &object;
@@ -89,11 +90,16 @@ void deliver(const Object* about, Severity severity, const char* vuid, const cha
 void reportV(const Object* about, Severity severity, const char* vuid, const char* format, va_list args) {
   char body[2048];
   std::vsnprintf(body, sizeof(body), format, args);
-  deliver(about, severity, vuid, vuid ? vuid : "vkrt", body);
+  deliver(about, severity, vuid, vuid ? vuid : "vkrt", 0, body);
 }
 
 void reportText(const Object* about, Severity severity, const char* idName, const std::string& text) {
-  deliver(about, severity, nullptr, idName, text.c_str());
+  deliver(about, severity, nullptr, idName, 0, text.c_str());
+}
+
+void reportWithId(const Object* about, Severity severity, const char* idName, int32_t idNumber,
+                  const std::string& body) {
+  deliver(about, severity, idName, idName, idNumber, body.c_str());
 }
 
 void report(const Object* about, Severity severity, const char* vuid, const char* format, ...) {

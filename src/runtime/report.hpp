@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdarg>
+#include <cstdint>
 #include <string>
 
 #include "runtime/object.hpp"
@@ -24,5 +25,10 @@ void reportV(const Object* about, Severity severity, const char* vuid, const cha
 
 // A report of any length that is no rule's (no VUID), under the message id name `idName` (a ray tree).
 void reportText(const Object* about, Severity severity, const char* idName, const std::string& text);
+
+// A report whose message id is not a VUID (shader debugging, runtime/shader_messages.cpp): `idName` goes to
+// pMessageIdName and into the text like a VUID, `idNumber` to messageIdNumber; the type is VALIDATION.
+void reportWithId(const Object* about, Severity severity, const char* idName, int32_t idNumber,
+                  const std::string& body);
 
 }  // namespace vkrt

@@ -50,6 +50,15 @@ struct Ptr {
   uint32_t vecStride = 0;            // for a vector pointee: bytes between components (0 = packed)
   int slot = -1;                     // >= 0: a descriptor array not indexed yet (base/offset/limit unset)
   llvm::Value* descIndex = nullptr;  // UniformConstant (image/sampler) descriptors: the array index so far
+  // Buffers reached through a descriptor (Uniform, StorageBuffer): the resource (index in info.resources), the
+  // variable and the descriptor array element, which name an out-of-bounds access (shader_debug_codegen.cpp).
+  int resource = -1;
+  uint32_t variable = 0;
+  llvm::Value* element = nullptr;  // i64
+  // Fragment shaders' writes (forWrite): i1, set in helper lanes, whose limit is 0 (their writes are dropped, not
+  // out of bounds), and the limit the lane has otherwise.
+  llvm::Value* helper = nullptr;
+  llvm::Value* unmaskedLimit = nullptr;
 };
 
 // What jit.cpp's support check accepts beyond its own lists (the image instructions of image.cpp, the
@@ -137,13 +146,49 @@ class Codegen {
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);
   // The DescriptorRecord* of element `index` of resource slot `slot` (a zero record past the bound ones).
-  llvm::Value* descriptorRecord(int slot, llvm::Value* index);
+  // `site`: an array element the shader indexes, reported when the index is past the bound descriptors.
+  llvm::Value* descriptorRecord(int slot, llvm::Value* index, const Ptr* site = nullptr);
+  void reportDescriptorIndex(const Ptr& p, llvm::Value* index, llvm::Value* count);
   // Image, sampler and sampled-image values are {image record, sampler record} (image.cpp).
   bool isImageLike(uint32_t typeId) const;
   bool isTexelBuffer(uint32_t typeId) const;  // an OpTypeImage of Dim Buffer
   llvm::Type* imageValueType();
   Ptr& ptr(uint32_t id);
   bool hasPtr(uint32_t id) const { return ptrs.count(id) != 0; }
+
+  // ---- shader debugging (shader_debug_codegen.cpp)
+  // OpExtInst of NonSemantic.DebugPrintf (debugPrintfEXT): a call of vkrt_debug_printf.
+  bool debugPrintf(const Instruction& in, bool& ok);
+  // OpLine: where the instructions that follow come from (the source line, or, for modules without line
+  // information, the application's word offset, see jit.cpp's markWordOffsets).
+  void setLine(const Instruction* line) { currentLine = line; }
+  // The out-of-bounds report of an access through `p` (a buffer reached through a descriptor; nullptr for other
+  // pointers): the block the failing branch runs, which calls vkrt_out_of_bounds and branches to `join`.
+  // In compute shaders run by vkrt_group (no workgroup barrier) a call would keep LLVM 15 from vectorizing the loop
+  // over the invocations (it predicates no calls): there the failing branch stores the site, element and offset in
+  // the invocation's word of a log (a masked store when vectorized; the local context's `executor` points at it),
+  // and vkrt_group reports the log after its loop (groupSites).
+  llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join);
+  // The failing branch's work at the builder: the call, or in vkrt_group the log entry.
+  void outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* offset, llvm::Value* range,
+                   llvm::Value* element);
+  struct GroupSite {
+    llvm::Constant* site;
+    int resource;
+    uint32_t kind;
+  };
+  std::vector<GroupSite> groupSites;
+  bool groupLog = false;  // the code runs inside vkrt_group (set by run())
+  // vkrt_group's report of the log (after its loop over the invocations).
+  void reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]);
+  // The AccessSite of the current instruction (a constant of the module).
+  llvm::Constant* accessSiteFor(const Ptr& p, uint32_t kind, uint64_t bytes);
+  // Emits a call of vkrt_out_of_bounds(ctx, site, offset, range, element) at the builder.
+  void callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Value* range, llvm::Value* element);
+  const Instruction* currentInstruction = nullptr;
+  const Instruction* currentLine = nullptr;
+  uint32_t debugPrintfSet = 0;  // id of the NonSemantic.DebugPrintf import
+  std::map<std::string, llvm::GlobalVariable*> siteGlobals;
 
   // ---- ray tracing (ray_tracing.cpp)
   bool isRayTracing() const;  // the entry point is one of the six ray tracing stages

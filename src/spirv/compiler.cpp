@@ -324,10 +324,11 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
       case spv::OpLabel:
         currentLabel = in.word(1);
         b.SetInsertPoint(blocks[currentLabel]);
+        setLine(nullptr);  // an OpLine holds to the end of its block (SPIR-V 2.4, "Debug Instructions")
         continue;
+      case spv::OpLine: setLine(&in); continue;
+      case spv::OpNoLine: setLine(nullptr); continue;
       case spv::OpUndef:  // materialized where it is used (value() reads it as zero)
-      case spv::OpLine:
-      case spv::OpNoLine:
       case spv::OpNop:
       case spv::OpSelectionMerge:
       case spv::OpLoopMerge:
@@ -335,6 +336,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
       default: break;
     }
     bool ok = true;
+    currentInstruction = &in;
     if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok) ||
         image(in, ok) || rayTracing(in, ok) || graphics(in, ok)) {
       if (!ok) return false;
@@ -351,12 +353,23 @@ bool Codegen::run(const EntryPoint& ep) {
   model = ep.model;
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;
+    if (name == "NonSemantic.DebugPrintf") debugPrintfSet = id;
   }
   zeros = new llvm::GlobalVariable(
       out, llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes), true, llvm::GlobalValue::PrivateLinkage,
       llvm::ConstantAggregateZero::get(llvm::ArrayType::get(b.getInt8Ty(), kSinkBytes)), "vkrt_zeros");
   zeros->setAlignment(llvm::Align(16));
   if (isGraphics() && !graphicsModes(ep)) return false;
+  // Compute shaders without a workgroup barrier run in vkrt_group (emitGroupEntry): their out-of-bounds accesses
+  // go to its log (Codegen::outOfBoundsBlock says why).
+  if (model == spv::ExecutionModelGLCompute) {
+    groupLog = true;
+    for (const Instruction& in : m.instructions) {
+      uint64_t scope = 0;
+      if (in.op == spv::OpControlBarrier && m.constantU64(in.word(1), &scope) && scope == spv::ScopeWorkgroup)
+        groupLog = false;
+    }
+  }
   if (!declareGlobals() || !declareFunctions()) return false;
   for (size_t i = 0; i < m.instructions.size();) {
     if (m.instructions[i].op != spv::OpFunction) {
@@ -399,7 +412,12 @@ bool Codegen::run(const EntryPoint& ep) {
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
   // Shaders without barriers: the SPMD form of vkrt_group where it supports the shader (spmd.cpp), else the loop.
+  // (The SPMD form does not report out-of-bounds accesses yet: docs/shader-debugging.md.)
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
+  if (groupLog && info.usesBarrier) {
+    error = "internal compiler error: the out-of-bounds log assumed vkrt_group";
+    return false;
+  }
   return true;
 }
 
@@ -408,6 +426,16 @@ llvm::Value* Codegen::groupContext(llvm::Value* ctx) {
   auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  // The out-of-bounds log: a word per invocation (Codegen::outOfBounds), zeroed; `executor` points at it (compiled
+  // code reads that field nowhere else; only executors of shaders with barriers use it, and they run no vkrt_group).
+  if (!groupSites.empty()) {
+    const uint64_t invocations = uint64_t(info.localSize[0]) * info.localSize[1] * info.localSize[2];
+    auto* a = b.CreateAlloca(b.getInt8Ty(), i64(8 * invocations));
+    a->setAlignment(llvm::Align(16));
+    b.CreateMemSet(a, b.getInt8(0), i64(8 * invocations), llvm::MaybeAlign(16));
+    b.CreateAlignedStore(a, b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, executor)),
+                         llvm::Align(8));
+  }
   auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
   auto ctxPointer = [&](size_t offset) {
     return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctx, offset), llvm::Align(8));
@@ -471,6 +499,10 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
   b.SetInsertPoint(entry);
   llvm::Value* local = groupContext(ctx);
   auto field = [&](size_t offset, int i) { return b.CreateConstGEP1_64(b.getInt8Ty(), local, offset + 4 * i); };
+  llvm::Value* log =
+      groupSites.empty()
+          ? nullptr
+          : b.CreateAlignedLoad(b.getPtrTy(), field(offsetof(InvocationContext, executor), 0), llvm::Align(8));
   llvm::Value* base[3];
   for (int i = 0; i < 3; ++i) {
     llvm::Value* wg =
@@ -507,6 +539,7 @@ void Codegen::emitGroupEntry(llvm::Function* main) {
     b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(info.localSize[i])), headers[i], exit);
     b.SetInsertPoint(exit);
   }
+  if (log) reportGroupLog(ctx, local, log, base);
   b.CreateRetVoid();
 }
 

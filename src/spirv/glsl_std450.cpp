@@ -204,6 +204,7 @@ struct Std {
 
 bool Codegen::extInst(const Instruction& in, bool& ok) {
   if (in.op != spv::OpExtInst) return false;
+  if (debugPrintfSet && in.word(3) == debugPrintfSet) return debugPrintf(in, ok), true;
   if (in.word(3) != glslSet || glslSet == 0) return (ok = unsupported(in, "extended instruction set")), true;
   uint32_t inst = in.word(4);
   llvm::Type* rt = type(in.word(1));

@@ -370,7 +370,9 @@ Ptr Codegen::forWrite(const Ptr& p) {
   info.graphics.sideEffects = true;
   if (!isFragment() || p.slot >= 0) return p;
   Ptr q = p;
-  q.limit = b.CreateSelect(helperLane(), i64(0), p.limit);
+  q.helper = helperLane();
+  q.unmaskedLimit = p.limit;
+  q.limit = b.CreateSelect(q.helper, i64(0), p.limit);
   return q;
 }
 

@@ -41,6 +41,7 @@
 #include "abi/jit_code.hpp"
 #include "spirv/codegen.hpp"
 #include "spirv/newer_tokens.hpp"
+#include "spirv/shader_debug.hpp"
 #include "spirv/spmd.hpp"
 #include "spirv/target.hpp"
 
@@ -557,6 +558,9 @@ bool checkSpecConstantOps(const Module& m, std::string* error) {
   return true;
 }
 
+void ignoreDebugPrintf(abi::InvocationContext*, const uint8_t*, const uint64_t*) {}
+void ignoreOutOfBounds(abi::InvocationContext*, const uint8_t*, uint64_t, uint64_t, uint64_t) {}
+
 // The C library functions generated code may call, resolved to vkrt's own imports (the application's
 // global symbol scope need not contain libm).
 void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymbols) {
@@ -619,6 +623,10 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymb
   add("__extendhfdf2", &::__extendhfdf2);
   add("__truncsfhf2", &::__truncsfhf2);
   add("__truncdfhf2", &::__truncdfhf2);
+  // Every shader may call the shader debugging functions (abi/shader_debug.hpp); where the caller supplies none
+  // (tests running compiled code on their own), they do nothing.
+  add("vkrt_debug_printf", &ignoreDebugPrintf);
+  add("vkrt_out_of_bounds", &ignoreOutOfBounds);
   for (const abi::HostSymbol* s = hostSymbols; s && s->name; ++s) add(s->name, s->address);
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }
@@ -1016,6 +1024,73 @@ void keepOnlyEntryPoint(std::vector<uint32_t>& words, spv::ExecutionModel model,
   words = std::move(out);
 }
 
+// Non-semantic instructions before the optimizer: NonSemantic.DebugPrintf (debugPrintfEXT) is kept for the
+// translation (shader_debug_codegen.cpp); every other non-semantic set is dropped here (its imports and
+// instructions: debug information, reflection). A module without OpLine gets line information of its own, so
+// that an out-of-bounds report can name the instruction (the optimizer moves and renumbers instructions, but keeps
+// the OpLine of each): an OpString kWordOffsetFile, and before each instruction that accesses memory an OpLine
+// naming it, whose line is the instruction's word offset in `words` (the application's module, specialized in
+// place). Returns whether a DebugPrintf call remains.
+bool prepareNonSemantic(std::vector<uint32_t>& words) {
+  constexpr size_t kHeader = 5;
+  if (words.size() < kHeader) return false;
+  std::set<uint32_t> dropped;
+  uint32_t printfSet = 0;
+  bool hasLines = false, hasPrintf = false;
+  for (size_t at = kHeader; at < words.size();) {
+    uint32_t count = words[at] >> 16;
+    auto op = spv::Op(words[at] & 0xffff);
+    if (count == 0 || at + count > words.size()) return false;  // malformed: the parse refuses it
+    if (op == spv::OpExtInstImport && count >= 3) {
+      Instruction in{op, uint32_t(at), count, &words[at]};
+      std::string name = in.string(2);
+      if (name == "NonSemantic.DebugPrintf") {
+        printfSet = words[at + 1];
+      } else if (name.rfind("NonSemantic.", 0) == 0) {
+        dropped.insert(words[at + 1]);
+      }
+    }
+    if (op == spv::OpExtInst && count >= 5 && printfSet && words[at + 3] == printfSet) hasPrintf = true;
+    hasLines = hasLines || op == spv::OpLine;
+    at += count;
+  }
+  const uint32_t fileId = hasLines ? 0 : words[3];
+  std::vector<uint32_t> out(words.begin(), words.begin() + kHeader);
+  bool stringPlaced = hasLines, inFunctions = false;
+  for (size_t at = kHeader; at < words.size();) {
+    uint32_t count = words[at] >> 16;
+    auto op = spv::Op(words[at] & 0xffff);
+    bool drop = (op == spv::OpExtInstImport && dropped.count(words[at + 1])) ||
+                (op == spv::OpExtInst && count >= 4 && dropped.count(words[at + 3]));
+    if (!stringPlaced && op != spv::OpCapability && op != spv::OpExtension && op != spv::OpExtInstImport &&
+        op != spv::OpMemoryModel && op != spv::OpEntryPoint && op != spv::OpExecutionMode &&
+        op != spv::OpExecutionModeId) {
+      // The debug section's first place: OpString comes before OpSource, OpName and everything after.
+      std::vector<uint32_t> text((sizeof kWordOffsetFile + 3) / 4, 0);
+      std::memcpy(text.data(), kWordOffsetFile, sizeof kWordOffsetFile);
+      out.push_back(uint32_t(2 + text.size()) << 16 | spv::OpString);
+      out.push_back(fileId);
+      out.insert(out.end(), text.begin(), text.end());
+      stringPlaced = true;
+    }
+    inFunctions = inFunctions || op == spv::OpFunction;
+    bool access = op == spv::OpLoad || op == spv::OpStore || op == spv::OpCopyMemory || op == spv::OpAccessChain ||
+                  op == spv::OpInBoundsAccessChain || op == spv::OpPtrAccessChain ||
+                  op == spv::OpInBoundsPtrAccessChain || (op >= spv::OpAtomicLoad && op <= spv::OpAtomicXor);
+    if (!hasLines && inFunctions && access) {
+      out.push_back(4u << 16 | spv::OpLine);
+      out.push_back(fileId);
+      out.push_back(uint32_t(at));
+      out.push_back(0);
+    }
+    if (!drop) out.insert(out.end(), words.begin() + at, words.begin() + at + count);
+    at += count;
+  }
+  if (!hasLines) out[3] = words[3] + 1;
+  words = std::move(out);
+  return hasPrintf;
+}
+
 std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::string* error) {
   std::vector<uint32_t> words(req.words, req.words + req.wordCount);
   if (!applySpecialization(words, req.specialization, error)) return nullptr;
@@ -1029,6 +1104,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     if (!checkSupport(original, error) || !checkSpecConstantOps(original, error)) return nullptr;
   }
 
+  const bool printf = prepareNonSemantic(words);
   defineUndefinedShuffleComponents(words);
   keepOnlyEntryPoint(words, req.model, req.entryName);
   // Tokens Debian's SPIRV-Tools does not know are hidden from its optimizer and put back after it.
@@ -1041,8 +1117,10 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   opt.SetMessageConsumer([&](spv_message_level_t level, const char*, const spv_position_t& pos, const char* msg) {
     if (level <= SPV_MSG_ERROR && optError.empty()) optError = msg ? msg : "SPIRV-Tools optimizer error";
   });
-  opt.RegisterPass(spvtools::CreateStripNonSemanticInfoPass())
-      .RegisterPass(spvtools::CreateFlattenDecorationPass())
+  // The other non-semantic sets are gone already (prepareNonSemantic); without DebugPrintf calls SPIRV-Tools'
+  // strip pass also removes the HLSL reflection decorations.
+  if (!printf) opt.RegisterPass(spvtools::CreateStripNonSemanticInfoPass());
+  opt.RegisterPass(spvtools::CreateFlattenDecorationPass())
       .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
       .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
   if (req.inlineFunctions) opt.RegisterPass(spvtools::CreateInlineExhaustivePass());

@@ -6,6 +6,7 @@
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/MDBuilder.h>
 
+#include "abi/shader_debug.hpp"
 #include "spirv/codegen.hpp"
 #include "spirv/newer_tokens.hpp"
 
@@ -208,13 +209,25 @@ static llvm::Value* invariant(llvm::LoadInst* load) {
   return load;
 }
 
-llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index) {
+void Codegen::reportDescriptorIndex(const Ptr& p, llvm::Value* index, llvm::Value* count) {
+  llvm::Function* f = b.GetInsertBlock()->getParent();
+  auto* report = llvm::BasicBlock::Create(c, "descriptor.outofbounds", f);
+  auto* join = llvm::BasicBlock::Create(c, "descriptor.inbounds", f);
+  b.CreateCondBr(b.CreateICmpULT(index, count), join, report, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+  b.SetInsertPoint(report);
+  outOfBounds(p, abi::kAccessDescriptorIndex, 0, index, count, index);
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+}
+
+llvm::Value* Codegen::descriptorRecord(int slot, llvm::Value* index, const Ptr* site) {
   llvm::Value* table = ctxField(*this, offsetof(InvocationContext, resources));
   llvm::Value* entry = b.CreateConstGEP1_64(b.getInt8Ty(), table, uint64_t(slot) * sizeof(ResourceSlot));
   llvm::Value* records = invariant(b.CreateAlignedLoad(b.getPtrTy(), entry, llvm::Align(8)));
   llvm::Value* count =
       invariant(b.CreateAlignedLoad(b.getInt64Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), entry, 8), llvm::Align(8)));
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
+  if (site && site->resource >= 0 && !b.GetInsertBlock()->getTerminator()) reportDescriptorIndex(*site, index, count);
   // An index past the bound descriptors reads a null descriptor (a zero record).
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
   return b.CreateSelect(b.CreateICmpULT(index, count), rec, zeros);
@@ -229,6 +242,8 @@ bool Codegen::resolveDescriptor(Ptr& p, llvm::Value* index) {
   index = b.CreateZExtOrTrunc(index, b.getInt64Ty());
   // An index past the bound descriptors reads a null descriptor: every access through it is out of bounds.
   llvm::Value* ok = b.CreateICmpULT(index, count);
+  p.element = index;
+  if (p.resource >= 0 && !b.GetInsertBlock()->getTerminator()) reportDescriptorIndex(p, index, count);
   llvm::Value* rec = b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(index, i64(sizeof(DescriptorRecord))));
   rec = b.CreateSelect(ok, rec, zeros);
   llvm::Value* address = invariant(b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8)));
@@ -329,10 +344,14 @@ bool Codegen::variablePtr(uint32_t id, Ptr* out) {
       if (g.slot < 0)
         return unsupported(*in, "UniformConstant variable that is not an image, sampler or acceleration structure");
       p.slot = g.slot;
+      p.resource = g.slot;
+      p.variable = id;
       break;
     case spv::StorageClassUniform:
     case spv::StorageClassStorageBuffer: {
       p.slot = g.slot;
+      p.resource = g.slot;
+      p.variable = id;
       const Type& inner = spvType(pt.element);
       if (inner.kind != Type::Array && inner.kind != Type::RuntimeArray) resolveDescriptor(p, i64(0));
       break;
@@ -380,18 +399,34 @@ llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
   llvm::Value* real = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
   llvm::Value* ok = inBounds(p, bytes);
   if (!ok) return real;
+  if (write && !b.GetInsertBlock()->getTerminator()) {
+    // An atomic: the failing branch reports it, then both go on to the select below.
+    auto* join = llvm::BasicBlock::Create(c, "atomic.join", b.GetInsertBlock()->getParent());
+    if (llvm::BasicBlock* report = outOfBoundsBlock(p, abi::kAccessAtomic, bytes, join)) {
+      b.CreateCondBr(ok, join, report, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+      b.SetInsertPoint(join);
+    } else {
+      join->eraseFromParent();
+    }
+  }
   llvm::Value* fallback = write ? ctxField(*this, offsetof(InvocationContext, sink)) : static_cast<llvm::Value*>(zeros);
   return b.CreateSelect(ok, real, fallback);
 }
 
 // Branches on `ok` to a new block, where the builder is left; returns the block that the access skips to, which
 // the caller enters once the access is emitted.
-static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok) {
+// `failed` is set to the block the failing branch comes from into the join: the report's (a buffer reached through
+// a descriptor: Codegen::outOfBoundsBlock) or the branch's own.
+static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok, const Ptr& p, uint32_t kind, uint64_t bytes,
+                                      llvm::BasicBlock** failed) {
   llvm::Function* f = g.b.GetInsertBlock()->getParent();
+  *failed = g.b.GetInsertBlock();
   auto* then = llvm::BasicBlock::Create(g.c, "inbounds", f);
   auto* join = llvm::BasicBlock::Create(g.c, "inbounds.join", f);
+  llvm::BasicBlock* report = g.outOfBoundsBlock(p, kind, bytes, join);
+  if (report) *failed = report;
   // Out-of-bounds accesses are the exception: the weights make the in-bounds path the straight one.
-  g.b.CreateCondBr(ok, then, join, llvm::MDBuilder(g.c).createBranchWeights(1u << 20, 1));
+  g.b.CreateCondBr(ok, then, report ? report : join, llvm::MDBuilder(g.c).createBranchWeights(1u << 20, 1));
   g.b.SetInsertPoint(then);
   return join;
 }
@@ -408,8 +443,8 @@ llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, 
     return b.CreateAlignedLoad(ty, closed ? address(p, bytes, false) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset),
                                align);
   }
-  llvm::BasicBlock* from = b.GetInsertBlock();
-  llvm::BasicBlock* join = beginGuarded(*this, ok);
+  llvm::BasicBlock* from = nullptr;
+  llvm::BasicBlock* join = beginGuarded(*this, ok, p, abi::kAccessLoad, bytes, &from);
   llvm::LoadInst* l = b.CreateAlignedLoad(ty, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
   llvm::BasicBlock* then = b.GetInsertBlock();
   b.CreateBr(join);
@@ -428,7 +463,8 @@ void Codegen::guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::A
     b.CreateAlignedStore(v, closed ? address(p, bytes, true) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
     return;
   }
-  llvm::BasicBlock* join = beginGuarded(*this, ok);
+  llvm::BasicBlock* failed = nullptr;
+  llvm::BasicBlock* join = beginGuarded(*this, ok, p, abi::kAccessStore, bytes, &failed);
   b.CreateAlignedStore(v, b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
   b.CreateBr(join);
   b.SetInsertPoint(join);
@@ -710,7 +746,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       Ptr p;
       if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
       if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
-        llvm::Value* rec = descriptorRecord(p.slot, p.descIndex ? p.descIndex : i64(0));
+        llvm::Value* rec = descriptorRecord(p.slot, p.descIndex ? p.descIndex : i64(0), p.descIndex ? &p : nullptr);
         if (isAccelerationStructure(p.type)) {
           // An acceleration structure is its device address (the record's first field).
           set(in.word(2), invariant(b.CreateAlignedLoad(b.getInt64Ty(), rec, llvm::Align(8))));

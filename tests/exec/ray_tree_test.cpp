@@ -11,7 +11,7 @@
 namespace vkrt::exec {
 namespace {
 
-using Ids = std::vector<InvocationId>;
+using Ids = std::vector<RayTreeId>;
 
 TEST(RayTreeSetting, LaunchIdsAndComputeIdsSortedWithoutDuplicates) {
   RayTreeSelection s;
@@ -62,7 +62,7 @@ TEST(RayTreeSetting, RecorderFindsOnlyNamedIds) {
   RayTreeRecorder r(Ids{{0, 0, 0}, {2, 1, 0}, {7, 3, 1}});
   const uint32_t a[3] = {2, 1, 0}, b[3] = {2, 1, 1}, c[3] = {7, 3, 1}, d[3] = {1, 0, 0};
   ASSERT_NE(r.find(a), nullptr);
-  EXPECT_EQ(r.find(a)->id, (InvocationId{2, 1, 0}));
+  EXPECT_EQ(r.find(a)->id, (RayTreeId{2, 1, 0}));
   EXPECT_EQ(r.find(b), nullptr);
   ASSERT_NE(r.find(c), nullptr);
   EXPECT_EQ(r.find(d), nullptr);

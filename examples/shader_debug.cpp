@@ -1,0 +1,197 @@
+// shader_debug: debugPrintfEXT and an out-of-bounds report (docs/shader-debugging.md). A compute shader
+// (shaders/shader_debug.g.comp, compiled with -g) prints one line per invocation and stores one element past its
+// buffer; a VK_EXT_debug_utils messenger prints what the driver says: on vkrt, the eight lines (as the validation
+// layer's debug printf delivers them: "UNASSIGNED-DEBUG-PRINTF") and the store, named with its file and line
+// ("VKRT-shader-out-of-bounds").
+//
+//   VK_DRIVER_FILES=<build>/vkrt_icd.json ./shader_debug
+//
+// Exits 0 and prints "shader_debug: OK" when the squares are right and, on vkrt, both kinds of message came.
+#include <vulkan/vulkan.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "example_vk.hpp"
+#include "shader_debug.g.comp.spv.h"
+
+namespace {
+
+int gPrintfs = 0, gOutOfBounds = 0;
+
+VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
+                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
+  const std::string id = data->pMessageIdName ? data->pMessageIdName : "";
+  const std::string text = data->pMessage ? data->pMessage : "";
+  if (id == "UNASSIGNED-DEBUG-PRINTF") {
+    // What the shader printed follows the last " | ", as with the validation layer.
+    size_t at = text.rfind(" | ");
+    std::printf("shader says: %s\n", at == std::string::npos ? text.c_str() : text.c_str() + at + 3);
+    ++gPrintfs;
+  } else {
+    if (id == "VKRT-shader-out-of-bounds") ++gOutOfBounds;
+    std::printf("%s\n", text.c_str());
+  }
+  return VK_FALSE;
+}
+
+}  // namespace
+
+int main() {
+  example::gProgram = "shader_debug";
+  // The messenger, also chained into the instance's create info, takes INFO too: printf messages are INFO.
+  VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                        VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;  // (the loader's INFO messages are GENERAL)
+  mci.pfnUserCallback = onMessage;
+  VkApplicationInfo ai{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  ai.pApplicationName = "shader_debug";
+  ai.apiVersion = VK_API_VERSION_1_3;
+  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, &mci};
+  ici.pApplicationInfo = &ai;
+  ici.enabledExtensionCount = 1;
+  ici.ppEnabledExtensionNames = extensions;
+  VkInstance instance;
+  CHECK(vkCreateInstance(&ici, nullptr, &instance));
+  auto createMessenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+  VkDebugUtilsMessengerEXT messenger;
+  CHECK(createMessenger(instance, &mci, nullptr, &messenger));
+
+  const VkPhysicalDevice pd = example::pickPhysicalDevice(instance);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(pd, &props);
+  const bool vkrt = std::strcmp(props.deviceName, "vkrt") == 0;
+  const uint32_t family = example::queueFamily(pd, VK_QUEUE_COMPUTE_BIT);
+  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
+  const VkDevice dev = example::createDevice(pd, family, &f13);
+  VkQueue queue;
+  vkGetDeviceQueue(dev, family, 0, &queue);
+
+  // The buffer of eight squares, named for the report.
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = 8 * sizeof(uint32_t);
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer buffer;
+  CHECK(vkCreateBuffer(dev, &bci, nullptr, &buffer));
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(dev, buffer, &req);
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = example::memoryType(
+      pd, req.memoryTypeBits, {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}, "a buffer");
+  VkDeviceMemory memory;
+  CHECK(vkAllocateMemory(dev, &mai, nullptr, &memory));
+  CHECK(vkBindBufferMemory(dev, buffer, memory, 0));
+  void* mapped = nullptr;
+  CHECK(vkMapMemory(dev, memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+  auto setName = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+      vkGetInstanceProcAddr(instance, "vkSetDebugUtilsObjectNameEXT"));
+  VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+  ni.objectType = VK_OBJECT_TYPE_BUFFER;
+  ni.objectHandle = uint64_t(buffer);
+  ni.pObjectName = "squares";
+  CHECK(setName(dev, &ni));
+
+  // The pipeline: one storage buffer at set 0, binding 0.
+  VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  dl.bindingCount = 1;
+  dl.pBindings = &binding;
+  VkDescriptorSetLayout setLayout;
+  CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &setLayout));
+  VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = &setLayout;
+  VkPipelineLayout layout;
+  CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout));
+  VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  sm.codeSize = sizeof kSpv_shader_debug_g_comp;
+  sm.pCode = kSpv_shader_debug_g_comp;
+  VkShaderModule module;
+  CHECK(vkCreateShaderModule(dev, &sm, nullptr, &module));
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  ci.stage.module = module;
+  ci.stage.pName = "main";
+  ci.layout = layout;
+  VkPipeline pipeline;
+  CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
+  VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  dp.maxSets = 1;
+  dp.poolSizeCount = 1;
+  dp.pPoolSizes = &size;
+  VkDescriptorPool pool;
+  CHECK(vkCreateDescriptorPool(dev, &dp, nullptr, &pool));
+  VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  da.descriptorPool = pool;
+  da.descriptorSetCount = 1;
+  da.pSetLayouts = &setLayout;
+  VkDescriptorSet set;
+  CHECK(vkAllocateDescriptorSets(dev, &da, &set));
+  VkDescriptorBufferInfo bi{buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = set;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  w.pBufferInfo = &bi;
+  vkUpdateDescriptorSets(dev, 1, &w, 0, nullptr);
+
+  // One workgroup of eight invocations.
+  VkCommandPoolCreateInfo cpi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  cpi.queueFamilyIndex = family;
+  VkCommandPool commandPool;
+  CHECK(vkCreateCommandPool(dev, &cpi, nullptr, &commandPool));
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = commandPool;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = 1;
+  VkCommandBuffer cb;
+  CHECK(vkAllocateCommandBuffers(dev, &cai, &cb));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  CHECK(vkBeginCommandBuffer(cb, &begin));
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+  vkCmdDispatch(cb, 1, 1, 1);
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                       nullptr);
+  CHECK(vkEndCommandBuffer(cb));
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cb;
+  CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
+  CHECK(vkQueueWaitIdle(queue));
+
+  bool ok = true;
+  const auto* squares = static_cast<const uint32_t*>(mapped);
+  for (uint32_t i = 0; i < 8; ++i) ok = ok && squares[i] == i * i;
+  if (vkrt) ok = ok && gPrintfs == 8 && gOutOfBounds == 1;
+
+  vkDestroyCommandPool(dev, commandPool, nullptr);
+  vkDestroyDescriptorPool(dev, pool, nullptr);
+  vkDestroyPipeline(dev, pipeline, nullptr);
+  vkDestroyShaderModule(dev, module, nullptr);
+  vkDestroyPipelineLayout(dev, layout, nullptr);
+  vkDestroyDescriptorSetLayout(dev, setLayout, nullptr);
+  vkDestroyBuffer(dev, buffer, nullptr);
+  vkFreeMemory(dev, memory, nullptr);
+  vkDestroyDevice(dev, nullptr);
+  auto destroyMessenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+  destroyMessenger(instance, messenger, nullptr);
+  vkDestroyInstance(instance, nullptr);
+  if (!ok)
+    example::fail("unexpected squares or messages (" + std::to_string(gPrintfs) + " printf messages, " +
+                  std::to_string(gOutOfBounds) + " out-of-bounds reports)");
+  std::printf("shader_debug: OK\n");
+  return 0;
+}

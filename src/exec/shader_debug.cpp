@@ -1,0 +1,147 @@
+#include "exec/shader_debug.hpp"
+
+#include <atomic>
+#include <cstdlib>
+
+#include "exec/supervise.hpp"
+
+namespace vkrt::exec {
+
+namespace {
+
+std::atomic<uint64_t> nextSerial{1};
+
+// The thread's buffer in the command it last wrote to (by serial: a Job's address may be reused).
+struct ThreadSlot {
+  uint64_t serial = 0;
+  void* buffer = nullptr;
+};
+thread_local ThreadSlot tlsSlot;
+
+// Execution models (SPIR-V's numbers; exec does not include the SPIR-V headers).
+constexpr uint32_t kModelVertex = 0, kModelFragment = 4, kModelGLCompute = 5;
+
+uint32_t argWords(const uint8_t* site) {
+  uint32_t n = abi::siteWord(site, 2), words = 0;
+  for (uint32_t i = 0; i < n; ++i) words += abi::siteWord(site, 3 + i) >> 16;
+  return words;
+}
+
+}  // namespace
+
+InvocationId invocationId(const abi::InvocationContext* ctx, uint32_t model) {
+  InvocationId id;
+  if (model == kModelGLCompute) {
+    for (int i = 0; i < 3; ++i) id.v[i] = ctx->globalId[i];
+  } else if (model == kModelVertex) {
+    const auto* g = reinterpret_cast<const abi::GraphicsInvocation*>(ctx);
+    id.v[0] = uint32_t(g->vertexIndex);
+    id.v[1] = uint32_t(g->instanceIndex);
+  } else if (model == kModelFragment) {
+    const auto* g = reinterpret_cast<const abi::GraphicsInvocation*>(ctx);
+    std::memcpy(&id.v[0], &g->fragCoord[0], 4);
+    std::memcpy(&id.v[1], &g->fragCoord[1], 4);
+  } else {
+    const auto* r = reinterpret_cast<const abi::RayInvocation*>(ctx);
+    for (int i = 0; i < 3; ++i) id.v[i] = r->launchId[i];
+  }
+  return id;
+}
+
+ShaderMessages::ShaderMessages() : serial_(nextSerial.fetch_add(1, std::memory_order_relaxed)), limit_(printfLimit()) {}
+
+uint32_t ShaderMessages::printfLimit() {
+  static const uint32_t limit = [] {
+    const char* v = std::getenv("VKRT_PRINTF_LIMIT");
+    if (!v || !*v) return kDefaultPrintfLimit;
+    char* end = nullptr;
+    unsigned long n = std::strtoul(v, &end, 10);
+    return end && *end == 0 && n <= UINT32_MAX ? uint32_t(n) : kDefaultPrintfLimit;
+  }();
+  return limit;
+}
+
+ShaderMessages::Buffer& ShaderMessages::local() {
+  if (tlsSlot.serial == serial_) return *static_cast<Buffer*>(tlsSlot.buffer);
+  std::lock_guard<std::mutex> lock(mutex_);
+  Buffer& b = buffers_.emplace_back();
+  tlsSlot.serial = serial_;
+  tlsSlot.buffer = &b;
+  return b;
+}
+
+void ShaderMessages::printf(const abi::InvocationContext* ctx, const uint8_t* site, const uint64_t* args) {
+  Buffer& b = local();
+  ++b.calls;
+  // A thread keeps up to the command's limit (it may be the only one that prints); forEachPrintf applies the
+  // limit to the command.
+  if (b.kept >= limit_) return;
+  ++b.kept;
+  InvocationId id = invocationId(ctx, abi::siteWord(site, 1));
+  b.words.push_back(reinterpret_cast<uintptr_t>(site));
+  b.words.push_back(uint64_t(id.v[0]) | uint64_t(id.v[1]) << 32);
+  b.words.push_back(id.v[2]);
+  b.words.insert(b.words.end(), args, args + argWords(site));
+}
+
+void ShaderMessages::outOfBounds(const abi::InvocationContext* ctx, const uint8_t* site, uint64_t offset,
+                                 uint64_t range, uint64_t element) {
+  Buffer& b = local();
+  for (const OutOfBoundsRecord& r : b.oob)
+    if (r.site == site) return;
+  b.oob.push_back({site, offset, range, element, invocationId(ctx, abi::siteWord(site, 1))});
+}
+
+bool ShaderMessages::empty() const {
+  for (const Buffer& b : buffers_)
+    if (b.calls || !b.oob.empty()) return false;
+  return true;
+}
+
+void ShaderMessages::forEachPrintf(
+    const std::function<void(const uint8_t* site, const InvocationId& id, const uint64_t* args)>& fn) const {
+  uint64_t delivered = 0;
+  for (const Buffer& b : buffers_) {
+    for (size_t at = 0; at + 3 <= b.words.size() && delivered < limit_; ++delivered) {
+      const auto* site = reinterpret_cast<const uint8_t*>(uintptr_t(b.words[at]));
+      InvocationId id;
+      id.v[0] = uint32_t(b.words[at + 1]);
+      id.v[1] = uint32_t(b.words[at + 1] >> 32);
+      id.v[2] = uint32_t(b.words[at + 2]);
+      fn(site, id, b.words.data() + at + 3);
+      at += 3 + argWords(site);
+    }
+  }
+}
+
+uint64_t ShaderMessages::droppedPrintfs() const {
+  uint64_t calls = 0;
+  for (const Buffer& b : buffers_) calls += b.calls;
+  return calls > limit_ ? calls - limit_ : 0;
+}
+
+std::vector<OutOfBoundsRecord> ShaderMessages::outOfBoundsSites() const {
+  std::vector<OutOfBoundsRecord> out;
+  for (const Buffer& b : buffers_)
+    for (const OutOfBoundsRecord& r : b.oob) {
+      bool seen = false;
+      for (const OutOfBoundsRecord& o : out) seen = seen || o.site == r.site;
+      if (!seen) out.push_back(r);
+    }
+  return out;
+}
+
+}  // namespace vkrt::exec
+
+extern "C" {
+
+// Outside a supervised task (a test calling compiled code directly) there is no command to collect for: dropped.
+void vkrt_debug_printf(vkrt::abi::InvocationContext* ctx, const uint8_t* site, const uint64_t* args) {
+  if (vkrt::exec::Job* job = vkrt::exec::runningJob()) job->messages.printf(ctx, site, args);
+}
+
+void vkrt_out_of_bounds(vkrt::abi::InvocationContext* ctx, const uint8_t* site, uint64_t offset, uint64_t range,
+                        uint64_t element) {
+  if (vkrt::exec::Job* job = vkrt::exec::runningJob()) job->messages.outOfBounds(ctx, site, offset, range, element);
+}
+}

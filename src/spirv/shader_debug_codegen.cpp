@@ -1,0 +1,275 @@
+// SPIR-V -> LLVM IR for shader debugging: debugPrintfEXT calls and the out-of-bounds reports of buffer accesses
+// (abi/shader_debug.hpp). Each call site becomes a constant record of the module (its object code).
+#include <llvm/IR/Constants.h>
+#include <llvm/IR/MDBuilder.h>
+
+#include "spirv/codegen.hpp"
+#include "spirv/shader_debug.hpp"
+
+namespace vkrt::spirv {
+
+namespace {
+
+llvm::GlobalVariable* siteConstant(Codegen& g, const std::string& bytes) {
+  auto it = g.siteGlobals.find(bytes);
+  if (it != g.siteGlobals.end()) return it->second;
+  auto* init = llvm::ConstantDataArray::getRaw(bytes, bytes.size(), g.b.getInt8Ty());
+  auto* gv =
+      new llvm::GlobalVariable(g.out, init->getType(), true, llvm::GlobalValue::PrivateLinkage, init, "vkrt.site");
+  gv->setAlignment(llvm::Align(4));
+  g.siteGlobals[bytes] = gv;
+  return gv;
+}
+
+}  // namespace
+
+bool Codegen::debugPrintf(const Instruction& in, bool& ok) {
+  // OpExtInst %void %set DebugPrintf(1) %format %args...
+  const Instruction* format = m.def(in.word(5));
+  if (in.word(4) != 1 || !format || format->op != spv::OpString)
+    return (ok = fail(in, "NonSemantic.DebugPrintf: not a DebugPrintf with an OpString format")), true;
+  std::vector<PrintfArg> args;
+  std::vector<llvm::Value*> components;
+  for (uint32_t i = 6; i < in.count; ++i) {
+    llvm::Value* v = value(in.word(i));
+    const Type* t = m.type(m.typeOf(in.word(i)));
+    const Type* scalar = t && t->kind == Type::Vector ? m.type(t->element) : t;
+    if (!v || !scalar || (scalar->kind != Type::Int && scalar->kind != Type::Float && scalar->kind != Type::Bool))
+      return (ok = unsupported(in, "debugPrintfEXT argument that is not a scalar or vector")), true;
+    PrintfArg a;
+    a.kind = scalar->kind == Type::Float  ? abi::kArgFloat
+             : scalar->kind == Type::Bool ? abi::kArgBool
+             : scalar->isSigned           ? abi::kArgSigned
+                                          : abi::kArgUnsigned;
+    a.width = scalar->kind == Type::Bool ? 1 : scalar->width;
+    a.components = t->kind == Type::Vector ? t->count : 1;
+    for (uint32_t k = 0; k < a.components; ++k) {
+      llvm::Value* c = t->kind == Type::Vector ? b.CreateExtractElement(v, uint64_t(k)) : v;
+      if (a.kind == abi::kArgFloat) {
+        c = b.CreateBitCast(b.CreateFPExt(c, b.getDoubleTy()), b.getInt64Ty());
+      } else if (a.kind == abi::kArgSigned) {
+        c = b.CreateSExt(c, b.getInt64Ty());
+      } else {
+        c = b.CreateZExtOrTrunc(c, b.getInt64Ty());
+      }
+      components.push_back(c);
+    }
+    args.push_back(a);
+  }
+  llvm::Constant* site = siteConstant(*this, printfSite(uint32_t(model), args, format->string(2), info.entryName));
+  llvm::Value* buffer = llvm::ConstantPointerNull::get(b.getPtrTy());
+  if (!components.empty()) {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    if (llvm::Instruction* t = allocaBlock->getTerminator()) {
+      b.SetInsertPoint(t);
+    } else {
+      b.SetInsertPoint(allocaBlock);
+    }
+    auto* a = b.CreateAlloca(b.getInt64Ty(), i64(components.size()));
+    a->setAlignment(llvm::Align(8));
+    buffer = a;
+  }
+  for (size_t k = 0; k < components.size(); ++k)
+    b.CreateAlignedStore(components[k], b.CreateConstGEP1_64(b.getInt64Ty(), buffer, k), llvm::Align(8));
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_debug_printf", llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy(), b.getPtrTy()}, false));
+  b.CreateCall(f, {ctxArg, site, buffer});
+  return true;
+}
+
+llvm::Constant* Codegen::accessSiteFor(const Ptr& p, uint32_t kind, uint64_t bytes) {
+  AccessSiteInfo s;
+  s.model = uint32_t(model);
+  s.kind = kind;
+  if (p.resource >= 0 && size_t(p.resource) < info.resources.size()) {
+    s.set = info.resources[p.resource].set;
+    s.binding = info.resources[p.resource].binding;
+  }
+  s.bytes = uint32_t(bytes);
+  if (const Instruction* line = currentLine) {
+    const Instruction* file = m.def(line->word(1));
+    std::string name = file && file->op == spv::OpString ? file->string(2) : std::string();
+    if (name == kWordOffsetFile) {
+      s.wordOffset = line->word(2);
+    } else {
+      s.file = name;
+      s.line = line->word(2);
+      s.column = line->word(3);
+    }
+  }
+  auto n = m.names.find(p.variable);
+  if (n != m.names.end()) s.variable = n->second;
+  s.entryName = info.entryName;
+  return siteConstant(*this, accessSite(s));
+}
+
+void Codegen::callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Value* range, llvm::Value* element) {
+  llvm::Type* i64t = b.getInt64Ty();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_out_of_bounds",
+      llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy(), i64t, i64t, i64t}, false));
+  auto* call = b.CreateCall(f, {ctxArg, site, offset, range, element ? element : i64(0)});
+  call->addFnAttr(llvm::Attribute::Cold);
+}
+
+llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join) {
+  if (p.resource < 0 || !ctxArg) return nullptr;
+  llvm::IRBuilderBase::InsertPointGuard guard(b);
+  llvm::Function* f = b.GetInsertBlock()->getParent();
+  auto* block = llvm::BasicBlock::Create(c, "outofbounds", f);
+  b.SetInsertPoint(block);
+  if (p.helper) {
+    // A helper lane's write is dropped by design: reported only where the lane's own limit fails too.
+    auto* report = llvm::BasicBlock::Create(c, "outofbounds.report", f);
+    llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, p.unmaskedLimit, i64(bytes ? bytes - 1 : 0));
+    b.CreateCondBr(b.CreateOr(p.helper, b.CreateICmpULT(p.offset, end)), join, report);
+    b.SetInsertPoint(report);
+  }
+  outOfBounds(p, kind, bytes, p.offset, p.unmaskedLimit ? p.unmaskedLimit : p.limit, p.element);
+  b.CreateBr(join);
+  return block;
+}
+
+void Codegen::outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* offset, llvm::Value* range,
+                          llvm::Value* element) {
+  llvm::Constant* site = accessSiteFor(p, kind, bytes);
+  if (!groupLog) {
+    callOutOfBounds(site, offset, range, element);
+    return;
+  }
+  // word = site index + 1 (16 bits) | element (16 bits, saturated) << 16 | offset (32 bits, saturated) << 32.
+  llvm::Type* i64t = b.getInt64Ty();
+  const uint64_t index = groupSites.size();
+  groupSites.push_back({site, p.resource, kind});
+  auto saturate = [&](llvm::Value* v, uint64_t max) {
+    return b.CreateBinaryIntrinsic(llvm::Intrinsic::umin, b.CreateZExtOrTrunc(v, i64t), i64(max));
+  };
+  llvm::Value* word =
+      b.CreateOr(i64(index + 1), b.CreateOr(b.CreateShl(saturate(element ? element : i64(0), 0xffff), 16),
+                                            b.CreateShl(saturate(offset, 0xffffffff), 32)));
+  llvm::Value* invocation = b.CreateAlignedLoad(
+      b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, localIndex)),
+      llvm::Align(4));
+  // vkrt_group's local context holds the log in `executor` (which compiled code does not otherwise read).
+  llvm::Value* log = b.CreateAlignedLoad(
+      b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(InvocationContext, executor)), llvm::Align(8));
+  llvm::Value* at = b.CreateGEP(b.getInt8Ty(), log, b.CreateMul(b.CreateZExt(invocation, i64t), i64(8)));
+  // The invocation's first failing access is kept (a descriptor index before the access through the null descriptor
+  // it selects).
+  llvm::Value* kept = b.CreateAlignedLoad(i64t, at, llvm::Align(8));
+  b.CreateAlignedStore(b.CreateSelect(b.CreateICmpEQ(kept, i64(0)), word, kept), at, llvm::Align(8));
+}
+
+void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]) {
+  if (groupSites.empty()) return;
+  llvm::Type* i64t = b.getInt64Ty();
+  llvm::Type* i32t = b.getInt32Ty();
+  llvm::Function* f = b.GetInsertBlock()->getParent();
+  const uint32_t n = info.localSize[0] * info.localSize[1] * info.localSize[2];
+  // The sites' records, resources and kinds, indexed by the log's site index.
+  std::vector<llvm::Constant*> sites;
+  std::vector<uint32_t> resources, kinds;
+  for (const GroupSite& s : groupSites) {
+    sites.push_back(s.site);
+    resources.push_back(uint32_t(s.resource));
+    kinds.push_back(s.kind);
+  }
+  auto* siteArray = llvm::ArrayType::get(b.getPtrTy(), sites.size());
+  auto* siteTable = new llvm::GlobalVariable(out, siteArray, true, llvm::GlobalValue::PrivateLinkage,
+                                             llvm::ConstantArray::get(siteArray, sites), "vkrt.sites");
+  auto table32 = [&](const std::vector<uint32_t>& v, const char* name) {
+    auto* init = llvm::ConstantDataArray::get(c, v);
+    return new llvm::GlobalVariable(out, init->getType(), true, llvm::GlobalValue::PrivateLinkage, init, name);
+  };
+  llvm::GlobalVariable* resourceTable = table32(resources, "vkrt.site_resources");
+  llvm::GlobalVariable* kindTable = table32(kinds, "vkrt.site_kinds");
+
+  // Pass 1: any entry at all (a loop without a call: vectorized).
+  llvm::BasicBlock* pre = b.GetInsertBlock();
+  auto* scan = llvm::BasicBlock::Create(c, "oob.scan", f);
+  auto* scanned = llvm::BasicBlock::Create(c, "oob.scanned", f);
+  b.CreateBr(scan);
+  b.SetInsertPoint(scan);
+  llvm::PHINode* i = b.CreatePHI(i64t, 2);
+  llvm::PHINode* any = b.CreatePHI(i64t, 2);
+  i->addIncoming(i64(0), pre);
+  any->addIncoming(i64(0), pre);
+  llvm::Value* w = b.CreateAlignedLoad(i64t, b.CreateGEP(b.getInt8Ty(), log, b.CreateMul(i, i64(8))), llvm::Align(8));
+  llvm::Value* anyNext = b.CreateOr(any, w);
+  llvm::Value* iNext = b.CreateAdd(i, i64(1));
+  i->addIncoming(iNext, scan);
+  any->addIncoming(anyNext, scan);
+  b.CreateCondBr(b.CreateICmpULT(iNext, i64(n)), scan, scanned);
+  b.SetInsertPoint(scanned);
+  auto* entries = llvm::BasicBlock::Create(c, "oob.entries", f);
+  auto* done = llvm::BasicBlock::Create(c, "oob.done", f);
+  b.CreateCondBr(b.CreateICmpNE(anyNext, i64(0)), entries, done, llvm::MDBuilder(c).createBranchWeights(1, 1u << 20));
+
+  // Pass 2 (an access went out of bounds): each entry reported, with its invocation's ids in a context of its own
+  // (passing `local` to a call would keep LLVM from keeping it in registers).
+  b.SetInsertPoint(entries);
+  llvm::Value* reportCtx;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(&*f->getEntryBlock().getFirstInsertionPt());
+    auto* a = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
+    a->setAlignment(llvm::Align(16));
+    reportCtx = a;
+  }
+  b.CreateMemCpy(reportCtx, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  llvm::Value* slots = b.CreateAlignedLoad(
+      b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, resources)), llvm::Align(8));
+  auto* loop = llvm::BasicBlock::Create(c, "oob.entry", f);
+  auto* report = llvm::BasicBlock::Create(c, "oob.report", f);
+  auto* latch = llvm::BasicBlock::Create(c, "oob.latch", f);
+  b.CreateBr(loop);
+  b.SetInsertPoint(loop);
+  llvm::PHINode* k = b.CreatePHI(i64t, 2);
+  k->addIncoming(i64(0), entries);
+  llvm::Value* word =
+      b.CreateAlignedLoad(i64t, b.CreateGEP(b.getInt8Ty(), log, b.CreateMul(k, i64(8))), llvm::Align(8));
+  b.CreateCondBr(b.CreateICmpNE(word, i64(0)), report, latch);
+  b.SetInsertPoint(report);
+  llvm::Value* siteIndex = b.CreateSub(b.CreateAnd(word, i64(0xffff)), i64(1));
+  llvm::Value* site =
+      b.CreateAlignedLoad(b.getPtrTy(), b.CreateGEP(siteArray, siteTable, {i64(0), siteIndex}), llvm::Align(8));
+  llvm::Value* resource = b.CreateAlignedLoad(
+      i32t, b.CreateGEP(resourceTable->getValueType(), resourceTable, {i64(0), siteIndex}), llvm::Align(4));
+  llvm::Value* kind =
+      b.CreateAlignedLoad(i32t, b.CreateGEP(kindTable->getValueType(), kindTable, {i64(0), siteIndex}), llvm::Align(4));
+  llvm::Value* element = b.CreateAnd(b.CreateLShr(word, 16), i64(0xffff));
+  llvm::Value* offset = b.CreateLShr(word, 32);
+  // The range: the bound descriptor count for an index, else the element's range (0 past the bound ones).
+  llvm::Value* slot =
+      b.CreateGEP(b.getInt8Ty(), slots, b.CreateMul(b.CreateZExt(resource, i64t), i64(sizeof(ResourceSlot))));
+  llvm::Value* records = b.CreateAlignedLoad(b.getPtrTy(), slot, llvm::Align(8));
+  llvm::Value* count = b.CreateAlignedLoad(i64t, b.CreateConstGEP1_64(b.getInt8Ty(), slot, 8), llvm::Align(8));
+  llvm::Value* inRange = b.CreateICmpULT(element, count);
+  llvm::Value* record = b.CreateSelect(
+      inRange, b.CreateGEP(b.getInt8Ty(), records, b.CreateMul(element, i64(sizeof(DescriptorRecord)))), zeros);
+  llvm::Value* elementRange = b.CreateAlignedLoad(i64t, b.CreateConstGEP1_64(b.getInt8Ty(), record, 8), llvm::Align(8));
+  llvm::Value* range =
+      b.CreateSelect(b.CreateICmpEQ(kind, b.getInt32(abi::kAccessDescriptorIndex)), count, elementRange);
+  // The invocation: local index k.
+  llvm::Value* k32 = b.CreateTrunc(k, i32t);
+  llvm::Value* local3[3] = {
+      b.CreateURem(k32, b.getInt32(info.localSize[0])),
+      b.CreateURem(b.CreateUDiv(k32, b.getInt32(info.localSize[0])), b.getInt32(info.localSize[1])),
+      b.CreateUDiv(k32, b.getInt32(info.localSize[0] * info.localSize[1]))};
+  for (int d = 0; d < 3; ++d)
+    b.CreateAlignedStore(b.CreateAdd(base[d], local3[d]),
+                         b.CreateConstGEP1_64(b.getInt8Ty(), reportCtx, offsetof(InvocationContext, globalId) + 4 * d),
+                         llvm::Align(4));
+  llvm::Value* saved = ctxArg;
+  ctxArg = reportCtx;
+  callOutOfBounds(site, offset, range, element);
+  ctxArg = saved;
+  b.CreateBr(latch);
+  b.SetInsertPoint(latch);
+  llvm::Value* kNext = b.CreateAdd(k, i64(1));
+  k->addIncoming(kNext, latch);
+  b.CreateCondBr(b.CreateICmpULT(kNext, i64(n)), loop, done);
+  b.SetInsertPoint(done);
+}
+
+}  // namespace vkrt::spirv

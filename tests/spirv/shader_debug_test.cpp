@@ -1,0 +1,264 @@
+// Shader debugging below the Vulkan API: debugPrintfEXT's formatting (every conversion, flags, vectors, 64-bit
+// values), compiled printf calls collected per command in order and bounded, and out-of-bounds accesses named by
+// the compiled module's site records.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "exec/supervise.hpp"
+#include "oob_barrier.comp.spv.h"
+#include "oob_index.comp.spv.h"
+#include "oob_read.comp.spv.h"
+#include "printf_compute.comp.spv.h"
+#include "shader_debug_scan.hpp"
+#include "spirv/compiler.hpp"
+#include "spirv/compute_harness.hpp"
+#include "spirv/shader_debug.hpp"
+
+namespace vkrt {
+namespace {
+
+// Out-of-bounds reports come from the scalar path only: compute shaders the SPMD path compiles (spirv/spmd.cpp)
+// keep the robustness behaviour but report nothing yet (docs/shader-debugging.md), so these tests compile for the
+// scalar path, whatever VKRT_SPMD says.
+struct ScalarPath {
+  ScalarPath() : was(spirv::spmdEnabled()) { spirv::setSpmd(false); }
+  ~ScalarPath() { spirv::setSpmd(was); }
+  bool was;
+};
+
+using spirv::formatPrintf;
+using spirv::PrintfArg;
+
+uint64_t bits(double d) {
+  uint64_t b;
+  std::memcpy(&b, &d, 8);
+  return b;
+}
+
+// A site for `format` with the given arguments, formatted with `values` (one per component).
+std::string format(const std::string& text, const std::vector<PrintfArg>& args, const std::vector<uint64_t>& values) {
+  std::string site = spirv::printfSite(5, args, text, "main");
+  std::vector<uint32_t> aligned((site.size() + 3) / 4);
+  std::memcpy(aligned.data(), site.data(), site.size());
+  return formatPrintf(reinterpret_cast<const uint8_t*>(aligned.data()), values.data());
+}
+
+const PrintfArg kU32{abi::kArgUnsigned, 32, 1}, kI32{abi::kArgSigned, 32, 1}, kF32{abi::kArgFloat, 32, 1},
+    kF64{abi::kArgFloat, 64, 1}, kU64{abi::kArgUnsigned, 64, 1}, kI64{abi::kArgSigned, 64, 1};
+
+TEST(DebugPrintfFormat, IntegerConversions) {
+  const uint64_t minus5 = uint64_t(int64_t(-5));  // a signed 32-bit -5, sign-extended as compiled code passes it
+  EXPECT_EQ(format("%d|%i", {kI32, kI32}, {minus5, 42}), "-5|42");
+  EXPECT_EQ(format("%u", {kU32}, {4000000000u}), "4000000000");
+  EXPECT_EQ(format("%u", {kI32}, {minus5}), "4294967291");  // the 32 bits read as unsigned
+  EXPECT_EQ(format("%x %X %o", {kU32, kU32, kU32}, {255, 0xabcdef, 8}), "ff ABCDEF 10");
+  EXPECT_EQ(format("%c%c", {kU32, kU32}, {'o', 'k'}), "ok");
+}
+
+TEST(DebugPrintfFormat, FloatConversions) {
+  EXPECT_EQ(format("%f", {kF32}, {bits(1.5)}), "1.500000");
+  EXPECT_EQ(format("%F", {kF32}, {bits(INFINITY)}), "INF");
+  EXPECT_EQ(format("%e|%E", {kF32, kF32}, {bits(1234.5), bits(1234.5)}), "1.234500e+03|1.234500E+03");
+  EXPECT_EQ(format("%g|%G", {kF32, kF32}, {bits(0.0001), bits(1e-10)}), "0.0001|1E-10");
+  EXPECT_EQ(format("%a|%A", {kF32, kF32}, {bits(1.0), bits(-2.0)}), "0x1p+0|-0X1P+1");
+  EXPECT_EQ(format("%f", {kF64}, {bits(0.125)}), "0.125000");
+  // An integer printed by a float conversion is read as the float its bits make (as the layer's words are).
+  EXPECT_EQ(format("%f", {kU32}, {0x3fc00000u}), "1.500000");
+  // A float printed by an integer conversion: its bits.
+  EXPECT_EQ(format("%x", {kF32}, {bits(1.0)}), "3f800000");
+}
+
+TEST(DebugPrintfFormat, FlagsWidthAndPrecision) {
+  EXPECT_EQ(format("[%5.2f]", {kF32}, {bits(3.14159)}), "[ 3.14]");
+  EXPECT_EQ(format("[%-4d]", {kI32}, {7}), "[7   ]");
+  EXPECT_EQ(format("[%08x]", {kU32}, {0xbeef}), "[0000beef]");
+  EXPECT_EQ(format("[%+d][% d]", {kI32, kI32}, {3, 3}), "[+3][ 3]");
+  EXPECT_EQ(format("[%#x][%#o]", {kU32, kU32}, {255, 8}), "[0xff][010]");
+  EXPECT_EQ(format("[%.3e]", {kF32}, {bits(0.5)}), "[5.000e-01]");
+}
+
+TEST(DebugPrintfFormat, SixtyFourBitValues) {
+  const uint64_t big = (uint64_t(1) << 40) + 7;
+  EXPECT_EQ(format("%lu", {kU64}, {big}), "1099511627783");
+  EXPECT_EQ(format("%lx", {kU64}, {0x123456789abcdefull}), "123456789abcdef");
+  EXPECT_EQ(format("%ld", {kI64}, {uint64_t(int64_t(-5000000000ll))}), "-5000000000");
+  // Without `l` a conversion prints the low 32 bits.
+  EXPECT_EQ(format("%u", {kU64}, {big}), "7");
+}
+
+TEST(DebugPrintfFormat, Vectors) {
+  EXPECT_EQ(format("%v3f", {{abi::kArgFloat, 32, 3}}, {bits(1.0), bits(-0.5), bits(2.25)}),
+            "1.000000, -0.500000, 2.250000");
+  EXPECT_EQ(format("(%v2d)", {{abi::kArgSigned, 32, 2}}, {uint64_t(int64_t(-1)), 2}), "(-1, 2)");
+  EXPECT_EQ(format("%v4u", {{abi::kArgUnsigned, 32, 4}}, {1, 2, 3, 4}), "1, 2, 3, 4");
+  EXPECT_EQ(format("%v2lu", {{abi::kArgUnsigned, 64, 2}}, {uint64_t(1) << 33, 5}), "8589934592, 5");
+  EXPECT_EQ(format("%v2x", {{abi::kArgUnsigned, 32, 2}}, {10, 11}), "a, b");
+  // A scalar conversion of a vector prints its first component; a vector conversion of a scalar its one value.
+  EXPECT_EQ(format("%u", {{abi::kArgUnsigned, 32, 3}}, {9, 8, 7}), "9");
+  EXPECT_EQ(format("%v3u", {kU32}, {6}), "6");
+}
+
+TEST(DebugPrintfFormat, PercentSignsAndLeftovers) {
+  EXPECT_EQ(format("100%% of %u", {kU32}, {3}), "100% of 3");
+  EXPECT_EQ(format("no arguments: %d", {}, {}), "no arguments: %d");
+  EXPECT_EQ(format("%s and %u", {kU32}, {1}), "%s and 1");  // not a conversion GLSL can pass
+  EXPECT_EQ(format("trailing %", {}, {}), "trailing %");
+  EXPECT_EQ(format("", {}, {}), "");
+}
+
+// The printf calls of a dispatch, collected by its job: the text of each, in invocation order within the thread
+// that ran the workgroup.
+std::vector<std::string> printed(const exec::ShaderMessages& m, std::vector<exec::InvocationId>* ids = nullptr) {
+  std::vector<std::string> out;
+  m.forEachPrintf([&](const uint8_t* site, const exec::InvocationId& id, const uint64_t* args) {
+    out.push_back(formatPrintf(site, args));
+    if (ids) ids->push_back(id);
+  });
+  return out;
+}
+
+TEST(DebugPrintfCompiled, EveryInvocationPrintsInOrder) {
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_printf_compute_comp)) << h.error;
+  h.zeroBuffer<uint32_t>(0, 8);
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+  std::vector<exec::InvocationId> ids;
+  std::vector<std::string> lines = printed(job.messages, &ids);
+  ASSERT_EQ(lines.size(), 8u);
+  for (uint32_t i = 0; i < 8; ++i) {
+    char expected[160];
+    std::snprintf(expected, sizeof expected, "i=%u neg=%d hex=%x v=%u.000000, 0.500000, -2.000000 big=%llu", i, -int(i),
+                  i * 16 + 15, i, static_cast<unsigned long long>(uint64_t(i) << 40));
+    EXPECT_EQ(lines[i], expected);
+    EXPECT_EQ(ids[i].v[0], i);
+    EXPECT_EQ(h.get<uint32_t>(0)[i], i + 1);
+  }
+  EXPECT_EQ(job.messages.droppedPrintfs(), 0u);
+  EXPECT_TRUE(job.messages.outOfBoundsSites().empty());
+}
+
+// A command keeps at most printfLimit() messages (kDefaultPrintfLimit unless VKRT_PRINTF_LIMIT says otherwise) and
+// counts the others.
+TEST(DebugPrintfCompiled, MessagesPastTheLimitAreCounted) {
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_printf_compute_comp)) << h.error;
+  const uint32_t limit = exec::ShaderMessages::printfLimit();
+  const uint32_t groups = limit / 8 + 100;
+  h.zeroBuffer<uint32_t>(0, size_t(groups) * 8);
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(groups));
+  EXPECT_EQ(printed(job.messages).size(), limit);
+  EXPECT_EQ(job.messages.droppedPrintfs(), uint64_t(groups) * 8 - limit);
+  EXPECT_EQ(h.get<uint32_t>(0).back(), groups * 8);  // every invocation ran
+}
+
+TEST(OutOfBoundsCompiled, AReadPastTheBufferIsNamedByWordOffset) {
+  ScalarPath scalar;
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
+  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  const uint32_t shift = 64;
+  std::memcpy(h.push, &shift, 4);
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));  // zeros, as robustness says
+  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+  ASSERT_EQ(sites.size(), 1u);  // one report per site, whatever the invocations
+  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+  EXPECT_EQ(s.kind, abi::kAccessLoad);
+  EXPECT_EQ(s.set, 0u);
+  EXPECT_EQ(s.binding, 0u);
+  EXPECT_EQ(s.bytes, 4u);
+  EXPECT_EQ(s.entryName, "main");
+  EXPECT_TRUE(s.file.empty());
+  const uint32_t expected = test::loadOffsetOfBinding(kSpv_oob_read_comp, sizeof kSpv_oob_read_comp / 4, 0);
+  ASSERT_NE(expected, 0u);
+  EXPECT_EQ(s.wordOffset, expected);
+  EXPECT_EQ(sites[0].range, 16u);
+  const uint32_t x = sites[0].id.v[0];
+  EXPECT_LT(x, 4u);
+  EXPECT_EQ(sites[0].offset, uint64_t(x + shift) * 4);
+}
+
+// An index past the two bound descriptors of a four-element array: reported with the bound count. In vkrt_group's
+// log an invocation keeps its first failing access, so the load through the null descriptor that follows is not
+// reported.
+TEST(OutOfBoundsCompiled, ADescriptorIndexPastTheBoundOnes) {
+  ScalarPath scalar;
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_index_comp)) << h.error;
+  h.setBuffer<uint32_t>(100, {7});
+  h.setBuffer<uint32_t>(101, {8});
+  h.arrays[0] = {100, 101};
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  const uint32_t index = 3;
+  std::memcpy(h.push, &index, 4);
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));
+  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+  ASSERT_EQ(sites.size(), 1u);
+  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+  EXPECT_EQ(s.kind, abi::kAccessDescriptorIndex);
+  EXPECT_EQ(s.binding, 0u);
+  EXPECT_EQ(sites[0].element, 3u);
+  EXPECT_EQ(sites[0].offset, 3u);
+  EXPECT_EQ(sites[0].range, 2u);  // the bound descriptors
+  // The valid side: index 1 reads the second buffer and reports nothing.
+  const uint32_t valid = 1;
+  std::memcpy(h.push, &valid, 4);
+  exec::Job job2(nullptr, 0);
+  h.job = &job2;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{8, 8, 8, 8}));
+  EXPECT_TRUE(job2.messages.empty());
+}
+
+// A shader with a workgroup barrier runs invocation by invocation: its store past the end is reported by a call
+// from the failing branch, with the invocation that made it.
+TEST(OutOfBoundsCompiled, AStoreAfterABarrier) {
+  ScalarPath scalar;
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_barrier_comp)) << h.error;
+  ASSERT_TRUE(h.shader->usesBarrier);
+  h.setBuffer<uint32_t>(0, {5, 5, 5, 5});
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(2));
+  EXPECT_EQ(h.get<uint32_t>(0), (std::vector<uint32_t>{5, 5, 5, 5}));
+  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+  ASSERT_EQ(sites.size(), 1u);
+  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+  EXPECT_EQ(s.kind, abi::kAccessStore);
+  EXPECT_EQ(sites[0].range, 16u);
+  const uint32_t x = sites[0].id.v[0];
+  EXPECT_LT(x, 8u);
+  EXPECT_EQ(sites[0].offset, uint64_t(x + 100) * 4);
+}
+
+TEST(OutOfBoundsCompiled, InBoundsAccessesReportNothing) {
+  ScalarPath scalar;
+  testing::ComputeHarness h;
+  ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
+  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  exec::Job job(nullptr, 0);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{10, 11, 12, 13}));
+  EXPECT_TRUE(job.messages.empty());
+}
+
+}  // namespace
+}  // namespace vkrt
