@@ -168,7 +168,9 @@ class Codegen {
   // over the invocations (it predicates no calls): there the failing branch stores the site, element and offset in
   // the invocation's word of a log (a masked store when vectorized; the local context's `executor` points at it),
   // and vkrt_group reports the log after its loop (groupSites).
-  llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join);
+  // `exit`, where given, is set to the block that branches to `join` (not `block` where reportIf adds a branch).
+  llvm::BasicBlock* outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join,
+                                     llvm::BasicBlock** exit = nullptr);
   // The failing branch's work at the builder: the call, or in vkrt_group the log entry.
   void outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* offset, llvm::Value* range,
                    llvm::Value* element);
@@ -179,6 +181,10 @@ class Codegen {
   };
   std::vector<GroupSite> groupSites;
   bool groupLog = false;  // the code runs inside vkrt_group (set by run())
+  // i1 where set: out-of-bounds accesses are reported only where it is true. The SPMD path (spmd.cpp) runs uniform
+  // accesses through this scalar code in every block, also where no lane is active (a loop body's pass after the
+  // last lane has left): such an access does not happen in the shader and must not be reported.
+  llvm::Value* reportIf = nullptr;
   // vkrt_group's report of the log (after its loop over the invocations).
   void reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]);
   // The AccessSite of the current instruction (a constant of the module).

@@ -423,8 +423,7 @@ static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok, const Ptr& p,
   *failed = g.b.GetInsertBlock();
   auto* then = llvm::BasicBlock::Create(g.c, "inbounds", f);
   auto* join = llvm::BasicBlock::Create(g.c, "inbounds.join", f);
-  llvm::BasicBlock* report = g.outOfBoundsBlock(p, kind, bytes, join);
-  if (report) *failed = report;
+  llvm::BasicBlock* report = g.outOfBoundsBlock(p, kind, bytes, join, failed);
   // Out-of-bounds accesses are the exception: the weights make the in-bounds path the straight one.
   g.b.CreateCondBr(ok, then, report ? report : join, llvm::MDBuilder(g.c).createBranchWeights(1u << 20, 1));
   g.b.SetInsertPoint(then);

@@ -3,6 +3,8 @@
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/MDBuilder.h>
 
+#include <utility>
+
 #include "spirv/codegen.hpp"
 #include "spirv/shader_debug.hpp"
 
@@ -112,7 +114,8 @@ void Codegen::callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Valu
   call->addFnAttr(llvm::Attribute::Cold);
 }
 
-llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join) {
+llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join,
+                                            llvm::BasicBlock** exit) {
   if (p.resource < 0 || !ctxArg) return nullptr;
   llvm::IRBuilderBase::InsertPointGuard guard(b);
   llvm::Function* f = b.GetInsertBlock()->getParent();
@@ -126,12 +129,26 @@ llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_
     b.SetInsertPoint(report);
   }
   outOfBounds(p, kind, bytes, p.offset, p.unmaskedLimit ? p.unmaskedLimit : p.limit, p.element);
+  if (exit) *exit = b.GetInsertBlock();
   b.CreateBr(join);
   return block;
 }
 
 void Codegen::outOfBounds(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* offset, llvm::Value* range,
                           llvm::Value* element) {
+  if (reportIf) {
+    llvm::Function* f = b.GetInsertBlock()->getParent();
+    auto* active = llvm::BasicBlock::Create(c, "outofbounds.active", f);
+    auto* next = llvm::BasicBlock::Create(c, "outofbounds.next", f);
+    b.CreateCondBr(reportIf, active, next);
+    b.SetInsertPoint(active);
+    llvm::Value* saved = std::exchange(reportIf, nullptr);
+    outOfBounds(p, kind, bytes, offset, range, element);
+    reportIf = saved;
+    b.CreateBr(next);
+    b.SetInsertPoint(next);
+    return;
+  }
   llvm::Constant* site = accessSiteFor(p, kind, bytes);
   if (!groupLog) {
     callOutOfBounds(site, offset, range, element);

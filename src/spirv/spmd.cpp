@@ -268,6 +268,14 @@ class Spmd {
   llvm::Type* maskTy() { return laneTy(b.getInt1Ty()); }
   llvm::Value* splat(llvm::Value* s) { return b.CreateVectorSplat(N, s); }
   llvm::Value* any(llvm::Value* mk) { return b.CreateOrReduce(mk); }
+  // A uniform access (or access chain) in the scalar code: it runs whatever the mask, so its out-of-bounds report
+  // is made only where a lane is active (Codegen::reportIf).
+  bool scalarMemory(const Instruction& in, bool& ok) {
+    sc.reportIf = any(mask);
+    bool done = sc.memory(in, ok);
+    sc.reportIf = nullptr;
+    return done;
+  }
   static bool isLane(llvm::Value* v) { return v->getType()->isVectorTy(); }  // components are SPIR-V scalars
   uint32_t count(uint32_t typeId) const { return g.componentCount(typeId); }
   bool varyingComp(uint32_t id, uint32_t k) const { return (u.bits(id) >> k) & 1; }
@@ -630,7 +638,7 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
-      return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+      return scalarMemory(in, ok) && ok ? true : fail(sc.error.c_str());
     }
     default: break;
   }
@@ -893,7 +901,7 @@ bool Spmd::variable(const Instruction& in) {
     // Uniform: the scalar code's byte array (its initializer stored at the top of the function, every batch).
     bool ok = true;
     if (in.count > 4 && u.bits(in.word(4))) return fail("a varying initializer");
-    return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+    return scalarMemory(in, ok) && ok ? true : fail(sc.error.c_str());
   }
   // Storage per lane: 32-bit leaves only, interleaved lane by lane.
   std::vector<uint32_t> work = {pt.element};
@@ -952,7 +960,7 @@ bool Spmd::accessChain(const Instruction& in) {
   for (uint32_t w = 4; w < in.count; ++w) varyingIndex = varyingIndex || u.bits(in.word(w));
   if (!from && !varyingIndex) {
     bool ok = true;
-    return sc.memory(in, ok) && ok ? true : fail(sc.error.c_str());
+    return scalarMemory(in, ok) && ok ? true : fail(sc.error.c_str());
   }
   LanePtr lp;
   if (from) {
@@ -1166,7 +1174,8 @@ bool Spmd::loadInst(const Instruction& in) {
   LanePtr* lp = lanePtr(in.word(3));
   if (!lp) {
     bool ok = true;
-    if (!(sc.memory(in, ok) && ok)) return fail(sc.error.empty() ? "a load the scalar code refused" : sc.error.c_str());
+    if (!(scalarMemory(in, ok) && ok))
+      return fail(sc.error.empty() ? "a load the scalar code refused" : sc.error.c_str());
     if (!u.bits(id)) return true;
     // Uniform here, varying where it is read (a value used after a divergent loop): held per lane.
     std::vector<llvm::Value*> comps;
