@@ -103,6 +103,37 @@ inline void enableDescriptorIndexing(FixtureOptions& o) {
   f.shaderUniformTexelBufferArrayNonUniformIndexing = f.shaderStorageTexelBufferArrayNonUniformIndexing = VK_TRUE;
 }
 
+// Writes the whole of storage buffer buffers[i] to binding i of p's set (Buffer: the fixture's HostBuffer, which only
+// its tests can name).
+template <class Buffer>
+void writeStorageBuffers(VkDevice device, const ComputePipeline& p, const std::vector<const Buffer*>& buffers) {
+  for (uint32_t i = 0; i < buffers.size(); ++i) {
+    VkDescriptorBufferInfo bi{buffers[i]->buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.set;
+    w.dstBinding = i;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  }
+}
+
+// Records into `cb`: p and its set bound, `pushBytes` bytes of `push` pushed (where given), `groups` x 1 x 1
+// workgroups dispatched, and a barrier that makes the shader's writes visible to the host.
+inline void recordDispatch(VkCommandBuffer cb, const ComputePipeline& p, uint32_t groups, const void* push = nullptr,
+                           uint32_t pushBytes = 0) {
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  if (push) vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
+  vkCmdDispatch(cb, groups, 1, 1);
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                       nullptr);
+}
+
 inline void destroyComputePipeline(VkDevice device, ComputePipeline& p) {
   vkDestroyPipeline(device, p.pipeline, nullptr);
   vkDestroyShaderModule(device, p.module, nullptr);

@@ -35,25 +35,9 @@ class PromotedTest : public VulkanTest {
  protected:
   // Runs `p` (binding i of its set: storage buffer buffers[i]) over `groups` workgroups and waits.
   void run(ComputePipeline& p, const std::vector<const HostBuffer*>& buffers, uint32_t groups) {
-    for (uint32_t i = 0; i < buffers.size(); ++i) {
-      VkDescriptorBufferInfo bi{buffers[i]->buffer, 0, VK_WHOLE_SIZE};
-      VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      w.dstSet = p.set;
-      w.dstBinding = i;
-      w.descriptorCount = 1;
-      w.descriptorType = kStorageBuffer;
-      w.pBufferInfo = &bi;
-      vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
-    }
+    writeStorageBuffers(device, p, buffers);
     VkCommandBuffer cb = beginOneTime();
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
-    vkCmdDispatch(cb, groups, 1, 1);
-    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                         nullptr);
+    recordDispatch(cb, p, groups);
     submitAndWait(cb);
   }
 };

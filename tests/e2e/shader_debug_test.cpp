@@ -126,26 +126,9 @@ class ShaderDebugComputeTest : public VulkanTest {
   // Binds `buffers` to bindings 0.. of p's set, pushes `push` (when p has push constants) and dispatches `groups`.
   void dispatch(ComputePipeline& p, const std::vector<const HostBuffer*>& buffers, uint32_t groups,
                 const uint32_t* push = nullptr) {
-    for (uint32_t i = 0; i < buffers.size(); ++i) {
-      VkDescriptorBufferInfo bi{buffers[i]->buffer, 0, VK_WHOLE_SIZE};
-      VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      w.dstSet = p.set;
-      w.dstBinding = i;
-      w.descriptorCount = 1;
-      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      w.pBufferInfo = &bi;
-      vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
-    }
+    writeStorageBuffers(device, p, buffers);
     VkCommandBuffer cb = beginOneTime();
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
-    if (push) vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, push);
-    vkCmdDispatch(cb, groups, 1, 1);
-    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                         nullptr);
+    recordDispatch(cb, p, groups, push, 4);
     submitAndWait(cb);
   }
 

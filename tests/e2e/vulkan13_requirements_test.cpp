@@ -157,26 +157,9 @@ TEST_F(SubgroupVoteBallotTest, SubgroupVoteAndBallot) {
   std::memset(out.data, 0xCD, 4 * 20 * 4);
   const uint32_t inputs[2] = {0, 66};  // the dynamic id; a ballot bit index (word 2, bit 2)
   std::memcpy(in.data, inputs, sizeof inputs);
-  const HostBuffer* buffers[2] = {&out, &in};
-  for (uint32_t i = 0; i < 2; ++i) {
-    VkDescriptorBufferInfo bi{buffers[i]->buffer, 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstSet = p.set;
-    w.dstBinding = i;
-    w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &bi;
-    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
-  }
+  writeStorageBuffers<HostBuffer>(device, p, {&out, &in});
   VkCommandBuffer cb = beginOneTime();
-  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
-  vkCmdDispatch(cb, 1, 1, 1);
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                       nullptr);
+  recordDispatch(cb, p, 1);
   submitAndWait(cb);
   const auto* v = static_cast<const uint32_t*>(out.data);
   for (uint32_t i = 0; i < 4; ++i) {
