@@ -89,8 +89,9 @@ struct DrawContext {
   double depthR;             // the minimum resolvable difference r of fixed-point depth (0 for float depth)
 };
 
-// Per-worker scratch of the tile stage.
-struct WorkerScratch {
+// Per-worker scratch of the tile stage. A cache line of its own: samplesPassed is written per quad, and next to the
+// following worker's quad it made every quad of two workers contend for one line (false sharing).
+struct alignas(64) WorkerScratch {
   FragmentQuad quad;
   uint64_t samplesPassed = 0;  // this worker's count for Draw::samplesPassed, added at the end of each tile
 };

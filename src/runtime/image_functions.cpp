@@ -433,6 +433,76 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
   for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
 }
 
+// The fast path of the most common sampling: a 2D (array) view of an 8-bit RGBA / BGRA UNorm or sRGB image, NEAREST
+// or LINEAR filters, REPEAT or CLAMP_TO_EDGE in u and v, normalized coordinates, no depth comparison, no offset,
+// identity or any swizzle (applied after, as on the generic path). The texel indices and the weights' fractions
+// come from the same double arithmetic as filterLevel's, so the same texels are read; the texels are decoded four
+// components at once and weighed in float (UNorm: in byte units, scaled by 1/255 once). The difference to the
+// generic path is float rounding of the weighted sum (a few ulp of 1.0; "Texel Filtering" leaves the filter's
+// precision to the implementation).
+using Float4 = float __attribute__((vector_size(16)));
+
+bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
+  const FormatInfo& f = *v.format;
+  auto filterOk = [](VkFilter m) { return m == VK_FILTER_NEAREST || m == VK_FILTER_LINEAR; };
+  auto addressOk = [](VkSamplerAddressMode m) {
+    return m == VK_SAMPLER_ADDRESS_MODE_REPEAT || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  };
+  return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
+         !v.slicesAsLayers && v.image->samples == 1 && !f.packed && f.components == 4 && f.texelSize == 4 &&
+         f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates && !s.compareEnable &&
+         filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) && addressOk(s.addressModeV);
+}
+
+// Texel index i of a dimension of `size` texels after REPEAT or CLAMP_TO_EDGE (indices inside need no division).
+inline int64_t wrapFast(bool repeat, int64_t i, int64_t size) {
+  if (i >= 0 && i < size) return i;
+  if (repeat) return ((i % size) + size) % size;
+  return i < 0 ? 0 : size - 1;
+}
+
+// One texel's four components as floats: UNorm in byte units (0..255), sRGB already linear (0..1).
+inline Float4 fastTexel(const uint8_t* p, bool srgb, bool bgr) {
+  const unsigned r = bgr ? 2 : 0;
+  if (srgb) return Float4{kUnorm8.srgb[p[r]], kUnorm8.srgb[p[1]], kUnorm8.srgb[p[2 - r]], kUnorm8.unorm[p[3]]};
+  return Float4{float(p[r]), float(p[1]), float(p[2 - r]), float(p[3])};
+}
+
+// Filters level `level` (fastSampling's case); false when a coordinate is too large for the integer texel indices
+// (or not a number): the generic path then decides.
+bool fastFilterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level,
+                     const float* coord, int64_t layer, Float4* out) {
+  const MipLayout& m = v.image->mips[v.baseMip + level];
+  const int64_t w = m.extent.width, h = m.extent.height;
+  const double u = double(coord[0]) * double(w), t = double(coord[1]) * double(h);
+  if (!(std::fabs(u) < 0x1p40 && std::fabs(t) < 0x1p40)) return false;
+  const uint8_t* base = v.image->data() + m.offset + uint64_t(v.baseLayer + uint64_t(layer)) * m.arrayPitch;
+  const size_t pitch = m.rowPitch, px = v.image->pixelSize;
+  const bool srgb = v.format->type == N::SRGB, bgr = v.format->bgr;
+  const bool repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const bool repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  Float4 r;
+  if (filter == VK_FILTER_NEAREST) {
+    const int64_t i = wrapFast(repeatU, int64_t(std::floor(u)), w), j = wrapFast(repeatV, int64_t(std::floor(t)), h);
+    r = fastTexel(base + size_t(j) * pitch + size_t(i) * px, srgb, bgr);
+  } else {
+    const double fu = u - 0.5, fv = t - 0.5;
+    const double flu = std::floor(fu), flv = std::floor(fv);
+    const int64_t i0 = wrapFast(repeatU, int64_t(flu), w), i1 = wrapFast(repeatU, int64_t(flu) + 1, w);
+    const int64_t j0 = wrapFast(repeatV, int64_t(flv), h), j1 = wrapFast(repeatV, int64_t(flv) + 1, h);
+    const float a = float(fu - flu), b = float(fv - flv);
+    const uint8_t* row0 = base + size_t(j0) * pitch;
+    const uint8_t* row1 = base + size_t(j1) * pitch;
+    const Float4 t00 = fastTexel(row0 + size_t(i0) * px, srgb, bgr), t10 = fastTexel(row0 + size_t(i1) * px, srgb, bgr);
+    const Float4 t01 = fastTexel(row1 + size_t(i0) * px, srgb, bgr), t11 = fastTexel(row1 + size_t(i1) * px, srgb, bgr);
+    const Float4 top = t00 + a * (t10 - t00), bottom = t01 + a * (t11 - t01);
+    r = top + b * (bottom - top);
+  }
+  if (!srgb) r *= 1.0f / 255.0f;  // sRGB texels came from the tables, already in 0..1
+  *out = r;
+  return true;
+}
+
 // A texel buffer's view resolved: its first texel, texel count and format.
 struct TexelBuffer {
   uint8_t* data = nullptr;
@@ -552,6 +622,25 @@ static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float
   float d = std::clamp(lambda, 0.0f, maxLevel);
   int64_t layer = arrayLayer(v, coord);
   float result[4];
+  if (!offset && !cmp && fastSampling(v, s)) {
+    // The common 2D case (fastFilterLevel), with the same level selection as below.
+    Float4 a, b;
+    bool done;
+    if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
+      const uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
+      done = fastFilterLevel(v, s, filter, level, coord, layer, &a);
+    } else {
+      const uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, uint32_t(maxLevel));
+      const float t = d - std::floor(d);
+      done = fastFilterLevel(v, s, filter, lo, coord, layer, &a) && fastFilterLevel(v, s, filter, hi, coord, layer, &b);
+      if (done) a = a * (1 - t) + b * t;
+    }
+    if (done) {
+      std::memcpy(out, &a, 16);
+      applySwizzle(v, out);
+      return;
+    }
+  }
   if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
     // Nearest: level ceil(d + 0.5) - 1, i.e. d rounded with halves going down.
     uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
