@@ -454,11 +454,18 @@ bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
          filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) && addressOk(s.addressModeV);
 }
 
-// Texel index i of a dimension of `size` texels after REPEAT or CLAMP_TO_EDGE (indices inside need no division).
+// A coordinate in texels for REPEAT or CLAMP_TO_EDGE: REPEAT takes the coordinate's fraction first (exact in double:
+// coordinate * size is too), so that the texel indices below need no division; the indices and weights are those of
+// filterLevel's floor(c * size - 0.5) modulo size.
+inline double texelCoord(bool repeat, float c, int64_t size) {
+  double d = c;
+  if (repeat) d -= std::floor(d);
+  return d * double(size);
+}
+// Index i (at least -1, at most size when repeating) after the address mode.
 inline int64_t wrapFast(bool repeat, int64_t i, int64_t size) {
-  if (i >= 0 && i < size) return i;
-  if (repeat) return ((i % size) + size) % size;
-  return i < 0 ? 0 : size - 1;
+  if (repeat) return i < 0 ? size - 1 : i >= size ? 0 : i;
+  return i < 0 ? 0 : i >= size ? size - 1 : i;
 }
 
 // One texel's four components as floats: UNorm in byte units (0..255), sRGB already linear (0..1).
@@ -474,16 +481,18 @@ bool fastFilterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter 
                      const float* coord, int64_t layer, Float4* out) {
   const MipLayout& m = v.image->mips[v.baseMip + level];
   const int64_t w = m.extent.width, h = m.extent.height;
-  const double u = double(coord[0]) * double(w), t = double(coord[1]) * double(h);
-  if (!(std::fabs(u) < 0x1p40 && std::fabs(t) < 0x1p40)) return false;
+  if (!(std::fabs(coord[0]) < 0x1p24f && std::fabs(coord[1]) < 0x1p24f)) return false;  // NaN or too large
+  const bool repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const bool repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const double u = texelCoord(repeatU, coord[0], w), t = texelCoord(repeatV, coord[1], h);
   const uint8_t* base = v.image->data() + m.offset + uint64_t(v.baseLayer + uint64_t(layer)) * m.arrayPitch;
   const size_t pitch = m.rowPitch, px = v.image->pixelSize;
   const bool srgb = v.format->type == N::SRGB, bgr = v.format->bgr;
-  const bool repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  const bool repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
   Float4 r;
   if (filter == VK_FILTER_NEAREST) {
-    const int64_t i = wrapFast(repeatU, int64_t(std::floor(u)), w), j = wrapFast(repeatV, int64_t(std::floor(t)), h);
+    // REPEAT: u < size, except a tiny negative coordinate whose fraction rounded up to 1 (its texel is size - 1).
+    const int64_t i = wrapFast(repeatU, std::min(int64_t(std::floor(u)), w - 1), w);
+    const int64_t j = wrapFast(repeatV, std::min(int64_t(std::floor(t)), h - 1), h);
     r = fastTexel(base + size_t(j) * pitch + size_t(i) * px, srgb, bgr);
   } else {
     const double fu = u - 0.5, fv = t - 0.5;
