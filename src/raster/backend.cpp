@@ -213,7 +213,7 @@ inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p
   std::memcpy(p, &w, 4);
 }
 
-// The 8-bit UNorm layouts (ColorFormat::Layout) with blending or a partial write mask, four components at once: the
+// The 8-bit UNorm layouts (ColorFormat::Layout) without a logic op, four components at once: the
 // same float operations, in the same order, per component as the generic path below (blendFactor, blendOp,
 // clampToFormat, mergeMask), and the same codecs (decode by table, encode through double with rounding to nearest
 // even), so the texels written are the same bit for bit.
@@ -297,9 +297,10 @@ void writeUnorm8(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, u
   s = clamp01(s), s1 = clamp01(s1), k = clamp01(k);
   const Int4 keep = {int32_t(mask & 1) - 1, int32_t(mask >> 1 & 1) - 1, int32_t(mask >> 2 & 1) - 1,
                      int32_t(mask >> 3 & 1) - 1};  // all ones where the write mask leaves the component
+  const bool readsDst = blend || mask != 0xF;      // else the texel is replaced whole
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
-    const Float4 d = loadUnorm8(p, bgra);
+    const Float4 d = readsDst ? loadUnorm8(p, bgra) : splat(0);
     Float4 r = s;
     if (blend) {
       const Float4 sf = colorAlpha(blendFactor4(ba.srcColor, s, s1, d, k), blendFactor4(ba.srcAlpha, s, s1, d, k));
@@ -320,6 +321,9 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const BlendAttachment& ba = st.blend[i];
   const uint32_t mask = ba.writeMask & fmt.componentMask;
   if (!mask || !fmt.encode) return;
+  // The 8-bit UNorm layouts, unless a logic op applies: four components at once (the same bytes).
+  if (fmt.layout != ColorFormat::Layout::Generic && !st.logicOpEnable)
+    return writeUnorm8(ctx, q, lane, i, x, y, coverage, ba.enable, mask);
   const bool integer = fmt.kind == ColorFormat::Kind::UInt || fmt.kind == ColorFormat::Kind::SInt;
   const bool normalized = fmt.kind == ColorFormat::Kind::UNorm || fmt.kind == ColorFormat::Kind::SNorm;
   const bool logic = st.logicOpEnable && fmt.kind != ColorFormat::Kind::Float;
@@ -341,8 +345,6 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
       std::memcpy(texel(surf, bytes, ctx.layer, x, y, uint32_t(std::countr_zero(s))), encoded, bytes);
     return;
   }
-  if (fmt.layout != ColorFormat::Layout::Generic && !logic)
-    return writeUnorm8(ctx, q, lane, i, x, y, coverage, blend, mask);
   if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
   // The blend factors that do not read the destination, once for the lane's samples (the same values as per sample).

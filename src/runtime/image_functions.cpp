@@ -457,9 +457,14 @@ bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
 // A coordinate in texels for REPEAT or CLAMP_TO_EDGE: REPEAT takes the coordinate's fraction first (exact in double:
 // coordinate * size is too), so that the texel indices below need no division; the indices and weights are those of
 // filterLevel's floor(c * size - 0.5) modulo size.
+// floor(x) as an integer for |x| < 2^63 (std::floor is a library call on the baseline x86-64 target: no SSE4.1).
+inline int64_t floorInt(double x) {
+  const int64_t i = int64_t(x);
+  return i - int64_t(double(i) > x);
+}
 inline double texelCoord(bool repeat, float c, int64_t size) {
   double d = c;
-  if (repeat) d -= std::floor(d);
+  if (repeat) d -= double(floorInt(d));
   return d * double(size);
 }
 // Index i (at least -1, at most size when repeating) after the address mode.
@@ -491,15 +496,15 @@ bool fastFilterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter 
   Float4 r;
   if (filter == VK_FILTER_NEAREST) {
     // REPEAT: u < size, except a tiny negative coordinate whose fraction rounded up to 1 (its texel is size - 1).
-    const int64_t i = wrapFast(repeatU, std::min(int64_t(std::floor(u)), w - 1), w);
-    const int64_t j = wrapFast(repeatV, std::min(int64_t(std::floor(t)), h - 1), h);
+    const int64_t i = wrapFast(repeatU, std::min(floorInt(u), w - 1), w);
+    const int64_t j = wrapFast(repeatV, std::min(floorInt(t), h - 1), h);
     r = fastTexel(base + size_t(j) * pitch + size_t(i) * px, srgb, bgr);
   } else {
     const double fu = u - 0.5, fv = t - 0.5;
-    const double flu = std::floor(fu), flv = std::floor(fv);
-    const int64_t i0 = wrapFast(repeatU, int64_t(flu), w), i1 = wrapFast(repeatU, int64_t(flu) + 1, w);
-    const int64_t j0 = wrapFast(repeatV, int64_t(flv), h), j1 = wrapFast(repeatV, int64_t(flv) + 1, h);
-    const float a = float(fu - flu), b = float(fv - flv);
+    const int64_t flu = floorInt(fu), flv = floorInt(fv);
+    const int64_t i0 = wrapFast(repeatU, flu, w), i1 = wrapFast(repeatU, flu + 1, w);
+    const int64_t j0 = wrapFast(repeatV, flv, h), j1 = wrapFast(repeatV, flv + 1, h);
+    const float a = float(fu - double(flu)), b = float(fv - double(flv));
     const uint8_t* row0 = base + size_t(j0) * pitch;
     const uint8_t* row1 = base + size_t(j1) * pitch;
     const Float4 t00 = fastTexel(row0 + size_t(i0) * px, srgb, bgr), t10 = fastTexel(row0 + size_t(i1) * px, srgb, bgr);
@@ -631,16 +636,20 @@ static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float
   float d = std::clamp(lambda, 0.0f, maxLevel);
   int64_t layer = arrayLayer(v, coord);
   float result[4];
-  if (!offset && !cmp && fastSampling(v, s)) {
-    // The common 2D case (fastFilterLevel), with the same level selection as below.
+  if (!offset && !cmp && d == d && fastSampling(v, s)) {
+    // The common 2D case (fastFilterLevel), with the same level selection as below (d is in [0, maxLevel]: floor
+    // and ceil by truncation, not library calls).
     Float4 a, b;
     bool done;
-    if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
-      const uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
+    const uint32_t lo = uint32_t(d);
+    if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == float(lo)) {
+      const float x = d + 0.5f;
+      const uint32_t ceil = uint32_t(x) + (float(uint32_t(x)) < x ? 1 : 0);  // at least 1
+      const uint32_t level = std::min(ceil - 1, uint32_t(maxLevel));
       done = fastFilterLevel(v, s, filter, level, coord, layer, &a);
     } else {
-      const uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, uint32_t(maxLevel));
-      const float t = d - std::floor(d);
+      const uint32_t hi = std::min(lo + 1, uint32_t(maxLevel));
+      const float t = d - float(lo);
       done = fastFilterLevel(v, s, filter, lo, coord, layer, &a) && fastFilterLevel(v, s, filter, hi, coord, layer, &b);
       if (done) a = a * (1 - t) + b * t;
     }
