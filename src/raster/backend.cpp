@@ -270,8 +270,14 @@ inline Float4 blendOp4(BlendOp op, Float4 s, Float4 sf, Float4 d, Float4 df) {
 // Color factors for R, G, B and the alpha factor for A.
 inline Float4 colorAlpha(Float4 color, Float4 alpha) { return __builtin_shufflevector(color, alpha, 0, 1, 2, 7); }
 
+// The four bytes widened at once and divided by 255: a correctly rounded division of exact operands, the same float
+// as the table's double(i) / 255 rounded (i / 255 is never a tie between two floats).
 inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
-  return Float4{kUnorm8.v[p[bgra ? 2 : 0]], kUnorm8.v[p[1]], kUnorm8.v[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b;
+  std::memcpy(&b, p, 4);
+  const Float4 f = __builtin_convertvector(b, Float4) / 255.0f;
+  return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
 inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {

@@ -477,7 +477,11 @@ inline int64_t wrapFast(bool repeat, int64_t i, int64_t size) {
 inline Float4 fastTexel(const uint8_t* p, bool srgb, bool bgr) {
   const unsigned r = bgr ? 2 : 0;
   if (srgb) return Float4{kUnorm8.srgb[p[r]], kUnorm8.srgb[p[1]], kUnorm8.srgb[p[2 - r]], kUnorm8.unorm[p[3]]};
-  return Float4{float(p[r]), float(p[1]), float(p[2 - r]), float(p[3])};
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b;
+  std::memcpy(&b, p, 4);
+  const Float4 f = __builtin_convertvector(b, Float4);  // the four bytes widened at once
+  return bgr ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
 // Filters level `level` (fastSampling's case); false when a coordinate is too large for the integer texel indices
