@@ -290,32 +290,54 @@ inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
   std::memcpy(p, &w, 4);
 }
 
-void writeUnorm8(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
-                 uint32_t coverage, bool blend, uint32_t mask) {
-  const State& st = *ctx.state;
-  const Surface& surf = ctx.target->color[i];
-  const BlendAttachment& ba = st.blend[i];
-  const bool bgra = ctx.target->colorFormat[i].layout == ColorFormat::Layout::BGRA8UNorm;
-  Float4 s, s1, k;
+// What writeUnorm8 needs of attachment i, once per quad.
+struct Unorm8Target {
+  const Surface* surf;
+  const BlendAttachment* ba;
+  bool bgra, blend, readsDst;
+  Float4 k;
+  Int4 keep;  // all ones where the write mask leaves the component
+  Unorm8Target(const DrawContext& ctx, uint32_t i, uint32_t mask) {
+    const State& st = *ctx.state;
+    surf = &ctx.target->color[i];
+    ba = &st.blend[i];
+    bgra = ctx.target->colorFormat[i].layout == ColorFormat::Layout::BGRA8UNorm;
+    blend = ba->enable;
+    readsDst = blend || mask != 0xF;  // else the texel is replaced whole
+    std::memcpy(&k, st.blendConstants, 16);
+    k = clamp01(k);
+    keep =
+        Int4{int32_t(mask & 1) - 1, int32_t(mask >> 1 & 1) - 1, int32_t(mask >> 2 & 1) - 1, int32_t(mask >> 3 & 1) - 1};
+  }
+};
+
+void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQuad& q, uint32_t lane, uint32_t i,
+                 int32_t x, int32_t y, uint32_t coverage) {
+  const BlendAttachment& ba = *t.ba;
+  const Float4 k = t.k;
+  Float4 s, s1;
   std::memcpy(&s, q.color[lane][i], 16);
   std::memcpy(&s1, q.color1[lane], 16);
-  std::memcpy(&k, st.blendConstants, 16);
-  s = clamp01(s), s1 = clamp01(s1), k = clamp01(k);
-  const Int4 keep = {int32_t(mask & 1) - 1, int32_t(mask >> 1 & 1) - 1, int32_t(mask >> 2 & 1) - 1,
-                     int32_t(mask >> 3 & 1) - 1};  // all ones where the write mask leaves the component
-  const bool readsDst = blend || mask != 0xF;      // else the texel is replaced whole
+  s = clamp01(s), s1 = clamp01(s1);
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
-    uint8_t* p = texel(surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
-    const Float4 d = readsDst ? loadUnorm8(p, bgra) : splat(0);
+    uint8_t* p = texel(*t.surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
+    const Float4 d = t.readsDst ? loadUnorm8(p, t.bgra) : splat(0);
     Float4 r = s;
-    if (blend) {
+    if (t.blend) {
       const Float4 sf = colorAlpha(blendFactor4(ba.srcColor, s, s1, d, k), blendFactor4(ba.srcAlpha, s, s1, d, k));
       const Float4 df = colorAlpha(blendFactor4(ba.dstColor, s, s1, d, k), blendFactor4(ba.dstAlpha, s, s1, d, k));
       r = clamp01(colorAlpha(blendOp4(ba.colorOp, s, sf, d, df), blendOp4(ba.alphaOp, s, sf, d, df)));
     }
-    r = keep ? d : r;
-    storeUnorm8(r, p, bgra);
+    r = t.keep ? d : r;
+    storeUnorm8(r, p, t.bgra);
   }
+}
+
+// Whether attachment i takes writeUnorm8 (an 8-bit UNorm layout, no logic op) and its effective write mask.
+inline bool unorm8Path(const DrawContext& ctx, uint32_t i, uint32_t* mask) {
+  const ColorFormat& fmt = ctx.target->colorFormat[i];
+  *mask = ctx.state->blend[i].writeMask & fmt.componentMask;
+  return fmt.layout != ColorFormat::Layout::Generic && !ctx.state->logicOpEnable && fmt.encode;
 }
 
 void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
@@ -327,9 +349,6 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const BlendAttachment& ba = st.blend[i];
   const uint32_t mask = ba.writeMask & fmt.componentMask;
   if (!mask || !fmt.encode) return;
-  // The 8-bit UNorm layouts, unless a logic op applies: four components at once (the same bytes).
-  if (fmt.layout != ColorFormat::Layout::Generic && !st.logicOpEnable)
-    return writeUnorm8(ctx, q, lane, i, x, y, coverage, ba.enable, mask);
   const bool integer = fmt.kind == ColorFormat::Kind::UInt || fmt.kind == ColorFormat::Kind::SInt;
   const bool normalized = fmt.kind == ColorFormat::Kind::UNorm || fmt.kind == ColorFormat::Kind::SNorm;
   const bool logic = st.logicOpEnable && fmt.kind != ColorFormat::Kind::Float;
@@ -354,7 +373,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
   // The blend factors that do not read the destination, once for the lane's samples (the same values as per sample).
-  float sfConst[4], dfConst[4];
+  float sfConst[4] = {}, dfConst[4] = {};
   bool sfPerSample = false, dfPerSample = false;
   if (blend) {
     loadFloats(src, s0);
@@ -476,13 +495,23 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
   return passed;
 }
 
-void writeColors(const DrawContext& ctx, const FragmentQuad& quad, uint32_t lane, int32_t x, int32_t y,
-                 uint32_t coverage) {
+void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
   const Target& tg = *ctx.target;
   const uint32_t outputs = ctx.fragment->outputMask;
   for (uint32_t i = 0; i < tg.colorCount; ++i) {
     if (!tg.color[i].base || !(outputs >> i & 1)) continue;
-    writeAttachment(ctx, quad, lane, i, x, y, coverage);
+    uint32_t mask;
+    if (unorm8Path(ctx, i, &mask)) {
+      // The 8-bit UNorm layouts: four components at once, set up once for the quad (the same bytes as below).
+      if (!mask) continue;
+      const Unorm8Target t(ctx, i, mask);
+      for (uint32_t l = 0; l < 4; ++l)
+        if (coverage[l])
+          writeUnorm8(ctx, t, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
+      continue;
+    }
+    for (uint32_t l = 0; l < 4; ++l)
+      if (coverage[l]) writeAttachment(ctx, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
   }
 }
 

@@ -150,6 +150,7 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4], WorkerScratch& scratch) {
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
+  uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   for (uint32_t l = 0; l < 4; ++l) {
     uint32_t c = q.coverage[l];
     if (!c || (q.killed >> l & 1)) continue;
@@ -167,8 +168,9 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     if (!c) continue;
     if (ctx.draw->samplesPassed) scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
     if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
-    writeColors(ctx, q, l, x, y, c);
+    passed[l] = c;
   }
+  if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
