@@ -284,10 +284,10 @@ inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
   v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
   // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
   const Double4 d = __builtin_convertvector(v, Double4) * 255.0;
-  const Int4 r = __builtin_convertvector((d + 0x1p52) - 0x1p52, Int4);
-  const uint32_t w =
-      uint32_t(r[bgra ? 2 : 0]) | uint32_t(r[1]) << 8 | uint32_t(r[bgra ? 0 : 2]) << 16 | uint32_t(r[3]) << 24;
-  std::memcpy(p, &w, 4);
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b = __builtin_convertvector(__builtin_convertvector((d + 0x1p52) - 0x1p52, Int4), Bytes4);  // 0..255
+  if (bgra) b = __builtin_shufflevector(b, b, 2, 1, 0, 3);
+  std::memcpy(p, &b, 4);
 }
 
 // What writeUnorm8 needs of attachment i, once per quad.
