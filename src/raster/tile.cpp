@@ -96,8 +96,8 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 // covered whole, so centroid inputs interpolate at the centre too): the barycentrics from the exact edge values as
 // there, the perspective weights in float across the lanes (one division for four lanes instead of four in double;
 // a few ulp apart), and each input's vertex differences once per quad.
-void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, uint32_t lanes, int32_t qx,
-                     int32_t qy) {
+void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, uint32_t lanes, int32_t qx, int32_t qy,
+                     const float z[4][4]) {
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
@@ -118,7 +118,8 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const int64_t px = px0 + int64_t(l & 1) * kSubPixel, py = py0 + int64_t(l >> 1) * kSubPixel;
     q.fragCoord[l][0] = float(px) / kSubPixel;
     q.fragCoord[l][1] = float(py) / kSubPixel;
-    q.fragCoord[l][2] = depthAt(ctx, t, px, py);
+    // The tests' depth when computed (the same depthAt at the pixel centre, the one sample's position).
+    q.fragCoord[l][2] = ctx.needsDepth && q.coverage[l] ? z[l][0] : depthAt(ctx, t, px, py);
     q.fragCoord[l][3] = invW[l];
     if (t.isPoint) {
       q.pointCoord[l][0] = 0.5f + (q.fragCoord[l][0] - t.pointX) / t.pointSize;
@@ -234,7 +235,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   q.sampleIndex = 0;
   for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
   if (ctx.samples == 1) {
-    interpolateQuad(ctx, t, q, lanes, qx, qy);
+    interpolateQuad(ctx, t, q, lanes, qx, qy, z);
     q.killed = 0;
     for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
     fs.shade(fs.user, q, worker);

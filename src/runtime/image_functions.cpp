@@ -291,6 +291,12 @@ void readTexel(const TexelView& v, uint32_t level, const int64_t xyzl[4], uint32
 }
 
 void applySwizzle(const View& v, uint32_t c[4]) {
+  const VkComponentMapping& m = v.view->components;
+  if ((m.r == VK_COMPONENT_SWIZZLE_IDENTITY || m.r == VK_COMPONENT_SWIZZLE_R) &&
+      (m.g == VK_COMPONENT_SWIZZLE_IDENTITY || m.g == VK_COMPONENT_SWIZZLE_G) &&
+      (m.b == VK_COMPONENT_SWIZZLE_IDENTITY || m.b == VK_COMPONENT_SWIZZLE_B) &&
+      (m.a == VK_COMPONENT_SWIZZLE_IDENTITY || m.a == VK_COMPONENT_SWIZZLE_A))
+    return;  // the common identity mapping
   uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
   uint32_t src[4] = {c[0], c[1], c[2], c[3]};
   VkComponentSwizzle s[4] = {v.view->components.r, v.view->components.g, v.view->components.b, v.view->components.a};
