@@ -236,26 +236,22 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
   if (ctx.samples == 1) {
     interpolateQuad(ctx, t, q, lanes, qx, qy, z);
-    q.killed = 0;
-    for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
-    fs.shade(fs.user, q, worker);
-    finishQuad(ctx, t, q, z, scratch);
-    return;
-  }
-  for (uint32_t l = 0; l < 4; ++l) {
-    if (!(lanes >> l & 1)) continue;
-    const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
-    const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + kCentre;
-    // Centroid: the pixel centre when every sample is covered, else the first covered sample (inside the
-    // primitive and the pixel, as "Centroid Interpolation" asks).
-    int64_t centroid[2];
-    const bool partial = cov[l] && cov[l] != ctx.allSamples;
-    if (partial) {
-      const uint32_t s = uint32_t(std::countr_zero(cov[l]));
-      centroid[0] = px - kCentre + sampleX(ctx, s);
-      centroid[1] = py - kCentre + sampleY(ctx, s);
+  } else {
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
+      const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + kCentre;
+      // Centroid: the pixel centre when every sample is covered, else the first covered sample (inside the
+      // primitive and the pixel, as "Centroid Interpolation" asks).
+      int64_t centroid[2];
+      const bool partial = cov[l] && cov[l] != ctx.allSamples;
+      if (partial) {
+        const uint32_t s = uint32_t(std::countr_zero(cov[l]));
+        centroid[0] = px - kCentre + sampleX(ctx, s);
+        centroid[1] = py - kCentre + sampleY(ctx, s);
+      }
+      interpolateLane(ctx, t, q, l, px, py, partial ? centroid : nullptr);
     }
-    interpolateLane(ctx, t, q, l, px, py, partial ? centroid : nullptr);
   }
   q.killed = 0;
   for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
