@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "exec/thread_pool.hpp"
 #include "gfx/graphics_state.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
@@ -135,13 +136,39 @@ void fillSurface(const raster::Surface& s, uint32_t texelBytes, uint32_t offset,
                  const VkRect2D& r, uint32_t baseLayer, uint32_t layerCount, uint32_t viewMask) {
   uint32_t x0, y0, x1, y1;
   if (!clip(r, s.width, s.height, &x0, &y0, &x1, &y1)) return;
+  const size_t first = size_t(x0) * s.samples, end = size_t(x1) * s.samples;  // texels of a row
+  const bool whole = offset == 0 && bytes == texelBytes;
   forEachLayer(baseLayer, layerCount, viewMask, [&](uint32_t l) {
     if (l >= s.layers) return;
-    for (uint32_t y = y0; y < y1; ++y) {
-      uint8_t* row = s.base + l * s.layerPitch + y * s.rowPitch;
-      for (size_t i = size_t(x0) * s.samples; i < size_t(x1) * s.samples; ++i)
-        std::memcpy(row + i * texelBytes + offset, texel, bytes);
-    }
+    uint8_t* layer = s.base + l * s.layerPitch;
+    // Whole texels: the first row texel by texel, the others copied from it. An aspect of a combined texel (the
+    // depth or the stencil bytes of D24S8 / D32S8) texel by texel in every row, keeping the other aspect's bytes.
+    auto fillRow = [&](uint8_t* row) {
+      for (size_t i = first; i < end; ++i) std::memcpy(row + i * texelBytes + offset, texel, bytes);
+    };
+    if (whole) fillRow(layer + size_t(y0) * s.rowPitch);
+    const uint8_t* pattern = layer + size_t(y0) * s.rowPitch + first * texelBytes;
+    const size_t rowBytes = (end - first) * texelBytes;
+    auto rows = [&](uint32_t ya, uint32_t yb) {
+      for (uint32_t y = ya; y < yb; ++y) {
+        uint8_t* row = layer + size_t(y) * s.rowPitch;
+        if (whole)
+          std::memcpy(row + first * texelBytes, pattern, rowBytes);
+        else
+          fillRow(row);
+      }
+    };
+    const uint32_t from = whole ? y0 + 1 : y0;
+    // Large clears (a 1080p attachment is 8 MB) on every thread of the pool, in bands of rows: one thread's
+    // stores are a fraction of the memory bandwidth.
+    constexpr size_t kBandBytes = size_t(256) << 10;
+    const uint32_t bandRows = uint32_t(std::max<size_t>(1, kBandBytes / std::max<size_t>(rowBytes, 1)));
+    const uint32_t bands = (y1 - from + bandRows - 1) / bandRows;
+    if (bands <= 1) return rows(from, y1);
+    exec::ThreadPool::instance().parallelFor(bands, [&](uint64_t b, unsigned) {
+      const uint32_t ya = from + uint32_t(b) * bandRows;
+      rows(ya, std::min(y1, ya + bandRows));
+    });
   });
 }
 

@@ -213,6 +213,133 @@ inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p
   std::memcpy(p, &w, 4);
 }
 
+// The 8-bit UNorm layouts (ColorFormat::Layout) without a logic op, four components at once: the
+// same float operations, in the same order, per component as the generic path below (blendFactor, blendOp,
+// clampToFormat, mergeMask), and the same codecs (decode by table, encode through double with rounding to nearest
+// even), so the texels written are the same bit for bit.
+using Float4 = float __attribute__((vector_size(16)));
+using Double4 = double __attribute__((vector_size(32)));
+using Int4 = int32_t __attribute__((vector_size(16)));
+
+inline Float4 splat(float v) { return Float4{v, v, v, v}; }
+inline Float4 clamp01(Float4 v) {  // std::clamp(v, 0, 1) per component (NaN stays NaN)
+  v = v < 0.0f ? splat(0.0f) : v;
+  return 1.0f < v ? splat(1.0f) : v;
+}
+
+// The blend factor `f` for all four components (component c of blendFactor(f, c, ...)).
+inline Float4 blendFactor4(BlendFactor f, Float4 s, Float4 s1, Float4 d, Float4 k) {
+  switch (f) {
+    case BlendFactor::Zero: return splat(0);
+    case BlendFactor::One: return splat(1);
+    case BlendFactor::SrcColor: return s;
+    case BlendFactor::OneMinusSrcColor: return 1.0f - s;
+    case BlendFactor::DstColor: return d;
+    case BlendFactor::OneMinusDstColor: return 1.0f - d;
+    case BlendFactor::SrcAlpha: return splat(s[3]);
+    case BlendFactor::OneMinusSrcAlpha: return splat(1.0f - s[3]);
+    case BlendFactor::DstAlpha: return splat(d[3]);
+    case BlendFactor::OneMinusDstAlpha: return splat(1.0f - d[3]);
+    case BlendFactor::ConstantColor: return k;
+    case BlendFactor::OneMinusConstantColor: return 1.0f - k;
+    case BlendFactor::ConstantAlpha: return splat(k[3]);
+    case BlendFactor::OneMinusConstantAlpha: return splat(1.0f - k[3]);
+    case BlendFactor::SrcAlphaSaturate: {
+      const float m = std::min(s[3], 1.0f - d[3]);
+      return Float4{m, m, m, 1};
+    }
+    case BlendFactor::Src1Color: return s1;
+    case BlendFactor::OneMinusSrc1Color: return 1.0f - s1;
+    case BlendFactor::Src1Alpha: return splat(s1[3]);
+    case BlendFactor::OneMinusSrc1Alpha: return splat(1.0f - s1[3]);
+  }
+  return splat(0);
+}
+
+inline Float4 blendOp4(BlendOp op, Float4 s, Float4 sf, Float4 d, Float4 df) {
+  switch (op) {
+    case BlendOp::Add: return s * sf + d * df;
+    case BlendOp::Subtract: return s * sf - d * df;
+    case BlendOp::ReverseSubtract: return d * df - s * sf;
+    case BlendOp::Min: return d < s ? d : s;  // std::min(s, d)
+    case BlendOp::Max: return s < d ? d : s;  // std::max(s, d)
+  }
+  return s;
+}
+
+// Color factors for R, G, B and the alpha factor for A.
+inline Float4 colorAlpha(Float4 color, Float4 alpha) { return __builtin_shufflevector(color, alpha, 0, 1, 2, 7); }
+
+// The four bytes widened at once and divided by 255: a correctly rounded division of exact operands, the same float
+// as the table's double(i) / 255 rounded (i / 255 is never a tie between two floats).
+inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b;
+  std::memcpy(&b, p, 4);
+  const Float4 f = __builtin_convertvector(b, Float4) / 255.0f;
+  return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
+}
+
+inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
+  v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
+  // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
+  const Double4 d = __builtin_convertvector(v, Double4) * 255.0;
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b = __builtin_convertvector(__builtin_convertvector((d + 0x1p52) - 0x1p52, Int4), Bytes4);  // 0..255
+  if (bgra) b = __builtin_shufflevector(b, b, 2, 1, 0, 3);
+  std::memcpy(p, &b, 4);
+}
+
+// What writeUnorm8 needs of attachment i, once per quad.
+struct Unorm8Target {
+  const Surface* surf;
+  const BlendAttachment* ba;
+  bool bgra, blend, readsDst;
+  Float4 k;
+  Int4 keep;  // all ones where the write mask leaves the component
+  Unorm8Target(const DrawContext& ctx, uint32_t i, uint32_t mask) {
+    const State& st = *ctx.state;
+    surf = &ctx.target->color[i];
+    ba = &st.blend[i];
+    bgra = ctx.target->colorFormat[i].layout == ColorFormat::Layout::BGRA8UNorm;
+    blend = ba->enable;
+    readsDst = blend || mask != 0xF;  // else the texel is replaced whole
+    std::memcpy(&k, st.blendConstants, 16);
+    k = clamp01(k);
+    keep =
+        Int4{int32_t(mask & 1) - 1, int32_t(mask >> 1 & 1) - 1, int32_t(mask >> 2 & 1) - 1, int32_t(mask >> 3 & 1) - 1};
+  }
+};
+
+void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQuad& q, uint32_t lane, uint32_t i,
+                 int32_t x, int32_t y, uint32_t coverage) {
+  const BlendAttachment& ba = *t.ba;
+  const Float4 k = t.k;
+  Float4 s, s1;
+  std::memcpy(&s, q.color[lane][i], 16);
+  std::memcpy(&s1, q.color1[lane], 16);
+  s = clamp01(s), s1 = clamp01(s1);
+  for (uint32_t sm = coverage; sm; sm &= sm - 1) {
+    uint8_t* p = texel(*t.surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
+    const Float4 d = t.readsDst ? loadUnorm8(p, t.bgra) : splat(0);
+    Float4 r = s;
+    if (t.blend) {
+      const Float4 sf = colorAlpha(blendFactor4(ba.srcColor, s, s1, d, k), blendFactor4(ba.srcAlpha, s, s1, d, k));
+      const Float4 df = colorAlpha(blendFactor4(ba.dstColor, s, s1, d, k), blendFactor4(ba.dstAlpha, s, s1, d, k));
+      r = clamp01(colorAlpha(blendOp4(ba.colorOp, s, sf, d, df), blendOp4(ba.alphaOp, s, sf, d, df)));
+    }
+    r = t.keep ? d : r;
+    storeUnorm8(r, p, t.bgra);
+  }
+}
+
+// Whether attachment i takes writeUnorm8 (an 8-bit UNorm layout, no logic op) and its effective write mask.
+inline bool unorm8Path(const DrawContext& ctx, uint32_t i, uint32_t* mask) {
+  const ColorFormat& fmt = ctx.target->colorFormat[i];
+  *mask = ctx.state->blend[i].writeMask & fmt.componentMask;
+  return fmt.layout != ColorFormat::Layout::Generic && !ctx.state->logicOpEnable && fmt.encode;
+}
+
 void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lane, uint32_t i, int32_t x, int32_t y,
                      uint32_t coverage) {
   const Target& tg = *ctx.target;
@@ -246,7 +373,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   if (logic) encodeColor(fmt, src, encoded);
   float s0[4], s1[4], k[4];
   // The blend factors that do not read the destination, once for the lane's samples (the same values as per sample).
-  float sfConst[4], dfConst[4];
+  float sfConst[4] = {}, dfConst[4] = {};
   bool sfPerSample = false, dfPerSample = false;
   if (blend) {
     loadFloats(src, s0);
@@ -314,8 +441,23 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
   const bool stencil = st.stencilTest && hasStencil;
   const bool depth = st.depthTest && hasDepth;
   if (!bounds && !stencil && !depth) return coverage;
-  const StencilFace& face = front ? st.front : st.back;
   uint32_t passed = coverage;
+  if (!bounds && !stencil && ds.depthFormat == DepthFormat::D32SFloat) {
+    // Depth alone on D32_SFLOAT (the common case): the stored float compared and replaced as is.
+    const uint32_t bytes = ds.depthTexelBytes;  // 8 with D32_SFLOAT_S8_UINT
+    uint8_t* pixel = texel(ds.depth, bytes, ctx.layer, x, y, 0);
+    for (uint32_t sm = coverage; sm; sm &= sm - 1) {
+      const uint32_t s = uint32_t(std::countr_zero(sm));
+      float old;
+      std::memcpy(&old, pixel + bytes * s, 4);
+      if (!compare(st.depthCompare, z[s], old))
+        passed &= ~(1u << s);
+      else if (st.depthWrite)
+        std::memcpy(pixel + bytes * s, &z[s], 4);
+    }
+    return passed;
+  }
+  const StencilFace& face = front ? st.front : st.back;
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     const uint32_t s = uint32_t(std::countr_zero(sm));
     uint8_t* dp = hasDepth ? texel(ds.depth, ds.depthTexelBytes, ctx.layer, x, y, s) : nullptr;
@@ -353,13 +495,23 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
   return passed;
 }
 
-void writeColors(const DrawContext& ctx, const FragmentQuad& quad, uint32_t lane, int32_t x, int32_t y,
-                 uint32_t coverage) {
+void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
   const Target& tg = *ctx.target;
   const uint32_t outputs = ctx.fragment->outputMask;
   for (uint32_t i = 0; i < tg.colorCount; ++i) {
     if (!tg.color[i].base || !(outputs >> i & 1)) continue;
-    writeAttachment(ctx, quad, lane, i, x, y, coverage);
+    uint32_t mask;
+    if (unorm8Path(ctx, i, &mask)) {
+      // The 8-bit UNorm layouts: four components at once, set up once for the quad (the same bytes as below).
+      if (!mask) continue;
+      const Unorm8Target t(ctx, i, mask);
+      for (uint32_t l = 0; l < 4; ++l)
+        if (coverage[l])
+          writeUnorm8(ctx, t, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
+      continue;
+    }
+    for (uint32_t l = 0; l < 4; ++l)
+      if (coverage[l]) writeAttachment(ctx, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
   }
 }
 

@@ -89,8 +89,9 @@ struct DrawContext {
   double depthR;             // the minimum resolvable difference r of fixed-point depth (0 for float depth)
 };
 
-// Per-worker scratch of the tile stage.
-struct WorkerScratch {
+// Per-worker scratch of the tile stage. A cache line of its own: samplesPassed is written per quad, and next to the
+// following worker's quad it made every quad of two workers contend for one line (false sharing).
+struct alignas(64) WorkerScratch {
   FragmentQuad quad;
   uint64_t samplesPassed = 0;  // this worker's count for Draw::samplesPassed, added at the end of each tile
 };
@@ -114,9 +115,9 @@ void rasterizeTile(const DrawContext& ctx, const SetupTri* const* tris, size_t c
 // Runs depth bounds, stencil and depth tests for lane `lane`'s samples in `coverage` at pixel (x, y), with the
 // per-sample depths `z[s]`, updating the attachment; returns the samples that passed.
 uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_t y, uint32_t coverage, const float* z);
-// Writes the lane's color outputs to its covered samples at pixel (x, y) (blend, logic op, write masks).
-void writeColors(const DrawContext& ctx, const FragmentQuad& quad, uint32_t lane, int32_t x, int32_t y,
-                 uint32_t coverage);
+// Writes the quad's color outputs to each lane's samples in `coverage` (blend, logic op, write masks); lane l is
+// pixel (quad.x + (l & 1), quad.y + (l >> 1)).
+void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]);
 // Alpha to coverage: the samples alpha keeps.
 uint32_t alphaCoverage(float alpha, uint32_t samples);
 

@@ -92,10 +92,66 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   }
 }
 
+// interpolateLane for the four lanes of a single-sampled quad at once (pixel centres; with one sample a pixel is
+// covered whole, so centroid inputs interpolate at the centre too): the barycentrics from the exact edge values as
+// there, the perspective weights in float across the lanes (one division for four lanes instead of four in double;
+// a few ulp apart), and each input's vertex differences once per quad.
+void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, uint32_t lanes, int32_t qx, int32_t qy,
+                     const float z[4][4]) {
+  const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
+  Float4 b[3];  // per vertex, per lane
+  for (int i = 0; i < 3; ++i) {
+    const int64_t e = t.a[i] * px0 + t.b[i] * py0 + t.c[i], dx = t.a[i] * kSubPixel, dy = t.b[i] * kSubPixel;
+    b[i] = Float4{float(double(e) * t.invArea2), float(double(e + dx) * t.invArea2), float(double(e + dy) * t.invArea2),
+                  float(double(e + dx + dy) * t.invArea2)};
+  }
+  const Float4 w0 = b[0] * t.invW[0], w1 = b[1] * t.invW[1], w2 = b[2] * t.invW[2];
+  const Float4 invW = w0 + w1 + w2;
+  // Perspective-correct weights b_i / w_i normalized ("Polygon Interpolation"); the screen-space ones where the sum
+  // is 0 (as interpolateLane).
+  const Float4 r = 1.0f / invW;
+  const auto zero = invW == 0.0f;
+  const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
+  const FragmentStage& fs = *ctx.fragment;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!(lanes >> l & 1)) continue;
+    const int64_t px = px0 + int64_t(l & 1) * kSubPixel, py = py0 + int64_t(l >> 1) * kSubPixel;
+    q.fragCoord[l][0] = float(px) / kSubPixel;
+    q.fragCoord[l][1] = float(py) / kSubPixel;
+    // The tests' depth when computed (the same depthAt at the pixel centre, the one sample's position).
+    q.fragCoord[l][2] = ctx.needsDepth && q.coverage[l] ? z[l][0] : depthAt(ctx, t, px, py);
+    q.fragCoord[l][3] = invW[l];
+    if (t.isPoint) {
+      q.pointCoord[l][0] = 0.5f + (q.fragCoord[l][0] - t.pointX) / t.pointSize;
+      q.pointCoord[l][1] = 0.5f + (q.fragCoord[l][1] - t.pointY) / t.pointSize;
+    } else {
+      q.pointCoord[l][0] = q.pointCoord[l][1] = 0;
+    }
+  }
+  for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
+    const FragmentInput& in = fs.inputs[slot];
+    const uint32_t k = slot * 4;
+    if (in.interpolation == Interpolation::Flat) {
+      for (uint32_t l = 0; l < 4; ++l)
+        if (lanes >> l & 1) std::memcpy(q.inputs[l] + k, t.flat + k, 16);
+      continue;
+    }
+    const bool smooth = in.interpolation == Interpolation::Smooth;
+    const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      const float u1 = smooth ? p1[l] : b[1][l], u2 = smooth ? p2[l] : b[2][l];
+      const Float4 v = f0 + u1 * d1 + u2 * d2;
+      std::memcpy(q.inputs[l] + k, &v, 16);
+    }
+  }
+}
+
 // After the shader: discard, the shader's sample mask, alpha to coverage, the late tests, the color writes.
 void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4], WorkerScratch& scratch) {
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
+  uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   for (uint32_t l = 0; l < 4; ++l) {
     uint32_t c = q.coverage[l];
     if (!c || (q.killed >> l & 1)) continue;
@@ -111,10 +167,11 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
       c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
     }
     if (!c) continue;
-    scratch.samplesPassed += uint32_t(std::popcount(c));
+    if (ctx.draw->samplesPassed) scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
     if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
-    writeColors(ctx, q, l, x, y, c);
+    passed[l] = c;
   }
+  if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
@@ -176,21 +233,25 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
     return;
   }
   q.sampleIndex = 0;
-  for (uint32_t l = 0; l < 4; ++l) {
-    q.coverage[l] = cov[l];
-    if (!(lanes >> l & 1)) continue;
-    const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
-    const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + kCentre;
-    // Centroid: the pixel centre when every sample is covered, else the first covered sample (inside the
-    // primitive and the pixel, as "Centroid Interpolation" asks).
-    int64_t centroid[2];
-    const bool partial = cov[l] && cov[l] != ctx.allSamples;
-    if (partial) {
-      const uint32_t s = uint32_t(std::countr_zero(cov[l]));
-      centroid[0] = px - kCentre + sampleX(ctx, s);
-      centroid[1] = py - kCentre + sampleY(ctx, s);
+  for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
+  if (ctx.samples == 1) {
+    interpolateQuad(ctx, t, q, lanes, qx, qy, z);
+  } else {
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
+      const int64_t py = int64_t(qy + int32_t(l >> 1)) * kSubPixel + kCentre;
+      // Centroid: the pixel centre when every sample is covered, else the first covered sample (inside the
+      // primitive and the pixel, as "Centroid Interpolation" asks).
+      int64_t centroid[2];
+      const bool partial = cov[l] && cov[l] != ctx.allSamples;
+      if (partial) {
+        const uint32_t s = uint32_t(std::countr_zero(cov[l]));
+        centroid[0] = px - kCentre + sampleX(ctx, s);
+        centroid[1] = py - kCentre + sampleY(ctx, s);
+      }
+      interpolateLane(ctx, t, q, l, px, py, partial ? centroid : nullptr);
     }
-    interpolateLane(ctx, t, q, l, px, py, partial ? centroid : nullptr);
   }
   q.killed = 0;
   for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;

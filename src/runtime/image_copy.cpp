@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "exec/thread_pool.hpp"
+
 namespace vkrt {
 
 VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
@@ -25,33 +27,43 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
   const uint32_t at = aspect == VK_IMAGE_ASPECT_STENCIL_BIT ? aspectFormatInfo(image.format, aspect)->offset : 0;
   const uint32_t bytes = aspectImageBytes(image.format, aspect);
   const bool perTexel = aspect != VK_IMAGE_ASPECT_COLOR_BIT && (t != image.formatInfo->texelSize || bytes != t);
-  for (uint32_t l = 0; l < r.imageSubresource.layerCount; ++l) {
-    for (uint32_t z = 0; z < r.imageExtent.depth; ++z) {
-      for (uint32_t y = 0; y < r.imageExtent.height; ++y) {
-        uint8_t* b =
-            buffer + r.bufferOffset + ((VkDeviceSize(l) * r.imageExtent.depth + z) * imageHeight + y) * rowLength * t;
-        uint8_t* i =
-            image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l, uint32_t(r.imageOffset.x),
-                        uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
-        if (perTexel) {
-          for (uint32_t x = 0; x < r.imageExtent.width; ++x) {
-            uint8_t* it = i + size_t(x) * image.pixelSize + at;
-            uint8_t* bt = b + size_t(x) * t;
-            if (toImage) {
-              std::memcpy(it, bt, bytes);
-            } else {
-              std::memset(bt, 0, t);  // D24 depth: the top byte of the 32-bit word is 0
-              std::memcpy(bt, it, bytes);
-            }
-          }
-        } else if (toImage) {
-          std::memmove(i, b, rowBytes);
+  const uint32_t height = r.imageExtent.height, depth = r.imageExtent.depth;
+  auto copyRow = [&](uint64_t row) {
+    const uint32_t y = uint32_t(row % height), z = uint32_t(row / height % depth), l = uint32_t(row / height / depth);
+    uint8_t* b = buffer + r.bufferOffset + ((VkDeviceSize(l) * depth + z) * imageHeight + y) * rowLength * t;
+    uint8_t* i = image.texel(r.imageSubresource.mipLevel, r.imageSubresource.baseArrayLayer + l,
+                             uint32_t(r.imageOffset.x), uint32_t(r.imageOffset.y) + y, uint32_t(r.imageOffset.z) + z);
+    if (perTexel) {
+      for (uint32_t x = 0; x < r.imageExtent.width; ++x) {
+        uint8_t* it = i + size_t(x) * image.pixelSize + at;
+        uint8_t* bt = b + size_t(x) * t;
+        if (toImage) {
+          std::memcpy(it, bt, bytes);
         } else {
-          std::memmove(b, i, rowBytes);
+          std::memset(bt, 0, t);  // D24 depth: the top byte of the 32-bit word is 0
+          std::memcpy(bt, it, bytes);
         }
       }
+    } else if (toImage) {
+      std::memmove(i, b, rowBytes);
+    } else {
+      std::memmove(b, i, rowBytes);
     }
+  };
+  const uint64_t rows = uint64_t(r.imageSubresource.layerCount) * depth * height;
+  // A large copy (a 1080p frame read back is 8 MB) in bands of rows on the thread pool: one thread's copy uses a
+  // fraction of the memory bandwidth. The copy's source and destination memory may not overlap ("Copying Data
+  // Between Buffers and Images"), so the rows are independent.
+  constexpr uint64_t kBandBytes = uint64_t(256) << 10;
+  const uint64_t bandRows = std::max<uint64_t>(1, kBandBytes / std::max<uint64_t>(rowBytes, 1));
+  const uint64_t bands = (rows + bandRows - 1) / bandRows;
+  if (bands <= 1) {
+    for (uint64_t row = 0; row < rows; ++row) copyRow(row);
+    return;
   }
+  exec::ThreadPool::instance().parallelFor(bands, [&](uint64_t band, unsigned) {
+    for (uint64_t row = band * bandRows; row < std::min(rows, (band + 1) * bandRows); ++row) copyRow(row);
+  });
 }
 
 void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {

@@ -291,6 +291,12 @@ void readTexel(const TexelView& v, uint32_t level, const int64_t xyzl[4], uint32
 }
 
 void applySwizzle(const View& v, uint32_t c[4]) {
+  const VkComponentMapping& m = v.view->components;
+  if ((m.r == VK_COMPONENT_SWIZZLE_IDENTITY || m.r == VK_COMPONENT_SWIZZLE_R) &&
+      (m.g == VK_COMPONENT_SWIZZLE_IDENTITY || m.g == VK_COMPONENT_SWIZZLE_G) &&
+      (m.b == VK_COMPONENT_SWIZZLE_IDENTITY || m.b == VK_COMPONENT_SWIZZLE_B) &&
+      (m.a == VK_COMPONENT_SWIZZLE_IDENTITY || m.a == VK_COMPONENT_SWIZZLE_A))
+    return;  // the common identity mapping
   uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
   uint32_t src[4] = {c[0], c[1], c[2], c[3]};
   VkComponentSwizzle s[4] = {v.view->components.r, v.view->components.g, v.view->components.b, v.view->components.a};
@@ -433,6 +439,94 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
   for (int c = 0; c < 4; ++c) out[c] = float(acc[c]);
 }
 
+// The fast path of the most common sampling: a 2D (array) view of an 8-bit RGBA / BGRA UNorm or sRGB image, NEAREST
+// or LINEAR filters, REPEAT or CLAMP_TO_EDGE in u and v, normalized coordinates, no depth comparison, no offset,
+// identity or any swizzle (applied after, as on the generic path). The texel indices and the weights' fractions
+// come from the same double arithmetic as filterLevel's, so the same texels are read; the texels are decoded four
+// components at once and weighed in float (UNorm: in byte units, scaled by 1/255 once). The difference to the
+// generic path is float rounding of the weighted sum (a few ulp of 1.0; "Texel Filtering" leaves the filter's
+// precision to the implementation).
+using Float4 = float __attribute__((vector_size(16)));
+
+bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
+  const FormatInfo& f = *v.format;
+  auto filterOk = [](VkFilter m) { return m == VK_FILTER_NEAREST || m == VK_FILTER_LINEAR; };
+  auto addressOk = [](VkSamplerAddressMode m) {
+    return m == VK_SAMPLER_ADDRESS_MODE_REPEAT || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  };
+  return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
+         !v.slicesAsLayers && v.image->samples == 1 && !f.packed && f.components == 4 && f.texelSize == 4 &&
+         f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates && !s.compareEnable &&
+         filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) && addressOk(s.addressModeV);
+}
+
+// A coordinate in texels for REPEAT or CLAMP_TO_EDGE: REPEAT takes the coordinate's fraction first (exact in double:
+// coordinate * size is too), so that the texel indices below need no division; the indices and weights are those of
+// filterLevel's floor(c * size - 0.5) modulo size.
+// floor(x) as an integer for |x| < 2^63 (std::floor is a library call on the baseline x86-64 target: no SSE4.1).
+inline int64_t floorInt(double x) {
+  const int64_t i = int64_t(x);
+  return i - int64_t(double(i) > x);
+}
+inline double texelCoord(bool repeat, float c, int64_t size) {
+  double d = c;
+  if (repeat) d -= double(floorInt(d));
+  return d * double(size);
+}
+// Index i (at least -1, at most size when repeating) after the address mode.
+inline int64_t wrapFast(bool repeat, int64_t i, int64_t size) {
+  if (repeat) return i < 0 ? size - 1 : i >= size ? 0 : i;
+  return i < 0 ? 0 : i >= size ? size - 1 : i;
+}
+
+// One texel's four components as floats: UNorm in byte units (0..255), sRGB already linear (0..1).
+inline Float4 fastTexel(const uint8_t* p, bool srgb, bool bgr) {
+  const unsigned r = bgr ? 2 : 0;
+  if (srgb) return Float4{kUnorm8.srgb[p[r]], kUnorm8.srgb[p[1]], kUnorm8.srgb[p[2 - r]], kUnorm8.unorm[p[3]]};
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 b;
+  std::memcpy(&b, p, 4);
+  const Float4 f = __builtin_convertvector(b, Float4);  // the four bytes widened at once
+  return bgr ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
+}
+
+// Filters level `level` (fastSampling's case); false when a coordinate is too large for the integer texel indices
+// (or not a number): the generic path then decides.
+bool fastFilterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level,
+                     const float* coord, int64_t layer, Float4* out) {
+  const MipLayout& m = v.image->mips[v.baseMip + level];
+  const int64_t w = m.extent.width, h = m.extent.height;
+  if (!(std::fabs(coord[0]) < 0x1p24f && std::fabs(coord[1]) < 0x1p24f)) return false;  // NaN or too large
+  const bool repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const bool repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const double u = texelCoord(repeatU, coord[0], w), t = texelCoord(repeatV, coord[1], h);
+  const uint8_t* base = v.image->data() + m.offset + uint64_t(v.baseLayer + uint64_t(layer)) * m.arrayPitch;
+  const size_t pitch = m.rowPitch, px = v.image->pixelSize;
+  const bool srgb = v.format->type == N::SRGB, bgr = v.format->bgr;
+  Float4 r;
+  if (filter == VK_FILTER_NEAREST) {
+    // REPEAT: u < size, except a tiny negative coordinate whose fraction rounded up to 1 (its texel is size - 1).
+    const int64_t i = wrapFast(repeatU, std::min(floorInt(u), w - 1), w);
+    const int64_t j = wrapFast(repeatV, std::min(floorInt(t), h - 1), h);
+    r = fastTexel(base + size_t(j) * pitch + size_t(i) * px, srgb, bgr);
+  } else {
+    const double fu = u - 0.5, fv = t - 0.5;
+    const int64_t flu = floorInt(fu), flv = floorInt(fv);
+    const int64_t i0 = wrapFast(repeatU, flu, w), i1 = wrapFast(repeatU, flu + 1, w);
+    const int64_t j0 = wrapFast(repeatV, flv, h), j1 = wrapFast(repeatV, flv + 1, h);
+    const float a = float(fu - double(flu)), b = float(fv - double(flv));
+    const uint8_t* row0 = base + size_t(j0) * pitch;
+    const uint8_t* row1 = base + size_t(j1) * pitch;
+    const Float4 t00 = fastTexel(row0 + size_t(i0) * px, srgb, bgr), t10 = fastTexel(row0 + size_t(i1) * px, srgb, bgr);
+    const Float4 t01 = fastTexel(row1 + size_t(i0) * px, srgb, bgr), t11 = fastTexel(row1 + size_t(i1) * px, srgb, bgr);
+    const Float4 top = t00 + a * (t10 - t00), bottom = t01 + a * (t11 - t01);
+    r = top + b * (bottom - top);
+  }
+  if (!srgb) r *= 1.0f / 255.0f;  // sRGB texels came from the tables, already in 0..1
+  *out = r;
+  return true;
+}
+
 // A texel buffer's view resolved: its first texel, texel count and format.
 struct TexelBuffer {
   uint8_t* data = nullptr;
@@ -552,6 +646,29 @@ static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float
   float d = std::clamp(lambda, 0.0f, maxLevel);
   int64_t layer = arrayLayer(v, coord);
   float result[4];
+  if (!offset && !cmp && d == d && fastSampling(v, s)) {
+    // The common 2D case (fastFilterLevel), with the same level selection as below (d is in [0, maxLevel]: floor
+    // and ceil by truncation, not library calls).
+    Float4 a, b;
+    bool done;
+    const uint32_t lo = uint32_t(d);
+    if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == float(lo)) {
+      const float x = d + 0.5f;
+      const uint32_t ceil = uint32_t(x) + (float(uint32_t(x)) < x ? 1 : 0);  // at least 1
+      const uint32_t level = std::min(ceil - 1, uint32_t(maxLevel));
+      done = fastFilterLevel(v, s, filter, level, coord, layer, &a);
+    } else {
+      const uint32_t hi = std::min(lo + 1, uint32_t(maxLevel));
+      const float t = d - float(lo);
+      done = fastFilterLevel(v, s, filter, lo, coord, layer, &a) && fastFilterLevel(v, s, filter, hi, coord, layer, &b);
+      if (done) a = a * (1 - t) + b * t;
+    }
+    if (done) {
+      std::memcpy(out, &a, 16);
+      applySwizzle(v, out);
+      return;
+    }
+  }
   if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
     // Nearest: level ceil(d + 0.5) - 1, i.e. d rounded with halves going down.
     uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));

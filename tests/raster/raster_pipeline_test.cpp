@@ -56,6 +56,39 @@ TEST(RasterInterpolation, PerspectiveLinearAndFlat) {
   }
 }
 
+// Single-sampled quads interpolate their four lanes at once (tile.cpp interpolateQuad, float perspective weights);
+// 4-sample quads lane by lane (interpolateLane, double). At a pixel all 4 samples cover, both interpolate at the
+// centre: the same values within float rounding, for every interpolation kind.
+TEST(RasterInterpolation, QuadAtOnceMatchesLaneByLane) {
+  const float X[3] = {3, 61, 9}, Y[3] = {5, 21, 59}, W[3] = {1, 5, 2.5f};
+  const Vec4 a[3] = {{1, -2, 0.25f, 7}, {0, 10, 3, -1}, {-4, 0, 100, 0.5f}};
+  for (Interpolation kind : {Interpolation::Smooth, Interpolation::NoPerspective, Interpolation::Flat}) {
+    std::vector<float> one, four;
+    for (uint32_t samples : {1u, 4u}) {
+      Harness h(64, 64, samples);
+      h.mode = FragMode::Input0;
+      for (int i = 0; i < 3; ++i) h.vertex(X[i], Y[i], 0.5f, W[i]);
+      h.addInput(kind, {a[0], a[1], a[2]});
+      h.run();
+      std::vector<float>& out = samples == 1 ? one : four;
+      for (uint32_t y = 0; y < 64; ++y)
+        for (uint32_t x = 0; x < 64; ++x)
+          for (uint32_t c = 0; c < 4; ++c) {
+            bool all = true;  // every sample written (the clear value is 0 in every component)
+            for (uint32_t s = 0; s < samples; ++s) all = all && h.color.f(x, y, 3, s) != 0;
+            out.push_back(all ? h.color.f(x, y, c) : NAN);
+          }
+    }
+    int compared = 0;
+    for (size_t i = 0; i < one.size(); ++i) {
+      if (std::isnan(one[i]) || std::isnan(four[i])) continue;
+      ASSERT_NEAR(one[i], four[i], 2e-5 * (1 + std::fabs(four[i]))) << "kind " << int(kind) << " at " << i / 4;
+      ++compared;
+    }
+    EXPECT_GT(compared, 4 * 800);
+  }
+}
+
 TEST(RasterClip, NearPlaneCutsTheTriangle) {
   // Orthographic (w = 1): z from -0.5 to 1 across the triangle; z_c < 0 is clipped, so a pixel is drawn when its
   // interpolated z is >= 0.

@@ -1,0 +1,190 @@
+// The 2D sampler's fast path (runtime/image_functions.cpp, fastSampling: 8-bit RGBA / BGRA UNorm and sRGB views,
+// NEAREST / LINEAR, REPEAT / CLAMP_TO_EDGE, trilinear mipmaps) against an independent double-precision reference
+// of "Texel Filtering" and against the generic path (the ConstOffset form with a zero offset, which the fast path
+// leaves to filterLevel), at coordinates inside, outside and on the texel boundaries of a non-power-of-two image.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "runtime/alloc.hpp"
+#include "runtime/device.hpp"
+#include "runtime/image.hpp"
+#include "runtime/image_functions.hpp"
+#include "runtime/image_view.hpp"
+#include "runtime/instance.hpp"
+#include "runtime/physical_device.hpp"
+#include "runtime/sampler.hpp"
+#include "vkrt_entrypoints.h"
+
+namespace vkrt {
+namespace {
+
+class SamplerFastPath : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
+    uint32_t n = 1;
+    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dev = createObject<Device>(nullptr, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, fromHandle<PhysicalDevice>(pd), dci);
+    ASSERT_NE(dev, nullptr);
+    device = toHandle(dev);
+  }
+  void TearDown() override {
+    for (VkSampler s : samplers) vkrt_DestroySampler(device, s, nullptr);
+    if (view) vkrt_DestroyImageView(device, view, nullptr);
+    if (image) vkrt_DestroyImage(device, image, nullptr);
+    if (memory) vkrt_FreeMemory(device, memory, nullptr);
+    destroyObject(dev, nullptr);
+    vkrt_DestroyInstance(instance, nullptr);
+  }
+
+  // A 5x3 image with 3 levels (5x3, 2x1, 1x1) of `format`, every byte pseudo-random, and a 2D view of it.
+  void makeImage(VkFormat format) {
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = format;
+    ci.extent = {5, 3, 1};
+    ci.mipLevels = 3;
+    ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+    ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkrt_GetImageMemoryRequirements(device, image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    ASSERT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &memory), VK_SUCCESS);
+    ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
+    Image* img = fromHandle<Image>(image);
+    uint32_t seed = 12345;
+    for (uint32_t m = 0; m < 3; ++m)
+      for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
+        for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
+          for (int c = 0; c < 4; ++c) {
+            seed = seed * 1664525u + 1013904223u;
+            img->texel(m, 0, x, y, 0)[c] = uint8_t(seed >> 24);
+          }
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 3, 0, 1};
+    ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    imageRecord.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  }
+
+  abi::DescriptorRecord makeSampler(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode) {
+    VkSamplerCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    ci.magFilter = ci.minFilter = filter;
+    ci.mipmapMode = mip;
+    ci.addressModeU = ci.addressModeV = ci.addressModeW = mode;
+    ci.maxLod = 16;
+    VkSampler s = VK_NULL_HANDLE;
+    EXPECT_EQ(vkrt_CreateSampler(device, &ci, nullptr, &s), VK_SUCCESS);
+    samplers.push_back(s);
+    abi::DescriptorRecord r{};
+    r.sampler = static_cast<const Object*>(fromHandle<Sampler>(s));
+    return r;
+  }
+
+  // The reference: "Texel Filtering" in double from the stored bytes (sRGB by the spec's EOTF, before filtering).
+  double texelValue(uint32_t level, int64_t i, int64_t j, int c, bool srgb, bool bgr) {
+    const Image* img = fromHandle<Image>(image);
+    const int stored = bgr && c < 3 ? 2 - c : c;
+    const double v = img->texel(level, 0, uint32_t(i), uint32_t(j), 0)[stored] / 255.0;
+    if (!srgb || c == 3) return v;
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+  }
+  static int64_t address(VkSamplerAddressMode mode, int64_t i, int64_t size) {
+    if (mode == VK_SAMPLER_ADDRESS_MODE_REPEAT) return ((i % size) + size) % size;
+    return std::clamp<int64_t>(i, 0, size - 1);
+  }
+  double filterLevel(uint32_t level, VkFilter filter, VkSamplerAddressMode mode, const float* coord, int c, bool srgb,
+                     bool bgr) {
+    const Image* img = fromHandle<Image>(image);
+    const int64_t w = img->mips[level].extent.width, h = img->mips[level].extent.height;
+    const double u = double(coord[0]) * double(w), v = double(coord[1]) * double(h);
+    if (filter == VK_FILTER_NEAREST)
+      return texelValue(level, address(mode, int64_t(std::floor(u)), w), address(mode, int64_t(std::floor(v)), h), c,
+                        srgb, bgr);
+    const double fu = u - 0.5, fv = v - 0.5, a = fu - std::floor(fu), b = fv - std::floor(fv);
+    const int64_t i0 = int64_t(std::floor(fu)), j0 = int64_t(std::floor(fv));
+    auto t = [&](int64_t i, int64_t j) {
+      return texelValue(level, address(mode, i, w), address(mode, j, h), c, srgb, bgr);
+    };
+    return (1 - a) * (1 - b) * t(i0, j0) + a * (1 - b) * t(i0 + 1, j0) + (1 - a) * b * t(i0, j0 + 1) +
+           a * b * t(i0 + 1, j0 + 1);
+  }
+  // Level selection of an explicit LOD ("Image Level(s) Selection"): lod within [0, 2], nearest or linear.
+  double reference(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode, const float* coord, float lod,
+                   int c, bool srgb, bool bgr) {
+    const VkFilter f = filter;  // magFilter == minFilter in these samplers
+    const double d = std::clamp(double(lod), 0.0, 2.0);
+    if (mip == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d))
+      return filterLevel(uint32_t(std::ceil(d + 0.5) - 1), f, mode, coord, c, srgb, bgr);
+    const uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, 2u);
+    const double t = d - std::floor(d);
+    return filterLevel(lo, f, mode, coord, c, srgb, bgr) * (1 - t) + filterLevel(hi, f, mode, coord, c, srgb, bgr) * t;
+  }
+
+  void compareAll(VkFormat format) {
+    makeImage(format);
+    const bool srgb = format == VK_FORMAT_B8G8R8A8_SRGB || format == VK_FORMAT_R8G8B8A8_SRGB;
+    const bool bgr = format == VK_FORMAT_B8G8R8A8_SRGB || format == VK_FORMAT_B8G8R8A8_UNORM;
+    // Inside, outside (negative, past 1, several periods), on texel boundaries and centres (of 5 and 3 texels), a
+    // tiny negative coordinate (its fraction rounds to 1) and a large one.
+    const float coords[][2] = {{0.5f, 0.5f},       {0.13f, 0.77f},   {-0.31f, 1.42f},      {2.6f, -3.9f},
+                               {0.2f, 1.0f / 3},   {0.1f, 1.0f / 6}, {0.0f, 0.0f},         {1.0f, 1.0f},
+                               {-1e-30f, -1e-30f}, {0.999f, 0.001f}, {1234.567f, -987.25f}};
+    const float lods[] = {-1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 1.99f, 7.0f};
+    const int32_t zero[4] = {0, 0, 0, 0};
+    for (VkFilter filter : {VK_FILTER_NEAREST, VK_FILTER_LINEAR})
+      for (VkSamplerMipmapMode mip : {VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR})
+        for (VkSamplerAddressMode mode : {VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE}) {
+          const abi::DescriptorRecord smp = makeSampler(filter, mip, mode);
+          for (const auto& xy : coords)
+            for (float lod : lods) {
+              const float coord[4] = {xy[0], xy[1], 0, 0};
+              uint32_t fast[4], generic[4];
+              vkrt_image_sample(&imageRecord, &smp, coord, lod, fast);
+              vkrt_image_sample_offset(&imageRecord, &smp, coord, lod, zero, generic);
+              for (int c = 0; c < 4; ++c) {
+                float f, g;
+                std::memcpy(&f, &fast[c], 4);
+                std::memcpy(&g, &generic[c], 4);
+                const double e = reference(filter, mip, mode, coord, lod, c, srgb, bgr);
+                const std::string where = "format " + std::to_string(format) + " filter " + std::to_string(filter) +
+                                          " mip " + std::to_string(mip) + " mode " + std::to_string(mode) + " coord " +
+                                          std::to_string(xy[0]) + "," + std::to_string(xy[1]) + " lod " +
+                                          std::to_string(lod) + " c " + std::to_string(c);
+                // Float sums of at most 8 weighted texels: a few ulp of 1 from the exact value. The sRGB reference
+                // uses the EOTF in double, the image functions their float table: 1e-6 more.
+                EXPECT_NEAR(f, e, 4e-6) << where;
+                EXPECT_NEAR(f, g, 2e-6) << where;
+              }
+            }
+        }
+  }
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice pd = VK_NULL_HANDLE;
+  Device* dev = nullptr;
+  VkDevice device = VK_NULL_HANDLE;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  std::vector<VkSampler> samplers;
+  abi::DescriptorRecord imageRecord{};
+};
+
+TEST_F(SamplerFastPath, Rgba8UnormMatchesReferenceAndGenericPath) { compareAll(VK_FORMAT_R8G8B8A8_UNORM); }
+TEST_F(SamplerFastPath, Bgra8UnormMatchesReferenceAndGenericPath) { compareAll(VK_FORMAT_B8G8R8A8_UNORM); }
+TEST_F(SamplerFastPath, Bgra8SrgbMatchesReferenceAndGenericPath) { compareAll(VK_FORMAT_B8G8R8A8_SRGB); }
+
+}  // namespace
+}  // namespace vkrt
