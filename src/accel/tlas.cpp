@@ -256,28 +256,35 @@ bool buildFlatScene(RTCDevice device, Tlas::Impl& impl, std::vector<uint8_t>& fl
 }
 
 // An instance's world bounds for the hierarchy: its Blas's bounds, each corner transformed in double, rounded
-// outward to float (traversal's box test is then conservative for every ray that can meet the instance).
-void worldBounds(const RTCBounds& b, const float m[3][4], RTCBuildPrimitive& out) {
-  double lower[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, upper[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+// outward to float (traversal's box test is then conservative for every ray that can meet the instance). Returns
+// whether they surely have extent as Embree computes it too (an extent far above float rounding of the terms of
+// the transform); where that is unsure, the caller asks worldBoundsHaveExtent, which follows Embree's arithmetic.
+bool worldBounds(const RTCBounds& b, const float m[3][4], RTCBuildPrimitive& out) {
+  double lower[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, upper[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, terms[3] = {};
   for (int corner = 0; corner < 8; ++corner) {
     const double p[3] = {corner & 1 ? b.upper_x : b.lower_x, corner & 2 ? b.upper_y : b.lower_y,
                          corner & 4 ? b.upper_z : b.lower_z};
     for (int row = 0; row < 3; ++row) {
-      const double w = m[row][0] * p[0] + m[row][1] * p[1] + m[row][2] * p[2] + double(m[row][3]);
+      const double x = m[row][0] * p[0], y = m[row][1] * p[1], z = m[row][2] * p[2], t = m[row][3];
+      const double w = x + y + z + t;
       lower[row] = std::min(lower[row], w);
       upper[row] = std::max(upper[row], w);
+      terms[row] = std::max(terms[row], std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(t));
     }
   }
-  // A relative margin beyond float rounding: Embree's own float transform of the ray may put its hits (and the
-  // triangles' t) a few ulps away from the exact ones.
+  // A margin of a millionth of the magnitudes (far beyond the half float ulp of the conversion, and beyond Embree's
+  // float transform of the ray, which may put its hits a few ulps from the exact ones), plus a tiny absolute one.
+  bool extent = false;
   float lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
-    const double margin = 1e-6 * std::max({std::fabs(lower[k]), std::fabs(upper[k]), upper[k] - lower[k]});
-    lo[k] = std::nextafter(float(lower[k] - margin), -HUGE_VALF);
-    hi[k] = std::nextafter(float(upper[k] + margin), HUGE_VALF);
+    const double margin = 1e-6 * std::max({std::fabs(lower[k]), std::fabs(upper[k]), upper[k] - lower[k]}) + 1e-36;
+    lo[k] = float(lower[k] - margin);
+    hi[k] = float(upper[k] + margin);
+    extent |= upper[k] - lower[k] > 1e-4 * terms[k] && upper[k] - lower[k] > 1e-30;
   }
   out.lower_x = lo[0], out.lower_y = lo[1], out.lower_z = lo[2];
   out.upper_x = hi[0], out.upper_y = hi[1], out.upper_z = hi[2];
+  return extent;
 }
 
 // rtcBuildBVH's nodes (allocated in the RTCBVH, freed with it once copied into Tlas::Impl::nodes).
@@ -318,7 +325,7 @@ uint32_t copyTree(const void* p, Tlas::Impl& impl) {
     const auto* leaf = static_cast<const BuildLeaf*>(p);
     const auto first = uint32_t(impl.leafItems.size());
     impl.leafItems.insert(impl.leafItems.end(), leaf->items, leaf->items + leaf->count);
-    return kLeafRef | first << 3 | (leaf->count - 1);
+    return kLeafRef | (leaf->count == 1 ? leaf->items[0] : first) << 3 | (leaf->count - 1);
   }
   const auto* node = static_cast<const BuildNode*>(p);
   const auto index = uint32_t(impl.nodes.size());
@@ -386,9 +393,10 @@ void refBounds(const Tlas::Impl& impl, const std::vector<RTCBuildPrimitive>& bou
     for (int k = 0; k < 3; ++k) lower[k] = std::min(lower[k], lo[k]), upper[k] = std::max(upper[k], hi[k]);
   };
   if (ref & kLeafRef) {
-    const uint32_t first = (ref & ~kLeafRef) >> 3, count = (ref & 7) + 1;
-    for (uint32_t k = first; k < first + count; ++k) {
-      const RTCBuildPrimitive& b = bounds[impl.leafItems[k]];
+    uint32_t count, one;
+    const uint32_t* items = leafInstances(impl.leafItems, ref, &count, &one);
+    for (uint32_t k = 0; k < count; ++k) {
+      const RTCBuildPrimitive& b = bounds[items[k]];
       const float lo[3] = {b.lower_x, b.lower_y, b.lower_z}, hi[3] = {b.upper_x, b.upper_y, b.upper_z};
       unite(lo, hi);
     }
@@ -446,9 +454,8 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
       // An instance without extent in world space (as Embree transforms it) is left out: never hit.
       RTCBounds b;
       rtcGetSceneBounds(inner, &b);
-      if (!worldBoundsHaveExtent(b, r.objectToWorld)) continue;
+      if (!worldBounds(b, r.objectToWorld, bounds[i]) && !worldBoundsHaveExtent(b, r.objectToWorld)) continue;
       r.scene = inner;
-      worldBounds(b, r.objectToWorld, bounds[i]);
       bounds[i].geomID = 0;
       bounds[i].primID = unsigned(i);
       inHierarchy[i] = 1;
@@ -461,12 +468,11 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
   size_t count = 0;
   for (uint8_t in : inHierarchy) count += in;
   if (source && refitHierarchy(*source, impl, inHierarchy, count, bounds)) return true;
-  std::vector<RTCBuildPrimitive> prims;
-  prims.reserve(count);
+  size_t kept = 0;  // the hierarchy's instances, in place
   for (size_t i = 0; i < n; ++i)
-    if (inHierarchy[i]) prims.push_back(bounds[i]);
-  bounds = {};
-  return buildHierarchy(device, impl, prims, error);
+    if (inHierarchy[i]) bounds[kept++] = bounds[i];
+  bounds.resize(kept);
+  return buildHierarchy(device, impl, bounds, error);
 }
 
 }  // namespace

@@ -466,9 +466,10 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
   uint32_t ref = t.root;
   for (;;) {
     if (ref & kLeafRef) {
-      const uint32_t first = (ref & ~kLeafRef) >> 3, end = first + (ref & 7) + 1;
-      for (uint32_t k = first; k < end; ++k) {
-        const uint32_t i = t.leafItems[k];
+      uint32_t count, one;
+      const uint32_t* items = leafInstances(t.leafItems, ref, &count, &one);
+      for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t i = items[k];
         const InstanceRecord& r = t.records[i];
         if (!(r.mask & cull)) continue;
         const float(*m)[4] = r.worldToObject;
