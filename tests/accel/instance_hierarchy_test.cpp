@@ -2,6 +2,7 @@
 // update; traverse.cpp enters each instance's Blas scene): thousands of overlapping instances, rotated and scaled,
 // with masks, inactive ones and flattened small bottom levels among them, against the closest hit computed here in
 // double from the instances' placements alone. Traced rays, occlusion rays and ray queries must all agree with it.
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -222,6 +223,72 @@ TEST(AccelInstanceHierarchy, UpdateRefitsTheHierarchyToNewTransforms) {
   ASSERT_TRUE(rebuilt) << error;
   EXPECT_EQ(rebuilt->impl->leafItems.size() + 1, moved->impl->leafItems.size());
   EXPECT_EQ(countWrong(*rebuilt, fewer, 7, 2000), 0u);
+}
+
+// Shaders across instances of the hierarchy (bottom levels too big to be flattened): ten stacked instances of a
+// non-opaque tile and of 20 boxes, entered in the hierarchy's order, whatever their index order.
+TEST(AccelInstanceHierarchy, AnyHitAndIntersectionShadersAcrossInstances) {
+  const std::shared_ptr<const Blas> tiles = makeBlas({[] {
+    Geometry g = tile(5, 4);
+    g.triangles.flags = 0;  // non-opaque: the any-hit shader decides
+    return g;
+  }()});
+  std::vector<std::array<float, 6>> list;
+  for (int k = 0; k < 20; ++k)
+    list.push_back({float(k % 5), float(k / 5), -0.25f, float(k % 5 + 1), float(k / 5 + 1), 0.25f});
+  const std::shared_ptr<const Blas> cubes = makeBlas({boxes(list, 0)});
+  const uint32_t order[10] = {7, 2, 9, 0, 5, 3, 8, 1, 6, 4};  // instance k sits at z = 1 + order[k]
+  for (const auto& blas : {tiles, cubes}) {
+    std::vector<Instance> instances;
+    for (uint32_t k = 0; k < 10; ++k) instances.push_back(translated(blas, 0, 0, 1.0f + float(order[k])));
+    auto tlas = makeTlas(instances);
+    ASSERT_TRUE(tlas);
+    const bool boxesHere = blas == cubes;
+    auto zOf = [&](uint32_t instance) { return 1.0f + float(order[instance]); };
+    // The intersection shader commits where the ray enters the box (its bottom face, 0.25 below the instance's z).
+    auto enter = [&](ProceduralCandidate& c) {
+      const float t = zOf(c.info().instanceIndex) - 0.25f + 1.0f;
+      if (t >= c.tMin() && t <= c.tMax()) c.commit(t, 1, false);
+    };
+    const Ray ray = rayFrom(2.3f, 1.6f, -1, 0, 0, 1);
+    // The nearest two are ignored by the any-hit shader: the third nearest (z = 3) is the closest hit.
+    Recorder ignoring;
+    ignoring.onAnyHit = [&](const HitInfo& h) {
+      return zOf(h.instanceIndex) < 2.5f ? AnyHitResult::Ignore : AnyHitResult::Accept;
+    };
+    ignoring.onIntersect = [&](ProceduralCandidate& c) {
+      if (zOf(c.info().instanceIndex) > 2.5f) enter(c);
+    };
+    Traced t = traceOnce(*tlas, ray, ignoring);
+    ASSERT_TRUE(t.hit);
+    EXPECT_EQ(zOf(t.info.instanceIndex), 3.0f);
+    EXPECT_TRUE(nearHit(t.info.t, boxesHere ? 3.75f : 4.0f, 10));
+    // Every instance's candidate was seen at most once, and the nearest three at least.
+    size_t calls = boxesHere ? ignoring.boxes.size() : ignoring.anyHits.size();
+    EXPECT_GE(calls, 3u);
+    EXPECT_LE(calls, 10u);
+    // The first accepted candidate that terminates is the hit, wherever it lies.
+    Recorder terminating;
+    terminating.onAnyHit = [](const HitInfo&) { return AnyHitResult::AcceptAndTerminate; };
+    terminating.onIntersect = [&](ProceduralCandidate& c) {
+      const float tc = zOf(c.info().instanceIndex) - 0.25f + 1.0f;
+      if (tc >= c.tMin() && tc <= c.tMax()) c.commit(tc, 1, true);
+    };
+    t = traceOnce(*tlas, ray, terminating);
+    ASSERT_TRUE(t.hit);
+    calls = boxesHere ? terminating.boxes.size() : terminating.anyHits.size();
+    ASSERT_EQ(calls, 1u);
+    const uint32_t first = boxesHere ? terminating.boxes[0].instanceIndex : terminating.anyHits[0].instanceIndex;
+    EXPECT_EQ(t.info.instanceIndex, first);
+    EXPECT_TRUE(nearHit(t.info.t, zOf(first) + (boxesHere ? 0.75f : 1.0f), 10));
+    // An occlusion ray (TerminateOnFirstHit) ends at its first accepted candidate too.
+    Recorder shadow;
+    shadow.onIntersect = enter;
+    Ray occ = ray;
+    occ.flags = kRayTerminateOnFirstHit;
+    EXPECT_TRUE(traceOnce(*tlas, occ, shadow).hit);
+    EXPECT_EQ(boxesHere ? shadow.boxes.size() : shadow.anyHits.size(), 1u);
+  }
 }
 
 TEST(AccelInstanceHierarchy, OneInstanceIsALeafAndNoneIsEmpty) {
