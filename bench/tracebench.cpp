@@ -26,9 +26,11 @@
 // - --many-blas 65536: N one-triangle bottom levels and their top level, built on the host (one deferred operation
 //   per structure, joined by the calling thread, or with --join-thread by a new thread each, as the CTS does) and
 //   in one recorded command, next to Embree building N scenes and an instance scene (runManyBlas).
+// - --tlas-builds 1e4,1e5,1e6: top-level builds of N instances alone, next to Embree's (tlasBuildFigures).
 //
 // Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
 //                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread]]
+//                        [--tlas-builds N,...]
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -64,6 +66,7 @@ struct Options {
   std::vector<uint32_t> manyTlas;      // --many-tlas 1,16,17,256,1000: top-level counts (runManyTlas)
   uint64_t manyTlasTriangles = 10000;  // the terrain they instance
   uint32_t manyBlas = 0;               // --many-blas N: one-triangle bottom levels (runManyBlas)
+  std::vector<uint32_t> tlasBuilds;    // --tlas-builds 1e4,1e5,1e6: top-level builds alone (tlasBuildFigures)
   bool joinThread = false;             // --join-thread: each host build joined by a thread of its own (as the CTS)
 };
 
@@ -672,6 +675,60 @@ TraceFigures traceFigures(const Options& o, TracePipeline& tp, Buffer& results, 
   return f;
 }
 
+// A top level of `n` instances of a small terrain (128 triangles, an Embree scene of its own in vkrt) on a grid:
+// vkrt's build (submit to idle, into a fresh structure) next to Embree's rtcCommitScene of an instance scene of the
+// same transforms (robust, high quality), alone and with making its instance geometries. Minstances/s, best runs.
+struct TlasBuildFigures {
+  double vkrt = 0, embree = 0, embreeWithSetup = 0;
+};
+
+TlasBuildFigures tlasBuildFigures(const Options& o, RTCDevice device, uint32_t n) {
+  TlasBuildFigures f;
+  const Terrain small = makeTerrain(128);
+  AccelStructures tas;
+  const VkAccelerationStructureKHR smallBlas = tas.build(
+      VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+      tas.triangles(small.vertices.data(), small.vertices.size() / 3, small.indices.data(), small.indices.size()),
+      uint32_t(small.triangles()));
+  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
+  std::vector<VkAccelerationStructureInstanceKHR> instances(n, tas.identityInstance(smallBlas));
+  for (uint32_t i = 0; i < n; ++i) {
+    instances[i].transform.matrix[0][3] = 110.0f * float(i % side);
+    instances[i].transform.matrix[1][3] = 110.0f * float(i / side);
+    instances[i].instanceCustomIndex = i;
+  }
+  EmbreeScene smallEmbree(device, small);
+  double eBest = 0, eSetupBest = 0, eTotal = 0;
+  for (uint32_t i = 0; i < 20 && (i < 2 || eTotal < o.minTime); ++i) {
+    const double start = wallSeconds();
+    RTCScene scene = rtcNewScene(device);
+    for (uint32_t k = 0; k < n; ++k) {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(g, smallEmbree.scene);
+      rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &instances[k].transform.matrix[0][0]);
+      rtcCommitGeometry(g);
+      rtcAttachGeometryByID(scene, g, k);
+      rtcReleaseGeometry(g);
+    }
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    const double commit = wallSeconds();
+    rtcCommitScene(scene);
+    const double end = wallSeconds();
+    rtcReleaseScene(scene);
+    eTotal += end - start;
+    if (i == 0 || end - commit < eBest) eBest = end - commit;
+    if (i == 0 || end - start < eSetupBest) eSetupBest = end - start;
+  }
+  const double minst = double(n) * 1e-6;
+  f.embree = minst / eBest;
+  f.embreeWithSetup = minst / eSetupBest;
+  f.vkrt = minst / tas.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
+                                  tas.instances(instances.data(), instances.size()), n,
+                                  uint32_t(std::clamp(o.minTime / eSetupBest, 2.0, 20.0)));
+  return f;
+}
+
 SizeFigures runScene(const Options& o, RTCDevice device, const Terrain& t) {
   SizeFigures f;
   std::fprintf(stderr, "scene: %s%llu triangles\n", t.name.empty() ? "" : (t.name + ", ").c_str(),
@@ -709,51 +766,11 @@ SizeFigures runScene(const Options& o, RTCDevice device, const Terrain& t) {
       as.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, as.instances(&one, 1), 1);
 
   // TLAS: instances of a small terrain on a grid.
-  {
-    f.tlasInstances = uint32_t(std::max<uint64_t>(1000, f.triangles / 100));
-    const Terrain small = makeTerrain(128);
-    AccelStructures tas;
-    const VkAccelerationStructureKHR smallBlas = tas.build(
-        VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-        tas.triangles(small.vertices.data(), small.vertices.size() / 3, small.indices.data(), small.indices.size()),
-        uint32_t(small.triangles()));
-    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(f.tlasInstances))));
-    std::vector<VkAccelerationStructureInstanceKHR> instances(f.tlasInstances, tas.identityInstance(smallBlas));
-    for (uint32_t i = 0; i < f.tlasInstances; ++i) {
-      instances[i].transform.matrix[0][3] = 110.0f * float(i % side);
-      instances[i].transform.matrix[1][3] = 110.0f * float(i / side);
-      instances[i].instanceCustomIndex = i;
-    }
-    EmbreeScene smallEmbree(device, small);
-    double eBest = 0, eSetupBest = 0, eTotal = 0;
-    for (uint32_t i = 0; i < 20 && (i < 2 || eTotal < o.minTime); ++i) {
-      const double start = wallSeconds();
-      RTCScene scene = rtcNewScene(device);
-      for (uint32_t k = 0; k < f.tlasInstances; ++k) {
-        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(g, smallEmbree.scene);
-        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &instances[k].transform.matrix[0][0]);
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(scene, g, k);
-        rtcReleaseGeometry(g);
-      }
-      rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
-      rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-      const double commit = wallSeconds();
-      rtcCommitScene(scene);
-      const double end = wallSeconds();
-      rtcReleaseScene(scene);
-      eTotal += end - start;
-      if (i == 0 || end - commit < eBest) eBest = end - commit;
-      if (i == 0 || end - start < eSetupBest) eSetupBest = end - start;
-    }
-    const double minst = double(f.tlasInstances) * 1e-6;
-    f.tlasEmbree = minst / eBest;
-    f.tlasEmbreeWithSetup = minst / eSetupBest;
-    f.tlasVkrt = minst / tas.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
-                                        tas.instances(instances.data(), instances.size()), f.tlasInstances,
-                                        uint32_t(std::clamp(o.minTime / eSetupBest, 2.0, 20.0)));
-  }
+  f.tlasInstances = uint32_t(std::max<uint64_t>(1000, f.triangles / 100));
+  const TlasBuildFigures tb = tlasBuildFigures(o, device, f.tlasInstances);
+  f.tlasVkrt = tb.vkrt;
+  f.tlasEmbree = tb.embree;
+  f.tlasEmbreeWithSetup = tb.embreeWithSetup;
 
   // Tracing.
   Buffer vertices(t.vertices.size() * 4), indices(t.indices.size() * 4);
@@ -1197,7 +1214,7 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
   std::fprintf(stderr,
                "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
                "[--min-time S] [--vkrt-only] [--gltf model.glb] [--many-tlas N,N,...] [--many-blas N "
-               "[--join-thread]]\n  sizes: even "
+               "[--join-thread]] [--tlas-builds N,N,...]\n  sizes: even "
                "triangle counts (1e6 style allowed); image sides multiples of 8\n");
   std::exit(2);
 }
@@ -1245,6 +1262,15 @@ Options parse(int argc, char** argv) {
       const double v = std::strtod(value(), nullptr);
       if (!(v >= 1 && v <= 1e7)) usage();
       o.manyBlas = uint32_t(v);
+    } else if (a == "--tlas-builds") {
+      for (const char* p = value();;) {
+        char* q = nullptr;
+        const double v = std::strtod(p, &q);
+        if (q == p || !(v >= 1 && v <= 16777215)) usage();
+        o.tlasBuilds.push_back(uint32_t(v));
+        if (*q != ',') break;
+        p = q + 1;
+      }
     } else if (a == "--join-thread") {
       o.joinThread = true;
     } else if (a == "--vkrt-only") {
@@ -1263,9 +1289,9 @@ Options parse(int argc, char** argv) {
     }
   }
   // The many-structure modes alone run no terrain scene unless --sizes asks for some.
-  if (!sizesGiven && (!o.manyTlas.empty() || o.manyBlas)) o.sizes.clear();
+  if (!sizesGiven && (!o.manyTlas.empty() || o.manyBlas || !o.tlasBuilds.empty())) o.sizes.clear();
   if (o.quick) {
-    if (!sizesGiven && o.manyTlas.empty() && !o.manyBlas) o.sizes = {10000, 1000000};
+    if (!sizesGiven && o.manyTlas.empty() && !o.manyBlas && o.tlasBuilds.empty()) o.sizes = {10000, 1000000};
     o.minTime = std::min(o.minTime, 0.3);
     o.width = std::min(o.width, 512u);
     o.height = std::min(o.height, 512u);
@@ -1324,6 +1350,18 @@ int main(int argc, char** argv) {
     if (!o.vkrtOnly)
       std::printf("%-28s %10.3f %10.3f %10.3f\n", "Embree (scenes, instances)", f.embreeBlas, f.embreeTlas,
                   f.embreeBlas + f.embreeTlas);
+  }
+  if (!o.tlasBuilds.empty()) {
+    std::printf("\nvkrt_tracebench --tlas-builds: %u threads, top levels of N instances of a 128-triangle terrain\n",
+                workerThreads());
+    std::printf("%-10s %10s %10s %7s %14s\n", "instances", "TLAS vkrt", "Embree", "ratio", "Embree+setup");
+    for (uint32_t n : o.tlasBuilds) {
+      const TlasBuildFigures f = tlasBuildFigures(o, device, n);
+      std::printf("%-10u %10.2f %10.2f %7.2f %14.2f\n", n, f.vkrt, f.embree, f.vkrt / f.embree, f.embreeWithSetup);
+    }
+    std::printf(
+        "(Minstances/s, best runs; Embree: rtcCommitScene of its instance scene alone; +setup: with making "
+        "its instance geometries)\n");
   }
   if (!o.json.empty() && !all.empty()) writeJson(o, all, submit);
   rtcReleaseDevice(device);

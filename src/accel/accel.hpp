@@ -52,7 +52,9 @@ inline constexpr uint32_t kHitKindFrontFacingTriangle = 0xFE;
 inline constexpr uint32_t kHitKindBackFacingTriangle = 0xFF;
 
 struct TriangleGeometry {
-  std::vector<float> vertices;    // x, y, z per vertex, in the Blas's space (any build transform applied)
+  // x, y, z per vertex, in the Blas's space (any build transform applied). With room for one float more (capacity),
+  // Embree reads the Blas's copy in place instead of copying it.
+  std::vector<float> vertices;
   std::vector<uint32_t> indices;  // three per triangle (the runtime expands non-indexed geometry)
   uint32_t flags = 0;             // GeometryFlag
 };

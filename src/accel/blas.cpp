@@ -1,5 +1,6 @@
 // Bottom-level structures: copies of the geometries, and an Embree scene built (or refitted) from them.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -172,24 +173,42 @@ bool hasNoDuplicateAnyHit(const Blas::Impl& impl) {
   return false;
 }
 
-// Embree copies: its own vertex and index buffers (rtcSetNewGeometryBuffer pads the vertex buffer so that every
-// vertex can be read with one 16-byte load, as Embree's kernels do), so that the Blas's copies stay exactly
-// what the caller gave. Large copies and the scan for triangles collapsed to a point run in chunks on Embree's
-// build threads: one after the other they cost as much as Embree's whole build of 10^7 triangles on 16 threads
-// (the copies also take the first touch of Embree's fresh pages, which the kernel zeroes).
-void copyTriangles(RTCGeometry geometry, const TriangleGeometry& t, bool withIndices) {
+// Embree's vertex and index buffers. Where the Blas's arrays can serve as they are, Embree reads them in place
+// (rtcSetSharedGeometryBuffer: they live as long as the Blas, which outlives its scene, and no copy is made): the
+// vertices when their vector has room for one float past the last vertex (Embree reads each vertex with one 16-byte
+// load; the runtime reserves it), the indices when no triangle collapses to a point. Otherwise Embree gets copies
+// (rtcSetNewGeometryBuffer pads the vertex buffer), with the indices of collapsed triangles pointing past the
+// vertices so that Embree leaves them out and the Blas's copies stay exactly what the caller gave. Large copies
+// and the scan for collapsed triangles run in chunks on Embree's build threads: one after the other they cost as
+// much as Embree's whole build of 10^7 triangles on 16 threads (the copies also take the first touch of Embree's
+// fresh pages, which the kernel zeroes). A refit points a scene of the family at the new Blas's arrays the same
+// way (a shared buffer of a dead Blas of the family is never read again).
+void setTriangleBuffers(RTCGeometry geometry, const TriangleGeometry& t, bool build) {
   constexpr size_t kChunk = size_t(1) << 15, kSerialBelow = size_t(1) << 16;  // vertices or triangles
   const size_t vertexCount = t.vertices.size() / 3;
-  auto* vertices =
-      static_cast<float*>(withIndices ? rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                3 * sizeof(float), vertexCount)
-                                      : rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_VERTEX, 0));
-  if (vertices)
+  if (t.vertices.capacity() > t.vertices.size()) {
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, t.vertices.data(), 0,
+                               3 * sizeof(float), vertexCount);
+  } else if (auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+                 geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertexCount))) {
+    // (A refit too gets a buffer of its own: the scene's may be one shared with a dead Blas of the family.)
     parallelChunks(vertexCount, kChunk, kSerialBelow, [&](size_t begin, size_t end) {
       std::memcpy(vertices + 3 * begin, t.vertices.data() + 3 * begin, (end - begin) * 3 * sizeof(float));
     });
-  if (!withIndices) return;
+  }
   const size_t triangleCount = t.indices.size() / 3;
+  std::atomic<bool> collapsed{false};
+  parallelChunks(triangleCount, kChunk, kSerialBelow, [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end && !collapsed.load(std::memory_order_relaxed); ++p)
+      if (pointTriangle(t, p)) collapsed.store(true, std::memory_order_relaxed);
+  });
+  if (!collapsed.load()) {
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, t.indices.data(), 0,
+                               3 * sizeof(uint32_t), triangleCount);
+    return;
+  }
+  // A refit keeps the copy its build made (the same indices and collapsed triangles: sameTopology).
+  if (!build) return;
   auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                  3 * sizeof(uint32_t), triangleCount));
   if (!indices) return;
@@ -208,7 +227,7 @@ RTCGeometry newGeometry(RTCDevice device, Blas::Impl& impl, size_t i, RTCBuildQu
   if (g.kind == Geometry::Triangles) {
     geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (!geometry) return nullptr;
-    copyTriangles(geometry, g.triangles, true);
+    setTriangleBuffers(geometry, g.triangles, true);
     rtcSetGeometryMask(geometry, kTriangleMaskBit);
   } else {
     geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
@@ -268,7 +287,7 @@ bool refitScene(RTCScene scene, Blas::Impl& impl, std::string* error) {
     RTCGeometry geometry = rtcGetGeometry(scene, unsigned(i));
     if (!geometry) break;
     if (impl.geometries[i].kind == Geometry::Triangles) {
-      copyTriangles(geometry, impl.geometries[i].triangles, false);
+      setTriangleBuffers(geometry, impl.geometries[i].triangles, false);
       rtcUpdateGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     }
     rtcSetGeometryUserData(geometry, &impl.info[i]);  // boxes: the bounds callback reads the new copies

@@ -99,13 +99,39 @@ namespace detail {
 
 // One instance as traversal reads it (indexed by instance index, which is also its Embree geometry ID in the
 // Tlas scene). The transforms are the ones the shaders' built-ins report.
-struct InstanceRecord {
-  float objectToWorld[3][4];
+// What traversal reads to enter an instance (worldToObject, scene, mask) is in the record's first cache line.
+struct alignas(64) InstanceRecord {
   float worldToObject[3][4];
+  RTCScene scene = nullptr;  // the Blas's Embree scene, where the instance is in the Tlas's hierarchy
+  uint32_t mask = 0;         // the 8-bit instance mask
+  uint32_t flags = 0;
+  float objectToWorld[3][4];
   const Blas::Impl* blas = nullptr;  // null: inactive (null Blas or a transform that cannot be inverted)
   uint32_t customIndex = 0;
   uint32_t sbtOffset = 0;
-  uint32_t flags = 0;
+};
+
+// vkrt's own instance level: a binary hierarchy over the instances (built by Embree's rtcBuildBVH, SAH, on the
+// build threads; refit by an update), traversed by traverse.cpp, which enters each instance's Blas scene with the
+// ray in object space. Nodes are in depth-first order (a parent before its children), so a refit is one reverse
+// pass. A child reference with kLeafRef set is a leaf: count - 1 in bits 0-2 and, in bits 3-30, the instance index
+// of a leaf of one instance (no indirection: SAH leaves mostly hold one), else `first`, the leaf's instances being
+// `leafItems[first .. first + count)`. leafItems lists every instance of the hierarchy, in leaf order.
+inline constexpr uint32_t kLeafRef = 0x80000000u;
+inline constexpr uint32_t kEmptyRef = 0xFFFFFFFFu;  // the root of a hierarchy with no instance
+inline constexpr uint32_t kMaxLeafItems = 8;
+inline constexpr size_t kMaxHierarchyInstances = size_t(1) << 28;
+// A leaf's instances: a pointer to `count` indices (`one` holds a leaf's single instance).
+inline const uint32_t* leafInstances(const std::vector<uint32_t>& leafItems, uint32_t ref, uint32_t* count,
+                                     uint32_t* one) {
+  *count = (ref & 7) + 1;
+  *one = (ref & ~kLeafRef) >> 3;
+  return *count == 1 ? one : leafItems.data() + *one;
+}
+struct BvhNode {
+  float lower[2][3];  // the two children's bounds, world space, rounded outward
+  float upper[2][3];
+  uint32_t child[2];
 };
 
 // What a ray needs to know of a Tlas to decide whether it needs a filter callback at all.
@@ -179,30 +205,36 @@ inline unsigned embreeRayMask(const Ray& ray) {
 }  // namespace detail
 
 struct Tlas::Impl {
-  std::vector<Instance> instances;
-  BuildOptions options;
+  // (What every ray reads first, together.)
   std::vector<detail::InstanceRecord> records;
   detail::TlasSummary summary;
-  RTCScene scene = nullptr;
-  // Flattened triangles: the scene's geometry flatBase + g holds flat[g] (one geometry per instance mask), its
-  // primitive p being flat[g][p]. Instances are geometries 0 .. instances.size() - 1 (Embree's instID).
-  uint32_t flatBase = 0;
+  bool built = false;  // false: a failed build (never traced)
+  // The instance level (detail::BvhNode): the root reference, its nodes, the instance indices its leaves hold.
+  uint32_t root = detail::kEmptyRef;
+  // Flattened triangles: an Embree scene of world-space triangles (null when there are none), traced before the
+  // hierarchy. Its geometry g holds flat[g] (one geometry per instance mask), its primitive p being flat[g][p].
+  RTCScene flatScene = nullptr;
+  std::vector<detail::BvhNode> nodes;
+  std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
+  std::vector<Instance> instances;
+  BuildOptions options;
 
   ~Impl();
 };
 
 namespace detail {
 
-// The instance, geometry and primitive of an Embree hit: its own IDs inside an instance, or the flattened
-// triangle's (no instance: instID is RTC_INVALID_GEOMETRY_ID).
+// The instance, geometry and primitive of an Embree hit: its own IDs inside an instance (traverse.cpp passes the
+// instance index as the context's instID when it enters a Blas scene), or the flattened triangle's (no instance:
+// instID is RTC_INVALID_GEOMETRY_ID).
 struct HitIds {
   uint32_t instance, geometry, primitive;
   bool flat;
 };
 inline HitIds hitIds(const Tlas::Impl& t, unsigned instID, unsigned geomID, unsigned primID) {
   if (instID != RTC_INVALID_GEOMETRY_ID) return {instID, geomID, primID, false};
-  const FlatTriangle& f = t.flat[geomID - t.flatBase][primID];
+  const FlatTriangle& f = t.flat[geomID][primID];
   return {f.instance, f.geometry, f.primitive, true};
 }
 

@@ -1,4 +1,5 @@
-// Top-level structures: the instances, their transforms and inverses, and an Embree scene of instance geometries.
+// Top-level structures: the instances, their transforms and inverses, vkrt's hierarchy over them (no Embree object
+// per instance), and an Embree scene of the flattened small bottom levels' triangles.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -86,6 +87,7 @@ void makeRecords(Tlas::Impl& impl) {
     for (int row = 0; row < 3; ++row)
       for (int col = 0; col < 4; ++col) r.objectToWorld[row][col] = in.transform[row][col];
     r.customIndex = in.customIndex & 0xFFFFFF;
+    r.mask = in.mask & 0xFF;
     r.sbtOffset = in.sbtOffset & 0xFFFFFF;
     r.flags = in.flags;
     double gain = 0, offset = 0;
@@ -194,92 +196,31 @@ void flattenInstance(const InstanceRecord& r, uint32_t i, FlatGroup& group) {
   }
 }
 
-RTCScene newScene(Tlas::Impl& impl, std::string* error) {
-  RTCDevice device = detail::device(error);
-  if (!device) return nullptr;
+// Which instances are flattened (in index order, up to kFlatTriangles), and the Embree scene of their triangles:
+// one triangle geometry per instance mask, geometry IDs in order of mask (flat[] is indexed by them). Sets
+// `flat[i]` for each flattened instance; impl.flatScene stays null when there is none.
+bool buildFlatScene(RTCDevice device, Tlas::Impl& impl, std::vector<uint8_t>& flat, std::string* error) {
+  const size_t n = impl.instances.size();
+  flat.assign(n, 0);
+  FlatGroup groups[256];
+  uint64_t flatTriangles = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const InstanceRecord& r = impl.records[i];
+    if (!r.blas || !r.blas->primitives || !r.mask || !flattenable(*r.blas)) continue;
+    if (flatTriangles + r.blas->primitives > kFlatTriangles) break;
+    flatTriangles += r.blas->primitives;
+    flat[i] = 1;
+    flattenInstance(r, uint32_t(i), groups[r.mask]);
+  }
+  if (!flatTriangles) return true;
   EmbreeErrors errors;
   const SceneSettings settings = sceneSettings(impl.options, false);
   RTCScene scene = rtcNewScene(device);
-  if (!scene) {
-    errors.failed("Tlas build", error);
-    return nullptr;
-  }
-  const size_t n = impl.instances.size();
-  // Which instances are flattened (in index order, up to the bound), grouped by mask.
-  std::vector<uint8_t> flat(n, 0);
-  FlatGroup groups[256];
-  uint64_t flatTriangles = 0;
-  if (n <= 0xFFFFFFFEu - 256) {
-    for (size_t i = 0; i < n; ++i) {
-      const InstanceRecord& r = impl.records[i];
-      const uint32_t mask = impl.instances[i].mask & 0xFF;
-      if (!r.blas || !r.blas->primitives || !mask || !flattenable(*r.blas)) continue;
-      if (flatTriangles + r.blas->primitives > kFlatTriangles) break;
-      flatTriangles += r.blas->primitives;
-      flat[i] = 1;
-      flattenInstance(r, uint32_t(i), groups[mask]);
-    }
-  }
-  // Robust here too: the instance hierarchy's box tests are conservative, so a ray grazing an instance's bounds
-  // still enters it. The context filter runs for flattened triangles (no filter runs for instances themselves).
-  int flags = settings.sceneFlags;
-  if (!flatTriangles) flags &= ~RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
-  rtcSetSceneFlags(scene, RTCSceneFlags(flags));
-  rtcSetSceneBuildQuality(scene, settings.sceneQuality);  // (Embree's instance builders tell only LOW from the rest)
-  // One instance geometry per active instance that is not flattened, attached under its index (Embree's instID = the
-  // instance index). The geometries are made and committed on Embree's build threads, then attached one after the
-  // other in index order (attached in parallel too, 10^5 instances took 2.5x longer on the 16-core machine: the
-  // attachments contend for the scene's lock). Made in parallel, a build of 10^5 instances went from 1.35-1.50 to
-  // 1.78-2.16 Minstances/s there; Embree's making of instance objects scales poorly (bench/embree_instances.cpp:
-  // about 180 ns an instance on one thread, 120-150 ns on 4-16), so these per-instance objects, not Embree's build,
-  // remain most of a large top level's build time.
-  std::vector<RTCGeometry> geometries(n, nullptr);
-  std::atomic<bool> outOfMemory{false};
-  // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
-  // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
-  // the same scene, re-entering its std::call_once.
-  for (size_t i = 0; i < n; ++i) {
-    const InstanceRecord& r = impl.records[i];
-    if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && (impl.instances[i].mask & 0xFF))
-      r.blas->sceneFor();
-  }
-  parallelChunks(n, 1024, 4096, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      const InstanceRecord& r = impl.records[i];
-      const uint32_t mask = impl.instances[i].mask & 0xFF;
-      if (flat[i] || !r.blas || !r.blas->primitives || !mask) continue;  // never hit (or flattened); the index stays
-      RTCScene inner = r.blas->sceneFor();
-      if (!inner) {
-        outOfMemory.store(true, std::memory_order_relaxed);
-        return;
-      }
-      // An instance without extent in world space is left out too (never hit): Embree's builder would abort.
-      RTCBounds bounds;
-      rtcGetSceneBounds(inner, &bounds);
-      if (!worldBoundsHaveExtent(bounds, r.objectToWorld)) continue;
-      RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-      if (!geometry) {
-        outOfMemory.store(true, std::memory_order_relaxed);
-        return;
-      }
-      rtcSetGeometryInstancedScene(geometry, inner);
-      rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &r.objectToWorld[0][0]);
-      rtcSetGeometryMask(geometry, mask);
-      rtcCommitGeometry(geometry);
-      geometries[i] = geometry;
-    }
-  });
-  if (!outOfMemory.load())
-    for (size_t i = 0; i < n; ++i)
-      if (geometries[i]) rtcAttachGeometryByID(scene, geometries[i], unsigned(i));
-  // The scene holds its own references now; ours go (each is a heap release: in parallel too).
-  parallelChunks(n, 4096, 4096, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i)
-      if (geometries[i]) rtcReleaseGeometry(geometries[i]);
-  });
-  // The flattened triangles: one geometry per mask, IDs from flatBase on (after every instance's).
-  impl.flatBase = uint32_t(n);
-  for (unsigned mask = 1; mask < 256 && !outOfMemory.load(); ++mask) {
+  if (!scene) return !errors.failed("Tlas build", error);
+  rtcSetSceneFlags(scene, RTCSceneFlags(settings.sceneFlags & ~RTC_SCENE_FLAG_COMPACT));
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
+  bool outOfMemory = false;
+  for (unsigned mask = 1; mask < 256; ++mask) {
     FlatGroup& g = groups[mask];
     if (g.triangles.empty()) continue;
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -291,7 +232,7 @@ RTCScene newScene(Tlas::Impl& impl, std::string* error) {
                         : nullptr;
     if (!v || !ix) {
       if (geometry) rtcReleaseGeometry(geometry);
-      outOfMemory.store(true);
+      outOfMemory = true;
       break;
     }
     std::memcpy(v, g.vertices.data(), g.vertices.size() * sizeof(float));
@@ -300,62 +241,291 @@ RTCScene newScene(Tlas::Impl& impl, std::string* error) {
     // MEDIUM: each triangle in exactly one leaf (no spatial splits: VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT).
     rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_MEDIUM);
     rtcCommitGeometry(geometry);
-    rtcAttachGeometryByID(scene, geometry, impl.flatBase + unsigned(impl.flat.size()));
+    rtcAttachGeometryByID(scene, geometry, unsigned(impl.flat.size()));
     rtcReleaseGeometry(geometry);
-    impl.flat.push_back(std::move(g.triangles));
-    // flat[] is indexed by geometry ID - flatBase: masks without triangles take no ID.
+    impl.flat.push_back(std::move(g.triangles));  // flat[] is indexed by geometry ID: masks without triangles take none
   }
+  if (!outOfMemory) rtcCommitScene(scene);
+  if (outOfMemory || errors.failed("Tlas build", error)) {
+    if (error && outOfMemory) *error = "Tlas build: Embree could not create a geometry (out of memory)";
+    rtcReleaseScene(scene);
+    return false;
+  }
+  impl.flatScene = scene;
+  return true;
+}
+
+// An instance's world bounds for the hierarchy: its Blas's bounds, each corner transformed in double, rounded
+// outward to float (traversal's box test is then conservative for every ray that can meet the instance). Returns
+// whether they surely have extent as Embree computes it too (an extent far above float rounding of the terms of
+// the transform); where that is unsure, the caller asks worldBoundsHaveExtent, which follows Embree's arithmetic.
+bool worldBounds(const RTCBounds& b, const float m[3][4], RTCBuildPrimitive& out) {
+  double lower[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, upper[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, terms[3] = {};
+  for (int corner = 0; corner < 8; ++corner) {
+    const double p[3] = {corner & 1 ? b.upper_x : b.lower_x, corner & 2 ? b.upper_y : b.lower_y,
+                         corner & 4 ? b.upper_z : b.lower_z};
+    for (int row = 0; row < 3; ++row) {
+      const double x = m[row][0] * p[0], y = m[row][1] * p[1], z = m[row][2] * p[2], t = m[row][3];
+      const double w = x + y + z + t;
+      lower[row] = std::min(lower[row], w);
+      upper[row] = std::max(upper[row], w);
+      terms[row] = std::max(terms[row], std::fabs(x) + std::fabs(y) + std::fabs(z) + std::fabs(t));
+    }
+  }
+  // A margin of a millionth of the magnitudes (far beyond the half float ulp of the conversion, and beyond Embree's
+  // float transform of the ray, which may put its hits a few ulps from the exact ones), plus a tiny absolute one.
+  bool extent = false;
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double margin = 1e-6 * std::max({std::fabs(lower[k]), std::fabs(upper[k]), upper[k] - lower[k]}) + 1e-36;
+    lo[k] = float(lower[k] - margin);
+    hi[k] = float(upper[k] + margin);
+    extent |= upper[k] - lower[k] > 1e-4 * terms[k] && upper[k] - lower[k] > 1e-30;
+  }
+  out.lower_x = lo[0], out.lower_y = lo[1], out.lower_z = lo[2];
+  out.upper_x = hi[0], out.upper_y = hi[1], out.upper_z = hi[2];
+  return extent;
+}
+
+// rtcBuildBVH's nodes (allocated in the RTCBVH, freed with it once copied into Tlas::Impl::nodes).
+struct BuildNode {
+  bool leaf;
+  RTCBounds bounds[2];
+  void* children[2];
+};
+struct BuildLeaf {
+  bool leaf;
+  uint32_t count;
+  uint32_t items[kMaxLeafItems];
+};
+
+void* createNode(RTCThreadLocalAllocator alloc, unsigned, void*) {
+  auto* node = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
+  *node = BuildNode{false, {}, {nullptr, nullptr}};
+  return node;
+}
+void setNodeChildren(void* node, void** children, unsigned count, void*) {
+  for (unsigned k = 0; k < count && k < 2; ++k) static_cast<BuildNode*>(node)->children[k] = children[k];
+}
+void setNodeBounds(void* node, const RTCBounds** bounds, unsigned count, void*) {
+  for (unsigned k = 0; k < count && k < 2; ++k) static_cast<BuildNode*>(node)->bounds[k] = *bounds[k];
+}
+void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void* userPtr) {
+  auto* leaf = static_cast<BuildLeaf*>(rtcThreadLocalAlloc(alloc, sizeof(BuildLeaf), 16));
+  leaf->leaf = true;
+  leaf->count = uint32_t(std::min<size_t>(count, kMaxLeafItems));
+  if (count > kMaxLeafItems) static_cast<std::atomic<bool>*>(userPtr)->store(true);  // (the builder keeps the bound)
+  for (uint32_t k = 0; k < leaf->count; ++k) leaf->items[k] = prims[k].primID;
+  return leaf;
+}
+
+// Copies the builder's tree below `p` into impl.nodes / impl.leafItems, depth first; returns its reference.
+uint32_t copyTree(const void* p, Tlas::Impl& impl) {
+  if (static_cast<const BuildLeaf*>(p)->leaf) {
+    const auto* leaf = static_cast<const BuildLeaf*>(p);
+    const auto first = uint32_t(impl.leafItems.size());
+    impl.leafItems.insert(impl.leafItems.end(), leaf->items, leaf->items + leaf->count);
+    return kLeafRef | (leaf->count == 1 ? leaf->items[0] : first) << 3 | (leaf->count - 1);
+  }
+  const auto* node = static_cast<const BuildNode*>(p);
+  const auto index = uint32_t(impl.nodes.size());
+  impl.nodes.emplace_back();
+  for (int k = 0; k < 2; ++k) {
+    const RTCBounds& b = node->bounds[k];
+    const float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
+    const uint32_t child = copyTree(node->children[k], impl);
+    BvhNode& out = impl.nodes[index];
+    std::memcpy(out.lower[k], lower, sizeof lower);
+    std::memcpy(out.upper[k], upper, sizeof upper);
+    out.child[k] = child;
+  }
+  return index;
+}
+
+// The instance level over `prims` (one per instance in the hierarchy, primID = instance index; reordered by the
+// builder). SAH (binned, MEDIUM) or Morton (LOW, PREFER_FAST_BUILD) on Embree's build threads.
+bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, std::vector<RTCBuildPrimitive>& prims, std::string* error) {
+  impl.nodes.clear();
+  impl.leafItems.clear();
+  impl.root = kEmptyRef;
+  if (prims.empty()) return true;
+  EmbreeErrors errors;
+  RTCBVH bvh = rtcNewBVH(device);
+  if (!bvh) return !errors.failed("Tlas build", error);
+  std::atomic<bool> overfull{false};
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.buildQuality = impl.options.preferFastBuild ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM;
+  args.maxBranchingFactor = 2;
+  args.maxDepth = 48;
+  args.minLeafSize = 1;
+  args.maxLeafSize = kMaxLeafItems;
+  // Entering an instance (a transform and an Embree query of its Blas) costs far more than a box test.
+  args.traversalCost = 1.0f;
+  args.intersectionCost = 8.0f;
+  args.bvh = bvh;
+  args.primitives = prims.data();
+  args.primitiveCount = prims.size();
+  args.primitiveArrayCapacity = prims.size();
+  args.createNode = createNode;
+  args.setNodeChildren = setNodeChildren;
+  args.setNodeBounds = setNodeBounds;
+  args.createLeaf = createLeaf;
+  args.userPtr = &overfull;
+  void* root = rtcBuildBVH(&args);
+  bool ok = root && !overfull.load() && !errors.failed("Tlas build", error);
+  if (ok) {
+    impl.nodes.reserve(prims.size());
+    impl.leafItems.reserve(prims.size());
+    impl.root = copyTree(root, impl);
+  } else if (error && error->empty()) {
+    *error = "Tlas build: Embree could not build the instance hierarchy";
+  }
+  rtcReleaseBVH(bvh);
+  return ok;
+}
+
+// The bounds of a child reference of the hierarchy, from the instances' bounds (`bounds`, indexed by instance) and
+// the nodes below it (already refit).
+void refBounds(const Tlas::Impl& impl, const std::vector<RTCBuildPrimitive>& bounds, uint32_t ref, float lower[3],
+               float upper[3]) {
+  for (int k = 0; k < 3; ++k) lower[k] = HUGE_VALF, upper[k] = -HUGE_VALF;
+  auto unite = [&](const float* lo, const float* hi) {
+    for (int k = 0; k < 3; ++k) lower[k] = std::min(lower[k], lo[k]), upper[k] = std::max(upper[k], hi[k]);
+  };
+  if (ref & kLeafRef) {
+    uint32_t count, one;
+    const uint32_t* items = leafInstances(impl.leafItems, ref, &count, &one);
+    for (uint32_t k = 0; k < count; ++k) {
+      const RTCBuildPrimitive& b = bounds[items[k]];
+      const float lo[3] = {b.lower_x, b.lower_y, b.lower_z}, hi[3] = {b.upper_x, b.upper_y, b.upper_z};
+      unite(lo, hi);
+    }
+    return;
+  }
+  const BvhNode& node = impl.nodes[ref];
+  for (int k = 0; k < 2; ++k) unite(node.lower[k], node.upper[k]);
+}
+
+// An update's refit: `source`'s hierarchy with the instances' new bounds, when the same instances are in it (every
+// instance in its leaves still in the hierarchy, and no other). False otherwise (the caller builds).
+bool refitHierarchy(const Tlas::Impl& source, Tlas::Impl& impl, const std::vector<uint8_t>& inHierarchy, size_t count,
+                    const std::vector<RTCBuildPrimitive>& bounds) {
+  if (source.leafItems.size() != count || source.instances.size() != impl.instances.size()) return false;
+  for (uint32_t i : source.leafItems)
+    if (!inHierarchy[i]) return false;
+  impl.nodes = source.nodes;
+  impl.leafItems = source.leafItems;
+  impl.root = source.root;
+  for (size_t n = impl.nodes.size(); n-- > 0;) {  // children after their parent: bottom up
+    BvhNode& node = impl.nodes[n];
+    for (int k = 0; k < 2; ++k) refBounds(impl, bounds, node.child[k], node.lower[k], node.upper[k]);
+  }
+  return true;
+}
+
+// The instance level: the flattened triangles' scene, then the hierarchy over the other active instances (built,
+// or refit from `source`, the Tlas an update starts from).
+bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error) {
+  RTCDevice device = detail::device(error);
+  if (!device) return false;
+  const size_t n = impl.instances.size();
+  std::vector<uint8_t> flat;
+  if (!buildFlatScene(device, impl, flat, error)) return false;
+  // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
+  // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
+  // the same scene, re-entering its std::call_once.
+  for (size_t i = 0; i < n; ++i) {
+    const InstanceRecord& r = impl.records[i];
+    if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && r.mask) r.blas->sceneFor();
+  }
+  // Per instance: its scene and world bounds (in parallel: a transform of 8 corners each).
+  std::vector<RTCBuildPrimitive> bounds(n);
+  std::vector<uint8_t> inHierarchy(n, 0);
+  std::atomic<bool> outOfMemory{false};
+  parallelChunks(n, 4096, 16384, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      InstanceRecord& r = impl.records[i];
+      if (flat[i] || !r.blas || !r.blas->primitives || !r.mask) continue;  // never hit (or flattened); the index stays
+      RTCScene inner = r.blas->sceneFor();
+      if (!inner) {
+        outOfMemory.store(true, std::memory_order_relaxed);
+        continue;
+      }
+      // An instance without extent in world space (as Embree transforms it) is left out: never hit.
+      RTCBounds b;
+      rtcGetSceneBounds(inner, &b);
+      if (!worldBounds(b, r.objectToWorld, bounds[i]) && !worldBoundsHaveExtent(b, r.objectToWorld)) continue;
+      r.scene = inner;
+      bounds[i].geomID = 0;
+      bounds[i].primID = unsigned(i);
+      inHierarchy[i] = 1;
+    }
+  });
   if (outOfMemory.load()) {
-    if (error) *error = "Tlas build: Embree could not create an instance geometry (out of memory)";
-    rtcReleaseScene(scene);
-    return nullptr;
+    if (error) *error = "Tlas build: Embree could not build a bottom level's scene (out of memory)";
+    return false;
   }
-  rtcCommitScene(scene);
-  if (errors.failed("Tlas build", error)) {
-    rtcReleaseScene(scene);
-    return nullptr;
-  }
-  return scene;
+  size_t count = 0;
+  for (uint8_t in : inHierarchy) count += in;
+  if (source && refitHierarchy(*source, impl, inHierarchy, count, bounds)) return true;
+  size_t kept = 0;  // the hierarchy's instances, in place
+  for (size_t i = 0; i < n; ++i)
+    if (inHierarchy[i]) bounds[kept++] = bounds[i];
+  bounds.resize(kept);
+  return buildHierarchy(device, impl, bounds, error);
 }
 
 }  // namespace
 }  // namespace detail
 
 Tlas::Impl::~Impl() {
-  if (scene) rtcReleaseScene(scene);
+  if (flatScene) rtcReleaseScene(flatScene);
 }
 
 Tlas::~Tlas() = default;
 
-std::shared_ptr<Tlas> Tlas::build(std::vector<Instance> instances, const BuildOptions& options, std::string* error) {
-  if (instances.size() > 0xFFFFFFFEu) {  // Embree's geometry IDs are 32-bit, with ~0u meaning none
+namespace {
+
+std::shared_ptr<Tlas> buildTlas(std::vector<Instance> instances, const BuildOptions& options, const Tlas::Impl* source,
+                                std::string* error) {
+  if (instances.size() > detail::kMaxHierarchyInstances) {  // the hierarchy's leaf references hold 28 bits
     if (error) *error = "Tlas build: too many instances";
     return nullptr;
   }
-  auto impl = std::make_unique<Impl>();
+  auto impl = std::make_unique<Tlas::Impl>();
   impl->instances = std::move(instances);
   impl->options = options;
   detail::makeRecords(*impl);
-  impl->scene = detail::newScene(*impl, error);
-  if (!impl->scene) return nullptr;
+  if (!detail::buildLevels(*impl, source, error)) return nullptr;
+  impl->built = true;
   auto tlas = std::make_shared<Tlas>();
   tlas->impl = std::move(impl);
   return tlas;
 }
 
-// An update builds anew with the same options. Embree 3 keeps instances one geometry each and always rebuilds the
-// hierarchy above them (even its two-level "refit" scenes rebuild their top level on every commit), so a refit
-// would cost what a build costs; the old Tlas is untouched either way.
+}  // namespace
+
+std::shared_ptr<Tlas> Tlas::build(std::vector<Instance> instances, const BuildOptions& options, std::string* error) {
+  return buildTlas(std::move(instances), options, nullptr, error);
+}
+
+// An update (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) refits this Tlas's hierarchy, copied, to the new
+// transforms when the same instances are in it (the usual case: instances move), and builds it otherwise; the
+// flattened triangles are transformed again either way. This Tlas is untouched (it may be traversed meanwhile).
 std::shared_ptr<Tlas> Tlas::update(std::vector<Instance> instances, std::string* error) const {
-  return build(std::move(instances), impl->options, error);
+  return buildTlas(std::move(instances), impl->options, impl.get(), error);
 }
 
 const std::vector<Instance>& Tlas::instances() const { return impl->instances; }
 const BuildOptions& Tlas::options() const { return impl->options; }
 
 uint64_t Tlas::nativeBytes() const {
-  // Estimate: the instances, their records, and Embree's instance geometry plus hierarchy (about 256 bytes each).
-  return sizeof(Impl) + impl->instances.size() * (sizeof(Instance) + sizeof(detail::InstanceRecord) + 256);
+  // The instances, their records, the hierarchy, and the flattened triangles (Embree's copy of their world-space
+  // vertices and indices, about 48 bytes, and its hierarchy, about 32 bytes a triangle, plus vkrt's map back).
+  uint64_t flat = 0;
+  for (const auto& g : impl->flat) flat += g.size() * (80 + sizeof(detail::FlatTriangle));
+  return sizeof(Impl) + impl->instances.size() * (sizeof(Instance) + sizeof(detail::InstanceRecord)) +
+         impl->nodes.size() * sizeof(detail::BvhNode) + impl->leafItems.size() * sizeof(uint32_t) + flat;
 }
 
 }  // namespace vkrt::accel

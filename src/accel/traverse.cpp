@@ -423,6 +423,96 @@ bool inEmbreeRange(const Tlas::Impl& t, const Ray& ray) {
   return rayInEmbreeRange(t.summary, maxMagnitude(ray.origin), maxMagnitude(ray.direction));
 }
 
+// The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
+// then the hierarchy, front to back, entering each instance the ray's cull mask admits: the ray goes into the
+// instance's object space (Embree's own instances do the same) and Embree traces it through the Blas scene with the
+// instance index as the context's instID, which Embree writes into the hits and the callbacks read. `rh` is one
+// Embree ray-hit for the whole traversal: tfar narrows to the closest hit found so far, in every instance (t is
+// the same in object space: the direction is transformed, not normalized), and -inf ends the traversal (a
+// terminating commit, or an occlusion query's hit). Nothing is allocated: the stack is bounded by the builder's
+// depth.
+template <bool kOccluded>
+void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
+  if (t.flatScene) {
+    if constexpr (kOccluded)
+      rtcOccluded1(t.flatScene, &ctx.embree, &rh.ray);
+    else
+      rtcIntersect1(t.flatScene, &ctx.embree, &rh);
+    if (!(rh.ray.tfar >= rh.ray.tnear) || ctx.terminated) return;
+  }
+  if (t.root == kEmptyRef) return;
+  const float org[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
+  const float dir[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+  const float inv[3] = {1.0f / dir[0], 1.0f / dir[1], 1.0f / dir[2]};
+  const uint32_t cull = ctx.ray->cullMask & 0xFF;
+  // Pbrt's robust slab test: the far distances grow by 2 gamma(3), so that rounding never drops a box the ray
+  // meets (the bounds are rounded outward already).
+  constexpr float kFarScale = 1.0f + 2 * (3 * 0x1p-24f) / (1 - 3 * 0x1p-24f);
+  auto enter = [&](const float lower[3], const float upper[3], float* entry) {
+    float lo = rh.ray.tnear, hi = rh.ray.tfar;
+    for (int a = 0; a < 3; ++a) {
+      float t0 = (lower[a] - org[a]) * inv[a], t1 = (upper[a] - org[a]) * inv[a];
+      if (t0 > t1) std::swap(t0, t1);
+      t1 *= kFarScale;
+      // (A NaN, from a zero direction component at a bound, leaves the interval as it is.)
+      lo = t0 > lo ? t0 : lo;
+      hi = t1 < hi ? t1 : hi;
+    }
+    *entry = lo;
+    return lo <= hi;
+  };
+  uint32_t stack[128];
+  uint32_t depth = 0;
+  uint32_t ref = t.root;
+  for (;;) {
+    if (ref & kLeafRef) {
+      uint32_t count, one;
+      const uint32_t* items = leafInstances(t.leafItems, ref, &count, &one);
+      for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t i = items[k];
+        const InstanceRecord& r = t.records[i];
+        if (!(r.mask & cull)) continue;
+        const float(*m)[4] = r.worldToObject;
+        rh.ray.org_x = m[0][0] * org[0] + m[0][1] * org[1] + m[0][2] * org[2] + m[0][3];
+        rh.ray.org_y = m[1][0] * org[0] + m[1][1] * org[1] + m[1][2] * org[2] + m[1][3];
+        rh.ray.org_z = m[2][0] * org[0] + m[2][1] * org[1] + m[2][2] * org[2] + m[2][3];
+        rh.ray.dir_x = m[0][0] * dir[0] + m[0][1] * dir[1] + m[0][2] * dir[2];
+        rh.ray.dir_y = m[1][0] * dir[0] + m[1][1] * dir[1] + m[1][2] * dir[2];
+        rh.ray.dir_z = m[2][0] * dir[0] + m[2][1] * dir[1] + m[2][2] * dir[2];
+        ctx.embree.instID[0] = i;
+        if constexpr (kOccluded)
+          rtcOccluded1(r.scene, &ctx.embree, &rh.ray);
+        else
+          rtcIntersect1(r.scene, &ctx.embree, &rh);
+        if (!(rh.ray.tfar >= rh.ray.tnear) || ctx.terminated) {
+          depth = 0;
+          break;
+        }
+      }
+      if (!depth) break;
+      ref = stack[--depth];
+      continue;
+    }
+    const BvhNode& node = t.nodes[ref];
+    float near0, near1;
+    const bool hit0 = enter(node.lower[0], node.upper[0], &near0);
+    const bool hit1 = enter(node.lower[1], node.upper[1], &near1);
+    if (hit0 && hit1) {
+      const bool firstNear = near0 <= near1;
+      stack[depth++] = node.child[firstNear ? 1 : 0];
+      ref = node.child[firstNear ? 0 : 1];
+    } else if (hit0 || hit1) {
+      ref = node.child[hit0 ? 0 : 1];
+    } else {
+      if (!depth) break;
+      ref = stack[--depth];
+    }
+  }
+  rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
+  rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
+  ctx.embree.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
 // The committed hit's built-ins.
 void report(const TraceContext& ctx, const Committed& c, HitInfo* hit) {
   HitInfo& h = *hit;
@@ -473,7 +563,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   const uint32_t cull = ray.cullMask & 0xFF;
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses (as does a ray beyond
   // what Embree can trace).
-  if (!cull || !t.scene || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
+  if (!cull || !t.built || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
       !(ray.tMin <= ray.tMax) || !inEmbreeRange(t, ray))
     return false;
 
@@ -519,12 +609,12 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 
   if (ctx.firstHit) {
-    rtcOccluded1(t.scene, &ctx.embree, &rh.ray);
+    traverseTlas<true>(t, ctx, rh);
     if (!ctx.terminated) return false;
     if (hit) report(ctx, ctx.last, hit);
     return true;
   }
-  rtcIntersect1(t.scene, &ctx.embree, &rh);
+  traverseTlas<false>(t, ctx, rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   if (!hit) return true;
   if (ctx.terminated) {
@@ -651,7 +741,7 @@ void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
   const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
                      ray.tMin >= 0 && ray.tMin <= ray.tMax;
-  q.tlas = valid && tlas && tlas->impl->scene && detail::inEmbreeRange(*tlas->impl, ray) ? tlas : nullptr;
+  q.tlas = valid && tlas && tlas->impl->built && detail::inEmbreeRange(*tlas->impl, ray) ? tlas : nullptr;
 }
 
 bool queryProceed(RayQuery& q) {
@@ -696,7 +786,7 @@ bool queryProceed(RayQuery& q) {
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(t.scene, &ctx.embree, &rh);
+  traverseTlas<false>(t, ctx, rh);
 
   // Opaque triangles the traversal committed (the filter recorded the last one accepted, which is the closest).
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID || ctx.terminated) {

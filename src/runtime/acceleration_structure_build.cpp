@@ -153,6 +153,7 @@ bool readTriangles(const Source& src, const VkAccelerationStructureGeometryTrian
     if (!tp) return false;
     std::memcpy(m, tp, sizeof m);
   }
+  out->vertices.reserve(count * 3 + 1);  // one float past the last vertex: Embree reads the copy in place (blas.cpp)
   out->vertices.resize(count * 3);
   float* const vertices = out->vertices.data();
   if (!transformed && t.vertexFormat == VK_FORMAT_R32G32B32_SFLOAT && stride == 12) {
