@@ -774,17 +774,40 @@ static bool cubeCoord(const View& v, const float coord[4], int* face, float* s, 
   return true;
 }
 
+// What both cube entry points start from: the view and sampler, the face, (s, t), ma and cube of the coordinate,
+// and the depth comparison (Dref forms); false when the result is zeros (out is cleared).
+struct CubeLookup {
+  View v;
+  const VkSamplerCreateInfo* sampler = nullptr;
+  int face = 0;
+  float s = 0, t = 0, ma = 0;
+  int64_t cube = 0;
+  DepthCompare cmp;
+  const DepthCompare* compare = nullptr;  // &cmp with kCubeDref
+};
+static bool cubeLookup(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       float dref, uint32_t flags, uint32_t out[4], CubeLookup* c) {
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &c->v) || !smp || !smp->sampler) return false;
+  c->sampler = &recordObject<Sampler>(smp->sampler)->info;
+  if (!cubeCoord(c->v, coord, &c->face, &c->s, &c->t, &c->ma, &c->cube)) return false;
+  if (flags & abi::kCubeDref) {
+    c->cmp = depthCompare(c->v, *c->sampler, dref);
+    c->compare = &c->cmp;
+  }
+  return true;
+}
+
 void vkrt_image_sample_cube(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                             const float ddx[4], const float ddy[4], float lod, float dref, uint32_t flags,
                             uint32_t out[4]) {
-  View v;
-  std::memset(out, 0, 16);
-  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
-  const VkSamplerCreateInfo& smpInfo = recordObject<Sampler>(smp->sampler)->info;
-  int face;
-  float s, t, ma;
-  int64_t cube;
-  if (!cubeCoord(v, coord, &face, &s, &t, &ma, &cube)) return;
+  CubeLookup l;
+  if (!cubeLookup(img, smp, coord, dref, flags, out, &l)) return;
+  const View& v = l.v;
+  const VkSamplerCreateInfo& smpInfo = *l.sampler;
+  const int face = l.face;
+  const float s = l.s, t = l.t, ma = l.ma;
+  const int64_t cube = l.cube;
   float lambda;
   if (flags & abi::kCubeGrad) {
     // "Cube Map Derivation": d(s)/dx = 1/2 (d(sc)/dx / ma - sc d(ma)/dx / ma^2), likewise t and y; then the scale
@@ -807,9 +830,7 @@ void vkrt_image_sample_cube(const abi::DescriptorRecord* img, const abi::Descrip
     lambda = std::isnan(lod) ? 0.0f : lod;
   }
   lambda += smpInfo.mipLodBias;
-  DepthCompare cmp;
-  if (flags & abi::kCubeDref) cmp = depthCompare(v, smpInfo, dref);
-  const DepthCompare* c = (flags & abi::kCubeDref) ? &cmp : nullptr;
+  const DepthCompare* c = l.compare;
   // "Level-of-Detail Operation" and "Image Level(s) Selection", as sampleAtLod.
   lambda = std::clamp(lambda, smpInfo.minLod, std::max(smpInfo.minLod, smpInfo.maxLod));
   const VkFilter filter = lambda <= 0.0f ? smpInfo.magFilter : smpInfo.minFilter;
@@ -833,16 +854,12 @@ void vkrt_image_sample_cube(const abi::DescriptorRecord* img, const abi::Descrip
 
 void vkrt_image_gather_cube(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                             int32_t component, float dref, uint32_t flags, uint32_t out[4]) {
-  View v;
-  std::memset(out, 0, 16);
-  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
-  const VkSamplerCreateInfo& smpInfo = recordObject<Sampler>(smp->sampler)->info;
-  int face;
-  float s, t, ma;
-  int64_t cube;
-  if (!cubeCoord(v, coord, &face, &s, &t, &ma, &cube)) return;
-  DepthCompare cmp;
-  if (flags & abi::kCubeDref) cmp = depthCompare(v, smpInfo, dref);
+  CubeLookup l;
+  if (!cubeLookup(img, smp, coord, dref, flags, out, &l)) return;
+  const View& v = l.v;
+  const int64_t cube = l.cube;
+  const int face = l.face;
+  const float s = l.s, t = l.t;
   const int32_t size = int32_t(levelExtent(v, 0).width);
   const int64_t i0 = int64_t(std::floor(double(s) * size - 0.5)), j0 = int64_t(std::floor(double(t) * size - 0.5));
   // (i0 j1, i1 j1, i1 j0, i0 j0), as vkrt_image_gather.
@@ -850,8 +867,7 @@ void vkrt_image_gather_cube(const abi::DescriptorRecord* img, const abi::Descrip
   const uint32_t comp = (flags & abi::kCubeDref) ? 0 : uint32_t(component) & 3;
   for (int k = 0; k < 4; ++k) {
     uint32_t tx[4];
-    cubeTexel(v, 0, size, face, i0 + kOffsets[k][0], j0 + kOffsets[k][1], cube,
-              (flags & abi::kCubeDref) ? &cmp : nullptr, tx);
+    cubeTexel(v, 0, size, face, i0 + kOffsets[k][0], j0 + kOffsets[k][1], cube, l.compare, tx);
     applySwizzle(v, tx);
     out[k] = tx[comp];
   }
