@@ -10,15 +10,6 @@
 namespace vkrt::raster::test {
 namespace {
 
-// Screen-space barycentrics of (px, py) in the triangle (x, y).
-void bary(const double* x, const double* y, double px, double py, double b[3]) {
-  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    b[i] = ((x[k] - x[j]) * (py - y[j]) - (y[k] - y[j]) * (px - x[j])) / area;
-  }
-}
-
 // Vertices on the 1/256-pixel grid, so that the rasterizer's coverage is the exact triangle's.
 const double X[3] = {3.25, 61, 9}, Y[3] = {5.125, 21, 59.75}, W[3] = {1, 4, 2};
 const Vec4 A[3] = {{1, 0, 0, 1}, {0, 10, 0, 1}, {0, 0, 100, 1}};
