@@ -444,6 +444,9 @@ bool Codegen::interpolateAt(const Instruction& in, uint32_t inst, bool& ok) {
   const Global& g = git->second;
   Ptr p = ptr(in.word(5));
   if (!p.base || !isFloat(p.type)) return (ok = fail(in, "interpolant is not a float scalar or vector")), true;
+  // The rasterizer interpolates 32-bit floats (the slots' words).
+  if (spvType(scalarType(p.type)).width != 32)
+    return (ok = unsupported(in, "InterpolateAt* of a float that is not 32 bits")), true;
   llvm::Value* sampleV = i32(0);
   llvm::Value* dx = llvm::ConstantFP::get(b.getFloatTy(), 0);
   llvm::Value* dy = dx;
