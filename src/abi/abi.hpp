@@ -270,6 +270,11 @@ inline constexpr uint32_t kQuadExchangeBytes = 2 * 4 * 16;
 inline constexpr uint32_t kFragmentKilled = 1;   // OpKill / OpTerminateInvocation: outputs discarded, the lane ended
 inline constexpr uint32_t kFragmentDemoted = 2;  // OpDemoteToHelperInvocation: outputs discarded, the lane goes on
 
+// GraphicsInvocation::interpolateAt's `where`.
+inline constexpr uint32_t kInterpolateAtCentroid = 0;
+inline constexpr uint32_t kInterpolateAtSample = 1;
+inline constexpr uint32_t kInterpolateAtOffset = 2;
+
 struct GraphicsInvocation {
   InvocationContext base;  // 0
   uint32_t* inputs;        // 160  kGraphicsLocations x 16 bytes (read)
@@ -302,6 +307,12 @@ struct GraphicsInvocation {
   uint32_t status;          // 364  kFragment*: written by the shader
   uint32_t layer;           // 368  Layer (fragment in)
   uint32_t quadParity;      // 372  the next exchange's half (0 or 1), kept by the compiled code
+  // GLSL.std.450 InterpolateAtCentroid / Sample / Offset: fills `out` (laid out as `inputs`) with the inputs
+  // interpolated at this lane's centroid (where = kInterpolateAtCentroid), at sample `sample`'s position, or at the
+  // pixel centre plus (dx, dy) pixels. Set by the executor for fragment shaders; `quad` is its argument.
+  void (*interpolateAt)(const GraphicsInvocation* inv, uint32_t where, int32_t sample, float dx, float dy,
+                        uint32_t* out);  // 376
+  const void* quad;                      // 384
 };
 
 static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsInvocation, outputs1) == 176 &&
@@ -313,7 +324,7 @@ static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsIn
                   offsetof(GraphicsInvocation, sampleMaskOut) == 352 &&
                   offsetof(GraphicsInvocation, fragDepth) == 356 && offsetof(GraphicsInvocation, helper) == 360 &&
                   offsetof(GraphicsInvocation, status) == 364 && offsetof(GraphicsInvocation, quadParity) == 372 &&
-                  sizeof(GraphicsInvocation) == 376,
+                  offsetof(GraphicsInvocation, interpolateAt) == 376 && sizeof(GraphicsInvocation) == 392,
               "the compiler bakes these offsets into shader code");
 
 using GraphicsEntry = void (*)(GraphicsInvocation*);

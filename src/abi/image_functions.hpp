@@ -25,6 +25,10 @@ struct HostSymbol {
   void* address;
 };
 
+// vkrt_image_sample_cube / vkrt_image_gather_cube flags.
+inline constexpr uint32_t kCubeGrad = 1;  // ddx / ddy given (implicit LOD or Grad); `lod` is then the Bias (NaN: none)
+inline constexpr uint32_t kCubeDref = 2;  // a depth comparison with `dref`
+
 }  // namespace vkrt::abi
 
 extern "C" {
@@ -76,6 +80,19 @@ void vkrt_image_gather(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::
 // OpImageDrefGather: the same four texels' depth comparisons with `dref` (0.0 or 1.0 each).
 void vkrt_image_gather_dref(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
                             const float coord[4], float dref, uint32_t out[4]);
+// Sampling a cube or cube array view (Dim Cube): `coord` is the direction (x, y, z) and, for a cube array, the
+// cube's index (a layer of 6 faces). The face and its (s, t) follow "Cube Map Face Selection"; with kCubeGrad the
+// level of detail comes from the direction's derivatives projected on the face ("Cube Map Derivation"), plus `lod`
+// as the Bias; without, `lod` is the level of detail. LINEAR filtering is seamless: texels past a face's edge are
+// read from the adjacent face ("Cube Map Edge Handling"); the sampler's address modes do not apply. Dref: as
+// vkrt_image_sample_dref.
+void vkrt_image_sample_cube(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                            const float coord[4], const float ddx[4], const float ddy[4], float lod, float dref,
+                            uint32_t flags, uint32_t out[4]);
+// OpImageGather / OpImageDrefGather on a cube or cube array view: the four texels of the base level the LINEAR filter
+// would read on the selected face (across its edges as above).
+void vkrt_image_gather_cube(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                            const float coord[4], int32_t component, float dref, uint32_t flags, uint32_t out[4]);
 // OpImageQuerySize(Lod): the view's size at mip `lod` in view-type order (x, y, z or layers); zeros when null.
 void vkrt_image_size(const vkrt::abi::DescriptorRecord* img, int32_t lod, int32_t out[4]);
 // OpImageQueryLevels.

@@ -158,6 +158,15 @@ bool runTile(void* user, void (*body)(void*), void* arg, unsigned worker) {
   return exec::runSupervised(*c->job, runTileTask, &t);
 }
 
+// GraphicsInvocation::interpolateAt: the rasterizer evaluates the quad's inputs again.
+void interpolateAt(const GraphicsInvocation* inv, uint32_t where, int32_t sample, float dx, float dy, uint32_t* out) {
+  const auto at = where == abi::kInterpolateAtSample   ? raster::InterpolateAt::Sample
+                  : where == abi::kInterpolateAtOffset ? raster::InterpolateAt::Offset
+                                                       : raster::InterpolateAt::Centroid;
+  raster::interpolateAt(*static_cast<const raster::FragmentQuad*>(inv->quad), inv->base.localIndex, at, sample, dx, dy,
+                        out);
+}
+
 // One quad, inside runTile's supervision (the fields runTileTask set stay as they are: no shader writes them).
 void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const DrawContext& c = *static_cast<DrawContext*>(user);
@@ -198,6 +207,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;
+    inv.quad = &q;
   }
   if (c.quads) {
     abi::InvocationContext* group[4] = {&w.inv[0].base, &w.inv[1].base, &w.inv[2].base, &w.inv[3].base};
@@ -395,6 +405,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   c.vertexProto.base.resources = vsResources.slots();
   c.fragmentProto.base.resources = fsResources.slots();
+  c.fragmentProto.interpolateAt = interpolateAt;
   // Per-worker scratch, made once per command buffer execution (the pool's worker slots do not change).
   if (!d.scratch) {
     d.scratch.reset(new DrawScratch);

@@ -108,6 +108,12 @@ void linkInterfaces(GraphicsPipelineDesc* p, const std::vector<GraphicsPipelineD
   f.canDiscard = fs.canDiscard;
   f.earlyFragmentTests = fs.earlyFragmentTests;
   f.hasSideEffects = fs.sideEffects;
+  // A shader that reads input attachments may read the depth/stencil attachment this draw writes (a feedback loop,
+  // ordered by the application's barriers between draws, as CTS rasterization_order_attachment_access.*
+  // .multi_draw_barriers does): the tests and writes must then follow the shader, as late tests do, or the shader
+  // reads its own fragment's depth or stencil. The raster's early-test shortcut is off as for side effects.
+  for (const spirv::ResourceBinding& r : p->fragment->resources)
+    if (r.kind == spirv::ResourceBinding::InputAttachment) f.hasSideEffects = true;
   for (const auto& out : fs.outputs)
     if (out.location < raster::kMaxColorAttachments) f.outputMask |= 1u << out.location;
   bool perSample = fs.readsSampleId;

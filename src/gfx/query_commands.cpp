@@ -7,6 +7,7 @@
 
 #include "gfx/graphics_state.hpp"
 #include "runtime/command_buffer.hpp"
+#include "runtime/command_pool.hpp"
 #include "runtime/device.hpp"
 #include "runtime/lookup.hpp"
 #include "runtime/query_pool.hpp"
@@ -65,6 +66,13 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBeginQuery(VkCommandBuffer commandBuffer, VkQ
            pool->type == VK_QUERY_TYPE_TIMESTAMP ? "VUID-vkCmdBeginQuery-queryType-02804"
                                                  : "VUID-vkCmdBeginQuery-queryType-04728",
            "%s: the pool's queryType %d cannot be begun", kV.fn, int(pool->type));
+    return;
+  }
+  // VUID-vkCmdBeginQuery-queryType-00803: occlusion queries need a pool of a queue family with graphics
+  if (!cb->supportsGraphics()) {
+    report(cb, Severity::Error, "VUID-vkCmdBeginQuery-queryType-00803",
+           "%s: an occlusion query in a command buffer of queue family %u, which has no graphics", kV.fn,
+           cb->pool->queueFamilyIndex);
     return;
   }
   // VUID-vkCmdBeginQuery-queryType-00800: PRECISE needs the occlusionQueryPrecise feature

@@ -265,6 +265,9 @@ struct FragmentQuad {
   uint32_t viewIndex = 0;
   uint32_t layer = 0;
   alignas(16) uint32_t inputs[4][kMaxLocations * 4];  // slot order of FragmentStage::inputs, 4 words each
+  // The primitive and draw being shaded, for interpolateAt (the rasterizer's own records).
+  const void* primitive = nullptr;
+  const void* drawContext = nullptr;
 
   // Written by the shader:
   uint32_t killed = 0;  // lanes that discarded (bit i = lane i)
@@ -294,6 +297,17 @@ struct FragmentStage {
   FragmentInput inputs[kMaxLocations];
   uint32_t outputMask = 0;  // color locations written
 };
+
+// Where interpolateAt evaluates (GLSL.std.450 InterpolateAtCentroid / Sample / Offset).
+enum class InterpolateAt : uint8_t { Centroid, Sample, Offset };
+
+// The fragment inputs of lane `lane` of `quad` (inside FragmentStage::shade) interpolated at another position than
+// the one the rasterizer used: the centroid of the lane's coverage (as "Centroid" inputs take it), the position of
+// sample `sample` of the lane's pixel (the pixel centre when the sample does not exist), or the pixel centre plus
+// (dx, dy) pixels. Each input is interpolated as it is decorated (perspective-correct, NoPerspective; Flat inputs
+// give the provoking vertex's value); written to out[16 * location ..] for every location the stage reads.
+void interpolateAt(const FragmentQuad& quad, uint32_t lane, InterpolateAt where, int32_t sample, float dx, float dy,
+                   uint32_t* out);
 
 // ------------------------------------------------------------------------------------------------ the draw
 

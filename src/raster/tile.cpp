@@ -206,6 +206,8 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   q.primitiveId = t.primitiveId;
   q.viewIndex = ctx.viewIndex;
   q.layer = ctx.layer;
+  q.primitive = &t;  // for interpolateAt
+  q.drawContext = &ctx;
   const uint32_t lanes =
       fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
   if (ctx.perSample) {

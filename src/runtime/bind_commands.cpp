@@ -7,6 +7,7 @@
 
 #include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
+#include "runtime/command_pool.hpp"
 #include "runtime/descriptor_set.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
@@ -71,6 +72,13 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindPipeline(VkCommandBuffer commandBuffer, V
            (int)pipelineBindPoint);
     return;
   }
+  // VUID-vkCmdBindPipeline-pipelineBindPoint-00778
+  if (pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS && !cb->supportsGraphics()) {
+    report(cb, Severity::Error, "VUID-vkCmdBindPipeline-pipelineBindPoint-00778",
+           "%s: VK_PIPELINE_BIND_POINT_GRAPHICS in a command buffer of queue family %u, which has no graphics", fn,
+           cb->pool->queueFamilyIndex);
+    return;
+  }
   // VUID-vkCmdBindPipeline-pipelineBindPoint-00779, VUID-vkCmdBindPipeline-pipelineBindPoint-00780,
   // VUID-vkCmdBindPipeline-pipelineBindPoint-02392
   if (p->bindPoint != pipelineBindPoint) {
@@ -117,6 +125,13 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
     report(cb, Severity::Error, "VUID-vkCmdBindDescriptorSets-pipelineBindPoint-parameter",
            "%s: pipelineBindPoint %d is not a bind point vkrt supports (graphics, compute, ray tracing)", fn,
            (int)pipelineBindPoint);
+    return;
+  }
+  // VUID-vkCmdBindDescriptorSets-pipelineBindPoint-00361: a bind point the pool's queue family supports
+  if (pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS && !cb->supportsGraphics()) {
+    report(cb, Severity::Error, "VUID-vkCmdBindDescriptorSets-pipelineBindPoint-00361",
+           "%s: VK_PIPELINE_BIND_POINT_GRAPHICS in a command buffer of queue family %u, which has no graphics", fn,
+           cb->pool->queueFamilyIndex);
     return;
   }
   // VUID-vkCmdBindDescriptorSets-descriptorSetCount-arraylength

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <string_view>
 
 #include "runtime/acceleration_structure.hpp"
 #include "runtime/acceleration_structure_nv.hpp"
@@ -13,6 +14,7 @@
 #include "runtime/image.hpp"
 #include "runtime/image_view.hpp"
 #include "runtime/memory.hpp"
+#include "runtime/physical_device.hpp"
 #include "runtime/queue.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -74,6 +76,25 @@ CommandBuffer::State CommandBuffer::currentState() const {
   return observed(this);
 }
 
+namespace {
+
+// The commands whose "commandBuffer-cmdpool" rule asks for a pool that supports graphics operations: draws, render
+// pass instances, vertex and index buffers, the graphics dynamic state (every vkCmdSet* but events, the ray tracing
+// stack size and the device mask), blits, resolves and depth/stencil and attachment clears.
+bool needsGraphics(const char* command) {
+  static constexpr std::string_view kPrefixes[] = {
+      "vkCmdDraw",           "vkCmdBeginRenderPass", "vkCmdEndRenderPass",          "vkCmdNextSubpass",
+      "vkCmdBeginRendering", "vkCmdEndRendering",    "vkCmdBindVertexBuffers",      "vkCmdBindIndexBuffer",
+      "vkCmdBlitImage",      "vkCmdResolveImage",    "vkCmdClearDepthStencilImage", "vkCmdClearAttachments"};
+  const std::string_view c(command);
+  for (std::string_view p : kPrefixes)
+    if (c.starts_with(p)) return true;
+  return c.starts_with("vkCmdSet") && !c.starts_with("vkCmdSetEvent") && !c.starts_with("vkCmdSetRayTracing") &&
+         !c.starts_with("vkCmdSetDeviceMask");
+}
+
+}  // namespace
+
 CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) {
   CommandBuffer* cb = fromHandle<CommandBuffer>(h);
   if (!cb) {
@@ -94,9 +115,19 @@ CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) 
            command, stateName(st));
     return nullptr;
   }
+  // VUID-<command>-commandBuffer-cmdpool: a graphics command in a command buffer of a compute-only family's pool.
+  if (!cb->supportsGraphics() && needsGraphics(command)) {
+    std::string vuid = std::string("VUID-") + command + "-commandBuffer-cmdpool";
+    report(cb, Severity::Error, vuid.c_str(),
+           "%s: the command buffer's pool is of queue family %u, which does not support graphics operations", command,
+           cb->pool->queueFamilyIndex);
+    return nullptr;
+  }
   beginNotingLookups();
   return cb;
 }
+
+bool CommandBuffer::supportsGraphics() const { return PhysicalDevice::familyHasGraphics(pool->queueFamilyIndex); }
 
 void CommandBuffer::record(Command c) {
   auto note = [&](Object* o) {

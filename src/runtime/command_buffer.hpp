@@ -79,6 +79,9 @@ class CommandBuffer : public Object {
   // The command buffer behind `h` if it is live and recording; otherwise reports (naming `command`) and
   // returns nullptr, and the caller records nothing.
   static CommandBuffer* recording(VkCommandBuffer h, const char* command);
+  // Whether the pool's queue family supports graphics operations (recording() refuses the graphics commands
+  // otherwise, with their "commandBuffer-cmdpool" VUID).
+  bool supportsGraphics() const;
 
   // Appends a command, and notes the objects the command's entry point looked up since recording() (the
   // buffers, images, views, samplers, descriptor sets, pipelines and acceleration structures it refers to, with

@@ -54,9 +54,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateCommandPool(VkDevice device, const VkC
                                                       VkCommandPool* pCommandPool) {
   Device* dev = fromHandleUnchecked<Device>(device);
   // VUID-vkCreateCommandPool-queueFamilyIndex-01937
-  if (pCreateInfo->queueFamilyIndex != 0) {
+  if (pCreateInfo->queueFamilyIndex >= PhysicalDevice::kQueueFamilyCount) {
     report(dev, Severity::Error, "VUID-vkCreateCommandPool-queueFamilyIndex-01937",
-           "vkCreateCommandPool: queueFamilyIndex %u is not a queue family of the device (vkrt has family 0)",
+           "vkCreateCommandPool: queueFamilyIndex %u is not a queue family of the device (vkrt has families 0 and 1)",
            pCreateInfo->queueFamilyIndex);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }

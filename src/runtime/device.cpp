@@ -210,17 +210,28 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDevice(VkPhysicalDevice physicalDevice
   }
   for (uint32_t i = 0; i < pCreateInfo->queueCreateInfoCount; ++i) {
     const VkDeviceQueueCreateInfo& q = pCreateInfo->pQueueCreateInfos[i];
-    if (q.queueFamilyIndex != 0) {
+    if (q.queueFamilyIndex >= PhysicalDevice::kQueueFamilyCount) {
       report(pd, Severity::Error, "VUID-VkDeviceQueueCreateInfo-queueFamilyIndex-00381",
-             "vkCreateDevice: pQueueCreateInfos[%u].queueFamilyIndex is %u; vkrt has one queue family (0)", i,
-             q.queueFamilyIndex);
+             "vkCreateDevice: pQueueCreateInfos[%u].queueFamilyIndex is %u; vkrt has %u queue families", i,
+             q.queueFamilyIndex, PhysicalDevice::kQueueFamilyCount);
       return VK_ERROR_INITIALIZATION_FAILED;
     }
-    if (q.queueCount == 0 || q.queueCount > pd->queueFamily.queueCount) {
+    const uint32_t available = pd->queueFamilies[q.queueFamilyIndex].queueCount;
+    if (q.queueCount == 0 || q.queueCount > available) {
       report(pd, Severity::Error, "VUID-VkDeviceQueueCreateInfo-queueCount-00382",
-             "vkCreateDevice: pQueueCreateInfos[%u].queueCount is %u; family 0 has %u queues", i, q.queueCount,
-             pd->queueFamily.queueCount);
+             "vkCreateDevice: pQueueCreateInfos[%u].queueCount is %u; family %u has %u queues", i, q.queueCount,
+             q.queueFamilyIndex, available);
       return VK_ERROR_INITIALIZATION_FAILED;
+    }
+    // VUID-VkDeviceCreateInfo-queueFamilyIndex-02802: one VkDeviceQueueCreateInfo per family (with the same flags)
+    for (uint32_t k = 0; k < i; ++k) {
+      const VkDeviceQueueCreateInfo& e = pCreateInfo->pQueueCreateInfos[k];
+      if (e.queueFamilyIndex == q.queueFamilyIndex && e.flags == q.flags) {
+        report(pd, Severity::Error, "VUID-VkDeviceCreateInfo-queueFamilyIndex-02802",
+               "vkCreateDevice: pQueueCreateInfos[%u] and [%u] both name queue family %u (flags 0x%x)", k, i,
+               q.queueFamilyIndex, q.flags);
+        return VK_ERROR_INITIALIZATION_FAILED;
+      }
     }
   }
   Device* dev = createObject<Device>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, pd, *pCreateInfo);

@@ -795,6 +795,201 @@ void vkrt_image_gather_dref(const abi::DescriptorRecord* img, const abi::Descrip
   gather(img, smp, coord, 0, &dref, out);
 }
 
+// ---- Cube maps ("Cube Map Face Selection and Transformations", "Cube Map Edge Handling")
+
+// The face a direction selects and the face's (sc, tc, ma) of a vector: ma the major axis component (signed so that
+// it is positive for the direction), sc and tc the two others as the spec's table orders and signs them. Ties go to
+// Z, then Y (the spec leaves the choice to the implementation).
+static int cubeFace(const float d[3]) {
+  const float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+  if (az >= ax && az >= ay) return d[2] >= 0 ? 4 : 5;
+  if (ay >= ax) return d[1] >= 0 ? 2 : 3;
+  return d[0] >= 0 ? 0 : 1;
+}
+static void cubeAxes(int face, const float v[3], float* sc, float* tc, float* ma) {
+  switch (face) {
+    case 0: *sc = -v[2], *tc = -v[1], *ma = v[0]; break;    // +X
+    case 1: *sc = v[2], *tc = -v[1], *ma = -v[0]; break;    // -X
+    case 2: *sc = v[0], *tc = v[2], *ma = v[1]; break;      // +Y
+    case 3: *sc = v[0], *tc = -v[2], *ma = -v[1]; break;    // -Y
+    case 4: *sc = v[0], *tc = -v[1], *ma = v[2]; break;     // +Z
+    default: *sc = -v[0], *tc = -v[1], *ma = -v[2]; break;  // -Z
+  }
+}
+// The direction of face coordinates (sc, tc) at ma = 1: cubeAxes inverted.
+static void cubeDirection(int face, float sc, float tc, float d[3]) {
+  switch (face) {
+    case 0: d[0] = 1, d[1] = -tc, d[2] = -sc; break;
+    case 1: d[0] = -1, d[1] = -tc, d[2] = sc; break;
+    case 2: d[0] = sc, d[1] = 1, d[2] = tc; break;
+    case 3: d[0] = sc, d[1] = -1, d[2] = -tc; break;
+    case 4: d[0] = sc, d[1] = -tc, d[2] = 1; break;
+    default: d[0] = -sc, d[1] = -tc, d[2] = -1; break;
+  }
+}
+
+// Texel (i, j) of `face` at `level` (size x size texels), compared with `cmp` when given. Past an edge of the face,
+// the texel of the adjacent face that continues it: the texel centre's direction re-projected (the spec's edge
+// table, computed). At a corner (past two edges) this gives one of the corner's texels of a neighbour; the spec
+// leaves corner texels' values to the implementation.
+static void cubeTexel(const View& v, uint32_t level, int32_t size, int face, int64_t i, int64_t j, int64_t cube,
+                      const DepthCompare* cmp, uint32_t out[4]) {
+  if (i < 0 || j < 0 || i >= size || j >= size) {
+    float d[3];
+    cubeDirection(face, 2.0f * (float(i) + 0.5f) / float(size) - 1.0f, 2.0f * (float(j) + 0.5f) / float(size) - 1.0f,
+                  d);
+    face = cubeFace(d);
+    float sc, tc, ma;
+    cubeAxes(face, d, &sc, &tc, &ma);
+    i = std::clamp<int64_t>(int64_t(std::floor(0.5f * (sc / ma + 1.0f) * float(size))), 0, size - 1);
+    j = std::clamp<int64_t>(int64_t(std::floor(0.5f * (tc / ma + 1.0f) * float(size))), 0, size - 1);
+  }
+  const int64_t xyzl[4] = {i, j, 0, cube * 6 + face};
+  readTexel(v, level, xyzl, out);
+  if (cmp) out[0] = fbits(compareDepth(*cmp, bitsf(out[0])));
+}
+
+// Filters one level of face `face` at face coordinates (s, t) in [0, 1].
+static void cubeFilterLevel(const View& v, VkFilter filter, uint32_t level, int face, float s, float t, int64_t cube,
+                            const DepthCompare* cmp, float out[4]) {
+  const int32_t size = int32_t(levelExtent(v, level).width);
+  const double u = double(s) * size, w = double(t) * size;
+  uint32_t tx[4][4];
+  if (filter == VK_FILTER_NEAREST || isIntFormat(*v.format)) {
+    cubeTexel(v, level, size, face, std::clamp<int64_t>(int64_t(std::floor(u)), 0, size - 1),
+              std::clamp<int64_t>(int64_t(std::floor(w)), 0, size - 1), cube, cmp, tx[0]);
+    std::memcpy(out, tx[0], 16);
+    return;
+  }
+  const int64_t i0 = int64_t(std::floor(u - 0.5)), j0 = int64_t(std::floor(w - 0.5));
+  const double a = (u - 0.5) - std::floor(u - 0.5), b = (w - 0.5) - std::floor(w - 0.5);
+  const double weight[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+  for (int k = 0; k < 4; ++k) cubeTexel(v, level, size, face, i0 + (k & 1), j0 + (k >> 1), cube, cmp, tx[k]);
+  for (int c = 0; c < 4; ++c) {
+    double acc = 0;
+    for (int k = 0; k < 4; ++k) acc += weight[k] * double(bitsf(tx[k][c]));
+    out[c] = float(acc);
+  }
+}
+
+// The face, (s, t) and cube index of a cube sampling coordinate; false for a view that is not a cube (array) or a
+// direction of zero length or not finite (then the result is zeros).
+static bool cubeCoord(const View& v, const float coord[4], int* face, float* s, float* t, float* ma, int64_t* cube) {
+  if (v.view->viewType != VK_IMAGE_VIEW_TYPE_CUBE && v.view->viewType != VK_IMAGE_VIEW_TYPE_CUBE_ARRAY) return false;
+  if (v.layerCount < 6) return false;
+  *face = cubeFace(coord);
+  float sc, tc;
+  cubeAxes(*face, coord, &sc, &tc, ma);
+  if (!(*ma > 0) || !std::isfinite(*ma)) return false;
+  *s = 0.5f * (sc / *ma + 1.0f);
+  *t = 0.5f * (tc / *ma + 1.0f);
+  *cube = 0;
+  if (v.view->viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY) {
+    const float l = std::nearbyint(coord[3]);
+    *cube = int64_t(std::clamp(std::isnan(l) ? 0.0f : l, 0.0f, float(v.layerCount / 6 - 1)));
+  }
+  return true;
+}
+
+// What both cube entry points start from: the view and sampler, the face, (s, t), ma and cube of the coordinate,
+// and the depth comparison (Dref forms); false when the result is zeros (out is cleared).
+struct CubeLookup {
+  View v;
+  const VkSamplerCreateInfo* sampler = nullptr;
+  int face = 0;
+  float s = 0, t = 0, ma = 0;
+  int64_t cube = 0;
+  DepthCompare cmp;
+  const DepthCompare* compare = nullptr;  // &cmp with kCubeDref
+};
+static bool cubeLookup(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                       float dref, uint32_t flags, uint32_t out[4], CubeLookup* c) {
+  std::memset(out, 0, 16);
+  if (!resolveView(img, &c->v) || !smp || !smp->sampler) return false;
+  c->sampler = &recordObject<Sampler>(smp->sampler)->info;
+  if (!cubeCoord(c->v, coord, &c->face, &c->s, &c->t, &c->ma, &c->cube)) return false;
+  if (flags & abi::kCubeDref) {
+    c->cmp = depthCompare(c->v, *c->sampler, dref);
+    c->compare = &c->cmp;
+  }
+  return true;
+}
+
+void vkrt_image_sample_cube(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            const float ddx[4], const float ddy[4], float lod, float dref, uint32_t flags,
+                            uint32_t out[4]) {
+  CubeLookup l;
+  if (!cubeLookup(img, smp, coord, dref, flags, out, &l)) return;
+  const View& v = l.v;
+  const VkSamplerCreateInfo& smpInfo = *l.sampler;
+  const int face = l.face;
+  const float s = l.s, t = l.t, ma = l.ma;
+  const int64_t cube = l.cube;
+  float lambda;
+  if (flags & abi::kCubeGrad) {
+    // "Cube Map Derivation": d(s)/dx = 1/2 (d(sc)/dx / ma - sc d(ma)/dx / ma^2), likewise t and y; then the scale
+    // factors and the level of detail as for 2D ("Scale Factor Operation", "Level-of-Detail Operation").
+    float sc, tc, m;
+    cubeAxes(face, coord, &sc, &tc, &m);
+    const float size = float(levelExtent(v, 0).width);
+    float rho2[2];
+    for (int k = 0; k < 2; ++k) {
+      float dsc, dtc, dma;
+      cubeAxes(face, k ? ddy : ddx, &dsc, &dtc, &dma);
+      const float ds = 0.5f * (dsc / ma - sc * dma / (ma * ma)) * size;
+      const float dt = 0.5f * (dtc / ma - tc * dma / (ma * ma)) * size;
+      rho2[k] = ds * ds + dt * dt;
+    }
+    lambda = 0.5f * std::log2(std::max(rho2[0], rho2[1]));  // -inf for zero derivatives: clamped to minLod below
+    if (std::isnan(lambda)) lambda = 0.0f;
+    if (!std::isnan(lod)) lambda += lod;
+  } else {
+    lambda = std::isnan(lod) ? 0.0f : lod;
+  }
+  lambda += smpInfo.mipLodBias;
+  const DepthCompare* c = l.compare;
+  // "Level-of-Detail Operation" and "Image Level(s) Selection", as sampleAtLod.
+  lambda = std::clamp(lambda, smpInfo.minLod, std::max(smpInfo.minLod, smpInfo.maxLod));
+  const VkFilter filter = lambda <= 0.0f ? smpInfo.magFilter : smpInfo.minFilter;
+  const float maxLevel = float(v.levelCount - 1);
+  const float d = std::clamp(lambda, 0.0f, maxLevel);
+  float result[4];
+  if (smpInfo.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
+    const uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
+    cubeFilterLevel(v, filter, level, face, s, t, cube, c, result);
+  } else {
+    const uint32_t lo = uint32_t(std::floor(d)), hi = std::min(lo + 1, uint32_t(maxLevel));
+    float a[4], b[4];
+    const float f = d - std::floor(d);
+    cubeFilterLevel(v, filter, lo, face, s, t, cube, c, a);
+    cubeFilterLevel(v, filter, hi, face, s, t, cube, c, b);
+    for (int k = 0; k < 4; ++k) result[k] = a[k] * (1 - f) + b[k] * f;
+  }
+  std::memcpy(out, result, 16);
+  applySwizzle(v, out);
+}
+
+void vkrt_image_gather_cube(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
+                            int32_t component, float dref, uint32_t flags, uint32_t out[4]) {
+  CubeLookup l;
+  if (!cubeLookup(img, smp, coord, dref, flags, out, &l)) return;
+  const View& v = l.v;
+  const int64_t cube = l.cube;
+  const int face = l.face;
+  const float s = l.s, t = l.t;
+  const int32_t size = int32_t(levelExtent(v, 0).width);
+  const int64_t i0 = int64_t(std::floor(double(s) * size - 0.5)), j0 = int64_t(std::floor(double(t) * size - 0.5));
+  // (i0 j1, i1 j1, i1 j0, i0 j0), as vkrt_image_gather.
+  static constexpr int kOffsets[4][2] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  const uint32_t comp = (flags & abi::kCubeDref) ? 0 : uint32_t(component) & 3;
+  for (int k = 0; k < 4; ++k) {
+    uint32_t tx[4];
+    cubeTexel(v, 0, size, face, i0 + kOffsets[k][0], j0 + kOffsets[k][1], cube, l.compare, tx);
+    applySwizzle(v, tx);
+    out[k] = tx[comp];
+  }
+}
+
 void vkrt_image_size(const abi::DescriptorRecord* img, int32_t lod, int32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
@@ -861,6 +1056,8 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_image_sample_grad_dref", reinterpret_cast<void*>(&vkrt_image_sample_grad_dref)},
       {"vkrt_image_gather", reinterpret_cast<void*>(&vkrt_image_gather)},
       {"vkrt_image_gather_dref", reinterpret_cast<void*>(&vkrt_image_gather_dref)},
+      {"vkrt_image_sample_cube", reinterpret_cast<void*>(&vkrt_image_sample_cube)},
+      {"vkrt_image_gather_cube", reinterpret_cast<void*>(&vkrt_image_gather_cube)},
       {"vkrt_image_size", reinterpret_cast<void*>(&vkrt_image_size)},
       {"vkrt_image_levels", reinterpret_cast<void*>(&vkrt_image_levels)},
       {"vkrt_texel_buffer_read", reinterpret_cast<void*>(&vkrt_texel_buffer_read)},

@@ -225,11 +225,15 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
                                          VK_MEMORY_PROPERTY_HOST_COHERENT_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT,
                                      0};
 
-  // One family for everything: render passes and draws (src/gfx) run on the same queue workers as compute.
-  queueFamily.queueFlags = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT;
-  queueFamily.queueCount = 4;
-  queueFamily.timestampValidBits = 64;
-  queueFamily.minImageTransferGranularity = {1, 1, 1};
+  // Family 0 for everything: render passes and draws (src/gfx) run on the same queue workers as compute. Family 1
+  // without graphics ("Queue Family Properties": a compute-only family may exist beside the graphics one).
+  for (VkQueueFamilyProperties& f : queueFamilies) {
+    f.queueFlags = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT;
+    f.queueCount = 4;
+    f.timestampValidBits = 64;
+    f.minImageTransferGranularity = {1, 1, 1};
+  }
+  queueFamilies[0].queueFlags |= VK_QUEUE_GRAPHICS_BIT;
 
   extensions_ = {
       {VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME, VK_KHR_BUFFER_DEVICE_ADDRESS_SPEC_VERSION},
@@ -485,26 +489,22 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceQueueFamilyProperties(VkPhysica
                                                                        uint32_t* pCount,
                                                                        VkQueueFamilyProperties* pProps) {
   if (!pProps) {
-    *pCount = 1;
+    *pCount = PhysicalDevice::kQueueFamilyCount;
     return;
   }
-  if (*pCount >= 1) {
-    pProps[0] = pd(physicalDevice)->queueFamily;
-    *pCount = 1;
-  }
+  *pCount = std::min(*pCount, PhysicalDevice::kQueueFamilyCount);
+  for (uint32_t i = 0; i < *pCount; ++i) pProps[i] = pd(physicalDevice)->queueFamilies[i];
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceQueueFamilyProperties2(VkPhysicalDevice physicalDevice,
                                                                         uint32_t* pCount,
                                                                         VkQueueFamilyProperties2* pProps) {
   if (!pProps) {
-    *pCount = 1;
+    *pCount = PhysicalDevice::kQueueFamilyCount;
     return;
   }
-  if (*pCount >= 1) {
-    pProps[0].queueFamilyProperties = pd(physicalDevice)->queueFamily;
-    *pCount = 1;
-  }
+  *pCount = std::min(*pCount, PhysicalDevice::kQueueFamilyCount);
+  for (uint32_t i = 0; i < *pCount; ++i) pProps[i].queueFamilyProperties = pd(physicalDevice)->queueFamilies[i];
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL vkrt_EnumerateDeviceExtensionProperties(VkPhysicalDevice physicalDevice,

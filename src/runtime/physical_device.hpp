@@ -30,7 +30,12 @@ class PhysicalDevice : public Object {
   VkPhysicalDeviceRayTracingPropertiesNV rayTracingPropertiesNV{};
 
   VkPhysicalDeviceMemoryProperties memoryProperties{};
-  VkQueueFamilyProperties queueFamily{};
+  // Queue families: 0 does graphics, compute and transfer; kComputeQueueFamily compute and transfer only (what
+  // applications and the CTS look for to run compute apart from graphics). Both run on the same queue workers.
+  static constexpr uint32_t kQueueFamilyCount = 2;
+  static constexpr uint32_t kComputeQueueFamily = 1;
+  VkQueueFamilyProperties queueFamilies[kQueueFamilyCount]{};
+  static bool familyHasGraphics(uint32_t family) { return family == 0; }
 
   // Device extensions vkrt advertises: a fixed list (the constructor's and runtime/ray_tracing_features.cpp's).
   const std::vector<VkExtensionProperties>& extensions() const { return extensions_; }

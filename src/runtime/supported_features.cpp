@@ -41,6 +41,9 @@ constexpr F kSupported[] = {
     // Occlusion queries count every sample that passes exactly (src/gfx/query_commands.cpp), so the precise count
     // VK_QUERY_CONTROL_PRECISE_BIT asks for is the one always given (tests/e2e DrawOcclusionTest).
     F::occlusionQueryPrecise,
+    // Cube and cube array views are sampled with face selection and seamless filtering (runtime/image_functions.cpp
+    // vkrt_image_sample_cube; tests/e2e ComputeImageTest.CubeMapsSelectTheFaceFilterAcrossEdgesAndGather).
+    F::imageCubeArray,
     // Anisotropic filtering: the only sampling vkrt compiles is explicit-LOD sampling with a Lod operand (textureLod),
     // whose derivatives are zero, so rho_max = rho_min = 0 and the ratio of anisotropy is 1 ("Scale Factor
     // Operation"): one isotropic sample is the anisotropic filter (runtime/image_functions.cpp vkrt_image_sample;

@@ -110,9 +110,10 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceSurfaceSupportKHR(VkPhysica
   if (!liveSurface(pd, surface, fn, "VUID-vkGetPhysicalDeviceSurfaceSupportKHR-surface-parameter"))
     return VK_ERROR_SURFACE_LOST_KHR;
   // VUID-vkGetPhysicalDeviceSurfaceSupportKHR-queueFamilyIndex-01269
-  if (queueFamilyIndex >= 1) {
+  if (queueFamilyIndex >= PhysicalDevice::kQueueFamilyCount) {
     report(pd, Severity::Error, "VUID-vkGetPhysicalDeviceSurfaceSupportKHR-queueFamilyIndex-01269",
-           "%s: queueFamilyIndex %u is not less than the 1 queue family vkrt reports", fn, queueFamilyIndex);
+           "%s: queueFamilyIndex %u is not less than the %u queue families vkrt reports", fn, queueFamilyIndex,
+           PhysicalDevice::kQueueFamilyCount);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   *pSupported = VK_TRUE;

@@ -223,6 +223,8 @@ class Codegen {
   bool graphicsModes(const EntryPoint& ep);
   // OpKill, OpTerminateInvocation, OpDemoteToHelperInvocation, OpIsHelperInvocationEXT, derivatives, quad operations.
   bool graphics(const Instruction& in, bool& ok);
+  // GLSL.std.450 InterpolateAtCentroid / Sample / Offset (`inst`), called by extInst.
+  bool interpolateAt(const Instruction& in, uint32_t inst, bool& ok);
   // i1: this fragment invocation is a helper lane (constant false in other stages).
   llvm::Value* helperLane();
   // A pointer for a store or an atomic: in fragment shaders, a buffer pointer (StorageBuffer, Uniform,

@@ -207,6 +207,9 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
   if (debugPrintfSet && in.word(3) == debugPrintfSet) return debugPrintf(in, ok), true;
   if (in.word(3) != glslSet || glslSet == 0) return (ok = unsupported(in, "extended instruction set")), true;
   uint32_t inst = in.word(4);
+  if (inst == GLSLstd450InterpolateAtCentroid || inst == GLSLstd450InterpolateAtSample ||
+      inst == GLSLstd450InterpolateAtOffset)
+    return interpolateAt(in, inst, ok);
   llvm::Type* rt = type(in.word(1));
   std::vector<llvm::Value*> a;
   for (uint32_t i = 5; i < in.count; ++i) {

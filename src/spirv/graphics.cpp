@@ -5,6 +5,7 @@
 #include <map>
 
 #include <llvm/IR/Constants.h>
+#include <spirv/unified1/GLSL.std.450.h>
 
 #include "spirv/codegen.hpp"
 
@@ -39,6 +40,7 @@ bool graphicsOp(spv::Op op) {
 bool graphicsCapability(uint32_t cap) {
   switch (cap) {
     case spv::CapabilitySampleRateShading:
+    case spv::CapabilityInterpolationFunction:  // InterpolateAt* (interpolateAt below)
     case spv::CapabilityClipDistance:
     case spv::CapabilityCullDistance:
     case spv::CapabilityDerivativeControl:
@@ -423,6 +425,81 @@ void Codegen::derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::V
   llvm::Value* right = b.CreateICmpNE(b.CreateAnd(lane, i32(1)), i32(0));  // the right column
   *dx = b.CreateSelect(odd, b.CreateFSub(q[3], q[2]), b.CreateFSub(q[1], q[0]));
   *dy = b.CreateSelect(right, b.CreateFSub(q[3], q[1]), b.CreateFSub(q[2], q[0]));
+}
+
+bool Codegen::interpolateAt(const Instruction& in, uint32_t inst, bool& ok) {
+  // GLSL.std.450 InterpolateAtCentroid / Sample / Offset: `interpolant` points into an Input variable (or a part of
+  // one). The runtime interpolates every input location at the position; the variable's copies from the location
+  // slots (declareInterface) then fill a scratch copy of the variable, read at the interpolant's offset.
+  if (!isFragment()) return (ok = fail(in, "InterpolateAt* outside a fragment shader")), true;
+  uint32_t root = in.count > 5 ? in.word(5) : 0;
+  for (const Instruction* d = m.def(root);
+       d && (d->op == spv::OpAccessChain || d->op == spv::OpInBoundsAccessChain || d->op == spv::OpCopyObject);
+       d = m.def(root))
+    root = d->word(3);
+  auto git = globals.find(root);
+  if (git == globals.end() || git->second.storage != spv::StorageClassInput || !git->second.inPrivate ||
+      (!hasPtr(in.word(5)) && !globals.count(in.word(5))))
+    return (ok = fail(in, "interpolant is not a user Input variable or a part of one")), true;
+  const Global& g = git->second;
+  Ptr p = ptr(in.word(5));
+  if (!p.base || !isFloat(p.type)) return (ok = fail(in, "interpolant is not a float scalar or vector")), true;
+  // The rasterizer interpolates 32-bit floats (the slots' words).
+  if (spvType(scalarType(p.type)).width != 32)
+    return (ok = unsupported(in, "InterpolateAt* of a float that is not 32 bits")), true;
+  llvm::Value* sampleV = i32(0);
+  llvm::Value* dx = llvm::ConstantFP::get(b.getFloatTy(), 0);
+  llvm::Value* dy = dx;
+  uint32_t where = abi::kInterpolateAtCentroid;
+  if (inst == GLSLstd450InterpolateAtSample) {
+    where = abi::kInterpolateAtSample;
+    llvm::Value* v = in.count > 6 ? value(in.word(6)) : nullptr;
+    if (!v || !v->getType()->isIntegerTy()) return (ok = fail(in, "sample is not an integer")), true;
+    sampleV = b.CreateSExtOrTrunc(v, b.getInt32Ty());
+  } else if (inst == GLSLstd450InterpolateAtOffset) {
+    where = abi::kInterpolateAtOffset;
+    llvm::Value* v = in.count > 6 ? value(in.word(6)) : nullptr;
+    auto* vt = v ? llvm::dyn_cast<llvm::FixedVectorType>(v->getType()) : nullptr;
+    if (!vt || vt->getNumElements() != 2 || !vt->getElementType()->isFloatingPointTy())
+      return (ok = fail(in, "offset is not a 2-component float vector")), true;
+    dx = b.CreateFPCast(b.CreateExtractElement(v, uint64_t(0)), b.getFloatTy());
+    dy = b.CreateFPCast(b.CreateExtractElement(v, uint64_t(1)), b.getFloatTy());
+  }
+  llvm::Type* slotsTy = llvm::ArrayType::get(b.getInt32Ty(), kGraphicsLocations * 4);
+  llvm::Type* varTy = llvm::ArrayType::get(b.getInt8Ty(), std::max<uint64_t>(g.size, 1));
+  llvm::AllocaInst *slots, *copy;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock, allocaBlock->begin());
+    slots = b.CreateAlloca(slotsTy);
+    slots->setAlignment(llvm::Align(16));
+    copy = b.CreateAlloca(varTy);
+    copy->setAlignment(llvm::Align(16));
+  }
+  llvm::Value* fnAt = field(*this, offsetof(GraphicsInvocation, interpolateAt));
+  llvm::Value* fnPtr = b.CreateAlignedLoad(b.getPtrTy(), fnAt, llvm::Align(8));
+  llvm::FunctionType* fty = llvm::FunctionType::get(
+      b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getInt32Ty(), b.getFloatTy(), b.getFloatTy(), b.getPtrTy()},
+      false);
+  b.CreateCall(fty, fnPtr, {ctxArg, i32(where), sampleV, dx, dy, slots});
+  // The variable's input copies, from the scratch slots to the scratch variable.
+  for (const IoCopy& c : ioCopies) {
+    if (!c.input || c.slotsField != int(offsetof(GraphicsInvocation, inputs)) || c.privOffset < g.offset ||
+        c.privOffset + c.bytes > g.offset + g.size)
+      continue;
+    llvm::Type* ty = b.getIntNTy(c.bytes * 8);
+    llvm::Align align(std::min<uint32_t>(c.bytes, 4));
+    llvm::Value* v = b.CreateAlignedLoad(ty, b.CreateConstGEP1_64(b.getInt8Ty(), slots, c.at), align);
+    b.CreateAlignedStore(v, b.CreateConstGEP1_64(b.getInt8Ty(), copy, c.privOffset - g.offset), align);
+  }
+  Ptr q = p;
+  q.base = copy;
+  q.limit = i64(g.size);
+  q.storage = spv::StorageClassFunction;
+  llvm::Value* r = load(q);
+  if (!r) return (ok = fail(in, "interpolant could not be read")), true;
+  set(in.word(2), r);
+  return true;
 }
 
 bool Codegen::graphics(const Instruction& in, bool& ok) {

@@ -43,6 +43,10 @@ bool extraSupportedCapability(uint32_t cap) {
   switch (cap) {
     // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.
     case spv::CapabilityImageQuery:
+    // Cube array views (sampleCube in image.cpp, the runtime's vkrt_image_sample_cube; storage reads and writes as 2D
+    // arrays); tests/e2e ComputeImageTest.CubeMapsSelectTheFaceFilterAcrossEdgesAndGather.
+    case spv::CapabilitySampledCubeArray:
+    case spv::CapabilityImageCubeArray:
     case spv::CapabilityPhysicalStorageBufferAddresses:
     case spv::CapabilityStorageBuffer8BitAccess:
     case spv::CapabilityStorageBuffer16BitAccess:
@@ -199,6 +203,72 @@ SampleKind sampleKind(spv::Op op) {
   return k;
 }
 
+// Sampling and gathering from a cube or cube array view (the runtime's vkrt_image_sample_cube and
+// vkrt_image_gather_cube select the face, "Cube Map Face Selection"): the direction (and the cube array layer),
+// its derivatives for the implicit-LOD forms in fragment shaders or the Grad operand, else the Lod (or Bias outside
+// fragment shaders). SPIR-V allows neither Proj nor an offset with Dim Cube.
+bool sampleCube(Codegen& g, const Instruction& in, const SampleKind& kind, llvm::Value* img, llvm::Value* coord,
+                uint32_t coordId, llvm::Value* lod, llvm::Value* bias, llvm::Value* gradX, llvm::Value* gradY,
+                llvm::Value* offset) {
+  llvm::Type* ptrTy = g.b.getPtrTy();
+  llvm::Type* f32 = g.b.getFloatTy();
+  llvm::Type* i32 = g.b.getInt32Ty();
+  if (!g.isFloat(g.m.typeOf(coordId))) return g.fail(in, "sampling coordinates are not floats");
+  const unsigned n = g.componentCount(g.m.typeOf(coordId));
+  if (kind.proj || offset || n < 3)
+    return g.fail(in, "cube map sampling with Proj, an offset or fewer than 3 coordinates");
+  if (kind.explicitLod && !lod && !gradX) return g.fail(in, "explicit-LOD sampling without Lod or Grad");
+  llvm::Value* imgRec = g.b.CreateExtractValue(img, {0});
+  llvm::Value* smpRec = g.b.CreateExtractValue(img, {1});
+  llvm::Value* c = g.b.CreateFPCast(coord, llvm::FixedVectorType::get(f32, n));
+  llvm::Value* coords = toWords(g, c, true);
+  llvm::Value* dref = llvm::ConstantFP::get(f32, 0.0);
+  uint32_t flags = 0;  // abi::kCube*
+  if (kind.dref) {
+    llvm::Value* d = g.value(in.word(5));
+    if (!d) return g.fail(in, "Dref has no value");
+    dref = g.b.CreateFPCast(d, f32);
+    flags |= abi::kCubeDref;
+  }
+  llvm::Value* out = scratch(g);
+  if (kind.gather) {
+    llvm::Value* component = g.b.getInt32(0);
+    if (!kind.dref) {
+      llvm::Value* v = g.value(in.word(5));
+      if (!v) return g.fail(in, "Component has no value");
+      component = g.b.CreateSExtOrTrunc(v, i32);
+    }
+    g.b.CreateCall(runtimeFn(g, "vkrt_image_gather_cube", g.b.getVoidTy(), {ptrTy, ptrTy, ptrTy, i32, f32, i32, ptrTy}),
+                   {imgRec, smpRec, coords, component, dref, g.b.getInt32(flags), out});
+    g.set(in.word(2), fromWords(g, out, in.word(1)));
+    return true;
+  }
+  const bool implicitHere = kind.implicit && g.isFragment();
+  llvm::Value* ddx = llvm::ConstantPointerNull::get(g.b.getPtrTy());
+  llvm::Value* ddy = ddx;
+  llvm::Value* level;
+  if (gradX || implicitHere) {
+    llvm::Value *dx = gradX, *dy = gradY;
+    if (implicitHere) {
+      // The direction's derivatives (not the array layer's).
+      llvm::Value* dir = g.b.CreateShuffleVector(c, {0, 1, 2});
+      g.derivatives(dir, false, &dx, &dy);
+    }
+    if (!dx || !dy) return g.fail(in, "Grad operands have no value");
+    ddx = toWords(g, dx, true);
+    ddy = toWords(g, dy, true);
+    flags |= abi::kCubeGrad;
+    level = bias ? g.b.CreateFPCast(bias, f32) : llvm::ConstantFP::getNaN(f32);
+  } else {
+    level = g.b.CreateFPCast(lod ? lod : bias ? bias : llvm::ConstantFP::get(f32, 0.0), f32);
+  }
+  g.b.CreateCall(runtimeFn(g, "vkrt_image_sample_cube", g.b.getVoidTy(),
+                           {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, f32, f32, i32, ptrTy}),
+                 {imgRec, smpRec, coords, ddx, ddy, level, dref, g.b.getInt32(flags), out});
+  g.set(in.word(2), fromWords(g, out, in.word(1)));
+  return true;
+}
+
 // The sampling instructions (OpImageSample*, OpImage*Gather) on image `img` ({image record, sampler record}) with
 // their coordinate and the image operands image() has read. The Proj forms divide the coordinates (and Dref) by
 // their last component ("Projection Operation"); the implicit-LOD forms take the coordinates' quad derivatives in
@@ -207,7 +277,8 @@ bool sample(Codegen& g, const Instruction& in, const SampleKind& kind, const Ins
             llvm::Value* coord, uint32_t coordId, llvm::Value* lod, llvm::Value* bias, llvm::Value* gradX,
             llvm::Value* gradY, llvm::Value* offset) {
   llvm::Type* ptrTy = g.b.getPtrTy();
-  if (imageType.word(3) == spv::DimCube) return g.unsupported(in, "cube map sampling");
+  if (imageType.word(3) == spv::DimCube)
+    return sampleCube(g, in, kind, img, coord, coordId, lod, bias, gradX, gradY, offset);
   if (!g.isFloat(g.m.typeOf(coordId))) return g.fail(in, "sampling coordinates are not floats");
   if (kind.explicitLod && !lod && !gradX) return g.fail(in, "explicit-LOD sampling without Lod or Grad");
   llvm::Value* imgRec = g.b.CreateExtractValue(img, {0});

@@ -327,12 +327,8 @@ bool supportedCapability(uint32_t cap) {
 
 bool supportedGlsl(uint32_t inst) {
   switch (inst) {
-    // IMix was never part of the published set; InterpolateAt* (fragment shaders) would need the interpolation
-    // at other positions than the executor's, which the GraphicsInvocation does not carry.
-    case GLSLstd450IMix:
-    case GLSLstd450InterpolateAtCentroid:
-    case GLSLstd450InterpolateAtSample:
-    case GLSLstd450InterpolateAtOffset: return false;
+    // IMix was never part of the published set.
+    case GLSLstd450IMix: return false;
     default: return inst >= GLSLstd450Round && inst < GLSLstd450Count;
   }
 }

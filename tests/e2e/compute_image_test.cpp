@@ -3,6 +3,7 @@
 // clamp to edge with the samplerMirrorClampToEdge feature),
 // texel fetches, size queries, and buffer_reference pointers. Expected values are computed here on the CPU.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -10,6 +11,7 @@
 
 #include "compute_1d_extended_formats.comp.spv.h"
 #include "compute_bda_linked_list.comp.spv.h"
+#include "compute_cube.comp.spv.h"
 #include "compute_formatless_image.comp.spv.h"
 #include "compute_image_atomics.comp.spv.h"
 #include "compute_image_robustness.comp.spv.h"
@@ -33,6 +35,7 @@ class ComputeImageTest : public VulkanTest {
   FixtureOptions options() override {
     FixtureOptions o;
     o.features12.samplerMirrorClampToEdge = VK_TRUE;
+    o.features.imageCubeArray = VK_TRUE;  // CubeMapsSelectTheFaceFilterAcrossEdgesAndGather
     return o;
   }
   struct Tex {
@@ -65,7 +68,10 @@ class ComputeImageTest : public VulkanTest {
     t.ci.tiling = VK_IMAGE_TILING_OPTIMAL;
     t.ci.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     t.ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    if (viewType == VK_IMAGE_VIEW_TYPE_CUBE || viewType == VK_IMAGE_VIEW_TYPE_CUBE_ARRAY)
+      t.ci.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     EXPECT_EQ(vkCreateImage(device, &t.ci, nullptr, &t.image), VK_SUCCESS);
+    if (!t.image) return t;  // no image: nothing to query or bind
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device, t.image, &req);
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -599,6 +605,146 @@ void ComputeImageTest::sampleAndFetch(bool anisotropic) {
 }
 
 TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) { sampleAndFetch(false); }
+
+// Cube map sampling ("Cube Map Face Selection and Transformations"): a 4x4 R32_SFLOAT cube of 2 levels whose texel
+// (i, j) of face f, level m holds 1000 m + 100 f + 10 j + i, sampled NEAREST and LINEAR at directions over every face
+// and gathered. The reference selects the face by the spec's table; LINEAR is checked where its 2x2 texels lie
+// inside the face, and across an edge (seamless, "Cube Map Edge Handling") at a point worked out by hand.
+TEST_F(ComputeImageTest, CubeMapsSelectTheFaceFilterAcrossEdgesAndGather) {
+  constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  Pipeline p = makePipeline(kSpv_compute_cube_comp, sizeof kSpv_compute_cube_comp,
+                            {kCombined, kStorageBuffer, kStorageBuffer, kCombined});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  // 12 layers: the cube view sees the first 6, the cube array view both cubes (layer 6 + f is face f of cube 1).
+  Tex img = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_CUBE, VK_FORMAT_R32_SFLOAT, {4, 4, 1}, 2, 12, 4,
+                    VK_IMAGE_USAGE_SAMPLED_BIT, 0, 6);
+  ASSERT_NE(img.view, VK_NULL_HANDLE);
+  VkImageViewCreateInfo avi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  avi.image = img.image;
+  avi.viewType = VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+  avi.format = VK_FORMAT_R32_SFLOAT;
+  avi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 12};
+  VkImageView arrayView = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateImageView(device, &avi, nullptr, &arrayView), VK_SUCCESS);
+  auto value = [](int m, int f, int i, int j) { return float(1000 * m + 100 * f + 10 * j + i); };
+  for (int m = 0; m < 2; ++m) {
+    const int n = 4 >> m;
+    float* t = reinterpret_cast<float*>(static_cast<uint8_t*>(img.staging.data) + img.mipOffsets[m]);
+    for (int f = 0; f < 12; ++f)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) t[(f * n + j) * n + i] = value(m, f, i, j);
+  }
+  // The spec's face table: major axis, then (sc, tc, ma).
+  auto face = [](const float* d, float* s, float* t) {
+    const float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+    int f;
+    float sc, tc, ma;
+    if (ax > ay && ax > az) {
+      f = d[0] > 0 ? 0 : 1, sc = d[0] > 0 ? -d[2] : d[2], tc = -d[1], ma = ax;
+    } else if (ay > ax && ay > az) {
+      f = d[1] > 0 ? 2 : 3, sc = d[0], tc = d[1] > 0 ? d[2] : -d[2], ma = ay;
+    } else {
+      f = d[2] > 0 ? 4 : 5, sc = d[2] > 0 ? d[0] : -d[0], tc = -d[1], ma = az;
+    }
+    *s = 0.5f * (sc / ma + 1), *t = 0.5f * (tc / ma + 1);
+    return f;
+  };
+  std::vector<std::array<float, 4>> dirs;
+  for (int axis = 0; axis < 3; ++axis)
+    for (float sign : {1.0f, -1.0f})
+      for (float a : {-0.8f, -0.3f, 0.05f, 0.45f, 0.7f})
+        for (float b : {-0.65f, -0.2f, 0.1f, 0.6f}) {
+          std::array<float, 4> d{};
+          d[axis] = sign * 1.5f;
+          d[(axis + 1) % 3] = a * 1.5f;
+          d[(axis + 2) % 3] = b * 1.5f;
+          d[3] = (a > 0) ? 1.0f : 0.0f;  // lod
+          dirs.push_back(d);
+        }
+  // Across +X's right edge (s = 15/16, t = 3/8: u = 3.25, v = 1.0): 3/4 of +X's (3, 1) and 1/4 of -Z's (0, 1).
+  const size_t edge = dirs.size();
+  dirs.push_back({1.0f, 0.25f, -0.875f, 0.0f});
+  const uint32_t count = uint32_t(dirs.size());
+  HostBuffer in = createHostBuffer(count * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memcpy(in.data, dirs.data(), count * 16);
+  HostBuffer out = createHostBuffer(count * 3 * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  writeBuffer(p, 1, in);
+  writeBuffer(p, 2, out);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, img, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  submitAndWait(cb);
+  for (VkFilter filter : {VK_FILTER_NEAREST, VK_FILTER_LINEAR}) {
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = filter;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    si.maxLod = VK_LOD_CLAMP_NONE;
+    VkSampler sampler;
+    ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+    writeImage(p, 0, kCombined, img.view, sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    writeImage(p, 3, kCombined, arrayView, sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    std::memset(out.data, 0x7F, out.size);
+    cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+    vkCmdDispatch(cb, count, 1, 1);
+    hostBarrier(cb);
+    submitAndWait(cb);
+    const float* r = static_cast<const float*>(out.data);
+    int linearChecked = 0;
+    for (uint32_t k = 0; k < edge; ++k) {
+      float s, t;
+      const int f = face(dirs[k].data(), &s, &t);
+      const int m = int(dirs[k][3]), n = 4 >> m;
+      const float* got = &r[(3 * k) * 4];
+      if (filter == VK_FILTER_NEAREST) {
+        const int i = std::min(int(std::floor(s * n)), n - 1), j = std::min(int(std::floor(t * n)), n - 1);
+        EXPECT_EQ(got[0], value(m, f, i, j)) << "direction " << k << " face " << f;
+        // The cube array's cube 1 (the coordinate 1.2 rounds to 1): layer 6 + f.
+        EXPECT_EQ(r[(3 * k + 2) * 4], value(m, 6 + f, i, j)) << "cube array, direction " << k << " face " << f;
+      } else {
+        const float u = s * n - 0.5f, v = t * n - 0.5f;
+        const int i0 = int(std::floor(u)), j0 = int(std::floor(v));
+        if (i0 >= 0 && j0 >= 0 && i0 + 1 < n && j0 + 1 < n) {
+          const float a = u - float(i0), b = v - float(j0);
+          const float want = (1 - a) * (1 - b) * value(m, f, i0, j0) + a * (1 - b) * value(m, f, i0 + 1, j0) +
+                             (1 - a) * b * value(m, f, i0, j0 + 1) + a * b * value(m, f, i0 + 1, j0 + 1);
+          EXPECT_NEAR(got[0], want, 1e-3f) << "direction " << k << " face " << f;
+          ++linearChecked;
+        }
+      }
+      // Gather (level 0, component R): (i0 j1, i1 j1, i1 j0, i0 j0) of the LINEAR footprint, inside the face.
+      const float u = s * 4 - 0.5f, v = t * 4 - 0.5f;
+      const int i0 = int(std::floor(u)), j0 = int(std::floor(v));
+      if (i0 >= 0 && j0 >= 0 && i0 < 3 && j0 < 3) {
+        const float* g = &r[(3 * k + 1) * 4];
+        EXPECT_EQ(g[0], value(0, f, i0, j0 + 1)) << "gather " << k;
+        EXPECT_EQ(g[1], value(0, f, i0 + 1, j0 + 1)) << "gather " << k;
+        EXPECT_EQ(g[2], value(0, f, i0 + 1, j0)) << "gather " << k;
+        EXPECT_EQ(g[3], value(0, f, i0, j0)) << "gather " << k;
+      }
+    }
+    const float* e = &r[(3 * edge) * 4];
+    if (filter == VK_FILTER_LINEAR) {
+      EXPECT_GT(linearChecked, 20);
+      EXPECT_NEAR(e[0], 0.75f * value(0, 0, 3, 1) + 0.25f * value(0, 5, 0, 1), 1e-3f);
+      // The gather of the same point: (3, 2), (-Z 0, 2), (-Z 0, 1), (3, 1).
+      const float* g = &r[(3 * edge + 1) * 4];
+      EXPECT_EQ(g[0], value(0, 0, 3, 2));
+      EXPECT_EQ(g[1], value(0, 5, 0, 2));
+      EXPECT_EQ(g[2], value(0, 5, 0, 1));
+      EXPECT_EQ(g[3], value(0, 0, 3, 1));
+    } else {
+      EXPECT_EQ(e[0], value(0, 0, 3, 1));
+    }
+    vkDestroySampler(device, sampler, nullptr);
+  }
+  vkDestroyImageView(device, arrayView, nullptr);
+  destroy(img);
+  destroy(in);
+  destroy(out);
+  destroy(p);
+}
 
 class ComputeAnisotropyTest : public ComputeImageTest {
  protected:

@@ -20,12 +20,26 @@ TEST_F(DeviceTest, PhysicalDeviceIsVkrtCpu) {
 
   uint32_t n = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &n, nullptr);
-  ASSERT_EQ(n, 1u);
-  VkQueueFamilyProperties q;
-  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &n, &q);
-  EXPECT_TRUE(q.queueFlags & VK_QUEUE_COMPUTE_BIT);
-  EXPECT_TRUE(q.queueFlags & VK_QUEUE_TRANSFER_BIT);
-  EXPECT_GE(q.queueCount, 1u);
+  ASSERT_GE(n, 1u);
+  std::vector<VkQueueFamilyProperties> q(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &n, q.data());
+  EXPECT_TRUE(q[0].queueFlags & VK_QUEUE_COMPUTE_BIT);
+  EXPECT_TRUE(q[0].queueFlags & VK_QUEUE_TRANSFER_BIT);
+  EXPECT_GE(q[0].queueCount, 1u);
+  if (onVkrt()) {
+    // Family 0 does everything; family 1 compute and transfer without graphics.
+    ASSERT_EQ(n, 2u);
+    EXPECT_EQ(q[0].queueFlags, VkQueueFlags(VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT));
+    EXPECT_EQ(q[1].queueFlags, VkQueueFlags(VK_QUEUE_COMPUTE_BIT | VK_QUEUE_TRANSFER_BIT));
+    EXPECT_GE(q[1].queueCount, 1u);
+    EXPECT_EQ(q[1].timestampValidBits, 64u);
+    // A count of 1 gets family 0 only.
+    uint32_t one = 1;
+    VkQueueFamilyProperties first{};
+    vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &one, &first);
+    EXPECT_EQ(one, 1u);
+    EXPECT_EQ(first.queueFlags, q[0].queueFlags);
+  }
 }
 
 TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {

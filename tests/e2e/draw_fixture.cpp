@@ -16,6 +16,7 @@ DrawTest::Target DrawTest::createTarget(VkFormat format, VkImageUsageFlags usage
   ci.tiling = VK_IMAGE_TILING_OPTIMAL;
   ci.usage = usage;
   EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &t.image), VK_SUCCESS);
+  if (!t.image) return t;  // no image: nothing to query or bind
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device, t.image, &req);
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};

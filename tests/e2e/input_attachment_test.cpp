@@ -5,10 +5,12 @@
 #include "multiview.frag.spv.h"
 #include "multiview.vert.spv.h"
 #include "multiview_input.frag.spv.h"
+#include "subpass_depth_quad.vert.spv.h"
 #include "subpass_gradient.frag.spv.h"
 #include "subpass_input.frag.spv.h"
 #include "subpass_input_ms.frag.spv.h"
 #include "subpass_quad.vert.spv.h"
+#include "subpass_read_depth.frag.spv.h"
 #include "subpass_sample_id.frag.spv.h"
 
 namespace vkrt::test {
@@ -171,6 +173,109 @@ TEST_F(InputAttachmentTest, SecondSubpassReadsFirstSubpassOutput) {
   vkDestroyRenderPass(device, rp, nullptr);
   destroy(a);
   destroy(b);
+}
+
+// The depth attachment read as an input attachment in its own subpass, between two draws ordered by a barrier (the
+// subpass's self-dependency): the second draw's shader reads the first draw's depth, 0.25, not its own 0.75. A
+// shader that reads input attachments runs before the depth test writes (as late tests); before, vkrt ran the tests
+// early for shaders without side effects, so the shader read its own depth (CTS
+// rasterization.rasterization_order_attachment_access.{depth,stencil}.*.multi_draw_barriers).
+TEST_F(InputAttachmentTest, ADepthFeedbackLoopReadsThePreviousDrawsDepth) {
+  const VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
+  Attachment color = attachment(kFormat, kW, kH);
+  Attachment depth = attachment(depthFormat, kW, kH, 1, VK_SAMPLE_COUNT_1_BIT, VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT);
+  const VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_GENERAL}, depthRef{1, VK_IMAGE_LAYOUT_GENERAL};
+  VkSubpassDescription sub{};
+  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  sub.colorAttachmentCount = 1;
+  sub.pColorAttachments = &colorRef;
+  sub.pDepthStencilAttachment = &depthRef;
+  sub.inputAttachmentCount = 1;
+  sub.pInputAttachments = &depthRef;
+  const VkAttachmentDescription atts[2] = {desc(kFormat, VK_ATTACHMENT_LOAD_OP_CLEAR),
+                                           desc(depthFormat, VK_ATTACHMENT_LOAD_OP_CLEAR)};
+  VkSubpassDependency self{0,
+                           0,
+                           VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                           VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                           VK_ACCESS_INPUT_ATTACHMENT_READ_BIT,
+                           VK_DEPENDENCY_BY_REGION_BIT};
+  VkRenderPassCreateInfo rci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  rci.attachmentCount = 2;
+  rci.pAttachments = atts;
+  rci.subpassCount = 1;
+  rci.pSubpasses = &sub;
+  rci.dependencyCount = 1;
+  rci.pDependencies = &self;
+  VkRenderPass rp = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateRenderPass(device, &rci, nullptr, &rp), VK_SUCCESS);
+  VkFramebuffer fb = framebuffer(rp, {color.view, depth.view}, kW, kH);
+  InputSet set = inputSet(depth.view);
+  VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, 4};
+  VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  lci.setLayoutCount = 1;
+  lci.pSetLayouts = &set.layout;
+  lci.pushConstantRangeCount = 1;
+  lci.pPushConstantRanges = &range;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreatePipelineLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
+  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
+  ds.depthCompareOp = VK_COMPARE_OP_ALWAYS;
+  PipelineDesc pd;
+  pd.vs = kSpv_subpass_depth_quad_vert;
+  pd.vsBytes = sizeof kSpv_subpass_depth_quad_vert;
+  pd.fs = kSpv_subpass_read_depth_frag;
+  pd.fsBytes = sizeof kSpv_subpass_read_depth_frag;
+  pd.renderPass = rp;
+  pd.layout = layout;
+  pd.depthStencil = &ds;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  ASSERT_EQ(this->pipeline(pd, &pipeline), VK_SUCCESS);
+
+  VkClearValue clears[2]{};
+  clears[1].depthStencil = {0.5f, 0};
+  VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  bi.renderPass = rp;
+  bi.framebuffer = fb;
+  bi.renderArea = {{0, 0}, {kW, kH}};
+  bi.clearValueCount = 2;
+  bi.pClearValues = clears;
+  VkCommandBuffer cb = beginOneTime();
+  vkCmdBeginRenderPass(cb, &bi, VK_SUBPASS_CONTENTS_INLINE);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set.set, 0, nullptr);
+  for (float z : {0.25f, 0.75f}) {
+    if (z != 0.25f) {
+      VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      b.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+      b.dstAccessMask = VK_ACCESS_INPUT_ATTACHMENT_READ_BIT;
+      b.oldLayout = b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = depth.img.image;
+      b.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_DEPENDENCY_BY_REGION_BIT, 0, nullptr, 0, nullptr,
+                           1, &b);
+    }
+    vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 4, &z);
+    vkCmdDraw(cb, 6, 1, 0, 0);
+  }
+  vkCmdEndRenderPass(cb);
+  submitAndWait(cb);
+  // The second draw wrote the depth the first left (0.25); the depth attachment holds the second's (0.75).
+  EXPECT_EQ(compare(color, 0, [](uint32_t, uint32_t) { return rgba8(0.25, 0, 0, 1); }), 0);
+  const std::vector<uint8_t> d = readBack(depth, VK_IMAGE_ASPECT_DEPTH_BIT, 4);
+  float d0;
+  std::memcpy(&d0, d.data(), 4);
+  EXPECT_EQ(d0, 0.75f);
+  vkDestroyPipelineLayout(device, layout, nullptr);
+  destroy(set);
+  vkDestroyFramebuffer(device, fb, nullptr);
+  vkDestroyRenderPass(device, rp, nullptr);
+  destroy(color);
+  destroy(depth);
 }
 
 // A has 4 samples, each written by its own invocation with red 0.2 (sample + 1); subpass 1 (one sample) reads

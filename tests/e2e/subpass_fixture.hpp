@@ -39,6 +39,7 @@ class SubpassTest : public RenderPassTest {
     VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
     bool sampleShading = false;  // minSampleShading 1: one invocation per sample
     VkPipelineLayout layout = VK_NULL_HANDLE;
+    const VkPipelineDepthStencilStateCreateInfo* depthStencil = nullptr;
   };
 
   VkShaderModule module(const uint32_t* words, size_t bytes) {
@@ -108,6 +109,7 @@ class SubpassTest : public RenderPassTest {
     ci.pRasterizationState = &rs;
     ci.pMultisampleState = &ms;
     ci.pColorBlendState = &cb;
+    ci.pDepthStencilState = d.depthStencil;
     ci.layout = d.layout ? d.layout : pipelineLayout();
     ci.renderPass = d.renderPass;
     ci.subpass = d.subpass;

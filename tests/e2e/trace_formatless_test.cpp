@@ -89,6 +89,7 @@ class FormatlessRaygenTest : public TraceTest {
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
     ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &i.image), VK_SUCCESS);
+    if (!i.image) return i;  // no image: nothing to query or bind
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device, i.image, &req);
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};

@@ -12,6 +12,16 @@ namespace vkrt::raster::test {
 
 using Vec4 = std::array<float, 4>;
 
+// Screen-space barycentrics of (px, py) in a triangle given in framebuffer coordinates (double, independent of
+// the rasterizer's fixed point).
+inline void bary(const double* x, const double* y, double px, double py, double b[3]) {
+  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    b[i] = ((x[k] - x[j]) * (py - y[j]) - (y[k] - y[j]) * (px - x[j])) / area;
+  }
+}
+
 // Texel codecs: RGBA32F (float kind), RGBA8 UNorm, R32 UInt.
 inline void decodeF32(const void*, const uint8_t* t, uint32_t out[4]) { std::memcpy(out, t, 16); }
 inline void encodeF32(const void*, const uint32_t in[4], uint8_t* t) { std::memcpy(t, in, 16); }

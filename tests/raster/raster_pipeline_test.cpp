@@ -9,16 +9,6 @@
 namespace vkrt::raster::test {
 namespace {
 
-// Screen-space barycentrics of (px, py) in a triangle given in framebuffer coordinates (double, independent of
-// the rasterizer's fixed point).
-void bary(const double* x, const double* y, double px, double py, double b[3]) {
-  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    b[i] = ((x[k] - x[j]) * (py - y[j]) - (y[k] - y[j]) * (px - x[j])) / area;
-  }
-}
-
 TEST(RasterInterpolation, PerspectiveLinearAndFlat) {
   const double X[3] = {4, 60, 10}, Y[3] = {6, 20, 58}, W[3] = {1, 4, 2};
   const Vec4 a[3] = {{1, 0, 0, 1}, {0, 10, 0, 1}, {0, 0, 100, 1}};

@@ -20,6 +20,7 @@
 #include "gfx_helper_image.frag.spv.h"
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
+#include "gfx_sample_cube.frag.spv.h"
 #include "runtime/image.hpp"
 #include "runtime/image_functions.hpp"
 #include "runtime/image_view.hpp"
@@ -416,6 +417,7 @@ constexpr uint32_t kSize = 64, kLevels = 7;
 
 class GraphicsShaderSampling : public ::testing::Test {
  protected:
+  virtual bool cube() const { return false; }  // a cube (6 layers, every face alike) instead of a 2D image
   void SetUp() override {
     VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
@@ -435,7 +437,8 @@ class GraphicsShaderSampling : public ::testing::Test {
     ci.format = VK_FORMAT_R32_SFLOAT;
     ci.extent = {kSize, kSize, 1};
     ci.mipLevels = kLevels;
-    ci.arrayLayers = 1;
+    ci.arrayLayers = cube() ? 6 : 1;
+    ci.flags = cube() ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
     ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
     ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
@@ -447,16 +450,17 @@ class GraphicsShaderSampling : public ::testing::Test {
     ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.viewType = cube() ? VK_IMAGE_VIEW_TYPE_CUBE : VK_IMAGE_VIEW_TYPE_2D;
     vi.format = ci.format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, kLevels, 0, 1};
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, kLevels, 0, ci.arrayLayers};
     ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
     Image* img = fromHandle<Image>(image);
     for (uint32_t m = 0; m < kLevels; ++m) {
       uint32_t size = kSize >> m;
       float value = float(m);
-      for (uint32_t y = 0; y < size; ++y)
-        for (uint32_t x = 0; x < size; ++x) std::memcpy(img->texel(m, 0, x, y, 0), &value, 4);
+      for (uint32_t l = 0; l < ci.arrayLayers; ++l)
+        for (uint32_t y = 0; y < size; ++y)
+          for (uint32_t x = 0; x < size; ++x) std::memcpy(img->texel(m, l, x, y, 0), &value, 4);
     }
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     si.magFilter = si.minFilter = VK_FILTER_NEAREST;
@@ -509,6 +513,40 @@ TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
       EXPECT_EQ(lane.outF(0, 0), expectedLevel(lambda));
       EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));             // texture(tex, uv, 1.0)
       EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
+    }
+  }
+}
+
+// The same on a cube's +X face: the direction's derivatives projected on the face ("Cube Map Derivation") give the
+// same levels (directions stay on +X: uv <= 1, so k <= 4 at this quad).
+class GraphicsShaderCubeSampling : public GraphicsShaderSampling {
+ protected:
+  bool cube() const override { return true; }
+};
+
+TEST_F(GraphicsShaderCubeSampling, ImplicitLodSamplingOfACubeFollowsTheFacesDerivatives) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_sample_cube_frag, spv::ExecutionModelFragment, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_TRUE(s->graphics.needsQuad);
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
+  abi::ResourceSlot slot{&rec, 1};
+  for (double k : {0.5, 1.0, 3.0, 4.0}) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    Quad q(8, 12);
+    for (Lane& lane : q.lanes) {
+      lane.inv.base.resources = &slot;
+      lane.setF(0, 0, float(lane.inv.fragCoord[0] * k / kSize));
+      lane.setF(0, 1, float(lane.inv.fragCoord[1] * k / kSize));
+    }
+    ASSERT_TRUE(q.run(*s));
+    const double lambda = std::log2(k);
+    for (const Lane& lane : q.lanes) {
+      EXPECT_EQ(lane.outF(0, 0), expectedLevel(lambda));
+      EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));             // texture(tex, d, 1.0)
+      EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 of the face a pixel
     }
   }
 }
