@@ -23,6 +23,7 @@
 #include "abi/image_functions.hpp"
 #include "spirv/compiler.hpp"
 #include "spirv/module.hpp"
+#include "spirv/opcode_support.hpp"
 
 namespace vkrt::spirv {
 
@@ -60,19 +61,6 @@ struct Ptr {
   llvm::Value* helper = nullptr;
   llvm::Value* unmaskedLimit = nullptr;
 };
-
-// What jit.cpp's support check accepts beyond its own lists (the image instructions of image.cpp, the
-// capabilities they and memory.cpp implement).
-bool extraSupportedOp(spv::Op op);
-bool extraSupportedCapability(uint32_t capability);
-// The ray tracing instructions and capabilities of ray_tracing.cpp.
-bool rayTracingOp(spv::Op op);
-bool rayTracingCapability(uint32_t capability);
-// The ray query instructions of ray_query.cpp (rayTracingOp includes them).
-bool rayQueryOp(spv::Op op);
-// The vertex and fragment instructions and capabilities of graphics.cpp.
-bool graphicsOp(spv::Op op);
-bool graphicsCapability(uint32_t capability);
 
 class Codegen {
  public:
