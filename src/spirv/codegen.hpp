@@ -110,6 +110,8 @@ class Codegen {
   llvm::Value* roundTowardZero(llvm::Value* x, llvm::Value* r);  // arithmetic.cpp
   bool controlFlow(const Instruction& in, bool& ok);             // control_flow.cpp
   bool memory(const Instruction& in, bool& ok);                  // memory.cpp
+  bool accessChain(const Instruction& in, bool& ok);             // memory.cpp (called by memory)
+  bool atomic(const Instruction& in, bool& ok);                  // memory.cpp (called by memory)
   bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool texelBuffer(const Instruction& in, llvm::Value* record);  // image.cpp: image on a Dim Buffer image
