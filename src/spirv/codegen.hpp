@@ -150,7 +150,7 @@ class Codegen {
   // OpExtInst of NonSemantic.DebugPrintf (debugPrintfEXT): a call of vkrt_debug_printf.
   bool debugPrintf(const Instruction& in, bool& ok);
   // OpLine: where the instructions that follow come from (the source line, or, for modules without line
-  // information, the application's word offset, see jit.cpp's markWordOffsets).
+  // information, the application's word offset, see pre_optimizer.cpp's prepareNonSemantic).
   void setLine(const Instruction* line) { currentLine = line; }
   // The out-of-bounds report of an access through `p` (a buffer reached through a descriptor; nullptr for other
   // pointers): the block the failing branch runs, which calls vkrt_out_of_bounds and branches to `join`.
