@@ -104,6 +104,7 @@ class Codegen {
   // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
   bool arithmetic(const Instruction& in, bool& ok);  // arithmetic.cpp
   bool composite(const Instruction& in, bool& ok);   // arithmetic.cpp
+  bool subgroup(const Instruction& in, bool& ok);    // arithmetic.cpp (called by arithmetic)
   llvm::Value* truncDoubleToHalf(llvm::Value* d);    // arithmetic.cpp
   llvm::Value* integerDot(spv::Op op, llvm::Value* a, llvm::Value* c, llvm::Value* accumulator, bool packed,
                           llvm::Type* rt);                       // arithmetic.cpp
