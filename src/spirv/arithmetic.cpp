@@ -382,12 +382,9 @@ bool Codegen::subgroup(const Instruction& in, bool& ok) {
     // ---- subgroups of one invocation (subgroupSize 1; basic, vote and ballot operations): each invocation is elected
     case spv::OpGroupNonUniformElect: set(result, b.getTrue()); return true;
     // Vote: the one invocation's predicate is the subgroup's; its value equals itself.
+    case spv::OpGroupNonUniformAllEqual: set(result, b.getTrue()); return true;
     case spv::OpGroupNonUniformAll:
     case spv::OpGroupNonUniformAny:
-      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
-      set(result, operand(4));
-      return true;
-    case spv::OpGroupNonUniformAllEqual: set(result, b.getTrue()); return true;
     // Ballot: every broadcast reads the only invocation, whatever the id (constant or dynamic: an id of another
     // invocation is undefined behaviour) and whatever the value's type (subgroupExtendedTypes); a ballot has bit 0.
     case spv::OpGroupNonUniformBroadcast:
