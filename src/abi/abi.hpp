@@ -1,7 +1,7 @@
 // The compiled-code ABI: the calling convention between compiled shaders (src/spirv) and the code that runs
 // them (src/exec, src/runtime), and the memory they share (descriptor records). Plain data: no Vulkan objects,
 // no LLVM. Everything here is baked into compiled code, and compiled code is stored in pipeline caches: a
-// change to a layout or an offset must change the cache format version (src/spirv/jit.cpp).
+// change to a layout or an offset must change the cache format version (src/spirv/cache_blob.cpp).
 //
 // ---------------------------------------------------------------------------------------------- compute
 //

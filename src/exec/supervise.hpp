@@ -3,8 +3,9 @@
 // threads. Either ends the work early; the Job then says what happened (the shader, an invocation that was still
 // running, the faulting address) and the runtime reports it and loses the device (the specification's "Lost Device").
 //
-// Cancellation: compiled loops poll InvocationContext::cancel at every loop header (src/spirv/jit.cpp) and, when it
-// is set, call InvocationContext::cancelled (exec::cancelled), which jumps back to the worker's recovery point.
+// Cancellation: compiled loops poll InvocationContext::cancel at every loop header (src/spirv/cancellation_poll.cpp)
+// and, when it is set, call InvocationContext::cancelled (exec::cancelled), which jumps back to the worker's recovery
+// point.
 //
 // Faults: a SIGSEGV / SIGBUS handler (installed with SA_SIGINFO | SA_ONSTACK on the first supervised job; each
 // worker thread gets an alternate signal stack unless it has one) recovers a fault when the faulting instruction

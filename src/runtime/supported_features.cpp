@@ -170,8 +170,8 @@ constexpr F kSupported[] = {
     F::subgroupBroadcastDynamicId,
     F::shaderSubgroupExtendedTypes,
     // The Vulkan memory model, also at Device scope: the compiler accepts its capabilities and operands; its atomics
-    // are sequentially consistent and its barriers full fences on coherent host memory (src/spirv/jit.cpp says why
-    // that is enough; tests/e2e MemoryModelTest). Availability/visibility chains stay off.
+    // are sequentially consistent and its barriers full fences on coherent host memory (src/spirv/opcode_support.cpp
+    // says why that is enough; tests/e2e MemoryModelTest). Availability/visibility chains stay off.
     F::vulkanMemoryModel,
     F::vulkanMemoryModelDeviceScope,
     // Private data slots: a value per object, kept by the object's serial (runtime/private_data_slot.cpp;

@@ -29,21 +29,23 @@ llvm::Value* shiftAmount(llvm::IRBuilder<>& b, llvm::Value* amount, llvm::Type* 
   return b.CreateAnd(amount, intLike(ty, w - 1));
 }
 
+// Reads the result type of `in` into *rt and says whether it and the operands at word indices `idx` have values.
+bool operandsReady(Codegen& g, const Instruction& in, std::initializer_list<uint32_t> idx, llvm::Type** rt) {
+  *rt = g.type(in.word(1));
+  if (!*rt) return false;
+  for (uint32_t i : idx) {
+    if (!g.value(in.word(i))) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool Codegen::arithmetic(const Instruction& in, bool& ok) {
   auto operand = [&](uint32_t i) { return value(in.word(i)); };
-  uint32_t resultType = in.word(1);
   uint32_t result = in.word(2);
   llvm::Type* rt = nullptr;
-  auto need = [&](std::initializer_list<uint32_t> idx) {
-    rt = type(resultType);
-    if (!rt) return false;
-    for (uint32_t i : idx) {
-      if (!value(in.word(i))) return false;
-    }
-    return true;
-  };
+  auto need = [&](std::initializer_list<uint32_t> idx) { return operandsReady(*this, in, idx, &rt); };
   auto binary = [&](auto make) -> bool {
     if (!need({3, 4})) return (ok = fail(in, "operand has no value")), true;
     set(result, make(operand(3), operand(4)));
@@ -272,53 +274,6 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
       }
       return unaryOp([&](auto a) { return a; });
     }
-    // ---- subgroups of one invocation (subgroupSize 1; basic, vote and ballot operations): each invocation is elected
-    case spv::OpGroupNonUniformElect: set(result, b.getTrue()); return true;
-    // Vote: the one invocation's predicate is the subgroup's; its value equals itself.
-    case spv::OpGroupNonUniformAll:
-    case spv::OpGroupNonUniformAny:
-      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
-      set(result, operand(4));
-      return true;
-    case spv::OpGroupNonUniformAllEqual: set(result, b.getTrue()); return true;
-    // Ballot: every broadcast reads the only invocation, whatever the id (constant or dynamic: an id of another
-    // invocation is undefined behaviour) and whatever the value's type (subgroupExtendedTypes); a ballot has bit 0.
-    case spv::OpGroupNonUniformBroadcast:
-    case spv::OpGroupNonUniformBroadcastFirst:
-      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
-      set(result, operand(4));
-      return true;
-    case spv::OpGroupNonUniformBallot: {
-      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
-      llvm::Value* v = llvm::Constant::getNullValue(rt);
-      set(result, b.CreateInsertElement(v, b.CreateZExt(operand(4), rt->getScalarType()), uint64_t(0)));
-      return true;
-    }
-    case spv::OpGroupNonUniformInverseBallot:
-      // The bit of the invocation's own index, 0.
-      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
-      set(result, b.CreateTrunc(b.CreateExtractElement(operand(4), uint64_t(0)), b.getInt1Ty()));
-      return true;
-    case spv::OpGroupNonUniformBallotBitExtract: {
-      if (!need({4, 5})) return (ok = fail(in, "operand has no value")), true;
-      llvm::Value* index = b.CreateZExtOrTrunc(operand(5), b.getInt32Ty());
-      llvm::Value* word = b.CreateExtractElement(operand(4), b.CreateAnd(b.CreateLShr(index, 5), 3));
-      set(result, b.CreateTrunc(b.CreateLShr(word, b.CreateAnd(index, 31)), b.getInt1Ty()));
-      return true;
-    }
-    case spv::OpGroupNonUniformBallotBitCount: {
-      // Only bit 0 counts (the bits of the subgroup's invocations); an exclusive scan counts none.
-      if (!need({5})) return (ok = fail(in, "operand has no value")), true;
-      llvm::Value* bit = b.CreateAnd(b.CreateExtractElement(operand(5), uint64_t(0)), 1);
-      set(result, in.word(4) == spv::GroupOperationExclusiveScan ? llvm::Constant::getNullValue(rt)
-                                                                 : b.CreateZExtOrTrunc(bit, rt));
-      return true;
-    }
-    case spv::OpGroupNonUniformBallotFindLSB:
-    case spv::OpGroupNonUniformBallotFindMSB:
-      // Only bit 0 is considered: it is the answer when set, and any answer is allowed when it is not.
-      set(result, llvm::Constant::getNullValue(type(resultType)));
-      return true;
     // ---- integer dot products (SPV_KHR_integer_dot_product)
     case spv::OpSDot:
     case spv::OpUDot:
@@ -412,6 +367,62 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
         }
         return r;
       });
+    default: return subgroup(in, ok);
+  }
+}
+
+// The subgroup instructions (Codegen::arithmetic passes them on).
+bool Codegen::subgroup(const Instruction& in, bool& ok) {
+  auto operand = [&](uint32_t i) { return value(in.word(i)); };
+  uint32_t resultType = in.word(1);
+  uint32_t result = in.word(2);
+  llvm::Type* rt = nullptr;
+  auto need = [&](std::initializer_list<uint32_t> idx) { return operandsReady(*this, in, idx, &rt); };
+  switch (in.op) {
+    // ---- subgroups of one invocation (subgroupSize 1; basic, vote and ballot operations): each invocation is elected
+    case spv::OpGroupNonUniformElect: set(result, b.getTrue()); return true;
+    // Vote: the one invocation's predicate is the subgroup's; its value equals itself.
+    case spv::OpGroupNonUniformAllEqual: set(result, b.getTrue()); return true;
+    case spv::OpGroupNonUniformAll:
+    case spv::OpGroupNonUniformAny:
+    // Ballot: every broadcast reads the only invocation, whatever the id (constant or dynamic: an id of another
+    // invocation is undefined behaviour) and whatever the value's type (subgroupExtendedTypes); a ballot has bit 0.
+    case spv::OpGroupNonUniformBroadcast:
+    case spv::OpGroupNonUniformBroadcastFirst:
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      set(result, operand(4));
+      return true;
+    case spv::OpGroupNonUniformBallot: {
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* v = llvm::Constant::getNullValue(rt);
+      set(result, b.CreateInsertElement(v, b.CreateZExt(operand(4), rt->getScalarType()), uint64_t(0)));
+      return true;
+    }
+    case spv::OpGroupNonUniformInverseBallot:
+      // The bit of the invocation's own index, 0.
+      if (!need({4})) return (ok = fail(in, "operand has no value")), true;
+      set(result, b.CreateTrunc(b.CreateExtractElement(operand(4), uint64_t(0)), b.getInt1Ty()));
+      return true;
+    case spv::OpGroupNonUniformBallotBitExtract: {
+      if (!need({4, 5})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* index = b.CreateZExtOrTrunc(operand(5), b.getInt32Ty());
+      llvm::Value* word = b.CreateExtractElement(operand(4), b.CreateAnd(b.CreateLShr(index, 5), 3));
+      set(result, b.CreateTrunc(b.CreateLShr(word, b.CreateAnd(index, 31)), b.getInt1Ty()));
+      return true;
+    }
+    case spv::OpGroupNonUniformBallotBitCount: {
+      // Only bit 0 counts (the bits of the subgroup's invocations); an exclusive scan counts none.
+      if (!need({5})) return (ok = fail(in, "operand has no value")), true;
+      llvm::Value* bit = b.CreateAnd(b.CreateExtractElement(operand(5), uint64_t(0)), 1);
+      set(result, in.word(4) == spv::GroupOperationExclusiveScan ? llvm::Constant::getNullValue(rt)
+                                                                 : b.CreateZExtOrTrunc(bit, rt));
+      return true;
+    }
+    case spv::OpGroupNonUniformBallotFindLSB:
+    case spv::OpGroupNonUniformBallotFindMSB:
+      // Only bit 0 is considered: it is the answer when set, and any answer is allowed when it is not.
+      set(result, llvm::Constant::getNullValue(type(resultType)));
+      return true;
     default: return false;
   }
 }

@@ -23,6 +23,7 @@
 #include "abi/image_functions.hpp"
 #include "spirv/compiler.hpp"
 #include "spirv/module.hpp"
+#include "spirv/opcode_support.hpp"
 
 namespace vkrt::spirv {
 
@@ -60,19 +61,6 @@ struct Ptr {
   llvm::Value* helper = nullptr;
   llvm::Value* unmaskedLimit = nullptr;
 };
-
-// What jit.cpp's support check accepts beyond its own lists (the image instructions of image.cpp, the
-// capabilities they and memory.cpp implement).
-bool extraSupportedOp(spv::Op op);
-bool extraSupportedCapability(uint32_t capability);
-// The ray tracing instructions and capabilities of ray_tracing.cpp.
-bool rayTracingOp(spv::Op op);
-bool rayTracingCapability(uint32_t capability);
-// The ray query instructions of ray_query.cpp (rayTracingOp includes them).
-bool rayQueryOp(spv::Op op);
-// The vertex and fragment instructions and capabilities of graphics.cpp.
-bool graphicsOp(spv::Op op);
-bool graphicsCapability(uint32_t capability);
 
 class Codegen {
  public:
@@ -116,12 +104,15 @@ class Codegen {
   // ---- families: each returns true when it handled `in` (ok stays true) or it failed (ok = false)
   bool arithmetic(const Instruction& in, bool& ok);  // arithmetic.cpp
   bool composite(const Instruction& in, bool& ok);   // arithmetic.cpp
+  bool subgroup(const Instruction& in, bool& ok);    // arithmetic.cpp (called by arithmetic)
   llvm::Value* truncDoubleToHalf(llvm::Value* d);    // arithmetic.cpp
   llvm::Value* integerDot(spv::Op op, llvm::Value* a, llvm::Value* c, llvm::Value* accumulator, bool packed,
                           llvm::Type* rt);                       // arithmetic.cpp
   llvm::Value* roundTowardZero(llvm::Value* x, llvm::Value* r);  // arithmetic.cpp
   bool controlFlow(const Instruction& in, bool& ok);             // control_flow.cpp
   bool memory(const Instruction& in, bool& ok);                  // memory.cpp
+  bool accessChain(const Instruction& in, bool& ok);             // memory.cpp (called by memory)
+  bool atomic(const Instruction& in, bool& ok);                  // memory.cpp (called by memory)
   bool extInst(const Instruction& in, bool& ok);                 // glsl_std450.cpp
   bool image(const Instruction& in, bool& ok);                   // image.cpp
   bool texelBuffer(const Instruction& in, llvm::Value* record);  // image.cpp: image on a Dim Buffer image
@@ -160,7 +151,7 @@ class Codegen {
   // OpExtInst of NonSemantic.DebugPrintf (debugPrintfEXT): a call of vkrt_debug_printf.
   bool debugPrintf(const Instruction& in, bool& ok);
   // OpLine: where the instructions that follow come from (the source line, or, for modules without line
-  // information, the application's word offset, see jit.cpp's markWordOffsets).
+  // information, the application's word offset, see pre_optimizer.cpp's prepareNonSemantic).
   void setLine(const Instruction* line) { currentLine = line; }
   // The out-of-bounds report of an access through `p` (a buffer reached through a descriptor; nullptr for other
   // pointers): the block the failing branch runs, which calls vkrt_out_of_bounds and branches to `join`.

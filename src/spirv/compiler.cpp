@@ -271,7 +271,7 @@ bool Codegen::declareFunctions() {
     if (!ret) return unsupported(in, "function return type");
     auto* f = llvm::Function::Create(llvm::FunctionType::get(ret, params, false), llvm::Function::InternalLinkage,
                                      "spv_" + std::to_string(in.word(2)), out);
-    f->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));  // jit.cpp's cancellation polls read it
+    f->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));  // cancellation_poll.cpp reads it
     functions[in.word(2)] = f;
   }
   return true;

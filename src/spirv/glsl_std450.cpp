@@ -16,6 +16,9 @@ namespace {
 struct Std {
   Codegen& g;
   llvm::IRBuilder<>& b;
+  const std::vector<llvm::Value*>& a;  // the operands' values (nullptr: a pointer operand)
+
+  llvm::Value* arg(size_t i) const { return i < a.size() ? a[i] : nullptr; }
 
   llvm::Value* fconst(llvm::Type* like, double v) { return llvm::ConstantFP::get(like, v); }
   llvm::Value* intr(llvm::Intrinsic::ID id, llvm::Value* a) { return b.CreateUnaryIntrinsic(id, a); }
@@ -198,10 +201,138 @@ struct Std {
     }
     return sum;
   }
+
+  // ---- the cases of Codegen::extInst that are not component by component
+
+  // Length, Distance, Normalize, Cross, FaceForward, Reflect and Refract, on whole vectors.
+  llvm::Value* geometric(uint32_t inst, llvm::Type* rt) {
+    using namespace llvm;
+    switch (inst) {
+      case GLSLstd450Length: return length(arg(0));
+      case GLSLstd450Distance: return length(b.CreateFSub(arg(0), arg(1)));
+      case GLSLstd450Normalize: {
+        Value* len = length(arg(0));
+        return b.CreateFDiv(arg(0), g.splat(len, rt));
+      }
+      case GLSLstd450Cross: {
+        Value* x = arg(0);
+        Value* y = arg(1);
+        auto sh = [&](Value* v, int a0, int a1, int a2) { return b.CreateShuffleVector(v, ArrayRef<int>{a0, a1, a2}); };
+        return b.CreateFSub(b.CreateFMul(sh(x, 1, 2, 0), sh(y, 2, 0, 1)), b.CreateFMul(sh(x, 2, 0, 1), sh(y, 1, 2, 0)));
+      }
+      case GLSLstd450FaceForward: {
+        Value* d = dot(arg(2), arg(1));
+        return b.CreateSelect(b.CreateFCmpOLT(d, fconst(d->getType(), 0)), arg(0), b.CreateFNeg(arg(0)));
+      }
+      case GLSLstd450Reflect: {
+        Value* d = dot(arg(1), arg(0));
+        return b.CreateFSub(arg(0), b.CreateFMul(g.splat(b.CreateFMul(fconst(d->getType(), 2), d), rt), arg(1)));
+      }
+      case GLSLstd450Refract: {
+        Value* I = arg(0);
+        Value* N = arg(1);
+        Value* eta = b.CreateFPCast(arg(2), rt->getScalarType());
+        Value* d = dot(N, I);
+        Value* one = fconst(d->getType(), 1);
+        Value* k = b.CreateFSub(one, b.CreateFMul(b.CreateFMul(eta, eta), b.CreateFSub(one, b.CreateFMul(d, d))));
+        Value* t = b.CreateFAdd(b.CreateFMul(eta, d), intr(Intrinsic::sqrt, k));
+        Value* res = b.CreateFSub(b.CreateFMul(g.splat(eta, rt), I), b.CreateFMul(g.splat(t, rt), N));
+        return b.CreateSelect(b.CreateFCmpOLT(k, fconst(d->getType(), 0)), llvm::Constant::getNullValue(rt), res);
+      }
+      default: return nullptr;
+    }
+  }
+
+  // Determinant and MatrixInverse of a 2x2, 3x3 or 4x4 matrix (nullptr for another size).
+  llvm::Value* matrix(uint32_t inst) {
+    using namespace llvm;
+    switch (inst) {
+      case GLSLstd450Determinant:
+      case GLSLstd450MatrixInverse: {
+        Value* mtx = arg(0);
+        auto* at = cast<ArrayType>(mtx->getType());
+        unsigned n = unsigned(at->getNumElements());
+        if (n < 2 || n > 4) return nullptr;
+        std::vector<std::vector<Value*>> elems(n, std::vector<Value*>(n));
+        for (unsigned col = 0; col < n; ++col)
+          for (unsigned row = 0; row < n; ++row)
+            elems[col][row] = b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row));
+        auto e = [&](unsigned col, unsigned row) { return elems[col][row]; };
+        std::vector<unsigned> all(n);
+        for (unsigned i = 0; i < n; ++i) all[i] = i;
+        Value* det = minorDet(e, all, all);
+        if (inst == GLSLstd450Determinant) return det;
+        // inverse = adjugate / det: element (column c, row r) is the cofactor of (column r, row c).
+        Value* inv = b.CreateFDiv(fconst(det->getType(), 1), det);
+        Value* r = UndefValue::get(at);
+        for (unsigned col = 0; col < n; ++col) {
+          Value* column = UndefValue::get(at->getElementType());
+          for (unsigned row = 0; row < n; ++row) {
+            std::vector<unsigned> cols, rows;
+            for (unsigned i = 0; i < n; ++i) {
+              if (i != row) cols.push_back(i);
+              if (i != col) rows.push_back(i);
+            }
+            Value* cof = minorDet(e, cols, rows);
+            if ((row + col) % 2) cof = b.CreateFNeg(cof);
+            column = b.CreateInsertElement(column, b.CreateFMul(cof, inv), uint64_t(row));
+          }
+          r = b.CreateInsertValue(r, column, {col});
+        }
+        return r;
+      }
+      default: return nullptr;
+    }
+  }
+
+  // The pack and unpack instructions (32- and 64-bit words of normalized, half and 32-bit components).
+  llvm::Value* packing(uint32_t inst, llvm::Type* rt) {
+    using namespace llvm;
+    switch (inst) {
+      case GLSLstd450PackSnorm4x8: return packNorm(arg(0), true, 8);
+      case GLSLstd450PackUnorm4x8: return packNorm(arg(0), false, 8);
+      case GLSLstd450PackSnorm2x16: return packNorm(arg(0), true, 16);
+      case GLSLstd450PackUnorm2x16: return packNorm(arg(0), false, 16);
+      case GLSLstd450UnpackSnorm4x8: return unpackNorm(arg(0), true, 8, rt);
+      case GLSLstd450UnpackUnorm4x8: return unpackNorm(arg(0), false, 8, rt);
+      case GLSLstd450UnpackSnorm2x16: return unpackNorm(arg(0), true, 16, rt);
+      case GLSLstd450UnpackUnorm2x16: return unpackNorm(arg(0), false, 16, rt);
+      case GLSLstd450PackHalf2x16: {
+        // Each component converted to half (round to nearest even), the first in the low 16 bits.
+        auto* h2 = FixedVectorType::get(b.getHalfTy(), 2);
+        Value* h = b.CreateBitCast(b.CreateFPTrunc(arg(0), h2), FixedVectorType::get(b.getInt16Ty(), 2));
+        Value* lo = b.CreateZExt(b.CreateExtractElement(h, uint64_t(0)), b.getInt32Ty());
+        Value* hi = b.CreateZExt(b.CreateExtractElement(h, uint64_t(1)), b.getInt32Ty());
+        return b.CreateOr(lo, b.CreateShl(hi, b.getInt32(16)));
+      }
+      case GLSLstd450UnpackHalf2x16: {
+        Value* lo = b.CreateTrunc(arg(0), b.getInt16Ty());
+        Value* hi = b.CreateTrunc(b.CreateLShr(arg(0), b.getInt32(16)), b.getInt16Ty());
+        Value* h = UndefValue::get(FixedVectorType::get(b.getInt16Ty(), 2));
+        h = b.CreateInsertElement(b.CreateInsertElement(h, lo, uint64_t(0)), hi, uint64_t(1));
+        return b.CreateFPExt(b.CreateBitCast(h, FixedVectorType::get(b.getHalfTy(), 2)), rt);
+      }
+      case GLSLstd450PackDouble2x32: {
+        // The first component is the low word.
+        Value* lo = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(0)), b.getInt64Ty());
+        Value* hi = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(1)), b.getInt64Ty());
+        return b.CreateBitCast(b.CreateOr(lo, b.CreateShl(hi, b.getInt64(32))), rt);
+      }
+      case GLSLstd450UnpackDouble2x32: {
+        Value* bits = b.CreateBitCast(arg(0), b.getInt64Ty());
+        Value* lo = b.CreateTrunc(bits, b.getInt32Ty());
+        Value* hi = b.CreateTrunc(b.CreateLShr(bits, b.getInt64(32)), b.getInt32Ty());
+        return b.CreateInsertElement(b.CreateInsertElement(UndefValue::get(rt), lo, uint64_t(0)), hi, uint64_t(1));
+      }
+      default: return nullptr;
+    }
+  }
 };
 
 }  // namespace
 
+// The component-by-component instructions, and frexp/modf with their pointer operands, are emitted here; those on
+// whole vectors (Std::geometric), matrices (Std::matrix) and the packing family (Std::packing) by Std.
 bool Codegen::extInst(const Instruction& in, bool& ok) {
   if (in.op != spv::OpExtInst) return false;
   if (debugPrintfSet && in.word(3) == debugPrintfSet) return debugPrintf(in, ok), true;
@@ -217,8 +348,8 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     if (!v && !(hasPtr(in.word(i)) || globals.count(in.word(i)))) return (ok = fail(in, "operand has no value")), true;
     a.push_back(v);
   }
-  auto arg = [&](size_t i) { return i < a.size() ? a[i] : nullptr; };
-  Std s{*this, b};
+  Std s{*this, b, a};
+  auto arg = [&](size_t i) { return s.arg(i); };
   llvm::Value* r = nullptr;
   using namespace llvm;
   switch (inst) {
@@ -295,42 +426,13 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
     }
     case GLSLstd450Fma: r = b.CreateIntrinsic(Intrinsic::fma, {rt}, {arg(0), arg(1), arg(2)}); break;
     case GLSLstd450Ldexp: r = s.ldexp(arg(0), arg(1)); break;
-    case GLSLstd450Length: r = s.length(arg(0)); break;
-    case GLSLstd450Distance: r = s.length(b.CreateFSub(arg(0), arg(1))); break;
-    case GLSLstd450Normalize: {
-      Value* len = s.length(arg(0));
-      r = b.CreateFDiv(arg(0), splat(len, rt));
-      break;
-    }
-    case GLSLstd450Cross: {
-      Value* x = arg(0);
-      Value* y = arg(1);
-      auto sh = [&](Value* v, int a0, int a1, int a2) { return b.CreateShuffleVector(v, ArrayRef<int>{a0, a1, a2}); };
-      r = b.CreateFSub(b.CreateFMul(sh(x, 1, 2, 0), sh(y, 2, 0, 1)), b.CreateFMul(sh(x, 2, 0, 1), sh(y, 1, 2, 0)));
-      break;
-    }
-    case GLSLstd450FaceForward: {
-      Value* d = s.dot(arg(2), arg(1));
-      r = b.CreateSelect(b.CreateFCmpOLT(d, s.fconst(d->getType(), 0)), arg(0), b.CreateFNeg(arg(0)));
-      break;
-    }
-    case GLSLstd450Reflect: {
-      Value* d = s.dot(arg(1), arg(0));
-      r = b.CreateFSub(arg(0), b.CreateFMul(splat(b.CreateFMul(s.fconst(d->getType(), 2), d), rt), arg(1)));
-      break;
-    }
-    case GLSLstd450Refract: {
-      Value* I = arg(0);
-      Value* N = arg(1);
-      Value* eta = b.CreateFPCast(arg(2), rt->getScalarType());
-      Value* d = s.dot(N, I);
-      Value* one = s.fconst(d->getType(), 1);
-      Value* k = b.CreateFSub(one, b.CreateFMul(b.CreateFMul(eta, eta), b.CreateFSub(one, b.CreateFMul(d, d))));
-      Value* t = b.CreateFAdd(b.CreateFMul(eta, d), s.intr(Intrinsic::sqrt, k));
-      Value* res = b.CreateFSub(b.CreateFMul(splat(eta, rt), I), b.CreateFMul(splat(t, rt), N));
-      r = b.CreateSelect(b.CreateFCmpOLT(k, s.fconst(d->getType(), 0)), llvm::Constant::getNullValue(rt), res);
-      break;
-    }
+    case GLSLstd450Length:
+    case GLSLstd450Distance:
+    case GLSLstd450Normalize:
+    case GLSLstd450Cross:
+    case GLSLstd450FaceForward:
+    case GLSLstd450Reflect:
+    case GLSLstd450Refract: r = s.geometric(inst, rt); break;
     case GLSLstd450FindILsb: {
       Value* x = arg(0);
       Value* tz = b.CreateBinaryIntrinsic(Intrinsic::cttz, x, b.getFalse());
@@ -366,42 +468,10 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       break;
     }
     case GLSLstd450Determinant:
-    case GLSLstd450MatrixInverse: {
-      Value* mtx = arg(0);
-      auto* at = cast<ArrayType>(mtx->getType());
-      unsigned n = unsigned(at->getNumElements());
-      if (n < 2 || n > 4) return (ok = fail(in, "determinant/inverse of a matrix that is not 2x2, 3x3 or 4x4")), true;
-      std::vector<std::vector<Value*>> elems(n, std::vector<Value*>(n));
-      for (unsigned col = 0; col < n; ++col)
-        for (unsigned row = 0; row < n; ++row)
-          elems[col][row] = b.CreateExtractElement(b.CreateExtractValue(mtx, {col}), uint64_t(row));
-      auto e = [&](unsigned col, unsigned row) { return elems[col][row]; };
-      std::vector<unsigned> all(n);
-      for (unsigned i = 0; i < n; ++i) all[i] = i;
-      Value* det = s.minorDet(e, all, all);
-      if (inst == GLSLstd450Determinant) {
-        r = det;
-        break;
-      }
-      // inverse = adjugate / det: element (column c, row r) is the cofactor of (column r, row c).
-      Value* inv = b.CreateFDiv(s.fconst(det->getType(), 1), det);
-      r = UndefValue::get(at);
-      for (unsigned col = 0; col < n; ++col) {
-        Value* column = UndefValue::get(at->getElementType());
-        for (unsigned row = 0; row < n; ++row) {
-          std::vector<unsigned> cols, rows;
-          for (unsigned i = 0; i < n; ++i) {
-            if (i != row) cols.push_back(i);
-            if (i != col) rows.push_back(i);
-          }
-          Value* cof = s.minorDet(e, cols, rows);
-          if ((row + col) % 2) cof = b.CreateFNeg(cof);
-          column = b.CreateInsertElement(column, b.CreateFMul(cof, inv), uint64_t(row));
-        }
-        r = b.CreateInsertValue(r, column, {col});
-      }
+    case GLSLstd450MatrixInverse:
+      r = s.matrix(inst);
+      if (!r) return (ok = fail(in, "determinant/inverse of a matrix that is not 2x2, 3x3 or 4x4")), true;
       break;
-    }
     case GLSLstd450Frexp:
     case GLSLstd450FrexpStruct: {
       if (inst == GLSLstd450Frexp) {
@@ -416,45 +486,18 @@ bool Codegen::extInst(const Instruction& in, bool& ok) {
       }
       break;
     }
-    case GLSLstd450PackSnorm4x8: r = s.packNorm(arg(0), true, 8); break;
-    case GLSLstd450PackUnorm4x8: r = s.packNorm(arg(0), false, 8); break;
-    case GLSLstd450PackSnorm2x16: r = s.packNorm(arg(0), true, 16); break;
-    case GLSLstd450PackUnorm2x16: r = s.packNorm(arg(0), false, 16); break;
-    case GLSLstd450UnpackSnorm4x8: r = s.unpackNorm(arg(0), true, 8, rt); break;
-    case GLSLstd450UnpackUnorm4x8: r = s.unpackNorm(arg(0), false, 8, rt); break;
-    case GLSLstd450UnpackSnorm2x16: r = s.unpackNorm(arg(0), true, 16, rt); break;
-    case GLSLstd450UnpackUnorm2x16: r = s.unpackNorm(arg(0), false, 16, rt); break;
-    case GLSLstd450PackHalf2x16: {
-      // Each component converted to half (round to nearest even), the first in the low 16 bits.
-      auto* h2 = FixedVectorType::get(b.getHalfTy(), 2);
-      Value* h = b.CreateBitCast(b.CreateFPTrunc(arg(0), h2), FixedVectorType::get(b.getInt16Ty(), 2));
-      Value* lo = b.CreateZExt(b.CreateExtractElement(h, uint64_t(0)), b.getInt32Ty());
-      Value* hi = b.CreateZExt(b.CreateExtractElement(h, uint64_t(1)), b.getInt32Ty());
-      r = b.CreateOr(lo, b.CreateShl(hi, b.getInt32(16)));
-      break;
-    }
-    case GLSLstd450UnpackHalf2x16: {
-      Value* lo = b.CreateTrunc(arg(0), b.getInt16Ty());
-      Value* hi = b.CreateTrunc(b.CreateLShr(arg(0), b.getInt32(16)), b.getInt16Ty());
-      Value* h = UndefValue::get(FixedVectorType::get(b.getInt16Ty(), 2));
-      h = b.CreateInsertElement(b.CreateInsertElement(h, lo, uint64_t(0)), hi, uint64_t(1));
-      r = b.CreateFPExt(b.CreateBitCast(h, FixedVectorType::get(b.getHalfTy(), 2)), rt);
-      break;
-    }
-    case GLSLstd450PackDouble2x32: {
-      // The first component is the low word.
-      Value* lo = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(0)), b.getInt64Ty());
-      Value* hi = b.CreateZExt(b.CreateExtractElement(arg(0), uint64_t(1)), b.getInt64Ty());
-      r = b.CreateBitCast(b.CreateOr(lo, b.CreateShl(hi, b.getInt64(32))), rt);
-      break;
-    }
-    case GLSLstd450UnpackDouble2x32: {
-      Value* bits = b.CreateBitCast(arg(0), b.getInt64Ty());
-      Value* lo = b.CreateTrunc(bits, b.getInt32Ty());
-      Value* hi = b.CreateTrunc(b.CreateLShr(bits, b.getInt64(32)), b.getInt32Ty());
-      r = b.CreateInsertElement(b.CreateInsertElement(UndefValue::get(rt), lo, uint64_t(0)), hi, uint64_t(1));
-      break;
-    }
+    case GLSLstd450PackSnorm4x8:
+    case GLSLstd450PackUnorm4x8:
+    case GLSLstd450PackSnorm2x16:
+    case GLSLstd450PackUnorm2x16:
+    case GLSLstd450UnpackSnorm4x8:
+    case GLSLstd450UnpackUnorm4x8:
+    case GLSLstd450UnpackSnorm2x16:
+    case GLSLstd450UnpackUnorm2x16:
+    case GLSLstd450PackHalf2x16:
+    case GLSLstd450UnpackHalf2x16:
+    case GLSLstd450PackDouble2x32:
+    case GLSLstd450UnpackDouble2x32: r = s.packing(inst, rt); break;
     default: return (ok = unsupported(in, "GLSL.std.450 instruction")), true;
   }
   if (!r) return (ok = fail(in, "operand has no value")), true;

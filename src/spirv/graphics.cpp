@@ -15,28 +15,6 @@ using abi::kFragmentDemoted;
 using abi::kFragmentKilled;
 using abi::kGraphicsLocations;
 
-bool graphicsOp(spv::Op op) {
-  switch (op) {
-    case spv::OpKill:
-    case spv::OpTerminateInvocation:
-    case spv::OpDemoteToHelperInvocation:
-    case spv::OpIsHelperInvocationEXT:
-    case spv::OpDPdx:
-    case spv::OpDPdy:
-    case spv::OpFwidth:
-    case spv::OpDPdxFine:
-    case spv::OpDPdyFine:
-    case spv::OpFwidthFine:
-    case spv::OpDPdxCoarse:
-    case spv::OpDPdyCoarse:
-    case spv::OpFwidthCoarse:
-    case spv::OpGroupNonUniformQuadBroadcast:
-    case spv::OpGroupNonUniformQuadSwap:
-    case spv::OpImageSampleImplicitLod: return true;
-    default: return false;
-  }
-}
-
 bool graphicsCapability(uint32_t cap) {
   switch (cap) {
     case spv::CapabilitySampleRateShading:

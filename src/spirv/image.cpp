@@ -7,38 +7,6 @@
 
 namespace vkrt::spirv {
 
-bool extraSupportedOp(spv::Op op) {
-  switch (op) {
-    case spv::OpTypeImage:
-    case spv::OpTypeSampler:
-    case spv::OpTypeSampledImage:
-    case spv::OpSampledImage:
-    case spv::OpImage:
-    case spv::OpImageRead:
-    case spv::OpImageWrite:
-    case spv::OpImageTexelPointer:
-    case spv::OpImageFetch:
-    case spv::OpImageSampleExplicitLod:
-    // The Dref, Proj and Gather forms (Codegen::image); the implicit-LOD ones take derivatives in fragment shaders.
-    case spv::OpImageSampleDrefImplicitLod:
-    case spv::OpImageSampleDrefExplicitLod:
-    case spv::OpImageSampleProjImplicitLod:
-    case spv::OpImageSampleProjExplicitLod:
-    case spv::OpImageSampleProjDrefImplicitLod:
-    case spv::OpImageSampleProjDrefExplicitLod:
-    case spv::OpImageGather:
-    case spv::OpImageDrefGather:
-    case spv::OpImageQuerySize:
-    case spv::OpImageQuerySizeLod:
-    case spv::OpImageQueryLevels:
-    case spv::OpTypeForwardPointer:
-    case spv::OpConvertUToPtr:
-    case spv::OpConvertPtrToU:
-    case spv::OpPtrAccessChain: return true;
-    default: return false;
-  }
-}
-
 bool extraSupportedCapability(uint32_t cap) {
   switch (cap) {
     // Only what tests/e2e/compute_image_test.cpp and tests/spirv/image_bda_test.cpp exercise.

@@ -636,97 +636,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
     case spv::OpAccessChain:
     case spv::OpInBoundsAccessChain:
     case spv::OpPtrAccessChain:
-    case spv::OpInBoundsPtrAccessChain: {
-      Ptr p;
-      if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
-      bool ptrChain = in.op == spv::OpPtrAccessChain || in.op == spv::OpInBoundsPtrAccessChain;
-      uint32_t firstIndex = 4;
-      if (ptrChain) {
-        // The Element operand steps over whole pointees by the pointer type's ArrayStride.
-        const Decorations& pd = m.decor(m.typeOf(in.word(3)));
-        llvm::Value* e = value(in.word(4));
-        if (!e || pd.arrayStride <= 0 || p.slot >= 0)
-          return (ok = unsupported(in, "element index without an ArrayStride")), true;
-        e = isSignedInt(m.typeOf(in.word(4))) ? b.CreateSExtOrTrunc(e, b.getInt64Ty())
-                                              : b.CreateZExtOrTrunc(e, b.getInt64Ty());
-        p.offset = b.CreateAdd(p.offset, b.CreateMul(e, i64(uint64_t(pd.arrayStride))));
-        firstIndex = 5;
-      }
-      for (uint32_t i = firstIndex; i < in.count; ++i) {
-        uint32_t idx = in.word(i);
-        if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
-          // An element of an image/sampler descriptor array.
-          llvm::Value* iv = value(idx);
-          const Type& at = spvType(p.type);
-          if (!iv || p.descIndex || (at.kind != Type::Array && at.kind != Type::RuntimeArray))
-            return (ok = fail(in, "bad index into an image or sampler descriptor array")), true;
-          p.descIndex = b.CreateZExtOrTrunc(iv, b.getInt64Ty());
-          p.type = at.element;
-          continue;
-        }
-        if (p.slot >= 0) {
-          llvm::Value* iv = value(idx);
-          if (!iv) return (ok = fail(in, "descriptor index has no value")), true;
-          resolveDescriptor(p, iv);
-          continue;
-        }
-        const Type& t = spvType(p.type);
-        uint64_t k = 0;
-        bool isConst = m.constantU64(idx, &k);
-        llvm::Value* iv = nullptr;
-        if (!isConst) {
-          iv = value(idx);
-          if (!iv) return (ok = fail(in, "index has no value")), true;
-          iv = isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, b.getInt64Ty())
-                                          : b.CreateZExtOrTrunc(iv, b.getInt64Ty());
-        } else {
-          iv = i64(k);
-          if (isSignedInt(m.constant(idx)->type) && spvType(m.constant(idx)->type).width < 64) {
-            uint32_t w = spvType(m.constant(idx)->type).width;
-            if (k >> (w - 1)) k |= ~((1ull << w) - 1);
-            iv = i64(k);
-          }
-        }
-        switch (t.kind) {
-          case Type::Struct: {
-            if (!isConst || k >= t.members.size()) return (ok = fail(in, "struct index is not a valid constant")), true;
-            const Decorations& d = m.memberDecor(p.type, uint32_t(k));
-            p.offset = b.CreateAdd(p.offset, i64(memberOffset(p.type, uint32_t(k))));
-            p.type = t.members[k];
-            p.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
-            p.rowMajor = d.rowMajor;
-            p.vecStride = 0;
-            break;
-          }
-          case Type::Array:
-          case Type::RuntimeArray:
-            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(arrayStride(p.type, p.matrixStride, p.rowMajor))));
-            p.type = t.element;
-            break;
-          case Type::Matrix: {
-            uint32_t stride = p.matrixStride ? p.matrixStride : naturalMatrixStride(p.type);
-            uint64_t cs = layoutSize(scalarType(t.element), 0, false);
-            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.rowMajor ? cs : stride)));
-            p.vecStride = p.rowMajor ? stride : 0;
-            p.type = t.element;
-            break;
-          }
-          case Type::Vector: {
-            uint64_t cs = layoutSize(t.element, 0, false);
-            p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.vecStride ? p.vecStride : cs)));
-            p.vecStride = 0;
-            p.type = t.element;
-            break;
-          }
-          default: return (ok = fail(in, "access chain indexes a non-composite")), true;
-        }
-      }
-      ptrs[in.word(2)] = p;
-      // A PhysicalStorageBuffer pointer is also a value (it may be stored, converted or compared).
-      if (p.storage == spv::StorageClassPhysicalStorageBuffer)
-        set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
-      return true;
-    }
+    case spv::OpInBoundsPtrAccessChain: return accessChain(in, ok);
     case spv::OpConvertUToPtr: {
       llvm::Value* v = value(in.word(3));
       if (!v) return (ok = fail(in, "operand has no value")), true;
@@ -821,59 +731,154 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
     case spv::OpAtomicUMax:
     case spv::OpAtomicAnd:
     case spv::OpAtomicOr:
-    case spv::OpAtomicXor: {
-      bool isStore = in.op == spv::OpAtomicStore;
-      Ptr p;
-      if (!operandPtr(*this, in, in.word(isStore ? 1 : 3), &p)) return (ok = false), true;
-      const Type& t = spvType(p.type);
-      if (p.slot >= 0 || t.kind != Type::Int) return (ok = unsupported(in, "atomic on a non-integer")), true;
-      uint64_t bytes = t.width / 8;
-      llvm::Type* ty = type(p.type);
-      auto order = llvm::AtomicOrdering::SequentiallyConsistent;
-      if (in.op == spv::OpAtomicLoad) {
-        auto* l = b.CreateAlignedLoad(ty, address(p, bytes, false), llvm::Align(bytes));
-        l->setAtomic(order);
-        set(in.word(2), l);
-        return true;
-      }
-      llvm::Value* addr = address(forWrite(p), bytes, true);
-      if (isStore) {
-        auto* s = b.CreateAlignedStore(value(in.word(4)), addr, llvm::Align(bytes));
-        s->setAtomic(order);
-        return true;
-      }
-      if (in.op == spv::OpAtomicCompareExchange) {
-        auto* x =
-            b.CreateAtomicCmpXchg(addr, value(in.word(8)), value(in.word(7)), llvm::MaybeAlign(bytes), order, order);
-        set(in.word(2), b.CreateExtractValue(x, {0}));
-        return true;
-      }
-      llvm::AtomicRMWInst::BinOp op = llvm::AtomicRMWInst::Add;
-      llvm::Value* operand = nullptr;
-      switch (in.op) {
-        case spv::OpAtomicIIncrement: operand = llvm::ConstantInt::get(ty, 1); break;
-        case spv::OpAtomicIDecrement:
-          op = llvm::AtomicRMWInst::Sub;
-          operand = llvm::ConstantInt::get(ty, 1);
-          break;
-        case spv::OpAtomicExchange: op = llvm::AtomicRMWInst::Xchg; break;
-        case spv::OpAtomicISub: op = llvm::AtomicRMWInst::Sub; break;
-        case spv::OpAtomicSMin: op = llvm::AtomicRMWInst::Min; break;
-        case spv::OpAtomicUMin: op = llvm::AtomicRMWInst::UMin; break;
-        case spv::OpAtomicSMax: op = llvm::AtomicRMWInst::Max; break;
-        case spv::OpAtomicUMax: op = llvm::AtomicRMWInst::UMax; break;
-        case spv::OpAtomicAnd: op = llvm::AtomicRMWInst::And; break;
-        case spv::OpAtomicOr: op = llvm::AtomicRMWInst::Or; break;
-        case spv::OpAtomicXor: op = llvm::AtomicRMWInst::Xor; break;
-        default: break;
-      }
-      if (!operand) operand = value(in.word(6));
-      if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
-      set(in.word(2), b.CreateAtomicRMW(op, addr, operand, llvm::MaybeAlign(bytes), order));
-      return true;
-    }
+    case spv::OpAtomicXor: return atomic(in, ok);
     default: return false;
   }
+}
+
+// OpAccessChain, OpInBoundsAccessChain, OpPtrAccessChain, OpInBoundsPtrAccessChain (Codegen::memory).
+bool Codegen::accessChain(const Instruction& in, bool& ok) {
+  Ptr p;
+  if (!operandPtr(*this, in, in.word(3), &p)) return (ok = false), true;
+  bool ptrChain = in.op == spv::OpPtrAccessChain || in.op == spv::OpInBoundsPtrAccessChain;
+  uint32_t firstIndex = 4;
+  if (ptrChain) {
+    // The Element operand steps over whole pointees by the pointer type's ArrayStride.
+    const Decorations& pd = m.decor(m.typeOf(in.word(3)));
+    llvm::Value* e = value(in.word(4));
+    if (!e || pd.arrayStride <= 0 || p.slot >= 0)
+      return (ok = unsupported(in, "element index without an ArrayStride")), true;
+    e = isSignedInt(m.typeOf(in.word(4))) ? b.CreateSExtOrTrunc(e, b.getInt64Ty())
+                                          : b.CreateZExtOrTrunc(e, b.getInt64Ty());
+    p.offset = b.CreateAdd(p.offset, b.CreateMul(e, i64(uint64_t(pd.arrayStride))));
+    firstIndex = 5;
+  }
+  for (uint32_t i = firstIndex; i < in.count; ++i) {
+    uint32_t idx = in.word(i);
+    if (p.slot >= 0 && p.storage == spv::StorageClassUniformConstant) {
+      // An element of an image/sampler descriptor array.
+      llvm::Value* iv = value(idx);
+      const Type& at = spvType(p.type);
+      if (!iv || p.descIndex || (at.kind != Type::Array && at.kind != Type::RuntimeArray))
+        return (ok = fail(in, "bad index into an image or sampler descriptor array")), true;
+      p.descIndex = b.CreateZExtOrTrunc(iv, b.getInt64Ty());
+      p.type = at.element;
+      continue;
+    }
+    if (p.slot >= 0) {
+      llvm::Value* iv = value(idx);
+      if (!iv) return (ok = fail(in, "descriptor index has no value")), true;
+      resolveDescriptor(p, iv);
+      continue;
+    }
+    const Type& t = spvType(p.type);
+    uint64_t k = 0;
+    bool isConst = m.constantU64(idx, &k);
+    llvm::Value* iv = nullptr;
+    if (!isConst) {
+      iv = value(idx);
+      if (!iv) return (ok = fail(in, "index has no value")), true;
+      iv = isSignedInt(m.typeOf(idx)) ? b.CreateSExtOrTrunc(iv, b.getInt64Ty())
+                                      : b.CreateZExtOrTrunc(iv, b.getInt64Ty());
+    } else {
+      iv = i64(k);
+      if (isSignedInt(m.constant(idx)->type) && spvType(m.constant(idx)->type).width < 64) {
+        uint32_t w = spvType(m.constant(idx)->type).width;
+        if (k >> (w - 1)) k |= ~((1ull << w) - 1);
+        iv = i64(k);
+      }
+    }
+    switch (t.kind) {
+      case Type::Struct: {
+        if (!isConst || k >= t.members.size()) return (ok = fail(in, "struct index is not a valid constant")), true;
+        const Decorations& d = m.memberDecor(p.type, uint32_t(k));
+        p.offset = b.CreateAdd(p.offset, i64(memberOffset(p.type, uint32_t(k))));
+        p.type = t.members[k];
+        p.matrixStride = d.matrixStride > 0 ? uint32_t(d.matrixStride) : 0;
+        p.rowMajor = d.rowMajor;
+        p.vecStride = 0;
+        break;
+      }
+      case Type::Array:
+      case Type::RuntimeArray:
+        p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(arrayStride(p.type, p.matrixStride, p.rowMajor))));
+        p.type = t.element;
+        break;
+      case Type::Matrix: {
+        uint32_t stride = p.matrixStride ? p.matrixStride : naturalMatrixStride(p.type);
+        uint64_t cs = layoutSize(scalarType(t.element), 0, false);
+        p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.rowMajor ? cs : stride)));
+        p.vecStride = p.rowMajor ? stride : 0;
+        p.type = t.element;
+        break;
+      }
+      case Type::Vector: {
+        uint64_t cs = layoutSize(t.element, 0, false);
+        p.offset = b.CreateAdd(p.offset, b.CreateMul(iv, i64(p.vecStride ? p.vecStride : cs)));
+        p.vecStride = 0;
+        p.type = t.element;
+        break;
+      }
+      default: return (ok = fail(in, "access chain indexes a non-composite")), true;
+    }
+  }
+  ptrs[in.word(2)] = p;
+  // A PhysicalStorageBuffer pointer is also a value (it may be stored, converted or compared).
+  if (p.storage == spv::StorageClassPhysicalStorageBuffer)
+    set(in.word(2), b.CreateGEP(b.getInt8Ty(), p.base, p.offset));
+  return true;
+}
+
+// The atomic instructions (Codegen::memory): sequentially consistent, on p's address or the sink out of bounds.
+bool Codegen::atomic(const Instruction& in, bool& ok) {
+  bool isStore = in.op == spv::OpAtomicStore;
+  Ptr p;
+  if (!operandPtr(*this, in, in.word(isStore ? 1 : 3), &p)) return (ok = false), true;
+  const Type& t = spvType(p.type);
+  if (p.slot >= 0 || t.kind != Type::Int) return (ok = unsupported(in, "atomic on a non-integer")), true;
+  uint64_t bytes = t.width / 8;
+  llvm::Type* ty = type(p.type);
+  auto order = llvm::AtomicOrdering::SequentiallyConsistent;
+  if (in.op == spv::OpAtomicLoad) {
+    auto* l = b.CreateAlignedLoad(ty, address(p, bytes, false), llvm::Align(bytes));
+    l->setAtomic(order);
+    set(in.word(2), l);
+    return true;
+  }
+  llvm::Value* addr = address(forWrite(p), bytes, true);
+  if (isStore) {
+    auto* s = b.CreateAlignedStore(value(in.word(4)), addr, llvm::Align(bytes));
+    s->setAtomic(order);
+    return true;
+  }
+  if (in.op == spv::OpAtomicCompareExchange) {
+    auto* x = b.CreateAtomicCmpXchg(addr, value(in.word(8)), value(in.word(7)), llvm::MaybeAlign(bytes), order, order);
+    set(in.word(2), b.CreateExtractValue(x, {0}));
+    return true;
+  }
+  llvm::AtomicRMWInst::BinOp op = llvm::AtomicRMWInst::Add;
+  llvm::Value* operand = nullptr;
+  switch (in.op) {
+    case spv::OpAtomicIIncrement: operand = llvm::ConstantInt::get(ty, 1); break;
+    case spv::OpAtomicIDecrement:
+      op = llvm::AtomicRMWInst::Sub;
+      operand = llvm::ConstantInt::get(ty, 1);
+      break;
+    case spv::OpAtomicExchange: op = llvm::AtomicRMWInst::Xchg; break;
+    case spv::OpAtomicISub: op = llvm::AtomicRMWInst::Sub; break;
+    case spv::OpAtomicSMin: op = llvm::AtomicRMWInst::Min; break;
+    case spv::OpAtomicUMin: op = llvm::AtomicRMWInst::UMin; break;
+    case spv::OpAtomicSMax: op = llvm::AtomicRMWInst::Max; break;
+    case spv::OpAtomicUMax: op = llvm::AtomicRMWInst::UMax; break;
+    case spv::OpAtomicAnd: op = llvm::AtomicRMWInst::And; break;
+    case spv::OpAtomicOr: op = llvm::AtomicRMWInst::Or; break;
+    case spv::OpAtomicXor: op = llvm::AtomicRMWInst::Xor; break;
+    default: break;
+  }
+  if (!operand) operand = value(in.word(6));
+  if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
+  set(in.word(2), b.CreateAtomicRMW(op, addr, operand, llvm::MaybeAlign(bytes), order));
+  return true;
 }
 
 }  // namespace vkrt::spirv

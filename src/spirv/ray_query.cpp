@@ -13,36 +13,6 @@ namespace vkrt::spirv {
 using abi::RayQueryRuntime;
 using abi::RayQueryScope;
 
-bool rayQueryOp(spv::Op op) {
-  switch (op) {
-    case spv::OpTypeRayQueryKHR:
-    case spv::OpRayQueryInitializeKHR:
-    case spv::OpRayQueryTerminateKHR:
-    case spv::OpRayQueryGenerateIntersectionKHR:
-    case spv::OpRayQueryConfirmIntersectionKHR:
-    case spv::OpRayQueryProceedKHR:
-    case spv::OpRayQueryGetIntersectionTypeKHR:
-    case spv::OpRayQueryGetRayTMinKHR:
-    case spv::OpRayQueryGetRayFlagsKHR:
-    case spv::OpRayQueryGetIntersectionTKHR:
-    case spv::OpRayQueryGetIntersectionInstanceCustomIndexKHR:
-    case spv::OpRayQueryGetIntersectionInstanceIdKHR:
-    case spv::OpRayQueryGetIntersectionInstanceShaderBindingTableRecordOffsetKHR:
-    case spv::OpRayQueryGetIntersectionGeometryIndexKHR:
-    case spv::OpRayQueryGetIntersectionPrimitiveIndexKHR:
-    case spv::OpRayQueryGetIntersectionBarycentricsKHR:
-    case spv::OpRayQueryGetIntersectionFrontFaceKHR:
-    case spv::OpRayQueryGetIntersectionCandidateAABBOpaqueKHR:
-    case spv::OpRayQueryGetIntersectionObjectRayDirectionKHR:
-    case spv::OpRayQueryGetIntersectionObjectRayOriginKHR:
-    case spv::OpRayQueryGetWorldRayDirectionKHR:
-    case spv::OpRayQueryGetWorldRayOriginKHR:
-    case spv::OpRayQueryGetIntersectionObjectToWorldKHR:
-    case spv::OpRayQueryGetIntersectionWorldToObjectKHR: return true;
-    default: return uint32_t(op) == kOpRayQueryGetIntersectionTriangleVertexPositionsKHR;
-  }
-}
-
 bool Codegen::isRayQuery(uint32_t typeId) const {
   const Instruction* d = m.def(typeId);
   return d && d->op == spv::OpTypeRayQueryKHR;

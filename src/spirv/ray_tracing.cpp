@@ -18,23 +18,6 @@
 
 namespace vkrt::spirv {
 
-bool rayTracingOp(spv::Op op) {
-  switch (op) {
-    case spv::OpTypeAccelerationStructureKHR:
-    case spv::OpConvertUToAccelerationStructureKHR:
-    case spv::OpTraceRayKHR:
-    case spv::OpExecuteCallableKHR:
-    case spv::OpReportIntersectionKHR:  // = OpReportIntersectionNV
-    case spv::OpIgnoreIntersectionKHR:
-    case spv::OpTerminateRayKHR:
-    case spv::OpTraceNV:
-    case spv::OpExecuteCallableNV:
-    case spv::OpIgnoreIntersectionNV:
-    case spv::OpTerminateRayNV: return true;
-    default: return rayQueryOp(op);
-  }
-}
-
 bool rayTracingCapability(uint32_t cap) {
   // RayTraversalPrimitiveCullingKHR only allows two ray flags, which the runtime reads; RayCullMaskKHR
   // (SPV_KHR_ray_cull_mask, VK_KHR_ray_tracing_maintenance1) only the CullMaskKHR built-in, which it fills; the

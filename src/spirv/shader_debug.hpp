@@ -10,8 +10,8 @@
 
 namespace vkrt::spirv {
 
-// The OpString that jit.cpp's markWordOffsets names in the OpLine instructions it adds to modules without line
-// information: their line is the application's word offset of the instruction that follows.
+// The OpString that pre_optimizer.cpp's prepareNonSemantic names in the OpLine instructions it adds to modules without
+// line information: their line is the application's word offset of the instruction that follows.
 inline constexpr char kWordOffsetFile[] = "vkrt:word-offset";
 
 // One argument of a debugPrintfEXT call: its kind (abi::PrintfArgKind), bit width and component count.

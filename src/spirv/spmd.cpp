@@ -49,137 +49,14 @@ std::atomic<bool> spmdOn{true};
 // practice, and ids are < 2^32 - 1).
 constexpr uint32_t kFakeId = 0xfff00000u;
 
-bool elementwiseOp(spv::Op op) {
-  switch (op) {
-    case spv::OpIAdd:
-    case spv::OpISub:
-    case spv::OpIMul:
-    case spv::OpUDiv:
-    case spv::OpUMod:
-    case spv::OpSDiv:
-    case spv::OpSRem:
-    case spv::OpSMod:
-    case spv::OpFAdd:
-    case spv::OpFSub:
-    case spv::OpFMul:
-    case spv::OpFDiv:
-    case spv::OpFRem:
-    case spv::OpFMod:
-    case spv::OpFNegate:
-    case spv::OpSNegate:
-    case spv::OpNot:
-    case spv::OpLogicalNot:
-    case spv::OpBitwiseAnd:
-    case spv::OpLogicalAnd:
-    case spv::OpBitwiseOr:
-    case spv::OpLogicalOr:
-    case spv::OpBitwiseXor:
-    case spv::OpLogicalNotEqual:
-    case spv::OpLogicalEqual:
-    case spv::OpShiftLeftLogical:
-    case spv::OpShiftRightLogical:
-    case spv::OpShiftRightArithmetic:
-    case spv::OpIEqual:
-    case spv::OpINotEqual:
-    case spv::OpUGreaterThan:
-    case spv::OpSGreaterThan:
-    case spv::OpUGreaterThanEqual:
-    case spv::OpSGreaterThanEqual:
-    case spv::OpULessThan:
-    case spv::OpSLessThan:
-    case spv::OpULessThanEqual:
-    case spv::OpSLessThanEqual:
-    case spv::OpFOrdEqual:
-    case spv::OpFUnordEqual:
-    case spv::OpFOrdNotEqual:
-    case spv::OpFUnordNotEqual:
-    case spv::OpFOrdLessThan:
-    case spv::OpFUnordLessThan:
-    case spv::OpFOrdGreaterThan:
-    case spv::OpFUnordGreaterThan:
-    case spv::OpFOrdLessThanEqual:
-    case spv::OpFUnordLessThanEqual:
-    case spv::OpFOrdGreaterThanEqual:
-    case spv::OpFUnordGreaterThanEqual:
-    case spv::OpIsNan:
-    case spv::OpIsInf:
-    case spv::OpSelect:
-    case spv::OpConvertFToU:
-    case spv::OpConvertFToS:
-    case spv::OpConvertSToF:
-    case spv::OpConvertUToF:
-    case spv::OpUConvert:
-    case spv::OpSConvert:
-    case spv::OpFConvert:
-    case spv::OpBitcast:
-    case spv::OpBitCount:
-    case spv::OpBitReverse:
-    case spv::OpCopyObject: return true;
-    default: return false;
-  }
-}
+// The instructions that act component by component on scalars and vectors (opcode_support.cpp's table).
+bool elementwiseOp(spv::Op op) { return opSupport(op).spmd == SpmdForm::Elementwise; }
 
 // The GLSL.std.450 instructions that act component by component on scalars and vectors.
-bool elementwiseExt(uint32_t inst) {
-  switch (inst) {
-    case GLSLstd450Round:
-    case GLSLstd450RoundEven:
-    case GLSLstd450Trunc:
-    case GLSLstd450FAbs:
-    case GLSLstd450SAbs:
-    case GLSLstd450FSign:
-    case GLSLstd450SSign:
-    case GLSLstd450Floor:
-    case GLSLstd450Ceil:
-    case GLSLstd450Fract:
-    case GLSLstd450Radians:
-    case GLSLstd450Degrees:
-    case GLSLstd450Sin:
-    case GLSLstd450Cos:
-    case GLSLstd450Tan:
-    case GLSLstd450Asin:
-    case GLSLstd450Acos:
-    case GLSLstd450Atan:
-    case GLSLstd450Atan2:
-    case GLSLstd450Pow:
-    case GLSLstd450Exp:
-    case GLSLstd450Log:
-    case GLSLstd450Exp2:
-    case GLSLstd450Log2:
-    case GLSLstd450Sqrt:
-    case GLSLstd450InverseSqrt:
-    case GLSLstd450FMin:
-    case GLSLstd450NMin:
-    case GLSLstd450FMax:
-    case GLSLstd450NMax:
-    case GLSLstd450UMin:
-    case GLSLstd450SMin:
-    case GLSLstd450UMax:
-    case GLSLstd450SMax:
-    case GLSLstd450FClamp:
-    case GLSLstd450NClamp:
-    case GLSLstd450UClamp:
-    case GLSLstd450SClamp:
-    case GLSLstd450FMix:
-    case GLSLstd450Step:
-    case GLSLstd450SmoothStep:
-    case GLSLstd450Fma: return true;
-    default: return false;
-  }
-}
+bool elementwiseExt(uint32_t inst) { return glslSupport(inst).spmd == SpmdForm::Elementwise; }
 
 // The GLSL.std.450 instructions on whole vectors that spmd.cpp computes from the components.
-bool vectorExt(uint32_t inst) {
-  switch (inst) {
-    case GLSLstd450Length:
-    case GLSLstd450Distance:
-    case GLSLstd450Normalize:
-    case GLSLstd450Cross:
-    case GLSLstd450Reflect:
-    case GLSLstd450FaceForward: return true;
-    default: return false;
-  }
-}
+bool vectorExt(uint32_t inst) { return glslSupport(inst).spmd == SpmdForm::Own; }
 
 // A pointer the SPMD code tracks itself: a varying offset, a per-lane Function variable, or an invocation id.
 struct LanePtr {
@@ -421,33 +298,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   for (const Cfg::Block& blk : cfg.blocks) {
     for (size_t i = blk.first + 1; i <= blk.last; ++i) {
       const Instruction& in = m.instructions[i];
-      bool ok = elementwiseOp(in.op);
+      // The table's SPMD form (opcode_support.cpp); Checked instructions are decided here from their operands.
+      SpmdForm form = opSupport(in.op).spmd;
+      bool ok = form == SpmdForm::Elementwise || form == SpmdForm::Own;
       switch (in.op) {
-        case spv::OpLine:
-        case spv::OpNoLine:
-        case spv::OpNop:
-        case spv::OpUndef:
-        case spv::OpSelectionMerge:
-        case spv::OpLoopMerge:
-        case spv::OpBranch:
-        case spv::OpBranchConditional:
-        case spv::OpSwitch:
-        case spv::OpReturn:
-        case spv::OpUnreachable:
-        case spv::OpPhi:
-        case spv::OpLoad:
-        case spv::OpStore:
-        case spv::OpAccessChain:
-        case spv::OpInBoundsAccessChain:
-        case spv::OpArrayLength:
-        case spv::OpCompositeConstruct:
-        case spv::OpCompositeExtract:
-        case spv::OpCompositeInsert:
-        case spv::OpVectorShuffle:
-        case spv::OpVectorTimesScalar:
-        case spv::OpDot:
-        case spv::OpAny:
-        case spv::OpAll: ok = true; break;
         case spv::OpVariable: {
           const Type& pt = g.spvType(in.word(1));
           ok = pt.storage == spv::StorageClassFunction && !g.isRayQuery(pt.element);

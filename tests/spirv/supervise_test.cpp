@@ -1,6 +1,7 @@
-// Supervised shader execution below the Vulkan API (src/exec/supervise.hpp, the polls of src/spirv/jit.cpp): a
-// compiled loop stops at its next poll once the job is ended, the watchdog ends a job past its time limit, a fault in
-// compiled code ends the job with its address, and a fault elsewhere is left to the handler before vkrt's.
+// Supervised shader execution below the Vulkan API (src/exec/supervise.hpp, the polls of
+// src/spirv/cancellation_poll.cpp): a compiled loop stops at its next poll once the job is ended, the watchdog ends a
+// job past its time limit, a fault in compiled code ends the job with its address, and a fault elsewhere is left to the
+// handler before vkrt's.
 #include <gtest/gtest.h>
 
 #include <chrono>
