@@ -35,17 +35,6 @@ struct Options {
   bool tri = true, aabb = true;
 };
 
-VkShaderModule shaderModule(const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = bytes;
-  ci.pCode = words;
-  VkShaderModule m;
-  CHECK(vkCreateShaderModule(ctx().device, &ci, nullptr, &m));
-  return m;
-}
-
-VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
-
 // The scene: one bottom level of 512 cubes or boxes, one instance with custom index 1.
 VkAccelerationStructureKHR buildScene(AccelStructures& as, bool triangles) {
   VkAccelerationStructureGeometryKHR g;
@@ -87,15 +76,7 @@ VkAccelerationStructureKHR buildScene(AccelStructures& as, bool triangles) {
 
 // The pipeline (raygen, miss, one hit group: any-hit, with the intersection shader for boxes), its SBT and its
 // descriptor set (binding 0 the results, 1 the scene).
-struct LaunchPipeline {
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  std::unique_ptr<Buffer> sbt;
-  VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
-
+struct LaunchPipeline : RayPipeline {
   explicit LaunchPipeline(bool triangles) {
     Context& c = ctx();
     const VkShaderStageFlags all = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
@@ -136,56 +117,9 @@ struct LaunchPipeline {
     groups[2].generalShader = VK_SHADER_UNUSED_KHR;
     groups[2].anyHitShader = 2;
     if (!triangles) groups[2].intersectionShader = 3;
-    VkRayTracingPipelineCreateInfoKHR pci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    pci.stageCount = 4;
-    pci.pStages = stages;
-    pci.groupCount = 3;
-    pci.pGroups = groups;
-    pci.maxPipelineRayRecursionDepth = 1;
-    pci.layout = layout;
-    CHECK(c.createRtPipelines(c.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &pci, nullptr, &pipeline));
-    for (VkShaderModule m : modules) vkDestroyShaderModule(c.device, m, nullptr);
-
-    VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
-    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rt};
-    vkGetPhysicalDeviceProperties2(c.physical, &p2);
-    const VkDeviceSize handle = rt.shaderGroupHandleSize;
-    const VkDeviceSize stride = alignUp(handle, rt.shaderGroupHandleAlignment);
-    const VkDeviceSize region = alignUp(stride, rt.shaderGroupBaseAlignment);
-    std::vector<uint8_t> handles(3 * handle);
-    CHECK(c.groupHandles(c.device, pipeline, 0, 3, handles.size(), handles.data()));
-    sbt = std::make_unique<Buffer>(
-        3 * region + rt.shaderGroupBaseAlignment,
-        VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
-    const VkDeviceAddress base = alignUp(sbt->address(), rt.shaderGroupBaseAlignment);
-    VkStridedDeviceAddressRegionKHR* regions[3] = {&raygen, &miss, &hit};
-    for (uint32_t i = 0; i < 3; ++i) {
-      std::memcpy(sbt->as<uint8_t>() + (base - sbt->address()) + i * region, &handles[i * handle], handle);
-      *regions[i] = {base + i * region, stride, stride};
-    }
-
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = 2;
-    dp.pPoolSizes = sizes;
-    CHECK(vkCreateDescriptorPool(c.device, &dp, nullptr, &pool));
-    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    da.descriptorPool = pool;
-    da.descriptorSetCount = 1;
-    da.pSetLayouts = &setLayout;
-    CHECK(vkAllocateDescriptorSets(c.device, &da, &set));
-  }
-  LaunchPipeline(const LaunchPipeline&) = delete;
-  LaunchPipeline& operator=(const LaunchPipeline&) = delete;
-  ~LaunchPipeline() {
-    VkDevice d = ctx().device;
-    vkDestroyDescriptorPool(d, pool, nullptr);
-    vkDestroyPipeline(d, pipeline, nullptr);
-    vkDestroyPipelineLayout(d, layout, nullptr);
-    vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+    create(stages, 4, groups, sizes, 2);
   }
 
   void bind(VkAccelerationStructureKHR tlas, const Buffer& results) {
