@@ -308,6 +308,87 @@ VkAccelerationStructureInstanceKHR AccelStructures::identityInstance(VkAccelerat
   return in;
 }
 
+VkShaderModule shaderModule(const uint32_t* words, size_t bytes) {
+  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  ci.codeSize = bytes;
+  ci.pCode = words;
+  VkShaderModule m;
+  CHECK(vkCreateShaderModule(ctx().device, &ci, nullptr, &m));
+  return m;
+}
+
+namespace {
+
+// A shader binding table for a ray tracing pipeline's first `count` groups: one record (one handle) per group, each
+// in a region of its own at the base alignment; regions[i] is group i's {address, stride, size = stride}.
+std::unique_ptr<Buffer> shaderBindingTable(VkPipeline pipeline, uint32_t count,
+                                           VkStridedDeviceAddressRegionKHR* const* regions) {
+  Context& c = ctx();
+  auto alignUp = [](VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; };
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rt};
+  vkGetPhysicalDeviceProperties2(c.physical, &p2);
+  const VkDeviceSize handle = rt.shaderGroupHandleSize;
+  const VkDeviceSize stride = alignUp(handle, rt.shaderGroupHandleAlignment);
+  const VkDeviceSize region = alignUp(stride, rt.shaderGroupBaseAlignment);
+  std::vector<uint8_t> handles(count * handle);
+  CHECK(c.groupHandles(c.device, pipeline, 0, count, handles.size(), handles.data()));
+  auto sbt = std::make_unique<Buffer>(
+      count * region + rt.shaderGroupBaseAlignment,
+      VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+  const VkDeviceAddress base = alignUp(sbt->address(), rt.shaderGroupBaseAlignment);
+  for (uint32_t i = 0; i < count; ++i) {
+    std::memcpy(sbt->as<uint8_t>() + (base - sbt->address()) + i * region, &handles[i * handle], handle);
+    *regions[i] = {base + i * region, stride, stride};
+  }
+  return sbt;
+}
+
+VkDescriptorSet oneDescriptorSet(VkDescriptorSetLayout layout, const VkDescriptorPoolSize* sizes, uint32_t sizeCount,
+                                 VkDescriptorPool* pool) {
+  VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  dp.maxSets = 1;
+  dp.poolSizeCount = sizeCount;
+  dp.pPoolSizes = sizes;
+  CHECK(vkCreateDescriptorPool(ctx().device, &dp, nullptr, pool));
+  VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  da.descriptorPool = *pool;
+  da.descriptorSetCount = 1;
+  da.pSetLayouts = &layout;
+  VkDescriptorSet set;
+  CHECK(vkAllocateDescriptorSets(ctx().device, &da, &set));
+  return set;
+}
+
+}  // namespace
+
+RayPipeline::~RayPipeline() {
+  VkDevice d = ctx().device;
+  vkDestroyDescriptorPool(d, pool, nullptr);
+  vkDestroyPipeline(d, pipeline, nullptr);
+  vkDestroyPipelineLayout(d, layout, nullptr);
+  vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+}
+
+void RayPipeline::create(const VkPipelineShaderStageCreateInfo* stages, uint32_t stageCount,
+                         const VkRayTracingShaderGroupCreateInfoKHR (&groups)[3], const VkDescriptorPoolSize* sizes,
+                         uint32_t sizeCount) {
+  Context& c = ctx();
+  VkRayTracingPipelineCreateInfoKHR pci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+  pci.stageCount = stageCount;
+  pci.pStages = stages;
+  pci.groupCount = 3;
+  pci.pGroups = groups;
+  pci.maxPipelineRayRecursionDepth = 1;
+  pci.layout = layout;
+  CHECK(c.createRtPipelines(c.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &pci, nullptr, &pipeline));
+  for (uint32_t i = 0; i < stageCount; ++i) vkDestroyShaderModule(c.device, stages[i].module, nullptr);
+  VkStridedDeviceAddressRegionKHR* regions[3] = {&raygen, &miss, &hit};
+  sbt = shaderBindingTable(pipeline, 3, regions);
+  set = oneDescriptorSet(setLayout, sizes, sizeCount, &pool);
+}
+
 unsigned workerThreads() {
   unsigned n = std::thread::hardware_concurrency();
   if (const char* env = std::getenv("VKRT_THREADS")) {

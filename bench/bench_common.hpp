@@ -118,6 +118,31 @@ struct AccelStructures {
   VkAccelerationStructureInstanceKHR identityInstance(VkAccelerationStructureKHR blas) const;
 };
 
+// A shader module of SPIR-V `words` (`bytes` long) on ctx()'s device.
+VkShaderModule shaderModule(const uint32_t* words, size_t bytes);
+
+// A ray tracing pipeline of three groups (0 raygen, 1 miss, 2 hit) with one record each in its SBT, its layout of
+// one descriptor set layout, and one descriptor set; all destroyed with this object.
+struct RayPipeline {
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  std::unique_ptr<Buffer> sbt;
+  VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
+
+  RayPipeline() = default;
+  RayPipeline(const RayPipeline&) = delete;
+  RayPipeline& operator=(const RayPipeline&) = delete;
+  ~RayPipeline();
+  // With setLayout and layout made: the pipeline (maxPipelineRayRecursionDepth 1) of `stages` and `groups`,
+  // whose modules it then destroys, the SBT, and a set from a pool of `sizes`.
+  void create(const VkPipelineShaderStageCreateInfo* stages, uint32_t stageCount,
+              const VkRayTracingShaderGroupCreateInfoKHR (&groups)[3], const VkDescriptorPoolSize* sizes,
+              uint32_t sizeCount);
+};
+
 // The thread count of both sides: VKRT_THREADS as vkrt reads it (1..256), else the hardware threads.
 unsigned workerThreads();
 

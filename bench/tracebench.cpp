@@ -429,27 +429,10 @@ void traceEmbreePackets(RTCScene scene, const Terrain& s, const Camera& cam, uin
 
 // ---- vkrt
 
-VkShaderModule shaderModule(const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = bytes;
-  ci.pCode = words;
-  VkShaderModule m;
-  CHECK(vkCreateShaderModule(ctx().device, &ci, nullptr, &m));
-  return m;
-}
-
 VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 // The pipeline (raygen, miss, triangle hit group), its SBT, and a descriptor set with the TLAS and the terrain.
-struct TracePipeline {
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  std::unique_ptr<Buffer> sbt;
-  VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
-
+struct TracePipeline : RayPipeline {
   // `raygen`: trace_paths.rgen, or trace_many.rgen (the same layout: binding 0 unused there).
   explicit TracePipeline(const uint32_t* raygenWords = kSpv_trace_paths_rgen,
                          size_t raygenBytes = sizeof kSpv_trace_paths_rgen) {
@@ -491,57 +474,9 @@ struct TracePipeline {
       groups[i].anyHitShader = VK_SHADER_UNUSED_KHR;
       groups[i].intersectionShader = VK_SHADER_UNUSED_KHR;
     }
-    VkRayTracingPipelineCreateInfoKHR pci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    pci.stageCount = 3;
-    pci.pStages = stages;
-    pci.groupCount = 3;
-    pci.pGroups = groups;
-    pci.maxPipelineRayRecursionDepth = 1;
-    pci.layout = layout;
-    CHECK(c.createRtPipelines(c.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &pci, nullptr, &pipeline));
-    for (VkShaderModule m : modules) vkDestroyShaderModule(c.device, m, nullptr);
-
-    // The SBT: one record per region, each region at the base alignment.
-    VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
-    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &rt};
-    vkGetPhysicalDeviceProperties2(c.physical, &p2);
-    const VkDeviceSize handle = rt.shaderGroupHandleSize;
-    const VkDeviceSize stride = alignUp(handle, rt.shaderGroupHandleAlignment);
-    const VkDeviceSize region = alignUp(stride, rt.shaderGroupBaseAlignment);
-    std::vector<uint8_t> handles(3 * handle);
-    CHECK(c.groupHandles(c.device, pipeline, 0, 3, handles.size(), handles.data()));
-    sbt = std::make_unique<Buffer>(
-        3 * region + rt.shaderGroupBaseAlignment,
-        VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
-    const VkDeviceAddress base = alignUp(sbt->address(), rt.shaderGroupBaseAlignment);
-    VkStridedDeviceAddressRegionKHR* regions[3] = {&raygen, &miss, &hit};
-    for (uint32_t i = 0; i < 3; ++i) {
-      std::memcpy(sbt->as<uint8_t>() + (base - sbt->address()) + i * region, &handles[i * handle], handle);
-      *regions[i] = {base + i * region, stride, stride};
-    }
-
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 1;
-    dp.poolSizeCount = 2;
-    dp.pPoolSizes = sizes;
-    CHECK(vkCreateDescriptorPool(c.device, &dp, nullptr, &pool));
-    VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    da.descriptorPool = pool;
-    da.descriptorSetCount = 1;
-    da.pSetLayouts = &setLayout;
-    CHECK(vkAllocateDescriptorSets(c.device, &da, &set));
-  }
-  TracePipeline(const TracePipeline&) = delete;
-  TracePipeline& operator=(const TracePipeline&) = delete;
-  ~TracePipeline() {
-    VkDevice d = ctx().device;
-    vkDestroyDescriptorPool(d, pool, nullptr);
-    vkDestroyPipeline(d, pipeline, nullptr);
-    vkDestroyPipelineLayout(d, layout, nullptr);
-    vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+    create(stages, 3, groups, sizes, 2);
   }
 
   void bind(VkAccelerationStructureKHR tlas, const Buffer& vertices, const Buffer& indices, const Buffer& results) {

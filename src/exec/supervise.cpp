@@ -32,9 +32,7 @@ struct WorkerState {
   sigjmp_buf* target = nullptr;  // where a fault or a cancellation jumps (null: nothing supervised runs)
   Job* job = nullptr;            // the job of the task running (runSupervised)
   // What runs now (executor's stores), and its copy taken when the work was ended.
-  const char* shader = nullptr;
-  const uint32_t* id = nullptr;
-  Abort::IdKind idKind = Abort::NoId;
+  Running running;
   const char* endedShader = nullptr;
   uint32_t endedId[3] = {};
   Abort::IdKind endedIdKind = Abort::NoId;
@@ -86,9 +84,9 @@ WorkerState& worker() {
 }
 
 void takeSnapshot(WorkerState* w) {
-  w->endedShader = w->shader;
-  w->endedIdKind = w->id ? w->idKind : Abort::NoId;
-  if (w->id) std::memcpy(w->endedId, w->id, sizeof w->endedId);
+  w->endedShader = w->running.shader;
+  w->endedIdKind = w->running.id ? w->running.idKind : Abort::NoId;
+  if (w->running.id) std::memcpy(w->endedId, w->running.id, sizeof w->endedId);
 }
 
 // ---- faults
@@ -280,9 +278,7 @@ void cancelled(abi::InvocationContext*) {
 bool runSupervised(Job& job, void (*task)(void*), void* arg) {
   if (job.cancel.load(std::memory_order_relaxed)) return false;
   WorkerState& w = worker();
-  w.shader = nullptr;
-  w.id = nullptr;
-  w.idKind = Abort::NoId;
+  w.running = Running{};
   w.signal = 0;
   sigjmp_buf point;
   Job* const previousJob = w.job;
@@ -316,18 +312,17 @@ Job* runningJob() {
 }
 
 void setRunning(const char* shader, const uint32_t* id, Abort::IdKind kind) {
-  WorkerState& w = worker();
-  w.shader = shader;
-  w.id = id;
-  w.idKind = kind;
+  worker().running = Running{shader, id, kind};
 }
 
 void getRunning(const char** shader, const uint32_t** id, Abort::IdKind* kind) {
-  WorkerState& w = worker();
-  *shader = w.shader;
-  *id = w.id;
-  *kind = w.idKind;
+  const Running& r = worker().running;
+  *shader = r.shader;
+  *id = r.id;
+  *kind = r.idKind;
 }
+
+Running& runningRecord() { return worker().running; }
 
 sigjmp_buf* swapRecoveryPoint(sigjmp_buf* point) {
   WorkerState& w = worker();

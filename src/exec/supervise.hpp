@@ -96,8 +96,16 @@ bool runSupervised(Job& job, void (*task)(void*), void* arg);
 Job* runningJob();
 
 // What the worker runs now, kept up to date by the executor (stores only) for the abort report.
+struct Running {
+  const char* shader = nullptr;
+  const uint32_t* id = nullptr;
+  Abort::IdKind idKind = Abort::NoId;
+};
 void setRunning(const char* shader, const uint32_t* id, Abort::IdKind kind);
 void getRunning(const char** shader, const uint32_t** id, Abort::IdKind* kind);
+// This thread's Running record itself (valid on this thread while it lives): an executor that stores it at every
+// shader call (the trace executor, per ray) takes it once per task instead of a thread-local lookup per store.
+Running& runningRecord();
 
 // Fibers (compute shaders with barriers): each fiber has its own recovery point on its own stack. The scheduler
 // makes the fiber's point the thread's target while the fiber runs (swapRecoveryPoint returns the previous one);

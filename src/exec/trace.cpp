@@ -117,9 +117,39 @@ struct LaunchState {
 
 struct TraceFrame;
 
+struct Invocation;
+
+// What one task (a tile of launch indices on one worker) keeps for its rays, so that the per-ray path makes no
+// thread-local lookup and no resolver call for a structure it met already: the worker's Running record (stored
+// around every shader call, for the abort report) and the top level resolved last (the resolver's answer for an
+// address does not change during a launch).
+struct TaskState {
+  Running* running = nullptr;
+  // The any-hit and intersection invocations, reused from candidate to candidate (zeroed once per task, not per
+  // candidate): neither stage nests, as neither can trace rays or call callables, and only an intersection shader
+  // reports intersections (which run any-hit shaders in the other one).
+  Invocation* anyHit = nullptr;
+  Invocation* intersection = nullptr;
+  uint64_t tlasAddress = 0;
+  const accel::Tlas* tlas = nullptr;
+  bool tlasResolved = false;
+
+  const accel::Tlas* topLevel(LaunchState& state, uint64_t address);
+};
+
+const accel::Tlas* TaskState::topLevel(LaunchState& state, uint64_t address) {
+  if (!tlasResolved || address != tlasAddress) {
+    tlas = state.topLevel(address);
+    tlasAddress = address;
+    tlasResolved = true;
+  }
+  return tlas;
+}
+
 // What the executor passes to a shader: the ABI's RayInvocation, then the executor's own state.
 struct Invocation : abi::RayInvocation {
   LaunchState* state = nullptr;
+  TaskState* task = nullptr;
   const Invocation* parent = nullptr;  // the invocation that called this one (for stack reports)
   const RayShader* shader = nullptr;
   uint32_t depth = 0;           // traceRayEXT nesting: raygen 0
@@ -160,6 +190,7 @@ const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersecti
 void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
   inv.state = state;
   inv.parent = caller;
+  if (caller) inv.task = caller->task;
   inv.base.pushConstants = state->launch->pushConstants;
   inv.base.sink = tlsSink;
   inv.runtime = &kRuntime;
@@ -193,14 +224,12 @@ bool run(Invocation& inv, const RayShader& shader) {
   inv.stackUsed = needed;
   inv.shader = &shader;
   inv.base.resources = shader.resources;
-  // For the report of a fault or a timeout: the shader running, and its launch index.
-  const char* callerName;
-  const uint32_t* callerId;
-  Abort::IdKind callerKind;
-  getRunning(&callerName, &callerId, &callerKind);
-  setRunning(shader.name, inv.launchId, Abort::LaunchId);
+  // For the report of a fault or a timeout: the shader running, and its launch index (the caller's again after it).
+  Running& running = *inv.task->running;
+  const Running caller = running;
+  running = Running{shader.name, inv.launchId, Abort::LaunchId};
   shader.entry(&inv);
-  setRunning(callerName, callerId, callerKind);
+  running = caller;
   return true;
 }
 
@@ -242,7 +271,7 @@ void setRay(Invocation& inv, const abi::TraceRayArgs& a, float tMax) {
   inv.cullMask = a.cullMask & 0xFF;
 }
 
-void setHit(Invocation& inv, const accel::HitInfo& h) {
+void setHit(Invocation& inv, const accel::HitInfo& h, const RayShader& shader) {
   inv.instanceCustomIndex = int32_t(h.customIndex);
   inv.instanceId = int32_t(h.instanceIndex);
   inv.geometryIndex = int32_t(h.geometryIndex);
@@ -253,13 +282,14 @@ void setHit(Invocation& inv, const accel::HitInfo& h) {
     inv.objectRayDirection[i] = h.objectRayDirection[i];
   }
   // The ABI's matrices are 4 columns of 3 floats: the transpose of the rows the Tlas keeps.
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 3; ++r) {
-      inv.objectToWorld[c][r] = h.objectToWorld ? h.objectToWorld[r][c] : (c == r ? 1.0f : 0.0f);
-      inv.worldToObject[c][r] = h.worldToObject ? h.worldToObject[r][c] : (c == r ? 1.0f : 0.0f);
-    }
+  if (shader.readsTransforms)
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) {
+        inv.objectToWorld[c][r] = h.objectToWorld ? h.objectToWorld[r][c] : (c == r ? 1.0f : 0.0f);
+        inv.worldToObject[c][r] = h.worldToObject ? h.worldToObject[r][c] : (c == r ? 1.0f : 0.0f);
+      }
   // HitTriangleVertexPositionsKHR (zeros for a procedural hit, where the built-in is not allowed).
-  accel::trianglePositions(h, inv.hitTriangleVertexPositions);
+  if (shader.readsPositions) accel::trianglePositions(h, inv.hitTriangleVertexPositions);
 }
 
 // One traceRayEXT: the traversal's HitHandler (any-hit and intersection shaders), then closest-hit or miss.
@@ -300,11 +330,12 @@ struct TraceFrame final : accel::HitHandler {
     return g;
   }
 
-  void hitInvocation(Invocation& inv, const accel::HitInfo& h, const uint8_t* record, uint64_t index, float tMax) {
+  void hitInvocation(Invocation& inv, const accel::HitInfo& h, const uint8_t* record, uint64_t index, float tMax,
+                     const RayShader& shader) {
     begin(inv, &state, &caller);
     inv.depth = caller.depth + 1;
     setRay(inv, args, tMax);
-    setHit(inv, h);
+    setHit(inv, h, shader);
     setRecord(inv, state.hit, SbtRegion::Hit, index, record);
   }
 
@@ -313,8 +344,9 @@ struct TraceFrame final : accel::HitHandler {
     uint64_t index;
     const RayGroup* g = hitGroup(h, &record, &index);
     if (!g || !g->anyHit.entry) return accel::AnyHitResult::Accept;
-    Invocation inv{};
-    hitInvocation(inv, h, record, index, h.t);
+    Invocation& inv = *caller.task->anyHit;
+    hitInvocation(inv, h, record, index, h.t, g->anyHit);
+    inv.status = 0;
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
     inv.hitAttributes = attributes;
@@ -359,8 +391,9 @@ struct TraceFrame final : accel::HitHandler {
     uint64_t index;
     const RayGroup* g = hitGroup(h, &record, &index);
     if (!g || !g->intersection.entry) return;
-    Invocation inv{};
-    hitInvocation(inv, h, record, index, c.tMax());
+    Invocation& inv = *caller.task->intersection;
+    hitInvocation(inv, h, record, index, c.tMax(), g->intersection);
+    inv.status = 0;
     inv.hitKind = 0;
     inv.frame = this;
     inv.candidate = &c;
@@ -406,7 +439,7 @@ struct TraceFrame final : accel::HitHandler {
     const RayGroup* g = hitGroup(h, &record, &index);
     if (!g || !g->closestHit.entry) return;
     Invocation inv{};
-    hitInvocation(inv, h, record, index, h.t);
+    hitInvocation(inv, h, record, index, h.t, g->closestHit);
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
     if (h.triangle) {
@@ -476,7 +509,7 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   TraceFrame frame(caller, *args);
   if (caller.tree) frame.node = traceNode(*caller.tree, frame);
   RayTreeInvocation::Enter enter(caller.tree, frame.node);
-  const accel::Tlas* tlas = state.topLevel(args->accelerationStructure);
+  const accel::Tlas* tlas = caller.task->topLevel(state, args->accelerationStructure);
   accel::HitInfo hit;
   bool found = false;
   if (tlas) {
@@ -544,18 +577,31 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
     const uint64_t inLayer = tile % (tilesX * tilesY);
     const uint32_t x0 = uint32_t(inLayer % tilesX) * kTile, y0 = uint32_t(inLayer / tilesX) * kTile;
     const uint32_t x1 = uint32_t(std::min<uint64_t>(x0 + kTile, w)), y1 = uint32_t(std::min<uint64_t>(y0 + kTile, h));
+    // One raygen invocation for the tile's launch indices: what they share is set once (the invocation is zeroed
+    // once per tile, not per launch index), and the any-hit invocation the task's candidates reuse.
+    TaskState task;
+    task.running = &runningRecord();
+    Invocation inv{};
+    begin(inv, &state, nullptr);
+    inv.task = &task;
+    inv.launchId[2] = z;
+    for (int i = 0; i < 3; ++i) inv.launchSize[i] = launch.size[i];
+    inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
+    inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
+    inv.recordDataOutside = &state.raygenDataOutside;
+    Invocation anyHit{}, intersection{};
+    task.anyHit = &anyHit;
+    task.intersection = &intersection;
     for (uint32_t y = y0; y < y1; ++y) {
       for (uint32_t x = x0; x < x1; ++x) {
-        Invocation inv{};
-        begin(inv, &state, nullptr);
+        // What a raygen invocation changes in `inv` (run(), and OpTerminateRayKHR's status) is reset for the next.
         inv.launchId[0] = x;
         inv.launchId[1] = y;
-        inv.launchId[2] = z;
-        for (int i = 0; i < 3; ++i) inv.launchSize[i] = launch.size[i];
-        inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
-        inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
-        inv.recordDataOutside = &state.raygenDataOutside;
+        inv.stackUsed = 0;
+        inv.status = 0;
         if (state.recorder) {
+          inv.tree = nullptr;
+          inv.base.rayQueries = &state.queries;
           if (RayTreeInvocation* tree = state.recorder->find(inv.launchId)) {
             // A named launch id: its raygen is the tree's root, and its ray queries go through the tree's scope.
             inv.tree = tree;

@@ -36,6 +36,10 @@ struct RayShader {
   const abi::ResourceSlot* resources = nullptr;  // resolved for this launch, in the shader's resource order
   uint32_t stackSize = 0;                        // vkGetRayTracingShaderGroupStackSizeKHR's figure
   const char* name = "";                         // for reports: entry point and stage
+  // Whether the shader may read ObjectToWorldKHR / WorldToObjectKHR, and HitTriangleVertexPositionsKHR: a hit
+  // shader that reads neither leaves those RayInvocation fields unset (per candidate: 24 floats and a vertex fetch).
+  bool readsTransforms = true;
+  bool readsPositions = true;
 };
 
 // A shader group as an SBT record denotes it.

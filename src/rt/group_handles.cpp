@@ -70,6 +70,32 @@ const char* typeName(uint32_t t) {
 
 }  // namespace
 
+// SPIR-V tokens the scan below reads (the SPIR-V specification's numbers; the NV ray tracing built-ins share them).
+constexpr uint32_t kOpCapability = 17, kOpDecorate = 71, kOpMemberDecorate = 72, kDecorationBuiltIn = 11;
+constexpr uint32_t kBuiltInObjectToWorld = 5330, kBuiltInWorldToObject = 5331,
+                   kBuiltInHitTriangleVertexPositions = 5335;
+constexpr uint32_t kCapabilityRayTracingPositionFetch = 5336;
+
+void hitBuiltinsRead(const std::vector<uint32_t>& code, bool* transforms, bool* positions) {
+  *transforms = *positions = false;
+  for (size_t at = 5; at < code.size();) {
+    const uint32_t count = code[at] >> 16, op = code[at] & 0xFFFF;
+    if (count == 0 || at + count > code.size()) {  // malformed (validation refused it already): assume both
+      *transforms = *positions = true;
+      return;
+    }
+    if (op == kOpCapability && count >= 2 && code[at + 1] == kCapabilityRayTracingPositionFetch) *positions = true;
+    const bool decorate = op == kOpDecorate && count >= 4;
+    const bool memberDecorate = op == kOpMemberDecorate && count >= 5;
+    if ((decorate || memberDecorate) && code[at + (decorate ? 2 : 3)] == kDecorationBuiltIn) {
+      const uint32_t builtIn = code[at + (decorate ? 3 : 4)];
+      if (builtIn == kBuiltInObjectToWorld || builtIn == kBuiltInWorldToObject) *transforms = true;
+      if (builtIn == kBuiltInHitTriangleVertexPositions) *positions = true;
+    }
+    at += count;
+  }
+}
+
 Digest hash128(const void* data, size_t size, uint64_t seed) {
   const auto* p = static_cast<const uint8_t*>(data);
   uint64_t h1 = seed ^ 0x6a09e667f3bcc908ull, h2 = seed ^ 0xbb67ae8584caa73bull;

@@ -70,9 +70,20 @@ struct ShaderDesc {
   // not part of the group's content: it is derived from the fields above).
   std::shared_ptr<const spirv::CompiledShader> compiled;
 
+  // Whether the module may read ObjectToWorldKHR / WorldToObjectKHR, and HitTriangleVertexPositionsKHR (a BuiltIn
+  // decoration, or the position fetch capability, in the SPIR-V): a hit shader's invocation sets only what its
+  // shader may read (exec::RayShader). Not part of the group's content (derived from `code`).
+  bool readsTransforms = true;
+  bool readsPositions = true;
+
   // vkGetRayTracingShaderGroupStackSizeKHR's figure (spirv::RayStageInfo::stackSize says how it is derived).
   uint32_t stackSize() const { return compiled ? compiled->ray.stackSize() : 0; }
 };
+
+// Which of the hit built-ins whose per-candidate set-up costs something (ShaderDesc::readsTransforms, readsPositions)
+// the SPIR-V `code` may read: a BuiltIn decoration of ObjectToWorldKHR or WorldToObjectKHR; of
+// HitTriangleVertexPositionsKHR, or the capability RayTracingPositionFetchKHR. Malformed code reads both.
+void hitBuiltinsRead(const std::vector<uint32_t>& code, bool* transforms, bool* positions);
 
 // Slot order within a group.
 enum GroupShader : uint32_t { kGeneral = 0, kClosestHit = 1, kAnyHit = 2, kIntersection = 3 };

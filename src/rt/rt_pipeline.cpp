@@ -379,6 +379,7 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
     auto d = std::make_shared<ShaderDesc>();
     d->codeHash = ps.codeHash;
     d->code = ps.code;
+    if (ps.code) hitBuiltinsRead(*ps.code, &d->readsTransforms, &d->readsPositions);
     d->entry = st.pName;
     d->stage = st.stage;
     d->flags = st.flags;

@@ -241,6 +241,8 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   s.entry = code.rayEntry;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();
+  s.readsTransforms = d->readsTransforms;
+  s.readsPositions = d->readsPositions;
   names_.push_back(std::string(stageName(d->stage)) + " shader \"" + d->entry + "\"");
   s.name = names_.back().c_str();
   return s;

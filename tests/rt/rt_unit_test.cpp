@@ -17,8 +17,11 @@
 #include "pipeline_raygen.rgen.spv.h"
 #include "pipeline_raygen_big_payload.rgen.spv.h"
 #include "pipeline_rint.rint.spv.h"
+#include "position_fetch.rchit.newer.spvasm.spv.h"
 #include "rt/group_handles.hpp"
 #include "rt/stack_size.hpp"
+#include "rt_chit.rchit.spv.h"
+#include "rt_nv_chit.rchit.spv.h"
 #include "runtime/shader_module.hpp"
 
 namespace vkrt::rt {
@@ -197,6 +200,37 @@ TEST(StackSize, SpecFormula) {
   EXPECT_EQ(defaultPipelineStackSize(m, 1), 100u + 60u + 14u);
   // depth 3: + 2 * max(40, 30).
   EXPECT_EQ(defaultPipelineStackSize(m, 3), 100u + 60u + 80u + 14u);
+}
+
+// Which hit built-ins a shader may read decides what its invocations get (exec::RayShader): a closest-hit shader
+// reading gl_ObjectToWorldEXT / gl_WorldToObjectEXT (and the NV names, the same tokens) needs the transforms, one
+// with HitTriangleVertexPositionsKHR the positions, and a shader declaring neither needs neither.
+TEST(HitBuiltins, TheDecorationsAndTheCapabilityDecide) {
+  auto read = [](const uint32_t* words, size_t bytes, bool* transforms, bool* positions) {
+    hitBuiltinsRead(std::vector<uint32_t>(words, words + bytes / 4), transforms, positions);
+  };
+  bool transforms = false, positions = true;
+  read(kSpv_rt_chit_rchit, sizeof kSpv_rt_chit_rchit, &transforms, &positions);
+  EXPECT_TRUE(transforms);
+  EXPECT_FALSE(positions);
+  transforms = false, positions = true;
+  read(kSpv_rt_nv_chit_rchit, sizeof kSpv_rt_nv_chit_rchit, &transforms, &positions);
+  EXPECT_TRUE(transforms);
+  EXPECT_FALSE(positions);
+  transforms = true, positions = false;
+  read(kSpv_position_fetch_rchit_newer_spvasm, sizeof kSpv_position_fetch_rchit_newer_spvasm, &transforms, &positions);
+  EXPECT_FALSE(transforms);
+  EXPECT_TRUE(positions);
+  transforms = positions = true;
+  read(kSpv_pipeline_ahit_rahit, sizeof kSpv_pipeline_ahit_rahit, &transforms, &positions);
+  EXPECT_FALSE(transforms);
+  EXPECT_FALSE(positions);
+  // A module cut inside an instruction (no module reaches the scan so: validation refuses it) reads both.
+  std::vector<uint32_t> cut(kSpv_pipeline_ahit_rahit, kSpv_pipeline_ahit_rahit + 7);
+  cut[5] = (100u << 16) | (cut[5] & 0xFFFF);
+  hitBuiltinsRead(cut, &transforms, &positions);
+  EXPECT_TRUE(transforms);
+  EXPECT_TRUE(positions);
 }
 
 }  // namespace
