@@ -27,6 +27,7 @@
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/MDBuilder.h>
 #include <llvm/Support/Host.h>
 #include <llvm/Support/X86TargetParser.h>
 #include <spirv/unified1/GLSL.std.450.h>
@@ -283,10 +284,26 @@ class Spmd {
   }
   // The out-of-bounds report of a buffer access of `span` bytes at lp: the active lanes outside the range, on a cold
   // branch (shader_debug_codegen.cpp).
+  // Where the lanes are known linear (lp.first, laneStride), all N are in bounds when the last is: a scalar test,
+  // the lanes' own test only where it fails (a loop's per-lane compare costs as much as its access).
   void reportLanes(const LanePtr& lp, uint32_t kind, uint64_t span) {
     if (lp.interleaved || lp.p.resource < 0) return;
+    llvm::BasicBlock* done = nullptr;
+    if (lp.linear && lp.first && lp.laneStride > 0) {
+      llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, lp.p.limit, b.getInt64(span - 1));
+      llvm::Value* room = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, end, lp.first);
+      llvm::Value* allIn = b.CreateAnd(lp.linear, b.CreateICmpULT(b.getInt64(uint64_t(lp.laneStride) * (N - 1)), room));
+      auto* check = llvm::BasicBlock::Create(c, "spmd.lanes", fn);
+      done = llvm::BasicBlock::Create(c, "spmd.lanes.done", fn);
+      b.CreateCondBr(allIn, done, check, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+      b.SetInsertPoint(check);
+    }
     llvm::Value* failing = b.CreateAnd(mask, b.CreateNot(inBoundsLanes(lp, span)));
     sc.reportFailingLanes(lp.p, kind, span, failing, laneOffsets(lp, 0), {mask, batchBase, wgBase});
+    if (done) {
+      b.CreateBr(done);
+      b.SetInsertPoint(done);
+    }
   }
   static bool isLane(llvm::Value* v) { return v->getType()->isVectorTy(); }  // components are SPIR-V scalars
   uint32_t count(uint32_t typeId) const { return g.componentCount(typeId); }
@@ -1222,7 +1239,9 @@ bool Spmd::loadInst(const Instruction& in) {
     if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
       at.p.offset = addBytes(at.p.offset, delta);
       delta = 0;
-      reportLanes(at, abi::kAccessLoad, span);
+      LanePtr component = at;
+      component.first = nullptr;  // (lane 0's offset of the whole, not of this component)
+      reportLanes(component, abi::kAccessLoad, span);
     }
     comps.push_back(loadLeaf(at, delta, sid, span));
   }
@@ -1278,7 +1297,9 @@ bool Spmd::storeInst(const Instruction& in) {
     if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
       at.p.offset = addBytes(at.p.offset, delta);
       delta = 0;
-      reportLanes(at, abi::kAccessStore, span);
+      LanePtr component = at;
+      component.first = nullptr;  // (lane 0's offset of the whole, not of this component)
+      reportLanes(component, abi::kAccessStore, span);
     }
     storeLeaf(at, delta, sid, x, span);
   }
