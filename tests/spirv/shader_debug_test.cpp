@@ -37,6 +37,19 @@ void onBothPaths(F body) {
   spirv::setSpmd(was);
 }
 
+// Compiles `spv` (oob_read.comp's interface: binding 0 holds 10, 11, 12, 13, binding 1 four 9s, a 32-bit push
+// constant), checks that the path `spmd` names compiled it, and dispatches one workgroup with `push` into `job`.
+template <size_t N>
+void dispatchWithPush(testing::ComputeHarness& h, const uint32_t (&spv)[N], bool spmd, uint32_t push, exec::Job& job) {
+  ASSERT_TRUE(h.compile(spv)) << h.error;
+  EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
+  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  std::memcpy(h.push, &push, 4);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+}
+
 using spirv::formatPrintf;
 using spirv::PrintfArg;
 
@@ -169,15 +182,9 @@ TEST(DebugPrintfCompiled, MessagesPastTheLimitAreCounted) {
 TEST(OutOfBoundsCompiled, AReadPastTheBufferIsNamedByWordOffset) {
   onBothPaths([](bool spmd) {
     testing::ComputeHarness h;
-    ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
-    EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
-    h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-    h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-    const uint32_t shift = 64;
-    std::memcpy(h.push, &shift, 4);
     exec::Job job(nullptr, 0);
-    h.job = &job;
-    ASSERT_TRUE(h.run(1));
+    const uint32_t shift = 64;
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, shift, job));
     EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));  // zeros, as robustness says
     std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
     ASSERT_EQ(sites.size(), 1u);  // one report per site, whatever the invocations
@@ -203,15 +210,9 @@ TEST(OutOfBoundsCompiled, AReadPastTheBufferIsNamedByWordOffset) {
 TEST(OutOfBoundsCompiled, OnlyTheInvocationsOutsideAreReported) {
   onBothPaths([](bool spmd) {
     testing::ComputeHarness h;
-    ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
-    EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
-    h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-    h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-    const uint32_t shift = 2;  // invocations 0 and 1 read elements 2 and 3; 2 and 3 read past the end
-    std::memcpy(h.push, &shift, 4);
     exec::Job job(nullptr, 0);
-    h.job = &job;
-    ASSERT_TRUE(h.run(1));
+    // Invocations 0 and 1 read elements 2 and 3; 2 and 3 read past the end.
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, 2, job));
     EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{12, 13, 0, 0}));
     std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
     ASSERT_EQ(sites.size(), 1u);
@@ -227,15 +228,8 @@ TEST(OutOfBoundsCompiled, OnlyTheInvocationsOutsideAreReported) {
 TEST(OutOfBoundsCompiled, AUniformAccessNamesAnInvocationThatMadeIt) {
   onBothPaths([](bool spmd) {
     testing::ComputeHarness h;
-    ASSERT_TRUE(h.compile(kSpv_oob_uniform_lane_comp)) << h.error;
-    EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
-    h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-    h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-    const uint32_t shift = 5;
-    std::memcpy(h.push, &shift, 4);
     exec::Job job(nullptr, 0);
-    h.job = &job;
-    ASSERT_TRUE(h.run(1));
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_uniform_lane_comp, spmd, 5, job));
     EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{7, 7, 0, 0}));
     std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
     ASSERT_EQ(sites.size(), 1u);
@@ -367,13 +361,8 @@ TEST(OutOfBoundsCompiled, ACountedLoopThatStopsAtTheEndReportsNothing) {
 TEST(OutOfBoundsCompiled, InBoundsAccessesReportNothing) {
   onBothPaths([](bool spmd) {
     testing::ComputeHarness h;
-    ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
-    EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
-    h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-    h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
     exec::Job job(nullptr, 0);
-    h.job = &job;
-    ASSERT_TRUE(h.run(1));
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, 0, job));
     EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{10, 11, 12, 13}));
     EXPECT_TRUE(job.messages.empty());
   });
