@@ -4,12 +4,16 @@
 // layer's debug printf delivers them: "UNASSIGNED-DEBUG-PRINTF") and the store, named with its file and line
 // ("VKRT-shader-out-of-bounds").
 //
-//   VK_DRIVER_FILES=<build>/vkrt_icd.json ./shader_debug
+//   VK_DRIVER_FILES=<build>/vkrt_icd.json ./shader_debug [--frames N]
 //
-// Exits 0 and prints "shader_debug: OK" when the squares are right and, on vkrt, both kinds of message came.
+// --frames N submits the same command buffer N more times, quietly, and prints the time per frame (submit to idle,
+// the messages' delivery included): docs/shader-debugging.md compares it with the validation layer's modes. Exits 0 and
+// prints "shader_debug: OK" when the squares are right and, on vkrt, both kinds of message came.
 #include <vulkan/vulkan.h>
 
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -19,11 +23,17 @@
 namespace {
 
 int gPrintfs = 0, gOutOfBounds = 0;
+bool gQuiet = false;  // the timed frames: counted (also the validation layer's GPU-assisted report), not printed
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
   const std::string id = data->pMessageIdName ? data->pMessageIdName : "";
   const std::string text = data->pMessage ? data->pMessage : "";
+  if (gQuiet) {
+    gPrintfs += id == "UNASSIGNED-DEBUG-PRINTF";
+    gOutOfBounds += id == "VKRT-shader-out-of-bounds" || id == "VUID-vkCmdDispatch-None-02706";
+    return VK_FALSE;
+  }
   if (id == "UNASSIGNED-DEBUG-PRINTF") {
     // What the shader printed follows the last " | ", as with the validation layer.
     size_t at = text.rfind(" | ");
@@ -38,8 +48,16 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   example::gProgram = "shader_debug";
+  int frames = 0;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
+      frames = std::atoi(argv[++i]);
+    } else {
+      example::fail(std::string("unknown argument ") + argv[i] + " (usage: shader_debug [--frames N])");
+    }
+  }
   // The messenger, also chained into the instance's create info, takes INFO too: printf messages are INFO.
   VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
   mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
@@ -175,6 +193,19 @@ int main() {
   const auto* squares = static_cast<const uint32_t*>(mapped);
   for (uint32_t i = 0; i < 8; ++i) ok = ok && squares[i] == i * i;
   if (vkrt) ok = ok && gPrintfs == 8 && gOutOfBounds == 1;
+  const int printfs = gPrintfs, outOfBounds = gOutOfBounds;
+
+  if (frames > 0) {
+    gQuiet = true;
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < frames; ++i) {
+      CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
+      CHECK(vkQueueWaitIdle(queue));
+    }
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%d frames on %s: %.3f ms per frame; %d printf messages, %d out-of-bounds reports in all\n", frames,
+                props.deviceName, ms / frames, gPrintfs, gOutOfBounds);
+  }
 
   vkDestroyCommandPool(dev, commandPool, nullptr);
   vkDestroyDescriptorPool(dev, pool, nullptr);
@@ -190,8 +221,8 @@ int main() {
   destroyMessenger(instance, messenger, nullptr);
   vkDestroyInstance(instance, nullptr);
   if (!ok)
-    example::fail("unexpected squares or messages (" + std::to_string(gPrintfs) + " printf messages, " +
-                  std::to_string(gOutOfBounds) + " out-of-bounds reports)");
+    example::fail("unexpected squares or messages (" + std::to_string(printfs) + " printf messages, " +
+                  std::to_string(outOfBounds) + " out-of-bounds reports)");
   std::printf("shader_debug: OK\n");
   return 0;
 }

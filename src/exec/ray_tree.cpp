@@ -194,6 +194,23 @@ void recordGet(void* query, uint32_t op, uint32_t committed, void* out) {
 const abi::RayQueryRuntime kRecordingRuntime = {&recordInitialize, &recordProceed, &recordTerminate,
                                                 &recordGenerate,   &recordConfirm, &recordGet};
 
+// A dispatch's scope (RayTreeRecorder::computeScope): the calling invocation is the context in args->payload.
+void selectInitialize(const abi::RayQueryScope* scope, void* query, const abi::TraceRayArgs* args) {
+  const auto& s = *static_cast<const RayTreeRecorder::ComputeScope*>(scope);
+  const auto* ctx = static_cast<const abi::InvocationContext*>(args->payload);
+  if (RayTreeInvocation* inv = ctx ? s.recorder->find(ctx->globalId) : nullptr) {
+    inv->ran = true;
+    recordInitialize(&inv->queries, query, args);
+    return;
+  }
+  rayQueryRuntime().initialize(s.inner, query, args);
+  // The variable may hold a named invocation's earlier query (the same stack slot in vkrt_group): not recorded now.
+  reinterpret_cast<QueryTail*>(static_cast<uint8_t*>(query) + kTailOffset)->tag = 0;
+}
+
+const abi::RayQueryRuntime kComputeRuntime = {&selectInitialize, &recordProceed, &recordTerminate,
+                                              &recordGenerate,   &recordConfirm, &recordGet};
+
 }  // namespace
 
 RayTreeRecorder::RayTreeRecorder(const std::vector<RayTreeId>& ids, RayQueryScope* queries) : invocations_(ids.size()) {
@@ -204,10 +221,14 @@ RayTreeRecorder::RayTreeRecorder(const std::vector<RayTreeId>& ids, RayQueryScop
     inv.queries.inner = queries;
     inv.queries.owner = &inv;
   }
+  compute_.runtime = &kComputeRuntime;
+  compute_.recorder = this;
+  compute_.inner = queries;
 }
 
 void RayTreeRecorder::setQueryScope(RayQueryScope* queries) {
   for (RayTreeInvocation& inv : invocations_) inv.queries.inner = queries;
+  compute_.inner = queries;
 }
 
 RayTreeInvocation* RayTreeRecorder::find(const uint32_t id[3]) {

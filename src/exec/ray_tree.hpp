@@ -134,14 +134,24 @@ class RayTreeRecorder {
   RayTreeRecorder(const std::vector<RayTreeId>& ids, RayQueryScope* queries = nullptr);
   // The scope the recorded invocations' ray queries resolve through (the executor's, set when the launch starts).
   void setQueryScope(RayQueryScope* queries);
+  // The scope of every invocation of a dispatch (compute ids): each rayQueryInitialize finds its invocation by the
+  // global id in the context compute shaders pass in TraceRayArgs::payload, and records where that id is named;
+  // the others go to setQueryScope's scope unrecorded.
+  const abi::RayQueryScope* computeScope() const { return &compute_; }
   // The invocation `id` names, or null: a bisection of the small sorted list.
   RayTreeInvocation* find(const uint32_t id[3]);
   // Whether an id lies in the box [lo, lo + size) (a compute workgroup).
   bool anyIn(const uint32_t lo[3], const uint32_t size[3]) const;
   std::vector<RayTreeInvocation>& invocations() { return invocations_; }
 
+  struct ComputeScope : abi::RayQueryScope {
+    RayTreeRecorder* recorder = nullptr;
+    RayQueryScope* inner = nullptr;
+  };
+
  private:
   std::vector<RayTreeInvocation> invocations_;
+  ComputeScope compute_;
 };
 
 // Converts a traversal hit.

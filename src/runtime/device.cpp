@@ -66,13 +66,6 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
     std::string error;
     if (exec::parseRayTreeSelection(env, &rayTree, &error)) {
       if (const char* out = std::getenv("VKRT_RAY_TREE_OUT")) rayTreeOut = out;
-      // A compute shader without barriers runs a workgroup per call with the invocation ids in registers: the
-      // executor cannot tell which invocation makes a ray query (docs/ray-tree.md, "Limits").
-      if (!rayTree.computeIds.empty())
-        report(physical, Severity::Warning, nullptr,
-               "vkCreateDevice: VKRT_RAY_TREE names %zu compute global invocation id(s); vkrt records the ray trees "
-               "of ray tracing launch ids only, and ignores them",
-               rayTree.computeIds.size());
     } else {
       report(physical, Severity::Warning, nullptr,
              "vkCreateDevice: VKRT_RAY_TREE=\"%s\" is malformed: %s; no ray tree is recorded (the syntax: "

@@ -2,9 +2,11 @@
 // bound compute pipeline's resources from the bound descriptor sets and run the workgroups on the executor
 // (src/exec/compute.hpp).
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "exec/compute.hpp"
+#include "exec/ray_tree.hpp"
 #include "runtime/acceleration_structure.hpp"
 #include "runtime/bound_resources.hpp"
 #include "runtime/buffer.hpp"
@@ -12,6 +14,7 @@
 #include "runtime/compute_pipeline.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
+#include "runtime/ray_tree_output.hpp"
 #include "runtime/report.hpp"
 #include "runtime/shader_messages.hpp"
 #include "vkrt_entrypoints.h"
@@ -50,6 +53,18 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
   DispatchStructures structures(cb->device, cb, fn);
   exec::RayQueryScope rayQueries(&structures);
   d.rayQueries = &rayQueries;
+  // VKRT_RAY_TREE's compute ids (decided once per dispatch): every invocation's ray queries go through the
+  // recorder's scope, which records those of the named ids.
+  std::unique_ptr<exec::RayTreeRecorder> rayTree = rayTreeRecorder(cb->device, true);
+  const std::string shaderName = "compute shader \"" + sh.entryName + "\"";
+  if (rayTree) {
+    rayTree->setQueryScope(&rayQueries);
+    for (exec::RayTreeInvocation& inv : rayTree->invocations()) {
+      inv.root.stage = "compute";
+      inv.root.name = shaderName;
+    }
+    d.rayQueries = rayTree->computeScope();
+  }
   for (int k = 0; k < 3; ++k) {
     d.base[k] = base[k];
     d.count[k] = count[k];
@@ -57,7 +72,6 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
   // Supervised (the watchdog's time limit, fault recovery): registered before the device's halted() check, so
   // that vkDestroyDevice either finds the job to cancel or has already made the check fail.
   Device* dev = cb->device;
-  const std::string shaderName = "compute shader \"" + sh.entryName + "\"";
   exec::Job job(dev, dev->shaderTimeoutMs);
   job.shaderName = shaderName.c_str();
   if (dev->halted()) return;
@@ -66,6 +80,14 @@ void executeDispatch(const CommandBuffer* cb, ExecState& st, const uint32_t base
     report(cb, Severity::Error, nullptr, "%s: out of memory for workgroup fibers; workgroups were skipped", fn);
   if (job.aborted()) dev->shaderAborted(pipeline, fn, job.abort());
   deliverShaderMessages(cb, pipeline, fn, job.messages, descriptorNamer(sh, d.resources));
+  if (rayTree) {
+    exec::RayTreeContext ctx;
+    ctx.command = fn;
+    ctx.pipeline = pipeline->handleValue();
+    ctx.compute = true;
+    for (int k = 0; k < 3; ++k) ctx.size[k] = count[k];
+    deliverRayTrees(cb, dev, *rayTree, std::move(ctx), true);
+  }
 }
 
 const VkPhysicalDeviceLimits& limitsOf(const CommandBuffer* cb) {

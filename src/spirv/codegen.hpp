@@ -176,6 +176,23 @@ class Codegen {
   // accesses through this scalar code in every block, also where no lane is active (a loop body's pass after the
   // last lane has left): such an access does not happen in the shader and must not be reported.
   llvm::Value* reportIf = nullptr;
+  // The SPMD path (spmd.cpp) runs a batch of lanes, local invocation indices batchBase + lane, global ids
+  // wgBase + the local ids: while `laneReport` is set, a report names the first lane of its `mask` (<N x i1>) rather
+  // than the workgroup's context.
+  struct LaneReport {
+    llvm::Value* mask;
+    llvm::Value* batchBase;
+    llvm::Value* const* wgBase;
+  };
+  const LaneReport* laneReport = nullptr;
+  // The SPMD path's per-lane check: where a lane of `failing` (<N x i1>) is set, a cold branch reports the first
+  // such lane's access of `bytes` at its lane of `offsets` (<N x i64>), as the scalar code reports it.
+  void reportFailingLanes(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* failing, llvm::Value* offsets,
+                          const LaneReport& lanes);
+  // A copy of the context at ctxArg naming local invocation `localIndex` (i32; its global id `base` + its local id),
+  // for a report (one slot per function).
+  llvm::Value* reportContext(llvm::Value* localIndex, llvm::Value* const base[3]);
+  llvm::Value* reportContextSlot = nullptr;
   // vkrt_group's report of the log (after its loop over the invocations).
   void reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]);
   // The AccessSite of the current instruction (a constant of the module).

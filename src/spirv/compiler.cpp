@@ -412,7 +412,7 @@ bool Codegen::run(const EntryPoint& ep) {
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
   // Shaders without barriers: the SPMD form of vkrt_group where it supports the shader (spmd.cpp), else the loop.
-  // (The SPMD form does not report out-of-bounds accesses yet: docs/shader-debugging.md.)
+  // (The SPMD form reports out-of-bounds accesses lane by lane: Codegen::reportFailingLanes.)
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
   if (groupLog && info.usesBarrier) {
     error = "internal compiler error: the out-of-bounds log assumed vkrt_group";

@@ -104,6 +104,11 @@ bool Codegen::rayQuery(const Instruction& in, bool& ok) {
         b.CreateAlignedStore(b.CreateExtractElement(direction, uint64_t(i)),
                              at(offsetof(TraceRayArgs, direction) + 4 * i), llvm::Align(4));
       }
+      // Compute shaders: the invocation's context in `payload` (which ray queries do not use), where a dispatch's ray
+      // tree scope reads the global invocation id (VKRT_RAY_TREE's compute ids, exec/ray_tree.hpp). In vkrt_group
+      // the local context holds the running invocation's id.
+      if (model == spv::ExecutionModelGLCompute)
+        b.CreateAlignedStore(ctxArg, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
       auto* ty = llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy}, false);
       b.CreateCall(ty, queryFunction(*this, offsetof(RayQueryRuntime, initialize)), {scope(*this), query, args});
       return true;

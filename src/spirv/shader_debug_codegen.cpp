@@ -12,6 +12,13 @@ namespace vkrt::spirv {
 
 namespace {
 
+// The index (i32) of the first set lane of `mask` (<N x i1>, not all clear).
+llvm::Value* firstLane(Codegen& g, llvm::Value* mask) {
+  auto* vt = llvm::cast<llvm::FixedVectorType>(mask->getType());
+  llvm::Value* bits = g.b.CreateBitCast(mask, g.b.getIntNTy(vt->getNumElements()));
+  return g.b.CreateZExtOrTrunc(g.b.CreateBinaryIntrinsic(llvm::Intrinsic::cttz, bits, g.b.getTrue()), g.b.getInt32Ty());
+}
+
 llvm::GlobalVariable* siteConstant(Codegen& g, const std::string& bytes) {
   auto it = g.siteGlobals.find(bytes);
   if (it != g.siteGlobals.end()) return it->second;
@@ -110,8 +117,58 @@ void Codegen::callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Valu
   llvm::FunctionCallee f = out.getOrInsertFunction(
       "vkrt_out_of_bounds",
       llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy(), i64t, i64t, i64t}, false));
-  auto* call = b.CreateCall(f, {ctxArg, site, offset, range, element ? element : i64(0)});
+  llvm::Value* ctx = ctxArg;
+  if (laneReport) {
+    // The SPMD path: the first active lane (a uniform access, run once for the batch) makes the report.
+    llvm::Value* lane = firstLane(*this, laneReport->mask);
+    ctx = reportContext(b.CreateAdd(laneReport->batchBase, lane), laneReport->wgBase);
+  }
+  auto* call = b.CreateCall(f, {ctx, site, offset, range, element ? element : i64(0)});
   call->addFnAttr(llvm::Attribute::Cold);
+}
+
+llvm::Value* Codegen::reportContext(llvm::Value* localIndex, llvm::Value* const base[3]) {
+  llvm::Function* f = b.GetInsertBlock()->getParent();
+  auto* slot = llvm::dyn_cast_or_null<llvm::AllocaInst>(reportContextSlot);
+  if (!slot || slot->getFunction() != f) {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(&*f->getEntryBlock().getFirstInsertionPt());
+    slot = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
+    slot->setAlignment(llvm::Align(16));
+    reportContextSlot = slot;
+  }
+  b.CreateMemCpy(slot, llvm::MaybeAlign(16), ctxArg, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  llvm::Type* i32t = b.getInt32Ty();
+  llvm::Value* index = b.CreateZExtOrTrunc(localIndex, i32t);
+  llvm::Value* local[3] = {
+      b.CreateURem(index, b.getInt32(info.localSize[0])),
+      b.CreateURem(b.CreateUDiv(index, b.getInt32(info.localSize[0])), b.getInt32(info.localSize[1])),
+      b.CreateUDiv(index, b.getInt32(info.localSize[0] * info.localSize[1]))};
+  for (int d = 0; d < 3; ++d)
+    b.CreateAlignedStore(b.CreateAdd(base[d], local[d]),
+                         b.CreateConstGEP1_64(b.getInt8Ty(), slot, offsetof(InvocationContext, globalId) + 4 * d),
+                         llvm::Align(4));
+  return slot;
+}
+
+void Codegen::reportFailingLanes(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::Value* failing,
+                                 llvm::Value* offsets, const LaneReport& lanes) {
+  if (p.resource < 0 || !ctxArg) return;
+  llvm::Function* f = b.GetInsertBlock()->getParent();
+  auto* report = llvm::BasicBlock::Create(c, "spmd.outofbounds", f);
+  auto* next = llvm::BasicBlock::Create(c, "spmd.outofbounds.next", f);
+  b.CreateCondBr(b.CreateOrReduce(failing), report, next, llvm::MDBuilder(c).createBranchWeights(1, 1u << 20));
+  b.SetInsertPoint(report);
+  llvm::Value* lane = firstLane(*this, failing);
+  llvm::Value* offset = b.CreateExtractElement(offsets, lane);
+  llvm::Value* saved = ctxArg;
+  ctxArg = reportContext(b.CreateAdd(lanes.batchBase, lane), lanes.wgBase);
+  const LaneReport* savedLanes = std::exchange(laneReport, nullptr);
+  callOutOfBounds(accessSiteFor(p, kind, bytes), offset, p.unmaskedLimit ? p.unmaskedLimit : p.limit, p.element);
+  laneReport = savedLanes;
+  ctxArg = saved;
+  b.CreateBr(next);
+  b.SetInsertPoint(next);
 }
 
 llvm::BasicBlock* Codegen::outOfBoundsBlock(const Ptr& p, uint32_t kind, uint64_t bytes, llvm::BasicBlock* join,
@@ -225,15 +282,6 @@ void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* 
   // Pass 2 (an access went out of bounds): each entry reported, with its invocation's ids in a context of its own
   // (passing `local` to a call would keep LLVM from keeping it in registers).
   b.SetInsertPoint(entries);
-  llvm::Value* reportCtx;
-  {
-    llvm::IRBuilderBase::InsertPointGuard guard(b);
-    b.SetInsertPoint(&*f->getEntryBlock().getFirstInsertionPt());
-    auto* a = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
-    a->setAlignment(llvm::Align(16));
-    reportCtx = a;
-  }
-  b.CreateMemCpy(reportCtx, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
   llvm::Value* slots = b.CreateAlignedLoad(
       b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, resources)), llvm::Align(8));
   auto* loop = llvm::BasicBlock::Create(c, "oob.entry", f);
@@ -268,17 +316,9 @@ void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* 
   llvm::Value* range =
       b.CreateSelect(b.CreateICmpEQ(kind, b.getInt32(abi::kAccessDescriptorIndex)), count, elementRange);
   // The invocation: local index k.
-  llvm::Value* k32 = b.CreateTrunc(k, i32t);
-  llvm::Value* local3[3] = {
-      b.CreateURem(k32, b.getInt32(info.localSize[0])),
-      b.CreateURem(b.CreateUDiv(k32, b.getInt32(info.localSize[0])), b.getInt32(info.localSize[1])),
-      b.CreateUDiv(k32, b.getInt32(info.localSize[0] * info.localSize[1]))};
-  for (int d = 0; d < 3; ++d)
-    b.CreateAlignedStore(b.CreateAdd(base[d], local3[d]),
-                         b.CreateConstGEP1_64(b.getInt8Ty(), reportCtx, offsetof(InvocationContext, globalId) + 4 * d),
-                         llvm::Align(4));
   llvm::Value* saved = ctxArg;
-  ctxArg = reportCtx;
+  ctxArg = ctx;
+  ctxArg = reportContext(k, base);
   callOutOfBounds(site, offset, range, element);
   ctxArg = saved;
   b.CreateBr(latch);

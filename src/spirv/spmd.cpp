@@ -27,6 +27,7 @@
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/MDBuilder.h>
 #include <llvm/Support/Host.h>
 #include <llvm/Support/X86TargetParser.h>
 #include <spirv/unified1/GLSL.std.450.h>
@@ -35,6 +36,7 @@
 #include <atomic>
 #include <functional>
 
+#include "abi/shader_debug.hpp"
 #include "spirv/codegen.hpp"
 #include "spirv/target.hpp"
 #include "spirv/uniformity.hpp"
@@ -147,11 +149,38 @@ class Spmd {
   llvm::Value* any(llvm::Value* mk) { return b.CreateOrReduce(mk); }
   // A uniform access (or access chain) in the scalar code: it runs whatever the mask, so its out-of-bounds report
   // is made only where a lane is active (Codegen::reportIf).
+  // The report names the first active lane (Codegen::laneReport).
   bool scalarMemory(const Instruction& in, bool& ok) {
     sc.reportIf = any(mask);
+    Codegen::LaneReport lanes{mask, batchBase, wgBase};
+    sc.laneReport = &lanes;
     bool done = sc.memory(in, ok);
+    sc.laneReport = nullptr;
     sc.reportIf = nullptr;
     return done;
+  }
+  // The out-of-bounds report of a buffer access of `span` bytes at lp: the active lanes outside the range, on a cold
+  // branch (shader_debug_codegen.cpp).
+  // Where the lanes are known linear (lp.first, laneStride), all N are in bounds when the last is: a scalar test,
+  // the lanes' own test only where it fails (a loop's per-lane compare costs as much as its access).
+  void reportLanes(const LanePtr& lp, uint32_t kind, uint64_t span) {
+    if (lp.interleaved || lp.p.resource < 0) return;
+    llvm::BasicBlock* done = nullptr;
+    if (lp.linear && lp.first && lp.laneStride > 0) {
+      llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, lp.p.limit, b.getInt64(span - 1));
+      llvm::Value* room = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, end, lp.first);
+      llvm::Value* allIn = b.CreateAnd(lp.linear, b.CreateICmpULT(b.getInt64(uint64_t(lp.laneStride) * (N - 1)), room));
+      auto* check = llvm::BasicBlock::Create(c, "spmd.lanes", fn);
+      done = llvm::BasicBlock::Create(c, "spmd.lanes.done", fn);
+      b.CreateCondBr(allIn, done, check, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+      b.SetInsertPoint(check);
+    }
+    llvm::Value* failing = b.CreateAnd(mask, b.CreateNot(inBoundsLanes(lp, span)));
+    sc.reportFailingLanes(lp.p, kind, span, failing, laneOffsets(lp, 0), {mask, batchBase, wgBase});
+    if (done) {
+      b.CreateBr(done);
+      b.SetInsertPoint(done);
+    }
   }
   static bool isLane(llvm::Value* v) { return v->getType()->isVectorTy(); }  // components are SPIR-V scalars
   uint32_t count(uint32_t typeId) const { return g.componentCount(typeId); }
@@ -413,6 +442,7 @@ bool Spmd::block(size_t bi) {
   llvm::Value* incoming = b.CreateLoad(maskTy(), mine);
   b.CreateStore(llvm::Constant::getNullValue(maskTy()), mine);
   mask = bi == 0 ? mask : incoming;
+  sc.setLine(nullptr);  // an OpLine holds to the end of its block
   size_t i = blk.first + 1;
   for (; i < blk.last && m.instructions[i].op == spv::OpPhi; ++i) {
     const Instruction& phi = m.instructions[i];
@@ -478,8 +508,8 @@ bool Spmd::block(size_t bi) {
 
 bool Spmd::instruction(const Instruction& in) {
   switch (in.op) {
-    case spv::OpLine:
-    case spv::OpNoLine:
+    case spv::OpLine: return sc.setLine(&in), true;  // where out-of-bounds reports say the access is
+    case spv::OpNoLine: return sc.setLine(nullptr), true;
     case spv::OpNop:
     case spv::OpUndef:
     case spv::OpSelectionMerge:
@@ -1056,12 +1086,16 @@ bool Spmd::loadInst(const Instruction& in) {
   uint64_t stride = t.kind == Type::Vector && lp->p.vecStride ? lp->p.vecStride : cs;
   // A packed vector is in or out of bounds as a whole; strided components (row-major columns) one by one.
   uint64_t span = stride == cs ? cs * count(rt) : cs;
+  if (stride == cs) reportLanes(*lp, abi::kAccessLoad, span);
   for (uint32_t k = 0; k < count(rt); ++k) {
     LanePtr at = *lp;
     uint64_t delta = k * stride;
     if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
       at.p.offset = addBytes(at.p.offset, delta);
       delta = 0;
+      LanePtr component = at;
+      component.first = nullptr;  // (lane 0's offset of the whole, not of this component)
+      reportLanes(component, abi::kAccessLoad, span);
     }
     comps.push_back(loadLeaf(at, delta, sid, span));
   }
@@ -1096,7 +1130,10 @@ bool Spmd::storeInst(const Instruction& in) {
     if (!value) return fail("a stored value without a value");
     ifAny(mask, [&] {
       sc.b.SetInsertPoint(b.GetInsertBlock());
+      Codegen::LaneReport lanes{mask, batchBase, wgBase};
+      sc.laneReport = &lanes;
       sc.store(target, value);
+      sc.laneReport = nullptr;
     });
     return true;
   }
@@ -1105,6 +1142,7 @@ bool Spmd::storeInst(const Instruction& in) {
   uint64_t cs = g.layoutSize(sid, 0, false);
   uint64_t stride = t.kind == Type::Vector && lp->p.vecStride ? lp->p.vecStride : cs;
   uint64_t span = stride == cs ? cs * count(ty) : cs;
+  if (stride == cs) reportLanes(*lp, abi::kAccessStore, span);
   for (uint32_t k = 0; k < count(ty); ++k) {
     llvm::Value* x = laneComp(v, k);
     if (!x) return fail("a stored value without a value");
@@ -1113,6 +1151,9 @@ bool Spmd::storeInst(const Instruction& in) {
     if (stride != cs) {  // a strided component (a row-major matrix's column) is checked alone
       at.p.offset = addBytes(at.p.offset, delta);
       delta = 0;
+      LanePtr component = at;
+      component.first = nullptr;  // (lane 0's offset of the whole, not of this component)
+      reportLanes(component, abi::kAccessStore, span);
     }
     storeLeaf(at, delta, sid, x, span);
   }

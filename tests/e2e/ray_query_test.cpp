@@ -6,8 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -18,6 +22,8 @@
 #include "ray_query_many.comp.spv.h"
 #include "ray_query_raygen.rgen.spv.h"
 #include "ray_query_scene.comp.spv.h"
+
+#include <unistd.h>
 
 namespace vkrt::test {
 namespace {
@@ -489,6 +495,77 @@ TEST_F(RayQueryTest, InARaygenShaderGeneratedHitsAgreeWithAnIntersectionShader) 
   }
   EXPECT_GT(spheres, 6);
   EXPECT_GT(quads, 6);
+}
+
+// VKRT_RAY_TREE's compute ids (docs/ray-tree.md): the ray query of global invocation 9 (in the second workgroup of
+// ray_query_scene.comp, which runs in vkrt_group) is recorded under the compute shader, as ray_tree_test.cpp's
+// raygen query is: a non-opaque quad at z = 2 (t = 12, confirmed) in front of an opaque one at z = 5 (t = 15,
+// committed by the traversal). Invocation 9's ray alone has tMax 99, so the tree shows it is that invocation's; the
+// invocations after it in the workgroup (same query variable) add nothing to it.
+class RayTreeComputeTest : public RayQueryTest {
+ protected:
+  bool layer() override { return false; }  // the tree names the pipeline by vkrt's handle
+  const std::string out = "/tmp/vkrt_ray_tree_compute_" + std::to_string(getpid()) + ".txt";
+
+  void SetUp() override {
+    std::remove(out.c_str());
+    setenv("VKRT_RAY_TREE", "compute:9", 1);
+    setenv("VKRT_RAY_TREE_OUT", out.c_str(), 1);
+    RayQueryTest::SetUp();
+    if (!HasFatalFailure() && device && !onVkrt()) GTEST_SKIP() << "VKRT_RAY_TREE is vkrt's";
+  }
+  void TearDown() override {
+    RayQueryTest::TearDown();
+    unsetenv("VKRT_RAY_TREE");
+    unsetenv("VKRT_RAY_TREE_OUT");
+    std::remove(out.c_str());
+  }
+  std::string written() const {
+    std::ifstream f(out);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  }
+};
+TEST_F(RayTreeComputeTest, TheNamedInvocationsQueryIsRecorded) {
+  VkAccelerationStructureKHR quadNo = blas({triangles(kQuad, kQuadIndices, 0)});
+  VkAccelerationStructureKHR quadOpaque = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(quadNo, -1, -1, 2, 10, 0), instance(quadOpaque, 0, 0, 5, 20, 0)});
+  std::vector<RayIn> rays(12, ray(-0.5f, -0.5f));
+  rays[9] = ray(-0.5f, -0.5f, kConfirm, 0, 0xff, 0, 99);
+  const std::vector<Result> r = shoot(top, rays);
+  for (size_t i = 0; i < r.size(); ++i) EXPECT_NEAR(r[i].hit[0], 12, 1e-4) << i;
+  const std::string text = written();
+  const std::string head = "ray tree of global invocation id 9,0,0 in vkCmdDispatch #0 (pipeline 0x";
+  ASSERT_EQ(text.compare(0, head.size(), head), 0) << text;
+  EXPECT_NE(text.find(", workgroups 2x1x1)\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("ray tree of", 1), std::string::npos) << "one tree: " << text;
+  auto tOf = [&](const std::string& prefix) {
+    size_t p = text.find(prefix);
+    EXPECT_NE(p, std::string::npos) << prefix << "\n" << text;
+    if (p == std::string::npos) return std::string("0");
+    p += prefix.size();
+    return text.substr(p, text.find(' ', p) - p);
+  };
+  const std::string t12 = tOf("proceed: candidate triangle t="), t15 = tOf("; committed triangle t=");
+  EXPECT_NEAR(std::stod(t12), 12, 12e-4);
+  EXPECT_NEAR(std::stod(t15), 15, 15e-4);
+  char as[32];
+  std::snprintf(as, sizeof as, "0x%" PRIx64, addressOf(top));
+  const std::string nearHit = "triangle t=" + t12 + " instance 0 (custom 10) geometry 0 primitive 1 hitKind 0xff";
+  const std::string farHit = "triangle t=" + t15 + " instance 1 (custom 20) geometry 0 primitive 0 hitKind 0xff";
+  const std::string want = "  compute shader \"main\"\n    rayQueryInitialize as " + std::string(as) +
+                           " origin (-0.5, -0.5, -10) direction (0, 0, 1) tMin 0 tMax 99 flags 0x0 cullMask 0xff\n" +
+                           "      proceed: candidate " + nearHit + "; committed " + farHit + "\n" +
+                           "      confirm: committed " + nearHit + "\n" + "      proceed: false; committed " + nearHit +
+                           "\n";
+  const size_t at = text.find('\n');
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(text.substr(at + 1), want);
+  // The valid side: a dispatch of one workgroup (invocations 0..7) does not run the named id: nothing is written.
+  std::remove(out.c_str());
+  shoot(top, std::vector<RayIn>(8, ray(-0.5f, -0.5f)));
+  EXPECT_EQ(written(), "");
 }
 
 // Ray queries on an address from the shader (OpConvertUToAccelerationStructureKHR): a built top level is traversed;

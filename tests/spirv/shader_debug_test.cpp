@@ -14,6 +14,7 @@
 #include "oob_counted_loop.spvasm.spv.h"
 #include "oob_index.comp.spv.h"
 #include "oob_read.comp.spv.h"
+#include "oob_uniform_lane.comp.spv.h"
 #include "printf_compute.comp.spv.h"
 #include "shader_debug_scan.hpp"
 #include "spirv/compiler.hpp"
@@ -23,14 +24,31 @@
 namespace vkrt {
 namespace {
 
-// Out-of-bounds reports come from the scalar path only: compute shaders the SPMD path compiles (spirv/spmd.cpp)
-// keep the robustness behaviour but report nothing yet (docs/shader-debugging.md), so these tests compile for the
-// scalar path, whatever VKRT_SPMD says.
-struct ScalarPath {
-  ScalarPath() : was(spirv::spmdEnabled()) { spirv::setSpmd(false); }
-  ~ScalarPath() { spirv::setSpmd(was); }
-  bool was;
-};
+// Out-of-bounds reports on both compute paths: `body(spmd)` runs with the scalar path (VKRT_SPMD=0's) and with the
+// SPMD path (spirv/spmd.cpp), whatever VKRT_SPMD says.
+template <class F>
+void onBothPaths(F body) {
+  const bool was = spirv::spmdEnabled();
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD path" : "scalar path");
+    spirv::setSpmd(spmd);
+    body(spmd);
+  }
+  spirv::setSpmd(was);
+}
+
+// Compiles `spv` (oob_read.comp's interface: binding 0 holds 10, 11, 12, 13, binding 1 four 9s, a 32-bit push
+// constant), checks that the path `spmd` names compiled it, and dispatches one workgroup with `push` into `job`.
+template <size_t N>
+void dispatchWithPush(testing::ComputeHarness& h, const uint32_t (&spv)[N], bool spmd, uint32_t push, exec::Job& job) {
+  ASSERT_TRUE(h.compile(spv)) << h.error;
+  EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
+  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
+  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+  std::memcpy(h.push, &push, 4);
+  h.job = &job;
+  ASSERT_TRUE(h.run(1));
+}
 
 using spirv::formatPrintf;
 using spirv::PrintfArg;
@@ -162,74 +180,119 @@ TEST(DebugPrintfCompiled, MessagesPastTheLimitAreCounted) {
 }
 
 TEST(OutOfBoundsCompiled, AReadPastTheBufferIsNamedByWordOffset) {
-  ScalarPath scalar;
-  testing::ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
-  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-  const uint32_t shift = 64;
-  std::memcpy(h.push, &shift, 4);
-  exec::Job job(nullptr, 0);
-  h.job = &job;
-  ASSERT_TRUE(h.run(1));
-  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));  // zeros, as robustness says
-  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
-  ASSERT_EQ(sites.size(), 1u);  // one report per site, whatever the invocations
-  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
-  EXPECT_EQ(s.kind, abi::kAccessLoad);
-  EXPECT_EQ(s.set, 0u);
-  EXPECT_EQ(s.binding, 0u);
-  EXPECT_EQ(s.bytes, 4u);
-  EXPECT_EQ(s.entryName, "main");
-  EXPECT_TRUE(s.file.empty());
-  const uint32_t expected = test::loadOffsetOfBinding(kSpv_oob_read_comp, sizeof kSpv_oob_read_comp / 4, 0);
-  ASSERT_NE(expected, 0u);
-  EXPECT_EQ(s.wordOffset, expected);
-  EXPECT_EQ(sites[0].range, 16u);
-  const uint32_t x = sites[0].id.v[0];
-  EXPECT_LT(x, 4u);
-  EXPECT_EQ(sites[0].offset, uint64_t(x + shift) * 4);
+  onBothPaths([](bool spmd) {
+    testing::ComputeHarness h;
+    exec::Job job(nullptr, 0);
+    const uint32_t shift = 64;
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, shift, job));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));  // zeros, as robustness says
+    std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+    ASSERT_EQ(sites.size(), 1u);  // one report per site, whatever the invocations
+    spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+    EXPECT_EQ(s.kind, abi::kAccessLoad);
+    EXPECT_EQ(s.set, 0u);
+    EXPECT_EQ(s.binding, 0u);
+    EXPECT_EQ(s.bytes, 4u);
+    EXPECT_EQ(s.entryName, "main");
+    EXPECT_TRUE(s.file.empty());
+    const uint32_t expected = test::loadOffsetOfBinding(kSpv_oob_read_comp, sizeof kSpv_oob_read_comp / 4, 0);
+    ASSERT_NE(expected, 0u);
+    EXPECT_EQ(s.wordOffset, expected);
+    EXPECT_EQ(sites[0].range, 16u);
+    const uint32_t x = sites[0].id.v[0];
+    EXPECT_LT(x, 4u);
+    EXPECT_EQ(sites[0].offset, uint64_t(x + shift) * 4);
+  });
+}
+
+// Some lanes in bounds, some out: the report names the first invocation outside (on the SPMD path, the first failing
+// lane of the batch, not the first active one), and the lanes inside read their elements.
+TEST(OutOfBoundsCompiled, OnlyTheInvocationsOutsideAreReported) {
+  onBothPaths([](bool spmd) {
+    testing::ComputeHarness h;
+    exec::Job job(nullptr, 0);
+    // Invocations 0 and 1 read elements 2 and 3; 2 and 3 read past the end.
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, 2, job));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{12, 13, 0, 0}));
+    std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+    ASSERT_EQ(sites.size(), 1u);
+    EXPECT_EQ(spirv::readAccessSite(sites[0].site).kind, abi::kAccessLoad);
+    EXPECT_EQ(sites[0].id.v[0], 2u);
+    EXPECT_EQ(sites[0].offset, 16u);
+    EXPECT_EQ(sites[0].range, 16u);
+  });
+}
+
+// A uniform address read by invocations 2 and 3 only: the report names invocation 2 (the SPMD path runs the access
+// once for its batch and names the batch's first active lane, not the workgroup's context).
+TEST(OutOfBoundsCompiled, AUniformAccessNamesAnInvocationThatMadeIt) {
+  onBothPaths([](bool spmd) {
+    testing::ComputeHarness h;
+    exec::Job job(nullptr, 0);
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_uniform_lane_comp, spmd, 5, job));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{7, 7, 0, 0}));
+    std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+    ASSERT_EQ(sites.size(), 1u);
+    EXPECT_EQ(sites[0].id.v[0], 2u);
+    EXPECT_EQ(sites[0].offset, 20u);
+    EXPECT_EQ(sites[0].range, 16u);
+    // The valid side: element 3 is read, nothing reported.
+    const uint32_t valid = 3;
+    std::memcpy(h.push, &valid, 4);
+    exec::Job job2(nullptr, 0);
+    h.job = &job2;
+    ASSERT_TRUE(h.run(1));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{7, 7, 13, 13}));
+    EXPECT_TRUE(job2.messages.empty());
+  });
 }
 
 // An index past the two bound descriptors of a four-element array: reported with the bound count. In vkrt_group's
 // log an invocation keeps its first failing access, so the load through the null descriptor that follows is not
 // reported.
 TEST(OutOfBoundsCompiled, ADescriptorIndexPastTheBoundOnes) {
-  ScalarPath scalar;
-  testing::ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_oob_index_comp)) << h.error;
-  h.setBuffer<uint32_t>(100, {7});
-  h.setBuffer<uint32_t>(101, {8});
-  h.arrays[0] = {100, 101};
-  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-  const uint32_t index = 3;
-  std::memcpy(h.push, &index, 4);
-  exec::Job job(nullptr, 0);
-  h.job = &job;
-  ASSERT_TRUE(h.run(1));
-  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));
-  std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
-  ASSERT_EQ(sites.size(), 1u);
-  spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
-  EXPECT_EQ(s.kind, abi::kAccessDescriptorIndex);
-  EXPECT_EQ(s.binding, 0u);
-  EXPECT_EQ(sites[0].element, 3u);
-  EXPECT_EQ(sites[0].offset, 3u);
-  EXPECT_EQ(sites[0].range, 2u);  // the bound descriptors
-  // The valid side: index 1 reads the second buffer and reports nothing.
-  const uint32_t valid = 1;
-  std::memcpy(h.push, &valid, 4);
-  exec::Job job2(nullptr, 0);
-  h.job = &job2;
-  ASSERT_TRUE(h.run(1));
-  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{8, 8, 8, 8}));
-  EXPECT_TRUE(job2.messages.empty());
+  onBothPaths([](bool spmd) {
+    testing::ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_oob_index_comp)) << h.error;
+    h.setBuffer<uint32_t>(100, {7});
+    h.setBuffer<uint32_t>(101, {8});
+    h.arrays[0] = {100, 101};
+    h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
+    const uint32_t index = 3;
+    std::memcpy(h.push, &index, 4);
+    exec::Job job(nullptr, 0);
+    h.job = &job;
+    ASSERT_TRUE(h.run(1));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{0, 0, 0, 0}));
+    std::vector<exec::OutOfBoundsRecord> sites = job.messages.outOfBoundsSites();
+    // The SPMD path reads through the null descriptor the index selects once for the batch (a uniform access) and
+    // reports that load too (range 0), as the other stages do; vkrt_group's log keeps the first.
+    ASSERT_EQ(sites.size(), spmd ? 2u : 1u);
+    if (spmd) {
+      EXPECT_EQ(spirv::readAccessSite(sites[1].site).kind, abi::kAccessLoad);
+      EXPECT_EQ(sites[1].range, 0u);
+    }
+    spirv::AccessSiteInfo s = spirv::readAccessSite(sites[0].site);
+    EXPECT_EQ(s.kind, abi::kAccessDescriptorIndex);
+    EXPECT_EQ(s.binding, 0u);
+    EXPECT_EQ(sites[0].element, 3u);
+    EXPECT_EQ(sites[0].offset, 3u);
+    EXPECT_EQ(sites[0].range, 2u);    // the bound descriptors
+    EXPECT_EQ(sites[0].id.v[0], 0u);  // the first invocation (the SPMD path: the batch's first active lane)
+    // The valid side: index 1 reads the second buffer and reports nothing.
+    const uint32_t valid = 1;
+    std::memcpy(h.push, &valid, 4);
+    exec::Job job2(nullptr, 0);
+    h.job = &job2;
+    ASSERT_TRUE(h.run(1));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{8, 8, 8, 8}));
+    EXPECT_TRUE(job2.messages.empty());
+  });
 }
 
 // A shader with a workgroup barrier runs invocation by invocation: its store past the end is reported by a call
 // from the failing branch, with the invocation that made it.
 TEST(OutOfBoundsCompiled, AStoreAfterABarrier) {
-  ScalarPath scalar;
   testing::ComputeHarness h;
   ASSERT_TRUE(h.compile(kSpv_oob_barrier_comp)) << h.error;
   ASSERT_TRUE(h.shader->usesBarrier);
@@ -296,16 +359,13 @@ TEST(OutOfBoundsCompiled, ACountedLoopThatStopsAtTheEndReportsNothing) {
 }
 
 TEST(OutOfBoundsCompiled, InBoundsAccessesReportNothing) {
-  ScalarPath scalar;
-  testing::ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_oob_read_comp)) << h.error;
-  h.setBuffer<uint32_t>(0, {10, 11, 12, 13});
-  h.setBuffer<uint32_t>(1, {9, 9, 9, 9});
-  exec::Job job(nullptr, 0);
-  h.job = &job;
-  ASSERT_TRUE(h.run(1));
-  EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{10, 11, 12, 13}));
-  EXPECT_TRUE(job.messages.empty());
+  onBothPaths([](bool spmd) {
+    testing::ComputeHarness h;
+    exec::Job job(nullptr, 0);
+    ASSERT_NO_FATAL_FAILURE(dispatchWithPush(h, kSpv_oob_read_comp, spmd, 0, job));
+    EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{10, 11, 12, 13}));
+    EXPECT_TRUE(job.messages.empty());
+  });
 }
 
 }  // namespace
