@@ -236,6 +236,12 @@ class Codegen {
   // d/dx and d/dy of a float scalar or vector: fine (the lane's row / column) or coarse (the quad's top row / left
   // column); zero outside fragment shaders.
   void derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::Value** dy);
+  // Set by the SPMD fragment path (spmd.cpp), which runs the quad's lanes in one call and emits image sampling one
+  // lane at a time through this code: derivatives() then returns spmdDx / spmdDy (the lane's differences, computed
+  // there from the quad's lanes; null: the value is uniform, its derivatives zero) instead of exchanging.
+  bool spmdDerivatives = false;
+  llvm::Value* spmdDx = nullptr;
+  llvm::Value* spmdDy = nullptr;
   struct IoCopy {
     bool input;
     uint64_t privOffset;  // in the private block

@@ -410,6 +410,11 @@ void Codegen::derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::V
     *dx = *dy = llvm::Constant::getNullValue(v->getType());
     return;
   }
+  if (spmdDerivatives) {
+    *dx = spmdDx ? spmdDx : llvm::Constant::getNullValue(v->getType());
+    *dy = spmdDy ? spmdDy : llvm::Constant::getNullValue(v->getType());
+    return;
+  }
   llvm::Value* q[4];
   quadExchange(v, q);
   if (coarse) {
