@@ -276,6 +276,55 @@ TEST(GraphicsShader, FragmentBuiltInsAndInterpolationDecorations) {
   EXPECT_FALSE(gi.outputs[0].integer);
 }
 
+// Every fragment built-in on the SPMD path, each lane of the quad with its own values: each lane reads its own.
+TEST(GraphicsShader, SpmdFragmentBuiltInsPerLane) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_builtins_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(s) << error;
+  ASSERT_EQ(s->spmdLanes, 4u);
+  Quad q(0, 0);
+  for (uint32_t l = 0; l < 4; ++l) {
+    Lane& lane = q.lanes[l];
+    GraphicsInvocation& g = lane.inv;
+    const float coord[4] = {3.5f + float(l), 7.5f, 0.25f * float(l), 2.0f};
+    std::memcpy(g.fragCoord, coord, 16);
+    g.frontFacing = l & 1;
+    g.primitiveId = int32_t(9 + l);
+    g.sampleId = int32_t(l);
+    g.sampleMaskIn = 4u << l;
+    g.pointCoord[0] = 0.125f * float(l), g.pointCoord[1] = 0.875f;
+    g.samplePosition[0] = 0.375f, g.samplePosition[1] = 0.0625f * float(l);
+    g.layer = 3 + l;
+    g.viewIndex = l;
+    g.fragDepth = 0.5f;
+    lane.setI(0, 0, int32_t(4 + l));
+    lane.setF(1, 0, 1.25f * float(l));
+    lane.setF(1, 2, 0.5f);
+    lane.setF(2, 3, 0.25f);
+  }
+  ASSERT_TRUE(q.run(*s));
+  for (uint32_t l = 0; l < 4; ++l) {
+    SCOPED_TRACE("lane " + std::to_string(l));
+    const Lane& lane = q.lanes[l];
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(lane.outF(0, c), lane.inv.fragCoord[c]) << c;
+    EXPECT_EQ(lane.outI(1, 0), int32_t(l & 1));
+    EXPECT_EQ(lane.outI(1, 1), int32_t(9 + l));
+    EXPECT_EQ(lane.outI(1, 2), int32_t(l));
+    EXPECT_EQ(lane.outI(1, 3), int32_t(4u << l));
+    EXPECT_EQ(lane.outF(2, 0), 0.125f * float(l));
+    EXPECT_EQ(lane.outF(2, 1), 0.875f);
+    EXPECT_EQ(lane.outF(2, 2), 0.375f);
+    EXPECT_EQ(lane.outF(2, 3), 0.0625f * float(l));
+    EXPECT_EQ(lane.out[3 * 4 + 0], 0u);
+    EXPECT_EQ(lane.out[3 * 4 + 1], 3u + l);
+    EXPECT_EQ(lane.out[3 * 4 + 2], l);
+    EXPECT_EQ(lane.out[3 * 4 + 3], 4u + l + uint32_t(1.25f * float(l) + 0.5f + 0.25f));
+    EXPECT_EQ(lane.inv.fragDepth, 0.75f);
+    EXPECT_EQ(lane.inv.sampleMaskOut, 5u);
+    EXPECT_EQ(lane.inv.status, 0u);
+  }
+}
+
 // Kill (in a called function), terminate, demote, and helper lanes whose buffer writes and atomics land nowhere.
 void runDiscardCases(bool inlineFunctions) {
   std::string error;
