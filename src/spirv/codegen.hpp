@@ -72,6 +72,9 @@ bool rayTracingCapability(uint32_t capability);
 bool rayQueryOp(spv::Op op);
 // The vertex and fragment instructions and capabilities of graphics.cpp.
 bool graphicsOp(spv::Op op);
+// The result of derivative instruction `op` (OpDPdx*, OpDPdy*, OpFwidth*) from the value's d/dx and d/dy
+// (graphics.cpp).
+llvm::Value* derivativeResult(llvm::IRBuilder<>& b, spv::Op op, llvm::Value* dx, llvm::Value* dy);
 bool graphicsCapability(uint32_t capability);
 
 class Codegen {

@@ -181,6 +181,15 @@ bool vectorExt(uint32_t inst) {
   }
 }
 
+// The fragment instructions of the quad (fragmentInstruction): graphics.cpp's (demotion, helper tests, derivatives,
+// quad operations, implicit-LOD sampling; OpKill and OpTerminateInvocation end blocks instead) and the other
+// sampling forms, computed per lane.
+bool quadOp(spv::Op op) {
+  if (op == spv::OpKill || op == spv::OpTerminateInvocation) return false;
+  return graphicsOp(op) || op == spv::OpImageSampleExplicitLod || op == spv::OpImageSampleDrefImplicitLod ||
+         op == spv::OpImageSampleDrefExplicitLod;
+}
+
 // A pointer the SPMD code tracks itself: a varying offset, a per-lane Function variable, or an invocation id.
 struct LanePtr {
   Ptr p;                     // p.offset: i64 (uniform) or <N x i64>
@@ -443,7 +452,7 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   for (const Cfg::Block& blk : cfg.blocks) {
     for (size_t i = blk.first + 1; i <= blk.last; ++i) {
       const Instruction& in = m.instructions[i];
-      bool ok = elementwiseOp(in.op);
+      bool ok = elementwiseOp(in.op) || (fragment() && quadOp(in.op));
       switch (in.op) {
         case spv::OpLine:
         case spv::OpNoLine:
@@ -472,24 +481,7 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         case spv::OpAll: ok = true; break;
         case spv::OpKill:
         case spv::OpTerminateInvocation:
-        case spv::OpDemoteToHelperInvocation:
-        case spv::OpIsHelperInvocationEXT:
-        case spv::OpDPdx:
-        case spv::OpDPdy:
-        case spv::OpFwidth:
-        case spv::OpDPdxFine:
-        case spv::OpDPdyFine:
-        case spv::OpFwidthFine:
-        case spv::OpDPdxCoarse:
-        case spv::OpDPdyCoarse:
-        case spv::OpFwidthCoarse:
-        case spv::OpGroupNonUniformQuadBroadcast:
-        case spv::OpGroupNonUniformQuadSwap:
-        case spv::OpSampledImage:
-        case spv::OpImageSampleImplicitLod:
-        case spv::OpImageSampleExplicitLod:
-        case spv::OpImageSampleDrefImplicitLod:
-        case spv::OpImageSampleDrefExplicitLod: ok = fragment(); break;
+        case spv::OpSampledImage: ok = fragment(); break;
         case spv::OpVariable: {
           const Type& pt = g.spvType(in.word(1));
           ok = pt.storage == spv::StorageClassFunction && !g.isRayQuery(pt.element);
@@ -680,6 +672,7 @@ bool Spmd::block(size_t bi) {
 // ---------------------------------------------------------------------------------------------- instructions
 
 bool Spmd::instruction(const Instruction& in) {
+  if (quadOp(in.op)) return fragmentInstruction(in);
   switch (in.op) {
     case spv::OpLine:
     case spv::OpNoLine:
@@ -692,23 +685,6 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpInBoundsAccessChain: return accessChain(in);
     case spv::OpLoad: return loadInst(in);
     case spv::OpStore: return storeInst(in);
-    case spv::OpDemoteToHelperInvocation:
-    case spv::OpIsHelperInvocationEXT:
-    case spv::OpDPdx:
-    case spv::OpDPdy:
-    case spv::OpFwidth:
-    case spv::OpDPdxFine:
-    case spv::OpDPdyFine:
-    case spv::OpFwidthFine:
-    case spv::OpDPdxCoarse:
-    case spv::OpDPdyCoarse:
-    case spv::OpFwidthCoarse:
-    case spv::OpGroupNonUniformQuadBroadcast:
-    case spv::OpGroupNonUniformQuadSwap:
-    case spv::OpImageSampleImplicitLod:
-    case spv::OpImageSampleExplicitLod:
-    case spv::OpImageSampleDrefImplicitLod:
-    case spv::OpImageSampleDrefExplicitLod: return fragmentInstruction(in);
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
@@ -1421,21 +1397,9 @@ bool Spmd::derivative(const Instruction& in) {
     }
     llvm::Value* v = laneComp(src, k);
     if (!v) return fail("a derivative of a value without a value");
-    llvm::Value *dx, *dy, *r;
+    llvm::Value *dx, *dy;
     quadDifferences(b, b.CreateFPCast(v, f32), coarse, &dx, &dy);  // in 32 bits, as the scalar path exchanges
-    switch (in.op) {
-      case spv::OpDPdx:
-      case spv::OpDPdxFine:
-      case spv::OpDPdxCoarse: r = dx; break;
-      case spv::OpDPdy:
-      case spv::OpDPdyFine:
-      case spv::OpDPdyCoarse: r = dy; break;
-      default:
-        r = b.CreateFAdd(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dx),
-                         b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dy));
-        break;
-    }
-    comps.push_back(b.CreateFPCast(r, v->getType()));
+    comps.push_back(b.CreateFPCast(derivativeResult(b, in.op, dx, dy), v->getType()));
   }
   return define(id, rt, comps);
 }

@@ -4,14 +4,11 @@
 #include <cstdlib>
 #include <string>
 
-#include "draw_color.vert.spv.h"
 #include "draw_derivatives.frag.spv.h"
 #include "e2e/draw_fixture.hpp"
 
 namespace vkrt::test {
 namespace {
-
-using V = DrawTest::Vertex;
 
 // `spmd` false: the device is created with VKRT_SPMD=0 (read at device creation); the variable is put back after.
 class DrawQuadShadingTest : public DrawTest, public ::testing::WithParamInterface<bool> {
@@ -38,30 +35,11 @@ class DrawQuadShadingTest : public DrawTest, public ::testing::WithParamInterfac
 };
 
 TEST_P(DrawQuadShadingTest, DerivativesDiscardAndDemotionInThePixels) {
-  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                              VK_IMAGE_ASPECT_COLOR_BIT);
-  PipelineDesc d;
-  d.vs = kSpv_draw_color_vert;
-  d.vsBytes = sizeof kSpv_draw_color_vert;
-  d.fs = kSpv_draw_derivatives_frag;
-  d.fsBytes = sizeof kSpv_draw_derivatives_frag;
-  d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
-  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
-  VkPipeline pipeline;
-  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
   // One triangle over the whole target (every quad fully covered), alpha 0.5.
-  const V tri[3] = {{-1, -1, 0, 0, 0, 0.5f}, {3, -1, 0, 0, 0, 0.5f}, {-1, 3, 0, 0, 0, 0.5f}};
-  HostBuffer vb = vertexBuffer(tri, sizeof tri);
+  const float color[4] = {0, 0, 0, 0.5f};
   const uint32_t clear = 0xFF202020u;
-  auto pixels = render(
-      color, nullptr,
-      [&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        VkDeviceSize off = 0;
-        vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-        vkCmdDraw(cb, 3, 1, 0, 0);
-      },
-      clear);
+  auto pixels = drawFullScreen(kSpv_draw_derivatives_frag, sizeof kSpv_draw_derivatives_frag, color, clear);
+  ASSERT_EQ(pixels.size(), size_t(kW) * kH);
   // Pixel (px, py), centre (px + 0.5, py + 0.5), in the quad whose top-left pixel is (qx, qy) = (px & ~1, py & ~1):
   // dFdxFine(x^2) = (qx + 1.5)^2 - (qx + 0.5)^2 = 2 qx + 2 (the same in both rows), dFdyCoarse(y^2) = 2 qy + 2,
   // fwidthFine(x y) = |d(x y)/dx| + |d(x y)/dy| = (py + 0.5) + (px + 0.5).
@@ -82,9 +60,6 @@ TEST_P(DrawQuadShadingTest, DerivativesDiscardAndDemotionInThePixels) {
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(discarded, 100);
   EXPECT_GT(demoted, 100);
-  destroy(vb);
-  vkDestroyPipeline(device, pipeline, nullptr);
-  destroy(color);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothPaths, DrawQuadShadingTest, ::testing::Values(true, false),
