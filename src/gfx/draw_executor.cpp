@@ -59,6 +59,7 @@ struct DrawContext {
   GraphicsInvocation vertexProto{}, fragmentProto{};
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
+  bool spmd = false;   // ... in one call of its SPMD entry (spirv/spmd.hpp), else as four fibers
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -179,7 +180,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   q.killed = 0;
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
-    if (c.quads || q.coverage[l]) lanes |= 1u << l;
+    if (c.spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
   float samplePosition[2] = {0.5f, 0.5f};
   if (c.samples == 4) {
     samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
@@ -209,7 +210,11 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     inv.quadParity = 0;
     inv.quad = &q;
   }
-  if (c.quads) {
+  if (c.spmd) {
+    // The SPMD entry takes the quad's four invocations (the uncovered lanes are helpers: it runs them only where the
+    // shader takes derivatives).
+    c.fragmentEntry(w.inv);
+  } else if (c.quads) {
     abi::InvocationContext* group[4] = {&w.inv[0].base, &w.inv[1].base, &w.inv[2].base, &w.inv[3].base};
     // A GraphicsInvocation starts with its InvocationContext: the fiber group calls the entry with the context's
     // address, which is the invocation's.
@@ -361,6 +366,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   c.vertexEntry = p.vertex->graphicsEntry;
   c.fragmentEntry = p.fragment ? p.fragment->graphicsEntry : nullptr;
   c.quads = p.fragment && p.fragment->graphics.needsQuad;
+  c.spmd = p.fragment && p.fragment->spmdLanes == 4;
   c.samples = state.samples;
   c.clipCount = p.vertex->graphics.clipDistances;
   c.cullCount = p.vertex->graphics.cullDistances;

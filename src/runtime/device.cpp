@@ -32,7 +32,8 @@ void applyInstructionSetSettings(PhysicalDevice* physical) {
   if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu && !spirv::setTargetCpu(cpu, &error))
     report(physical, Severity::Warning, nullptr, "vkCreateDevice: VKRT_JIT_CPU=\"%s\" is not applied: %s", cpu,
            error.c_str());
-  // VKRT_SPMD=0: compute shaders run one invocation at a time (the reference the SPMD code is tested against).
+  // VKRT_SPMD=0: compute shaders run one invocation at a time, fragment quads as four fibers (the reference the SPMD
+  // code is tested against).
   if (const char* spmd = std::getenv("VKRT_SPMD"); spmd && *spmd) spirv::setSpmd(std::string_view(spmd) != "0");
   report(physical, Severity::Info, nullptr,
          "vkCreateDevice: Embree's %s kernels; shaders compiled for %s; compute shaders in batches of %u lanes (SPMD; "

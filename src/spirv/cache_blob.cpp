@@ -107,7 +107,8 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   for (uint32_t v : s.localSize) put32(payload, v);
   put32(payload, s.workgroupMemorySize);
   put32(payload, s.usesBarrier ? 1 : 0);
-  put32(payload, s.groupEntry ? 1u | uint32_t(s.spmdLanes) << 8 : 0);  // hasGroupEntry, SPMD lanes
+  // hasGroupEntry (a fragment shader's vkrt_group is its graphicsEntry, spmdLanes 4), SPMD lanes
+  put32(payload, s.groupEntry || s.spmdLanes ? 1u | uint32_t(s.spmdLanes) << 8 : 0);
   put32(payload, s.pushConstantBytes);
   put32(payload, uint32_t(s.model));
   for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes})

@@ -62,6 +62,10 @@ struct Ptr {
   llvm::Value* unmaskedLimit = nullptr;
 };
 
+// The result of derivative instruction `op` (OpDPdx*, OpDPdy*, OpFwidth*) from the value's d/dx and d/dy
+// (graphics.cpp).
+llvm::Value* derivativeResult(llvm::IRBuilder<>& b, spv::Op op, llvm::Value* dx, llvm::Value* dy);
+
 class Codegen {
  public:
   Codegen(const Module& m, llvm::LLVMContext& c, llvm::Module& out, CompiledShader& info)
@@ -178,7 +182,8 @@ class Codegen {
   llvm::Value* reportIf = nullptr;
   // The SPMD path (spmd.cpp) runs a batch of lanes, local invocation indices batchBase + lane, global ids
   // wgBase + the local ids: while `laneReport` is set, a report names the first lane of its `mask` (<N x i1>) rather
-  // than the workgroup's context.
+  // than the workgroup's context. A fragment quad has no batchBase: lane l's context is the l-th GraphicsInvocation
+  // at ctxArg.
   struct LaneReport {
     llvm::Value* mask;
     llvm::Value* batchBase;
@@ -192,6 +197,8 @@ class Codegen {
   // A copy of the context at ctxArg naming local invocation `localIndex` (i32; its global id `base` + its local id),
   // for a report (one slot per function).
   llvm::Value* reportContext(llvm::Value* localIndex, llvm::Value* const base[3]);
+  // The context a report names for lane `lane` (i32) of `lanes`: reportContext's copy, or a fragment quad's lane.
+  llvm::Value* laneContext(const LaneReport& lanes, llvm::Value* lane);
   llvm::Value* reportContextSlot = nullptr;
   // vkrt_group's report of the log (after its loop over the invocations).
   void reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* log, llvm::Value* const base[3]);
@@ -246,6 +253,12 @@ class Codegen {
   // d/dx and d/dy of a float scalar or vector: fine (the lane's row / column) or coarse (the quad's top row / left
   // column); zero outside fragment shaders.
   void derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::Value** dy);
+  // Set by the SPMD fragment path (spmd.cpp), which runs the quad's lanes in one call and emits image sampling one
+  // lane at a time through this code: derivatives() then returns spmdDx / spmdDy (the lane's differences, computed
+  // there from the quad's lanes; null: the value is uniform, its derivatives zero) instead of exchanging.
+  bool spmdDerivatives = false;
+  llvm::Value* spmdDx = nullptr;
+  llvm::Value* spmdDy = nullptr;
   struct IoCopy {
     bool input;
     uint64_t privOffset;  // in the private block

@@ -414,6 +414,7 @@ bool Codegen::run(const EntryPoint& ep) {
   // Shaders without barriers: the SPMD form of vkrt_group where it supports the shader (spmd.cpp), else the loop.
   // (The SPMD form reports out-of-bounds accesses lane by lane: Codegen::reportFailingLanes.)
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
+  if (isFragment()) emitSpmdQuad(*this, ep, main);  // the quad in one call where the SPMD path supports the shader
   if (groupLog && info.usesBarrier) {
     error = "internal compiler error: the out-of-bounds log assumed vkrt_group";
     return false;

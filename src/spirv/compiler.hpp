@@ -109,6 +109,8 @@ class CompiledShader {
   uint32_t workgroupMemorySize = 0;
   bool usesBarrier = false;
   // Invocations groupEntry runs per pass (SPMD, spirv/spmd.hpp): 4, 8 or 16; 0 where it runs them one by one.
+  // Fragment shaders: 4 where graphicsEntry takes a quad's four GraphicsInvocations (an array) in one call, 0 where
+  // it is the scalar vkrt_main, run once per lane (as fibers where the shader takes derivatives).
   uint8_t spmdLanes = 0;
   std::vector<ResourceBinding> resources;  // abi::ResourceSlot order
   uint32_t pushConstantBytes = 0;          // bytes of push constants the shader may read
@@ -139,7 +141,8 @@ struct CompileRequest {
 std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::string* error);
 
 // SPMD compilation of compute shaders (on by default; VKRT_SPMD=0 turns it off): a workgroup runs in batches of the
-// target's vector width (CompiledShader::spmdLanes) where the compiler supports every instruction of the shader.
+// target's vector width (CompiledShader::spmdLanes) where the compiler supports every instruction of the shader;
+// fragment shaders, a quad (4 lanes) per call.
 // Applies to every later compilation in the process; part of cacheKey().
 void setSpmd(bool enabled);
 bool spmdEnabled();

@@ -390,6 +390,11 @@ void Codegen::derivatives(llvm::Value* v, bool coarse, llvm::Value** dx, llvm::V
     *dx = *dy = llvm::Constant::getNullValue(v->getType());
     return;
   }
+  if (spmdDerivatives) {
+    *dx = spmdDx ? spmdDx : llvm::Constant::getNullValue(v->getType());
+    *dy = spmdDy ? spmdDy : llvm::Constant::getNullValue(v->getType());
+    return;
+  }
   llvm::Value* q[4];
   quadExchange(v, q);
   if (coarse) {
@@ -480,6 +485,20 @@ bool Codegen::interpolateAt(const Instruction& in, uint32_t inst, bool& ok) {
   return true;
 }
 
+llvm::Value* derivativeResult(llvm::IRBuilder<>& b, spv::Op op, llvm::Value* dx, llvm::Value* dy) {
+  switch (op) {
+    case spv::OpDPdx:
+    case spv::OpDPdxFine:
+    case spv::OpDPdxCoarse: return dx;
+    case spv::OpDPdy:
+    case spv::OpDPdyFine:
+    case spv::OpDPdyCoarse: return dy;
+    default:
+      return b.CreateFAdd(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dx),
+                          b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dy));
+  }
+}
+
 bool Codegen::graphics(const Instruction& in, bool& ok) {
   switch (in.op) {
     case spv::OpKill:
@@ -517,20 +536,7 @@ bool Codegen::graphics(const Instruction& in, bool& ok) {
       bool coarse = in.op == spv::OpDPdxCoarse || in.op == spv::OpDPdyCoarse || in.op == spv::OpFwidthCoarse;
       llvm::Value *dx, *dy;
       derivatives(x, coarse, &dx, &dy);
-      llvm::Value* r;
-      switch (in.op) {
-        case spv::OpDPdx:
-        case spv::OpDPdxFine:
-        case spv::OpDPdxCoarse: r = dx; break;
-        case spv::OpDPdy:
-        case spv::OpDPdyFine:
-        case spv::OpDPdyCoarse: r = dy; break;
-        default:
-          r = b.CreateFAdd(b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dx),
-                           b.CreateUnaryIntrinsic(llvm::Intrinsic::fabs, dy));
-          break;
-      }
-      set(in.word(2), b.CreateFPCast(r, ty));
+      set(in.word(2), b.CreateFPCast(derivativeResult(b, in.op, dx, dy), ty));
       return true;
     }
     case spv::OpGroupNonUniformQuadBroadcast:

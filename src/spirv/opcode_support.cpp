@@ -224,15 +224,15 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpTypeImage: return {F::Image, S::None};
     case spv::OpTypeSampler: return {F::Image, S::None};
     case spv::OpTypeSampledImage: return {F::Image, S::None};
-    case spv::OpSampledImage: return {F::Image, S::None};
+    case spv::OpSampledImage: return {F::Image, S::Quad};
     case spv::OpImage: return {F::Image, S::None};
     case spv::OpImageRead: return {F::Image, S::None};
     case spv::OpImageWrite: return {F::Image, S::None};
     case spv::OpImageTexelPointer: return {F::Image, S::None};
     case spv::OpImageFetch: return {F::Image, S::None};
-    case spv::OpImageSampleExplicitLod: return {F::Image, S::None};
-    case spv::OpImageSampleDrefImplicitLod: return {F::Image, S::None};
-    case spv::OpImageSampleDrefExplicitLod: return {F::Image, S::None};
+    case spv::OpImageSampleExplicitLod: return {F::Image, S::Quad};
+    case spv::OpImageSampleDrefImplicitLod: return {F::Image, S::Quad};
+    case spv::OpImageSampleDrefExplicitLod: return {F::Image, S::Quad};
     case spv::OpImageSampleProjImplicitLod: return {F::Image, S::None};
     case spv::OpImageSampleProjExplicitLod: return {F::Image, S::None};
     case spv::OpImageSampleProjDrefImplicitLod: return {F::Image, S::None};
@@ -242,7 +242,7 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpImageQuerySize: return {F::Image, S::None};
     case spv::OpImageQuerySizeLod: return {F::Image, S::None};
     case spv::OpImageQueryLevels: return {F::Image, S::None};
-    case spv::OpImageSampleImplicitLod: return {F::Image, S::None};
+    case spv::OpImageSampleImplicitLod: return {F::Image, S::Quad};
     // ---- RayTracing
     case spv::OpTypeAccelerationStructureKHR: return {F::RayTracing, S::None};
     case spv::OpConvertUToAccelerationStructureKHR: return {F::RayTracing, S::None};
@@ -282,21 +282,21 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpRayQueryGetIntersectionWorldToObjectKHR: return {F::RayQuery, S::None};
     case spv::Op(kOpRayQueryGetIntersectionTriangleVertexPositionsKHR): return {F::RayQuery, S::None};
     // ---- Graphics
-    case spv::OpKill: return {F::Graphics, S::None};
-    case spv::OpTerminateInvocation: return {F::Graphics, S::None};
-    case spv::OpDemoteToHelperInvocation: return {F::Graphics, S::None};
-    case spv::OpIsHelperInvocationEXT: return {F::Graphics, S::None};
-    case spv::OpDPdx: return {F::Graphics, S::None};
-    case spv::OpDPdy: return {F::Graphics, S::None};
-    case spv::OpFwidth: return {F::Graphics, S::None};
-    case spv::OpDPdxFine: return {F::Graphics, S::None};
-    case spv::OpDPdyFine: return {F::Graphics, S::None};
-    case spv::OpFwidthFine: return {F::Graphics, S::None};
-    case spv::OpDPdxCoarse: return {F::Graphics, S::None};
-    case spv::OpDPdyCoarse: return {F::Graphics, S::None};
-    case spv::OpFwidthCoarse: return {F::Graphics, S::None};
-    case spv::OpGroupNonUniformQuadBroadcast: return {F::Graphics, S::None};
-    case spv::OpGroupNonUniformQuadSwap: return {F::Graphics, S::None};
+    case spv::OpKill: return {F::Graphics, S::Quad};
+    case spv::OpTerminateInvocation: return {F::Graphics, S::Quad};
+    case spv::OpDemoteToHelperInvocation: return {F::Graphics, S::Quad};
+    case spv::OpIsHelperInvocationEXT: return {F::Graphics, S::Quad};
+    case spv::OpDPdx: return {F::Graphics, S::Quad};
+    case spv::OpDPdy: return {F::Graphics, S::Quad};
+    case spv::OpFwidth: return {F::Graphics, S::Quad};
+    case spv::OpDPdxFine: return {F::Graphics, S::Quad};
+    case spv::OpDPdyFine: return {F::Graphics, S::Quad};
+    case spv::OpFwidthFine: return {F::Graphics, S::Quad};
+    case spv::OpDPdxCoarse: return {F::Graphics, S::Quad};
+    case spv::OpDPdyCoarse: return {F::Graphics, S::Quad};
+    case spv::OpFwidthCoarse: return {F::Graphics, S::Quad};
+    case spv::OpGroupNonUniformQuadBroadcast: return {F::Graphics, S::Quad};
+    case spv::OpGroupNonUniformQuadSwap: return {F::Graphics, S::Quad};
     default: return {};
   }
 }

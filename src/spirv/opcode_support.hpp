@@ -33,6 +33,8 @@ enum class SpmdForm : uint8_t {
   Elementwise,  // component by component on scalars and vectors: the scalar emitters, N lanes wide
   Own,          // spmd.cpp's own emitter (control flow, memory, composites, reductions)
   Checked,      // spmd.cpp decides from the operands (OpVariable's storage class, OpExtInst's instruction)
+  Quad,         // fragment shaders only (a 2x2 quad per call): spmd.cpp's fragmentInstruction (demotion, helper
+                // tests, derivatives, quad operations, sampling per lane), OpKill/OpTerminateInvocation as block ends
 };
 
 struct OpSupport {

@@ -121,10 +121,17 @@ void Codegen::callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Valu
   if (laneReport) {
     // The SPMD path: the first active lane (a uniform access, run once for the batch) makes the report.
     llvm::Value* lane = firstLane(*this, laneReport->mask);
-    ctx = reportContext(b.CreateAdd(laneReport->batchBase, lane), laneReport->wgBase);
+    ctx = laneContext(*laneReport, lane);
   }
   auto* call = b.CreateCall(f, {ctx, site, offset, range, element ? element : i64(0)});
   call->addFnAttr(llvm::Attribute::Cold);
+}
+
+llvm::Value* Codegen::laneContext(const LaneReport& lanes, llvm::Value* lane) {
+  if (!lanes.batchBase)
+    return b.CreateGEP(b.getInt8Ty(), ctxArg,
+                       b.CreateMul(b.CreateZExt(lane, b.getInt64Ty()), i64(sizeof(GraphicsInvocation))));
+  return reportContext(b.CreateAdd(lanes.batchBase, lane), lanes.wgBase);
 }
 
 llvm::Value* Codegen::reportContext(llvm::Value* localIndex, llvm::Value* const base[3]) {
@@ -162,7 +169,7 @@ void Codegen::reportFailingLanes(const Ptr& p, uint32_t kind, uint64_t bytes, ll
   llvm::Value* lane = firstLane(*this, failing);
   llvm::Value* offset = b.CreateExtractElement(offsets, lane);
   llvm::Value* saved = ctxArg;
-  ctxArg = reportContext(b.CreateAdd(lanes.batchBase, lane), lanes.wgBase);
+  ctxArg = laneContext(lanes, lane);
   const LaneReport* savedLanes = std::exchange(laneReport, nullptr);
   callOutOfBounds(accessSiteFor(p, kind, bytes), offset, p.unmaskedLimit ? p.unmaskedLimit : p.limit, p.element);
   laneReport = savedLanes;

@@ -60,6 +60,14 @@ bool elementwiseExt(uint32_t inst) { return glslSupport(inst).spmd == SpmdForm::
 // The GLSL.std.450 instructions on whole vectors that spmd.cpp computes from the components.
 bool vectorExt(uint32_t inst) { return glslSupport(inst).spmd == SpmdForm::Own; }
 
+// The fragment instructions of the quad (fragmentInstruction; the table's Quad form): demotion, helper tests,
+// derivatives, quad operations, sampling per lane. OpKill and OpTerminateInvocation end blocks instead, and
+// OpSampledImage only pairs its operands.
+bool quadOp(spv::Op op) {
+  return opSupport(op).spmd == SpmdForm::Quad && op != spv::OpKill && op != spv::OpTerminateInvocation &&
+         op != spv::OpSampledImage;
+}
+
 // A pointer the SPMD code tracks itself: a varying offset, a per-lane Function variable, or an invocation id.
 struct LanePtr {
   Ptr p;                     // p.offset: i64 (uniform) or <N x i64>
@@ -99,6 +107,7 @@ class Spmd {
 
   bool supported(const EntryPoint& ep, std::string* why);
   bool emit(const EntryPoint& ep, llvm::Function* main);
+  bool emitQuad();
   std::string why;
 
  private:
@@ -135,6 +144,24 @@ class Spmd {
     return true;
   }
   void affineResult(const Instruction& in, uint32_t k, uint32_t kk);
+  // ---- fragment shaders (N = 4: the quad's lanes, lane i at pixel (x + (i & 1), y + (i >> 1)))
+  bool fragment() const { return g.isFragment(); }
+  llvm::Value* invArg = nullptr;                            // GraphicsInvocation[4]
+  llvm::AllocaInst* helperSlot = nullptr;                   // <4 x i1>: the helper lanes (uncovered or demoted)
+  uint32_t helperVar = 0;                                   // the HelperInvocation variable, where declared
+  std::vector<std::pair<uint32_t, uint64_t>> builtInBlock;  // built-in variable -> its offset in the lane block
+  llvm::Value* invField(unsigned l, uint64_t offset) {
+    return b.CreateConstGEP1_64(b.getInt8Ty(), invArg, l * sizeof(GraphicsInvocation) + offset);
+  }
+  void copyLanes(bool inputs, llvm::Value* block);
+  void laneStatus(uint32_t status);
+  bool fragmentInstruction(const Instruction& in);
+  bool derivative(const Instruction& in);
+  bool sampleLanes(const Instruction& in);
+  bool quadOperation(const Instruction& in);
+  bool prepareSlots();
+  bool laneLeaves(uint32_t typeId);
+
   llvm::Value* laneIndex = nullptr;  // <N x i32>: the lanes' LocalInvocationIndex
   llvm::Value* batchBase = nullptr;  // i32: the first lane's
   llvm::Value* wgBase[3] = {};       // WorkgroupId * WorkgroupSize
@@ -317,7 +344,10 @@ class Spmd {
 // ---------------------------------------------------------------------------------------------- support
 
 bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
-  if (g.privateSize > 0 || !g.privateInits.empty()) return (*whyNot = "Private variables"), false;
+  // (A fragment shader's interface and Private variables are per-lane storage; initializers are left to the scalar
+  // path.)
+  if (!g.privateInits.empty() || (!fragment() && g.privateSize > 0))
+    return (*whyNot = "Private variables or initializers"), false;
   for (size_t i = 0; i < m.instructions.size(); ++i) {
     const Instruction& in = m.instructions[i];
     if (in.op == spv::OpFunction && in.word(2) == ep.function) firstInstruction = i;
@@ -327,9 +357,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   for (const Cfg::Block& blk : cfg.blocks) {
     for (size_t i = blk.first + 1; i <= blk.last; ++i) {
       const Instruction& in = m.instructions[i];
-      // The table's SPMD form (opcode_support.cpp); Checked instructions are decided here from their operands.
+      // The table's SPMD form (opcode_support.cpp); Checked instructions are decided here from their operands, Quad
+      // ones only in fragment shaders.
       SpmdForm form = opSupport(in.op).spmd;
-      bool ok = form == SpmdForm::Elementwise || form == SpmdForm::Own;
+      bool ok = form == SpmdForm::Elementwise || form == SpmdForm::Own || (form == SpmdForm::Quad && fragment());
       switch (in.op) {
         case spv::OpVariable: {
           const Type& pt = g.spvType(in.word(1));
@@ -344,7 +375,8 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
       // Values of composite types other than vectors (matrices, structs, arrays) are left to the scalar path.
       if (in.count >= 3 && in.op != spv::OpVariable && in.op != spv::OpAccessChain &&
-          in.op != spv::OpInBoundsAccessChain && in.op != spv::OpStore && m.type(in.word(1))) {
+          in.op != spv::OpInBoundsAccessChain && in.op != spv::OpStore && m.type(in.word(1)) &&
+          !g.isImageLike(in.word(1))) {
         const Type& t = g.spvType(in.word(1));
         if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
           return (*whyNot = "a value of a composite type (" + opName(in.op) + ")"), false;
@@ -353,6 +385,18 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   }
   // Module-scope variables the function reads: buffers, push constants and the compute built-ins only.
   for (const auto& [id, gl] : g.globals) {
+    if (fragment()) {
+      // Images, buffers, push constants; the interface and Private variables as per-lane storage (32-bit leaves).
+      if (gl.storage == spv::StorageClassWorkgroup) return (*whyNot = "workgroup variables"), false;
+      bool io = gl.storage == spv::StorageClassInput || gl.storage == spv::StorageClassOutput;
+      if (io && !gl.inPrivate && gl.graphicsField < 0) return (*whyNot = "a built-in without a field"), false;
+      if (io || gl.storage == spv::StorageClassPrivate) {
+        if (!laneLeaves(g.spvType(m.def(id)->word(1)).element))
+          return (*whyNot = "an interface or Private variable of 8-, 16- or 64-bit values"), false;
+        u.laneVariables.insert(id);
+      }
+      continue;
+    }
     if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate ||
         gl.storage == spv::StorageClassUniformConstant)
       return (*whyNot = "workgroup, private or image variables"), false;
@@ -453,7 +497,9 @@ bool Spmd::block(size_t bi) {
   for (; i < blk.last; ++i)
     if (!instruction(m.instructions[i])) return false;
   const Instruction& term = m.instructions[blk.last];
-  if (term.op == spv::OpBranch) {
+  if (term.op == spv::OpKill || term.op == spv::OpTerminateInvocation) {
+    laneStatus(abi::kFragmentKilled);  // the lanes leave: they take no edge
+  } else if (term.op == spv::OpBranch) {
     if (!edge(blk.label, term.word(1), mask)) return false;
   } else if (term.op == spv::OpBranchConditional) {
     llvm::Value* cond = comp(term.word(1), 0);
@@ -507,6 +553,7 @@ bool Spmd::block(size_t bi) {
 // ---------------------------------------------------------------------------------------------- instructions
 
 bool Spmd::instruction(const Instruction& in) {
+  if (quadOp(in.op)) return fragmentInstruction(in);
   switch (in.op) {
     case spv::OpLine: return sc.setLine(&in), true;  // where out-of-bounds reports say the access is
     case spv::OpNoLine: return sc.setLine(nullptr), true;
@@ -539,7 +586,9 @@ bool Spmd::instruction(const Instruction& in) {
   if (uniform) {
     // The scalar code generator's own emitters, on uniform values.
     bool ok = true;
-    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok)) return ok ? true : fail(sc.error.c_str());
+    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) ||
+        (in.op == spv::OpSampledImage && sc.image(in, ok)))
+      return ok ? true : fail(sc.error.c_str());
     return fail("an instruction the scalar emitters do not know");
   }
   std::vector<llvm::Value*> comps;
@@ -778,6 +827,28 @@ bool Spmd::builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector
   return true;
 }
 
+// Whether a value of `typeId` is made of 32-bit scalars (and booleans) only: what per-lane storage holds.
+bool Spmd::laneLeaves(uint32_t typeId) {
+  std::vector<uint32_t> work = {typeId};
+  while (!work.empty()) {
+    const Type& t = g.spvType(work.back());
+    work.pop_back();
+    switch (t.kind) {
+      case Type::Bool: break;
+      case Type::Int:
+      case Type::Float:
+        if (t.width != 32) return false;
+        break;
+      case Type::Vector:
+      case Type::Matrix:
+      case Type::Array: work.push_back(t.element); break;
+      case Type::Struct: work.insert(work.end(), t.members.begin(), t.members.end()); break;
+      default: return false;
+    }
+  }
+  return true;
+}
+
 bool Spmd::variable(const Instruction& in) {
   uint32_t id = in.word(2);
   const Type& pt = g.spvType(in.word(1));
@@ -788,23 +859,7 @@ bool Spmd::variable(const Instruction& in) {
     return scalarMemory(in, ok) && ok ? true : fail(sc.error.c_str());
   }
   // Storage per lane: 32-bit leaves only, interleaved lane by lane.
-  std::vector<uint32_t> work = {pt.element};
-  while (!work.empty()) {
-    const Type& t = g.spvType(work.back());
-    work.pop_back();
-    switch (t.kind) {
-      case Type::Bool: break;
-      case Type::Int:
-      case Type::Float:
-        if (t.width != 32) return fail("a per-lane variable of 8-, 16- or 64-bit values");
-        break;
-      case Type::Vector:
-      case Type::Matrix:
-      case Type::Array: work.push_back(t.element); break;
-      case Type::Struct: work.insert(work.end(), t.members.begin(), t.members.end()); break;
-      default: return fail("a per-lane variable of this type");
-    }
-  }
+  if (!laneLeaves(pt.element)) return fail("a per-lane variable of 8-, 16- or 64-bit values or of this type");
   uint64_t size = std::max<uint64_t>(g.layoutSize(pt.element, 0, false), 4);
   llvm::AllocaInst* a;
   {
@@ -1107,6 +1162,16 @@ bool Spmd::storeInst(const Instruction& in) {
   uint32_t ptrId = in.word(1), v = in.word(2);
   uint32_t ty = m.typeOf(v);
   LanePtr* lp = lanePtr(ptrId);
+  // Helper lanes of a fragment shader write no buffer memory ("Helper Invocations").
+  struct Restore {
+    llvm::Value*& at;
+    llvm::Value* was;
+    ~Restore() { at = was; }
+  } restore{mask, mask};
+  spv::StorageClass storage = lp ? lp->p.storage : sc.hasPtr(ptrId) ? sc.ptr(ptrId).storage : spv::StorageClassFunction;
+  if (fragment() && (storage == spv::StorageClassStorageBuffer || storage == spv::StorageClassUniform ||
+                     storage == spv::StorageClassPhysicalStorageBuffer))
+    mask = b.CreateAnd(mask, b.CreateNot(b.CreateLoad(maskTy(), helperSlot)));
   const Type& t = g.spvType(ty);
   if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
     return fail("a store of a composite");
@@ -1160,34 +1225,286 @@ bool Spmd::storeInst(const Instruction& in) {
   return true;
 }
 
-// ---------------------------------------------------------------------------------------------- the entry
+// ---------------------------------------------------------------------------------------------- fragment quads
 
-bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
-  (void)main;
-  const uint32_t* size = g.info.localSize;
-  uint32_t total = size[0] * size[1] * size[2];
+// Writes `status` (abi::kFragment*) to the GraphicsInvocation of every lane of the mask.
+void Spmd::laneStatus(uint32_t status) {
+  for (unsigned l = 0; l < N; ++l) {
+    llvm::Value* at = invField(l, offsetof(GraphicsInvocation, status));
+    llvm::Value* old = b.CreateAlignedLoad(b.getInt32Ty(), at, llvm::Align(4));
+    b.CreateAlignedStore(b.CreateSelect(b.CreateExtractElement(mask, uint64_t(l)), b.getInt32(status), old), at,
+                         llvm::Align(4));
+  }
+}
+
+// The quad's differences of a <N x float> (N = 4; lane i at pixel (x + (i & 1), y + (i >> 1))): fine derivatives
+// along the lane's own row / column, coarse ones along the quad's top row / left column (graphics.cpp's order).
+static void quadDifferences(llvm::IRBuilder<>& b, llvm::Value* f, bool coarse, llvm::Value** dx, llvm::Value** dy) {
+  auto sh = [&](std::initializer_list<int> lanes) { return b.CreateShuffleVector(f, llvm::ArrayRef<int>(lanes)); };
+  if (coarse) {
+    *dx = b.CreateFSub(sh({1, 1, 1, 1}), sh({0, 0, 0, 0}));
+    *dy = b.CreateFSub(sh({2, 2, 2, 2}), sh({0, 0, 0, 0}));
+  } else {
+    *dx = b.CreateFSub(sh({1, 1, 3, 3}), sh({0, 0, 2, 2}));
+    *dy = b.CreateFSub(sh({2, 3, 2, 3}), sh({0, 1, 0, 1}));
+  }
+}
+
+bool Spmd::fragmentInstruction(const Instruction& in) {
+  switch (in.op) {
+    case spv::OpDemoteToHelperInvocation: {
+      // The lanes go on as helpers: status, the helper mask and HelperInvocation change for them.
+      laneStatus(abi::kFragmentDemoted);
+      b.CreateStore(b.CreateOr(b.CreateLoad(maskTy(), helperSlot), mask), helperSlot);
+      if (helperVar) {
+        llvm::Value* at = lptrs[helperVar].p.base;
+        llvm::Type* vt = laneTy(b.getInt32Ty());
+        llvm::Value* old = b.CreateAlignedLoad(vt, at, llvm::Align(4));
+        b.CreateAlignedStore(b.CreateSelect(mask, splat(b.getInt32(1)), old), at, llvm::Align(4));
+      }
+      return true;
+    }
+    case spv::OpIsHelperInvocationEXT: return define(in.word(2), in.word(1), {b.CreateLoad(maskTy(), helperSlot)});
+    case spv::OpGroupNonUniformQuadBroadcast:
+    case spv::OpGroupNonUniformQuadSwap: return quadOperation(in);
+    case spv::OpImageSampleImplicitLod:
+    case spv::OpImageSampleExplicitLod:
+    case spv::OpImageSampleDrefImplicitLod:
+    case spv::OpImageSampleDrefExplicitLod: return sampleLanes(in);
+    default: return derivative(in);
+  }
+}
+
+bool Spmd::derivative(const Instruction& in) {
+  uint32_t rt = in.word(1), id = in.word(2), src = in.word(3);
+  if (!g.isFloat(rt)) return fail("a derivative of a value that is not a float");
+  bool coarse = in.op == spv::OpDPdxCoarse || in.op == spv::OpDPdyCoarse || in.op == spv::OpFwidthCoarse;
+  llvm::Type* st = g.type(g.scalarType(rt));
+  llvm::Type* f32 = laneTy(b.getFloatTy());
+  std::vector<llvm::Value*> comps;
+  for (uint32_t k = 0; k < count(rt); ++k) {
+    if (!varyingComp(id, k)) {  // a uniform value's derivatives are 0
+      comps.push_back(llvm::ConstantFP::get(st, 0.0));
+      continue;
+    }
+    llvm::Value* v = laneComp(src, k);
+    if (!v) return fail("a derivative of a value without a value");
+    llvm::Value *dx, *dy;
+    quadDifferences(b, b.CreateFPCast(v, f32), coarse, &dx, &dy);  // in 32 bits, as the scalar path exchanges
+    comps.push_back(b.CreateFPCast(derivativeResult(b, in.op, dx, dy), v->getType()));
+  }
+  return define(id, rt, comps);
+}
+
+// QuadBroadcast with a constant index, QuadSwap: a shuffle of the lanes.
+bool Spmd::quadOperation(const Instruction& in) {
+  uint32_t rt = in.word(1), id = in.word(2);
+  uint64_t scope = 0, sel = 0;
+  if (!m.constantU64(in.word(3), &scope) || scope != spv::ScopeSubgroup || !m.constantU64(in.word(5), &sel) || sel > 3)
+    return fail("a quad operation with a computed index or another scope");
+  std::vector<int> lanes(N);
+  for (unsigned l = 0; l < N; ++l)
+    lanes[l] = in.op == spv::OpGroupNonUniformQuadBroadcast ? int(sel) : int(l ^ (sel + 1)) & 3;
+  std::vector<llvm::Value*> comps;
+  for (uint32_t k = 0; k < count(rt); ++k) {
+    llvm::Value* v = comp(in.word(4), k);
+    if (!v) return fail("a quad operation on a value without a value");
+    comps.push_back(isLane(v) ? b.CreateShuffleVector(v, lanes) : v);
+  }
+  return define(id, rt, comps);
+}
+
+// Sampling: a uniform one once in the scalar code; one with a varying operand lane by lane (each active lane's
+// operands handed to the scalar code, which calls the runtime's function), the implicit-LOD forms with the
+// coordinates' fine derivatives taken from the quad's lanes.
+bool Spmd::sampleLanes(const Instruction& in) {
+  uint32_t rt = in.word(1), id = in.word(2), coord = in.word(4);
+  bool dref = in.op == spv::OpImageSampleDrefImplicitLod || in.op == spv::OpImageSampleDrefExplicitLod;
+  bool implicit = in.op == spv::OpImageSampleImplicitLod || in.op == spv::OpImageSampleDrefImplicitLod;
+  std::vector<uint32_t> ids = {coord};
+  if (dref) ids.push_back(in.word(5));
+  for (uint32_t w = dref ? 7 : 6; w < in.count; ++w) ids.push_back(in.word(w));  // after the operands mask
+  if (u.bits(in.word(3))) return fail("sampling a varying image");
+  bool ok = true;
+  if (!u.bits(id)) {
+    sc.spmdDx = sc.spmdDy = nullptr;  // uniform coordinates: derivatives 0
+    return sc.image(in, ok) && ok ? true
+                                  : fail(sc.error.empty() ? "a sampling the scalar code refused" : sc.error.c_str());
+  }
+  uint32_t nc = count(m.typeOf(coord));
+  std::vector<llvm::Value*> dxv(nc), dyv(nc);
+  if (implicit)
+    for (uint32_t k = 0; k < nc; ++k) {
+      llvm::Value* v = laneComp(coord, k);
+      if (!v) return fail("coordinates without a value");
+      quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), false, &dxv[k], &dyv[k]);
+    }
+  uint32_t nr = count(rt);
+  llvm::Type* st = g.type(g.scalarType(rt));
+  std::vector<llvm::Value*> comps(nr, llvm::UndefValue::get(laneTy(st)));
+  auto laneVector = [&](const std::vector<llvm::Value*>& v, unsigned l) -> llvm::Value* {
+    if (v.size() == 1) return b.CreateExtractElement(v[0], uint64_t(l));
+    llvm::Value* r = llvm::UndefValue::get(llvm::FixedVectorType::get(v[0]->getType()->getScalarType(), v.size()));
+    for (size_t k = 0; k < v.size(); ++k) r = b.CreateInsertElement(r, b.CreateExtractElement(v[k], uint64_t(l)), k);
+    return r;
+  };
+  for (unsigned l = 0; l < N; ++l) {
+    llvm::BasicBlock* before = b.GetInsertBlock();
+    auto* then = llvm::BasicBlock::Create(c, "spmd.lane", fn);
+    auto* join = llvm::BasicBlock::Create(c, "spmd.lane.join", fn);
+    b.CreateCondBr(b.CreateExtractElement(mask, uint64_t(l)), then, join);
+    b.SetInsertPoint(then);
+    std::vector<uint32_t> lent;
+    for (uint32_t x : ids) {
+      if (!u.bits(x) || sc.values.count(x)) continue;
+      std::vector<llvm::Value*> v;
+      for (uint32_t k = 0; k < count(m.typeOf(x)); ++k) v.push_back(laneComp(x, k));
+      if (std::count(v.begin(), v.end(), nullptr)) return fail("a sampling operand without a value");
+      std::vector<llvm::Value*> one;
+      for (llvm::Value* e : v) one.push_back(b.CreateExtractElement(e, uint64_t(l)));
+      sc.set(x, assemble(m.typeOf(x), one));
+      lent.push_back(x);
+    }
+    sc.spmdDx = implicit ? laneVector(dxv, l) : nullptr;
+    sc.spmdDy = implicit ? laneVector(dyv, l) : nullptr;
+    bool done = sc.image(in, ok) && ok;
+    for (uint32_t x : lent) sc.values.erase(x);
+    sc.spmdDx = sc.spmdDy = nullptr;
+    auto r = sc.values.find(id);
+    if (!done || r == sc.values.end())
+      return fail(sc.error.empty() ? "a sampling the scalar code refused" : sc.error.c_str());
+    llvm::Value* result = r->second;
+    sc.values.erase(r);
+    std::vector<llvm::Value*> parts;
+    for (uint32_t k = 0; k < nr; ++k) parts.push_back(nr > 1 ? b.CreateExtractElement(result, uint64_t(k)) : result);
+    llvm::BasicBlock* end = b.GetInsertBlock();
+    b.CreateBr(join);
+    b.SetInsertPoint(join);
+    std::vector<llvm::PHINode*> phis;  // all before the inserts: a block's phis come first
+    for (uint32_t k = 0; k < nr; ++k) {
+      phis.push_back(b.CreatePHI(st, 2));
+      phis[k]->addIncoming(llvm::UndefValue::get(st), before);
+      phis[k]->addIncoming(parts[k], end);
+    }
+    for (uint32_t k = 0; k < nr; ++k) comps[k] = b.CreateInsertElement(comps[k], phis[k], uint64_t(l));
+  }
+  return define(id, rt, comps);
+}
+
+// Copies between the lane block (the interface and Private variables, interleaved: lane l's word at byte o is at
+// o * N + 4 l) and the quad's GraphicsInvocations: inputs (and the built-in outputs' preset values) in, outputs out.
+void Spmd::copyLanes(bool inputs, llvm::Value* block) {
+  auto word = [&](uint64_t blockOffset, int slotsField, uint64_t at) {
+    llvm::Value* there[4];
+    for (unsigned l = 0; l < N; ++l) {
+      llvm::Value* base = invField(l, 0);
+      if (slotsField >= 0) base = b.CreateAlignedLoad(b.getPtrTy(), invField(l, unsigned(slotsField)), llvm::Align(8));
+      there[l] = b.CreateConstGEP1_64(b.getInt8Ty(), base, at);
+    }
+    llvm::Type* vt = laneTy(b.getInt32Ty());
+    llvm::Value* here = b.CreateConstGEP1_64(b.getInt8Ty(), block, blockOffset * N);
+    if (inputs) {
+      llvm::Value* v = llvm::UndefValue::get(vt);
+      for (unsigned l = 0; l < N; ++l)
+        v = b.CreateInsertElement(v, b.CreateAlignedLoad(b.getInt32Ty(), there[l], llvm::Align(4)), uint64_t(l));
+      b.CreateAlignedStore(v, here, llvm::Align(16));
+    } else {
+      llvm::Value* v = b.CreateAlignedLoad(vt, here, llvm::Align(16));
+      for (unsigned l = 0; l < N; ++l)
+        b.CreateAlignedStore(b.CreateExtractElement(v, uint64_t(l)), there[l], llvm::Align(4));
+    }
+  };
+  for (const Codegen::IoCopy& io : g.ioCopies)
+    if (io.input == inputs)
+      for (uint32_t j = 0; j < io.bytes; j += 4) word(io.privOffset + j, io.slotsField, io.at + j);
+  for (auto [id, offset] : builtInBlock) {
+    const Codegen::Global& gl = g.globals.at(id);
+    if (!inputs && gl.storage != spv::StorageClassOutput) continue;
+    for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, -1, uint64_t(gl.graphicsField) + j);
+  }
+}
+
+// vkrt_group(GraphicsInvocation quad[4]): the fragment shader for the quad's four lanes in one pass. The executor
+// fills the four invocations as for the scalar vkrt_main and reads their outputs and status after.
+bool Spmd::emitQuad() {
   fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
                               llvm::Function::ExternalLinkage, "vkrt_group", g.out);
   fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
-  if (N == 16) fn->addFnAttr("prefer-vector-width", "512");
+  invArg = fn->getArg(0);
   allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
   b.SetInsertPoint(allocaBlock);
-  llvm::Value* local = sc.groupContext(fn->getArg(0));
-  for (int i = 0; i < 3; ++i) {
-    llvm::Value* wg = b.CreateAlignedLoad(
-        b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, workgroupId) + 4 * i),
-        llvm::Align(4));
-    wgBase[i] = b.CreateMul(wg, b.getInt32(size[i]));
-  }
-  auto* batch = llvm::BasicBlock::Create(c, "spmd.batch", fn);
-  b.CreateBr(batch);
+  auto* body = llvm::BasicBlock::Create(c, "spmd.quad", fn);
+  b.CreateBr(body);
   for (Codegen* x : {&sc, &lc}) {
     x->fn = fn;
-    x->ctxArg = local;
+    x->ctxArg = invArg;  // lane 0's: the context fields the code reads (resources, push constants) are the quad's
     x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
     x->allocaBlock = allocaBlock;
+    x->spmdDerivatives = true;
   }
-  // Masks and phis: zero between batches (every block consumes its mask).
+  if (!prepareSlots()) return false;
+  // The lane block: the private block's layout (user interface and Private variables), then the built-ins.
+  uint64_t size = (g.privateSize + 15) / 16 * 16;
+  std::vector<uint32_t> vars;
+  for (const auto& [id, gl] : g.globals)
+    if (u.laneVariables.count(id)) vars.push_back(id);
+  std::sort(vars.begin(), vars.end());
+  for (uint32_t id : vars) {
+    const Codegen::Global& gl = g.globals.at(id);
+    if (gl.inPrivate || gl.storage == spv::StorageClassPrivate) continue;
+    builtInBlock.push_back({id, size});
+    size += (gl.size + 3) / 4 * 4;
+  }
+  size = std::max<uint64_t>(size, 16);
+  llvm::AllocaInst* lanes;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock->getTerminator());
+    lanes = b.CreateAlloca(b.getInt8Ty(), b.getInt64(size * N));
+    lanes->setAlignment(llvm::Align(64));
+    helperSlot = b.CreateAlloca(maskTy());
+  }
+  b.SetInsertPoint(body);
+  b.CreateMemSet(lanes, b.getInt8(0), b.getInt64(size * N), llvm::MaybeAlign(64));
+  for (uint32_t id : vars) {
+    const Codegen::Global& gl = g.globals.at(id);
+    uint64_t offset = gl.offset;
+    for (auto [bid, o] : builtInBlock)
+      if (bid == id) offset = o;
+    LanePtr lp;
+    lp.p.base = b.CreateConstGEP1_64(b.getInt8Ty(), lanes, offset * N);
+    lp.p.offset = b.getInt64(0);
+    lp.p.limit = b.getInt64(gl.size);
+    lp.p.type = g.spvType(m.def(id)->word(1)).element;
+    lp.p.storage = gl.storage;
+    lp.interleaved = true;
+    lptrs[id] = lp;
+    if (gl.storage == spv::StorageClassInput && gl.builtIn == spv::BuiltInHelperInvocation) helperVar = id;
+  }
+  copyLanes(true, lanes);
+  llvm::Value* helper = llvm::UndefValue::get(maskTy());
+  for (unsigned l = 0; l < N; ++l) {
+    llvm::Value* h =
+        b.CreateAlignedLoad(b.getInt32Ty(), invField(l, offsetof(GraphicsInvocation, helper)), llvm::Align(4));
+    helper = b.CreateInsertElement(helper, b.CreateICmpNE(h, b.getInt32(0)), uint64_t(l));
+  }
+  b.CreateStore(helper, helperSlot);
+  // Helper lanes run where the shader takes derivatives (needsQuad, from the scalar compilation); else only the
+  // covered lanes, as the scalar path runs them.
+  mask = g.info.graphics.needsQuad ? llvm::Constant::getAllOnesValue(maskTy()) : b.CreateNot(helper);
+  for (size_t bi = 0; bi < cfg.blocks.size(); ++bi)
+    if (!block(bi)) return false;
+  if (!loopHeads.empty()) return fail("a loop without a back edge");
+  copyLanes(false, lanes);
+  b.CreateRetVoid();
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------- the entry
+
+// The per-block masks and the phis' and loops' live-out slots, zeroed in the alloca block (every block consumes its
+// mask).
+bool Spmd::prepareSlots() {
   for (const Cfg::Block& blk : cfg.blocks) {
     llvm::AllocaInst* a = slot(maskTy());
     {
@@ -1214,6 +1531,35 @@ bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
       for (uint32_t k = 0; k < count(m.typeOf(id)); ++k) liveOutSlots[id].push_back(slot(laneTy(s)));
     }
   }
+  return true;
+}
+
+bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
+  (void)main;
+  const uint32_t* size = g.info.localSize;
+  uint32_t total = size[0] * size[1] * size[2];
+  fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
+                              llvm::Function::ExternalLinkage, "vkrt_group", g.out);
+  fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
+  if (N == 16) fn->addFnAttr("prefer-vector-width", "512");
+  allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
+  b.SetInsertPoint(allocaBlock);
+  llvm::Value* local = sc.groupContext(fn->getArg(0));
+  for (int i = 0; i < 3; ++i) {
+    llvm::Value* wg = b.CreateAlignedLoad(
+        b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, workgroupId) + 4 * i),
+        llvm::Align(4));
+    wgBase[i] = b.CreateMul(wg, b.getInt32(size[i]));
+  }
+  auto* batch = llvm::BasicBlock::Create(c, "spmd.batch", fn);
+  b.CreateBr(batch);
+  for (Codegen* x : {&sc, &lc}) {
+    x->fn = fn;
+    x->ctxArg = local;
+    x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
+    x->allocaBlock = allocaBlock;
+  }
+  if (!prepareSlots()) return false;
   b.SetInsertPoint(batch);
   auto* base = b.CreatePHI(b.getInt32Ty(), 2);
   base->addIncoming(b.getInt32(0), allocaBlock);
@@ -1263,6 +1609,23 @@ unsigned spmdLanes() {
 }
 
 std::string spmdKey() { return "spmd " + std::to_string(spmdLanes()); }
+
+bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
+  if (!spmdLanes() || !g.isFragment()) return false;  // VKRT_SPMD=0: the fibers' path
+  Spmd s(g, 4);
+  std::string whyNot;
+  if (!s.supported(ep, &whyNot)) return false;
+  if (!s.emitQuad()) {
+    if (llvm::Function* f = g.out.getFunction("vkrt_group")) {
+      f->dropAllReferences();
+      f->eraseFromParent();
+    }
+    return false;
+  }
+  main->setLinkage(llvm::Function::InternalLinkage);
+  g.info.spmdLanes = 4;
+  return true;
+}
 
 bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
   unsigned lanes = spmdLanes();

@@ -22,4 +22,10 @@ std::string spmdKey();
 // it was (the caller emits the scalar vkrt_group). Sets g.info.spmdLanes.
 bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main);
 
+// Emits vkrt_group(GraphicsInvocation quad[4]) for a fragment entry point: the quad's four lanes in one pass
+// (derivatives as differences between the lanes, helper lanes masked out of buffer stores), where the SPMD path
+// supports every instruction; otherwise returns false, the module as it was (the executor runs vkrt_main on four
+// fibers). Sets g.info.spmdLanes to 4.
+bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main);
+
 }  // namespace vkrt::spirv

@@ -54,7 +54,11 @@ bool Cfg::build(const Module& m, size_t first, std::string* why) {
         continue;
       }
       case spv::OpKill:
-      case spv::OpTerminateInvocation: *why = "OpKill"; return false;
+      case spv::OpTerminateInvocation:  // fragment shaders: the lanes leave, as with OpReturn
+        if (!cur) break;
+        cur->last = i;
+        cur = nullptr;
+        continue;
       default: break;
     }
     if (!cur && in.op != spv::OpFunctionParameter) {
@@ -185,7 +189,11 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
           case spv::OpBranchConditional:
           case spv::OpReturn:
           case spv::OpReturnValue:
-          case spv::OpUnreachable: break;
+          case spv::OpUnreachable:
+          case spv::OpKill:
+          case spv::OpTerminateInvocation:
+          case spv::OpDemoteToHelperInvocation: break;
+          case spv::OpIsHelperInvocationEXT: set(in.word(2), 1, changed); break;  // demotion makes it vary
           case spv::OpStore: {
             uint32_t var = rootOf(in.word(1));
             if (storageOf(var) == spv::StorageClassFunction && (bits(in.word(2)) || bits(in.word(1)) || divergent) &&

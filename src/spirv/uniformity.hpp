@@ -46,7 +46,9 @@ struct Cfg {
 struct Uniformity {
   // Bit c set: component c of the value (or the pointer, as one bit) varies. Ids not listed are uniform.
   std::unordered_map<uint32_t, uint32_t> varying;
-  std::unordered_set<uint32_t> laneVariables;  // Function variables that need storage per lane
+  // Function variables that need storage per lane; a fragment shader's Input, Output and Private variables are
+  // listed before analyze() (every lane has its own).
+  std::unordered_set<uint32_t> laneVariables;
   std::unordered_set<uint32_t> divergentLoops;
   std::unordered_set<uint32_t> divergentBlocks;  // blocks under divergent control
   std::unordered_set<uint32_t> divergentMerges;  // merges of divergent selections and loops

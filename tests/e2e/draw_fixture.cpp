@@ -1,5 +1,7 @@
 #include "e2e/draw_fixture.hpp"
 
+#include "draw_color.vert.spv.h"
+
 namespace vkrt::test {
 
 DrawTest::Target DrawTest::createTarget(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspects) {
@@ -282,6 +284,41 @@ void DrawTest::TearDown() {
   modules.clear();
   layout = VK_NULL_HANDLE;
   VulkanTest::TearDown();
+}
+
+std::vector<uint32_t> DrawTest::drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4],
+                                               uint32_t clear) {
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  PipelineDesc d;
+  d.vs = kSpv_draw_color_vert;
+  d.vsBytes = sizeof kSpv_draw_color_vert;
+  d.fs = fs;
+  d.fsBytes = fsBytes;
+  d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+  VkPipeline pipeline;
+  if (createPipeline(d, &pipeline) != VK_SUCCESS) {
+    ADD_FAILURE() << "vkCreateGraphicsPipelines failed";
+    destroy(color);
+    return {};
+  }
+  const float r = rgba[0], g = rgba[1], b = rgba[2], a = rgba[3];
+  const Vertex tri[3] = {{-1, -1, r, g, b, a}, {3, -1, r, g, b, a}, {-1, 3, r, g, b, a}};
+  HostBuffer vb = vertexBuffer(tri, sizeof tri);
+  std::vector<uint32_t> pixels = render(
+      color, nullptr,
+      [&](VkCommandBuffer cb) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        VkDeviceSize off = 0;
+        vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+        vkCmdDraw(cb, 3, 1, 0, 0);
+      },
+      clear);
+  destroy(vb);
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+  return pixels;
 }
 
 }  // namespace vkrt::test

@@ -21,6 +21,7 @@
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
 #include "gfx_sample_cube.frag.spv.h"
+#include "gfx_spmd_discard.frag.spv.h"
 #include "runtime/image.hpp"
 #include "runtime/image_functions.hpp"
 #include "runtime/image_view.hpp"
@@ -35,9 +36,17 @@ using abi::GraphicsInvocation;
 using abi::kGraphicsLocations;
 using Location = spirv::GraphicsStageInfo::Location;
 
+// `spmd`: fragment shaders compiled by the SPMD path (a quad in one call) where it supports them; off, the scalar
+// vkrt_main the fibers run (what the tests that call graphicsEntry on one lane need).
 template <size_t N>
 std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model,
-                                                    std::string* error, bool inlineFunctions = true) {
+                                                    std::string* error, bool inlineFunctions = true,
+                                                    bool spmd = false) {
+  struct Setting {
+    bool was = spirv::spmdEnabled();
+    ~Setting() { spirv::setSpmd(was); }
+  } setting;
+  spirv::setSpmd(spmd);
   spirv::CompileRequest r;
   r.words = words;
   r.wordCount = N;
@@ -94,6 +103,14 @@ struct Quad {
     }
   }
   bool run(const spirv::CompiledShader& s) {
+    if (s.spmdLanes == 4) {
+      // The SPMD entry takes the four invocations as an array.
+      GraphicsInvocation inv[4];
+      for (int l = 0; l < 4; ++l) inv[l] = lanes[l].inv;
+      s.graphicsEntry(inv);
+      for (int l = 0; l < 4; ++l) lanes[l].inv = inv[l];
+      return true;
+    }
     abi::InvocationContext* ctx[4];
     for (int l = 0; l < 4; ++l) ctx[l] = &lanes[l].inv.base;
     return exec::runFiberGroup(reinterpret_cast<abi::ComputeEntry>(s.graphicsEntry), ctx, 4);
@@ -260,6 +277,55 @@ TEST(GraphicsShader, FragmentBuiltInsAndInterpolationDecorations) {
   EXPECT_FALSE(gi.outputs[0].integer);
 }
 
+// Every fragment built-in on the SPMD path, each lane of the quad with its own values: each lane reads its own.
+TEST(GraphicsShader, SpmdFragmentBuiltInsPerLane) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_builtins_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(s) << error;
+  ASSERT_EQ(s->spmdLanes, 4u);
+  Quad q(0, 0);
+  for (uint32_t l = 0; l < 4; ++l) {
+    Lane& lane = q.lanes[l];
+    GraphicsInvocation& g = lane.inv;
+    const float coord[4] = {3.5f + float(l), 7.5f, 0.25f * float(l), 2.0f};
+    std::memcpy(g.fragCoord, coord, 16);
+    g.frontFacing = l & 1;
+    g.primitiveId = int32_t(9 + l);
+    g.sampleId = int32_t(l);
+    g.sampleMaskIn = 4u << l;
+    g.pointCoord[0] = 0.125f * float(l), g.pointCoord[1] = 0.875f;
+    g.samplePosition[0] = 0.375f, g.samplePosition[1] = 0.0625f * float(l);
+    g.layer = 3 + l;
+    g.viewIndex = l;
+    g.fragDepth = 0.5f;
+    lane.setI(0, 0, int32_t(4 + l));
+    lane.setF(1, 0, 1.25f * float(l));
+    lane.setF(1, 2, 0.5f);
+    lane.setF(2, 3, 0.25f);
+  }
+  ASSERT_TRUE(q.run(*s));
+  for (uint32_t l = 0; l < 4; ++l) {
+    SCOPED_TRACE("lane " + std::to_string(l));
+    const Lane& lane = q.lanes[l];
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(lane.outF(0, c), lane.inv.fragCoord[c]) << c;
+    EXPECT_EQ(lane.outI(1, 0), int32_t(l & 1));
+    EXPECT_EQ(lane.outI(1, 1), int32_t(9 + l));
+    EXPECT_EQ(lane.outI(1, 2), int32_t(l));
+    EXPECT_EQ(lane.outI(1, 3), int32_t(4u << l));
+    EXPECT_EQ(lane.outF(2, 0), 0.125f * float(l));
+    EXPECT_EQ(lane.outF(2, 1), 0.875f);
+    EXPECT_EQ(lane.outF(2, 2), 0.375f);
+    EXPECT_EQ(lane.outF(2, 3), 0.0625f * float(l));
+    EXPECT_EQ(lane.out[3 * 4 + 0], 0u);
+    EXPECT_EQ(lane.out[3 * 4 + 1], 3u + l);
+    EXPECT_EQ(lane.out[3 * 4 + 2], l);
+    EXPECT_EQ(lane.out[3 * 4 + 3], 4u + l + uint32_t(1.25f * float(l) + 0.5f + 0.25f));
+    EXPECT_EQ(lane.inv.fragDepth, 0.75f);
+    EXPECT_EQ(lane.inv.sampleMaskOut, 5u);
+    EXPECT_EQ(lane.inv.status, 0u);
+  }
+}
+
 // Kill (in a called function), terminate, demote, and helper lanes whose buffer writes and atomics land nowhere.
 void runDiscardCases(bool inlineFunctions) {
   std::string error;
@@ -313,11 +379,12 @@ TEST(GraphicsShader, DiscardFromACalledFunction) { runDiscardCases(false); }
 
 double fn(double x, double y) { return x * x + 3 * y * y + x * y; }
 
-TEST(GraphicsShader, DerivativesFineAndCoarseAndQuadOperations) {
+void runDerivativeCases(bool spmd) {
   std::string error;
-  auto s = compileStage(kSpv_gfx_derivs_frag, spv::ExecutionModelFragment, &error);
+  auto s = compileStage(kSpv_gfx_derivs_frag, spv::ExecutionModelFragment, &error, true, spmd);
   ASSERT_TRUE(s) << error;
   EXPECT_TRUE(s->graphics.needsQuad);
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
   const uint32_t x0 = 6, y0 = 10;
   Quad q(x0, y0);
   ASSERT_TRUE(q.run(*s));
@@ -356,6 +423,79 @@ TEST(GraphicsShader, DerivativesFineAndCoarseAndQuadOperations) {
     EXPECT_NEAR(k.lanes[l].outF(0, 3), fn(kx[0], ky[1]) - fn(kx[0], ky[0]), 1e-3);
   }
 }
+
+TEST(GraphicsShader, DerivativesFineAndCoarseAndQuadOperations) { runDerivativeCases(false); }
+TEST(GraphicsShader, SpmdDerivativesFineAndCoarseAndQuadOperations) { runDerivativeCases(true); }
+
+// The pipeline cache keeps the SPMD form: the loaded shader's graphicsEntry is the quad entry again.
+TEST(GraphicsShader, SpmdFragmentShaderSurvivesThePipelineCache) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_derivs_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(s) << error;
+  ASSERT_EQ(s->spmdLanes, 4u);
+  auto c = spirv::loadCached(s->cacheBlob, imageFunctionSymbols(), &error);
+  ASSERT_TRUE(c) << error;
+  EXPECT_EQ(c->spmdLanes, 4u);
+  Quad q(6, 10);
+  ASSERT_TRUE(q.run(*c));
+  for (uint32_t l = 0; l < 4; ++l) {
+    const double y = 10.5 + (l >> 1);
+    EXPECT_NEAR(q.lanes[l].outF(0, 0), fn(7.5, y) - fn(6.5, y), 1e-3) << l;  // dFdxFine
+  }
+}
+
+// Per-lane discard and demotion in one quad, a helper lane from the start: statuses, outputs, buffer stores (none
+// from helpers), derivatives after a demotion (the demoted lane keeps computing them). The same expectations on the
+// fiber path and the SPMD path.
+void runQuadDiscardCases(bool spmd) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_spmd_discard_frag, spv::ExecutionModelFragment, &error, true, spmd);
+  ASSERT_TRUE(s) << error;
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
+  EXPECT_TRUE(s->graphics.needsQuad);
+  EXPECT_TRUE(s->graphics.canDiscard);
+  struct Case {
+    int mode[4];
+    uint32_t helper[4];
+  };
+  const uint32_t K = abi::kFragmentKilled, D = abi::kFragmentDemoted;
+  for (const Case& c : {Case{{0, 0, 2, 0}, {0, 0, 0, 1}}, Case{{1, 0, 0, 2}, {0, 0, 0, 0}}}) {
+    SCOPED_TRACE("modes " + std::to_string(c.mode[0]) + std::to_string(c.mode[1]) + std::to_string(c.mode[2]) +
+                 std::to_string(c.mode[3]));
+    std::vector<uint32_t> buf(4, 0);
+    abi::DescriptorRecord rec{};
+    rec.address = reinterpret_cast<uint64_t>(buf.data());
+    rec.range = buf.size() * 4;
+    abi::ResourceSlot slot{&rec, 1};
+    const uint32_t x0 = 4, y0 = 8;
+    Quad q(x0, y0);
+    for (uint32_t l = 0; l < 4; ++l) {
+      q.lanes[l].inv.base.resources = &slot;
+      q.lanes[l].inv.helper = c.helper[l];
+      q.lanes[l].setI(0, 0, c.mode[l]);
+    }
+    ASSERT_TRUE(q.run(*s));
+    bool anyKilled = false;
+    for (uint32_t l = 0; l < 4; ++l) anyKilled |= c.mode[l] == 1;
+    for (uint32_t l = 0; l < 4; ++l) {
+      SCOPED_TRACE("lane " + std::to_string(l));
+      const Lane& lane = q.lanes[l];
+      const bool killed = c.mode[l] == 1, demoted = c.mode[l] == 2, helper = demoted || c.helper[l];
+      EXPECT_EQ(lane.inv.status, killed ? K : demoted ? D : 0u);
+      EXPECT_EQ(buf[l], killed || helper ? 0u : 5u);  // helpers store nothing
+      if (killed) continue;
+      EXPECT_EQ(lane.outF(0, 0), 2.0f);
+      EXPECT_EQ(lane.outF(0, 1), helper ? 1.0f : 0.0f);
+      if (anyKilled) continue;  // derivatives next to a terminated lane are undefined
+      const double x[2] = {x0 + 0.5, x0 + 1.5}, y[2] = {y0 + 0.5, y0 + 1.5};
+      EXPECT_EQ(lane.outF(0, 2), float(x[1] * x[1] - x[0] * x[0]));  // dFdx(x * x): the same in both rows
+      EXPECT_EQ(lane.outF(0, 3), float(x[0] * y[1] - x[0] * y[0]));  // dFdyCoarse(x * y): the left column
+    }
+  }
+}
+
+TEST(GraphicsShader, QuadDiscardDemoteAndHelpers) { runQuadDiscardCases(false); }
+TEST(GraphicsShader, SpmdQuadDiscardDemoteAndHelpers) { runQuadDiscardCases(true); }
 
 // PixelCenterInteger is not allowed in Vulkan (glslc's validator refuses it too): gfx_builtins.frag with its
 // OriginUpperLeft execution mode turned into PixelCenterInteger.
@@ -483,6 +623,7 @@ class GraphicsShaderSampling : public ::testing::Test {
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkImageView view = VK_NULL_HANDLE;
   VkSampler sampler = VK_NULL_HANDLE;
+  void implicitLod(bool spmd);
 };
 
 float expectedLevel(double lambda) {
@@ -490,11 +631,15 @@ float expectedLevel(double lambda) {
   return float(std::ceil(d + 0.5) - 1.0);
 }
 
-TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) {
+TEST_F(GraphicsShaderSampling, ImplicitLodSamplingPicksTheMipOfTheDerivatives) { implicitLod(false); }
+TEST_F(GraphicsShaderSampling, SpmdImplicitLodSamplingPicksTheMipOfTheDerivatives) { implicitLod(true); }
+
+void GraphicsShaderSampling::implicitLod(bool spmd) {
   std::string error;
-  auto s = compileStage(kSpv_gfx_sample_frag, spv::ExecutionModelFragment, &error);
+  auto s = compileStage(kSpv_gfx_sample_frag, spv::ExecutionModelFragment, &error, true, spmd);
   ASSERT_TRUE(s) << error;
   EXPECT_TRUE(s->graphics.needsQuad);
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
   abi::DescriptorRecord rec{};
   rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
   rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));

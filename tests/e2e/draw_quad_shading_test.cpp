@@ -1,0 +1,69 @@
+// Fragment quads drawn on both of vkrt's paths (VKRT_SPMD unset: the SPMD quad where the compiler supports the
+// shader; VKRT_SPMD=0: four fibers): derivatives, discard, demotion and helperInvocationEXT() in the pixels, against
+// values computed here from the pixel coordinates.
+#include <cstdlib>
+#include <string>
+
+#include "draw_derivatives.frag.spv.h"
+#include "e2e/draw_fixture.hpp"
+
+namespace vkrt::test {
+namespace {
+
+// `spmd` false: the device is created with VKRT_SPMD=0 (read at device creation); the variable is put back after.
+class DrawQuadShadingTest : public DrawTest, public ::testing::WithParamInterface<bool> {
+ protected:
+  FixtureOptions options() override {
+    FixtureOptions o = DrawTest::options();
+    o.features13.shaderDemoteToHelperInvocation = VK_TRUE;
+    return o;
+  }
+  void SetUp() override {
+    const char* was = std::getenv("VKRT_SPMD");
+    had_ = was != nullptr;
+    if (had_) was_ = was;
+    setenv("VKRT_SPMD", GetParam() ? "1" : "0", 1);
+    DrawTest::SetUp();
+  }
+  void TearDown() override {
+    DrawTest::TearDown();
+    // The setting is process-wide and read at the next device creation: back to what the run asked for.
+    setenv("VKRT_SPMD", had_ ? was_.c_str() : "1", 1);
+  }
+  bool had_ = false;
+  std::string was_;
+};
+
+TEST_P(DrawQuadShadingTest, DerivativesDiscardAndDemotionInThePixels) {
+  // One triangle over the whole target (every quad fully covered), alpha 0.5.
+  const float color[4] = {0, 0, 0, 0.5f};
+  const uint32_t clear = 0xFF202020u;
+  auto pixels = drawFullScreen(kSpv_draw_derivatives_frag, sizeof kSpv_draw_derivatives_frag, color, clear);
+  ASSERT_EQ(pixels.size(), size_t(kW) * kH);
+  // Pixel (px, py), centre (px + 0.5, py + 0.5), in the quad whose top-left pixel is (qx, qy) = (px & ~1, py & ~1):
+  // dFdxFine(x^2) = (qx + 1.5)^2 - (qx + 0.5)^2 = 2 qx + 2 (the same in both rows), dFdyCoarse(y^2) = 2 qy + 2,
+  // fwidthFine(x y) = |d(x y)/dx| + |d(x y)/dy| = (py + 0.5) + (px + 0.5).
+  int mismatches = 0, discarded = 0, demoted = 0;
+  for (int py = 0; py < int(kH); ++py)
+    for (int px = 0; px < int(kW); ++px) {
+      const int qx = px & ~1, qy = py & ~1;
+      uint32_t want = rgba8((2.0 * qx + 2) / 64, (2.0 * qy + 2) / 64, (px + py + 1.0) / 64, 0.5);
+      if ((px + 2 * py) % 5 == 0) {
+        want = clear, ++discarded;
+      } else if ((3 * px + py) % 7 == 0) {
+        want = clear, ++demoted;  // a demoted fragment writes nothing
+      }
+      const uint32_t got = pixels[size_t(py) * kW + px];
+      if (!near(got, want) && ++mismatches <= 5)
+        ADD_FAILURE() << "pixel (" << px << ", " << py << "): " << std::hex << got << " want " << want;
+    }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(discarded, 100);
+  EXPECT_GT(demoted, 100);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothPaths, DrawQuadShadingTest, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Spmd" : "Fibers"; });
+
+}  // namespace
+}  // namespace vkrt::test
