@@ -288,6 +288,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
 
   const bool printf = prepareNonSemantic(words);
   defineUndefinedShuffleComponents(words);
+  foldQuantizeToF16SpecConstants(words);
   keepOnlyEntryPoint(words, req.model, req.entryName);
   // Tokens Debian's SPIRV-Tools does not know are hidden from its optimizer and put back after it.
   HiddenTokens hidden;

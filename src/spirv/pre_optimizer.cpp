@@ -3,6 +3,7 @@
 // and the translation only the compiled entry point and the non-semantic instructions they use.
 #include "spirv/pre_optimizer.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <set>
@@ -187,6 +188,67 @@ void defineUndefinedShuffleComponents(std::vector<uint32_t>& words) {
         if (words[at + k] == kUndefinedComponent) words[at + k] = 0;
     at += count;
   }
+}
+
+// SPIRV-Tools 2023.1 folds OpSpecConstantOp QuantizeToF16 wrongly twice over: in a module that declares a float
+// controls capability (SignedZeroInfNanPreserve, DenormPreserve, DenormFlushToZero, RoundingModeRTE/RTZ) the fold
+// pass dereferences a null result and crashes (the CTS's spirv_assembly.instruction.graphics.opquantize.spec_const_*
+// with infinities and NaNs), and elsewhere it keeps results below the smallest normal half (2^-14), which the SPIR-V
+// specification makes a zero (opquantize.spec_const_too_small, opspecconstantop_opquantize.flush_to_zero). vkrt
+// folds them itself first, as arithmetic.cpp computes the instruction: to the nearest half (ties to even; infinities
+// and NaNs stay, magnitudes past 65504 become infinities), then a zero of the input's sign below 2^-14.
+namespace {
+
+uint32_t quantizeToF16(uint32_t bits) {
+  const uint32_t sign = bits & 0x80000000u, exponent = (bits >> 23) & 0xFF, mantissa = bits & 0x7FFFFF;
+  if (exponent == 0xFF) return mantissa ? (bits | 0x400000u) : bits;  // NaN (kept quiet), infinity
+  if (exponent < 127 - 14) {
+    // Below 2^-14: rounded to the half denormals (steps of 2^-24), only 2^-14 - 2^-25 and up reach 2^-14 (the tie
+    // goes to its even mantissa); every other result is a denormal or zero, and becomes the zero.
+    return exponent == 127 - 15 && mantissa >= 0x7FE000u ? sign | (127 - 14) << 23 : sign;
+  }
+  // A normal half: 10 mantissa bits, rounded to nearest even.
+  uint32_t m = mantissa, e = exponent;
+  const uint32_t dropped = m & 0x1FFF, half = 0x1000;
+  m >>= 13;
+  if (dropped > half || (dropped == half && (m & 1))) ++m;
+  if (m == 0x400) m = 0, ++e;
+  if (e > 127 + 15) return sign | 0x7F800000u;  // past 65504
+  return sign | e << 23 | m << 13;
+}
+
+}  // namespace
+
+void foldQuantizeToF16SpecConstants(std::vector<uint32_t>& words) {
+  std::vector<uint32_t> floatTypes;                  // ids of OpTypeFloat 32
+  std::vector<std::pair<uint32_t, uint32_t>> known;  // id -> the bits of a 32-bit float constant
+  auto isFloat32 = [&](uint32_t id) { return std::find(floatTypes.begin(), floatTypes.end(), id) != floatTypes.end(); };
+  auto value = [&](uint32_t id) -> const uint32_t* {
+    for (const auto& [k, v] : known)
+      if (k == id) return &v;
+    return nullptr;
+  };
+  bool any = false;
+  std::vector<uint32_t> out(words.begin(), words.begin() + std::min<size_t>(words.size(), 5));
+  for (size_t at = 5; at < words.size();) {
+    const uint32_t count = words[at] >> 16, op = words[at] & 0xFFFF;
+    if (count == 0 || at + count > words.size()) return;  // the parse before refuses such a module
+    if (op == spv::OpTypeFloat && count == 3 && words[at + 2] == 32) floatTypes.push_back(words[at + 1]);
+    if ((op == spv::OpConstant || op == spv::OpSpecConstant) && count == 4 && isFloat32(words[at + 1]))
+      known.push_back({words[at + 2], words[at + 3]});
+    const uint32_t* operand = nullptr;
+    if (op == spv::OpSpecConstantOp && count == 5 && words[at + 3] == spv::OpQuantizeToF16 &&
+        isFloat32(words[at + 1]) && (operand = value(words[at + 4]))) {
+      const uint32_t bits = quantizeToF16(*operand);
+      known.push_back({words[at + 2], bits});
+      out.insert(out.end(), {4u << 16 | spv::OpConstant, words[at + 1], words[at + 2], bits});
+      any = true;
+    } else {
+      out.insert(out.end(), words.begin() + at, words.begin() + at + count);
+    }
+    at += count;
+  }
+  if (any) words = std::move(out);
 }
 
 bool checkSpecConstantOps(const Module& m, std::string* error) {

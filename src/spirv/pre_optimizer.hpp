@@ -14,6 +14,9 @@ namespace vkrt::spirv {
 bool checkSpecConstantOps(const Module& m, std::string* error);
 // OpSpecConstantOp VectorShuffle components 0xFFFFFFFF (undefined) become 0.
 void defineUndefinedShuffleComponents(std::vector<uint32_t>& words);
+// OpSpecConstantOp QuantizeToF16 of a 32-bit float scalar whose value is known (an OpConstant, an OpSpecConstant,
+// whose default is the specialized value by then, or a QuantizeToF16 folded before) becomes that OpConstant.
+void foldQuantizeToF16SpecConstants(std::vector<uint32_t>& words);
 // Removes every entry point but the one compiled.
 void keepOnlyEntryPoint(std::vector<uint32_t>& words, spv::ExecutionModel model, const std::string& name);
 // Drops non-semantic instructions but DebugPrintf and adds line information; returns whether a DebugPrintf remains.

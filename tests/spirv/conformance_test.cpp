@@ -254,6 +254,48 @@ TEST(SpirvConformance, QuantizeToF16RoundsToHalfAndFlushesBelowTheSmallestNormal
   EXPECT_TRUE(std::isnan(h.get<float>(0)[0]));
 }
 
+// OpSpecConstantOp QuantizeToF16: Debian's SPIRV-Tools crashed folding it in a module declaring a float controls
+// capability (the CTS's spirv_assembly.instruction.graphics.opquantize.spec_const_inf and the like) and kept results
+// below 2^-14 elsewhere; vkrt folds it itself, to the value the instruction computes at run time (the same
+// reference as above), with and without each float controls capability.
+TEST(SpirvConformance, QuantizeToF16SpecConstantOpFoldsAsTheInstruction) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> values = {
+      1.0f,     1.0f + 0x1p-11f,     -3.14159265f,        65504.0f,  65520.0f, 1e9f, -inf, inf,
+      0x1p-14f, 0x1p-14f - 0x1p-25f, 0x1p-14f - 0x1p-24f, -0x1p-20f, 1e-30f,   -0.0f};
+  for (const char* cap :
+       {"", "OpCapability SignedZeroInfNanPreserve", "OpCapability DenormPreserve", "OpCapability RoundingModeRTE"}) {
+    std::string caps = *cap ? std::string(cap) + "\nOpExtension \"SPV_KHR_float_controls\"" : "";
+    std::string text = module(caps, "OpDecorate %x SpecId 3", "%float", "4",
+                              "%x = OpSpecConstant %float 0\n%q = OpSpecConstantOp %float QuantizeToF16 %x\n"
+                              "%qq = OpSpecConstantOp %float QuantizeToF16 %q",
+                              "OpStore %slot %q\n"
+                              "%slot1 = OpAccessChain %ptr_sb_elem %data %uint_0 %uint_1\n"
+                              "OpStore %slot1 %qq");
+    for (float v : values) {
+      spirv::SpecValue spec{3, std::vector<uint8_t>(4)};
+      std::memcpy(spec.bytes.data(), &v, 4);
+      ComputeHarness h;
+      ASSERT_TRUE(compileText(h, text, {spec})) << h.error;
+      h.zeroBuffer<float>(0, 2);
+      ASSERT_TRUE(h.run(1));
+      auto out = h.get<float>(0);
+      float expected = float(_Float16(v));
+      if (std::fabs(expected) < 0x1p-14f) expected = std::copysign(0.0f, v);
+      EXPECT_EQ(std::bit_cast<uint32_t>(out[0]), std::bit_cast<uint32_t>(expected)) << cap << ", value " << v;
+      EXPECT_EQ(std::bit_cast<uint32_t>(out[1]), std::bit_cast<uint32_t>(expected)) << cap << ", value " << v;
+    }
+    spirv::SpecValue nan{3, std::vector<uint8_t>(4)};
+    const float qnan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(nan.bytes.data(), &qnan, 4);
+    ComputeHarness h;
+    ASSERT_TRUE(compileText(h, text, {nan})) << h.error;
+    h.zeroBuffer<float>(0, 2);
+    ASSERT_TRUE(h.run(1));
+    EXPECT_TRUE(std::isnan(h.get<float>(0)[0])) << cap;
+  }
+}
+
 // double -> half: LLVM lowers it to a library call the JIT did not have ("Failed to materialize symbols"); the
 // conversion must also round once (through float with ordinary rounding it would round twice).
 TEST(SpirvConformance, DoubleToHalfConversionRoundsOnce) {
