@@ -1,6 +1,7 @@
 // Vertex and fragment shaders compiled and run below the Vulkan API, with hand-made abi::GraphicsInvocation contexts
 // (fragment quads through exec::runFiberGroup): the location layout, the built-ins, kill / terminate / demote and
-// helper lanes, derivatives and quad operations, implicit-LOD sampling, and the pipeline cache blob.
+// helper lanes, derivatives and quad operations, implicit-LOD sampling, the pipeline cache blob, and a quad's
+// out-of-bounds reports.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 #include "gfx_sample.frag.spv.h"
 #include "gfx_sample_cube.frag.spv.h"
 #include "gfx_spmd_discard.frag.spv.h"
+#include "oob_draw.frag.spv.h"
 #include "oob_fragment.frag.spv.h"
 #include "runtime/image.hpp"
 #include "runtime/image_functions.hpp"
@@ -627,6 +629,10 @@ TEST(GraphicsShader, FragmentOutOfBoundsReportsOnBothPaths) {
   ASSERT_EQ(fiber->spmdLanes, 0u);
   ASSERT_EQ(spmd->spmdLanes, 4u);
   ASSERT_TRUE(fiber->graphics.needsQuad && spmd->graphics.needsQuad);  // every lane runs, helpers too
+  // The shader of ShaderDebugDrawTest.FragmentStoreOutOfBoundsNamesTheFragment takes the SPMD path too.
+  auto drawShader = compileStage(kSpv_oob_draw_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(drawShader) << error;
+  EXPECT_EQ(drawShader->spmdLanes, 4u);
   const OobCase cases[] = {
       {"in bounds", 0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {8, 8, 4}, 1},
       {"lower row outside", 0, 2, {0, 0, 0, 0}, {0, 0, 0, 0}, {6, 6, 4}, 4},
