@@ -5,6 +5,7 @@
 // ("VKRT-shader-out-of-bounds"); in-bounds shaders report nothing. The layer is on, as in every e2e test.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,6 +18,7 @@
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/draw_fixture.hpp"
 #include "e2e/trace_fixture.hpp"
+#include "oob_draw.frag.spv.h"
 #include "oob_read.comp.spv.h"
 #include "oob_write.g.comp.spv.h"
 #include "printf_chit.rchit.spv.h"
@@ -25,6 +27,7 @@
 #include "printf_draw.vert.spv.h"
 #include "printf_raygen.rgen.spv.h"
 #include "shader_debug_scan.hpp"
+#include "subpass_quad.vert.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -316,6 +319,11 @@ TEST_F(ShaderDebugTraceTest, RayGenerationAndClosestHitPrint) {
 class ShaderDebugDrawTest : public DrawTest {
  protected:
   ShaderMessageLog log;
+  FixtureOptions options() override {
+    FixtureOptions o = DrawTest::options();
+    o.features.fragmentStoresAndAtomics = VK_TRUE;
+    return o;
+  }
   void SetUp() override {
     DrawTest::SetUp();
     if (!HasFatalFailure()) log.start(instance);
@@ -357,6 +365,100 @@ TEST_F(ShaderDebugDrawTest, VertexAndFragmentShadersPrint) {
                                                    "fragment 0.500000, 1.500000", "fragment 1.500000, 1.500000"}));
   vkDestroyPipeline(device, pipeline, nullptr);
   destroy(color);
+}
+
+// oob_draw.frag over the whole 32 x 32 target, each fragment storing at y * 32 + x: with the whole buffer in range
+// nothing is reported; with 31 rows in range, the last row's stores are dropped and reported once, naming one of
+// its fragments and that fragment's offset (on the SPMD path, a quad's failing lane: tools/test.sh runs this again
+// with VKRT_SPMD=0).
+TEST_F(ShaderDebugDrawTest, FragmentStoreOutOfBoundsNamesTheFragment) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  VkDescriptorSetLayoutBinding b{0, kStorageBuffer, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  lci.bindingCount = 1;
+  lci.pBindings = &b;
+  VkDescriptorSetLayout setLayout;
+  ASSERT_EQ(vkCreateDescriptorSetLayout(device, &lci, nullptr, &setLayout), VK_SUCCESS);
+  VkDescriptorPoolSize ps{kStorageBuffer, 1};
+  VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pci.maxSets = 1;
+  pci.poolSizeCount = 1;
+  pci.pPoolSizes = &ps;
+  VkDescriptorPool pool;
+  ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &pool), VK_SUCCESS);
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = pool;
+  ai.descriptorSetCount = 1;
+  ai.pSetLayouts = &setLayout;
+  VkDescriptorSet set;
+  ASSERT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
+  const uint32_t n = kW * kH, inRange = (kH - 1) * kW;
+  HostBuffer out = createHostBuffer(n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  PipelineDesc d;
+  d.vs = kSpv_subpass_quad_vert;
+  d.vsBytes = sizeof kSpv_subpass_quad_vert;
+  d.fs = kSpv_oob_draw_frag;
+  d.fsBytes = sizeof kSpv_oob_draw_frag;
+  d.setLayout = setLayout;
+  VkPipeline pipeline;
+  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+  for (VkDeviceSize range : {VkDeviceSize(VK_WHOLE_SIZE), VkDeviceSize(inRange * 4)}) {
+    const bool whole = range == VK_WHOLE_SIZE;
+    SCOPED_TRACE(whole ? "whole buffer" : "31 rows");
+    std::memset(out.data, 0x5a, n * 4);
+    VkDescriptorBufferInfo bi{out.buffer, 0, range};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.descriptorCount = 1;
+    w.descriptorType = kStorageBuffer;
+    w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+    auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+      vkCmdDraw(cb, 6, 1, 0, 0);
+    });
+    ASSERT_EQ(pixels.size(), size_t(n));
+    for (uint32_t i = 0; i < n; ++i) EXPECT_EQ(pixels[i], 0xFF00FF00u) << i;  // green
+    const auto* v = static_cast<const uint32_t*>(out.data);
+    for (uint32_t i = 0; i < n; ++i) EXPECT_EQ(v[i], whole || i < inRange ? i + 1 : 0x5a5a5a5au) << i;
+    std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+    if (whole) {
+      EXPECT_TRUE(m.empty());
+      continue;
+    }
+    ASSERT_EQ(m.size(), 1u);  // once per draw and site, although a row of fragments stored out of bounds
+    const std::string& t = m[0].text;
+    EXPECT_TRUE(contains(t, "fragment shader \"main\" of VkPipeline")) << t;
+    EXPECT_TRUE(contains(t, "at SPIR-V word offset ")) << t;  // glslc -O: no OpLine, no OpName
+    EXPECT_TRUE(contains(t, "(set 0, binding 0, element 0, VkBuffer ")) << t;
+    EXPECT_TRUE(contains(t, "outside the 3968 bytes in range")) << t;
+    EXPECT_TRUE(contains(t, "the store is dropped")) << t;
+    float x = -1, y = -1;
+    unsigned offset = 0;
+    ASSERT_NE(t.find("fragment at ("), std::string::npos) << t;
+    ASSERT_EQ(std::sscanf(t.substr(t.find("fragment at (")).c_str(), "fragment at (%f, %f)", &x, &y), 2) << t;
+    ASSERT_EQ(
+        std::sscanf(t.substr(t.find("store of 4 bytes at offset ")).c_str(), "store of 4 bytes at offset %u", &offset),
+        1)
+        << t;
+    EXPECT_EQ(y, kH - 0.5f) << t;  // the last row
+    EXPECT_GE(x, 0.5f) << t;
+    EXPECT_LE(x, kW - 0.5f) << t;
+    EXPECT_EQ(x - 0.5f, std::floor(x)) << t;              // a pixel centre
+    EXPECT_EQ(offset, (inRange + uint32_t(x)) * 4) << t;  // that fragment's offset
+    std::vector<Message> seen = vkrtMessages();           // the fixture's messenger (warnings) saw the same report
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_EQ(seen[0].idName, kOutOfBoundsId);
+    clearMessages();
+  }
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+  destroy(out);
+  vkDestroyDescriptorPool(device, pool, nullptr);
+  vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
 }
 
 }  // namespace

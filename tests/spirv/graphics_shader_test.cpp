@@ -1,6 +1,7 @@
 // Vertex and fragment shaders compiled and run below the Vulkan API, with hand-made abi::GraphicsInvocation contexts
 // (fragment quads through exec::runFiberGroup): the location layout, the built-ins, kill / terminate / demote and
-// helper lanes, derivatives and quad operations, implicit-LOD sampling, and the pipeline cache blob.
+// helper lanes, derivatives and quad operations, implicit-LOD sampling, the pipeline cache blob, and a quad's
+// out-of-bounds reports.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,8 @@
 #include <vector>
 
 #include "exec/fiber_group.hpp"
+#include "exec/shader_debug.hpp"
+#include "exec/supervise.hpp"
 #include "gfx_builtins.frag.spv.h"
 #include "gfx_builtins.vert.spv.h"
 #include "gfx_derivs.frag.spv.h"
@@ -22,11 +25,14 @@
 #include "gfx_sample.frag.spv.h"
 #include "gfx_sample_cube.frag.spv.h"
 #include "gfx_spmd_discard.frag.spv.h"
+#include "oob_draw.frag.spv.h"
+#include "oob_fragment.frag.spv.h"
 #include "runtime/image.hpp"
 #include "runtime/image_functions.hpp"
 #include "runtime/image_view.hpp"
 #include "runtime/sampler.hpp"
 #include "spirv/compiler.hpp"
+#include "spirv/shader_debug.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt::testing {
@@ -496,6 +502,168 @@ void runQuadDiscardCases(bool spmd) {
 
 TEST(GraphicsShader, QuadDiscardDemoteAndHelpers) { runQuadDiscardCases(false); }
 TEST(GraphicsShader, SpmdQuadDiscardDemoteAndHelpers) { runQuadDiscardCases(true); }
+
+// Out-of-bounds reports of a fragment quad (oob_fragment.frag: src[i] loaded, dst[i] = it + 1 stored, i = x + 2 y,
+// flag[k] = 9 at a uniform k; buffers of the case's sizes): one report per site, naming the first lane (FragCoord)
+// whose access is outside, its byte offset and the descriptor's range, as exec::ShaderMessages keeps them. Helper
+// lanes (uncovered or demoted) store nothing and so report no store. The expectations are computed here, and the
+// fiber path's and the SPMD path's reports and values compared with them and with each other.
+struct OobReport {
+  uint32_t kind, binding;
+  float x, y;
+  uint64_t offset, range;
+  bool operator==(const OobReport&) const = default;
+};
+std::ostream& operator<<(std::ostream& o, const OobReport& r) {
+  return o << (r.kind == abi::kAccessStore ? "store" : "load") << " binding " << r.binding << " at (" << r.x << ", "
+           << r.y << ") offset " << r.offset << " range " << r.range;
+}
+
+struct OobCase {
+  const char* name;
+  uint32_t x0, y0;
+  uint32_t helper[4];  // uncovered
+  int mode[4];         // 2: demoted
+  uint32_t words[3];   // src, dst, flag
+  uint32_t k;
+};
+
+struct OobResult {
+  std::vector<OobReport> reports;  // by binding
+  std::vector<uint32_t> buffers[3];
+  float color[4], dx[4];
+  bool operator==(const OobResult&) const = default;
+};
+
+constexpr uint32_t kOobBacking = 16;  // words behind every buffer, whatever its range: a store outside is dropped
+
+OobResult runOobCase(const spirv::CompiledShader& s, const OobCase& c) {
+  OobResult r;
+  abi::DescriptorRecord recs[3] = {};
+  for (uint32_t b = 0; b < 3; ++b) {
+    r.buffers[b].assign(kOobBacking, 0);
+    if (b == 0)
+      for (uint32_t w = 0; w < kOobBacking; ++w) r.buffers[0][w] = 100 + w;
+    recs[b].address = reinterpret_cast<uint64_t>(r.buffers[b].data());
+    recs[b].range = c.words[b] * 4;
+  }
+  std::vector<abi::ResourceSlot> slots(s.resources.size());  // in the compiler's order of the resources
+  for (size_t i = 0; i < s.resources.size(); ++i) {
+    EXPECT_LT(s.resources[i].binding, 3u);
+    slots[i] = {&recs[s.resources[i].binding % 3], 1};
+  }
+  Quad q(c.x0, c.y0);
+  for (uint32_t l = 0; l < 4; ++l) {
+    q.lanes[l].inv.base.resources = slots.data();
+    q.lanes[l].inv.helper = c.helper[l];
+    q.lanes[l].setI(0, 0, c.mode[l]);
+    std::memcpy(q.lanes[l].push, &c.k, 4);
+  }
+  struct Task {
+    Quad* q;
+    const spirv::CompiledShader* s;
+    bool ok = false;
+  } task{&q, &s};
+  exec::Job job(nullptr, 0);
+  EXPECT_TRUE(exec::runSupervised(
+      job, [](void* a) { static_cast<Task*>(a)->ok = static_cast<Task*>(a)->q->run(*static_cast<Task*>(a)->s); },
+      &task));
+  EXPECT_TRUE(task.ok) << "abort kind " << int(job.abort().kind) << " signal " << job.abort().signal << " address "
+                       << job.abort().address;
+  for (const exec::OutOfBoundsRecord& rec : job.messages.outOfBoundsSites()) {
+    spirv::AccessSiteInfo site = spirv::readAccessSite(rec.site);
+    EXPECT_EQ(site.model, uint32_t(spv::ExecutionModelFragment));
+    EXPECT_EQ(site.bytes, 4u);
+    EXPECT_EQ(site.set, 0u);
+    OobReport o{site.kind, site.binding, 0, 0, rec.offset, rec.range};
+    std::memcpy(&o.x, &rec.id.v[0], 4);
+    std::memcpy(&o.y, &rec.id.v[1], 4);
+    r.reports.push_back(o);
+  }
+  std::sort(r.reports.begin(), r.reports.end(),
+            [](const OobReport& a, const OobReport& b) { return a.binding < b.binding; });
+  for (uint32_t l = 0; l < 4; ++l) r.color[l] = q.lanes[l].outF(0, 0), r.dx[l] = q.lanes[l].outF(0, 1);
+  return r;
+}
+
+// What the shader does, lane by lane in lane order (the first failing lane is the reported one).
+OobResult expectedOob(const OobCase& c) {
+  OobResult r;
+  for (uint32_t b = 0; b < 3; ++b) r.buffers[b].assign(kOobBacking, 0);
+  for (uint32_t w = 0; w < kOobBacking; ++w) r.buffers[0][w] = 100 + w;
+  bool reported[3] = {};
+  auto report = [&](uint32_t kind, uint32_t binding, uint32_t l, uint32_t index) {
+    if (reported[binding]) return;
+    reported[binding] = true;
+    r.reports.push_back({kind, binding, float(c.x0 + (l & 1)) + 0.5f, float(c.y0 + (l >> 1)) + 0.5f,
+                         uint64_t(index) * 4, uint64_t(c.words[binding]) * 4});
+  };
+  for (uint32_t l = 0; l < 4; ++l) {
+    const uint32_t i = c.x0 + (l & 1) + 2 * (c.y0 + (l >> 1));
+    const bool helper = c.helper[l] || c.mode[l] == 2;
+    const uint32_t v = i < c.words[0] ? 100 + i : 0;  // robust load: zero outside
+    r.color[l] = float(v);
+    if (i >= c.words[0]) report(abi::kAccessLoad, 0, l, i);  // a helper lane's load happens (its derivative)
+    if (helper) continue;
+    if (i < c.words[1])
+      r.buffers[1][i] = v + 1;
+    else
+      report(abi::kAccessStore, 1, l, i);
+    if (c.k < c.words[2])
+      r.buffers[2][c.k] = 9;
+    else
+      report(abi::kAccessStore, 2, l, c.k);
+  }
+  for (uint32_t l = 0; l < 4; ++l) r.dx[l] = r.color[l | 1] - r.color[l & 2];
+  std::sort(r.reports.begin(), r.reports.end(),
+            [](const OobReport& a, const OobReport& b) { return a.binding < b.binding; });
+  return r;
+}
+
+TEST(GraphicsShader, FragmentOutOfBoundsReportsOnBothPaths) {
+  std::string error;
+  auto fiber = compileStage(kSpv_oob_fragment_frag, spv::ExecutionModelFragment, &error, true, false);
+  ASSERT_TRUE(fiber) << error;
+  auto spmd = compileStage(kSpv_oob_fragment_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(spmd) << error;
+  ASSERT_EQ(fiber->spmdLanes, 0u);
+  ASSERT_EQ(spmd->spmdLanes, 4u);
+  ASSERT_TRUE(fiber->graphics.needsQuad && spmd->graphics.needsQuad);  // every lane runs, helpers too
+  // The shader of ShaderDebugDrawTest.FragmentStoreOutOfBoundsNamesTheFragment takes the SPMD path too.
+  auto drawShader = compileStage(kSpv_oob_draw_frag, spv::ExecutionModelFragment, &error, true, true);
+  ASSERT_TRUE(drawShader) << error;
+  EXPECT_EQ(drawShader->spmdLanes, 4u);
+  const OobCase cases[] = {
+      {"in bounds", 0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {8, 8, 4}, 1},
+      {"lower row outside", 0, 2, {0, 0, 0, 0}, {0, 0, 0, 0}, {6, 6, 4}, 4},
+      {"lanes 1 to 3 outside", 2, 2, {0, 0, 0, 0}, {0, 0, 0, 0}, {7, 7, 8}, 7},
+      {"uncovered helpers 0 and 2", 0, 2, {1, 0, 1, 0}, {0, 0, 0, 0}, {8, 6, 4}, 5},
+      {"demoted lanes 0 and 3", 0, 2, {0, 0, 0, 0}, {2, 0, 0, 2}, {8, 5, 4}, 2},
+      {"only helpers outside", 0, 2, {0, 0, 1, 1}, {0, 0, 0, 0}, {8, 6, 4}, 0},
+      {"helper lane 0, uniform store outside", 0, 0, {1, 0, 0, 0}, {0, 0, 0, 0}, {8, 8, 4}, 6},
+      {"helper lane 0, uniform store inside", 0, 0, {1, 0, 0, 0}, {0, 0, 0, 0}, {8, 8, 4}, 3},
+      {"demoted lane 0, uniform store outside", 0, 0, {0, 0, 0, 0}, {2, 0, 0, 0}, {8, 8, 4}, 4},
+      {"every lane a helper", 0, 2, {1, 0, 1, 0}, {0, 2, 0, 2}, {4, 4, 4}, 9},
+  };
+  for (const OobCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    const OobResult want = expectedOob(c);
+    const OobResult a = runOobCase(*fiber, c), b = runOobCase(*spmd, c);
+    EXPECT_EQ(a.reports, want.reports) << "fiber path";
+    EXPECT_EQ(b.reports, want.reports) << "SPMD path";
+    EXPECT_EQ(b.reports, a.reports);
+    for (uint32_t buf = 1; buf < 3; ++buf) {
+      EXPECT_EQ(a.buffers[buf], want.buffers[buf]) << "fiber path, binding " << buf;
+      EXPECT_EQ(b.buffers[buf], want.buffers[buf]) << "SPMD path, binding " << buf;
+    }
+    for (uint32_t l = 0; l < 4; ++l) {
+      EXPECT_EQ(a.color[l], want.color[l]) << "fiber path, lane " << l;
+      EXPECT_EQ(b.color[l], want.color[l]) << "SPMD path, lane " << l;
+      EXPECT_EQ(a.dx[l], want.dx[l]) << "fiber path, lane " << l;
+      EXPECT_EQ(b.dx[l], want.dx[l]) << "SPMD path, lane " << l;
+    }
+  }
+}
 
 // PixelCenterInteger is not allowed in Vulkan (glslc's validator refuses it too): gfx_builtins.frag with its
 // OriginUpperLeft execution mode turned into PixelCenterInteger.
