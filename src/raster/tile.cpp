@@ -167,7 +167,8 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
       c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
     }
     if (!c) continue;
-    if (ctx.draw->samplesPassed) scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
+    if (ctx.draw->samplesPassed && !ctx.earlyTests)         // counted before the shader with early tests (shadeQuad)
+      scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
     if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
     passed[l] = c;
   }
@@ -195,10 +196,12 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
         any |= cov[l] = depthStencilTests(ctx, t.front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
     }
     if (!any) return;
-    if (!fs.shade) {  // no fragment shader: the early tests are all there is
+    // With early tests, sample counting comes before fragment shading and the multisample coverage operations
+    // (discard, the shader's sample mask, alpha to coverage): "Early Fragment Test Mode" says they should be
+    // performed after it.
+    if (ctx.draw->samplesPassed || !fs.shade)
       for (uint32_t l = 0; l < 4; ++l) scratch.samplesPassed += uint32_t(std::popcount(cov[l]));
-      return;
-    }
+    if (!fs.shade) return;  // no fragment shader: the early tests are all there is
   }
   FragmentQuad& q = scratch.quad;
   q.x = qx, q.y = qy;

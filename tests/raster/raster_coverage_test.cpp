@@ -246,10 +246,19 @@ TEST(RasterDepth, EarlyFragmentTestsWriteDepthEvenWhenDiscarded) {
     h.fs.canDiscard = true;
     h.fs.earlyFragmentTests = early;
     h.killAll = true;
+    std::atomic<uint64_t> samplesPassed{0};
+    h.draw.samplesPassed = &samplesPassed;
     h.vertex(0, 0, 0.25f), h.vertex(8, 0, 0.25f), h.vertex(0, 8, 0.25f);
     h.run();
     EXPECT_EQ(depth.f(1, 1), early ? 0.25f : 1.0f);
     EXPECT_EQ(h.color.f(1, 1, 3), 0.0f);
+    // Sample counting: with early tests it comes before the shader's discard ("Early Fragment Test Mode"), so it
+    // counts every sample whose depth the early test wrote; without, the discard leaves nothing to count.
+    uint64_t written = 0;
+    for (uint32_t y = 0; y < 8; ++y)
+      for (uint32_t x = 0; x < 8; ++x) written += depth.f(x, y) == 0.25f;
+    EXPECT_EQ(samplesPassed.load(), early ? written : 0u) << "early " << early;
+    if (early) EXPECT_GT(written, 20u);
   }
 }
 
