@@ -255,6 +255,16 @@ bool buildFlatScene(RTCDevice device, Tlas::Impl& impl, std::vector<uint8_t>& fl
   return true;
 }
 
+// The magnitude the hierarchy's builder sees at most (areas and sums of such bounds stay finite in float).
+constexpr float kBuildLimit = 1e18f;
+// A node box's coordinate as traversal tests it: one at the limit stands for one beyond it (an infinite side).
+void widenAtLimit(float lower[3], float upper[3]) {
+  for (int k = 0; k < 3; ++k) {
+    if (lower[k] <= -kBuildLimit) lower[k] = -HUGE_VALF;
+    if (upper[k] >= kBuildLimit) upper[k] = HUGE_VALF;
+  }
+}
+
 // An instance's world bounds for the hierarchy: its Blas's bounds, each corner transformed in double, rounded
 // outward to float (traversal's box test is then conservative for every ray that can meet the instance). Returns
 // whether they surely have extent as Embree computes it too (an extent far above float rounding of the terms of
@@ -281,6 +291,13 @@ bool worldBounds(const RTCBounds& b, const float m[3][4], RTCBuildPrimitive& out
     lo[k] = float(lower[k] - margin);
     hi[k] = float(upper[k] + margin);
     extent |= upper[k] - lower[k] > 1e-4 * terms[k] && upper[k] - lower[k] > 1e-30;
+  }
+  // Embree's binning divides by the bounds' diagonal and sums centroids in float: bounds past kBuildLimit (or not
+  // finite) trip its assertions (found by vkrt_fuzz_accel_build). The builder sees them clamped; the node boxes
+  // that reach the limit are then made unbounded on that side (widenAtLimit), so the box test stays conservative.
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = lo[k] > -kBuildLimit ? std::min(lo[k], kBuildLimit) : -kBuildLimit;  // NaN: the limit
+    hi[k] = hi[k] < kBuildLimit ? std::max(hi[k], -kBuildLimit) : kBuildLimit;
   }
   out.lower_x = lo[0], out.lower_y = lo[1], out.lower_z = lo[2];
   out.upper_x = hi[0], out.upper_y = hi[1], out.upper_z = hi[2];
@@ -332,7 +349,8 @@ uint32_t copyTree(const void* p, Tlas::Impl& impl) {
   impl.nodes.emplace_back();
   for (int k = 0; k < 2; ++k) {
     const RTCBounds& b = node->bounds[k];
-    const float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
+    float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
+    widenAtLimit(lower, upper);
     const uint32_t child = copyTree(node->children[k], impl);
     BvhNode& out = impl.nodes[index];
     std::memcpy(out.lower[k], lower, sizeof lower);
@@ -400,6 +418,7 @@ void refBounds(const Tlas::Impl& impl, const std::vector<RTCBuildPrimitive>& bou
       const float lo[3] = {b.lower_x, b.lower_y, b.lower_z}, hi[3] = {b.upper_x, b.upper_y, b.upper_z};
       unite(lo, hi);
     }
+    widenAtLimit(lower, upper);
     return;
   }
   const BvhNode& node = impl.nodes[ref];

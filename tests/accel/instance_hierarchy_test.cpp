@@ -3,9 +3,11 @@
 // with masks, inactive ones and flattened small bottom levels among them, against the closest hit computed here in
 // double from the instances' placements alone. Traced rays, occlusion rays and ray queries must all agree with it.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <tuple>
 
 #include "accel/scenes.hpp"
 #include "accel/structures.hpp"
@@ -304,6 +306,42 @@ TEST(AccelInstanceHierarchy, OneInstanceIsALeafAndNoneIsEmpty) {
   ASSERT_TRUE(none);
   EXPECT_EQ(none->impl->root, detail::kEmptyRef);
   EXPECT_FALSE(traceOnce(*none, rayFrom(2.3f, 1.6f, -1, 0, 0, 1)).hit);
+}
+
+// An instance stretched past the 1e18 the hierarchy's builder takes (Embree's binning asserted on bounds like
+// those of vkrt_fuzz_accel_build's input, kept in fuzz/corpus/accel_build): the builder sees its bounds clamped, the
+// node boxes that reach the clamp are unbounded on that side (conservative), and it is hit where a ray Embree can
+// trace meets it, as are the instances beside it.
+TEST(AccelInstanceHierarchy, InstancesPastTheBuildersRangeAreClampedAndStillHit) {
+  const std::shared_ptr<const Blas> blases[2] = {makeBlas({tile(5, 4)}), makeBlas({tile(2, 2)})};
+  for (const BuildOptions& options : {BuildOptions{}, BuildOptions{.preferFastBuild = true}}) {
+    std::vector<Instance> instances = {placed({.tile = 0, .x = 100, .y = 100, .z = 5}, blases),
+                                       placed({.tile = 0, .x = -100, .y = 100, .z = 7}, blases)};
+    Instance stretched = instances[0];
+    const float m[3][4] = {{1e18f, 0, 0, 0}, {0, 1, 0, 200}, {0, 0, 1, 9}};  // x in [0, 5e18]
+    std::memcpy(stretched.transform, m, sizeof m);
+    instances.push_back(stretched);
+    auto tlas = makeTlas(std::move(instances), options);
+    ASSERT_TRUE(tlas);
+    ASSERT_FALSE(tlas->impl->nodes.empty());
+    bool unbounded = false;
+    for (const detail::BvhNode& n : tlas->impl->nodes)
+      for (int k = 0; k < 2; ++k) {
+        unbounded |= n.upper[k][0] == HUGE_VALF;
+        for (int d = 0; d < 3; ++d) EXPECT_FALSE(std::isnan(n.lower[k][d]) || std::isnan(n.upper[k][d]));
+      }
+    EXPECT_TRUE(unbounded);
+    // (x, y) -> instance, t; each ray meets quad (0 or 2, 1) of its tile below the diagonal.
+    for (const auto& [x, y, instance, primitive, t] :
+         {std::tuple{102.55f, 101.5f, 0u, 14u, 6.0f}, std::tuple{-97.45f, 101.5f, 1u, 14u, 8.0f},
+          std::tuple{5.5e17f, 201.5f, 2u, 10u, 10.0f}}) {
+      const Traced hit = traceOnce(*tlas, rayFrom(x, y, -1, 0, 0, 1));
+      ASSERT_TRUE(hit.hit) << x;
+      EXPECT_EQ(hit.info.instanceIndex, instance) << x;
+      EXPECT_EQ(hit.info.primitiveIndex, primitive) << x;
+      EXPECT_FLOAT_EQ(hit.info.t, t) << x;
+    }
+  }
 }
 
 }  // namespace
