@@ -141,11 +141,6 @@ struct TlasSummary {
   bool opaqueTriangles = false;    // opaque after the instance flags
   bool noOpaqueTriangles = false;  // not opaque after the instance flags
   bool facingCullable = false;     // an instance with triangles and without TRIANGLE_FACING_CULL_DISABLE
-  // Over the instances in the Embree scene: the most an instance's world-to-object transform can grow a ray's
-  // largest origin or direction component (its linear part's largest row sum of magnitudes), and the largest
-  // magnitude in its translation column. rayInEmbreeRange (traverse.cpp) bounds instance-space rays with them.
-  double maxInverseGain = 0;
-  double maxInverseOffset = 0;
 };
 
 // Embree's threads run with denormals flushed to zero (inputs and results), so an extent below the smallest normal
@@ -166,12 +161,13 @@ inline bool hasExtent(const float lower[3], const float upper[3]) {
 // component it passes within 2^60 (the margin covers Embree's float rounding of the instance transform).
 inline constexpr double kEmbreeRayLimit = 0x1p60;
 
-// Whether a ray with largest origin component `origin` and largest direction component `direction` (magnitudes)
-// stays within kEmbreeRayLimit in world space and in the space of every instance of a Tlas summarized by `s`.
-inline bool rayInEmbreeRange(const TlasSummary& s, double origin, double direction) {
-  return origin <= kEmbreeRayLimit && direction <= kEmbreeRayLimit &&
-         s.maxInverseGain * origin + s.maxInverseOffset <= kEmbreeRayLimit &&
-         s.maxInverseGain * direction <= kEmbreeRayLimit;
+// Whether a ray's origin and direction components (world space, or an instance's space as traversal computes them)
+// are within kEmbreeRayLimit; NaN is not.
+inline bool rayInEmbreeRange(const float origin[3], const float direction[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(origin[k]) <= float(kEmbreeRayLimit)) || !(std::fabs(direction[k]) <= float(kEmbreeRayLimit)))
+      return false;
+  return true;
 }
 
 // Whether a ray with `rayFlags` through a Tlas summarized by `s` needs the triangle filter callback at all

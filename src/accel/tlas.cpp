@@ -101,13 +101,6 @@ void makeRecords(Tlas::Impl& impl) {
     const BlasSummary& b = r.blas->summary;
     TlasSummary& s = impl.summary;
     if ((in.mask & 0xFF) == 0) continue;  // no ray sees it
-    // Our double inverse bounds it as well (rayInEmbreeRange takes the larger).
-    for (const auto& row : r.worldToObject) {
-      gain = std::max(gain, double(std::fabs(row[0])) + std::fabs(row[1]) + std::fabs(row[2]));
-      offset = std::max(offset, double(std::fabs(row[3])));
-    }
-    s.maxInverseGain = std::max(s.maxInverseGain, gain);
-    s.maxInverseOffset = std::max(s.maxInverseOffset, offset);
     s.aabbs |= b.aabbs;
     if (!b.triangles) continue;
     s.triangles = true;

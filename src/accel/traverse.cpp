@@ -412,16 +412,10 @@ void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, 
 
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
-double maxMagnitude(const float v[3]) {
-  return std::max({double(std::fabs(v[0])), double(std::fabs(v[1])), double(std::fabs(v[2]))});
-}
-
-// A ray Embree can trace through `t` (structures.hpp, rayInEmbreeRange): one that is not misses, as a ray Vulkan
-// does not allow does. (A finite ray beyond 2^60 in world or instance space is far outside any geometry Embree
-// keeps: it drops vertices and boxes beyond 1.844e18.)
-bool inEmbreeRange(const Tlas::Impl& t, const Ray& ray) {
-  return rayInEmbreeRange(t.summary, maxMagnitude(ray.origin), maxMagnitude(ray.direction));
-}
+// A ray Embree can trace in world space (structures.hpp, rayInEmbreeRange): one that is not misses, as a ray Vulkan
+// does not allow does. (A finite ray beyond 2^60 is far outside any geometry Embree keeps: it drops vertices and
+// boxes beyond 1.844e18.) Each instance's space is checked as traversal enters it (traverseTlas).
+bool inEmbreeRange(const Tlas::Impl&, const Ray& ray) { return rayInEmbreeRange(ray.origin, ray.direction); }
 
 // The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
 // then the hierarchy, front to back, entering each instance the ray's cull mask admits: the ray goes into the
@@ -479,6 +473,11 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
         rh.ray.dir_x = m[0][0] * dir[0] + m[0][1] * dir[1] + m[0][2] * dir[2];
         rh.ray.dir_y = m[1][0] * dir[0] + m[1][1] * dir[1] + m[1][2] * dir[2];
         rh.ray.dir_z = m[2][0] * dir[0] + m[2][1] * dir[1] + m[2][2] * dir[2];
+        // A ray beyond Embree's range in this instance's space cannot meet its geometry (Embree keeps none that
+        // far): the instance is skipped, the others are traced.
+        const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z},
+                    d[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+        if (!rayInEmbreeRange(o, d)) continue;
         ctx.embree.instID[0] = i;
         if constexpr (kOccluded)
           rtcOccluded1(r.scene, &ctx.embree, &rh.ray);

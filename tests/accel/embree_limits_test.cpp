@@ -25,17 +25,33 @@ TEST(EmbreeLimits, RayBeyondEmbreeRangeMissesInsteadOfAborting) {
 }
 
 TEST(EmbreeLimits, RayBeyondEmbreeRangeInAnInstanceMisses) {
-  // The instance shrinks the quad by 1e-10: its world-to-object transform grows a ray by 1e10, so a ray from
-  // z = -1e9 is beyond 2^60 in the instance's space.
-  auto blas = makeBlas({quad(2e10f, kGeometryOpaque, 1e10f)});
-  Instance in = instanceOf(blas);
+  // The instance shrinks a 3 x 3 grid of quads (18 triangles: a Blas of its own, not flattened) by 1e-10: its
+  // world-to-object transform grows a ray by 1e10, so a ray from z = -1e9 is beyond 2^60 in the instance's space
+  // and skips the instance.
+  Geometry grid;
+  grid.kind = Geometry::Triangles;
+  grid.triangles.flags = kGeometryOpaque;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x)
+      addQuad(grid.triangles, (x - 1.5f) * 1e10f, (y - 1.5f) * 1e10f, (x - 0.5f) * 1e10f, (y - 0.5f) * 1e10f, 2e10f);
+  Instance in = instanceOf(makeBlas({grid}));
   for (int k = 0; k < 3; ++k) in.transform[k][k] = 1e-10f;
-  auto tlas = makeTlas({in});
+  // The same shrunk by the transform into a small Blas (2 triangles): flattened into the top level's scene in world
+  // space, where the ray is within range and meets it (as Vulkan says it does).
+  Instance flat = instanceOf(makeBlas({quad(2e10f, kGeometryOpaque, 1e10f)}));
+  for (int k = 0; k < 3; ++k) flat.transform[k][k] = 1e-10f;
+  flat.transform[0][3] = 100;  // at x in [99, 101]
+  auto tlas = makeTlas({in, flat});
   Traced near = traceOnce(*tlas, rayUp());
   ASSERT_TRUE(near.hit);
+  EXPECT_EQ(near.info.instanceIndex, 0u);
   EXPECT_NEAR(near.info.t, 2.0f, 1e-5f);
   EXPECT_FALSE(traceOnce(*tlas, rayFrom(0.3f, -0.4f, -1e9f, 0, 0, 1, 0, 1e10f)).hit);
   EXPECT_FALSE(traceOnce(*tlas, rayFrom(0.3f, -0.4f, -1e9f, 0, 0, 1, kRayTerminateOnFirstHit, 1e10f)).hit);
+  Traced far = traceOnce(*tlas, rayFrom(100.3f, -0.4f, -1e9f, 0, 0, 1, 0, 1e10f));
+  ASSERT_TRUE(far.hit);
+  EXPECT_EQ(far.info.instanceIndex, 1u);
+  EXPECT_NEAR(far.info.t, 1e9f + 2.0f, 1e3f);
   // Scaled by 1e-13 the transform's determinant (1e-39) is a denormal, which Embree (flushing denormals to zero)
   // cannot invert: the instance is inactive, never hit, and rays through it do not reach Embree's assertion.
   Instance tiny = instanceOf(makeBlas({quad(2e13f, kGeometryOpaque, 1e13f)}));

@@ -311,7 +311,7 @@ TEST(AccelInstanceHierarchy, OneInstanceIsALeafAndNoneIsEmpty) {
 // An instance stretched past the 1e18 the hierarchy's builder takes (Embree's binning asserted on bounds like
 // those of vkrt_fuzz_accel_build's input, kept in fuzz/corpus/accel_build): the builder sees its bounds clamped, the
 // node boxes that reach the clamp are unbounded on that side (conservative), and it is hit where a ray Embree can
-// trace meets it, as are the instances beside it.
+// trace meets it, as are the instances beside it, also beside one translated past Embree's range.
 TEST(AccelInstanceHierarchy, InstancesPastTheBuildersRangeAreClampedAndStillHit) {
   const std::shared_ptr<const Blas> blases[2] = {makeBlas({tile(5, 4)}), makeBlas({tile(2, 2)})};
   for (const BuildOptions& options : {BuildOptions{}, BuildOptions{.preferFastBuild = true}}) {
@@ -321,6 +321,9 @@ TEST(AccelInstanceHierarchy, InstancesPastTheBuildersRangeAreClampedAndStillHit)
     const float m[3][4] = {{1e18f, 0, 0, 0}, {0, 1, 0, 200}, {0, 0, 1, 9}};  // x in [0, 5e18]
     std::memcpy(stretched.transform, m, sizeof m);
     instances.push_back(stretched);
+    // Translated past 2^60: rays reach its space beyond Embree's range, so they skip it (and only it: every ray
+    // through the top level missed while the range was checked over all instances at once).
+    instances.push_back(placed({.tile = 0, .z = 4e18f}, blases));
     auto tlas = makeTlas(std::move(instances), options);
     ASSERT_TRUE(tlas);
     ASSERT_FALSE(tlas->impl->nodes.empty());
