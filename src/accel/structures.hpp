@@ -162,7 +162,9 @@ inline bool hasExtent(const float lower[3], const float upper[3]) {
 inline constexpr double kEmbreeRayLimit = 0x1p60;
 
 // Whether a ray's origin and direction components (world space, or an instance's space as traversal computes them)
-// are within kEmbreeRayLimit; NaN is not.
+// are within kEmbreeRayLimit; NaN is not. A ray out of range in world space misses, as a ray Vulkan does not allow
+// does (finite beyond 2^60, it is far outside any geometry Embree keeps: it drops vertices and boxes beyond
+// 1.844e18); an instance whose space puts it out of range is skipped (traverseTlas).
 inline bool rayInEmbreeRange(const float origin[3], const float direction[3]) {
   for (int k = 0; k < 3; ++k)
     if (!(std::fabs(origin[k]) <= float(kEmbreeRayLimit)) || !(std::fabs(direction[k]) <= float(kEmbreeRayLimit)))

@@ -41,11 +41,10 @@ bool invertAffine(const float m[3][4], float out[3][4]) {
 
 namespace {
 
-// The inverse of the linear part as Embree 3 computes it for an instance (in float: adjoint over determinant), so
-// that the bound on instance-space rays holds for Embree's own world-to-object transform too; false when it is not
-// finite or the determinant is not a normal float (Embree flushes denormals to zero: its inverse would be infinite
-// and every ray through the instance NaN).
-bool embreeInverseGain(const float m[3][4], double* gain, double* offset) {
+// Whether Embree 3's own inverse of the instance's linear part (in float: adjoint over determinant) is usable: false
+// when it is not finite or the determinant is not a normal float (Embree flushes denormals to zero: its inverse
+// would be infinite and every ray through the instance NaN).
+bool embreeInvertible(const float m[3][4]) {
   // Embree's columns (vx, vy, vz) are the rows' components by column.
   const float vx[3] = {m[0][0], m[1][0], m[2][0]}, vy[3] = {m[0][1], m[1][1], m[2][1]};
   const float vz[3] = {m[0][2], m[1][2], m[2][2]};
@@ -62,16 +61,11 @@ bool embreeInverseGain(const float m[3][4], double* gain, double* offset) {
   if (!std::isnormal(det)) return false;
   // Rows of the inverse: cross(vy, vz), cross(vz, vx), cross(vx, vy), each over the determinant.
   const float* rows[3] = {cyz, czx, cxy};
-  double g = 0, o = 0;
   for (const float* row : rows) {
     float inv[3] = {row[0] / det, row[1] / det, row[2] / det};
     float t = -(inv[0] * m[0][3] + inv[1] * m[1][3] + inv[2] * m[2][3]);
     if (!std::isfinite(inv[0]) || !std::isfinite(inv[1]) || !std::isfinite(inv[2]) || !std::isfinite(t)) return false;
-    g = std::max(g, double(std::fabs(inv[0])) + std::fabs(inv[1]) + std::fabs(inv[2]));
-    o = std::max(o, double(std::fabs(t)));
   }
-  *gain = g;
-  *offset = o;
   return true;
 }
 
@@ -90,9 +84,7 @@ void makeRecords(Tlas::Impl& impl) {
     r.mask = in.mask & 0xFF;
     r.sbtOffset = in.sbtOffset & 0xFFFFFF;
     r.flags = in.flags;
-    double gain = 0, offset = 0;
-    if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject) ||
-        !embreeInverseGain(r.objectToWorld, &gain, &offset)) {
+    if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject) || !embreeInvertible(r.objectToWorld)) {
       for (auto& row : r.worldToObject)
         for (float& v : row) v = 0;
       continue;

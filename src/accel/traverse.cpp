@@ -412,11 +412,6 @@ void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, 
 
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
-// A ray Embree can trace in world space (structures.hpp, rayInEmbreeRange): one that is not misses, as a ray Vulkan
-// does not allow does. (A finite ray beyond 2^60 is far outside any geometry Embree keeps: it drops vertices and
-// boxes beyond 1.844e18.) Each instance's space is checked as traversal enters it (traverseTlas).
-bool inEmbreeRange(const Tlas::Impl&, const Ray& ray) { return rayInEmbreeRange(ray.origin, ray.direction); }
-
 // The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
 // then the hierarchy, front to back, entering each instance the ray's cull mask admits: the ray goes into the
 // instance's object space (Embree's own instances do the same) and Embree traces it through the Blas scene with the
@@ -563,7 +558,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses (as does a ray beyond
   // what Embree can trace).
   if (!cull || !t.built || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
-      !(ray.tMin <= ray.tMax) || !inEmbreeRange(t, ray))
+      !(ray.tMin <= ray.tMax) || !rayInEmbreeRange(ray.origin, ray.direction))
     return false;
 
   TraceContext ctx;
@@ -740,7 +735,7 @@ void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
   const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
                      ray.tMin >= 0 && ray.tMin <= ray.tMax;
-  q.tlas = valid && tlas && tlas->impl->built && detail::inEmbreeRange(*tlas->impl, ray) ? tlas : nullptr;
+  q.tlas = valid && tlas && tlas->impl->built && detail::rayInEmbreeRange(ray.origin, ray.direction) ? tlas : nullptr;
 }
 
 bool queryProceed(RayQuery& q) {
