@@ -776,6 +776,8 @@ class GraphicsShaderSampling : public ::testing::Test {
     si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
     si.maxLod = 16.0f;
     ASSERT_EQ(vkrt_CreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+    sampledRecord.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+    sampledRecord.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
   }
   void TearDown() override {
     vkrt_DestroySampler(device, sampler, nullptr);
@@ -791,6 +793,9 @@ class GraphicsShaderSampling : public ::testing::Test {
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkImageView view = VK_NULL_HANDLE;
   VkSampler sampler = VK_NULL_HANDLE;
+  // The view and sampler as one combined image sampler descriptor, the shaders' only resource.
+  abi::DescriptorRecord sampledRecord{};
+  abi::ResourceSlot sampledSlot{&sampledRecord, 1};
   void implicitLod(bool spmd);
 };
 
@@ -808,15 +813,11 @@ void GraphicsShaderSampling::implicitLod(bool spmd) {
   ASSERT_TRUE(s) << error;
   EXPECT_TRUE(s->graphics.needsQuad);
   EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
-  abi::DescriptorRecord rec{};
-  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
-  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
-  abi::ResourceSlot slot{&rec, 1};
   for (double k : {1.0, 3.0, 4.0, 32.0, 0.5}) {
     SCOPED_TRACE("k = " + std::to_string(k));
     Quad q(8, 12);
     for (Lane& lane : q.lanes) {
-      lane.inv.base.resources = &slot;
+      lane.inv.base.resources = &sampledSlot;
       lane.setF(0, 0, float(lane.inv.fragCoord[0] * k / kSize));
       lane.setF(0, 1, float(lane.inv.fragCoord[1] * k / kSize));
     }
@@ -842,15 +843,11 @@ TEST_F(GraphicsShaderCubeSampling, ImplicitLodSamplingOfACubeFollowsTheFacesDeri
   auto s = compileStage(kSpv_gfx_sample_cube_frag, spv::ExecutionModelFragment, &error);
   ASSERT_TRUE(s) << error;
   EXPECT_TRUE(s->graphics.needsQuad);
-  abi::DescriptorRecord rec{};
-  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
-  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
-  abi::ResourceSlot slot{&rec, 1};
   for (double k : {0.5, 1.0, 3.0, 4.0}) {
     SCOPED_TRACE("k = " + std::to_string(k));
     Quad q(8, 12);
     for (Lane& lane : q.lanes) {
-      lane.inv.base.resources = &slot;
+      lane.inv.base.resources = &sampledSlot;
       lane.setF(0, 0, float(lane.inv.fragCoord[0] * k / kSize));
       lane.setF(0, 1, float(lane.inv.fragCoord[1] * k / kSize));
     }
@@ -869,12 +866,8 @@ TEST_F(GraphicsShaderSampling, GradSamplingInAVertexShader) {
   auto s = compileStage(kSpv_gfx_grad_vert, spv::ExecutionModelVertex, &error);
   ASSERT_TRUE(s) << error;
   EXPECT_FALSE(s->graphics.needsQuad);
-  abi::DescriptorRecord rec{};
-  rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
-  rec.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
-  abi::ResourceSlot slot{&rec, 1};
   Lane lane;
-  lane.inv.base.resources = &slot;
+  lane.inv.base.resources = &sampledSlot;
   s->graphicsEntry(&lane.inv);
   EXPECT_EQ(lane.outF(0, 0), expectedLevel(std::log2(4.0)));
   EXPECT_EQ(lane.outF(0, 1), 5.0f);
