@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # deqp-vk of vulkan-cts-1.3.7.3 with the graphics groups of issue 22 beside ../shared/cts's ray tracing, ray query,
 # compute and SPIR-V assembly groups: api (api.smoke, api.copy_and_blit: blits and resolves), renderpass,
-# renderpass2, dynamic_rendering, draw, image, rasterization, fragment_operations.
+# renderpass2, dynamic_rendering, draw, image, rasterization, fragment_operations, and texture (texture.patch: the
+# texture module and the shader executor it uses).
 #
 # The sources are the shared recipe's (../shared/cts/build.sh: the same tag, the same three pinned dependencies, its
 # rt-only, fixes and compute patches), then tools/cts/sbt-sizes.patch and tools/cts/graphics.patch. Amber is not
@@ -33,12 +34,12 @@ extract() { mkdir -p "$src/external/$1/src"; git --git-dir="$2" archive "$3" | t
 extract spirv-tools "$SPVT_GIT" bfc94f63a7adbcf8ae166f5f108ac9f69079efc0
 extract glslang "$GLSLANG_GIT" c5117b328afc86e16edff6ed6afe0fe7872a7cf3
 extract spirv-headers "$SPVH_GIT" b8b9eb8640c8c0107ba580fbcb10f969022ca32c
-for p in "$shared/rt-only.patch" "$shared/fixes.patch" "$shared/compute.patch" "$here/sbt-sizes.patch" "$here/graphics.patch"; do
+for p in "$shared/rt-only.patch" "$shared/fixes.patch" "$shared/compute.patch" "$here/sbt-sizes.patch" "$here/graphics.patch" "$here/texture.patch"; do
   patch -s -d "$src" -p1 < "$p"
 done
 if [ $tarball = 1 ]; then
   mods="$src/external/vulkancts/modules/vulkan"
-  keep=" util amber compute spirv_assembly ray_tracing ray_query api draw renderpass rasterization fragment_ops image pipeline wsi ycbcr "
+  keep=" util amber compute spirv_assembly ray_tracing ray_query api draw renderpass rasterization fragment_ops image texture shaderexecutor pipeline wsi ycbcr "
   for d in "$mods"/*/; do case "$keep" in *" $(basename "$d") "*) ;; *) rm -rf "$d" ;; esac; done
   rm -rf "$src/external/openglcts" "$src/modules" "$src/android" "$src/doc" "$src/external/vulkancts/vkscserver" \
     "$src/external/vulkancts/vkscpc" "$src/external/vulkancts/data/vulkan/amber" "$src/external/vulkancts/data/vulkan/video" \
