@@ -60,6 +60,10 @@ struct DrawContext {
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
   bool spmd = false;   // ... in one call of its SPMD entry (spirv/spmd.hpp), else as four fibers
+  // The fragment shader reads its inputs from the quad's slots and writes its colour outputs into the quad's colours
+  // in place (no copies per quad): the slots are its input locations in order (slot s = location s), and every output
+  // location is a colour attachment's.
+  bool quadInputs = false, quadOutputs = false;
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -189,9 +193,17 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
-    // The quad's slots back at the shader's locations.
-    for (uint32_t s = 0; s < c.varyingCount; ++s)
-      std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    if (c.quadInputs) {
+      inv.inputs = q.inputs[l];
+    } else {
+      // The quad's slots back at the shader's locations.
+      for (uint32_t s = 0; s < c.varyingCount; ++s)
+        std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    }
+    if (c.quadOutputs) {
+      inv.outputs = q.color[l][0];
+      inv.outputs1 = q.color1[l];
+    }
     std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
@@ -234,11 +246,13 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       q.killed |= 1u << l;
       continue;
     }
-    for (uint32_t m = outputMask; m; m &= m - 1) {
-      const uint32_t loc = uint32_t(__builtin_ctz(m));
-      std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+    if (!c.quadOutputs) {
+      for (uint32_t m = outputMask; m; m &= m - 1) {
+        const uint32_t loc = uint32_t(__builtin_ctz(m));
+        std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+      }
+      std::memcpy(q.color1[l], w.outputs1[l], 16);
     }
-    std::memcpy(q.color1[l], w.outputs1[l], 16);
     q.depth[l] = inv.fragDepth;
     q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
@@ -383,6 +397,15 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   c.varyingCount = p.varyingCount;
   for (uint32_t s = 0; s < p.varyingCount; ++s) c.varyingLocation[s] = p.fragmentStage.inputs[s].location;
+  if (p.fragment) {
+    const spirv::GraphicsStageInfo& fi = p.fragment->graphics;
+    c.quadInputs = fi.inputs.size() == p.varyingCount && raster::kMaxLocations * 4 >= kGraphicsLocations * 4;
+    for (uint32_t s = 0; s < fi.inputs.size(); ++s)
+      c.quadInputs = c.quadInputs && fi.inputs[s].location == s && !fi.inputs[s].wide && c.varyingLocation[s] == s;
+    c.quadOutputs = true;
+    for (const auto& out : fi.outputs)
+      c.quadOutputs = c.quadOutputs && out.location < raster::kMaxColorAttachments && !out.wide;
+  }
 
   // Descriptor sets, as compute dispatches resolve them (runtime/bound_resources.hpp).
   Vuid unbound(command, "None-02697");

@@ -1,6 +1,7 @@
 // The per-fragment operations after coverage ("Fragment Operations": Depth Bounds Test, Stencil Test, Depth Test,
 // Sample Counting is not here; "The Framebuffer": Blending, Logical Operations, Color Write Mask), per sample.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "raster/internal.hpp"
@@ -496,22 +497,269 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
 }
 
 void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
-  const Target& tg = *ctx.target;
-  const uint32_t outputs = ctx.fragment->outputMask;
-  for (uint32_t i = 0; i < tg.colorCount; ++i) {
-    if (!tg.color[i].base || !(outputs >> i & 1)) continue;
-    uint32_t mask;
-    if (unorm8Path(ctx, i, &mask)) {
-      // The 8-bit UNorm layouts: four components at once, set up once for the quad (the same bytes as below).
-      if (!mask) continue;
-      const Unorm8Target t(ctx, i, mask);
-      for (uint32_t l = 0; l < 4; ++l)
-        if (coverage[l])
-          writeUnorm8(ctx, t, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
-      continue;
+  for (uint32_t i = 0; i < ctx.target->colorCount; ++i)
+    if (ctx.backEnd.color[i]) ctx.backEnd.color[i](ctx, i, quad, coverage);
+}
+
+namespace {
+
+// ------------------------------------------------------------------------------------------------ the quad paths
+
+std::atomic<bool> quadPaths{true};
+
+// The general paths, lane by lane (any format, sample count and state).
+uint32_t depthStencilLanes(const DrawContext& ctx, bool front, int32_t qx, int32_t qy, uint32_t cov[4],
+                           const float (*z)[4]) {
+  uint32_t any = 0;
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) any |= cov[l] = depthStencilTests(ctx, front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
+  return any;
+}
+
+uint32_t noDepthStencil(const DrawContext&, bool, int32_t, int32_t, uint32_t cov[4], const float (*)[4]) {
+  return cov[0] | cov[1] | cov[2] | cov[3];
+}
+
+void colorLanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) writeAttachment(ctx, q, l, i, q.x + int32_t(l & 1), q.y + int32_t(l >> 1), cov[l]);
+}
+
+void colorUnorm8Lanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  uint32_t mask;
+  unorm8Path(ctx, i, &mask);
+  const Unorm8Target t(ctx, i, mask);
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) writeUnorm8(ctx, t, q, l, i, q.x + int32_t(l & 1), q.y + int32_t(l >> 1), cov[l]);
+}
+
+// D32_SFLOAT depth alone, one sample: the compare op and the write fixed at compile time; a quad whose four lanes are
+// covered compares as one vector (its texels are two pairs of adjacent floats when the texel is 4 bytes).
+template <CompareOp kOp>
+inline Int4 compare4(Float4 a, Float4 b) {
+  switch (kOp) {
+    case CompareOp::Never: return Int4{0, 0, 0, 0};
+    case CompareOp::Less: return a < b;
+    case CompareOp::Equal: return a == b;
+    case CompareOp::LessOrEqual: return a <= b;
+    case CompareOp::Greater: return a > b;
+    case CompareOp::NotEqual: return a != b;
+    case CompareOp::GreaterOrEqual: return a >= b;
+    case CompareOp::Always: return Int4{-1, -1, -1, -1};
+  }
+  return Int4{0, 0, 0, 0};
+}
+
+template <CompareOp kOp, bool kWrite>
+uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_t cov[4], const float (*z)[4]) {
+  const DepthStencilTarget& ds = ctx.target->depthStencil;
+  const size_t bytes = ds.depthTexelBytes, pitch = ds.depth.rowPitch;
+  uint8_t* p0 = texel(ds.depth, uint32_t(bytes), ctx.layer, qx, qy, 0);
+  if (bytes == 4 && cov[0] && cov[1] && cov[2] && cov[3]) {
+    using Float2 = float __attribute__((vector_size(8)));
+    Float2 top, bottom;
+    std::memcpy(&top, p0, 8);
+    std::memcpy(&bottom, p0 + pitch, 8);
+    const Float4 old = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
+    const Float4 zq = {z[0][0], z[1][0], z[2][0], z[3][0]};
+    const Int4 pass = compare4<kOp>(zq, old);
+    if (kWrite) {
+      // Failing lanes get their old bits back (a NaN stays the same NaN): the tile is this worker's alone.
+      const Float4 v = pass ? zq : old;
+      const Float2 vTop = __builtin_shufflevector(v, v, 0, 1), vBottom = __builtin_shufflevector(v, v, 2, 3);
+      std::memcpy(p0, &vTop, 8);
+      std::memcpy(p0 + pitch, &vBottom, 8);
     }
+    uint32_t any = 0;
+    for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= uint32_t(pass[l]);
+    return any;
+  }
+  uint32_t any = 0;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!cov[l]) continue;
+    uint8_t* p = p0 + (l & 1) * bytes + (l >> 1) * pitch;
+    float old;
+    std::memcpy(&old, p, 4);
+    if (compare(kOp, z[l][0], old)) {
+      if (kWrite) std::memcpy(p, &z[l][0], 4);
+      any |= cov[l];
+    } else {
+      cov[l] = 0;
+    }
+  }
+  return any;
+}
+
+template <bool kWrite>
+auto depthD32For(CompareOp op) -> decltype(&depthD32Quad<CompareOp::Less, kWrite>) {
+  switch (op) {
+    case CompareOp::Never: return depthD32Quad<CompareOp::Never, kWrite>;
+    case CompareOp::Less: return depthD32Quad<CompareOp::Less, kWrite>;
+    case CompareOp::Equal: return depthD32Quad<CompareOp::Equal, kWrite>;
+    case CompareOp::LessOrEqual: return depthD32Quad<CompareOp::LessOrEqual, kWrite>;
+    case CompareOp::Greater: return depthD32Quad<CompareOp::Greater, kWrite>;
+    case CompareOp::NotEqual: return depthD32Quad<CompareOp::NotEqual, kWrite>;
+    case CompareOp::GreaterOrEqual: return depthD32Quad<CompareOp::GreaterOrEqual, kWrite>;
+    case CompareOp::Always: return depthD32Quad<CompareOp::Always, kWrite>;
+  }
+  return nullptr;
+}
+
+// The 8-bit UNorm layouts with one sample, the quad's four pixels at once with the components in separate vectors
+// (R of the four lanes, G, ...): the same float operations per component, in the same order, as writeUnorm8 and the
+// general path (blend factors, blend op, clamps, write mask) and the same codecs, so the same bytes.
+struct Quad4 {
+  Float4 c[4];  // per component, per lane
+};
+
+// Four lanes' 4-word colours (lane-major) to component vectors.
+inline Quad4 transpose(const uint32_t* l0, const uint32_t* l1, const uint32_t* l2, const uint32_t* l3) {
+  Float4 a, b, c, d;
+  std::memcpy(&a, l0, 16), std::memcpy(&b, l1, 16), std::memcpy(&c, l2, 16), std::memcpy(&d, l3, 16);
+  const Float4 t0 = __builtin_shufflevector(a, b, 0, 4, 1, 5), t1 = __builtin_shufflevector(c, d, 0, 4, 1, 5);
+  const Float4 t2 = __builtin_shufflevector(a, b, 2, 6, 3, 7), t3 = __builtin_shufflevector(c, d, 2, 6, 3, 7);
+  return Quad4{{__builtin_shufflevector(t0, t1, 0, 1, 4, 5), __builtin_shufflevector(t0, t1, 2, 3, 6, 7),
+                __builtin_shufflevector(t2, t3, 0, 1, 4, 5), __builtin_shufflevector(t2, t3, 2, 3, 6, 7)}};
+}
+
+// Component c of blend factor f for the four lanes (blendFactor's cases; k holds the constants splatted).
+inline Float4 factorQuad(BlendFactor f, int c, const Quad4& s, const Quad4& s1, const Quad4& d, const Quad4& k) {
+  switch (f) {
+    case BlendFactor::Zero: return splat(0);
+    case BlendFactor::One: return splat(1);
+    case BlendFactor::SrcColor: return s.c[c];
+    case BlendFactor::OneMinusSrcColor: return 1.0f - s.c[c];
+    case BlendFactor::DstColor: return d.c[c];
+    case BlendFactor::OneMinusDstColor: return 1.0f - d.c[c];
+    case BlendFactor::SrcAlpha: return s.c[3];
+    case BlendFactor::OneMinusSrcAlpha: return 1.0f - s.c[3];
+    case BlendFactor::DstAlpha: return d.c[3];
+    case BlendFactor::OneMinusDstAlpha: return 1.0f - d.c[3];
+    case BlendFactor::ConstantColor: return k.c[c];
+    case BlendFactor::OneMinusConstantColor: return 1.0f - k.c[c];
+    case BlendFactor::ConstantAlpha: return k.c[3];
+    case BlendFactor::OneMinusConstantAlpha: return 1.0f - k.c[3];
+    case BlendFactor::SrcAlphaSaturate: {
+      if (c == 3) return splat(1);
+      const Float4 a = s.c[3], b = 1.0f - d.c[3];
+      return b < a ? b : a;  // std::min(a, b)
+    }
+    case BlendFactor::Src1Color: return s1.c[c];
+    case BlendFactor::OneMinusSrc1Color: return 1.0f - s1.c[c];
+    case BlendFactor::Src1Alpha: return s1.c[3];
+    case BlendFactor::OneMinusSrc1Alpha: return 1.0f - s1.c[3];
+  }
+  return splat(0);
+}
+
+inline bool readsSource1(BlendFactor f) {
+  return f == BlendFactor::Src1Color || f == BlendFactor::OneMinusSrc1Color || f == BlendFactor::Src1Alpha ||
+         f == BlendFactor::OneMinusSrc1Alpha;
+}
+
+template <bool kBgra, bool kBlend, bool kReadDst>
+void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  const Surface& surf = ctx.target->color[i];
+  const BlendAttachment& ba = ctx.state->blend[i];
+  uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
+  uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
+  Quad4 s = transpose(q.color[0][i], q.color[1][i], q.color[2][i], q.color[3][i]);
+  for (Float4& v : s.c) v = clamp01(v);
+  using UInt4 = uint32_t __attribute__((vector_size(16)));
+  Quad4 d{};
+  UInt4 words = {0, 0, 0, 0};
+  if (kReadDst) {
     for (uint32_t l = 0; l < 4; ++l)
-      if (coverage[l]) writeAttachment(ctx, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
+      if (cov[l]) std::memcpy(&words[l], lane[l], 4);
+    for (int c = 0; c < 4; ++c) {
+      const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
+      d.c[c] = __builtin_convertvector((words >> shift) & 0xFF, Float4) / 255.0f;
+    }
+  }
+  Quad4 r = s;
+  if (kBlend) {
+    Quad4 s1{}, k{};
+    if (readsSource1(ba.srcColor) || readsSource1(ba.dstColor) || readsSource1(ba.srcAlpha) ||
+        readsSource1(ba.dstAlpha)) {
+      s1 = transpose(q.color1[0], q.color1[1], q.color1[2], q.color1[3]);
+      for (Float4& v : s1.c) v = clamp01(v);
+    }
+    for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
+    for (int c = 0; c < 4; ++c) {
+      const bool alpha = c == 3;
+      const Float4 sf = factorQuad(alpha ? ba.srcAlpha : ba.srcColor, c, s, s1, d, k);
+      const Float4 df = factorQuad(alpha ? ba.dstAlpha : ba.dstColor, c, s, s1, d, k);
+      r.c[c] = clamp01(blendOp4(alpha ? ba.alphaOp : ba.colorOp, s.c[c], sf, d.c[c], df));
+    }
+  }
+  const uint32_t mask = ba.writeMask & ctx.target->colorFormat[i].componentMask;
+  UInt4 out = {0, 0, 0, 0};
+  for (int c = 0; c < 4; ++c) {
+    Float4 v = kReadDst && !(mask >> c & 1) ? d.c[c] : r.c[c];
+    v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
+    // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
+    using Double2 = double __attribute__((vector_size(16)));
+    using Int2 = int32_t __attribute__((vector_size(8)));
+    const Double2 lo = __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2) * 255.0;
+    const Double2 hi = __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2) * 255.0;
+    const Int2 nlo = __builtin_convertvector((lo + 0x1p52) - 0x1p52, Int2);
+    const Int2 nhi = __builtin_convertvector((hi + 0x1p52) - 0x1p52, Int2);
+    const UInt4 n = __builtin_convertvector(__builtin_shufflevector(nlo, nhi, 0, 1, 2, 3), UInt4);
+    const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
+    out |= n << shift;
+  }
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) std::memcpy(lane[l], &out[l], 4);
+}
+
+template <bool kBgra>
+auto unorm8QuadFor(bool blend, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
+  if (blend) return colorUnorm8Quad<kBgra, true, true>;
+  return readDst ? colorUnorm8Quad<kBgra, false, true> : colorUnorm8Quad<kBgra, false, false>;
+}
+
+}  // namespace
+
+void setQuadPaths(bool enabled) { quadPaths.store(enabled, std::memory_order_relaxed); }
+
+void planBackEnd(DrawContext& ctx) {
+  const Target& tg = *ctx.target;
+  const State& st = *ctx.state;
+  const bool quads = quadPaths.load(std::memory_order_relaxed) && ctx.samples == 1;
+  BackEndPlan& plan = ctx.backEnd;
+  plan.quadPaths = 0;
+  // Depth/stencil: what depthStencilTests would run.
+  const DepthStencilTarget& ds = tg.depthStencil;
+  const bool hasDepth = ds.depthFormat != DepthFormat::None && ds.depth.base;
+  const bool hasStencil = ds.stencilFormat != StencilFormat::None && ds.stencil.base;
+  const bool bounds = st.depthBoundsTest && hasDepth, stencil = st.stencilTest && hasStencil;
+  const bool depth = st.depthTest && hasDepth;
+  if (!bounds && !stencil && !depth) {
+    plan.depthStencil = noDepthStencil;
+  } else if (quads && !bounds && !stencil && ds.depthFormat == DepthFormat::D32SFloat && ds.depth.samples == 1) {
+    plan.depthStencil = st.depthWrite ? depthD32For<true>(st.depthCompare) : depthD32For<false>(st.depthCompare);
+    plan.quadPaths |= 1;
+  } else {
+    plan.depthStencil = depthStencilLanes;
+  }
+  // Colour: attachments the shader writes, with a format that encodes and a write mask that keeps something.
+  for (uint32_t i = 0; i < kMaxColorAttachments; ++i) plan.color[i] = nullptr;
+  for (uint32_t i = 0; i < tg.colorCount; ++i) {
+    const ColorFormat& fmt = tg.colorFormat[i];
+    if (!tg.color[i].base || !(ctx.fragment->outputMask >> i & 1) || !fmt.encode) continue;
+    uint32_t mask;
+    const bool unorm8 = unorm8Path(ctx, i, &mask);
+    if (!mask) continue;
+    if (!unorm8) {
+      plan.color[i] = colorLanes;
+    } else if (quads && tg.color[i].samples == 1) {
+      const bool blend = st.blend[i].enable, readDst = blend || mask != 0xF;
+      plan.color[i] = fmt.layout == ColorFormat::Layout::BGRA8UNorm ? unorm8QuadFor<true>(blend, readDst)
+                                                                    : unorm8QuadFor<false>(blend, readDst);
+      plan.quadPaths |= 2u << i;
+    } else {
+      plan.color[i] = colorUnorm8Lanes;
+    }
   }
 }
 

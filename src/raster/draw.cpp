@@ -251,6 +251,7 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
     case DepthFormat::X8D24UNorm: ctx.depthR = std::ldexp(1.0, -24); break;
     default: ctx.depthR = 0; break;
   }
+  detail::planBackEnd(ctx);
   return ctx;
 }
 

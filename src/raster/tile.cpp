@@ -157,22 +157,23 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     if (!c || (q.killed >> l & 1)) continue;
     if (fs.writesSampleMask) c &= q.sampleMaskOut[l];
     if (st.alphaToCoverage && (fs.outputMask & 1)) c &= alphaCoverage(asFloat(q.color[l][0][3]), ctx.samples);
-    const int32_t x = q.x + int32_t(l & 1), y = q.y + int32_t(l >> 1);
-    if (!ctx.earlyTests && c) {
-      if (fs.writesDepth) {
-        float d = q.depth[l];
-        if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
-        for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
-      }
-      c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
+    if (!ctx.earlyTests && c && fs.writesDepth) {
+      float d = q.depth[l];
+      if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
+      for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
     }
-    if (!c) continue;
-    if (ctx.draw->samplesPassed && !ctx.earlyTests)         // counted before the shader with early tests (shadeQuad)
-      scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
-    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
     passed[l] = c;
   }
-  if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
+  uint32_t any = passed[0] | passed[1] | passed[2] | passed[3];
+  if (!ctx.earlyTests && any) any = ctx.backEnd.depthStencil(ctx, t.front, q.x, q.y, passed, z);
+  if (!any) return;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!passed[l]) continue;
+    if (ctx.draw->samplesPassed && !ctx.earlyTests)                 // counted before the shader with early tests
+      scratch.samplesPassed += uint32_t(std::popcount(passed[l]));  // (shadeQuad); a library call without POPCNT
+    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
+  }
+  writeQuadColors(ctx, q, passed);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
@@ -190,12 +191,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
     for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
   }
   if (ctx.earlyTests) {
-    any = 0;
-    for (uint32_t l = 0; l < 4; ++l) {
-      if (cov[l])
-        any |= cov[l] = depthStencilTests(ctx, t.front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
-    }
-    if (!any) return;
+    if (!ctx.backEnd.depthStencil(ctx, t.front, qx, qy, cov, z)) return;
     // With early tests, sample counting comes before fragment shading and the multisample coverage operations
     // (discard, the shader's sample mask, alpha to coverage): "Early Fragment Test Mode" says they should be
     // performed after it.
