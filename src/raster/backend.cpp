@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "raster/internal.hpp"
 
@@ -224,8 +228,24 @@ using Int4 = int32_t __attribute__((vector_size(16)));
 
 inline Float4 splat(float v) { return Float4{v, v, v, v}; }
 inline Float4 clamp01(Float4 v) {  // std::clamp(v, 0, 1) per component (NaN stays NaN)
+#if defined(__SSE2__)
+  // maxps/minps return their second operand when unordered: max(0, v) is "v < 0 ? 0 : v" and min(1, x) is
+  // "1 < x ? 1 : x", std::clamp's two steps exactly (NaN and -0 kept), in two instructions.
+  return Float4(_mm_min_ps(_mm_set1_ps(1.0f), _mm_max_ps(_mm_setzero_ps(), __m128(v))));
+#else
   v = v < 0.0f ? splat(0.0f) : v;
   return 1.0f < v ? splat(1.0f) : v;
+#endif
+}
+
+// NaN to 0, then [0, 1] (the encoders' clamp).
+inline Float4 saturate(Float4 v) {
+#if defined(__SSE2__)
+  // max(v, 0) is "0 < v ? v : 0": NaN (unordered) and -0 give +0, which encode alike.
+  return Float4(_mm_min_ps(_mm_max_ps(__m128(v), _mm_setzero_ps()), _mm_set1_ps(1.0f)));
+#else
+  return v == v ? clamp01(v) : splat(0);
+#endif
 }
 
 // The blend factor `f` for all four components (component c of blendFactor(f, c, ...)).
@@ -282,7 +302,7 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
 }
 
 inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
-  v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
+  v = saturate(v);
   // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
   const Double4 d = __builtin_convertvector(v, Double4) * 255.0;
   using Bytes4 = uint8_t __attribute__((vector_size(4)));
@@ -657,7 +677,39 @@ inline bool readsSource1(BlendFactor f) {
          f == BlendFactor::OneMinusSrc1Alpha;
 }
 
-template <bool kBgra, bool kBlend, bool kReadDst>
+// The blend equations common enough to get code of their own (the factors and ops known at compile time); kShape -1:
+// the attachment's, read at run time.
+struct BlendShape {
+  BlendFactor srcColor, dstColor, srcAlpha, dstAlpha;
+  BlendOp colorOp, alphaOp;
+};
+constexpr BlendShape kBlendShapes[] = {
+    // Straight alpha ("over"), alpha accumulated as coverage.
+    {BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha,
+     BlendOp::Add, BlendOp::Add},
+    // Straight alpha on all four components.
+    {BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha,
+     BlendOp::Add, BlendOp::Add},
+    // Premultiplied alpha.
+    {BlendFactor::One, BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha, BlendOp::Add,
+     BlendOp::Add},
+    // Additive.
+    {BlendFactor::One, BlendFactor::One, BlendFactor::One, BlendFactor::One, BlendOp::Add, BlendOp::Add},
+};
+
+static_assert(std::size(kBlendShapes) == 4, "unorm8QuadFor instantiates each shape");
+
+inline int blendShapeOf(const BlendAttachment& b) {
+  for (int i = 0; i < int(std::size(kBlendShapes)); ++i) {
+    const BlendShape& k = kBlendShapes[i];
+    if (b.srcColor == k.srcColor && b.dstColor == k.dstColor && b.srcAlpha == k.srcAlpha && b.dstAlpha == k.dstAlpha &&
+        b.colorOp == k.colorOp && b.alphaOp == k.alphaOp)
+      return i;
+  }
+  return -1;
+}
+
+template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
 void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
   const Surface& surf = ctx.target->color[i];
   const BlendAttachment& ba = ctx.state->blend[i];
@@ -673,30 +725,31 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
       if (cov[l]) std::memcpy(&words[l], lane[l], 4);
     for (int c = 0; c < 4; ++c) {
       const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
-      d.c[c] = __builtin_convertvector((words >> shift) & 0xFF, Float4) / 255.0f;
+      d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
     }
   }
   Quad4 r = s;
   if (kBlend) {
+    const BlendShape b = kShape >= 0 ? kBlendShapes[kShape] : BlendShape{ba.srcColor, ba.dstColor, ba.srcAlpha,
+                                                                         ba.dstAlpha, ba.colorOp,  ba.alphaOp};
     Quad4 s1{}, k{};
-    if (readsSource1(ba.srcColor) || readsSource1(ba.dstColor) || readsSource1(ba.srcAlpha) ||
-        readsSource1(ba.dstAlpha)) {
+    if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
       s1 = transpose(q.color1[0], q.color1[1], q.color1[2], q.color1[3]);
       for (Float4& v : s1.c) v = clamp01(v);
     }
     for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
     for (int c = 0; c < 4; ++c) {
       const bool alpha = c == 3;
-      const Float4 sf = factorQuad(alpha ? ba.srcAlpha : ba.srcColor, c, s, s1, d, k);
-      const Float4 df = factorQuad(alpha ? ba.dstAlpha : ba.dstColor, c, s, s1, d, k);
-      r.c[c] = clamp01(blendOp4(alpha ? ba.alphaOp : ba.colorOp, s.c[c], sf, d.c[c], df));
+      const Float4 sf = factorQuad(alpha ? b.srcAlpha : b.srcColor, c, s, s1, d, k);
+      const Float4 df = factorQuad(alpha ? b.dstAlpha : b.dstColor, c, s, s1, d, k);
+      r.c[c] = clamp01(blendOp4(alpha ? b.alphaOp : b.colorOp, s.c[c], sf, d.c[c], df));
     }
   }
   const uint32_t mask = ba.writeMask & ctx.target->colorFormat[i].componentMask;
   UInt4 out = {0, 0, 0, 0};
   for (int c = 0; c < 4; ++c) {
     Float4 v = kReadDst && !(mask >> c & 1) ? d.c[c] : r.c[c];
-    v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
+    v = saturate(v);
     // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
     using Double2 = double __attribute__((vector_size(16)));
     using Int2 = int32_t __attribute__((vector_size(8)));
@@ -713,8 +766,16 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
 }
 
 template <bool kBgra>
-auto unorm8QuadFor(bool blend, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
-  if (blend) return colorUnorm8Quad<kBgra, true, true>;
+auto unorm8QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
+  if (ba.enable) {
+    switch (blendShapeOf(ba)) {
+      case 0: return colorUnorm8Quad<kBgra, true, true, 0>;
+      case 1: return colorUnorm8Quad<kBgra, true, true, 1>;
+      case 2: return colorUnorm8Quad<kBgra, true, true, 2>;
+      case 3: return colorUnorm8Quad<kBgra, true, true, 3>;
+      default: return colorUnorm8Quad<kBgra, true, true>;
+    }
+  }
   return readDst ? colorUnorm8Quad<kBgra, false, true> : colorUnorm8Quad<kBgra, false, false>;
 }
 
@@ -754,8 +815,8 @@ void planBackEnd(DrawContext& ctx) {
       plan.color[i] = colorLanes;
     } else if (quads && tg.color[i].samples == 1) {
       const bool blend = st.blend[i].enable, readDst = blend || mask != 0xF;
-      plan.color[i] = fmt.layout == ColorFormat::Layout::BGRA8UNorm ? unorm8QuadFor<true>(blend, readDst)
-                                                                    : unorm8QuadFor<false>(blend, readDst);
+      plan.color[i] = fmt.layout == ColorFormat::Layout::BGRA8UNorm ? unorm8QuadFor<true>(st.blend[i], readDst)
+                                                                    : unorm8QuadFor<false>(st.blend[i], readDst);
       plan.quadPaths |= 2u << i;
     } else {
       plan.color[i] = colorUnorm8Lanes;

@@ -154,6 +154,27 @@ TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
         expectSame(sc, ("factor " + std::to_string(f) + " op " + std::to_string(op)).c_str());
       }
     }
+    // The blend equations with code of their own (backend.cpp kBlendShapes), and near misses of them.
+    using F = BlendFactor;
+    const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                     {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
+                                     {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                     {F::One, F::One, F::One, F::One},
+                                     {F::One, F::One, F::One, F::Zero}};
+    for (const auto& shape : shapes) {
+      for (int op : {0, 1}) {
+        for (uint8_t mask : {0xF, 0x7}) {
+          Scene sc;
+          sc.layout = layout;
+          BlendAttachment& b = sc.blend;
+          b.enable = true;
+          b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
+          b.colorOp = BlendOp(op), b.alphaOp = BlendOp::Add;
+          b.writeMask = mask;
+          expectSame(sc, ("shape " + std::to_string(int(shape[0])) + " op " + std::to_string(op)).c_str());
+        }
+      }
+    }
     // Without blending: the whole texel replaced, and a write mask (the destination read back).
     for (uint8_t mask : {0xF, 0x5, 0x8}) {
       Scene sc;
