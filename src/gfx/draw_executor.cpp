@@ -35,6 +35,9 @@ struct alignas(64) WorkerScratch {
   alignas(16) uint32_t outputs1[4][4];
   alignas(16) uint8_t exchange[abi::kQuadExchangeBytes];
   alignas(16) uint8_t sink[abi::kSinkBytes];
+  // The primitive and sample the invocations' per-primitive fields were last set for (shadeQuad), null: none yet.
+  const void* primitive = nullptr;
+  uint32_t sampleIndex = 0;
 };
 
 }  // namespace
@@ -154,6 +157,7 @@ void runTileTask(void* arg) {
     inv.outputs = w.outputs[l];
     inv.outputs1 = w.outputs1[l];
   }
+  w.primitive = nullptr;
   t.body(t.arg);
 }
 
@@ -185,10 +189,25 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
-  float samplePosition[2] = {0.5f, 0.5f};
-  if (c.samples == 4) {
-    samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
-    samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex) {
+    // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
+    // now may run in the next quad).
+    w.primitive = q.primitive, w.sampleIndex = q.sampleIndex;
+    float samplePosition[2] = {0.5f, 0.5f};
+    if (c.samples == 4) {
+      samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
+      samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+    }
+    for (GraphicsInvocation& inv : w.inv) {
+      inv.frontFacing = q.frontFacing ? 1 : 0;
+      inv.primitiveId = int32_t(q.primitiveId);
+      inv.viewIndex = q.viewIndex;
+      inv.layer = q.layer;
+      inv.sampleId = int32_t(q.sampleIndex);
+      inv.samplePosition[0] = samplePosition[0];
+      inv.samplePosition[1] = samplePosition[1];
+      inv.quad = &q;
+    }
   }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
@@ -207,20 +226,12 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
-    inv.frontFacing = q.frontFacing ? 1 : 0;
-    inv.primitiveId = int32_t(q.primitiveId);
-    inv.viewIndex = q.viewIndex;
-    inv.layer = q.layer;
-    inv.sampleId = int32_t(q.sampleIndex);
-    inv.samplePosition[0] = samplePosition[0];
-    inv.samplePosition[1] = samplePosition[1];
     inv.sampleMaskIn = q.coverage[l];
     inv.sampleMaskOut = ~0u;
     inv.fragDepth = q.fragCoord[l][2];
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;
-    inv.quad = &q;
   }
   if (c.spmd) {
     // The SPMD entry takes the quad's four invocations (the uncovered lanes are helpers: it runs them only where the
