@@ -223,7 +223,6 @@ inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p
 // clampToFormat, mergeMask), and the same codecs (decode by table, encode through double with rounding to nearest
 // even), so the texels written are the same bit for bit.
 using Float4 = float __attribute__((vector_size(16)));
-using Double4 = double __attribute__((vector_size(32)));
 using Int4 = int32_t __attribute__((vector_size(16)));
 
 inline Float4 splat(float v) { return Float4{v, v, v, v}; }
@@ -301,12 +300,29 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
   return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
+// Four values in [0, 1] times 255 in double (exact), rounded to integers as encodeUnorm8 rounds them (its adding and
+// subtracting of 2^52 rounds in the current rounding mode, as cvtpd2dq does: the same integers in every mode).
+inline Int4 unorm8Bytes(Float4 v) {
+#if defined(__SSE2__)
+  const __m128 f = __m128(v);
+  const __m128d k = _mm_set1_pd(255.0);
+  const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
+  const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
+  return Int4(_mm_unpacklo_epi64(lo, hi));
+#else
+  using Double2 = double __attribute__((vector_size(16)));
+  using Int2 = int32_t __attribute__((vector_size(8)));
+  const Double2 lo = __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2) * 255.0;
+  const Double2 hi = __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2) * 255.0;
+  const Int2 nlo = __builtin_convertvector((lo + 0x1p52) - 0x1p52, Int2);
+  const Int2 nhi = __builtin_convertvector((hi + 0x1p52) - 0x1p52, Int2);
+  return __builtin_shufflevector(nlo, nhi, 0, 1, 2, 3);
+#endif
+}
+
 inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
-  v = saturate(v);
-  // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
-  const Double4 d = __builtin_convertvector(v, Double4) * 255.0;
   using Bytes4 = uint8_t __attribute__((vector_size(4)));
-  Bytes4 b = __builtin_convertvector(__builtin_convertvector((d + 0x1p52) - 0x1p52, Int4), Bytes4);  // 0..255
+  Bytes4 b = __builtin_convertvector(unorm8Bytes(saturate(v)), Bytes4);  // 0..255
   if (bgra) b = __builtin_shufflevector(b, b, 2, 1, 0, 3);
   std::memcpy(p, &b, 4);
 }
@@ -719,10 +735,17 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   for (Float4& v : s.c) v = clamp01(v);
   using UInt4 = uint32_t __attribute__((vector_size(16)));
   Quad4 d{};
+  const bool full = cov[0] && cov[1] && cov[2] && cov[3];  // most quads: two 8-byte rows
   UInt4 words = {0, 0, 0, 0};
   if (kReadDst) {
-    for (uint32_t l = 0; l < 4; ++l)
-      if (cov[l]) std::memcpy(&words[l], lane[l], 4);
+    uint32_t w[4] = {0, 0, 0, 0};
+    if (full) {
+      std::memcpy(w, lane[0], 8), std::memcpy(w + 2, lane[2], 8);
+    } else {
+      for (uint32_t l = 0; l < 4; ++l)
+        if (cov[l]) std::memcpy(&w[l], lane[l], 4);
+    }
+    std::memcpy(&words, w, 16);
     for (int c = 0; c < 4; ++c) {
       const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
       d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
@@ -749,20 +772,17 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   UInt4 out = {0, 0, 0, 0};
   for (int c = 0; c < 4; ++c) {
     Float4 v = kReadDst && !(mask >> c & 1) ? d.c[c] : r.c[c];
-    v = saturate(v);
-    // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
-    using Double2 = double __attribute__((vector_size(16)));
-    using Int2 = int32_t __attribute__((vector_size(8)));
-    const Double2 lo = __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2) * 255.0;
-    const Double2 hi = __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2) * 255.0;
-    const Int2 nlo = __builtin_convertvector((lo + 0x1p52) - 0x1p52, Int2);
-    const Int2 nhi = __builtin_convertvector((hi + 0x1p52) - 0x1p52, Int2);
-    const UInt4 n = __builtin_convertvector(__builtin_shufflevector(nlo, nhi, 0, 1, 2, 3), UInt4);
     const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
-    out |= n << shift;
+    out |= UInt4(unorm8Bytes(saturate(v))) << shift;
   }
-  for (uint32_t l = 0; l < 4; ++l)
-    if (cov[l]) std::memcpy(lane[l], &out[l], 4);
+  uint32_t w[4];
+  std::memcpy(w, &out, 16);
+  if (full) {
+    std::memcpy(lane[0], w, 8), std::memcpy(lane[2], w + 2, 8);
+  } else {
+    for (uint32_t l = 0; l < 4; ++l)
+      if (cov[l]) std::memcpy(lane[l], &w[l], 4);
+  }
 }
 
 template <bool kBgra>
