@@ -532,11 +532,6 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
   return passed;
 }
 
-void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
-  for (uint32_t i = 0; i < ctx.target->colorCount; ++i)
-    if (ctx.backEnd.color[i]) ctx.backEnd.color[i](ctx, i, quad, coverage);
-}
-
 namespace {
 
 // ------------------------------------------------------------------------------------------------ the quad paths

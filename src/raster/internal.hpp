@@ -97,7 +97,9 @@ struct DrawContext {
   bool perSample;                    // shade once per covered sample
   bool earlyTests;                   // depth/stencil before the shader
   bool hasSmooth, hasNoPerspective;  // any input of that kind
-  bool needsDepth;  // some test reads the fragment's depth (else the per-sample depths are not computed)
+  bool needsDepth;   // some test reads the fragment's depth (else the per-sample depths are not computed)
+  bool plainFinish;  // early tests, no shader sample mask, alpha to coverage or alpha to one: after the shader only
+                     // discard applies before the colour writes
   // Viewport 0: x_f = x_ndc * scaleX + offX, likewise y; z_f = z_ndc * scaleZ + offZ.
   float scaleX, offX, scaleY, offY, scaleZ, offZ;
   float depthMin, depthMax;  // the clamp range of fragment depth: viewport range with depth clamp, else [0, 1]
@@ -138,7 +140,10 @@ void planBackEnd(DrawContext& ctx);
 void setQuadPaths(bool enabled);
 // Writes the quad's color outputs to each lane's samples in `coverage` (blend, logic op, write masks); lane l is
 // pixel (quad.x + (l & 1), quad.y + (l >> 1)).
-void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]);
+inline void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
+  for (uint32_t i = 0; i < ctx.target->colorCount; ++i)
+    if (ctx.backEnd.color[i]) ctx.backEnd.color[i](ctx, i, quad, coverage);
+}
 // Alpha to coverage: the samples alpha keeps.
 uint32_t alphaCoverage(float alpha, uint32_t samples);
 

@@ -173,6 +173,12 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
+  if (ctx.plainFinish) {
+    // Nothing between the shader and the colour writes but discard (the tests ran before the shader).
+    for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
+    if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
+    return;
+  }
   for (uint32_t l = 0; l < 4; ++l) {
     uint32_t c = q.coverage[l];
     if (!c || (q.killed >> l & 1)) continue;
