@@ -17,19 +17,21 @@ inline uint8_t* texel(const Surface& s, uint32_t texelBytes, uint32_t layer, int
   return s.base + size_t(layer) * s.layerPitch + size_t(y) * s.rowPitch + (size_t(x) * s.samples + sample) * texelBytes;
 }
 
+// "a op b": the new value against the stored one; on vectors (the quad paths) a mask per lane.
 template <typename T>
-inline bool compare(CompareOp op, T a, T b) {  // "a op b": the new value against the stored one
+inline auto compare(CompareOp op, T a, T b) -> decltype(a < b) {
+  using R = decltype(a < b);
   switch (op) {
-    case CompareOp::Never: return false;
+    case CompareOp::Never: return R{};
     case CompareOp::Less: return a < b;
     case CompareOp::Equal: return a == b;
     case CompareOp::LessOrEqual: return a <= b;
     case CompareOp::Greater: return a > b;
     case CompareOp::NotEqual: return a != b;
     case CompareOp::GreaterOrEqual: return a >= b;
-    case CompareOp::Always: return true;
+    case CompareOp::Always: return R{} == R{};  // true, or all ones
   }
-  return false;
+  return R{};
 }
 
 uint32_t stencilValue(StencilOp op, uint32_t s, uint32_t ref) {
@@ -566,21 +568,6 @@ void colorUnorm8Lanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
 
 // D32_SFLOAT depth alone, one sample: the compare op and the write fixed at compile time; a quad whose four lanes are
 // covered compares as one vector (its texels are two pairs of adjacent floats when the texel is 4 bytes).
-template <CompareOp kOp>
-inline Int4 compare4(Float4 a, Float4 b) {
-  switch (kOp) {
-    case CompareOp::Never: return Int4{0, 0, 0, 0};
-    case CompareOp::Less: return a < b;
-    case CompareOp::Equal: return a == b;
-    case CompareOp::LessOrEqual: return a <= b;
-    case CompareOp::Greater: return a > b;
-    case CompareOp::NotEqual: return a != b;
-    case CompareOp::GreaterOrEqual: return a >= b;
-    case CompareOp::Always: return Int4{-1, -1, -1, -1};
-  }
-  return Int4{0, 0, 0, 0};
-}
-
 template <CompareOp kOp, bool kWrite>
 uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_t cov[4], const float (*z)[4]) {
   const DepthStencilTarget& ds = ctx.target->depthStencil;
@@ -593,7 +580,7 @@ uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint
     std::memcpy(&bottom, p0 + pitch, 8);
     const Float4 old = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
     const Float4 zq = {z[0][0], z[1][0], z[2][0], z[3][0]};
-    const Int4 pass = compare4<kOp>(zq, old);
+    const Int4 pass = compare(kOp, zq, old);
     if (kWrite) {
       // Failing lanes get their old bits back (a NaN stays the same NaN): the tile is this worker's alone.
       const Float4 v = pass ? zq : old;

@@ -9,18 +9,10 @@
 
 #include "raster/internal.hpp"
 #include "raster_harness.hpp"
-#include "runtime/format.hpp"
-#include "runtime/image_functions.hpp"
+#include "raster_runtime_codecs.hpp"
 
 namespace vkrt::raster::test {
 namespace {
-
-void decodeRuntime(const void* f, const uint8_t* t, uint32_t out[4]) {
-  decodeTexel(*static_cast<const FormatInfo*>(f), t, out);
-}
-void encodeRuntime(const void* f, const uint32_t in[4], uint8_t* t) {
-  encodeTexel(*static_cast<const FormatInfo*>(f), in, t);
-}
 
 struct Scene {
   ColorFormat::Layout layout = ColorFormat::Layout::RGBA8UNorm;
