@@ -566,14 +566,16 @@ void colorUnorm8Lanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
     if (cov[l]) writeUnorm8(ctx, t, q, l, i, q.x + int32_t(l & 1), q.y + int32_t(l >> 1), cov[l]);
 }
 
-// D32_SFLOAT depth alone, one sample: the compare op and the write fixed at compile time; a quad whose four lanes are
-// covered compares as one vector (its texels are two pairs of adjacent floats when the texel is 4 bytes).
-template <CompareOp kOp, bool kWrite>
-uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_t cov[4], const float (*z)[4]) {
+// Depth alone (no stencil, no bounds), one sample: the format, compare op and write fixed at compile time, the four
+// lanes in one call. Unorm formats convert, compare as stored and keep X8D24's top byte as depthStencilTests does
+// (toStored, readDepth, writeDepth); D32_SFLOAT compares the stored float, and a quad whose four lanes are covered
+// compares as one vector (its texels are two pairs of adjacent floats when the texel is 4 bytes).
+template <DepthFormat kFmt, CompareOp kOp, bool kWrite>
+uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_t cov[4], const float (*z)[4]) {
   const DepthStencilTarget& ds = ctx.target->depthStencil;
   const size_t bytes = ds.depthTexelBytes, pitch = ds.depth.rowPitch;
   uint8_t* p0 = texel(ds.depth, uint32_t(bytes), ctx.layer, qx, qy, 0);
-  if (bytes == 4 && cov[0] && cov[1] && cov[2] && cov[3]) {
+  if (kFmt == DepthFormat::D32SFloat && bytes == 4 && cov[0] && cov[1] && cov[2] && cov[3]) {
     using Float2 = float __attribute__((vector_size(8)));
     Float2 top, bottom;
     std::memcpy(&top, p0, 8);
@@ -596,10 +598,18 @@ uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint
   for (uint32_t l = 0; l < 4; ++l) {
     if (!cov[l]) continue;
     uint8_t* p = p0 + (l & 1) * bytes + (l >> 1) * pitch;
-    float old;
-    std::memcpy(&old, p, 4);
-    if (compare(kOp, z[l][0], old)) {
-      if (kWrite) std::memcpy(p, &z[l][0], 4);
+    bool pass;
+    if constexpr (kFmt == DepthFormat::D32SFloat) {
+      float old;
+      std::memcpy(&old, p, 4);
+      pass = compare(kOp, z[l][0], old);
+      if (pass && kWrite) std::memcpy(p, &z[l][0], 4);
+    } else {
+      const DepthValue v = toStored(kFmt, z[l][0]);
+      pass = compare(kOp, v.u, readDepth(kFmt, p).u);
+      if (pass && kWrite) writeDepth(kFmt, p, v);
+    }
+    if (pass) {
       any |= cov[l];
     } else {
       cov[l] = 0;
@@ -608,19 +618,24 @@ uint32_t depthD32Quad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint
   return any;
 }
 
-template <bool kWrite>
-auto depthD32For(CompareOp op) -> decltype(&depthD32Quad<CompareOp::Less, kWrite>) {
+template <DepthFormat kFmt, bool kWrite>
+auto depthQuadFor(CompareOp op) -> decltype(&depthQuad<kFmt, CompareOp::Less, kWrite>) {
   switch (op) {
-    case CompareOp::Never: return depthD32Quad<CompareOp::Never, kWrite>;
-    case CompareOp::Less: return depthD32Quad<CompareOp::Less, kWrite>;
-    case CompareOp::Equal: return depthD32Quad<CompareOp::Equal, kWrite>;
-    case CompareOp::LessOrEqual: return depthD32Quad<CompareOp::LessOrEqual, kWrite>;
-    case CompareOp::Greater: return depthD32Quad<CompareOp::Greater, kWrite>;
-    case CompareOp::NotEqual: return depthD32Quad<CompareOp::NotEqual, kWrite>;
-    case CompareOp::GreaterOrEqual: return depthD32Quad<CompareOp::GreaterOrEqual, kWrite>;
-    case CompareOp::Always: return depthD32Quad<CompareOp::Always, kWrite>;
+    case CompareOp::Never: return depthQuad<kFmt, CompareOp::Never, kWrite>;
+    case CompareOp::Less: return depthQuad<kFmt, CompareOp::Less, kWrite>;
+    case CompareOp::Equal: return depthQuad<kFmt, CompareOp::Equal, kWrite>;
+    case CompareOp::LessOrEqual: return depthQuad<kFmt, CompareOp::LessOrEqual, kWrite>;
+    case CompareOp::Greater: return depthQuad<kFmt, CompareOp::Greater, kWrite>;
+    case CompareOp::NotEqual: return depthQuad<kFmt, CompareOp::NotEqual, kWrite>;
+    case CompareOp::GreaterOrEqual: return depthQuad<kFmt, CompareOp::GreaterOrEqual, kWrite>;
+    case CompareOp::Always: return depthQuad<kFmt, CompareOp::Always, kWrite>;
   }
   return nullptr;
+}
+
+template <DepthFormat kFmt>
+auto depthQuadFor(CompareOp op, bool write) -> decltype(&depthQuad<kFmt, CompareOp::Less, true>) {
+  return write ? depthQuadFor<kFmt, true>(op) : depthQuadFor<kFmt, false>(op);
 }
 
 // The 8-bit UNorm layouts with one sample, the quad's four pixels at once with the components in separate vectors
@@ -799,8 +814,16 @@ void planBackEnd(DrawContext& ctx) {
   const bool depth = st.depthTest && hasDepth;
   if (!bounds && !stencil && !depth) {
     plan.depthStencil = noDepthStencil;
-  } else if (quads && !bounds && !stencil && ds.depthFormat == DepthFormat::D32SFloat && ds.depth.samples == 1) {
-    plan.depthStencil = st.depthWrite ? depthD32For<true>(st.depthCompare) : depthD32For<false>(st.depthCompare);
+  } else if (quads && !bounds && !stencil && ds.depth.samples == 1) {
+    switch (ds.depthFormat) {
+      case DepthFormat::D16UNorm:
+        plan.depthStencil = depthQuadFor<DepthFormat::D16UNorm>(st.depthCompare, st.depthWrite);
+        break;
+      case DepthFormat::X8D24UNorm:
+        plan.depthStencil = depthQuadFor<DepthFormat::X8D24UNorm>(st.depthCompare, st.depthWrite);
+        break;
+      default: plan.depthStencil = depthQuadFor<DepthFormat::D32SFloat>(st.depthCompare, st.depthWrite); break;
+    }
     plan.quadPaths |= 1;
   } else {
     plan.depthStencil = depthStencilLanes;

@@ -19,7 +19,9 @@ struct Scene {
   BlendAttachment blend;
   bool depthTest = false, depthWrite = false;
   CompareOp compare = CompareOp::Less;
-  uint32_t depthTexelBytes = 4;  // 8: a D32_SFLOAT_S8_UINT-like texel (stencil unused)
+  bool depthBounds = false;
+  DepthFormat depthFormat = DepthFormat::D32SFloat;
+  uint32_t depthTexelBytes = 4;  // D32: 8 is a D32_SFLOAT_S8_UINT-like texel (stencil unused); D16: 2
   uint32_t samples = 1;
 };
 
@@ -45,11 +47,25 @@ Result render(const Scene& sc, bool quadPaths) {
   f.layout = sc.layout;
   Image depth(W, H, sc.depthTexelBytes, sc.samples);
   for (size_t i = 0; i < depth.data.size() / sc.depthTexelBytes; ++i) {
-    const float z = float((i * 37) % 101) / 100.0f;
-    std::memcpy(depth.data.data() + i * sc.depthTexelBytes, &z, 4);
+    const uint32_t step = (i * 37) % 101;  // 0..100: stored depths from 0 to 1
+    // Every fourth texel within one step of the fourth triangle's depth 0.6 as stored (below, equal, above): the
+    // compare ops' edge cases.
+    const int near = i % 4 == 0 ? int(i / 4 % 3) - 1 : 2;
+    uint8_t* p = depth.data.data() + i * sc.depthTexelBytes;
+    if (sc.depthFormat == DepthFormat::D16UNorm) {
+      const uint16_t v = uint16_t(near < 2 ? std::lrint(double(0.6f) * 65535) + near : step * 655);
+      std::memcpy(p, &v, 2);
+    } else if (sc.depthFormat == DepthFormat::X8D24UNorm) {
+      const uint32_t d = uint32_t(near < 2 ? std::lrint(double(0.6f) * 16777215) + near : step * 166111);
+      const uint32_t v = uint32_t(i * 29 % 256) << 24 | d;  // the top byte varies and must stay
+      std::memcpy(p, &v, 4);
+    } else {
+      const float z = near < 2 ? std::nextafter(0.6f, near < 0 ? 0.0f : near > 0 ? 1.0f : 0.6f) : float(step) / 100;
+      std::memcpy(p, &z, 4);
+    }
   }
   auto& ds = h.target.depthStencil;
-  ds.depthFormat = DepthFormat::D32SFloat;
+  ds.depthFormat = sc.depthFormat;
   ds.depth = depth.surface();
   ds.depthTexelBytes = sc.depthTexelBytes;
   h.state.depthTest = sc.depthTest;
@@ -85,8 +101,7 @@ void expectSame(const Scene& sc, const char* what) {
 }
 
 // Which paths planBackEnd takes for a state (bit 0 depth/stencil, bit 1 colour attachment 0).
-uint32_t planned(const Scene& sc, bool stencilTest = false, DepthFormat depthFormat = DepthFormat::D32SFloat,
-                 bool logicOp = false) {
+uint32_t planned(const Scene& sc, bool stencilTest = false, bool logicOp = false) {
   uint8_t storage[64] = {};
   Target tg;
   tg.colorCount = 1;
@@ -96,7 +111,7 @@ uint32_t planned(const Scene& sc, bool stencilTest = false, DepthFormat depthFor
   tg.colorFormat[0].encode = encodeRuntime;
   tg.colorFormat[0].decode = decodeRuntime;
   tg.samples = sc.samples;
-  tg.depthStencil.depthFormat = depthFormat;
+  tg.depthStencil.depthFormat = sc.depthFormat;
   tg.depthStencil.depth.base = storage;
   tg.depthStencil.depth.samples = sc.samples;
   tg.depthStencil.depthTexelBytes = sc.depthTexelBytes;
@@ -105,6 +120,7 @@ uint32_t planned(const Scene& sc, bool stencilTest = false, DepthFormat depthFor
   State st;
   st.depthTest = sc.depthTest, st.depthWrite = sc.depthWrite, st.depthCompare = sc.compare;
   st.stencilTest = stencilTest;
+  st.depthBoundsTest = sc.depthBounds;
   st.logicOpEnable = logicOp;
   st.blend[0] = sc.blend;
   FragmentStage fs;
@@ -115,14 +131,21 @@ uint32_t planned(const Scene& sc, bool stencilTest = false, DepthFormat depthFor
   return ctx.backEnd.quadPaths;
 }
 
-TEST(RasterQuadPath, DepthEveryCompareOpWriteAndTexelSizeAsTheGeneralPath) {
-  for (int op = 0; op < 8; ++op) {
-    for (bool write : {false, true}) {
-      for (uint32_t bytes : {4u, 8u}) {
+TEST(RasterQuadPath, DepthEveryFormatCompareOpAndWriteAsTheGeneralPath) {
+  const std::pair<DepthFormat, uint32_t> formats[] = {{DepthFormat::D32SFloat, 4},
+                                                      {DepthFormat::D32SFloat, 8},
+                                                      {DepthFormat::D16UNorm, 2},
+                                                      {DepthFormat::X8D24UNorm, 4}};
+  for (const auto& [format, bytes] : formats) {
+    for (int op = 0; op < 8; ++op) {
+      for (bool write : {false, true}) {
         Scene sc;
-        sc.depthTest = true, sc.depthWrite = write, sc.compare = CompareOp(op), sc.depthTexelBytes = bytes;
+        sc.depthTest = true, sc.depthWrite = write, sc.compare = CompareOp(op);
+        sc.depthFormat = format, sc.depthTexelBytes = bytes;
         ASSERT_EQ(planned(sc), 3u);
-        expectSame(sc, ("op " + std::to_string(op) + " write " + std::to_string(write)).c_str());
+        expectSame(sc, ("format " + std::to_string(int(format)) + " bytes " + std::to_string(bytes) + " op " +
+                        std::to_string(op) + " write " + std::to_string(write))
+                           .c_str());
       }
     }
   }
@@ -226,10 +249,11 @@ TEST(RasterQuadPath, StatesThatMustTakeTheGeneralPath) {
   Scene sc;
   sc.depthTest = true;
   EXPECT_EQ(planned(sc), 3u);
-  EXPECT_EQ(planned(sc, true) & 1, 0u);                                 // stencil
-  EXPECT_EQ(planned(sc, false, DepthFormat::D16UNorm) & 1, 0u);         // unorm depth
-  EXPECT_EQ(planned(sc, false, DepthFormat::X8D24UNorm) & 1, 0u);       // unorm depth
-  EXPECT_EQ(planned(sc, false, DepthFormat::D32SFloat, true) & 2, 0u);  // logic op
+  EXPECT_EQ(planned(sc, true) & 1, 0u);  // stencil
+  Scene bounds = sc;
+  bounds.depthBounds = true;
+  EXPECT_EQ(planned(bounds) & 1, 0u);           // depth bounds
+  EXPECT_EQ(planned(sc, false, true) & 2, 0u);  // logic op
   Scene ms = sc;
   ms.samples = 4;
   EXPECT_EQ(planned(ms), 0u);  // 4 samples
