@@ -575,20 +575,37 @@ uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_
   const DepthStencilTarget& ds = ctx.target->depthStencil;
   const size_t bytes = ds.depthTexelBytes, pitch = ds.depth.rowPitch;
   uint8_t* p0 = texel(ds.depth, uint32_t(bytes), ctx.layer, qx, qy, 0);
-  if (kFmt == DepthFormat::D32SFloat && bytes == 4 && cov[0] && cov[1] && cov[2] && cov[3]) {
+  if (kFmt == DepthFormat::D32SFloat && (bytes == 4 || bytes == 8) && cov[0] && cov[1] && cov[2] && cov[3]) {
+    // A row's two texels: two floats (D32_SFLOAT), or depth, stencil word, depth, stencil word (D32_SFLOAT_S8_UINT).
     using Float2 = float __attribute__((vector_size(8)));
-    Float2 top, bottom;
-    std::memcpy(&top, p0, 8);
-    std::memcpy(&bottom, p0 + pitch, 8);
-    const Float4 old = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
     const Float4 zq = {z[0][0], z[1][0], z[2][0], z[3][0]};
+    Float4 old;
+    Float4 rows[2];  // the 8-byte texels' rows as read
+    if (bytes == 4) {
+      Float2 top, bottom;
+      std::memcpy(&top, p0, 8);
+      std::memcpy(&bottom, p0 + pitch, 8);
+      old = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
+    } else {
+      std::memcpy(&rows[0], p0, 16);
+      std::memcpy(&rows[1], p0 + pitch, 16);
+      old = __builtin_shufflevector(rows[0], rows[1], 0, 2, 4, 6);
+    }
     const Int4 pass = compare(kOp, zq, old);
     if (kWrite) {
-      // Failing lanes get their old bits back (a NaN stays the same NaN): the tile is this worker's alone.
+      // Failing lanes get their old bits back (a NaN stays the same NaN), and the stencil words theirs: the tile is
+      // this worker's alone.
       const Float4 v = pass ? zq : old;
-      const Float2 vTop = __builtin_shufflevector(v, v, 0, 1), vBottom = __builtin_shufflevector(v, v, 2, 3);
-      std::memcpy(p0, &vTop, 8);
-      std::memcpy(p0 + pitch, &vBottom, 8);
+      if (bytes == 4) {
+        const Float2 vTop = __builtin_shufflevector(v, v, 0, 1), vBottom = __builtin_shufflevector(v, v, 2, 3);
+        std::memcpy(p0, &vTop, 8);
+        std::memcpy(p0 + pitch, &vBottom, 8);
+      } else {
+        const Float4 top = __builtin_shufflevector(v, rows[0], 0, 5, 1, 7);
+        const Float4 bottom = __builtin_shufflevector(v, rows[1], 2, 5, 3, 7);
+        std::memcpy(p0, &top, 16);
+        std::memcpy(p0 + pitch, &bottom, 16);
+      }
     }
     uint32_t any = 0;
     for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= uint32_t(pass[l]);

@@ -62,6 +62,10 @@ Result render(const Scene& sc, bool quadPaths) {
     } else {
       const float z = near < 2 ? std::nextafter(0.6f, near < 0 ? 0.0f : near > 0 ? 1.0f : 0.6f) : float(step) / 100;
       std::memcpy(p, &z, 4);
+      if (sc.depthTexelBytes == 8) {
+        const uint32_t stencilWord = uint32_t(i * 0x9E3779B9u) | 0x7F800001u;  // stencil and padding: must stay
+        std::memcpy(p + 4, &stencilWord, 4);                                   // (a signalling NaN's bits, too)
+      }
     }
   }
   auto& ds = h.target.depthStencil;
