@@ -35,6 +35,9 @@ struct alignas(64) WorkerScratch {
   alignas(16) uint32_t outputs1[4][4];
   alignas(16) uint8_t exchange[abi::kQuadExchangeBytes];
   alignas(16) uint8_t sink[abi::kSinkBytes];
+  // The primitive and sample the invocations' per-primitive fields were last set for (shadeQuad), null: none yet.
+  const void* primitive = nullptr;
+  uint32_t sampleIndex = 0;
 };
 
 }  // namespace
@@ -60,6 +63,10 @@ struct DrawContext {
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
   bool spmd = false;   // ... in one call of its SPMD entry (spirv/spmd.hpp), else as four fibers
+  // The fragment shader reads its inputs from the quad's slots and writes its colour outputs into the quad's colours
+  // in place (no copies per quad): the slots are its input locations in order (slot s = location s), and every output
+  // location is a colour attachment's.
+  bool quadInputs = false, quadOutputs = false;
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -150,6 +157,7 @@ void runTileTask(void* arg) {
     inv.outputs = w.outputs[l];
     inv.outputs1 = w.outputs1[l];
   }
+  w.primitive = nullptr;
   t.body(t.arg);
 }
 
@@ -181,34 +189,49 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
-  float samplePosition[2] = {0.5f, 0.5f};
-  if (c.samples == 4) {
-    samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
-    samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex) {
+    // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
+    // now may run in the next quad).
+    w.primitive = q.primitive, w.sampleIndex = q.sampleIndex;
+    float samplePosition[2] = {0.5f, 0.5f};
+    if (c.samples == 4) {
+      samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
+      samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+    }
+    for (GraphicsInvocation& inv : w.inv) {
+      inv.frontFacing = q.frontFacing ? 1 : 0;
+      inv.primitiveId = int32_t(q.primitiveId);
+      inv.viewIndex = q.viewIndex;
+      inv.layer = q.layer;
+      inv.sampleId = int32_t(q.sampleIndex);
+      inv.samplePosition[0] = samplePosition[0];
+      inv.samplePosition[1] = samplePosition[1];
+      inv.quad = &q;
+    }
   }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
-    // The quad's slots back at the shader's locations.
-    for (uint32_t s = 0; s < c.varyingCount; ++s)
-      std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    if (c.quadInputs) {
+      inv.inputs = q.inputs[l];
+    } else {
+      // The quad's slots back at the shader's locations.
+      for (uint32_t s = 0; s < c.varyingCount; ++s)
+        std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    }
+    if (c.quadOutputs) {
+      inv.outputs = q.color[l][0];
+      inv.outputs1 = q.color1[l];
+    }
     std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
-    inv.frontFacing = q.frontFacing ? 1 : 0;
-    inv.primitiveId = int32_t(q.primitiveId);
-    inv.viewIndex = q.viewIndex;
-    inv.layer = q.layer;
-    inv.sampleId = int32_t(q.sampleIndex);
-    inv.samplePosition[0] = samplePosition[0];
-    inv.samplePosition[1] = samplePosition[1];
     inv.sampleMaskIn = q.coverage[l];
     inv.sampleMaskOut = ~0u;
     inv.fragDepth = q.fragCoord[l][2];
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;
-    inv.quad = &q;
   }
   if (c.spmd) {
     // The SPMD entry takes the quad's four invocations (the uncovered lanes are helpers: it runs them only where the
@@ -234,11 +257,13 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       q.killed |= 1u << l;
       continue;
     }
-    for (uint32_t m = outputMask; m; m &= m - 1) {
-      const uint32_t loc = uint32_t(__builtin_ctz(m));
-      std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+    if (!c.quadOutputs) {
+      for (uint32_t m = outputMask; m; m &= m - 1) {
+        const uint32_t loc = uint32_t(__builtin_ctz(m));
+        std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+      }
+      std::memcpy(q.color1[l], w.outputs1[l], 16);
     }
-    std::memcpy(q.color1[l], w.outputs1[l], 16);
     q.depth[l] = inv.fragDepth;
     q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
@@ -383,6 +408,15 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   }
   c.varyingCount = p.varyingCount;
   for (uint32_t s = 0; s < p.varyingCount; ++s) c.varyingLocation[s] = p.fragmentStage.inputs[s].location;
+  if (p.fragment) {
+    const spirv::GraphicsStageInfo& fi = p.fragment->graphics;
+    c.quadInputs = fi.inputs.size() == p.varyingCount && raster::kMaxLocations * 4 >= kGraphicsLocations * 4;
+    for (uint32_t s = 0; s < fi.inputs.size(); ++s)
+      c.quadInputs = c.quadInputs && fi.inputs[s].location == s && !fi.inputs[s].wide && c.varyingLocation[s] == s;
+    c.quadOutputs = true;
+    for (const auto& out : fi.outputs)
+      c.quadOutputs = c.quadOutputs && out.location < raster::kMaxColorAttachments && !out.wide;
+  }
 
   // Descriptor sets, as compute dispatches resolve them (runtime/bound_resources.hpp).
   Vuid unbound(command, "None-02697");

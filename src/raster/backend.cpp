@@ -1,7 +1,12 @@
 // The per-fragment operations after coverage ("Fragment Operations": Depth Bounds Test, Stencil Test, Depth Test,
 // Sample Counting is not here; "The Framebuffer": Blending, Logical Operations, Color Write Mask), per sample.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <iterator>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "raster/internal.hpp"
 
@@ -12,19 +17,21 @@ inline uint8_t* texel(const Surface& s, uint32_t texelBytes, uint32_t layer, int
   return s.base + size_t(layer) * s.layerPitch + size_t(y) * s.rowPitch + (size_t(x) * s.samples + sample) * texelBytes;
 }
 
+// "a op b": the new value against the stored one; on vectors (the quad paths) a mask per lane.
 template <typename T>
-inline bool compare(CompareOp op, T a, T b) {  // "a op b": the new value against the stored one
+inline auto compare(CompareOp op, T a, T b) -> decltype(a < b) {
+  using R = decltype(a < b);
   switch (op) {
-    case CompareOp::Never: return false;
+    case CompareOp::Never: return R{};
     case CompareOp::Less: return a < b;
     case CompareOp::Equal: return a == b;
     case CompareOp::LessOrEqual: return a <= b;
     case CompareOp::Greater: return a > b;
     case CompareOp::NotEqual: return a != b;
     case CompareOp::GreaterOrEqual: return a >= b;
-    case CompareOp::Always: return true;
+    case CompareOp::Always: return R{} == R{};  // true, or all ones
   }
-  return false;
+  return R{};
 }
 
 uint32_t stencilValue(StencilOp op, uint32_t s, uint32_t ref) {
@@ -218,13 +225,28 @@ inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p
 // clampToFormat, mergeMask), and the same codecs (decode by table, encode through double with rounding to nearest
 // even), so the texels written are the same bit for bit.
 using Float4 = float __attribute__((vector_size(16)));
-using Double4 = double __attribute__((vector_size(32)));
 using Int4 = int32_t __attribute__((vector_size(16)));
 
 inline Float4 splat(float v) { return Float4{v, v, v, v}; }
 inline Float4 clamp01(Float4 v) {  // std::clamp(v, 0, 1) per component (NaN stays NaN)
+#if defined(__SSE2__)
+  // maxps/minps return their second operand when unordered: max(0, v) is "v < 0 ? 0 : v" and min(1, x) is
+  // "1 < x ? 1 : x", std::clamp's two steps exactly (NaN and -0 kept), in two instructions.
+  return Float4(_mm_min_ps(_mm_set1_ps(1.0f), _mm_max_ps(_mm_setzero_ps(), __m128(v))));
+#else
   v = v < 0.0f ? splat(0.0f) : v;
   return 1.0f < v ? splat(1.0f) : v;
+#endif
+}
+
+// NaN to 0, then [0, 1] (the encoders' clamp).
+inline Float4 saturate(Float4 v) {
+#if defined(__SSE2__)
+  // max(v, 0) is "0 < v ? v : 0": NaN (unordered) and -0 give +0, which encode alike.
+  return Float4(_mm_min_ps(_mm_max_ps(__m128(v), _mm_setzero_ps()), _mm_set1_ps(1.0f)));
+#else
+  return v == v ? clamp01(v) : splat(0);
+#endif
 }
 
 // The blend factor `f` for all four components (component c of blendFactor(f, c, ...)).
@@ -280,12 +302,29 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
   return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
+// Four values in [0, 1] times 255 in double (exact), rounded to integers as encodeUnorm8 rounds them (its adding and
+// subtracting of 2^52 rounds in the current rounding mode, as cvtpd2dq does: the same integers in every mode).
+inline Int4 unorm8Bytes(Float4 v) {
+#if defined(__SSE2__)
+  const __m128 f = __m128(v);
+  const __m128d k = _mm_set1_pd(255.0);
+  const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
+  const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
+  return Int4(_mm_unpacklo_epi64(lo, hi));
+#else
+  using Double2 = double __attribute__((vector_size(16)));
+  using Int2 = int32_t __attribute__((vector_size(8)));
+  const Double2 lo = __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2) * 255.0;
+  const Double2 hi = __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2) * 255.0;
+  const Int2 nlo = __builtin_convertvector((lo + 0x1p52) - 0x1p52, Int2);
+  const Int2 nhi = __builtin_convertvector((hi + 0x1p52) - 0x1p52, Int2);
+  return __builtin_shufflevector(nlo, nhi, 0, 1, 2, 3);
+#endif
+}
+
 inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
-  v = v == v ? clamp01(v) : splat(0);  // NaN to 0, then [0, 1]
-  // Times 255 in double (exact), rounded to nearest even by adding and subtracting 2^52 (encodeUnorm8).
-  const Double4 d = __builtin_convertvector(v, Double4) * 255.0;
   using Bytes4 = uint8_t __attribute__((vector_size(4)));
-  Bytes4 b = __builtin_convertvector(__builtin_convertvector((d + 0x1p52) - 0x1p52, Int4), Bytes4);  // 0..255
+  Bytes4 b = __builtin_convertvector(unorm8Bytes(saturate(v)), Bytes4);  // 0..255
   if (bgra) b = __builtin_shufflevector(b, b, 2, 1, 0, 3);
   std::memcpy(p, &b, 4);
 }
@@ -495,23 +534,335 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
   return passed;
 }
 
-void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
-  const Target& tg = *ctx.target;
-  const uint32_t outputs = ctx.fragment->outputMask;
-  for (uint32_t i = 0; i < tg.colorCount; ++i) {
-    if (!tg.color[i].base || !(outputs >> i & 1)) continue;
-    uint32_t mask;
-    if (unorm8Path(ctx, i, &mask)) {
-      // The 8-bit UNorm layouts: four components at once, set up once for the quad (the same bytes as below).
-      if (!mask) continue;
-      const Unorm8Target t(ctx, i, mask);
-      for (uint32_t l = 0; l < 4; ++l)
-        if (coverage[l])
-          writeUnorm8(ctx, t, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
-      continue;
+namespace {
+
+// ------------------------------------------------------------------------------------------------ the quad paths
+
+std::atomic<bool> quadPaths{true};
+
+// The general paths, lane by lane (any format, sample count and state).
+uint32_t depthStencilLanes(const DrawContext& ctx, bool front, int32_t qx, int32_t qy, uint32_t cov[4],
+                           const float (*z)[4]) {
+  uint32_t any = 0;
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) any |= cov[l] = depthStencilTests(ctx, front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
+  return any;
+}
+
+uint32_t noDepthStencil(const DrawContext&, bool, int32_t, int32_t, uint32_t cov[4], const float (*)[4]) {
+  return cov[0] | cov[1] | cov[2] | cov[3];
+}
+
+void colorLanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) writeAttachment(ctx, q, l, i, q.x + int32_t(l & 1), q.y + int32_t(l >> 1), cov[l]);
+}
+
+void colorUnorm8Lanes(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  uint32_t mask;
+  unorm8Path(ctx, i, &mask);
+  const Unorm8Target t(ctx, i, mask);
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) writeUnorm8(ctx, t, q, l, i, q.x + int32_t(l & 1), q.y + int32_t(l >> 1), cov[l]);
+}
+
+// Depth alone (no stencil, no bounds), one sample: the format, compare op and write fixed at compile time, the four
+// lanes in one call. Unorm formats convert, compare as stored and keep X8D24's top byte as depthStencilTests does
+// (toStored, readDepth, writeDepth); D32_SFLOAT compares the stored float, and a quad whose four lanes are covered
+// compares as one vector (its texels are two pairs of adjacent floats when the texel is 4 bytes).
+template <DepthFormat kFmt, CompareOp kOp, bool kWrite>
+uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_t cov[4], const float (*z)[4]) {
+  const DepthStencilTarget& ds = ctx.target->depthStencil;
+  const size_t bytes = ds.depthTexelBytes, pitch = ds.depth.rowPitch;
+  uint8_t* p0 = texel(ds.depth, uint32_t(bytes), ctx.layer, qx, qy, 0);
+  if (kFmt == DepthFormat::D32SFloat && (bytes == 4 || bytes == 8) && cov[0] && cov[1] && cov[2] && cov[3]) {
+    // A row's two texels: two floats (D32_SFLOAT), or depth, stencil word, depth, stencil word (D32_SFLOAT_S8_UINT).
+    using Float2 = float __attribute__((vector_size(8)));
+    const Float4 zq = {z[0][0], z[1][0], z[2][0], z[3][0]};
+    Float4 old;
+    Float4 rows[2];  // the 8-byte texels' rows as read
+    if (bytes == 4) {
+      Float2 top, bottom;
+      std::memcpy(&top, p0, 8);
+      std::memcpy(&bottom, p0 + pitch, 8);
+      old = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
+    } else {
+      std::memcpy(&rows[0], p0, 16);
+      std::memcpy(&rows[1], p0 + pitch, 16);
+      old = __builtin_shufflevector(rows[0], rows[1], 0, 2, 4, 6);
     }
+    const Int4 pass = compare(kOp, zq, old);
+    if (kWrite) {
+      // Failing lanes get their old bits back (a NaN stays the same NaN), and the stencil words theirs: the tile is
+      // this worker's alone.
+      const Float4 v = pass ? zq : old;
+      if (bytes == 4) {
+        const Float2 vTop = __builtin_shufflevector(v, v, 0, 1), vBottom = __builtin_shufflevector(v, v, 2, 3);
+        std::memcpy(p0, &vTop, 8);
+        std::memcpy(p0 + pitch, &vBottom, 8);
+      } else {
+        const Float4 top = __builtin_shufflevector(v, rows[0], 0, 5, 1, 7);
+        const Float4 bottom = __builtin_shufflevector(v, rows[1], 2, 5, 3, 7);
+        std::memcpy(p0, &top, 16);
+        std::memcpy(p0 + pitch, &bottom, 16);
+      }
+    }
+    uint32_t any = 0;
+    for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= uint32_t(pass[l]);
+    return any;
+  }
+  uint32_t any = 0;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!cov[l]) continue;
+    uint8_t* p = p0 + (l & 1) * bytes + (l >> 1) * pitch;
+    bool pass;
+    if constexpr (kFmt == DepthFormat::D32SFloat) {
+      float old;
+      std::memcpy(&old, p, 4);
+      pass = compare(kOp, z[l][0], old);
+      if (pass && kWrite) std::memcpy(p, &z[l][0], 4);
+    } else {
+      const DepthValue v = toStored(kFmt, z[l][0]);
+      pass = compare(kOp, v.u, readDepth(kFmt, p).u);
+      if (pass && kWrite) writeDepth(kFmt, p, v);
+    }
+    if (pass) {
+      any |= cov[l];
+    } else {
+      cov[l] = 0;
+    }
+  }
+  return any;
+}
+
+template <DepthFormat kFmt, bool kWrite>
+auto depthQuadFor(CompareOp op) -> decltype(&depthQuad<kFmt, CompareOp::Less, kWrite>) {
+  switch (op) {
+    case CompareOp::Never: return depthQuad<kFmt, CompareOp::Never, kWrite>;
+    case CompareOp::Less: return depthQuad<kFmt, CompareOp::Less, kWrite>;
+    case CompareOp::Equal: return depthQuad<kFmt, CompareOp::Equal, kWrite>;
+    case CompareOp::LessOrEqual: return depthQuad<kFmt, CompareOp::LessOrEqual, kWrite>;
+    case CompareOp::Greater: return depthQuad<kFmt, CompareOp::Greater, kWrite>;
+    case CompareOp::NotEqual: return depthQuad<kFmt, CompareOp::NotEqual, kWrite>;
+    case CompareOp::GreaterOrEqual: return depthQuad<kFmt, CompareOp::GreaterOrEqual, kWrite>;
+    case CompareOp::Always: return depthQuad<kFmt, CompareOp::Always, kWrite>;
+  }
+  return nullptr;
+}
+
+template <DepthFormat kFmt>
+auto depthQuadFor(CompareOp op, bool write) -> decltype(&depthQuad<kFmt, CompareOp::Less, true>) {
+  return write ? depthQuadFor<kFmt, true>(op) : depthQuadFor<kFmt, false>(op);
+}
+
+// The 8-bit UNorm layouts with one sample, the quad's four pixels at once with the components in separate vectors
+// (R of the four lanes, G, ...): the same float operations per component, in the same order, as writeUnorm8 and the
+// general path (blend factors, blend op, clamps, write mask) and the same codecs, so the same bytes.
+struct Quad4 {
+  Float4 c[4];  // per component, per lane
+};
+
+// Four lanes' 4-word colours (lane-major) to component vectors.
+inline Quad4 transpose(const uint32_t* l0, const uint32_t* l1, const uint32_t* l2, const uint32_t* l3) {
+  Float4 a, b, c, d;
+  std::memcpy(&a, l0, 16), std::memcpy(&b, l1, 16), std::memcpy(&c, l2, 16), std::memcpy(&d, l3, 16);
+  const Float4 t0 = __builtin_shufflevector(a, b, 0, 4, 1, 5), t1 = __builtin_shufflevector(c, d, 0, 4, 1, 5);
+  const Float4 t2 = __builtin_shufflevector(a, b, 2, 6, 3, 7), t3 = __builtin_shufflevector(c, d, 2, 6, 3, 7);
+  return Quad4{{__builtin_shufflevector(t0, t1, 0, 1, 4, 5), __builtin_shufflevector(t0, t1, 2, 3, 6, 7),
+                __builtin_shufflevector(t2, t3, 0, 1, 4, 5), __builtin_shufflevector(t2, t3, 2, 3, 6, 7)}};
+}
+
+// Component c of blend factor f for the four lanes (blendFactor's cases; k holds the constants splatted).
+inline Float4 factorQuad(BlendFactor f, int c, const Quad4& s, const Quad4& s1, const Quad4& d, const Quad4& k) {
+  switch (f) {
+    case BlendFactor::Zero: return splat(0);
+    case BlendFactor::One: return splat(1);
+    case BlendFactor::SrcColor: return s.c[c];
+    case BlendFactor::OneMinusSrcColor: return 1.0f - s.c[c];
+    case BlendFactor::DstColor: return d.c[c];
+    case BlendFactor::OneMinusDstColor: return 1.0f - d.c[c];
+    case BlendFactor::SrcAlpha: return s.c[3];
+    case BlendFactor::OneMinusSrcAlpha: return 1.0f - s.c[3];
+    case BlendFactor::DstAlpha: return d.c[3];
+    case BlendFactor::OneMinusDstAlpha: return 1.0f - d.c[3];
+    case BlendFactor::ConstantColor: return k.c[c];
+    case BlendFactor::OneMinusConstantColor: return 1.0f - k.c[c];
+    case BlendFactor::ConstantAlpha: return k.c[3];
+    case BlendFactor::OneMinusConstantAlpha: return 1.0f - k.c[3];
+    case BlendFactor::SrcAlphaSaturate: {
+      if (c == 3) return splat(1);
+      const Float4 a = s.c[3], b = 1.0f - d.c[3];
+      return b < a ? b : a;  // std::min(a, b)
+    }
+    case BlendFactor::Src1Color: return s1.c[c];
+    case BlendFactor::OneMinusSrc1Color: return 1.0f - s1.c[c];
+    case BlendFactor::Src1Alpha: return s1.c[3];
+    case BlendFactor::OneMinusSrc1Alpha: return 1.0f - s1.c[3];
+  }
+  return splat(0);
+}
+
+inline bool readsSource1(BlendFactor f) {
+  return f == BlendFactor::Src1Color || f == BlendFactor::OneMinusSrc1Color || f == BlendFactor::Src1Alpha ||
+         f == BlendFactor::OneMinusSrc1Alpha;
+}
+
+// The blend equations common enough to get code of their own (the factors and ops known at compile time); kShape -1:
+// the attachment's, read at run time.
+struct BlendShape {
+  BlendFactor srcColor, dstColor, srcAlpha, dstAlpha;
+  BlendOp colorOp, alphaOp;
+};
+constexpr BlendShape kBlendShapes[] = {
+    // Straight alpha ("over"), alpha accumulated as coverage.
+    {BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha,
+     BlendOp::Add, BlendOp::Add},
+    // Straight alpha on all four components.
+    {BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha,
+     BlendOp::Add, BlendOp::Add},
+    // Premultiplied alpha.
+    {BlendFactor::One, BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha, BlendOp::Add,
+     BlendOp::Add},
+    // Additive.
+    {BlendFactor::One, BlendFactor::One, BlendFactor::One, BlendFactor::One, BlendOp::Add, BlendOp::Add},
+};
+
+static_assert(std::size(kBlendShapes) == 4, "unorm8QuadFor instantiates each shape");
+
+inline int blendShapeOf(const BlendAttachment& b) {
+  for (int i = 0; i < int(std::size(kBlendShapes)); ++i) {
+    const BlendShape& k = kBlendShapes[i];
+    if (b.srcColor == k.srcColor && b.dstColor == k.dstColor && b.srcAlpha == k.srcAlpha && b.dstAlpha == k.dstAlpha &&
+        b.colorOp == k.colorOp && b.alphaOp == k.alphaOp)
+      return i;
+  }
+  return -1;
+}
+
+template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
+void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  const Surface& surf = ctx.target->color[i];
+  const BlendAttachment& ba = ctx.state->blend[i];
+  uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
+  uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
+  Quad4 s = transpose(q.color[0][i], q.color[1][i], q.color[2][i], q.color[3][i]);
+  for (Float4& v : s.c) v = clamp01(v);
+  using UInt4 = uint32_t __attribute__((vector_size(16)));
+  Quad4 d{};
+  const bool full = cov[0] && cov[1] && cov[2] && cov[3];  // most quads: two 8-byte rows
+  UInt4 words = {0, 0, 0, 0};
+  if (kReadDst) {
+    uint32_t w[4] = {0, 0, 0, 0};
+    if (full) {
+      std::memcpy(w, lane[0], 8), std::memcpy(w + 2, lane[2], 8);
+    } else {
+      for (uint32_t l = 0; l < 4; ++l)
+        if (cov[l]) std::memcpy(&w[l], lane[l], 4);
+    }
+    std::memcpy(&words, w, 16);
+    for (int c = 0; c < 4; ++c) {
+      const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
+      d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
+    }
+  }
+  Quad4 r = s;
+  if (kBlend) {
+    const BlendShape b = kShape >= 0 ? kBlendShapes[kShape] : BlendShape{ba.srcColor, ba.dstColor, ba.srcAlpha,
+                                                                         ba.dstAlpha, ba.colorOp,  ba.alphaOp};
+    Quad4 s1{}, k{};
+    if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
+      s1 = transpose(q.color1[0], q.color1[1], q.color1[2], q.color1[3]);
+      for (Float4& v : s1.c) v = clamp01(v);
+    }
+    for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
+    for (int c = 0; c < 4; ++c) {
+      const bool alpha = c == 3;
+      const Float4 sf = factorQuad(alpha ? b.srcAlpha : b.srcColor, c, s, s1, d, k);
+      const Float4 df = factorQuad(alpha ? b.dstAlpha : b.dstColor, c, s, s1, d, k);
+      r.c[c] = clamp01(blendOp4(alpha ? b.alphaOp : b.colorOp, s.c[c], sf, d.c[c], df));
+    }
+  }
+  const uint32_t mask = ba.writeMask & ctx.target->colorFormat[i].componentMask;
+  UInt4 out = {0, 0, 0, 0};
+  for (int c = 0; c < 4; ++c) {
+    Float4 v = kReadDst && !(mask >> c & 1) ? d.c[c] : r.c[c];
+    const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
+    out |= UInt4(unorm8Bytes(saturate(v))) << shift;
+  }
+  uint32_t w[4];
+  std::memcpy(w, &out, 16);
+  if (full) {
+    std::memcpy(lane[0], w, 8), std::memcpy(lane[2], w + 2, 8);
+  } else {
     for (uint32_t l = 0; l < 4; ++l)
-      if (coverage[l]) writeAttachment(ctx, quad, l, i, quad.x + int32_t(l & 1), quad.y + int32_t(l >> 1), coverage[l]);
+      if (cov[l]) std::memcpy(lane[l], &w[l], 4);
+  }
+}
+
+template <bool kBgra>
+auto unorm8QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
+  if (ba.enable) {
+    switch (blendShapeOf(ba)) {
+      case 0: return colorUnorm8Quad<kBgra, true, true, 0>;
+      case 1: return colorUnorm8Quad<kBgra, true, true, 1>;
+      case 2: return colorUnorm8Quad<kBgra, true, true, 2>;
+      case 3: return colorUnorm8Quad<kBgra, true, true, 3>;
+      default: return colorUnorm8Quad<kBgra, true, true>;
+    }
+  }
+  return readDst ? colorUnorm8Quad<kBgra, false, true> : colorUnorm8Quad<kBgra, false, false>;
+}
+
+}  // namespace
+
+void setQuadPaths(bool enabled) { quadPaths.store(enabled, std::memory_order_relaxed); }
+
+void planBackEnd(DrawContext& ctx) {
+  const Target& tg = *ctx.target;
+  const State& st = *ctx.state;
+  const bool quads = quadPaths.load(std::memory_order_relaxed) && ctx.samples == 1;
+  BackEndPlan& plan = ctx.backEnd;
+  plan.quadPaths = 0;
+  // Depth/stencil: what depthStencilTests would run.
+  const DepthStencilTarget& ds = tg.depthStencil;
+  const bool hasDepth = ds.depthFormat != DepthFormat::None && ds.depth.base;
+  const bool hasStencil = ds.stencilFormat != StencilFormat::None && ds.stencil.base;
+  const bool bounds = st.depthBoundsTest && hasDepth, stencil = st.stencilTest && hasStencil;
+  const bool depth = st.depthTest && hasDepth;
+  if (!bounds && !stencil && !depth) {
+    plan.depthStencil = noDepthStencil;
+  } else if (quads && !bounds && !stencil && ds.depth.samples == 1) {
+    switch (ds.depthFormat) {
+      case DepthFormat::D16UNorm:
+        plan.depthStencil = depthQuadFor<DepthFormat::D16UNorm>(st.depthCompare, st.depthWrite);
+        break;
+      case DepthFormat::X8D24UNorm:
+        plan.depthStencil = depthQuadFor<DepthFormat::X8D24UNorm>(st.depthCompare, st.depthWrite);
+        break;
+      default: plan.depthStencil = depthQuadFor<DepthFormat::D32SFloat>(st.depthCompare, st.depthWrite); break;
+    }
+    plan.quadPaths |= 1;
+  } else {
+    plan.depthStencil = depthStencilLanes;
+  }
+  // Colour: attachments the shader writes, with a format that encodes and a write mask that keeps something.
+  for (uint32_t i = 0; i < kMaxColorAttachments; ++i) plan.color[i] = nullptr;
+  for (uint32_t i = 0; i < tg.colorCount; ++i) {
+    const ColorFormat& fmt = tg.colorFormat[i];
+    if (!tg.color[i].base || !(ctx.fragment->outputMask >> i & 1) || !fmt.encode) continue;
+    uint32_t mask;
+    const bool unorm8 = unorm8Path(ctx, i, &mask);
+    if (!mask) continue;
+    if (!unorm8) {
+      plan.color[i] = colorLanes;
+    } else if (quads && tg.color[i].samples == 1) {
+      const bool blend = st.blend[i].enable, readDst = blend || mask != 0xF;
+      plan.color[i] = fmt.layout == ColorFormat::Layout::BGRA8UNorm ? unorm8QuadFor<true>(st.blend[i], readDst)
+                                                                    : unorm8QuadFor<false>(st.blend[i], readDst);
+      plan.quadPaths |= 2u << i;
+    } else {
+      plan.color[i] = colorUnorm8Lanes;
+    }
   }
 }
 

@@ -229,6 +229,7 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
   const bool depthAttachment =
       target.depthStencil.depthFormat != DepthFormat::None && target.depthStencil.depth.base != nullptr;
   ctx.needsDepth = depthAttachment && (st.depthTest || st.depthBoundsTest);
+  ctx.plainFinish = ctx.earlyTests && !fs.writesSampleMask && !st.alphaToCoverage && !st.alphaToOne;
   // Viewport 0 ("Coordinate Transformations").
   const Viewport& vp = st.viewports[0];
   ctx.scaleX = vp.width / 2, ctx.offX = vp.x + vp.width / 2;
@@ -251,6 +252,7 @@ DrawContext makeContext(const Target& target, const State& st, const Draw& d, co
     case DepthFormat::X8D24UNorm: ctx.depthR = std::ldexp(1.0, -24); break;
     default: ctx.depthR = 0; break;
   }
+  detail::planBackEnd(ctx);
   return ctx;
 }
 

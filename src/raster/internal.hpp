@@ -66,6 +66,22 @@ struct SetupTri {
   float pointX, pointY, pointSize;  // points: centre and side in framebuffer coordinates (for PointCoord)
 };
 
+struct DrawContext;
+
+// The per-fragment operations of a whole 2x2 quad (lane l is pixel (qx + (l & 1), qy + (l >> 1))), chosen once per
+// draw by planBackEnd from the attachments' formats and the state: specialised paths for the common cases (one
+// sample, D32 depth alone, 8-bit UNorm colour), the per-lane general path otherwise. Both give the same bytes.
+struct BackEndPlan {
+  // Depth bounds, stencil and depth tests: clears the samples of cov[l] that fail, updates the attachment, returns
+  // the union of what passed. z[l][s] is lane l's depth at sample s.
+  uint32_t (*depthStencil)(const DrawContext& ctx, bool front, int32_t qx, int32_t qy, uint32_t cov[4],
+                           const float (*z)[4]) = nullptr;
+  // Colour attachment i's writes (blend, logic op, write mask) of each lane's samples in cov; null: nothing to write.
+  void (*color[kMaxColorAttachments])(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
+                                      const uint32_t cov[4]) = {};
+  uint32_t quadPaths = 0;  // which took a specialised path: bit 0 depth/stencil, bit 1 + i colour attachment i (tests)
+};
+
 // What every stage of one draw (one view, one batch of instances) shares. Read-only while tiles run.
 struct DrawContext {
   const Target* target;
@@ -81,12 +97,15 @@ struct DrawContext {
   bool perSample;                    // shade once per covered sample
   bool earlyTests;                   // depth/stencil before the shader
   bool hasSmooth, hasNoPerspective;  // any input of that kind
-  bool needsDepth;  // some test reads the fragment's depth (else the per-sample depths are not computed)
+  bool needsDepth;   // some test reads the fragment's depth (else the per-sample depths are not computed)
+  bool plainFinish;  // early tests, no shader sample mask, alpha to coverage or alpha to one: after the shader only
+                     // discard applies before the colour writes
   // Viewport 0: x_f = x_ndc * scaleX + offX, likewise y; z_f = z_ndc * scaleZ + offZ.
   float scaleX, offX, scaleY, offY, scaleZ, offZ;
   float depthMin, depthMax;  // the clamp range of fragment depth: viewport range with depth clamp, else [0, 1]
   float guardX, guardY;      // |x_c| <= guardX * w_c keeps framebuffer x within the fixed-point range
   double depthR;             // the minimum resolvable difference r of fixed-point depth (0 for float depth)
+  BackEndPlan backEnd;       // planBackEnd
 };
 
 // Per-worker scratch of the tile stage. A cache line of its own: samplesPassed is written per quad, and next to the
@@ -115,9 +134,16 @@ void rasterizeTile(const DrawContext& ctx, const SetupTri* const* tris, size_t c
 // Runs depth bounds, stencil and depth tests for lane `lane`'s samples in `coverage` at pixel (x, y), with the
 // per-sample depths `z[s]`, updating the attachment; returns the samples that passed.
 uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_t y, uint32_t coverage, const float* z);
+// Chooses ctx.backEnd (once per draw, after the rest of the context is set).
+void planBackEnd(DrawContext& ctx);
+// Whether planBackEnd may choose the specialised quad paths (tests turn them off to compare with the general path).
+void setQuadPaths(bool enabled);
 // Writes the quad's color outputs to each lane's samples in `coverage` (blend, logic op, write masks); lane l is
 // pixel (quad.x + (l & 1), quad.y + (l >> 1)).
-void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]);
+inline void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {
+  for (uint32_t i = 0; i < ctx.target->colorCount; ++i)
+    if (ctx.backEnd.color[i]) ctx.backEnd.color[i](ctx, i, quad, coverage);
+}
 // Alpha to coverage: the samples alpha keeps.
 uint32_t alphaCoverage(float alpha, uint32_t samples);
 

@@ -23,6 +23,22 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 }
 
 using Float4 = float __attribute__((vector_size(16)));
+using Float2 = float __attribute__((vector_size(8)));
+using Double2 = double __attribute__((vector_size(16)));
+// depthAt at the four pixel centres of a one-sample quad, into z[l][0]: the same double operations per lane, two
+// lanes per vector.
+inline void depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
+  const int64_t px = int64_t(qx) * kSubPixel + kCentre, py = int64_t(qy) * kSubPixel + kCentre;
+  const Double2 x = {double(px) / kSubPixel, double(px + kSubPixel) / kSubPixel};
+  for (int r = 0; r < 2; ++r) {
+    const Double2 v = t.zA * x + t.zB * (double(py + r * kSubPixel) / kSubPixel) + t.zC;
+    Float2 f = __builtin_convertvector(v, Float2);
+    f = f < ctx.depthMin ? Float2{ctx.depthMin, ctx.depthMin} : f;  // std::clamp (NaN stays NaN)
+    f = ctx.depthMax < f ? Float2{ctx.depthMax, ctx.depthMax} : f;
+    z[2 * r][0] = f[0], z[2 * r + 1][0] = f[1];
+  }
+}
+
 inline Float4 load4(const uint32_t* p) {
   Float4 v;
   std::memcpy(&v, p, 16);
@@ -101,9 +117,14 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
-    const int64_t e = t.a[i] * px0 + t.b[i] * py0 + t.c[i], dx = t.a[i] * kSubPixel, dy = t.b[i] * kSubPixel;
-    b[i] = Float4{float(double(e) * t.invArea2), float(double(e + dx) * t.invArea2), float(double(e + dy) * t.invArea2),
-                  float(double(e + dx + dy) * t.invArea2)};
+    // The edge's integer values at the four centres, converted once: every value here is below 2^53 in magnitude
+    // (coordinates within 2^24 fixed-point units), so the conversions and the sums in double are exact and equal
+    // the conversions of the integer sums.
+    const double e = double(t.a[i] * px0 + t.b[i] * py0 + t.c[i]);
+    const double dx = double(t.a[i] * kSubPixel), dy = double(t.b[i] * kSubPixel);
+    const Double2 top = Double2{e, e + dx} * t.invArea2, bottom = Double2{e + dy, (e + dx) + dy} * t.invArea2;
+    b[i] = __builtin_shufflevector(__builtin_convertvector(top, Float2), __builtin_convertvector(bottom, Float2), 0, 1,
+                                   2, 3);
   }
   const Float4 w0 = b[0] * t.invW[0], w1 = b[1] * t.invW[1], w2 = b[2] * t.invW[2];
   const Float4 invW = w0 + w1 + w2;
@@ -118,8 +139,8 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const int64_t px = px0 + int64_t(l & 1) * kSubPixel, py = py0 + int64_t(l >> 1) * kSubPixel;
     q.fragCoord[l][0] = float(px) / kSubPixel;
     q.fragCoord[l][1] = float(py) / kSubPixel;
-    // The tests' depth when computed (the same depthAt at the pixel centre, the one sample's position).
-    q.fragCoord[l][2] = ctx.needsDepth && q.coverage[l] ? z[l][0] : depthAt(ctx, t, px, py);
+    // The tests' depth (depthQuad: depthAt at the pixel centre, the one sample's position).
+    q.fragCoord[l][2] = z[l][0];
     q.fragCoord[l][3] = invW[l];
     if (t.isPoint) {
       q.pointCoord[l][0] = 0.5f + (q.fragCoord[l][0] - t.pointX) / t.pointSize;
@@ -152,27 +173,34 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
+  if (ctx.plainFinish) {
+    // Nothing between the shader and the colour writes but discard (the tests ran before the shader).
+    for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
+    if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
+    return;
+  }
   for (uint32_t l = 0; l < 4; ++l) {
     uint32_t c = q.coverage[l];
     if (!c || (q.killed >> l & 1)) continue;
     if (fs.writesSampleMask) c &= q.sampleMaskOut[l];
     if (st.alphaToCoverage && (fs.outputMask & 1)) c &= alphaCoverage(asFloat(q.color[l][0][3]), ctx.samples);
-    const int32_t x = q.x + int32_t(l & 1), y = q.y + int32_t(l >> 1);
-    if (!ctx.earlyTests && c) {
-      if (fs.writesDepth) {
-        float d = q.depth[l];
-        if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
-        for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
-      }
-      c = depthStencilTests(ctx, t.front, x, y, c, z[l]);
+    if (!ctx.earlyTests && c && fs.writesDepth) {
+      float d = q.depth[l];
+      if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
+      for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
     }
-    if (!c) continue;
-    if (ctx.draw->samplesPassed && !ctx.earlyTests)         // counted before the shader with early tests (shadeQuad)
-      scratch.samplesPassed += uint32_t(std::popcount(c));  // a library call without POPCNT
-    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
     passed[l] = c;
   }
-  if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
+  uint32_t any = passed[0] | passed[1] | passed[2] | passed[3];
+  if (!ctx.earlyTests && any) any = ctx.backEnd.depthStencil(ctx, t.front, q.x, q.y, passed, z);
+  if (!any) return;
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!passed[l]) continue;
+    if (ctx.draw->samplesPassed && !ctx.earlyTests)                 // counted before the shader with early tests
+      scratch.samplesPassed += uint32_t(std::popcount(passed[l]));  // (shadeQuad); a library call without POPCNT
+    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
+  }
+  writeQuadColors(ctx, q, passed);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
@@ -184,18 +212,17 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= st.sampleMask;
   if (!any) return;
   float z[4][4];
-  for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
-    if (!cov[l]) continue;
-    const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel, py = int64_t(qy + int32_t(l >> 1)) * kSubPixel;
-    for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
+  if (ctx.samples == 1 && !ctx.perSample) {
+    depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
+  } else {
+    for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
+      if (!cov[l]) continue;
+      const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel, py = int64_t(qy + int32_t(l >> 1)) * kSubPixel;
+      for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
+    }
   }
   if (ctx.earlyTests) {
-    any = 0;
-    for (uint32_t l = 0; l < 4; ++l) {
-      if (cov[l])
-        any |= cov[l] = depthStencilTests(ctx, t.front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
-    }
-    if (!any) return;
+    if (!ctx.backEnd.depthStencil(ctx, t.front, qx, qy, cov, z)) return;
     // With early tests, sample counting comes before fragment shading and the multisample coverage operations
     // (discard, the shader's sample mask, alpha to coverage): "Early Fragment Test Mode" says they should be
     // performed after it.

@@ -6,18 +6,11 @@
 #include <cmath>
 
 #include "raster_harness.hpp"
-#include "runtime/format.hpp"
-#include "runtime/image_functions.hpp"
+#include "raster_runtime_codecs.hpp"
 
 namespace vkrt::raster::test {
 namespace {
 
-void decodeRuntime(const void* f, const uint8_t* t, uint32_t out[4]) {
-  decodeTexel(*static_cast<const FormatInfo*>(f), t, out);
-}
-void encodeRuntime(const void* f, const uint32_t in[4], uint8_t* t) {
-  encodeTexel(*static_cast<const FormatInfo*>(f), in, t);
-}
 // Codecs a draw must not reach (the layout's inline path replaces them).
 void decodeWrong(const void*, const uint8_t*, uint32_t out[4]) { std::memset(out, 0, 16); }
 void encodeWrong(const void*, const uint32_t*, uint8_t* t) { std::memset(t, 0x55, 4); }
