@@ -109,6 +109,8 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
   cb.attachmentCount = d.blendCount;
   cb.pAttachments = blends.data();
   std::memcpy(cb.blendConstants, d.blendConstants, sizeof cb.blendConstants);
+  cb.logicOpEnable = d.logicOpEnable;
+  cb.logicOp = d.logicOp;
   VkPipelineDynamicStateCreateInfo dyn{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   dyn.dynamicStateCount = uint32_t(d.dynamic.size());
   dyn.pDynamicStates = d.dynamic.data();

@@ -76,6 +76,8 @@ class DrawTest : public VulkanTest {
                                               VK_BLEND_OP_ADD,
                                               0xF};
     float blendConstants[4] = {0, 0, 0, 0};
+    VkBool32 logicOpEnable = VK_FALSE;  // pColorBlendState's logic op (the logicOp feature)
+    VkLogicOp logicOp = VK_LOGIC_OP_COPY;
     std::vector<VkDynamicState> dynamic;
     bool withDepthStencil = false;  // the rendering info names the depth/stencil format
     uint32_t colorCount = 1;        // VkPipelineRenderingCreateInfo::colorAttachmentCount

@@ -841,9 +841,9 @@ const Promoted kPromoted[] = {
     {"VK_EXT_4444_formats", 3, kDevice, false,
      "the 4444 formats are not supported; formatA4R4G4B4 is mandatory with it"},
     {"VK_KHR_format_feature_flags2", 3, kDevice, true, "PromotedQueriesTest"},
-    {"VK_EXT_extended_dynamic_state2", 3, kDevice, false,
-     "vkCmdSetLogicOpEXT (dynamic logic op) and vkCmdSetPatchControlPointsEXT (tessellation) are not implemented, "
-     "and an enabled extension's commands must resolve"},
+    {"VK_EXT_extended_dynamic_state2", 3, kDevice, true,
+     "the 1.3 dynamic state and the logic op; extendedDynamicState2(LogicOp), not PatchControlPoints (no "
+     "tessellation); ExtendedDynamicState2Test"},
     {"VK_KHR_maintenance4", 3, kDevice, true, "core 1.3"},
 };
 

@@ -4,6 +4,7 @@
 // - VK_KHR_shader_draw_parameters: BaseVertex, BaseInstance and DrawIndex in a vertex shader, by the extension's
 //   name and by the shaderDrawParameters feature, through direct, indexed and indirect draws;
 // - VK_EXT_extended_dynamic_state: the dynamic state of Vulkan 1.3 set through the extension's EXT-named commands;
+// - VK_EXT_extended_dynamic_state2: the logic op set by vkCmdSetLogicOpEXT, the feature rules of its two commands;
 // - VK_KHR_maintenance2: points clipped by their vertex against the view volume (pointClippingBehavior
 //   ALL_CLIP_PLANES), and its structures (input attachment aspects, view usage, the depth/stencil read-only layouts)
 //   taken.
@@ -233,6 +234,177 @@ TEST_F(ExtendedDynamicStateTest, TheEXTCommandsSetTheState) {
   destroy(color);
   vkDestroyPipeline(device, pipeline, nullptr);
 }
+
+// ---- VK_EXT_extended_dynamic_state2
+
+// The parameter: whether extendedDynamicState2LogicOp is enabled (with logicOp; the drawing test runs with it). The
+// misuse tests run both ways with the layer off (vkrt's reports).
+class ExtendedDynamicState2Test : public DrawTest, public ::testing::WithParamInterface<bool> {
+ protected:
+  VkPhysicalDeviceExtendedDynamicState2FeaturesEXT eds2{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTENDED_DYNAMIC_STATE_2_FEATURES_EXT};
+  virtual bool layered() { return true; }
+  FixtureOptions options() override {
+    FixtureOptions o = DrawTest::options();
+    o.validation = layered();
+    o.deviceExtensions = {VK_EXT_EXTENDED_DYNAMIC_STATE_2_EXTENSION_NAME};
+    eds2.extendedDynamicState2 = VK_TRUE;
+    eds2.extendedDynamicState2LogicOp = GetParam();
+    o.features.logicOp = VK_TRUE;
+    o.featureChain = &eds2;
+    return o;
+  }
+  template <class F>
+  F proc(const char* name) {
+    auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
+    EXPECT_NE(f, nullptr) << name;
+    return f;
+  }
+  // A full-screen triangle of draw_color with the logic op enabled and `dynamic` states.
+  PipelineDesc desc(std::vector<VkDynamicState> dynamic) {
+    PipelineDesc d;
+    d.vs = kSpv_draw_color_vert;
+    d.vsBytes = sizeof kSpv_draw_color_vert;
+    d.fs = kSpv_draw_color_frag;
+    d.fsBytes = sizeof kSpv_draw_color_frag;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+    d.logicOpEnable = VK_TRUE;
+    d.logicOp = VK_LOGIC_OP_COPY;  // replaced by vkCmdSetLogicOpEXT's
+    d.dynamic = std::move(dynamic);
+    return d;
+  }
+  // The fragment color's bytes: (255, 0, 51, 255).
+  static constexpr V kFull[3] = {{-1, -1, 1, 0, 0.2f, 1}, {3, -1, 1, 0, 0.2f, 1}, {-1, 3, 1, 0, 0.2f, 1}};
+  static constexpr uint32_t kSource = 0xFF3300FFu;
+};
+
+TEST_P(ExtendedDynamicState2Test, TheLogicOpAndTheOtherStatesThroughTheirEXTNames) {
+  auto setLogicOp = proc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
+  auto setDiscard = proc<PFN_vkCmdSetRasterizerDiscardEnableEXT>("vkCmdSetRasterizerDiscardEnableEXT");
+  EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetPatchControlPointsEXT"), nullptr);
+  EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetDepthBiasEnableEXT"), nullptr);
+  EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetPrimitiveRestartEnableEXT"), nullptr);
+  ASSERT_TRUE(setLogicOp && setDiscard);
+  VkPhysicalDeviceExtendedDynamicState2FeaturesEXT reported{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTENDED_DYNAMIC_STATE_2_FEATURES_EXT};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &reported};
+  vkGetPhysicalDeviceFeatures2(physicalDevice, &f2);
+  EXPECT_TRUE(reported.extendedDynamicState2 && reported.extendedDynamicState2LogicOp);
+  EXPECT_FALSE(reported.extendedDynamicState2PatchControlPoints) << "no tessellation";
+
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  ASSERT_EQ(
+      createPipeline(desc({VK_DYNAMIC_STATE_LOGIC_OP_EXT, VK_DYNAMIC_STATE_RASTERIZER_DISCARD_ENABLE_EXT}), &pipeline),
+      VK_SUCCESS);
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  HostBuffer vb = vertexBuffer(kFull, sizeof kFull);
+  const uint32_t clear = 0x5AC30F96u;
+  // "Logical Operations" on the UNORM bytes: s the fragment's, d the attachment's.
+  struct Case {
+    VkLogicOp op;
+    bool discard;
+    uint32_t want;
+  } cases[] = {{VK_LOGIC_OP_XOR, false, kSource ^ clear},    {VK_LOGIC_OP_AND, false, kSource & clear},
+               {VK_LOGIC_OP_COPY_INVERTED, false, ~kSource}, {VK_LOGIC_OP_NO_OP, false, clear},
+               {VK_LOGIC_OP_SET, false, 0xFFFFFFFFu},        {VK_LOGIC_OP_SET, true, clear}};
+  for (const Case& c : cases) {
+    auto pixels = render(
+        color, nullptr,
+        [&](VkCommandBuffer cb) {
+          vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+          setLogicOp(cb, c.op);
+          setDiscard(cb, c.discard);
+          VkDeviceSize off = 0;
+          vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+          vkCmdDraw(cb, 3, 1, 0, 0);
+        },
+        clear);
+    int bad = 0;
+    for (uint32_t p : pixels) bad += p != c.want;
+    EXPECT_EQ(bad, 0) << "logic op " << c.op << (c.discard ? ", discarded" : "") << ": first pixel 0x" << std::hex
+                      << (pixels.empty() ? 0 : pixels[0]) << ", want 0x" << c.want;
+  }
+  destroy(vb);
+  destroy(color);
+  vkDestroyPipeline(device, pipeline, nullptr);
+}
+
+class ExtendedDynamicState2MisuseTest : public ExtendedDynamicState2Test {
+ protected:
+  bool layered() override { return false; }
+};
+
+TEST_P(ExtendedDynamicState2MisuseTest, TheFeatureRulesAreReported) {
+  auto setLogicOp = proc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
+  auto setPatchControlPoints = proc<PFN_vkCmdSetPatchControlPointsEXT>("vkCmdSetPatchControlPointsEXT");
+  ASSERT_TRUE(setLogicOp && setPatchControlPoints);
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  // The patch control points state: its feature is never there.
+  EXPECT_NE(createPipeline(desc({VK_DYNAMIC_STATE_PATCH_CONTROL_POINTS_EXT}), &pipeline), VK_SUCCESS);
+  expectVkrtMessage("VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04870");
+  VkCommandBuffer cb = beginOneTime();
+  setPatchControlPoints(cb, 3);
+  expectVkrtMessage("VUID-vkCmdSetPatchControlPointsEXT-None-04873");
+  if (!GetParam()) {
+    EXPECT_NE(createPipeline(desc({VK_DYNAMIC_STATE_LOGIC_OP_EXT}), &pipeline), VK_SUCCESS);
+    expectVkrtMessage("VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04869");
+    setLogicOp(cb, VK_LOGIC_OP_XOR);
+    expectVkrtMessage("VUID-vkCmdSetLogicOpEXT-None-04867");
+    vkEndCommandBuffer(cb);
+    return;
+  }
+  setLogicOp(cb, VkLogicOp(VK_LOGIC_OP_SET + 1));
+  expectVkrtMessage("VUID-vkCmdSetLogicOpEXT-logicOp-parameter");
+  setLogicOp(cb, VK_LOGIC_OP_XOR);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkEndCommandBuffer(cb);
+  // A draw with the logic op dynamic and never set: reported when it executes, and skipped (the target keeps its
+  // clear color).
+  ASSERT_EQ(createPipeline(desc({VK_DYNAMIC_STATE_LOGIC_OP_EXT}), &pipeline), VK_SUCCESS);
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  HostBuffer vb = vertexBuffer(kFull, sizeof kFull);
+  auto pixels = render(
+      color, nullptr,
+      [&](VkCommandBuffer c) {
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        VkDeviceSize off = 0;
+        vkCmdBindVertexBuffers(c, 0, 1, &vb.buffer, &off);
+        vkCmdDraw(c, 3, 1, 0, 0);
+      },
+      0x12345678u);
+  expectVkrtMessage("VUID-vkCmdDraw-logicOp-04878");
+  ASSERT_FALSE(pixels.empty());
+  EXPECT_EQ(pixels[0], 0x12345678u);
+  // Set, the same draw runs (XOR with the clear color).
+  pixels = render(
+      color, nullptr,
+      [&](VkCommandBuffer c) {
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        setLogicOp(c, VK_LOGIC_OP_XOR);
+        VkDeviceSize off = 0;
+        vkCmdBindVertexBuffers(c, 0, 1, &vb.buffer, &off);
+        vkCmdDraw(c, 3, 1, 0, 0);
+      },
+      0x12345678u);
+  EXPECT_TRUE(vkrtMessages().empty());
+  ASSERT_FALSE(pixels.empty());
+  EXPECT_EQ(pixels[0], kSource ^ 0x12345678u);
+  destroy(vb);
+  destroy(color);
+  vkDestroyPipeline(device, pipeline, nullptr);
+}
+
+INSTANTIATE_TEST_SUITE_P(Promoted, ExtendedDynamicState2Test, ::testing::Values(true),
+                         [](const ::testing::TestParamInfo<bool>& p) {
+                           return p.param ? "WithLogicOp" : "WithoutLogicOp";
+                         });
+INSTANTIATE_TEST_SUITE_P(Promoted, ExtendedDynamicState2MisuseTest, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& p) {
+                           return p.param ? "WithLogicOp" : "WithoutLogicOp";
+                         });
 
 // ---- VK_KHR_maintenance2
 
