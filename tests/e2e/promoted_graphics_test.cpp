@@ -14,7 +14,6 @@
 
 #include "draw_color.frag.spv.h"
 #include "draw_color.vert.spv.h"
-#include "draw_flat.frag.spv.h"
 #include "draw_parameters.vert.spv.h"
 #include "draw_point.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
@@ -27,7 +26,7 @@ using V = DrawTest::Vertex;
 // ---- VK_KHR_shader_draw_parameters
 
 // The parameter: true enables the extension by name, false the shaderDrawParameters feature (Vulkan 1.1).
-class DrawParametersTest : public DrawTest, public ::testing::WithParamInterface<bool> {
+class DrawParametersTest : public QuadrantDrawTest, public ::testing::WithParamInterface<bool> {
  protected:
   VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
   FixtureOptions options() override {
@@ -43,42 +42,7 @@ class DrawParametersTest : public DrawTest, public ::testing::WithParamInterface
   void SetUp() override {
     DrawTest::SetUp();
     if (HasFatalFailure()) return;
-    PipelineDesc d;
-    d.vs = kSpv_draw_parameters_vert;
-    d.vsBytes = sizeof kSpv_draw_parameters_vert;
-    d.fs = kSpv_draw_flat_frag;
-    d.fsBytes = sizeof kSpv_draw_flat_frag;
-    d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}};
-    ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
-    color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                         VK_IMAGE_ASPECT_COLOR_BIT);
-    // Quadrant q's triangle is vertices 3q .. 3q + 2; the index buffer is 0 .. 11.
-    std::vector<float> v;
-    for (int q = 0; q < 4; ++q) {
-      const float cx = q & 1 ? 0.5f : -0.5f, cy = q & 2 ? 0.5f : -0.5f;
-      for (float p : {cx - 0.35f, cy - 0.35f, cx + 0.35f, cy - 0.35f, cx, cy + 0.35f}) v.push_back(p);
-      quads[q] = {V{cx - 0.35f, cy - 0.35f, 0, 0, 0, 1}, V{cx + 0.35f, cy - 0.35f, 0, 0, 0, 1},
-                  V{cx, cy + 0.35f, 0, 0, 0, 1}};
-    }
-    vb = vertexBuffer(v.data(), v.size() * 4);
-    const uint32_t idx[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
-    ib = vertexBuffer(idx, sizeof idx, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-  }
-  void TearDown() override {
-    if (device) {
-      destroy(ib);
-      destroy(vb);
-      vkDestroyPipeline(device, pipeline, nullptr);
-      destroy(color);
-    }
-    DrawTest::TearDown();
-  }
-  void bind(VkCommandBuffer cb) {
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    VkDeviceSize off = 0;
-    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-    vkCmdBindIndexBuffer(cb, ib.buffer, 0, VK_INDEX_TYPE_UINT32);
+    setUpQuadrants(kSpv_draw_parameters_vert, sizeof kSpv_draw_parameters_vert);
   }
   // Quadrant q's triangle in the color the shader gives these parameters ("Built-In Variables": BaseVertex is
   // firstVertex, or vertexOffset for an indexed draw; BaseInstance firstInstance; DrawIndex the index of the draw in
@@ -92,11 +56,6 @@ class DrawParametersTest : public DrawTest, public ::testing::WithParamInterface
     }
     return t;
   }
-
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  Target color;
-  HostBuffer vb, ib;
-  std::array<V, 3> quads[4];
 };
 
 TEST_P(DrawParametersTest, TheFeatureIsReported) {
@@ -157,21 +116,15 @@ class ExtendedDynamicStateTest : public DrawTest {
     o.featureChain = &eds;
     return o;
   }
-  template <class F>
-  F proc(const char* name) {
-    auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
-    EXPECT_NE(f, nullptr) << name;
-    return f;
-  }
 };
 
 // A rectangle as a 4-vertex strip in a buffer of 32-byte records (the stride set with vkCmdBindVertexBuffers2EXT),
 // drawn with the topology, cull mode and front face set through the EXT commands.
 TEST_F(ExtendedDynamicStateTest, TheEXTCommandsSetTheState) {
-  auto setCullMode = proc<PFN_vkCmdSetCullModeEXT>("vkCmdSetCullModeEXT");
-  auto setFrontFace = proc<PFN_vkCmdSetFrontFaceEXT>("vkCmdSetFrontFaceEXT");
-  auto setTopology = proc<PFN_vkCmdSetPrimitiveTopologyEXT>("vkCmdSetPrimitiveTopologyEXT");
-  auto bindVertexBuffers2 = proc<PFN_vkCmdBindVertexBuffers2EXT>("vkCmdBindVertexBuffers2EXT");
+  auto setCullMode = deviceProc<PFN_vkCmdSetCullModeEXT>("vkCmdSetCullModeEXT");
+  auto setFrontFace = deviceProc<PFN_vkCmdSetFrontFaceEXT>("vkCmdSetFrontFaceEXT");
+  auto setTopology = deviceProc<PFN_vkCmdSetPrimitiveTopologyEXT>("vkCmdSetPrimitiveTopologyEXT");
+  auto bindVertexBuffers2 = deviceProc<PFN_vkCmdBindVertexBuffers2EXT>("vkCmdBindVertexBuffers2EXT");
   ASSERT_TRUE(setCullMode && setFrontFace && setTopology && bindVertexBuffers2);
   VkPhysicalDeviceExtendedDynamicStateFeaturesEXT reported{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTENDED_DYNAMIC_STATE_FEATURES_EXT};
@@ -254,12 +207,6 @@ class ExtendedDynamicState2Test : public DrawTest, public ::testing::WithParamIn
     o.featureChain = &eds2;
     return o;
   }
-  template <class F>
-  F proc(const char* name) {
-    auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
-    EXPECT_NE(f, nullptr) << name;
-    return f;
-  }
   // A full-screen triangle of draw_color with the logic op enabled and `dynamic` states.
   PipelineDesc desc(std::vector<VkDynamicState> dynamic) {
     PipelineDesc d;
@@ -280,8 +227,8 @@ class ExtendedDynamicState2Test : public DrawTest, public ::testing::WithParamIn
 };
 
 TEST_P(ExtendedDynamicState2Test, TheLogicOpAndTheOtherStatesThroughTheirEXTNames) {
-  auto setLogicOp = proc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
-  auto setDiscard = proc<PFN_vkCmdSetRasterizerDiscardEnableEXT>("vkCmdSetRasterizerDiscardEnableEXT");
+  auto setLogicOp = deviceProc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
+  auto setDiscard = deviceProc<PFN_vkCmdSetRasterizerDiscardEnableEXT>("vkCmdSetRasterizerDiscardEnableEXT");
   EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetPatchControlPointsEXT"), nullptr);
   EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetDepthBiasEnableEXT"), nullptr);
   EXPECT_NE(vkGetDeviceProcAddr(device, "vkCmdSetPrimitiveRestartEnableEXT"), nullptr);
@@ -337,8 +284,8 @@ class ExtendedDynamicState2MisuseTest : public ExtendedDynamicState2Test {
 };
 
 TEST_P(ExtendedDynamicState2MisuseTest, TheFeatureRulesAreReported) {
-  auto setLogicOp = proc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
-  auto setPatchControlPoints = proc<PFN_vkCmdSetPatchControlPointsEXT>("vkCmdSetPatchControlPointsEXT");
+  auto setLogicOp = deviceProc<PFN_vkCmdSetLogicOpEXT>("vkCmdSetLogicOpEXT");
+  auto setPatchControlPoints = deviceProc<PFN_vkCmdSetPatchControlPointsEXT>("vkCmdSetPatchControlPointsEXT");
   ASSERT_TRUE(setLogicOp && setPatchControlPoints);
   VkPipeline pipeline = VK_NULL_HANDLE;
   // The patch control points state: its feature is never there.
