@@ -285,6 +285,7 @@ const char* missingStateSuffix(uint32_t bit, uint32_t mask) {
     case kDynRasterizerDiscardEnable: return "None-04876";
     case kDynDepthBiasEnable: return "None-04877";
     case kDynPrimitiveRestartEnable: return "None-04879";
+    case kDynLogicOp: return "logicOp-04878";
     default: return "commandBuffer-02701";
   }
 }
@@ -320,7 +321,7 @@ bool checkDraw(const CommandBuffer* cb, const GraphicsPipeline& p, DrawExecState
   if (missing) {
     const uint32_t bit = uint32_t(__builtin_ctz(missing));
     // VUID-vkCmdDraw-commandBuffer-02701, -viewportCount-03417, -scissorCount-03418, -viewportCount-03419,
-    // -primitiveTopology-03420, -None-04876, -None-04877, -None-04879
+    // -primitiveTopology-03420, -None-04876, -None-04877, -None-04879, -logicOp-04878
     Vuid v(command, missingStateSuffix(bit, p.dynamicMask));
     report(cb, Severity::Error, v.text,
            "%s: the bound graphics pipeline has %s dynamic, but it was not set since it was last made undefined; the "

@@ -27,8 +27,9 @@ struct GraphicsPipelineDesc;
 inline constexpr uint32_t kMaxVertexBindings = 32;
 inline constexpr uint32_t kMaxVertexAttributes = 32;
 
-// The dynamic states vkrt supports: Vulkan 1.0's and the ones 1.3 made core (extended dynamic state 1 and 2, less
-// the patch control points and logic op states of features vkrt does not advertise).
+// The dynamic states vkrt supports: Vulkan 1.0's, the ones 1.3 made core (extended dynamic state 1 and 2), and the
+// logic op of VK_EXT_extended_dynamic_state2 (extendedDynamicState2LogicOp; not the patch control points: no
+// tessellation).
 enum DynBit : uint32_t {
   kDynViewport,
   kDynScissor,
@@ -54,6 +55,7 @@ enum DynBit : uint32_t {
   kDynRasterizerDiscardEnable,
   kDynDepthBiasEnable,
   kDynPrimitiveRestartEnable,
+  kDynLogicOp,
   kDynCount
 };
 

@@ -1,6 +1,8 @@
 // Dynamic state ("Pipeline Dynamic State"; gfx/draw_state.hpp): the vkCmdSet* commands of Vulkan 1.0 and of the
 // extended dynamic state made core in 1.3 (their EXT aliases resolve to the same functions through the entry point
-// table), and resolveState(), which merges them with a pipeline's static state at each draw.
+// table), the two VK_EXT_extended_dynamic_state2 commands 1.3 left out (vkCmdSetLogicOpEXT;
+// vkCmdSetPatchControlPointsEXT, whose feature vkrt lacks), and resolveState(), which merges them with a pipeline's
+// static state at each draw.
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -22,6 +24,7 @@ int dynamicBit(VkDynamicState s) {
     case VK_DYNAMIC_STATE_RASTERIZER_DISCARD_ENABLE: return kDynRasterizerDiscardEnable;
     case VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE: return kDynDepthBiasEnable;
     case VK_DYNAMIC_STATE_PRIMITIVE_RESTART_ENABLE: return kDynPrimitiveRestartEnable;
+    case VK_DYNAMIC_STATE_LOGIC_OP_EXT: return kDynLogicOp;
     default: return -1;
   }
 }
@@ -52,6 +55,7 @@ const char* dynamicStateName(uint32_t bit) {
       "VK_DYNAMIC_STATE_RASTERIZER_DISCARD_ENABLE",
       "VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE",
       "VK_DYNAMIC_STATE_PRIMITIVE_RESTART_ENABLE",
+      "VK_DYNAMIC_STATE_LOGIC_OP_EXT",
   };
   return bit < kDynCount ? kNames[bit] : "?";
 }
@@ -108,6 +112,7 @@ void resolveState(const GraphicsPipelineDesc& p, const DrawExecState& dyn, raste
   if (on(kDynRasterizerDiscardEnable)) s.rasterizerDiscard = d.rasterizerDiscard;
   if (on(kDynDepthBiasEnable)) s.depthBiasEnable = d.depthBiasEnable;
   if (on(kDynPrimitiveRestartEnable)) s.primitiveRestart = d.primitiveRestart;
+  if (on(kDynLogicOp)) s.logicOp = d.logicOp;
 }
 
 namespace {
@@ -469,6 +474,38 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetPrimitiveRestartEnable(VkCommandBuffer com
   if (!cb) return;
   recordSetter(cb, 1u << kDynPrimitiveRestartEnable,
                [=](DrawExecState& d) { d.dynamic.primitiveRestart = primitiveRestartEnable; });
+}
+
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetLogicOpEXT(VkCommandBuffer commandBuffer, VkLogicOp logicOp) {
+  const char* fn = "vkCmdSetLogicOpEXT";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  // VUID-vkCmdSetLogicOpEXT-None-04867
+  if (!cb->device->enabled(Feature::extendedDynamicState2LogicOp)) {
+    report(cb, Severity::Error, "VUID-vkCmdSetLogicOpEXT-None-04867",
+           "%s: the extendedDynamicState2LogicOp feature is not enabled", fn);
+    return;
+  }
+  // VUID-vkCmdSetLogicOpEXT-logicOp-parameter
+  if (uint32_t(logicOp) > VK_LOGIC_OP_SET) {
+    report(cb, Severity::Error, "VUID-vkCmdSetLogicOpEXT-logicOp-parameter", "%s: logicOp %d is not a VkLogicOp", fn,
+           int(logicOp));
+    return;
+  }
+  recordSetter(cb, 1u << kDynLogicOp, [=](DrawExecState& d) { d.dynamic.logicOp = raster::LogicOp(logicOp); });
+}
+
+// Tessellation is not supported, so extendedDynamicState2PatchControlPoints cannot be enabled and every call breaks
+// VUID-vkCmdSetPatchControlPointsEXT-None-04873; the command exists because VK_EXT_extended_dynamic_state2 has it.
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetPatchControlPointsEXT(VkCommandBuffer commandBuffer,
+                                                            uint32_t patchControlPoints) {
+  const char* fn = "vkCmdSetPatchControlPointsEXT";
+  CommandBuffer* cb = CommandBuffer::recording(commandBuffer, fn);
+  if (!cb) return;
+  report(cb, Severity::Error, "VUID-vkCmdSetPatchControlPointsEXT-None-04873",
+         "%s: patchControlPoints %u, but the extendedDynamicState2PatchControlPoints feature is not enabled (vkrt has "
+         "no tessellation)",
+         fn, patchControlPoints);
 }
 
 }  // extern "C"

@@ -46,14 +46,19 @@ bool captureDynamicState(const Device* dev, const VkGraphicsPipelineCreateInfo& 
   for (uint32_t k = 0; k < ds->dynamicStateCount; ++k) {
     const VkDynamicState s = ds->pDynamicStates[k];
     const int bit = dynamicBit(s);
-    // VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04869 (logic op: extendedDynamicState2LogicOp is not
-    // supported), VUID-VkPipelineDynamicStateCreateInfo-pDynamicStates-parameter (states of extensions vkrt does
-    // not expose)
-    if (bit < 0) {
+    // VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04869 (logic op without extendedDynamicState2LogicOp),
+    // -04870 (patch control points: extendedDynamicState2PatchControlPoints is not supported),
+    // VUID-VkPipelineDynamicStateCreateInfo-pDynamicStates-parameter (states of extensions vkrt does not expose)
+    const bool logicOp = s == VK_DYNAMIC_STATE_LOGIC_OP_EXT;
+    if (bit < 0 || (logicOp && !dev->enabled(Feature::extendedDynamicState2LogicOp))) {
       report(dev, Severity::Error,
-             s == VK_DYNAMIC_STATE_LOGIC_OP_EXT ? "VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04869"
-                                                : "VUID-VkPipelineDynamicStateCreateInfo-pDynamicStates-parameter",
-             "%s.pDynamicState->pDynamicStates[%u] is %d, a dynamic state vkrt does not support", what, k, int(s));
+             logicOp ? "VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04869"
+             : s == VK_DYNAMIC_STATE_PATCH_CONTROL_POINTS_EXT
+                 ? "VUID-VkGraphicsPipelineCreateInfo-pDynamicStates-04870"
+                 : "VUID-VkPipelineDynamicStateCreateInfo-pDynamicStates-parameter",
+             "%s.pDynamicState->pDynamicStates[%u] is %d, a dynamic state vkrt does not support or whose feature is "
+             "not enabled",
+             what, k, int(s));
       return false;
     }
     // VUID-VkPipelineDynamicStateCreateInfo-pDynamicStates-01442

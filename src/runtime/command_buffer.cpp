@@ -129,6 +129,32 @@ CommandBuffer* CommandBuffer::recording(VkCommandBuffer h, const char* command) 
 
 bool CommandBuffer::supportsGraphics() const { return PhysicalDevice::familyHasGraphics(pool->queueFamilyIndex); }
 
+bool CommandBuffer::familySupportsStages(VkPipelineStageFlags2 stages, const char* fn, const char* vuid,
+                                         const char* what) {
+  // The stages whose "Required queue capability" is VK_QUEUE_GRAPHICS_BIT alone. Every other stage (none, top and
+  // bottom of pipe, draw indirect, compute, transfer, copy, clear, resolve and blit (the table allows them on compute
+  // and transfer queues), host, all commands, conditional rendering, the ray tracing and acceleration structure
+  // stages) is supported by a family with compute or transfer, as both of vkrt's families have.
+  constexpr VkPipelineStageFlags2 kGraphicsOnly =
+      VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+      VK_PIPELINE_STAGE_2_TESSELLATION_CONTROL_SHADER_BIT | VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT |
+      VK_PIPELINE_STAGE_2_GEOMETRY_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
+      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT |
+      VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT |
+      VK_PIPELINE_STAGE_2_PRE_RASTERIZATION_SHADERS_BIT | VK_PIPELINE_STAGE_2_TRANSFORM_FEEDBACK_BIT_EXT |
+      VK_PIPELINE_STAGE_2_FRAGMENT_SHADING_RATE_ATTACHMENT_BIT_KHR |
+      VK_PIPELINE_STAGE_2_FRAGMENT_DENSITY_PROCESS_BIT_EXT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
+      VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+  const VkPipelineStageFlags2 lacking = supportsGraphics() ? 0 : stages & kGraphicsOnly;
+  if (!lacking) return true;
+  report(this, Severity::Error, vuid,
+         "%s: %s 0x%llx includes stages 0x%llx that need VK_QUEUE_GRAPHICS_BIT, which queue family %u of the command "
+         "buffer's pool lacks",
+         fn, what, (unsigned long long)stages, (unsigned long long)lacking, pool->queueFamilyIndex);
+  return false;
+}
+
 void CommandBuffer::record(Command c) {
   auto note = [&](Object* o) {
     if (o && refSerials_.insert(o->serial).second) refs.push_back({o, o->serial, o->objectType});

@@ -82,6 +82,12 @@ class CommandBuffer : public Object {
   // Whether the pool's queue family supports graphics operations (recording() refuses the graphics commands
   // otherwise, with their "commandBuffer-cmdpool" VUID).
   bool supportsGraphics() const;
+  // Whether the pool's queue family supports every pipeline stage in `stages` (the Synchronization chapter's
+  // "Supported pipeline stage flags" table: the graphics stages need VK_QUEUE_GRAPHICS_BIT); otherwise reports
+  // `vuid` naming `fn`, the member `what` and the stages the family lacks, and returns false (the command records
+  // nothing). The rules: VUID-vkCmdPipelineBarrier-srcStageMask-06461 and its kin of the barrier, event and
+  // timestamp commands.
+  bool familySupportsStages(VkPipelineStageFlags2 stages, const char* fn, const char* vuid, const char* what);
 
   // Appends a command, and notes the objects the command's entry point looked up since recording() (the
   // buffers, images, views, samplers, descriptor sets, pipelines and acceleration structures it refers to, with

@@ -1,5 +1,6 @@
 #include "runtime/event.hpp"
 
+#include <cstdio>
 #include <vector>
 
 #include "runtime/alloc.hpp"
@@ -105,7 +106,28 @@ bool checkBufferBarriers(CommandBuffer* cb, uint32_t count, const Barrier* barri
   return true;
 }
 
-bool checkDependencyInfo(CommandBuffer* cb, const VkDependencyInfo* dep, const char* fn) {
+// The stage masks of each barrier of `dep` (named `name` in reports) against the command buffer's queue family
+// (srcVuid / dstVuid), then the buffer barriers' ranges.
+bool checkDependencyInfo(CommandBuffer* cb, const VkDependencyInfo* dep, const char* fn, const char* name,
+                         const char* srcVuid, const char* dstVuid) {
+  auto stages = [&](const char* member, uint32_t i, VkPipelineStageFlags2 src, VkPipelineStageFlags2 dst) {
+    char what[128];
+    std::snprintf(what, sizeof what, "%s->%s[%u].srcStageMask", name, member, i);
+    if (!cb->familySupportsStages(src, fn, srcVuid, what)) return false;
+    std::snprintf(what, sizeof what, "%s->%s[%u].dstStageMask", name, member, i);
+    return cb->familySupportsStages(dst, fn, dstVuid, what);
+  };
+  for (uint32_t i = 0; i < dep->memoryBarrierCount; ++i)
+    if (!stages("pMemoryBarriers", i, dep->pMemoryBarriers[i].srcStageMask, dep->pMemoryBarriers[i].dstStageMask))
+      return false;
+  for (uint32_t i = 0; i < dep->bufferMemoryBarrierCount; ++i)
+    if (!stages("pBufferMemoryBarriers", i, dep->pBufferMemoryBarriers[i].srcStageMask,
+                dep->pBufferMemoryBarriers[i].dstStageMask))
+      return false;
+  for (uint32_t i = 0; i < dep->imageMemoryBarrierCount; ++i)
+    if (!stages("pImageMemoryBarriers", i, dep->pImageMemoryBarriers[i].srcStageMask,
+                dep->pImageMemoryBarriers[i].dstStageMask))
+      return false;
   return checkBufferBarriers(cb, dep->bufferMemoryBarrierCount, dep->pBufferMemoryBarriers, fn, true);
 }
 
@@ -192,6 +214,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetEvent(VkCommandBuffer commandBuffer, VkEve
            "vkCmdSetEvent: stageMask 0x%x includes VK_PIPELINE_STAGE_HOST_BIT", stageMask);
     return;
   }
+  if (!cb->familySupportsStages(stageMask, "vkCmdSetEvent", "VUID-vkCmdSetEvent-stageMask-06457", "stageMask")) return;
   recordSetEvent(cb, e, true);
 }
 
@@ -209,6 +232,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent(VkCommandBuffer commandBuffer, VkE
            "vkCmdResetEvent: stageMask 0x%x includes VK_PIPELINE_STAGE_HOST_BIT", stageMask);
     return;
   }
+  if (!cb->familySupportsStages(stageMask, "vkCmdResetEvent", "VUID-vkCmdResetEvent-stageMask-06458", "stageMask"))
+    return;
   recordSetEvent(cb, e, false);
 }
 
@@ -219,7 +244,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdSetEvent2(VkCommandBuffer commandBuffer, VkEv
   if (cb && !cb->outsideRenderPass("vkCmdSetEvent2", "VUID-vkCmdSetEvent2-renderpass")) return;
   if (!cb || !checkSync2(cb, "vkCmdSetEvent2", "VUID-vkCmdSetEvent2-synchronization2-03824")) return;
   Event* e = liveEvent(cb, event, "vkCmdSetEvent2", "VUID-vkCmdSetEvent2-event-parameter");
-  if (!e || !checkDependencyInfo(cb, pDependencyInfo, "vkCmdSetEvent2")) return;
+  if (!e || !checkDependencyInfo(cb, pDependencyInfo, "vkCmdSetEvent2", "pDependencyInfo",
+                                 "VUID-vkCmdSetEvent2-srcStageMask-03827", "VUID-vkCmdSetEvent2-dstStageMask-03828"))
+    return;
   recordSetEvent(cb, e, true);
 }
 
@@ -241,8 +268,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdResetEvent2(VkCommandBuffer commandBuffer, Vk
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents(VkCommandBuffer commandBuffer, uint32_t eventCount,
-                                              const VkEvent* pEvents, VkPipelineStageFlags, VkPipelineStageFlags,
-                                              uint32_t, const VkMemoryBarrier*, uint32_t bufferMemoryBarrierCount,
+                                              const VkEvent* pEvents, VkPipelineStageFlags srcStageMask,
+                                              VkPipelineStageFlags dstStageMask, uint32_t, const VkMemoryBarrier*,
+                                              uint32_t bufferMemoryBarrierCount,
                                               const VkBufferMemoryBarrier* pBufferMemoryBarriers,
                                               uint32_t imageMemoryBarrierCount,
                                               const VkImageMemoryBarrier* pImageMemoryBarriers) {
@@ -257,6 +285,11 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents(VkCommandBuffer commandBuffer, uin
   std::vector<Event*> events(eventCount);
   for (uint32_t i = 0; i < eventCount; ++i)
     if (!(events[i] = liveEvent(cb, pEvents[i], "vkCmdWaitEvents", "VUID-vkCmdWaitEvents-pEvents-parameter"))) return;
+  if (!cb->familySupportsStages(srcStageMask, "vkCmdWaitEvents", "VUID-vkCmdWaitEvents-srcStageMask-06459",
+                                "srcStageMask") ||
+      !cb->familySupportsStages(dstStageMask, "vkCmdWaitEvents", "VUID-vkCmdWaitEvents-dstStageMask-06460",
+                                "dstStageMask"))
+    return;
   if (!checkBufferBarriers(cb, bufferMemoryBarrierCount, pBufferMemoryBarriers, "vkCmdWaitEvents", false)) return;
   std::vector<std::pair<Image*, VkImageLayout>> transitions;
   addPresentableTransitions(imageMemoryBarrierCount, pImageMemoryBarriers, transitions);
@@ -279,7 +312,12 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents2(VkCommandBuffer commandBuffer, ui
   std::vector<Event*> events(eventCount);
   for (uint32_t i = 0; i < eventCount; ++i) {
     if (!(events[i] = liveEvent(cb, pEvents[i], "vkCmdWaitEvents2", "VUID-vkCmdWaitEvents2-pEvents-parameter"))) return;
-    if (!checkDependencyInfo(cb, &pDependencyInfos[i], "vkCmdWaitEvents2")) return;
+    char name[40];
+    std::snprintf(name, sizeof name, "pDependencyInfos[%u]", i);
+    // VUID-vkCmdWaitEvents2-srcStageMask-03842 allows HOST alone besides the family's stages: HOST is every family's.
+    if (!checkDependencyInfo(cb, &pDependencyInfos[i], "vkCmdWaitEvents2", name,
+                             "VUID-vkCmdWaitEvents2-srcStageMask-03842", "VUID-vkCmdWaitEvents2-dstStageMask-03843"))
+      return;
   }
   std::vector<std::pair<Image*, VkImageLayout>> transitions;
   for (uint32_t i = 0; i < eventCount; ++i)
@@ -291,14 +329,19 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWaitEvents2(VkCommandBuffer commandBuffer, ui
   });
 }
 
-VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier(VkCommandBuffer commandBuffer, VkPipelineStageFlags,
-                                                   VkPipelineStageFlags, VkDependencyFlags, uint32_t,
+VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier(VkCommandBuffer commandBuffer, VkPipelineStageFlags srcStageMask,
+                                                   VkPipelineStageFlags dstStageMask, VkDependencyFlags, uint32_t,
                                                    const VkMemoryBarrier*, uint32_t bufferMemoryBarrierCount,
                                                    const VkBufferMemoryBarrier* pBufferMemoryBarriers,
                                                    uint32_t imageMemoryBarrierCount,
                                                    const VkImageMemoryBarrier* pImageMemoryBarriers) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdPipelineBarrier");
   if (!cb) return;
+  if (!cb->familySupportsStages(srcStageMask, "vkCmdPipelineBarrier", "VUID-vkCmdPipelineBarrier-srcStageMask-06461",
+                                "srcStageMask") ||
+      !cb->familySupportsStages(dstStageMask, "vkCmdPipelineBarrier", "VUID-vkCmdPipelineBarrier-dstStageMask-06462",
+                                "dstStageMask"))
+    return;
   if (!checkBufferBarriers(cb, bufferMemoryBarrierCount, pBufferMemoryBarriers, "vkCmdPipelineBarrier", false)) return;
   // Commands execute in order on one worker: the barrier keeps its place and has nothing else to do but note the
   // layouts of swapchain images.
@@ -311,7 +354,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdPipelineBarrier2(VkCommandBuffer commandBuffe
                                                     const VkDependencyInfo* pDependencyInfo) {
   CommandBuffer* cb = CommandBuffer::recording(commandBuffer, "vkCmdPipelineBarrier2");
   if (!cb || !checkSync2(cb, "vkCmdPipelineBarrier2", "VUID-vkCmdPipelineBarrier2-synchronization2-03848")) return;
-  if (!checkDependencyInfo(cb, pDependencyInfo, "vkCmdPipelineBarrier2")) return;
+  if (!checkDependencyInfo(cb, pDependencyInfo, "vkCmdPipelineBarrier2", "pDependencyInfo",
+                           "VUID-vkCmdPipelineBarrier2-srcStageMask-03849",
+                           "VUID-vkCmdPipelineBarrier2-dstStageMask-03850"))
+    return;
   std::vector<std::pair<Image*, VkImageLayout>> transitions;
   addPresentableTransitions(pDependencyInfo->imageMemoryBarrierCount, pDependencyInfo->pImageMemoryBarriers,
                             transitions);

@@ -828,12 +828,11 @@ static void cubeDirection(int face, float sc, float tc, float d[3]) {
   }
 }
 
-// Texel (i, j) of `face` at `level` (size x size texels), compared with `cmp` when given. Past an edge of the face,
-// the texel of the adjacent face that continues it: the texel centre's direction re-projected (the spec's edge
-// table, computed). At a corner (past two edges) this gives one of the corner's texels of a neighbour; the spec
-// leaves corner texels' values to the implementation.
-static void cubeTexel(const View& v, uint32_t level, int32_t size, int face, int64_t i, int64_t j, int64_t cube,
-                      const DepthCompare* cmp, uint32_t out[4]) {
+// Texel (i, j) of `face` at `level` (size x size texels), i or j (not both) possibly past an edge of the face: then
+// the texel of the adjacent face that continues it, the texel centre's direction re-projected (the spec's edge
+// table, computed).
+static void cubeEdgeTexel(const View& v, uint32_t level, int32_t size, int face, int64_t i, int64_t j, int64_t cube,
+                          uint32_t out[4]) {
   if (i < 0 || j < 0 || i >= size || j >= size) {
     float d[3];
     cubeDirection(face, 2.0f * (float(i) + 0.5f) / float(size) - 1.0f, 2.0f * (float(j) + 0.5f) / float(size) - 1.0f,
@@ -846,6 +845,31 @@ static void cubeTexel(const View& v, uint32_t level, int32_t size, int face, int
   }
   const int64_t xyzl[4] = {i, j, 0, cube * 6 + face};
   readTexel(v, level, xyzl, out);
+}
+
+// Texel (i, j) of `face` at `level`, compared with `cmp` when given, past an edge as cubeEdgeTexel. Past a corner
+// (both i and j outside the face) no face continues the texel: "Cube Map Corner Texel" says it should be the average
+// of the three texels that meet at the cube's corner, the face's own corner texel and its two neighbours across
+// the edges. The average is taken in double, so three equal values average to that value exactly (the spec's
+// constraint on any corner method); the depth comparison applies to the averaged texel. Integer formats (only
+// gathers read their corners) keep the face's own corner texel, which meets the same constraint.
+static void cubeTexel(const View& v, uint32_t level, int32_t size, int face, int64_t i, int64_t j, int64_t cube,
+                      const DepthCompare* cmp, uint32_t out[4]) {
+  const int64_t ci = std::clamp<int64_t>(i, 0, size - 1), cj = std::clamp<int64_t>(j, 0, size - 1);
+  if (ci != i && cj != j) {
+    if (isIntFormat(*v.format)) {
+      cubeEdgeTexel(v, level, size, face, ci, cj, cube, out);
+    } else {
+      uint32_t t[3][4];
+      cubeEdgeTexel(v, level, size, face, ci, cj, cube, t[0]);
+      cubeEdgeTexel(v, level, size, face, i, cj, cube, t[1]);
+      cubeEdgeTexel(v, level, size, face, ci, j, cube, t[2]);
+      for (int c = 0; c < 4; ++c)
+        out[c] = fbits(float((double(bitsf(t[0][c])) + double(bitsf(t[1][c])) + double(bitsf(t[2][c]))) / 3.0));
+    }
+  } else {
+    cubeEdgeTexel(v, level, size, face, i, j, cube, out);
+  }
   if (cmp) out[0] = fbits(compareDepth(*cmp, bitsf(out[0])));
 }
 

@@ -316,6 +316,15 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_DEPTH_STENCIL_RESOLVE_EXTENSION_NAME, VK_KHR_DEPTH_STENCIL_RESOLVE_SPEC_VERSION},
       {VK_KHR_SEPARATE_DEPTH_STENCIL_LAYOUTS_EXTENSION_NAME, VK_KHR_SEPARATE_DEPTH_STENCIL_LAYOUTS_SPEC_VERSION},
       {VK_KHR_DRAW_INDIRECT_COUNT_EXTENSION_NAME, VK_KHR_DRAW_INDIRECT_COUNT_SPEC_VERSION},
+      // shaderDrawParameters (supported_features.cpp); the 1.3 dynamic state with extendedDynamicState, and
+      // extendedDynamicState2 with its logic op (gfx/dynamic_state.cpp); maintenance2:
+      // pointClippingBehavior ALL_CLIP_PLANES (src/raster drops a point whose vertex is outside the view volume), its
+      // structures (input attachment aspects and view usage narrow what an application may do, vkrt needs neither;
+      // the tessellation domain origin has no stage to apply to) and layouts (not tracked).
+      {VK_KHR_SHADER_DRAW_PARAMETERS_EXTENSION_NAME, VK_KHR_SHADER_DRAW_PARAMETERS_SPEC_VERSION},
+      {VK_EXT_EXTENDED_DYNAMIC_STATE_EXTENSION_NAME, VK_EXT_EXTENDED_DYNAMIC_STATE_SPEC_VERSION},
+      {VK_EXT_EXTENDED_DYNAMIC_STATE_2_EXTENSION_NAME, VK_EXT_EXTENDED_DYNAMIC_STATE_2_SPEC_VERSION},
+      {VK_KHR_MAINTENANCE_2_EXTENSION_NAME, VK_KHR_MAINTENANCE_2_SPEC_VERSION},
   };
   // Ray tracing (runtime/ray_tracing_features.cpp).
   appendRayTracingExtensions(extensions_);

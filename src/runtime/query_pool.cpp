@@ -294,6 +294,9 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteTimestamp(VkCommandBuffer commandBuffer,
   // VUID-vkCmdWriteTimestamp-queryPool-parameter
   QueryPool* pool = livePool(cb, queryPool, "vkCmdWriteTimestamp", "VUID-vkCmdWriteTimestamp-queryPool-parameter");
   if (!pool) return;
+  if (!cb->familySupportsStages(pipelineStage, "vkCmdWriteTimestamp", "VUID-vkCmdWriteTimestamp-pipelineStage-04074",
+                                "pipelineStage"))
+    return;
   // VUID-vkCmdWriteTimestamp-queryPool-01416, VUID-vkCmdWriteTimestamp-query-04904
   recordTimestamp(cb, pool, query, "vkCmdWriteTimestamp", "VUID-vkCmdWriteTimestamp-queryPool-01416",
                   "VUID-vkCmdWriteTimestamp-query-04904");
@@ -318,6 +321,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdWriteTimestamp2(VkCommandBuffer commandBuffer
   // VUID-vkCmdWriteTimestamp2-queryPool-parameter
   QueryPool* pool = livePool(cb, queryPool, "vkCmdWriteTimestamp2", "VUID-vkCmdWriteTimestamp2-queryPool-parameter");
   if (!pool) return;
+  if (!cb->familySupportsStages(stage, "vkCmdWriteTimestamp2", "VUID-vkCmdWriteTimestamp2-stage-03860", "stage"))
+    return;
   // VUID-vkCmdWriteTimestamp2-queryPool-03861, VUID-vkCmdWriteTimestamp2-query-04903
   recordTimestamp(cb, pool, query, "vkCmdWriteTimestamp2", "VUID-vkCmdWriteTimestamp2-queryPool-03861",
                   "VUID-vkCmdWriteTimestamp2-query-04903");

@@ -26,6 +26,19 @@ constexpr F kSupported[] = {
     F::multiDrawIndirect,
     F::drawIndirectFirstInstance,
     F::drawIndirectCount,
+    // BaseVertex (firstVertex, or vertexOffset when indexed), BaseInstance and DrawIndex (the record's index in an
+    // indirect draw) in vertex shaders: GraphicsInvocation fields set per draw (gfx/draw_executor.cpp,
+    // draw_commands.cpp;
+    // src/spirv/graphics.cpp; tests/e2e DrawParametersTest).
+    F::shaderDrawParameters,
+    // The dynamic state of VK_EXT_extended_dynamic_state is Vulkan 1.3's (gfx/dynamic_state.cpp; its EXT-named
+    // commands resolve to the same functions; tests/e2e DrawDynamicStateTest, ExtendedDynamicStateTest).
+    F::extendedDynamicState,
+    // VK_EXT_extended_dynamic_state2: its rasterizer discard, depth bias and primitive restart states are 1.3's; the
+    // logic op state (vkCmdSetLogicOpEXT) replaces the pipeline's logicOp at the draw (gfx/dynamic_state.cpp
+    // resolveState; tests/e2e ExtendedDynamicState2Test). Not extendedDynamicState2PatchControlPoints: no tessellation.
+    F::extendedDynamicState2,
+    F::extendedDynamicState2LogicOp,
     // Graphics pipeline state the rasterizer's back end implements from raster::State (src/gfx/graphics_pipeline_
     // state.cpp captures it; src/raster applies it): per-attachment blend state, logic ops, depth clamp, depth bias
     // clamp, depth bounds, alpha to one, sample shading, dual-source blending (fragment outputs with Index 1 reach

@@ -609,7 +609,8 @@ TEST_F(ComputeImageTest, SampleAndFetchWithEveryFilterAndAddressMode) { sampleAn
 // Cube map sampling ("Cube Map Face Selection and Transformations"): a 4x4 R32_SFLOAT cube of 2 levels whose texel
 // (i, j) of face f, level m holds 1000 m + 100 f + 10 j + i, sampled NEAREST and LINEAR at directions over every face
 // and gathered. The reference selects the face by the spec's table; LINEAR is checked where its 2x2 texels lie
-// inside the face, and across an edge (seamless, "Cube Map Edge Handling") at a point worked out by hand.
+// inside the face, across an edge (seamless, "Cube Map Edge Handling") and across a corner, at points worked out
+// by hand.
 TEST_F(ComputeImageTest, CubeMapsSelectTheFaceFilterAcrossEdgesAndGather) {
   constexpr VkDescriptorType kCombined = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   Pipeline p = makePipeline(kSpv_compute_cube_comp, sizeof kSpv_compute_cube_comp,
@@ -664,6 +665,12 @@ TEST_F(ComputeImageTest, CubeMapsSelectTheFaceFilterAcrossEdgesAndGather) {
   // Across +X's right edge (s = 15/16, t = 3/8: u = 3.25, v = 1.0): 3/4 of +X's (3, 1) and 1/4 of -Z's (0, 1).
   const size_t edge = dirs.size();
   dirs.push_back({1.0f, 0.25f, -0.875f, 0.0f});
+  // Near the cube's (+x, +y, +z) corner on +X (s = t = 0.05: u = v = 0.2, so texels i, j = -1 and 0 with weight
+  // 0.3 and 0.7): texel (-1, 0) is past the edge toward +z, +Z's (3, 0); (0, -1) past the edge toward +y, +Y's
+  // (3, 3); (-1, -1) is past the corner, where +X's (0, 0), +Z's (3, 0) and +Y's (3, 3) meet: their average ("Cube
+  // Map Corner Texel").
+  const size_t corner = dirs.size();
+  dirs.push_back({1.0f, 0.9f, 0.9f, 0.0f});
   const uint32_t count = uint32_t(dirs.size());
   HostBuffer in = createHostBuffer(count * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::memcpy(in.data, dirs.data(), count * 16);
@@ -725,6 +732,26 @@ TEST_F(ComputeImageTest, CubeMapsSelectTheFaceFilterAcrossEdgesAndGather) {
       }
     }
     const float* e = &r[(3 * edge) * 4];
+    const float* c = &r[(3 * corner) * 4];
+    // Layer offset 0: the cube view; 6: cube 1 of the cube array view.
+    for (int base : {0, 6}) {
+      SCOPED_TRACE("corner, cube at layer " + std::to_string(base));
+      const float own = value(0, base + 0, 0, 0), acrossI = value(0, base + 4, 3, 0),
+                  acrossJ = value(0, base + 2, 3, 3), avg = (own + acrossI + acrossJ) / 3;
+      const float got = base ? r[(3 * corner + 2) * 4] : c[0];
+      if (filter == VK_FILTER_LINEAR)
+        EXPECT_NEAR(got, 0.09f * avg + 0.21f * acrossJ + 0.21f * acrossI + 0.49f * own, 1e-3f);
+      else
+        EXPECT_EQ(got, own);  // NEAREST clamps to the face
+      if (base == 0) {
+        // The gather of the same footprint: (i0 j1, i1 j1, i1 j0, i0 j0) = (-1 0, 0 0, 0 -1, -1 -1).
+        const float* g = &r[(3 * corner + 1) * 4];
+        EXPECT_EQ(g[0], acrossI);
+        EXPECT_EQ(g[1], own);
+        EXPECT_EQ(g[2], acrossJ);
+        EXPECT_NEAR(g[3], avg, 1e-4f);
+      }
+    }
     if (filter == VK_FILTER_LINEAR) {
       EXPECT_GT(linearChecked, 20);
       EXPECT_NEAR(e[0], 0.75f * value(0, 0, 3, 1) + 0.25f * value(0, 5, 0, 1), 1e-3f);

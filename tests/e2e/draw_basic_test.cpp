@@ -10,7 +10,6 @@
 #include "draw_color.frag.spv.h"
 #include "draw_color.vert.spv.h"
 #include "draw_depth_initializer.frag.spvasm.spv.h"
-#include "draw_flat.frag.spv.h"
 #include "draw_instanced.vert.spv.h"
 
 namespace vkrt::test {
@@ -201,41 +200,12 @@ TEST_F(DrawBasicTest, InstancedWithPerInstanceAttributes) {
 // Indirect draws: each record draws one small triangle at its own place (firstVertex or firstIndex selects it); the
 // shader writes InstanceIndex and the provoking vertex's VertexIndex into the color, so the pixels tell which record
 // and instance drew them.
-class DrawIndirectTest : public DrawTest {
+class DrawIndirectTest : public QuadrantDrawTest {
  protected:
   void SetUp() override {
     DrawTest::SetUp();
     if (HasFatalFailure()) return;
-    PipelineDesc d;
-    d.vs = kSpv_draw_builtins_vert;
-    d.vsBytes = sizeof kSpv_draw_builtins_vert;
-    d.fs = kSpv_draw_flat_frag;
-    d.fsBytes = sizeof kSpv_draw_flat_frag;
-    d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}};
-    ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
-    color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                         VK_IMAGE_ASPECT_COLOR_BIT);
-    // Four triangles in the four quadrants, 3 vertices each.
-    std::vector<float> v;
-    for (int q = 0; q < 4; ++q) {
-      const float cx = q & 1 ? 0.5f : -0.5f, cy = q & 2 ? 0.5f : -0.5f;
-      for (float p : {cx - 0.35f, cy - 0.35f, cx + 0.35f, cy - 0.35f, cx, cy + 0.35f}) v.push_back(p);
-      quads[q] = {V{cx - 0.35f, cy - 0.35f, 0, 0, 0, 1}, V{cx + 0.35f, cy - 0.35f, 0, 0, 0, 1},
-                  V{cx, cy + 0.35f, 0, 0, 0, 1}};
-    }
-    vb = vertexBuffer(v.data(), v.size() * 4);
-    const uint32_t idx[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
-    ib = vertexBuffer(idx, sizeof idx, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-  }
-  void TearDown() override {
-    if (device) {
-      destroy(ib);
-      destroy(vb);
-      vkDestroyPipeline(device, pipeline, nullptr);
-      destroy(color);
-    }
-    DrawTest::TearDown();
+    setUpQuadrants(kSpv_draw_builtins_vert, sizeof kSpv_draw_builtins_vert);
   }
   // The expected flat color of quadrant q drawn with InstanceIndex `instance` (the last instance drawn wins:
   // instances are drawn in order); its provoking vertex is vertex 3q.
@@ -248,17 +218,6 @@ class DrawIndirectTest : public DrawTest {
     }
     return t;
   }
-  void bind(VkCommandBuffer cb) {
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    VkDeviceSize off = 0;
-    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-    vkCmdBindIndexBuffer(cb, ib.buffer, 0, VK_INDEX_TYPE_UINT32);
-  }
-
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  Target color;
-  HostBuffer vb, ib;
-  std::array<V, 3> quads[4];
 };
 
 TEST_F(DrawIndirectTest, DrawIndirectMultiDraw) {

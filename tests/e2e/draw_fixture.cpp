@@ -1,6 +1,7 @@
 #include "e2e/draw_fixture.hpp"
 
 #include "draw_color.vert.spv.h"
+#include "draw_flat.frag.spv.h"
 
 namespace vkrt::test {
 
@@ -109,6 +110,8 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
   cb.attachmentCount = d.blendCount;
   cb.pAttachments = blends.data();
   std::memcpy(cb.blendConstants, d.blendConstants, sizeof cb.blendConstants);
+  cb.logicOpEnable = d.logicOpEnable;
+  cb.logicOp = d.logicOp;
   VkPipelineDynamicStateCreateInfo dyn{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   dyn.dynamicStateCount = uint32_t(d.dynamic.size());
   dyn.pDynamicStates = d.dynamic.data();
@@ -319,6 +322,46 @@ std::vector<uint32_t> DrawTest::drawFullScreen(const uint32_t* fs, size_t fsByte
   vkDestroyPipeline(device, pipeline, nullptr);
   destroy(color);
   return pixels;
+}
+
+void QuadrantDrawTest::setUpQuadrants(const uint32_t* vs, size_t vsBytes) {
+  PipelineDesc d;
+  d.vs = vs;
+  d.vsBytes = vsBytes;
+  d.fs = kSpv_draw_flat_frag;
+  d.fsBytes = sizeof kSpv_draw_flat_frag;
+  d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}};
+  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+  color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                       VK_IMAGE_ASPECT_COLOR_BIT);
+  std::vector<float> v;
+  for (int q = 0; q < 4; ++q) {
+    const float cx = q & 1 ? 0.5f : -0.5f, cy = q & 2 ? 0.5f : -0.5f;
+    for (float p : {cx - 0.35f, cy - 0.35f, cx + 0.35f, cy - 0.35f, cx, cy + 0.35f}) v.push_back(p);
+    quads[q] = {Vertex{cx - 0.35f, cy - 0.35f, 0, 0, 0, 1}, Vertex{cx + 0.35f, cy - 0.35f, 0, 0, 0, 1},
+                Vertex{cx, cy + 0.35f, 0, 0, 0, 1}};
+  }
+  vb = vertexBuffer(v.data(), v.size() * 4);
+  const uint32_t idx[12] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  ib = vertexBuffer(idx, sizeof idx, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+}
+
+void QuadrantDrawTest::TearDown() {
+  if (device) {
+    destroy(ib);
+    destroy(vb);
+    vkDestroyPipeline(device, pipeline, nullptr);
+    destroy(color);
+  }
+  DrawTest::TearDown();
+}
+
+void QuadrantDrawTest::bind(VkCommandBuffer cb) {
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+  VkDeviceSize off = 0;
+  vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+  vkCmdBindIndexBuffer(cb, ib.buffer, 0, VK_INDEX_TYPE_UINT32);
 }
 
 }  // namespace vkrt::test

@@ -76,6 +76,8 @@ class DrawTest : public VulkanTest {
                                               VK_BLEND_OP_ADD,
                                               0xF};
     float blendConstants[4] = {0, 0, 0, 0};
+    VkBool32 logicOpEnable = VK_FALSE;  // pColorBlendState's logic op (the logicOp feature)
+    VkLogicOp logicOp = VK_LOGIC_OP_COPY;
     std::vector<VkDynamicState> dynamic;
     bool withDepthStencil = false;  // the rendering info names the depth/stencil format
     uint32_t colorCount = 1;        // VkPipelineRenderingCreateInfo::colorAttachmentCount
@@ -142,9 +144,34 @@ class DrawTest : public VulkanTest {
   int compareTriangles(const std::vector<uint32_t>& pixels, const std::vector<std::array<Vertex, 3>>& tris,
                        uint32_t background, bool smooth = true);
 
+  // A device command by name (an extension's EXT/KHR alias), expected to resolve.
+  template <class F>
+  F deviceProc(const char* name) {
+    auto f = reinterpret_cast<F>(vkGetDeviceProcAddr(device, name));
+    EXPECT_NE(f, nullptr) << name;
+    return f;
+  }
+
   VkPipelineLayout layout = VK_NULL_HANDLE;
   std::vector<VkShaderModule> modules;
   void TearDown() override;
+};
+
+// Four small triangles, one per quadrant (quadrant q is vertices 3q .. 3q + 2; the index buffer holds 0 .. 11),
+// drawn by a vertex shader that takes the position at location 0 (R32G32_SFLOAT) and writes a color draw_flat.frag
+// takes flat: the fixture of the draw tests whose colors tell which draw, record or instance drew each triangle.
+class QuadrantDrawTest : public DrawTest {
+ protected:
+  // From the test's SetUp, after DrawTest::SetUp.
+  void setUpQuadrants(const uint32_t* vs, size_t vsBytes);
+  void TearDown() override;
+  // Binds the pipeline, the vertex buffer and the index buffer.
+  void bind(VkCommandBuffer cb);
+
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  Target color;
+  HostBuffer vb, ib;
+  std::array<Vertex, 3> quads[4];  // each quadrant's triangle, black
 };
 
 }  // namespace vkrt::test

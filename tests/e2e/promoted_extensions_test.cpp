@@ -766,8 +766,8 @@ const Promoted kPromoted[] = {
     {"VK_KHR_multiview", 1, kDevice, true, "multiview render passes; MultiviewTest"},
     {"VK_KHR_get_physical_device_properties2", 1, kInstance, true, "instance"},
     {"VK_KHR_device_group", 1, kDevice, true, "a group of one device; swapchain_test.cpp"},
-    {"VK_KHR_shader_draw_parameters", 1, kDevice, false,
-     "graphics: vertex shader built-ins; its shaderDrawParameters feature is mandatory with it"},
+    {"VK_KHR_shader_draw_parameters", 1, kDevice, true,
+     "BaseVertex, BaseInstance, DrawIndex; shaderDrawParameters; DrawParametersTest"},
     {"VK_EXT_texture_compression_astc_hdr", 3, kDevice, false,
      "no ASTC formats; textureCompressionASTC_HDR is mandatory with it"},
     {"VK_KHR_maintenance1", 1, kDevice, true, "core 1.1"},
@@ -783,9 +783,10 @@ const Promoted kPromoted[] = {
     {"VK_KHR_create_renderpass2", 2, kDevice, true, "vkCreateRenderPass2; RenderPassTest, ResolveTest"},
     {"VK_KHR_external_fence_capabilities", 1, kInstance, true, "instance"},
     {"VK_KHR_external_fence", 1, kDevice, true, "no handle types; PromotedQueriesTest"},
-    {"VK_KHR_maintenance2", 1, kDevice, false,
-     "graphics: input attachment aspects, tessellation domain origin, point clipping; "
-     "VK_IMAGE_CREATE_EXTENDED_USAGE_BIT not honoured"},
+    {"VK_KHR_maintenance2", 1, kDevice, true,
+     "point clipping ALL_CLIP_PLANES, input attachment aspects, view usage, read-only depth/stencil layouts "
+     "(Maintenance2Test), EXTENDED_USAGE (ImageTest); no tessellation for the domain origin, no compressed formats "
+     "for BLOCK_TEXEL_VIEW_COMPATIBLE"},
     {"VK_KHR_variable_pointers", 1, kDevice, false,
      "variable pointers are not compiled; variablePointersStorageBuffer is mandatory with it"},
     {"VK_KHR_dedicated_allocation", 1, kDevice, true, "core 1.1"},
@@ -800,7 +801,9 @@ const Promoted kPromoted[] = {
      "no YCbCr conversions or multi-planar formats; samplerYcbcrConversion is mandatory with it"},
     {"VK_KHR_bind_memory2", 1, kDevice, true, "core 1.1"},
     {"VK_EXT_descriptor_indexing", 2, kDevice, true, "texel_buffer_test.cpp"},
-    {"VK_EXT_shader_viewport_index_layer", 2, kDevice, false, "graphics: vertex and tessellation shader outputs"},
+    {"VK_EXT_shader_viewport_index_layer", 2, kDevice, false,
+     "Layer and ViewportIndex are no vertex shader outputs (shaderOutputLayer, shaderOutputViewportIndex are mandatory "
+     "with it); no multiViewport"},
     {"VK_KHR_maintenance3", 1, kDevice, true, "core 1.1"},
     {"VK_KHR_draw_indirect_count", 2, kDevice, true, "vkCmdDrawIndirectCount; DrawIndirectTest"},
     {"VK_KHR_shader_subgroup_extended_types", 2, kDevice, true, "SubgroupVoteBallotTest"},
@@ -818,11 +821,14 @@ const Promoted kPromoted[] = {
     {"VK_KHR_spirv_1_4", 2, kDevice, true, "spirv14_test.cpp"},
     {"VK_KHR_separate_depth_stencil_layouts", 2, kDevice, true, "separateDepthStencilLayouts; RenderPassTest"},
     {"VK_EXT_tooling_info", 3, kDevice, true, "no tools; PromotedQueriesTest"},
-    {"VK_EXT_separate_stencil_usage", 2, kDevice, false, "no depth/stencil formats"},
+    {"VK_EXT_separate_stencil_usage", 2, kDevice, false,
+     "VkImageStencilUsageCreateInfo is not looked at (image format queries, image creation and the per-aspect "
+     "usage rules take the image's usage for the stencil aspect too)"},
     {"VK_KHR_uniform_buffer_standard_layout", 2, kDevice, true, "ComputeStandardLayoutTest"},
     {"VK_KHR_buffer_device_address", 2, kDevice, true, "device addresses"},
     {"VK_EXT_host_query_reset", 2, kDevice, true, "query_test.cpp"},
-    {"VK_EXT_extended_dynamic_state", 3, kDevice, false, "graphics: dynamic state of graphics pipelines"},
+    {"VK_EXT_extended_dynamic_state", 3, kDevice, true,
+     "the 1.3 dynamic state; extendedDynamicState; DrawDynamicStateTest, ExtendedDynamicStateTest"},
     {"VK_EXT_shader_demote_to_helper_invocation", 3, kDevice, true, "DrawTerminationTest"},
     {"VK_KHR_shader_integer_dot_product", 3, kDevice, true, "integer dot products"},
     {"VK_EXT_texel_buffer_alignment", 3, kDevice, true, "TexelBufferAlignmentTest"},
@@ -837,7 +843,9 @@ const Promoted kPromoted[] = {
     {"VK_EXT_4444_formats", 3, kDevice, false,
      "the 4444 formats are not supported; formatA4R4G4B4 is mandatory with it"},
     {"VK_KHR_format_feature_flags2", 3, kDevice, true, "PromotedQueriesTest"},
-    {"VK_EXT_extended_dynamic_state2", 3, kDevice, false, "graphics: dynamic state of graphics pipelines"},
+    {"VK_EXT_extended_dynamic_state2", 3, kDevice, true,
+     "the 1.3 dynamic state and the logic op; extendedDynamicState2(LogicOp), not PatchControlPoints (no "
+     "tessellation); ExtendedDynamicState2Test"},
     {"VK_KHR_maintenance4", 3, kDevice, true, "core 1.3"},
 };
 

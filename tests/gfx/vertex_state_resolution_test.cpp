@@ -29,6 +29,7 @@ void makeStates(GraphicsPipelineDesc* p, DrawExecState* d) {
   s.front.failOp = raster::StencilOp::Keep, s.back.passOp = raster::StencilOp::Keep;
   s.front.compareOp = raster::CompareOp::Always;
   s.rasterizerDiscard = false, s.depthBiasEnable = false, s.primitiveRestart = false;
+  s.logicOp = raster::LogicOp::Copy;
 
   raster::State& y = d->dynamic;
   y.topology = raster::Topology::TriangleStrip;
@@ -49,6 +50,7 @@ void makeStates(GraphicsPipelineDesc* p, DrawExecState* d) {
   y.front.failOp = raster::StencilOp::Zero, y.back.passOp = raster::StencilOp::Invert;
   y.front.compareOp = raster::CompareOp::Equal;
   y.rasterizerDiscard = true, y.depthBiasEnable = true, y.primitiveRestart = true;
+  y.logicOp = raster::LogicOp::Xor;
 }
 
 // Whether field group `bit` of `r` holds the dynamic values (true) or the pipeline's (false); -1 when mixed.
@@ -95,6 +97,7 @@ int takenFromDynamic(uint32_t bit, const raster::State& r) {
     case kDynRasterizerDiscardEnable: return pick(r.rasterizerDiscard, !r.rasterizerDiscard);
     case kDynDepthBiasEnable: return pick(r.depthBiasEnable, !r.depthBiasEnable);
     case kDynPrimitiveRestartEnable: return pick(r.primitiveRestart, !r.primitiveRestart);
+    case kDynLogicOp: return pick(r.logicOp == raster::LogicOp::Xor, r.logicOp == raster::LogicOp::Copy);
     default: return -1;
   }
 }
@@ -152,10 +155,11 @@ TEST(GfxVertexStateResolution, DynamicStateBits) {
   EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_RASTERIZER_DISCARD_ENABLE), int(kDynRasterizerDiscardEnable));
   EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE), int(kDynDepthBiasEnable));
   EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_PRIMITIVE_RESTART_ENABLE), int(kDynPrimitiveRestartEnable));
-  EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_LOGIC_OP_EXT), -1);
+  EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_LOGIC_OP_EXT), int(kDynLogicOp));
   EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_PATCH_CONTROL_POINTS_EXT), -1);
   EXPECT_EQ(dynamicBit(VK_DYNAMIC_STATE_VERTEX_INPUT_EXT), -1);
   EXPECT_STREQ(dynamicStateName(kDynStencilOp), "VK_DYNAMIC_STATE_STENCIL_OP");
+  EXPECT_STREQ(dynamicStateName(kDynLogicOp), "VK_DYNAMIC_STATE_LOGIC_OP_EXT");
 }
 
 }  // namespace
