@@ -468,11 +468,19 @@ uint64_t allocatedBytes() {
 }
 
 // Thousands of one-triangle structures (half built by one recorded command, half on the host, each with a deferred
-// operation as the CTS's build.cpuht_* cases build theirs) and a top level over them, destroyed: the memory they
-// took is returned, and a second round takes no more than the first (the CTS builds a million of them in one case).
-// The inputs and the buffers the structures live in are made before the count starts; a warm-up round traces the
-// scene (each cell's ray hits its structure's triangle) so that the launch's one-time allocations are not counted.
-TEST_F(TraceAsTest, ThousandsOfSmallStructuresReturnTheirMemoryWhenDestroyed) {
+// operation as the CTS's build.cpuht_* cases build theirs, which builds them at once) and a top level over them,
+// destroyed: the memory they took is returned, and a second round takes no more than the first (the CTS builds a
+// million of them in one case). The inputs and the buffers the structures live in are made before the count starts; a
+// warm-up round traces the scene (each cell's ray hits its structure's triangle) so that the launch's one-time
+// allocations are not counted.
+// (Without the validation layer: it keeps about 300 bytes of its own per deferred operation for which a build
+// returned VK_OPERATION_NOT_DEFERRED_KHR, measured here, which is not vkrt's memory.)
+class TraceAsMemoryTest : public TraceAsTest {
+ protected:
+  bool layer() override { return false; }
+};
+
+TEST_F(TraceAsMemoryTest, ThousandsOfSmallStructuresReturnTheirMemoryWhenDestroyed) {
   constexpr uint32_t kW = 64, kH = 32, kCount = kW * kH, kHalf = kCount / 2;
   const float ex = 4.0f / float(kW), ey = 4.0f / float(kH);
   std::vector<float> vertices;  // structure k: a triangle whose centroid is the centre of cell k at z = 1
@@ -552,9 +560,8 @@ TEST_F(TraceAsTest, ThousandsOfSmallStructuresReturnTheirMemoryWhenDestroyed) {
       info.scratchData.hostAddress = hostScratch.data();
       VkDeferredOperationKHR op = VK_NULL_HANDLE;
       EXPECT_EQ(createOp(device, nullptr, &op), VK_SUCCESS);
-      EXPECT_EQ(hostBuild(device, op, 1, &info, &pr), VK_OPERATION_DEFERRED_KHR);
-      while (joinOp(device, op) == VK_THREAD_IDLE_KHR) {
-      }
+      // (Built at once: SmallHostBuildsRunAtOnceLargerOnesAreDeferred.)
+      EXPECT_EQ(hostBuild(device, op, 1, &info, &pr), VK_OPERATION_NOT_DEFERRED_KHR);
       EXPECT_EQ(opResult(device, op), VK_SUCCESS);
       destroyOp(device, op, nullptr);
     }
