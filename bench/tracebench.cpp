@@ -30,7 +30,7 @@
 // - --tlas-builds 1e4,1e5,1e6: top-level builds of N instances alone, next to Embree's (tlasBuildFigures).
 //
 // Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
-//                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread]]
+//                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread] [--aabbs]]
 //                        [--tlas-builds N,...]
 #include <embree3/rtcore.h>
 #include <malloc.h>
@@ -72,6 +72,7 @@ struct Options {
   uint32_t manyBlas = 0;               // --many-blas N: one-triangle bottom levels (runManyBlas)
   std::vector<uint32_t> tlasBuilds;    // --tlas-builds 1e4,1e5,1e6: top-level builds alone (tlasBuildFigures)
   bool joinThread = false;             // --join-thread: each host build joined by a thread of its own (as the CTS)
+  bool aabbs = false;                  // --aabbs: --many-blas structures of one box each instead (no trace)
 };
 
 // Seconds from vkQueueSubmit of an empty command buffer to vkQueueWaitIdle's return: the fixed cost in every
@@ -895,7 +896,7 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   const uint32_t n = o.manyBlas;
   ManyBlasFigures f;
   f.count = n;
-  std::fprintf(stderr, "%u one-triangle bottom levels\n", n);
+  std::fprintf(stderr, "%u one-%s bottom levels\n", n, o.aabbs ? "box" : "triangle");
   const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
   std::vector<float> vertices(size_t(n) * 9);
   for (uint32_t k = 0; k < n; ++k) {
@@ -912,15 +913,38 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   cam.dv[1] = 1.0f / float(o.height);
   const size_t pixels = size_t(o.width) * o.height;
 
+  // --aabbs: structure k holds one box over cell k instead (as the CTS's aabbs_N_1_1 cases); not traced (the
+  // benchmark's pipeline has no intersection shader).
+  std::vector<float> boxes;
+  if (o.aabbs) {
+    boxes.resize(size_t(n) * 6);
+    for (uint32_t k = 0; k < n; ++k) {
+      const float x0 = float(k % side) / float(side), y0 = float(k / side) / float(side), e = 1.0f / float(side);
+      const float b[6] = {x0, y0, 1, x0 + e, y0 + e, 1 + e};
+      std::memcpy(&boxes[size_t(k) * 6], b, sizeof b);
+    }
+  }
+  const size_t floatsEach = o.aabbs ? 6 : 9;
+  const std::vector<float>& data = o.aabbs ? boxes : vertices;
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
   g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-  auto& tri = g.geometry.triangles;
-  tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-  tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-  tri.vertexStride = 12;
-  tri.maxVertex = 2;
-  tri.indexType = VK_INDEX_TYPE_NONE_KHR;
+  if (o.aabbs) {
+    g.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;
+    g.geometry.aabbs.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
+    g.geometry.aabbs.stride = 24;
+  } else {
+    auto& tri = g.geometry.triangles;
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    tri.vertexStride = 12;
+    tri.maxVertex = 2;
+    tri.indexType = VK_INDEX_TYPE_NONE_KHR;
+  }
+  auto dataOf = [](VkAccelerationStructureGeometryKHR& geometry) -> VkDeviceOrHostAddressConstKHR& {
+    return geometry.geometryType == VK_GEOMETRY_TYPE_AABBS_KHR ? geometry.geometry.aabbs.data
+                                                               : geometry.geometry.triangles.vertexData;
+  };
   VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
   info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
@@ -958,15 +982,17 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   };
   // A side's trace (one launch) and its destruction.
   auto traceAndDestroy = [&](std::unique_ptr<Set>& set, VkAccelerationStructureKHR top, ManyBlasSide& s) {
-    tp.bind(top, unused, unused, results);
-    VkCommandBuffer cb = tp.record(cam, o.width, o.height);
-    double start = wallSeconds();
-    c.submit(cb);
-    s.trace = wallSeconds() - start;
-    vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
-    s.hits.resize(pixels);
-    for (size_t i = 0; i < pixels; ++i) s.hits[i] = results.as<uint32_t>()[2 * i + 1];
-    start = wallSeconds();
+    if (!o.aabbs) {
+      tp.bind(top, unused, unused, results);
+      VkCommandBuffer cb = tp.record(cam, o.width, o.height);
+      const double start = wallSeconds();
+      c.submit(cb);
+      s.trace = wallSeconds() - start;
+      vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
+      s.hits.resize(pixels);
+      for (size_t i = 0; i < pixels; ++i) s.hits[i] = results.as<uint32_t>()[2 * i + 1];
+    }
+    const double start = wallSeconds();
     set.reset();
     s.destroy = wallSeconds() - start;
   };
@@ -977,7 +1003,7 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     std::vector<uint8_t> scratch(scratchEach);
     double start = wallSeconds();
     for (uint32_t k = 0; k < n; ++k) {
-      tri.vertexData.hostAddress = &vertices[size_t(k) * 9];
+      dataOf(g).hostAddress = &data[size_t(k) * floatsEach];
       info.dstAccelerationStructure = host->blases[k];
       info.scratchData.hostAddress = scratch.data();
       VkDeferredOperationKHR op;
@@ -1046,8 +1072,8 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   {
     SideMeter meter;
     auto dev = std::make_unique<Set>(n, each);
-    Buffer& vb = dev->as.buffer(vertices.size() * 4, AccelStructures::kInput);
-    std::memcpy(vb.data, vertices.data(), vertices.size() * 4);
+    Buffer& vb = dev->as.buffer(data.size() * 4, AccelStructures::kInput);
+    std::memcpy(vb.data, data.data(), data.size() * 4);
     Buffer& scratch = dev->as.buffer(n * scratchEach + 256,
                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
     const VkDeviceAddress scratchBase = alignUp(scratch.address(), 256);
@@ -1057,7 +1083,7 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
       std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n, info);
       std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges(n, &range);
       for (uint32_t k = 0; k < n; ++k) {
-        geometries[k].geometry.triangles.vertexData.deviceAddress = vb.address() + VkDeviceAddress(k) * 36;
+        dataOf(geometries[k]).deviceAddress = vb.address() + VkDeviceAddress(k) * floatsEach * 4;
         infos[k].pGeometries = &geometries[k];
         infos[k].dstAccelerationStructure = dev->blases[k];
         infos[k].scratchData.deviceAddress = scratchBase + k * scratchEach;
@@ -1089,12 +1115,26 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     double start = wallSeconds();
     for (uint32_t k = 0; k < n; ++k) {
       RTCScene s = rtcNewScene(device);
-      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      void* v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3);
-      std::memcpy(v, &vertices[size_t(k) * 9], 36);
-      auto* ix =
-          static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
-      ix[0] = 0, ix[1] = 1, ix[2] = 2;
+      RTCGeometry geo;
+      if (o.aabbs) {
+        geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geo, 1);
+        rtcSetGeometryUserData(geo, &boxes[size_t(k) * 6]);
+        rtcSetGeometryBoundsFunction(
+            geo,
+            [](const RTCBoundsFunctionArguments* a) {
+              const float* b = static_cast<const float*>(a->geometryUserPtr);
+              *a->bounds_o = RTCBounds{b[0], b[1], b[2], 0, b[3], b[4], b[5], 0};
+            },
+            nullptr);
+      } else {
+        geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        void* v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3);
+        std::memcpy(v, &vertices[size_t(k) * 9], 36);
+        auto* ix =
+            static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
+        ix[0] = 0, ix[1] = 1, ix[2] = 2;
+      }
       rtcCommitGeometry(geo);
       rtcAttachGeometryByID(s, geo, 0);
       rtcReleaseGeometry(geo);
@@ -1115,16 +1155,17 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     rtcSetSceneFlags(top, RTC_SCENE_FLAG_ROBUST);
     rtcCommitScene(top);
     f.embree.tlas = wallSeconds() - start;
-    f.embree.hits.resize(pixels);
     start = wallSeconds();
-    forEachPixel(o.width, o.height, [&](RTCIntersectContext& context, uint32_t x, uint32_t y, uint32_t pixel) {
-      float org[3], dir[3];
-      cameraRay(cam, x, y, org, dir);
-      RTCRayHit rh;
-      initRay(rh, org, dir);
-      rtcIntersect1(top, &context, &rh);
-      f.embree.hits[pixel] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.instID[0] + 1;
-    });
+    if (!o.aabbs) f.embree.hits.resize(pixels);
+    if (!o.aabbs)
+      forEachPixel(o.width, o.height, [&](RTCIntersectContext& context, uint32_t x, uint32_t y, uint32_t pixel) {
+        float org[3], dir[3];
+        cameraRay(cam, x, y, org, dir);
+        RTCRayHit rh;
+        initRay(rh, org, dir);
+        rtcIntersect1(top, &context, &rh);
+        f.embree.hits[pixel] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.instID[0] + 1;
+      });
     f.embree.trace = wallSeconds() - start;
     start = wallSeconds();
     rtcReleaseScene(top);
@@ -1267,7 +1308,7 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
   std::fprintf(stderr,
                "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
                "[--min-time S] [--vkrt-only] [--gltf model.glb] [--many-tlas N,N,...] [--many-blas N "
-               "[--join-thread]] [--tlas-builds N,N,...]\n  sizes: even "
+               "[--join-thread] [--aabbs]] [--tlas-builds N,N,...]\n  sizes: even "
                "triangle counts (1e6 style allowed); image sides multiples of 8\n");
   std::exit(2);
 }
@@ -1326,6 +1367,8 @@ Options parse(int argc, char** argv) {
       }
     } else if (a == "--join-thread") {
       o.joinThread = true;
+    } else if (a == "--aabbs") {
+      o.aabbs = true;
     } else if (a == "--vkrt-only") {
       o.vkrtOnly = true;
     } else if (a == "--quick") {
@@ -1390,9 +1433,9 @@ int main(int argc, char** argv) {
   if (o.manyBlas) {
     const ManyBlasFigures f = runManyBlas(o, device);
     std::printf(
-        "\nvkrt_tracebench --many-blas: %u threads, %u one-triangle bottom levels, a top level of %u instances, "
+        "\nvkrt_tracebench --many-blas: %u threads, %u one-%s bottom levels, a top level of %u instances, "
         "%ux%u primary rays, destruction (seconds; MB over the side's start)\n",
-        workerThreads(), f.count, f.count, o.width, o.height);
+        workerThreads(), f.count, o.aabbs ? "box" : "triangle", f.count, o.width, o.height);
     std::printf("%-28s %8s %8s %8s %8s %8s | %9s %8s %8s %7s %8s\n", "", "BLASes", "TLAS", "trace", "destroy", "total",
                 "peak RSS", "B/struct", "kept", "heap", "agree");
     const ManyBlasSide* ref = f.embree.ran ? &f.embree : &f.device;
@@ -1400,9 +1443,12 @@ int main(int argc, char** argv) {
       if (!s.ran) return;
       size_t hit = 0, same = 0;
       for (size_t i = 0; i < s.hits.size(); ++i) hit += s.hits[i] != 0, same += s.hits[i] == ref->hits[i];
-      std::printf("%-28s %8.3f %8.3f %8.3f %8.3f %8.3f | %9.1f %8.0f %8.1f %7.1f %7.2f%%  (%zu pixels hit)\n", name,
-                  s.blas, s.tlas, s.trace, s.destroy, s.total(), s.peakMB, s.peakMB * (1 << 20) / f.count, s.keptMB,
-                  s.heapKeptMB, 100.0 * double(same) / double(s.hits.size()), hit);
+      std::printf("%-28s %8.3f %8.3f %8.3f %8.3f %8.3f | %9.1f %8.0f %8.1f %7.1f", name, s.blas, s.tlas, s.trace,
+                  s.destroy, s.total(), s.peakMB, s.peakMB * (1 << 20) / f.count, s.keptMB, s.heapKeptMB);
+      if (s.hits.empty())
+        std::printf("        -  (not traced)\n");
+      else
+        std::printf(" %7.2f%%  (%zu pixels hit)\n", 100.0 * double(same) / double(s.hits.size()), hit);
     };
     row(o.joinThread ? "vkrt host (deferred, thread)" : "vkrt host (deferred, joined)", f.host);
     row("vkrt recorded (one command)", f.device);
