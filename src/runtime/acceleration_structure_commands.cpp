@@ -411,7 +411,8 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresKHR(
       return;
   }
   if (!checkDistinct(cb, fn, jobs)) return;
-  cb->record([cb, jobs](ExecState&) { runJobs(cb, "vkCmdBuildAccelerationStructuresKHR", jobs); });
+  // (Moved, not copied: a command of a million infos holds a few hundred MB of them.)
+  cb->record([cb, jobs = std::move(jobs)](ExecState&) { runJobs(cb, "vkCmdBuildAccelerationStructuresKHR", jobs); });
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_CmdBuildAccelerationStructuresIndirectKHR(
