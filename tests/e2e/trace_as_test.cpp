@@ -303,17 +303,9 @@ TEST_F(TraceAsTest, HostBuildsWithADeferredOperationTraceTheSame) {
     }
     return as;
   };
-  VkAccelerationStructureGeometryKHR tg{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  tg.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-  tg.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-  auto& t = tg.geometry.triangles;
-  t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-  t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-  t.vertexData.hostAddress = kQuad.data();
-  t.vertexStride = 12;
-  t.maxVertex = 3;
-  t.indexType = VK_INDEX_TYPE_UINT32;
-  t.indexData.hostAddress = kQuadIndices.data();
+  VkAccelerationStructureGeometryKHR tg = opaqueTriangles(3, VK_INDEX_TYPE_UINT32);
+  tg.geometry.triangles.vertexData.hostAddress = kQuad.data();
+  tg.geometry.triangles.indexData.hostAddress = kQuadIndices.data();
   VkAccelerationStructureKHR quad = hostBuildOf(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, tg, 2, VK_NULL_HANDLE);
   std::vector<VkAccelerationStructureInstanceKHR> instances = {instance(quad, 0.1f, 0, 5, 10, 0),
                                                                instance(quad, 1.6f, 0, 2, 20, 1)};
@@ -506,15 +498,7 @@ TEST_F(TraceAsMemoryTest, ThousandsOfSmallStructuresReturnTheirMemoryWhenDestroy
   const VkDeviceAddress instanceData = upload(instances);
   PFN_vkBuildAccelerationStructuresKHR hostBuild = nullptr;
   if (asf.accelerationStructureHostCommands) load(hostBuild, "vkBuildAccelerationStructuresKHR");
-  VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-  g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-  auto& t = g.geometry.triangles;
-  t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-  t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-  t.vertexStride = 12;
-  t.maxVertex = 2;
-  t.indexType = VK_INDEX_TYPE_NONE_KHR;
+  const VkAccelerationStructureGeometryKHR g = opaqueTriangles(2, VK_INDEX_TYPE_NONE_KHR);
   const VkAccelerationStructureBuildRangeInfoKHR one{1, 0, 0, 0}, all{kCount, 0, 0, 0};
   // One round: creates and builds everything, returns the top level (the caller destroys the structures).
   std::vector<VkAccelerationStructureKHR> made;

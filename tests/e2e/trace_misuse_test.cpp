@@ -387,17 +387,9 @@ TEST_F(TraceMisuseTest, SmallHostBuildsRunAtOnceLargerOnesAreDeferred) {
       }
     for (uint32_t t = 0; t < triangles; ++t)
       for (int k = 0; k < 3; ++k) indices.push_back(4 * (t / 2) + kQuadIndices[3 * (t % 2) + k]);
-    VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-    auto& t = g.geometry.triangles;
-    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-    t.vertexData.hostAddress = vertices.data();
-    t.vertexStride = 12;
-    t.maxVertex = uint32_t(vertices.size() / 3 - 1);
-    t.indexType = VK_INDEX_TYPE_UINT32;
-    t.indexData.hostAddress = indices.data();
+    VkAccelerationStructureGeometryKHR g = opaqueTriangles(uint32_t(vertices.size() / 3 - 1), VK_INDEX_TYPE_UINT32);
+    g.geometry.triangles.vertexData.hostAddress = vertices.data();
+    g.geometry.triangles.indexData.hostAddress = indices.data();
     return g;
   };
   std::vector<uint8_t> scratch(4096);
