@@ -258,8 +258,8 @@ bool runJobs(const Object* about, const char* fn, const std::vector<BuildJob>& j
 }
 
 // Whether a host build with a deferred operation runs at once instead (vkBuildAccelerationStructuresKHR): bottom
-// levels of at most kBuildNowPrimitives primitives in all, whose build (no Embree scene below 17 primitives, a small
-// one above) costs less than a thread joining the operation.
+// levels of at most kBuildNowPrimitives primitives in all (small structures: a copy of the inputs, no Embree scene),
+// whose build costs less than a thread joining the operation.
 constexpr uint64_t kBuildNowPrimitives = 16;
 bool buildsNow(const std::vector<BuildJob>& jobs) {
   uint64_t primitives = 0;
