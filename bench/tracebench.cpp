@@ -25,13 +25,16 @@
 //   Embree tracing the same rays through N instance scenes (runManyTlas).
 // - --many-blas 65536: N one-triangle bottom levels and their top level, built on the host (one deferred operation
 //   per structure, joined by the calling thread, or with --join-thread by a new thread each, as the CTS does) and
-//   in one recorded command, next to Embree building N scenes and an instance scene (runManyBlas).
+//   in one recorded command, traced (--image rays) and destroyed, next to Embree building, tracing and releasing N
+//   scenes and an instance scene; seconds per phase and memory (peak, what destruction leaves) (runManyBlas).
 // - --tlas-builds 1e4,1e5,1e6: top-level builds of N instances alone, next to Embree's (tlasBuildFigures).
 //
 // Usage: vkrt_tracebench [--threads N] [--sizes 1e4,1e6,1e7] [--json out.json] [--quick] [--image WxH]
-//                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread]]
+//                        [--min-time S] [--vkrt-only] [--many-tlas N,...] [--many-blas N [--join-thread] [--aabbs]]
 //                        [--tlas-builds N,...]
 #include <embree3/rtcore.h>
+#include <malloc.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +48,7 @@
 #include "bench_common.hpp"
 #include "gltf_util.hpp"
 #include "trace_hit.rchit.spv.h"
+#include "trace_instance.rchit.spv.h"
 #include "trace_many.rgen.spv.h"
 #include "trace_miss.rmiss.spv.h"
 #include "trace_paths.rgen.spv.h"
@@ -68,6 +72,7 @@ struct Options {
   uint32_t manyBlas = 0;               // --many-blas N: one-triangle bottom levels (runManyBlas)
   std::vector<uint32_t> tlasBuilds;    // --tlas-builds 1e4,1e5,1e6: top-level builds alone (tlasBuildFigures)
   bool joinThread = false;             // --join-thread: each host build joined by a thread of its own (as the CTS)
+  bool aabbs = false;                  // --aabbs: --many-blas structures of one box each instead (no trace)
 };
 
 // Seconds from vkQueueSubmit of an empty command buffer to vkQueueWaitIdle's return: the fixed cost in every
@@ -434,8 +439,11 @@ VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * 
 // The pipeline (raygen, miss, triangle hit group), its SBT, and a descriptor set with the TLAS and the terrain.
 struct TracePipeline : RayPipeline {
   // `raygen`: trace_paths.rgen, or trace_many.rgen (the same layout: binding 0 unused there).
+  // `hit`: trace_hit.rchit (t and the primitive), or trace_instance.rchit (t and the instance).
   explicit TracePipeline(const uint32_t* raygenWords = kSpv_trace_paths_rgen,
-                         size_t raygenBytes = sizeof kSpv_trace_paths_rgen) {
+                         size_t raygenBytes = sizeof kSpv_trace_paths_rgen,
+                         const uint32_t* hitWords = kSpv_trace_hit_rchit,
+                         size_t hitBytes = sizeof kSpv_trace_hit_rchit) {
     Context& c = ctx();
     const VkShaderStageFlags rg = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
     const VkDescriptorSetLayoutBinding b[4] = {{0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, rg, nullptr},
@@ -456,7 +464,7 @@ struct TracePipeline : RayPipeline {
 
     VkShaderModule modules[3] = {shaderModule(raygenWords, raygenBytes),
                                  shaderModule(kSpv_trace_miss_rmiss, sizeof kSpv_trace_miss_rmiss),
-                                 shaderModule(kSpv_trace_hit_rchit, sizeof kSpv_trace_hit_rchit)};
+                                 shaderModule(hitWords, hitBytes)};
     const VkShaderStageFlagBits stageBits[3] = {VK_SHADER_STAGE_RAYGEN_BIT_KHR, VK_SHADER_STAGE_MISS_BIT_KHR,
                                                 VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR};
     VkPipelineShaderStageCreateInfo stages[3];
@@ -815,15 +823,72 @@ std::vector<ManyTlasFigures> runManyTlas(const Options& o, RTCDevice device) {
 }
 
 // --many-blas N: N bottom-level structures of one triangle each and a top level of N instances of them, as the
-// CTS's ray_tracing_pipeline.build.*.level_instances.triangles_65536_1_1 builds them (cell k of a square grid
-// holds triangle k): on the host (one vkBuildAccelerationStructuresKHR per structure with a deferred operation
-// that the calling thread joins, as the cpuht_1 variant does) and recorded (one vkCmdBuildAccelerationStructuresKHR
-// with N infos), next to Embree building N scenes and an instance scene over them in the same process.
+// CTS's ray_tracing_pipeline.build.*.level_instances.triangles_N_1_1 builds them (cell k of a square grid holds
+// triangle k): on the host (one vkBuildAccelerationStructuresKHR per structure with a deferred operation that the
+// calling thread joins, as the cpuht_1 variant does) and recorded (one vkCmdBuildAccelerationStructuresKHR with N
+// infos), next to Embree building N scenes and an instance scene over them in the same process. Each side then
+// traces one primary ray per pixel of --image at the grid (rtcIntersect1 on Embree's side; the pixels must hit the
+// same instances) and destroys everything. Per side: seconds of each phase, and memory: the resident set's peak
+// over the side's run and what stays resident (after malloc_trim) and allocated (malloc's in-use bytes) once it is
+// destroyed, each above what it was before the side began.
+struct ManyBlasSide {
+  bool ran = false;
+  double blas = 0, tlas = 0, trace = 0, destroy = 0;  // seconds
+  double peakMB = 0;                                  // resident set's peak during the side, over its start
+  double keptMB = 0, heapKeptMB = 0;                  // resident / malloc'd after destruction, over the start
+  std::vector<uint32_t> hits;                         // per pixel: instance + 1, 0 for a miss
+  double total() const { return blas + tlas + trace + destroy; }
+};
 struct ManyBlasFigures {
   uint32_t count = 0;
-  double hostBlas = 0, hostTlas = 0;      // seconds
-  double deviceBlas = 0, deviceTlas = 0;  // seconds (submit to idle)
-  double embreeBlas = 0, embreeTlas = 0;  // seconds (scene set-up and commits; the instance scene's)
+  ManyBlasSide host, device, embree;
+};
+
+double residentMB() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return double(resident) * double(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+// The resident set's peak (VmHWM) since the last resetPeak (Linux: writing 5 to clear_refs resets it).
+double peakResidentMB() {
+  double kb = 0;
+  if (FILE* f = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "VmHWM: %lf kB", &kb) == 1) break;
+    std::fclose(f);
+  }
+  return kb / 1024;
+}
+void resetPeak() {
+  if (FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+    std::fputs("5", f);
+    std::fclose(f);
+  }
+}
+double heapMB() {
+  const struct mallinfo2 m = mallinfo2();
+  return double(m.uordblks + m.hblkhd) / (1 << 20);
+}
+
+// Measures one side: `run` does the whole side, calling `mark(phase seconds)` at the end of each phase.
+struct SideMeter {
+  double rss0, heap0;
+  SideMeter() {
+    resetPeak();
+    rss0 = residentMB();
+    heap0 = heapMB();
+  }
+  void finish(ManyBlasSide& s) const {
+    s.ran = true;
+    s.peakMB = peakResidentMB() - rss0;
+    malloc_trim(0);  // what was freed goes back to the system: "kept" is what is still held
+    s.keptMB = residentMB() - rss0;
+    s.heapKeptMB = heapMB() - heap0;
+  }
 };
 
 ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
@@ -831,7 +896,7 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   const uint32_t n = o.manyBlas;
   ManyBlasFigures f;
   f.count = n;
-  std::fprintf(stderr, "%u one-triangle bottom levels\n", n);
+  std::fprintf(stderr, "%u one-%s bottom levels\n", n, o.aabbs ? "box" : "triangle");
   const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
   std::vector<float> vertices(size_t(n) * 9);
   for (uint32_t k = 0; k < n; ++k) {
@@ -839,15 +904,47 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     const float v[9] = {x0, y0, 1, x0 + e, y0 + 0.5f * e, 1, x0 + 0.5f * e, y0 + e, 1};
     std::memcpy(&vertices[size_t(k) * 9], v, sizeof v);
   }
+  // The rays: from (0.5, 0.5, 0) through each pixel of the unit square at z = 1.
+  Camera cam{};
+  cam.origin[0] = cam.origin[1] = 0.5f;
+  cam.lowerLeft[0] = cam.lowerLeft[1] = -0.5f;
+  cam.lowerLeft[2] = 1;
+  cam.du[0] = 1.0f / float(o.width);
+  cam.dv[1] = 1.0f / float(o.height);
+  const size_t pixels = size_t(o.width) * o.height;
+
+  // --aabbs: structure k holds one box over cell k instead (as the CTS's aabbs_N_1_1 cases); not traced (the
+  // benchmark's pipeline has no intersection shader).
+  std::vector<float> boxes;
+  if (o.aabbs) {
+    boxes.resize(size_t(n) * 6);
+    for (uint32_t k = 0; k < n; ++k) {
+      const float x0 = float(k % side) / float(side), y0 = float(k / side) / float(side), e = 1.0f / float(side);
+      const float b[6] = {x0, y0, 1, x0 + e, y0 + e, 1 + e};
+      std::memcpy(&boxes[size_t(k) * 6], b, sizeof b);
+    }
+  }
+  const size_t floatsEach = o.aabbs ? 6 : 9;
+  const std::vector<float>& data = o.aabbs ? boxes : vertices;
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-  g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
   g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
-  auto& tri = g.geometry.triangles;
-  tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-  tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-  tri.vertexStride = 12;
-  tri.maxVertex = 2;
-  tri.indexType = VK_INDEX_TYPE_NONE_KHR;
+  if (o.aabbs) {
+    g.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;
+    g.geometry.aabbs.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
+    g.geometry.aabbs.stride = 24;
+  } else {
+    auto& tri = g.geometry.triangles;
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    tri.vertexStride = 12;
+    tri.maxVertex = 2;
+    tri.indexType = VK_INDEX_TYPE_NONE_KHR;
+  }
+  auto dataOf = [](VkAccelerationStructureGeometryKHR& geometry) -> VkDeviceOrHostAddressConstKHR& {
+    return geometry.geometryType == VK_GEOMETRY_TYPE_AABBS_KHR ? geometry.geometry.aabbs.data
+                                                               : geometry.geometry.triangles.vertexData;
+  };
   VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
   info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
@@ -860,6 +957,9 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
   const VkDeviceSize scratchEach = alignUp(std::max<VkDeviceSize>(sizes.buildScratchSize, 1), 256);
   const VkAccelerationStructureBuildRangeInfoKHR range{1, 0, 0, 0};
   const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+  TracePipeline tp(kSpv_trace_paths_rgen, sizeof kSpv_trace_paths_rgen, kSpv_trace_instance_rchit,
+                   sizeof kSpv_trace_instance_rchit);
+  Buffer unused(64), results(pixels * 8);
 
   // N structures in one buffer (as the CTS's pool places them), and a top level over them.
   struct Set {
@@ -880,14 +980,31 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
       as.structures = blases;  // destroyed with `as`
     }
   };
+  // A side's trace (one launch) and its destruction.
+  auto traceAndDestroy = [&](std::unique_ptr<Set>& set, VkAccelerationStructureKHR top, ManyBlasSide& s) {
+    if (!o.aabbs) {
+      tp.bind(top, unused, unused, results);
+      VkCommandBuffer cb = tp.record(cam, o.width, o.height);
+      const double start = wallSeconds();
+      c.submit(cb);
+      s.trace = wallSeconds() - start;
+      vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
+      s.hits.resize(pixels);
+      for (size_t i = 0; i < pixels; ++i) s.hits[i] = results.as<uint32_t>()[2 * i + 1];
+    }
+    const double start = wallSeconds();
+    set.reset();
+    s.destroy = wallSeconds() - start;
+  };
 
   if (c.hostCommands) {
-    Set host(n, each);
+    SideMeter meter;
+    auto host = std::make_unique<Set>(n, each);
     std::vector<uint8_t> scratch(scratchEach);
     double start = wallSeconds();
     for (uint32_t k = 0; k < n; ++k) {
-      tri.vertexData.hostAddress = &vertices[size_t(k) * 9];
-      info.dstAccelerationStructure = host.blases[k];
+      dataOf(g).hostAddress = &data[size_t(k) * floatsEach];
+      info.dstAccelerationStructure = host->blases[k];
       info.scratchData.hostAddress = scratch.data();
       VkDeferredOperationKHR op;
       CHECK(c.createDeferred(c.device, nullptr, &op));
@@ -911,12 +1028,12 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
       if (r != VK_SUCCESS) fail("vkBuildAccelerationStructuresKHR", r);
       c.destroyDeferred(c.device, op, nullptr);
     }
-    f.hostBlas = wallSeconds() - start;
+    f.host.blas = wallSeconds() - start;
     // The top level on the host: instances refer to structures by handle.
     std::vector<VkAccelerationStructureInstanceKHR> instances(n);
     for (uint32_t k = 0; k < n; ++k) {
-      instances[k] = host.as.identityInstance(host.blases[k]);
-      instances[k].accelerationStructureReference = reinterpret_cast<uint64_t>(host.blases[k]);
+      instances[k] = host->as.identityInstance(host->blases[k]);
+      instances[k].accelerationStructureReference = reinterpret_cast<uint64_t>(host->blases[k]);
     }
     VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
     ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
@@ -930,15 +1047,15 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     VkAccelerationStructureBuildSizesInfoKHR ts{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
     c.buildSizes(c.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_HOST_OR_DEVICE_KHR, &ti, &n, &ts);
     Buffer& storage =
-        host.as.buffer(ts.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
-                                                         VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+        host->as.buffer(ts.accelerationStructureSize, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                                                          VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
     VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
     ci.buffer = storage.buffer;
     ci.size = ts.accelerationStructureSize;
     ci.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
     VkAccelerationStructureKHR top;
     CHECK(c.createAs(c.device, &ci, nullptr, &top));
-    host.as.structures.push_back(top);
+    host->as.structures.push_back(top);
     std::vector<uint8_t> topScratch(ts.buildScratchSize + 1);
     ti.dstAccelerationStructure = top;
     ti.scratchData.hostAddress = topScratch.data();
@@ -946,52 +1063,78 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     const VkAccelerationStructureBuildRangeInfoKHR* ptr = &tr;
     start = wallSeconds();
     CHECK(c.hostBuild(c.device, VK_NULL_HANDLE, 1, &ti, &ptr));
-    f.hostTlas = wallSeconds() - start;
+    f.host.tlas = wallSeconds() - start;
+    std::vector<VkAccelerationStructureInstanceKHR>().swap(instances);  // (its memory too)
+    traceAndDestroy(host, top, f.host);
+    meter.finish(f.host);
   }
 
   {
-    Set dev(n, each);
-    Buffer& vb = dev.as.buffer(vertices.size() * 4, AccelStructures::kInput);
-    std::memcpy(vb.data, vertices.data(), vertices.size() * 4);
-    Buffer& scratch = dev.as.buffer(n * scratchEach + 256,
-                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    SideMeter meter;
+    auto dev = std::make_unique<Set>(n, each);
+    Buffer& vb = dev->as.buffer(data.size() * 4, AccelStructures::kInput);
+    std::memcpy(vb.data, data.data(), data.size() * 4);
+    Buffer& scratch = dev->as.buffer(n * scratchEach + 256,
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
     const VkDeviceAddress scratchBase = alignUp(scratch.address(), 256);
-    std::vector<VkAccelerationStructureGeometryKHR> geometries(n, g);
-    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n, info);
-    std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges(n, &range);
-    for (uint32_t k = 0; k < n; ++k) {
-      geometries[k].geometry.triangles.vertexData.deviceAddress = vb.address() + VkDeviceAddress(k) * 36;
-      infos[k].pGeometries = &geometries[k];
-      infos[k].dstAccelerationStructure = dev.blases[k];
-      infos[k].scratchData.deviceAddress = scratchBase + k * scratchEach;
-    }
     VkCommandBuffer cb = c.allocate();
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    CHECK(vkBeginCommandBuffer(cb, &bi));
-    c.cmdBuild(cb, n, infos.data(), ranges.data());
-    CHECK(vkEndCommandBuffer(cb));
+    {
+      std::vector<VkAccelerationStructureGeometryKHR> geometries(n, g);
+      std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n, info);
+      std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges(n, &range);
+      for (uint32_t k = 0; k < n; ++k) {
+        dataOf(geometries[k]).deviceAddress = vb.address() + VkDeviceAddress(k) * floatsEach * 4;
+        infos[k].pGeometries = &geometries[k];
+        infos[k].dstAccelerationStructure = dev->blases[k];
+        infos[k].scratchData.deviceAddress = scratchBase + k * scratchEach;
+      }
+      VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+      CHECK(vkBeginCommandBuffer(cb, &bi));
+      c.cmdBuild(cb, n, infos.data(), ranges.data());
+      CHECK(vkEndCommandBuffer(cb));
+    }
     double start = wallSeconds();
     c.submit(cb);
-    f.deviceBlas = wallSeconds() - start;
+    f.device.blas = wallSeconds() - start;
     vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
     std::vector<VkAccelerationStructureInstanceKHR> instances(n);
-    for (uint32_t k = 0; k < n; ++k) instances[k] = dev.as.identityInstance(dev.blases[k]);
-    const VkAccelerationStructureGeometryKHR ig = dev.as.instances(instances.data(), n);
-    f.deviceTlas = dev.as.timeBuilds(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, n, 1);
+    for (uint32_t k = 0; k < n; ++k) instances[k] = dev->as.identityInstance(dev->blases[k]);
+    const VkAccelerationStructureGeometryKHR ig = dev->as.instances(instances.data(), n);
+    std::vector<VkAccelerationStructureInstanceKHR>().swap(instances);  // (its memory too)
+    start = wallSeconds();
+    const VkAccelerationStructureKHR top = dev->as.build(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, n);
+    f.device.tlas = wallSeconds() - start;
+    traceAndDestroy(dev, top, f.device);
+    meter.finish(f.device);
   }
 
   if (!o.vkrtOnly) {
     // Embree: each triangle in a scene of its own (robust, as vkrt builds), then an instance scene over them.
+    SideMeter meter;
     std::vector<RTCScene> scenes(n);
     double start = wallSeconds();
     for (uint32_t k = 0; k < n; ++k) {
       RTCScene s = rtcNewScene(device);
-      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      void* v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3);
-      std::memcpy(v, &vertices[size_t(k) * 9], 36);
-      auto* ix =
-          static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
-      ix[0] = 0, ix[1] = 1, ix[2] = 2;
+      RTCGeometry geo;
+      if (o.aabbs) {
+        geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geo, 1);
+        rtcSetGeometryUserData(geo, &boxes[size_t(k) * 6]);
+        rtcSetGeometryBoundsFunction(
+            geo,
+            [](const RTCBoundsFunctionArguments* a) {
+              const float* b = static_cast<const float*>(a->geometryUserPtr);
+              *a->bounds_o = RTCBounds{b[0], b[1], b[2], 0, b[3], b[4], b[5], 0};
+            },
+            nullptr);
+      } else {
+        geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        void* v = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3);
+        std::memcpy(v, &vertices[size_t(k) * 9], 36);
+        auto* ix =
+            static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
+        ix[0] = 0, ix[1] = 1, ix[2] = 2;
+      }
       rtcCommitGeometry(geo);
       rtcAttachGeometryByID(s, geo, 0);
       rtcReleaseGeometry(geo);
@@ -999,7 +1142,7 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
       rtcCommitScene(s);
       scenes[k] = s;
     }
-    f.embreeBlas = wallSeconds() - start;
+    f.embree.blas = wallSeconds() - start;
     start = wallSeconds();
     RTCScene top = rtcNewScene(device);
     for (uint32_t k = 0; k < n; ++k) {
@@ -1011,9 +1154,25 @@ ManyBlasFigures runManyBlas(const Options& o, RTCDevice device) {
     }
     rtcSetSceneFlags(top, RTC_SCENE_FLAG_ROBUST);
     rtcCommitScene(top);
-    f.embreeTlas = wallSeconds() - start;
+    f.embree.tlas = wallSeconds() - start;
+    start = wallSeconds();
+    if (!o.aabbs) f.embree.hits.resize(pixels);
+    if (!o.aabbs)
+      forEachPixel(o.width, o.height, [&](RTCIntersectContext& context, uint32_t x, uint32_t y, uint32_t pixel) {
+        float org[3], dir[3];
+        cameraRay(cam, x, y, org, dir);
+        RTCRayHit rh;
+        initRay(rh, org, dir);
+        rtcIntersect1(top, &context, &rh);
+        f.embree.hits[pixel] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.instID[0] + 1;
+      });
+    f.embree.trace = wallSeconds() - start;
+    start = wallSeconds();
     rtcReleaseScene(top);
     for (RTCScene s : scenes) rtcReleaseScene(s);
+    std::vector<RTCScene>().swap(scenes);
+    f.embree.destroy = wallSeconds() - start;
+    meter.finish(f.embree);
   }
   return f;
 }
@@ -1149,7 +1308,7 @@ void writeJson(const Options& o, const std::vector<SizeFigures>& all, double sub
   std::fprintf(stderr,
                "usage: vkrt_tracebench [--threads N] [--sizes N,N,...] [--json out.json] [--quick] [--image WxH] "
                "[--min-time S] [--vkrt-only] [--gltf model.glb] [--many-tlas N,N,...] [--many-blas N "
-               "[--join-thread]] [--tlas-builds N,N,...]\n  sizes: even "
+               "[--join-thread] [--aabbs]] [--tlas-builds N,N,...]\n  sizes: even "
                "triangle counts (1e6 style allowed); image sides multiples of 8\n");
   std::exit(2);
 }
@@ -1208,6 +1367,8 @@ Options parse(int argc, char** argv) {
       }
     } else if (a == "--join-thread") {
       o.joinThread = true;
+    } else if (a == "--aabbs") {
+      o.aabbs = true;
     } else if (a == "--vkrt-only") {
       o.vkrtOnly = true;
     } else if (a == "--quick") {
@@ -1272,19 +1433,26 @@ int main(int argc, char** argv) {
   if (o.manyBlas) {
     const ManyBlasFigures f = runManyBlas(o, device);
     std::printf(
-        "\nvkrt_tracebench --many-blas: %u threads, %u one-triangle bottom levels and a top level of %u "
-        "instances (seconds)\n",
-        workerThreads(), f.count, f.count);
-    std::printf("%-28s %10s %10s %10s\n", "", "BLASes", "TLAS", "total");
-    if (ctx().hostCommands)
-      std::printf("%-28s %10.3f %10.3f %10.3f\n",
-                  o.joinThread ? "vkrt host (deferred, thread)" : "vkrt host (deferred, joined)", f.hostBlas,
-                  f.hostTlas, f.hostBlas + f.hostTlas);
-    std::printf("%-28s %10.3f %10.3f %10.3f\n", "vkrt recorded (one command)", f.deviceBlas, f.deviceTlas,
-                f.deviceBlas + f.deviceTlas);
-    if (!o.vkrtOnly)
-      std::printf("%-28s %10.3f %10.3f %10.3f\n", "Embree (scenes, instances)", f.embreeBlas, f.embreeTlas,
-                  f.embreeBlas + f.embreeTlas);
+        "\nvkrt_tracebench --many-blas: %u threads, %u one-%s bottom levels, a top level of %u instances, "
+        "%ux%u primary rays, destruction (seconds; MB over the side's start)\n",
+        workerThreads(), f.count, o.aabbs ? "box" : "triangle", f.count, o.width, o.height);
+    std::printf("%-28s %8s %8s %8s %8s %8s | %9s %8s %8s %7s %8s\n", "", "BLASes", "TLAS", "trace", "destroy", "total",
+                "peak RSS", "B/struct", "kept", "heap", "agree");
+    const ManyBlasSide* ref = f.embree.ran ? &f.embree : &f.device;
+    auto row = [&](const char* name, const ManyBlasSide& s) {
+      if (!s.ran) return;
+      size_t hit = 0, same = 0;
+      for (size_t i = 0; i < s.hits.size(); ++i) hit += s.hits[i] != 0, same += s.hits[i] == ref->hits[i];
+      std::printf("%-28s %8.3f %8.3f %8.3f %8.3f %8.3f | %9.1f %8.0f %8.1f %7.1f", name, s.blas, s.tlas, s.trace,
+                  s.destroy, s.total(), s.peakMB, s.peakMB * (1 << 20) / f.count, s.keptMB, s.heapKeptMB);
+      if (s.hits.empty())
+        std::printf("        -  (not traced)\n");
+      else
+        std::printf(" %7.2f%%  (%zu pixels hit)\n", 100.0 * double(same) / double(s.hits.size()), hit);
+    };
+    row(o.joinThread ? "vkrt host (deferred, thread)" : "vkrt host (deferred, joined)", f.host);
+    row("vkrt recorded (one command)", f.device);
+    row("Embree (scenes, instances)", f.embree);
   }
   if (!o.tlasBuilds.empty()) {
     std::printf("\nvkrt_tracebench --tlas-builds: %u threads, top levels of N instances of a 128-triangle terrain\n",

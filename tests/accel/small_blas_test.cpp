@@ -188,5 +188,38 @@ TEST(AccelSmallBlas, InstancesPastTheFlattenedBoundAreInstanced) {
   }
 }
 
+// Small structures of boxes are not flattened: each gets an Embree scene when a top level first instances it, once
+// however many instances share it (here two each). Every box is found by the ray through its cell, through either
+// instance, with the instance and primitive it must report.
+TEST(AccelSmallBlas, ThousandsOfOneBoxStructuresGetTheirScenesOnceAndHit) {
+  constexpr uint32_t kCount = 4096, kRow = 64;
+  std::vector<std::shared_ptr<Blas>> blases;
+  for (uint32_t k = 0; k < kCount; ++k) {
+    const float x = float(k % kRow), y = float(k / kRow);
+    blases.push_back(makeBlas({boxes({{x + 0.25f, y + 0.25f, 1, x + 0.75f, y + 0.75f, 2}})}));
+  }
+  std::vector<Instance> instances;
+  for (int copy = 0; copy < 2; ++copy)
+    for (uint32_t k = 0; k < kCount; ++k) {
+      instances.push_back(translated(blases[k], 0, 0, copy ? 10.0f : 0.0f));
+      instances.back().customIndex = k;
+    }
+  auto tlas = makeTlas(instances);
+  for (uint32_t k = 0; k < kCount; k += 37) {
+    for (int copy = 0; copy < 2; ++copy) {
+      const float x = float(k % kRow) + 0.5f, y = float(k / kRow) + 0.5f;
+      Recorder rec;
+      rec.onIntersect = [](ProceduralCandidate& c) { c.commit(c.tMin(), 0, false); };
+      // Rays from below meet the lower copy first; rays from above z = 20 going down meet the upper one first.
+      const Traced t = traceOnce(*tlas, copy ? rayFrom(x, y, 20, 0, 0, -1) : rayFrom(x, y, 0, 0, 0, 1), rec);
+      ASSERT_TRUE(t.hit) << "structure " << k << ", copy " << copy;
+      EXPECT_FALSE(t.info.triangle);
+      EXPECT_EQ(t.info.instanceIndex, k + uint32_t(copy) * kCount);
+      EXPECT_EQ(t.info.customIndex, k);
+      EXPECT_EQ(t.info.primitiveIndex, 0u);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace vkrt::accel::test

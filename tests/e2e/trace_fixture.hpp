@@ -259,6 +259,20 @@ class TraceTest : public RtTest {
     g.primitives = uint32_t(indices.size() / 3);
     return g;
   }
+  // An opaque triangle geometry of float3 vertices (stride 12) with `maxVertex` and `indexType`; its data addresses
+  // are the caller's to set.
+  static VkAccelerationStructureGeometryKHR opaqueTriangles(uint32_t maxVertex, VkIndexType indexType) {
+    VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    auto& t = g.geometry.triangles;
+    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    t.vertexStride = 12;
+    t.maxVertex = maxVertex;
+    t.indexType = indexType;
+    return g;
+  }
   Geometry aabbs(const std::vector<VkAabbPositionsKHR>& boxes, VkGeometryFlagsKHR flags) {
     Geometry g;
     g.geometry.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;

@@ -297,5 +297,172 @@ TEST_F(TraceMisuseTest, HundredsOfTopLevelsInOneLaunchResolveOnceEach) {
   EXPECT_LT(growth, 2u << 20) << "resident memory grew by " << growth << " bytes over two launches";
 }
 
+// The infos of one build command build distinct structures: the same destination twice
+// (VUID-vkCmdBuildAccelerationStructuresKHR-dstAccelerationStructure-03698) or an update whose source is another
+// info's destination (-pInfos-03403) is reported, naming both infos, and the command records nothing; distinct
+// infos, an update in place among them, are not reported and build. (The check sorts the infos once: a command of
+// a million infos, as the CTS's build.*_1048576 cases record, took minutes when it compared every pair.)
+TEST_F(TraceMisuseTest, OneCommandsInfosBuildDistinctStructures) {
+  const Geometry g = triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR);
+  const VkBuildAccelerationStructureFlagsKHR flags = VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR;
+  const VkAccelerationStructureKHR built = build(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, {g}, flags);
+  auto fresh = [&] {
+    VkAccelerationStructureCreateInfoKHR ci = storageOf[built];
+    ci.buffer = buffer(ci.size, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR).buffer;
+    VkAccelerationStructureKHR as = VK_NULL_HANDLE;
+    EXPECT_EQ(createAs(device, &ci, nullptr, &as), VK_SUCCESS);
+    structures.push_back(as);
+    return as;
+  };
+  const VkAccelerationStructureKHR a = fresh(), b = fresh(), c = fresh();
+  HostBuffer& scratch = buffer(4096, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const VkDeviceAddress scratchAt = (addressOf(scratch) + 255) / 256 * 256;
+  const VkAccelerationStructureBuildRangeInfoKHR range{g.primitives, 0, 0, 0};
+  // (destination, source): a source makes the info an update.
+  auto record = [&](std::vector<std::pair<VkAccelerationStructureKHR, VkAccelerationStructureKHR>> list) {
+    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
+    for (size_t i = 0; i < list.size(); ++i) {
+      VkAccelerationStructureBuildGeometryInfoKHR info{
+          VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+      info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+      info.flags = flags;
+      info.mode = list[i].second ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR
+                                 : VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+      info.srcAccelerationStructure = list[i].second;
+      info.dstAccelerationStructure = list[i].first;
+      info.geometryCount = 1;
+      info.pGeometries = &g.geometry;
+      info.scratchData.deviceAddress = scratchAt + 256 * i;
+      infos.push_back(info);
+    }
+    std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges(list.size(), &range);
+    VkCommandBuffer cb = beginOneTime();
+    cmdBuild(cb, uint32_t(infos.size()), infos.data(), ranges.data());
+    submitAndWait(cb);
+  };
+  clearMessages();
+  record({{a, VK_NULL_HANDLE}, {b, VK_NULL_HANDLE}, {a, VK_NULL_HANDLE}});
+  expectReport("VUID-vkCmdBuildAccelerationStructuresKHR-dstAccelerationStructure-03698",
+               {"pInfos[0] and pInfos[2]", "the same dstAccelerationStructure"});
+  record({{c, VK_NULL_HANDLE}, {b, built}, {built, VK_NULL_HANDLE}});
+  expectReport("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-03403",
+               {"pInfos[1].srcAccelerationStructure is pInfos[2].dstAccelerationStructure"});
+  // Nothing of either command was built: a top level over `c` is refused (not built) and its rays miss.
+  VkAccelerationStructureKHR none = tlas({instance(c, 0, 0, 5)});
+  EXPECT_FALSE(vkrtMessages().empty()) << "an instance of a structure never built is reported";
+  clearMessages();
+  VkPipeline p = basic();
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  std::vector<TracePayload> r = trace(p, s, none, 4, 4);
+  clearMessages();
+  EXPECT_EQ(r[5].hit[0], -2.0f);
+  // Distinct destinations, an update reading a structure no info writes, and an update in place (its source is its
+  // own destination): no report, all built.
+  record({{a, VK_NULL_HANDLE}, {b, built}, {c, VK_NULL_HANDLE}});
+  record({{c, VK_NULL_HANDLE}, {built, built}});
+  EXPECT_TRUE(vkrtMessages().empty()) << vkrtMessages()[0].text;
+  for (VkAccelerationStructureKHR as : {a, b, c, built}) {
+    r = trace(p, s, tlas({instance(as, 0, 0, 5, 3)}), 4, 4);
+    EXPECT_TRUE(vkrtMessages().empty());
+    EXPECT_EQ(r[5].ids[0], 3u) << "the instance's custom index: the structure was built";
+  }
+}
+
+// A host build of small bottom levels with a deferred operation builds at once and returns
+// VK_OPERATION_NOT_DEFERRED_KHR (nothing to join; the operation's result is VK_SUCCESS), as the specification allows:
+// the CTS's build.cpuht_* cases start threads to join every structure's operation, a million in the largest, and
+// none for a build not deferred. A bottom level of 17 primitives and a top level are deferred to the joining threads.
+// All of them trace the scene their inputs describe. An operation still running a command is refused for the next
+// one either way (VUID-vkBuildAccelerationStructuresKHR-deferredOperation-03678), and valid use is not reported.
+TEST_F(TraceMisuseTest, SmallHostBuildsRunAtOnceLargerOnesAreDeferred) {
+  if (!asf.accelerationStructureHostCommands) GTEST_SKIP() << "accelerationStructureHostCommands is not supported";
+  PFN_vkBuildAccelerationStructuresKHR hostBuild = nullptr;
+  load(hostBuild, "vkBuildAccelerationStructuresKHR");
+  // `triangles` triangles: quads of the unit quad's size side by side along x (the first one is kQuad).
+  auto trianglesGeometry = [](std::vector<float>& vertices, std::vector<uint32_t>& indices, uint32_t triangles) {
+    for (uint32_t q = 0; q < (triangles + 1) / 2; ++q)
+      for (size_t v = 0; v < kQuad.size(); v += 3) {
+        const float p[3] = {kQuad[v] + 2.0f * float(q), kQuad[v + 1], kQuad[v + 2]};
+        vertices.insert(vertices.end(), p, p + 3);
+      }
+    for (uint32_t t = 0; t < triangles; ++t)
+      for (int k = 0; k < 3; ++k) indices.push_back(4 * (t / 2) + kQuadIndices[3 * (t % 2) + k]);
+    VkAccelerationStructureGeometryKHR g = opaqueTriangles(uint32_t(vertices.size() / 3 - 1), VK_INDEX_TYPE_UINT32);
+    g.geometry.triangles.vertexData.hostAddress = vertices.data();
+    g.geometry.triangles.indexData.hostAddress = indices.data();
+    return g;
+  };
+  std::vector<uint8_t> scratch(4096);
+  // Starts a host build of `g` (`primitives`) into a new structure of `type` with `op`; returns what it returned.
+  auto start = [&](VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR& g,
+                   uint32_t primitives, VkDeferredOperationKHR op, VkAccelerationStructureKHR* as) {
+    VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    info.type = type;
+    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    info.geometryCount = 1;
+    info.pGeometries = &g;
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.size = 65536;
+    ci.buffer = buffer(ci.size, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR).buffer;
+    ci.type = type;
+    EXPECT_EQ(createAs(device, &ci, nullptr, as), VK_SUCCESS);
+    structures.push_back(*as);
+    info.dstAccelerationStructure = *as;
+    info.scratchData.hostAddress = scratch.data();
+    const VkAccelerationStructureBuildRangeInfoKHR range{primitives, 0, 0, 0};
+    const VkAccelerationStructureBuildRangeInfoKHR* pr = &range;
+    return hostBuild(device, op, 1, &info, &pr);
+  };
+  auto join = [&](VkDeferredOperationKHR op) {
+    while (joinOp(device, op) != VK_SUCCESS) {
+    }
+    EXPECT_EQ(opResult(device, op), VK_SUCCESS);
+  };
+  VkDeferredOperationKHR op = VK_NULL_HANDLE;
+  ASSERT_EQ(createOp(device, nullptr, &op), VK_SUCCESS);
+  std::vector<float> smallVertices, largeVertices, refusedVertices;
+  std::vector<uint32_t> smallIndices, largeIndices, refusedIndices;
+  VkAccelerationStructureKHR small = VK_NULL_HANDLE, large = VK_NULL_HANDLE, top = VK_NULL_HANDLE;
+  clearMessages();
+  EXPECT_EQ(start(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, trianglesGeometry(smallVertices, smallIndices, 16),
+                  16, op, &small),
+            VK_OPERATION_NOT_DEFERRED_KHR);
+  EXPECT_EQ(opResult(device, op), VK_SUCCESS);
+  EXPECT_EQ(start(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, trianglesGeometry(largeVertices, largeIndices, 17),
+                  17, op, &large),
+            VK_OPERATION_DEFERRED_KHR);
+  join(op);
+  // The top level (instances by handle, as host builds take them): the small one at z 5, the large one at z 7.
+  std::vector<VkAccelerationStructureInstanceKHR> instances = {instance(small, 0, 0, 5, 1),
+                                                               instance(large, 0, 0, 7, 2)};
+  instances[0].accelerationStructureReference = reinterpret_cast<uint64_t>(small);
+  instances[1].accelerationStructureReference = reinterpret_cast<uint64_t>(large);
+  instances[1].mask = 0;  // (seen by no ray: the launch below sees the small one; the large one is checked after)
+  VkAccelerationStructureGeometryKHR ig{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  ig.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+  ig.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+  ig.geometry.instances.data.hostAddress = instances.data();
+  EXPECT_EQ(start(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 2, op, &top), VK_OPERATION_DEFERRED_KHR);
+  // The operation still runs the top level's build (nobody joined): a small build with it is refused.
+  VkAccelerationStructureKHR refused = VK_NULL_HANDLE;
+  EXPECT_EQ(start(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
+                  trianglesGeometry(refusedVertices, refusedIndices, 2), 2, op, &refused),
+            VK_ERROR_VALIDATION_FAILED_EXT);
+  expectReport("VUID-vkBuildAccelerationStructuresKHR-deferredOperation-03678", {"still running a previous command"});
+  join(op);
+  EXPECT_TRUE(vkrtMessages().empty());
+  VkPipeline p = basic();
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  std::vector<TracePayload> r = trace(p, s, top, 4, 4);
+  EXPECT_EQ(r[5].ids[0], 1u) << "the small structure, built at once, is hit";
+  instances[0].mask = 0;
+  instances[1].mask = 0xff;
+  EXPECT_EQ(start(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, ig, 2, VK_NULL_HANDLE, &top), VK_SUCCESS);
+  r = trace(p, s, top, 4, 4);
+  EXPECT_EQ(r[5].ids[0], 2u) << "the large structure, deferred and joined, is hit";
+  EXPECT_TRUE(vkrtMessages().empty());
+  destroyOp(device, op, nullptr);
+}
+
 }  // namespace
 }  // namespace vkrt::test
