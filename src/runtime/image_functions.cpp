@@ -459,9 +459,10 @@ bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
     return m == VK_SAMPLER_ADDRESS_MODE_REPEAT || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   };
   return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
-         !v.slicesAsLayers && v.image->samples == 1 && !f.packed && f.components == 4 && f.texelSize == 4 &&
-         f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates && !s.compareEnable &&
-         filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) && addressOk(s.addressModeV);
+         !v.slicesAsLayers && v.image->samples == 1 && v.image->pixelSize == 4 && !f.packed && f.components == 4 &&
+         f.texelSize == 4 && f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates &&
+         !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) &&
+         addressOk(s.addressModeV);
 }
 
 // What fastFilterLevel reads of the view and the sampler, resolved once per call (once per quad for
@@ -578,7 +579,7 @@ __attribute__((always_inline)) inline Float4 fastFilterLevel(const FastView& v, 
   const MipLayout& m = v.mips[level];
   const int64_t w = m.extent.width, h = m.extent.height;
   const uint8_t* base = v.data + m.offset + (v.baseLayer + uint64_t(layer)) * m.arrayPitch;
-  const size_t pitch = m.rowPitch, px = v.px;
+  const size_t pitch = m.rowPitch, px = 4;  // fastSampling's pixelSize
   if (filter == VK_FILTER_NEAREST) {
     // REPEAT: u <= size, = size for the fraction rounded to 1 (its texel is size - 1).
     const int64_t i = wrapFast(v.repeatU, std::min((fixedCoord(v.repeatU, cu, w, 0.0) >> kSubTexelBits) - 2, w - 1), w);
@@ -591,8 +592,11 @@ __attribute__((always_inline)) inline Float4 fastFilterLevel(const FastView& v, 
   }
   const int64_t x = fixedCoord(v.repeatU, cu, w, 0.5), y = fixedCoord(v.repeatV, cv, h, 0.5);
   const int64_t fu = (x >> kSubTexelBits) - 2, fv = (y >> kSubTexelBits) - 2;
-  const int64_t i0 = wrapFast(v.repeatU, fu, w), i1 = wrapFast(v.repeatU, fu + 1, w);
-  const int64_t j0 = wrapFast(v.repeatV, fv, h), j1 = wrapFast(v.repeatV, fv + 1, h);
+  // REPEAT: fu is in [-1, size - 1], so only the first index wraps below and the second above.
+  const int64_t i0 = v.repeatU ? (fu < 0 ? w - 1 : fu) : wrapFast(false, fu, w);
+  const int64_t i1 = v.repeatU ? (fu + 1 >= w ? 0 : fu + 1) : wrapFast(false, fu + 1, w);
+  const int64_t j0 = v.repeatV ? (fv < 0 ? h - 1 : fv) : wrapFast(false, fv, h);
+  const int64_t j1 = v.repeatV ? (fv + 1 >= h ? 0 : fv + 1) : wrapFast(false, fv + 1, h);
   constexpr float kInv = float(1.0 / kSubTexel);
   const float a = float(int32_t(x & ((1 << kSubTexelBits) - 1))) * kInv;
   const float b = float(int32_t(y & ((1 << kSubTexelBits) - 1))) * kInv;
