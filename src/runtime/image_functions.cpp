@@ -471,7 +471,6 @@ struct FastView {
   const uint8_t* data = nullptr;    // the image's first byte
   const MipLayout* mips = nullptr;  // the view's base level first
   uint64_t baseLayer = 0;
-  size_t px = 4;
   bool srgb = false, bgr = false, repeatU = false, repeatV = false;
   bool identity = false;  // the view's component mapping changes nothing (applySwizzle returns at once)
 };
@@ -482,7 +481,6 @@ const FastView* fastView(const View& v, const VkSamplerCreateInfo& s, FastView* 
   out->data = v.image->data();
   out->mips = &v.image->mips[v.baseMip];
   out->baseLayer = v.baseLayer;
-  out->px = v.image->pixelSize;
   out->srgb = v.format->type == N::SRGB;
   out->bgr = v.format->bgr;
   out->repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
