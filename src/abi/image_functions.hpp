@@ -64,6 +64,13 @@ void vkrt_image_sample_offset(const vkrt::abi::DescriptorRecord* img, const vkrt
 void vkrt_image_sample_grad_offset(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
                                    const float coord[4], const float ddx[4], const float ddy[4], float bias,
                                    const int32_t offset[4], uint32_t out[4]);
+// vkrt_image_sample_grad for the four lanes of a fragment quad in one call (the SPMD path's implicit-LOD and Grad
+// sampling, docs/spmd.md): `coord`, `ddx`, `ddy` and `out` hold component k of lane l at [4 k + l], `bias` one per
+// lane (NaN: none); only the lanes of bit mask `lanes` are sampled (the others' words are 0). Each lane's result is
+// the one vkrt_image_sample_grad gives for its operands; the view and the sampler are resolved once.
+void vkrt_image_sample_grad_quad(const vkrt::abi::DescriptorRecord* img, const vkrt::abi::DescriptorRecord* smp,
+                                 const float coord[16], const float ddx[16], const float ddy[16], const float bias[4],
+                                 uint32_t lanes, uint32_t out[16]);
 // The Dref forms (OpImageSample[Proj]DrefExplicitLod, OpImageSample[Proj]DrefImplicitLod; the compiler divides
 // coordinates and `dref` by q for the Proj forms), `offset` null without ConstOffset: each texel's depth (R) is
 // compared with `dref` by the sampler's compareOp before filtering ("Depth Compare Operation"); out[0] is the

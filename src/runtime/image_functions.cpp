@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
@@ -441,12 +444,13 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
 
 // The fast path of the most common sampling: a 2D (array) view of an 8-bit RGBA / BGRA UNorm or sRGB image, NEAREST
 // or LINEAR filters, REPEAT or CLAMP_TO_EDGE in u and v, normalized coordinates, no depth comparison, no offset,
-// identity or any swizzle (applied after, as on the generic path). The texel indices and the weights' fractions
-// come from the same double arithmetic as filterLevel's, so the same texels are read; the texels are decoded four
-// components at once and weighed in float (UNorm: in byte units, scaled by 1/255 once). The difference to the
-// generic path is float rounding of the weighted sum (a few ulp of 1.0; "Texel Filtering" leaves the filter's
-// precision to the implementation).
+// identity or any swizzle (applied after, as on the generic path). The texel indices come from exact double
+// arithmetic as filterLevel's, so the same texels are read; the LINEAR weights are quantized to 2^-15 (fixedCoord);
+// the texels are decoded four components at once and weighed in float (UNorm: in byte units, scaled by 1/255 once).
+// The difference to the generic path: at most 2^-15 per axis of the texels' difference, plus float rounding (a few
+// ulp of 1.0). No FMA: the runtime is built for baseline x86-64, so the same on every CPU.
 using Float4 = float __attribute__((vector_size(16)));
+using Int4 = int32_t __attribute__((vector_size(16)));
 
 bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
   const FormatInfo& f = *v.format;
@@ -455,75 +459,183 @@ bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
     return m == VK_SAMPLER_ADDRESS_MODE_REPEAT || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   };
   return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
-         !v.slicesAsLayers && v.image->samples == 1 && !f.packed && f.components == 4 && f.texelSize == 4 &&
-         f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates && !s.compareEnable &&
-         filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) && addressOk(s.addressModeV);
+         !v.slicesAsLayers && v.image->samples == 1 && v.image->pixelSize == 4 && !f.packed && f.components == 4 &&
+         f.texelSize == 4 && f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates &&
+         !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) &&
+         addressOk(s.addressModeV);
 }
 
-// A coordinate in texels for REPEAT or CLAMP_TO_EDGE: REPEAT takes the coordinate's fraction first (exact in double:
-// coordinate * size is too), so that the texel indices below need no division; the indices and weights are those of
-// filterLevel's floor(c * size - 0.5) modulo size.
+// What fastFilterLevel reads of the view and the sampler, resolved once per call (once per quad for
+// vkrt_image_sample_grad_quad) rather than per level and lane.
+struct FastView {
+  const uint8_t* data = nullptr;    // the image's first byte
+  const MipLayout* mips = nullptr;  // the view's base level first
+  uint64_t baseLayer = 0;
+  bool srgb = false, bgr = false, repeatU = false, repeatV = false;
+  bool identity = false;  // the view's component mapping changes nothing (applySwizzle returns at once)
+};
+
+// fastSampling's decision with its FastView; null where the generic path samples.
+const FastView* fastView(const View& v, const VkSamplerCreateInfo& s, FastView* out) {
+  if (!fastSampling(v, s)) return nullptr;
+  out->data = v.image->data();
+  out->mips = &v.image->mips[v.baseMip];
+  out->baseLayer = v.baseLayer;
+  out->srgb = v.format->type == N::SRGB;
+  out->bgr = v.format->bgr;
+  out->repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  out->repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  const VkComponentMapping& m = v.view->components;
+  auto same = [](VkComponentSwizzle c, VkComponentSwizzle own) {
+    return c == VK_COMPONENT_SWIZZLE_IDENTITY || c == own;
+  };
+  out->identity = same(m.r, VK_COMPONENT_SWIZZLE_R) && same(m.g, VK_COMPONENT_SWIZZLE_G) &&
+                  same(m.b, VK_COMPONENT_SWIZZLE_B) && same(m.a, VK_COMPONENT_SWIZZLE_A);
+  return out;
+}
+
+// The fast path's texel addressing, in fixed point: a texel coordinate (minus 0.5 for LINEAR) plus 2 texels, in units
+// of 2^-kSubTexelBits texel, truncated. Its integer part is the first texel (floor(u - 0.5) + 2, as filterLevel's
+// floor in double: the fixed-point value comes from exact double arithmetic), its fraction the LINEAR weight,
+// quantized to 2^-15: finer than the 2^-subTexelPrecisionBits (2^-8, physical_device.cpp) "Texel Filtering" allows.
+constexpr int kSubTexelBits = 15;
+constexpr double kSubTexel = double(1 << kSubTexelBits);
+
 // floor(x) as an integer for |x| < 2^63 (std::floor is a library call on the baseline x86-64 target: no SSE4.1).
 inline int64_t floorInt(double x) {
   const int64_t i = int64_t(x);
   return i - int64_t(double(i) > x);
 }
-inline double texelCoord(bool repeat, float c, int64_t size) {
-  double d = c;
-  if (repeat) d -= double(floorInt(d));
-  return d * double(size);
+
+// A lane's coordinate prepared once for every level: REPEAT takes its fraction (in [0, 1], exact in double except a
+// tiny negative coordinate's, which rounds to 1: texel size - 1 as the modulo gives), so that no level needs a
+// division; CLAMP_TO_EDGE the coordinate as it is.
+inline double fastCoord(bool repeat, float c) {
+  const double d = c;
+  return repeat ? d - double(floorInt(d)) : d;
 }
+
+// The fixed-point coordinate of fastCoord's `c` in a level of `size` texels, less `half` (0.5: LINEAR; 0: NEAREST).
+// CLAMP_TO_EDGE clamps the texel coordinate to [-1, size + 1] first, which reads the same (edge) texels and keeps the
+// value positive; REPEAT's is in [0, size] already. Exact where it decides a texel: c times size (at most 2^14
+// texels) and the constants fit a double, except for REPEAT's fraction of a coordinate in (-2^-15, 0) (bits below
+// 2^-53 rounded), whose texel coordinate is in (size - 0.5, size]: the rounding never changes its texels.
+inline int64_t fixedCoord(bool repeat, double c, int64_t size, double half) {
+  double u = c * double(size);
+  if (!repeat) u = u < -1.0 ? -1.0 : u > double(size + 1) ? double(size + 1) : u;
+  return int64_t((u + (2.0 - half)) * kSubTexel);
+}
+
 // Index i (at least -1, at most size when repeating) after the address mode.
 inline int64_t wrapFast(bool repeat, int64_t i, int64_t size) {
   if (repeat) return i < 0 ? size - 1 : i >= size ? 0 : i;
   return i < 0 ? 0 : i >= size ? size - 1 : i;
 }
 
-// One texel's four components as floats: UNorm in byte units (0..255), sRGB already linear (0..1).
-inline Float4 fastTexel(const uint8_t* p, bool srgb, bool bgr) {
-  const unsigned r = bgr ? 2 : 0;
-  if (srgb) return Float4{kUnorm8.srgb[p[r]], kUnorm8.srgb[p[1]], kUnorm8.srgb[p[2 - r]], kUnorm8.unorm[p[3]]};
-  using Bytes4 = uint8_t __attribute__((vector_size(4)));
-  Bytes4 b;
-  std::memcpy(&b, p, 4);
-  const Float4 f = __builtin_convertvector(b, Float4);  // the four bytes widened at once
-  return bgr ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
+inline uint32_t load32(const uint8_t* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
 }
 
-// Filters level `level` (fastSampling's case); false when a coordinate is too large for the integer texel indices
-// (or not a number): the generic path then decides.
-bool fastFilterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filter, uint32_t level,
-                     const float* coord, int64_t layer, Float4* out) {
-  const MipLayout& m = v.image->mips[v.baseMip + level];
-  const int64_t w = m.extent.width, h = m.extent.height;
-  if (!(std::fabs(coord[0]) < 0x1p24f && std::fabs(coord[1]) < 0x1p24f)) return false;  // NaN or too large
-  const bool repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  const bool repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  const double u = texelCoord(repeatU, coord[0], w), t = texelCoord(repeatV, coord[1], h);
-  const uint8_t* base = v.image->data() + m.offset + uint64_t(v.baseLayer + uint64_t(layer)) * m.arrayPitch;
-  const size_t pitch = m.rowPitch, px = v.image->pixelSize;
-  const bool srgb = v.format->type == N::SRGB, bgr = v.format->bgr;
-  Float4 r;
-  if (filter == VK_FILTER_NEAREST) {
-    // REPEAT: u < size, except a tiny negative coordinate whose fraction rounded up to 1 (its texel is size - 1).
-    const int64_t i = wrapFast(repeatU, std::min(floorInt(u), w - 1), w);
-    const int64_t j = wrapFast(repeatV, std::min(floorInt(t), h - 1), h);
-    r = fastTexel(base + size_t(j) * pitch + size_t(i) * px, srgb, bgr);
-  } else {
-    const double fu = u - 0.5, fv = t - 0.5;
-    const int64_t flu = floorInt(fu), flv = floorInt(fv);
-    const int64_t i0 = wrapFast(repeatU, flu, w), i1 = wrapFast(repeatU, flu + 1, w);
-    const int64_t j0 = wrapFast(repeatV, flv, h), j1 = wrapFast(repeatV, flv + 1, h);
-    const float a = float(fu - double(flu)), b = float(fv - double(flv));
-    const uint8_t* row0 = base + size_t(j0) * pitch;
-    const uint8_t* row1 = base + size_t(j1) * pitch;
-    const Float4 t00 = fastTexel(row0 + size_t(i0) * px, srgb, bgr), t10 = fastTexel(row0 + size_t(i1) * px, srgb, bgr);
-    const Float4 t01 = fastTexel(row1 + size_t(i0) * px, srgb, bgr), t11 = fastTexel(row1 + size_t(i1) * px, srgb, bgr);
-    const Float4 top = t00 + a * (t10 - t00), bottom = t01 + a * (t11 - t01);
-    r = top + b * (bottom - top);
+// Two UNorm texels (32 bits each) as byte units (0..255) in floats: SSE2's unpacks (the baseline x86-64 target has no
+// byte-to-word widening; GCC's generic vector shuffles come out as word extracts), converted four at a time. BGRA:
+// red and blue swapped.
+inline void unormPair(uint32_t p, uint32_t q, bool bgr, Float4* a, Float4* b) {
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i bytes = _mm_unpacklo_epi32(_mm_cvtsi32_si128(int(p)), _mm_cvtsi32_si128(int(q)));
+  const __m128i words = _mm_unpacklo_epi8(bytes, zero);
+  Float4 fa = Float4(_mm_cvtepi32_ps(_mm_unpacklo_epi16(words, zero)));
+  Float4 fb = Float4(_mm_cvtepi32_ps(_mm_unpackhi_epi16(words, zero)));
+#else
+  using Bytes4 = uint8_t __attribute__((vector_size(4)));
+  Bytes4 bp, bq;
+  std::memcpy(&bp, &p, 4);
+  std::memcpy(&bq, &q, 4);
+  Float4 fa = __builtin_convertvector(bp, Float4), fb = __builtin_convertvector(bq, Float4);
+#endif
+  if (bgr) {
+    fa = __builtin_shufflevector(fa, fa, 2, 1, 0, 3);
+    fb = __builtin_shufflevector(fb, fb, 2, 1, 0, 3);
   }
-  if (!srgb) r *= 1.0f / 255.0f;  // sRGB texels came from the tables, already in 0..1
-  *out = r;
+  *a = fa;
+  *b = fb;
+}
+
+// One sRGB texel's four components, linear (0..1), by the decode tables.
+inline Float4 srgbTexel(const uint8_t* p, bool bgr) {
+  const unsigned r = bgr ? 2 : 0;
+  return Float4{kUnorm8.srgb[p[r]], kUnorm8.srgb[p[1]], kUnorm8.srgb[p[2 - r]], kUnorm8.unorm[p[3]]};
+}
+
+// Filters level `level` at fastCoord's (cu, cv) (fastSampling's case): UNorm in byte units (0..255), sRGB in 0..1.
+// LINEAR weighs with the fixed-point fractions: the top and bottom rows' lerps are exact in float (8-bit texels,
+// 15-bit weights), the vertical one rounds once.
+__attribute__((always_inline)) inline Float4 fastFilterLevel(const FastView& v, VkFilter filter, uint32_t level,
+                                                             double cu, double cv, int64_t layer) {
+  const MipLayout& m = v.mips[level];
+  const int64_t w = m.extent.width, h = m.extent.height;
+  const uint8_t* base = v.data + m.offset + (v.baseLayer + uint64_t(layer)) * m.arrayPitch;
+  const size_t pitch = m.rowPitch, px = 4;  // fastSampling's pixelSize
+  if (filter == VK_FILTER_NEAREST) {
+    // REPEAT: u <= size, = size for the fraction rounded to 1 (its texel is size - 1).
+    const int64_t i = wrapFast(v.repeatU, std::min((fixedCoord(v.repeatU, cu, w, 0.0) >> kSubTexelBits) - 2, w - 1), w);
+    const int64_t j = wrapFast(v.repeatV, std::min((fixedCoord(v.repeatV, cv, h, 0.0) >> kSubTexelBits) - 2, h - 1), h);
+    const uint8_t* p = base + size_t(j) * pitch + size_t(i) * px;
+    if (v.srgb) return srgbTexel(p, v.bgr);
+    Float4 r, unused;
+    unormPair(load32(p), 0, v.bgr, &r, &unused);
+    return r;
+  }
+  const int64_t x = fixedCoord(v.repeatU, cu, w, 0.5), y = fixedCoord(v.repeatV, cv, h, 0.5);
+  const int64_t fu = (x >> kSubTexelBits) - 2, fv = (y >> kSubTexelBits) - 2;
+  // REPEAT: fu is in [-1, size - 1], so only the first index wraps below and the second above.
+  const int64_t i0 = v.repeatU ? (fu < 0 ? w - 1 : fu) : wrapFast(false, fu, w);
+  const int64_t i1 = v.repeatU ? (fu + 1 >= w ? 0 : fu + 1) : wrapFast(false, fu + 1, w);
+  const int64_t j0 = v.repeatV ? (fv < 0 ? h - 1 : fv) : wrapFast(false, fv, h);
+  const int64_t j1 = v.repeatV ? (fv + 1 >= h ? 0 : fv + 1) : wrapFast(false, fv + 1, h);
+  constexpr float kInv = float(1.0 / kSubTexel);
+  const float a = float(int32_t(x & ((1 << kSubTexelBits) - 1))) * kInv;
+  const float b = float(int32_t(y & ((1 << kSubTexelBits) - 1))) * kInv;
+  const uint8_t* row0 = base + size_t(j0) * pitch;
+  const uint8_t* row1 = base + size_t(j1) * pitch;
+  Float4 t00, t10, t01, t11;
+  if (v.srgb) {
+    t00 = srgbTexel(row0 + size_t(i0) * px, v.bgr);
+    t10 = srgbTexel(row0 + size_t(i1) * px, v.bgr);
+    t01 = srgbTexel(row1 + size_t(i0) * px, v.bgr);
+    t11 = srgbTexel(row1 + size_t(i1) * px, v.bgr);
+  } else {
+    unormPair(load32(row0 + size_t(i0) * px), load32(row0 + size_t(i1) * px), v.bgr, &t00, &t10);
+    unormPair(load32(row1 + size_t(i0) * px), load32(row1 + size_t(i1) * px), v.bgr, &t01, &t11);
+  }
+  const Float4 top = t00 + a * (t10 - t00), bottom = t01 + a * (t11 - t01);
+  return top + b * (bottom - top);
+}
+
+// fastSampling's case at level of detail d (clamped to [0, maxLevel]), with the generic path's level selection;
+// false for a coordinate of magnitude 2^24 or more, or NaN (the generic path then decides).
+__attribute__((always_inline)) inline bool fastSample(const FastView& v, VkFilter filter, VkSamplerMipmapMode mipmap,
+                                                      float d, uint32_t maxLevel, const float* coord, int64_t layer,
+                                                      float out[4]) {
+  if (!(std::fabs(coord[0]) < 0x1p24f && std::fabs(coord[1]) < 0x1p24f)) return false;
+  const double cu = fastCoord(v.repeatU, coord[0]), cv = fastCoord(v.repeatV, coord[1]);
+  // d is in [0, maxLevel]: floor and ceil by truncation, not library calls.
+  Float4 r;
+  const uint32_t lo = uint32_t(d);
+  if (mipmap == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == float(lo)) {
+    // Level ceil(d + 0.5) - 1: d rounded with halves going down.
+    const float x = d + 0.5f;
+    const uint32_t ceil = uint32_t(x) + (float(uint32_t(x)) < x ? 1 : 0);  // at least 1
+    r = fastFilterLevel(v, filter, std::min(ceil - 1, maxLevel), cu, cv, layer);
+  } else {
+    const uint32_t hi = std::min(lo + 1, maxLevel);
+    const float t = d - float(lo);
+    r = fastFilterLevel(v, filter, lo, cu, cv, layer) * (1 - t) + fastFilterLevel(v, filter, hi, cu, cv, layer) * t;
+  }
+  if (!v.srgb) r *= 1.0f / 255.0f;  // sRGB texels came from the tables, already in 0..1
+  std::memcpy(out, &r, 16);
   return true;
 }
 
@@ -635,40 +747,34 @@ static DepthCompare depthCompare(const View& v, const VkSamplerCreateInfo& s, fl
   return c;
 }
 
+// sampleAtLod's fast path (fastSampling's case, no offset, no comparison): false where the generic path decides.
+__attribute__((always_inline)) static inline bool fastAtLod(const View& v, const VkSamplerCreateInfo& s,
+                                                            const FastView& fast, const float coord[4], float lambda,
+                                                            uint32_t out[4]) {
+  lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
+  const VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
+  const float maxLevel = float(v.levelCount - 1);
+  const float d = std::clamp(lambda, 0.0f, maxLevel);
+  float result[4];
+  if (d != d || !fastSample(fast, filter, s.mipmapMode, d, uint32_t(maxLevel), coord, arrayLayer(v, coord), result))
+    return false;
+  std::memcpy(out, result, 16);
+  if (!fast.identity) applySwizzle(v, out);
+  return true;
+}
+
 // The filtering at level of detail `lambda` (before the sampler's clamp; "Level-of-Detail Operation" then "Image
 // Level(s) Selection" and "Texel Filtering"), shared by the explicit-LOD and the gradient forms; `cmp` for the Dref
-// forms.
-static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const float coord[4], float lambda,
-                        const int32_t* offset, const DepthCompare* cmp, uint32_t out[4]) {
+// forms; `fast`: fastView's result for (v, s).
+static void sampleAtLod(const View& v, const VkSamplerCreateInfo& s, const FastView* fast, const float coord[4],
+                        float lambda, const int32_t* offset, const DepthCompare* cmp, uint32_t out[4]) {
+  if (fast && !offset && !cmp && fastAtLod(v, s, *fast, coord, lambda, out)) return;
   lambda = std::clamp(lambda, s.minLod, std::max(s.minLod, s.maxLod));
   VkFilter filter = lambda <= 0.0f ? s.magFilter : s.minFilter;
   float maxLevel = float(v.levelCount - 1);
   float d = std::clamp(lambda, 0.0f, maxLevel);
   int64_t layer = arrayLayer(v, coord);
   float result[4];
-  if (!offset && !cmp && d == d && fastSampling(v, s)) {
-    // The common 2D case (fastFilterLevel), with the same level selection as below (d is in [0, maxLevel]: floor
-    // and ceil by truncation, not library calls).
-    Float4 a, b;
-    bool done;
-    const uint32_t lo = uint32_t(d);
-    if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == float(lo)) {
-      const float x = d + 0.5f;
-      const uint32_t ceil = uint32_t(x) + (float(uint32_t(x)) < x ? 1 : 0);  // at least 1
-      const uint32_t level = std::min(ceil - 1, uint32_t(maxLevel));
-      done = fastFilterLevel(v, s, filter, level, coord, layer, &a);
-    } else {
-      const uint32_t hi = std::min(lo + 1, uint32_t(maxLevel));
-      const float t = d - float(lo);
-      done = fastFilterLevel(v, s, filter, lo, coord, layer, &a) && fastFilterLevel(v, s, filter, hi, coord, layer, &b);
-      if (done) a = a * (1 - t) + b * t;
-    }
-    if (done) {
-      std::memcpy(out, &a, 16);
-      applySwizzle(v, out);
-      return;
-    }
-  }
   if (s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_NEAREST || d == std::floor(d)) {
     // Nearest: level ceil(d + 0.5) - 1, i.e. d rounded with halves going down.
     uint32_t level = uint32_t(std::clamp(std::ceil(d + 0.5f) - 1.0f, 0.0f, maxLevel));
@@ -696,13 +802,70 @@ static void sampleLod(const abi::DescriptorRecord* img, const abi::DescriptorRec
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
   DepthCompare cmp;
   if (dref) cmp = depthCompare(v, s, *dref);
-  sampleAtLod(v, s, coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, offset, dref ? &cmp : nullptr, out);
+  FastView fv;
+  sampleAtLod(v, s, fastView(v, s, &fv), coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, offset,
+              dref ? &cmp : nullptr, out);
 }
 
-// "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y; the level of
-// detail is log2 of the larger ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample
-// at the larger scale factor, a blurrier result than the anisotropic filter's), plus the shader's and the sampler's
-// biases.
+// log2 of four values for the level of detail, in plain float vector arithmetic (the same result on every x86-64 CPU,
+// unlike the C library's log2f, which picks an FMA form where the CPU has one): x = 2^e m with m in [sqrt(1/2),
+// sqrt(2)), ln(m) = 2 atanh(s), s = (m - 1) / (m + 1), |s| < 0.172, by its odd series to s^9 (the rest is below
+// 1e-9 in log2): within a few ulp of log2, far finer than the 2^-mipmapPrecisionBits (2^-8) the level's weight needs.
+// 0: -inf; infinity and NaN as themselves (negative values do not occur: sums of squares).
+static Float4 lodLog2(Float4 x) {
+  const Int4 subnormal = (Int4)x < 0x00800000;  // scaled into the normal range first
+  const Float4 xs = subnormal ? x * 0x1p32f : x;
+  const Int4 bits = (Int4)xs;
+  Int4 e = ((bits >> 23) & 0xff) - 127 + (subnormal & -32);
+  Float4 m = (Float4)((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
+  const Int4 big = m > 1.41421356f;
+  m = big ? m * 0.5f : m;
+  e -= big;  // true is -1
+  const Float4 t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
+  const Float4 ln = 2.0f * t * (1.0f + t2 * (1.0f / 3 + t2 * (1.0f / 5 + t2 * (1.0f / 7 + t2 * (1.0f / 9)))));
+  const Float4 r = __builtin_convertvector(e, Float4) + ln * 1.44269504f;  // 1 / ln 2
+  const Float4 inf = {INFINITY, INFINITY, INFINITY, INFINITY};
+  return x == 0.0f ? -inf : x < inf ? r : x;
+}
+
+// "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y (squared
+// here, per lane of `ddx` / `ddy`: component i of lane l at [4 i + l]); the level of detail is log2 of the larger
+// ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample at the larger scale factor,
+// a blurrier result than the anisotropic filter's): log2(rho^2) / 2, no square root; -inf for zero derivatives
+// (sampleAtLod's clamp takes it to minLod), 0 for NaN.
+static Float4 lodOfDerivatives(const View& v, const VkSamplerCreateInfo& s, const float* ddx, const float* ddy) {
+  VkExtent3D e = levelExtent(v, 0);
+  const float size[3] = {float(e.width), float(e.height), float(e.depth)};
+  Float4 rx = {0, 0, 0, 0}, ry = {0, 0, 0, 0};
+  for (int i = 0; i < v.dims && i < 3; ++i) {
+    const float scale = s.unnormalizedCoordinates ? 1.0f : size[i];
+    Float4 dx, dy;
+    std::memcpy(&dx, ddx + 4 * i, 16);
+    std::memcpy(&dy, ddy + 4 * i, 16);
+    rx += (dx * scale) * (dx * scale);
+    ry += (dy * scale) * (dy * scale);
+  }
+  const Float4 lambda = 0.5f * lodLog2(rx < ry ? ry : rx);  // std::max's choice: a NaN ry is passed over
+  return lambda == lambda ? lambda : Float4{0, 0, 0, 0};
+}
+
+// The shader's Bias (NaN: none) and the sampler's mipLodBias added.
+static float biasedLod(const VkSamplerCreateInfo& s, float lambda, float bias) {
+  if (!std::isnan(bias)) lambda += bias;
+  return lambda + s.mipLodBias;
+}
+
+// One lane's level of detail: the quad's computation with the lane's derivatives in lane 0.
+static float gradLambda(const View& v, const VkSamplerCreateInfo& s, const float ddx[4], const float ddy[4],
+                        float bias) {
+  float dx[12] = {}, dy[12] = {};
+  for (int i = 0; i < 3; ++i) {
+    dx[4 * i] = ddx[i];
+    dy[4 * i] = ddy[i];
+  }
+  return biasedLod(s, lodOfDerivatives(v, s, dx, dy)[0], bias);
+}
+
 static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                        const float ddx[4], const float ddy[4], float bias, const float* dref, const int32_t* offset,
                        uint32_t out[4]) {
@@ -710,21 +873,10 @@ static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRe
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
-  VkExtent3D e = levelExtent(v, 0);
-  const float size[3] = {float(e.width), float(e.height), float(e.depth)};
-  float rx = 0, ry = 0;
-  for (int i = 0; i < v.dims && i < 3; ++i) {
-    float scale = s.unnormalizedCoordinates ? 1.0f : size[i];
-    rx += (ddx[i] * scale) * (ddx[i] * scale);
-    ry += (ddy[i] * scale) * (ddy[i] * scale);
-  }
-  float rho = std::sqrt(std::max(rx, ry));
-  float lambda = std::log2(rho);  // -inf for zero derivatives: the clamp below takes it to minLod
-  if (std::isnan(lambda)) lambda = 0.0f;
-  if (!std::isnan(bias)) lambda += bias;
   DepthCompare cmp;
   if (dref) cmp = depthCompare(v, s, *dref);
-  sampleAtLod(v, s, coord, lambda + s.mipLodBias, offset, dref ? &cmp : nullptr, out);
+  FastView fv;
+  sampleAtLod(v, s, fastView(v, s, &fv), coord, gradLambda(v, s, ddx, ddy, bias), offset, dref ? &cmp : nullptr, out);
 }
 
 // "Texel Gathering": the 2 x 2 texels the LINEAR filter would weigh in the view's base level, each compared (Dref
@@ -771,6 +923,27 @@ void vkrt_image_sample_dref(const abi::DescriptorRecord* img, const abi::Descrip
 void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                             const float ddx[4], const float ddy[4], float bias, uint32_t out[4]) {
   sampleGrad(img, smp, coord, ddx, ddy, bias, nullptr, nullptr, out);
+}
+
+void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
+                                 const float coord[16], const float ddx[16], const float ddy[16], const float bias[4],
+                                 uint32_t lanes, uint32_t out[16]) {
+  // The view, the sampler and the fast path's decision once for the quad; each lane then as vkrt_image_sample_grad.
+  std::memset(out, 0, 64);
+  View v;
+  if (!resolveView(img, &v) || !smp || !smp->sampler) return;
+  const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  FastView fv;
+  const FastView* fast = fastView(v, s, &fv);
+  const Float4 lambda = lodOfDerivatives(v, s, ddx, ddy);  // the four lanes' at once
+  for (unsigned l = 0; l < 4; ++l) {
+    if (!(lanes >> l & 1)) continue;
+    const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
+    uint32_t r[4];
+    const float lod = biasedLod(s, lambda[l], bias[l]);
+    if (!fast || !fastAtLod(v, s, *fast, c, lod, r)) sampleAtLod(v, s, nullptr, c, lod, nullptr, nullptr, r);
+    for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
+  }
 }
 
 void vkrt_image_sample_grad_offset(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
@@ -1074,6 +1247,7 @@ const abi::HostSymbol* imageFunctionSymbols() {
       {"vkrt_image_fetch", reinterpret_cast<void*>(&vkrt_image_fetch)},
       {"vkrt_image_sample", reinterpret_cast<void*>(&vkrt_image_sample)},
       {"vkrt_image_sample_grad", reinterpret_cast<void*>(&vkrt_image_sample_grad)},
+      {"vkrt_image_sample_grad_quad", reinterpret_cast<void*>(&vkrt_image_sample_grad_quad)},
       {"vkrt_image_sample_offset", reinterpret_cast<void*>(&vkrt_image_sample_offset)},
       {"vkrt_image_sample_grad_offset", reinterpret_cast<void*>(&vkrt_image_sample_grad_offset)},
       {"vkrt_image_sample_dref", reinterpret_cast<void*>(&vkrt_image_sample_dref)},

@@ -158,6 +158,7 @@ class Spmd {
   bool fragmentInstruction(const Instruction& in);
   bool derivative(const Instruction& in);
   bool sampleLanes(const Instruction& in);
+  bool sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx, std::vector<llvm::Value*> dy);
   bool quadOperation(const Instruction& in);
   bool prepareSlots();
   bool laneLeaves(uint32_t typeId);
@@ -1339,6 +1340,7 @@ bool Spmd::sampleLanes(const Instruction& in) {
       if (!v) return fail("coordinates without a value");
       quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), false, &dxv[k], &dyv[k]);
     }
+  if (!dref && sampleQuad(in, implicit, dxv, dyv)) return true;
   uint32_t nr = count(rt);
   llvm::Type* st = g.type(g.scalarType(rt));
   std::vector<llvm::Value*> comps(nr, llvm::UndefValue::get(laneTy(st)));
@@ -1388,6 +1390,80 @@ bool Spmd::sampleLanes(const Instruction& in) {
     }
     for (uint32_t k = 0; k < nr; ++k) comps[k] = b.CreateInsertElement(comps[k], phis[k], uint64_t(l));
   }
+  return define(id, rt, comps);
+}
+
+// Gradient sampling of the quad's lanes in one call (vkrt_image_sample_grad_quad) where the scalar code would call
+// vkrt_image_sample_grad once per active lane: OpImageSampleImplicitLod (the coordinates' fine derivatives `dx`,
+// `dy`, with or without Bias) and OpImageSampleExplicitLod with Grad, of a 1D, 2D or 3D (array) image, 32-bit
+// result components. False, with nothing emitted, for the rest (the lane by lane calls).
+bool Spmd::sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx,
+                      std::vector<llvm::Value*> dy) {
+  const uint32_t rt = in.word(1), id = in.word(2), coord = in.word(4);
+  const Instruction* t = m.def(m.typeOf(in.word(3)));
+  if (t && t->op == spv::OpTypeSampledImage) t = m.def(t->word(2));
+  if (!t || t->op != spv::OpTypeImage || t->word(6) != 0) return false;
+  const uint32_t dim = t->word(3);
+  if (dim != spv::Dim1D && dim != spv::Dim2D && dim != spv::Dim3D) return false;
+  llvm::Type* st = g.type(g.scalarType(rt));
+  if (!g.isFloat(m.typeOf(coord)) || !(st->isFloatTy() || st->isIntegerTy(32)) || count(rt) > 4) return false;
+  const uint32_t ignorable = spv::ImageOperandsSignExtendMask | spv::ImageOperandsZeroExtendMask |
+                             spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
+                             spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
+  const uint32_t operands = in.count > 5 ? in.word(5) : 0;
+  const uint32_t wanted = implicit ? spv::ImageOperandsBiasMask : spv::ImageOperandsGradMask;
+  if ((operands & ~(wanted | ignorable)) || (!implicit && !(operands & wanted)) || (implicit && !fragment()))
+    return false;
+  llvm::Value* img = sc.value(in.word(3));
+  if (!img) return false;
+  llvm::Type* f4 = laneTy(b.getFloatTy());
+  llvm::Value* bias = llvm::ConstantFP::getNaN(f4);
+  if (operands & spv::ImageOperandsBiasMask) {
+    llvm::Value* v = laneComp(in.word(6), 0);
+    if (!v) return false;
+    bias = b.CreateFPCast(v, f4);
+  }
+  if (!implicit) {
+    dx.clear();
+    dy.clear();
+    for (uint32_t k = 0; k < count(m.typeOf(in.word(6))) && k < 4; ++k) {
+      llvm::Value *x = laneComp(in.word(6), k), *y = laneComp(in.word(7), k);
+      if (!x || !y) return false;
+      dx.push_back(b.CreateFPCast(x, f4));
+      dy.push_back(b.CreateFPCast(y, f4));
+    }
+  }
+  std::vector<llvm::Value*> c;
+  for (uint32_t k = 0; k < count(m.typeOf(coord)) && k < 4; ++k) {
+    llvm::Value* v = laneComp(coord, k);
+    if (!v) return false;
+    c.push_back(b.CreateFPCast(v, f4));
+  }
+  // Four <4 x float> rows (component k of the four lanes), missing components 0 as the scalar code's words.
+  llvm::Type* rows = llvm::ArrayType::get(f4, 4);
+  auto buffer = [&](const std::vector<llvm::Value*>& v) {
+    llvm::AllocaInst* a = slot(rows);
+    a->setAlignment(llvm::Align(16));
+    for (uint32_t k = 0; k < 4; ++k)
+      b.CreateStore(k < v.size() ? v[k] : llvm::Constant::getNullValue(f4), b.CreateConstGEP2_32(rows, a, 0, k));
+    return a;
+  };
+  llvm::Value *coords = buffer(c), *ddx = buffer(dx), *ddy = buffer(dy);
+  llvm::AllocaInst* biasBuf = slot(f4);
+  biasBuf->setAlignment(llvm::Align(16));
+  b.CreateStore(bias, biasBuf);
+  llvm::AllocaInst* out = slot(rows);
+  out->setAlignment(llvm::Align(16));
+  llvm::Value* lanes = b.CreateZExt(b.CreateBitCast(mask, b.getIntNTy(4)), b.getInt32Ty());
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::FunctionCallee fnc = g.out.getOrInsertFunction(
+      "vkrt_image_sample_grad_quad",
+      llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, ptrTy, b.getInt32Ty(), ptrTy}, false));
+  b.CreateCall(fnc,
+               {b.CreateExtractValue(img, {0}), b.CreateExtractValue(img, {1}), coords, ddx, ddy, biasBuf, lanes, out});
+  std::vector<llvm::Value*> comps;
+  for (uint32_t k = 0; k < count(rt); ++k)
+    comps.push_back(b.CreateLoad(laneTy(st), b.CreateConstGEP2_32(rows, out, 0, k)));
   return define(id, rt, comps);
 }
 

@@ -1,7 +1,9 @@
 // The 2D sampler's fast path (runtime/image_functions.cpp, fastSampling: 8-bit RGBA / BGRA UNorm and sRGB views,
 // NEAREST / LINEAR, REPEAT / CLAMP_TO_EDGE, trilinear mipmaps) against an independent double-precision reference
 // of "Texel Filtering" and against the generic path (the ConstOffset form with a zero offset, which the fast path
-// leaves to filterLevel), at coordinates inside, outside and on the texel boundaries of a non-power-of-two image.
+// leaves to filterLevel), at coordinates inside, outside and on the texel boundaries of a non-power-of-two image;
+// the quad entry point (vkrt_image_sample_grad_quad) against four vkrt_image_sample_grad calls, on both paths; the
+// level of detail's log2 against the exact one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -42,13 +44,15 @@ class SamplerFastPath : public ::testing::Test {
     vkrt_DestroyInstance(instance, nullptr);
   }
 
-  // A 5x3 image with 3 levels (5x3, 2x1, 1x1) of `format`, every byte pseudo-random, and a 2D view of it.
-  void makeImage(VkFormat format) {
+  // A 5x3 image with 3 levels (5x3, 2x1, 1x1) of `format`, every byte pseudo-random, and a 2D view of it; or
+  // width x height with `levels` levels, `fill` giving each level's bytes.
+  void makeImage(VkFormat format, uint32_t width = 5, uint32_t height = 3, uint32_t levels = 3,
+                 int (*fill)(uint32_t level) = nullptr) {
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = format;
-    ci.extent = {5, 3, 1};
-    ci.mipLevels = 3;
+    ci.extent = {width, height, 1};
+    ci.mipLevels = levels;
     ci.arrayLayers = 1;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -62,27 +66,29 @@ class SamplerFastPath : public ::testing::Test {
     ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
     Image* img = fromHandle<Image>(image);
     uint32_t seed = 12345;
-    for (uint32_t m = 0; m < 3; ++m)
+    for (uint32_t m = 0; m < levels; ++m)
       for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
         for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
           for (int c = 0; c < 4; ++c) {
             seed = seed * 1664525u + 1013904223u;
-            img->texel(m, 0, x, y, 0)[c] = uint8_t(seed >> 24);
+            img->texel(m, 0, x, y, 0)[c] = uint8_t(fill ? fill(m) : int(seed >> 24));
           }
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vi.format = format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 3, 0, 1};
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, levels, 0, 1};
     ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
     imageRecord.object = static_cast<const Object*>(fromHandle<ImageView>(view));
   }
 
-  abi::DescriptorRecord makeSampler(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode) {
+  abi::DescriptorRecord makeSampler(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode,
+                                    float mipLodBias = 0.0f) {
     VkSamplerCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     ci.magFilter = ci.minFilter = filter;
     ci.mipmapMode = mip;
     ci.addressModeU = ci.addressModeV = ci.addressModeW = mode;
+    ci.mipLodBias = mipLodBias;
     ci.maxLod = 16;
     VkSampler s = VK_NULL_HANDLE;
     EXPECT_EQ(vkrt_CreateSampler(device, &ci, nullptr, &s), VK_SUCCESS);
@@ -162,14 +168,20 @@ class SamplerFastPath : public ::testing::Test {
                                           " mip " + std::to_string(mip) + " mode " + std::to_string(mode) + " coord " +
                                           std::to_string(xy[0]) + "," + std::to_string(xy[1]) + " lod " +
                                           std::to_string(lod) + " c " + std::to_string(c);
-                // Float sums of at most 8 weighted texels: a few ulp of 1 from the exact value. The sRGB reference
-                // uses the EOTF in double, the image functions their float table: 1e-6 more.
-                EXPECT_NEAR(f, e, 4e-6) << where;
-                EXPECT_NEAR(f, g, 2e-6) << where;
+                // The fast path's LINEAR weights are quantized to 2^-15 (kSubTexelBits; "Texel Filtering" allows
+                // 2^-subTexelPrecisionBits = 2^-8): at most 2^-15 of the largest texel difference (1) per axis from
+                // the exact weights, plus a few ulp of 1 of float sums (the sRGB reference uses the EOTF in double,
+                // the image functions their float table: 1e-6 more). NEAREST reads the same texel: ulps only.
+                const double tolerance = filter == VK_FILTER_LINEAR ? 2 * 0x1p-15 + 4e-6 : 4e-6;
+                EXPECT_NEAR(f, e, tolerance) << where;
+                EXPECT_NEAR(f, g, tolerance) << where;
               }
             }
         }
   }
+
+  void compareQuad(VkFormat format);
+  void compareLod(VkFormat format);
 
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice pd = VK_NULL_HANDLE;
@@ -181,6 +193,96 @@ class SamplerFastPath : public ::testing::Test {
   std::vector<VkSampler> samplers;
   abi::DescriptorRecord imageRecord{};
 };
+
+// vkrt_image_sample_grad_quad samples each active lane exactly as vkrt_image_sample_grad (bit for bit) and leaves the
+// others 0, on the fast path (RGBA8 UNorm, BGRA8 sRGB with REPEAT / CLAMP_TO_EDGE) and off it (SNorm, a border,
+// NaN and huge coordinates, zero and NaN derivatives), with and without Bias.
+void SamplerFastPath::compareQuad(VkFormat format) {
+  makeImage(format);
+  const float coords[][2] = {{0.5f, 0.5f},     {0.13f, 0.77f},  {-0.31f, 1.42f}, {2.6f, -3.9f},
+                             {0.2f, 1.0f / 3}, {1.0f, 1.0f},    {NAN, 0.5f},     {1234.567f, -987.25f},
+                             {3e7f, 0.25f},    {-1e-30f, 0.6f}, {0.37f, 0.41f},  {0.9f, 0.1f}};
+  const float derivs[][2] = {{0.1f, 0.0f}, {0.0f, 0.0f}, {0.7f, -0.3f}, {1e-3f, 2e-3f}, {NAN, 0.1f}, {4.0f, 0.5f}};
+  for (VkFilter filter : {VK_FILTER_NEAREST, VK_FILTER_LINEAR})
+    for (VkSamplerMipmapMode mip : {VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR})
+      for (VkSamplerAddressMode mode : {VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+                                        VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER})
+        for (float samplerBias : {0.0f, 0.6f}) {
+          const abi::DescriptorRecord smp = makeSampler(filter, mip, mode, samplerBias);
+          const size_t nc = sizeof(coords) / sizeof(coords[0]), nd = sizeof(derivs) / sizeof(derivs[0]);
+          for (size_t first = 0; first < nc * nd; first += 3)
+            for (uint32_t lanes : {0xfu, 0x6u, 0x0u})
+              for (float bias : {NAN, -0.4f, 1.3f}) {
+                float coord[16] = {}, ddx[16] = {}, ddy[16] = {}, biases[4];
+                for (unsigned l = 0; l < 4; ++l) {
+                  const size_t k = (first + l * 5) % (nc * nd);
+                  const float* c = coords[k % nc];
+                  const float* d = derivs[k / nc];
+                  coord[l] = c[0], coord[4 + l] = c[1];
+                  ddx[l] = d[0], ddx[4 + l] = d[1] * 0.5f, ddy[l] = -d[1], ddy[4 + l] = d[0] * 1.5f;
+                  biases[l] = l == 2 ? NAN : bias;  // Bias absent in one lane
+                }
+                uint32_t quad[16];
+                std::memset(quad, 0xcd, sizeof(quad));
+                vkrt_image_sample_grad_quad(&imageRecord, &smp, coord, ddx, ddy, biases, lanes, quad);
+                for (unsigned l = 0; l < 4; ++l) {
+                  const float c[4] = {coord[l], coord[4 + l], 0, 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
+                              dy[4] = {ddy[l], ddy[4 + l], 0, 0};
+                  uint32_t one[4] = {0, 0, 0, 0};
+                  if (lanes >> l & 1) vkrt_image_sample_grad(&imageRecord, &smp, c, dx, dy, biases[l], one);
+                  for (unsigned k = 0; k < 4; ++k)
+                    EXPECT_EQ(quad[4 * k + l], one[k])
+                        << "format " << format << " filter " << filter << " mip " << mip << " mode " << mode << " lane "
+                        << l << " lanes " << lanes << " component " << k << " coord " << c[0] << "," << c[1] << " ddx "
+                        << dx[0] << "," << dx[1] << " ddy " << dy[0] << "," << dy[1];
+                }
+              }
+        }
+}
+
+TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingRgba8Unorm) { compareQuad(VK_FORMAT_R8G8B8A8_UNORM); }
+TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingBgra8Srgb) { compareQuad(VK_FORMAT_B8G8R8A8_SRGB); }
+TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingOffTheFastPath) { compareQuad(VK_FORMAT_R8G8B8A8_SNORM); }
+
+// The level of detail of the gradient forms (lodLog2 rather than the C library's log2): levels alternately 0 and 1
+// everywhere, so a LINEAR mipmap returns the fraction of lambda = log2(rho) ("Level-of-Detail Operation") or one
+// minus it; against log2 in double, on the fast path (RGBA8) and the generic one (the ConstOffset form, and SNorm).
+void SamplerFastPath::compareLod(VkFormat format) {
+  makeImage(format, 1024, 1024, 11, [](uint32_t level) { return level % 2 ? 127 : 0; });
+  const double top = format == VK_FORMAT_R8G8B8A8_SNORM ? 1.0 : 127.0 / 255.0;  // level 1's value
+  const abi::DescriptorRecord smp =
+      makeSampler(VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT);
+  const int32_t zero[4] = {0, 0, 0, 0};
+  for (double rho = 1.0; rho < 1000.0; rho *= 1.0137) {
+    const float coord[4] = {0.3f, 0.6f, 0, 0};
+    const float dx[4] = {float(rho / 1024.0), 0, 0, 0}, dy[4] = {0, float(rho / 2048.0), 0, 0};
+    const double lambda = std::log2(double(dx[0]) * 1024.0);
+    const double frac = lambda - std::floor(lambda);
+    const double expected = (int(std::floor(lambda)) % 2 ? 1.0 - frac : frac) * top;
+    uint32_t fast[4], generic[4];
+    vkrt_image_sample_grad(&imageRecord, &smp, coord, dx, dy, NAN, fast);
+    vkrt_image_sample_grad_offset(&imageRecord, &smp, coord, dx, dy, NAN, zero, generic);
+    float f, g;
+    std::memcpy(&f, &fast[0], 4);
+    std::memcpy(&g, &generic[0], 4);
+    // lambda in float (an ulp of 8 is 1e-6) and the float blend: 2e-6.
+    EXPECT_NEAR(f, expected, 2e-6) << "rho " << rho;
+    EXPECT_NEAR(g, expected, 2e-6) << "rho " << rho;
+  }
+  // Powers of two give whole levels (no share of the next).
+  for (int k = 0; k < 10; ++k) {
+    const float coord[4] = {0.3f, 0.6f, 0, 0};
+    const float dx[4] = {std::ldexp(1.0f, k - 10), 0, 0, 0}, dy[4] = {0, 0, 0, 0};
+    uint32_t out[4];
+    vkrt_image_sample_grad(&imageRecord, &smp, coord, dx, dy, NAN, out);
+    float f;
+    std::memcpy(&f, &out[0], 4);
+    EXPECT_NEAR(f, k % 2 ? top : 0.0, 1e-7) << "level " << k;  // the UNorm scale's rounding at most
+  }
+}
+
+TEST_F(SamplerFastPath, LevelOfDetailIsLog2OfTheScaleFactorRgba8Unorm) { compareLod(VK_FORMAT_R8G8B8A8_UNORM); }
+TEST_F(SamplerFastPath, LevelOfDetailIsLog2OfTheScaleFactorSnorm) { compareLod(VK_FORMAT_R8G8B8A8_SNORM); }
 
 TEST_F(SamplerFastPath, Rgba8UnormMatchesReferenceAndGenericPath) { compareAll(VK_FORMAT_R8G8B8A8_UNORM); }
 TEST_F(SamplerFastPath, Bgra8UnormMatchesReferenceAndGenericPath) { compareAll(VK_FORMAT_B8G8R8A8_UNORM); }

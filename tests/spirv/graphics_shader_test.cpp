@@ -24,6 +24,7 @@
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
 #include "gfx_sample_cube.frag.spv.h"
+#include "gfx_sample_lanes.frag.spv.h"
 #include "gfx_spmd_discard.frag.spv.h"
 #include "oob_draw.frag.spv.h"
 #include "oob_fragment.frag.spv.h"
@@ -797,6 +798,7 @@ class GraphicsShaderSampling : public ::testing::Test {
   abi::DescriptorRecord sampledRecord{};
   abi::ResourceSlot sampledSlot{&sampledRecord, 1};
   void implicitLod(bool spmd);
+  void samplingByTheLanesLeft(bool spmd);
 };
 
 float expectedLevel(double lambda) {
@@ -830,6 +832,38 @@ void GraphicsShaderSampling::implicitLod(bool spmd) {
     }
   }
 }
+
+// Grad sampling after a discard ended some lanes: the SPMD path samples the lanes left in one call
+// (vkrt_image_sample_grad_quad with the active lanes as a bit mask), each with its own gradient, so lane l's level is
+// its own (log2(64 g)). The same on the fiber path.
+void GraphicsShaderSampling::samplingByTheLanesLeft(bool spmd) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_sample_lanes_frag, spv::ExecutionModelFragment, &error, true, spmd);
+  ASSERT_TRUE(s) << error;
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
+  for (uint32_t leaving : {0x0u, 0x2u, 0x3u, 0x8u, 0xeu}) {
+    SCOPED_TRACE("leaving lanes " + std::to_string(leaving));
+    Quad q(8, 12);
+    for (uint32_t l = 0; l < 4; ++l) {
+      Lane& lane = q.lanes[l];
+      lane.inv.base.resources = &sampledSlot;
+      lane.setF(0, 0, 0.25f + 0.125f * float(l));
+      lane.setF(0, 1, 0.5f);
+      lane.setF(1, 0, std::ldexp(1.0f, int(l) - 6));  // level l
+      lane.setI(2, 0, int32_t(leaving >> l & 1));
+    }
+    ASSERT_TRUE(q.run(*s));
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (leaving >> l & 1)
+        EXPECT_EQ(q.lanes[l].inv.status, abi::kFragmentKilled) << "lane " << l;  // its outputs do not count
+      else
+        EXPECT_EQ(q.lanes[l].outF(0, 0), float(l)) << "lane " << l;
+    }
+  }
+}
+
+TEST_F(GraphicsShaderSampling, QuadSamplingByTheLanesLeft) { samplingByTheLanesLeft(false); }
+TEST_F(GraphicsShaderSampling, SpmdQuadSamplingByTheLanesLeft) { samplingByTheLanesLeft(true); }
 
 // The same on a cube's +X face: the direction's derivatives projected on the face ("Cube Map Derivation") give the
 // same levels (directions stay on +X: uv <= 1, so k <= 4 at this quad).
