@@ -313,21 +313,22 @@ struct TraceFrame final : accel::HitHandler {
         sbtStride(args.sbtStride & 0xF),
         missIndex(args.missIndex & 0xFFFF) {}
 
-  uint64_t recordIndex(const accel::HitInfo& h) const {
-    return uint64_t(h.sbtOffset) + sbtOffset + uint64_t(sbtStride) * h.geometryIndex;
-  }
-
-  // The hit group for `h`, checked against the geometry kind; null when there is none to run.
-  const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {
-    *index = recordIndex(h);
+  // The hit group of a hit in an instance with SBT offset `instanceOffset`, of geometry `geometry` (a triangle or
+  // a box), checked against the geometry kind; null when there is none to run.
+  const RayGroup* hitGroup(uint32_t instanceOffset, uint32_t geometry, bool triangle, const uint8_t** record,
+                           uint64_t* index) {
+    *index = uint64_t(instanceOffset) + sbtOffset + uint64_t(sbtStride) * geometry;
     const RayGroup* g = state.hit.get(SbtRegion::Hit, *index, *state.launch->resolver, record);
     if (!g || g->type == RayGroup::Empty) return nullptr;
     bool triangles = g->type == RayGroup::Triangles;
-    if (g->type == RayGroup::General || triangles != h.triangle) {
-      state.launch->resolver->hitGroupMismatch(*index, *g, h.triangle);
+    if (g->type == RayGroup::General || triangles != triangle) {
+      state.launch->resolver->hitGroupMismatch(*index, *g, triangle);
       return nullptr;
     }
     return g;
+  }
+  const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {
+    return hitGroup(h.sbtOffset, h.geometryIndex, h.triangle, record, index);
   }
 
   void hitInvocation(Invocation& inv, const accel::HitInfo& h, const uint8_t* record, uint64_t index, float tMax,
@@ -432,12 +433,15 @@ struct TraceFrame final : accel::HitHandler {
     return 1;
   }
 
-  void closestHit(const accel::HitInfo& h) {
+  // The committed hit `c` of `ray` through `tlas`: its built-ins are made only when a closest-hit shader runs.
+  void closestHit(const accel::Tlas& tlas, const accel::Ray& ray, const accel::CommittedHit& c) {
     if (args.rayFlags & accel::kRaySkipClosestHitShader) return;
     const uint8_t* record;
     uint64_t index;
-    const RayGroup* g = hitGroup(h, &record, &index);
+    const RayGroup* g = hitGroup(c.sbtOffset, c.geometry, c.triangle, &record, &index);
     if (!g || !g->closestHit.entry) return;
+    accel::HitInfo h;
+    accel::hitInfo(tlas, ray, c, &h);
     Invocation inv{};
     hitInvocation(inv, h, record, index, h.t, g->closestHit);
     inv.incoming = args.payload;
@@ -510,10 +514,10 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   if (caller.tree) frame.node = traceNode(*caller.tree, frame);
   RayTreeInvocation::Enter enter(caller.tree, frame.node);
   const accel::Tlas* tlas = caller.task->topLevel(state, args->accelerationStructure);
-  accel::HitInfo hit;
+  accel::CommittedHit hit;
+  accel::Ray ray;
   bool found = false;
   if (tlas) {
-    accel::Ray ray;
     for (int i = 0; i < 3; ++i) {
       ray.origin[i] = args->origin[i];
       ray.direction[i] = args->direction[i];
@@ -526,10 +530,14 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   }
   if (frame.node) {
     frame.node->hasCommitted = found;
-    if (found) frame.node->committed = treeHit(hit);
+    if (found) {
+      accel::HitInfo h;
+      accel::hitInfo(*tlas, ray, hit, &h);
+      frame.node->committed = treeHit(h);
+    }
   }
   if (found) {
-    frame.closestHit(hit);
+    frame.closestHit(*tlas, ray, hit);
   } else {
     frame.miss();
   }
