@@ -201,12 +201,30 @@ class HitHandler {
   virtual void intersect(ProceduralCandidate& candidate) = 0;
 };
 
+// The committed hit as traversal leaves it: which primitive, where, and what selects its hit group. The other
+// built-ins (the object-space ray, the transforms, a triangle's facing) come from hitInfo(), which a launch calls
+// only when a closest-hit shader runs: most rays of a launch whose hit groups have no closest-hit shader never
+// need them.
+struct CommittedHit {
+  float t;
+  uint32_t instance, geometry, primitive;
+  uint32_t hitKind;    // boxes: the intersection shader's; triangles: kHitKind*, or 0 where hitInfo() finds it
+  uint32_t sbtOffset;  // the instance's SBT record offset
+  bool triangle;
+  float u, v;   // triangles: the barycentrics of vertices 1 and 2
+  float ng[3];  // triangles: (v1 - v0) x (v2 - v0) in the instance's object space (the facing, where hitKind is 0)
+};
+
 // Traces `ray` through `tlas`. Returns true with the committed hit in `hit` (may be null) when there is one. The
 // handler is called only for candidates that need a shader; a ray that meets only opaque triangles runs at
 // Embree's speed (no filter callback at all where no ray flag or instance flag asks for one). Triangles are hit
 // for tMin < t < tMax, boxes are candidates for tMin <= t <= tMax (both as "Ray Intersection Candidate
 // Determination" says). A ray Vulkan does not allow (non-finite origin or direction, tMin < 0, tMin > tMax)
 // misses.
+bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit);
+// The built-ins of `hit`, committed by trace() for `ray` through `tlas`.
+void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out);
+// trace() and hitInfo() together.
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
 
 // The number of threads Embree's builders use, for the process's Embree device (created at the first build; a

@@ -30,16 +30,9 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// A committed hit recorded by the callbacks (occlusion queries, and terminated intersection queries).
-struct Committed {
-  float t = 0;
-  uint32_t instance = RTC_INVALID_GEOMETRY_ID;
-  uint32_t geometry = 0;
-  uint32_t primitive = 0;
-  uint32_t hitKind = 0;
-  float u = 0, v = 0;
-  float ng[3] = {0, 0, 0};
-};
+// A committed hit recorded by the callbacks (occlusion queries, and terminated intersection queries); its
+// sbtOffset and triangle fields are filled in when traversal ends (committedHit).
+using Committed = CommittedHit;
 
 // Embree's watertight triangle test counts a ray through a shared edge, or through a vertex, as hitting every
 // triangle there (it is inclusive, with a small tolerance). The spec's watertightness rules only forbid gaps, but
@@ -47,16 +40,18 @@ struct Committed {
 // surface to be one candidate; so do the CTS (misc.cullmask_*, misc.maxrtinvocations_*: rays through cube
 // corners and face diagonals, watertightness.closedFan2.*: a closed fan whose triangles are each in an instance
 // of their own). A candidate that shares a vertex position with a triangle already offered to this ray, at the
-// same t up to rounding, is the same crossing and is dropped. Positions are compared in world space, where
-// instances meet: within one instance exactly (one transform of equal object-space positions gives equal world
-// positions), across instances up to the rounding of their transforms; there a triangle whose three vertices all
-// match the offered one is a second surface in the same place (another instance of it), not the same crossing.
-// (Exact ownership rules on the edge functions are not enough on their own: Embree's and any other exact test
-// disagree near edges, and dropping the triangle Embree offered would open a gap.)
+// same t up to rounding, is the same crossing and is dropped. Within one instance positions are compared exactly
+// in object space (where the Blas keeps them: one transform of equal positions gives equal world positions);
+// across instances in world space, where instances meet, up to the rounding of their transforms; there a triangle
+// whose three vertices all match the offered one is a second surface in the same place (another instance of it),
+// not the same crossing. (Exact ownership rules on the edge functions are not enough on their own: Embree's and any
+// other exact test disagree near edges, and dropping the triangle Embree offered would open a gap.)
+// An offered triangle is recorded by its indices and t alone: vertices are read, and moved to world space, only
+// when a later candidate's t ties with it (a ray through an edge or a vertex), so a ray whose candidates lie at
+// distinct t pays a few stores per candidate.
 struct Offered {
-  uint32_t instance;
+  uint32_t instance, geometry, primitive;
   float t;
-  float v[3][3];  // world space
 };
 
 inline bool samePoint(const float a[3], const float b[3], bool exact) {
@@ -87,6 +82,8 @@ void worldVertices(const float (*m)[4], const float v[3][3], float w[3][3]) {
     for (int r = 0; r < 3; ++r) w[k][r] = m[r][0] * v[k][0] + m[r][1] * v[k][1] + m[r][2] * v[k][2] + m[r][3];
 }
 
+bool objectTriangle(const GeometryInfo& geom, uint32_t p, float v[3][3]);
+
 struct QueryCollect;
 
 struct TraceContext {
@@ -101,27 +98,56 @@ struct TraceContext {
   bool closedInterval = false;
   bool terminated = false;        // a commit ended the traversal
   QueryCollect* query = nullptr;  // a ray query's proceed(): candidates needing the shader are collected, not run
-  Committed last;                 // the latest commit made by a callback
+  Committed last{};               // the latest commit made by a callback
   // The latest triangle candidates offered (culling passed), for dropping the same crossing offered twice.
   static constexpr uint32_t kOffered = 8;
   Offered offered[kOffered];
   uint32_t offeredCount = 0;
 
-  // Whether the triangle `v` (object space) at `t` in `instance` is a crossing already offered; records it
-  // otherwise.
-  bool sameCrossingOffered(uint32_t instance, float t, const float v[3][3]) {
-    float w[3][3];
-    worldVertices(tlas->records[instance].objectToWorld, v, w);
+  // Whether primitives `a` and `b` of `geometry` in `instance` (both in range) have a vertex index in common.
+  bool sharesIndex(uint32_t a, uint32_t b, uint32_t geometry, uint32_t instance) const {
+    const uint32_t* indices = tlas->records[instance].blas->info[geometry].indices;
+    const uint32_t* ia = indices + 3 * size_t(a);
+    const uint32_t* ib = indices + 3 * size_t(b);
+    for (int i = 0; i < 3; ++i)
+      if (ia[i] == ib[0] || ia[i] == ib[1] || ia[i] == ib[2]) return true;
+    return false;
+  }
+
+  // Whether triangle `primitive` of `geometry` (a geometry keeping vertices) at `t` in `instance` is a crossing
+  // already offered; records it otherwise.
+  bool sameCrossingOffered(uint32_t instance, uint32_t geometry, uint32_t primitive, float t) {
     const float tolerance = 1e-5f * std::max(1.0f, std::fabs(t));
     const uint32_t n = std::min(offeredCount, kOffered);
+    float v[3][3], w[3][3];
+    bool read = false, moved = false;
     for (uint32_t k = 0; k < n; ++k) {
       const Offered& o = offered[k];
-      if (std::fabs(o.t - t) <= tolerance && sharesVertex(o.v, w, o.instance == instance)) return true;
+      if (!(std::fabs(o.t - t) <= tolerance)) continue;
+      // Triangles of one geometry sharing a vertex index share that vertex's position (a mesh's own neighbours,
+      // the common case), without reading positions.
+      if (o.instance == instance && o.geometry == geometry && sharesIndex(o.primitive, primitive, geometry, instance))
+        return true;
+      if (!read) {
+        objectTriangle(tlas->records[instance].blas->info[geometry], primitive, v);
+        read = true;
+      }
+      const InstanceRecord& other = tlas->records[o.instance];
+      float ov[3][3];
+      objectTriangle(other.blas->info[o.geometry], o.primitive, ov);
+      if (o.instance == instance) {
+        if (sharesVertex(ov, v, true)) return true;
+        continue;
+      }
+      if (!moved) {
+        worldVertices(tlas->records[instance].objectToWorld, v, w);
+        moved = true;
+      }
+      float ow[3][3];
+      worldVertices(other.objectToWorld, ov, ow);
+      if (sharesVertex(ow, w, false)) return true;
     }
-    Offered& slot = offered[offeredCount++ % kOffered];
-    slot.instance = instance;
-    slot.t = t;
-    std::memcpy(slot.v, w, sizeof(slot.v));
+    offered[offeredCount++ % kOffered] = Offered{instance, geometry, primitive, t};
     return false;
   }
 };
@@ -183,9 +209,9 @@ inline float insideOpen(float t, float tMin, float tMax) {
   return lo <= hi ? std::min(std::max(t, lo), hi) : t;
 }
 
-// The built-ins every hit has: the instance's, the primitive's indices and the object-space ray.
-void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t geometry, uint32_t primitive) {
-  const InstanceRecord& r = ctx.tlas->records[instance];
+// The built-ins every hit has but the object-space ray: the instance's and the primitive's indices.
+void fillIds(HitInfo& h, const Tlas::Impl& t, uint32_t instance, uint32_t geometry, uint32_t primitive) {
+  const InstanceRecord& r = t.records[instance];
   h.instanceIndex = instance;
   h.customIndex = r.customIndex;
   h.sbtOffset = r.sbtOffset;
@@ -194,7 +220,6 @@ void fillCommon(HitInfo& h, const TraceContext& ctx, uint32_t instance, uint32_t
   h.objectToWorld = r.objectToWorld;
   h.worldToObject = r.worldToObject;
   h.blas = r.blas;
-  objectRay(r, *ctx.ray, h.objectRayOrigin, h.objectRayDirection);
 }
 
 void offerQueryTriangle(TraceContext& ctx, const HitIds& ids, const RTCHit& hit, float t, uint32_t hitKind,
@@ -234,15 +259,20 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   const HitIds ids = hitIds(*ctx.tlas, hit.instID[0], hit.geomID, hit.primID);
   const InstanceRecord& inst = ctx.tlas->records[ids.instance];
   const GeometryInfo& geom = inst.blas->info[ids.geometry];
-  float v[3][3];
-  const bool hasVertices = objectTriangle(geom, ids.primitive, v);
+  const bool hasVertices = geom.vertices && ids.primitive < geom.primitiveCount;
 
-  float dir[3];
-  const float(*m)[4] = inst.worldToObject;
-  for (int i = 0; i < 3; ++i)
-    dir[i] = m[i][0] * ctx.ray->direction[0] + m[i][1] * ctx.ray->direction[1] + m[i][2] * ctx.ray->direction[2];
+  // The normal and the ray in the instance's object space, where facing is decided: inside an instance Embree's
+  // own (traverseTlas put the ray there, by objectRay's arithmetic); a flattened triangle's Embree traced in world
+  // space, so they are computed.
   float ng[3] = {hit.Ng_x, hit.Ng_y, hit.Ng_z};
-  if (ids.flat) objectNormal(v, ng);
+  float dir[3] = {ray.dir_x, ray.dir_y, ray.dir_z};
+  if (ids.flat) {
+    float v[3][3];
+    objectTriangle(geom, ids.primitive, v);
+    objectNormal(v, ng);
+    float org[3];
+    objectRay(inst, *ctx.ray, org, dir);
+  }
   const int face = facing(ng, dir, inst.flags);
   const bool opaque = effectiveOpaque(geom.flags, inst.flags, ctx.flags);
   if (ctx.terminated || facingCulled(face, inst.flags, ctx.flags) || opacityCulled(opaque, ctx.flags)) {
@@ -258,27 +288,32 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
     return;
   }
   const uint32_t hitKind = face > 0 ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
-  if (hasVertices) {
-    if (ctx.query && !opaque) {  // a ray query's candidate: collected for the shader, never accepted here
+  if (ctx.query && !opaque) {  // a ray query's candidate: collected for the shader, never accepted here
+    if (hasVertices) {
+      float v[3][3];
+      objectTriangle(geom, ids.primitive, v);
       offerQueryTriangle(ctx, ids, hit, ray.tfar, hitKind, v);
-      args->valid[0] = 0;
-      return;
     }
-    if (ctx.sameCrossingOffered(ids.instance, ray.tfar, v)) {
-      args->valid[0] = 0;
-      return;
-    }
+    args->valid[0] = 0;
+    return;
   }
-  if (ctx.query && !opaque) {
+  if (hasVertices && ctx.sameCrossingOffered(ids.instance, ids.geometry, ids.primitive, ray.tfar)) {
     args->valid[0] = 0;
     return;
   }
   // (A ray query's TerminateOnFirstHit runs as an intersection query: its first opaque commit ends it.)
   bool terminate = ctx.firstHit || (ctx.query && (ctx.flags & kRayTerminateOnFirstHit));
   if (!opaque) {
-    // A non-opaque candidate goes to the any-hit shader ("Triangle and Generated Intersection Candidates").
+    // A non-opaque candidate goes to the any-hit shader ("Triangle and Generated Intersection Candidates"), with
+    // the object-space ray: Embree's inside an instance, as above.
     HitInfo info;
-    fillCommon(info, ctx, ids.instance, ids.geometry, ids.primitive);
+    fillIds(info, *ctx.tlas, ids.instance, ids.geometry, ids.primitive);
+    if (ids.flat) {
+      objectRay(inst, *ctx.ray, info.objectRayOrigin, info.objectRayDirection);
+    } else {
+      info.objectRayOrigin[0] = ray.org_x, info.objectRayOrigin[1] = ray.org_y, info.objectRayOrigin[2] = ray.org_z;
+      info.objectRayDirection[0] = dir[0], info.objectRayDirection[1] = dir[1], info.objectRayDirection[2] = dir[2];
+    }
     info.t = ray.tfar;
     info.hitKind = hitKind;
     info.triangle = true;
@@ -343,7 +378,12 @@ class BoxCandidate final : public ProceduralCandidate {
   BoxCandidate(TraceContext& ctx, RTCRay& ray, RTCHit* hit, bool opaque, uint32_t instance, uint32_t geometry,
                uint32_t primitive)
       : ctx_(ctx), ray_(ray), hit_(hit), opaque_(opaque) {
-    fillCommon(info_, ctx, instance, geometry, primitive);
+    // Boxes are always inside an instance (never flattened): Embree's ray is the object-space one, as traverseTlas
+    // computed it by objectRay's arithmetic.
+    fillIds(info_, *ctx.tlas, instance, geometry, primitive);
+    info_.objectRayOrigin[0] = ray.org_x, info_.objectRayOrigin[1] = ray.org_y, info_.objectRayOrigin[2] = ray.org_z;
+    info_.objectRayDirection[0] = ray.dir_x, info_.objectRayDirection[1] = ray.dir_y;
+    info_.objectRayDirection[2] = ray.dir_z;
     info_.triangle = false;
   }
 
@@ -507,23 +547,31 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
   ctx.embree.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// The committed hit's built-ins.
-void report(const TraceContext& ctx, const Committed& c, HitInfo* hit) {
+// The rest of a committed hit's built-ins (hitInfo).
+void report(const Tlas::Impl& t, const Ray& ray, const Committed& c, HitInfo* hit) {
+  // (Every field is assigned: no zeroing first, which compilers make a `rep stos` per hit.)
   HitInfo& h = *hit;
-  h = HitInfo{};
-  fillCommon(h, ctx, c.instance, c.geometry, c.primitive);
-  const InstanceRecord& inst = ctx.tlas->records[c.instance];
+  fillIds(h, t, c.instance, c.geometry, c.primitive);
+  const InstanceRecord& inst = t.records[c.instance];
+  objectRay(inst, ray, h.objectRayOrigin, h.objectRayDirection);
   h.t = c.t;
-  h.triangle = inst.blas->info[c.geometry].kind == Geometry::Triangles;
+  h.triangle = c.triangle;
   h.hitKind = c.hitKind;
-  if (!h.triangle) return;
-  if (!h.hitKind) {
+  h.barycentrics[0] = c.triangle ? c.u : 0;
+  h.barycentrics[1] = c.triangle ? c.v : 0;
+  if (h.triangle && !h.hitKind) {
     // A hit Embree committed without the filter: its facing, by the same rule.
     const bool front = facing(c.ng, h.objectRayDirection, inst.flags) > 0;
     h.hitKind = front ? kHitKindFrontFacingTriangle : kHitKindBackFacingTriangle;
   }
-  h.barycentrics[0] = c.u;
-  h.barycentrics[1] = c.v;
+}
+
+// A commit the callbacks kept, with what selects its hit group.
+void finishCommitted(const Tlas::Impl& t, const Committed& from, CommittedHit* hit) {
+  *hit = from;
+  const InstanceRecord& r = t.records[from.instance];
+  hit->sbtOffset = r.sbtOffset;
+  hit->triangle = r.blas->info[from.geometry].kind == Geometry::Triangles;
 }
 
 }  // namespace
@@ -551,7 +599,7 @@ void boxOccluded(const RTCOccludedFunctionNArguments* args) {
 
 }  // namespace detail
 
-bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) {
+bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit) {
   using namespace detail;
   const Tlas::Impl& t = *tlas.impl;
   const uint32_t cull = ray.cullMask & 0xFF;
@@ -605,32 +653,45 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) 
   if (ctx.firstHit) {
     traverseTlas<true>(t, ctx, rh);
     if (!ctx.terminated) return false;
-    if (hit) report(ctx, ctx.last, hit);
+    if (hit) finishCommitted(t, ctx.last, hit);
     return true;
   }
   traverseTlas<false>(t, ctx, rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   if (!hit) return true;
   if (ctx.terminated) {
-    report(ctx, ctx.last, hit);  // tfar is -inf now; the callbacks kept the commit
+    finishCommitted(t, ctx.last, hit);  // tfar is -inf now; the callbacks kept the commit
     return true;
   }
-  Committed c;
   const HitIds ids = hitIds(t, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID);
+  const InstanceRecord& r = t.records[ids.instance];
+  const GeometryInfo& geom = r.blas->info[ids.geometry];
+  CommittedHit& c = *hit;
   c.t = rh.ray.tfar;
   c.instance = ids.instance;
   c.geometry = ids.geometry;
   c.primitive = ids.primitive;
+  c.sbtOffset = r.sbtOffset;
   c.u = rh.hit.u;
   c.v = rh.hit.v;
   c.ng[0] = rh.hit.Ng_x, c.ng[1] = rh.hit.Ng_y, c.ng[2] = rh.hit.Ng_z;
   float v[3][3];
-  if (ids.flat && objectTriangle(t.records[c.instance].blas->info[c.geometry], c.primitive, v)) objectNormal(v, c.ng);
+  if (ids.flat && objectTriangle(geom, c.primitive, v)) objectNormal(v, c.ng);
   // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
-  const bool box = t.records[c.instance].blas->info[c.geometry].kind == Geometry::Aabbs;
-  c.hitKind = box ? ctx.last.hitKind : 0;
-  if (!box) c.t = insideOpen(c.t, ray.tMin, ray.tMax);
-  report(ctx, c, hit);
+  c.triangle = geom.kind == Geometry::Triangles;
+  c.hitKind = c.triangle ? 0 : ctx.last.hitKind;
+  if (c.triangle) c.t = insideOpen(c.t, ray.tMin, ray.tMax);
+  return true;
+}
+
+void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out) {
+  detail::report(*tlas.impl, ray, hit, out);
+}
+
+bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) {
+  CommittedHit c;
+  if (!trace(tlas, ray, handler, hit ? &c : nullptr)) return false;
+  if (hit) hitInfo(tlas, ray, c, hit);
   return true;
 }
 

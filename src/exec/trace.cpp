@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -130,12 +131,23 @@ struct TaskState {
   // reports intersections (which run any-hit shaders in the other one).
   Invocation* anyHit = nullptr;
   Invocation* intersection = nullptr;
+  // The closest-hit and miss invocations of trace depths 1..kShadingDepths, reused from ray to ray (each zeroed on
+  // its first use in the task; deeper ones are made per call): at one depth at most one of them is live, since a
+  // trace at depth d runs one of them at d + 1, whatever they trace runs at d + 2, and callables keep the depth.
+  // Each call sets every field its stage's built-ins read.
+  static constexpr uint32_t kShadingDepths = 4;
+  Invocation* shading[kShadingDepths] = {};
+  void* shadingStorage = nullptr;  // room for kShadingDepths invocations, constructed on first use
   uint64_t tlasAddress = 0;
   const accel::Tlas* tlas = nullptr;
   bool tlasResolved = false;
 
   const accel::Tlas* topLevel(LaunchState& state, uint64_t address);
 };
+
+// A closest-hit or miss invocation at trace depth `depth` (>= 1), with beginShared's part: the task's reused one,
+// or `fresh` (zeroed).
+Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t depth, Invocation& fresh);
 
 const accel::Tlas* TaskState::topLevel(LaunchState& state, uint64_t address) {
   if (!tlasResolved || address != tlasAddress) {
@@ -186,24 +198,52 @@ void shaderRecordOutsideRegion(abi::RayInvocation* caller, uint64_t offset, uint
 
 const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection, &shaderRecordOutsideRegion};
 
-// A new invocation called by `caller` (null for raygen): launch index, push constants, runtime.
-void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
+// What every invocation of a task has in common (push constants, runtime, launch size): set once per record,
+// and the records a task reuses (TaskState) keep it from call to call.
+void beginShared(Invocation& inv, LaunchState* state, TaskState* task) {
   inv.state = state;
-  inv.parent = caller;
-  if (caller) inv.task = caller->task;
+  inv.task = task;
   inv.base.pushConstants = state->launch->pushConstants;
   inv.base.sink = tlsSink;
   inv.runtime = &kRuntime;
-  inv.base.rayQueries = caller ? caller->base.rayQueries : &state->queries;  // a recorded chain keeps its scope
   inv.base.cancel = reinterpret_cast<const uint32_t*>(&state->job->cancel);
   inv.base.cancelled = &cancelled;
+  for (int i = 0; i < 3; ++i) inv.launchSize[i] = uint32_t(state->launch->size[i]);
+}
+
+// What a call from `caller` sets in an invocation that has beginShared's part: launch index, depth, stack.
+void beginCall(Invocation& inv, const Invocation& caller) {
+  inv.parent = &caller;
+  inv.base.rayQueries = caller.base.rayQueries;  // a recorded chain keeps its scope
+  std::memcpy(inv.launchId, caller.launchId, sizeof inv.launchId);
+  inv.depth = caller.depth;
+  inv.stackUsed = caller.stackUsed;
+  inv.tree = caller.tree;
+}
+
+// A new invocation called by `caller` (null for raygen).
+void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
+  beginShared(inv, state, caller ? caller->task : nullptr);
   if (caller) {
-    std::memcpy(inv.launchId, caller->launchId, sizeof inv.launchId);
-    std::memcpy(inv.launchSize, caller->launchSize, sizeof inv.launchSize);
-    inv.depth = caller->depth;
-    inv.stackUsed = caller->stackUsed;
-    inv.tree = caller->tree;
+    beginCall(inv, *caller);
+  } else {
+    inv.parent = nullptr;
+    inv.base.rayQueries = &state->queries;
   }
+}
+
+Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t depth, Invocation& fresh) {
+  if (depth == 0 || depth > TaskState::kShadingDepths) {
+    fresh = Invocation{};
+    beginShared(fresh, &state, &task);
+    return fresh;
+  }
+  Invocation*& slot = task.shading[depth - 1];
+  if (!slot) {
+    slot = new (static_cast<Invocation*>(task.shadingStorage) + (depth - 1)) Invocation{};
+    beginShared(*slot, &state, &task);
+  }
+  return *slot;
 }
 
 // Runs `shader` for `inv` unless it would take the chain's stack past the pipeline stack size (reported).
@@ -313,26 +353,27 @@ struct TraceFrame final : accel::HitHandler {
         sbtStride(args.sbtStride & 0xF),
         missIndex(args.missIndex & 0xFFFF) {}
 
-  uint64_t recordIndex(const accel::HitInfo& h) const {
-    return uint64_t(h.sbtOffset) + sbtOffset + uint64_t(sbtStride) * h.geometryIndex;
-  }
-
-  // The hit group for `h`, checked against the geometry kind; null when there is none to run.
-  const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {
-    *index = recordIndex(h);
+  // The hit group of a hit in an instance with SBT offset `instanceOffset`, of geometry `geometry` (a triangle or
+  // a box), checked against the geometry kind; null when there is none to run.
+  const RayGroup* hitGroup(uint32_t instanceOffset, uint32_t geometry, bool triangle, const uint8_t** record,
+                           uint64_t* index) {
+    *index = uint64_t(instanceOffset) + sbtOffset + uint64_t(sbtStride) * geometry;
     const RayGroup* g = state.hit.get(SbtRegion::Hit, *index, *state.launch->resolver, record);
     if (!g || g->type == RayGroup::Empty) return nullptr;
     bool triangles = g->type == RayGroup::Triangles;
-    if (g->type == RayGroup::General || triangles != h.triangle) {
-      state.launch->resolver->hitGroupMismatch(*index, *g, h.triangle);
+    if (g->type == RayGroup::General || triangles != triangle) {
+      state.launch->resolver->hitGroupMismatch(*index, *g, triangle);
       return nullptr;
     }
     return g;
   }
+  const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {
+    return hitGroup(h.sbtOffset, h.geometryIndex, h.triangle, record, index);
+  }
 
   void hitInvocation(Invocation& inv, const accel::HitInfo& h, const uint8_t* record, uint64_t index, float tMax,
                      const RayShader& shader) {
-    begin(inv, &state, &caller);
+    beginCall(inv, caller);  // (the record has beginShared's part: a task's reused one)
     inv.depth = caller.depth + 1;
     setRay(inv, args, tMax);
     setHit(inv, h, shader);
@@ -432,13 +473,17 @@ struct TraceFrame final : accel::HitHandler {
     return 1;
   }
 
-  void closestHit(const accel::HitInfo& h) {
+  // The committed hit `c` of `ray` through `tlas`: its built-ins are made only when a closest-hit shader runs.
+  void closestHit(const accel::Tlas& tlas, const accel::Ray& ray, const accel::CommittedHit& c) {
     if (args.rayFlags & accel::kRaySkipClosestHitShader) return;
     const uint8_t* record;
     uint64_t index;
-    const RayGroup* g = hitGroup(h, &record, &index);
+    const RayGroup* g = hitGroup(c.sbtOffset, c.geometry, c.triangle, &record, &index);
     if (!g || !g->closestHit.entry) return;
-    Invocation inv{};
+    accel::HitInfo h;
+    accel::hitInfo(tlas, ray, c, &h);
+    Invocation fresh;
+    Invocation& inv = shadingInvocation(state, *caller.task, caller.depth + 1, fresh);
     hitInvocation(inv, h, record, index, h.t, g->closestHit);
     inv.incoming = args.payload;
     inv.incomingBytes = args.payloadBytes;
@@ -456,8 +501,9 @@ struct TraceFrame final : accel::HitHandler {
     const uint8_t* record;
     const RayGroup* g = state.miss.get(SbtRegion::Miss, missIndex, *state.launch->resolver, &record);
     if (!g || !g->general.entry) return;
-    Invocation inv{};
-    begin(inv, &state, &caller);
+    Invocation fresh;
+    Invocation& inv = shadingInvocation(state, *caller.task, caller.depth + 1, fresh);
+    beginCall(inv, caller);
     inv.depth = caller.depth + 1;
     setRay(inv, args, args.tMax);
     inv.incoming = args.payload;
@@ -491,6 +537,18 @@ RayTreeNode* traceNode(RayTreeInvocation& tree, const TraceFrame& f) {
   return n;
 }
 
+// One 32-bit load of a float the shader has just stored (traceRay): an empty asm keeps the compiler from merging
+// neighbouring fields into one wider load, which could not be forwarded from the shader's 4-byte stores and would
+// wait for them to retire (GCC merged the copies of origin and direction into 8-byte loads: a third of traceRay's
+// time on primary rays).
+inline float loadAlone(const float& field) {
+  float v = field;
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+  asm("" : "+x"(v));
+#endif
+  return v;
+}
+
 void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   // The shader has just stored *args field by field: the fields are read one by one (TraceFrame masks what
   // OpTraceRayKHR masks), as a copy of the whole struct in wide loads would wait for those stores to retire
@@ -510,26 +568,30 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   if (caller.tree) frame.node = traceNode(*caller.tree, frame);
   RayTreeInvocation::Enter enter(caller.tree, frame.node);
   const accel::Tlas* tlas = caller.task->topLevel(state, args->accelerationStructure);
-  accel::HitInfo hit;
+  accel::CommittedHit hit;
+  accel::Ray ray;
   bool found = false;
   if (tlas) {
-    accel::Ray ray;
     for (int i = 0; i < 3; ++i) {
-      ray.origin[i] = args->origin[i];
-      ray.direction[i] = args->direction[i];
+      ray.origin[i] = loadAlone(args->origin[i]);
+      ray.direction[i] = loadAlone(args->direction[i]);
     }
-    ray.tMin = args->tMin;
-    ray.tMax = args->tMax;
+    ray.tMin = loadAlone(args->tMin);
+    ray.tMax = loadAlone(args->tMax);
     ray.flags = args->rayFlags | launch.pipelineRayFlags;
     ray.cullMask = args->cullMask & 0xFF;
     found = accel::trace(*tlas, ray, frame, &hit);
   }
   if (frame.node) {
     frame.node->hasCommitted = found;
-    if (found) frame.node->committed = treeHit(hit);
+    if (found) {
+      accel::HitInfo h;
+      accel::hitInfo(*tlas, ray, hit, &h);
+      frame.node->committed = treeHit(h);
+    }
   }
   if (found) {
-    frame.closestHit(hit);
+    frame.closestHit(*tlas, ray, hit);
   } else {
     frame.miss();
   }
@@ -585,13 +647,16 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
     begin(inv, &state, nullptr);
     inv.task = &task;
     inv.launchId[2] = z;
-    for (int i = 0; i < 3; ++i) inv.launchSize[i] = launch.size[i];
     inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
     inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
     inv.recordDataOutside = &state.raygenDataOutside;
     Invocation anyHit{}, intersection{};
+    beginShared(anyHit, &state, &task);
+    beginShared(intersection, &state, &task);
     task.anyHit = &anyHit;
     task.intersection = &intersection;
+    alignas(Invocation) unsigned char shadingStorage[TaskState::kShadingDepths * sizeof(Invocation)];
+    task.shadingStorage = shadingStorage;
     for (uint32_t y = y0; y < y1; ++y) {
       for (uint32_t x = x0; x < x1; ++x) {
         // What a raygen invocation changes in `inv` (run(), and OpTerminateRayKHR's status) is reset for the next.

@@ -108,37 +108,54 @@ class TraceCallsTest : public TraceTest {
     d.general(module(kSpv_trace_callable_rcall, sizeof kSpv_trace_callable_rcall), VK_SHADER_STAGE_CALLABLE_BIT_KHR);
     return make(d);
   }
+
+  // `levels` quads stacked 2 apart from z = 3 (instance k: record k, tag 100 + k), each closest-hit tracing on to
+  // the next but the last's: what the first closest-hit reports, per pixel of an 8 x 8 launch.
+  void traceStackedQuads(uint32_t levels) {
+    VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+    std::vector<VkAccelerationStructureInstanceKHR> instances;
+    std::vector<SbtRecord> hitRecords;
+    for (uint32_t k = 0; k < levels; ++k) {
+      instances.push_back(instance(quad, 0.1f, 0, 3.0f + 2.0f * float(k), 0, k));
+      hitRecords.push_back({2, {100 + k, k + 1 < levels ? 1u : 0u}});
+    }
+    VkAccelerationStructureKHR top = tlas(instances);
+    VkPipeline p = calls(levels);  // the last closest-hit runs at depth `levels`
+    ASSERT_NE(p, VK_NULL_HANDLE);
+    Sbt s = sbt(p, 4, {0}, {{1, {7}}}, hitRecords, {{3, {1000}}});
+    const uint32_t n = 8;
+    std::vector<TracePayload> r = trace(p, s, top, n, n);
+    int hits = 0;
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t x = 0; x < n; ++x) {
+        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+        const TracePayload& q = r[y * n + x];
+        const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+        if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
+          EXPECT_EQ(q.hit[0], -2.0f);
+          continue;
+        }
+        ++hits;
+        const QuadHit h = quadHit(wx - 0.1f, wy);
+        EXPECT_NEAR(q.hit[0], 13.0f, 1e-4f);
+        EXPECT_EQ(q.extra[0], 100u);
+        EXPECT_EQ(q.extra[2], h.primitive * 2 + 1000) << "the callable's answer, with its record's number";
+        EXPECT_EQ(q.extra[3], 101u) << "the onward ray met the second quad's record";
+        EXPECT_EQ(q.extra[1], 2000u) << "2 units on, from the closest-hit shader at depth 2";
+      }
+    EXPECT_GT(hits, 10);
+  }
 };
 
 TEST_F(TraceCallsTest, CallablesWithShaderRecordsAndARecursiveTrace) {
   // A quad at z = 3 (instance 0, record 0: recurse) in front of one at z = 5 (instance 1, record 1: do not).
-  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
-  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 3, 0, 0), instance(quad, 0.1f, 0, 5, 0, 1)});
-  VkPipeline p = calls(2);
-  ASSERT_NE(p, VK_NULL_HANDLE);
-  Sbt s = sbt(p, 4, {0}, {{1, {7}}}, {{2, {100, 1}}, {2, {101, 0}}}, {{3, {1000}}});
-  const uint32_t n = 8;
-  std::vector<TracePayload> r = trace(p, s, top, n, n);
-  int hits = 0;
-  for (uint32_t y = 0; y < n; ++y)
-    for (uint32_t x = 0; x < n; ++x) {
-      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
-      const TracePayload& q = r[y * n + x];
-      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
-      if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
-        EXPECT_EQ(q.hit[0], -2.0f);
-        continue;
-      }
-      ++hits;
-      const QuadHit h = quadHit(wx - 0.1f, wy);
-      EXPECT_NEAR(q.hit[0], 13.0f, 1e-4f);
-      EXPECT_EQ(q.extra[0], 100u);
-      EXPECT_EQ(q.extra[2], h.primitive * 2 + 1000) << "the callable's answer, with its record's number";
-      EXPECT_EQ(q.extra[3], 101u) << "the onward ray met the second quad's record";
-      EXPECT_EQ(q.extra[1], 2000u) << "2 units on, from the closest-hit shader at depth 2";
-    }
-  EXPECT_GT(hits, 10);
+  traceStackedQuads(2);
 }
+
+// A chain of closest-hit shaders 7 deep, each tracing onward to the next of 7 stacked quads: the executor reuses
+// the closest-hit and miss invocations of depths 1-4 per task and makes deeper ones per call (exec/trace.cpp,
+// TaskState::shading); both kinds run here, in tiles where rays hit and miss.
+TEST_F(TraceCallsTest, AChainOfClosestHitsDeeperThanTheReusedInvocations) { traceStackedQuads(7); }
 
 class TraceCallsMisuseTest : public TraceCallsTest {
  protected:
