@@ -159,6 +159,35 @@ uint64_t encodeComponent(N type, uint32_t word, unsigned bits, bool alpha) {
 
 bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N::SInt; }
 
+// VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: component = mantissa * 2^(exponent - 15 - 9).
+void decodeSharedExponent(uint32_t w, uint32_t c[4]) {
+  const int e = int(w >> 27) - 24;
+  for (unsigned i = 0; i < 3; ++i) c[i] = fbits(std::ldexp(float((w >> (9 * i)) & 511u), e));
+}
+
+// The inverse, as EXT_texture_shared_exponent defines it (N = 9 mantissa bits, bias B = 15, Emax = 31): components
+// clamped to [0, (511/512) * 2^16] (NaN to 0), the exponent from the largest, raised by one when its mantissa
+// rounds up to 512, each mantissa rounded to nearest. frexp gives floor(log2) exactly on every ISA.
+uint32_t encodeSharedExponent(const uint32_t in[4]) {
+  float c[3];
+  float maxc = 0.0f;
+  for (unsigned i = 0; i < 3; ++i) {
+    const float f = bitsf(in[i]);
+    c[i] = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 65408.0f);
+    maxc = std::max(maxc, c[i]);
+  }
+  int exp = 0;  // biased exponent
+  if (maxc > 0.0f) {
+    int e2;
+    std::frexp(maxc, &e2);  // maxc = m * 2^e2, m in [0.5, 1): floor(log2(maxc)) = e2 - 1
+    exp = std::max(-16, e2 - 1) + 16;
+    if (std::floor(double(maxc) / std::ldexp(1.0, exp - 24) + 0.5) == 512.0) ++exp;
+  }
+  uint32_t w = uint32_t(exp) << 27;
+  for (unsigned i = 0; i < 3; ++i) w |= uint32_t(std::floor(double(c[i]) / std::ldexp(1.0, exp - 24) + 0.5)) << (9 * i);
+  return w;
+}
+
 }  // namespace
 
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
@@ -175,12 +204,19 @@ void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
   }
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
   if (f.packed) {
-    uint32_t w = uint32_t(readBits(texel, 4));
-    unsigned shift = 0;
-    for (unsigned i = 0; i < f.components; ++i) {
-      uint32_t raw = (w >> shift) & ((1u << f.bits[i]) - 1);
-      c[i] = decodeComponent(f.type, raw, f.bits[i], i == 3);
-      shift += f.bits[i];
+    // One 16- or 32-bit word, fields from bit 0 up (format.hpp).
+    uint32_t w = uint32_t(readBits(texel, f.texelSize));
+    if (f.format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) {
+      decodeSharedExponent(w, c);
+    } else {
+      unsigned shift = 0;
+      for (unsigned i = 0; i < f.components; ++i) {
+        uint32_t raw = (w >> shift) & ((1u << f.bits[i]) - 1);
+        c[i] = decodeComponent(f.type, raw, f.bits[i], i == 3);
+        shift += f.bits[i];
+      }
+      if (f.bgr) std::swap(c[0], c[2]);              // B,G,R(,A) from bit 0: R5G6B5, A1R5G5B5
+      if (f.alphaLow) std::rotate(c, c + 1, c + 4);  // A,R,G,B from bit 0: B4G4R4A4
     }
   } else {
     unsigned at = 0;
@@ -198,12 +234,18 @@ void encodeTexel(const FormatInfo& f, const uint32_t in[4], uint8_t* texel) {
   uint32_t c[4] = {in[0], in[1], in[2], in[3]};
   if (f.packed) {
     uint32_t w = 0;
-    unsigned shift = 0;
-    for (unsigned i = 0; i < f.components; ++i) {
-      w |= uint32_t(encodeComponent(f.type, c[i], f.bits[i], i == 3)) << shift;
-      shift += f.bits[i];
+    if (f.format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) {
+      w = encodeSharedExponent(c);
+    } else {
+      if (f.bgr) std::swap(c[0], c[2]);
+      if (f.alphaLow) std::rotate(c, c + 3, c + 4);  // R,G,B,A to A,R,G,B
+      unsigned shift = 0;
+      for (unsigned i = 0; i < f.components; ++i) {
+        w |= uint32_t(encodeComponent(f.type, c[i], f.bits[i], i == 3)) << shift;
+        shift += f.bits[i];
+      }
     }
-    std::memcpy(texel, &w, 4);
+    writeBits(texel, w, f.texelSize);
     return;
   }
   if (f.bgr) std::swap(c[0], c[2]);
