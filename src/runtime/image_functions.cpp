@@ -376,12 +376,21 @@ bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
   }
 }
 
+// "Border Replacement" replaces only the components the format (or the depth/stencil aspect) has; the others then
+// take the values of "Component Substitution" as a texel read would give them: 0 for G and B, 1 for A (B10G11R11
+// with a TRANSPARENT_BLACK border reads alpha 1; a stencil aspect with OPAQUE_WHITE reads (1, 0, 0, 1)).
+void substituteMissingComponents(const FormatInfo& f, uint32_t c[4]) {
+  for (unsigned i = f.components; i < 3; ++i) c[i] = 0;
+  if (f.components < 4) c[3] = isIntFormat(f) ? 1u : fbits(1.0f);
+}
+
 void borderColor(const TexelView& v, VkBorderColor bc, uint32_t out[4]) {
   bool opaque = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK || bc == VK_BORDER_COLOR_INT_OPAQUE_BLACK;
   bool white = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE || bc == VK_BORDER_COLOR_INT_OPAQUE_WHITE;
   uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
   out[0] = out[1] = out[2] = white ? one : 0;
   out[3] = (opaque || white) ? one : 0;
+  substituteMissingComponents(*v.format, out);
 }
 
 // The texel at integer (i, j, k) of `level` after the address modes, as four words.
