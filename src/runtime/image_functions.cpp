@@ -750,10 +750,53 @@ static void sampleLod(const abi::DescriptorRecord* img, const abi::DescriptorRec
   sampleAtLod(v, s, coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, offset, dref ? &cmp : nullptr, out);
 }
 
+// "Texel Anisotropic Filtering" for the gradient forms of a sampler with anisotropyEnable: rho_x and rho_y as
+// sampleGrad computes them ("Scale Factor Operation"), the ratio eta = min(rho_max / rho_min, maxAnisotropy) (a
+// line-shaped footprint, rho_min = 0, takes maxAnisotropy), and when eta > 1, N = ceil(eta) isotropic samples at
+// lambda = log2(rho_max / eta) (plus the biases, then the sampler's clamp and level selection as sampleAtLod) spaced
+// along the major axis's derivative at x - 1/2 + i / (N + 1), i = 1..N, and averaged: the spec's 2D scheme, applied
+// to each filter and mipmap mode (and to 1D and 3D views along the same derivative). The sampler's maxAnisotropy is
+// within maxSamplerAnisotropy (vkCreateSampler, VUID-VkSamplerCreateInfo-anisotropyEnable-01071). False when eta
+// is 1 (the isotropic path then samples once), for integer formats (not filtered) and cube views (their own path).
+static bool sampleAnisotropic(const View& v, const VkSamplerCreateInfo& s, const float coord[4], const float ddx[4],
+                              const float ddy[4], float bias, const float* dref, const int32_t* offset,
+                              uint32_t out[4]) {
+  if (!s.anisotropyEnable || !(s.maxAnisotropy > 1.0f) || isIntFormat(*v.format)) return false;
+  const VkExtent3D e = levelExtent(v, 0);
+  const float size[3] = {float(e.width), float(e.height), float(e.depth)};
+  float rx = 0, ry = 0;
+  for (int i = 0; i < v.dims && i < 3; ++i) {
+    rx += (ddx[i] * size[i]) * (ddx[i] * size[i]);
+    ry += (ddy[i] * size[i]) * (ddy[i] * size[i]);
+  }
+  const float rhoX = std::sqrt(rx), rhoY = std::sqrt(ry);
+  const float rhoMax = std::max(rhoX, rhoY), rhoMin = std::min(rhoX, rhoY);
+  if (!(rhoMax > 0.0f) || !std::isfinite(rhoMax)) return false;  // a point footprint (or NaN): isotropic
+  const float eta = rhoMin > 0.0f ? std::min(rhoMax / rhoMin, s.maxAnisotropy) : s.maxAnisotropy;
+  if (!(eta > 1.0f)) return false;
+  const uint32_t n = uint32_t(std::ceil(eta));
+  float lambda = std::log2(rhoMax / eta);
+  if (!std::isnan(bias)) lambda += bias;
+  lambda += s.mipLodBias;
+  DepthCompare cmp;
+  if (dref) cmp = depthCompare(v, s, *dref);
+  const float* major = rhoX > rhoY ? ddx : ddy;
+  double sum[4] = {0, 0, 0, 0};
+  for (uint32_t i = 1; i <= n; ++i) {
+    const float t = -0.5f + float(i) / float(n + 1);
+    float c[4] = {coord[0], coord[1], coord[2], coord[3]};
+    for (int d = 0; d < v.dims && d < 3; ++d) c[d] = coord[d] + t * major[d];
+    uint32_t r[4];
+    sampleAtLod(v, s, c, lambda, offset, dref ? &cmp : nullptr, r);
+    for (int k = 0; k < 4; ++k) sum[k] += double(bitsf(r[k]));
+  }
+  for (int k = 0; k < 4; ++k) out[k] = fbits(float(sum[k] / double(n)));
+  return true;
+}
+
 // "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y; the level of
-// detail is log2 of the larger ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample
-// at the larger scale factor, a blurrier result than the anisotropic filter's), plus the shader's and the sampler's
-// biases.
+// detail is log2 of the larger ("Level-of-Detail Operation", isotropic; sampleAnisotropic takes the samplers with
+// anisotropyEnable whose footprint is anisotropic), plus the shader's and the sampler's biases.
 static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                        const float ddx[4], const float ddy[4], float bias, const float* dref, const int32_t* offset,
                        uint32_t out[4]) {
@@ -761,6 +804,7 @@ static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRe
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  if (sampleAnisotropic(v, s, coord, ddx, ddy, bias, dref, offset, out)) return;
   VkExtent3D e = levelExtent(v, 0);
   const float size[3] = {float(e.width), float(e.height), float(e.depth)};
   float rx = 0, ry = 0;
