@@ -140,6 +140,21 @@ class BlitTest : public ImageTest {
     destroy(dst);
     return result;
   }
+
+  // A 1:1 NEAREST blit of the whole of a 2D `e` image of format `from` holding `data` to one of format `to`: the
+  // destination's bytes (dstTexel per texel).
+  std::vector<uint8_t> blitFormats(VkExtent3D e, VkFormat from, const std::vector<uint8_t>& data, VkFormat to,
+                                   size_t dstTexel) {
+    const VkOffset3D end{int32_t(e.width), int32_t(e.height), 1};
+    std::vector<uint8_t> got = blitAndRead(
+        imageInfo(VK_IMAGE_TYPE_2D, from, e, 1, 1), data, imageInfo(VK_IMAGE_TYPE_2D, to, e, 1, 1), 0, dstTexel,
+        [&](VkCommandBuffer cb, VkImage s, VkImage d) {
+          VkImageBlit r = blit(0, 0, {0, 0, 0}, end, 0, 0, {0, 0, 0}, end);
+          vkCmdBlitImage(cb, s, VK_IMAGE_LAYOUT_GENERAL, d, VK_IMAGE_LAYOUT_GENERAL, 1, &r, VK_FILTER_NEAREST);
+        });
+    acceptBlitQueueReports(1);
+    return got;
+  }
 };
 
 VkExtent3D mipExtent(VkExtent3D e, uint32_t mip) {
@@ -392,14 +407,7 @@ TEST_F(BlitTest, FormatConversions) {
   const VkExtent3D e{4, 2, 1};
   const uint32_t n = e.width * e.height;
   auto run = [&](VkFormat from, const std::vector<uint8_t>& data, VkFormat to, size_t dstTexel) {
-    std::vector<uint8_t> got = blitAndRead(
-        imageInfo(VK_IMAGE_TYPE_2D, from, e, 1, 1), data, imageInfo(VK_IMAGE_TYPE_2D, to, e, 1, 1), 0, dstTexel,
-        [&](VkCommandBuffer cb, VkImage s, VkImage d) {
-          VkImageBlit r = blit(0, 0, {0, 0, 0}, {4, 2, 1}, 0, 0, {0, 0, 0}, {4, 2, 1});
-          vkCmdBlitImage(cb, s, VK_IMAGE_LAYOUT_GENERAL, d, VK_IMAGE_LAYOUT_GENERAL, 1, &r, VK_FILTER_NEAREST);
-        });
-    acceptBlitQueueReports(1);
-    return got;
+    return blitFormats(e, from, data, to, dstTexel);
   };
   std::vector<uint8_t> rgba8(n * 4);
   for (uint32_t i = 0; i < rgba8.size(); ++i) rgba8[i] = uint8_t(i * 29 + 3);
@@ -492,14 +500,7 @@ TEST_F(BlitTest, PackedSixteenBitAndSharedExponentFormats) {
   const VkExtent3D e{4, 2, 1};
   const uint32_t n = e.width * e.height;
   auto run = [&](VkFormat from, const std::vector<uint8_t>& data, VkFormat to, size_t dstTexel) {
-    std::vector<uint8_t> got = blitAndRead(
-        imageInfo(VK_IMAGE_TYPE_2D, from, e, 1, 1), data, imageInfo(VK_IMAGE_TYPE_2D, to, e, 1, 1), 0, dstTexel,
-        [&](VkCommandBuffer cb, VkImage s, VkImage d) {
-          VkImageBlit r = blit(0, 0, {0, 0, 0}, {4, 2, 1}, 0, 0, {0, 0, 0}, {4, 2, 1});
-          vkCmdBlitImage(cb, s, VK_IMAGE_LAYOUT_GENERAL, d, VK_IMAGE_LAYOUT_GENERAL, 1, &r, VK_FILTER_NEAREST);
-        });
-    acceptBlitQueueReports(1);
-    return got;
+    return blitFormats(e, from, data, to, dstTexel);
   };
   auto rgba32 = [&](const std::vector<uint8_t>& bytes, uint32_t t, int c) {
     float f;
