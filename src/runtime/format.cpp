@@ -21,6 +21,10 @@ constexpr FormatInfo kFormats[] = {
     {VK_FORMAT_R8G8_SNORM, 2, 2, {8, 8}, N::SNorm, false, false},
     {VK_FORMAT_R8G8_UINT, 2, 2, {8, 8}, N::UInt, false, false},
     {VK_FORMAT_R8G8_SINT, 2, 2, {8, 8}, N::SInt, false, false},
+    // The packed 16-bit formats of "Mandatory Format Support: Sub-Byte Components" (fields from bit 0 up).
+    {VK_FORMAT_B4G4R4A4_UNORM_PACK16, 2, 4, {4, 4, 4, 4}, N::UNorm, false, true, 0, true},
+    {VK_FORMAT_R5G6B5_UNORM_PACK16, 2, 3, {5, 6, 5}, N::UNorm, true, true},
+    {VK_FORMAT_A1R5G5B5_UNORM_PACK16, 2, 4, {5, 5, 5, 1}, N::UNorm, true, true},
     {VK_FORMAT_R8G8B8A8_UNORM, 4, 4, {8, 8, 8, 8}, N::UNorm, false, false},
     {VK_FORMAT_R8G8B8A8_SNORM, 4, 4, {8, 8, 8, 8}, N::SNorm, false, false},
     {VK_FORMAT_R8G8B8A8_UINT, 4, 4, {8, 8, 8, 8}, N::UInt, false, false},
@@ -28,10 +32,21 @@ constexpr FormatInfo kFormats[] = {
     {VK_FORMAT_R8G8B8A8_SRGB, 4, 4, {8, 8, 8, 8}, N::SRGB, false, false},
     {VK_FORMAT_B8G8R8A8_UNORM, 4, 4, {8, 8, 8, 8}, N::UNorm, true, false},
     {VK_FORMAT_B8G8R8A8_SRGB, 4, 4, {8, 8, 8, 8}, N::SRGB, true, false},
+    // A8B8G8R8_*_PACK32: R in bits 0..7 ... A in bits 24..31, on a little-endian host the bytes of R8G8B8A8.
+    {VK_FORMAT_A8B8G8R8_UNORM_PACK32, 4, 4, {8, 8, 8, 8}, N::UNorm, false, false},
+    {VK_FORMAT_A8B8G8R8_SNORM_PACK32, 4, 4, {8, 8, 8, 8}, N::SNorm, false, false},
+    {VK_FORMAT_A8B8G8R8_UINT_PACK32, 4, 4, {8, 8, 8, 8}, N::UInt, false, false},
+    {VK_FORMAT_A8B8G8R8_SINT_PACK32, 4, 4, {8, 8, 8, 8}, N::SInt, false, false},
+    {VK_FORMAT_A8B8G8R8_SRGB_PACK32, 4, 4, {8, 8, 8, 8}, N::SRGB, false, false},
     {VK_FORMAT_A2B10G10R10_UNORM_PACK32, 4, 4, {10, 10, 10, 2}, N::UNorm, false, true},
     {VK_FORMAT_A2B10G10R10_UINT_PACK32, 4, 4, {10, 10, 10, 2}, N::UInt, false, true},
     {VK_FORMAT_B10G11R11_UFLOAT_PACK32, 4, 3, {11, 11, 10}, N::UFloat, false, true},
+    // Three 9-bit mantissas (R from bit 0) and a 5-bit exponent they share (bits 27..31); decodeTexel knows it.
+    {VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, 4, 3, {9, 9, 9}, N::UFloat, false, true},
     {VK_FORMAT_R16_UNORM, 2, 1, {16}, N::UNorm, false, false},
+    {VK_FORMAT_R16_SNORM, 2, 1, {16}, N::SNorm, false, false},
+    {VK_FORMAT_R16G16_UNORM, 4, 2, {16, 16}, N::UNorm, false, false},
+    {VK_FORMAT_R16G16_SNORM, 4, 2, {16, 16}, N::SNorm, false, false},
     {VK_FORMAT_R16_UINT, 2, 1, {16}, N::UInt, false, false},
     {VK_FORMAT_R16_SINT, 2, 1, {16}, N::SInt, false, false},
     {VK_FORMAT_R16_SFLOAT, 2, 1, {16}, N::SFloat, false, false},
@@ -39,6 +54,7 @@ constexpr FormatInfo kFormats[] = {
     {VK_FORMAT_R16G16_SINT, 4, 2, {16, 16}, N::SInt, false, false},
     {VK_FORMAT_R16G16_SFLOAT, 4, 2, {16, 16}, N::SFloat, false, false},
     {VK_FORMAT_R16G16B16A16_UNORM, 8, 4, {16, 16, 16, 16}, N::UNorm, false, false},
+    {VK_FORMAT_R16G16B16A16_SNORM, 8, 4, {16, 16, 16, 16}, N::SNorm, false, false},
     {VK_FORMAT_R16G16B16A16_UINT, 8, 4, {16, 16, 16, 16}, N::UInt, false, false},
     {VK_FORMAT_R16G16B16A16_SINT, 8, 4, {16, 16, 16, 16}, N::SInt, false, false},
     {VK_FORMAT_R16G16B16A16_SFLOAT, 8, 4, {16, 16, 16, 16}, N::SFloat, false, false},
@@ -68,9 +84,9 @@ constexpr FormatInfo kD24S8Stencil{VK_FORMAT_D24_UNORM_S8_UINT, 4, 1, {8}, N::UI
 constexpr FormatInfo kD32S8Stencil{VK_FORMAT_D32_SFLOAT_S8_UINT, 8, 1, {8}, N::UInt, false, false, 4};
 
 // The color formats the spec's "Required Format Support" tables mark COLOR_ATTACHMENT (vkrt renders to every
-// color format it has but the three-component 32-bit ones, buffer-only, and B10G11R11, whose encode is rounding
-// only: it is required, so it is included too). Blending applies to all but the integer formats.
-bool colorAttachment(const FormatInfo& f) { return f.texelSize != 12; }
+// color format it has but the three-component 32-bit ones, buffer-only, and the shared-exponent E5B9G9R9; B10G11R11,
+// whose encode is rounding only, is included). Blending applies to all but the integer formats.
+bool colorAttachment(const FormatInfo& f) { return f.texelSize != 12 && f.format != VK_FORMAT_E5B9G9R9_UFLOAT_PACK32; }
 
 }  // namespace
 
@@ -145,6 +161,13 @@ VkFormatFeatureFlags formatFeatures(VkFormat format) {
     if (format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D32_SFLOAT) ds |= VK_FORMAT_FEATURE_BLIT_SRC_BIT;
     return ds;
   }
+  // E5B9G9R9 ("Mandatory Format Support: 64-bit/uneven Components" asks sampled, filtered, blit source): copies and
+  // blits both ways too (clears and blit destinations through encodeTexel's rounding to the shared exponent); no
+  // attachment or storage (neither required; the rasterizer and the storage paths are not tested with it).
+  if (format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32)
+    return VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
+           VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
+           VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   // Every image format blits both ways: vkCmdBlitImage decodes, filters and encodes any of them
   // (runtime/image_blit.cpp), which covers the BLIT_SRC/BLIT_DST rows of the spec's "Required Format Support".
   VkFormatFeatureFlags flags = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
@@ -192,7 +215,8 @@ VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
       (accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0) |
       (vertexBufferFormat(format) ? VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT : 0);
   const FormatInfo* f = formatInfo(format);
-  if (!f || f->type == N::SRGB || isDepthStencilFormat(format)) return vertex;
+  if (!f || f->type == N::SRGB || isDepthStencilFormat(format) || format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32)
+    return vertex;
   VkFormatFeatureFlags flags =
       vertex | VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
   if (format == VK_FORMAT_R32_UINT || format == VK_FORMAT_R32_SINT)

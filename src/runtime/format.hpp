@@ -14,13 +14,17 @@ struct FormatInfo {
   VkFormat format;
   uint8_t texelSize;   // bytes per texel
   uint8_t components;  // 1..4
-  uint8_t bits[4];     // bits per component, in memory order R,G,B,A (B,G,R,A for the BGRA formats)
+  // Bits per component in memory order: R,G,B,A (B,G,R,A for the BGRA formats); for packed formats from the least
+  // significant bit up (A2B10G10R10: R,G,B,A; R5G6B5: B,G,R; B4G4R4A4: A,R,G,B).
+  uint8_t bits[4];
   NumericType type;
   bool bgr;     // components stored as B,G,R(,A)
-  bool packed;  // a packed format (A2B10G10R10, B10G11R11...)
+  bool packed;  // a packed format (A2B10G10R10, B10G11R11, R5G6B5...): one texelSize-byte word, fields from bit 0 up
   // The byte of the texel where the decoded components start: 0, except for the stencil aspect of a combined
   // depth/stencil format (aspectFormatInfo), which reads one byte inside the combined texel.
   uint8_t offset = 0;
+  // A packed format whose lowest field is A, followed by R, G, B (B4G4R4A4_UNORM_PACK16).
+  bool alphaLow = false;
 };
 
 // Depth/stencil formats (the spec's "Depth/Stencil Formats"), stored as their texels: D16_UNORM 2 bytes,

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "exec/thread_pool.hpp"
+#include "runtime/image_functions.hpp"
 
 namespace vkrt {
 
@@ -156,21 +157,10 @@ bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint
   static constexpr int kRgba[4] = {0, 1, 2, 3};
   static constexpr int kBgra[4] = {2, 1, 0, 3};
   const int* src = fi.bgr ? kBgra : kRgba;
+  // Packed formats through the texel encoder (16- and 32-bit words, shared exponent): the clear color's words are
+  // what a shader would write.
   if (fi.packed) {
-    uint32_t v = 0;
-    if (fi.format == VK_FORMAT_B10G11R11_UFLOAT_PACK32) {
-      v = floatToUnsignedSmallFloat(color.float32[0], 6) | (floatToUnsignedSmallFloat(color.float32[1], 6) << 11) |
-          (floatToUnsignedSmallFloat(color.float32[2], 5) << 22);
-    } else if (fi.format == VK_FORMAT_A2B10G10R10_UNORM_PACK32) {
-      v = unorm(color.float32[0], 10) | (unorm(color.float32[1], 10) << 10) | (unorm(color.float32[2], 10) << 20) |
-          (unorm(color.float32[3], 2) << 30);
-    } else if (fi.format == VK_FORMAT_A2B10G10R10_UINT_PACK32) {
-      v = (color.uint32[0] & 0x3ff) | ((color.uint32[1] & 0x3ff) << 10) | ((color.uint32[2] & 0x3ff) << 20) |
-          ((color.uint32[3] & 0x3) << 30);
-    } else {
-      return false;
-    }
-    std::memcpy(texel, &v, 4);
+    encodeTexel(fi, color.uint32, texel);
     return true;
   }
   uint8_t* out = texel;

@@ -162,6 +162,35 @@ uint64_t encodeComponent(N type, uint32_t word, unsigned bits, bool alpha) {
 
 bool isIntFormat(const FormatInfo& f) { return f.type == N::UInt || f.type == N::SInt; }
 
+// VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: component = mantissa * 2^(exponent - 15 - 9).
+void decodeSharedExponent(uint32_t w, uint32_t c[4]) {
+  const int e = int(w >> 27) - 24;
+  for (unsigned i = 0; i < 3; ++i) c[i] = fbits(std::ldexp(float((w >> (9 * i)) & 511u), e));
+}
+
+// The inverse, as EXT_texture_shared_exponent defines it (N = 9 mantissa bits, bias B = 15, Emax = 31): components
+// clamped to [0, (511/512) * 2^16] (NaN to 0), the exponent from the largest, raised by one when its mantissa
+// rounds up to 512, each mantissa rounded to nearest. frexp gives floor(log2) exactly on every ISA.
+uint32_t encodeSharedExponent(const uint32_t in[4]) {
+  float c[3];
+  float maxc = 0.0f;
+  for (unsigned i = 0; i < 3; ++i) {
+    const float f = bitsf(in[i]);
+    c[i] = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 65408.0f);
+    maxc = std::max(maxc, c[i]);
+  }
+  int exp = 0;  // biased exponent
+  if (maxc > 0.0f) {
+    int e2;
+    std::frexp(maxc, &e2);  // maxc = m * 2^e2, m in [0.5, 1): floor(log2(maxc)) = e2 - 1
+    exp = std::max(-16, e2 - 1) + 16;
+    if (std::floor(double(maxc) / std::ldexp(1.0, exp - 24) + 0.5) == 512.0) ++exp;
+  }
+  uint32_t w = uint32_t(exp) << 27;
+  for (unsigned i = 0; i < 3; ++i) w |= uint32_t(std::floor(double(c[i]) / std::ldexp(1.0, exp - 24) + 0.5)) << (9 * i);
+  return w;
+}
+
 }  // namespace
 
 void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
@@ -178,12 +207,19 @@ void decodeTexel(const FormatInfo& f, const uint8_t* texel, uint32_t out[4]) {
   }
   uint32_t c[4] = {0, 0, 0, isIntFormat(f) ? 1u : fbits(1.0f)};
   if (f.packed) {
-    uint32_t w = uint32_t(readBits(texel, 4));
-    unsigned shift = 0;
-    for (unsigned i = 0; i < f.components; ++i) {
-      uint32_t raw = (w >> shift) & ((1u << f.bits[i]) - 1);
-      c[i] = decodeComponent(f.type, raw, f.bits[i], i == 3);
-      shift += f.bits[i];
+    // One 16- or 32-bit word, fields from bit 0 up (format.hpp).
+    uint32_t w = uint32_t(readBits(texel, f.texelSize));
+    if (f.format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) {
+      decodeSharedExponent(w, c);
+    } else {
+      unsigned shift = 0;
+      for (unsigned i = 0; i < f.components; ++i) {
+        uint32_t raw = (w >> shift) & ((1u << f.bits[i]) - 1);
+        c[i] = decodeComponent(f.type, raw, f.bits[i], i == 3);
+        shift += f.bits[i];
+      }
+      if (f.bgr) std::swap(c[0], c[2]);              // B,G,R(,A) from bit 0: R5G6B5, A1R5G5B5
+      if (f.alphaLow) std::rotate(c, c + 1, c + 4);  // A,R,G,B from bit 0: B4G4R4A4
     }
   } else {
     unsigned at = 0;
@@ -201,12 +237,18 @@ void encodeTexel(const FormatInfo& f, const uint32_t in[4], uint8_t* texel) {
   uint32_t c[4] = {in[0], in[1], in[2], in[3]};
   if (f.packed) {
     uint32_t w = 0;
-    unsigned shift = 0;
-    for (unsigned i = 0; i < f.components; ++i) {
-      w |= uint32_t(encodeComponent(f.type, c[i], f.bits[i], i == 3)) << shift;
-      shift += f.bits[i];
+    if (f.format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) {
+      w = encodeSharedExponent(c);
+    } else {
+      if (f.bgr) std::swap(c[0], c[2]);
+      if (f.alphaLow) std::rotate(c, c + 3, c + 4);  // R,G,B,A to A,R,G,B
+      unsigned shift = 0;
+      for (unsigned i = 0; i < f.components; ++i) {
+        w |= uint32_t(encodeComponent(f.type, c[i], f.bits[i], i == 3)) << shift;
+        shift += f.bits[i];
+      }
     }
-    std::memcpy(texel, &w, 4);
+    writeBits(texel, w, f.texelSize);
     return;
   }
   if (f.bgr) std::swap(c[0], c[2]);
@@ -337,12 +379,21 @@ bool wrap(VkSamplerAddressMode mode, int64_t i, int64_t size, int64_t* out) {
   }
 }
 
+// "Border Replacement" replaces only the components the format (or the depth/stencil aspect) has; the others then
+// take the values of "Component Substitution" as a texel read would give them: 0 for G and B, 1 for A (B10G11R11
+// with a TRANSPARENT_BLACK border reads alpha 1; a stencil aspect with OPAQUE_WHITE reads (1, 0, 0, 1)).
+void substituteMissingComponents(const FormatInfo& f, uint32_t c[4]) {
+  for (unsigned i = f.components; i < 3; ++i) c[i] = 0;
+  if (f.components < 4) c[3] = isIntFormat(f) ? 1u : fbits(1.0f);
+}
+
 void borderColor(const TexelView& v, VkBorderColor bc, uint32_t out[4]) {
   bool opaque = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK || bc == VK_BORDER_COLOR_INT_OPAQUE_BLACK;
   bool white = bc == VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE || bc == VK_BORDER_COLOR_INT_OPAQUE_WHITE;
   uint32_t one = isIntFormat(*v.format) ? 1u : fbits(1.0f);
   out[0] = out[1] = out[2] = white ? one : 0;
   out[3] = (opaque || white) ? one : 0;
+  substituteMissingComponents(*v.format, out);
 }
 
 // The texel at integer (i, j, k) of `level` after the address modes, as four words.
@@ -866,6 +917,53 @@ static float gradLambda(const View& v, const VkSamplerCreateInfo& s, const float
   return biasedLod(s, lodOfDerivatives(v, s, dx, dy)[0], bias);
 }
 
+// "Texel Anisotropic Filtering" for the gradient forms of a sampler with anisotropyEnable: rho_x and rho_y as
+// sampleGrad computes them ("Scale Factor Operation"), the ratio eta = min(rho_max / rho_min, maxAnisotropy) (a
+// line-shaped footprint, rho_min = 0, takes maxAnisotropy), and when eta > 1, N = ceil(eta) isotropic samples at
+// lambda = log2(rho_max / eta) (plus the biases, then the sampler's clamp and level selection as sampleAtLod) spaced
+// along the major axis's derivative at x - 1/2 + i / (N + 1), i = 1..N, and averaged: the spec's 2D scheme, applied
+// to each filter and mipmap mode (and to 1D and 3D views along the same derivative). The sampler's maxAnisotropy is
+// within maxSamplerAnisotropy (vkCreateSampler, VUID-VkSamplerCreateInfo-anisotropyEnable-01071). False when eta
+// is 1 (the isotropic path then samples once), for integer formats (not filtered) and cube views (their own path).
+static bool sampleAnisotropic(const View& v, const VkSamplerCreateInfo& s, const float coord[4], const float ddx[4],
+                              const float ddy[4], float bias, const float* dref, const int32_t* offset,
+                              uint32_t out[4]) {
+  if (!s.anisotropyEnable || !(s.maxAnisotropy > 1.0f) || isIntFormat(*v.format)) return false;
+  const VkExtent3D e = levelExtent(v, 0);
+  const float size[3] = {float(e.width), float(e.height), float(e.depth)};
+  float rx = 0, ry = 0;
+  for (int i = 0; i < v.dims && i < 3; ++i) {
+    rx += (ddx[i] * size[i]) * (ddx[i] * size[i]);
+    ry += (ddy[i] * size[i]) * (ddy[i] * size[i]);
+  }
+  const float rhoX = std::sqrt(rx), rhoY = std::sqrt(ry);
+  const float rhoMax = std::max(rhoX, rhoY), rhoMin = std::min(rhoX, rhoY);
+  if (!(rhoMax > 0.0f) || !std::isfinite(rhoMax)) return false;  // a point footprint (or NaN): isotropic
+  const float eta = rhoMin > 0.0f ? std::min(rhoMax / rhoMin, s.maxAnisotropy) : s.maxAnisotropy;
+  if (!(eta > 1.0f)) return false;
+  const uint32_t n = uint32_t(std::ceil(eta));
+  float lambda = lodLog2(Float4{} + rhoMax / eta)[0];  // as the isotropic path: the same on every CPU
+  if (!std::isnan(bias)) lambda += bias;
+  lambda += s.mipLodBias;
+  DepthCompare cmp;
+  if (dref) cmp = depthCompare(v, s, *dref);
+  const float* major = rhoX > rhoY ? ddx : ddy;
+  double sum[4] = {0, 0, 0, 0};
+  for (uint32_t i = 1; i <= n; ++i) {
+    const float t = -0.5f + float(i) / float(n + 1);
+    float c[4] = {coord[0], coord[1], coord[2], coord[3]};
+    for (int d = 0; d < v.dims && d < 3; ++d) c[d] = coord[d] + t * major[d];
+    uint32_t r[4];
+    sampleAtLod(v, s, nullptr, c, lambda, offset, dref ? &cmp : nullptr, r);
+    for (int k = 0; k < 4; ++k) sum[k] += double(bitsf(r[k]));
+  }
+  for (int k = 0; k < 4; ++k) out[k] = fbits(float(sum[k] / double(n)));
+  return true;
+}
+
+// "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y; the level of
+// detail is log2 of the larger ("Level-of-Detail Operation", isotropic; sampleAnisotropic takes the samplers with
+// anisotropyEnable whose footprint is anisotropic), plus the shader's and the sampler's biases.
 static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp, const float coord[4],
                        const float ddx[4], const float ddy[4], float bias, const float* dref, const int32_t* offset,
                        uint32_t out[4]) {
@@ -873,6 +971,7 @@ static void sampleGrad(const abi::DescriptorRecord* img, const abi::DescriptorRe
   std::memset(out, 0, 16);
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  if (sampleAnisotropic(v, s, coord, ddx, ddy, bias, dref, offset, out)) return;
   DepthCompare cmp;
   if (dref) cmp = depthCompare(v, s, *dref);
   FastView fv;
@@ -933,6 +1032,17 @@ void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::De
   View v;
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
+  if (s.anisotropyEnable) {  // each lane's own footprint decides between sampleAnisotropic and one sample
+    for (unsigned l = 0; l < 4; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
+      const float dx[4] = {ddx[l], ddx[4 + l], ddx[8 + l], 0.0f}, dy[4] = {ddy[l], ddy[4 + l], ddy[8 + l], 0.0f};
+      uint32_t r[4];
+      sampleGrad(img, smp, c, dx, dy, bias[l], nullptr, nullptr, r);
+      for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
+    }
+    return;
+  }
   FastView fv;
   const FastView* fast = fastView(v, s, &fv);
   const Float4 lambda = lodOfDerivatives(v, s, ddx, ddy);  // the four lanes' at once

@@ -57,11 +57,10 @@ constexpr F kSupported[] = {
     // Cube and cube array views are sampled with face selection and seamless filtering (runtime/image_functions.cpp
     // vkrt_image_sample_cube; tests/e2e ComputeImageTest.CubeMapsSelectTheFaceFilterAcrossEdgesAndGather).
     F::imageCubeArray,
-    // Anisotropic filtering: the only sampling vkrt compiles is explicit-LOD sampling with a Lod operand (textureLod),
-    // whose derivatives are zero, so rho_max = rho_min = 0 and the ratio of anisotropy is 1 ("Scale Factor
-    // Operation"): one isotropic sample is the anisotropic filter (runtime/image_functions.cpp vkrt_image_sample;
-    // tests/e2e ComputeAnisotropyTest). Grad or implicit-LOD sampling would need ceil(eta) samples along the major
-    // axis of the footprint. maxSamplerAnisotropy is 16 (runtime/physical_device.cpp).
+    // Anisotropic filtering ("Texel Anisotropic Filtering"): the gradient and implicit-LOD forms of a sampler with
+    // anisotropyEnable take N = ceil(eta) isotropic samples along the major axis at the minor axis's level of detail
+    // and average them (runtime/image_functions.cpp sampleAnisotropic; tests/runtime SamplerAnisotropy.*); explicit
+    // Lod has no derivatives and samples once. maxSamplerAnisotropy is 16 (runtime/physical_device.cpp).
     F::samplerAnisotropy,
     // 64-bit integers and floats, 8/16-bit integers and 16-bit floats in shaders, and their storage-buffer, uniform
     // and push-constant access (src/spirv; tests/spirv SixtyFourBitIntegersAndDoubles, SpirvCompilerSmallTypes,

@@ -140,6 +140,21 @@ class BlitTest : public ImageTest {
     destroy(dst);
     return result;
   }
+
+  // A 1:1 NEAREST blit of the whole of a 2D `e` image of format `from` holding `data` to one of format `to`: the
+  // destination's bytes (dstTexel per texel).
+  std::vector<uint8_t> blitFormats(VkExtent3D e, VkFormat from, const std::vector<uint8_t>& data, VkFormat to,
+                                   size_t dstTexel) {
+    const VkOffset3D end{int32_t(e.width), int32_t(e.height), 1};
+    std::vector<uint8_t> got = blitAndRead(
+        imageInfo(VK_IMAGE_TYPE_2D, from, e, 1, 1), data, imageInfo(VK_IMAGE_TYPE_2D, to, e, 1, 1), 0, dstTexel,
+        [&](VkCommandBuffer cb, VkImage s, VkImage d) {
+          VkImageBlit r = blit(0, 0, {0, 0, 0}, end, 0, 0, {0, 0, 0}, end);
+          vkCmdBlitImage(cb, s, VK_IMAGE_LAYOUT_GENERAL, d, VK_IMAGE_LAYOUT_GENERAL, 1, &r, VK_FILTER_NEAREST);
+        });
+    acceptBlitQueueReports(1);
+    return got;
+  }
 };
 
 VkExtent3D mipExtent(VkExtent3D e, uint32_t mip) {
@@ -194,6 +209,15 @@ TEST_F(BlitTest, FormatFeaturesAdvertiseBlitsAndLinearFiltering) {
       {VK_FORMAT_R32G32B32A32_SINT, true, false},
       {VK_FORMAT_R32G32B32A32_SFLOAT, true, false},
       {VK_FORMAT_B10G11R11_UFLOAT_PACK32, false, true},
+      {VK_FORMAT_B4G4R4A4_UNORM_PACK16, false, true},
+      {VK_FORMAT_R5G6B5_UNORM_PACK16, true, true},
+      {VK_FORMAT_A1R5G5B5_UNORM_PACK16, true, true},
+      {VK_FORMAT_A8B8G8R8_UNORM_PACK32, true, true},
+      {VK_FORMAT_A8B8G8R8_SNORM_PACK32, false, true},
+      {VK_FORMAT_A8B8G8R8_UINT_PACK32, true, false},
+      {VK_FORMAT_A8B8G8R8_SINT_PACK32, true, false},
+      {VK_FORMAT_A8B8G8R8_SRGB_PACK32, true, true},
+      {VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, false, true},
   };
   for (const Required& r : required) {
     SCOPED_TRACE(r.format);
@@ -383,14 +407,7 @@ TEST_F(BlitTest, FormatConversions) {
   const VkExtent3D e{4, 2, 1};
   const uint32_t n = e.width * e.height;
   auto run = [&](VkFormat from, const std::vector<uint8_t>& data, VkFormat to, size_t dstTexel) {
-    std::vector<uint8_t> got = blitAndRead(
-        imageInfo(VK_IMAGE_TYPE_2D, from, e, 1, 1), data, imageInfo(VK_IMAGE_TYPE_2D, to, e, 1, 1), 0, dstTexel,
-        [&](VkCommandBuffer cb, VkImage s, VkImage d) {
-          VkImageBlit r = blit(0, 0, {0, 0, 0}, {4, 2, 1}, 0, 0, {0, 0, 0}, {4, 2, 1});
-          vkCmdBlitImage(cb, s, VK_IMAGE_LAYOUT_GENERAL, d, VK_IMAGE_LAYOUT_GENERAL, 1, &r, VK_FILTER_NEAREST);
-        });
-    acceptBlitQueueReports(1);
-    return got;
+    return blitFormats(e, from, data, to, dstTexel);
   };
   std::vector<uint8_t> rgba8(n * 4);
   for (uint32_t i = 0; i < rgba8.size(); ++i) rgba8[i] = uint8_t(i * 29 + 3);
@@ -473,6 +490,134 @@ TEST_F(BlitTest, FormatConversions) {
       EXPECT_EQ(wide[2], 0);
       EXPECT_EQ(wide[3], 1);  // a missing alpha reads as integer 1
     }
+  }
+}
+
+TEST_F(BlitTest, PackedSixteenBitAndSharedExponentFormats) {
+  // The packed formats of "Mandatory Format Support" (B4G4R4A4, R5G6B5, A1R5G5B5, A8B8G8R8, E5B9G9R9) uploaded as
+  // bytes, blitted 1:1 (NEAREST) to RGBA32F and back from RGBA32F: each field where formats.adoc puts it, decoded as
+  // value / (2^bits - 1) (the shared exponent: mantissa * 2^(exponent - 24)), encoded to the nearest field value.
+  const VkExtent3D e{4, 2, 1};
+  const uint32_t n = e.width * e.height;
+  auto run = [&](VkFormat from, const std::vector<uint8_t>& data, VkFormat to, size_t dstTexel) {
+    return blitFormats(e, from, data, to, dstTexel);
+  };
+  auto rgba32 = [&](const std::vector<uint8_t>& bytes, uint32_t t, int c) {
+    float f;
+    std::memcpy(&f, bytes.data() + 16 * t + 4 * c, 4);
+    return f;
+  };
+  struct Field {
+    int shift, bits;
+  };
+  struct Packed {
+    VkFormat format;
+    Field rgba[4];  // bits 0: absent (alpha reads 1)
+  };
+  const Packed packed[] = {
+      {VK_FORMAT_R5G6B5_UNORM_PACK16, {{11, 5}, {5, 6}, {0, 5}, {0, 0}}},
+      {VK_FORMAT_A1R5G5B5_UNORM_PACK16, {{10, 5}, {5, 5}, {0, 5}, {15, 1}}},
+      {VK_FORMAT_B4G4R4A4_UNORM_PACK16, {{4, 4}, {8, 4}, {12, 4}, {0, 4}}},
+  };
+  for (const Packed& p : packed) {
+    SCOPED_TRACE(p.format);
+    std::vector<uint8_t> words(n * 2);
+    for (uint32_t i = 0; i < words.size(); ++i) words[i] = uint8_t(i * 71 + 13);
+    const std::vector<uint8_t> f32 = run(p.format, words, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
+    std::vector<uint8_t> floats(n * 16);
+    for (uint32_t t = 0; t < n; ++t) {
+      uint16_t w;
+      std::memcpy(&w, &words[2 * t], 2);
+      for (int c = 0; c < 4; ++c) {
+        const Field f = p.rgba[c];
+        const double want = f.bits ? double((w >> f.shift) & ((1 << f.bits) - 1)) / ((1 << f.bits) - 1) : 1.0;
+        EXPECT_NEAR(rgba32(f32, t, c), want, 1e-7) << t << " " << c;
+        // The way back: values between the steps, which encode to the nearest step.
+        const float v = float((t * 4 + c) % 9) / 8.0f;
+        std::memcpy(&floats[16 * t + 4 * c], &v, 4);
+      }
+    }
+    const std::vector<uint8_t> back = run(VK_FORMAT_R32G32B32A32_SFLOAT, floats, p.format, 2);
+    for (uint32_t t = 0; t < n; ++t) {
+      uint16_t w;
+      std::memcpy(&w, &back[2 * t], 2);
+      for (int c = 0; c < 4; ++c) {
+        const Field f = p.rgba[c];
+        if (!f.bits) continue;
+        const double want = double((t * 4 + c) % 9) / 8.0 * ((1 << f.bits) - 1);
+        EXPECT_LE(std::fabs(double((w >> f.shift) & ((1 << f.bits) - 1)) - want), 0.5 + 1e-6) << t << " " << c;
+      }
+    }
+  }
+  {  // A8B8G8R8_UNORM_PACK32: R in bits 0..7, A in 24..31 (the bytes of R8G8B8A8 on a little-endian host)
+    SCOPED_TRACE("A8B8G8R8_UNORM_PACK32");
+    std::vector<uint8_t> bytes(n * 4);
+    for (uint32_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(i * 29 + 3);
+    const std::vector<uint8_t> f32 = run(VK_FORMAT_A8B8G8R8_UNORM_PACK32, bytes, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
+    for (uint32_t t = 0; t < n; ++t) {
+      uint32_t w;
+      std::memcpy(&w, &bytes[4 * t], 4);
+      for (int c = 0; c < 4; ++c) EXPECT_NEAR(rgba32(f32, t, c), ((w >> (8 * c)) & 0xff) / 255.0, 1e-7) << t << c;
+    }
+  }
+  {  // E5B9G9R9_UFLOAT_PACK32: R's mantissa in bits 0..8, G's 9..17, B's 18..26, the exponent in 27..31
+    SCOPED_TRACE("E5B9G9R9_UFLOAT_PACK32");
+    const uint32_t words[8] = {15u << 27 | 256,
+                               16u << 27 | 511u << 9,
+                               20u << 27 | 3u << 18 | 5,
+                               0u,
+                               31u << 27 | 511u << 18,
+                               1u << 27 | 1u << 9,
+                               24u << 27 | 1u | 2u << 9 | 3u << 18,
+                               10u << 27 | 100u | 200u << 9 | 300u << 18};
+    std::vector<uint8_t> data(sizeof words);
+    std::memcpy(data.data(), words, sizeof words);
+    const std::vector<uint8_t> f32 = run(VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, data, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
+    for (uint32_t t = 0; t < n; ++t) {
+      const int exp = int(words[t] >> 27);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(rgba32(f32, t, c), std::ldexp(double((words[t] >> (9 * c)) & 511), exp - 24)) << t << " " << c;
+      EXPECT_EQ(rgba32(f32, t, 3), 1.0f);
+    }
+  }
+}
+
+TEST_F(BlitTest, ClearColorImageEncodesPackedFormats) {
+  // vkCmdClearColorImage through each packed format's encoder (R5G6B5, A1R5G5B5, B4G4R4A4, E5B9G9R9), read back as
+  // bytes: the expected words are computed here from the fields' positions.
+  struct Case {
+    VkFormat format;
+    VkClearColorValue color;
+    uint32_t bytes, want;
+  };
+  const Case cases[] = {
+      // R 0.5 * 31 = 15.5 -> 16 (ties to even), G 0.25 * 63 = 15.75 -> 16, B 1 -> 31
+      {VK_FORMAT_R5G6B5_UNORM_PACK16, {{0.5f, 0.25f, 1.0f, 0.0f}}, 2, 16u << 11 | 16u << 5 | 31u},
+      {VK_FORMAT_A1R5G5B5_UNORM_PACK16, {{0.0f, 1.0f, 0.1f, 1.0f}}, 2, 1u << 15 | 0u << 10 | 31u << 5 | 3u},
+      {VK_FORMAT_B4G4R4A4_UNORM_PACK16, {{0.2f, 0.4f, 1.0f, 0.6f}}, 2, 15u << 12 | 6u << 8 | 3u << 4 | 9u},
+      // max 1.0: exponent 16, mantissas 256, 128, 64 (2^-8 per step)
+      {VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, {{1.0f, 0.5f, 0.25f, 0.0f}}, 4, 16u << 27 | 64u << 18 | 128u << 9 | 256u},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.format);
+    Img img = createImage(imageInfo(VK_IMAGE_TYPE_2D, c.format, {2, 2, 1}, 1, 1));
+    HostBuffer out = createHostBuffer(4 * c.bytes, kXfer);
+    std::memset(out.data, 0xee, 4 * c.bytes);
+    VkCommandBuffer cb = beginOneTime();
+    toGeneral(cb, img.image);
+    VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cb, img.image, VK_IMAGE_LAYOUT_GENERAL, &c.color, 1, &all);
+    sync(cb);
+    VkBufferImageCopy down = bufferRegion(0, 0, 0, 1, {2, 2, 1});
+    vkCmdCopyImageToBuffer(cb, img.image, VK_IMAGE_LAYOUT_GENERAL, out.buffer, 1, &down);
+    submitAndWait(cb);
+    for (uint32_t t = 0; t < 4; ++t) {
+      uint32_t w = 0;
+      std::memcpy(&w, bytes(out) + t * c.bytes, c.bytes);
+      EXPECT_EQ(w, c.want) << t;
+    }
+    destroy(out);
+    destroy(img);
   }
 }
 

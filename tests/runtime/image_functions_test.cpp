@@ -91,6 +91,107 @@ TEST(ImageFunctions, EncodeRoundsClampsAndRoundTrips) {
   EXPECT_EQ(std::memcmp(f, back, 16), 0);
 }
 
+// The packed 16-bit formats of "Mandatory Format Support: Sub-Byte Components", fields as formats.adoc places them
+// (most significant first in the name): every field at its maximum alone, then mixed values, then the encoder's
+// rounding back to the same words.
+TEST(ImageFunctions, PackedSixteenBitFormatsPlaceEachFieldAsTheSpecificationSays) {
+  auto decode = [](VkFormat format, uint16_t word, float want[4]) {
+    uint32_t w[4];
+    decodeTexel(*formatInfo(format), reinterpret_cast<const uint8_t*>(&word), w);
+    for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(asFloat(w[c]), want[c]) << format << " word " << word << " c " << c;
+  };
+  auto encode = [](VkFormat format, const float rgba[4]) {
+    uint32_t in[4] = {asWord(rgba[0]), asWord(rgba[1]), asWord(rgba[2]), asWord(rgba[3])};
+    uint8_t t[4] = {0xAA, 0xAA, 0xAA, 0xAA};
+    encodeTexel(*formatInfo(format), in, t);
+    EXPECT_EQ(t[2], 0xAA) << "a 2-byte texel writes 2 bytes";
+    uint16_t w;
+    std::memcpy(&w, t, 2);
+    return w;
+  };
+  // R5G6B5_UNORM_PACK16: R in bits 11..15, G in 5..10, B in 0..4; no alpha (reads 1).
+  {
+    float r[4] = {1, 0, 0, 1}, g[4] = {0, 1, 0, 1}, b[4] = {0, 0, 1, 1};
+    decode(VK_FORMAT_R5G6B5_UNORM_PACK16, 0xF800, r);
+    decode(VK_FORMAT_R5G6B5_UNORM_PACK16, 0x07E0, g);
+    decode(VK_FORMAT_R5G6B5_UNORM_PACK16, 0x001F, b);
+    float mixed[4] = {10 / 31.0f, 33 / 63.0f, 7 / 31.0f, 1};
+    decode(VK_FORMAT_R5G6B5_UNORM_PACK16, uint16_t(10 << 11 | 33 << 5 | 7), mixed);
+    EXPECT_EQ(encode(VK_FORMAT_R5G6B5_UNORM_PACK16, mixed), uint16_t(10 << 11 | 33 << 5 | 7));
+    const float half[4] = {0.5f, 0.5f, 2.0f, 0.0f};  // 15.5 -> 16 (nearest), 31.5 -> 32, B clamped to 31
+    EXPECT_EQ(encode(VK_FORMAT_R5G6B5_UNORM_PACK16, half), uint16_t(16 << 11 | 32 << 5 | 31));
+  }
+  // B4G4R4A4_UNORM_PACK16: B in bits 12..15, G in 8..11, R in 4..7, A in 0..3.
+  {
+    float b[4] = {0, 0, 1, 0}, a[4] = {0, 0, 0, 1}, r[4] = {1, 0, 0, 0};
+    decode(VK_FORMAT_B4G4R4A4_UNORM_PACK16, 0xF000, b);
+    decode(VK_FORMAT_B4G4R4A4_UNORM_PACK16, 0x000F, a);
+    decode(VK_FORMAT_B4G4R4A4_UNORM_PACK16, 0x00F0, r);
+    float mixed[4] = {3 / 15.0f, 9 / 15.0f, 12 / 15.0f, 5 / 15.0f};
+    decode(VK_FORMAT_B4G4R4A4_UNORM_PACK16, 0xC935, mixed);
+    EXPECT_EQ(encode(VK_FORMAT_B4G4R4A4_UNORM_PACK16, mixed), 0xC935);
+  }
+  // A1R5G5B5_UNORM_PACK16: A in bit 15, R in 10..14, G in 5..9, B in 0..4.
+  {
+    float a[4] = {0, 0, 0, 1}, r[4] = {1, 0, 0, 0}, b[4] = {0, 0, 1, 0};
+    decode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, 0x8000, a);
+    decode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, 0x7C00, r);
+    decode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, 0x001F, b);
+    float mixed[4] = {17 / 31.0f, 4 / 31.0f, 30 / 31.0f, 1};
+    decode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, uint16_t(0x8000 | 17 << 10 | 4 << 5 | 30), mixed);
+    EXPECT_EQ(encode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, mixed), uint16_t(0x8000 | 17 << 10 | 4 << 5 | 30));
+    const float lowAlpha[4] = {0, 0, 0, 0.49f};  // the 1-bit alpha: 0.49 rounds to 0, 0.51 to 1
+    EXPECT_EQ(encode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, lowAlpha), 0);
+    const float highAlpha[4] = {0, 0, 0, 0.51f};
+    EXPECT_EQ(encode(VK_FORMAT_A1R5G5B5_UNORM_PACK16, highAlpha), 0x8000);
+  }
+}
+
+// VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: component = mantissa * 2^(exponent - 24); encoding after
+// EXT_texture_shared_exponent (the exponent of the largest component, raised when its mantissa rounds to 512).
+TEST(ImageFunctions, SharedExponentDecodesAndRoundsToTheLargestComponentsExponent) {
+  const VkFormat f = VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
+  auto word = [](uint32_t e, uint32_t r, uint32_t g, uint32_t b) { return e << 27 | b << 18 | g << 9 | r; };
+  uint32_t w[4];
+  uint32_t t = word(15, 256, 511, 1);  // 2^-9 per mantissa step
+  decodeTexel(*formatInfo(f), reinterpret_cast<const uint8_t*>(&t), w);
+  EXPECT_EQ(asFloat(w[0]), 0.5f);
+  EXPECT_EQ(asFloat(w[1]), 511.0f / 512.0f);
+  EXPECT_EQ(asFloat(w[2]), 1.0f / 512.0f);
+  EXPECT_EQ(asFloat(w[3]), 1.0f);  // no alpha
+  t = word(31, 511, 0, 0);         // the largest value: 511 * 2^7
+  decodeTexel(*formatInfo(f), reinterpret_cast<const uint8_t*>(&t), w);
+  EXPECT_EQ(asFloat(w[0]), 65408.0f);
+  auto encode = [&](float r, float g, float b) {
+    uint32_t in[4] = {asWord(r), asWord(g), asWord(b), asWord(1.0f)};
+    uint32_t out = 0;
+    encodeTexel(*formatInfo(f), in, reinterpret_cast<uint8_t*>(&out));
+    return out;
+  };
+  EXPECT_EQ(encode(1.0f, 0.5f, 0.25f), word(16, 256, 128, 64));  // max 1: exponent 0 + 16, mantissas / 2^-8
+  EXPECT_EQ(encode(1.999f, 0.0f, 0.0f), word(17, 256, 0, 0));    // 511.74 rounds to 512: exponent raised
+  EXPECT_EQ(encode(1e10f, -3.0f, NAN), word(31, 511, 0, 0));     // clamped to 65408; negative and NaN to 0
+  EXPECT_EQ(encode(0.0f, 0.0f, 0.0f), 0u);
+  EXPECT_EQ(encode(3.0f, 0.001f, 1.5f), word(17, 384, 0, 192));  // 0.001 / 2^-7 = 0.128 rounds to 0
+}
+
+// A8B8G8R8_*_PACK32 (R in bits 0..7, A in 24..31) are the bytes of R8G8B8A8 on a little-endian host.
+TEST(ImageFunctions, A8B8G8R8PackedFormatsDecodeAsTheirRgba8Bytes) {
+  const uint32_t packed = 0x80FF3300u;  // A 0x80, B 0xFF, G 0x33, R 0x00
+  uint32_t w[4];
+  decodeTexel(*formatInfo(VK_FORMAT_A8B8G8R8_UNORM_PACK32), reinterpret_cast<const uint8_t*>(&packed), w);
+  EXPECT_EQ(asFloat(w[0]), 0.0f);
+  EXPECT_FLOAT_EQ(asFloat(w[1]), 0.2f);
+  EXPECT_EQ(asFloat(w[2]), 1.0f);
+  EXPECT_FLOAT_EQ(asFloat(w[3]), 128.0f / 255.0f);
+  decodeTexel(*formatInfo(VK_FORMAT_A8B8G8R8_SINT_PACK32), reinterpret_cast<const uint8_t*>(&packed), w);
+  EXPECT_EQ(int32_t(w[2]), -1);
+  EXPECT_EQ(int32_t(w[3]), -128);
+  decodeTexel(*formatInfo(VK_FORMAT_A8B8G8R8_SRGB_PACK32), reinterpret_cast<const uint8_t*>(&packed), w);
+  EXPECT_NEAR(asFloat(w[1]), std::pow((0x33 / 255.0 + 0.055) / 1.055, 2.4), 1e-6);
+  EXPECT_FLOAT_EQ(asFloat(w[3]), 128.0f / 255.0f);  // alpha stays linear
+}
+
 TEST(ImageFunctions, NullDescriptorsReadZerosAndIgnoreWrites) {
   abi::DescriptorRecord zero{};
   int32_t coord[4] = {0, 0, 0, 0};
