@@ -30,7 +30,10 @@ class SamplerFastPath : public ::testing::Test {
     ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
     uint32_t n = 1;
     ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
+    VkPhysicalDeviceFeatures features{};
+    features.samplerAnisotropy = VK_TRUE;  // the anisotropic quad case
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.pEnabledFeatures = &features;
     dev = createObject<Device>(nullptr, VK_SYSTEM_ALLOCATION_SCOPE_DEVICE, fromHandle<PhysicalDevice>(pd), dci);
     ASSERT_NE(dev, nullptr);
     device = toHandle(dev);
@@ -83,8 +86,10 @@ class SamplerFastPath : public ::testing::Test {
   }
 
   abi::DescriptorRecord makeSampler(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode,
-                                    float mipLodBias = 0.0f) {
+                                    float mipLodBias = 0.0f, float maxAnisotropy = 0.0f) {
     VkSamplerCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    ci.anisotropyEnable = maxAnisotropy > 0.0f;
+    ci.maxAnisotropy = maxAnisotropy;
     ci.magFilter = ci.minFilter = filter;
     ci.mipmapMode = mip;
     ci.addressModeU = ci.addressModeV = ci.addressModeW = mode;
@@ -180,7 +185,7 @@ class SamplerFastPath : public ::testing::Test {
         }
   }
 
-  void compareQuad(VkFormat format);
+  void compareQuad(VkFormat format, float maxAnisotropy = 0.0f);
   void compareLod(VkFormat format);
 
   VkInstance instance = VK_NULL_HANDLE;
@@ -197,7 +202,7 @@ class SamplerFastPath : public ::testing::Test {
 // vkrt_image_sample_grad_quad samples each active lane exactly as vkrt_image_sample_grad (bit for bit) and leaves the
 // others 0, on the fast path (RGBA8 UNorm, BGRA8 sRGB with REPEAT / CLAMP_TO_EDGE) and off it (SNorm, a border,
 // NaN and huge coordinates, zero and NaN derivatives), with and without Bias.
-void SamplerFastPath::compareQuad(VkFormat format) {
+void SamplerFastPath::compareQuad(VkFormat format, float maxAnisotropy) {
   makeImage(format);
   const float coords[][2] = {{0.5f, 0.5f},     {0.13f, 0.77f},  {-0.31f, 1.42f}, {2.6f, -3.9f},
                              {0.2f, 1.0f / 3}, {1.0f, 1.0f},    {NAN, 0.5f},     {1234.567f, -987.25f},
@@ -208,7 +213,7 @@ void SamplerFastPath::compareQuad(VkFormat format) {
       for (VkSamplerAddressMode mode : {VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                                         VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER})
         for (float samplerBias : {0.0f, 0.6f}) {
-          const abi::DescriptorRecord smp = makeSampler(filter, mip, mode, samplerBias);
+          const abi::DescriptorRecord smp = makeSampler(filter, mip, mode, samplerBias, maxAnisotropy);
           const size_t nc = sizeof(coords) / sizeof(coords[0]), nd = sizeof(derivs) / sizeof(derivs[0]);
           for (size_t first = 0; first < nc * nd; first += 3)
             for (uint32_t lanes : {0xfu, 0x6u, 0x0u})
@@ -243,6 +248,11 @@ void SamplerFastPath::compareQuad(VkFormat format) {
 TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingRgba8Unorm) { compareQuad(VK_FORMAT_R8G8B8A8_UNORM); }
 TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingBgra8Srgb) { compareQuad(VK_FORMAT_B8G8R8A8_SRGB); }
 TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingOffTheFastPath) { compareQuad(VK_FORMAT_R8G8B8A8_SNORM); }
+// With anisotropyEnable each lane takes its own footprint's filter (sampleAnisotropic where the ratio exceeds 1), as
+// vkrt_image_sample_grad does: the quad call of fragment shaders must not sample such a sampler isotropically.
+TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingAnisotropic) {
+  compareQuad(VK_FORMAT_R8G8B8A8_UNORM, 16.0f);
+}
 
 // The level of detail of the gradient forms (lodLog2 rather than the C library's log2): levels alternately 0 and 1
 // everywhere, so a LINEAR mipmap returns the fraction of lambda = log2(rho) ("Level-of-Detail Operation") or one
