@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "raster/internal.hpp"
 
@@ -25,18 +28,18 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 using Float4 = float __attribute__((vector_size(16)));
 using Float2 = float __attribute__((vector_size(8)));
 using Double2 = double __attribute__((vector_size(16)));
-// depthAt at the four pixel centres of a one-sample quad, into z[l][0]: the same double operations per lane, two
-// lanes per vector.
+// depthAt at the four pixel centres of a one-sample quad, into z[l][0]: the same double operations per lane (the
+// centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per vector, the clamp on all four.
 inline void depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
-  const int64_t px = int64_t(qx) * kSubPixel + kCentre, py = int64_t(qy) * kSubPixel + kCentre;
-  const Double2 x = {double(px) / kSubPixel, double(px + kSubPixel) / kSubPixel};
-  for (int r = 0; r < 2; ++r) {
-    const Double2 v = t.zA * x + t.zB * (double(py + r * kSubPixel) / kSubPixel) + t.zC;
-    Float2 f = __builtin_convertvector(v, Float2);
-    f = f < ctx.depthMin ? Float2{ctx.depthMin, ctx.depthMin} : f;  // std::clamp (NaN stays NaN)
-    f = ctx.depthMax < f ? Float2{ctx.depthMax, ctx.depthMax} : f;
-    z[2 * r][0] = f[0], z[2 * r + 1][0] = f[1];
-  }
+  const Double2 ax = t.zA * (double(qx) + Double2{0.5, 1.5});
+  const double y = double(qy) + 0.5;
+  const Double2 top = ax + t.zB * y + t.zC, bottom = ax + t.zB * (y + 1) + t.zC;
+  Float4 f = __builtin_shufflevector(__builtin_convertvector(top, Float2), __builtin_convertvector(bottom, Float2), 0,
+                                     1, 2, 3);
+  const float lo = ctx.depthMin, hi = ctx.depthMax;
+  f = f < lo ? Float4{lo, lo, lo, lo} : f;  // std::clamp (NaN stays NaN)
+  f = hi < f ? Float4{hi, hi, hi, hi} : f;
+  z[0][0] = f[0], z[1][0] = f[1], z[2][0] = f[2], z[3][0] = f[3];
 }
 
 inline Float4 load4(const uint32_t* p) {
@@ -108,12 +111,32 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   }
 }
 
+// What interpolateQuad needs of a triangle that is the same for all its quads: the edges' steps between the
+// quad's pixels and each input's vertex value and differences. Computed once per triangle and tile.
+struct QuadInterp {
+  double dx[3], dy[3];  // a * 256, b * 256, exact
+  Float4 f0[kMaxLocations], d1[kMaxLocations], d2[kMaxLocations];
+};
+
+void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi) {
+  for (int i = 0; i < 3; ++i) qi.dx[i] = double(t.a[i] * kSubPixel), qi.dy[i] = double(t.b[i] * kSubPixel);
+  const FragmentStage& fs = *ctx.fragment;
+  for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
+    if (fs.inputs[slot].interpolation == Interpolation::Flat) continue;
+    const uint32_t k = slot * 4;
+    qi.f0[slot] = load4(t.var[0] + k);
+    qi.d1[slot] = load4(t.var[1] + k) - qi.f0[slot];
+    qi.d2[slot] = load4(t.var[2] + k) - qi.f0[slot];
+  }
+}
+
 // interpolateLane for the four lanes of a single-sampled quad at once (pixel centres; with one sample a pixel is
 // covered whole, so centroid inputs interpolate at the centre too): the barycentrics from the exact edge values as
 // there, the perspective weights in float across the lanes (one division for four lanes instead of four in double;
-// a few ulp apart), and each input's vertex differences once per quad.
-void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, uint32_t lanes, int32_t qx, int32_t qy,
-                     const float z[4][4]) {
+// a few ulp apart), and each input's vertex differences once per triangle. All four lanes are written (a lane the
+// shader does not run ignores its values), so there is no test per lane.
+void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx,
+                     int32_t qy, const float z[4][4]) {
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
@@ -121,7 +144,7 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     // (coordinates within 2^24 fixed-point units), so the conversions and the sums in double are exact and equal
     // the conversions of the integer sums.
     const double e = double(t.a[i] * px0 + t.b[i] * py0 + t.c[i]);
-    const double dx = double(t.a[i] * kSubPixel), dy = double(t.b[i] * kSubPixel);
+    const double dx = qi.dx[i], dy = qi.dy[i];
     const Double2 top = Double2{e, e + dx} * t.invArea2, bottom = Double2{e + dy, (e + dx) + dy} * t.invArea2;
     b[i] = __builtin_shufflevector(__builtin_convertvector(top, Float2), __builtin_convertvector(bottom, Float2), 0, 1,
                                    2, 3);
@@ -133,36 +156,38 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   const Float4 r = 1.0f / invW;
   const auto zero = invW == 0.0f;
   const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
-  const FragmentStage& fs = *ctx.fragment;
-  for (uint32_t l = 0; l < 4; ++l) {
-    if (!(lanes >> l & 1)) continue;
-    const int64_t px = px0 + int64_t(l & 1) * kSubPixel, py = py0 + int64_t(l >> 1) * kSubPixel;
-    q.fragCoord[l][0] = float(px) / kSubPixel;
-    q.fragCoord[l][1] = float(py) / kSubPixel;
-    // The tests' depth (depthQuad: depthAt at the pixel centre, the one sample's position).
-    q.fragCoord[l][2] = z[l][0];
-    q.fragCoord[l][3] = invW[l];
-    if (t.isPoint) {
+  // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w
+  // transposed into the lanes' rows.
+  const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
+  const Float4 fz = {z[0][0], z[1][0], z[2][0], z[3][0]};
+  const Float4 xy01 = __builtin_shufflevector(fx, fy, 0, 4, 1, 5), xy23 = __builtin_shufflevector(fx, fy, 2, 6, 3, 7);
+  const Float4 zw01 = __builtin_shufflevector(fz, invW, 0, 4, 1, 5),
+               zw23 = __builtin_shufflevector(fz, invW, 2, 6, 3, 7);
+  const Float4 rows[4] = {
+      __builtin_shufflevector(xy01, zw01, 0, 1, 4, 5), __builtin_shufflevector(xy01, zw01, 2, 3, 6, 7),
+      __builtin_shufflevector(xy23, zw23, 0, 1, 4, 5), __builtin_shufflevector(xy23, zw23, 2, 3, 6, 7)};
+  std::memcpy(q.fragCoord, rows, sizeof rows);
+  if (t.isPoint) {
+    for (uint32_t l = 0; l < 4; ++l) {
       q.pointCoord[l][0] = 0.5f + (q.fragCoord[l][0] - t.pointX) / t.pointSize;
       q.pointCoord[l][1] = 0.5f + (q.fragCoord[l][1] - t.pointY) / t.pointSize;
-    } else {
-      q.pointCoord[l][0] = q.pointCoord[l][1] = 0;
     }
+  } else {
+    std::memset(q.pointCoord, 0, sizeof q.pointCoord);
   }
+  const FragmentStage& fs = *ctx.fragment;
   for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
     const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
     if (in.interpolation == Interpolation::Flat) {
-      for (uint32_t l = 0; l < 4; ++l)
-        if (lanes >> l & 1) std::memcpy(q.inputs[l] + k, t.flat + k, 16);
+      for (uint32_t l = 0; l < 4; ++l) std::memcpy(q.inputs[l] + k, t.flat + k, 16);
       continue;
     }
     const bool smooth = in.interpolation == Interpolation::Smooth;
-    const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
+    const Float4 f0 = qi.f0[slot], d1 = qi.d1[slot], d2 = qi.d2[slot];
+    const Float4 u1 = smooth ? p1 : b[1], u2 = smooth ? p2 : b[2];
     for (uint32_t l = 0; l < 4; ++l) {
-      if (!(lanes >> l & 1)) continue;
-      const float u1 = smooth ? p1[l] : b[1][l], u2 = smooth ? p2[l] : b[2][l];
-      const Float4 v = f0 + u1 * d1 + u2 * d2;
+      const Float4 v = f0 + u1[l] * d1 + u2[l] * d2;
       std::memcpy(q.inputs[l] + k, &v, 16);
     }
   }
@@ -204,7 +229,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
-void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, uint32_t cov[4],
+void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, int32_t qx, int32_t qy, uint32_t cov[4],
                WorkerScratch& scratch, unsigned worker) {
   const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
@@ -267,7 +292,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy
   q.sampleIndex = 0;
   for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
   if (ctx.samples == 1) {
-    interpolateQuad(ctx, t, q, lanes, qx, qy, z);
+    interpolateQuad(ctx, t, qi, q, qx, qy, z);
   } else {
     for (uint32_t l = 0; l < 4; ++l) {
       if (!(lanes >> l & 1)) continue;
@@ -301,57 +326,134 @@ inline int64_t edgeMin(const SetupTri& t, int i, int64_t x0, int64_t y0, int64_t
          t.cBias[i];
 }
 
+using U32x4 = uint32_t __attribute__((vector_size(16)));
+
+// The sign bits of the four lanes, lane k at bit k.
+inline uint32_t signBits(U32x4 v) {
+#if defined(__SSE2__)
+  return uint32_t(_mm_movemask_ps(_mm_castsi128_ps(__m128i(v))));
+#else
+  return (v[0] >> 31) | (v[1] >> 31) << 1 | (v[2] >> 31) << 2 | (v[3] >> 31) << 3;
+#endif
+}
+
+// A block's coverage as bit masks: row[r] holds pixel row r of the 8x8 block, bit x * S + s for pixel column x and
+// sample s (S = 1 or 4, so a row fits in 32 bits). Lanes are sample positions of a row, 2 * S groups of four.
+constexpr uint32_t kMaxGroups = 2 * 4;
+
+// Per triangle: what the block loop needs of the edges, computed once.
+struct EdgeSetup {
+  uint32_t groups;               // 4-lane groups per pixel row: 2 * samples
+  bool narrow;                   // every |a| + |b| < 2^20: the edges' values in a block fit in 32 bits (below)
+  U32x4 laneOff[3][kMaxGroups];  // per edge, lane j = x * S + s: a * (x * 256 + sx_s) + b * sy_s, modulo 2^32
+  uint32_t stepY[3];             // b * 256 modulo 2^32
+};
+
+void setupEdges(const DrawContext& ctx, const SetupTri& t, EdgeSetup& es) {
+  const uint32_t S = ctx.samples;
+  es.groups = 2 * S;
+  es.narrow = true;
+  for (int i = 0; i < 3; ++i) {
+    es.narrow = es.narrow && (t.a[i] < 0 ? -t.a[i] : t.a[i]) + (t.b[i] < 0 ? -t.b[i] : t.b[i]) < (int64_t(1) << 20);
+    es.stepY[i] = uint32_t(t.b[i] * kSubPixel);
+    for (uint32_t g = 0; g < es.groups; ++g)
+      for (uint32_t k = 0; k < 4; ++k) {
+        const uint32_t j = g * 4 + k, x = j / S, s = j % S;
+        es.laneOff[i][g][k] =
+            uint32_t(t.a[i] * (int64_t(x) * kSubPixel + sampleX(ctx, s)) + t.b[i] * int64_t(sampleY(ctx, s)));
+      }
+  }
+}
+
+// Rows r0..r1 of the block at pixel (bx, by), the edges in `active` straddling it (the others hold for all of it).
+// A straddling edge's values at the samples of the clipped block lie within [edgeMin, edgeMax], an interval that
+// contains 0 and is at most (|a| + |b|) * 8 * 256 < 2^31 long when `narrow`: each fits in a signed 32-bit integer,
+// so the sums modulo 2^32 (base + lane offset, stepped by rows) have the exact value's sign. Lanes outside the
+// clipped block may wrap; the column mask drops them.
+inline void blockMasksNarrow(const SetupTri& t, const EdgeSetup& es, const int* active, int activeCount, int32_t bx,
+                             int32_t by, int32_t r0, int32_t r1, uint32_t colMask, uint32_t row[kBlock]) {
+  uint32_t base[3];
+  for (int n = 0; n < activeCount; ++n) {
+    const int i = active[n];
+    base[n] = uint32_t(t.a[i] * int64_t(bx) * kSubPixel + t.b[i] * int64_t(by + r0) * kSubPixel + t.c[i] + t.cBias[i]);
+  }
+  for (int32_t r = r0; r <= r1; ++r) {
+    uint32_t outside = 0;  // lanes where some edge is negative
+    for (uint32_t g = 0; g < es.groups; ++g) {
+      U32x4 v = es.laneOff[active[0]][g] + base[0];
+      for (int n = 1; n < activeCount; ++n) v |= es.laneOff[active[n]][g] + base[n];
+      outside |= signBits(v) << (4 * g);
+    }
+    row[r] = colMask & ~outside;
+    for (int n = 0; n < activeCount; ++n) base[n] += es.stepY[active[n]];
+  }
+}
+
+// The same in 64-bit arithmetic, lane by lane (triangles with edges longer than 4096 pixels).
+inline void blockMasksWide(const DrawContext& ctx, const SetupTri& t, const int* active, int activeCount, int32_t bx,
+                           int32_t by, int32_t r0, int32_t r1, uint32_t colMask, uint32_t row[kBlock]) {
+  const uint32_t S = ctx.samples;
+  for (int32_t r = r0; r <= r1; ++r) {
+    uint32_t inside = 0;
+    for (uint32_t j = 0; j < kBlock * S; ++j) {
+      const int64_t px = int64_t(bx + int32_t(j / S)) * kSubPixel + sampleX(ctx, j % S);
+      const int64_t py = int64_t(by + r) * kSubPixel + sampleY(ctx, j % S);
+      int64_t e = 0;
+      for (int n = 0; n < activeCount; ++n) {
+        const int i = active[n];
+        e |= t.a[i] * px + t.b[i] * py + t.c[i] + t.cBias[i];
+      }
+      inside |= uint32_t(e >= 0) << j;
+    }
+    row[r] = colMask & inside;
+  }
+}
+
 void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
                        WorkerScratch& scratch, unsigned worker) {
-  const uint32_t S = ctx.samples;
-  // Per lane and sample, the offset of each edge from the quad's origin.
-  int64_t off[3][16];
-  for (int i = 0; i < 3; ++i)
-    for (uint32_t l = 0; l < 4; ++l)
-      for (uint32_t s = 0; s < S; ++s)
-        off[i][l * S + s] = t.a[i] * (int64_t(l & 1) * kSubPixel + sampleX(ctx, s)) +
-                            t.b[i] * (int64_t(l >> 1) * kSubPixel + sampleY(ctx, s));
-  const int64_t stepX[3] = {t.a[0] * 2 * kSubPixel, t.a[1] * 2 * kSubPixel, t.a[2] * 2 * kSubPixel};
+  const uint32_t S = ctx.samples, all = ctx.allSamples, pairMask = (1u << (2 * S)) - 1;
+  EdgeSetup es;
+  setupEdges(ctx, t, es);
+  QuadInterp qi;  // one-sample quads' interpolation (shadeQuad)
+  if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi);
   const int32_t bx0 = x0 & ~(kBlock - 1), by0 = y0 & ~(kBlock - 1);
   for (int32_t by = by0; by <= y1; by += kBlock) {
     for (int32_t bx = bx0; bx <= x1; bx += kBlock) {
-      // The block, clipped to the triangle's rectangle: skip it when an edge excludes all of it.
+      // The block, clipped to the triangle's rectangle: skip it when an edge excludes all of it; the edges that
+      // include all of it need no test per sample.
       const int32_t rx0 = std::max(bx, x0), ry0 = std::max(by, y0);
       const int32_t rx1 = std::min(bx + kBlock - 1, x1), ry1 = std::min(by + kBlock - 1, y1);
-      bool reject = false, full = true;
+      int active[3], activeCount = 0;
+      bool reject = false;
       for (int i = 0; i < 3 && !reject; ++i) {
         reject = edgeMax(t, i, rx0, ry0, rx1 + 1, ry1 + 1) < 0;
-        full = full && edgeMin(t, i, rx0, ry0, rx1 + 1, ry1 + 1) >= 0;
+        if (edgeMin(t, i, rx0, ry0, rx1 + 1, ry1 + 1) < 0) active[activeCount++] = i;
       }
       if (reject) continue;
-      for (int32_t qy = ry0 & ~1; qy <= ry1; qy += 2) {
-        const int32_t qxStart = rx0 & ~1;
-        int64_t e[3];  // the edges at the quad's origin, stepped along the row
-        for (int i = 0; i < 3; ++i)
-          e[i] = t.a[i] * int64_t(qxStart) * kSubPixel + t.b[i] * int64_t(qy) * kSubPixel + t.c[i] + t.cBias[i];
-        for (int32_t qx = qxStart; qx <= rx1; qx += 2, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2]) {
-          uint32_t cov[4] = {0, 0, 0, 0};
-          uint32_t any = 0;
-          if (full) {
-            for (uint32_t l = 0; l < 4; ++l) cov[l] = ctx.allSamples;
-          } else {
-            for (uint32_t l = 0; l < 4; ++l) {
-              uint32_t m = 0;
-              for (uint32_t s = 0; s < S; ++s) {
-                const uint32_t k = l * S + s;
-                m |= uint32_t(((e[0] + off[0][k]) | (e[1] + off[1][k]) | (e[2] + off[2][k])) >= 0) << s;
-              }
-              cov[l] = m;
-            }
-          }
-          // Lanes outside the triangle's rectangle (the clip rectangle included) are not covered.
-          const bool edgeQuad = qx < rx0 || qx + 1 > rx1 || qy < ry0 || qy + 1 > ry1;
-          for (uint32_t l = 0; l < 4; ++l) {
-            const int32_t x = qx + int32_t(l & 1), y = qy + int32_t(l >> 1);
-            if (edgeQuad && (x < rx0 || x > rx1 || y < ry0 || y > ry1)) cov[l] = 0;
-            any |= cov[l];
-          }
-          if (any) shadeQuad(ctx, t, qx, qy, cov, scratch, worker);
+      // Pixels outside the triangle's rectangle (the clip rectangle included) are not covered.
+      const uint32_t colMask =
+          uint32_t(((uint64_t(1) << ((rx1 - bx + 1) * S)) - 1) & ~((uint64_t(1) << ((rx0 - bx) * S)) - 1));
+      const int32_t r0 = ry0 - by, r1 = ry1 - by;
+      uint32_t row[kBlock] = {};
+      if (!activeCount) {
+        for (int32_t r = r0; r <= r1; ++r) row[r] = colMask;
+      } else if (es.narrow) {
+        blockMasksNarrow(t, es, active, activeCount, bx, by, r0, r1, colMask, row);
+      } else {
+        blockMasksWide(ctx, t, active, activeCount, bx, by, r0, r1, colMask, row);
+      }
+      // The quads in row order, as the per-fragment operations need (primitive order per pixel is kept anyway;
+      // the same order keeps images identical to the per-quad loop this replaced).
+      for (int32_t r = r0 & ~1; r <= r1; r += 2) {
+        const uint32_t m0 = row[r], m1 = row[r + 1];
+        const uint32_t any = m0 | m1;
+        if (!any) continue;  // an empty row of quads at once
+        for (uint32_t c = 0; c < kBlock / 2; ++c) {
+          const uint32_t shift = 2 * c * S;
+          if (!((any >> shift) & pairMask)) continue;
+          uint32_t cov[4] = {(m0 >> shift) & all, (m0 >> (shift + S)) & all, (m1 >> shift) & all,
+                             (m1 >> (shift + S)) & all};
+          shadeQuad(ctx, t, qi, bx + int32_t(2 * c), by + r, cov, scratch, worker);
         }
       }
     }

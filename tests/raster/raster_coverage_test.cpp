@@ -52,6 +52,82 @@ TEST(RasterCoverage, RandomTrianglesMatchTheReference) {
   }
 }
 
+// The block path (8x8 blocks: whole blocks inside every edge emitted without a test, the others as bit masks of
+// 32-bit edge values, 64-bit lane by lane once an edge is 4096 pixels or longer) against the per-sample reference,
+// bit for bit: tiny, medium and huge triangles (edges on both sides of the 32-bit limit), vertices on the sample
+// and pixel-centre grid so that edges pass through samples, 1 and 4 samples, a scissor per batch over 2x2 tiles.
+TEST(RasterCoverage, BlocksMatchThePerSampleReference) {
+  std::mt19937 rng(2026);
+  constexpr uint32_t kSize = 128;
+  auto uni = [&](int64_t lo, int64_t hi) { return std::uniform_int_distribution<int64_t>(lo, hi)(rng); };
+  for (uint32_t samples : {1u, 4u}) {
+    for (int batch = 0; batch < 8; ++batch) {
+      std::vector<std::array<int64_t, 6>> tris;
+      for (int i = 0; i < 24; ++i) {
+        std::array<int64_t, 6> t;
+        const int kind = (batch + i) % 5;
+        // Units: 1/256 pixel. A grid of 32 puts vertices on sample rows/columns and pixel centres.
+        const int64_t cx = uni(-8, kSize + 8) * 256, cy = uni(-8, kSize + 8) * 256;
+        for (int v = 0; v < 3; ++v) {
+          int64_t& x = t[2 * v];
+          int64_t& y = t[2 * v + 1];
+          if (kind == 0) {  // tiny, within a few pixels, on the 1/256 grid
+            x = cx + uni(-600, 600), y = cy + uni(-600, 600);
+          } else if (kind == 1) {  // medium, edges through samples
+            x = uni(-16, 4 * kSize + 16) * 32 * 2, y = uni(-16, 4 * kSize + 16) * 32 * 2;
+          } else if (kind == 2) {  // huge: up to +-20000 pixels (1/16 pixel grid keeps the clip coordinates exact)
+            x = uni(-20000 * 16, 20000 * 16) * 16, y = uni(-20000 * 16, 20000 * 16) * 16;
+          } else if (kind == 3) {  // long thin edges near 4096 pixels (|dx| + |dy| around 2^20 fixed-point units)
+            const int64_t len = (4096 + uni(-2, 2)) * 256 + uni(-40, 40) * 16;
+            const int64_t dx = uni(0, len / 16) * 16;
+            x = v == 0 ? cx : v == 1 ? cx + dx : cx + uni(-64, 64) * 32;
+            y = v == 0 ? cy : v == 1 ? cy - (len - dx) : cy + uni(-64, 64) * 32;
+          }
+        }
+        if (kind == 4) {
+          // Huge, with a horizontal, vertical or 45-degree edge through a sample row/column (or the pixel centres)
+          // on screen: samples lie exactly on an edge too long for 32-bit block values.
+          const int64_t off[5] = {128, 32, 96, 160, 224};
+          const int64_t x0 = uni(0, kSize - 1) * 256 + off[uni(0, 4)], y0 = uni(0, kSize - 1) * 256 + off[uni(0, 4)];
+          const int64_t len = uni(2048, 5000) * 256, dir = uni(0, 3), sign = uni(0, 1) ? 1 : -1;
+          const int64_t dx = dir == 1 ? 0 : sign * len, dy = dir == 0 ? 0 : dir == 3 ? -sign * len : sign * len;
+          // The third vertex far away, or 16 to 64 pixels off the edge's middle (then all three edges are long,
+          // near the 32-bit limit, and blocks straddling them hold values past +-2^31 a few rows from the edge).
+          const bool far = uni(0, 1);
+          auto near = [&](int64_t c) { return c + (uni(0, 1) ? 1 : -1) * uni(16 * 32, 64 * 32) * 8; };
+          const int64_t x2 = far ? uni(-10000, 10000) * 256 : near(x0);
+          const int64_t y2 = far ? uni(-10000, 10000) * 256 : near(y0);
+          t = {x0 - dx, y0 - dy, x0 + dx, y0 + dy, x2, y2};
+        }
+        tris.push_back(t);
+      }
+      const int32_t sx0 = int32_t(uni(0, kSize / 2)), sy0 = int32_t(uni(0, kSize / 2));
+      const Rect scissor{sx0, sy0, uint32_t(uni(1, kSize - sx0)), uint32_t(uni(1, kSize - sy0))};
+      Harness h(kSize, kSize, samples);
+      countWrites(h);
+      h.state.scissors[0] = scissor;
+      for (const auto& t : tris)
+        for (int i = 0; i < 3; ++i) h.vertex(float(t[2 * i]) / 256, float(t[2 * i + 1]) / 256);
+      h.run();
+      for (uint32_t y = 0; y < kSize; ++y)
+        for (uint32_t x = 0; x < kSize; ++x)
+          for (uint32_t s = 0; s < samples; ++s) {
+            const bool inScissor = int32_t(x) >= scissor.x && int32_t(x) < scissor.x + int32_t(scissor.width) &&
+                                   int32_t(y) >= scissor.y && int32_t(y) < scissor.y + int32_t(scissor.height);
+            const int64_t px = int64_t(x) * 256 + (samples == 1 ? 128 : kSampleX[s]);
+            const int64_t py = int64_t(y) * 256 + (samples == 1 ? 128 : kSampleY[s]);
+            int expected = 0;
+            for (const auto& t : tris) {
+              const int64_t X[3] = {t[0], t[2], t[4]}, Y[3] = {t[1], t[3], t[5]};
+              expected += inScissor && referenceCovered(X, Y, px, py);
+            }
+            ASSERT_EQ(h.color.f(x, y, 0, s), float(expected))
+                << "samples " << samples << " batch " << batch << " pixel " << x << "," << y << " sample " << s;
+          }
+    }
+  }
+}
+
 TEST(RasterCoverage, SharedEdgesAreWrittenOnce) {
   // A square split along its diagonal (both windings), and a fan of 8 triangles around a point on a pixel centre.
   const int64_t a = 3 * 256 + 128, b = 40 * 256 + 128;
