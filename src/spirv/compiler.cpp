@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "spirv/codegen.hpp"
+#include "spirv/shader_debug.hpp"
 #include "spirv/spmd.hpp"
 
 namespace vkrt::spirv {
@@ -351,6 +352,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
 
 bool Codegen::run(const EntryPoint& ep) {
   model = ep.model;
+  checks = shaderChecks();  // VKRT_SHADER_CHECKS (part of the cache key)
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;
     if (name == "NonSemantic.DebugPrintf") debugPrintfSet = id;

@@ -336,4 +336,98 @@ void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* 
   b.SetInsertPoint(done);
 }
 
+llvm::Value* Codegen::checkAddress(const Ptr& p, uint64_t bytes, uint32_t kind, llvm::Value* limitOk) {
+  if (!ctxArg) return limitOk;
+  llvm::Type* i64t = b.getInt64Ty();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_address", llvm::FunctionType::get(b.getInt32Ty(), {b.getPtrTy(), b.getPtrTy(), i64t, i64t}, false));
+  auto check = [&] {
+    llvm::Value* address = b.CreateAdd(b.CreatePtrToInt(p.base, i64t), p.offset);
+    llvm::Value* site = accessSiteFor(p, kind, bytes);
+    return b.CreateICmpNE(b.CreateCall(f, {ctxArg, site, address, i64(bytes)}), i32(0));
+  };
+  if (!limitOk) return check();
+  // Code placed before a block's terminator cannot branch: both tests, the call's only where the limit holds.
+  if (b.GetInsertBlock()->getTerminator()) return b.CreateAnd(limitOk, check());
+  llvm::Function* fnc = b.GetInsertBlock()->getParent();
+  llvm::BasicBlock* from = b.GetInsertBlock();
+  auto* call = llvm::BasicBlock::Create(c, "address.check", fnc);
+  auto* join = llvm::BasicBlock::Create(c, "address.checked", fnc);
+  b.CreateCondBr(limitOk, call, join);
+  b.SetInsertPoint(call);
+  llvm::Value* ok = check();
+  llvm::BasicBlock* callEnd = b.GetInsertBlock();
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+  llvm::PHINode* phi = b.CreatePHI(b.getInt1Ty(), 2);
+  phi->addIncoming(b.getFalse(), from);
+  phi->addIncoming(ok, callEnd);
+  return phi;
+}
+
+namespace {
+
+// The image variable an image value (or, with isPointer, a pointer to an image) comes from: its Ptr (resource,
+// variable and descriptor array index), found through the OpLoad and the OpSampledImage / OpImage / OpCopyObject
+// that made the value. Null where it cannot be traced (the report then names no descriptor).
+const Ptr* imageOrigin(Codegen& g, uint32_t id, bool isPointer) {
+  for (int depth = 0; depth < 8 && id; ++depth) {
+    if (isPointer) {
+      auto it = g.ptrs.find(id);
+      return it != g.ptrs.end() && it->second.resource >= 0 ? &it->second : nullptr;
+    }
+    const Instruction* def = g.m.def(id);
+    if (!def) return nullptr;
+    switch (def->op) {
+      case spv::OpLoad:
+        id = def->word(3);
+        isPointer = true;
+        break;
+      case spv::OpSampledImage:
+      case spv::OpImage:
+      case spv::OpCopyObject: id = def->word(3); break;
+      default: return nullptr;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+// The site of an image access: the origin's descriptor (set, binding, variable), and the array element it indexes.
+static llvm::Value* imageSite(Codegen& g, uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value** element) {
+  Ptr site;
+  const Ptr* origin = imageOrigin(g, imageId, isPointer);
+  if (origin) {
+    site.resource = origin->resource;
+    site.variable = origin->variable;
+  }
+  *element = origin && origin->descIndex ? g.b.CreateZExtOrTrunc(origin->descIndex, g.b.getInt64Ty()) : g.i64(0);
+  return g.accessSiteFor(site, kind, 0);
+}
+
+void Codegen::checkImage(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record, llvm::Value* coords,
+                         llvm::Value* level) {
+  if (!(checks & abi::kCheckImage) || !ctxArg) return;
+  llvm::Value* element = nullptr;
+  llvm::Value* site = imageSite(*this, imageId, isPointer, kind, &element);
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_image",
+      llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy, ptrTy, b.getInt32Ty(), b.getInt64Ty()}, false));
+  b.CreateCall(f, {ctxArg, site, record, coords, level ? level : i32(0), element});
+}
+
+void Codegen::checkTexelBuffer(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record,
+                               llvm::Value* index) {
+  if (!(checks & abi::kCheckImage) || !ctxArg) return;
+  llvm::Value* element = nullptr;
+  llvm::Value* site = imageSite(*this, imageId, isPointer, kind, &element);
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_texel_buffer",
+      llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getInt64Ty(), b.getInt64Ty()}, false));
+  b.CreateCall(f, {ctxArg, site, record, index, element});
+}
+
 }  // namespace vkrt::spirv
