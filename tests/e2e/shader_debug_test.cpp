@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "check_bda.g.comp.spv.h"
+#include "check_bda.g.rgen.spv.h"
 #include "check_image.g.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/draw_fixture.hpp"
@@ -468,27 +469,24 @@ TEST_F(ShaderDebugDrawTest, FragmentStoreOutOfBoundsNamesTheFragment) {
 // The checks are compiled in by the setting, read when the device is created; the parameter is VKRT_SPMD. These
 // shaders take the scalar vkrt_group on either path (images and pointer values are not on the SPMD path): both must
 // report the same.
-class ShaderChecksTest : public ShaderDebugComputeTest, public ::testing::WithParamInterface<const char*> {
- protected:
-  const char* checks = "bda,image";  // nullptr: unset
-
-  void SetUp() override {
+// VKRT_SPMD and VKRT_SHADER_CHECKS for the devices made while it is set (they are read when a device is created),
+// restored after; VKRT_SPMD unset before is left at the default, "1" (a device applies it only where it is set).
+class ShaderSettings {
+ public:
+  void set(const char* spmd, const char* checks) {
     for (int i = 0; i < 2; ++i) {
       const char* v = std::getenv(kVars[i]);
       saved_[i] = v ? v : "";
       had_[i] = v != nullptr;
     }
-    setenv("VKRT_SPMD", GetParam(), 1);
+    setenv("VKRT_SPMD", spmd, 1);
     if (checks) {
       setenv("VKRT_SHADER_CHECKS", checks, 1);
     } else {
       unsetenv("VKRT_SHADER_CHECKS");
     }
-    ShaderDebugComputeTest::SetUp();
   }
-  void TearDown() override {
-    ShaderDebugComputeTest::TearDown();
-    // Restored; VKRT_SPMD unset before is set to the default, "1" (a device applies it only where it is set).
+  void restore() {
     for (int i = 0; i < 2; ++i) {
       if (had_[i]) {
         setenv(kVars[i], saved_[i].c_str(), 1);
@@ -498,6 +496,28 @@ class ShaderChecksTest : public ShaderDebugComputeTest, public ::testing::WithPa
         unsetenv(kVars[i]);
       }
     }
+  }
+
+ private:
+  static constexpr const char* kVars[2] = {"VKRT_SPMD", "VKRT_SHADER_CHECKS"};
+  std::string saved_[2];
+  bool had_[2] = {};
+};
+
+// The checks are compiled in by the setting, read when the device is created; the parameter is VKRT_SPMD. These
+// shaders take the scalar vkrt_group on either path (images and pointer values are not on the SPMD path): both must
+// report the same.
+class ShaderChecksTest : public ShaderDebugComputeTest, public ::testing::WithParamInterface<const char*> {
+ protected:
+  const char* checks = "bda,image";  // nullptr: unset
+
+  void SetUp() override {
+    settings_.set(GetParam(), checks);
+    ShaderDebugComputeTest::SetUp();
+  }
+  void TearDown() override {
+    ShaderDebugComputeTest::TearDown();
+    settings_.restore();
   }
 
   // A 64-byte storage buffer with a device address at the start of 4096 bytes of its own memory, mapped whole: the
@@ -578,9 +598,7 @@ class ShaderChecksTest : public ShaderDebugComputeTest, public ::testing::WithPa
   }
 
  private:
-  static constexpr const char* kVars[2] = {"VKRT_SPMD", "VKRT_SHADER_CHECKS"};
-  std::string saved_[2];
-  bool had_[2] = {};
+  ShaderSettings settings_;
 };
 
 class ShaderChecksOffTest : public ShaderChecksTest {
@@ -884,6 +902,60 @@ TEST_P(ShaderImageChecksOffTest, ImageChecksAreCompiledOut) {
     EXPECT_EQ(o()[48 + i], i + 2 < 16 ? 1000 + i + 2 : 0) << i;
   }
   EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+}
+
+// A ray tracing launch: the check and its report per launch are the compute dispatch's.
+class ShaderChecksTraceTest : public ShaderDebugTraceTest {
+ protected:
+  ShaderSettings settings;
+  FixtureOptions options() override {
+    FixtureOptions o = ShaderDebugTraceTest::options();
+    o.features.shaderInt64 = VK_TRUE;  // the ray generation shader's pointer is a 64-bit push constant
+    return o;
+  }
+  void SetUp() override {
+    settings.set("1", "bda");
+    ShaderDebugTraceTest::SetUp();
+  }
+  void TearDown() override {
+    ShaderDebugTraceTest::TearDown();
+    settings.restore();
+  }
+};
+
+// An 8 x 4 launch storing a word per launch id through a device address into a 16-word buffer: the ids from 16 on
+// store past it, reported once for the launch with the launch id and the address; the stores inside land.
+TEST_F(ShaderChecksTraceTest, RayGenerationStorePastABufferIsReported) {
+  if (!vkrt) GTEST_SKIP() << "vkrt's own report";
+  Desc d;
+  d.layout = traceLayout;
+  d.general(module(kSpv_check_bda_g_rgen, sizeof kSpv_check_bda_g_rgen), VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 2, {0}, {{1, {}}}, {});
+  HostBuffer& words = buffer(64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);  // (with a device address)
+  std::memset(words.data, 0, 64);
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = words.buffer;
+  const uint64_t address = vkGetBufferDeviceAddress(device, &ai);
+  TraceParams params;  // its first 8 bytes are the shader's pointer
+  params.rayFlags = uint32_t(address);
+  params.cullMask = uint32_t(address >> 32);
+  trace(p, s, basicScene(), 8, 4, params);
+  for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(static_cast<const uint32_t*>(words.data)[i], 1 + i % 8) << i;
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const std::string& t = m[0].text;
+  EXPECT_TRUE(contains(t, "vkCmdTraceRaysKHR: ray generation shader \"main\" of VkPipeline")) << t;
+  EXPECT_TRUE(contains(t, "check_bda.g.rgen at line 10, launch id (")) << t;
+  unsigned x = 99, y = 99;
+  ASSERT_EQ(std::sscanf(t.substr(t.find("launch id (")).c_str(), "launch id (%u, %u", &x, &y), 2) << t;
+  EXPECT_GE(y * 8 + x, 16u) << t;
+  EXPECT_TRUE(contains(t, "store of 4 bytes at device address " + hex(address + 4 * (y * 8 + x)) +
+                              " is in no live buffer with a device address"))
+      << t;
+  clearMessages();
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, ShaderChecksTest, ::testing::Values("0", "1"));
