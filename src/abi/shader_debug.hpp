@@ -75,6 +75,10 @@ inline const char* siteString(const uint8_t* site, uint32_t words, uint32_t inde
 }
 
 inline uint32_t printfSiteWords(const uint8_t* site) { return 3 + siteWord(site, 2); }
+
+// Where device addresses are checked, vkrt_group's local context is followed by this many bytes per checked access
+// in the shader: the range vkrt_check_address returned last for that access, kept across the workgroup's invocations.
+inline constexpr uint32_t kAddressCacheBytes = 16;
 inline constexpr uint32_t kAccessSiteWords = 9;
 
 }  // namespace vkrt::abi
@@ -88,10 +92,15 @@ void vkrt_debug_printf(vkrt::abi::InvocationContext* ctx, const uint8_t* site, c
 // (the binding's descriptor count for kAccessDescriptorIndex), `element` the descriptor array element.
 void vkrt_out_of_bounds(vkrt::abi::InvocationContext* ctx, const uint8_t* site, uint64_t offset, uint64_t range,
                         uint64_t element);
-// kCheckDeviceAddress: whether the `bytes` at device address `address` lie in one buffer with a device address that is
-// live in the running command's snapshot (exec::AddressTable); nonzero: the access happens. Zero: the access is
-// reported at `site` (a load, store or atomic with set ~0u) and the caller reads zeros / drops it.
-uint32_t vkrt_check_address(vkrt::abi::InvocationContext* ctx, const uint8_t* site, uint64_t address, uint64_t bytes);
+// kCheckDeviceAddress: the running command's table of live device address ranges (exec::AddressTable; null outside a
+// command). The same for every call of a command: compiled code calls it once per function (hoisted out of loops).
+const void* vkrt_address_table(vkrt::abi::InvocationContext* ctx);
+// kCheckDeviceAddress: whether the `bytes` at device address `address` lie in one buffer of `table`; nonzero: the
+// access happens, and `cache` (2 words) is set to that buffer's [begin, end), which compiled code tests first before
+// it calls again. Zero: the access is reported at `site` (a load, store or atomic with set ~0u) and the caller reads
+// zeros / drops it. A null table accepts every access (and sets no range).
+uint32_t vkrt_check_address(vkrt::abi::InvocationContext* ctx, const void* table, const uint8_t* site, uint64_t address,
+                            uint64_t bytes, uint64_t* cache);
 // kCheckImage: reports an image access at `coord` (the instruction's integer coordinates, view order), level `lod`
 // (OpImageFetch; 0 otherwise) of element `element` of the descriptor `img` when it lies outside the view. Only
 // reports: the image functions themselves read zeros and write nothing there (runtime/image_functions.cpp).

@@ -150,14 +150,20 @@ void AddressTable::assign(std::vector<AddressRange> ranges) {
   ranges_ = std::move(ranges);
 }
 
-bool AddressTable::contains(uint64_t address, uint64_t bytes) const {
+const AddressRange* AddressTable::find(uint64_t address, uint64_t bytes) const {
   // The ranges beginning at or below the address; one of them holds the access exactly when the largest end among
-  // them reaches its last byte (a range beginning above the address cannot hold it).
+  // them reaches its last byte (a range beginning above the address cannot hold it). Which one: back from the last,
+  // past the aliasing ranges that end before (maxEnd says when none is left).
+  const uint64_t end = address + bytes;
+  if (end < address) return nullptr;
   auto it = std::upper_bound(ranges_.begin(), ranges_.end(), address,
                              [](uint64_t a, const AddressRange& r) { return a < r.begin; });
-  if (it == ranges_.begin()) return false;
-  uint64_t end = address + bytes;
-  return end >= address && std::prev(it)->maxEnd >= end;
+  while (it != ranges_.begin()) {
+    --it;
+    if (it->maxEnd < end) return nullptr;
+    if (it->end >= end) return &*it;
+  }
+  return nullptr;
 }
 
 const AddressRange* AddressTable::nearest(uint64_t address) const {
@@ -176,11 +182,14 @@ const AddressRange* AddressTable::nearest(uint64_t address) const {
 void setAddressTableSource(AddressTableSource source) { addressSource.store(source, std::memory_order_release); }
 
 const AddressTable& Job::addresses() {
-  std::call_once(addressesOnce_, [this] {
+  if (addressesReady_.load(std::memory_order_acquire)) return addresses_;
+  std::lock_guard<std::mutex> lock(addressesMutex_);
+  if (!addressesReady_.load(std::memory_order_relaxed)) {
     std::vector<AddressRange> ranges;
     if (AddressTableSource source = addressSource.load(std::memory_order_acquire)) source(owner_, &ranges);
     addresses_.assign(std::move(ranges));
-  });
+    addressesReady_.store(true, std::memory_order_release);
+  }
   return addresses_;
 }
 
@@ -198,22 +207,31 @@ void vkrt_out_of_bounds(vkrt::abi::InvocationContext* ctx, const uint8_t* site, 
   if (vkrt::exec::Job* job = vkrt::exec::runningJob()) job->messages.outOfBounds(ctx, site, offset, range, element);
 }
 
-uint32_t vkrt_check_address(vkrt::abi::InvocationContext* ctx, const uint8_t* site, uint64_t address, uint64_t bytes) {
+const void* vkrt_address_table(vkrt::abi::InvocationContext*) {
+  vkrt::exec::Job* job = vkrt::exec::runningJob();
+  return job ? &job->addresses() : nullptr;  // compiled code run outside a command (tests): nothing to check against
+}
+
+uint32_t vkrt_check_address(vkrt::abi::InvocationContext* ctx, const void* table, const uint8_t* site, uint64_t address,
+                            uint64_t bytes, uint64_t* cache) {
   using namespace vkrt::exec;
-  Job* job = runningJob();
-  if (!job) return 1;  // compiled code run outside a command (tests): nothing to check against
-  const AddressTable& table = job->addresses();
-  if (table.contains(address, bytes)) return 1;
+  const auto* t = static_cast<const AddressTable*>(table);
+  if (!t) return 1;
+  if (const AddressRange* r = t->find(address, bytes)) {
+    cache[0] = r->begin;
+    cache[1] = r->end;
+    return 1;
+  }
   OutOfBoundsRecord r;
   r.site = site;
   r.offset = address;
   r.range = bytes;
-  if (const AddressRange* near = table.nearest(address)) {
+  if (const AddressRange* near = t->nearest(address)) {
     r.nearBegin = near->begin;
     r.nearSize = near->end - near->begin;
     r.nearObject = near->object;
   }
-  job->messages.outOfBounds(ctx, r);
+  if (Job* job = runningJob()) job->messages.outOfBounds(ctx, r);
   return 0;
 }
 }

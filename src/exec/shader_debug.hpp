@@ -54,7 +54,9 @@ class AddressTable {
   void assign(std::vector<AddressRange> ranges);
   // Whether [address, address + bytes) lies inside one range: the last range beginning at or below the address,
   // binary searched, and the largest end up to it.
-  bool contains(uint64_t address, uint64_t bytes) const;
+  bool contains(uint64_t address, uint64_t bytes) const { return find(address, bytes) != nullptr; }
+  // A range holding all of [address, address + bytes), or null.
+  const AddressRange* find(uint64_t address, uint64_t bytes) const;
   // The range nearest [address, address + bytes) (containing its start, else the closest end or begin); null when
   // there is none.
   const AddressRange* nearest(uint64_t address) const;

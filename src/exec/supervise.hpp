@@ -58,7 +58,7 @@ class Job {
   // What the job's shaders printed and the accesses they made out of bounds (exec/shader_debug.hpp).
   ShaderMessages messages;
   // The live device address ranges (VKRT_SHADER_CHECKS=bda), snapshotted through the runtime's source at the first
-  // call in this job (once; later calls take no lock).
+  // call in this job (under a lock, once; later calls read a flag).
   const AddressTable& addresses();
 
   bool aborted() const { return aborted_.load(std::memory_order_acquire); }
@@ -82,7 +82,8 @@ class Job {
   std::mutex recordMutex_;
   bool recorded_ = false;  // guarded by recordMutex_
   Abort abort_;
-  std::once_flag addressesOnce_;
+  std::atomic<bool> addressesReady_{false};
+  std::mutex addressesMutex_;
   AddressTable addresses_;
 };
 

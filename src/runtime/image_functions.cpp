@@ -1043,12 +1043,13 @@ int32_t vkrt_texel_buffer_size(const abi::DescriptorRecord* buf) {
 // null or mismatched descriptor is not a coordinate out of range: not reported here.
 void vkrt_check_image(abi::InvocationContext* ctx, const uint8_t* site, const abi::DescriptorRecord* img,
                       const int32_t coord[4], int32_t lod, uint64_t element) {
-  exec::Job* job = exec::runningJob();
   View v;
-  if (!job || !resolveView(img, &v)) return;
+  if (!resolveView(img, &v)) return;
   int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
   splitCoord(v, c, xyzl);
   if (lod >= 0 && texelAt(v, uint32_t(lod), xyzl[0], xyzl[1], xyzl[2], xyzl[3])) return;
+  exec::Job* job = exec::runningJob();
+  if (!job) return;
   exec::OutOfBoundsRecord r;
   r.site = site;
   r.element = element;
@@ -1071,9 +1072,10 @@ void vkrt_check_image(abi::InvocationContext* ctx, const uint8_t* site, const ab
 
 void vkrt_check_texel_buffer(abi::InvocationContext* ctx, const uint8_t* site, const abi::DescriptorRecord* buf,
                              int64_t index, uint64_t element) {
-  exec::Job* job = exec::runningJob();
   TexelBuffer t;
-  if (!job || !resolveTexelBuffer(buf, &t) || texelAt(t, index)) return;
+  if (!resolveTexelBuffer(buf, &t) || texelAt(t, index)) return;
+  exec::Job* job = exec::runningJob();
+  if (!job) return;
   exec::OutOfBoundsRecord r;
   r.site = site;
   r.element = element;
@@ -1112,6 +1114,7 @@ const abi::HostSymbol* imageFunctionSymbols() {
       // Shader debugging (abi/shader_debug.hpp; exec/shader_debug.cpp collects, runtime/shader_messages.cpp delivers).
       {"vkrt_debug_printf", reinterpret_cast<void*>(&vkrt_debug_printf)},
       {"vkrt_out_of_bounds", reinterpret_cast<void*>(&vkrt_out_of_bounds)},
+      {"vkrt_address_table", reinterpret_cast<void*>(&vkrt_address_table)},
       {"vkrt_check_address", reinterpret_cast<void*>(&vkrt_check_address)},
       {"vkrt_check_image", reinterpret_cast<void*>(&vkrt_check_image)},
       {"vkrt_check_texel_buffer", reinterpret_cast<void*>(&vkrt_check_texel_buffer)},

@@ -215,6 +215,12 @@ class Codegen {
   // (p's own limit: 0 in a fragment's helper lanes; nullptr: none) and, only where it holds, a call of
   // vkrt_check_address (the live buffers' table; it reports a failure at the access's site).
   llvm::Value* checkAddress(const Ptr& p, uint64_t bytes, uint32_t kind, llvm::Value* limitOk);
+  // The command's address table (vkrt_address_table), fetched once at the top of the current function. Each
+  // checked access keeps the range of its last access that passed (2 x i64: begin, end), tested inline before the
+  // call: in vkrt_group the access's kAddressCacheBytes after the local context (kept across the invocations;
+  // groupContext makes room for addressCaches of them), elsewhere a slot of the function.
+  llvm::Value* addressTable = nullptr;
+  uint32_t addressCaches = 0;
   // kCheckImage: a call of vkrt_check_image (coords: 4 x i32 in memory, level: i32) or, for a texel buffer,
   // vkrt_check_texel_buffer (index: i64) before the access of `kind` to image `imageId` (a value, or with
   // `isPointer` an image variable's pointer, for OpImageTexelPointer) with descriptor record `record`.

@@ -339,29 +339,78 @@ void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* 
 llvm::Value* Codegen::checkAddress(const Ptr& p, uint64_t bytes, uint32_t kind, llvm::Value* limitOk) {
   if (!ctxArg) return limitOk;
   llvm::Type* i64t = b.getInt64Ty();
-  llvm::FunctionCallee f = out.getOrInsertFunction(
-      "vkrt_check_address", llvm::FunctionType::get(b.getInt32Ty(), {b.getPtrTy(), b.getPtrTy(), i64t, i64t}, false));
-  auto check = [&] {
-    llvm::Value* address = b.CreateAdd(b.CreatePtrToInt(p.base, i64t), p.offset);
-    llvm::Value* site = accessSiteFor(p, kind, bytes);
-    return b.CreateICmpNE(b.CreateCall(f, {ctxArg, site, address, i64(bytes)}), i32(0));
-  };
-  if (!limitOk) return check();
-  // Code placed before a block's terminator cannot branch: both tests, the call's only where the limit holds.
-  if (b.GetInsertBlock()->getTerminator()) return b.CreateAnd(limitOk, check());
+  llvm::Type* ptrTy = b.getPtrTy();
   llvm::Function* fnc = b.GetInsertBlock()->getParent();
+  auto* tableCall = llvm::dyn_cast_or_null<llvm::CallInst>(addressTable);
+  if (!tableCall || tableCall->getFunction() != fnc) {
+    // Once per function, at its top. The table is the same for the whole command: the call is marked as having no
+    // side effects (it reads the thread's running job), so that LLVM hoists it out of vkrt_group's loop over the
+    // invocations, where vkrt_main is inlined.
+    auto* tf = llvm::cast<llvm::Function>(
+        out.getOrInsertFunction("vkrt_address_table", llvm::FunctionType::get(ptrTy, {ptrTy}, false)).getCallee());
+    tf->setDoesNotAccessMemory();
+    tf->setDoesNotThrow();
+    tf->setWillReturn();
+    tf->addFnAttr(llvm::Attribute::Speculatable);
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(&*fnc->getEntryBlock().getFirstInsertionPt());
+    tableCall = b.CreateCall(tf, {ctxArg});
+    addressTable = tableCall;
+  }
+  // The access's cache: after vkrt_group's local context (groupLog: the code runs only there), else a slot of the
+  // function (one per access: accesses to different buffers would evict each other's range).
+  llvm::Value* cache = nullptr;
+  if (groupLog) {
+    cache = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg,
+                                 sizeof(InvocationContext) + uint64_t(abi::kAddressCacheBytes) * addressCaches++);
+  } else {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(tableCall->getNextNode());
+    auto* slot = b.CreateAlloca(i64t, i64(2));
+    slot->setAlignment(llvm::Align(16));
+    b.CreateMemSet(slot, b.getInt8(0), i64(abi::kAddressCacheBytes), llvm::MaybeAlign(16));
+    cache = slot;
+  }
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_address", llvm::FunctionType::get(b.getInt32Ty(), {ptrTy, ptrTy, ptrTy, i64t, i64t, ptrTy}, false));
+  llvm::Value* address = b.CreateAdd(b.CreatePtrToInt(p.base, i64t), p.offset);
+  auto call = [&] {
+    llvm::Value* site = accessSiteFor(p, kind, bytes);
+    return b.CreateICmpNE(b.CreateCall(f, {ctxArg, tableCall, site, address, i64(bytes), cache}), i32(0));
+  };
+  // Inside the cached range (the last access that passed): no call.
+  auto cached = [&] {
+    llvm::Value* lo = b.CreateAlignedLoad(i64t, cache, llvm::Align(8));
+    llvm::Value* hi = b.CreateAlignedLoad(i64t, b.CreateConstGEP1_64(i64t, cache, 1), llvm::Align(8));
+    llvm::Value* end = b.CreateAdd(address, i64(bytes));
+    return b.CreateAnd(b.CreateAnd(b.CreateICmpUGE(address, lo), b.CreateICmpULE(end, hi)),
+                       b.CreateICmpUGE(end, address));
+  };
+  // Code placed before a block's terminator cannot branch: every test, the call included.
+  if (b.GetInsertBlock()->getTerminator()) {
+    llvm::Value* ok = b.CreateOr(cached(), call());
+    return limitOk ? b.CreateAnd(limitOk, ok) : ok;
+  }
   llvm::BasicBlock* from = b.GetInsertBlock();
-  auto* call = llvm::BasicBlock::Create(c, "address.check", fnc);
+  auto* test = llvm::BasicBlock::Create(c, "address.cached", fnc);
+  auto* slow = llvm::BasicBlock::Create(c, "address.check", fnc);
   auto* join = llvm::BasicBlock::Create(c, "address.checked", fnc);
-  b.CreateCondBr(limitOk, call, join);
-  b.SetInsertPoint(call);
-  llvm::Value* ok = check();
-  llvm::BasicBlock* callEnd = b.GetInsertBlock();
+  if (limitOk) {
+    b.CreateCondBr(limitOk, test, join);
+  } else {
+    b.CreateBr(test);
+  }
+  b.SetInsertPoint(test);
+  b.CreateCondBr(cached(), join, slow, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+  b.SetInsertPoint(slow);
+  llvm::Value* ok = call();
+  llvm::BasicBlock* slowEnd = b.GetInsertBlock();
   b.CreateBr(join);
   b.SetInsertPoint(join);
-  llvm::PHINode* phi = b.CreatePHI(b.getInt1Ty(), 2);
-  phi->addIncoming(b.getFalse(), from);
-  phi->addIncoming(ok, callEnd);
+  llvm::PHINode* phi = b.CreatePHI(b.getInt1Ty(), 3);
+  if (limitOk) phi->addIncoming(b.getFalse(), from);
+  phi->addIncoming(b.getTrue(), test);
+  phi->addIncoming(ok, slowEnd);
   return phi;
 }
 
