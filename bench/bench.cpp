@@ -2,7 +2,9 @@
 // (256 iterations) dispatched through the Vulkan loader to vkrt, next to the same kernels in C++ (single
 // threaded, -O2); vkCreateComputePipelines from a cold cache (compiling) and a warm VkPipelineCache; and ambient
 // occlusion rays (VK_KHR_ray_query from a compute shader, 131k triangles, 1M rays) next to raw Embree 3 tracing the
-// same rays (rtcOccluded1 and rtcOccluded8, std::threads), each checked ray by ray against rtcOccluded1.
+// same rays (rtcOccluded1 and rtcOccluded8, std::threads), each checked ray by ray against rtcOccluded1. Two more
+// kernels for the cost of VKRT_SHADER_CHECKS (docs/shader-debugging.md): SAXPY through buffer device addresses and
+// a 3-tap blur between two 1024x1024 storage images.
 //
 // The loader is pointed at this build's vkrt (VK_DRIVER_FILES) unless VK_DRIVER_FILES is set already.
 // VKRT_THREADS=1 runs vkrt's dispatches on one thread, like the native kernels.
@@ -25,10 +27,12 @@
 
 #include "ao_query.comp.spv.h"
 #include "bench_common.hpp"
+#include "image_blur.comp.spv.h"
 #include "mandelbrot.comp.spv.h"
 #include "matmul.comp.spv.h"
 #include "native_kernels.hpp"
 #include "saxpy.comp.spv.h"
+#include "saxpy_bda.comp.spv.h"
 
 namespace vkrt::bench {
 namespace {
@@ -45,14 +49,23 @@ struct Kernel {
   VkCommandBuffer cb = VK_NULL_HANDLE;
 
   Kernel(const uint32_t* words, size_t bytes, uint32_t bindings, uint32_t pushBytes,
-         bool accelerationStructure0 = false) {
+         bool accelerationStructure0 = false)
+      : Kernel(words, bytes, bindingTypes(bindings, accelerationStructure0), pushBytes) {}
+  static std::vector<VkDescriptorType> bindingTypes(uint32_t bindings, bool accelerationStructure0) {
+    std::vector<VkDescriptorType> t(bindings, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    if (accelerationStructure0 && bindings) t[0] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    return t;
+  }
+  // Binding i of types[i].
+  Kernel(const uint32_t* words, size_t bytes, const std::vector<VkDescriptorType>& types, uint32_t pushBytes) {
     VkDevice d = ctx().device;
+    const uint32_t bindings = uint32_t(types.size());
     std::vector<VkDescriptorSetLayoutBinding> b;
-    for (uint32_t i = 0; i < bindings; ++i)
-      b.push_back({i,
-                   i == 0 && accelerationStructure0 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR
-                                                    : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                   1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (uint32_t i = 0; i < bindings; ++i) {
+      b.push_back({i, types[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+      sizes.push_back({types[i], 1});
+    }
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = bindings;
     dl.pBindings = b.data();
@@ -69,12 +82,10 @@ struct Kernel {
     sm.pCode = words;
     CHECK(vkCreateShaderModule(d, &sm, nullptr, &module));
     pipeline = createPipeline(VK_NULL_HANDLE);
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindings},
-                                     {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1}};
     VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dp.maxSets = 1;
-    dp.poolSizeCount = accelerationStructure0 ? 2 : 1;
-    dp.pPoolSizes = sizes;
+    dp.poolSizeCount = bindings;
+    dp.pPoolSizes = sizes.data();
     CHECK(vkCreateDescriptorPool(d, &dp, nullptr, &pool));
     VkDescriptorSetAllocateInfo da{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     da.descriptorPool = pool;
@@ -114,6 +125,16 @@ struct Kernel {
     w.descriptorCount = 1;
     w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(ctx().device, 1, &w, 0, nullptr);
+  }
+  void bind(uint32_t binding, VkImageView view) {  // a storage image in GENERAL
+    VkDescriptorImageInfo ii{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    w.pImageInfo = &ii;
     vkUpdateDescriptorSets(ctx().device, 1, &w, 0, nullptr);
   }
   void bind(uint32_t binding, VkAccelerationStructureKHR as) {
@@ -200,6 +221,152 @@ void BM_Saxpy_native(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   state.SetBytesProcessed(int64_t(state.iterations()) * kSaxpyN * 12);
+}
+
+// ---- SAXPY through buffer device addresses (VKRT_SHADER_CHECKS=bda checks each access)
+
+void BM_SaxpyBda_vkrt(benchmark::State& state) {
+  std::vector<float> x, y;
+  fillSaxpy(x, y);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  Buffer bx(kSaxpyN * 4, usage), by(kSaxpyN * 4, usage), unused(16);
+  std::memcpy(bx.data, x.data(), kSaxpyN * 4);
+  std::memcpy(by.data, y.data(), kSaxpyN * 4);
+  Kernel k(kSpv_saxpy_bda_comp, sizeof kSpv_saxpy_bda_comp, 1, 24);
+  k.bind(0, unused);
+  struct {
+    VkDeviceAddress x, y;
+    float a;
+    uint32_t n;
+  } push{bx.address(), by.address(), 1.5f, kSaxpyN};
+  k.record(&push, sizeof push, kSaxpyN / 256, 1);
+  k.run();
+  std::vector<float> want = y;
+  saxpy(1.5f, x.data(), want.data(), kSaxpyN);
+  if (std::memcmp(want.data(), by.data, kSaxpyN * 4) != 0)
+    return mismatch(state, "SAXPY (device addresses) results differ from the native kernel");
+  for (auto _ : state) k.run();
+  state.SetBytesProcessed(int64_t(state.iterations()) * kSaxpyN * 12);
+}
+
+// ---- a 3-tap blur between two 1024x1024 R32_SFLOAT storage images (VKRT_SHADER_CHECKS=image checks each access)
+
+constexpr uint32_t kBlurSize = 1024;
+
+// A kBlurSize^2 R32_SFLOAT storage image in GENERAL, its texels copied from `texels` (or left as they are).
+struct StorageImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  explicit StorageImage(const std::vector<float>& texels) {
+    VkDevice d = ctx().device;
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = VK_FORMAT_R32_SFLOAT;
+    ci.extent = {kBlurSize, kBlurSize, 1};
+    ci.mipLevels = ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    CHECK(vkCreateImage(d, &ci, nullptr, &image));
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(d, image, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = uint32_t(std::countr_zero(req.memoryTypeBits));
+    CHECK(vkAllocateMemory(d, &ai, nullptr, &memory));
+    CHECK(vkBindImageMemory(d, image, memory, 0));
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = ci.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    CHECK(vkCreateImageView(d, &vi, nullptr, &view));
+    Buffer staging(texels.size() * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+    std::memcpy(staging.data, texels.data(), texels.size() * 4);
+    transfer([&](VkCommandBuffer cb) {
+      layout(cb, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+      VkBufferImageCopy r{};
+      r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      r.imageExtent = ci.extent;
+      vkCmdCopyBufferToImage(cb, staging.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
+      layout(cb, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL);
+    });
+  }
+  ~StorageImage() {
+    VkDevice d = ctx().device;
+    vkDestroyImageView(d, view, nullptr);
+    vkDestroyImage(d, image, nullptr);
+    vkFreeMemory(d, memory, nullptr);
+  }
+  std::vector<float> read() {
+    Buffer staging(size_t(kBlurSize) * kBlurSize * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    transfer([&](VkCommandBuffer cb) {
+      layout(cb, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      VkBufferImageCopy r{};
+      r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      r.imageExtent = {kBlurSize, kBlurSize, 1};
+      vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1, &r);
+      layout(cb, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL);
+    });
+    std::vector<float> out(size_t(kBlurSize) * kBlurSize);
+    std::memcpy(out.data(), staging.data, out.size() * 4);
+    return out;
+  }
+  void layout(VkCommandBuffer cb, VkImageLayout from, VkImageLayout to) {
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &b);
+  }
+  template <class F>
+  static void transfer(F&& record) {
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = ctx().pool;
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    VkCommandBuffer cb = VK_NULL_HANDLE;
+    CHECK(vkAllocateCommandBuffers(ctx().device, &cai, &cb));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    CHECK(vkBeginCommandBuffer(cb, &bi));
+    record(cb);
+    CHECK(vkEndCommandBuffer(cb));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    CHECK(vkQueueSubmit(ctx().queue, 1, &si, VK_NULL_HANDLE));
+    CHECK(vkQueueWaitIdle(ctx().queue));
+    vkFreeCommandBuffers(ctx().device, ctx().pool, 1, &cb);
+  }
+};
+
+void BM_ImageBlur_vkrt(benchmark::State& state) {
+  const size_t n = size_t(kBlurSize) * kBlurSize;
+  std::vector<float> src(n);
+  for (size_t i = 0; i < n; ++i) src[i] = float(i % 61) * 0.5f;  // sums of three are exact
+  StorageImage in(src), out(std::vector<float>(n, 0.0f));
+  Kernel k(kSpv_image_blur_comp, sizeof kSpv_image_blur_comp,
+           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, 4);
+  k.bind(0, in.view);
+  k.bind(1, out.view);
+  uint32_t size = kBlurSize;
+  k.record(&size, 4, kBlurSize / 16, kBlurSize / 16);
+  k.run();
+  std::vector<float> got = out.read();
+  for (uint32_t y = 0; y < kBlurSize; ++y)
+    for (uint32_t x = 0; x < kBlurSize; ++x) {
+      const uint32_t l = x ? x - 1 : 0, r = x + 1 < kBlurSize ? x + 1 : x;
+      const float want = src[y * kBlurSize + l] + src[y * kBlurSize + x] + src[y * kBlurSize + r];
+      if (got[y * kBlurSize + x] != want) return mismatch(state, "image blur results differ");
+    }
+  for (auto _ : state) k.run();
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
 }
 
 // ---- matrix multiply, 256x256
@@ -585,6 +752,8 @@ void BM_PipelineCreate_warmCache(benchmark::State& state) {
 
 BENCHMARK(BM_Saxpy_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Saxpy_native)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SaxpyBda_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_ImageBlur_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Matmul_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Matmul_native)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Mandelbrot_vkrt)->Unit(benchmark::kMicrosecond)->UseRealTime();

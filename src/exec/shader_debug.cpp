@@ -1,5 +1,6 @@
 #include "exec/shader_debug.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 
@@ -20,6 +21,8 @@ thread_local ThreadSlot tlsSlot;
 
 // Execution models (SPIR-V's numbers; exec does not include the SPIR-V headers).
 constexpr uint32_t kModelVertex = 0, kModelFragment = 4, kModelGLCompute = 5;
+
+std::atomic<AddressTableSource> addressSource{nullptr};
 
 uint32_t argWords(const uint8_t* site) {
   uint32_t n = abi::siteWord(site, 2), words = 0;
@@ -92,6 +95,14 @@ void ShaderMessages::outOfBounds(const abi::InvocationContext* ctx, const uint8_
   b.oob.push_back({site, offset, range, element, invocationId(ctx, abi::siteWord(site, 1))});
 }
 
+void ShaderMessages::outOfBounds(const abi::InvocationContext* ctx, OutOfBoundsRecord r) {
+  Buffer& b = local();
+  for (const OutOfBoundsRecord& o : b.oob)
+    if (o.site == r.site) return;
+  r.id = invocationId(ctx, abi::siteWord(r.site, 1));
+  b.oob.push_back(r);
+}
+
 bool ShaderMessages::empty() const {
   for (const Buffer& b : buffers_)
     if (b.calls || !b.oob.empty()) return false;
@@ -131,6 +142,57 @@ std::vector<OutOfBoundsRecord> ShaderMessages::outOfBoundsSites() const {
   return out;
 }
 
+void AddressTable::assign(std::vector<AddressRange> ranges) {
+  std::sort(ranges.begin(), ranges.end(),
+            [](const AddressRange& a, const AddressRange& b) { return a.begin < b.begin; });
+  uint64_t maxEnd = 0;
+  for (AddressRange& r : ranges) r.maxEnd = maxEnd = std::max(maxEnd, r.end);
+  ranges_ = std::move(ranges);
+}
+
+const AddressRange* AddressTable::find(uint64_t address, uint64_t bytes) const {
+  // The ranges beginning at or below the address; one of them holds the access exactly when the largest end among
+  // them reaches its last byte (a range beginning above the address cannot hold it). Which one: back from the last,
+  // past the aliasing ranges that end before (maxEnd says when none is left).
+  const uint64_t end = address + bytes;
+  if (end < address) return nullptr;
+  auto it = std::upper_bound(ranges_.begin(), ranges_.end(), address,
+                             [](uint64_t a, const AddressRange& r) { return a < r.begin; });
+  while (it != ranges_.begin()) {
+    --it;
+    if (it->maxEnd < end) return nullptr;
+    if (it->end >= end) return &*it;
+  }
+  return nullptr;
+}
+
+const AddressRange* AddressTable::nearest(uint64_t address) const {
+  const AddressRange* best = nullptr;
+  uint64_t bestDistance = UINT64_MAX;
+  for (const AddressRange& r : ranges_) {  // (a report's, once per site: no need to be quick)
+    uint64_t d = address < r.begin ? r.begin - address : address < r.end ? 0 : address - r.end + 1;
+    if (d < bestDistance) {
+      best = &r;
+      bestDistance = d;
+    }
+  }
+  return best;
+}
+
+void setAddressTableSource(AddressTableSource source) { addressSource.store(source, std::memory_order_release); }
+
+const AddressTable& Job::addresses() {
+  if (addressesReady_.load(std::memory_order_acquire)) return addresses_;
+  std::lock_guard<std::mutex> lock(addressesMutex_);
+  if (!addressesReady_.load(std::memory_order_relaxed)) {
+    std::vector<AddressRange> ranges;
+    if (AddressTableSource source = addressSource.load(std::memory_order_acquire)) source(owner_, &ranges);
+    addresses_.assign(std::move(ranges));
+    addressesReady_.store(true, std::memory_order_release);
+  }
+  return addresses_;
+}
+
 }  // namespace vkrt::exec
 
 extern "C" {
@@ -143,5 +205,33 @@ void vkrt_debug_printf(vkrt::abi::InvocationContext* ctx, const uint8_t* site, c
 void vkrt_out_of_bounds(vkrt::abi::InvocationContext* ctx, const uint8_t* site, uint64_t offset, uint64_t range,
                         uint64_t element) {
   if (vkrt::exec::Job* job = vkrt::exec::runningJob()) job->messages.outOfBounds(ctx, site, offset, range, element);
+}
+
+const void* vkrt_address_table(vkrt::abi::InvocationContext*) {
+  vkrt::exec::Job* job = vkrt::exec::runningJob();
+  return job ? &job->addresses() : nullptr;  // compiled code run outside a command (tests): nothing to check against
+}
+
+uint32_t vkrt_check_address(vkrt::abi::InvocationContext* ctx, const void* table, const uint8_t* site, uint64_t address,
+                            uint64_t bytes, uint64_t* cache) {
+  using namespace vkrt::exec;
+  const auto* t = static_cast<const AddressTable*>(table);
+  if (!t) return 1;
+  if (const AddressRange* r = t->find(address, bytes)) {
+    cache[0] = r->begin;
+    cache[1] = r->end;
+    return 1;
+  }
+  OutOfBoundsRecord r;
+  r.site = site;
+  r.offset = address;
+  r.range = bytes;
+  if (const AddressRange* near = t->nearest(address)) {
+    r.nearBegin = near->begin;
+    r.nearSize = near->end - near->begin;
+    r.nearObject = near->object;
+  }
+  if (Job* job = runningJob()) job->messages.outOfBounds(ctx, r);
+  return 0;
 }
 }

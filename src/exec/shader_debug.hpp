@@ -29,9 +29,45 @@ struct InvocationId {
 
 struct OutOfBoundsRecord {
   const uint8_t* site = nullptr;
-  uint64_t offset = 0, range = 0, element = 0;
+  uint64_t offset = 0, range = 0, element = 0;  // a device address access: offset is the address
   InvocationId id;
+  // A device address access: the live buffer nearest the address in the command's table (size 0: none), by its
+  // first byte, size and handle (AddressRange::object).
+  uint64_t nearBegin = 0, nearSize = 0, nearObject = 0;
+  // An image access: its coordinates (x, y, z, layer, level) and the view's (width, height, depth, layers, levels)
+  // at that level (a texel buffer: the index and the texel count).
+  int64_t coord[5] = {};
+  uint64_t extent[5] = {};
 };
+
+// The buffers with a device address that a command's shaders may access through PhysicalStorageBuffer pointers
+// (VKRT_SHADER_CHECKS=bda): each live buffer's [begin, end) device address range, sorted by begin, with the largest
+// end up to each entry (buffers may alias). Built by the runtime once per command, at its first checked access.
+struct AddressRange {
+  uint64_t begin = 0, end = 0;
+  uint64_t object = 0;  // the buffer's handle, for the report
+  uint64_t maxEnd = 0;  // max(end) over this entry and every one before it
+};
+class AddressTable {
+ public:
+  // Sorts `ranges` and fills maxEnd.
+  void assign(std::vector<AddressRange> ranges);
+  // Whether [address, address + bytes) lies inside one range: the last range beginning at or below the address,
+  // binary searched, and the largest end up to it.
+  bool contains(uint64_t address, uint64_t bytes) const { return find(address, bytes) != nullptr; }
+  // A range holding all of [address, address + bytes), or null.
+  const AddressRange* find(uint64_t address, uint64_t bytes) const;
+  // The range nearest [address, address + bytes) (containing its start, else the closest end or begin); null when
+  // there is none.
+  const AddressRange* nearest(uint64_t address) const;
+  size_t size() const { return ranges_.size(); }
+
+ private:
+  std::vector<AddressRange> ranges_;
+};
+// The runtime's source of a command's table (set once; `owner` is the Job's, the device).
+using AddressTableSource = void (*)(const void* owner, std::vector<AddressRange>* out);
+void setAddressTableSource(AddressTableSource source);
 
 class ShaderMessages {
  public:
@@ -46,6 +82,8 @@ class ShaderMessages {
   void printf(const abi::InvocationContext* ctx, const uint8_t* site, const uint64_t* args);
   void outOfBounds(const abi::InvocationContext* ctx, const uint8_t* site, uint64_t offset, uint64_t range,
                    uint64_t element);
+  // The same with the record's other fields filled (device address and image accesses): r.id is set here.
+  void outOfBounds(const abi::InvocationContext* ctx, OutOfBoundsRecord r);
 
   // After the command (no worker writes any more): the kept printf messages, thread by thread, each in the order
   // its thread made them, then how many were not kept.

@@ -57,6 +57,9 @@ class Job {
   const char* shaderName = nullptr;  // for compute: the shader (the trace executor names each shader itself)
   // What the job's shaders printed and the accesses they made out of bounds (exec/shader_debug.hpp).
   ShaderMessages messages;
+  // The live device address ranges (VKRT_SHADER_CHECKS=bda), snapshotted through the runtime's source at the first
+  // call in this job (under a lock, once; later calls read a flag).
+  const AddressTable& addresses();
 
   bool aborted() const { return aborted_.load(std::memory_order_acquire); }
   // What ended the job (read once the work has returned).
@@ -79,6 +82,9 @@ class Job {
   std::mutex recordMutex_;
   bool recorded_ = false;  // guarded by recordMutex_
   Abort abort_;
+  std::atomic<bool> addressesReady_{false};
+  std::mutex addressesMutex_;
+  AddressTable addresses_;
 };
 
 // Ends every running job of `owner` (vkDestroyDevice with work still running): their loops stop at the next poll.

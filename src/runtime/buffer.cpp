@@ -1,11 +1,16 @@
 #include "runtime/buffer.hpp"
 
+#include <mutex>
+#include <unordered_set>
+
+#include "abi/shader_debug.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
 #include "runtime/lookup.hpp"
 #include "runtime/memory.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
+#include "spirv/shader_debug.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -21,7 +26,43 @@ VkBufferUsageFlags usageOf(const VkBufferCreateInfo& info) {
   return info.usage;
 }
 
+// The buffers in the device address table (VKRT_SHADER_CHECKS=bda): listed at bind, removed when destroyed.
+std::mutex addressMutex;
+std::unordered_set<const Buffer*>& addressBuffers() {
+  static std::unordered_set<const Buffer*> set;
+  return set;
+}
+
+void listAddress(Buffer* buf) {
+  if (!(spirv::shaderChecks() & abi::kCheckDeviceAddress) || !(buf->usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT))
+    return;
+  std::lock_guard lock(addressMutex);
+  addressBuffers().insert(buf);
+  buf->addressListed = true;
+}
+
 }  // namespace
+
+void deviceAddressRanges(const void* owner, std::vector<exec::AddressRange>* out) {
+  std::lock_guard lock(addressMutex);
+  for (const Buffer* b : addressBuffers()) {
+    if (b->device != owner) continue;
+    const uint64_t begin = reinterpret_cast<uint64_t>(b->deviceAddress());
+    // Memory freed under a bound buffer leaves the buffer unusable ("vkFreeMemory"): not in the table.
+    if (!arena::accessible(begin, b->size)) continue;
+    out->push_back({begin, begin + b->size, b->handleValue(), 0});
+  }
+}
+
+bool withAddressBuffer(uint64_t handle, const std::function<void(const Buffer&)>& fn) {
+  std::lock_guard lock(addressMutex);
+  for (const Buffer* b : addressBuffers())
+    if (b->handleValue() == handle) {
+      fn(*b);
+      return true;
+    }
+  return false;
+}
 
 Buffer::Buffer(Device* dev, const VkBufferCreateInfo& info)
     : Object(kType, dev->instance, dev), size(info.size), usage(usageOf(info)), flags(info.flags) {
@@ -31,6 +72,10 @@ Buffer::Buffer(Device* dev, const VkBufferCreateInfo& info)
 }
 
 Buffer::~Buffer() {
+  if (addressListed) {
+    std::lock_guard lock(addressMutex);
+    addressBuffers().erase(this);
+  }
   if (alias) arena::unalias(alias, size);
 }
 
@@ -101,6 +146,7 @@ VkResult bindBuffer(Device* dev, const VkBindBufferMemoryInfo& info, uint32_t in
   buf->memory = mem;
   buf->memoryOffset = info.memoryOffset;
   buf->alias = alias;
+  listAddress(buf);
   return VK_SUCCESS;
 }
 

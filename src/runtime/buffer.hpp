@@ -1,6 +1,11 @@
 // VkBuffer.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "exec/shader_debug.hpp"
 #include "runtime/object.hpp"
 
 namespace vkrt {
@@ -36,6 +41,17 @@ class Buffer : public Object {
   VkDeviceSize rangeFrom(VkDeviceSize offset, VkDeviceSize range) const;
 
   static constexpr VkDeviceSize kAlignment = 64;
+
+  // In the table of live device address ranges (VKRT_SHADER_CHECKS=bda; bound with
+  // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT while the setting is on).
+  bool addressListed = false;
 };
+
+// VKRT_SHADER_CHECKS=bda: the device address ranges of `owner`'s (a Device's) live buffers with
+// VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT whose memory is allocated (exec::AddressTableSource; once per command).
+void deviceAddressRanges(const void* owner, std::vector<exec::AddressRange>* out);
+// Calls fn with the listed buffer of handle `handle` while it cannot be destroyed; false when none is listed (a report
+// naming the buffer nearest an address, after the command).
+bool withAddressBuffer(uint64_t handle, const std::function<void(const Buffer&)>& fn);
 
 }  // namespace vkrt

@@ -8,6 +8,7 @@
 #include "accel/accel.hpp"
 #include "exec/thread_pool.hpp"
 #include "runtime/alloc.hpp"
+#include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/fence.hpp"
 #include "runtime/instance.hpp"
@@ -15,6 +16,7 @@
 #include "runtime/queue.hpp"
 #include "runtime/report.hpp"
 #include "spirv/compiler.hpp"
+#include "spirv/shader_debug.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -35,6 +37,15 @@ void applyInstructionSetSettings(PhysicalDevice* physical) {
   // VKRT_SPMD=0: compute shaders run one invocation at a time, fragment quads as four fibers (the reference the SPMD
   // code is tested against).
   if (const char* spmd = std::getenv("VKRT_SPMD"); spmd && *spmd) spirv::setSpmd(std::string_view(spmd) != "0");
+  // VKRT_SHADER_CHECKS: the device address and image checks compiled into later shaders (docs/shader-debugging.md);
+  // unset: none. The table of device addresses comes from the buffers (runtime/buffer.cpp).
+  uint32_t checks = 0;
+  const char* checksText = std::getenv("VKRT_SHADER_CHECKS");
+  if (!spirv::parseShaderChecks(checksText, &checks))
+    report(physical, Severity::Warning, nullptr,
+           "vkCreateDevice: VKRT_SHADER_CHECKS=\"%s\" is not applied: not a list of bda, image, all", checksText);
+  spirv::setShaderChecks(checks);
+  exec::setAddressTableSource(&deviceAddressRanges);
   report(physical, Severity::Info, nullptr,
          "vkCreateDevice: Embree's %s kernels; shaders compiled for %s; compute shaders in batches of %u lanes (SPMD; "
          "0: off)",

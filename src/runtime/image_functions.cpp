@@ -11,6 +11,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "exec/supervise.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
 #include "runtime/descriptor_set_layout.hpp"
@@ -1344,6 +1345,52 @@ int32_t vkrt_texel_buffer_size(const abi::DescriptorRecord* buf) {
   return resolveTexelBuffer(buf, &t) ? int32_t(t.texels) : 0;
 }
 
+// VKRT_SHADER_CHECKS=image (abi/shader_debug.hpp; debug3): the report of an access that the functions above treat as
+// outside the view (through the same resolveView, splitCoord and texelAt); they read zeros and write nothing there. A
+// null or mismatched descriptor is not a coordinate out of range: not reported here.
+void vkrt_check_image(abi::InvocationContext* ctx, const uint8_t* site, const abi::DescriptorRecord* img,
+                      const int32_t coord[4], int32_t lod, uint64_t element) {
+  View v;
+  if (!resolveView(img, &v)) return;
+  int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
+  splitCoord(v, c, xyzl);
+  if (lod >= 0 && texelAt(v, uint32_t(lod), xyzl[0], xyzl[1], xyzl[2], xyzl[3])) return;
+  exec::Job* job = exec::runningJob();
+  if (!job) return;
+  exec::OutOfBoundsRecord r;
+  r.site = site;
+  r.element = element;
+  for (int i = 0; i < 4; ++i) r.coord[i] = xyzl[i];
+  r.coord[4] = lod;
+  r.extent[3] = v.layerCount;
+  if (lod >= 0 && uint32_t(lod) < v.levelCount) {
+    VkExtent3D e = levelExtent(v, uint32_t(lod));
+    r.extent[0] = e.width;
+    r.extent[1] = e.height;
+    r.extent[2] = e.depth;
+    if (v.slicesAsLayers) {
+      uint32_t depth = v.image->mips[v.baseMip + uint32_t(lod)].extent.depth;
+      r.extent[3] = std::min<uint64_t>(v.layerCount, depth > v.baseLayer ? depth - v.baseLayer : 0);
+    }
+  }
+  r.extent[4] = v.levelCount;
+  job->messages.outOfBounds(ctx, r);
+}
+
+void vkrt_check_texel_buffer(abi::InvocationContext* ctx, const uint8_t* site, const abi::DescriptorRecord* buf,
+                             int64_t index, uint64_t element) {
+  TexelBuffer t;
+  if (!resolveTexelBuffer(buf, &t) || texelAt(t, index)) return;
+  exec::Job* job = exec::runningJob();
+  if (!job) return;
+  exec::OutOfBoundsRecord r;
+  r.site = site;
+  r.element = element;
+  r.coord[0] = index;
+  r.extent[0] = uint64_t(t.texels);
+  job->messages.outOfBounds(ctx, r);
+}
+
 }  // extern "C"
 
 namespace vkrt {
@@ -1375,6 +1422,10 @@ const abi::HostSymbol* imageFunctionSymbols() {
       // Shader debugging (abi/shader_debug.hpp; exec/shader_debug.cpp collects, runtime/shader_messages.cpp delivers).
       {"vkrt_debug_printf", reinterpret_cast<void*>(&vkrt_debug_printf)},
       {"vkrt_out_of_bounds", reinterpret_cast<void*>(&vkrt_out_of_bounds)},
+      {"vkrt_address_table", reinterpret_cast<void*>(&vkrt_address_table)},
+      {"vkrt_check_address", reinterpret_cast<void*>(&vkrt_check_address)},
+      {"vkrt_check_image", reinterpret_cast<void*>(&vkrt_check_image)},
+      {"vkrt_check_texel_buffer", reinterpret_cast<void*>(&vkrt_check_texel_buffer)},
       {nullptr, nullptr},
   };
   return symbols;

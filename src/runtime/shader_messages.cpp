@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "runtime/buffer.hpp"
 #include "runtime/command_buffer.hpp"
 #include "runtime/device.hpp"
 #include "runtime/instance.hpp"
@@ -78,6 +79,68 @@ std::string shaderText(uint32_t model, const char* entry, const Object* pipeline
   return s;
 }
 
+// VKRT_SHADER_CHECKS=bda: a PhysicalStorageBuffer access outside every live buffer with a device address, or across
+// one's end (undefined behaviour in Vulkan: vkrt reads zeros or drops it).
+std::string addressAccessText(uint32_t kind, uint32_t bytes, const exec::OutOfBoundsRecord& r) {
+  char buf[320];
+  const char* what = kind == abi::kAccessLoad ? "load" : kind == abi::kAccessStore ? "store" : "atomic";
+  std::snprintf(buf, sizeof buf, "%s of %u bytes at device address 0x%llx", what, bytes,
+                static_cast<unsigned long long>(r.offset));
+  std::string text = buf;
+  if (r.nearSize == 0) {
+    text += " is in no live buffer with a device address (none is bound)";
+  } else {
+    const uint64_t end = r.nearBegin + r.nearSize;
+    const auto ull = [](uint64_t v) { return static_cast<unsigned long long>(v); };
+    if (r.offset >= r.nearBegin && r.offset < end) {
+      std::snprintf(buf, sizeof buf, " crosses the end of the buffer at [0x%llx, 0x%llx) (%llu bytes; offset %llu)",
+                    ull(r.nearBegin), ull(end), ull(r.nearSize), ull(r.offset - r.nearBegin));
+    } else {
+      const bool after = r.offset >= end;
+      std::snprintf(buf, sizeof buf,
+                    " is in no live buffer with a device address: it lies %llu bytes %s the nearest, [0x%llx, 0x%llx) "
+                    "(%llu bytes)",
+                    ull(after ? r.offset - end : r.nearBegin - r.offset), after ? "past the end of" : "before",
+                    ull(r.nearBegin), ull(end), ull(r.nearSize));
+    }
+    text += buf;
+    withAddressBuffer(r.nearObject, [&](const Buffer& b) { text += ", " + objectText(&b); });
+  }
+  return text + (kind == abi::kAccessLoad    ? "; the load reads zeros"
+                 : kind == abi::kAccessStore ? "; the store is dropped"
+                                             : "; the atomic acts on nothing");
+}
+
+// VKRT_SHADER_CHECKS=image: an image or texel buffer access outside the view (robustImageAccess: reads return zeros,
+// writes and atomics are dropped).
+std::string imageAccessText(uint32_t kind, const exec::OutOfBoundsRecord& r, const std::string& resource) {
+  static const char* const names[] = {"OpImageRead", "OpImageWrite", "OpImageFetch", "OpImageTexelPointer",
+                                      "OpImageRead", "OpImageWrite", "OpImageFetch", "OpImageTexelPointer"};
+  const uint32_t at = kind - abi::kAccessImageRead;
+  const bool texel = kind >= abi::kAccessTexelRead;
+  const bool write = kind == abi::kAccessImageWrite || kind == abi::kAccessTexelWrite;
+  const bool atomic = kind == abi::kAccessImageAtomic || kind == abi::kAccessTexelAtomic;
+  char buf[320];
+  auto ll = [](int64_t v) { return static_cast<long long>(v); };
+  auto ull = [](uint64_t v) { return static_cast<unsigned long long>(v); };
+  if (texel) {
+    std::snprintf(buf, sizeof buf, "%s at texel %lld is outside the %llu texels of the texel buffer", names[at],
+                  ll(r.coord[0]), ull(r.extent[0]));
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "%s at (%lld, %lld, %lld), layer %lld, level %lld is outside the view (level %lld: %llux%llux%llu, "
+                  "%llu layers; %llu levels)",
+                  names[at], ll(r.coord[0]), ll(r.coord[1]), ll(r.coord[2]), ll(r.coord[3]), ll(r.coord[4]),
+                  ll(r.coord[4]), ull(r.extent[0]), ull(r.extent[1]), ull(r.extent[2]), ull(r.extent[3]),
+                  ull(r.extent[4]));
+  }
+  std::string text = buf;
+  if (!resource.empty()) text += " (" + resource + ")";
+  return text + (write    ? "; the write is dropped"
+                 : atomic ? "; the atomic acts on nothing"
+                          : "; the read returns zeros");
+}
+
 void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const char* fn,
                         const exec::OutOfBoundsRecord& r, const DescriptorNamer& namer) {
   const spirv::AccessSiteInfo s = spirv::readAccessSite(r.site);
@@ -92,7 +155,11 @@ void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const c
     if (!object.empty()) resource += ", " + object;
   }
   std::string what;
-  if (s.kind == abi::kAccessDescriptorIndex) {
+  if (s.kind >= abi::kAccessImageRead) {
+    what = imageAccessText(s.kind, r, resource);
+  } else if (s.set == ~0u && s.kind != abi::kAccessDescriptorIndex) {
+    what = addressAccessText(s.kind, s.bytes, r);
+  } else if (s.kind == abi::kAccessDescriptorIndex) {
     std::snprintf(buf, sizeof buf, "descriptor index %llu is past the %llu descriptors bound",
                   static_cast<unsigned long long>(r.offset), static_cast<unsigned long long>(r.range));
     what = std::string(buf) + " (" + resource + "); the access uses a null descriptor";
@@ -118,7 +185,12 @@ void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const c
   // Undefined behaviour on a device without robustBufferAccess; with it, defined (zeros, dropped writes) but
   // rarely what the shader meant.
   const Device* dev = cb->device;
-  Severity severity = dev && dev->enabled(Feature::robustBufferAccess) ? Severity::Info : Severity::Warning;
+  // Images: defined with robustImageAccess. A device address outside every buffer is undefined whatever the features.
+  const bool image = s.kind >= abi::kAccessImageRead;
+  const bool address = !image && s.set == ~0u && s.kind != abi::kAccessDescriptorIndex;
+  const bool defined =
+      dev && !address && dev->enabled(image ? Feature::robustImageAccess : Feature::robustBufferAccess);
+  Severity severity = defined ? Severity::Info : Severity::Warning;
   std::string body = std::string(fn) + ": " + shaderText(s.model, s.entryName.c_str(), pipeline) + " " + where + ", " +
                      invocationText(s.model, r.id) + ": " + what;
   reportWithId(cb, severity, kOutOfBoundsMessageId, 0, body);

@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "abi/abi.hpp"
+#include "spirv/shader_debug.hpp"
 #include "spirv/spmd.hpp"
 #include "spirv/target.hpp"
 
@@ -226,6 +227,7 @@ std::string cacheKey(const CompileRequest& req) {
   addStr(buildId());
   addStr(detail::targetKey());
   addStr(spmdKey());
+  addStr("checks " + std::to_string(shaderChecks()));  // VKRT_SHADER_CHECKS: compiled in or not
   add(req.words, req.wordCount * sizeof(uint32_t));
   addStr(req.entryName);
   uint32_t model = req.model, inl = req.inlineFunctions;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "abi/image_functions.hpp"
+#include "abi/shader_debug.hpp"
 #include "spirv/compiler.hpp"
 #include "spirv/module.hpp"
 #include "spirv/opcode_support.hpp"
@@ -130,10 +131,11 @@ class Codegen {
   // ---- memory (memory.cpp)
   bool declareGlobals();                       // Private, Workgroup, Input, buffers, push constants
   bool variablePtr(uint32_t varId, Ptr* out);  // a module-scope variable in the current function
-  // The in-bounds condition of an access of `bytes` at p (nullptr: in bounds by construction).
-  llvm::Value* inBounds(const Ptr& p, uint64_t bytes);
+  // The in-bounds condition of an access of `bytes` at p (nullptr: in bounds by construction); `kind`
+  // (abi::AccessKind) names the access where a check reports it (VKRT_SHADER_CHECKS=bda: checkAddress).
+  llvm::Value* inBounds(const Ptr& p, uint64_t bytes, uint32_t kind = abi::kAccessLoad);
   // The address an atomic uses: p's, or the zeros / the sink when out of bounds.
-  llvm::Value* address(const Ptr& p, uint64_t bytes, bool write);
+  llvm::Value* address(const Ptr& p, uint64_t bytes, bool write, uint32_t kind = ~0u);
   // A load that reads zeros out of bounds, and a store that is dropped there (branches around the access).
   llvm::Value* guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align);
   void guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align);
@@ -206,6 +208,25 @@ class Codegen {
   llvm::Constant* accessSiteFor(const Ptr& p, uint32_t kind, uint64_t bytes);
   // Emits a call of vkrt_out_of_bounds(ctx, site, offset, range, element) at the builder.
   void callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Value* range, llvm::Value* element);
+  // VKRT_SHADER_CHECKS (abi::ShaderCheck bits), taken when the compilation starts: what is compiled in beyond the
+  // buffer and descriptor checks.
+  uint32_t checks = 0;
+  // kCheckDeviceAddress: the in-bounds condition of a PhysicalStorageBuffer access of `bytes` through p: `limitOk`
+  // (p's own limit: 0 in a fragment's helper lanes; nullptr: none) and, only where it holds, a call of
+  // vkrt_check_address (the live buffers' table; it reports a failure at the access's site).
+  llvm::Value* checkAddress(const Ptr& p, uint64_t bytes, uint32_t kind, llvm::Value* limitOk);
+  // The command's address table (vkrt_address_table), fetched once at the top of the current function. Each
+  // checked access keeps the range of its last access that passed (2 x i64: begin, end), tested inline before the
+  // call: in vkrt_group the access's kAddressCacheBytes after the local context (kept across the invocations;
+  // groupContext makes room for addressCaches of them), elsewhere a slot of the function.
+  llvm::Value* addressTable = nullptr;
+  uint32_t addressCaches = 0;
+  // kCheckImage: a call of vkrt_check_image (coords: 4 x i32 in memory, level: i32) or, for a texel buffer,
+  // vkrt_check_texel_buffer (index: i64) before the access of `kind` to image `imageId` (a value, or with
+  // `isPointer` an image variable's pointer, for OpImageTexelPointer) with descriptor record `record`.
+  void checkImage(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record, llvm::Value* coords,
+                  llvm::Value* level);
+  void checkTexelBuffer(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record, llvm::Value* index);
   const Instruction* currentInstruction = nullptr;
   const Instruction* currentLine = nullptr;
   uint32_t debugPrintfSet = 0;  // id of the NonSemantic.DebugPrintf import

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "spirv/codegen.hpp"
+#include "spirv/shader_debug.hpp"
 #include "spirv/spmd.hpp"
 
 namespace vkrt::spirv {
@@ -351,6 +352,7 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
 
 bool Codegen::run(const EntryPoint& ep) {
   model = ep.model;
+  checks = shaderChecks();  // VKRT_SHADER_CHECKS (part of the cache key)
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;
     if (name == "NonSemantic.DebugPrintf") debugPrintfSet = id;
@@ -424,9 +426,14 @@ bool Codegen::run(const EntryPoint& ep) {
 
 // The local context of vkrt_group (see emitGroupEntry), built where the builder stands: returns it.
 llvm::Value* Codegen::groupContext(llvm::Value* ctx) {
-  auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext)));
+  // VKRT_SHADER_CHECKS=bda: the checked accesses' caches follow the context (Codegen::addressCaches), empty at first.
+  const uint64_t caches = uint64_t(abi::kAddressCacheBytes) * addressCaches;
+  auto* local = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(InvocationContext) + caches));
   local->setAlignment(llvm::Align(16));
   b.CreateMemCpy(local, llvm::MaybeAlign(16), ctx, llvm::MaybeAlign(8), i64(sizeof(InvocationContext)));
+  if (caches)
+    b.CreateMemSet(b.CreateConstGEP1_64(b.getInt8Ty(), local, sizeof(InvocationContext)), b.getInt8(0), i64(caches),
+                   llvm::MaybeAlign(16));
   // The out-of-bounds log: a word per invocation (Codegen::outOfBounds), zeroed; `executor` points at it (compiled
   // code reads that field nowhere else; only executors of shaders with barriers use it, and they run no vkrt_group).
   if (!groupSites.empty()) {

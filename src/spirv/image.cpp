@@ -356,12 +356,16 @@ bool Codegen::image(const Instruction& in, bool& ok) {
       if (image.slot < 0 || !coord) return (ok = fail(in, "image pointer or coordinate has no value")), true;
       // Atomics through the pointer write: none in helper lanes of fragment shaders (writableRecord).
       llvm::Value* rec = writableRecord(descriptorRecord(image.slot, image.descIndex ? image.descIndex : i64(0)));
-      llvm::Value* texel =
-          isTexelBuffer(image.type)
-              ? b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_texel", ptrTy, {ptrTy, b.getInt64Ty()}),
-                             {rec, texelIndex(*this, coord, m.typeOf(in.word(4)))})
-              : b.CreateCall(runtimeFn(*this, "vkrt_image_texel", ptrTy, {ptrTy, ptrTy}),
-                             {rec, toWords(*this, coord, false)});
+      llvm::Value* texel = nullptr;
+      if (isTexelBuffer(image.type)) {
+        llvm::Value* index = texelIndex(*this, coord, m.typeOf(in.word(4)));
+        checkTexelBuffer(in.word(3), true, abi::kAccessTexelAtomic, rec, index);  // VKRT_SHADER_CHECKS=image
+        texel = b.CreateCall(runtimeFn(*this, "vkrt_texel_buffer_texel", ptrTy, {ptrTy, b.getInt64Ty()}), {rec, index});
+      } else {
+        llvm::Value* words = toWords(*this, coord, false);
+        checkImage(in.word(3), true, abi::kAccessImageAtomic, rec, words, nullptr);
+        texel = b.CreateCall(runtimeFn(*this, "vkrt_image_texel", ptrTy, {ptrTy, ptrTy}), {rec, words});
+      }
       llvm::Value* none = b.CreateIsNull(texel);
       Ptr p;
       p.base = b.CreateSelect(none, zeros, texel);
@@ -458,6 +462,12 @@ bool Codegen::image(const Instruction& in, bool& ok) {
     return (ok = sample(*this, in, kind, *it, img, coord, coordId, lod, bias, gradX, gradY, offset)), true;
   if (write) imgRec = writableRecord(imgRec);  // helper lanes of fragment shaders write nothing
   llvm::Value* coords = toWords(*this, coord, isFloat(m.typeOf(coordId)));
+  // VKRT_SHADER_CHECKS=image: the coordinates (and the level of a fetch) checked against the view, reported there.
+  const uint32_t checkKind = in.op == spv::OpImageRead    ? abi::kAccessImageRead
+                             : in.op == spv::OpImageWrite ? abi::kAccessImageWrite
+                                                          : abi::kAccessImageFetch;
+  checkImage(imageId, false, checkKind, imgRec, coords,
+             in.op == spv::OpImageFetch && lod ? b.CreateSExtOrTrunc(lod, b.getInt32Ty()) : nullptr);
   switch (in.op) {
     case spv::OpImageRead: {
       llvm::Value* out = scratch(*this);
@@ -555,6 +565,12 @@ bool Codegen::texelBuffer(const Instruction& in, llvm::Value* rec) {
                              spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
   if (mask & ~ignorable) return unsupported(in, "image operands on a texel buffer");
   llvm::Value* index = texelIndex(*this, coord, m.typeOf(coordId));
+  // VKRT_SHADER_CHECKS=image: the index checked against the view, reported there.
+  checkTexelBuffer(in.word(write ? 1 : 3), false,
+                   write                        ? abi::kAccessTexelWrite
+                   : in.op == spv::OpImageFetch ? abi::kAccessTexelFetch
+                                                : abi::kAccessTexelRead,
+                   write ? writableRecord(rec) : rec, index);
   if (write) {
     llvm::Value* texel = value(in.word(3));
     if (!texel) return fail(in, "texel has no value");

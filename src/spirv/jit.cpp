@@ -85,6 +85,13 @@ void initLlvm() {
 
 void ignoreDebugPrintf(abi::InvocationContext*, const uint8_t*, const uint64_t*) {}
 void ignoreOutOfBounds(abi::InvocationContext*, const uint8_t*, uint64_t, uint64_t, uint64_t) {}
+const void* noAddressTable(abi::InvocationContext*) { return nullptr; }
+uint32_t acceptAddress(abi::InvocationContext*, const void*, const uint8_t*, uint64_t, uint64_t, uint64_t*) {
+  return 1;
+}
+void ignoreImageCheck(abi::InvocationContext*, const uint8_t*, const abi::DescriptorRecord*, const int32_t*, int32_t,
+                      uint64_t) {}
+void ignoreTexelCheck(abi::InvocationContext*, const uint8_t*, const abi::DescriptorRecord*, int64_t, uint64_t) {}
 
 // The C library functions generated code may call, resolved to vkrt's own imports (the application's
 // global symbol scope need not contain libm).
@@ -152,6 +159,10 @@ void defineRuntimeSymbols(llvm::orc::LLJIT& jit, const abi::HostSymbol* hostSymb
   // (tests running compiled code on their own), they do nothing.
   add("vkrt_debug_printf", &ignoreDebugPrintf);
   add("vkrt_out_of_bounds", &ignoreOutOfBounds);
+  add("vkrt_address_table", &noAddressTable);  // (VKRT_SHADER_CHECKS: nothing to check against without the runtime)
+  add("vkrt_check_address", &acceptAddress);
+  add("vkrt_check_image", &ignoreImageCheck);
+  add("vkrt_check_texel_buffer", &ignoreTexelCheck);
   for (const abi::HostSymbol* s = hostSymbols; s && s->name; ++s) add(s->name, s->address);
   llvm::cantFail(jit.getMainJITDylib().define(llvm::orc::absoluteSymbols(std::move(map))));
 }

@@ -385,19 +385,25 @@ Ptr& Codegen::ptr(uint32_t id) {
   return none;
 }
 
-llvm::Value* Codegen::inBounds(const Ptr& p, uint64_t bytes) {
+llvm::Value* Codegen::inBounds(const Ptr& p, uint64_t bytes, uint32_t kind) {
+  llvm::Value* ok = nullptr;
   auto* co = llvm::dyn_cast<llvm::ConstantInt>(p.offset);
   auto* cl = llvm::dyn_cast<llvm::ConstantInt>(p.limit);
-  if (co && cl && cl->getZExtValue() >= bytes && co->getZExtValue() <= cl->getZExtValue() - bytes) return nullptr;
-  // offset + bytes <= limit without overflow: offset < limit - (bytes - 1), the subtraction saturating at 0
-  // (nothing fits in a smaller limit). One comparison with a value that is invariant where the limit is.
-  llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, p.limit, i64(bytes ? bytes - 1 : 0));
-  return b.CreateICmpULT(p.offset, end);
+  if (!(co && cl && cl->getZExtValue() >= bytes && co->getZExtValue() <= cl->getZExtValue() - bytes)) {
+    // offset + bytes <= limit without overflow: offset < limit - (bytes - 1), the subtraction saturating at 0
+    // (nothing fits in a smaller limit). One comparison with a value that is invariant where the limit is.
+    llvm::Value* end = b.CreateBinaryIntrinsic(llvm::Intrinsic::usub_sat, p.limit, i64(bytes ? bytes - 1 : 0));
+    ok = b.CreateICmpULT(p.offset, end);
+  }
+  // A device address has no limit of its own (1 << 62): VKRT_SHADER_CHECKS=bda checks it against the live buffers.
+  if (p.storage == spv::StorageClassPhysicalStorageBuffer && (checks & abi::kCheckDeviceAddress))
+    return checkAddress(p, bytes, kind, ok);
+  return ok;
 }
 
-llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write) {
+llvm::Value* Codegen::address(const Ptr& p, uint64_t bytes, bool write, uint32_t kind) {
   llvm::Value* real = b.CreateGEP(b.getInt8Ty(), p.base, p.offset);
-  llvm::Value* ok = inBounds(p, bytes);
+  llvm::Value* ok = inBounds(p, bytes, kind != ~0u ? kind : write ? abi::kAccessAtomic : abi::kAccessLoad);
   if (!ok) return real;
   if (write && !b.GetInsertBlock()->getTerminator()) {
     // An atomic: the failing branch reports it, then both go on to the select below.
@@ -457,9 +463,10 @@ llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, 
 // A store that is dropped out of bounds (a branch around it, see guardedLoad).
 void Codegen::guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align) {
   bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
-  llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
+  llvm::Value* ok = closed ? nullptr : inBounds(p, bytes, abi::kAccessStore);
   if (!ok) {
-    b.CreateAlignedStore(v, closed ? address(p, bytes, true) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
+    b.CreateAlignedStore(
+        v, closed ? address(p, bytes, true, abi::kAccessStore) : b.CreateGEP(b.getInt8Ty(), p.base, p.offset), align);
     return;
   }
   llvm::BasicBlock* failed = nullptr;

@@ -1,10 +1,40 @@
 #include "spirv/shader_debug.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 namespace vkrt::spirv {
+
+namespace {
+std::atomic<uint32_t> checksOn{0};
+}  // namespace
+
+void setShaderChecks(uint32_t checks) { checksOn.store(checks, std::memory_order_relaxed); }
+uint32_t shaderChecks() { return checksOn.load(std::memory_order_relaxed); }
+
+bool parseShaderChecks(const char* text, uint32_t* checks) {
+  uint32_t bits = 0;
+  std::string_view rest = text ? text : "";
+  while (!rest.empty()) {
+    size_t comma = rest.find(',');
+    std::string_view word = rest.substr(0, comma);
+    if (word == "bda") {
+      bits |= abi::kCheckDeviceAddress;
+    } else if (word == "image") {
+      bits |= abi::kCheckImage;
+    } else if (word == "all") {
+      bits |= abi::kCheckDeviceAddress | abi::kCheckImage;
+    } else if (!word.empty() && word != "none") {
+      return false;
+    }
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+  }
+  *checks = bits;
+  return true;
+}
 
 namespace {
 

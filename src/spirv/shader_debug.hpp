@@ -14,6 +14,14 @@ namespace vkrt::spirv {
 // line information: their line is the application's word offset of the instruction that follows.
 inline constexpr char kWordOffsetFile[] = "vkrt:word-offset";
 
+// The checks compiled into later shaders beyond the always-on buffer and descriptor ones (abi::ShaderCheck bits;
+// VKRT_SHADER_CHECKS, read when a device is created): process-wide, part of cacheKey(). 0 (the default): none, and
+// nothing of them in the compiled code.
+void setShaderChecks(uint32_t checks);
+uint32_t shaderChecks();
+// VKRT_SHADER_CHECKS's value: "bda", "image", "all" or a comma-separated list ("bda,image"); false for anything else.
+bool parseShaderChecks(const char* text, uint32_t* checks);
+
 // One argument of a debugPrintfEXT call: its kind (abi::PrintfArgKind), bit width and component count.
 struct PrintfArg {
   uint32_t kind = abi::kArgUnsigned;

@@ -336,4 +336,147 @@ void Codegen::reportGroupLog(llvm::Value* ctx, llvm::Value* local, llvm::Value* 
   b.SetInsertPoint(done);
 }
 
+llvm::Value* Codegen::checkAddress(const Ptr& p, uint64_t bytes, uint32_t kind, llvm::Value* limitOk) {
+  if (!ctxArg) return limitOk;
+  llvm::Type* i64t = b.getInt64Ty();
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::Function* fnc = b.GetInsertBlock()->getParent();
+  auto* tableCall = llvm::dyn_cast_or_null<llvm::CallInst>(addressTable);
+  if (!tableCall || tableCall->getFunction() != fnc) {
+    // Once per function, at its top. The table is the same for the whole command: the call is marked as having no
+    // side effects (it reads the thread's running job), so that LLVM hoists it out of vkrt_group's loop over the
+    // invocations, where vkrt_main is inlined.
+    auto* tf = llvm::cast<llvm::Function>(
+        out.getOrInsertFunction("vkrt_address_table", llvm::FunctionType::get(ptrTy, {ptrTy}, false)).getCallee());
+    tf->setDoesNotAccessMemory();
+    tf->setDoesNotThrow();
+    tf->setWillReturn();
+    tf->addFnAttr(llvm::Attribute::Speculatable);
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(&*fnc->getEntryBlock().getFirstInsertionPt());
+    tableCall = b.CreateCall(tf, {ctxArg});
+    addressTable = tableCall;
+  }
+  // The access's cache: after vkrt_group's local context (groupLog: the code runs only there), else a slot of the
+  // function (one per access: accesses to different buffers would evict each other's range).
+  llvm::Value* cache = nullptr;
+  if (groupLog) {
+    cache = b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg,
+                                 sizeof(InvocationContext) + uint64_t(abi::kAddressCacheBytes) * addressCaches++);
+  } else {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(tableCall->getNextNode());
+    auto* slot = b.CreateAlloca(i64t, i64(2));
+    slot->setAlignment(llvm::Align(16));
+    b.CreateMemSet(slot, b.getInt8(0), i64(abi::kAddressCacheBytes), llvm::MaybeAlign(16));
+    cache = slot;
+  }
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_address", llvm::FunctionType::get(b.getInt32Ty(), {ptrTy, ptrTy, ptrTy, i64t, i64t, ptrTy}, false));
+  llvm::Value* address = b.CreateAdd(b.CreatePtrToInt(p.base, i64t), p.offset);
+  auto call = [&] {
+    llvm::Value* site = accessSiteFor(p, kind, bytes);
+    return b.CreateICmpNE(b.CreateCall(f, {ctxArg, tableCall, site, address, i64(bytes), cache}), i32(0));
+  };
+  // Inside the cached range (the last access that passed): no call.
+  auto cached = [&] {
+    llvm::Value* lo = b.CreateAlignedLoad(i64t, cache, llvm::Align(8));
+    llvm::Value* hi = b.CreateAlignedLoad(i64t, b.CreateConstGEP1_64(i64t, cache, 1), llvm::Align(8));
+    llvm::Value* end = b.CreateAdd(address, i64(bytes));
+    return b.CreateAnd(b.CreateAnd(b.CreateICmpUGE(address, lo), b.CreateICmpULE(end, hi)),
+                       b.CreateICmpUGE(end, address));
+  };
+  // Code placed before a block's terminator cannot branch: every test, the call included.
+  if (b.GetInsertBlock()->getTerminator()) {
+    llvm::Value* ok = b.CreateOr(cached(), call());
+    return limitOk ? b.CreateAnd(limitOk, ok) : ok;
+  }
+  llvm::BasicBlock* from = b.GetInsertBlock();
+  auto* test = llvm::BasicBlock::Create(c, "address.cached", fnc);
+  auto* slow = llvm::BasicBlock::Create(c, "address.check", fnc);
+  auto* join = llvm::BasicBlock::Create(c, "address.checked", fnc);
+  if (limitOk) {
+    b.CreateCondBr(limitOk, test, join);
+  } else {
+    b.CreateBr(test);
+  }
+  b.SetInsertPoint(test);
+  b.CreateCondBr(cached(), join, slow, llvm::MDBuilder(c).createBranchWeights(1u << 20, 1));
+  b.SetInsertPoint(slow);
+  llvm::Value* ok = call();
+  llvm::BasicBlock* slowEnd = b.GetInsertBlock();
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+  llvm::PHINode* phi = b.CreatePHI(b.getInt1Ty(), 3);
+  if (limitOk) phi->addIncoming(b.getFalse(), from);
+  phi->addIncoming(b.getTrue(), test);
+  phi->addIncoming(ok, slowEnd);
+  return phi;
+}
+
+namespace {
+
+// The image variable an image value (or, with isPointer, a pointer to an image) comes from: its Ptr (resource,
+// variable and descriptor array index), found through the OpLoad and the OpSampledImage / OpImage / OpCopyObject
+// that made the value. Null where it cannot be traced (the report then names no descriptor).
+const Ptr* imageOrigin(Codegen& g, uint32_t id, bool isPointer) {
+  for (int depth = 0; depth < 8 && id; ++depth) {
+    if (isPointer) {
+      auto it = g.ptrs.find(id);
+      return it != g.ptrs.end() && it->second.resource >= 0 ? &it->second : nullptr;
+    }
+    const Instruction* def = g.m.def(id);
+    if (!def) return nullptr;
+    switch (def->op) {
+      case spv::OpLoad:
+        id = def->word(3);
+        isPointer = true;
+        break;
+      case spv::OpSampledImage:
+      case spv::OpImage:
+      case spv::OpCopyObject: id = def->word(3); break;
+      default: return nullptr;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+// The site of an image access: the origin's descriptor (set, binding, variable), and the array element it indexes.
+static llvm::Value* imageSite(Codegen& g, uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value** element) {
+  Ptr site;
+  const Ptr* origin = imageOrigin(g, imageId, isPointer);
+  if (origin) {
+    site.resource = origin->resource;
+    site.variable = origin->variable;
+  }
+  *element = origin && origin->descIndex ? g.b.CreateZExtOrTrunc(origin->descIndex, g.b.getInt64Ty()) : g.i64(0);
+  return g.accessSiteFor(site, kind, 0);
+}
+
+void Codegen::checkImage(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record, llvm::Value* coords,
+                         llvm::Value* level) {
+  if (!(checks & abi::kCheckImage) || !ctxArg) return;
+  llvm::Value* element = nullptr;
+  llvm::Value* site = imageSite(*this, imageId, isPointer, kind, &element);
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_image",
+      llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy, ptrTy, b.getInt32Ty(), b.getInt64Ty()}, false));
+  b.CreateCall(f, {ctxArg, site, record, coords, level ? level : i32(0), element});
+}
+
+void Codegen::checkTexelBuffer(uint32_t imageId, bool isPointer, uint32_t kind, llvm::Value* record,
+                               llvm::Value* index) {
+  if (!(checks & abi::kCheckImage) || !ctxArg) return;
+  llvm::Value* element = nullptr;
+  llvm::Value* site = imageSite(*this, imageId, isPointer, kind, &element);
+  llvm::Type* ptrTy = b.getPtrTy();
+  llvm::FunctionCallee f = out.getOrInsertFunction(
+      "vkrt_check_texel_buffer",
+      llvm::FunctionType::get(b.getVoidTy(), {ptrTy, ptrTy, ptrTy, b.getInt64Ty(), b.getInt64Ty()}, false));
+  b.CreateCall(f, {ctxArg, site, record, index, element});
+}
+
 }  // namespace vkrt::spirv

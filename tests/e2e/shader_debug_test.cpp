@@ -15,6 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "check_bda.g.comp.spv.h"
+#include "check_bda.g.rgen.spv.h"
+#include "check_image.g.comp.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/draw_fixture.hpp"
 #include "e2e/trace_fixture.hpp"
@@ -460,6 +463,505 @@ TEST_F(ShaderDebugDrawTest, FragmentStoreOutOfBoundsNamesTheFragment) {
   vkDestroyDescriptorPool(device, pool, nullptr);
   vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
 }
+
+// ---- VKRT_SHADER_CHECKS: device addresses and images (docs/shader-debugging.md)
+
+// The checks are compiled in by the setting, read when the device is created; the parameter is VKRT_SPMD. These
+// shaders take the scalar vkrt_group on either path (images and pointer values are not on the SPMD path): both must
+// report the same.
+// VKRT_SPMD and VKRT_SHADER_CHECKS for the devices made while it is set (they are read when a device is created),
+// restored after; VKRT_SPMD unset before is left at the default, "1" (a device applies it only where it is set).
+class ShaderSettings {
+ public:
+  void set(const char* spmd, const char* checks) {
+    for (int i = 0; i < 2; ++i) {
+      const char* v = std::getenv(kVars[i]);
+      saved_[i] = v ? v : "";
+      had_[i] = v != nullptr;
+    }
+    setenv("VKRT_SPMD", spmd, 1);
+    if (checks) {
+      setenv("VKRT_SHADER_CHECKS", checks, 1);
+    } else {
+      unsetenv("VKRT_SHADER_CHECKS");
+    }
+  }
+  void restore() {
+    for (int i = 0; i < 2; ++i) {
+      if (had_[i]) {
+        setenv(kVars[i], saved_[i].c_str(), 1);
+      } else if (i == 0) {
+        setenv(kVars[i], "1", 1);
+      } else {
+        unsetenv(kVars[i]);
+      }
+    }
+  }
+
+ private:
+  static constexpr const char* kVars[2] = {"VKRT_SPMD", "VKRT_SHADER_CHECKS"};
+  std::string saved_[2];
+  bool had_[2] = {};
+};
+
+// The checks are compiled in by the setting, read when the device is created; the parameter is VKRT_SPMD. These
+// shaders take the scalar vkrt_group on either path (images and pointer values are not on the SPMD path): both must
+// report the same.
+class ShaderChecksTest : public ShaderDebugComputeTest, public ::testing::WithParamInterface<const char*> {
+ protected:
+  const char* checks = "bda,image";  // nullptr: unset
+
+  void SetUp() override {
+    settings_.set(GetParam(), checks);
+    ShaderDebugComputeTest::SetUp();
+  }
+  void TearDown() override {
+    ShaderDebugComputeTest::TearDown();
+    settings_.restore();
+  }
+
+  // A 64-byte storage buffer with a device address at the start of 4096 bytes of its own memory, mapped whole: the
+  // bytes after the buffer are allocated (an access there does not fault) but in no buffer. They hold 0xabababab.
+  struct Guarded {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    uint32_t* words = nullptr;  // 1024 words
+    uint64_t address = 0;
+  };
+  Guarded makeGuarded(const char* name) {
+    Guarded g;
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = 64;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+    EXPECT_EQ(vkCreateBuffer(device, &bci, nullptr, &g.buffer), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device, g.buffer, &req);
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &flags};
+    mai.allocationSize = 4096;
+    mai.memoryTypeIndex =
+        memoryTypeIndex(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    EXPECT_EQ(vkAllocateMemory(device, &mai, nullptr, &g.memory), VK_SUCCESS);
+    EXPECT_EQ(vkBindBufferMemory(device, g.buffer, g.memory, 0), VK_SUCCESS);
+    void* data = nullptr;
+    EXPECT_EQ(vkMapMemory(device, g.memory, 0, VK_WHOLE_SIZE, 0, &data), VK_SUCCESS);
+    g.words = static_cast<uint32_t*>(data);
+    std::memset(g.words, 0xab, 4096);
+    VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    ai.buffer = g.buffer;
+    g.address = vkGetBufferDeviceAddress(device, &ai);
+    setName(g.buffer, name);
+    return g;
+  }
+  void destroy(Guarded& g) {
+    vkDestroyBuffer(device, g.buffer, nullptr);
+    vkFreeMemory(device, g.memory, nullptr);
+  }
+  using VulkanTest::destroy;
+
+  // check_bda.g.comp's push constants.
+  struct BdaPush {
+    uint64_t dst, src, cross, stray;
+    uint32_t mode;
+  };
+  void dispatchBda(ComputePipeline& p, const BdaPush& push, uint32_t groups) {
+    VkCommandBuffer cb = beginOneTime();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 36, &push);
+    vkCmdDispatch(cb, groups, 1, 1);
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                         nullptr);
+    submitAndWait(cb);
+  }
+
+  // The report of `line` among `m` (each site is reported once per dispatch: exactly one).
+  static const ShaderMessage* atLine(const std::vector<ShaderMessage>& m, const char* file, int line) {
+    const ShaderMessage* found = nullptr;
+    std::string where = std::string(file) + " at line " + std::to_string(line) + ",";
+    for (const ShaderMessage& s : m)
+      if (contains(s.text, where)) {
+        EXPECT_EQ(found, nullptr) << "two reports of line " << line;
+        found = &s;
+      }
+    return found;
+  }
+  // The fixture's messenger (warnings) saw `n` reports too: taken.
+  void expectWarnings(size_t n) {
+    std::vector<Message> seen = vkrtMessages();
+    EXPECT_EQ(seen.size(), n);
+    for (const Message& s : seen) EXPECT_EQ(s.idName, kOutOfBoundsId) << s.text;
+    clearMessages();
+  }
+
+ private:
+  ShaderSettings settings_;
+};
+
+class ShaderChecksOffTest : public ShaderChecksTest {
+ protected:
+  ShaderChecksOffTest() { checks = nullptr; }
+};
+
+std::string hex(uint64_t v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "0x%llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+// The valid side: every access inside its buffer (a copy, a 16-byte load inside, a load and a store inside through
+// an address computed from an integer) reports nothing and does what the shader says.
+TEST_P(ShaderChecksTest, DeviceAddressesInsideBuffersReportNothing) {
+  ComputePipeline p = makeComputePipeline(device, kSpv_check_bda_g_comp, sizeof kSpv_check_bda_g_comp, {}, 36);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  Guarded src = makeGuarded("src"), dst = makeGuarded("dst");
+  for (uint32_t k = 0; k < 16; ++k) src.words[k] = 10 * k;
+  dispatchBda(p, {dst.address, src.address, 0, 0, 0}, 2);  // 16 invocations, 16 words
+  for (uint32_t k = 0; k < 16; ++k) EXPECT_EQ(dst.words[k], 10 * k + 1) << k;
+  EXPECT_EQ(dst.words[16], 0xababababu);
+  dispatchBda(p, {dst.address, src.address, src.address + 48, src.address + 8, 1}, 1);
+  EXPECT_EQ(dst.words[0], 120u + 130 + 140 + 150);  // the 16 bytes at 48: the last four words, inside
+  EXPECT_EQ(dst.words[1], 27u);                     // src.words[2] + 7
+  EXPECT_EQ(src.words[3], 5u);                      // stored at src + 8 + 4
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+  destroy(src);
+  destroy(dst);
+  destroyComputePipeline(device, p);
+}
+
+// Loads and stores past a buffer's end, a load across it, and a load and a store at an address in no buffer: each
+// site reported once, naming the line, the invocation, the address and the nearest buffer; loads read zeros and
+// stores are dropped (the bytes after the buffers keep their pattern; the store to address 20 does not fault).
+TEST_P(ShaderChecksTest, DeviceAddressesOutsideBuffersAreReported) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  ComputePipeline p = makeComputePipeline(device, kSpv_check_bda_g_comp, sizeof kSpv_check_bda_g_comp, {}, 36);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  Guarded src = makeGuarded("src"), dst = makeGuarded("dst");
+  for (uint32_t k = 0; k < 16; ++k) src.words[k] = 10 * k;
+  dispatchBda(p, {dst.address, src.address, 0, 0, 0}, 3);  // 24 invocations: 16..23 are past both buffers
+  for (uint32_t k = 0; k < 16; ++k) EXPECT_EQ(dst.words[k], 10 * k + 1) << k;
+  for (uint32_t k = 16; k < 1024; ++k) ASSERT_EQ(dst.words[k], 0xababababu) << k;
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 2u);
+  const ShaderMessage* load = atLine(m, "check_bda.g.comp", 16);
+  const ShaderMessage* store = atLine(m, "check_bda.g.comp", 17);
+  ASSERT_TRUE(load && store);
+  for (const ShaderMessage* r : {load, store}) {
+    EXPECT_EQ(r->severity, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT);
+    EXPECT_TRUE(contains(r->text, "compute shader \"main\" of VkPipeline")) << r->text;
+    // The first failing invocation of the only workgroup that failed: 16, at the buffer's end.
+    EXPECT_TRUE(contains(r->text, "global invocation (16, 0, 0)")) << r->text;
+  }
+  EXPECT_TRUE(contains(load->text, "load of 4 bytes at device address " + hex(src.address + 64) +
+                                       " is in no live buffer with a device address: it lies 0 bytes past the end "
+                                       "of the nearest, [" +
+                                       hex(src.address) + ", " + hex(src.address + 64) + ") (64 bytes), VkBuffer"))
+      << load->text;
+  EXPECT_TRUE(contains(load->text, "'src'; the load reads zeros")) << load->text;
+  EXPECT_TRUE(contains(store->text, "store of 4 bytes at device address " + hex(dst.address + 64))) << store->text;
+  EXPECT_TRUE(contains(store->text, "'dst'; the store is dropped")) << store->text;
+  expectWarnings(2);
+
+  dispatchBda(p, {dst.address, src.address, src.address + 56, 16, 1}, 1);
+  EXPECT_EQ(dst.words[0], 0u);  // the 16 bytes at 56 cross the end: all read as zeros
+  EXPECT_EQ(dst.words[1], 7u);  // address 16 reads zeros
+  m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 3u);
+  const ShaderMessage* cross = atLine(m, "check_bda.g.comp", 19);
+  const ShaderMessage* strayLoad = atLine(m, "check_bda.g.comp", 22);
+  const ShaderMessage* strayStore = atLine(m, "check_bda.g.comp", 23);
+  ASSERT_TRUE(cross && strayLoad && strayStore);
+  EXPECT_TRUE(contains(cross->text, "load of 16 bytes at device address " + hex(src.address + 56) +
+                                        " crosses the end of the buffer at [" + hex(src.address) + ", " +
+                                        hex(src.address + 64) + ") (64 bytes; offset 56), VkBuffer"))
+      << cross->text;
+  EXPECT_TRUE(contains(strayLoad->text,
+                       "load of 4 bytes at device address 0x10 is in no live buffer with a device "
+                       "address: it lies "))
+      << strayLoad->text;
+  EXPECT_TRUE(contains(strayStore->text, "store of 4 bytes at device address 0x14 is in no live buffer"))
+      << strayStore->text;
+  EXPECT_TRUE(contains(strayStore->text, "the store is dropped")) << strayStore->text;
+  for (const ShaderMessage* r : {cross, strayLoad, strayStore})
+    EXPECT_TRUE(contains(r->text, "global invocation (0, 0, 0)")) << r->text;
+  expectWarnings(3);
+  destroy(src);
+  destroy(dst);
+  destroyComputePipeline(device, p);
+}
+
+// Without the setting nothing of the check is compiled in: no report, and the store past the buffer lands in the
+// allocated bytes after it (undefined behaviour the setting exists to find).
+TEST_P(ShaderChecksOffTest, DeviceAddressChecksAreCompiledOut) {
+  if (!onVkrt()) GTEST_SKIP() << "what an unchecked access past a buffer does is vkrt's";
+  ComputePipeline p = makeComputePipeline(device, kSpv_check_bda_g_comp, sizeof kSpv_check_bda_g_comp, {}, 36);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  Guarded src = makeGuarded("src"), dst = makeGuarded("dst");
+  dispatchBda(p, {dst.address, src.address, 0, 0, 0}, 3);
+  for (uint32_t k = 16; k < 24; ++k) EXPECT_EQ(dst.words[k], 0xababababu + 1) << k;
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+  destroy(src);
+  destroy(dst);
+  destroyComputePipeline(device, p);
+}
+
+// check_image.g.comp's images: a 4x4 R32_UINT image (storage and sampled, GENERAL), a 16-texel R32_UINT storage texel
+// buffer, and the output buffer.
+class ShaderImageChecksTest : public ShaderChecksTest {
+ protected:
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory imageMemory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VkBufferView texelView = VK_NULL_HANDLE;
+  HostBuffer texels, out;
+  ComputePipeline p;
+
+  void SetUp() override {
+    ShaderChecksTest::SetUp();
+    if (HasFatalFailure()) return;
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = VK_FORMAT_R32_UINT;
+    ci.extent = {4, 4, 1};
+    ci.mipLevels = ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
+    ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, &imageMemory), VK_SUCCESS);
+    ASSERT_EQ(vkBindImageMemory(device, image, imageMemory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = ci.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+    texels = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
+    for (uint32_t k = 0; k < 16; ++k) static_cast<uint32_t*>(texels.data)[k] = 1000 + k;
+    VkBufferViewCreateInfo bv{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    bv.buffer = texels.buffer;
+    bv.format = VK_FORMAT_R32_UINT;
+    bv.range = VK_WHOLE_SIZE;
+    ASSERT_EQ(vkCreateBufferView(device, &bv, nullptr, &texelView), VK_SUCCESS);
+    out = createHostBuffer(64 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    p = makeComputePipeline(device, kSpv_check_image_g_comp, sizeof kSpv_check_image_g_comp,
+                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                             VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, kStorageBuffer},
+                            16);
+    ASSERT_EQ(p.result, VK_SUCCESS);
+    VkDescriptorImageInfo storage{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+    VkDescriptorImageInfo sampled{sampler, view, VK_IMAGE_LAYOUT_GENERAL};
+    VkDescriptorBufferInfo ob{out.buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w[4] = {};
+    for (uint32_t k = 0; k < 4; ++k) {
+      w[k] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+      w[k].dstSet = p.set;
+      w[k].dstBinding = k;
+      w[k].descriptorCount = 1;
+    }
+    w[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    w[0].pImageInfo = &storage;
+    w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    w[1].pImageInfo = &sampled;
+    w[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+    w[2].pTexelBufferView = &texelView;
+    w[3].descriptorType = kStorageBuffer;
+    w[3].pBufferInfo = &ob;
+    vkUpdateDescriptorSets(device, 4, w, 0, nullptr);
+    // The image to GENERAL, then filled: texel (x, y) = 100 + x + 4y.
+    VkCommandBuffer cb = beginOneTime();
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = vi.subresourceRange;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &b);
+    submitAndWait(cb);
+    run(0, 0, 100);
+  }
+  void TearDown() override {
+    if (device) {
+      vkDeviceWaitIdle(device);
+      destroyComputePipeline(device, p);
+      vkDestroyBufferView(device, texelView, nullptr);
+      vkDestroySampler(device, sampler, nullptr);
+      vkDestroyImageView(device, view, nullptr);
+      vkDestroyImage(device, image, nullptr);
+      vkFreeMemory(device, imageMemory, nullptr);
+      destroy(texels);
+      destroy(out);
+    }
+    ShaderChecksTest::TearDown();
+  }
+  // One dispatch of the 4x4 workgroup: mode 0 writes `value` + index at the texel shifted by (shiftX, 0); mode 1
+  // reads there.
+  void run(uint32_t mode, int32_t shiftX, uint32_t value = 0) {
+    const int32_t push[4] = {shiftX, 0, int32_t(mode), int32_t(value)};
+    VkCommandBuffer cb = beginOneTime();
+    recordDispatch(cb, p, 1, push, 16);
+    submitAndWait(cb);
+  }
+  const uint32_t* o() const { return static_cast<const uint32_t*>(out.data); }
+};
+
+TEST_P(ShaderImageChecksTest, AccessesInsideTheViewReportNothing) {
+  run(1, 0);
+  for (uint32_t i = 0; i < 16; ++i) {
+    EXPECT_EQ(o()[i], 100 + i) << i;       // imageLoad
+    EXPECT_EQ(o()[16 + i], 100 + i) << i;  // texelFetch
+    EXPECT_EQ(o()[32 + i], 100 + i) << i;  // imageAtomicAdd
+    EXPECT_EQ(o()[48 + i], 1000 + i) << i;
+    EXPECT_EQ(static_cast<const uint32_t*>(texels.data)[i], i + 1) << i;
+  }
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+}
+
+// Writes one texel right of the image, then reads two right of it: every image instruction's site is reported once,
+// with the coordinates, the view's range and the descriptor; reads return zeros and writes are dropped.
+TEST_P(ShaderImageChecksTest, AccessesOutsideTheViewAreReported) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());  // the fill, inside
+  run(0, 1, 200);
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const ShaderMessage* write = atLine(m, "check_image.g.comp", 16);
+  ASSERT_TRUE(write);
+  EXPECT_EQ(write->severity, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT);
+  EXPECT_TRUE(contains(write->text,
+                       "global invocation (3, 0, 0): OpImageWrite at (4, 0, 0), layer 0, level 0 is "
+                       "outside the view (level 0: 4x4x1, 1 layers; 1 levels) (set 0, binding 0, "
+                       "element 0, variable \"img\", VkImageView"))
+      << write->text;
+  EXPECT_TRUE(contains(write->text, "; the write is dropped")) << write->text;
+  expectWarnings(1);
+  run(1, 2);
+  // Texel (x, y) is now 100 + 4y at x = 0, 200 + (x - 1) + 4y elsewhere; read at x + 2.
+  for (uint32_t i = 0; i < 16; ++i) {
+    const uint32_t x = i % 4, y = i / 4;
+    const uint32_t want = x + 2 < 4 ? 200 + (x + 1) + 4 * y : 0;
+    EXPECT_EQ(o()[i], want) << i;
+    EXPECT_EQ(o()[16 + i], want) << i;
+    EXPECT_EQ(o()[32 + i], want) << i;
+    EXPECT_EQ(o()[48 + i], i + 2 < 16 ? 1000 + i + 2 : 0) << i;
+  }
+  const auto* t = static_cast<const uint32_t*>(texels.data);
+  EXPECT_EQ(t[0], 1000u);
+  EXPECT_EQ(t[1], 1001u);
+  for (uint32_t j = 2; j < 16; ++j) EXPECT_EQ(t[j], j - 1) << j;
+  m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 5u);
+  struct Want {
+    int line;
+    const char* text;
+  } wants[] = {
+      {18, "global invocation (2, 0, 0): OpImageRead at (4, 0, 0), layer 0, level 0 is outside the view"},
+      {19, "global invocation (2, 0, 0): OpImageFetch at (4, 0, 0), layer 0, level 0 is outside the view"},
+      {20, "global invocation (2, 0, 0): OpImageTexelPointer at (4, 0, 0), layer 0, level 0 is outside the view"},
+      {21,
+       "global invocation (2, 3, 0): OpImageRead at texel 16 is outside the 16 texels of the texel buffer (set 0, "
+       "binding 2, element 0, variable \"texels\", VkBufferView"},
+      {22, "global invocation (2, 3, 0): OpImageWrite at texel 16 is outside the 16 texels of the texel buffer"},
+  };
+  for (const Want& w : wants) {
+    const ShaderMessage* r = atLine(m, "check_image.g.comp", w.line);
+    ASSERT_TRUE(r) << w.line;
+    EXPECT_TRUE(contains(r->text, w.text)) << r->text;
+  }
+  EXPECT_TRUE(contains(atLine(m, "check_image.g.comp", 19)->text, "binding 1, element 0, variable \"tex\""));
+  EXPECT_TRUE(contains(atLine(m, "check_image.g.comp", 20)->text, "the atomic acts on nothing"));
+  expectWarnings(5);
+}
+
+class ShaderImageChecksOffTest : public ShaderImageChecksTest {
+ protected:
+  ShaderImageChecksOffTest() { checks = nullptr; }
+};
+
+// Without the setting the same accesses report nothing, and still read zeros and write nothing (robustness).
+TEST_P(ShaderImageChecksOffTest, ImageChecksAreCompiledOut) {
+  if (!onVkrt()) GTEST_SKIP() << "reads outside an image without robustImageAccess are vkrt's";
+  run(0, 1, 200);
+  run(1, 2);
+  for (uint32_t i = 0; i < 16; ++i) {
+    const uint32_t x = i % 4, y = i / 4;
+    EXPECT_EQ(o()[i], x + 2 < 4 ? 200 + (x + 1) + 4 * y : 0) << i;
+    EXPECT_EQ(o()[48 + i], i + 2 < 16 ? 1000 + i + 2 : 0) << i;
+  }
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+}
+
+// A ray tracing launch: the check and its report per launch are the compute dispatch's.
+class ShaderChecksTraceTest : public ShaderDebugTraceTest {
+ protected:
+  ShaderSettings settings;
+  FixtureOptions options() override {
+    FixtureOptions o = ShaderDebugTraceTest::options();
+    o.features.shaderInt64 = VK_TRUE;  // the ray generation shader's pointer is a 64-bit push constant
+    return o;
+  }
+  void SetUp() override {
+    settings.set("1", "bda");
+    ShaderDebugTraceTest::SetUp();
+  }
+  void TearDown() override {
+    ShaderDebugTraceTest::TearDown();
+    settings.restore();
+  }
+};
+
+// An 8 x 4 launch storing a word per launch id through a device address into a 16-word buffer: the ids from 16 on
+// store past it, reported once for the launch with the launch id and the address; the stores inside land.
+TEST_F(ShaderChecksTraceTest, RayGenerationStorePastABufferIsReported) {
+  if (!vkrt) GTEST_SKIP() << "vkrt's own report";
+  Desc d;
+  d.layout = traceLayout;
+  d.general(module(kSpv_check_bda_g_rgen, sizeof kSpv_check_bda_g_rgen), VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 2, {0}, {{1, {}}}, {});
+  HostBuffer& words = buffer(64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);  // (with a device address)
+  std::memset(words.data, 0, 64);
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = words.buffer;
+  const uint64_t address = vkGetBufferDeviceAddress(device, &ai);
+  TraceParams params;  // its first 8 bytes are the shader's pointer
+  params.rayFlags = uint32_t(address);
+  params.cullMask = uint32_t(address >> 32);
+  trace(p, s, basicScene(), 8, 4, params);
+  for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(static_cast<const uint32_t*>(words.data)[i], 1 + i % 8) << i;
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const std::string& t = m[0].text;
+  EXPECT_TRUE(contains(t, "vkCmdTraceRaysKHR: ray generation shader \"main\" of VkPipeline")) << t;
+  EXPECT_TRUE(contains(t, "check_bda.g.rgen at line 10, launch id (")) << t;
+  unsigned x = 99, y = 99;
+  ASSERT_EQ(std::sscanf(t.substr(t.find("launch id (")).c_str(), "launch id (%u, %u", &x, &y), 2) << t;
+  EXPECT_GE(y * 8 + x, 16u) << t;
+  EXPECT_TRUE(contains(t, "store of 4 bytes at device address " + hex(address + 4 * (y * 8 + x)) +
+                              " is in no live buffer with a device address"))
+      << t;
+  clearMessages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderChecksTest, ::testing::Values("0", "1"));
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderChecksOffTest, ::testing::Values("0", "1"));
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksTest, ::testing::Values("0", "1"));
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksOffTest, ::testing::Values("0", "1"));
 
 }  // namespace
 }  // namespace vkrt::test

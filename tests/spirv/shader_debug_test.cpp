@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "check_bda.g.comp.spv.h"
+#include "check_image.g.comp.spv.h"
 #include "exec/supervise.hpp"
 #include "oob_barrier.comp.spv.h"
 #include "oob_counted_loop.spvasm.spv.h"
@@ -366,6 +368,33 @@ TEST(OutOfBoundsCompiled, InBoundsAccessesReportNothing) {
     EXPECT_EQ(h.get<uint32_t>(1), (std::vector<uint32_t>{10, 11, 12, 13}));
     EXPECT_TRUE(job.messages.empty());
   });
+}
+
+// VKRT_SHADER_CHECKS: a shader compiled without the device address and image checks has nothing of them (its object
+// code names no check function); with them, it calls them. Both shaders stay off the SPMD path, whose lanes these
+// checks do not cover (docs/shader-debugging.md).
+TEST(ShaderChecksCompiled, CompiledInOnlyOnRequest) {
+  const bool spmdWas = spirv::spmdEnabled();
+  const uint32_t checksWas = spirv::shaderChecks();
+  spirv::setSpmd(true);
+  for (uint32_t checks : {0u, uint32_t(abi::kCheckDeviceAddress | abi::kCheckImage)}) {
+    SCOPED_TRACE("checks " + std::to_string(checks));
+    spirv::setShaderChecks(checks);
+    testing::ComputeHarness bda, image;
+    ASSERT_TRUE(bda.compile(kSpv_check_bda_g_comp)) << bda.error;
+    ASSERT_TRUE(image.compile(kSpv_check_image_g_comp)) << image.error;
+    EXPECT_EQ(bda.shader->spmdLanes, 0);
+    EXPECT_EQ(image.shader->spmdLanes, 0);
+    auto calls = [](const testing::ComputeHarness& h, const char* fn) {
+      return h.shader->cacheBlob.find(fn) != std::string::npos;
+    };
+    EXPECT_EQ(calls(bda, "vkrt_check_address"), checks != 0);
+    EXPECT_EQ(calls(image, "vkrt_check_image"), checks != 0);
+    EXPECT_EQ(calls(image, "vkrt_check_texel_buffer"), checks != 0);
+    EXPECT_FALSE(calls(bda, "vkrt_check_image"));  // no image in it
+  }
+  spirv::setShaderChecks(checksWas);
+  spirv::setSpmd(spmdWas);
 }
 
 }  // namespace
