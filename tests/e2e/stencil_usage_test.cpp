@@ -218,7 +218,9 @@ TEST_F(StencilUsageTest, ViewUsageWithinTheAspectsUsage) {
   view = VK_NULL_HANDLE;
   const VkResult r = vkCreateImageView(device, &vi, nullptr, &view);
   expectReported("VUID-VkImageViewCreateInfo-pNext-02664");
-  if (onVkrt()) EXPECT_EQ(view, VkImageView(VK_NULL_HANDLE));
+  if (onVkrt()) {
+    EXPECT_EQ(view, VkImageView(VK_NULL_HANDLE));
+  }
   if (r == VK_SUCCESS) vkDestroyImageView(device, view, nullptr);
   // stencilUsage lacks SAMPLED, which usage has (02663).
   Attachment b = dsImage(kDS | kSrc | VK_IMAGE_USAGE_SAMPLED_BIT, kDS | kSrc);
@@ -239,7 +241,9 @@ TEST_F(StencilUsageTest, StencilUsageAttachmentBitsAgree) {
   VkImage img = VK_NULL_HANDLE;
   const VkResult r = vkCreateImage(device, &ci, nullptr, &img);
   expectReported("VUID-VkImageCreateInfo-format-02795");
-  if (onVkrt()) EXPECT_EQ(r, VK_ERROR_VALIDATION_FAILED_EXT);
+  if (onVkrt()) {
+    EXPECT_EQ(r, VK_ERROR_VALIDATION_FAILED_EXT);
+  }
   if (r == VK_SUCCESS) vkDestroyImage(device, img, nullptr);
 }
 
