@@ -317,5 +317,44 @@ TEST_F(StencilUsageTest, ImagelessFramebufferComparesTheInheritedUsage) {
   destroy(a);
 }
 
+// Descriptor writes read the view's usage (VUID-VkWriteDescriptorSet-descriptorType-00337): a stencil view of an
+// image whose stencilUsage has SAMPLED is a sampled image, a depth view of it (usage without SAMPLED) is not.
+TEST_F(StencilUsageTest, SampledImageDescriptorsReadTheViewsAspectUsage) {
+  Attachment a = dsImage(kDS | kSrc, kDS | kSrc | VK_IMAGE_USAGE_SAMPLED_BIT);
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = a.img.image;
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = kFmt;
+  vi.subresourceRange = {kStencil, 0, 1, 0, 1};
+  VkImageView stencilView = VK_NULL_HANDLE, depthView = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &stencilView), VK_SUCCESS);
+  vi.subresourceRange.aspectMask = kDepth;
+  ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &depthView), VK_SUCCESS);
+  VkDescriptorSetLayoutBinding b{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 1, &b};
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateDescriptorSetLayout(device, &lci, nullptr, &layout), VK_SUCCESS);
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1};
+  VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, 1, 1, &ps};
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &pool), VK_SUCCESS);
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr, pool, 1, &layout};
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
+  VkDescriptorImageInfo ii{VK_NULL_HANDLE, stencilView, VK_IMAGE_LAYOUT_GENERAL};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set, 0, 0, 1,
+                         VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE,       &ii};
+  vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  expectQuiet();
+  ii.imageView = depthView;
+  vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  expectReported("VUID-VkWriteDescriptorSet-descriptorType-00337");
+  vkDestroyDescriptorPool(device, pool, nullptr);
+  vkDestroyDescriptorSetLayout(device, layout, nullptr);
+  vkDestroyImageView(device, stencilView, nullptr);
+  vkDestroyImageView(device, depthView, nullptr);
+  destroy(a);
+}
+
 }  // namespace
 }  // namespace vkrt::test
