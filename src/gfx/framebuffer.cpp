@@ -63,25 +63,24 @@ bool viewFits(Device* dev, const RenderPass& pass, const VkFramebufferCreateInfo
   const VkExtent3D e = mipExtent(v->image->extent, v->range.baseMipLevel);
   bool color, ds;
   usesOf(pass, i, &color, &ds);
-  const char* vuid = v->format != a.format            ? "VUID-VkFramebufferCreateInfo-pAttachments-00880"
-                     : v->image->samples != a.samples ? "VUID-VkFramebufferCreateInfo-pAttachments-00881"
-                     : v->range.levelCount != 1       ? "VUID-VkFramebufferCreateInfo-pAttachments-00883"
-                     : color && !(v->image->usage & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)
-                         ? "VUID-VkFramebufferCreateInfo-pAttachments-00877"
-                     : ds && !(v->image->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)
-                         ? "VUID-VkFramebufferCreateInfo-pAttachments-02633"
-                     : e.width < ci.width                                   ? "VUID-VkFramebufferCreateInfo-flags-04533"
-                     : e.height < ci.height                                 ? "VUID-VkFramebufferCreateInfo-flags-04534"
-                     : !pass.multiview() && v->range.layerCount < ci.layers ? "VUID-VkFramebufferCreateInfo-flags-04535"
-                     // VUID-VkFramebufferCreateInfo-renderPass-04536: layers for every view
-                     : pass.used(i) && v->range.layerCount < pass.viewLayers()
-                         ? "VUID-VkFramebufferCreateInfo-renderPass-04536"
-                         : nullptr;
+  const char* vuid =
+      v->format != a.format                                        ? "VUID-VkFramebufferCreateInfo-pAttachments-00880"
+      : v->image->samples != a.samples                             ? "VUID-VkFramebufferCreateInfo-pAttachments-00881"
+      : v->range.levelCount != 1                                   ? "VUID-VkFramebufferCreateInfo-pAttachments-00883"
+      : color && !(v->usage & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT) ? "VUID-VkFramebufferCreateInfo-pAttachments-00877"
+      : ds && !(v->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)
+          ? "VUID-VkFramebufferCreateInfo-pAttachments-02633"
+      : e.width < ci.width                                   ? "VUID-VkFramebufferCreateInfo-flags-04533"
+      : e.height < ci.height                                 ? "VUID-VkFramebufferCreateInfo-flags-04534"
+      : !pass.multiview() && v->range.layerCount < ci.layers ? "VUID-VkFramebufferCreateInfo-flags-04535"
+      // VUID-VkFramebufferCreateInfo-renderPass-04536: layers for every view
+      : pass.used(i) && v->range.layerCount < pass.viewLayers() ? "VUID-VkFramebufferCreateInfo-renderPass-04536"
+                                                                : nullptr;
   if (vuid) {
     report(dev, Severity::Error, vuid,
-           "%s: pAttachments[%u] (format %d, %u samples, %u levels, usage 0x%x, %ux%u, %u layers) does not fit "
+           "%s: pAttachments[%u] (format %d, %u samples, %u levels, view usage 0x%x, %ux%u, %u layers) does not fit "
            "attachment %u of the render pass (format %d, %u samples) in a %ux%u framebuffer of %u layers",
-           fn, i, (int)v->format, v->image->samples, v->range.levelCount, v->image->usage, e.width, e.height,
+           fn, i, (int)v->format, v->image->samples, v->range.levelCount, v->usage, e.width, e.height,
            v->range.layerCount, i, (int)a.format, a.samples, ci.width, ci.height, ci.layers);
     return false;
   }

@@ -108,9 +108,9 @@ bool instanceViews(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, const Ren
     }
     const FramebufferImageInfo& ii = fb.images[i];
     const VkExtent3D e = mipExtent(v->image->extent, v->range.baseMipLevel);
-    // VUID-VkRenderPassBeginInfo-framebuffer-04627 (usage), 03211 / 03212 (width, height), 03213 (layers),
-    // 03216 (format), 03217 (samples)
-    const char* vuid = v->image->usage != ii.usage                      ? "VUID-VkRenderPassBeginInfo-framebuffer-04627"
+    // VUID-VkRenderPassBeginInfo-framebuffer-04627 (the view's inherited usage), 03211 / 03212 (width, height), 03213
+    // (layers), 03216 (format), 03217 (samples)
+    const char* vuid = v->usage != ii.usage                             ? "VUID-VkRenderPassBeginInfo-framebuffer-04627"
                        : e.width != ii.width                            ? "VUID-VkRenderPassBeginInfo-framebuffer-03211"
                        : e.height != ii.height                          ? "VUID-VkRenderPassBeginInfo-framebuffer-03212"
                        : v->range.layerCount != ii.layerCount           ? "VUID-VkRenderPassBeginInfo-framebuffer-03213"
@@ -121,8 +121,8 @@ bool instanceViews(CommandBuffer* cb, const VkRenderPassBeginInfo& bi, const Ren
       report(cb, Severity::Error, vuid,
              "%s: attachment %u (usage 0x%x, %ux%u, %u layers, format %d, %u samples) does not match the framebuffer's "
              "image info (usage 0x%x, %ux%u, %u layers) and the render pass (format %d, %u samples)",
-             fn, i, v->image->usage, e.width, e.height, v->range.layerCount, (int)v->format, v->image->samples,
-             ii.usage, ii.width, ii.height, ii.layerCount, (int)rp.attachments[i].format, rp.attachments[i].samples);
+             fn, i, v->usage, e.width, e.height, v->range.layerCount, (int)v->format, v->image->samples, ii.usage,
+             ii.width, ii.height, ii.layerCount, (int)rp.attachments[i].format, rp.attachments[i].samples);
       return false;
     }
     out->push_back(v);

@@ -29,9 +29,9 @@ bool attachmentOk(CommandBuffer* cb, const VkRenderingAttachmentInfo& a, const I
            "%s: %s imageView 0x%llx is not a live VkImageView", fn, what, (unsigned long long)rawHandle(a.imageView));
     return false;
   }
-  if (!(v->image->usage & usage)) {
-    report(cb, Severity::Error, usageVuid, "%s: %s image view's image has usage 0x%x without 0x%x", fn, what,
-           v->image->usage, usage);
+  // The view's usage (inherited from its image's aspects: stencilUsage for the stencil aspect)
+  if (!(v->usage & usage)) {
+    report(cb, Severity::Error, usageVuid, "%s: %s image view has usage 0x%x without 0x%x", fn, what, v->usage, usage);
     return false;
   }
   if (a.resolveMode == VK_RESOLVE_MODE_NONE) return true;

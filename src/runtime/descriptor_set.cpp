@@ -9,6 +9,7 @@
 #include "runtime/buffer.hpp"
 #include "runtime/descriptor_pool.hpp"
 #include "runtime/device.hpp"
+#include "runtime/image_view.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
@@ -304,6 +305,22 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
           report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02996",
                  "%s: descriptor %u: imageView 0x%llx is not a live VkImageView", what, i,
                  (unsigned long long)rawHandle(ii.imageView));
+          return false;
+        }
+        // VUID-VkWriteDescriptorSet-descriptorType-00337 / 00339 / 00338: the view's usage (inherited from the
+        // usage of its aspects: stencilUsage for a stencil view of an image with separate stencil usage)
+        const VkImageUsageFlags need = type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE ? VK_IMAGE_USAGE_STORAGE_BIT
+                                       : type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT
+                                           ? VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT
+                                           : VK_IMAGE_USAGE_SAMPLED_BIT;
+        const auto* view = static_cast<const ImageView*>(out.object);
+        if (!(view->usage & need)) {
+          report(set, Severity::Error,
+                 need == VK_IMAGE_USAGE_STORAGE_BIT            ? "VUID-VkWriteDescriptorSet-descriptorType-00339"
+                 : need == VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT ? "VUID-VkWriteDescriptorSet-descriptorType-00338"
+                                                               : "VUID-VkWriteDescriptorSet-descriptorType-00337",
+                 "%s: descriptor %u (%s): imageView 0x%llx has usage 0x%x without 0x%x", what, i,
+                 descriptorTypeName(type), (unsigned long long)rawHandle(ii.imageView), view->usage, need);
           return false;
         }
       }

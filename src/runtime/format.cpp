@@ -335,8 +335,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties2(
     pProps->imageFormatProperties = {};
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
-  return vkrt_GetPhysicalDeviceImageFormatProperties(physicalDevice, pInfo->format, pInfo->type, pInfo->tiling,
-                                                     pInfo->usage, pInfo->flags, &pProps->imageFormatProperties);
+  // VkImageStencilUsageCreateInfo: the stencil aspect's usage, which must be supported as well; both aspects share
+  // the format's features, so the pair is supported when their union is. Formats without stencil ignore it.
+  VkImageUsageFlags usage = pInfo->usage;
+  if (formatAspects(pInfo->format) & VK_IMAGE_ASPECT_STENCIL_BIT)
+    if (auto* su =
+            findInChain<VkImageStencilUsageCreateInfo>(pInfo->pNext, VK_STRUCTURE_TYPE_IMAGE_STENCIL_USAGE_CREATE_INFO))
+      usage |= su->stencilUsage;
+  return vkrt_GetPhysicalDeviceImageFormatProperties(physicalDevice, pInfo->format, pInfo->type, pInfo->tiling, usage,
+                                                     pInfo->flags, &pProps->imageFormatProperties);
 }
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceSparseImageFormatProperties(VkPhysicalDevice, VkFormat, VkImageType,

@@ -13,6 +13,15 @@
 
 namespace vkrt {
 
+namespace {
+
+const VkImageStencilUsageCreateInfo* stencilUsageInfo(const VkImageCreateInfo& info) {
+  if (!(formatAspects(info.format) & VK_IMAGE_ASPECT_STENCIL_BIT)) return nullptr;  // applies to stencil formats only
+  return findInChain<VkImageStencilUsageCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_IMAGE_STENCIL_USAGE_CREATE_INFO);
+}
+
+}  // namespace
+
 VkExtent3D mipExtent(VkExtent3D e, uint32_t mip) {
   return {std::max(1u, e.width >> mip), std::max(1u, e.height >> mip), std::max(1u, e.depth >> mip)};
 }
@@ -26,6 +35,8 @@ Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
       mipLevels(info.mipLevels),
       arrayLayers(info.arrayLayers),
       usage(info.usage),
+      stencilUsage(stencilUsageInfo(info) ? stencilUsageInfo(info)->stencilUsage : info.usage),
+      separateStencilUsage(stencilUsageInfo(info) != nullptr),
       tiling(info.tiling),
       flags(info.flags),
       samples(uint32_t(info.samples)),
@@ -140,14 +151,37 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
            ci.extent.height, ci.extent.depth, ci.arrayLayers, maxDim, l.maxImageArrayLayers);
     return VK_ERROR_OUT_OF_DEVICE_MEMORY;
   }
+  // VkImageStencilUsageCreateInfo: the attachment bits agree with usage (VUID-VkImageCreateInfo-format-02795 /
+  // 02796 / 02797 / 02798), a transient stencil is an attachment only (VUID-VkImageStencilUsageCreateInfo-
+  // stencilUsage-02539).
+  VkImageUsageFlags stencilUsage = ci.usage;
+  if (const VkImageStencilUsageCreateInfo* su = stencilUsageInfo(ci)) {
+    stencilUsage = su->stencilUsage;
+    const VkImageUsageFlags ds = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    const VkImageUsageFlags transient = VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT;
+    const char* vuid =
+        (ci.usage & ds) && !(stencilUsage & ds)                 ? "VUID-VkImageCreateInfo-format-02795"
+        : !(ci.usage & ds) && (stencilUsage & ds)               ? "VUID-VkImageCreateInfo-format-02796"
+        : (ci.usage & transient) && !(stencilUsage & transient) ? "VUID-VkImageCreateInfo-format-02797"
+        : !(ci.usage & transient) && (stencilUsage & transient) ? "VUID-VkImageCreateInfo-format-02798"
+        : (stencilUsage & transient) && (stencilUsage & ~(transient | ds | VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT))
+            ? "VUID-VkImageStencilUsageCreateInfo-stencilUsage-02539"
+            : nullptr;
+    if (vuid) {
+      report(dev, Severity::Error, vuid,
+             "vkCreateImage: usage 0x%x and VkImageStencilUsageCreateInfo::stencilUsage 0x%x", ci.usage, stencilUsage);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+  }
+  // Both aspects' usages must be supported (vkGetPhysicalDeviceImageFormatProperties2 answers for the pair).
   VkImageFormatProperties props;
   VkResult r = vkrt_GetPhysicalDeviceImageFormatProperties(toHandle(dev->physicalDevice), ci.format, ci.imageType,
-                                                           ci.tiling, ci.usage, ci.flags, &props);
+                                                           ci.tiling, ci.usage | stencilUsage, ci.flags, &props);
   // VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251: format/type/tiling/usage/flags must be supported
   if (r != VK_SUCCESS) {
     report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251",
-           "vkCreateImage: format %d with usage 0x%x, flags 0x%x, type %d is not supported by vkrt", (int)ci.format,
-           ci.usage, ci.flags, (int)ci.imageType);
+           "vkCreateImage: format %d with usage 0x%x (stencil 0x%x), flags 0x%x, type %d is not supported by vkrt",
+           (int)ci.format, ci.usage, stencilUsage, ci.flags, (int)ci.imageType);
     return VK_ERROR_FORMAT_NOT_SUPPORTED;
   }
   // VUID-VkImageCreateInfo-samples-02258: a sample count the format supports

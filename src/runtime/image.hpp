@@ -44,6 +44,10 @@ class Image : public Object {
   const uint32_t mipLevels;
   const uint32_t arrayLayers;
   const VkImageUsageFlags usage;
+  // VkImageStencilUsageCreateInfo::stencilUsage for an image with a stencil aspect, else `usage` ("Image
+  // Creation": the stencil aspect may only be used as stencilUsage says; the other aspects as `usage` says).
+  const VkImageUsageFlags stencilUsage;
+  const bool separateStencilUsage;  // created with VkImageStencilUsageCreateInfo (and a stencil aspect)
   const VkImageTiling tiling;
   const VkImageCreateFlags flags;
   const uint32_t samples;            // 1 or 4
@@ -62,6 +66,15 @@ class Image : public Object {
   // last on a queue left it in, so that a present can check it is PRESENT_SRC_KHR. Other images' layouts are not.
   bool presentable = false;
   std::atomic<VkImageLayout> trackedLayout{VK_IMAGE_LAYOUT_UNDEFINED};
+
+  // The usage every aspect of `aspectMask` allows: stencilUsage for the stencil aspect, usage for the others
+  // (0: usage).
+  VkImageUsageFlags usageOf(VkImageAspectFlags aspectMask) const {
+    VkImageUsageFlags u = ~VkImageUsageFlags(0);
+    if (aspectMask & VK_IMAGE_ASPECT_STENCIL_BIT) u &= stencilUsage;
+    if (!aspectMask || (aspectMask & ~VkImageAspectFlags(VK_IMAGE_ASPECT_STENCIL_BIT))) u &= usage;
+    return u;
+  }
 
   uint8_t* data() const;
   // Address of texel (x, y, z) of (mip, layer) (its sample 0); no bounds check.

@@ -205,18 +205,30 @@ bool layoutOk(VkImageLayout l, bool dst) {
 
 namespace vkrt {
 
-Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v) {
+Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v,
+                     VkImageAspectFlags aspects, const AspectUsageVuids* av) {
   Image* img = fromHandle<Image>(h);
   if (!img) {
     report(cb, Severity::Error, nullptr, "%s: %s 0x%llx is not a live VkImage", v.fn, dst ? "dstImage" : "srcImage",
            (ull)rawHandle(h));
     return nullptr;
   }
-  // VUID ...-dstImage-00177 / srcImage-00186 / image-00002 / srcImage-00219 / dstImage-00224 etc.: transfer usage
-  if (!(img->usage & (dst ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_TRANSFER_SRC_BIT))) {
-    report(img, Severity::Error, v.usage,
-           "%s: the image was created without VK_IMAGE_USAGE_TRANSFER_%s_BIT (usage 0x%x)", v.fn, dst ? "DST" : "SRC",
-           img->usage);
+  // VUID ...-dstImage-00177 / srcImage-00186 / image-00002 / srcImage-00219 / dstImage-00224 etc.: transfer usage;
+  // per aspect (vkCmdCopyImage aspect-06662..06665, vkCmdClearDepthStencilImage pRanges-02658..02660)
+  const VkImageUsageFlags bit = dst ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  const VkImageAspectFlags stencil = VK_IMAGE_ASPECT_STENCIL_BIT;
+  const bool other = !av || !aspects || (aspects & ~stencil);
+  const char* vuid = nullptr;
+  if (other && !(img->usage & bit))
+    vuid = av && img->separateStencilUsage ? av->separateOther : v.usage;
+  else if ((aspects & stencil) && !(img->stencilUsage & bit))
+    vuid = !av ? v.usage : img->separateStencilUsage ? av->separateStencil : av->stencil ? av->stencil : v.usage;
+  if (vuid) {
+    const bool s = !(other && !(img->usage & bit));
+    report(img, Severity::Error, vuid,
+           "%s: %s was created without VK_IMAGE_USAGE_TRANSFER_%s_BIT (%s 0x%x, aspects 0x%x)", v.fn,
+           s ? "the image's stencil aspect" : "the image", dst ? "DST" : "SRC",
+           s && img->separateStencilUsage ? "stencilUsage" : "usage", s ? img->stencilUsage : img->usage, aspects);
     return nullptr;
   }
   // VUID ...-00178 / 00187 / 00127 / 00132 / 00220 / 00225 / image-00003: bound to memory
@@ -297,7 +309,9 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
     report(buf, Severity::Error, v.bufBound, "%s: the buffer is not bound to memory", v.fn);
     return;
   }
-  Image* img = transferImage(cb, imageH, toImage, layout, v);
+  VkImageAspectFlags aspects = 0;
+  for (const VkBufferImageCopy2& r : regions) aspects |= r.imageSubresource.aspectMask;
+  Image* img = transferImage(cb, imageH, toImage, layout, v, aspects);
   if (!img) return;
   const bool two = std::strchr(v.fn, '2') != nullptr;
   // VUID-vkCmdCopyBufferToImage-dstImage-07973 / vkCmdCopyImageToBuffer-srcImage-07973 (and the 2 versions):
@@ -377,8 +391,23 @@ VkBufferImageCopy2 toCopy2(const VkBufferImageCopy& r) {
 void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkImage dstH, VkImageLayout dstLayout,
                      std::vector<VkImageCopy2> regions, const Vuids& vs, const Vuids& vd, const char* sizeVuid,
                      const char* layerVuid) {
-  Image* src = transferImage(cb, srcH, false, srcLayout, vs);
-  Image* dst = src ? transferImage(cb, dstH, true, dstLayout, vd) : nullptr;
+  const bool two = std::strchr(vs.fn, '2') != nullptr;
+  // VUID-vkCmdCopyImage-aspect-06662 / 06663 / 06664 / 06665 (separate stencil usage); 00126 / 00131 otherwise
+  static constexpr AspectUsageVuids kSrc{nullptr, "VUID-vkCmdCopyImage-aspect-06664",
+                                         "VUID-vkCmdCopyImage-aspect-06662"};
+  static constexpr AspectUsageVuids kDst{nullptr, "VUID-vkCmdCopyImage-aspect-06665",
+                                         "VUID-vkCmdCopyImage-aspect-06663"};
+  static constexpr AspectUsageVuids kSrc2{nullptr, "VUID-VkCopyImageInfo2-aspect-06664",
+                                          "VUID-VkCopyImageInfo2-aspect-06662"};
+  static constexpr AspectUsageVuids kDst2{nullptr, "VUID-VkCopyImageInfo2-aspect-06665",
+                                          "VUID-VkCopyImageInfo2-aspect-06663"};
+  VkImageAspectFlags srcAspects = 0, dstAspects = 0;
+  for (const VkImageCopy2& r : regions) {
+    srcAspects |= r.srcSubresource.aspectMask;
+    dstAspects |= r.dstSubresource.aspectMask;
+  }
+  Image* src = transferImage(cb, srcH, false, srcLayout, vs, srcAspects, two ? &kSrc2 : &kSrc);
+  Image* dst = src ? transferImage(cb, dstH, true, dstLayout, vd, dstAspects, two ? &kDst2 : &kDst) : nullptr;
   if (!src || !dst) return;
   // VUID-vkCmdCopyImage-srcImage-01548: size-compatible formats (same texel size for vkrt's formats)
   if (src->formatInfo->texelSize != dst->formatInfo->texelSize) {
@@ -386,7 +415,6 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
            (int)src->format, (int)dst->format, src->formatInfo->texelSize, dst->formatInfo->texelSize);
     return;
   }
-  const bool two = std::strchr(vs.fn, '2') != nullptr;
   // VUID-vkCmdCopyImage-srcImage-01548 for depth/stencil formats: identical formats ("Format Compatibility
   // Classes": each depth/stencil format is its own class)
   if ((isDepthStencilFormat(src->format) || isDepthStencilFormat(dst->format)) && src->format != dst->format) {

@@ -30,8 +30,20 @@ struct Vuids {
   const char* imageHeight;  // bufferImageHeight >= height
 };
 
-// A live image bound to memory, with the transfer usage and a transfer layout; reports otherwise.
-Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v);
+// The transfer usage VUIDs of a command whose rules name the aspect (vkCmdCopyImage, vkCmdClearDepthStencilImage):
+// with separate stencil usage (VkImageStencilUsageCreateInfo) the stencil aspect needs the bit in stencilUsage.
+struct AspectUsageVuids {
+  const char* stencil;          // the stencil aspect, image without separate stencil usage (nullptr: Vuids::usage)
+  const char* separateStencil;  // the stencil aspect, image with separate stencil usage
+  const char* separateOther;    // the other aspects, image with separate stencil usage
+};
+
+// A live image bound to memory, with the transfer usage and a transfer layout; reports otherwise. `aspects`: those
+// the command accesses. Without `av` the command's rule (Vuids::usage) asks the image's usage for every aspect, and
+// the stencil aspect also needs stencilUsage ("Image Creation": the stencil aspect is used only as stencilUsage
+// says); with `av` each aspect needs its own usage only.
+Image* transferImage(CommandBuffer* cb, VkImage h, bool dst, VkImageLayout layout, const Vuids& v,
+                     VkImageAspectFlags aspects = 0, const AspectUsageVuids* av = nullptr);
 // Checks that the aspects (a non-empty subset of the image's), mip level and layers of `sub` exist in the image.
 bool subresourceInImage(const Image& img, const VkImageSubresourceLayers& sub, uint32_t index, const char* what,
                         const Vuids& v);

@@ -235,7 +235,13 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearDepthStencilImage(VkCommandBuffer comman
   if (!cb) return;
   // VUID-vkCmdClearDepthStencilImage-renderpass
   if (!cb->outsideRenderPass(fn, "VUID-vkCmdClearDepthStencilImage-renderpass")) return;
-  Image* img = transferImage(cb, image, true, imageLayout, kClearDs);
+  // VUID-vkCmdClearDepthStencilImage-pRanges-02659 (stencil, one usage) / 02658 (stencil, separate stencil usage)
+  static constexpr AspectUsageVuids kClearDsAspects{"VUID-vkCmdClearDepthStencilImage-pRanges-02659",
+                                                    "VUID-vkCmdClearDepthStencilImage-pRanges-02658",
+                                                    "VUID-vkCmdClearDepthStencilImage-pRanges-02660"};
+  VkImageAspectFlags aspects = 0;
+  for (uint32_t i = 0; i < rangeCount; ++i) aspects |= pRanges[i].aspectMask;
+  Image* img = transferImage(cb, image, true, imageLayout, kClearDs, aspects, &kClearDsAspects);
   if (!img) return;
   // VUID-vkCmdClearDepthStencilImage-image-00014: a depth/stencil format
   if (!(img->aspects & (VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT))) {

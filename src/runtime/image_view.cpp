@@ -21,6 +21,12 @@ VkImageSubresourceRange resolve(const VkImageSubresourceRange& r, const Image& i
   return out;
 }
 
+VkImageUsageFlags viewUsage(const VkImageViewCreateInfo& info, const Image& img) {
+  if (auto* u = findInChain<VkImageViewUsageCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO))
+    return u->usage;
+  return img.usageOf(info.subresourceRange.aspectMask);
+}
+
 }  // namespace
 
 ImageView::ImageView(Device* dev, const VkImageViewCreateInfo& info, Image* img)
@@ -29,7 +35,8 @@ ImageView::ImageView(Device* dev, const VkImageViewCreateInfo& info, Image* img)
       viewType(info.viewType),
       format(info.format),
       components(info.components),
-      range(resolve(info.subresourceRange, *img)) {}
+      range(resolve(info.subresourceRange, *img)),
+      usage(viewUsage(info, *img)) {}
 
 }  // namespace vkrt
 
@@ -133,6 +140,26 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
            "vkCreateImageView: format %d is not among the %zu formats of the image's VkImageFormatListCreateInfo",
            (int)pCreateInfo->format, img->viewFormats.size());
     return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-pNext-02662 / 02663 / 02664: VkImageViewUsageCreateInfo::usage is a subset of the
+  // usage of the view's aspects (stencilUsage for the stencil aspect of an image with separate stencil usage)
+  if (auto* u =
+          findInChain<VkImageViewUsageCreateInfo>(pCreateInfo->pNext, VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO)) {
+    const VkImageAspectFlags aspects = pCreateInfo->subresourceRange.aspectMask;
+    const bool stencil = img->separateStencilUsage && (aspects & VK_IMAGE_ASPECT_STENCIL_BIT);
+    const bool other = !img->separateStencilUsage || (aspects & ~VkImageAspectFlags(VK_IMAGE_ASPECT_STENCIL_BIT));
+    const char* vuid = other && (u->usage & ~img->usage)
+                           ? (img->separateStencilUsage ? "VUID-VkImageViewCreateInfo-pNext-02664"
+                                                        : "VUID-VkImageViewCreateInfo-pNext-02662")
+                       : stencil && (u->usage & ~img->stencilUsage) ? "VUID-VkImageViewCreateInfo-pNext-02663"
+                                                                    : nullptr;
+    if (vuid) {
+      report(img, Severity::Error, vuid,
+             "vkCreateImageView: VkImageViewUsageCreateInfo::usage 0x%x is not within the image's usage 0x%x "
+             "(stencilUsage 0x%x, aspects 0x%x)",
+             u->usage, img->usage, img->stencilUsage, aspects);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
   }
   auto* view = createObject<ImageView>(pAllocator, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT, dev, *pCreateInfo, img);
   if (!view) return VK_ERROR_OUT_OF_HOST_MEMORY;

@@ -19,6 +19,9 @@ class ImageView : public Object {
   const VkFormat format;
   const VkComponentMapping components;
   const VkImageSubresourceRange range;  // VK_REMAINING_* resolved
+  // The view's usage ("Image Views", inherited usage): VkImageViewUsageCreateInfo::usage, else the image's usage of
+  // the view's aspects (stencilUsage for a stencil-only view, the intersection for depth + stencil).
+  const VkImageUsageFlags usage;
 };
 
 }  // namespace vkrt

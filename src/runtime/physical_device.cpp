@@ -316,10 +316,13 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_KHR_DEPTH_STENCIL_RESOLVE_EXTENSION_NAME, VK_KHR_DEPTH_STENCIL_RESOLVE_SPEC_VERSION},
       {VK_KHR_SEPARATE_DEPTH_STENCIL_LAYOUTS_EXTENSION_NAME, VK_KHR_SEPARATE_DEPTH_STENCIL_LAYOUTS_SPEC_VERSION},
       {VK_KHR_DRAW_INDIRECT_COUNT_EXTENSION_NAME, VK_KHR_DRAW_INDIRECT_COUNT_SPEC_VERSION},
+      // VkImageStencilUsageCreateInfo: the stencil aspect's own usage (runtime/image.hpp Image::stencilUsage).
+      {VK_EXT_SEPARATE_STENCIL_USAGE_EXTENSION_NAME, VK_EXT_SEPARATE_STENCIL_USAGE_SPEC_VERSION},
       // shaderDrawParameters (supported_features.cpp); the 1.3 dynamic state with extendedDynamicState, and
       // extendedDynamicState2 with its logic op (gfx/dynamic_state.cpp); maintenance2:
       // pointClippingBehavior ALL_CLIP_PLANES (src/raster drops a point whose vertex is outside the view volume), its
-      // structures (input attachment aspects and view usage narrow what an application may do, vkrt needs neither;
+      // structures (input attachment aspects narrow what an application may do, vkrt needs them not; view usage is
+      // the usage the view's checks read, runtime/image_view.cpp;
       // the tessellation domain origin has no stage to apply to) and layouts (not tracked).
       {VK_KHR_SHADER_DRAW_PARAMETERS_EXTENSION_NAME, VK_KHR_SHADER_DRAW_PARAMETERS_SPEC_VERSION},
       {VK_EXT_EXTENDED_DYNAMIC_STATE_EXTENSION_NAME, VK_EXT_EXTENDED_DYNAMIC_STATE_SPEC_VERSION},

@@ -821,9 +821,7 @@ const Promoted kPromoted[] = {
     {"VK_KHR_spirv_1_4", 2, kDevice, true, "spirv14_test.cpp"},
     {"VK_KHR_separate_depth_stencil_layouts", 2, kDevice, true, "separateDepthStencilLayouts; RenderPassTest"},
     {"VK_EXT_tooling_info", 3, kDevice, true, "no tools; PromotedQueriesTest"},
-    {"VK_EXT_separate_stencil_usage", 2, kDevice, false,
-     "VkImageStencilUsageCreateInfo is not looked at (image format queries, image creation and the per-aspect "
-     "usage rules take the image's usage for the stencil aspect too)"},
+    {"VK_EXT_separate_stencil_usage", 2, kDevice, true, "the stencil aspect's own usage; stencil_usage_test.cpp"},
     {"VK_KHR_uniform_buffer_standard_layout", 2, kDevice, true, "ComputeStandardLayoutTest"},
     {"VK_KHR_buffer_device_address", 2, kDevice, true, "device addresses"},
     {"VK_EXT_host_query_reset", 2, kDevice, true, "query_test.cpp"},

@@ -11,6 +11,8 @@
 #include "runtime/descriptor_set.hpp"
 #include "runtime/descriptor_set_layout.hpp"
 #include "runtime/device.hpp"
+#include "runtime/image.hpp"
+#include "runtime/image_view.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/pipeline_cache.hpp"
@@ -216,7 +218,20 @@ TEST_F(DescriptorStorage, BufferWritesStoreAddressAndRangeAndCrossIntoConsecutiv
 
 TEST_F(DescriptorStorage, ImmutableSamplersImagesAndTemplates) {
   Object sampler0(VK_OBJECT_TYPE_SAMPLER, nullptr, dev), sampler1(VK_OBJECT_TYPE_SAMPLER, nullptr, dev);
-  Object view0(VK_OBJECT_TYPE_IMAGE_VIEW, nullptr, dev), view1(VK_OBJECT_TYPE_IMAGE_VIEW, nullptr, dev);
+  // Real views (a write reads the view's usage, VUID-VkWriteDescriptorSet-descriptorType-00337) of a sampled image.
+  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ici.imageType = VK_IMAGE_TYPE_2D;
+  ici.format = VK_FORMAT_R8G8B8A8_UNORM;
+  ici.extent = {1, 1, 1};
+  ici.mipLevels = ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+  Image image(dev, ici, formatInfo(ici.format));
+  VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vci.format = ici.format;
+  vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  ImageView view0(dev, vci, &image), view1(dev, vci, &image);
   VkSampler immutable[2] = {reinterpret_cast<VkSampler>(sampler0.handleValue()),
                             reinterpret_cast<VkSampler>(sampler1.handleValue())};
   VkDescriptorSetLayout l = makeLayout({{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2, kCompute, immutable},
