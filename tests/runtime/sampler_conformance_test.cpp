@@ -238,6 +238,11 @@ class SamplerAnisotropy : public SamplerConformance {
   abi::DescriptorRecord view{};
 };
 
+// One isotropic sample of an RGBA8 UNORM view takes the fast path, whose LINEAR weights are quantized to 2^-15
+// (docs/graphics-shaders.md; "Texel Filtering" allows 2^-subTexelPrecisionBits = 2^-8): within 2 x 2^-15 of the
+// exact bilinear value, plus float rounding. The anisotropic samples take the general path, in float.
+constexpr double kFixedPointLinear = 2 * 0x1p-15 + 4e-6;
+
 // dEQP-VK.texture.filtering_anisotropy.*: a footprint 4 texels long in x and 1 in y. Isotropic (anisotropyEnable off,
 // or maxAnisotropy 1): one bilinear sample at lambda = log2(4), level 0 of a single-level image. Anisotropic: eta =
 // min(4, maxAnisotropy) samples at lambda = log2(4 / eta), spread along x.
@@ -258,7 +263,7 @@ TEST_F(SamplerAnisotropy, SamplesAlongTheMajorAxisAtTheMinorAxisLevel) {
   for (int c = 0; c < 4; ++c) {
     SCOPED_TRACE(c);
     // The isotropic side: the one bilinear sample, whatever maxAnisotropy says when anisotropy is off or 1.
-    EXPECT_NEAR(asFloat(off[c]), bilinear(0, coord[0], coord[1], c), 2e-6);
+    EXPECT_NEAR(asFloat(off[c]), bilinear(0, coord[0], coord[1], c), kFixedPointLinear);
     EXPECT_EQ(off[c], iso[c]);
     EXPECT_EQ(one[c], off[c]);
     // The anisotropic side: eta = 2 (maxAnisotropy) and 4 (the footprint's ratio, also with maxAnisotropy 16).
@@ -284,7 +289,8 @@ TEST_F(SamplerAnisotropy, MajorAxisInYAndTheLevelOfTheMinorAxis) {
   for (int c = 0; c < 4; ++c) {
     SCOPED_TRACE(c);
     EXPECT_NEAR(asFloat(a[c]), anisotropic(1, coord, ddy, 4, c), 2e-6);
-    EXPECT_NEAR(asFloat(b[c]), bilinear(3, coord[0], coord[1], c), 2e-6);  // log2(sqrt(65)) = 3.01: level 3
+    EXPECT_NEAR(asFloat(b[c]), bilinear(3, coord[0], coord[1], c),
+                kFixedPointLinear);  // log2(sqrt(65)) = 3.01: level 3
   }
   // A shader bias moves the anisotropic samples' level as it moves the isotropic one's: +1 -> level 2.
   vkrt_image_sample_grad(&view, &on, coord, ddx, ddy, 1.0f, a);
@@ -306,7 +312,7 @@ TEST_F(SamplerAnisotropy, IsotropicFootprintsSampleOnce) {
   vkrt_image_sample_grad(&view, &on, coord, zero, zero, NAN, a);
   vkrt_image_sample_grad(&view, &offS, coord, zero, zero, NAN, b);
   EXPECT_EQ(floats(a), floats(b));
-  for (int c = 0; c < 4; ++c) EXPECT_NEAR(asFloat(a[c]), bilinear(0, coord[0], coord[1], c), 2e-6) << c;
+  for (int c = 0; c < 4; ++c) EXPECT_NEAR(asFloat(a[c]), bilinear(0, coord[0], coord[1], c), kFixedPointLinear) << c;
 }
 
 }  // namespace

@@ -250,9 +250,7 @@ TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingBgra8Srgb) { compareQu
 TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingOffTheFastPath) { compareQuad(VK_FORMAT_R8G8B8A8_SNORM); }
 // With anisotropyEnable each lane takes its own footprint's filter (sampleAnisotropic where the ratio exceeds 1), as
 // vkrt_image_sample_grad does: the quad call of fragment shaders must not sample such a sampler isotropically.
-TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingAnisotropic) {
-  compareQuad(VK_FORMAT_R8G8B8A8_UNORM, 16.0f);
-}
+TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingAnisotropic) { compareQuad(VK_FORMAT_R8G8B8A8_UNORM, 16.0f); }
 
 // The level of detail of the gradient forms (lodLog2 rather than the C library's log2): levels alternately 0 and 1
 // everywhere, so a LINEAR mipmap returns the fraction of lambda = log2(rho) ("Level-of-Detail Operation") or one
