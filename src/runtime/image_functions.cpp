@@ -882,8 +882,8 @@ static Float4 lodLog2(Float4 x) {
 
 // "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y (squared
 // here, per lane of `ddx` / `ddy`: component i of lane l at [4 i + l]); the level of detail is log2 of the larger
-// ("Level-of-Detail Operation", isotropic: with anisotropyEnable the same single sample at the larger scale factor,
-// a blurrier result than the anisotropic filter's): log2(rho^2) / 2, no square root; -inf for zero derivatives
+// ("Level-of-Detail Operation", isotropic; sampleAnisotropic takes an anisotropic footprint of a sampler with
+// anisotropyEnable): log2(rho^2) / 2, no square root; -inf for zero derivatives
 // (sampleAtLod's clamp takes it to minLod), 0 for NaN.
 static Float4 lodOfDerivatives(const View& v, const VkSamplerCreateInfo& s, const float* ddx, const float* ddy) {
   VkExtent3D e = levelExtent(v, 0);
@@ -943,9 +943,7 @@ static bool sampleAnisotropic(const View& v, const VkSamplerCreateInfo& s, const
   const float eta = rhoMin > 0.0f ? std::min(rhoMax / rhoMin, s.maxAnisotropy) : s.maxAnisotropy;
   if (!(eta > 1.0f)) return false;
   const uint32_t n = uint32_t(std::ceil(eta));
-  float lambda = lodLog2(Float4{} + rhoMax / eta)[0];  // as the isotropic path: the same on every CPU
-  if (!std::isnan(bias)) lambda += bias;
-  lambda += s.mipLodBias;
+  const float lambda = biasedLod(s, lodLog2(Float4{} + rhoMax / eta)[0], bias);  // lodLog2: the same on every CPU
   DepthCompare cmp;
   if (dref) cmp = depthCompare(v, s, *dref);
   const float* major = rhoX > rhoY ? ddx : ddy;
@@ -1033,17 +1031,6 @@ void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::De
   View v;
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
   const VkSamplerCreateInfo& s = recordObject<Sampler>(smp->sampler)->info;
-  if (s.anisotropyEnable) {  // each lane's own footprint decides between sampleAnisotropic and one sample
-    for (unsigned l = 0; l < 4; ++l) {
-      if (!(lanes >> l & 1)) continue;
-      const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
-      const float dx[4] = {ddx[l], ddx[4 + l], ddx[8 + l], 0.0f}, dy[4] = {ddy[l], ddy[4 + l], ddy[8 + l], 0.0f};
-      uint32_t r[4];
-      sampleGrad(img, smp, c, dx, dy, bias[l], nullptr, nullptr, r);
-      for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
-    }
-    return;
-  }
   FastView fv;
   const FastView* fast = fastView(v, s, &fv);
   const Float4 lambda = lodOfDerivatives(v, s, ddx, ddy);  // the four lanes' at once
@@ -1051,8 +1038,12 @@ void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::De
     if (!(lanes >> l & 1)) continue;
     const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
     uint32_t r[4];
-    const float lod = biasedLod(s, lambda[l], bias[l]);
-    if (!fast || !fastAtLod(v, s, *fast, c, lod, r)) sampleAtLod(v, s, nullptr, c, lod, nullptr, nullptr, r);
+    // With anisotropyEnable each lane's own footprint decides, as in sampleGrad.
+    const float dx[4] = {ddx[l], ddx[4 + l], ddx[8 + l], 0.0f}, dy[4] = {ddy[l], ddy[4 + l], ddy[8 + l], 0.0f};
+    if (!s.anisotropyEnable || !sampleAnisotropic(v, s, c, dx, dy, bias[l], nullptr, nullptr, r)) {
+      const float lod = biasedLod(s, lambda[l], bias[l]);
+      if (!fast || !fastAtLod(v, s, *fast, c, lod, r)) sampleAtLod(v, s, nullptr, c, lod, nullptr, nullptr, r);
+    }
     for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
   }
 }
