@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -772,6 +773,34 @@ TEST_P(ShaderChecksOffTest, DeviceAddressChecksAreCompiledOut) {
   destroyComputePipeline(device, p);
 }
 
+// A 4 x 4 R32_UINT 2D image of one level and layer with `usage`, bound to memory of its own (of the type
+// `memoryType(memoryTypeBits)`), and a view of it: the image the VKRT_SHADER_CHECKS=image tests read outside.
+void createSmallImage(VkDevice device, VkImageUsageFlags usage, const std::function<uint32_t(uint32_t)>& memoryType,
+                      VkImage* image, VkDeviceMemory* memory, VkImageView* view) {
+  VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ci.imageType = VK_IMAGE_TYPE_2D;
+  ci.format = VK_FORMAT_R32_UINT;
+  ci.extent = {4, 4, 1};
+  ci.mipLevels = ci.arrayLayers = 1;
+  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ci.usage = usage;
+  ASSERT_EQ(vkCreateImage(device, &ci, nullptr, image), VK_SUCCESS);
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device, *image, &req);
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = memoryType(req.memoryTypeBits);
+  ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, memory), VK_SUCCESS);
+  ASSERT_EQ(vkBindImageMemory(device, *image, *memory, 0), VK_SUCCESS);
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = *image;
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = ci.format;
+  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, view), VK_SUCCESS);
+}
+
 // check_image.g.comp's images: a 4x4 R32_UINT image (storage and sampled, GENERAL), a 16-texel R32_UINT storage texel
 // buffer, and the output buffer.
 class ShaderImageChecksTest : public ShaderChecksTest {
@@ -787,28 +816,10 @@ class ShaderImageChecksTest : public ShaderChecksTest {
   void SetUp() override {
     ShaderChecksTest::SetUp();
     if (HasFatalFailure()) return;
-    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = VK_FORMAT_R32_UINT;
-    ci.extent = {4, 4, 1};
-    ci.mipLevels = ci.arrayLayers = 1;
-    ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(device, image, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
-    ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, &imageMemory), VK_SUCCESS);
-    ASSERT_EQ(vkBindImageMemory(device, image, imageMemory, 0), VK_SUCCESS);
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = ci.format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    createSmallImage(
+        device, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+        [&](uint32_t bits) { return memoryTypeIndex(bits, 0); }, &image, &imageMemory, &view);
+    if (HasFatalFailure()) return;
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     ASSERT_EQ(vkCreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
     texels = createHostBuffer(64, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT);
@@ -851,7 +862,7 @@ class ShaderImageChecksTest : public ShaderChecksTest {
     b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
     b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.image = image;
-    b.subresourceRange = vi.subresourceRange;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
                          nullptr, 1, &b);
     submitAndWait(cb);
@@ -1040,28 +1051,11 @@ class ShaderImageChecksDrawTest : public ShaderDebugDrawTest, public ::testing::
     settings.set(GetParam(), checks);
     ShaderDebugDrawTest::SetUp();
     if (HasFatalFailure()) return;
-    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = VK_FORMAT_R32_UINT;
-    ci.extent = {4, 4, 1};
-    ci.mipLevels = ci.arrayLayers = 1;
-    ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(device, image, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
-    ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, &imageMemory), VK_SUCCESS);
-    ASSERT_EQ(vkBindImageMemory(device, image, imageMemory, 0), VK_SUCCESS);
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = ci.format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    createSmallImage(
+        device, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+        [&](uint32_t bits) { return memoryTypeIndex(bits, 0); }, &image, &imageMemory, &view);
+    if (HasFatalFailure()) return;
+    const VkImageSubresourceRange whole{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     // UNDEFINED -> GENERAL, cleared to 77, then read by fragment shaders.
     VkCommandBuffer cb = beginOneTime();
     VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
@@ -1070,12 +1064,12 @@ class ShaderImageChecksDrawTest : public ShaderDebugDrawTest, public ::testing::
     barrier.newLayout = VK_IMAGE_LAYOUT_GENERAL;
     barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = vi.subresourceRange;
+    barrier.subresourceRange = whole;
     vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
                          nullptr, 1, &barrier);
     VkClearColorValue value{};
     value.uint32[0] = 77;
-    vkCmdClearColorImage(cb, image, VK_IMAGE_LAYOUT_GENERAL, &value, 1, &vi.subresourceRange);
+    vkCmdClearColorImage(cb, image, VK_IMAGE_LAYOUT_GENERAL, &value, 1, &whole);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
     barrier.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
