@@ -317,7 +317,14 @@ void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size
   l.rayTree = rayTree.get();
   exec::runRays(l);
   if (job.aborted()) dev->shaderAborted(pipeline_, fn_, job.abort());
-  deliverShaderMessages(cb_, pipeline_, fn_, job.messages);
+  // The launch's shaders read the same bound sets: whichever uses the binding names its descriptor.
+  deliverShaderMessages(cb_, pipeline_, fn_, job.messages, [this](uint32_t set, uint32_t binding, uint64_t element) {
+    for (auto& [code, bound] : resources_) {
+      std::string name = descriptorNamer(*code, bound.slots())(set, binding, element);
+      if (!name.empty()) return name;
+    }
+    return std::string();
+  });
   if (rayTree) {
     exec::RayTreeContext ctx;
     ctx.command = fn_;

@@ -26,6 +26,7 @@
 #include "e2e/trace_fixture.hpp"
 #include "oob_debug_info.spvasm.spv.h"
 #include "oob_draw.frag.spv.h"
+#include "oob_raygen.g.rgen.spv.h"
 #include "oob_read.comp.spv.h"
 #include "oob_write.g.comp.spv.h"
 #include "oob_write.gv.comp.spv.h"
@@ -382,6 +383,31 @@ TEST_F(ShaderDebugTraceTest, RayGenerationAndClosestHitPrint) {
   }
   EXPECT_GT(hits, 0);
   EXPECT_LT(hits, 16);
+}
+
+// A 4 x 4 launch whose ray generation shader stores one payload past the 16 the buffer holds: one report for the
+// launch, naming the line, the launch id and the descriptor with its buffer, as a dispatch's report does.
+TEST_F(ShaderDebugTraceTest, RayGenerationStoreOutOfBoundsNamesTheBuffer) {
+  if (!vkrt) GTEST_SKIP() << "vkrt's own report";
+  Desc d;
+  d.layout = traceLayout;
+  d.general(module(kSpv_oob_raygen_g_rgen, sizeof kSpv_oob_raygen_g_rgen), VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 2, {0}, {{1, {}}}, {});
+  std::vector<TracePayload> r = trace(p, s, basicScene(), 4, 4);
+  for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(r[i].ids[0], i) << i;
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const std::string& t = m[0].text;
+  EXPECT_TRUE(contains(t, "vkCmdTraceRaysKHR: ray generation shader \"main\" of VkPipeline")) << t;
+  EXPECT_TRUE(contains(t, "oob_raygen.g.rgen at line 12, launch id (0, 0, 0): store of ")) << t;
+  // Payload 16's ids, 16 bytes into the 48-byte payload: past the 768 bytes of 16 payloads.
+  EXPECT_TRUE(contains(t, " bytes at offset 784 is outside the 768 bytes in range")) << t;
+  EXPECT_TRUE(contains(t, "(set 0, binding 1, element 0, variable \"results\", VkBuffer 0x")) << t;
+  EXPECT_TRUE(contains(t, "the store is dropped")) << t;
+  clearMessages();
 }
 
 class ShaderDebugDrawTest : public DrawTest {

@@ -27,9 +27,14 @@ out=$(realpath -m "${1:?usage: build-graphics.sh [--tarball] <output folder>}")
 : "${GLSLANG_GIT:?git directory of KhronosGroup/glslang}" "${SPVH_GIT:?git directory of KhronosGroup/SPIRV-Headers}"
 src=$out/src; build=$out/build
 rm -rf "$src" "$build"; mkdir -p "$src" "$build"
-# As ../shared/cts/build.sh: the stored copy lacks blobs of 4 MiB or more (mustpass lists, not needed).
-git --git-dir="$CTS_GIT" archive vulkan-cts-1.3.7.3 -- . ':(exclude)android/cts' ':(exclude)external/vulkancts/mustpass' |
-  tar -x -C "$src"
+# As ../shared/cts/build.sh: the stored copy lacks blobs of 4 MiB or more (mustpass lists, not needed). `git archive`
+# with those paths excluded still stops at the first missing blob, so the files are checked out from an index of
+# their own, without android/ and the mustpass lists.
+index=$(mktemp)
+GIT_INDEX_FILE=$index git --git-dir="$CTS_GIT" read-tree vulkan-cts-1.3.7.3
+GIT_INDEX_FILE=$index git --git-dir="$CTS_GIT" ls-files | grep -v -e '^android/' -e '^external/vulkancts/mustpass/' |
+  GIT_INDEX_FILE=$index git --git-dir="$CTS_GIT" --work-tree="$src" checkout-index --stdin
+rm -f "$index"
 extract() { mkdir -p "$src/external/$1/src"; git --git-dir="$2" archive "$3" | tar -x -C "$src/external/$1/src"; }
 extract spirv-tools "$SPVT_GIT" bfc94f63a7adbcf8ae166f5f108ac9f69079efc0
 extract glslang "$GLSLANG_GIT" c5117b328afc86e16edff6ed6afe0fe7872a7cf3
