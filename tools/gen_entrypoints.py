@@ -9,6 +9,11 @@ Outputs, in the output folder:
 Only commands of the "vulkan" API that need no platform header are listed. Aliases (for example
 vkGetRayTracingShaderGroupHandlesNV) point at the implementation of the command they alias, and carry the
 features/extensions that provide the alias name itself.
+
+A command an extension requires only together with another extension or a version (a <require extension="...">
+or <require feature="..."> block) is provided by both at once: the provider "A+B" (vkCmdPushDescriptorSetWithTemplateKHR
+is "VK_KHR_push_descriptor+VK_VERSION_1_1" and "VK_KHR_descriptor_update_template+VK_KHR_push_descriptor", so
+VK_KHR_descriptor_update_template alone does not make it resolve).
 """
 import sys
 import xml.etree.ElementTree as ET
@@ -61,8 +66,9 @@ def main():
         for req in ext.findall("require"):
             if not for_vulkan(req):
                 continue
+            provider = "+".join([ext.get("name")] + [req.get(a) for a in ("extension", "feature") if req.get(a)])
             for c in req.findall("command"):
-                providers.setdefault(c.get("name"), set()).add(ext.get("name"))
+                providers.setdefault(c.get("name"), set()).add(provider)
 
     def canonical(name):
         while "alias" in commands[name]:
