@@ -36,20 +36,6 @@ bool supportedBindPoint(VkPipelineBindPoint bp) {
          bp == VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
 }
 
-// "Identically defined" set layouts (VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358).
-bool sameDefinition(const DescriptorSetLayout* a, const DescriptorSetLayout* b) {
-  if (a == b) return true;
-  if (a->flags != b->flags || a->bindings.size() != b->bindings.size()) return false;
-  for (size_t i = 0; i < a->bindings.size(); ++i) {
-    const DescriptorBinding& x = a->bindings[i];
-    const DescriptorBinding& y = b->bindings[i];
-    if (x.binding != y.binding || x.type != y.type || x.count != y.count || x.stages != y.stages ||
-        x.flags != y.flags || x.immutableSamplers != y.immutableSamplers)
-      return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 extern "C" {
@@ -159,7 +145,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
       return;
     }
     // VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358
-    if (!sameDefinition(s->layout, pl->setLayouts[firstSet + i])) {
+    if (!s->layout->sameDefinition(*pl->setLayouts[firstSet + i])) {
       report(s, Severity::Error, "VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358",
              "%s: pDescriptorSets[%u] was allocated with a set layout that does not match set %u of the pipeline "
              "layout",
