@@ -1,6 +1,6 @@
 // Binding-state commands: vkCmdBindPipeline, vkCmdBindDescriptorSets and vkCmdPushConstants. They record
 // closures that update the executing command buffer's ExecState (runtime/command_buffer.hpp), which the
-// dispatch and trace commands read.
+// dispatch and trace commands read. Push descriptors: runtime/push_descriptor_commands.cpp.
 #include <algorithm>
 #include <cstring>
 #include <vector>
@@ -201,6 +201,12 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
     }
     next += s->layout->dynamicCount;
   }
+  // A push descriptor set of these numbers is disturbed: a later push starts from none (its descriptors are
+  // undefined until pushed again: vkCmdPushDescriptorSetKHR).
+  const int bpIndex = pipelineBindPoint == VK_PIPELINE_BIND_POINT_COMPUTE    ? 0
+                      : pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS ? 1
+                                                                             : 2;
+  for (uint32_t i = 0; i < descriptorSetCount; ++i) cb->pushedSets[bpIndex][firstSet + i].reset();
   cb->record([pipelineBindPoint, pl, firstSet, sets = std::move(sets), offsets = std::move(offsets)](ExecState& st) {
     BindState& bs = bindState(st, pipelineBindPoint);
     bs.layout = pl;
