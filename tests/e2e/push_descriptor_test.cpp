@@ -17,6 +17,7 @@
 #include "e2e/trace_fixture.hpp"
 #include "push_descriptor.comp.spv.h"
 #include "push_descriptor.frag.spv.h"
+#include "push_descriptor_image.comp.spv.h"
 
 namespace vkrt::test {
 namespace {
@@ -358,6 +359,153 @@ TEST_F(PushDescriptorTest, ResubmittedCommandBufferKeepsItsPush) {
   }
   vkFreeCommandBuffers(device, commandPool, 1, &cb);
   expectQuiet();
+}
+
+// Images through pushed descriptors (push_descriptor_image.comp): a sampled image and a sampler binding with an
+// immutable sampler (pushed by writing the binding: the sampler in the write is ignored), a combined image sampler
+// with an immutable sampler, and a storage image; two dispatches, the second push swapping the two textures and
+// changing the storage image. Every texel is checked against the uploaded ones.
+TEST_F(PushDescriptorTest, ComputeSamplesAndStoresPushedImages) {
+  VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+  sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateSampler(device, &sci, nullptr, &sampler), VK_SUCCESS);
+  VkDescriptorSetLayout l = makeLayout({{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, kCompute, nullptr},
+                                        {1, VK_DESCRIPTOR_TYPE_SAMPLER, 1, kCompute, &sampler},
+                                        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, kCompute, &sampler},
+                                        {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, kCompute, nullptr}},
+                                       kPush);
+  ASSERT_NE(l, VK_NULL_HANDLE);
+  VkPipelineLayout pl = makePipelineLayout({l});
+  VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  sm.codeSize = sizeof kSpv_push_descriptor_image_comp;
+  sm.pCode = kSpv_push_descriptor_image_comp;
+  VkShaderModule m = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateShaderModule(device, &sm, nullptr, &m), VK_SUCCESS);
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  ci.stage.module = m;
+  ci.stage.pName = "main";
+  ci.layout = pl;
+  VkPipeline pipe = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipe), VK_SUCCESS);
+
+  // Two RGBA8 textures and two R32_UINT storage images of 4 x 4, their memory and views.
+  struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+  };
+  auto makeImage = [&](VkFormat format, VkImageUsageFlags usage) {
+    Image img;
+    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = format;
+    ici.extent = {4, 4, 1};
+    ici.mipLevels = ici.arrayLayers = 1;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = usage;
+    EXPECT_EQ(vkCreateImage(device, &ici, nullptr, &img.image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, img.image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
+    EXPECT_EQ(vkAllocateMemory(device, &mai, nullptr, &img.memory), VK_SUCCESS);
+    EXPECT_EQ(vkBindImageMemory(device, img.image, img.memory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = img.image;
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vci.format = format;
+    vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    EXPECT_EQ(vkCreateImageView(device, &vci, nullptr, &img.view), VK_SUCCESS);
+    return img;
+  };
+  constexpr VkImageUsageFlags kSampled = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  constexpr VkImageUsageFlags kStorageImg = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  Image tex[2] = {makeImage(VK_FORMAT_R8G8B8A8_UNORM, kSampled), makeImage(VK_FORMAT_R8G8B8A8_UNORM, kSampled)};
+  Image out[2] = {makeImage(VK_FORMAT_R32_UINT, kStorageImg), makeImage(VK_FORMAT_R32_UINT, kStorageImg)};
+  HostBuffer& up = buffer(2 * 16 * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  for (uint32_t i = 0; i < 32; ++i) words(up)[i] = 0x01000193u * (i + 1) ^ 0x9e3779b9u;
+  HostBuffer& down = buffer(2 * 16 * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+
+  auto barrier = [](VkCommandBuffer cb, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
+                    VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+  };
+  constexpr VkPipelineStageFlags kXferStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  constexpr VkPipelineStageFlags kShader = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+  VkCommandBuffer cb = beginOneTime();
+  for (uint32_t k = 0; k < 2; ++k) {
+    barrier(cb, tex[k].image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kXferStage);
+    VkBufferImageCopy r{k * 64, 0, 0, {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {0, 0, 0}, {4, 4, 1}};
+    vkCmdCopyBufferToImage(cb, up.buffer, tex[k].image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
+    barrier(cb, tex[k].image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, kXferStage, kShader);
+    barrier(cb, out[k].image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT,
+            VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kShader);
+  }
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipe);
+  constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  std::array<VkDescriptorImageInfo, 4> ii = {{{VK_NULL_HANDLE, tex[0].view, kRead},
+                                              {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_UNDEFINED},
+                                              {VK_NULL_HANDLE, tex[1].view, kRead},
+                                              {VK_NULL_HANDLE, out[0].view, VK_IMAGE_LAYOUT_GENERAL}}};
+  const VkDescriptorType types[4] = {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLER,
+                                     VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+  VkWriteDescriptorSet w[4];
+  for (uint32_t b = 0; b < 4; ++b) {
+    w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w[b].dstBinding = b;
+    w[b].descriptorCount = 1;
+    w[b].descriptorType = types[b];
+    w[b].pImageInfo = &ii[b];
+  }
+  cmdPush(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 4, w);
+  vkCmdDispatch(cb, 1, 1, 1);
+  ii[0].imageView = tex[1].view;
+  ii[2].imageView = tex[0].view;
+  ii[3].imageView = out[1].view;
+  const VkWriteDescriptorSet second[3] = {w[0], w[2], w[3]};  // the sampler binding stays pushed
+  cmdPush(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 3, second);
+  vkCmdDispatch(cb, 1, 1, 1);
+  ii = {};
+  for (uint32_t k = 0; k < 2; ++k) {
+    barrier(cb, out[k].image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_SHADER_WRITE_BIT,
+            VK_ACCESS_TRANSFER_READ_BIT, kShader, kXferStage);
+    VkBufferImageCopy r{k * 64, 0, 0, {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {0, 0, 0}, {4, 4, 1}};
+    vkCmdCopyImageToBuffer(cb, out[k].image, VK_IMAGE_LAYOUT_GENERAL, down.buffer, 1, &r);
+  }
+  submitAndWait(cb);
+  for (uint32_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "first dispatch" : "second dispatch");
+    const uint32_t* a = words(up) + (k == 0 ? 0 : 16);  // the sampled image's texels
+    const uint32_t* b = words(up) + (k == 0 ? 16 : 0);  // the combined image sampler's
+    for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(words(down)[k * 16 + i], a[i] ^ (b[i] << 1)) << "texel " << i;
+  }
+  expectQuiet();
+  for (Image* imgs : {tex, out})
+    for (uint32_t k = 0; k < 2; ++k) {
+      vkDestroyImageView(device, imgs[k].view, nullptr);
+      vkDestroyImage(device, imgs[k].image, nullptr);
+      vkFreeMemory(device, imgs[k].memory, nullptr);
+    }
+  vkDestroyPipeline(device, pipe, nullptr);
+  vkDestroyShaderModule(device, m, nullptr);
+  vkDestroySampler(device, sampler, nullptr);
 }
 
 // ---- the rules, each broken once and kept once ----
