@@ -66,9 +66,14 @@ def main():
         for req in ext.findall("require"):
             if not for_vulkan(req):
                 continue
-            provider = "+".join([ext.get("name")] + [req.get(a) for a in ("extension", "feature") if req.get(a)])
-            for c in req.findall("command"):
-                providers.setdefault(c.get("name"), set()).add(provider)
+            # The attribute is a name, names joined by "+" (all of them) or by "," (any one): one provider per
+            # alternative.
+            needs = [req.get(a) for a in ("extension", "feature") if req.get(a)]
+            alternatives = needs[0].split(",") if needs else [None]
+            for alt in alternatives:
+                provider = "+".join([ext.get("name")] + ([alt] if alt else []) + needs[1:])
+                for c in req.findall("command"):
+                    providers.setdefault(c.get("name"), set()).add(provider)
 
     def canonical(name):
         while "alias" in commands[name]:
