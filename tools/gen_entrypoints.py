@@ -13,7 +13,8 @@ features/extensions that provide the alias name itself.
 A command an extension requires only together with another extension or a version (a <require extension="...">
 or <require feature="..."> block) is provided by both at once: the provider "A+B" (vkCmdPushDescriptorSetWithTemplateKHR
 is "VK_KHR_push_descriptor+VK_VERSION_1_1" and "VK_KHR_descriptor_update_template+VK_KHR_push_descriptor", so
-VK_KHR_descriptor_update_template alone does not make it resolve).
+VK_KHR_descriptor_update_template alone does not make it resolve); names joined by "," in the attribute are
+alternatives, one provider each.
 """
 import sys
 import xml.etree.ElementTree as ET

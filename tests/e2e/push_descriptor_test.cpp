@@ -361,6 +361,59 @@ TEST_F(PushDescriptorTest, ResubmittedCommandBufferKeepsItsPush) {
   expectQuiet();
 }
 
+// A secondary command buffer pushes and dispatches on its own (it inherits no push from the primary, and its pushed
+// set lives as long as its recording); the primary's own push before vkCmdExecuteCommands and its dispatch read the
+// primary's descriptors.
+TEST_F(PushDescriptorTest, SecondaryCommandBufferPushesItsOwnDescriptors) {
+  HostBuffer& pa = params(3, 5);
+  HostBuffer& pb = params(7, 9);
+  HostBuffer& d1 = buffer(kN * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  HostBuffer& d2 = buffer(kN * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto writes = [&](const HostBuffer& p, const HostBuffer& dst, VkDescriptorBufferInfo(&infos)[3],
+                    VkWriteDescriptorSet(&w)[3]) {
+    infos[0] = {p.buffer, 0, sizeof(Params)};
+    infos[1] = {src.buffer, 0, VK_WHOLE_SIZE};
+    infos[2] = {dst.buffer, 0, VK_WHOLE_SIZE};
+    w[0] = bufferWrite(0, kUniform, &infos[0]);
+    w[1] = bufferWrite(1, kStorage, &infos[1]);
+    w[2] = bufferWrite(2, kStorage, &infos[2]);
+  };
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = commandPool;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_SECONDARY;
+  ai.commandBufferCount = 1;
+  VkCommandBuffer sec = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateCommandBuffers(device, &ai, &sec), VK_SUCCESS);
+  VkCommandBufferInheritanceInfo inh{VK_STRUCTURE_TYPE_COMMAND_BUFFER_INHERITANCE_INFO};
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.pInheritanceInfo = &inh;
+  ASSERT_EQ(vkBeginCommandBuffer(sec, &bi), VK_SUCCESS);
+  {
+    VkDescriptorBufferInfo infos[3];
+    VkWriteDescriptorSet w[3];
+    writes(pb, d2, infos, w);
+    bindCompute(sec);
+    cmdPush(sec, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, 1, 3, w);
+    vkCmdDispatch(sec, kN / 16, 1, 1);
+  }
+  ASSERT_EQ(vkEndCommandBuffer(sec), VK_SUCCESS);
+  VkCommandBuffer cb = beginOneTime();
+  {
+    VkDescriptorBufferInfo infos[3];
+    VkWriteDescriptorSet w[3];
+    writes(pa, d1, infos, w);
+    bindCompute(cb);
+    cmdPush(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, 1, 3, w);
+    vkCmdDispatch(cb, kN / 16, 1, 1);
+  }
+  vkCmdExecuteCommands(cb, 1, &sec);
+  submitAndWait(cb);
+  EXPECT_EQ(contents(d1), expected({3, 5}));
+  EXPECT_EQ(contents(d2), expected({7, 9}));
+  vkFreeCommandBuffers(device, commandPool, 1, &sec);
+  expectQuiet();
+}
+
 // Images through pushed descriptors (push_descriptor_image.comp): a sampled image and a sampler binding with an
 // immutable sampler (pushed by writing the binding: the sampler in the write is ignored), a combined image sampler
 // with an immutable sampler, and a storage image; two dispatches, the second push swapping the two textures and
