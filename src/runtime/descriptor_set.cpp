@@ -520,6 +520,17 @@ bool writeDescriptorSet(DescriptorSet* set, const VkWriteDescriptorSet& w, bool 
   }
   size_t stride = 0;
   const uint8_t* src = writeSource(set, w, stride, what);
+  // A push of sampler descriptors into a binding with immutable samplers pushes those; its pImageInfo may be null
+  // (VUID-vkCmdPushDescriptorSetKHR-pDescriptorWrites-06494 leaves VK_DESCRIPTOR_TYPE_SAMPLER out), and resolve()
+  // reads nothing of it.
+  static const VkDescriptorImageInfo kNoImageInfo{};
+  if (!src && set->pushedBy && w.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER) {
+    const DescriptorBinding* b = set->layout->bindingAt(w.dstBinding);
+    if (b && !b->immutableSamplers.empty()) {
+      src = reinterpret_cast<const uint8_t*>(&kNoImageInfo);
+      stride = 0;
+    }
+  }
   // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
   if (!src) {
     if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR &&

@@ -415,7 +415,8 @@ TEST_F(PushDescriptorTest, SecondaryCommandBufferPushesItsOwnDescriptors) {
 }
 
 // Images through pushed descriptors (push_descriptor_image.comp): a sampled image and a sampler binding with an
-// immutable sampler (pushed by writing the binding: the sampler in the write is ignored), a combined image sampler
+// immutable sampler (pushed by writing the binding, with no pImageInfo: its samplers would be ignored), a combined
+// image sampler
 // with an immutable sampler, and a storage image; two dispatches, the second push swapping the two textures and
 // changing the storage image. Every texel is checked against the uploaded ones.
 TEST_F(PushDescriptorTest, ComputeSamplesAndStoresPushedImages) {
@@ -527,6 +528,7 @@ TEST_F(PushDescriptorTest, ComputeSamplesAndStoresPushedImages) {
     w[b].descriptorType = types[b];
     w[b].pImageInfo = &ii[b];
   }
+  w[1].pImageInfo = nullptr;  // the immutable sampler's binding: pImageInfo is not read (06494 leaves samplers out)
   cmdPush(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 4, w);
   vkCmdDispatch(cb, 1, 1, 1);
   ii[0].imageView = tex[1].view;
