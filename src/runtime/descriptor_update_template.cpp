@@ -17,7 +17,6 @@ DescriptorUpdateTemplate::DescriptorUpdateTemplate(Device* dev, const VkDescript
       layout(layout),
       type(info.templateType),
       bindPoint(info.pipelineBindPoint),
-      set(info.set),
       entries(info.pDescriptorUpdateEntries, info.pDescriptorUpdateEntries + info.descriptorUpdateEntryCount) {
   layout->retain();
 }

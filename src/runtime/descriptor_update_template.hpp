@@ -24,7 +24,6 @@ class DescriptorUpdateTemplate : public Object {
   DescriptorSetLayout* const layout;  // referenced
   const VkDescriptorUpdateTemplateType type;
   const VkPipelineBindPoint bindPoint;  // push descriptors only
-  const uint32_t set;                   // push descriptors only
   std::vector<VkDescriptorUpdateTemplateEntry> entries;
 
   // Checks every entry's descriptors from `pData` against `set`, then writes them all; reports the first problem
