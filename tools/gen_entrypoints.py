@@ -9,6 +9,12 @@ Outputs, in the output folder:
 Only commands of the "vulkan" API that need no platform header are listed. Aliases (for example
 vkGetRayTracingShaderGroupHandlesNV) point at the implementation of the command they alias, and carry the
 features/extensions that provide the alias name itself.
+
+A command an extension requires only together with another extension or a version (a <require extension="...">
+or <require feature="..."> block) is provided by both at once: the provider "A+B" (vkCmdPushDescriptorSetWithTemplateKHR
+is "VK_KHR_push_descriptor+VK_VERSION_1_1" and "VK_KHR_descriptor_update_template+VK_KHR_push_descriptor", so
+VK_KHR_descriptor_update_template alone does not make it resolve); names joined by "," in the attribute are
+alternatives, one provider each.
 """
 import sys
 import xml.etree.ElementTree as ET
@@ -61,8 +67,14 @@ def main():
         for req in ext.findall("require"):
             if not for_vulkan(req):
                 continue
-            for c in req.findall("command"):
-                providers.setdefault(c.get("name"), set()).add(ext.get("name"))
+            # The attribute is a name, names joined by "+" (all of them) or by "," (any one): one provider per
+            # alternative.
+            needs = [req.get(a) for a in ("extension", "feature") if req.get(a)]
+            alternatives = needs[0].split(",") if needs else [None]
+            for alt in alternatives:
+                provider = "+".join([ext.get("name")] + ([alt] if alt else []) + needs[1:])
+                for c in req.findall("command"):
+                    providers.setdefault(c.get("name"), set()).add(provider)
 
     def canonical(name):
         while "alias" in commands[name]:

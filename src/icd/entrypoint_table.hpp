@@ -14,7 +14,8 @@ struct EntryPoint {
   const char* name;
   PFN_vkVoidFunction fn;  // NULL when vkrt does not implement the command
   EntryLevel level;
-  const char* const* providers;  // "VK_VERSION_1_x" or extension names that provide this name
+  // "VK_VERSION_1_x" or extension names that provide this name; "A+B" where A provides it only with B
+  const char* const* providers;
   uint8_t providerCount;
 };
 

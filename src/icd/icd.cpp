@@ -1,5 +1,6 @@
 // The loader–ICD interface (version 5 and later): the three vk_icd* exports and vkGet*ProcAddr.
 #include <cstring>
+#include <string>
 
 #include "icd/entrypoint_table.hpp"
 #include "runtime/device.hpp"
@@ -26,14 +27,25 @@ const EntryPoint* findEntryPoint(const char* name) {
 
 namespace {
 
-// True when a command is available on `device`: it belongs to a core version vkrt implements, or to an
-// extension enabled on the device or on its instance.
-bool enabledOn(const EntryPoint& e, const Device* device) {
-  for (uint8_t i = 0; i < e.providerCount; ++i) {
-    const char* p = e.providers[i];
-    if (std::strncmp(p, "VK_VERSION_", 11) == 0) return true;
-    if (device->enabledExtensions.count(p) || device->instance->enabledExtensions.count(p)) return true;
+// Whether every name of a provider ("A" or "A+B+...": gen_entrypoints.py) is there: a core version (vkrt
+// implements them all), or an extension enabled on `device` or on its instance.
+bool providerEnabled(const char* provider, const Device* device) {
+  for (const char* p = provider; *p;) {
+    const char* end = std::strchr(p, '+');
+    const std::string name(p, end ? size_t(end - p) : std::strlen(p));
+    const bool there = name.rfind("VK_VERSION_", 0) == 0 || device->enabledExtensions.count(name) ||
+                       device->instance->enabledExtensions.count(name);
+    if (!there) return false;
+    p = end ? end + 1 : p + name.size();
   }
+  return true;
+}
+
+// True when a command is available on `device`: one of its providers is (a core version vkrt implements, an
+// extension enabled on the device or on its instance, or such names together).
+bool enabledOn(const EntryPoint& e, const Device* device) {
+  for (uint8_t i = 0; i < e.providerCount; ++i)
+    if (providerEnabled(e.providers[i], device)) return true;
   return false;
 }
 

@@ -1,6 +1,6 @@
 // Binding-state commands: vkCmdBindPipeline, vkCmdBindDescriptorSets and vkCmdPushConstants. They record
 // closures that update the executing command buffer's ExecState (runtime/command_buffer.hpp), which the
-// dispatch and trace commands read.
+// dispatch and trace commands read. Push descriptors: runtime/push_descriptor_commands.cpp.
 #include <algorithm>
 #include <cstring>
 #include <vector>
@@ -34,20 +34,6 @@ BindState& bindState(ExecState& st, VkPipelineBindPoint bp) {
 bool supportedBindPoint(VkPipelineBindPoint bp) {
   return bp == VK_PIPELINE_BIND_POINT_COMPUTE || bp == VK_PIPELINE_BIND_POINT_GRAPHICS ||
          bp == VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
-}
-
-// "Identically defined" set layouts (VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358).
-bool sameDefinition(const DescriptorSetLayout* a, const DescriptorSetLayout* b) {
-  if (a == b) return true;
-  if (a->flags != b->flags || a->bindings.size() != b->bindings.size()) return false;
-  for (size_t i = 0; i < a->bindings.size(); ++i) {
-    const DescriptorBinding& x = a->bindings[i];
-    const DescriptorBinding& y = b->bindings[i];
-    if (x.binding != y.binding || x.type != y.type || x.count != y.count || x.stages != y.stages ||
-        x.flags != y.flags || x.immutableSamplers != y.immutableSamplers)
-      return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -159,7 +145,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
       return;
     }
     // VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358
-    if (!sameDefinition(s->layout, pl->setLayouts[firstSet + i])) {
+    if (!s->layout->sameDefinition(*pl->setLayouts[firstSet + i])) {
       report(s, Severity::Error, "VUID-vkCmdBindDescriptorSets-pDescriptorSets-00358",
              "%s: pDescriptorSets[%u] was allocated with a set layout that does not match set %u of the pipeline "
              "layout",
@@ -215,6 +201,12 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
     }
     next += s->layout->dynamicCount;
   }
+  // A push descriptor set of these numbers is disturbed: a later push starts from none (its descriptors are
+  // undefined until pushed again: vkCmdPushDescriptorSetKHR).
+  const int bpIndex = pipelineBindPoint == VK_PIPELINE_BIND_POINT_COMPUTE    ? 0
+                      : pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS ? 1
+                                                                             : 2;
+  for (uint32_t i = 0; i < descriptorSetCount; ++i) cb->pushedSets[bpIndex][firstSet + i].reset();
   cb->record([pipelineBindPoint, pl, firstSet, sets = std::move(sets), offsets = std::move(offsets)](ExecState& st) {
     BindState& bs = bindState(st, pipelineBindPoint);
     bs.layout = pl;

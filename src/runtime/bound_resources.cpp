@@ -27,6 +27,13 @@ bool reportUnwritten(const DescriptorSet& set, const DescriptorBinding& b, const
   }
   if (!missing) return false;
   std::string vuid = std::string("VUID-") + command + "-None-08114";
+  if (set.pushedBy) {  // push descriptors: the set is the command buffer's own
+    report(cb, Severity::Error, vuid.c_str(),
+           "%s: the bound pipeline uses set %u binding %u (%s), but element %u of it was never pushed "
+           "(vkCmdPushDescriptorSetKHR; %u of the %u elements it uses are not)",
+           command, rb.set, rb.binding, descriptorTypeName(b.type), first, missing, used);
+    return true;
+  }
   report(cb, Severity::Error, vuid.c_str(),
          "%s: the bound pipeline uses set %u binding %u (%s), but element %u of the bound descriptor set 0x%llx was "
          "never written (%u of the %u elements it uses are not)",

@@ -10,6 +10,7 @@
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
 #include "runtime/command_pool.hpp"
+#include "runtime/descriptor_set.hpp"
 #include "runtime/device.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_view.hpp"
@@ -252,6 +253,8 @@ void CommandBuffer::reset(bool releaseResources) {
     insideRenderPass = false;
     inheritance = Inheritance{};
     graphicsRecording.reset();
+    for (auto& perBindPoint : pushedSets)
+      for (std::shared_ptr<DescriptorSet>& set : perBindPoint) set.reset();
   }
   // `old`'s closures are destroyed here, outside the lock.
 }

@@ -151,6 +151,11 @@ class CommandBuffer : public Object {
   // with the command buffer.
   std::unique_ptr<LayerState> graphicsRecording;
   std::vector<Ref> refs;  // what the commands refer to (record()), in no order, deduplicated
+  // Push descriptors while recording: the set the last vkCmdPushDescriptorSet*KHR of each bind point (compute,
+  // graphics, ray tracing) and set number built, or null. The recorded command that binds it keeps it alive; a
+  // later push copies it into a new set (push descriptors are updated incrementally) and leaves it as it is, so each
+  // recorded dispatch, draw or trace reads the descriptors pushed before it (runtime/push_descriptor_commands.cpp).
+  std::shared_ptr<DescriptorSet> pushedSets[3][8];
 
   // The mutex that guards every command buffer's state, pending count and links.
   static std::mutex& stateMutex();

@@ -192,6 +192,15 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_AllocateDescriptorSets(VkDevice device,
              (unsigned long long)rawHandle(pAllocateInfo->pSetLayouts[i]));
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
+    // VUID-VkDescriptorSetAllocateInfo-pSetLayouts-00308
+    if (layouts[i]->isPush()) {
+      report(pool, Severity::Error, "VUID-VkDescriptorSetAllocateInfo-pSetLayouts-00308",
+             "vkAllocateDescriptorSets: pSetLayouts[%u] (0x%llx) was created with "
+             "VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR; its descriptors are pushed "
+             "(vkCmdPushDescriptorSetKHR), no set is allocated with it",
+             i, (unsigned long long)rawHandle(pAllocateInfo->pSetLayouts[i]));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
     // VUID-VkDescriptorSetAllocateInfo-pSetLayouts-03044
     if ((layouts[i]->flags & VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT) &&
         !(pool->flags & VK_DESCRIPTOR_POOL_CREATE_UPDATE_AFTER_BIND_BIT)) {

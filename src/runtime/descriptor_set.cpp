@@ -87,12 +87,12 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
   const DescriptorSetLayout& l = *set->layout;
   const DescriptorBinding* b = l.bindingAt(binding);
   if (!b || set->elementCount(*b) == 0) {
-    report(set, Severity::Error, v.noBinding,
+    report(set->reportObject(), Severity::Error, v.noBinding,
            "%s: binding %u does not exist in the set's layout (or has no descriptors)", what, binding);
     return false;
   }
   if (type != VK_DESCRIPTOR_TYPE_MAX_ENUM && b->type != type) {
-    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not %s", what, binding,
+    report(set->reportObject(), Severity::Error, v.typeMismatch, "%s: binding %u is %s, not %s", what, binding,
            descriptorTypeName(b->type), descriptorTypeName(type));
     return false;
   }
@@ -105,7 +105,7 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
       e -= set->elementCount(l.bindings[idx]);
       ++idx;
       if (idx >= l.bindings.size()) {
-        report(set, Severity::Error, v.overflow,
+        report(set->reportObject(), Severity::Error, v.overflow,
                "%s: %u descriptors from binding %u element %u run past the end of the set (%u records)", what, count,
                binding, arrayElement, set->recordCount);
         return false;
@@ -113,7 +113,7 @@ bool walk(const DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uin
       const DescriptorBinding& n = l.bindings[idx];
       if (set->elementCount(n) && (n.type != b->type || n.stages != b->stages || n.flags != b->flags ||
                                    n.immutableSamplers.empty() != b->immutableSamplers.empty())) {
-        report(set, Severity::Error, v.consecutive,
+        report(set->reportObject(), Severity::Error, v.consecutive,
                "%s: the update runs from binding %u into binding %u, whose type, stages, flags or immutable samplers "
                "differ",
                what, binding, n.binding);
@@ -141,13 +141,14 @@ bool inlinePieces(const DescriptorSet* set, uint32_t binding, uint32_t offset, u
   const DescriptorSetLayout& l = *set->layout;
   const DescriptorBinding* b = l.bindingAt(binding);
   if (!b || set->elementCount(*b) == 0) {
-    report(set, Severity::Error, v.noBinding,
+    report(set->reportObject(), Severity::Error, v.noBinding,
            "%s: binding %u does not exist in the set's layout (or has no descriptors)", what, binding);
     return false;
   }
   if (!isInlineBlock(b->type)) {
-    report(set, Severity::Error, v.typeMismatch, "%s: binding %u is %s, not VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK",
-           what, binding, descriptorTypeName(b->type));
+    report(set->reportObject(), Severity::Error, v.typeMismatch,
+           "%s: binding %u is %s, not VK_DESCRIPTOR_TYPE_INLINE_UNIFORM_BLOCK", what, binding,
+           descriptorTypeName(b->type));
     return false;
   }
   out.clear();
@@ -165,14 +166,14 @@ bool inlinePieces(const DescriptorSet* set, uint32_t binding, uint32_t offset, u
     if (!left) return true;
     at -= have;
     if (++idx >= l.bindings.size()) {
-      report(set, Severity::Error, v.overflow,
+      report(set->reportObject(), Severity::Error, v.overflow,
              "%s: %u bytes from byte %u of inline uniform block binding %u run past the end of the set", what, size,
              offset, binding);
       return false;
     }
     const DescriptorBinding& n = l.bindings[idx];
     if (set->elementCount(n) && (n.type != b->type || n.stages != b->stages || n.flags != b->flags)) {
-      report(set, Severity::Error, v.consecutive,
+      report(set->reportObject(), Severity::Error, v.consecutive,
              "%s: the update runs from binding %u into binding %u, whose type, stages or flags differ", what, binding,
              n.binding);
       return false;
@@ -190,33 +191,34 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     auto& bi = *reinterpret_cast<const VkDescriptorBufferInfo*>(src);
     // VUID-VkDescriptorBufferInfo-buffer-02998
     if (!bi.buffer) {
-      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-02998",
+      report(set->reportObject(), Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-02998",
              "%s: descriptor %u: buffer is VK_NULL_HANDLE and the nullDescriptor feature is not enabled", what, i);
       return false;
     }
     Buffer* buf = fromHandle<Buffer>(bi.buffer);
     // VUID-VkDescriptorBufferInfo-buffer-parameter
     if (!buf) {
-      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-parameter",
+      report(set->reportObject(), Severity::Error, "VUID-VkDescriptorBufferInfo-buffer-parameter",
              "%s: descriptor %u: buffer 0x%llx is not a live VkBuffer", what, i,
              (unsigned long long)rawHandle(bi.buffer));
       return false;
     }
     // VUID-VkDescriptorBufferInfo-offset-00340
     if (bi.offset >= buf->size) {
-      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-offset-00340",
+      report(set->reportObject(), Severity::Error, "VUID-VkDescriptorBufferInfo-offset-00340",
              "%s: descriptor %u: offset %llu is not less than the buffer size %llu", what, i,
              (unsigned long long)bi.offset, (unsigned long long)buf->size);
       return false;
     }
     // VUID-VkDescriptorBufferInfo-range-00341
     if (bi.range == 0) {
-      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-range-00341", "%s: descriptor %u: range is 0", what, i);
+      report(set->reportObject(), Severity::Error, "VUID-VkDescriptorBufferInfo-range-00341",
+             "%s: descriptor %u: range is 0", what, i);
       return false;
     }
     // VUID-VkDescriptorBufferInfo-range-00342
     if (bi.range != VK_WHOLE_SIZE && bi.range > buf->size - bi.offset) {
-      report(set, Severity::Error, "VUID-VkDescriptorBufferInfo-range-00342",
+      report(set->reportObject(), Severity::Error, "VUID-VkDescriptorBufferInfo-range-00342",
              "%s: descriptor %u: range %llu at offset %llu exceeds the %llu-byte buffer", what, i,
              (unsigned long long)bi.range, (unsigned long long)bi.offset, (unsigned long long)buf->size);
       return false;
@@ -256,7 +258,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
     }
     // VUID-VkWriteDescriptorSet-descriptorType-00329
     if (!buf->memory) {
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00329",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00329",
              "%s: descriptor %u: buffer 0x%llx is not bound to memory", what, i,
              (unsigned long long)rawHandle(bi.buffer));
       return false;
@@ -272,14 +274,14 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       VkBufferView h = *reinterpret_cast<const VkBufferView*>(src);
       // VUID-VkWriteDescriptorSet-descriptorType-02995
       if (!h) {
-        report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02995",
+        report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02995",
                "%s: descriptor %u: texel buffer view is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
         return false;
       }
       const Object* view = findObject(rawHandle(h), VK_OBJECT_TYPE_BUFFER_VIEW);
       // VUID-VkWriteDescriptorSet-descriptorType-02994
       if (!view) {
-        report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02994",
+        report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02994",
                "%s: descriptor %u: 0x%llx is not a live VkBufferView", what, i, (unsigned long long)rawHandle(h));
         return false;
       }
@@ -295,14 +297,14 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       if (type != VK_DESCRIPTOR_TYPE_SAMPLER) {
         // VUID-VkWriteDescriptorSet-descriptorType-02997
         if (!ii.imageView) {
-          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02997",
+          report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02997",
                  "%s: descriptor %u: imageView is VK_NULL_HANDLE and nullDescriptor is not enabled", what, i);
           return false;
         }
         out.object = findObject(rawHandle(ii.imageView), VK_OBJECT_TYPE_IMAGE_VIEW);
         // VUID-VkWriteDescriptorSet-descriptorType-02996
         if (!out.object) {
-          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02996",
+          report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02996",
                  "%s: descriptor %u: imageView 0x%llx is not a live VkImageView", what, i,
                  (unsigned long long)rawHandle(ii.imageView));
           return false;
@@ -315,7 +317,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
                                            : VK_IMAGE_USAGE_SAMPLED_BIT;
         const auto* view = static_cast<const ImageView*>(out.object);
         if (!(view->usage & need)) {
-          report(set, Severity::Error,
+          report(set->reportObject(), Severity::Error,
                  need == VK_IMAGE_USAGE_STORAGE_BIT            ? "VUID-VkWriteDescriptorSet-descriptorType-00339"
                  : need == VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT ? "VUID-VkWriteDescriptorSet-descriptorType-00338"
                                                                : "VUID-VkWriteDescriptorSet-descriptorType-00337",
@@ -329,7 +331,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
         out.sampler = findObject(rawHandle(ii.sampler), VK_OBJECT_TYPE_SAMPLER);
         // VUID-VkWriteDescriptorSet-descriptorType-00325
         if (!out.sampler) {
-          report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00325",
+          report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-00325",
                  "%s: descriptor %u: sampler 0x%llx is not a live VkSampler", what, i,
                  (unsigned long long)rawHandle(ii.sampler));
           return false;
@@ -342,7 +344,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       const Object* as = h ? findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_NV) : nullptr;
       // VUID-VkWriteDescriptorSetAccelerationStructureNV-pAccelerationStructures-parameter
       if (!as) {
-        report(set, Severity::Error,
+        report(set->reportObject(), Severity::Error,
                "VUID-VkWriteDescriptorSetAccelerationStructureNV-pAccelerationStructures-parameter",
                "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureNV", what, i, (unsigned long long)h);
         return false;
@@ -355,7 +357,8 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       uint64_t h = *reinterpret_cast<const uint64_t*>(src);
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580
       if (!h) {
-        report(set, Severity::Error, "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580",
+        report(set->reportObject(), Severity::Error,
+               "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-03580",
                "%s: descriptor %u: acceleration structure is VK_NULL_HANDLE and nullDescriptor is not enabled", what,
                i);
         return false;
@@ -363,7 +366,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       const Object* as = findObject(h, VK_OBJECT_TYPE_ACCELERATION_STRUCTURE_KHR);
       // VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter
       if (!as) {
-        report(set, Severity::Error,
+        report(set->reportObject(), Severity::Error,
                "VUID-VkWriteDescriptorSetAccelerationStructureKHR-pAccelerationStructures-parameter",
                "%s: descriptor %u: 0x%llx is not a live VkAccelerationStructureKHR", what, i, (unsigned long long)h);
         return false;
@@ -373,7 +376,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
       return true;
     }
     default:
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
              "%s: descriptor type %d is not supported", what, type);
       return false;
   }
@@ -388,9 +391,10 @@ bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElemen
       "VUID-VkWriteDescriptorSet-dstBinding-00315", "VUID-VkWriteDescriptorSet-descriptorType-00319",
       "VUID-VkWriteDescriptorSet-dstArrayElement-00321", "VUID-VkWriteDescriptorSet-descriptorCount-00317"};
   if (!walk(set, binding, arrayElement, count, type, kVuids, what, span)) return false;
-  // VUID-VkWriteDescriptorSet-descriptorType-02752
-  if (type == VK_DESCRIPTOR_TYPE_SAMPLER && !span.binding[0]->immutableSamplers.empty()) {
-    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02752",
+  // VUID-VkWriteDescriptorSet-descriptorType-02752 (of an allocated set: push descriptors push a binding's immutable
+  // samplers, which the records keep, by writing it)
+  if (type == VK_DESCRIPTOR_TYPE_SAMPLER && !span.binding[0]->immutableSamplers.empty() && !set->pushedBy) {
+    report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02752",
            "%s: binding %u has immutable samplers; VK_DESCRIPTOR_TYPE_SAMPLER descriptors cannot be written to it",
            what, binding);
     return false;
@@ -412,14 +416,14 @@ bool writeInlineBlock(DescriptorSet* set, uint32_t binding, uint32_t offset, uin
                       bool apply, const char* what, const char* offsetVuid, const char* sizeVuid) {
   // offsetVuid: VUID-VkWriteDescriptorSet-descriptorType-02219 or VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226
   if (offset % 4) {
-    report(set, Severity::Error, offsetVuid,
+    report(set->reportObject(), Severity::Error, offsetVuid,
            "%s: the inline uniform block update starts at byte %u, not a multiple of 4", what, offset);
     return false;
   }
   // sizeVuid: VUID-VkWriteDescriptorSet-descriptorType-02220 or VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227
   if (size % 4) {
-    report(set, Severity::Error, sizeVuid, "%s: the inline uniform block update has %u bytes, not a multiple of 4",
-           what, size);
+    report(set->reportObject(), Severity::Error, sizeVuid,
+           "%s: the inline uniform block update has %u bytes, not a multiple of 4", what, size);
     return false;
   }
   static const SpanVuids kVuids = {
@@ -449,7 +453,7 @@ const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, si
         w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR);
     // VUID-VkWriteDescriptorSet-descriptorType-02382
     if (!as || as->accelerationStructureCount != w.descriptorCount) {
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02382",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02382",
              "%s: an acceleration structure write needs a VkWriteDescriptorSetAccelerationStructureKHR with %u "
              "structures in its pNext chain",
              what, w.descriptorCount);
@@ -463,7 +467,7 @@ const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, si
         w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_NV);
     // VUID-VkWriteDescriptorSet-descriptorType-03817
     if (!as || as->accelerationStructureCount != w.descriptorCount) {
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-03817",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-03817",
              "%s: an NV acceleration structure write needs a VkWriteDescriptorSetAccelerationStructureNV with %u "
              "structures in its pNext chain",
              what, w.descriptorCount);
@@ -485,22 +489,18 @@ const uint8_t* writeSource(DescriptorSet* set, const VkWriteDescriptorSet& w, si
   return reinterpret_cast<const uint8_t*>(w.pImageInfo);
 }
 
-bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool apply) {
-  char what[64];
-  std::snprintf(what, sizeof what, "vkUpdateDescriptorSets: pDescriptorWrites[%u]", index);
-  DescriptorSet* set = fromHandle<DescriptorSet>(w.dstSet);
-  // VUID-VkWriteDescriptorSet-dstSet-00320
-  if (!set) {
-    report(dev, Severity::Error, "VUID-VkWriteDescriptorSet-dstSet-00320",
-           "%s: dstSet 0x%llx is not a live VkDescriptorSet", what, (unsigned long long)rawHandle(w.dstSet));
-    return false;
-  }
+}  // namespace
+
+namespace vkrt {
+
+bool writeDescriptorSet(DescriptorSet* set, const VkWriteDescriptorSet& w, bool apply, const char* what) {
+  Device* dev = set->device;
   if (isInlineBlock(w.descriptorType)) {
     auto* ib = findInChain<VkWriteDescriptorSetInlineUniformBlock>(
         w.pNext, VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_INLINE_UNIFORM_BLOCK);
     // VUID-VkWriteDescriptorSet-descriptorType-02221
     if (!ib || ib->dataSize != w.descriptorCount) {
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02221",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-02221",
              "%s: an inline uniform block write of %u bytes needs a VkWriteDescriptorSetInlineUniformBlock with "
              "dataSize %u in its pNext chain (%s)",
              what, w.descriptorCount, w.descriptorCount, ib ? "its dataSize differs" : "there is none");
@@ -508,7 +508,7 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
     }
     // VUID-VkWriteDescriptorSetInlineUniformBlock-pData-parameter
     if (!ib->pData) {
-      report(set, Severity::Error, "VUID-VkWriteDescriptorSetInlineUniformBlock-pData-parameter",
+      report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSetInlineUniformBlock-pData-parameter",
              "%s: VkWriteDescriptorSetInlineUniformBlock::pData is null", what);
       return false;
     }
@@ -520,11 +520,22 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
   }
   size_t stride = 0;
   const uint8_t* src = writeSource(set, w, stride, what);
+  // A push of sampler descriptors into a binding with immutable samplers pushes those; its pImageInfo may be null
+  // (VUID-vkCmdPushDescriptorSetKHR-pDescriptorWrites-06494 leaves VK_DESCRIPTOR_TYPE_SAMPLER out), and resolve()
+  // reads nothing of it.
+  static const VkDescriptorImageInfo kNoImageInfo{};
+  if (!src && set->pushedBy && w.descriptorType == VK_DESCRIPTOR_TYPE_SAMPLER) {
+    const DescriptorBinding* b = set->layout->bindingAt(w.dstBinding);
+    if (b && !b->immutableSamplers.empty()) {
+      src = reinterpret_cast<const uint8_t*>(&kNoImageInfo);
+      stride = 0;
+    }
+  }
   // VUID-VkWriteDescriptorSet-descriptorType-00322, -00323, -00324
   if (!src) {
     if (w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR &&
         w.descriptorType != VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_NV)
-      report(set, Severity::Error,
+      report(set->reportObject(), Severity::Error,
              isBufferType(w.descriptorType) ? "VUID-VkWriteDescriptorSet-descriptorType-00324"
                                             : "VUID-VkWriteDescriptorSet-descriptorType-00322",
              "%s: the descriptor array for %s is null", what, descriptorTypeName(w.descriptorType));
@@ -532,12 +543,29 @@ bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool ap
   }
   // VUID-VkWriteDescriptorSet-descriptorType-parameter
   if (!descriptorTypeSupported(dev, w.descriptorType)) {
-    report(set, Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
+    report(set->reportObject(), Severity::Error, "VUID-VkWriteDescriptorSet-descriptorType-parameter",
            "%s: descriptor type %d is not supported", what, w.descriptorType);
     return false;
   }
   return writeDescriptors(set, w.dstBinding, w.dstArrayElement, w.descriptorCount, w.descriptorType, src, stride, apply,
                           what);
+}
+
+}  // namespace vkrt
+
+namespace {
+
+bool doWrite(Device* dev, const VkWriteDescriptorSet& w, uint32_t index, bool apply) {
+  char what[64];
+  std::snprintf(what, sizeof what, "vkUpdateDescriptorSets: pDescriptorWrites[%u]", index);
+  DescriptorSet* set = fromHandle<DescriptorSet>(w.dstSet);
+  // VUID-VkWriteDescriptorSet-dstSet-00320
+  if (!set) {
+    report(dev, Severity::Error, "VUID-VkWriteDescriptorSet-dstSet-00320",
+           "%s: dstSet 0x%llx is not a live VkDescriptorSet", what, (unsigned long long)rawHandle(w.dstSet));
+    return false;
+  }
+  return writeDescriptorSet(set, w, apply, what);
 }
 
 // A copy from an inline uniform block: srcArrayElement, dstArrayElement and descriptorCount are bytes.

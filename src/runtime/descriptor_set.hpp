@@ -22,8 +22,14 @@ class DescriptorSet : public Object {
   DescriptorSet(Device* dev, DescriptorPool* pool, DescriptorSetLayout* layout, uint32_t variableCount);
   ~DescriptorSet();
 
-  DescriptorPool* const pool;
+  DescriptorPool* const pool;  // null for a pushed set
   DescriptorSetLayout* const layout;
+  // A set of push descriptors (vkCmdPushDescriptorSetKHR) is no application object: the command buffer that pushed
+  // it builds and owns it, and the reports about its writes name that command buffer (the set itself is taken out
+  // of the registry: no handle of it is ever given out).
+  const Object* pushedBy = nullptr;
+  // What reports about this set name: the set, or the command buffer that pushed it.
+  const Object* reportObject() const { return pushedBy ? pushedBy : this; }
   const uint32_t variableCount;  // elements of the variable-sized binding (0 when the layout has none)
   const uint32_t recordCount;
 
@@ -54,6 +60,10 @@ class DescriptorSet : public Object {
 // (reporting the first problem, naming `what`) and returns false on error; with apply=true stores the records.
 bool writeDescriptors(DescriptorSet* set, uint32_t binding, uint32_t arrayElement, uint32_t count,
                       VkDescriptorType type, const uint8_t* base, size_t stride, bool apply, const char* what);
+
+// Checks (apply=false) or carries out (apply=true) one VkWriteDescriptorSet into `set` (its dstSet is not read:
+// vkUpdateDescriptorSets resolves it, and a push descriptor write ignores it). Reports naming `what`.
+bool writeDescriptorSet(DescriptorSet* set, const VkWriteDescriptorSet& w, bool apply, const char* what);
 
 // Writes `size` bytes from `data` into inline uniform block `binding` from byte `offset`, the rest into the
 // consecutive bindings after it from their byte 0 ("Descriptor Set Updates"). Reports (naming `what`) and returns

@@ -101,6 +101,19 @@ DescriptorSetLayout::DescriptorSetLayout(Device* dev, const VkDescriptorSetLayou
   }
 }
 
+bool DescriptorSetLayout::sameDefinition(const DescriptorSetLayout& other) const {
+  if (this == &other) return true;
+  if (flags != other.flags || bindings.size() != other.bindings.size()) return false;
+  for (size_t i = 0; i < bindings.size(); ++i) {
+    const DescriptorBinding& x = bindings[i];
+    const DescriptorBinding& y = other.bindings[i];
+    if (x.binding != y.binding || x.type != y.type || x.count != y.count || x.stages != y.stages ||
+        x.flags != y.flags || x.immutableSamplers != y.immutableSamplers)
+      return false;
+  }
+  return true;
+}
+
 const DescriptorBinding* DescriptorSetLayout::bindingAt(uint32_t binding) const {
   auto it = std::lower_bound(bindings.begin(), bindings.end(), binding,
                              [](const DescriptorBinding& d, uint32_t b) { return d.binding < b; });
@@ -151,13 +164,49 @@ bool validateLayout(Device* dev, const VkDescriptorSetLayoutCreateInfo& info, bo
     FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-bindingCount-03002",
          "%s: VkDescriptorSetLayoutBindingFlagsCreateInfo::bindingCount is %u but the layout has %u bindings", cmd,
          bf->bindingCount, info.bindingCount);
-  // Push descriptors and descriptor buffers are not exposed.
-  constexpr VkDescriptorSetLayoutCreateFlags kKnownFlags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT;
+  // Push descriptors with VK_KHR_push_descriptor; descriptor buffers are not exposed.
+  const VkDescriptorSetLayoutCreateFlags kKnownFlags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_UPDATE_AFTER_BIND_POOL_BIT |
+                                                       (dev->extensionEnabled(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)
+                                                            ? VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR
+                                                            : 0);
   // VUID-VkDescriptorSetLayoutCreateInfo-flags-parameter
   if (info.flags & ~kKnownFlags)
     FAIL("VUID-VkDescriptorSetLayoutCreateInfo-flags-parameter",
          "%s: flags 0x%x include bits of extensions this device does not enable (supported: 0x%x)", cmd, info.flags,
          kKnownFlags);
+  if (info.flags & VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR) {
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < info.bindingCount; ++i) {
+      const VkDescriptorSetLayoutBinding& b = info.pBindings[i];
+      total += b.descriptorCount;
+      // VUID-VkDescriptorSetLayoutCreateInfo-flags-00280
+      if (isDynamicBufferType(b.descriptorType))
+        FAIL("VUID-VkDescriptorSetLayoutCreateInfo-flags-00280",
+             "%s: a push descriptor layout (VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR) may hold no "
+             "dynamic buffer, but pBindings[%u] (binding %u) is %s",
+             cmd, i, b.binding, descriptorTypeName(b.descriptorType));
+      // VUID-VkDescriptorSetLayoutCreateInfo-flags-02208
+      if (isInlineBlock(b.descriptorType))
+        FAIL("VUID-VkDescriptorSetLayoutCreateInfo-flags-02208",
+             "%s: a push descriptor layout may hold no inline uniform block, but pBindings[%u] (binding %u) is one",
+             cmd, i, b.binding);
+      // VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-flags-03003
+      constexpr VkDescriptorBindingFlags kNotPushed = VK_DESCRIPTOR_BINDING_UPDATE_AFTER_BIND_BIT |
+                                                      VK_DESCRIPTOR_BINDING_UPDATE_UNUSED_WHILE_PENDING_BIT |
+                                                      VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT;
+      const VkDescriptorBindingFlags fl = (bf && bf->bindingCount == info.bindingCount) ? bf->pBindingFlags[i] : 0;
+      if (fl & kNotPushed)
+        FAIL("VUID-VkDescriptorSetLayoutBindingFlagsCreateInfo-flags-03003",
+             "%s: a push descriptor layout's bindings may not be UPDATE_AFTER_BIND, UPDATE_UNUSED_WHILE_PENDING or "
+             "VARIABLE_DESCRIPTOR_COUNT, but pBindingFlags[%u] (binding %u) is 0x%x",
+             cmd, i, b.binding, fl);
+    }
+    // VUID-VkDescriptorSetLayoutCreateInfo-flags-00281
+    if (total > kMaxPushDescriptors)
+      FAIL("VUID-VkDescriptorSetLayoutCreateInfo-flags-00281",
+           "%s: a push descriptor layout holds %llu descriptors, more than maxPushDescriptors %u", cmd,
+           (unsigned long long)total, kMaxPushDescriptors);
+  }
   bool anyUpdateAfterBind = false, anyDynamic = false;
   for (uint32_t i = 0; i < info.bindingCount; ++i) {
     const VkDescriptorSetLayoutBinding& b = info.pBindings[i];

@@ -55,7 +55,13 @@ class DescriptorSetLayout : public Object {
   uint32_t dynamicCount = 0;                // dynamic uniform + storage buffer descriptors
   uint32_t inlineBytes = 0;                 // inline uniform block bytes of a set (variable binding at its bound)
   bool hasVariableCount = false;            // the last binding is variable-sized
+  // VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR: no set is allocated with it; vkCmdPushDescriptorSetKHR
+  // builds one in the command buffer (runtime/push_descriptor_commands.cpp).
+  bool isPush() const { return (flags & VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR) != 0; }
 
+  // Whether `other` is "identically defined" (the same flags and bindings: VUID-vkCmdBindDescriptorSets-
+  // pDescriptorSets-00358, and the push descriptor sets a later push keeps).
+  bool sameDefinition(const DescriptorSetLayout& other) const;
   // The binding with number `binding`, or nullptr if the layout has none.
   const DescriptorBinding* bindingAt(uint32_t binding) const;
   // Records of a set allocated with `variableCount` elements in its variable-sized binding.
@@ -77,6 +83,10 @@ class DescriptorSetLayout : public Object {
   VkAllocationCallbacks alloc_{};
   bool hasAlloc_ = false;
 };
+
+// VkPhysicalDevicePushDescriptorPropertiesKHR::maxPushDescriptors: the most descriptors a push layout holds (the
+// specification's minimum is 32; a pushed set is a copy of that many records per push).
+inline constexpr uint32_t kMaxPushDescriptors = 32;
 
 // The application's live layout behind `h` (nullptr for a stale, destroyed or garbage handle).
 DescriptorSetLayout* liveSetLayout(VkDescriptorSetLayout h);

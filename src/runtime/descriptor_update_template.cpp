@@ -5,6 +5,7 @@
 #include "runtime/alloc.hpp"
 #include "runtime/descriptor_set.hpp"
 #include "runtime/device.hpp"
+#include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -14,11 +15,34 @@ DescriptorUpdateTemplate::DescriptorUpdateTemplate(Device* dev, const VkDescript
                                                    DescriptorSetLayout* layout)
     : Object(kType, dev->instance, dev),
       layout(layout),
+      type(info.templateType),
+      bindPoint(info.pipelineBindPoint),
       entries(info.pDescriptorUpdateEntries, info.pDescriptorUpdateEntries + info.descriptorUpdateEntryCount) {
   layout->retain();
 }
 
 DescriptorUpdateTemplate::~DescriptorUpdateTemplate() { DescriptorSetLayout::release(layout); }
+
+bool DescriptorUpdateTemplate::write(DescriptorSet* set, const void* pData, const char* fn) const {
+  // Bindings and types are checked against the set's own layout by writeDescriptors.
+  auto* data = static_cast<const uint8_t*>(pData);
+  for (bool apply : {false, true}) {
+    for (size_t i = 0; i < entries.size(); ++i) {
+      const VkDescriptorUpdateTemplateEntry& e = entries[i];
+      char what[112];
+      std::snprintf(what, sizeof what, "%s: pDescriptorUpdateEntries[%zu]", fn, i);
+      // An inline uniform block entry's data is its bytes, from pData + offset (stride is ignored).
+      const bool ok = isInlineBlock(e.descriptorType)
+                          ? writeInlineBlock(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, data + e.offset,
+                                             apply, what, "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226",
+                                             "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227")
+                          : writeDescriptors(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, e.descriptorType,
+                                             data + e.offset, e.stride, apply, what);
+      if (!ok) return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace vkrt
 
@@ -30,20 +54,57 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateDescriptorUpdateTemplate(
     VkDevice device, const VkDescriptorUpdateTemplateCreateInfo* pCreateInfo, const VkAllocationCallbacks* pAllocator,
     VkDescriptorUpdateTemplate* pDescriptorUpdateTemplate) {
   Device* dev = fromHandleUnchecked<Device>(device);
-  // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-parameter (push descriptors are not exposed)
-  if (pCreateInfo->templateType != VK_DESCRIPTOR_UPDATE_TEMPLATE_TYPE_DESCRIPTOR_SET) {
+  const bool push = pCreateInfo->templateType == VK_DESCRIPTOR_UPDATE_TEMPLATE_TYPE_PUSH_DESCRIPTORS_KHR;
+  // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-parameter (push descriptors with VK_KHR_push_descriptor)
+  if (pCreateInfo->templateType != VK_DESCRIPTOR_UPDATE_TEMPLATE_TYPE_DESCRIPTOR_SET &&
+      !(push && dev->extensionEnabled(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))) {
     report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-parameter",
-           "vkCreateDescriptorUpdateTemplate: templateType %d is not supported (VK_KHR_push_descriptor is not enabled)",
-           pCreateInfo->templateType);
+           "vkCreateDescriptorUpdateTemplate: templateType %d is not supported%s", pCreateInfo->templateType,
+           push ? " (VK_KHR_push_descriptor is not enabled)" : "");
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
-  DescriptorSetLayout* layout = liveSetLayout(pCreateInfo->descriptorSetLayout);
-  // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00350
-  if (!layout) {
-    report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00350",
-           "vkCreateDescriptorUpdateTemplate: descriptorSetLayout 0x%llx is not a live VkDescriptorSetLayout",
-           (unsigned long long)rawHandle(pCreateInfo->descriptorSetLayout));
-    return VK_ERROR_VALIDATION_FAILED_EXT;
+  DescriptorSetLayout* layout = nullptr;
+  if (push) {
+    const VkPipelineBindPoint bp = pCreateInfo->pipelineBindPoint;
+    // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00351
+    if (bp != VK_PIPELINE_BIND_POINT_COMPUTE && bp != VK_PIPELINE_BIND_POINT_GRAPHICS &&
+        bp != VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR) {
+      report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00351",
+             "vkCreateDescriptorUpdateTemplate: a push descriptor template has pipelineBindPoint %d, not a bind point "
+             "vkrt supports (graphics, compute, ray tracing)",
+             (int)bp);
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    PipelineLayout* pl = fromHandle<PipelineLayout>(pCreateInfo->pipelineLayout);
+    // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00352
+    if (!pl) {
+      report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00352",
+             "vkCreateDescriptorUpdateTemplate: a push descriptor template's pipelineLayout 0x%llx is not a live "
+             "VkPipelineLayout",
+             (unsigned long long)rawHandle(pCreateInfo->pipelineLayout));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00353
+    if (pCreateInfo->set >= pl->setLayouts.size() || !pl->setLayouts[pCreateInfo->set]->isPush()) {
+      report(pl, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00353",
+             "vkCreateDescriptorUpdateTemplate: set %u is not the push descriptor set of pipelineLayout (%zu set "
+             "layouts%s)",
+             pCreateInfo->set, pl->setLayouts.size(),
+             pCreateInfo->set < pl->setLayouts.size() ? "; that one was created without "
+                                                        "VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR"
+                                                      : "");
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
+    layout = pl->setLayouts[pCreateInfo->set];
+  } else {
+    layout = liveSetLayout(pCreateInfo->descriptorSetLayout);
+    // VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00350
+    if (!layout) {
+      report(dev, Severity::Error, "VUID-VkDescriptorUpdateTemplateCreateInfo-templateType-00350",
+             "vkCreateDescriptorUpdateTemplate: descriptorSetLayout 0x%llx is not a live VkDescriptorSetLayout",
+             (unsigned long long)rawHandle(pCreateInfo->descriptorSetLayout));
+      return VK_ERROR_VALIDATION_FAILED_EXT;
+    }
   }
   for (uint32_t i = 0; i < pCreateInfo->descriptorUpdateEntryCount; ++i) {
     const VkDescriptorUpdateTemplateEntry& e = pCreateInfo->pDescriptorUpdateEntries[i];
@@ -120,23 +181,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_UpdateDescriptorSetWithTemplate(VkDevice device,
            "vkUpdateDescriptorSetWithTemplate: %s is not live", !set ? "descriptorSet" : "descriptorUpdateTemplate");
     return;
   }
-  // Bindings and types are checked against the set's own layout by writeDescriptors.
-  auto* data = static_cast<const uint8_t*>(pData);
-  for (bool apply : {false, true}) {
-    for (size_t i = 0; i < t->entries.size(); ++i) {
-      const VkDescriptorUpdateTemplateEntry& e = t->entries[i];
-      char what[96];
-      std::snprintf(what, sizeof what, "vkUpdateDescriptorSetWithTemplate: pDescriptorUpdateEntries[%zu]", i);
-      // An inline uniform block entry's data is its bytes, from pData + offset (stride is ignored).
-      const bool ok = isInlineBlock(e.descriptorType)
-                          ? writeInlineBlock(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, data + e.offset,
-                                             apply, what, "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02226",
-                                             "VUID-VkDescriptorUpdateTemplateEntry-descriptor-02227")
-                          : writeDescriptors(set, e.dstBinding, e.dstArrayElement, e.descriptorCount, e.descriptorType,
-                                             data + e.offset, e.stride, apply, what);
-      if (!ok) return;
-    }
-  }
+  t->write(set, pData, "vkUpdateDescriptorSetWithTemplate");
 }
 
 }  // extern "C"

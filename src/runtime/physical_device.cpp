@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "runtime/alloc.hpp"
+#include "runtime/descriptor_set_layout.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/ray_tracing_features.hpp"
 #include "runtime/report.hpp"
@@ -328,6 +329,9 @@ PhysicalDevice::PhysicalDevice(Instance* inst) : Object(kType, inst, nullptr) {
       {VK_EXT_EXTENDED_DYNAMIC_STATE_EXTENSION_NAME, VK_EXT_EXTENDED_DYNAMIC_STATE_SPEC_VERSION},
       {VK_EXT_EXTENDED_DYNAMIC_STATE_2_EXTENSION_NAME, VK_EXT_EXTENDED_DYNAMIC_STATE_2_SPEC_VERSION},
       {VK_KHR_MAINTENANCE_2_EXTENSION_NAME, VK_KHR_MAINTENANCE_2_SPEC_VERSION},
+      // Push descriptors: a set the command buffer builds per push (runtime/push_descriptor_commands.cpp), and push
+      // descriptor update templates (runtime/descriptor_update_template.cpp).
+      {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_SPEC_VERSION},
   };
   // Ray tracing (runtime/ray_tracing_features.cpp).
   appendRayTracingExtensions(extensions_);
@@ -368,6 +372,14 @@ void PhysicalDevice::fillFeatures(VkPhysicalDeviceFeatures2* out) const {
   }
 }
 
+namespace {
+
+// VK_KHR_push_descriptor's limit (runtime/descriptor_set_layout.hpp).
+const VkPhysicalDevicePushDescriptorPropertiesKHR kPushDescriptorProperties{
+    VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PUSH_DESCRIPTOR_PROPERTIES_KHR, nullptr, kMaxPushDescriptors};
+
+}  // namespace
+
 void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
   out->properties = properties10;
   const void* core[4] = {nullptr, &properties11, &properties12, &properties13};
@@ -385,6 +397,7 @@ void PhysicalDevice::fillProperties(VkPhysicalDeviceProperties2* out) const {
         whole = &accelerationStructureProperties;
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PROPERTIES_NV: whole = &rayTracingPropertiesNV; break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PUSH_DESCRIPTOR_PROPERTIES_KHR: whole = &kPushDescriptorProperties; break;
       default: break;
     }
     if (whole) {

@@ -65,6 +65,17 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreatePipelineLayout(VkDevice device, const 
              (unsigned long long)rawHandle(pCreateInfo->pSetLayouts[i]));
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
+    // VUID-VkPipelineLayoutCreateInfo-pSetLayouts-00293
+    if (l->isPush())
+      for (uint32_t j = 0; j < i; ++j)
+        if (layouts[j]->isPush()) {
+          report(dev, Severity::Error, "VUID-VkPipelineLayoutCreateInfo-pSetLayouts-00293",
+                 "%s: pSetLayouts[%u] and pSetLayouts[%u] were both created with "
+                 "VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR; a pipeline layout has at most one push "
+                 "descriptor set",
+                 cmd, j, i);
+          return VK_ERROR_VALIDATION_FAILED_EXT;
+        }
     for (const DescriptorBinding& b : l->bindings) {
       if (b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC) uniformDynamic += b.count;
       if (b.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC) storageDynamic += b.count;
