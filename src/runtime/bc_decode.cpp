@@ -112,6 +112,156 @@ void decodeRgtcChannel(const uint8_t* b, bool isSigned, float out[16]) {
   for (int i = 0; i < 16; ++i) out[i] = v[(codes >> (3 * i)) & 7];
 }
 
+// ---- BPTC: partitions, anchors and weights shared by BC7 and BC6H ----
+
+// "Partition table for 2-subset BPTC": bit i is the subset of texel i (i = x + 4 * y). BC6H uses the first 32.
+constexpr uint16_t kPartitions2[64] = {
+    0xcccc, 0x8888, 0xeeee, 0xecc8, 0xc880, 0xfeec, 0xfec8, 0xec80, 0xc800, 0xffec, 0xfe80, 0xe800, 0xffe8,
+    0xff00, 0xfff0, 0xf000, 0xf710, 0x008e, 0x7100, 0x08ce, 0x008c, 0x7310, 0x3100, 0x8cce, 0x088c, 0x3110,
+    0x6666, 0x366c, 0x17e8, 0x0ff0, 0x718e, 0x399c, 0xaaaa, 0xf0f0, 0x5a5a, 0x33cc, 0x3c3c, 0x55aa, 0x9696,
+    0xa55a, 0x73ce, 0x13c8, 0x324c, 0x3bdc, 0x6996, 0xc33c, 0x9966, 0x0660, 0x0272, 0x04e4, 0x4e40, 0x2720,
+    0xc936, 0x936c, 0x39c6, 0x639c, 0x9336, 0x9cc6, 0x817e, 0xe718, 0xccf0, 0x0fcc, 0x7744, 0xee22,
+};
+
+// "Partition table for 3-subset BPTC": bits 2i..2i+1 are the subset of texel i.
+constexpr uint32_t kPartitions3[64] = {
+    0xaa685050, 0x6a5a5040, 0x5a5a4200, 0x5450a0a8, 0xa5a50000, 0xa0a05050, 0x5555a0a0, 0x5a5a5050,
+    0xaa550000, 0xaa555500, 0xaaaa5500, 0x90909090, 0x94949494, 0xa4a4a4a4, 0xa9a59450, 0x2a0a4250,
+    0xa5945040, 0x0a425054, 0xa5a5a500, 0x55a0a0a0, 0xa8a85454, 0x6a6a4040, 0xa4a45000, 0x1a1a0500,
+    0x0050a4a4, 0xaaa59090, 0x14696914, 0x69691400, 0xa08585a0, 0xaa821414, 0x50a4a450, 0x6a5a0200,
+    0xa9a58000, 0x5090a0a8, 0xa8a09050, 0x24242424, 0x00aa5500, 0x24924924, 0x24499224, 0x50a50a50,
+    0x500aa550, 0xaaaa4444, 0x66660000, 0xa5a0a5a0, 0x50a050a0, 0x69286928, 0x44aaaa44, 0x66666600,
+    0xaa444444, 0x54a854a8, 0x95809580, 0x96969600, 0xa85454a8, 0x80959580, 0xaa141414, 0x96960000,
+    0xaaaa1414, 0xa05050a0, 0xa0a5a5a0, 0x96000000, 0x40804080, 0xa9a8a9a8, 0xaaaaaa44, 0x2a4a5254,
+};
+
+// "BPTC anchor index values for the second subset of two-subset partitioning". (1.4's partition table prints
+// partition 35's anchor in bold at index 2; this table, DirectXTex and ARB_texture_compression_bptc say 8.)
+constexpr uint8_t kAnchor2[64] = {
+    15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 2,  8, 2,  2, 8,
+    8,  15, 2,  8,  2,  2,  8,  8,  2,  2,  15, 15, 6,  8,  2,  8,  15, 15, 2, 8,  2, 2,
+    2,  15, 15, 6,  6,  2,  6,  8,  15, 15, 2,  2,  15, 15, 15, 15, 15, 2,  2, 15,
+};
+// "... for the second subset of three-subset partitioning".
+constexpr uint8_t kAnchor3Second[64] = {
+    3, 3,  15, 15, 8, 3,  15, 15, 8,  8, 6,  6, 6,  5,  3,  3,  3, 3,  8, 15, 3, 3, 6, 10, 5, 8,  8, 6,  8,  5,  15, 15,
+    8, 15, 3,  5,  6, 10, 8,  15, 15, 3, 15, 5, 15, 15, 15, 15, 3, 15, 5, 5,  5, 8, 5, 10, 5, 10, 8, 13, 15, 12, 3,  3,
+};
+// "... for the third subset of three-subset partitioning".
+constexpr uint8_t kAnchor3Third[64] = {
+    15, 8, 8, 3,  15, 15, 3,  8,  15, 15, 15, 15, 15, 15, 15, 8,  15, 8,  15, 3,  15, 8,
+    15, 8, 3, 15, 6,  10, 15, 15, 10, 8,  15, 3,  15, 10, 10, 8,  9,  10, 6,  15, 8,  15,
+    3,  6, 6, 8,  15, 3,  15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 3,  15, 15, 8,
+};
+
+// "BPTC interpolation factors", by index bits.
+constexpr uint8_t kWeights2[4] = {0, 21, 43, 64};
+constexpr uint8_t kWeights3[8] = {0, 9, 18, 27, 37, 46, 55, 64};
+constexpr uint8_t kWeights4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
+
+uint32_t weight(uint32_t indexBits, uint32_t index) {
+  return indexBits == 2 ? kWeights2[index] : indexBits == 3 ? kWeights3[index] : kWeights4[index];
+}
+
+// "BPTC endpoint interpolation formula" (arithmetic shift for BC6H's signed endpoints).
+int32_t interpolate(int32_t e0, int32_t e1, uint32_t w) { return ((64 - int32_t(w)) * e0 + int32_t(w) * e1 + 32) >> 6; }
+
+// The subset of texel i in a block of `subsets` subsets with partition `partition`.
+uint32_t subsetOf(uint32_t subsets, uint32_t partition, uint32_t i) {
+  if (subsets == 2) return (kPartitions2[partition] >> i) & 1;
+  if (subsets == 3) return (kPartitions3[partition] >> (2 * i)) & 3;
+  return 0;
+}
+
+// Whether texel i holds an anchor index (one bit shorter: its top bit is implied zero).
+bool isAnchor(uint32_t subsets, uint32_t partition, uint32_t i) {
+  if (i == 0) return true;
+  if (subsets == 2) return i == kAnchor2[partition];
+  if (subsets == 3) return i == kAnchor3Second[partition] || i == kAnchor3Third[partition];
+  return false;
+}
+
+// Reads the 16 indices of `bits` bits each from the cursor, anchors one bit shorter, in texel order.
+void readIndices(Bits& in, uint32_t subsets, uint32_t partition, uint32_t bits, uint8_t out[16]) {
+  for (uint32_t i = 0; i < 16; ++i) out[i] = uint8_t(in.read(bits - (isAnchor(subsets, partition, i) ? 1 : 0)));
+}
+
+// ---- BPTC: BC7 ----
+
+// "Mode-dependent BPTC parameters": NS, PB, RB, ISB, CB, AB, EPB, SPB, IB, IB2.
+struct Bc7Mode {
+  uint8_t subsets, partitionBits, rotationBits, indexSelectionBits, colorBits, alphaBits, endpointPBits, sharedPBits,
+      indexBits, secondaryIndexBits;
+};
+constexpr Bc7Mode kBc7Modes[8] = {
+    {3, 4, 0, 0, 4, 0, 1, 0, 3, 0}, {2, 6, 0, 0, 6, 0, 0, 1, 3, 0}, {3, 6, 0, 0, 5, 0, 0, 0, 2, 0},
+    {2, 6, 0, 0, 7, 0, 1, 0, 2, 0}, {1, 0, 2, 1, 5, 6, 0, 0, 2, 3}, {1, 0, 2, 0, 7, 8, 0, 0, 2, 2},
+    {1, 0, 0, 0, 7, 7, 1, 0, 4, 0}, {2, 6, 0, 0, 5, 5, 1, 0, 2, 0},
+};
+
+// An n-bit value (n >= 4) widened to 8 bits by replicating its top bits into the low ones.
+uint32_t widen8(uint32_t v, uint32_t n) { return n >= 8 ? v : (v << (8 - n)) | (v >> (2 * n - 8)); }
+
+void decodeBc7(const uint8_t* block, float out[16][4]) {
+  if (block[0] == 0) {  // no mode bit: reserved, all channels zero
+    for (int i = 0; i < 16; ++i) setTexel(out[i], 0, 0, 0, 0);
+    return;
+  }
+  uint32_t mode = 0;
+  while (!(block[0] & (1u << mode))) ++mode;
+  const Bc7Mode& m = kBc7Modes[mode];
+  Bits in(block, 16);
+  in.read(mode + 1);
+  uint32_t partition = in.read(m.partitionBits);
+  uint32_t rotation = in.read(m.rotationBits);
+  uint32_t indexSelection = in.read(m.indexSelectionBits);
+  uint32_t endpoints = 2 * m.subsets;
+  // Endpoints grouped by channel, then subset, then endpoint: e = 2 * subset + endpoint.
+  uint32_t ep[6][4];
+  for (uint32_t ch = 0; ch < 3; ++ch)
+    for (uint32_t e = 0; e < endpoints; ++e) ep[e][ch] = in.read(m.colorBits);
+  for (uint32_t e = 0; e < endpoints; ++e) ep[e][3] = in.read(m.alphaBits);
+  uint32_t pbit[6] = {};
+  bool hasP = m.endpointPBits || m.sharedPBits;
+  if (m.endpointPBits)
+    for (uint32_t e = 0; e < endpoints; ++e) pbit[e] = in.read(1);
+  if (m.sharedPBits)
+    for (uint32_t s = 0; s < m.subsets; ++s) pbit[2 * s] = pbit[2 * s + 1] = in.read(1);
+  for (uint32_t e = 0; e < endpoints; ++e) {
+    for (uint32_t ch = 0; ch < 4; ++ch) {
+      uint32_t n = ch < 3 ? m.colorBits : m.alphaBits;
+      if (n == 0) {
+        ep[e][ch] = 255;
+        continue;
+      }
+      uint32_t v = ep[e][ch];
+      if (hasP) v = (v << 1) | pbit[e], ++n;  // the P-bit sits below the stored bits, alpha included
+      ep[e][ch] = widen8(v, n);
+    }
+  }
+  uint8_t primary[16], secondary[16] = {};
+  readIndices(in, m.subsets, partition, m.indexBits, primary);
+  if (m.secondaryIndexBits) readIndices(in, 1, 0, m.secondaryIndexBits, secondary);
+  // Colour from the secondary indices when the index selection bit is 1; alpha from them when the mode has them
+  // and the bit is 0 (or absent); the primary ones otherwise.
+  bool colorSecondary = indexSelection == 1;
+  bool alphaSecondary = m.secondaryIndexBits && indexSelection == 0;
+  uint32_t colorBits = colorSecondary ? m.secondaryIndexBits : m.indexBits;
+  uint32_t alphaBits = alphaSecondary ? m.secondaryIndexBits : m.indexBits;
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t s = subsetOf(m.subsets, partition, i);
+    const uint32_t* e0 = ep[2 * s];
+    const uint32_t* e1 = ep[2 * s + 1];
+    uint32_t wc = weight(colorBits, colorSecondary ? secondary[i] : primary[i]);
+    uint32_t wa = weight(alphaBits, alphaSecondary ? secondary[i] : primary[i]);
+    int32_t c[4];
+    for (int ch = 0; ch < 3; ++ch) c[ch] = interpolate(int32_t(e0[ch]), int32_t(e1[ch]), wc);
+    c[3] = interpolate(int32_t(e0[3]), int32_t(e1[3]), wa);
+    if (rotation) std::swap(c[3], c[rotation - 1]);  // "BPTC Rotation bits": 1 swaps A and R, 2 A and G, 3 A and B
+    setTexel(out[i], float(c[0]) / 255.0f, float(c[1]) / 255.0f, float(c[2]) / 255.0f, float(c[3]) / 255.0f);
+  }
+}
+
 }  // namespace
 
 void decodeBlock(Kind kind, const uint8_t* block, float out[16][4]) {
@@ -150,9 +300,7 @@ void decodeBlock(Kind kind, const uint8_t* block, float out[16][4]) {
     case Kind::BC6H_SFLOAT:  // not decoded yet
       for (int i = 0; i < 16; ++i) setTexel(out[i], 0, 0, 0, 1);
       return;
-    case Kind::BC7:  // not decoded yet
-      for (int i = 0; i < 16; ++i) setTexel(out[i], 0, 0, 0, 1);
-      return;
+    case Kind::BC7: decodeBc7(block, out); return;
   }
 }
 

@@ -252,6 +252,281 @@ TEST(BcDecode, Bc5TwoChannels) {
   }
 }
 
+// ---- BPTC tables, transcribed from the spec's tables as text ----
+
+// "Partition table for 2-subset BPTC" and "... 3-subset BPTC": texel x + 4 * y's subset, one digit each.
+const char* const kP2[64] = {
+    "0011001100110011", "0001000100010001", "0111011101110111", "0001001100110111", "0000000100010011",
+    "0011011101111111", "0001001101111111", "0000000100110111", "0000000000010011", "0011011111111111",
+    "0000000101111111", "0000000000010111", "0001011111111111", "0000000011111111", "0000111111111111",
+    "0000000000001111", "0000100011101111", "0111000100000000", "0000000010001110", "0111001100010000",
+    "0011000100000000", "0000100011001110", "0000000010001100", "0111001100110001", "0011000100010000",
+    "0000100010001100", "0110011001100110", "0011011001101100", "0001011111101000", "0000111111110000",
+    "0111000110001110", "0011100110011100", "0101010101010101", "0000111100001111", "0101101001011010",
+    "0011001111001100", "0011110000111100", "0101010110101010", "0110100101101001", "0101101010100101",
+    "0111001111001110", "0001001111001000", "0011001001001100", "0011101111011100", "0110100110010110",
+    "0011110011000011", "0110011010011001", "0000011001100000", "0100111001000000", "0010011100100000",
+    "0000001001110010", "0000010011100100", "0110110010010011", "0011011011001001", "0110001110011100",
+    "0011100111000110", "0110110011001001", "0110001100111001", "0111111010000001", "0001100011100111",
+    "0000111100110011", "0011001111110000", "0010001011101110", "0100010001110111",
+};
+const char* const kP3[64] = {
+    "0011001102212222", "0001001122112221", "0000200122112211", "0222002200110111", "0000000011221122",
+    "0011001100220022", "0022002211111111", "0011001122112211", "0000000011112222", "0000111111112222",
+    "0000111122222222", "0012001200120012", "0112011201120112", "0122012201220122", "0011011211221222",
+    "0011200122002220", "0001001101121122", "0111001120012200", "0000112211221122", "0022002200221111",
+    "0111011102220222", "0001000122212221", "0000001101220122", "0000110022102210", "0122012200110000",
+    "0012001211222222", "0110122112210110", "0000011012211221", "0022110211020022", "0110011020022222",
+    "0011012201220011", "0000200022112221", "0000000211221222", "0222002200120011", "0011001200220222",
+    "0120012001200120", "0000111122220000", "0120120120120120", "0120201212010120", "0011220011220011",
+    "0011112222000011", "0101010122222222", "0000000021212121", "0022112200221122", "0022001100220011",
+    "0220122102201221", "0101222222220101", "0000212121212121", "0101010101012222", "0222011102220111",
+    "0002111200021112", "0000211221122112", "0222011101110222", "0002111211120002", "0110011001102222",
+    "0000000021122112", "0110011022222222", "0022001100110022", "0022112211220022", "0000000000002112",
+    "0002000100020001", "0222122202221222", "0101222222222222", "0111201122012220",
+};
+// The anchor index tables, one hex digit per partition: second subset of 2, second and third subsets of 3.
+const char kA2[] = "fffffffffffffffff282288f28228822ff6828ff28222ff66268ff22fffff22f";
+const char kA32[] = "33ff83ff88666533338f336a588685ff8f356a8ff3f5ffff3f55585a5a8dfc33";
+const char kA33[] = "f883ff38fffffff8f8f3f8f83f6affa8f3faa89a6f8f3668f3ffffffffff3ff8";
+
+uint32_t hexDigit(char c) { return c <= '9' ? uint32_t(c - '0') : uint32_t(c - 'a' + 10); }
+
+uint32_t subsetOfTexel(uint32_t subsets, uint32_t partition, uint32_t texel) {
+  if (subsets == 1) return 0;
+  return uint32_t((subsets == 2 ? kP2 : kP3)[partition][texel] - '0');
+}
+
+// Anchor indices: texel 0 for subset 0, then the tables.
+bool anchorTexel(uint32_t subsets, uint32_t partition, uint32_t texel) {
+  if (texel == 0) return true;
+  if (subsets == 2) return texel == hexDigit(kA2[partition]);
+  if (subsets == 3) return texel == hexDigit(kA32[partition]) || texel == hexDigit(kA33[partition]);
+  return false;
+}
+
+// The tables hang together: each anchor lies in its subset, and partition 0 of each starts with subset 0.
+TEST(BcDecode, BptcTestTablesAreConsistent) {
+  for (uint32_t p = 0; p < 64; ++p) {
+    EXPECT_EQ(kP2[p][hexDigit(kA2[p])], '1') << p;
+    EXPECT_EQ(kP3[p][hexDigit(kA32[p])], '1') << p;
+    EXPECT_EQ(kP3[p][hexDigit(kA33[p])], '2') << p;
+    EXPECT_EQ(kP2[p][0], '0');
+    EXPECT_EQ(kP3[p][0], '0');
+  }
+}
+
+// The weights of "BPTC interpolation factors", by the spec's formulas (not its table).
+uint32_t bptcWeight(uint32_t bits, uint32_t index) {
+  if (bits == 2) return index * 21 + (index >> 1);
+  if (bits == 3) return index * 9 + (index >> 2);
+  return (index << 2) + (index >> 2) + ((index >> 1) & 1);
+}
+
+TEST(BcDecode, BptcWeightFormulasMatchTheTable) {
+  const uint32_t w4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64};
+  const uint32_t w3[8] = {0, 9, 18, 27, 37, 46, 55, 64};
+  for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(bptcWeight(4, i), w4[i]);
+  for (uint32_t i = 0; i < 8; ++i) EXPECT_EQ(bptcWeight(3, i), w3[i]);
+  EXPECT_EQ(bptcWeight(2, 1), 21u);
+  EXPECT_EQ(bptcWeight(2, 2), 43u);
+}
+
+int32_t bptcInterpolate(int32_t e0, int32_t e1, uint32_t w) {
+  return ((64 - int32_t(w)) * e0 + int32_t(w) * e1 + 32) >> 6;
+}
+
+// ---- BC7 ----
+
+// "Mode-dependent BPTC parameters".
+struct Bc7Params {
+  uint32_t ns, pb, rb, isb, cb, ab, epb, spb, ib, ib2;
+};
+const Bc7Params kBc7Params[8] = {
+    {3, 4, 0, 0, 4, 0, 1, 0, 3, 0}, {2, 6, 0, 0, 6, 0, 0, 1, 3, 0}, {3, 6, 0, 0, 5, 0, 0, 0, 2, 0},
+    {2, 6, 0, 0, 7, 0, 1, 0, 2, 0}, {1, 0, 2, 1, 5, 6, 0, 0, 2, 3}, {1, 0, 2, 0, 7, 8, 0, 0, 2, 2},
+    {1, 0, 0, 0, 7, 7, 1, 0, 4, 0}, {2, 6, 0, 0, 5, 5, 1, 0, 2, 0},
+};
+
+struct Bc7Fields {
+  uint32_t mode = 0, partition = 0, rotation = 0, indexSelection = 0;
+  uint32_t color[6][3] = {}, alpha[6] = {};
+  uint32_t pbit[6] = {};  // per endpoint (EPB), or per subset (SPB)
+  uint32_t index[16] = {}, index2[16] = {};
+};
+
+// Random fields for a mode; anchor indices get their top bit zero (the bit the block does not store).
+Bc7Fields randomBc7(Rng& rng, uint32_t mode) {
+  const Bc7Params& m = kBc7Params[mode];
+  Bc7Fields f;
+  f.mode = mode;
+  f.partition = rng.bits(m.pb);
+  f.rotation = rng.bits(m.rb);
+  f.indexSelection = rng.bits(m.isb);
+  for (auto& c : f.color)
+    for (uint32_t& v : c) v = rng.bits(m.cb);
+  for (uint32_t& a : f.alpha) a = rng.bits(m.ab);
+  for (uint32_t& p : f.pbit) p = rng.bits(1);
+  for (uint32_t i = 0; i < 16; ++i) {
+    f.index[i] = rng.bits(m.ib - (anchorTexel(m.ns, f.partition, i) ? 1 : 0));
+    if (m.ib2) f.index2[i] = rng.bits(m.ib2 - (i == 0 ? 1 : 0));
+  }
+  return f;
+}
+
+// The block, in "Bit layout for BC7 modes" order: mode, partition, rotation, index selection, colour (R of every
+// endpoint, then G, then B), alpha, per-endpoint P-bits, shared P-bits, primary indices, secondary indices.
+void encodeBc7(const Bc7Fields& f, uint8_t out[16]) {
+  const Bc7Params& m = kBc7Params[f.mode];
+  BitWriter w;
+  w.put(1u << f.mode, f.mode + 1);
+  w.put(f.partition, m.pb);
+  w.put(f.rotation, m.rb);
+  w.put(f.indexSelection, m.isb);
+  for (uint32_t ch = 0; ch < 3; ++ch)
+    for (uint32_t e = 0; e < 2 * m.ns; ++e) w.put(f.color[e][ch], m.cb);
+  for (uint32_t e = 0; e < 2 * m.ns && m.ab; ++e) w.put(f.alpha[e], m.ab);
+  for (uint32_t e = 0; e < 2 * m.ns && m.epb; ++e) w.put(f.pbit[e], 1);
+  for (uint32_t s = 0; s < m.ns && m.spb; ++s) w.put(f.pbit[s], 1);
+  for (uint32_t i = 0; i < 16; ++i) w.put(f.index[i], m.ib - (anchorTexel(m.ns, f.partition, i) ? 1 : 0));
+  for (uint32_t i = 0; i < 16 && m.ib2; ++i) w.put(f.index2[i], m.ib2 - (i == 0 ? 1 : 0));
+  EXPECT_EQ(w.pos(), 128u) << "mode " << f.mode;
+  std::memcpy(out, w.data(), 16);
+}
+
+// An n-bit value as the top bits of a byte, its own top bits repeated below it.
+uint32_t replicateTo8(uint32_t v, uint32_t n) {
+  uint32_t r = 0;
+  for (uint32_t k = 0; k < 8; ++k) r |= ((v >> (n - 1 - k % n)) & 1) << (7 - k);
+  return r;
+}
+
+// The expected RGBA8 of every texel.
+void expectBc7(const Bc7Fields& f, uint32_t rgba[16][4]) {
+  const Bc7Params& m = kBc7Params[f.mode];
+  uint32_t ep[6][4];
+  for (uint32_t e = 0; e < 2 * m.ns; ++e) {
+    uint32_t p = m.epb ? f.pbit[e] : m.spb ? f.pbit[e / 2] : 0;
+    bool hasP = m.epb || m.spb;
+    for (uint32_t ch = 0; ch < 4; ++ch) {
+      uint32_t bits = ch < 3 ? m.cb : m.ab, v = ch < 3 ? f.color[e][ch] : f.alpha[e];
+      if (bits == 0) {
+        ep[e][ch] = 255;  // no alpha bits: opaque
+        continue;
+      }
+      if (hasP) v = v << 1 | p, ++bits;
+      ep[e][ch] = replicateTo8(v, bits);
+    }
+  }
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t s = subsetOfTexel(m.ns, f.partition, i);
+    bool colorFrom2 = m.isb && f.indexSelection == 1;
+    bool alphaFrom2 = m.ib2 && !(m.isb && f.indexSelection == 1);
+    uint32_t wc = colorFrom2 ? bptcWeight(m.ib2, f.index2[i]) : bptcWeight(m.ib, f.index[i]);
+    uint32_t wa = alphaFrom2 ? bptcWeight(m.ib2, f.index2[i]) : bptcWeight(m.ib, f.index[i]);
+    for (uint32_t ch = 0; ch < 4; ++ch)
+      rgba[i][ch] = uint32_t(bptcInterpolate(int32_t(ep[2 * s][ch]), int32_t(ep[2 * s + 1][ch]), ch < 3 ? wc : wa));
+    if (f.rotation) std::swap(rgba[i][3], rgba[i][f.rotation - 1]);
+  }
+}
+
+void checkBc7(const Bc7Fields& f) {
+  uint8_t block[16];
+  encodeBc7(f, block);
+  uint32_t want[16][4];
+  expectBc7(f, want);
+  Texels got = decode(Kind::BC7, block);
+  for (int i = 0; i < 16; ++i)
+    for (int ch = 0; ch < 4; ++ch)
+      ASSERT_NEAR(got.t[i][ch], want[i][ch] / 255.0, kTol)
+          << "mode " << f.mode << " partition " << f.partition << " rotation " << f.rotation << " index selection "
+          << f.indexSelection << " texel " << i << " channel " << ch;
+}
+
+TEST(BcDecode, Bc7EveryModeRandomFields) {
+  Rng rng{0x1234567};
+  for (uint32_t mode = 0; mode < 8; ++mode)
+    for (int n = 0; n < 200; ++n) checkBc7(randomBc7(rng, mode));
+}
+
+// Every partition of the 2- and 3-subset modes, whose anchors move the following indices' bit offsets.
+TEST(BcDecode, Bc7EveryPartitionAndAnchor) {
+  Rng rng{99};
+  for (uint32_t mode : {0u, 1u, 2u, 3u, 7u})
+    for (uint32_t p = 0; p < (1u << kBc7Params[mode].pb); ++p)
+      for (int n = 0; n < 4; ++n) {
+        Bc7Fields f = randomBc7(rng, mode);
+        f.partition = p;
+        for (uint32_t i = 0; i < 16; ++i)  // indices redrawn for this partition's anchors
+          f.index[i] = rng.bits(kBc7Params[mode].ib - (anchorTexel(kBc7Params[mode].ns, p, i) ? 1 : 0));
+        checkBc7(f);
+      }
+}
+
+// Modes 4 and 5: each rotation, and mode 4's index selection, on fixed endpoints whose channels differ.
+TEST(BcDecode, Bc7RotationAndIndexSelection) {
+  Rng rng{7};
+  for (uint32_t mode : {4u, 5u})
+    for (uint32_t rotation = 0; rotation < 4; ++rotation)
+      for (uint32_t selection = 0; selection < (mode == 4 ? 2u : 1u); ++selection) {
+        Bc7Fields f = randomBc7(rng, mode);
+        f.rotation = rotation;
+        f.indexSelection = selection;
+        checkBc7(f);
+      }
+  // One by hand: mode 4, index selection 1 (colour from the 3-bit indices), rotation 1 (swap A and R); endpoint 0
+  // = (0, 0, 0, 0), endpoint 1 = (31, 31, 31, 63) -> 255; texel 15 has 2-bit index 3 and 3-bit index 4.
+  Bc7Fields f;
+  f.mode = 4;
+  f.rotation = 1;
+  f.indexSelection = 1;
+  f.color[1][0] = f.color[1][1] = f.color[1][2] = 31;
+  f.alpha[1] = 63;
+  f.index[15] = 3;
+  f.index2[15] = 4;
+  uint8_t block[16];
+  encodeBc7(f, block);
+  Texels got = decode(Kind::BC7, block);
+  // Colour weight 37 -> (37 * 255 + 32) >> 6 = 147; alpha weight 64 -> 255; then R and A swap.
+  EXPECT_NEAR(got.t[15][0], 255 / 255.0, kTol);
+  EXPECT_NEAR(got.t[15][1], 147 / 255.0, kTol);
+  EXPECT_NEAR(got.t[15][2], 147 / 255.0, kTol);
+  EXPECT_NEAR(got.t[15][3], 147 / 255.0, kTol);
+  expectTexel(got.t[0], 0, 0, 0, 0, kTol, "texel 0");
+}
+
+// P-bits: mode 6's per-endpoint bits and mode 1's shared ones land below the stored bits, alpha included.
+TEST(BcDecode, Bc7PBits) {
+  Bc7Fields f;
+  f.mode = 6;
+  for (int ch = 0; ch < 3; ++ch) f.color[0][ch] = f.color[1][ch] = 0x40;
+  f.alpha[0] = f.alpha[1] = 0x7F;
+  f.pbit[0] = 1;
+  f.pbit[1] = 0;
+  f.index[1] = 15;  // texel 1 at endpoint 1
+  uint8_t block[16];
+  encodeBc7(f, block);
+  Texels got = decode(Kind::BC7, block);
+  expectTexel(got.t[0], 0x81 / 255.0, 0x81 / 255.0, 0x81 / 255.0, 1.0, kTol, "mode 6 endpoint 0 (P-bit 1)");
+  expectTexel(got.t[1], 0x80 / 255.0, 0x80 / 255.0, 0x80 / 255.0, 0xFE / 255.0, kTol, "mode 6 endpoint 1 (P-bit 0)");
+  Rng rng{3};
+  for (int n = 0; n < 50; ++n) checkBc7(randomBc7(rng, 1));
+  for (int n = 0; n < 50; ++n) checkBc7(randomBc7(rng, 3));
+}
+
+// A low byte of 0 has no mode bit: reserved; decoded as 0 in all channels of all texels.
+TEST(BcDecode, Bc7NoModeBitIsTransparentBlack) {
+  Rng rng{5};
+  for (int n = 0; n < 8; ++n) {
+    uint8_t block[16];
+    for (uint8_t& b : block) b = uint8_t(rng.bits(8));
+    block[0] = 0;
+    if (n == 0) std::memset(block, 0, 16);
+    Texels got = decode(Kind::BC7, block);
+    for (int i = 0; i < 16; ++i) expectTexel(got.t[i], 0, 0, 0, 0, 0, "texel " + std::to_string(i));
+  }
+}
+
 // ---- All kinds ----
 
 // Random blocks of every kind: in range, finite (BC6H signed may give -infinity), and only blockBytes read (the
