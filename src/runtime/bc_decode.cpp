@@ -262,6 +262,276 @@ void decodeBc7(const uint8_t* block, float out[16][4]) {
   }
 }
 
+// ---- BPTC: BC6H ----
+
+// Fields of "Block descriptions for BC6H block modes": endpoint e's channel ch is field 3 * e + ch.
+enum Bc6Field : uint8_t { R0, G0, B0, R1, G1, B1, R2, G2, B2, R3, G3, B3, PB };
+
+// count bits of the block, in order, into bits shift..shift + count - 1 of field; reversed: the first bit read
+// goes to the highest of them (the spec's v^a..b with a < b).
+struct Bc6Segment {
+  uint8_t field, shift, count;
+  bool reversed = false;
+};
+
+struct Bc6Mode {
+  bool valid;
+  bool transformed;
+  uint8_t regions;       // 1 or 2 (two-region modes have partition bits)
+  uint8_t endpointBits;  // EPB
+  uint8_t deltaBits[3];  // per channel, for transformed modes
+  uint8_t segmentCount;
+  Bc6Segment segments[24];  // after the mode bits
+};
+
+// "Endpoint and partition parameters for BPTC block modes" with each mode's layout, indexed by the mode number
+// (the low 2 bits when they are 0 or 1, else the low 5 bits); 19, 23, 27 and 31 (and the unused numbers with
+// low bits 0 or 1 above them) are not valid.
+constexpr Bc6Mode bc6Mode(uint32_t m) {
+  switch (m) {
+    case 0:
+      return {true, true, 2, 10, {5, 5, 5}, 20, {{G2, 4, 1},  {B2, 4, 1}, {B3, 4, 1}, {R0, 0, 10}, {G0, 0, 10},
+                                                 {B0, 0, 10}, {R1, 0, 5}, {G3, 4, 1}, {G2, 0, 4},  {G1, 0, 5},
+                                                 {B3, 0, 1},  {G3, 0, 4}, {B1, 0, 5}, {B3, 1, 1},  {B2, 0, 4},
+                                                 {R2, 0, 5},  {B3, 2, 1}, {R3, 0, 5}, {B3, 3, 1},  {PB, 0, 5}}};
+    case 1:
+      return {
+          true, true, 2, 7, {6, 6, 6}, 24, {{G2, 5, 1}, {G3, 4, 1}, {G3, 5, 1}, {R0, 0, 7}, {B3, 0, 1}, {B3, 1, 1},
+                                            {B2, 4, 1}, {G0, 0, 7}, {B2, 5, 1}, {B3, 2, 1}, {G2, 4, 1}, {B0, 0, 7},
+                                            {B3, 3, 1}, {B3, 5, 1}, {B3, 4, 1}, {R1, 0, 6}, {G2, 0, 4}, {G1, 0, 6},
+                                            {G3, 0, 4}, {B1, 0, 6}, {B2, 0, 4}, {R2, 0, 6}, {R3, 0, 6}, {PB, 0, 5}}};
+    case 2:
+      return {true,
+              true,
+              2,
+              11,
+              {5, 4, 4},
+              19,
+              {{R0, 0, 10},
+               {G0, 0, 10},
+               {B0, 0, 10},
+               {R1, 0, 5},
+               {R0, 10, 1},
+               {G2, 0, 4},
+               {G1, 0, 4},
+               {G0, 10, 1},
+               {B3, 0, 1},
+               {G3, 0, 4},
+               {B1, 0, 4},
+               {B0, 10, 1},
+               {B3, 1, 1},
+               {B2, 0, 4},
+               {R2, 0, 5},
+               {B3, 2, 1},
+               {R3, 0, 5},
+               {B3, 3, 1},
+               {PB, 0, 5}}};
+    case 6:
+      return {true, true, 2, 11, {4, 5, 4}, 21, {{R0, 0, 10}, {G0, 0, 10}, {B0, 0, 10}, {R1, 0, 4},  {R0, 10, 1},
+                                                 {G3, 4, 1},  {G2, 0, 4},  {G1, 0, 5},  {G0, 10, 1}, {G3, 0, 4},
+                                                 {B1, 0, 4},  {B0, 10, 1}, {B3, 1, 1},  {B2, 0, 4},  {R2, 0, 4},
+                                                 {B3, 0, 1},  {B3, 2, 1},  {R3, 0, 4},  {G2, 4, 1},  {B3, 3, 1},
+                                                 {PB, 0, 5}}};
+    case 10:
+      return {
+          true, true, 2, 11, {4, 4, 5}, 21, {{R0, 0, 10}, {G0, 0, 10}, {B0, 0, 10}, {R1, 0, 4}, {R0, 10, 1}, {B2, 4, 1},
+                                             {G2, 0, 4},  {G1, 0, 4},  {G0, 10, 1}, {B3, 0, 1}, {G3, 0, 4},  {B1, 0, 5},
+                                             {B0, 10, 1}, {B2, 0, 4},  {R2, 0, 4},  {B3, 1, 1}, {B3, 2, 1},  {R3, 0, 4},
+                                             {B3, 4, 1},  {B3, 3, 1},  {PB, 0, 5}}};
+    case 14:
+      return {true, true, 2, 9, {5, 5, 5}, 20, {{R0, 0, 9}, {B2, 4, 1}, {G0, 0, 9}, {G2, 4, 1}, {B0, 0, 9},
+                                                {B3, 4, 1}, {R1, 0, 5}, {G3, 4, 1}, {G2, 0, 4}, {G1, 0, 5},
+                                                {B3, 0, 1}, {G3, 0, 4}, {B1, 0, 5}, {B3, 1, 1}, {B2, 0, 4},
+                                                {R2, 0, 5}, {B3, 2, 1}, {R3, 0, 5}, {B3, 3, 1}, {PB, 0, 5}}};
+    case 18:
+      return {true, true, 2, 8, {6, 5, 5}, 20, {{R0, 0, 8}, {G3, 4, 1}, {B2, 4, 1}, {G0, 0, 8}, {B3, 2, 1},
+                                                {G2, 4, 1}, {B0, 0, 8}, {B3, 3, 1}, {B3, 4, 1}, {R1, 0, 6},
+                                                {G2, 0, 4}, {G1, 0, 5}, {B3, 0, 1}, {G3, 0, 4}, {B1, 0, 5},
+                                                {B3, 1, 1}, {B2, 0, 4}, {R2, 0, 6}, {R3, 0, 6}, {PB, 0, 5}}};
+    case 22:
+      return {true, true, 2, 8, {5, 6, 5}, 22, {{R0, 0, 8}, {B3, 0, 1}, {B2, 4, 1}, {G0, 0, 8}, {G2, 5, 1}, {G2, 4, 1},
+                                                {B0, 0, 8}, {G3, 5, 1}, {B3, 4, 1}, {R1, 0, 5}, {G3, 4, 1}, {G2, 0, 4},
+                                                {G1, 0, 6}, {G3, 0, 4}, {B1, 0, 5}, {B3, 1, 1}, {B2, 0, 4}, {R2, 0, 5},
+                                                {B3, 2, 1}, {R3, 0, 5}, {B3, 3, 1}, {PB, 0, 5}}};
+    case 26:
+      return {true, true, 2, 8, {5, 5, 6}, 22, {{R0, 0, 8}, {B3, 1, 1}, {B2, 4, 1}, {G0, 0, 8}, {B2, 5, 1}, {G2, 4, 1},
+                                                {B0, 0, 8}, {B3, 5, 1}, {B3, 4, 1}, {R1, 0, 5}, {G3, 4, 1}, {G2, 0, 4},
+                                                {G1, 0, 5}, {B3, 0, 1}, {G3, 0, 4}, {B1, 0, 6}, {B2, 0, 4}, {R2, 0, 5},
+                                                {B3, 2, 1}, {R3, 0, 5}, {B3, 3, 1}, {PB, 0, 5}}};
+    case 30:
+      return {
+          true, false, 2, 6, {0, 0, 0}, 24, {{R0, 0, 6}, {G3, 4, 1}, {B3, 0, 1}, {B3, 1, 1}, {B2, 4, 1}, {G0, 0, 6},
+                                             {G2, 5, 1}, {B2, 5, 1}, {B3, 2, 1}, {G2, 4, 1}, {B0, 0, 6}, {G3, 5, 1},
+                                             {B3, 3, 1}, {B3, 5, 1}, {B3, 4, 1}, {R1, 0, 6}, {G2, 0, 4}, {G1, 0, 6},
+                                             {G3, 0, 4}, {B1, 0, 6}, {B2, 0, 4}, {R2, 0, 6}, {R3, 0, 6}, {PB, 0, 5}}};
+    case 3:
+      return {true,
+              false,
+              1,
+              10,
+              {0, 0, 0},
+              6,
+              {{R0, 0, 10}, {G0, 0, 10}, {B0, 0, 10}, {R1, 0, 10}, {G1, 0, 10}, {B1, 0, 10}}};
+    case 7:
+      return {true,
+              true,
+              1,
+              11,
+              {9, 9, 9},
+              9,
+              {{R0, 0, 10},
+               {G0, 0, 10},
+               {B0, 0, 10},
+               {R1, 0, 9},
+               {R0, 10, 1},
+               {G1, 0, 9},
+               {G0, 10, 1},
+               {B1, 0, 9},
+               {B0, 10, 1}}};
+    case 11:
+      return {true,
+              true,
+              1,
+              12,
+              {8, 8, 8},
+              9,
+              {{R0, 0, 10},
+               {G0, 0, 10},
+               {B0, 0, 10},
+               {R1, 0, 8},
+               {R0, 10, 2, true},
+               {G1, 0, 8},
+               {G0, 10, 2, true},
+               {B1, 0, 8},
+               {B0, 10, 2, true}}};
+    case 15:
+      return {true,
+              true,
+              1,
+              16,
+              {4, 4, 4},
+              9,
+              {{R0, 0, 10},
+               {G0, 0, 10},
+               {B0, 0, 10},
+               {R1, 0, 4},
+               {R0, 10, 6, true},
+               {G1, 0, 4},
+               {G0, 10, 6, true},
+               {B1, 0, 4},
+               {B0, 10, 6, true}}};
+    default: return {false, false, 0, 0, {0, 0, 0}, 0, {}};
+  }
+}
+
+struct Bc6ModeTable {
+  Bc6Mode modes[32];
+  constexpr Bc6ModeTable() : modes{} {
+    for (uint32_t m = 0; m < 32; ++m) modes[m] = bc6Mode(m);
+  }
+};
+constexpr Bc6ModeTable kBc6Modes;
+
+int32_t signExtend(uint32_t v, uint32_t bits) {
+  uint32_t sign = 1u << (bits - 1);
+  return int32_t((v & ((sign << 1) - 1)) ^ sign) - int32_t(sign);
+}
+
+// The unquantization of endpoints (the spec's pseudocode for unsigned and signed formats).
+int32_t unquantize(int32_t x, uint32_t bits, bool isSigned) {
+  if (!isSigned) {
+    if (bits >= 15) return x;
+    if (x == 0) return 0;
+    if (x == int32_t((1u << bits) - 1)) return 0xFFFF;
+    return ((x << 15) + 0x4000) >> (bits - 1);
+  }
+  if (bits >= 16) return x;
+  bool negative = x < 0;
+  if (negative) x = -x;
+  int32_t unq;
+  if (x == 0)
+    unq = 0;
+  else if (x >= int32_t((1u << (bits - 1)) - 1))
+    unq = 0x7FFF;
+  else
+    unq = ((x << 15) + 0x4000) >> (bits - 1);
+  return negative ? -unq : unq;
+}
+
+float halfToFloat(uint32_t h) {
+  uint32_t sign = (h >> 15) & 1, exponent = (h >> 10) & 31, mantissa = h & 1023;
+  float magnitude;
+  if (exponent == 0)
+    magnitude = float(mantissa) * (1.0f / 16777216.0f);  // 2^-24
+  else if (exponent == 31)
+    magnitude = mantissa ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+  else {
+    uint32_t bits = ((exponent + 112) << 23) | (mantissa << 13);
+    std::memcpy(&magnitude, &bits, sizeof magnitude);
+  }
+  return sign ? -magnitude : magnitude;
+}
+
+void decodeBc6h(const uint8_t* block, bool isSigned, float out[16][4]) {
+  Bits in(block, 16);
+  uint32_t modeNumber = in.at(0, 2) < 2 ? in.at(0, 2) : in.at(0, 5);
+  const Bc6Mode& m = kBc6Modes.modes[modeNumber];
+  if (!m.valid) {  // reserved: (0, 0, 0, 1)
+    for (int i = 0; i < 16; ++i) setTexel(out[i], 0, 0, 0, 1);
+    return;
+  }
+  in.seek(modeNumber < 2 ? 2 : 5);
+  uint32_t field[13] = {};
+  for (uint32_t s = 0; s < m.segmentCount; ++s) {
+    const Bc6Segment& seg = m.segments[s];
+    uint32_t v = in.read(seg.count);
+    if (seg.reversed) {
+      uint32_t r = 0;
+      for (uint32_t b = 0; b < seg.count; ++b) r |= ((v >> b) & 1) << (seg.count - 1 - b);
+      v = r;
+    }
+    field[seg.field] |= v << seg.shift;
+  }
+  uint32_t endpoints = 2 * m.regions;
+  uint32_t mask = (1u << m.endpointBits) - 1;
+  int32_t ep[4][3];
+  for (uint32_t ch = 0; ch < 3; ++ch) {
+    // E0 is sign-extended for signed formats; the others also when they are deltas (at the delta width).
+    ep[0][ch] = isSigned ? signExtend(field[ch], m.endpointBits) : int32_t(field[ch]);
+    for (uint32_t e = 1; e < endpoints; ++e) {
+      uint32_t raw = field[3 * e + ch];
+      if (m.transformed) {
+        // Transformed endpoints: E0 plus the delta, wrapped at the endpoint bits.
+        uint32_t v = (uint32_t(ep[0][ch]) + uint32_t(signExtend(raw, m.deltaBits[ch]))) & mask;
+        ep[e][ch] = isSigned ? signExtend(v, m.endpointBits) : int32_t(v);
+      } else {
+        ep[e][ch] = isSigned ? signExtend(raw, m.endpointBits) : int32_t(raw);
+      }
+    }
+  }
+  for (uint32_t e = 0; e < endpoints; ++e)
+    for (uint32_t ch = 0; ch < 3; ++ch) ep[e][ch] = unquantize(ep[e][ch], m.endpointBits, isSigned);
+  uint32_t partition = m.regions == 2 ? field[PB] : 0;
+  uint32_t indexBits = m.regions == 2 ? 3 : 4;
+  in.seek(m.regions == 2 ? 82 : 65);
+  uint8_t index[16];
+  readIndices(in, m.regions, partition, indexBits, index);
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t s = subsetOf(m.regions, partition, i);
+    uint32_t w = weight(indexBits, index[i]);
+    float c[3];
+    for (uint32_t ch = 0; ch < 3; ++ch) {
+      int32_t v = interpolate(ep[2 * s][ch], ep[2 * s + 1][ch], w);
+      // The final unquantization into half-float bit patterns.
+      uint32_t h = !isSigned ? uint32_t(v * 31) >> 6
+                   : v < 0   ? (uint32_t(-v * 31) >> 5) | 0x8000
+                             : uint32_t(v * 31) >> 5;
+      c[ch] = halfToFloat(h);
+    }
+    setTexel(out[i], c[0], c[1], c[2], 1.0f);
+  }
+}
+
 }  // namespace
 
 void decodeBlock(Kind kind, const uint8_t* block, float out[16][4]) {
@@ -297,9 +567,7 @@ void decodeBlock(Kind kind, const uint8_t* block, float out[16][4]) {
       return;
     }
     case Kind::BC6H_UFLOAT:
-    case Kind::BC6H_SFLOAT:  // not decoded yet
-      for (int i = 0; i < 16; ++i) setTexel(out[i], 0, 0, 0, 1);
-      return;
+    case Kind::BC6H_SFLOAT: decodeBc6h(block, kind == Kind::BC6H_SFLOAT, out); return;
     case Kind::BC7: decodeBc7(block, out); return;
   }
 }

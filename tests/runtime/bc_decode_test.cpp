@@ -527,6 +527,323 @@ TEST(BcDecode, Bc7NoModeBitIsTransparentBlack) {
   }
 }
 
+// ---- BC6H ----
+
+// "Block descriptions for BC6H block modes", after the mode bits, in the spec's notation: Xn^a:b moves bits from
+// the block into bits b, then towards a, of field Xn (R0..B3 or PB); Xn^a is one bit.
+struct Bc6Params {
+  uint32_t mode;
+  bool transformed;
+  uint32_t regions, epb, delta[3];
+  const char* layout;
+};
+const Bc6Params kBc6Params[14] = {
+    {0,
+     true,
+     2,
+     10,
+     {5, 5, 5},
+     "G2^4 B2^4 B3^4 R0^9:0 G0^9:0 B0^9:0 R1^4:0 G3^4 G2^3:0 G1^4:0 B3^0 G3^3:0 B1^4:0 B3^1 B2^3:0 R2^4:0 B3^2 "
+     "R3^4:0 B3^3 PB^4:0"},
+    {1,
+     true,
+     2,
+     7,
+     {6, 6, 6},
+     "G2^5 G3^4 G3^5 R0^6:0 B3^0 B3^1 B2^4 G0^6:0 B2^5 B3^2 G2^4 B0^6:0 B3^3 B3^5 B3^4 R1^5:0 G2^3:0 G1^5:0 G3^3:0 "
+     "B1^5:0 B2^3:0 R2^5:0 R3^5:0 PB^4:0"},
+    {2,
+     true,
+     2,
+     11,
+     {5, 4, 4},
+     "R0^9:0 G0^9:0 B0^9:0 R1^4:0 R0^10 G2^3:0 G1^3:0 G0^10 B3^0 G3^3:0 B1^3:0 B0^10 B3^1 B2^3:0 R2^4:0 B3^2 R3^4:0 "
+     "B3^3 PB^4:0"},
+    {6,
+     true,
+     2,
+     11,
+     {4, 5, 4},
+     "R0^9:0 G0^9:0 B0^9:0 R1^3:0 R0^10 G3^4 G2^3:0 G1^4:0 G0^10 G3^3:0 B1^3:0 B0^10 B3^1 B2^3:0 R2^3:0 B3^0 B3^2 "
+     "R3^3:0 G2^4 B3^3 PB^4:0"},
+    {10,
+     true,
+     2,
+     11,
+     {4, 4, 5},
+     "R0^9:0 G0^9:0 B0^9:0 R1^3:0 R0^10 B2^4 G2^3:0 G1^3:0 G0^10 B3^0 G3^3:0 B1^4:0 B0^10 B2^3:0 R2^3:0 B3^1 B3^2 "
+     "R3^3:0 B3^4 B3^3 PB^4:0"},
+    {14,
+     true,
+     2,
+     9,
+     {5, 5, 5},
+     "R0^8:0 B2^4 G0^8:0 G2^4 B0^8:0 B3^4 R1^4:0 G3^4 G2^3:0 G1^4:0 B3^0 G3^3:0 B1^4:0 B3^1 B2^3:0 R2^4:0 B3^2 "
+     "R3^4:0 B3^3 PB^4:0"},
+    {18,
+     true,
+     2,
+     8,
+     {6, 5, 5},
+     "R0^7:0 G3^4 B2^4 G0^7:0 B3^2 G2^4 B0^7:0 B3^3 B3^4 R1^5:0 G2^3:0 G1^4:0 B3^0 G3^3:0 B1^4:0 B3^1 B2^3:0 R2^5:0 "
+     "R3^5:0 PB^4:0"},
+    {22,
+     true,
+     2,
+     8,
+     {5, 6, 5},
+     "R0^7:0 B3^0 B2^4 G0^7:0 G2^5 G2^4 B0^7:0 G3^5 B3^4 R1^4:0 G3^4 G2^3:0 G1^5:0 G3^3:0 B1^4:0 B3^1 B2^3:0 R2^4:0 "
+     "B3^2 R3^4:0 B3^3 PB^4:0"},
+    {26,
+     true,
+     2,
+     8,
+     {5, 5, 6},
+     "R0^7:0 B3^1 B2^4 G0^7:0 B2^5 G2^4 B0^7:0 B3^5 B3^4 R1^4:0 G3^4 G2^3:0 G1^4:0 B3^0 G3^3:0 B1^5:0 B2^3:0 R2^4:0 "
+     "B3^2 R3^4:0 B3^3 PB^4:0"},
+    {30,
+     false,
+     2,
+     6,
+     {0, 0, 0},
+     "R0^5:0 G3^4 B3^0 B3^1 B2^4 G0^5:0 G2^5 B2^5 B3^2 G2^4 B0^5:0 G3^5 B3^3 B3^5 B3^4 R1^5:0 G2^3:0 G1^5:0 G3^3:0 "
+     "B1^5:0 B2^3:0 R2^5:0 R3^5:0 PB^4:0"},
+    {3, false, 1, 10, {0, 0, 0}, "R0^9:0 G0^9:0 B0^9:0 R1^9:0 G1^9:0 B1^9:0"},
+    {7, true, 1, 11, {9, 9, 9}, "R0^9:0 G0^9:0 B0^9:0 R1^8:0 R0^10 G1^8:0 G0^10 B1^8:0 B0^10"},
+    {11, true, 1, 12, {8, 8, 8}, "R0^9:0 G0^9:0 B0^9:0 R1^7:0 R0^10:11 G1^7:0 G0^10:11 B1^7:0 B0^10:11"},
+    {15, true, 1, 16, {4, 4, 4}, "R0^9:0 G0^9:0 B0^9:0 R1^3:0 R0^10:15 G1^3:0 G0^10:15 B1^3:0 B0^10:15"},
+};
+
+// Field index: endpoint e's channel c is 3 * e + c; PB is 12.
+struct Bc6Piece {
+  uint32_t field, a, b;
+};
+std::vector<Bc6Piece> parseLayout(const char* layout) {
+  std::vector<Bc6Piece> pieces;
+  std::string s(layout);
+  size_t pos = 0;
+  while (pos < s.size()) {
+    size_t end = s.find(' ', pos);
+    if (end == std::string::npos) end = s.size();
+    std::string tok = s.substr(pos, end - pos);
+    pos = end + 1;
+    uint32_t field = tok[0] == 'P' ? 12 : uint32_t(tok[1] - '0') * 3 + (tok[0] == 'R' ? 0 : tok[0] == 'G' ? 1 : 2);
+    size_t colon = tok.find(':');
+    uint32_t a = uint32_t(std::stoul(tok.substr(3, colon == std::string::npos ? std::string::npos : colon - 3)));
+    uint32_t b = colon == std::string::npos ? a : uint32_t(std::stoul(tok.substr(colon + 1)));
+    pieces.push_back({field, a, b});
+  }
+  return pieces;
+}
+
+// The width of each field in a mode: EPB for E0, the delta bits (transformed) or EPB for the others, 5 for PB.
+uint32_t fieldWidth(const Bc6Params& m, uint32_t field) {
+  if (field == 12) return m.regions == 2 ? 5 : 0;
+  if (field / 3 >= 2 * m.regions) return 0;
+  return field < 3 || !m.transformed ? m.epb : m.delta[field % 3];
+}
+
+// The layouts cover each field's bits exactly once, and the header ends where the indices begin.
+TEST(BcDecode, Bc6hTestLayoutsAreConsistent) {
+  for (const Bc6Params& m : kBc6Params) {
+    uint32_t seen[13] = {}, total = m.mode < 2 ? 2 : 5;
+    for (const Bc6Piece& p : parseLayout(m.layout)) {
+      uint32_t lo = std::min(p.a, p.b), hi = std::max(p.a, p.b);
+      for (uint32_t bit = lo; bit <= hi; ++bit) {
+        EXPECT_FALSE(seen[p.field] & (1u << bit)) << "mode " << m.mode << " field " << p.field << " bit " << bit;
+        seen[p.field] |= 1u << bit;
+      }
+      total += hi - lo + 1;
+    }
+    for (uint32_t f = 0; f < 13; ++f)
+      EXPECT_EQ(seen[f], (1u << fieldWidth(m, f)) - 1) << "mode " << m.mode << " field " << f;
+    EXPECT_EQ(total, m.regions == 2 ? 82u : 65u) << "mode " << m.mode;
+  }
+}
+
+struct Bc6Fields {
+  const Bc6Params* mode;
+  uint32_t field[13] = {};
+  uint32_t index[16] = {};
+};
+
+Bc6Fields randomBc6(Rng& rng, const Bc6Params& m) {
+  Bc6Fields f{&m};
+  for (uint32_t i = 0; i < 13; ++i) f.field[i] = rng.bits(fieldWidth(m, i));
+  uint32_t bits = m.regions == 2 ? 3 : 4;
+  for (uint32_t i = 0; i < 16; ++i) f.index[i] = rng.bits(bits - (anchorTexel(m.regions, f.field[12], i) ? 1 : 0));
+  return f;
+}
+
+void encodeBc6(const Bc6Fields& f, uint8_t out[16]) {
+  const Bc6Params& m = *f.mode;
+  BitWriter w;
+  w.put(m.mode, m.mode < 2 ? 2 : 5);
+  for (const Bc6Piece& p : parseLayout(m.layout)) {
+    int step = p.a >= p.b ? 1 : -1;  // from bit b towards bit a
+    for (int bit = int(p.b);; bit += step) {
+      w.put(f.field[p.field] >> bit, 1);
+      if (bit == int(p.a)) break;
+    }
+  }
+  EXPECT_EQ(w.pos(), m.regions == 2 ? 82u : 65u);
+  uint32_t bits = m.regions == 2 ? 3 : 4;
+  for (uint32_t i = 0; i < 16; ++i) w.put(f.index[i], bits - (anchorTexel(m.regions, f.field[12], i) ? 1 : 0));
+  EXPECT_EQ(w.pos(), 128u);
+  std::memcpy(out, w.data(), 16);
+}
+
+int32_t signExtendTo32(uint32_t v, uint32_t bits) {
+  return (v & (1u << (bits - 1))) ? int32_t(v) - int32_t(1u << bits) : int32_t(v);
+}
+
+// The spec's unquantization pseudocode.
+int32_t unquantizeUnsigned(int32_t x, uint32_t epb) {
+  if (epb >= 15) return x;
+  if (x == 0) return 0;
+  if (x == int32_t((1u << epb) - 1)) return 0xFFFF;
+  return ((x << 15) + 0x4000) >> (epb - 1);
+}
+int32_t unquantizeSigned(int32_t x, uint32_t epb) {
+  if (epb >= 16) return x;
+  bool s = x < 0;
+  if (s) x = -x;
+  int32_t unq;
+  if (x == 0)
+    unq = 0;
+  else if (x >= int32_t((1u << (epb - 1)) - 1))
+    unq = 0x7FFF;
+  else
+    unq = ((x << 15) + 0x4000) >> (epb - 1);
+  return s ? -unq : unq;
+}
+
+// An IEEE half's value, from its fields.
+float halfValue(uint32_t h) {
+  double sign = (h & 0x8000) ? -1.0 : 1.0;
+  uint32_t e = (h >> 10) & 31, mant = h & 1023;
+  if (e == 31) return mant ? std::numeric_limits<float>::quiet_NaN() : float(sign * HUGE_VAL);
+  if (e == 0) return float(sign * std::ldexp(double(mant), -24));
+  return float(sign * std::ldexp(1.0 + mant / 1024.0, int(e) - 15));
+}
+
+// The expected half-float bit patterns of the block's texels.
+void expectBc6(const Bc6Fields& f, bool isSigned, uint32_t half[16][3]) {
+  const Bc6Params& m = *f.mode;
+  int32_t ep[4][3];
+  uint32_t mask = (1u << m.epb) - 1;
+  for (uint32_t e = 0; e < 2 * m.regions; ++e)
+    for (uint32_t c = 0; c < 3; ++c) {
+      uint32_t raw = f.field[3 * e + c];
+      int32_t v;
+      if (e == 0)
+        v = isSigned ? signExtendTo32(raw, m.epb) : int32_t(raw);
+      else if (m.transformed) {
+        int32_t sum = (f.field[c] + signExtendTo32(raw, m.delta[c])) & int32_t(mask);  // wrapped at EPB bits
+        v = isSigned ? signExtendTo32(uint32_t(sum), m.epb) : sum;
+      } else {
+        v = isSigned ? signExtendTo32(raw, m.epb) : int32_t(raw);
+      }
+      ep[e][c] = isSigned ? unquantizeSigned(v, m.epb) : unquantizeUnsigned(v, m.epb);
+    }
+  for (uint32_t i = 0; i < 16; ++i) {
+    uint32_t s = subsetOfTexel(m.regions, f.field[12], i);
+    uint32_t w = bptcWeight(m.regions == 2 ? 3 : 4, f.index[i]);
+    for (uint32_t c = 0; c < 3; ++c) {
+      int32_t v = bptcInterpolate(ep[2 * s][c], ep[2 * s + 1][c], w);
+      if (!isSigned)
+        half[i][c] = uint32_t(v * 31) >> 6;
+      else
+        half[i][c] = v < 0 ? (uint32_t(-v * 31) >> 5) | 0x8000 : uint32_t(v * 31) >> 5;
+    }
+  }
+}
+
+void checkBc6(const Bc6Fields& f, bool isSigned) {
+  uint8_t block[16];
+  encodeBc6(f, block);
+  uint32_t want[16][3];
+  expectBc6(f, isSigned, want);
+  Texels got = decode(isSigned ? Kind::BC6H_SFLOAT : Kind::BC6H_UFLOAT, block);
+  for (int i = 0; i < 16; ++i) {
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(got.t[i][c], halfValue(want[i][c]))
+          << (isSigned ? "signed" : "unsigned") << " mode " << f.mode->mode << " partition " << f.field[12] << " texel "
+          << i << " channel " << c << " half 0x" << std::hex << want[i][c];
+    ASSERT_EQ(got.t[i][3], 1.0f);
+  }
+}
+
+TEST(BcDecode, Bc6hEveryModeRandomFields) {
+  Rng rng{0xBC6};
+  for (const Bc6Params& m : kBc6Params)
+    for (bool isSigned : {false, true})
+      for (int n = 0; n < 300; ++n) checkBc6(randomBc6(rng, m), isSigned);
+}
+
+// Two-region modes over all 32 partitions (with their anchors), signed and unsigned.
+TEST(BcDecode, Bc6hEveryPartition) {
+  Rng rng{0x6};
+  for (uint32_t k : {0u, 1u, 9u})  // modes 0, 1 and 30
+    for (uint32_t p = 0; p < 32; ++p)
+      for (bool isSigned : {false, true}) {
+        Bc6Fields f = randomBc6(rng, kBc6Params[k]);
+        f.field[12] = p;
+        for (uint32_t i = 0; i < 16; ++i) f.index[i] = rng.bits(3 - (anchorTexel(2, p, i) ? 1 : 0));
+        checkBc6(f, isSigned);
+      }
+}
+
+// Mode 0 with deltas that wrap: R0 = 1020 plus R1's +15 gives 1035 & 1023 = 11; G1's -16 from G0 = 3 gives -13,
+// & 1023 = 1011 (unsigned) or -13 (signed).
+TEST(BcDecode, Bc6hMode0DeltaWrap) {
+  for (bool isSigned : {false, true}) {
+    Bc6Fields f{&kBc6Params[0]};
+    f.field[0] = 1020;  // R0
+    f.field[1] = 3;     // G0
+    f.field[3] = 15;    // R1: +15
+    f.field[4] = 16;    // G1: -16 in 5 bits
+    for (int i = 0; i < 16; ++i) f.index[i] = i == 0 ? 0 : 7 * (i & 1);
+    checkBc6(f, isSigned);
+  }
+}
+
+// Hand-computed values: mode 3 (one region, 10-bit endpoints, not transformed) from 0 to 1023, which
+// unquantizes to 0xFFFF: weight 64 (index 15) gives (0xFFFF * 31) >> 6 = 0x7BFF = 65504.0; weight 34 (index 8)
+// gives (34 * 65535 + 32) >> 6 = 34815, then (34815 * 31) >> 6 = 16863 = 0x41DF = 2 * (1 + 479 / 1024).
+TEST(BcDecode, Bc6hMode3KnownValues) {
+  Bc6Fields f{&kBc6Params[10]};
+  f.field[3] = f.field[4] = f.field[5] = 1023;
+  for (uint32_t i = 0; i < 16; ++i) f.index[i] = i;
+  uint8_t block[16];
+  encodeBc6(f, block);
+  Texels u = decode(Kind::BC6H_UFLOAT, block);
+  EXPECT_EQ(u.t[0][0], 0.0f);
+  EXPECT_EQ(u.t[15][0], 65504.0f);
+  EXPECT_EQ(u.t[8][1], 2.935546875f);
+  // Signed: 1023 is -1 (-> -unquantized 1: ((1 << 15) + 0x4000) >> 9 = 96 -> (96 * 31) >> 5 = 93, negative:
+  // 0x805D), and E0 = 0x200 = -512 saturates to -0x7FFF -> 0xFBFF = -65504.
+  f.field[0] = 0x200;
+  encodeBc6(f, block);
+  Texels s = decode(Kind::BC6H_SFLOAT, block);
+  EXPECT_EQ(s.t[0][0], -65504.0f);
+  EXPECT_EQ(s.t[15][1], -93.0f / 16777216.0f);  // 0x805D: a negative subnormal, -93 * 2^-24
+  checkBc6(f, true);
+}
+
+// Reserved mode numbers 19, 23, 27 and 31 decode to (0, 0, 0, 1) whatever the other bits are.
+TEST(BcDecode, Bc6hReservedModes) {
+  Rng rng{0x19};
+  for (uint32_t mode : {19u, 23u, 27u, 31u})
+    for (Kind kind : {Kind::BC6H_UFLOAT, Kind::BC6H_SFLOAT}) {
+      uint8_t block[16];
+      for (uint8_t& b : block) b = uint8_t(rng.bits(8));
+      block[0] = uint8_t((block[0] & ~31u) | mode);
+      Texels got = decode(kind, block);
+      for (int i = 0; i < 16; ++i) expectTexel(got.t[i], 0, 0, 0, 1, 0, "mode " + std::to_string(mode));
+    }
+}
+
 // ---- All kinds ----
 
 // Random blocks of every kind: in range, finite (BC6H signed may give -infinity), and only blockBytes read (the
