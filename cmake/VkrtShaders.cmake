@@ -2,7 +2,8 @@
 # or assembles each SPIR-V assembly file with spirv-as (*.spvasm: SPIR-V 1.0, validated for Vulkan 1.0 with the
 # block layouts VK_KHR_relaxed_block_layout allows; *.spv14.spvasm: SPIR-V 1.4, validated for Vulkan 1.1 with
 # SPIR-V 1.4; *.newer.spvasm: SPIR-V 1.4 with tokens newer than SPIRV-Tools, left to the driver to validate; GLSL
-# *.g.<stage>: compiled with -g, debug information and no optimization), and
+# *.g.<stage>: compiled with -g, debug information and no optimization; GLSL *.gv.<stage>: compiled by glslangValidator
+# -gV, NonSemantic.Shader.DebugInfo.100 debug information and no optimization), and
 # embeds the SPIR-V as `kSpv_<file name as an identifier>` in <out_dir>/<file>.spv.h; TARGET builds them all. The GLSL
 # shaders after SPV14 are compiled a second time as SPIR-V 1.4 modules (glslc --target-env=vulkan1.1
 # --target-spv=spv1.4, what an application written for Vulkan 1.1 with VK_KHR_spirv_1_4 ships; unoptimized), embedded
@@ -10,6 +11,7 @@
 find_program(GLSLC glslc REQUIRED)
 find_program(SPIRV_AS spirv-as REQUIRED)
 find_program(SPIRV_VAL spirv-val REQUIRED)
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
 function(vkrt_embed_shaders target out_dir)
   cmake_parse_arguments(ARG "" "" "SPV14" ${ARGN})
@@ -49,6 +51,10 @@ function(vkrt_embed_shaders target out_dir)
         elseif(fname MATCHES "\\.spvasm$")
           set(build COMMAND ${SPIRV_AS} --target-env spv1.0 -o ${spv} ${shader}
                     COMMAND ${SPIRV_VAL} --target-env vulkan1.0 --relax-block-layout ${spv})
+        elseif(fname MATCHES "\\.gv\\.[a-z]+$")
+          # *.gv.<stage>: with NonSemantic.Shader.DebugInfo.100 debug information (glslangValidator -gV: DebugSource,
+          # DebugLine; the newer form of `-g`), not optimized.
+          set(build COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.3 -gV --quiet -o ${spv} ${shader})
         elseif(fname MATCHES "\\.g\\.[a-z]+$")
           # *.g.<stage>: with debug information (glslc -g: OpSource with the text, OpString file names, OpLine),
           # not optimized, as an application builds shaders to debug them.

@@ -4,13 +4,20 @@
 // layer's debug printf delivers them: "UNASSIGNED-DEBUG-PRINTF") and the store, named with its file and line
 // ("VKRT-shader-out-of-bounds").
 //
-//   VK_DRIVER_FILES=<build>/vkrt_icd.json ./shader_debug [--frames N]
+//   VK_DRIVER_FILES=<build>/vkrt_icd.json ./shader_debug [--bda] [--frames N]
+//
+// --bda runs shaders/shader_debug_bda.g.comp instead: the same squares stored through a device address (a
+// buffer_reference pointer), the last one element past the 32-byte buffer, into the rest of the buffer's 4096 bytes of
+// memory (so that no driver faults). vkrt reports it with VKRT_SHADER_CHECKS=bda (else nothing is checked); the
+// validation layer's GPU-assisted mode reports it as "Device address out of bounds". No printf in this shader (the
+// layer cannot run debug printf and GPU-assisted validation at once).
 //
 // --frames N submits the same command buffer N more times, quietly, and prints the time per frame (submit to idle,
 // the messages' delivery included): docs/shader-debugging.md compares it with the validation layer's modes. Exits 0 and
 // prints "shader_debug: OK" when the squares are right and, on vkrt, both kinds of message came.
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +26,7 @@
 
 #include "example_vk.hpp"
 #include "shader_debug.g.comp.spv.h"
+#include "shader_debug_bda.g.comp.spv.h"
 
 namespace {
 
@@ -31,7 +39,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
   const std::string text = data->pMessage ? data->pMessage : "";
   if (gQuiet) {
     gPrintfs += id == "UNASSIGNED-DEBUG-PRINTF";
-    gOutOfBounds += id == "VKRT-shader-out-of-bounds" || id == "VUID-vkCmdDispatch-None-02706";
+    gOutOfBounds += id == "VKRT-shader-out-of-bounds" || id == "VUID-vkCmdDispatch-None-02706" ||
+                    id.find("Device address out of bounds") != std::string::npos;
     return VK_FALSE;
   }
   if (id == "UNASSIGNED-DEBUG-PRINTF") {
@@ -40,7 +49,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
     std::printf("shader says: %s\n", at == std::string::npos ? text.c_str() : text.c_str() + at + 3);
     ++gPrintfs;
   } else {
-    if (id == "VKRT-shader-out-of-bounds") ++gOutOfBounds;
+    if (id == "VKRT-shader-out-of-bounds" || id.find("Device address out of bounds") != std::string::npos)
+      ++gOutOfBounds;
     std::printf("%s\n", text.c_str());
   }
   return VK_FALSE;
@@ -51,11 +61,14 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
 int main(int argc, char** argv) {
   example::gProgram = "shader_debug";
   int frames = 0;
+  bool bda = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
       frames = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--bda") == 0) {
+      bda = true;
     } else {
-      example::fail(std::string("unknown argument ") + argv[i] + " (usage: shader_debug [--frames N])");
+      example::fail(std::string("unknown argument ") + argv[i] + " (usage: shader_debug [--bda] [--frames N])");
     }
   }
   // The messenger, also chained into the instance's create info, takes INFO too: printf messages are INFO.
@@ -86,6 +99,9 @@ int main(int argc, char** argv) {
   const uint32_t family = example::queueFamily(pd, VK_QUEUE_COMPUTE_BIT);
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13.maintenance4 = VK_TRUE;  // glslc's SPIR-V 1.6 compute shaders declare their size with LocalSizeId
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  f12.bufferDeviceAddress = VK_TRUE;
+  if (bda) f13.pNext = &f12;
   const VkDevice dev = example::createDevice(pd, family, &f13);
   VkQueue queue;
   vkGetDeviceQueue(dev, family, 0, &queue);
@@ -93,13 +109,15 @@ int main(int argc, char** argv) {
   // The buffer of eight squares, named for the report.
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = 8 * sizeof(uint32_t);
-  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | (bda ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
   VkBuffer buffer;
   CHECK(vkCreateBuffer(dev, &bci, nullptr, &buffer));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(dev, buffer, &req);
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.allocationSize = req.size;
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, bda ? &flags : nullptr};
+  mai.allocationSize = bda ? std::max<VkDeviceSize>(req.size, 4096) : req.size;
   mai.memoryTypeIndex = example::memoryType(
       pd, req.memoryTypeBits, {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}, "a buffer");
   VkDeviceMemory memory;
@@ -115,7 +133,14 @@ int main(int argc, char** argv) {
   ni.pObjectName = "squares";
   CHECK(setName(dev, &ni));
 
-  // The pipeline: one storage buffer at set 0, binding 0.
+  uint64_t address = 0;
+  if (bda) {
+    VkBufferDeviceAddressInfo bai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    bai.buffer = buffer;
+    address = vkGetBufferDeviceAddress(dev, &bai);
+  }
+
+  // The pipeline: one storage buffer at set 0, binding 0 (--bda: the buffer's address as a push constant).
   VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   dl.bindingCount = 1;
@@ -123,13 +148,16 @@ int main(int argc, char** argv) {
   VkDescriptorSetLayout setLayout;
   CHECK(vkCreateDescriptorSetLayout(dev, &dl, nullptr, &setLayout));
   VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address};
   pl.setLayoutCount = 1;
   pl.pSetLayouts = &setLayout;
+  pl.pushConstantRangeCount = bda ? 1 : 0;
+  pl.pPushConstantRanges = &range;
   VkPipelineLayout layout;
   CHECK(vkCreatePipelineLayout(dev, &pl, nullptr, &layout));
   VkShaderModuleCreateInfo sm{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  sm.codeSize = sizeof kSpv_shader_debug_g_comp;
-  sm.pCode = kSpv_shader_debug_g_comp;
+  sm.codeSize = bda ? sizeof kSpv_shader_debug_bda_g_comp : sizeof kSpv_shader_debug_g_comp;
+  sm.pCode = bda ? kSpv_shader_debug_bda_g_comp : kSpv_shader_debug_g_comp;
   VkShaderModule module;
   CHECK(vkCreateShaderModule(dev, &sm, nullptr, &module));
   VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -176,6 +204,7 @@ int main(int argc, char** argv) {
   CHECK(vkBeginCommandBuffer(cb, &begin));
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+  if (bda) vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof address, &address);
   vkCmdDispatch(cb, 1, 1, 1);
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -192,7 +221,14 @@ int main(int argc, char** argv) {
   bool ok = true;
   const auto* squares = static_cast<const uint32_t*>(mapped);
   for (uint32_t i = 0; i < 8; ++i) ok = ok && squares[i] == i * i;
-  if (vkrt) ok = ok && gPrintfs == 8 && gOutOfBounds == 1;
+  if (vkrt && !bda) ok = ok && gPrintfs == 8 && gOutOfBounds == 1;
+  if (vkrt && bda) {
+    // Reported only where VKRT_SHADER_CHECKS asks for the device address check.
+    const char* checks = std::getenv("VKRT_SHADER_CHECKS");
+    const std::string c = checks ? checks : "";
+    const bool checked = c.find("bda") != std::string::npos || c.find("all") != std::string::npos;
+    ok = ok && gPrintfs == 0 && gOutOfBounds == (checked ? 1 : 0);
+  }
   const int printfs = gPrintfs, outOfBounds = gOutOfBounds;
 
   if (frames > 0) {

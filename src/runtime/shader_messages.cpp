@@ -178,7 +178,7 @@ void deliverOutOfBounds(const CommandBuffer* cb, const Object* pipeline, const c
     where = "in file " + s.file + buf;
     if (s.column) where += ", column " + std::to_string(s.column);
   } else if (s.wordOffset) {
-    where = "at SPIR-V word offset " + std::to_string(s.wordOffset) + " (the module has no line information)";
+    where = "at SPIR-V word offset " + std::to_string(s.wordOffset) + " (the module has no line information for it)";
   } else {
     where = "(no line information)";
   }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <set>
 
 #include "spirv/shader_debug.hpp"
@@ -300,17 +301,26 @@ void keepOnlyEntryPoint(std::vector<uint32_t>& words, spv::ExecutionModel model,
 
 // Non-semantic instructions before the optimizer: NonSemantic.DebugPrintf (debugPrintfEXT) is kept for the
 // translation (shader_debug_codegen.cpp); every other non-semantic set is dropped here (its imports and
-// instructions: debug information, reflection). A module without OpLine gets line information of its own, so
-// that an out-of-bounds report can name the instruction (the optimizer moves and renumbers instructions, but keeps
-// the OpLine of each): an OpString kWordOffsetFile, and before each instruction that accesses memory an OpLine
-// naming it, whose line is the instruction's word offset in `words` (the application's module, specialized in
-// place). Returns whether a DebugPrintf call remains.
+// instructions: debug information, reflection). The line information of NonSemantic.Shader.DebugInfo.100
+// (glslangValidator -gV and -gVS, newer glslc -g) becomes OpLine first: each DebugLine an OpLine of the file its
+// DebugSource names, at its start line and column, each DebugNoLine an OpNoLine, so that out-of-bounds reports name
+// the source line as they do for OpLine (the optimizer moves and renumbers instructions, but keeps the OpLine of
+// each). An instruction that accesses memory and has no source line (a module without line information, or a block
+// of one with lines where no OpLine or DebugLine precedes it) gets an OpLine of its own, naming an OpString
+// kWordOffsetFile, whose line is the instruction's word offset in `words` (the application's module, specialized in
+// place), so that a report can still name it. Returns whether a DebugPrintf call remains.
 bool prepareNonSemantic(std::vector<uint32_t>& words) {
   constexpr size_t kHeader = 5;
+  // NonSemantic.Shader.DebugInfo.100's instruction numbers and their operands' places in the OpExtInst (word 5 on).
+  constexpr uint32_t kDebugSource = 35, kDebugLine = 103, kDebugNoLine = 104;
   if (words.size() < kHeader) return false;
   std::set<uint32_t> dropped;
-  uint32_t printfSet = 0;
-  bool hasLines = false, hasPrintf = false;
+  uint32_t printfSet = 0, debugInfoSet = 0;
+  bool hasPrintf = false;
+  std::set<uint32_t> int32Types;
+  std::map<uint32_t, uint32_t> int32Constants;  // DebugLine's line and column operands are ids of such constants
+  std::map<uint32_t, uint32_t> sourceFiles;     // DebugSource result -> the OpString of its file name
+  std::set<uint32_t> strings;
   for (size_t at = kHeader; at < words.size();) {
     uint32_t count = words[at] >> 16;
     auto op = spv::Op(words[at] & 0xffff);
@@ -322,45 +332,90 @@ bool prepareNonSemantic(std::vector<uint32_t>& words) {
         printfSet = words[at + 1];
       } else if (name.rfind("NonSemantic.", 0) == 0) {
         dropped.insert(words[at + 1]);
+        if (name == "NonSemantic.Shader.DebugInfo.100") debugInfoSet = words[at + 1];
       }
+    } else if (op == spv::OpString && count >= 3) {
+      strings.insert(words[at + 1]);
+    } else if (op == spv::OpTypeInt && count == 4 && words[at + 2] == 32) {
+      int32Types.insert(words[at + 1]);
+    } else if (op == spv::OpConstant && count == 4 && int32Types.count(words[at + 1])) {
+      int32Constants[words[at + 2]] = words[at + 3];
+    } else if (op == spv::OpExtInst && count >= 6 && debugInfoSet && words[at + 3] == debugInfoSet &&
+               words[at + 4] == kDebugSource && strings.count(words[at + 5])) {
+      sourceFiles[words[at + 2]] = words[at + 5];
     }
     if (op == spv::OpExtInst && count >= 5 && printfSet && words[at + 3] == printfSet) hasPrintf = true;
-    hasLines = hasLines || op == spv::OpLine;
     at += count;
   }
-  const uint32_t fileId = hasLines ? 0 : words[3];
+  auto constant = [&](uint32_t id, uint32_t* value) {
+    auto c = int32Constants.find(id);
+    if (c == int32Constants.end()) return false;
+    *value = c->second;
+    return true;
+  };
+  const uint32_t fileId = words[3];  // the word-offset OpString's id: one past the module's bound
+  bool offsetLineUsed = false;
   std::vector<uint32_t> out(words.begin(), words.begin() + kHeader);
-  bool stringPlaced = hasLines, inFunctions = false;
+  size_t stringAt = 0;  // where the word-offset OpString goes: the debug section's first place
+  bool inFunctions = false, sourceLine = false;
   for (size_t at = kHeader; at < words.size();) {
     uint32_t count = words[at] >> 16;
     auto op = spv::Op(words[at] & 0xffff);
+    // Inside functions only: a DebugLine elsewhere (the non-semantic rules allow it among the types) describes no
+    // instruction that runs.
+    const bool debugInfo =
+        inFunctions && op == spv::OpExtInst && count >= 5 && debugInfoSet && words[at + 3] == debugInfoSet;
     bool drop = (op == spv::OpExtInstImport && dropped.count(words[at + 1])) ||
                 (op == spv::OpExtInst && count >= 4 && dropped.count(words[at + 3]));
-    if (!stringPlaced && op != spv::OpCapability && op != spv::OpExtension && op != spv::OpExtInstImport &&
+    if (!stringAt && op != spv::OpCapability && op != spv::OpExtension && op != spv::OpExtInstImport &&
         op != spv::OpMemoryModel && op != spv::OpEntryPoint && op != spv::OpExecutionMode &&
         op != spv::OpExecutionModeId) {
-      // The debug section's first place: OpString comes before OpSource, OpName and everything after.
-      std::vector<uint32_t> text((sizeof kWordOffsetFile + 3) / 4, 0);
-      std::memcpy(text.data(), kWordOffsetFile, sizeof kWordOffsetFile);
-      out.push_back(uint32_t(2 + text.size()) << 16 | spv::OpString);
-      out.push_back(fileId);
-      out.insert(out.end(), text.begin(), text.end());
-      stringPlaced = true;
+      // OpString comes before OpSource, OpName and everything after.
+      stringAt = out.size();
     }
     inFunctions = inFunctions || op == spv::OpFunction;
+    if (op == spv::OpLabel || op == spv::OpNoLine || op == spv::OpFunctionEnd) sourceLine = false;
+    if (op == spv::OpLine) sourceLine = true;
+    if (debugInfo && words[at + 4] == kDebugLine && count >= 10) {
+      auto file = sourceFiles.find(words[at + 5]);
+      uint32_t line = 0, column = 0;
+      if (file != sourceFiles.end() && constant(words[at + 6], &line) && constant(words[at + 8], &column)) {
+        out.push_back(4u << 16 | spv::OpLine);
+        out.push_back(file->second);
+        out.push_back(line);
+        out.push_back(column);
+        sourceLine = true;
+      } else {
+        out.push_back(1u << 16 | spv::OpNoLine);
+        sourceLine = false;
+      }
+    } else if (debugInfo && words[at + 4] == kDebugNoLine) {
+      out.push_back(1u << 16 | spv::OpNoLine);
+      sourceLine = false;
+    }
     bool access = op == spv::OpLoad || op == spv::OpStore || op == spv::OpCopyMemory || op == spv::OpAccessChain ||
                   op == spv::OpInBoundsAccessChain || op == spv::OpPtrAccessChain ||
                   op == spv::OpInBoundsPtrAccessChain || (op >= spv::OpAtomicLoad && op <= spv::OpAtomicXor);
-    if (!hasLines && inFunctions && access) {
+    if (inFunctions && access && !sourceLine) {
+      // Holds, as an OpLine does, to the next line instruction or the end of the block: the instructions after
+      // the access that use its result (an image instruction after the load of its image) are named by it too.
       out.push_back(4u << 16 | spv::OpLine);
       out.push_back(fileId);
       out.push_back(uint32_t(at));
       out.push_back(0);
+      offsetLineUsed = true;
     }
     if (!drop) out.insert(out.end(), words.begin() + at, words.begin() + at + count);
     at += count;
   }
-  if (!hasLines) out[3] = words[3] + 1;
+  if (offsetLineUsed) {
+    std::vector<uint32_t> text((sizeof kWordOffsetFile + 3) / 4, 0);
+    std::memcpy(text.data(), kWordOffsetFile, sizeof kWordOffsetFile);
+    std::vector<uint32_t> string{uint32_t(2 + text.size()) << 16 | spv::OpString, fileId};
+    string.insert(string.end(), text.begin(), text.end());
+    out.insert(out.begin() + std::ptrdiff_t(stringAt ? stringAt : out.size()), string.begin(), string.end());
+    out[3] = words[3] + 1;
+  }
   words = std::move(out);
   return hasPrintf;
 }

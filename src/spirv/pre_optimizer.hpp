@@ -19,7 +19,9 @@ void defineUndefinedShuffleComponents(std::vector<uint32_t>& words);
 void foldQuantizeToF16SpecConstants(std::vector<uint32_t>& words);
 // Removes every entry point but the one compiled.
 void keepOnlyEntryPoint(std::vector<uint32_t>& words, spv::ExecutionModel model, const std::string& name);
-// Drops non-semantic instructions but DebugPrintf and adds line information; returns whether a DebugPrintf remains.
+// Drops non-semantic instructions but DebugPrintf, turning NonSemantic.Shader.DebugInfo.100's DebugLine/DebugNoLine
+// into OpLine/OpNoLine, and gives each memory access without a source line an OpLine naming its word offset; returns
+// whether a DebugPrintf remains.
 bool prepareNonSemantic(std::vector<uint32_t>& words);
 
 }  // namespace vkrt::spirv

@@ -5,6 +5,7 @@
 // ("VKRT-shader-out-of-bounds"); in-bounds shaders report nothing. The layer is on, as in every e2e test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -18,12 +19,15 @@
 #include "check_bda.g.comp.spv.h"
 #include "check_bda.g.rgen.spv.h"
 #include "check_image.g.comp.spv.h"
+#include "check_image_draw.g.frag.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/draw_fixture.hpp"
 #include "e2e/trace_fixture.hpp"
+#include "oob_debug_info.spvasm.spv.h"
 #include "oob_draw.frag.spv.h"
 #include "oob_read.comp.spv.h"
 #include "oob_write.g.comp.spv.h"
+#include "oob_write.gv.comp.spv.h"
 #include "printf_chit.rchit.spv.h"
 #include "printf_compute.comp.spv.h"
 #include "printf_draw.frag.spv.h"
@@ -210,6 +214,66 @@ TEST_F(ShaderDebugComputeTest, OutOfBoundsWriteNamedWithFileAndLine) {
   std::vector<Message> seen = vkrtMessages();
   ASSERT_EQ(seen.size(), 1u);
   EXPECT_EQ(seen[0].idName, kOutOfBoundsId);
+  clearMessages();
+  destroy(out);
+  destroyComputePipeline(device, p);
+}
+
+// glslangValidator -gV: the line information is NonSemantic.Shader.DebugInfo.100's DebugLine (the module's only
+// OpLine is the function's, before its first block, so it names no access), yet the report names line 9.
+TEST_F(ShaderDebugComputeTest, OutOfBoundsWriteNamedThroughDebugInfo100Lines) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  ComputePipeline p =
+      makeComputePipeline(device, kSpv_oob_write_gv_comp, sizeof kSpv_oob_write_gv_comp, {kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer out = createHostBuffer(16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x5a, 16);
+  dispatch(p, {&out}, 1);
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const std::string& t = m[0].text;
+  EXPECT_TRUE(contains(t, "oob_write.gv.comp at line 9")) << t;
+  EXPECT_FALSE(contains(t, "column")) << t;  // glslang writes column 0: none
+  EXPECT_TRUE(contains(t, "store of 4 bytes at offset ")) << t;
+  EXPECT_TRUE(contains(t, "variable \"result\"")) << t;
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(static_cast<const uint8_t*>(out.data)[i], 0x5a);
+  clearMessages();
+  destroy(out);
+  destroyComputePipeline(device, p);
+}
+
+// The word offset of the `n`-th OpStore (from 0) of a module.
+uint32_t storeOffset(const uint32_t* words, size_t count, int n) {
+  for (size_t at = 5; at < count && (words[at] >> 16); at += words[at] >> 16)
+    if ((words[at] & 0xffff) == spv::OpStore && n-- == 0) return uint32_t(at);
+  return 0;
+}
+
+// DebugLine of two DebugSources, with a column, and DebugNoLine: three stores past the buffer, each named by what
+// precedes it (a file, line and column; the other file; the word offset, as a store in a module without line
+// information is).
+TEST_F(ShaderDebugComputeTest, OutOfBoundsWritesNamedByDebugLineAndDebugNoLine) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  ComputePipeline p =
+      makeComputePipeline(device, kSpv_oob_debug_info_spvasm, sizeof kSpv_oob_debug_info_spvasm, {kStorageBuffer});
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  HostBuffer out = createHostBuffer(16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x5a, 16);
+  dispatch(p, {&out}, 1);
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 3u);
+  const uint32_t third = storeOffset(kSpv_oob_debug_info_spvasm, sizeof kSpv_oob_debug_info_spvasm / 4, 2);
+  ASSERT_NE(third, 0u);
+  const std::string expected[3][2] = {
+      {"in file first.glsl at line 21, column 5,", "store of 4 bytes at offset 64 "},
+      {"in file second.glsl at line 40, column 9,", "store of 4 bytes at offset 68 "},
+      {"at SPIR-V word offset " + std::to_string(third) + " ", "store of 4 bytes at offset 72 "}};
+  for (const auto& e : expected) {
+    auto hit = std::find_if(m.begin(), m.end(), [&](const ShaderMessage& s) { return contains(s.text, e[1]); });
+    ASSERT_NE(hit, m.end()) << e[1];
+    EXPECT_TRUE(contains(hit->text, e[0])) << hit->text;
+  }
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(static_cast<const uint8_t*>(out.data)[i], 0x5a);
   clearMessages();
   destroy(out);
   destroyComputePipeline(device, p);
@@ -958,10 +1022,180 @@ TEST_F(ShaderChecksTraceTest, RayGenerationStorePastABufferIsReported) {
   clearMessages();
 }
 
+// VKRT_SHADER_CHECKS=image in a draw: check_image_draw.g.frag reads a 4 x 4 storage image, cleared to 77, at each
+// fragment's position over the 32 x 32 target. The parameter is VKRT_SPMD (the shader takes the fiber path on
+// both: storage image instructions are not on the SPMD path).
+class ShaderImageChecksDrawTest : public ShaderDebugDrawTest, public ::testing::WithParamInterface<const char*> {
+ protected:
+  const char* checks = "image";  // nullptr: unset
+  ShaderSettings settings;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory imageMemory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+
+  void SetUp() override {
+    settings.set(GetParam(), checks);
+    ShaderDebugDrawTest::SetUp();
+    if (HasFatalFailure()) return;
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = VK_FORMAT_R32_UINT;
+    ci.extent = {4, 4, 1};
+    ci.mipLevels = ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    ASSERT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memoryTypeIndex(req.memoryTypeBits, 0);
+    ASSERT_EQ(vkAllocateMemory(device, &mai, nullptr, &imageMemory), VK_SUCCESS);
+    ASSERT_EQ(vkBindImageMemory(device, image, imageMemory, 0), VK_SUCCESS);
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = ci.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    // UNDEFINED -> GENERAL, cleared to 77, then read by fragment shaders.
+    VkCommandBuffer cb = beginOneTime();
+    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barrier.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = vi.subresourceRange;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &barrier);
+    VkClearColorValue value{};
+    value.uint32[0] = 77;
+    vkCmdClearColorImage(cb, image, VK_IMAGE_LAYOUT_GENERAL, &value, 1, &vi.subresourceRange);
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &barrier);
+    submitAndWait(cb);
+    VkDescriptorSetLayoutBinding b{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    lci.bindingCount = 1;
+    lci.pBindings = &b;
+    ASSERT_EQ(vkCreateDescriptorSetLayout(device, &lci, nullptr, &setLayout), VK_SUCCESS);
+    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1};
+    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pci.maxSets = 1;
+    pci.poolSizeCount = 1;
+    pci.pPoolSizes = &ps;
+    ASSERT_EQ(vkCreateDescriptorPool(device, &pci, nullptr, &pool), VK_SUCCESS);
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &setLayout;
+    ASSERT_EQ(vkAllocateDescriptorSets(device, &ai, &set), VK_SUCCESS);
+    VkDescriptorImageInfo ii{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    w.pImageInfo = &ii;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  }
+  void TearDown() override {
+    if (device) {
+      vkDestroyDescriptorPool(device, pool, nullptr);
+      vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+      vkDestroyImageView(device, view, nullptr);
+      vkDestroyImage(device, image, nullptr);
+      vkFreeMemory(device, imageMemory, nullptr);
+    }
+    ShaderDebugDrawTest::TearDown();
+    settings.restore();
+  }
+
+  // Draws the full-screen rectangle with check_image_draw.g.frag and checks every pixel: red 77 where the
+  // fragment's texel is in the view, 0 (robust image access: zeros) elsewhere.
+  void drawAndCheckPixels() {
+    Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                VK_IMAGE_ASPECT_COLOR_BIT);
+    PipelineDesc d;
+    d.vs = kSpv_subpass_quad_vert;
+    d.vsBytes = sizeof kSpv_subpass_quad_vert;
+    d.fs = kSpv_check_image_draw_g_frag;
+    d.fsBytes = sizeof kSpv_check_image_draw_g_frag;
+    d.setLayout = setLayout;
+    VkPipeline pipeline;
+    ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+    auto pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+      vkCmdDraw(cb, 6, 1, 0, 0);
+    });
+    ASSERT_EQ(pixels.size(), size_t(kW * kH));
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < kW; ++x)
+        EXPECT_EQ(pixels[y * kW + x], x < 4 && y < 4 ? 0xFF00004Du : 0xFF000000u) << x << ", " << y;
+    vkDestroyPipeline(device, pipeline, nullptr);
+    destroy(color);
+  }
+};
+
+// The reads outside the view are reported once for the draw, naming the fragment (its FragCoord) and the
+// coordinates it read, which are that fragment's pixel, outside the 4 x 4 view.
+TEST_P(ShaderImageChecksDrawTest, FragmentReadOutsideTheViewNamesTheFragment) {
+  if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
+  drawAndCheckPixels();
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);  // once per draw and site, although 1008 fragments read outside
+  const std::string& t = m[0].text;
+  EXPECT_EQ(m[0].severity, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT);  // robustImageAccess not enabled
+  EXPECT_TRUE(contains(t, "vkCmdDraw: fragment shader \"main\" of VkPipeline")) << t;
+  EXPECT_TRUE(contains(t, "check_image_draw.g.frag at line 8, fragment at (")) << t;
+  EXPECT_TRUE(contains(t, "is outside the view (level 0: 4x4x1, 1 layers; 1 levels)")) << t;
+  EXPECT_TRUE(contains(t, "(set 0, binding 0, element 0, variable \"img\", VkImageView ")) << t;
+  EXPECT_TRUE(contains(t, "the read returns zeros")) << t;
+  float fx = -1, fy = -1;
+  int x = -1, y = -1, z = -1;
+  ASSERT_EQ(std::sscanf(t.substr(t.find("fragment at (")).c_str(), "fragment at (%f, %f)", &fx, &fy), 2) << t;
+  ASSERT_EQ(std::sscanf(t.substr(t.find("OpImageRead at (")).c_str(), "OpImageRead at (%d, %d, %d)", &x, &y, &z), 3)
+      << t;
+  EXPECT_EQ(float(x) + 0.5f, fx) << t;  // the coordinates are the named fragment's pixel
+  EXPECT_EQ(float(y) + 0.5f, fy) << t;
+  EXPECT_EQ(z, 0) << t;
+  EXPECT_TRUE(x >= 4 || y >= 4) << t;
+  EXPECT_LT(x, int(kW)) << t;
+  EXPECT_LT(y, int(kH)) << t;
+  std::vector<Message> seen = vkrtMessages();  // the fixture's messenger (warnings) saw the same report
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].idName, kOutOfBoundsId);
+  clearMessages();
+}
+
+// Without the setting, the same draw gives the same pixels and no report.
+class ShaderImageChecksDrawOffTest : public ShaderImageChecksDrawTest {
+ protected:
+  void SetUp() override {
+    checks = nullptr;
+    ShaderImageChecksDrawTest::SetUp();
+  }
+};
+
+TEST_P(ShaderImageChecksDrawOffTest, FragmentReadOutsideTheViewIsNotReported) {
+  drawAndCheckPixels();
+  EXPECT_TRUE(log.take(kOutOfBoundsId).empty());
+}
+
 INSTANTIATE_TEST_SUITE_P(Paths, ShaderChecksTest, ::testing::Values("0", "1"));
 INSTANTIATE_TEST_SUITE_P(Paths, ShaderChecksOffTest, ::testing::Values("0", "1"));
 INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksTest, ::testing::Values("0", "1"));
 INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksOffTest, ::testing::Values("0", "1"));
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksDrawTest, ::testing::Values("0", "1"));
+INSTANTIATE_TEST_SUITE_P(Paths, ShaderImageChecksDrawOffTest, ::testing::Values("0", "1"));
 
 }  // namespace
 }  // namespace vkrt::test
