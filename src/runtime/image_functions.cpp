@@ -12,6 +12,7 @@
 #endif
 
 #include "exec/supervise.hpp"
+#include "runtime/bc_texel.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
 #include "runtime/descriptor_set_layout.hpp"
@@ -343,6 +344,11 @@ void readTexel(const TexelView& v, uint32_t level, const int64_t xyzl[4], uint32
   const uint8_t* t = texelAt(v, level, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
   if (!t) {
     std::memset(out, 0, 16);
+    return;
+  }
+  // A compressed view: the texel of its block (every read, fetch, filter, gather and blit source comes here).
+  if (v.format->block > 1) {
+    decodeBcTexel(*v.format, t, uint32_t(xyzl[0] & 3), uint32_t(xyzl[1] & 3), out);
     return;
   }
   decodeTexel(*v.format, t, out);
