@@ -306,6 +306,7 @@ class CompressedFormatTest : public ImageTest {
   FixtureOptions options() override {
     FixtureOptions o;
     o.features.textureCompressionBC = VK_TRUE;
+    o.features12.samplerMirrorClampToEdge = VK_TRUE;  // FilteringAddressModesAndGathersReadAcrossBlocks
     return o;
   }
 
@@ -546,8 +547,8 @@ TEST_F(CompressedFormatTest, FilteringAddressModesAndGathersReadAcrossBlocks) {
   expectNear(got[0], Texel{1, 0, 0, 1}, 0, "gather", 0);
   vkDestroySampler(device, linear, nullptr);
   // Past the right edge (texel 8.5): REPEAT wraps to texel 0 (red), CLAMP_TO_EDGE stays on texel 7 (blue),
-  // MIRRORED_REPEAT reflects to texel 7 (blue), CLAMP_TO_BORDER reads the border; texel -0.5: MIRRORED_REPEAT reads
-  // texel 0 (red).
+  // MIRRORED_REPEAT reflects to texel 7 (blue), CLAMP_TO_BORDER reads the border, MIRROR_CLAMP_TO_EDGE clamps to 7;
+  // texel -0.5: MIRRORED_REPEAT and MIRROR_CLAMP_TO_EDGE read texel 0 (red).
   const struct {
     VkSamplerAddressMode mode;
     float u;
@@ -558,6 +559,9 @@ TEST_F(CompressedFormatTest, FilteringAddressModesAndGathersReadAcrossBlocks) {
       {VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT, 8.5f / 8, blue},
       {VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT, -0.5f / 8, red},
       {VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER, 8.5f / 8, Texel{1, 1, 1, 1}},
+      {VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE, 8.5f / 8, blue},
+      {VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE, -0.5f / 8, red},
+      {VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE, -12.5f / 8, blue},  // mirrored texel 12: clamped to 7
   };
   for (const auto& m : modes) {
     VkSampler s = sampler(VK_FILTER_NEAREST, m.mode, VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE);
@@ -791,6 +795,47 @@ TEST_F(CompressedFormatTest, BlockTexelViewCompatibleViewsAddressBlocks) {
   vkDestroyDescriptorSetLayout(device, p.setLayout, nullptr);
   vkDestroyImageView(device, blockView, nullptr);
   destroy(t);
+}
+
+// A 3D BC1 image of 8x4x2 texels (two slices of 2x1 blocks, uploaded in one buffer copy) blitted 1:1 into a 3D
+// RGBA8 image: each slice's blocks decode in place.
+TEST_F(CompressedFormatTest, ThreeDimensionalImagesHoldASliceOfBlocksPerDepth) {
+  const uint32_t zero[16] = {};
+  const uint16_t colours[4] = {0xF800, 0x001F, 0x07E0, 0xFFFF};  // red, blue | green, white
+  Block bytes;
+  for (uint16_t c : colours) bytes = cat(bytes, bc1(c, c, zero));
+  VkImageCreateInfo ci = imageInfo(VK_IMAGE_TYPE_3D, VK_FORMAT_BC1_RGB_UNORM_BLOCK, {8, 4, 2}, 1, 1);
+  Img src = createImage(ci);
+  Img dst = createImage(imageInfo(VK_IMAGE_TYPE_3D, VK_FORMAT_R8G8B8A8_UNORM, {8, 4, 2}, 1, 1));
+  HostBuffer staging = createHostBuffer(bytes.size(), kXfer);
+  std::memcpy(staging.data, bytes.data(), bytes.size());
+  HostBuffer out = createHostBuffer(8 * 4 * 2 * 4, kXfer);
+  VkCommandBuffer cb = beginOneTime();
+  toDst(cb, src.image);
+  toDst(cb, dst.image);
+  VkBufferImageCopy r{};
+  r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  r.imageExtent = {8, 4, 2};
+  vkCmdCopyBufferToImage(cb, staging.buffer, src.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &r);
+  dstToSrc(cb, src.image);
+  VkImageBlit b{};
+  b.srcSubresource = b.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  b.srcOffsets[1] = b.dstOffsets[1] = {8, 4, 2};
+  vkCmdBlitImage(cb, src.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 1, &b, VK_FILTER_NEAREST);
+  dstToSrc(cb, dst.image);
+  vkCmdCopyImageToBuffer(cb, dst.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, out.buffer, 1, &r);
+  submitAndWait(cb);
+  const uint8_t* px = static_cast<const uint8_t*>(out.data);
+  const uint8_t want[4][4] = {{255, 0, 0, 255}, {0, 0, 255, 255}, {0, 255, 0, 255}, {255, 255, 255, 255}};
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 8; ++x)
+        EXPECT_EQ(std::memcmp(px + ((z * 4 + y) * 8 + x) * 4, want[z * 2 + x / 4], 4), 0) << x << "," << y << "," << z;
+  destroy(out);
+  destroy(staging);
+  destroy(dst);
+  destroy(src);
 }
 
 // The rules of compressed formats, with the validation layer off: each broken rule is reported by vkrt with its
