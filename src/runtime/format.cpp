@@ -333,11 +333,16 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
   // texel size (vkrt's formats are uncompressed: one compatibility class per size, "Format Compatibility Classes").
   // The view's own format then has to support it (vkCreateImageView).
   // A compressed image's views are of its BC class or, with BLOCK_TEXEL_VIEW_COMPATIBLE, uncompressed formats of its
-  // block size (viewFormatCompatible).
+  // block size (viewFormatCompatible), which are sampled and storage views of its blocks but no attachments: the
+  // render paths address attachments by the image's extent in texels, not in blocks.
   const VkImageCreateFlags extended = VK_IMAGE_CREATE_EXTENDED_USAGE_BIT | VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
   if ((flags & extended) == extended && !isDepthStencilFormat(format)) {
+    const VkFormatFeatureFlags noAttachment = isCompressedFormat(format)
+                                                  ? ~VkFormatFeatureFlags(VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT |
+                                                                          VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT)
+                                                  : ~VkFormatFeatureFlags(0);
     for (const FormatInfo& f : kFormats)
-      if (viewFormatCompatible(format, f.format, flags)) features |= formatFeatures(f.format);
+      if (viewFormatCompatible(format, f.format, flags)) features |= formatFeatures(f.format) & noAttachment;
   }
   // Each usage needs its format feature ("Image Creation Limits").
   const struct {

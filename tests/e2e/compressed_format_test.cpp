@@ -1028,6 +1028,17 @@ TEST_F(CompressedFormatMisuseTest, CreationRulesAreReported) {
     EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_ERROR_FORMAT_NOT_SUPPORTED);
     expectVkrtMessage("VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251");
   }
+  // Nor is a block-texel-view-compatible one with attachment usage (its uncompressed views are sampled and storage
+  // views only), though its storage usage is.
+  ci = imageInfo(VK_IMAGE_TYPE_2D, VK_FORMAT_BC7_UNORM_BLOCK, {8, 8, 1}, 1, 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+  ci.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT |
+             VK_IMAGE_CREATE_EXTENDED_USAGE_BIT;
+  EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_ERROR_FORMAT_NOT_SUPPORTED);
+  expectVkrtMessage("VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251");
+  ci.usage = VK_IMAGE_USAGE_STORAGE_BIT;
+  EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+  EXPECT_TRUE(vkrtMessages().empty());
+  vkDestroyImage(device, image, nullptr);
   ci = imageInfo(VK_IMAGE_TYPE_1D, VK_FORMAT_BC1_RGB_UNORM_BLOCK, {8, 1, 1}, 1, 1);
   EXPECT_EQ(vkCreateImage(device, &ci, nullptr, &image), VK_ERROR_FORMAT_NOT_SUPPORTED);
   expectVkrtMessage("VUID-VkImageCreateInfo-imageCreateMaxMipLevels-02251");
