@@ -5,6 +5,7 @@
 #include "runtime/acceleration_structure_build.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/physical_device.hpp"
+#include "runtime/supported_features.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -77,7 +78,41 @@ constexpr FormatInfo kFormats[] = {
     {VK_FORMAT_S8_UINT, 1, 1, {8}, N::UInt, false, false},
     {VK_FORMAT_D24_UNORM_S8_UINT, 4, 1, {24}, N::UNorm, false, false},
     {VK_FORMAT_D32_SFLOAT_S8_UINT, 8, 1, {32}, N::SFloat, false, false},
+    // The BC formats ("Compressed Image Formats", "Block-Compressed Image Formats"): 4x4 blocks of 8 or 16 bytes,
+    // decoded to the components and type below (runtime/bc_texel.cpp); BC1_RGB has no alpha (read as 1).
+    {VK_FORMAT_BC1_RGB_UNORM_BLOCK, 8, 3, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC1_RGB_SRGB_BLOCK, 8, 3, {}, N::SRGB, false, false, 0, false, 4},
+    {VK_FORMAT_BC1_RGBA_UNORM_BLOCK, 8, 4, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC1_RGBA_SRGB_BLOCK, 8, 4, {}, N::SRGB, false, false, 0, false, 4},
+    {VK_FORMAT_BC2_UNORM_BLOCK, 16, 4, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC2_SRGB_BLOCK, 16, 4, {}, N::SRGB, false, false, 0, false, 4},
+    {VK_FORMAT_BC3_UNORM_BLOCK, 16, 4, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC3_SRGB_BLOCK, 16, 4, {}, N::SRGB, false, false, 0, false, 4},
+    {VK_FORMAT_BC4_UNORM_BLOCK, 8, 1, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC4_SNORM_BLOCK, 8, 1, {}, N::SNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC5_UNORM_BLOCK, 16, 2, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC5_SNORM_BLOCK, 16, 2, {}, N::SNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC6H_UFLOAT_BLOCK, 16, 3, {}, N::UFloat, false, false, 0, false, 4},
+    {VK_FORMAT_BC6H_SFLOAT_BLOCK, 16, 3, {}, N::SFloat, false, false, 0, false, 4},
+    {VK_FORMAT_BC7_UNORM_BLOCK, 16, 4, {}, N::UNorm, false, false, 0, false, 4},
+    {VK_FORMAT_BC7_SRGB_BLOCK, 16, 4, {}, N::SRGB, false, false, 0, false, 4},
 };
+
+// The compatibility class of a BC format ("Format Compatibility Classes": 64-bit BC1_RGB, 64-bit BC1_RGBA,
+// 128-bit BC2, BC3, 64-bit BC4, 128-bit BC5, BC6H, BC7): the format that opens its pair.
+VkFormat bcClass(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_BC1_RGB_SRGB_BLOCK: return VK_FORMAT_BC1_RGB_UNORM_BLOCK;
+    case VK_FORMAT_BC1_RGBA_SRGB_BLOCK: return VK_FORMAT_BC1_RGBA_UNORM_BLOCK;
+    case VK_FORMAT_BC2_SRGB_BLOCK: return VK_FORMAT_BC2_UNORM_BLOCK;
+    case VK_FORMAT_BC3_SRGB_BLOCK: return VK_FORMAT_BC3_UNORM_BLOCK;
+    case VK_FORMAT_BC4_SNORM_BLOCK: return VK_FORMAT_BC4_UNORM_BLOCK;
+    case VK_FORMAT_BC5_SNORM_BLOCK: return VK_FORMAT_BC5_UNORM_BLOCK;
+    case VK_FORMAT_BC6H_SFLOAT_BLOCK: return VK_FORMAT_BC6H_UFLOAT_BLOCK;
+    case VK_FORMAT_BC7_SRGB_BLOCK: return VK_FORMAT_BC7_UNORM_BLOCK;
+    default: return f;
+  }
+}
 
 // The stencil aspects of the combined formats.
 constexpr FormatInfo kD24S8Stencil{VK_FORMAT_D24_UNORM_S8_UINT, 4, 1, {8}, N::UInt, false, false, 3};
@@ -86,7 +121,9 @@ constexpr FormatInfo kD32S8Stencil{VK_FORMAT_D32_SFLOAT_S8_UINT, 8, 1, {8}, N::U
 // The color formats the spec's "Required Format Support" tables mark COLOR_ATTACHMENT (vkrt renders to every
 // color format it has but the three-component 32-bit ones, buffer-only, and the shared-exponent E5B9G9R9; B10G11R11,
 // whose encode is rounding only, is included). Blending applies to all but the integer formats.
-bool colorAttachment(const FormatInfo& f) { return f.texelSize != 12 && f.format != VK_FORMAT_E5B9G9R9_UFLOAT_PACK32; }
+bool colorAttachment(const FormatInfo& f) {
+  return f.texelSize != 12 && f.format != VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 && f.block == 1;
+}
 
 }  // namespace
 
@@ -94,6 +131,22 @@ const FormatInfo* formatInfo(VkFormat format) {
   for (const FormatInfo& f : kFormats)
     if (f.format == format) return &f;
   return nullptr;
+}
+
+bool isCompressedFormat(VkFormat format) {
+  const FormatInfo* f = formatInfo(format);
+  return f && f->block > 1;
+}
+
+bool viewFormatCompatible(VkFormat image, VkFormat view, VkImageCreateFlags flags) {
+  const FormatInfo* i = formatInfo(image);
+  const FormatInfo* v = formatInfo(view);
+  if (!i || !v) return false;
+  if (image == view) return true;
+  if (i->block > 1 && v->block > 1) return bcClass(image) == bcClass(view);
+  // "Size-compatible": an uncompressed view of a compressed image whose texel is one block.
+  if (i->block > 1) return (flags & VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT) && v->texelSize == i->texelSize;
+  return v->block == 1 && v->texelSize == i->texelSize;
 }
 
 bool isDepthStencilFormat(VkFormat format) {
@@ -150,6 +203,17 @@ bool isColorAttachmentFormat(VkFormat format) {
 VkFormatFeatureFlags formatFeatures(VkFormat format) {
   const FormatInfo* f = formatInfo(format);
   if (!f || f->texelSize == 12) return 0;  // three-component 32-bit formats are buffer-only
+  // The BC formats ("Mandatory format support: BC compressed formats": SAMPLED_IMAGE, BLIT_SRC,
+  // SAMPLED_IMAGE_FILTER_LINEAR) and copies: the image functions decode the texel's block wherever a shader or a
+  // blit reads one (runtime/bc_texel.cpp), copies move whole blocks (runtime/image_copy.cpp). Nothing writes texels
+  // of a compressed format: no attachment, storage, blit destination or clear. None without textureCompressionBC in
+  // the supported features (runtime/supported_features.cpp): the formats and the feature come together.
+  if (f->block > 1)
+    return !supportedFeatures()[size_t(Feature::textureCompressionBC)]
+               ? 0
+               : VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT |
+                     VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_BLIT_SRC_BIT |
+                     VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if (isDepthStencilFormat(format)) {
     // Depth/stencil attachments (gfx/rendering.cpp clears, resolves and hands them to the rasterizer), copies per
     // aspect (runtime/image_copy.cpp), sampling (depth as R, stencil as an unsigned integer; linear filtering of
@@ -186,6 +250,11 @@ VkFormatFeatureFlags formatFeatures(VkFormat format) {
   return flags;
 }
 
+// Linear tiling: as optimal, but compressed images are optimal only (their tests are; nothing asks for more).
+VkFormatFeatureFlags linearFormatFeatures(VkFormat format) {
+  return isCompressedFormat(format) ? 0 : formatFeatures(format);
+}
+
 VkFormatFeatureFlags2 formatFeatures2(VkFormat format) {
   VkFormatFeatureFlags2 flags = formatFeatures(format);
   // Formats ("Formats Without Shader Storage Format"): with shaderStorageImage{Read,Write}WithoutFormat supported,
@@ -215,7 +284,8 @@ VkFormatFeatureFlags bufferFormatFeatures(VkFormat format) {
       (accelerationStructureVertexFormat(format) ? VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR : 0) |
       (vertexBufferFormat(format) ? VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT : 0);
   const FormatInfo* f = formatInfo(format);
-  if (!f || f->type == N::SRGB || isDepthStencilFormat(format) || format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32)
+  if (!f || f->type == N::SRGB || isDepthStencilFormat(format) || format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 ||
+      f->block > 1)
     return vertex;
   VkFormatFeatureFlags flags =
       vertex | VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT | VK_FORMAT_FEATURE_STORAGE_TEXEL_BUFFER_BIT;
@@ -232,7 +302,7 @@ extern "C" {
 
 VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFormatProperties(VkPhysicalDevice, VkFormat format,
                                                                   VkFormatProperties* pFormatProperties) {
-  pFormatProperties->linearTilingFeatures = formatFeatures(format);
+  pFormatProperties->linearTilingFeatures = linearFormatFeatures(format);
   pFormatProperties->optimalTilingFeatures = formatFeatures(format);
   pFormatProperties->bufferFeatures = bufferFormatFeatures(format);
 }
@@ -243,7 +313,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_GetPhysicalDeviceFormatProperties2(VkPhysicalDev
   for (auto* s = static_cast<VkBaseOutStructure*>(pFormatProperties->pNext); s; s = s->pNext) {
     if (s->sType == VK_STRUCTURE_TYPE_FORMAT_PROPERTIES_3) {
       auto* p3 = reinterpret_cast<VkFormatProperties3*>(s);
-      p3->linearTilingFeatures = formatFeatures2(format);
+      p3->linearTilingFeatures = isCompressedFormat(format) ? 0 : formatFeatures2(format);
       p3->optimalTilingFeatures = formatFeatures2(format);
       // Storage texel buffers are not compiled yet: no format-less access to them.
       p3->bufferFeatures = bufferFormatFeatures(format);
@@ -255,17 +325,24 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
     VkPhysicalDevice physicalDevice, VkFormat format, VkImageType type, VkImageTiling tiling, VkImageUsageFlags usage,
     VkImageCreateFlags flags, VkImageFormatProperties* pProps) {
   *pProps = {};
-  VkFormatFeatureFlags features = formatFeatures(format);
+  VkFormatFeatureFlags features =
+      tiling == VK_IMAGE_TILING_LINEAR ? linearFormatFeatures(format) : formatFeatures(format);
   if (!features) return VK_ERROR_FORMAT_NOT_SUPPORTED;
   // VK_IMAGE_CREATE_EXTENDED_USAGE_BIT with MUTABLE_FORMAT: a usage may be one that only some format of the image's
   // views supports ("Image Creation Limits"); the views of a mutable color image may have any color format of its
   // texel size (vkrt's formats are uncompressed: one compatibility class per size, "Format Compatibility Classes").
   // The view's own format then has to support it (vkCreateImageView).
+  // A compressed image's views are of its BC class or, with BLOCK_TEXEL_VIEW_COMPATIBLE, uncompressed formats of its
+  // block size (viewFormatCompatible), which are sampled and storage views of its blocks but no attachments: the
+  // render paths address attachments by the image's extent in texels, not in blocks.
   const VkImageCreateFlags extended = VK_IMAGE_CREATE_EXTENDED_USAGE_BIT | VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
   if ((flags & extended) == extended && !isDepthStencilFormat(format)) {
-    const uint8_t size = formatInfo(format)->texelSize;
+    const VkFormatFeatureFlags noAttachment = isCompressedFormat(format)
+                                                  ? ~VkFormatFeatureFlags(VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT |
+                                                                          VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT)
+                                                  : ~VkFormatFeatureFlags(0);
     for (const FormatInfo& f : kFormats)
-      if (f.texelSize == size && !isDepthStencilFormat(f.format)) features |= formatFeatures(f.format);
+      if (viewFormatCompatible(format, f.format, flags)) features |= formatFeatures(f.format) & noAttachment;
   }
   // Each usage needs its format feature ("Image Creation Limits").
   const struct {
@@ -294,6 +371,9 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_GetPhysicalDeviceImageFormatProperties(
   if (usage & ~known) return VK_ERROR_FORMAT_NOT_SUPPORTED;
   // Depth/stencil images are 2D ("Depth/Stencil Formats": vkrt keeps them to the required image type).
   if (isDepthStencilFormat(format) && type != VK_IMAGE_TYPE_2D) return VK_ERROR_FORMAT_NOT_SUPPORTED;
+  // Compressed images are 2D (arrays and cube-compatible ones too) and 3D, as "Mandatory format support: BC
+  // compressed formats" lists them; not 1D.
+  if (isCompressedFormat(format) && type == VK_IMAGE_TYPE_1D) return VK_ERROR_FORMAT_NOT_SUPPORTED;
   if (flags &
       (VK_IMAGE_CREATE_SPARSE_BINDING_BIT | VK_IMAGE_CREATE_SPARSE_RESIDENCY_BIT | VK_IMAGE_CREATE_SPARSE_ALIASED_BIT))
     return VK_ERROR_FORMAT_NOT_SUPPORTED;

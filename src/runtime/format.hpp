@@ -25,6 +25,10 @@ struct FormatInfo {
   uint8_t offset = 0;
   // A packed format whose lowest field is A, followed by R, G, B (B4G4R4A4_UNORM_PACK16).
   bool alphaLow = false;
+  // The texel block's width and height ("Compressed Image Formats"): 1 for uncompressed formats, 4 for the BC
+  // formats, whose texelSize is the bytes of one 4x4 block (8 for BC1 and BC4, 16 for the others) and whose
+  // components and type are those the block decodes to (runtime/bc_texel.hpp); `bits` is unused for them.
+  uint8_t block = 1;
 };
 
 // Depth/stencil formats (the spec's "Depth/Stencil Formats"), stored as their texels: D16_UNORM 2 bytes,
@@ -47,8 +51,19 @@ bool isColorAttachmentFormat(VkFormat format);
 // nullptr when vkrt does not support the format.
 const FormatInfo* formatInfo(VkFormat format);
 
-// Format features vkrt supports for optimal/linear tiling and buffers (identical for both tilings).
+// A block-compressed format vkrt knows (the sixteen BC formats).
+bool isCompressedFormat(VkFormat format);
+// Whether `view` may be the format of a view of an image of `image` format created with `flags` ("Format
+// Compatibility Classes"): the same class (an uncompressed format: the same texel size; a BC format: the same BC
+// family, e.g. BC1_RGB_UNORM and BC1_RGB_SRGB), or, with VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT on a
+// compressed image, an uncompressed format whose texel size is the block size (size-compatible). False where either
+// format is unknown.
+bool viewFormatCompatible(VkFormat image, VkFormat view, VkImageCreateFlags flags);
+
+// Format features vkrt supports for optimal tiling and buffers; linear tiling has the same but for the compressed
+// formats, which have none (linearFormatFeatures).
 VkFormatFeatureFlags formatFeatures(VkFormat format);
+VkFormatFeatureFlags linearFormatFeatures(VkFormat format);
 VkFormatFeatureFlags bufferFormatFeatures(VkFormat format);
 // Whether `format` is a vertex buffer format (VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT): the formats
 // src/gfx/vertex_input.cpp converts, every 8/16/32-bit UNORM, SNORM, USCALED, SSCALED, UINT, SINT and SFLOAT format

@@ -50,8 +50,9 @@ Image::Image(Device* dev, const VkImageCreateInfo& info, const FormatInfo* f)
     MipLayout l;
     l.extent = mipExtent(extent, m);
     l.offset = offset;
-    l.rowPitch = VkDeviceSize(l.extent.width) * pixelSize;
-    l.depthPitch = l.rowPitch * l.extent.height;
+    const uint32_t b = f->block;  // 4 for the BC formats: rows of blocks
+    l.rowPitch = VkDeviceSize((l.extent.width + b - 1) / b) * pixelSize;
+    l.depthPitch = l.rowPitch * ((l.extent.height + b - 1) / b);
     l.arrayPitch = l.depthPitch * l.extent.depth;
     offset += l.arrayPitch * arrayLayers;
     mips.push_back(l);
@@ -119,6 +120,17 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
     report(dev, Severity::Error, "VUID-VkImageCreateInfo-imageType-00954",
            "vkCreateImage: a cube-compatible image of type %d has extent %ux%u and %u layers (square 2D, >= 6 needed)",
            (int)ci.imageType, ci.extent.width, ci.extent.height, ci.arrayLayers);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageCreateInfo-flags-01572 / 01573: BLOCK_TEXEL_VIEW_COMPATIBLE is for compressed formats, with
+  // MUTABLE_FORMAT
+  if ((ci.flags & VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT) &&
+      (!isCompressedFormat(ci.format) || !(ci.flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT))) {
+    const bool compressed = isCompressedFormat(ci.format);
+    report(dev, Severity::Error,
+           compressed ? "VUID-VkImageCreateInfo-flags-01573" : "VUID-VkImageCreateInfo-flags-01572",
+           "vkCreateImage: flags 0x%x have VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT %s (format %d)", ci.flags,
+           compressed ? "without VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT" : "with an uncompressed format", (int)ci.format);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkImageCreateInfo-mipLevels-00958
@@ -202,17 +214,17 @@ VkResult checkImageInfo(Device* dev, const VkImageCreateInfo& ci, const FormatIn
              list->viewFormatCount, ci.flags);
       return VK_ERROR_VALIDATION_FAILED_EXT;
     }
-    // VUID-VkImageCreateInfo-pNext-06722: each format compatible with the image's. Every format vkrt knows is an
-    // uncompressed color format, whose compatibility class is its texel size: a known format of another size is
-    // incompatible (one vkrt does not know may belong to the class: not reported).
+    // VUID-VkImageCreateInfo-pNext-06722: each format compatible with the image's (viewFormatCompatible: the same
+    // class, or with BLOCK_TEXEL_VIEW_COMPATIBLE an uncompressed format of the block's size); a format vkrt does not
+    // know may belong to the class: not reported.
     const FormatInfo* own = formatInfo(ci.format);
     for (uint32_t i = 0; i < list->viewFormatCount && own; ++i) {
       const FormatInfo* f = formatInfo(list->pViewFormats[i]);
-      if (f && f->texelSize != own->texelSize) {
+      if (f && !viewFormatCompatible(ci.format, list->pViewFormats[i], ci.flags)) {
         report(dev, Severity::Error, "VUID-VkImageCreateInfo-pNext-06722",
                "vkCreateImage: VkImageFormatListCreateInfo::pViewFormats[%u] (format %d, %u bytes a texel) is not "
-               "compatible with the image's format %d (%u bytes)",
-               i, (int)list->pViewFormats[i], f->texelSize, (int)ci.format, own->texelSize);
+               "compatible with the image's format %d (%u bytes, flags 0x%x)",
+               i, (int)list->pViewFormats[i], f->texelSize, (int)ci.format, own->texelSize, ci.flags);
         return VK_ERROR_VALIDATION_FAILED_EXT;
       }
     }

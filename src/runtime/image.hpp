@@ -8,6 +8,9 @@
 // `texelSize` above is texelSize * samples (Image::pixelSize), as raster::Surface addresses them.
 // Depth/stencil formats keep their whole texel (format.hpp: D24_UNORM_S8_UINT 4 bytes with stencil in byte 3,
 // D32_SFLOAT_S8_UINT 8 bytes with stencil in byte 4); every aspect's subresource layout is that of the texels.
+// A compressed (BC) image is laid out the same way in 4x4 blocks: texelSize is the block's bytes, a row holds
+// ceil(width / 4) blocks and a slice ceil(height / 4) rows ("Compressed Image Formats": a mip level smaller than a
+// block takes a whole one), and texel() takes block coordinates; MipLayout::extent stays in texels.
 // vkGetImageSubresourceLayout reports exactly these pitches, and the image functions compiled shaders call
 // (runtime/image_functions.cpp) address texels the same way.
 #pragma once
@@ -77,7 +80,8 @@ class Image : public Object {
   }
 
   uint8_t* data() const;
-  // Address of texel (x, y, z) of (mip, layer) (its sample 0); no bounds check.
+  // Address of texel (x, y, z) of (mip, layer) (its sample 0); of block (x, y) of slice z for a compressed image;
+  // no bounds check.
   uint8_t* texel(uint32_t mip, uint32_t layer, uint32_t x, uint32_t y, uint32_t z) const {
     const MipLayout& m = mips[mip];
     return data() + m.offset + layer * m.arrayPitch + z * m.depthPitch + y * m.rowPitch + x * pixelSize;

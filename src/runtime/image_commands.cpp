@@ -3,6 +3,7 @@
 // one is invalid) and records a closure that runs the routines of runtime/image_copy.hpp and image_blit.hpp.
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "runtime/buffer.hpp"
@@ -290,6 +291,39 @@ bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffs
 
 namespace {
 
+// The rules of buffer copies of a compressed image ("Copying Data Between Buffers and Images": regions in whole 4x4
+// blocks but at the mip level's edge): VUID ...-bufferRowLength-00203, bufferImageHeight-00204 (multiples of the
+// block), pRegions-07274 / 07275 (offsets), imageExtent-00207 / 00208 (extents, unless they reach the edge). The
+// block's depth is 1: z is free. True for uncompressed formats.
+bool blockAligned(const Image& img, const VkBufferImageCopy2& r, uint32_t index, bool toImage, bool two,
+                  const char* fn) {
+  const uint32_t b = img.formatInfo->block;
+  if (b == 1) return true;
+  const VkExtent3D m = img.mips[r.imageSubresource.mipLevel].extent;
+  const char* rule = r.bufferRowLength % b           ? "bufferRowLength-00203"
+                     : r.bufferImageHeight % b       ? "bufferImageHeight-00204"
+                     : uint32_t(r.imageOffset.x) % b ? "pRegions-07274"
+                     : uint32_t(r.imageOffset.y) % b ? "pRegions-07275"
+                     : r.imageExtent.width % b != 0 && uint64_t(r.imageOffset.x) + r.imageExtent.width != m.width
+                         ? "imageExtent-00207"
+                     : r.imageExtent.height % b != 0 && uint64_t(r.imageOffset.y) + r.imageExtent.height != m.height
+                         ? "imageExtent-00208"
+                         : nullptr;
+  if (!rule) return true;
+  const std::string vuid = std::string("VUID-") +
+                           (toImage ? (two ? "VkCopyBufferToImageInfo2-" : "vkCmdCopyBufferToImage-")
+                                    : (two ? "VkCopyImageToBufferInfo2-" : "vkCmdCopyImageToBuffer-")) +
+                           rule;
+  report(&img, Severity::Error, vuid.c_str(),
+         "%s: pRegions[%u] (bufferRowLength %u, bufferImageHeight %u, imageOffset (%d, %d, %d), imageExtent (%u, %u, "
+         "%u)) of format %d: offsets, bufferRowLength and bufferImageHeight must be multiples of the %ux%u texel "
+         "block, and extents too unless they reach the edge of mip %u (%u x %u)",
+         fn, index, r.bufferRowLength, r.bufferImageHeight, r.imageOffset.x, r.imageOffset.y, r.imageOffset.z,
+         r.imageExtent.width, r.imageExtent.height, r.imageExtent.depth, (int)img.format, b, b,
+         r.imageSubresource.mipLevel, m.width, m.height);
+  return false;
+}
+
 void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkImageLayout layout,
                        std::vector<VkBufferImageCopy2> regions, bool toImage, const Vuids& v) {
   Buffer* buf = fromHandle<Buffer>(bufferH);
@@ -336,6 +370,7 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
       return;
     }
     const uint32_t t = aspectBufferTexelSize(img->format, aspect);
+    if (!blockAligned(*img, r, i, toImage, two, v.fn)) return;
     // VUID-vkCmdCopyBufferToImage-srcImage-04053 (and the 3 others): depth/stencil copies at multiples of 4 bytes
     if (aspect != VK_IMAGE_ASPECT_COLOR_BIT && r.bufferOffset % 4) {
       report(
@@ -356,15 +391,15 @@ void recordBufferImage(CommandBuffer* cb, VkBuffer bufferH, VkImage imageH, VkIm
              r.bufferRowLength, r.bufferImageHeight, r.imageExtent.width, r.imageExtent.height);
       return;
     }
-    // VUID ...-bufferOffset-00193: a multiple of the texel size
+    // VUID ...-bufferOffset-00193: a multiple of the texel (block) size
     if (r.bufferOffset % t) {
       report(buf, Severity::Error, v.bufOffset,
-             "%s: pRegions[%u].bufferOffset %llu is not a multiple of the %u-byte texel", v.fn, i, (ull)r.bufferOffset,
-             t);
+             "%s: pRegions[%u].bufferOffset %llu is not a multiple of the %u-byte texel%s", v.fn, i,
+             (ull)r.bufferOffset, t, img->formatInfo->block > 1 ? " block" : "");
       return;
     }
-    // VUID ...-pRegions-00171 / 00183: the buffer holds every addressed texel
-    VkDeviceSize need = bufferFootprint(r, t);
+    // VUID ...-pRegions-00171 / 00183: the buffer holds every addressed texel (whole blocks of a compressed image)
+    VkDeviceSize need = bufferFootprint(r, t, img->formatInfo->block);
     if (r.bufferOffset > buf->size || need > buf->size - r.bufferOffset) {
       report(buf, Severity::Error, v.bufSize,
              "%s: pRegions[%u] needs %llu bytes at bufferOffset %llu; the buffer has %llu", v.fn, i, (ull)need,
@@ -386,6 +421,49 @@ VkBufferImageCopy2 toCopy2(const VkBufferImageCopy& r) {
           r.imageSubresource,
           r.imageOffset,
           r.imageExtent};
+}
+
+// The destination's extent of an image copy region, in its texels: the region's extent is in the source's texels
+// ("Copying Data Between Images"), one texel of an uncompressed format for one block of a compressed one (a
+// compressed source's partial edge block: one texel). An uncompressed source's texel is a whole block of a
+// compressed destination, which must fit the level (VUID ...-dstOffset-00150, as the validation layer checks it):
+// the last, partial, blocks of a compressed level are written by buffer copies and copies between compressed images.
+VkExtent3D destinationExtent(const Image& src, const Image& dst, const VkImageCopy2& r) {
+  const uint32_t sb = src.formatInfo->block, db = dst.formatInfo->block;
+  VkExtent3D e = r.extent;
+  if (sb == db) return e;
+  if (sb > 1) {
+    e.width = (e.width + sb - 1) / sb;
+    e.height = (e.height + sb - 1) / sb;
+    return e;
+  }
+  e.width *= db;
+  e.height *= db;
+  return e;
+}
+
+// The rules of image copies of a compressed side (`ext` in that side's texels): VUID ...-pRegions-07278 / 07279
+// (srcOffset) and 07281 / 07282 (dstOffset) multiples of the block, srcImage-01728 / 01729 and dstImage-01732 / 01733
+// (extents multiples of the block unless they reach the mip level's edge). The block's depth is 1.
+bool copyBlockAligned(const Image& img, const VkImageSubresourceLayers& sub, VkOffset3D off, VkExtent3D ext,
+                      uint32_t index, bool src, bool two, const char* fn) {
+  const uint32_t b = img.formatInfo->block;
+  if (b == 1) return true;
+  const VkExtent3D m = img.mips[sub.mipLevel].extent;
+  const char* rule =
+      uint32_t(off.x) % b                                               ? (src ? "pRegions-07278" : "pRegions-07281")
+      : uint32_t(off.y) % b                                             ? (src ? "pRegions-07279" : "pRegions-07282")
+      : ext.width % b != 0 && uint64_t(off.x) + ext.width != m.width    ? (src ? "srcImage-01728" : "dstImage-01732")
+      : ext.height % b != 0 && uint64_t(off.y) + ext.height != m.height ? (src ? "srcImage-01729" : "dstImage-01733")
+                                                                        : nullptr;
+  if (!rule) return true;
+  const std::string vuid = std::string(two ? "VUID-VkCopyImageInfo2-" : "VUID-vkCmdCopyImage-") + rule;
+  report(&img, Severity::Error, vuid.c_str(),
+         "%s: pRegions[%u] %s offset (%d, %d, %d) extent (%u, %u, %u) of format %d: offsets must be multiples of the "
+         "%ux%u texel block, and extents too unless they reach the edge of mip %u (%u x %u)",
+         fn, index, src ? "source" : "destination", off.x, off.y, off.z, ext.width, ext.height, ext.depth,
+         (int)img.format, b, b, sub.mipLevel, m.width, m.height);
+  return false;
 }
 
 void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, VkImage dstH, VkImageLayout dstLayout,
@@ -457,11 +535,14 @@ void recordImageCopy(CommandBuffer* cb, VkImage srcH, VkImageLayout srcLayout, V
              r.srcSubresource.layerCount, r.dstSubresource.layerCount);
       return;
     }
-    VkExtent3D srcExt = r.extent, dstExt = r.extent;
+    VkExtent3D srcExt = r.extent, dstExt = destinationExtent(*src, *dst, r);
     if (src->type != VK_IMAGE_TYPE_3D && dst->type == VK_IMAGE_TYPE_3D) srcExt.depth = 1;
     if (src->type == VK_IMAGE_TYPE_3D && dst->type != VK_IMAGE_TYPE_3D) dstExt.depth = 1;
     if (!regionInImage(*src, r.srcSubresource, r.srcOffset, srcExt, i, "srcSubresource", vs) ||
         !regionInImage(*dst, r.dstSubresource, r.dstOffset, dstExt, i, "dstSubresource", vd))
+      return;
+    if (!copyBlockAligned(*src, r.srcSubresource, r.srcOffset, srcExt, i, true, two, vs.fn) ||
+        !copyBlockAligned(*dst, r.dstSubresource, r.dstOffset, dstExt, i, false, two, vs.fn))
       return;
   }
   cb->record([src, dst, regions = std::move(regions)](ExecState&) {
@@ -760,10 +841,10 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdClearColorImage(VkCommandBuffer commandBuffer
   if (!cb->outsideRenderPass(fn, "VUID-vkCmdClearColorImage-renderpass")) return;
   Image* img = transferImage(cb, image, true, imageLayout, kClear);
   if (!img) return;
-  // VUID-vkCmdClearColorImage-image-00007: not a depth/stencil format
-  if (img->aspects != VK_IMAGE_ASPECT_COLOR_BIT) {
-    report(img, Severity::Error, "VUID-vkCmdClearColorImage-image-00007",
-           "%s: the image's format %d is a depth/stencil format", fn, (int)img->format);
+  // VUID-vkCmdClearColorImage-image-00007: not a compressed or depth/stencil format
+  if (img->aspects != VK_IMAGE_ASPECT_COLOR_BIT || img->formatInfo->block > 1) {
+    report(img, Severity::Error, "VUID-vkCmdClearColorImage-image-00007", "%s: the image's format %d is a %s format",
+           fn, (int)img->format, img->formatInfo->block > 1 ? "compressed" : "depth/stencil");
     return;
   }
   std::vector<VkImageSubresourceRange> ranges(pRanges, pRanges + rangeCount);

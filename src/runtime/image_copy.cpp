@@ -9,7 +9,19 @@
 
 namespace vkrt {
 
-VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
+VkBufferImageCopy2 regionInBlocks(const VkBufferImageCopy2& r, uint32_t block) {
+  if (block == 1) return r;
+  auto up = [block](uint32_t v) { return (v + block - 1) / block; };
+  VkBufferImageCopy2 b = r;
+  b.bufferRowLength = up(r.bufferRowLength);
+  b.bufferImageHeight = up(r.bufferImageHeight);
+  b.imageOffset = {r.imageOffset.x / int32_t(block), r.imageOffset.y / int32_t(block), r.imageOffset.z};
+  b.imageExtent = {up(r.imageExtent.width), up(r.imageExtent.height), r.imageExtent.depth};
+  return b;
+}
+
+VkDeviceSize bufferFootprint(const VkBufferImageCopy2& region, uint32_t texelSize, uint32_t block) {
+  const VkBufferImageCopy2 r = regionInBlocks(region, block);
   VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
   VkDeviceSize imageHeight = r.bufferImageHeight ? r.bufferImageHeight : r.imageExtent.height;
   VkDeviceSize layers = r.imageSubresource.layerCount;
@@ -18,7 +30,9 @@ VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize) {
   return (lastRow * rowLength + r.imageExtent.width) * texelSize;
 }
 
-void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCopy2& r, bool toImage) {
+void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCopy2& region, bool toImage) {
+  // A compressed image row by row of blocks (Image::texel takes block coordinates).
+  const VkBufferImageCopy2 r = regionInBlocks(region, image.formatInfo->block);
   const VkImageAspectFlags aspect = r.imageSubresource.aspectMask;
   const uint32_t t = aspectBufferTexelSize(image.format, aspect);
   const VkDeviceSize rowLength = r.bufferRowLength ? r.bufferRowLength : r.imageExtent.width;
@@ -67,7 +81,14 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
   });
 }
 
-void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r) {
+void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& region) {
+  // In elements, texels or blocks: as many on both sides (one block of a compressed side for one texel of an
+  // uncompressed side, "Copying Data Between Images").
+  const uint32_t sb = src.formatInfo->block, db = dst.formatInfo->block;
+  VkImageCopy2 r = region;
+  r.srcOffset = {region.srcOffset.x / int32_t(sb), region.srcOffset.y / int32_t(sb), region.srcOffset.z};
+  r.dstOffset = {region.dstOffset.x / int32_t(db), region.dstOffset.y / int32_t(db), region.dstOffset.z};
+  r.extent = {(region.extent.width + sb - 1) / sb, (region.extent.height + sb - 1) / sb, region.extent.depth};
   const size_t rowBytes = size_t(r.extent.width) * src.pixelSize;
   // One aspect of a combined depth/stencil format: only its bytes of each texel.
   const VkImageAspectFlags aspect = r.srcSubresource.aspectMask;

@@ -8,8 +8,14 @@
 
 namespace vkrt {
 
-// Bytes a buffer must hold past bufferOffset for region `r` of an image with `texelSize`-byte texels.
-VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize);
+// Bytes a buffer must hold past bufferOffset for region `r` of an image with `texelSize`-byte texels, or blocks of
+// `block` x `block` texels and `texelSize` bytes for a compressed format.
+VkDeviceSize bufferFootprint(const VkBufferImageCopy2& r, uint32_t texelSize, uint32_t block = 1);
+
+// Region `r` of a compressed image (4x4 blocks: block 4) in blocks: offsets divided by the block, extents and
+// bufferRowLength / bufferImageHeight rounded up to whole blocks ("Buffer and Image Addressing": a partial block at
+// the edge of a mip level is copied whole). The identity for block 1.
+VkBufferImageCopy2 regionInBlocks(const VkBufferImageCopy2& r, uint32_t block);
 
 // Copies one region between `buffer` (the bound memory of the buffer, offset 0) and `image`, for the region's
 // aspect: a depth or stencil aspect is packed in the buffer as the spec's "Depth/Stencil Formats" say
@@ -19,7 +25,8 @@ void copyBufferImage(const Image& image, uint8_t* buffer, const VkBufferImageCop
 
 // Copies one region between two images with the same texel size (all samples of each pixel; with one aspect of a
 // combined depth/stencil format, only that aspect's bytes); the depth slices of a 3D image pair with
-// the layers of a 1D/2D image.
+// the layers of a 1D/2D image. A compressed side is copied in whole blocks: its offset is in texels, the region's
+// extent in the source's texels, one block of a compressed side for one texel of an uncompressed one.
 void copyImageImage(const Image& src, const Image& dst, const VkImageCopy2& r);
 
 // Encodes a clear color for `format` into `texel` (texelSize bytes). Returns false for unknown formats.

@@ -12,6 +12,7 @@
 #endif
 
 #include "exec/supervise.hpp"
+#include "runtime/bc_texel.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/buffer_view.hpp"
 #include "runtime/descriptor_set_layout.hpp"
@@ -299,17 +300,29 @@ bool resolveView(const abi::DescriptorRecord* rec, View* v) {
   return true;
 }
 
+// The level's extent in the view's texels: an uncompressed view of a compressed image (created
+// BLOCK_TEXEL_VIEW_COMPATIBLE) has one texel per block ("the view's extent in blocks": ceil(texels / 4)).
 VkExtent3D levelExtent(const TexelView& v, uint32_t level) {
   VkExtent3D e = v.image->mips[v.baseMip + level].extent;
   if (v.slicesAsLayers) e.depth = 1;
+  if (const uint32_t b = v.image->formatInfo->block; b > 1 && v.format->block == 1) {
+    e.width = (e.width + b - 1) / b;
+    e.height = (e.height + b - 1) / b;
+  }
   return e;
 }
 
-// The texel's address, or nullptr when (x, y, z, layer) is outside mip `level` of the view.
+// The texel's address, or nullptr when (x, y, z, layer) is outside mip `level` of the view; for a compressed view,
+// the address of the block that holds the texel (Image::texel takes block coordinates: an uncompressed view of a
+// compressed image addresses its blocks as texels).
 uint8_t* texelAt(const TexelView& v, uint32_t level, int64_t x, int64_t y, int64_t z, int64_t layer) {
   if (level >= v.levelCount) return nullptr;
   VkExtent3D e = levelExtent(v, level);
   if (x < 0 || y < 0 || z < 0 || layer < 0 || x >= e.width || y >= e.height || z >= e.depth) return nullptr;
+  if (v.format->block > 1) {
+    x /= v.format->block;
+    y /= v.format->block;
+  }
   if (v.slicesAsLayers) {
     int64_t slice = int64_t(v.baseLayer) + layer;
     if (layer >= int64_t(v.layerCount) || slice >= v.image->mips[v.baseMip + level].extent.depth) return nullptr;
@@ -331,6 +344,11 @@ void readTexel(const TexelView& v, uint32_t level, const int64_t xyzl[4], uint32
   const uint8_t* t = texelAt(v, level, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
   if (!t) {
     std::memset(out, 0, 16);
+    return;
+  }
+  // A compressed view: the texel of its block (every read, fetch, filter, gather and blit source comes here).
+  if (v.format->block > 1) {
+    decodeBcTexel(*v.format, t, uint32_t(xyzl[0] & 3), uint32_t(xyzl[1] & 3), out);
     return;
   }
   decodeTexel(*v.format, t, out);
@@ -513,8 +531,8 @@ bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
   return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
          !v.slicesAsLayers && v.image->samples == 1 && v.image->pixelSize == 4 && !f.packed && f.components == 4 &&
          f.texelSize == 4 && f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates &&
-         !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) && addressOk(s.addressModeU) &&
-         addressOk(s.addressModeV);
+         f.block == 1 && !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) &&
+         addressOk(s.addressModeU) && addressOk(s.addressModeV);
 }
 
 // What fastFilterLevel reads of the view and the sampler, resolved once per call (once per quad for
@@ -745,7 +763,7 @@ void vkrt_image_read_subpass(const abi::DescriptorRecord* img, int32_t x, int32_
                              uint32_t out[4]) {
   View v;
   std::memset(out, 0, 16);
-  if (!resolveView(img, &v) || sample < 0 || uint32_t(sample) >= v.image->samples) return;
+  if (!resolveView(img, &v) || sample < 0 || uint32_t(sample) >= v.image->samples || v.format->block > 1) return;
   const uint8_t* t = texelAt(v, 0, x, y, 0, layer);
   // Samples of a pixel are consecutive texels (Image::texel's pixelSize covers them all).
   if (t) decodeTexel(*v.format, t + size_t(sample) * v.image->formatInfo->texelSize, out);
@@ -753,7 +771,8 @@ void vkrt_image_read_subpass(const abi::DescriptorRecord* img, int32_t x, int32_
 
 void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
   View v;
-  if (!resolveView(img, &v)) return;
+  // Compressed views are never storage views (no STORAGE_IMAGE feature): nothing encodes a block.
+  if (!resolveView(img, &v) || v.format->block > 1) return;
   int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
   splitCoord(v, c, xyzl);
   uint8_t* t = texelAt(v, 0, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);
@@ -762,7 +781,8 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
 
 void* vkrt_image_texel(const abi::DescriptorRecord* img, const int32_t coord[4]) {
   View v;
-  if (!resolveView(img, &v) || v.format->texelSize != 4) return nullptr;  // atomics: 32-bit formats only
+  // atomics: 32-bit formats only (never a compressed one)
+  if (!resolveView(img, &v) || v.format->texelSize != 4 || v.format->block > 1) return nullptr;
   int64_t c[4] = {coord[0], coord[1], coord[2], coord[3]}, xyzl[4];
   splitCoord(v, c, xyzl);
   return texelAt(v, 0, xyzl[0], xyzl[1], xyzl[2], xyzl[3]);

@@ -122,15 +122,30 @@ VKAPI_ATTR VkResult VKAPI_CALL vkrt_CreateImageView(VkDevice device, const VkIma
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkImageViewCreateInfo-image-01019: without MUTABLE_FORMAT the view's format is the image's;
-  // VUID-VkImageViewCreateInfo-image-01018: with it, a compatible format (vkrt: the same texel size)
+  // VUID-VkImageViewCreateInfo-image-01018: with it, a compatible format (uncompressed: the same texel size; BC: the
+  // same BC class); VUID-VkImageViewCreateInfo-image-01583: with BLOCK_TEXEL_VIEW_COMPATIBLE also an uncompressed
+  // format whose texel is the image's block (viewFormatCompatible)
   const FormatInfo* vf = formatInfo(pCreateInfo->format);
   bool mutableFormat = img->flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+  const bool blockTexel = img->flags & VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT;
   if (pCreateInfo->format != img->format &&
-      (!mutableFormat || !vf || vf->texelSize != img->formatInfo->texelSize || !formatFeatures(pCreateInfo->format))) {
+      (!mutableFormat || !vf || !viewFormatCompatible(img->format, pCreateInfo->format, img->flags) ||
+       !formatFeatures(pCreateInfo->format))) {
     report(img, Severity::Error,
-           mutableFormat ? "VUID-VkImageViewCreateInfo-image-01018" : "VUID-VkImageViewCreateInfo-image-01019",
+           !mutableFormat ? "VUID-VkImageViewCreateInfo-image-01019"
+           : blockTexel   ? "VUID-VkImageViewCreateInfo-image-01583"
+                          : "VUID-VkImageViewCreateInfo-image-01018",
            "vkCreateImageView: format %d is not compatible with the image's format %d (flags 0x%x)",
            (int)pCreateInfo->format, (int)img->format, img->flags);
+    return VK_ERROR_VALIDATION_FAILED_EXT;
+  }
+  // VUID-VkImageViewCreateInfo-image-07072: an uncompressed view of a block-texel-view-compatible image covers one
+  // mip level and one layer (its texels are the level's blocks: runtime/image_functions.cpp levelExtent)
+  if (blockTexel && vf && vf->block == 1 && (levels != 1 || layers != 1)) {
+    report(img, Severity::Error, "VUID-VkImageViewCreateInfo-image-07072",
+           "vkCreateImageView: the uncompressed format %d views %u levels and %u layers of a compressed image (format "
+           "%d, VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT); it must view one of each",
+           (int)pCreateInfo->format, levels, layers, (int)img->format);
     return VK_ERROR_VALIDATION_FAILED_EXT;
   }
   // VUID-VkImageViewCreateInfo-pNext-01585: an image created with a format list takes views of those formats only

@@ -62,6 +62,12 @@ constexpr F kSupported[] = {
     // and average them (runtime/image_functions.cpp sampleAnisotropic; tests/runtime SamplerAnisotropy.*); explicit
     // Lod has no derivatives and samples once. maxSamplerAnisotropy is 16 (runtime/physical_device.cpp).
     F::samplerAnisotropy,
+    // The sixteen BC formats ("Compressed Image Formats"): images laid out in 4x4 blocks (runtime/image.cpp), copies
+    // in blocks and between a BC image and a size-compatible uncompressed one (runtime/image_copy.cpp, the block rules
+    // in image_commands.cpp), reads of any texel through the block decoders (runtime/bc_texel.cpp, bc_decode.cpp),
+    // block-texel-view-compatible uncompressed views; the format features of "Mandatory format support: BC
+    // compressed formats" (runtime/format.cpp; tests/e2e CompressedFormatTest, tests/runtime FormatRequired).
+    F::textureCompressionBC,
     // 64-bit integers and floats, 8/16-bit integers and 16-bit floats in shaders, and their storage-buffer, uniform
     // and push-constant access (src/spirv; tests/spirv SixtyFourBitIntegersAndDoubles, SpirvCompilerSmallTypes,
     // tests/e2e ComputeSmallTypesTest, ComputeFeaturesTest.EightAndSixteenBitUniformAndPushConstantMembers).

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "runtime/format.hpp"
+#include "runtime/supported_features.hpp"
 
 namespace vkrt {
 namespace {
@@ -108,6 +109,49 @@ TEST(FormatRequired, EveryMarkOfTheMandatoryFormatTablesIsSupported) {
   for (VkFormat f : {VK_FORMAT_D16_UNORM, VK_FORMAT_X8_D24_UNORM_PACK32, VK_FORMAT_D32_SFLOAT, VK_FORMAT_S8_UINT,
                      VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_D32_SFLOAT_S8_UINT})
     EXPECT_EQ(bufferFormatFeatures(f), 0u) << f;
+}
+
+// "Mandatory format support: BC compressed formats" (2D and 3D images): with textureCompressionBC advertised, every
+// BC format is sampled, filtered and a blit source with optimal tiling (and copied both ways); the image functions
+// only read blocks, so none is an attachment, a storage image, a blit destination or a buffer format, and linear
+// tiling has nothing.
+TEST(FormatRequired, BcFormatsFollowTheirTableWhenTextureCompressionBcIsAdvertised) {
+  const bool bc = supportedFeatures()[size_t(Feature::textureCompressionBC)];
+  for (int f = VK_FORMAT_BC1_RGB_UNORM_BLOCK; f <= VK_FORMAT_BC7_SRGB_BLOCK; ++f) {
+    SCOPED_TRACE(f);
+    const VkFormat format = VkFormat(f);
+    if (!bc) {
+      EXPECT_EQ(formatFeatures(format), 0u);  // nothing advertised without the feature
+      continue;
+    }
+    EXPECT_EQ(formatFeatures(format),
+              S | BS | L | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT);
+    EXPECT_EQ(linearFormatFeatures(format), 0u);
+    EXPECT_EQ(bufferFormatFeatures(format), 0u);
+    EXPECT_FALSE(isColorAttachmentFormat(format));
+    ASSERT_TRUE(formatInfo(format));
+    EXPECT_EQ(formatInfo(format)->block, 4u);
+    const bool small = format <= VK_FORMAT_BC1_RGBA_SRGB_BLOCK || format == VK_FORMAT_BC4_UNORM_BLOCK ||
+                       format == VK_FORMAT_BC4_SNORM_BLOCK;
+    EXPECT_EQ(formatInfo(format)->texelSize, small ? 8u : 16u);
+  }
+}
+
+// The compatibility classes of views: a BC format's own class (its UNORM/SRGB or UNORM/SNORM or UFLOAT/SFLOAT
+// pair), and with BLOCK_TEXEL_VIEW_COMPATIBLE the uncompressed formats of its block size; uncompressed formats stay
+// one class per texel size.
+TEST(FormatRequired, ViewCompatibilityClassesOfBlockFormats) {
+  const VkImageCreateFlags blockTexel = VK_IMAGE_CREATE_BLOCK_TEXEL_VIEW_COMPATIBLE_BIT;
+  EXPECT_TRUE(viewFormatCompatible(VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_FORMAT_BC1_RGB_SRGB_BLOCK, 0));
+  EXPECT_FALSE(viewFormatCompatible(VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_FORMAT_BC1_RGBA_UNORM_BLOCK, 0));
+  EXPECT_FALSE(viewFormatCompatible(VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_FORMAT_BC4_UNORM_BLOCK, blockTexel));
+  EXPECT_TRUE(viewFormatCompatible(VK_FORMAT_BC6H_UFLOAT_BLOCK, VK_FORMAT_BC6H_SFLOAT_BLOCK, 0));
+  EXPECT_FALSE(viewFormatCompatible(VK_FORMAT_BC7_UNORM_BLOCK, VK_FORMAT_R32G32B32A32_UINT, 0));
+  EXPECT_TRUE(viewFormatCompatible(VK_FORMAT_BC7_UNORM_BLOCK, VK_FORMAT_R32G32B32A32_UINT, blockTexel));
+  EXPECT_TRUE(viewFormatCompatible(VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_FORMAT_R32G32_UINT, blockTexel));
+  EXPECT_FALSE(viewFormatCompatible(VK_FORMAT_BC1_RGB_UNORM_BLOCK, VK_FORMAT_R32G32B32A32_UINT, blockTexel));
+  EXPECT_FALSE(viewFormatCompatible(VK_FORMAT_R32G32_UINT, VK_FORMAT_BC1_RGB_UNORM_BLOCK, blockTexel));
+  EXPECT_TRUE(viewFormatCompatible(VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32_SFLOAT, 0));
 }
 
 // The shared-exponent format is sampled, filtered and copied, and blitted both ways (its encoder serves clears and

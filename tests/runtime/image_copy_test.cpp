@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "runtime/format.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
 #include "vkrt_entrypoints.h"
@@ -272,6 +273,51 @@ TEST_F(ImageCopy, ClearFillsExactlyTheRange) {
           EXPECT_EQ(v, (m == 1 && l >= 1) ? 0x1234 : 0) << m << " " << l << " " << x << " " << y;
         }
     }
+}
+
+// A BC1 image of 10x6 texels and 3 levels is 3x2 blocks of 8 bytes, then 2x1 (5x3 texels), then 1x1 (2x1): a level
+// smaller than a block takes a whole one. A buffer copy of the whole level 0 (its extent in texels, the right and
+// bottom blocks partial) moves every block; regionInBlocks rounds extents and row lengths up to whole blocks; an
+// image copy from BC1 to R32G32_UINT moves one block per texel.
+TEST_F(ImageCopy, CompressedLevelsAreWholeBlocks) {
+  if (!formatFeatures(VK_FORMAT_BC1_RGB_UNORM_BLOCK)) GTEST_SKIP() << "no BC formats (textureCompressionBC)";
+  Image* bc = makeImage(VK_IMAGE_TYPE_2D, VK_FORMAT_BC1_RGB_UNORM_BLOCK, {10, 6, 1}, 3, 1);
+  ASSERT_EQ(bc->mips.size(), 3u);
+  EXPECT_EQ(bc->mips[0].rowPitch, 3u * 8);
+  EXPECT_EQ(bc->mips[0].depthPitch, 2u * 3 * 8);
+  EXPECT_EQ(bc->mips[1].offset, 48u);
+  EXPECT_EQ(bc->mips[1].rowPitch, 2u * 8);
+  EXPECT_EQ(bc->mips[2].offset, 48u + 16);
+  EXPECT_EQ(bc->mips[2].arrayPitch, 8u);
+  EXPECT_EQ(bc->size, 48u + 16 + 8);
+
+  VkBufferImageCopy2 r{VK_STRUCTURE_TYPE_BUFFER_IMAGE_COPY_2};
+  r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  r.imageExtent = {10, 6, 1};
+  EXPECT_EQ(bufferFootprint(r, 8, 4), 48u);
+  r.bufferRowLength = 16;  // 4 blocks a row in the buffer
+  EXPECT_EQ(bufferFootprint(r, 8, 4), (4u + 3) * 8);
+  const VkBufferImageCopy2 b = regionInBlocks(r, 4);
+  EXPECT_EQ(b.bufferRowLength, 4u);
+  EXPECT_EQ(b.imageExtent.width, 3u);
+  EXPECT_EQ(b.imageExtent.height, 2u);
+  std::vector<uint8_t> buf(64);
+  for (size_t i = 0; i < buf.size(); ++i) buf[i] = uint8_t(i + 1);
+  copyBufferImage(*bc, buf.data(), r, true);
+  // Block (x, y) of level 0 is buffer bytes (y * 4 + x) * 8.
+  for (uint32_t y = 0; y < 2; ++y)
+    for (uint32_t x = 0; x < 3; ++x)
+      EXPECT_EQ(std::memcmp(bc->texel(0, 0, x, y, 0), &buf[(y * 4 + x) * 8], 8), 0) << x << "," << y;
+
+  Image* u = makeImage(VK_IMAGE_TYPE_2D, VK_FORMAT_R32G32_UINT, {3, 2, 1}, 1, 1);
+  VkImageCopy2 c{VK_STRUCTURE_TYPE_IMAGE_COPY_2};
+  c.srcSubresource = c.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  c.srcOffset = {4, 0, 0};
+  c.dstOffset = {1, 1, 0};
+  c.extent = {6, 4, 1};  // blocks (1, 0) and (2, 0), the second partial
+  copyImageImage(*bc, *u, c);
+  EXPECT_EQ(std::memcmp(u->texel(0, 0, 1, 1, 0), bc->texel(0, 0, 1, 0, 0), 16), 0);
+  EXPECT_EQ(u->texel(0, 0, 0, 1, 0)[0], 0);
 }
 
 }  // namespace

@@ -727,6 +727,10 @@ constexpr uint32_t kSize = 64, kLevels = 7;
 class GraphicsShaderSampling : public ::testing::Test {
  protected:
   virtual bool cube() const { return false; }  // a cube (6 layers, every face alike) instead of a 2D image
+  // BC7_UNORM instead of R32_SFLOAT: level m's texels are solid BC7 blocks of R = bc7Level(m) (levelValue).
+  virtual bool bc7() const { return false; }
+  // The value texels of level m read as: m, or 10 m / 255 for BC7 (a mode 6 block of endpoints 10 m).
+  float levelValue(float m) const { return bc7() ? float(10 * int(m)) / 255.0f : m; }
   void SetUp() override {
     VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
@@ -743,13 +747,13 @@ class GraphicsShaderSampling : public ::testing::Test {
     ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = VK_FORMAT_R32_SFLOAT;
+    ci.format = bc7() ? VK_FORMAT_BC7_UNORM_BLOCK : VK_FORMAT_R32_SFLOAT;
     ci.extent = {kSize, kSize, 1};
     ci.mipLevels = kLevels;
     ci.arrayLayers = cube() ? 6 : 1;
     ci.flags = cube() ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | (bc7() ? 0 : VK_IMAGE_USAGE_STORAGE_BIT);
     ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
     VkMemoryRequirements req;
     vkrt_GetImageMemoryRequirements(device, image, &req);
@@ -767,9 +771,19 @@ class GraphicsShaderSampling : public ::testing::Test {
     for (uint32_t m = 0; m < kLevels; ++m) {
       uint32_t size = kSize >> m;
       float value = float(m);
+      // A BC7 mode 6 block (mode bit 6) of both endpoints (5 m << 1 | 0, 0, 0, 127 << 1 | 0), all indices 0.
+      uint8_t block[16] = {0x40};
+      for (uint32_t bit = 0; bit < 14; ++bit)
+        if ((5 * m >> (bit % 7)) & 1) block[(7 + bit) / 8] |= uint8_t(1u << ((7 + bit) % 8));  // R0, R1
+      for (uint32_t bit = 49; bit < 63; ++bit) block[bit / 8] |= uint8_t(1u << (bit % 8));     // A0, A1 = 127
+      const uint32_t n = bc7() ? (size + 3) / 4 : size;
       for (uint32_t l = 0; l < ci.arrayLayers; ++l)
-        for (uint32_t y = 0; y < size; ++y)
-          for (uint32_t x = 0; x < size; ++x) std::memcpy(img->texel(m, l, x, y, 0), &value, 4);
+        for (uint32_t y = 0; y < n; ++y)
+          for (uint32_t x = 0; x < n; ++x)
+            if (bc7())
+              std::memcpy(img->texel(m, l, x, y, 0), block, 16);
+            else
+              std::memcpy(img->texel(m, l, x, y, 0), &value, 4);
     }
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     si.magFilter = si.minFilter = VK_FILTER_NEAREST;
@@ -826,12 +840,22 @@ void GraphicsShaderSampling::implicitLod(bool spmd) {
     ASSERT_TRUE(q.run(*s));
     double lambda = std::log2(k);
     for (const Lane& lane : q.lanes) {
-      EXPECT_EQ(lane.outF(0, 0), expectedLevel(lambda));
-      EXPECT_EQ(lane.outF(1, 0), expectedLevel(lambda + 1.0));             // texture(tex, uv, 1.0)
-      EXPECT_EQ(lane.outF(2, 0), expectedLevel(std::log2(kSize / 16.0)));  // textureGrad: 1/16 a pixel
+      EXPECT_EQ(lane.outF(0, 0), levelValue(expectedLevel(lambda)));
+      EXPECT_EQ(lane.outF(1, 0), levelValue(expectedLevel(lambda + 1.0)));             // texture(tex, uv, 1.0)
+      EXPECT_EQ(lane.outF(2, 0), levelValue(expectedLevel(std::log2(kSize / 16.0))));  // textureGrad: 1/16 a pixel
     }
   }
 }
+
+// The same on a BC7 image: the quad's implicit-LOD and gradient sampling (SPMD and fiber paths) reads compressed
+// views through the general path (the sampler's fast path refuses them) and decodes the level's blocks.
+class GraphicsShaderBc7Sampling : public GraphicsShaderSampling {
+ protected:
+  bool bc7() const override { return true; }
+};
+
+TEST_F(GraphicsShaderBc7Sampling, ImplicitLodSamplingDecodesTheLevelsBlocks) { implicitLod(false); }
+TEST_F(GraphicsShaderBc7Sampling, SpmdImplicitLodSamplingDecodesTheLevelsBlocks) { implicitLod(true); }
 
 // Grad sampling after a discard ended some lanes: the SPMD path samples the lanes left in one call
 // (vkrt_image_sample_grad_quad with the active lanes as a bit mask), each with its own gradient, so lane l's level is
