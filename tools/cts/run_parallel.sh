@@ -9,6 +9,9 @@
 set -u
 bin=$(realpath "$1"); icd=$(realpath "$2"); n=$3; budget=$4; out=$(realpath -m "$5"); shift 5
 mkdir -p "$out"; cd "$(dirname "$bin")"
+# A second run into the same folder (a warm device machine keeps /tmp) starts clean: the shards' results, messages and
+# done lists are appended to as a run goes, so an earlier run's would count again and its cases would be skipped.
+rm -f "$out"/shard*
 : > "$out/all.txt"
 for p in "$@"; do
   rm -f TestResults.qpa dEQP-VK-cases.txt
