@@ -251,9 +251,10 @@ uint32_t storeOffset(const uint32_t* words, size_t count, int n) {
   return 0;
 }
 
-// DebugLine of two DebugSources, with a column, and DebugNoLine: three stores past the buffer, each named by what
-// precedes it (a file, line and column; the other file; the word offset, as a store in a module without line
-// information is).
+// DebugLine of two DebugSources, with a column, and DebugNoLine: three stores past the buffer, one per invocation,
+// each named by what precedes it (a file, line and column; the other file; the word offset, as a store in a module
+// without line information is) and by its invocation. (One invocation per store: the scalar path, VKRT_SPMD=0,
+// reports an invocation's first failing access only.)
 TEST_F(ShaderDebugComputeTest, OutOfBoundsWritesNamedByDebugLineAndDebugNoLine) {
   if (!onVkrt()) GTEST_SKIP() << "vkrt's own report";
   ComputePipeline p =
@@ -267,9 +268,12 @@ TEST_F(ShaderDebugComputeTest, OutOfBoundsWritesNamedByDebugLineAndDebugNoLine) 
   const uint32_t third = storeOffset(kSpv_oob_debug_info_spvasm, sizeof kSpv_oob_debug_info_spvasm / 4, 2);
   ASSERT_NE(third, 0u);
   const std::string expected[3][2] = {
-      {"in file first.glsl at line 21, column 5,", "store of 4 bytes at offset 64 "},
-      {"in file second.glsl at line 40, column 9,", "store of 4 bytes at offset 68 "},
-      {"at SPIR-V word offset " + std::to_string(third) + " ", "store of 4 bytes at offset 72 "}};
+      {"in file first.glsl at line 21, column 5, global invocation (0, 0, 0)", "store of 4 bytes at offset 64 "},
+      {"in file second.glsl at line 40, column 9, global invocation (1, 0, 0)", "store of 4 bytes at offset 68 "},
+      {"at SPIR-V word offset " + std::to_string(third) +
+           " (the module has no line information for it), global "
+           "invocation (2, 0, 0)",
+       "store of 4 bytes at offset 72 "}};
   for (const auto& e : expected) {
     auto hit = std::find_if(m.begin(), m.end(), [&](const ShaderMessage& s) { return contains(s.text, e[1]); });
     ASSERT_NE(hit, m.end()) << e[1];
