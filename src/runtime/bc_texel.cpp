@@ -1,9 +1,9 @@
 #include "runtime/bc_texel.hpp"
 
-#include <cmath>
 #include <cstring>
 
 #include "runtime/bc_decode.hpp"
+#include "runtime/srgb.hpp"
 
 namespace vkrt {
 namespace {
@@ -27,8 +27,6 @@ bc::Kind kindOf(VkFormat format) {
     default: return bc::Kind::BC7;  // BC7_UNORM, BC7_SRGB
   }
 }
-
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 }  // namespace
 

@@ -20,6 +20,7 @@
 #include "runtime/image_copy.hpp"
 #include "runtime/image_view.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/srgb.hpp"
 
 namespace vkrt {
 
@@ -56,12 +57,6 @@ float smallFloatToFloat(uint32_t v, int mb) {
   if (exp == 0) return std::ldexp(float(man), -14 - mb);
   if (exp == 31) return man ? NAN : INFINITY;
   return std::ldexp(float(man | (1u << mb)), int(exp) - 15 - mb);
-}
-
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-float linearToSrgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
 uint64_t readBits(const uint8_t* p, unsigned bytes) {
