@@ -24,17 +24,10 @@ using ull = unsigned long long;
 
 constexpr uint32_t kMaxSets = 8;  // BindState::sets
 
-BindState& bindState(ExecState& st, VkPipelineBindPoint bp) {
-  return bp == VK_PIPELINE_BIND_POINT_COMPUTE    ? st.compute
-         : bp == VK_PIPELINE_BIND_POINT_GRAPHICS ? st.graphics
-                                                 : st.rayTracing;
-}
+BindState& bindState(ExecState& st, VkPipelineBindPoint bp) { return st.bound(bindPointIndex(bp)); }
 
 // The bind points vkrt's queue family (graphics + compute + transfer) supports.
-bool supportedBindPoint(VkPipelineBindPoint bp) {
-  return bp == VK_PIPELINE_BIND_POINT_COMPUTE || bp == VK_PIPELINE_BIND_POINT_GRAPHICS ||
-         bp == VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
-}
+bool supportedBindPoint(VkPipelineBindPoint bp) { return bindPointIndex(bp) >= 0; }
 
 }  // namespace
 
@@ -203,9 +196,7 @@ VKAPI_ATTR void VKAPI_CALL vkrt_CmdBindDescriptorSets(VkCommandBuffer commandBuf
   }
   // A push descriptor set of these numbers is disturbed: a later push starts from none (its descriptors are
   // undefined until pushed again: vkCmdPushDescriptorSetKHR).
-  const int bpIndex = pipelineBindPoint == VK_PIPELINE_BIND_POINT_COMPUTE    ? 0
-                      : pipelineBindPoint == VK_PIPELINE_BIND_POINT_GRAPHICS ? 1
-                                                                             : 2;
+  const int bpIndex = bindPointIndex(pipelineBindPoint);  // a supported one (checked above)
   for (uint32_t i = 0; i < descriptorSetCount; ++i) cb->pushedSets[bpIndex][firstSet + i].reset();
   cb->record([pipelineBindPoint, pl, firstSet, sets = std::move(sets), offsets = std::move(offsets)](ExecState& st) {
     BindState& bs = bindState(st, pipelineBindPoint);

@@ -49,10 +49,23 @@ struct LayerState {
   virtual ~LayerState() = default;
 };
 
+// The index of a bind point vkrt supports (0 compute, 1 graphics, 2 ray tracing: ExecState::bound,
+// CommandBuffer::pushedSets); -1 for any other value.
+inline int bindPointIndex(VkPipelineBindPoint bp) {
+  switch (bp) {
+    case VK_PIPELINE_BIND_POINT_COMPUTE: return 0;
+    case VK_PIPELINE_BIND_POINT_GRAPHICS: return 1;
+    case VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR: return 2;
+    default: return -1;
+  }
+}
+
 struct ExecState {
   BindState compute;
   BindState rayTracing;
   BindState graphics;
+  // The bind state of bind point `index` (bindPointIndex); ray tracing's for any index but 0 and 1.
+  BindState& bound(int index) { return index == 0 ? compute : index == 1 ? graphics : rayTracing; }
   std::unique_ptr<LayerState> graphicsState;  // src/gfx/graphics_state.hpp: render pass instance, dynamic state
   alignas(16) uint8_t pushConstants[256] = {};
   uint32_t rayTracingStackSize = 0;  // vkCmdSetRayTracingPipelineStackSizeKHR

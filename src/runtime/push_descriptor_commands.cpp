@@ -30,20 +30,6 @@ namespace {
 
 using ull = unsigned long long;
 
-// CommandBuffer::pushedSets' first index; -1 for a bind point vkrt does not support.
-int bindPointIndex(VkPipelineBindPoint bp) {
-  switch (bp) {
-    case VK_PIPELINE_BIND_POINT_COMPUTE: return 0;
-    case VK_PIPELINE_BIND_POINT_GRAPHICS: return 1;
-    case VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR: return 2;
-    default: return -1;
-  }
-}
-
-BindState& bindState(ExecState& st, int index) {
-  return index == 0 ? st.compute : index == 1 ? st.graphics : st.rayTracing;
-}
-
 // The VUIDs of the rules both commands check on (layout, set).
 struct TargetVuids {
   const char* layoutParameter;
@@ -100,7 +86,7 @@ std::shared_ptr<DescriptorSet> newPushedSet(CommandBuffer* cb, int bindPoint, ui
 void bindPushed(CommandBuffer* cb, int bindPoint, PipelineLayout* pl, uint32_t set, std::shared_ptr<DescriptorSet> s) {
   cb->pushedSets[bindPoint][set] = s;
   cb->record([bindPoint, pl, set, s = std::move(s)](ExecState& st) {
-    BindState& bs = bindState(st, bindPoint);
+    BindState& bs = st.bound(bindPoint);
     bs.layout = pl;
     bs.sets[set] = s.get();
     bs.dynamicOffsets[set].clear();  // a push descriptor set has no dynamic buffer (VUID-...-flags-00280)
