@@ -291,6 +291,20 @@ bool regionInImage(const Image& img, const VkImageSubresourceLayers& sub, VkOffs
 
 namespace {
 
+// Of the region (`off`, `ext`, in texels) of mip `mip` of a compressed image, the first rule of the four it breaks:
+// rules[0] / [1], x / y offsets multiples of the block; rules[2] / [3], width / height multiples of the block unless
+// they reach the mip level's edge (the block's depth is 1: z is free); nullptr when it keeps them.
+const char* misalignedBlockRule(const Image& img, uint32_t mip, VkOffset3D off, VkExtent3D ext,
+                                const char* const rules[4]) {
+  const uint32_t b = img.formatInfo->block;
+  const VkExtent3D m = img.mips[mip].extent;
+  return uint32_t(off.x) % b                                               ? rules[0]
+         : uint32_t(off.y) % b                                             ? rules[1]
+         : ext.width % b != 0 && uint64_t(off.x) + ext.width != m.width    ? rules[2]
+         : ext.height % b != 0 && uint64_t(off.y) + ext.height != m.height ? rules[3]
+                                                                           : nullptr;
+}
+
 // The rules of buffer copies of a compressed image ("Copying Data Between Buffers and Images": regions in whole 4x4
 // blocks but at the mip level's edge): VUID ...-bufferRowLength-00203, bufferImageHeight-00204 (multiples of the
 // block), pRegions-07274 / 07275 (offsets), imageExtent-00207 / 00208 (extents, unless they reach the edge). The
@@ -300,15 +314,11 @@ bool blockAligned(const Image& img, const VkBufferImageCopy2& r, uint32_t index,
   const uint32_t b = img.formatInfo->block;
   if (b == 1) return true;
   const VkExtent3D m = img.mips[r.imageSubresource.mipLevel].extent;
-  const char* rule = r.bufferRowLength % b           ? "bufferRowLength-00203"
-                     : r.bufferImageHeight % b       ? "bufferImageHeight-00204"
-                     : uint32_t(r.imageOffset.x) % b ? "pRegions-07274"
-                     : uint32_t(r.imageOffset.y) % b ? "pRegions-07275"
-                     : r.imageExtent.width % b != 0 && uint64_t(r.imageOffset.x) + r.imageExtent.width != m.width
-                         ? "imageExtent-00207"
-                     : r.imageExtent.height % b != 0 && uint64_t(r.imageOffset.y) + r.imageExtent.height != m.height
-                         ? "imageExtent-00208"
-                         : nullptr;
+  static const char* const kRules[4] = {"pRegions-07274", "pRegions-07275", "imageExtent-00207", "imageExtent-00208"};
+  const char* rule = r.bufferRowLength % b ? "bufferRowLength-00203"
+                     : r.bufferImageHeight % b
+                         ? "bufferImageHeight-00204"
+                         : misalignedBlockRule(img, r.imageSubresource.mipLevel, r.imageOffset, r.imageExtent, kRules);
   if (!rule) return true;
   const std::string vuid = std::string("VUID-") +
                            (toImage ? (two ? "VkCopyBufferToImageInfo2-" : "vkCmdCopyBufferToImage-")
@@ -450,12 +460,9 @@ bool copyBlockAligned(const Image& img, const VkImageSubresourceLayers& sub, VkO
   const uint32_t b = img.formatInfo->block;
   if (b == 1) return true;
   const VkExtent3D m = img.mips[sub.mipLevel].extent;
-  const char* rule =
-      uint32_t(off.x) % b                                               ? (src ? "pRegions-07278" : "pRegions-07281")
-      : uint32_t(off.y) % b                                             ? (src ? "pRegions-07279" : "pRegions-07282")
-      : ext.width % b != 0 && uint64_t(off.x) + ext.width != m.width    ? (src ? "srcImage-01728" : "dstImage-01732")
-      : ext.height % b != 0 && uint64_t(off.y) + ext.height != m.height ? (src ? "srcImage-01729" : "dstImage-01733")
-                                                                        : nullptr;
+  static const char* const kSrcRules[4] = {"pRegions-07278", "pRegions-07279", "srcImage-01728", "srcImage-01729"};
+  static const char* const kDstRules[4] = {"pRegions-07281", "pRegions-07282", "dstImage-01732", "dstImage-01733"};
+  const char* rule = misalignedBlockRule(img, sub.mipLevel, off, ext, src ? kSrcRules : kDstRules);
   if (!rule) return true;
   const std::string vuid = std::string(two ? "VUID-VkCopyImageInfo2-" : "VUID-vkCmdCopyImage-") + rule;
   report(&img, Severity::Error, vuid.c_str(),
