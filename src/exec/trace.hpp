@@ -8,7 +8,7 @@
 // denotes, which acceleration structure an address is, and the reports. Each record is resolved once per launch and
 // cached here (the first 2^20 records of each region; a record past them is resolved at each use, a hash lookup).
 // Acceleration structure addresses are resolved by the resolver, once per address and launch (runtime's
-// TopLevelTable: a bisection of the launch's sorted addresses without a lock). So while a launch's records are
+// TopLevelTable: a range index over the launch's sorted addresses, without a lock). So while a launch's records are
 // cached, the per-ray path allocates nothing, takes no lock and makes no hash lookup, however many acceleration
 // structures it reaches.
 //
