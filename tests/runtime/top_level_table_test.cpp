@@ -1,0 +1,85 @@
+// The range index over a launch's sorted top-level addresses (runtime/acceleration_structure.hpp, TopLevelTable):
+// every address is found at its own entry, and no other address is found, whatever the spread of the addresses
+// (evenly spaced as allocations give them, clustered, one, two, spanning all of uint64_t).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "runtime/acceleration_structure.hpp"
+
+namespace vkrt {
+namespace {
+
+// Checks locate() against std::lower_bound for each address, its neighbours and `probes` random values.
+void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000) {
+  std::sort(addresses.begin(), addresses.end());
+  addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
+  const size_t n = addresses.size();
+  std::vector<uint32_t> firstOf(2 * n + 1, 0xFFFFFFFFu);
+  uint64_t ranges = 0;
+  const unsigned shift = TopLevelTable::rangeIndex(addresses.data(), n, firstOf.data(), &ranges);
+  ASSERT_GE(ranges, n);
+  ASSERT_LT(ranges, 2 * n);
+  ASSERT_EQ(ranges & (ranges - 1), 0u) << "a power of two";
+  ASSERT_LT((addresses.back() - addresses.front()) >> shift, ranges) << "the last address falls in a range";
+  for (uint64_t r = 0; r < ranges; ++r) ASSERT_LE(firstOf[r], firstOf[r + 1]) << "range " << r;
+  ASSERT_EQ(firstOf[ranges], n);
+
+  auto expected = [&](uint64_t a) -> ptrdiff_t {
+    auto it = std::lower_bound(addresses.begin(), addresses.end(), a);
+    return it != addresses.end() && *it == a ? it - addresses.begin() : -1;
+  };
+  auto check = [&](uint64_t a) {
+    ASSERT_EQ(TopLevelTable::locate(addresses.data(), firstOf.data(), shift, ranges, a), expected(a))
+        << "address 0x" << std::hex << a << " among " << std::dec << n;
+  };
+  for (uint64_t a : addresses) {
+    check(a);
+    check(a - 1);
+    check(a + 1);
+  }
+  check(0);
+  check(~uint64_t(0));
+  std::mt19937_64 rng(seed);
+  const uint64_t lo = addresses.front(), span = addresses.back() - lo;
+  for (size_t k = 0; k < probes; ++k) {
+    check(rng());
+    if (span) check(lo + rng() % span);
+  }
+}
+
+TEST(TopLevelTableIndex, EvenlySpacedAddressesAreEachFoundAndNothingElse) {
+  std::vector<uint64_t> a;
+  for (uint64_t i = 0; i < 1000; ++i) a.push_back(0x567000000000ull + i * 4096);
+  checkIndex(a, 1);
+}
+
+TEST(TopLevelTableIndex, ClusteredAddressesAreEachFoundAndNothingElse) {
+  // Most addresses in one cluster, a few far away: one range holds nearly all entries, and its bisection finds them.
+  std::vector<uint64_t> a;
+  for (uint64_t i = 0; i < 500; ++i) a.push_back(0x1000 + i * 256);
+  a.push_back(0x567000000000ull);
+  a.push_back(0x7fff00000000ull);
+  checkIndex(a, 2);
+}
+
+TEST(TopLevelTableIndex, RandomAddressesOfEverySpanAreEachFoundAndNothingElse) {
+  std::mt19937_64 rng(3);
+  for (size_t n : {1, 2, 3, 7, 16, 17, 255, 256, 257, 4096}) {
+    std::vector<uint64_t> a;
+    for (size_t i = 0; i < n; ++i) a.push_back(rng() >> (i % 3 == 0 ? 0 : 20));
+    checkIndex(a, uint32_t(n), 200);
+  }
+}
+
+TEST(TopLevelTableIndex, TheExtremesOfTheAddressSpaceAreFound) {
+  checkIndex({0, ~uint64_t(0)}, 4);
+  checkIndex({1, ~uint64_t(0) - 1, ~uint64_t(0)}, 5);
+  checkIndex({0x567000001000ull}, 6);
+}
+
+}  // namespace
+}  // namespace vkrt
