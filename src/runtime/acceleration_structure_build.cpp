@@ -240,12 +240,7 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
   out->resize(n);
   refs->resize(n);
   addresses->resize(n);
-  for (uint64_t i = 0; i < n; ++i) {
-    const uint8_t* ip = p + i * each;
-    if (d.arrayOfPointers) {
-      ip = src.at(load<uint64_t>(ip), sizeof(VkAccelerationStructureInstanceKHR), "instance pointed to", 0, e);
-      if (!ip) return false;
-    }
+  auto copy = [&](uint64_t i, const uint8_t* ip) {
     VkAccelerationStructureInstanceKHR in;
     std::memcpy(&in, ip, sizeof in);
     accel::Instance& o = (*out)[i];
@@ -255,16 +250,36 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
     o.sbtOffset = in.instanceShaderBindingTableRecordOffset;
     o.flags = in.flags;
     (*refs)[i] = in.accelerationStructureReference;
-    // Instances of one bottom level usually come together: the previous instance's resolution is reused (one
-    // lookup under the device's lock per run of equal references, not one per instance).
-    if (i > 0 && in.accelerationStructureReference == (*refs)[i - 1] && (*out)[i - 1].blas) {
-      o.blas = (*out)[i - 1].blas;
+  };
+  // Instances of one bottom level usually come together: the previous instance's resolution is reused (one lookup
+  // under the device's lock per run of equal references, not one per instance).
+  auto resolve = [&](uint64_t i) {
+    const uint64_t ref = (*refs)[i];
+    if (i > 0 && ref == (*refs)[i - 1] && (*out)[i - 1].blas) {
+      (*out)[i].blas = (*out)[i - 1].blas;
       (*addresses)[i] = (*addresses)[i - 1];
-      continue;
+      return true;
     }
-    o.blas = resolveBlas(dev, in.accelerationStructureReference, host, uint32_t(i), e, &(*addresses)[i]);
-    if (!o.blas && in.accelerationStructureReference) return false;
+    (*out)[i].blas = resolveBlas(dev, ref, host, uint32_t(i), e, &(*addresses)[i]);
+    return (*out)[i].blas || !ref;
+  };
+  if (d.arrayOfPointers) {
+    for (uint64_t i = 0; i < n; ++i) {
+      const uint8_t* ip =
+          src.at(load<uint64_t>(p + i * each), sizeof(VkAccelerationStructureInstanceKHR), "instance pointed to", 0, e);
+      if (!ip) return false;
+      copy(i, ip);
+      if (!resolve(i)) return false;
+    }
+    return true;
   }
+  // The instances copied in chunks on the thread pool, their references then resolved in order on this thread (the
+  // first bad one is the one reported).
+  forChunks(n, [&](uint64_t begin, uint64_t end) {
+    for (uint64_t i = begin; i < end; ++i) copy(i, p + i * each);
+  });
+  for (uint64_t i = 0; i < n; ++i)
+    if (!resolve(i)) return false;
   return true;
 }
 
