@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 #include "accel/embree_device.hpp"
 #include "accel/structures.hpp"
 
 namespace vkrt::accel {
+
 namespace detail {
 
 bool invertAffine(const float m[3][4], float out[3][4]) {
@@ -74,35 +76,47 @@ bool embreeInvertible(const float m[3][4]) {
 // zero scale is sometimes used to hide an instance, and hiding it is what such an instance gets), in double or in
 // the float arithmetic Embree inverts it with.
 void makeRecords(Tlas::Impl& impl) {
-  impl.records.resize(impl.instances.size());
-  for (size_t i = 0; i < impl.instances.size(); ++i) {
-    const Instance& in = impl.instances[i];
-    InstanceRecord& r = impl.records[i];
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 4; ++col) r.objectToWorld[row][col] = in.transform[row][col];
-    r.customIndex = in.customIndex & 0xFFFFFF;
-    r.mask = in.mask & 0xFF;
-    r.sbtOffset = in.sbtOffset & 0xFFFFFF;
-    r.flags = in.flags;
-    if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject) || !embreeInvertible(r.objectToWorld)) {
-      for (auto& row : r.worldToObject)
-        for (float& v : row) v = 0;
-      continue;
+  const size_t n = impl.instances.size();
+  impl.records.resize(n);
+  // In chunks on the build threads (an inverse in double per instance); each chunk's summary is merged after it.
+  std::mutex merge;
+  parallelChunks(n, 8192, 16384, [&](size_t begin, size_t end) {
+    TlasSummary s;
+    for (size_t i = begin; i < end; ++i) {
+      const Instance& in = impl.instances[i];
+      InstanceRecord& r = impl.records[i];
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 4; ++col) r.objectToWorld[row][col] = in.transform[row][col];
+      r.customIndex = in.customIndex & 0xFFFFFF;
+      r.mask = in.mask & 0xFF;
+      r.sbtOffset = in.sbtOffset & 0xFFFFFF;
+      r.flags = in.flags;
+      if (!in.blas || !invertAffine(r.objectToWorld, r.worldToObject) || !embreeInvertible(r.objectToWorld)) {
+        for (auto& row : r.worldToObject)
+          for (float& v : row) v = 0;
+        continue;
+      }
+      r.blas = in.blas->impl.get();
+      const BlasSummary& b = r.blas->summary;
+      if ((in.mask & 0xFF) == 0) continue;  // no ray sees it
+      s.aabbs |= b.aabbs;
+      if (!b.triangles) continue;
+      s.triangles = true;
+      s.facingCullable |= !(in.flags & kInstanceTriangleFacingCullDisable);
+      // Opacity after the instance's force flags (the ray's come per ray).
+      const bool forcedOpaque = in.flags & kInstanceForceOpaque;
+      const bool forcedNoOpaque = !forcedOpaque && (in.flags & kInstanceForceNoOpaque);
+      s.opaqueTriangles |= forcedOpaque || (!forcedNoOpaque && b.opaqueTriangles);
+      s.noOpaqueTriangles |= forcedNoOpaque || (!forcedOpaque && b.noOpaqueTriangles);
     }
-    r.blas = in.blas->impl.get();
-    const BlasSummary& b = r.blas->summary;
-    TlasSummary& s = impl.summary;
-    if ((in.mask & 0xFF) == 0) continue;  // no ray sees it
-    s.aabbs |= b.aabbs;
-    if (!b.triangles) continue;
-    s.triangles = true;
-    s.facingCullable |= !(in.flags & kInstanceTriangleFacingCullDisable);
-    // Opacity after the instance's force flags (the ray's come per ray).
-    const bool forcedOpaque = in.flags & kInstanceForceOpaque;
-    const bool forcedNoOpaque = !forcedOpaque && (in.flags & kInstanceForceNoOpaque);
-    s.opaqueTriangles |= forcedOpaque || (!forcedNoOpaque && b.opaqueTriangles);
-    s.noOpaqueTriangles |= forcedNoOpaque || (!forcedOpaque && b.noOpaqueTriangles);
-  }
+    std::lock_guard lock(merge);
+    TlasSummary& all = impl.summary;
+    all.triangles |= s.triangles;
+    all.aabbs |= s.aabbs;
+    all.opaqueTriangles |= s.opaqueTriangles;
+    all.noOpaqueTriangles |= s.noOpaqueTriangles;
+    all.facingCullable |= s.facingCullable;
+  });
 }
 
 // Whether an instance's world bounds, as Embree computes them (its Blas's bounds, each corner transformed in float
@@ -321,28 +335,110 @@ void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, 
   return leaf;
 }
 
-// Copies the builder's tree below `p` into impl.nodes / impl.leafItems, depth first; returns its reference.
-uint32_t copyTree(const void* p, Tlas::Impl& impl) {
-  if (static_cast<const BuildLeaf*>(p)->leaf) {
-    const auto* leaf = static_cast<const BuildLeaf*>(p);
-    const auto first = uint32_t(impl.leafItems.size());
-    impl.leafItems.insert(impl.leafItems.end(), leaf->items, leaf->items + leaf->count);
-    return kLeafRef | (leaf->count == 1 ? leaf->items[0] : first) << 3 | (leaf->count - 1);
+// The builder's tree is copied into impl.nodes / impl.leafItems depth first (a node before its children, the first
+// child's subtree before the second's; leaf items in the order their leaves are met). The copy is parallel: the
+// subtrees at kSplitDepth are counted on the build threads, the levels above them placed on this thread (each
+// subtree's first node and item known from the counts before it), then the subtrees copied on the build threads
+// into their places, so the arrays are the same as a serial copy's.
+constexpr int kSplitDepth = 8;  // up to 256 subtrees
+
+struct TreeCounts {
+  uint32_t nodes = 0, items = 0;
+};
+
+const BuildLeaf* asLeaf(const void* p) {
+  return static_cast<const BuildLeaf*>(p)->leaf ? static_cast<const BuildLeaf*>(p) : nullptr;
+}
+
+uint32_t leafRef(const BuildLeaf& leaf, uint32_t first) {
+  return kLeafRef | (leaf.count == 1 ? leaf.items[0] : first) << 3 | (leaf.count - 1);
+}
+
+TreeCounts countTree(const void* p) {
+  if (const BuildLeaf* leaf = asLeaf(p)) return {0, leaf->count};
+  const auto* node = static_cast<const BuildNode*>(p);
+  const TreeCounts a = countTree(node->children[0]), b = countTree(node->children[1]);
+  return {1 + a.nodes + b.nodes, a.items + b.items};
+}
+
+void writeNodeBounds(const BuildNode& node, int k, uint32_t child, BvhNode& out) {
+  const RTCBounds& b = node.bounds[k];
+  float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
+  widenAtLimit(lower, upper);
+  std::memcpy(out.lower[k], lower, sizeof lower);
+  std::memcpy(out.upper[k], upper, sizeof upper);
+  out.child[k] = child;
+}
+
+// Writes the tree below `p` from `next` on (advanced past it); returns its reference.
+uint32_t writeTree(const void* p, Tlas::Impl& impl, TreeCounts& next) {
+  if (const BuildLeaf* leaf = asLeaf(p)) {
+    const uint32_t first = next.items;
+    std::memcpy(impl.leafItems.data() + first, leaf->items, leaf->count * sizeof(uint32_t));
+    next.items += leaf->count;
+    return leafRef(*leaf, first);
   }
   const auto* node = static_cast<const BuildNode*>(p);
-  const auto index = uint32_t(impl.nodes.size());
-  impl.nodes.emplace_back();
+  const uint32_t index = next.nodes++;
   for (int k = 0; k < 2; ++k) {
-    const RTCBounds& b = node->bounds[k];
-    float lower[3] = {b.lower_x, b.lower_y, b.lower_z}, upper[3] = {b.upper_x, b.upper_y, b.upper_z};
-    widenAtLimit(lower, upper);
-    const uint32_t child = copyTree(node->children[k], impl);
-    BvhNode& out = impl.nodes[index];
-    std::memcpy(out.lower[k], lower, sizeof lower);
-    std::memcpy(out.upper[k], upper, sizeof upper);
-    out.child[k] = child;
+    const uint32_t child = writeTree(node->children[k], impl, next);
+    writeNodeBounds(*node, k, child, impl.nodes[index]);
   }
   return index;
+}
+
+// The subtrees at kSplitDepth (or leaves above it), left to right.
+void collectSubtrees(const void* p, int depth, std::vector<const void*>& out) {
+  if (asLeaf(p) || depth == kSplitDepth) {
+    out.push_back(p);
+    return;
+  }
+  const auto* node = static_cast<const BuildNode*>(p);
+  for (int k = 0; k < 2; ++k) collectSubtrees(node->children[k], depth + 1, out);
+}
+
+// The levels above the subtrees: nodes written, each subtree given its start (`starts`, in collectSubtrees' order).
+uint32_t placeTop(const void* p, int depth, Tlas::Impl& impl, const std::vector<TreeCounts>& counts,
+                  std::vector<TreeCounts>& starts, size_t& subtree, TreeCounts& next) {
+  if (asLeaf(p) || depth == kSplitDepth) {
+    const TreeCounts start = next, c = counts[subtree];
+    starts[subtree++] = start;
+    next.nodes += c.nodes;
+    next.items += c.items;
+    if (const BuildLeaf* leaf = asLeaf(p)) return leafRef(*leaf, start.items);
+    return start.nodes;
+  }
+  const auto* node = static_cast<const BuildNode*>(p);
+  const uint32_t index = next.nodes++;
+  for (int k = 0; k < 2; ++k) {
+    const uint32_t child = placeTop(node->children[k], depth + 1, impl, counts, starts, subtree, next);
+    writeNodeBounds(*node, k, child, impl.nodes[index]);
+  }
+  return index;
+}
+
+uint32_t copyTree(const void* root, Tlas::Impl& impl) {
+  std::vector<const void*> subtrees;
+  collectSubtrees(root, 0, subtrees);
+  std::vector<TreeCounts> counts(subtrees.size()), starts(subtrees.size());
+  parallelChunks(subtrees.size(), 1, 2, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) counts[i] = countTree(subtrees[i]);
+  });
+  TreeCounts total;
+  for (const TreeCounts& c : counts) total.nodes += c.nodes, total.items += c.items;
+  const uint32_t top = uint32_t(subtrees.size() - 1);  // the nodes above the subtrees of a binary tree
+  impl.nodes.resize(size_t(total.nodes) + top);
+  impl.leafItems.resize(total.items);
+  size_t subtree = 0;
+  TreeCounts next;
+  const uint32_t ref = placeTop(root, 0, impl, counts, starts, subtree, next);
+  parallelChunks(subtrees.size(), 1, 2, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      TreeCounts at = starts[i];
+      writeTree(subtrees[i], impl, at);
+    }
+  });
+  return ref;
 }
 
 // The instance level over `prims` (one per instance in the hierarchy, primID = instance index; reordered by the
@@ -377,8 +473,6 @@ bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, std::vector<RTCBuildPrim
   void* root = rtcBuildBVH(&args);
   bool ok = root && !overfull.load() && !errors.failed("Tlas build", error);
   if (ok) {
-    impl.nodes.reserve(prims.size());
-    impl.leafItems.reserve(prims.size());
     impl.root = copyTree(root, impl);
   } else if (error && error->empty()) {
     *error = "Tlas build: Embree could not build the instance hierarchy";

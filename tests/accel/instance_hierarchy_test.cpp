@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <tuple>
 
@@ -179,6 +180,68 @@ TEST(AccelInstanceHierarchy, ThousandsOfOverlappingInstancesGiveTheClosestHit) {
     EXPECT_EQ(countWrong(*tlas, placements, 2, 3000, &checked), 0u);
     EXPECT_GT(checked, 2500);
   }
+}
+
+// Enough instances for the parallel parts of the build (records made in chunks, the builder's tree copied as 256
+// subtrees placed from their counts): the arrays are laid out as one depth-first copy lays them (a node before its
+// children, the first child's subtree before the second's, leaf items in the order their leaves are met), every
+// instance of the hierarchy is in exactly one leaf, every box holds the boxes below it, and rays find the closest hit.
+TEST(AccelInstanceHierarchy, TensOfThousandsOfInstancesAreLaidOutDepthFirst) {
+  const std::shared_ptr<const Blas> blases[2] = {makeBlas({tile(5, 4)}), makeBlas({tile(2, 2)})};
+  const auto placements = randomPlacements(40000, 11);
+  auto tlas = buildPlaced(placements, blases);
+  ASSERT_TRUE(tlas);
+  const Tlas::Impl& impl = *tlas->impl;
+  ASSERT_GT(impl.nodes.size(), 4096u);  // deeper than the split into subtrees
+  uint32_t nextNode = 0, nextItem = 0;
+  std::vector<int> seen(placements.size(), 0);
+  size_t misplaced = 0, unbounded = 0;
+  auto inside = [](const float* lo, const float* hi, const float* outerLo, const float* outerHi) {
+    for (int k = 0; k < 3; ++k)
+      if (lo[k] < outerLo[k] || hi[k] > outerHi[k]) return false;
+    return true;
+  };
+  std::function<void(uint32_t)> walk = [&](uint32_t ref) {
+    if (ref & detail::kLeafRef) {
+      uint32_t count, one;
+      const uint32_t* items = detail::leafInstances(impl.leafItems, ref, &count, &one);
+      if (count > 1 && one != nextItem) ++misplaced;
+      for (uint32_t k = 0; k < count; ++k) {
+        if (nextItem + k >= impl.leafItems.size() || impl.leafItems[nextItem + k] != items[k]) ++misplaced;
+        if (items[k] < seen.size()) ++seen[items[k]];
+      }
+      nextItem += count;
+      return;
+    }
+    if (ref != nextNode++ || ref >= impl.nodes.size()) {
+      ++misplaced;
+      return;
+    }
+    const detail::BvhNode& node = impl.nodes[ref];
+    for (int k = 0; k < 2; ++k) {
+      const uint32_t child = node.child[k];
+      if (!(child & detail::kLeafRef) && child < impl.nodes.size())
+        for (int c = 0; c < 2; ++c)
+          if (!inside(impl.nodes[child].lower[c], impl.nodes[child].upper[c], node.lower[k], node.upper[k]))
+            ++unbounded;
+      walk(child);
+    }
+  };
+  walk(impl.root);
+  EXPECT_EQ(misplaced, 0u);
+  EXPECT_EQ(unbounded, 0u);
+  EXPECT_EQ(nextNode, impl.nodes.size());
+  EXPECT_EQ(nextItem, impl.leafItems.size());
+  size_t inHierarchy = 0, wrongCount = 0;  // instances in no leaf or in several, or in one and not in the hierarchy
+  for (size_t i = 0; i < placements.size(); ++i) {
+    inHierarchy += impl.records[i].scene != nullptr;
+    wrongCount += seen[i] != (impl.records[i].scene != nullptr ? 1 : 0);
+  }
+  EXPECT_GT(inHierarchy, 20000u);
+  EXPECT_EQ(wrongCount, 0u);
+  int checked = 0;
+  EXPECT_EQ(countWrong(*tlas, placements, 12, 600, &checked), 0u);
+  EXPECT_GT(checked, 200);
 }
 
 TEST(AccelInstanceHierarchy, UpdateRefitsTheHierarchyToNewTransforms) {
