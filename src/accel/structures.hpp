@@ -7,6 +7,9 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "accel/accel.hpp"
@@ -202,9 +205,34 @@ inline unsigned embreeRayMask(const Ray& ray) {
 
 }  // namespace detail
 
+namespace detail {
+
+// The allocator of a build's large arrays, filled in parallel: resizing leaves their storage untouched (no value
+// initialization), so each page is first written, and faulted in, by the build thread that fills it, not all of them
+// by the thread that resized. Whoever fills an element constructs it first (placement new) where it is not trivial.
+template <class T>
+struct BuildArrayAllocator : std::allocator<T> {
+  static_assert(std::is_trivially_destructible_v<T>);
+  BuildArrayAllocator() = default;
+  template <class U>
+  BuildArrayAllocator(const BuildArrayAllocator<U>&) noexcept {}
+  template <class U>
+  struct rebind {
+    using other = BuildArrayAllocator<U>;
+  };
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) > 0) ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using BuildArray = std::vector<T, BuildArrayAllocator<T>>;
+
+}  // namespace detail
+
 struct Tlas::Impl {
   // (What every ray reads first, together.)
-  std::vector<detail::InstanceRecord> records;
+  detail::BuildArray<detail::InstanceRecord> records;  // constructed by makeRecords (tlas.cpp)
   detail::TlasSummary summary;
   bool built = false;  // false: a failed build (never traced)
   // The instance level (detail::BvhNode): the root reference, its nodes, the instance indices its leaves hold.
@@ -212,7 +240,7 @@ struct Tlas::Impl {
   // Flattened triangles: an Embree scene of world-space triangles (null when there are none), traced before the
   // hierarchy. Its geometry g holds flat[g] (one geometry per instance mask), its primitive p being flat[g][p].
   RTCScene flatScene = nullptr;
-  std::vector<detail::BvhNode> nodes;
+  detail::BuildArray<detail::BvhNode> nodes;
   std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
   std::vector<Instance> instances;

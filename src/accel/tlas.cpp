@@ -84,7 +84,7 @@ void makeRecords(Tlas::Impl& impl) {
     TlasSummary s;
     for (size_t i = begin; i < end; ++i) {
       const Instance& in = impl.instances[i];
-      InstanceRecord& r = impl.records[i];
+      InstanceRecord& r = *::new (static_cast<void*>(&impl.records[i])) InstanceRecord;
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) r.objectToWorld[row][col] = in.transform[row][col];
       r.customIndex = in.customIndex & 0xFFFFFF;
