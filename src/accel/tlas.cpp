@@ -443,7 +443,7 @@ uint32_t copyTree(const void* root, Tlas::Impl& impl) {
 
 // The instance level over `prims` (one per instance in the hierarchy, primID = instance index; reordered by the
 // builder). SAH (binned, MEDIUM) or Morton (LOW, PREFER_FAST_BUILD) on Embree's build threads.
-bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, std::vector<RTCBuildPrimitive>& prims, std::string* error) {
+bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, BuildArray<RTCBuildPrimitive>& prims, std::string* error) {
   impl.nodes.clear();
   impl.leafItems.clear();
   impl.root = kEmptyRef;
@@ -483,7 +483,7 @@ bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, std::vector<RTCBuildPrim
 
 // The bounds of a child reference of the hierarchy, from the instances' bounds (`bounds`, indexed by instance) and
 // the nodes below it (already refit).
-void refBounds(const Tlas::Impl& impl, const std::vector<RTCBuildPrimitive>& bounds, uint32_t ref, float lower[3],
+void refBounds(const Tlas::Impl& impl, const BuildArray<RTCBuildPrimitive>& bounds, uint32_t ref, float lower[3],
                float upper[3]) {
   for (int k = 0; k < 3; ++k) lower[k] = HUGE_VALF, upper[k] = -HUGE_VALF;
   auto unite = [&](const float* lo, const float* hi) {
@@ -507,7 +507,7 @@ void refBounds(const Tlas::Impl& impl, const std::vector<RTCBuildPrimitive>& bou
 // An update's refit: `source`'s hierarchy with the instances' new bounds, when the same instances are in it (every
 // instance in its leaves still in the hierarchy, and no other). False otherwise (the caller builds).
 bool refitHierarchy(const Tlas::Impl& source, Tlas::Impl& impl, const std::vector<uint8_t>& inHierarchy, size_t count,
-                    const std::vector<RTCBuildPrimitive>& bounds) {
+                    const BuildArray<RTCBuildPrimitive>& bounds) {
   if (source.leafItems.size() != count || source.instances.size() != impl.instances.size()) return false;
   for (uint32_t i : source.leafItems)
     if (!inHierarchy[i]) return false;
@@ -537,7 +537,7 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
     if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && r.mask) r.blas->sceneFor();
   }
   // Per instance: its scene and world bounds (in parallel: a transform of 8 corners each).
-  std::vector<RTCBuildPrimitive> bounds(n);
+  BuildArray<RTCBuildPrimitive> bounds(n);  // set for the instances in the hierarchy, the only ones read
   std::vector<uint8_t> inHierarchy(n, 0);
   std::atomic<bool> outOfMemory{false};
   parallelChunks(n, 4096, 16384, [&](size_t begin, size_t end) {
