@@ -83,16 +83,6 @@ const char* isaInUse() {
 
 namespace detail {
 
-// ThreadSanitizer does not see TBB's synchronization (the library is not instrumented): worker threads that this
-// function starts made every test process that used them report a race at exit, where static destructors free
-// what the workers wrote. Under it the chunks run on the calling thread; Embree's own use of TBB is covered by
-// tests/tsan.supp.
-#if defined(__SANITIZE_THREAD__)
-constexpr bool kUnderThreadSanitizer = true;
-#else
-constexpr bool kUnderThreadSanitizer = false;
-#endif
-
 void parallelChunks(size_t n, size_t grain, size_t serialBelow, const std::function<void(size_t, size_t)>& body) {
   if (n == 0) return;
   const unsigned threads = gBuildThreads.load();

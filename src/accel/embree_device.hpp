@@ -18,6 +18,17 @@ RTCDevice device(std::string* error);
 // count setBuildThreads() asked for), or on the calling thread alone when n is under `serialBelow`. For the
 // serial parts of a build (copies and scans of the inputs, making instance geometries), so that they scale with
 // Embree's own build.
+// ThreadSanitizer does not see TBB's synchronization (the library is not instrumented): worker threads that
+// parallelChunks starts made every test process that used them report a race at exit, where static destructors free
+// what the workers wrote. Under it the chunks run on the calling thread; Embree's own use of TBB is covered by
+// tests/tsan.supp, and what vkrt's callbacks write on Embree's threads is published through an atomic where vkrt
+// reads it afterwards (tlas.cpp, BuildContext).
+#if defined(__SANITIZE_THREAD__)
+inline constexpr bool kUnderThreadSanitizer = true;
+#else
+inline constexpr bool kUnderThreadSanitizer = false;
+#endif
+
 void parallelChunks(size_t n, size_t grain, size_t serialBelow, const std::function<void(size_t, size_t)>& body);
 
 // Collects the messages Embree reports on this thread while it lives. Embree calls its error callback on the

@@ -315,23 +315,43 @@ struct BuildLeaf {
   uint32_t items[kMaxLeafItems];
 };
 
-void* createNode(RTCThreadLocalAllocator alloc, unsigned, void*) {
+// What the builder's callbacks share: whether a leaf was given more instances than it holds, and, under
+// ThreadSanitizer, a counter each callback increments (release) after its writes and that the copy reads (acquire)
+// before reading the tree, so that the sanitizer sees the writes of Embree's threads ordered before the copy (it does
+// not see TBB's own synchronization).
+struct BuildContext {
+  std::atomic<bool> overfull{false};
+  std::atomic<uint32_t> published{0};
+  void publish() {
+    if constexpr (kUnderThreadSanitizer) published.fetch_add(1, std::memory_order_release);
+  }
+  void acquire() const {
+    if constexpr (kUnderThreadSanitizer) (void)published.load(std::memory_order_acquire);
+  }
+};
+
+void* createNode(RTCThreadLocalAllocator alloc, unsigned, void* userPtr) {
   auto* node = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
   *node = BuildNode{false, {}, {nullptr, nullptr}};
+  static_cast<BuildContext*>(userPtr)->publish();
   return node;
 }
-void setNodeChildren(void* node, void** children, unsigned count, void*) {
+void setNodeChildren(void* node, void** children, unsigned count, void* userPtr) {
   for (unsigned k = 0; k < count && k < 2; ++k) static_cast<BuildNode*>(node)->children[k] = children[k];
+  static_cast<BuildContext*>(userPtr)->publish();
 }
-void setNodeBounds(void* node, const RTCBounds** bounds, unsigned count, void*) {
+void setNodeBounds(void* node, const RTCBounds** bounds, unsigned count, void* userPtr) {
   for (unsigned k = 0; k < count && k < 2; ++k) static_cast<BuildNode*>(node)->bounds[k] = *bounds[k];
+  static_cast<BuildContext*>(userPtr)->publish();
 }
 void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void* userPtr) {
+  auto* context = static_cast<BuildContext*>(userPtr);
   auto* leaf = static_cast<BuildLeaf*>(rtcThreadLocalAlloc(alloc, sizeof(BuildLeaf), 16));
   leaf->leaf = true;
   leaf->count = uint32_t(std::min<size_t>(count, kMaxLeafItems));
-  if (count > kMaxLeafItems) static_cast<std::atomic<bool>*>(userPtr)->store(true);  // (the builder keeps the bound)
+  if (count > kMaxLeafItems) context->overfull.store(true);  // (the builder keeps the bound)
   for (uint32_t k = 0; k < leaf->count; ++k) leaf->items[k] = prims[k].primID;
+  context->publish();
   return leaf;
 }
 
@@ -451,7 +471,7 @@ bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, BuildArray<RTCBuildPrimi
   EmbreeErrors errors;
   RTCBVH bvh = rtcNewBVH(device);
   if (!bvh) return !errors.failed("Tlas build", error);
-  std::atomic<bool> overfull{false};
+  BuildContext context;
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.buildQuality = impl.options.preferFastBuild ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM;
   args.maxBranchingFactor = 2;
@@ -469,9 +489,10 @@ bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, BuildArray<RTCBuildPrimi
   args.setNodeChildren = setNodeChildren;
   args.setNodeBounds = setNodeBounds;
   args.createLeaf = createLeaf;
-  args.userPtr = &overfull;
+  args.userPtr = &context;
   void* root = rtcBuildBVH(&args);
-  bool ok = root && !overfull.load() && !errors.failed("Tlas build", error);
+  context.acquire();
+  bool ok = root && !context.overfull.load() && !errors.failed("Tlas build", error);
   if (ok) {
     impl.root = copyTree(root, impl);
   } else if (error && error->empty()) {
