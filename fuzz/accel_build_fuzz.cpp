@@ -113,7 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     in.mask = anyOrSmall(p, 0xff);
     in.sbtOffset = anyOrSmall(p, 4);
     in.flags = anyOrSmall(p, 15);
-    if (p.ConsumeIntegralInRange<int>(0, 3)) in.blas = blas;
+    if (p.ConsumeIntegralInRange<int>(0, 3)) in.blas = blas.get();
   }
   std::shared_ptr<const Tlas> tlas = Tlas::build(std::move(instances), options(p), &error);
   if (!tlas) return 0;

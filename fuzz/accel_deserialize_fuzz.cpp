@@ -41,8 +41,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   writeSeed(std::string(dir) + "/blas-triangles", serialize(*a));
   writeSeed(std::string(dir) + "/blas-boxes", serialize(*b));
   Instance ia, ib;
-  ia.blas = a;
-  ib.blas = b;
+  ia.blas = a.get();
+  ib.blas = b.get();
   ia.transform[0][0] = ia.transform[1][1] = ia.transform[2][2] = 1;
   ib.transform[0][0] = ib.transform[1][1] = ib.transform[2][2] = 1;
   std::shared_ptr<const Tlas> t = Tlas::build({ia, ib}, {}, &error);

@@ -80,10 +80,14 @@ class Blas;
 struct Instance {
   float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // object to world, rows (VkTransformMatrixKHR)
   uint32_t customIndex = 0;                                            // 24 bits: gl_InstanceCustomIndexEXT
-  uint32_t mask = 0xFF;              // 8 bits: the instance is skipped by rays whose cull mask shares no bit with it
-  uint32_t sbtOffset = 0;            // 24 bits: instanceShaderBindingTableRecordOffset
-  uint32_t flags = 0;                // InstanceFlag
-  std::shared_ptr<const Blas> blas;  // null: an inactive instance (reference 0), never hit
+  uint32_t mask = 0xFF;    // 8 bits: the instance is skipped by rays whose cull mask shares no bit with it
+  uint32_t sbtOffset = 0;  // 24 bits: instanceShaderBindingTableRecordOffset
+  uint32_t flags = 0;      // InstanceFlag
+  // null: an inactive instance (reference 0), never hit. Not owned: the Blas is one a shared_ptr owns (Blas::build,
+  // update and deserializeBlas make no other), which the caller keeps alive until Tlas::build returns; the Tlas
+  // then holds each distinct one itself. (A pointer rather than a shared_ptr: copying a shared_ptr per instance is
+  // an atomic increment of one shared count, which serialized the build threads over 10^5-10^6 instances.)
+  const Blas* blas = nullptr;
 };
 
 // How a structure is built (VkBuildAccelerationStructureFlagBitsKHR, as far as Embree can honour them; the mapping
@@ -95,7 +99,7 @@ struct BuildOptions {
   bool lowMemory = false;
 };
 
-class Blas {
+class Blas : public std::enable_shared_from_this<Blas> {
  public:
   // Builds from `geometries` (taken over). Fails, with `error` set, when Embree cannot build (out of memory).
   static std::shared_ptr<Blas> build(std::vector<Geometry> geometries, const BuildOptions& options, std::string* error);

@@ -215,7 +215,7 @@ std::vector<uint8_t> serialize(const Tlas& tlas, std::vector<const Blas*>* blasR
   std::vector<uint32_t> instanceRefs;
   for (const Instance& in : tlas.instances()) {
     instanceRefs.push_back(in.blas ? uint32_t(refs.size()) : kNoBlas);
-    refs.push_back(in.blas.get());
+    refs.push_back(in.blas);
   }
   Writer w;
   w.bytes.resize(kHeaderBytes);
@@ -275,7 +275,7 @@ std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
     if (ref == kNoBlas) continue;
     if (ref >= blasRefs.size())
       return refuse(error, "instance " + std::to_string(i) + " references a missing structure");
-    in.blas = blasRefs[ref];  // a null reference (a structure the runtime could not resolve): inactive
+    in.blas = blasRefs[ref].get();  // null (a structure the runtime could not resolve): inactive
   }
   return Tlas::build(std::move(instances), options, error);
 }

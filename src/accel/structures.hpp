@@ -244,6 +244,7 @@ struct Tlas::Impl {
   std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
   std::vector<Instance> instances;
+  std::vector<std::shared_ptr<const Blas>> blases;  // each distinct Blas of the instances, kept alive (makeRecords)
   BuildOptions options;
 
   ~Impl();

@@ -75,15 +75,21 @@ bool embreeInvertible(const float m[3][4]) {
 // Blas is null (Vulkan: reference 0) or its transform has no inverse (Vulkan requires an invertible one; a
 // zero scale is sometimes used to hide an instance, and hiding it is what such an instance gets), in double or in
 // the float arithmetic Embree inverts it with.
-void makeRecords(Tlas::Impl& impl) {
+// The distinct Blases are collected too, and the Tlas takes shared ownership of each once (impl.blases). Fails when
+// an instance's Blas is not owned by a shared_ptr (Instance::blas's precondition).
+bool makeRecords(Tlas::Impl& impl, std::string* error) {
   const size_t n = impl.instances.size();
   impl.records.resize(n);
-  // In chunks on the build threads (an inverse in double per instance); each chunk's summary is merged after it.
+  // In chunks on the build threads (an inverse in double per instance); each chunk's summary and Blases are merged
+  // after it.
   std::mutex merge;
+  std::vector<const Blas*> distinct;
   parallelChunks(n, 8192, 16384, [&](size_t begin, size_t end) {
     TlasSummary s;
+    std::vector<const Blas*> used;  // each run of instances of one Blas adds it once (runs are the usual case)
     for (size_t i = begin; i < end; ++i) {
       const Instance& in = impl.instances[i];
+      if (in.blas && (used.empty() || used.back() != in.blas)) used.push_back(in.blas);
       InstanceRecord& r = *::new (static_cast<void*>(&impl.records[i])) InstanceRecord;
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) r.objectToWorld[row][col] = in.transform[row][col];
@@ -109,7 +115,10 @@ void makeRecords(Tlas::Impl& impl) {
       s.opaqueTriangles |= forcedOpaque || (!forcedNoOpaque && b.opaqueTriangles);
       s.noOpaqueTriangles |= forcedNoOpaque || (!forcedOpaque && b.noOpaqueTriangles);
     }
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
     std::lock_guard lock(merge);
+    distinct.insert(distinct.end(), used.begin(), used.end());
     TlasSummary& all = impl.summary;
     all.triangles |= s.triangles;
     all.aabbs |= s.aabbs;
@@ -117,6 +126,18 @@ void makeRecords(Tlas::Impl& impl) {
     all.noOpaqueTriangles |= s.noOpaqueTriangles;
     all.facingCullable |= s.facingCullable;
   });
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  impl.blases.reserve(distinct.size());
+  for (const Blas* b : distinct) {
+    std::shared_ptr<const Blas> owner = b->weak_from_this().lock();
+    if (!owner) {
+      if (error) *error = "Tlas build: an instance's Blas is not owned by a shared_ptr";
+      return false;
+    }
+    impl.blases.push_back(std::move(owner));
+  }
+  return true;
 }
 
 // Whether an instance's world bounds, as Embree computes them (its Blas's bounds, each corner transformed in float
@@ -553,9 +574,25 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
   // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
   // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
   // the same scene, re-entering its std::call_once.
-  for (size_t i = 0; i < n; ++i) {
-    const InstanceRecord& r = impl.records[i];
-    if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && r.mask) r.blas->sceneFor();
+  // (Which ones is found in chunks: each distinct one, then their scenes made one after the other.)
+  {
+    std::mutex merge;
+    std::vector<const Blas::Impl*> small;
+    parallelChunks(n, 8192, 16384, [&](size_t begin, size_t end) {
+      std::vector<const Blas::Impl*> used;
+      for (size_t i = begin; i < end; ++i) {
+        const InstanceRecord& r = impl.records[i];
+        if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && r.mask &&
+            (used.empty() || used.back() != r.blas))
+          used.push_back(r.blas);
+      }
+      if (used.empty()) return;
+      std::lock_guard lock(merge);
+      small.insert(small.end(), used.begin(), used.end());
+    });
+    std::sort(small.begin(), small.end());
+    small.erase(std::unique(small.begin(), small.end()), small.end());
+    for (const Blas::Impl* b : small) b->sceneFor();
   }
   // Per instance: its scene and world bounds (in parallel: a transform of 8 corners each).
   BuildArray<RTCBuildPrimitive> bounds(n);  // set for the instances in the hierarchy, the only ones read
@@ -614,7 +651,7 @@ std::shared_ptr<Tlas> buildTlas(std::vector<Instance> instances, const BuildOpti
   auto impl = std::make_unique<Tlas::Impl>();
   impl->instances = std::move(instances);
   impl->options = options;
-  detail::makeRecords(*impl);
+  if (!detail::makeRecords(*impl, error)) return nullptr;
   if (!detail::buildLevels(*impl, source, error)) return nullptr;
   impl->built = true;
   auto tlas = std::make_shared<Tlas>();

@@ -88,6 +88,7 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
   std::shared_ptr<const AccelerationStructure::Content> c;
   const uint64_t generation = dev->blasGeneration.load();
   std::vector<accel::Instance> instances;
+  std::vector<std::shared_ptr<const accel::Blas>> keep;  // the current bottom levels, until the Tlas holds them
   bool stale = false;
   {
     std::lock_guard lock(dev->accelerationStructuresMutex);
@@ -104,8 +105,9 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
       auto b = dev->accelerationStructures.find(c->blasAt[i]);
       if (b == dev->accelerationStructures.end()) continue;  // destroyed: the instance keeps what it was built with
       auto bc = b->second->content();
-      if (bc && bc->blas && bc->blas != instances[i].blas) {
-        instances[i].blas = bc->blas;
+      if (bc && bc->blas && bc->blas.get() != instances[i].blas) {
+        instances[i].blas = bc->blas.get();
+        keep.push_back(bc->blas);
         stale = true;
       }
     }

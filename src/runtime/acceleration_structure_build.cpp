@@ -12,8 +12,10 @@
 // addresses are reported instead of faulting. Host builds read the application's host pointers as given.
 #include "runtime/acceleration_structure_build.hpp"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <mutex>
 
@@ -230,9 +232,12 @@ std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool h
   return c->blas;
 }
 
+// `keep` receives an owner of each Blas an instance points to (accel::Instance holds a plain pointer), for the caller
+// to hold until the Tlas that takes them over is built.
 bool readInstances(Device* dev, const Source& src, const VkAccelerationStructureGeometryInstancesDataKHR& d,
                    const VkAccelerationStructureBuildRangeInfoKHR& r, bool host, std::vector<accel::Instance>* out,
-                   std::vector<uint64_t>* refs, std::vector<uint64_t>* addresses, BuildError* e) {
+                   std::vector<uint64_t>* refs, std::vector<uint64_t>* addresses,
+                   std::vector<std::shared_ptr<const accel::Blas>>* keep, BuildError* e) {
   const uint64_t n = r.primitiveCount;
   const uint64_t each = d.arrayOfPointers ? 8 : sizeof(VkAccelerationStructureInstanceKHR);
   const uint8_t* p = n ? src.at(d.data.deviceAddress + r.primitiveOffset, n * each, "instance data", 0, e) : nullptr;
@@ -251,35 +256,63 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
     o.flags = in.flags;
     (*refs)[i] = in.accelerationStructureReference;
   };
-  // Instances of one bottom level usually come together: the previous instance's resolution is reused (one lookup
-  // under the device's lock per run of equal references, not one per instance).
-  auto resolve = [&](uint64_t i) {
-    const uint64_t ref = (*refs)[i];
-    if (i > 0 && ref == (*refs)[i - 1] && (*out)[i - 1].blas) {
-      (*out)[i].blas = (*out)[i - 1].blas;
-      (*addresses)[i] = (*addresses)[i - 1];
-      return true;
-    }
-    (*out)[i].blas = resolveBlas(dev, ref, host, uint32_t(i), e, &(*addresses)[i]);
-    return (*out)[i].blas || !ref;
+  // One resolution per run of equal references (instances of one bottom level usually come together).
+  struct Run {
+    uint64_t first;  // the run's first instance
+    const accel::Blas* blas;
+    uint64_t address;
+  };
+  auto resolveRun = [&](uint64_t i, Run* run) {
+    std::shared_ptr<const accel::Blas> b = resolveBlas(dev, (*refs)[i], host, uint32_t(i), e, &run->address);
+    if (!b && (*refs)[i]) return false;
+    run->first = i;
+    run->blas = b.get();
+    if (b && (keep->empty() || keep->back() != b)) keep->push_back(std::move(b));
+    return true;
   };
   if (d.arrayOfPointers) {
+    Run run{};
     for (uint64_t i = 0; i < n; ++i) {
       const uint8_t* ip =
           src.at(load<uint64_t>(p + i * each), sizeof(VkAccelerationStructureInstanceKHR), "instance pointed to", 0, e);
       if (!ip) return false;
       copy(i, ip);
-      if (!resolve(i)) return false;
+      if ((i == 0 || (*refs)[i] != (*refs)[i - 1]) && !resolveRun(i, &run)) return false;
+      (*out)[i].blas = run.blas;
+      (*addresses)[i] = run.address;
     }
     return true;
   }
-  // The instances copied in chunks on the thread pool, their references then resolved in order on this thread (the
-  // first bad one is the one reported).
+  // In chunks on the thread pool: the instances copied and the runs' first instances found (a reference compared
+  // with the one before it in the application's array); the runs then resolved in order on this thread (the first
+  // bad reference is the one reported), and each instance given its run's in chunks again.
+  constexpr size_t kReferenceAt = offsetof(VkAccelerationStructureInstanceKHR, accelerationStructureReference);
+  std::mutex merge;
+  std::vector<uint64_t> firsts;
   forChunks(n, [&](uint64_t begin, uint64_t end) {
-    for (uint64_t i = begin; i < end; ++i) copy(i, p + i * each);
+    std::vector<uint64_t> found;
+    uint64_t before = begin ? load<uint64_t>(p + (begin - 1) * each + kReferenceAt) : 0;
+    for (uint64_t i = begin; i < end; ++i) {
+      copy(i, p + i * each);
+      if (i == 0 || (*refs)[i] != before) found.push_back(i);
+      before = (*refs)[i];
+    }
+    std::lock_guard lock(merge);
+    firsts.insert(firsts.end(), found.begin(), found.end());
   });
-  for (uint64_t i = 0; i < n; ++i)
-    if (!resolve(i)) return false;
+  std::sort(firsts.begin(), firsts.end());
+  std::vector<Run> runs(firsts.size());
+  for (size_t k = 0; k < firsts.size(); ++k)
+    if (!resolveRun(firsts[k], &runs[k])) return false;
+  forChunks(n, [&](uint64_t begin, uint64_t end) {
+    // The run holding `begin`: the last one starting at or before it (runs[0] starts at 0).
+    size_t k = size_t(std::upper_bound(firsts.begin(), firsts.end(), begin) - firsts.begin()) - 1;
+    for (uint64_t i = begin; i < end; ++i) {
+      if (k + 1 < runs.size() && runs[k + 1].first == i) ++k;
+      (*out)[i].blas = runs[k].blas;
+      (*addresses)[i] = runs[k].address;
+    }
+  });
   return true;
 }
 
@@ -579,8 +612,9 @@ bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
   std::string error;
   if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
     std::vector<accel::Instance> instances;
+    std::vector<std::shared_ptr<const accel::Blas>> keep;  // until the Tlas holds them
     if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances,
-                       &content->blasAddresses, &content->blasAt, e))
+                       &content->blasAddresses, &content->blasAt, &keep, e))
       return false;
     content->blasGeneration = dev->blasGeneration.load();
     content->instanceCount = uint32_t(instances.size());

@@ -38,14 +38,18 @@ std::shared_ptr<const Blas> blasOf(std::vector<Geometry> gs, BuildOptions o = {}
   return b;
 }
 
-Instance instanceOf(std::shared_ptr<const Blas> b, float tx = 0, float ty = 0, float tz = 0) {
+// An Instance does not own its Blas (accel.hpp): a named one, which outlives the Tlas build.
+template <class B>
+Instance instanceOf(const std::shared_ptr<B>& b, float tx = 0, float ty = 0, float tz = 0) {
   Instance in;
-  in.blas = std::move(b);
+  in.blas = b.get();
   in.transform[0][3] = tx;
   in.transform[1][3] = ty;
   in.transform[2][3] = tz;
   return in;
 }
+template <class B>
+Instance instanceOf(std::shared_ptr<B>&&, float = 0, float = 0, float = 0) = delete;
 
 std::shared_ptr<const Tlas> tlasOf(std::vector<Instance> is) {
   std::string error;
@@ -91,7 +95,8 @@ struct Recorder : HitHandler {
 };
 
 TEST(AccelTrace, ClosestTriangleWithBarycentricsIdsAndFacing) {
-  auto tlas = tlasOf({instanceOf(blasOf({quad(5, kGeometryOpaque), quad(3, kGeometryOpaque)}))});
+  const auto blas = blasOf({quad(5, kGeometryOpaque), quad(3, kGeometryOpaque)});
+  auto tlas = tlasOf({instanceOf(blas)});
   Recorder rec;
   HitInfo h;
   ASSERT_TRUE(trace(*tlas, rayAt(0.25f, 0.125f), rec, &h));
@@ -157,7 +162,7 @@ TEST(AccelTrace, RotatedScaledAndMirroredInstances) {
   // world = M object: wx = 2 oz, wy = 2 oy, wz = 4 - 2 ox (a rotation about y, scaled by 2, moved along z). The
   // quad (object z = 0) stands in the plane world x = 0.
   Instance rot;
-  rot.blas = blas;
+  rot.blas = blas.get();
   const float m[3][4] = {{0, 0, 2, 0}, {0, 2, 0, 0}, {-2, 0, 0, 4}};
   std::memcpy(rot.transform, m, sizeof m);
   auto tlas = tlasOf({rot});
@@ -303,7 +308,8 @@ TEST(AccelTrace, TerminateOnFirstHitAndSkipFlags) {
 TEST(AccelTrace, BoxesRunTheIntersectionHandlerAndCommitTheClosest) {
   // Two boxes on the ray (entries at z = 4 and z = 2) and one beside it.
   std::vector<float> b = {0, 0, 4, 1, 1, 5, 0, 0, 2, 1, 1, 3, 5, 5, 0, 6, 6, 1};
-  auto tlas = tlasOf({instanceOf(blasOf({boxes(b, 0)}), 0, 0, 1)});  // moved to z + 1
+  const auto blas = blasOf({boxes(b, 0)});
+  auto tlas = tlasOf({instanceOf(blas, 0, 0, 1)});  // moved to z + 1
   Recorder rec;
   rec.boxData = {b};
   HitInfo h;
@@ -338,7 +344,8 @@ TEST(AccelTrace, NoDuplicateAnyHitEvenInADenseHighQualityScene) {
   g.triangles.flags = kGeometryNoDuplicateAnyHit;
   BuildOptions fast;
   fast.preferFastTrace = true;
-  auto tlas = tlasOf({instanceOf(blasOf({g}, fast))});
+  const auto blas = blasOf({g}, fast);
+  auto tlas = tlasOf({instanceOf(blas)});
   for (float x : {-0.3f, 0.0f, 0.2f}) {
     Recorder rec;
     rec.anyHitAnswer = AnyHitResult::Ignore;
@@ -428,7 +435,8 @@ TEST(AccelTrace, ManyThreadsGetTheSameAnswers) {
   for (int i = 0; i < 50; ++i)
     gs.push_back(
         quad(float(2 + i % 7), i % 3 ? uint32_t(kGeometryOpaque) : 0u, float(i % 10) * 0.5f, float(i / 10) * 0.5f));
-  auto tlas = tlasOf({instanceOf(blasOf(gs)), instanceOf(blasOf(gs), 0.25f, 0.25f, 0.5f)});
+  const auto first = blasOf(gs), second = blasOf(gs);
+  auto tlas = tlasOf({instanceOf(first), instanceOf(second, 0.25f, 0.25f, 0.5f)});
   auto run = [&](std::vector<float>* out) {
     Recorder rec;
     for (int y = 0; y < 60; ++y)

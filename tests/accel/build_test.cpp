@@ -19,6 +19,30 @@ Geometry row(int n = 3) {
 // Rays at the first triangle (below the diagonal) of each quad.
 Ray atQuad(int q) { return rayUp(0, -2.0f + 2.0f * q + 0.3f, -0.4f); }
 
+// An Instance does not own its Blas; the Tlas built over it holds each distinct one (its instances() keep pointing
+// at them): the caller's Blases dropped after the build are still traced, and they die with the Tlas.
+TEST(AccelOwnership, ATlasHoldsItsInstancesBlasesUntilItDies) {
+  std::weak_ptr<Blas> first, second;
+  std::shared_ptr<Tlas> tlas;
+  {
+    auto a = makeBlas({row(1)}), b = makeBlas({row(3)});
+    first = a, second = b;
+    // Runs of each and a repeat after the other (a, a, b, a, inactive).
+    tlas = makeTlas({instanceOf(a), instanceOf(a), translated(b, 0, 0, 1), instanceOf(a), instanceOf(nullptr)});
+  }
+  EXPECT_FALSE(first.expired());
+  EXPECT_FALSE(second.expired());
+  EXPECT_EQ(tlas->instances()[2].blas, second.lock().get());
+  EXPECT_EQ(tlas->instances()[4].blas, nullptr);
+  Traced r = traceOnce(*tlas, atQuad(2));  // b's third quad, at z = 6 (only b has one there)
+  ASSERT_TRUE(r.hit);
+  EXPECT_EQ(r.info.instanceIndex, 2u);
+  EXPECT_FLOAT_EQ(r.info.t, 6.0f);
+  tlas.reset();
+  EXPECT_TRUE(first.expired());
+  EXPECT_TRUE(second.expired());
+}
+
 TEST(AccelInactive, TrianglesWithANaNXAreNeverHitAndKeepTheOthersIndices) {
   // "An inactive triangle is one for which the first (X) component of any vertex is NaN". Quad q's triangles
   // are (4q, 4q+1, 4q+2) and (4q, 4q+2, 4q+3).

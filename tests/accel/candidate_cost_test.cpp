@@ -99,7 +99,8 @@ bool sameBits(const float* a, const float* b, size_t n) { return std::memcmp(a, 
 TEST(AccelLazyHit, TheCommittedHitsBuiltInsMatchTheAnyHitsView) {
   for (bool small : {true, false}) {
     SCOPED_TRACE(small ? "flattened" : "own scene");
-    Instance in = instanceOf(makeBlas({square(false, small)}));
+    const auto blas = makeBlas({square(false, small)});
+    Instance in = instanceOf(blas);
     const float m[3][4] = {{0, -2, 0, 3}, {2, 0, 0, -1}, {0, 0, 2, 4}};
     std::memcpy(in.transform, m, sizeof m);
     in.customIndex = 17;

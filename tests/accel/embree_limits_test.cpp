@@ -34,11 +34,13 @@ TEST(EmbreeLimits, RayBeyondEmbreeRangeInAnInstanceMisses) {
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 3; ++x)
       addQuad(grid.triangles, (x - 1.5f) * 1e10f, (y - 1.5f) * 1e10f, (x - 0.5f) * 1e10f, (y - 0.5f) * 1e10f, 2e10f);
-  Instance in = instanceOf(makeBlas({grid}));
+  const auto gridBlas = makeBlas({grid});
+  Instance in = instanceOf(gridBlas);
   for (int k = 0; k < 3; ++k) in.transform[k][k] = 1e-10f;
   // The same shrunk by the transform into a small Blas (2 triangles): flattened into the top level's scene in world
   // space, where the ray is within range and meets it (as Vulkan says it does).
-  Instance flat = instanceOf(makeBlas({quad(2e10f, kGeometryOpaque, 1e10f)}));
+  const auto flatBlas = makeBlas({quad(2e10f, kGeometryOpaque, 1e10f)});
+  Instance flat = instanceOf(flatBlas);
   for (int k = 0; k < 3; ++k) flat.transform[k][k] = 1e-10f;
   flat.transform[0][3] = 100;  // at x in [99, 101]
   auto tlas = makeTlas({in, flat});
@@ -54,7 +56,8 @@ TEST(EmbreeLimits, RayBeyondEmbreeRangeInAnInstanceMisses) {
   EXPECT_NEAR(far.info.t, 1e9f + 2.0f, 1e3f);
   // Scaled by 1e-13 the transform's determinant (1e-39) is a denormal, which Embree (flushing denormals to zero)
   // cannot invert: the instance is inactive, never hit, and rays through it do not reach Embree's assertion.
-  Instance tiny = instanceOf(makeBlas({quad(2e13f, kGeometryOpaque, 1e13f)}));
+  const auto tinyBlas = makeBlas({quad(2e13f, kGeometryOpaque, 1e13f)});
+  Instance tiny = instanceOf(tinyBlas);
   for (int k = 0; k < 3; ++k) tiny.transform[k][k] = 1e-13f;
   auto inactive = makeTlas({tiny, tiny});
   EXPECT_FALSE(traceOnce(*inactive, rayUp()).hit);

@@ -139,7 +139,8 @@ TEST(AccelFacing, MatchesTheSpecificationFormulaUnderRandomTransforms) {
       }
     g.triangles.indices = {0, 1, 2};
     // A random linear part (a third of them mirroring: determinant < 0) and translation.
-    Instance in = instanceOf(makeBlas({g}), iter % 2 ? uint32_t(kInstanceTriangleFlipFacing) : 0u);
+    const auto blas = makeBlas({g});
+    Instance in = instanceOf(blas, iter % 2 ? uint32_t(kInstanceTriangleFlipFacing) : 0u);
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) in.transform[r][c] = float((r == c ? 1.5 : 0) + 0.5 * u(rng));
       in.transform[r][3] = float(2 * u(rng));

@@ -34,7 +34,8 @@ TEST(AccelFastPath, NonOpaqueTrianglesAfterInstanceFlagsNeedIt) {
   EXPECT_FALSE(filtered(*makeTlas({instanceOf(opaque, kInstanceForceNoOpaque)}), kRayOpaque));
   // An instance no ray can see (mask 0), an inactive one, and boxes only: no triangles to filter.
   EXPECT_FALSE(filtered(*makeTlas({instanceOf(noOpaque, 0, 0), instanceOf(opaque), instanceOf(nullptr)}), 0));
-  auto boxesOnly = makeTlas({instanceOf(makeBlas({boxes({{0, 0, 0, 1, 1, 1}}, 0)}))});
+  const auto boxes1 = makeBlas({boxes({{0, 0, 0, 1, 1, 1}}, 0)});
+  auto boxesOnly = makeTlas({instanceOf(boxes1)});
   EXPECT_FALSE(filtered(*boxesOnly, kRayNoOpaque | kRayCullBackFacingTriangles | kRayTerminateOnFirstHit));
 }
 

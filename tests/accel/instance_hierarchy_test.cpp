@@ -40,7 +40,7 @@ constexpr int kTileW[2] = {5, 2}, kTileH[2] = {4, 2};
 
 Instance placed(const Placement& p, const std::shared_ptr<const Blas> blases[2]) {
   Instance in;
-  in.blas = p.active ? blases[p.tile] : nullptr;
+  in.blas = p.active ? blases[p.tile].get() : nullptr;
   const float c[4] = {1, 0, -1, 0}, s[4] = {0, 1, 0, -1};
   const float cs = c[p.quarterTurns] * p.scale, sn = s[p.quarterTurns] * p.scale;
   const float m[3][4] = {{cs, -sn, 0, p.x}, {sn, cs, 0, p.y}, {0, 0, 1, p.z}};

@@ -87,7 +87,8 @@ TEST(LargeBuilds, ThousandsOfInstancesKeepTheirIndicesMasksAndCustomIndices) {
   ASSERT_TRUE(blas);
   std::vector<Instance> instances;
   for (uint32_t k = 0; k < kInstances; ++k) {
-    Instance in = translated(k % 13 == 4 ? nullptr : blas, 2.0f * float(k % kRow), 2.0f * float(k / kRow), 2.0f);
+    Instance in = translated(blas, 2.0f * float(k % kRow), 2.0f * float(k / kRow), 2.0f);
+    if (k % 13 == 4) in.blas = nullptr;
     in.customIndex = (k * 7919u) & 0xFFFFFF;
     in.mask = k % 11 == 3 ? 0 : 0xFF;
     instances.push_back(in);

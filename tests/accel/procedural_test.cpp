@@ -306,7 +306,8 @@ TEST(AccelProcedural, OpacityOfBoxes) {
 
 TEST(AccelProcedural, TransformedInstanceOfBoxes) {
   // Scale 2 and translate (10, 0, 0): the box [-1, 1]^2 x [4, 6] is at world x in [8, 12], z in [8, 12].
-  Instance in = instanceOf(makeBlas({boxes({kBoxA})}));
+  const auto blas = makeBlas({boxes({kBoxA})});
+  Instance in = instanceOf(blas);
   const float m[3][4] = {{2, 0, 0, 10}, {0, 2, 0, 0}, {0, 0, 2, 0}};
   std::copy(&m[0][0], &m[0][0] + 12, &in.transform[0][0]);
   in.customIndex = 42;

@@ -68,25 +68,40 @@ inline std::shared_ptr<Tlas> makeTlas(std::vector<Instance> instances, const Bui
   return tlas;
 }
 
-inline Instance instanceOf(std::shared_ptr<const Blas> blas, uint32_t flags = 0, uint32_t mask = 0xFF) {
+// An Instance does not own its Blas (accel.hpp): the helpers take a named one, which outlives the Tlas build (a
+// temporary would die before it, so passing one does not compile).
+template <class B>
+Instance instanceOf(const std::shared_ptr<B>& blas, uint32_t flags = 0, uint32_t mask = 0xFF) {
   Instance in;
-  in.blas = std::move(blas);
+  in.blas = blas.get();
+  in.flags = flags;
+  in.mask = mask;
+  return in;
+}
+template <class B>
+Instance instanceOf(std::shared_ptr<B>&&, uint32_t = 0, uint32_t = 0xFF) = delete;
+inline Instance instanceOf(std::nullptr_t, uint32_t flags = 0, uint32_t mask = 0xFF) {  // an inactive instance
+  Instance in;
   in.flags = flags;
   in.mask = mask;
   return in;
 }
 
-inline Instance translated(std::shared_ptr<const Blas> blas, float x, float y, float z) {
-  Instance in = instanceOf(std::move(blas));
+template <class B>
+Instance translated(const std::shared_ptr<B>& blas, float x, float y, float z) {
+  Instance in = instanceOf(blas);
   in.transform[0][3] = x;
   in.transform[1][3] = y;
   in.transform[2][3] = z;
   return in;
 }
+template <class B>
+Instance translated(std::shared_ptr<B>&&, float, float, float) = delete;
 
 // One instance of one Blas at the identity.
 inline std::shared_ptr<Tlas> sceneOf(std::vector<Geometry> geometries, uint32_t instanceFlags = 0) {
-  return makeTlas({instanceOf(makeBlas(std::move(geometries)), instanceFlags)});
+  const std::shared_ptr<const Blas> blas = makeBlas(std::move(geometries));
+  return makeTlas({instanceOf(blas, instanceFlags)});
 }
 
 inline Ray rayFrom(float ox, float oy, float oz, float dx, float dy, float dz, uint32_t flags = 0, float tMax = 1000.0f,

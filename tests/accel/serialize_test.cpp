@@ -120,7 +120,7 @@ TEST(AccelSerialize, RoundTripTracesIdentically) {
   EXPECT_TRUE(tlas->options().allowUpdate);
   ASSERT_EQ(tlas->instances().size(), 4u);
   EXPECT_EQ(tlas->instances()[0].blas, nullptr);
-  EXPECT_EQ(tlas->instances()[3].blas.get(), a.get());
+  EXPECT_EQ(tlas->instances()[3].blas, a.get());
   expectSameTraversal(*w.tlas, *tlas);
   // The same bytes resolved against the original Blases trace the same too.
   auto again = deserializeTlas(bytes.data(), bytes.size(), {nullptr, w.a, w.b, w.a}, &error);

@@ -75,8 +75,9 @@ TEST(AccelSmallBlas, FlattenedTrianglesTraceAsInstancedOnes) {
   for (int scene = 0; scene < 12; ++scene) {
     // Eight instances of random pairs (half non-opaque), random transforms (every third mirroring), masks and flags.
     std::vector<Instance> smallInstances, paddedInstances;
+    std::vector<Pair> pairs;  // (instances do not own their Blases)
     for (uint32_t i = 0; i < 8; ++i) {
-      const Pair p = randomPair(rng, i % 2 ? kGeometryOpaque : 0u);
+      const Pair& p = pairs.emplace_back(randomPair(rng, i % 2 ? kGeometryOpaque : 0u));
       Instance in;
       for (int r = 0; r < 3; ++r) {
         for (int c = 0; c < 3; ++c) in.transform[r][c] = (r == c ? 1.2f : 0.0f) + 0.4f * u(rng);
@@ -87,9 +88,9 @@ TEST(AccelSmallBlas, FlattenedTrianglesTraceAsInstancedOnes) {
       in.customIndex = i;
       in.mask = i % 4 == 3 ? 0x0F : 0xF0;
       in.flags = i == 5 ? uint32_t(kInstanceTriangleFlipFacing) : i == 6 ? uint32_t(kInstanceForceOpaque) : 0u;
-      in.blas = p.small;
+      in.blas = p.small.get();
       smallInstances.push_back(in);
-      in.blas = p.padded;
+      in.blas = p.padded.get();
       paddedInstances.push_back(in);
     }
     auto flat = makeTlas(smallInstances), instanced = makeTlas(paddedInstances);
@@ -134,6 +135,7 @@ TEST(AccelSmallBlas, FlattenedTrianglesTraceAsInstancedOnes) {
 TEST(AccelSmallBlas, ThousandsOfOneTriangleStructuresHitExactly) {
   constexpr uint32_t kSide = 64;
   std::vector<Instance> instances;
+  std::vector<std::shared_ptr<Blas>> blases;  // (instances do not own them)
   for (uint32_t k = 0; k < kSide * kSide; ++k) {
     Geometry g;
     g.kind = Geometry::Triangles;
@@ -141,7 +143,8 @@ TEST(AccelSmallBlas, ThousandsOfOneTriangleStructuresHitExactly) {
     const float x = float(k % kSide), y = float(k / kSide);
     g.triangles.vertices = {x, y, 1, x + 1, y + 0.5f, 1, x + 0.5f, y + 1, 1};
     g.triangles.indices = {0, 1, 2};
-    Instance in = instanceOf(makeBlas({g}));
+    blases.push_back(makeBlas({g}));
+    Instance in = instanceOf(blases.back());
     in.customIndex = k;
     instances.push_back(in);
   }

@@ -220,7 +220,8 @@ void expectTransforms(const HitInfo& h, const Instance& in, const float objectOr
 TEST(AccelTraversal, RotatedInstance) {
   // 90 degrees about x: object (x, y, z) -> world (x, -z, y). The quad at object z = 5 lies in world y = -5, and a
   // ray from the origin along -y meets it at t = 5 with object direction +z.
-  Instance in = instanceOf(makeBlas({quad(5)}));
+  const auto blas = makeBlas({quad(5)});
+  Instance in = instanceOf(blas);
   const float m[3][4] = {{1, 0, 0, 0}, {0, 0, -1, 0}, {0, 1, 0, 0}};
   std::copy(&m[0][0], &m[0][0] + 12, &in.transform[0][0]);
   auto tlas = makeTlas({in});
@@ -237,7 +238,8 @@ TEST(AccelTraversal, RotatedInstance) {
 TEST(AccelTraversal, ScaledAndTranslatedInstance) {
   // Scale (2, 3, 0.5) then translate (1, 2, 3): the quad at object z = 4 is at world z = 5, spanning x in [-1, 3]
   // and y in [-1, 5]. t does not depend on the space: the direction is transformed, not normalized.
-  Instance in = instanceOf(makeBlas({quad(4)}));
+  const auto blas = makeBlas({quad(4)});
+  Instance in = instanceOf(blas);
   const float m[3][4] = {{2, 0, 0, 1}, {0, 3, 0, 2}, {0, 0, 0.5f, 3}};
   std::copy(&m[0][0], &m[0][0] + 12, &in.transform[0][0]);
   auto tlas = makeTlas({in});
@@ -286,7 +288,8 @@ TEST(AccelTraversal, EmptyStructures) {
   auto empty = makeTlas({});
   EXPECT_FALSE(traceOnce(*empty, rayUp()).hit);
   auto emptyBlas = makeBlas({});
-  auto tlas = makeTlas({instanceOf(emptyBlas), instanceOf(makeBlas({quad(5)}))});
+  auto quadBlas = makeBlas({quad(5)});
+  auto tlas = makeTlas({instanceOf(emptyBlas), instanceOf(quadBlas)});
   Traced r = traceOnce(*tlas, rayUp());
   ASSERT_TRUE(r.hit);
   EXPECT_EQ(r.info.instanceIndex, 1u);

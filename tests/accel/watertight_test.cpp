@@ -76,7 +76,8 @@ TEST(AccelWatertight, NonOpaqueRaysThroughSharedEdgesAndVerticesMeetExactlyOneTr
   for (uint32_t geometryFlags : {0u, uint32_t(kGeometryNoDuplicateAnyHit)}) {
     grid.geometry.triangles.flags = geometryFlags;
     // The grid as built, and through an instance that rotates, scales and moves it (the test runs in object space).
-    Instance moved = instanceOf(makeBlas({grid.geometry}));
+    const auto movedBlas = makeBlas({grid.geometry});
+    Instance moved = instanceOf(movedBlas);
     const float m[3][4] = {{0, -2, 0, 3}, {2, 0, 0, -1}, {0, 0, 2, 4}};
     std::copy(&m[0][0], &m[0][0] + 12, &moved.transform[0][0]);
     for (bool instanced : {false, true}) {
@@ -137,6 +138,7 @@ std::shared_ptr<Tlas> closedFan(uint32_t n) {
     rim.push_back({std::sin(angle), std::cos(angle), 0.0f});
   }
   std::vector<Instance> instances;
+  std::vector<std::shared_ptr<Blas>> blases;  // (instances do not own them; the Tlas does)
   for (uint32_t k = 0; k < n; ++k) {
     Geometry g;
     g.kind = Geometry::Triangles;
@@ -145,7 +147,8 @@ std::shared_ptr<Tlas> closedFan(uint32_t n) {
     const auto& c = rim[(k + 1) % n];
     g.triangles.vertices = {0, 0, 0, b[0], b[1], b[2], c[0], c[1], c[2]};
     g.triangles.indices = {0, 1, 2};
-    instances.push_back(instanceOf(makeBlas({g})));
+    blases.push_back(makeBlas({g}));
+    instances.push_back(instanceOf(blases.back()));
   }
   return makeTlas(instances);
 }

@@ -240,6 +240,67 @@ TEST_F(TraceMisuseTest, AnInstanceOfADestroyedBottomLevelStructureIsReportedAndT
   EXPECT_EQ(r[5].hit[0], -2.0f);
 }
 
+// A top level of 200,000 instances (the build reads them in chunks of 65,536 on the thread pool and resolves each
+// run of equal references once): every instance sits at its own launch index's ray, scaled to a 512th, and refers
+// to one of three bottom levels (quads at z = 1, 2, 3) or to none, in runs of every length from 1 to 64 and runs
+// that cross the chunk boundaries; each ray must meet its instance's quad at its bottom level's depth. Then the same
+// instances with two destroyed bottom levels' addresses, the first at 150,000 (a run starting inside the third
+// chunk) and the second at 190,000: the first bad instance is the one reported.
+TEST_F(TraceMisuseTest, TensOfThousandsOfInstancesResolveEachRunOfReferencesAndReportTheFirstBadOne) {
+  constexpr uint32_t kSide = 512, kInstances = 200000;
+  VkAccelerationStructureKHR levels[3];
+  for (int b = 0; b < 3; ++b) {
+    std::vector<float> v = kQuad;
+    for (size_t k = 2; k < v.size(); k += 3) v[k] = float(b + 1);
+    levels[b] = blas({triangles(v, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  }
+  // The bottom level of instance k (3: none), in runs: lengths 1, 2, ..., 64 over and over, the level cycling;
+  // instances 65,530-65,541 and 131,066-131,077 form runs across the chunk boundaries.
+  std::vector<int> levelOf(kInstances);
+  for (uint32_t k = 0, len = 1, run = 0; k < kInstances; ++run, len = len % 64 + 1)
+    for (uint32_t i = 0; i < len && k < kInstances; ++i) levelOf[k++] = int((run * 7 + run / 5) % 4);
+  for (uint32_t k = 65530; k < 65542; ++k) levelOf[k] = 2;
+  for (uint32_t k = 131066; k < 131078; ++k) levelOf[k] = 1;
+  levelOf[131071] = 0;  // a run of one just before the third chunk, whose first instance starts a run of its own
+  std::vector<VkAccelerationStructureInstanceKHR> instances(kInstances);
+  for (uint32_t k = 0; k < kInstances; ++k) {
+    // The ray of launch index k: x, y = (index + 0.5) / 512 * 4 - 2 (trace_raygen).
+    const float x = (float(k % kSide) + 0.5f) / float(kSide) * 4 - 2,
+                y = (float(k / kSide) + 0.5f) / float(kSide) * 4 - 2;
+    instances[k] = instance(levelOf[k] < 3 ? levels[levelOf[k]] : VK_NULL_HANDLE, x, y, 0, k);
+    instances[k].transform.matrix[0][0] = instances[k].transform.matrix[1][1] = 1.0f / 512;
+  }
+  VkAccelerationStructureKHR many = tlas(instances);
+  EXPECT_TRUE(vkrtMessages().empty());
+  VkPipeline p = basic();
+  Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});
+  std::vector<TracePayload> r = trace(p, s, many, kSide, kSide);
+  uint32_t wrong = 0;
+  for (uint32_t k = 0; k < kSide * kSide; ++k) {
+    const int level = k < kInstances ? levelOf[k] : 3;
+    const bool ok = level == 3 ? r[k].hit[0] == -2.0f
+                               : r[k].hit[0] == 10.0f + float(level + 1) && r[k].ids[0] == k && r[k].ids[1] == k;
+    if (!ok && wrong++ < 5)
+      ADD_FAILURE() << "ray " << k << " (level " << level << "): t " << r[k].hit[0] << ", custom index " << r[k].ids[0];
+  }
+  EXPECT_EQ(wrong, 0u);
+
+  VkAccelerationStructureKHR doomed[2];
+  for (auto& d : doomed) d = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  for (uint32_t k = 150000; k < 150003; ++k) instances[k].accelerationStructureReference = addressOf(doomed[0]);
+  instances[190000].accelerationStructureReference = addressOf(doomed[1]);
+  const uint64_t first = instances[150000].accelerationStructureReference;
+  for (VkAccelerationStructureKHR d : doomed) {
+    destroyAs(device, d, nullptr);
+    structures.erase(std::find(structures.begin(), structures.end(), d));
+  }
+  clearMessages();
+  tlas(instances);
+  char address[32];
+  std::snprintf(address, sizeof address, "0x%llx", (unsigned long long)first);
+  expectReport("VUID-vkCmdBuildAccelerationStructuresKHR-pInfos-06707", {"instance 150000 ", address, "destroyed"});
+}
+
 // traceRayEXT through hundreds of top levels in one launch, each launch index choosing one by address: the launch
 // resolves each address once (runtime's TopLevelTable), and rays take no lock, make no hash lookup and allocate
 // nothing however many structures there are (before, past the 16th address of a launch every ray took two locks, a

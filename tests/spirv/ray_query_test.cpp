@@ -52,8 +52,8 @@ TEST(SpirvRayQuery, ComputeShaderRunsPerWorkgroupAndCommitsTheSceneHits) {
   ASSERT_NE(h.shader->groupEntry, nullptr) << "a ray query shader without barriers keeps the per-workgroup entry";
   // Geometry 0: a non-opaque quad [-1, 1]^2 at z = 5; geometry 1: an opaque quad [-2, 2]^2 at z = 8. Instance custom
   // index 3.
-  Instance in;
-  in.blas = makeBlas({quad(5, 0), quad(8, kGeometryOpaque, 2)});
+  const auto blas = makeBlas({quad(5, 0), quad(8, kGeometryOpaque, 2)});
+  Instance in = accel::test::instanceOf(blas);
   in.customIndex = 3;
   auto tlas = makeTlas({in});
   OneStructure resolver;
