@@ -144,6 +144,7 @@ struct TlasSummary {
   bool opaqueTriangles = false;    // opaque after the instance flags
   bool noOpaqueTriangles = false;  // not opaque after the instance flags
   bool facingCullable = false;     // an instance with triangles and without TRIANGLE_FACING_CULL_DISABLE
+  bool small = false;              // an active instance of a small Blas (the build looks for them only then)
 };
 
 // Embree's threads run with denormals flushed to zero (inputs and results), so an extent below the smallest normal

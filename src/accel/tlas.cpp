@@ -105,6 +105,7 @@ bool makeRecords(Tlas::Impl& impl, std::string* error) {
       r.blas = in.blas->impl.get();
       const BlasSummary& b = r.blas->summary;
       if ((in.mask & 0xFF) == 0) continue;  // no ray sees it
+      s.small |= r.blas->small && r.blas->primitives;
       s.aabbs |= b.aabbs;
       if (!b.triangles) continue;
       s.triangles = true;
@@ -125,6 +126,7 @@ bool makeRecords(Tlas::Impl& impl, std::string* error) {
     all.opaqueTriangles |= s.opaqueTriangles;
     all.noOpaqueTriangles |= s.noOpaqueTriangles;
     all.facingCullable |= s.facingCullable;
+    all.small |= s.small;
   });
   std::sort(distinct.begin(), distinct.end());
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
@@ -222,6 +224,7 @@ void flattenInstance(const InstanceRecord& r, uint32_t i, FlatGroup& group) {
 bool buildFlatScene(RTCDevice device, Tlas::Impl& impl, std::vector<uint8_t>& flat, std::string* error) {
   const size_t n = impl.instances.size();
   flat.assign(n, 0);
+  if (!impl.summary.small) return true;  // (no instance to flatten: the scan over the records is skipped)
   FlatGroup groups[256];
   uint64_t flatTriangles = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -575,7 +578,7 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
   // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
   // the same scene, re-entering its std::call_once.
   // (Which ones is found in chunks: each distinct one, then their scenes made one after the other.)
-  {
+  if (impl.summary.small) {
     std::mutex merge;
     std::vector<const Blas::Impl*> small;
     parallelChunks(n, 8192, 16384, [&](size_t begin, size_t end) {
@@ -624,10 +627,12 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
   size_t count = 0;
   for (uint8_t in : inHierarchy) count += in;
   if (source && refitHierarchy(*source, impl, inHierarchy, count, bounds)) return true;
-  size_t kept = 0;  // the hierarchy's instances, in place
-  for (size_t i = 0; i < n; ++i)
-    if (inHierarchy[i]) bounds[kept++] = bounds[i];
-  bounds.resize(kept);
+  if (count < n) {  // the hierarchy's instances, in place
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i)
+      if (inHierarchy[i]) bounds[kept++] = bounds[i];
+    bounds.resize(kept);
+  }
   return buildHierarchy(device, impl, bounds, error);
 }
 
