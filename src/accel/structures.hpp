@@ -244,7 +244,7 @@ struct Tlas::Impl {
   detail::BuildArray<detail::BvhNode> nodes;
   std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
-  std::vector<Instance> instances;
+  InstanceArray instances;
   std::vector<std::shared_ptr<const Blas>> blases;  // each distinct Blas of the instances, kept alive (makeRecords)
   BuildOptions options;
 

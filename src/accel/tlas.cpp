@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
+#include <type_traits>
 #include <vector>
 
 #include "accel/embree_device.hpp"
@@ -647,7 +649,7 @@ Tlas::~Tlas() = default;
 
 namespace {
 
-std::shared_ptr<Tlas> buildTlas(std::vector<Instance> instances, const BuildOptions& options, const Tlas::Impl* source,
+std::shared_ptr<Tlas> buildTlas(InstanceArray instances, const BuildOptions& options, const Tlas::Impl* source,
                                 std::string* error) {
   if (instances.size() > detail::kMaxHierarchyInstances) {  // the hierarchy's leaf references hold 28 bits
     if (error) *error = "Tlas build: too many instances";
@@ -666,18 +668,32 @@ std::shared_ptr<Tlas> buildTlas(std::vector<Instance> instances, const BuildOpti
 
 }  // namespace
 
-std::shared_ptr<Tlas> Tlas::build(std::vector<Instance> instances, const BuildOptions& options, std::string* error) {
+InstanceArray::InstanceArray(const std::vector<Instance>& instances) : InstanceArray(uninitialized(instances.size())) {
+  std::uninitialized_copy(instances.begin(), instances.end(), p_.get());
+}
+
+InstanceArray InstanceArray::uninitialized(size_t n) {
+  static_assert(std::is_trivially_destructible_v<Instance>);  // (elements are never destroyed)
+  InstanceArray a;
+  if (n) a.p_.reset(static_cast<Instance*>(::operator new(n * sizeof(Instance))));
+  a.n_ = n;
+  return a;
+}
+
+void InstanceArray::Free::operator()(Instance* p) const { ::operator delete(p); }
+
+std::shared_ptr<Tlas> Tlas::build(InstanceArray instances, const BuildOptions& options, std::string* error) {
   return buildTlas(std::move(instances), options, nullptr, error);
 }
 
 // An update (VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR) refits this Tlas's hierarchy, copied, to the new
 // transforms when the same instances are in it (the usual case: instances move), and builds it otherwise; the
 // flattened triangles are transformed again either way. This Tlas is untouched (it may be traversed meanwhile).
-std::shared_ptr<Tlas> Tlas::update(std::vector<Instance> instances, std::string* error) const {
+std::shared_ptr<Tlas> Tlas::update(InstanceArray instances, std::string* error) const {
   return buildTlas(std::move(instances), impl->options, impl.get(), error);
 }
 
-const std::vector<Instance>& Tlas::instances() const { return impl->instances; }
+std::span<const Instance> Tlas::instances() const { return {impl->instances.data(), impl->instances.size()}; }
 const BuildOptions& Tlas::options() const { return impl->options; }
 
 uint64_t Tlas::nativeBytes() const {

@@ -99,7 +99,7 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
     if (!c || !c->tlas) return nullptr;
     if (c->blasGeneration == generation || as->checkedGeneration.load() == generation) return c->tlas;
     // Some bottom level was built since: compare each instance's with the current content at its address.
-    instances = c->tlas->instances();
+    instances.assign(c->tlas->instances().begin(), c->tlas->instances().end());
     for (size_t i = 0; i < instances.size() && i < c->blasAt.size(); ++i) {
       if (!instances[i].blas || !c->blasAt[i]) continue;
       auto b = dev->accelerationStructures.find(c->blasAt[i]);

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstring>
 #include <mutex>
+#include <new>
 
 #include "exec/thread_pool.hpp"
 #include "runtime/buffer.hpp"
@@ -235,20 +236,20 @@ std::shared_ptr<const accel::Blas> resolveBlas(Device* dev, uint64_t ref, bool h
 // `keep` receives an owner of each Blas an instance points to (accel::Instance holds a plain pointer), for the caller
 // to hold until the Tlas that takes them over is built.
 bool readInstances(Device* dev, const Source& src, const VkAccelerationStructureGeometryInstancesDataKHR& d,
-                   const VkAccelerationStructureBuildRangeInfoKHR& r, bool host, std::vector<accel::Instance>* out,
+                   const VkAccelerationStructureBuildRangeInfoKHR& r, bool host, accel::InstanceArray* out,
                    std::vector<uint64_t>* refs, std::vector<uint64_t>* addresses,
                    std::vector<std::shared_ptr<const accel::Blas>>* keep, BuildError* e) {
   const uint64_t n = r.primitiveCount;
   const uint64_t each = d.arrayOfPointers ? 8 : sizeof(VkAccelerationStructureInstanceKHR);
   const uint8_t* p = n ? src.at(d.data.deviceAddress + r.primitiveOffset, n * each, "instance data", 0, e) : nullptr;
   if (n && !p) return false;
-  out->resize(n);
+  *out = accel::InstanceArray::uninitialized(n);  // each instance constructed by the thread that copies it
   refs->resize(n);
   addresses->resize(n);
   auto copy = [&](uint64_t i, const uint8_t* ip) {
     VkAccelerationStructureInstanceKHR in;
     std::memcpy(&in, ip, sizeof in);
-    accel::Instance& o = (*out)[i];
+    accel::Instance& o = *::new (static_cast<void*>(out->data() + i)) accel::Instance;
     std::memcpy(o.transform, in.transform.matrix, sizeof o.transform);
     o.customIndex = in.instanceCustomIndex;
     o.mask = in.mask;
@@ -611,7 +612,7 @@ bool runBuild(Device* dev, const BuildJob& job, BuildError* e) {
   content->flags = job.flags;
   std::string error;
   if (job.type == VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR) {
-    std::vector<accel::Instance> instances;
+    accel::InstanceArray instances;
     std::vector<std::shared_ptr<const accel::Blas>> keep;  // until the Tlas holds them
     if (!readInstances(dev, src, job.geometries[0].geometry.instances, job.ranges[0], job.host, &instances,
                        &content->blasAddresses, &content->blasAt, &keep, e))
