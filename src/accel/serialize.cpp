@@ -67,8 +67,8 @@ class Writer {
     bytes.resize(at + sizeof(T));
     std::memcpy(bytes.data() + at, &v, sizeof(T));
   }
-  template <typename T>
-  void putArray(const std::vector<T>& v) {
+  template <typename T, typename A>
+  void putArray(const std::vector<T, A>& v) {
     const size_t at = bytes.size();
     bytes.resize(at + v.size() * sizeof(T));
     if (!v.empty()) std::memcpy(bytes.data() + at, v.data(), v.size() * sizeof(T));
@@ -88,8 +88,8 @@ class Reader {
     return true;
   }
   // Checks `count` against the bytes left before allocating.
-  template <typename T>
-  bool getArray(uint64_t count, std::vector<T>* v) {
+  template <typename T, typename A>
+  bool getArray(uint64_t count, std::vector<T, A>* v) {
     if (count > left_ / sizeof(T)) return false;
     v->resize(size_t(count));
     if (count) std::memcpy(v->data(), p_, size_t(count) * sizeof(T));

@@ -208,26 +208,9 @@ inline unsigned embreeRayMask(const Ray& ray) {
 
 namespace detail {
 
-// The allocator of a build's large arrays, filled in parallel: resizing leaves their storage untouched (no value
-// initialization), so each page is first written, and faulted in, by the build thread that fills it, not all of them
-// by the thread that resized. Whoever fills an element constructs it first (placement new) where it is not trivial.
+// A build's large arrays, filled in parallel (accel.hpp, FillArrayAllocator).
 template <class T>
-struct BuildArrayAllocator : std::allocator<T> {
-  static_assert(std::is_trivially_destructible_v<T>);
-  BuildArrayAllocator() = default;
-  template <class U>
-  BuildArrayAllocator(const BuildArrayAllocator<U>&) noexcept {}
-  template <class U>
-  struct rebind {
-    using other = BuildArrayAllocator<U>;
-  };
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    if constexpr (sizeof...(Args) > 0) ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using BuildArray = std::vector<T, BuildArrayAllocator<T>>;
+using BuildArray = FillArray<T>;
 
 }  // namespace detail
 

@@ -195,8 +195,11 @@ bool readAabbs(const Source& src, const VkAccelerationStructureGeometryAabbsData
   const uint8_t* p =
       n ? src.at(a.data.deviceAddress + r.primitiveOffset, (n - 1) * a.stride + 24, "AABB data", g, e) : nullptr;
   if (n && !p) return false;
-  out->boxes.resize(n * 6);
-  for (uint64_t i = 0; i < n; ++i) std::memcpy(out->boxes.data() + i * 6, p + i * a.stride, 24);
+  out->boxes.resize(n * 6);  // (not value-initialized: each chunk's thread writes its pages first)
+  float* const boxes = out->boxes.data();
+  forChunks(n, [&](uint64_t begin, uint64_t end) {
+    for (uint64_t i = begin; i < end; ++i) std::memcpy(boxes + i * 6, p + i * a.stride, 24);
+  });
   return true;
 }
 

@@ -26,7 +26,7 @@ Geometry quad(float z, uint32_t flags, float x0 = 0, float y0 = 0) {
 Geometry boxes(std::vector<float> b, uint32_t flags) {
   Geometry g;
   g.kind = Geometry::Aabbs;
-  g.aabbs.boxes = std::move(b);
+  g.aabbs.boxes.assign(b.begin(), b.end());
   g.aabbs.flags = flags;
   return g;
 }

@@ -26,8 +26,8 @@ Geometry triangles(std::vector<float> vertices, std::vector<uint32_t> indices, b
   Geometry g;
   g.kind = Geometry::Triangles;
   g.triangles.flags = 0;  // not opaque: every candidate reaches the any-hit handler
-  g.triangles.vertices = std::move(vertices);
-  g.triangles.indices = std::move(indices);
+  g.triangles.vertices.assign(vertices.begin(), vertices.end());
+  g.triangles.indices.assign(indices.begin(), indices.end());
   if (!small) addFarTriangles(g.triangles, uint32_t(kSmallBlasPrimitives) + 4);
   return g;
 }
