@@ -19,6 +19,8 @@
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
 #include "runtime/image_view.hpp"
+#include "runtime/lod_log2.hpp"
+#include "runtime/quad_sampling.hpp"
 #include "runtime/sampler.hpp"
 #include "runtime/srgb.hpp"
 
@@ -517,17 +519,30 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = int32_t __attribute__((vector_size(16)));
 
-bool fastSampling(const View& v, const VkSamplerCreateInfo& s) {
+// fastSampling's two halves: the view's (also QuadView::fast) and the sampler's (also QuadSampler::fast, with
+// anisotropyEnable off).
+bool fastSamplingView(const View& v) {
   const FormatInfo& f = *v.format;
+  return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
+         !v.slicesAsLayers && v.image->samples == 1 && v.image->pixelSize == 4 && !f.packed && f.components == 4 &&
+         f.texelSize == 4 && f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && f.block == 1;
+}
+bool fastSamplingSampler(const VkSamplerCreateInfo& s) {
   auto filterOk = [](VkFilter m) { return m == VK_FILTER_NEAREST || m == VK_FILTER_LINEAR; };
   auto addressOk = [](VkSamplerAddressMode m) {
     return m == VK_SAMPLER_ADDRESS_MODE_REPEAT || m == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   };
-  return (v.view->viewType == VK_IMAGE_VIEW_TYPE_2D || v.view->viewType == VK_IMAGE_VIEW_TYPE_2D_ARRAY) &&
-         !v.slicesAsLayers && v.image->samples == 1 && v.image->pixelSize == 4 && !f.packed && f.components == 4 &&
-         f.texelSize == 4 && f.offset == 0 && (f.type == N::UNorm || f.type == N::SRGB) && !s.unnormalizedCoordinates &&
-         f.block == 1 && !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) &&
+  return !s.unnormalizedCoordinates && !s.compareEnable && filterOk(s.magFilter) && filterOk(s.minFilter) &&
          addressOk(s.addressModeU) && addressOk(s.addressModeV);
+}
+bool fastSampling(const View& v, const VkSamplerCreateInfo& s) { return fastSamplingView(v) && fastSamplingSampler(s); }
+
+bool identityMapping(const VkComponentMapping& m) {
+  auto same = [](VkComponentSwizzle c, VkComponentSwizzle own) {
+    return c == VK_COMPONENT_SWIZZLE_IDENTITY || c == own;
+  };
+  return same(m.r, VK_COMPONENT_SWIZZLE_R) && same(m.g, VK_COMPONENT_SWIZZLE_G) && same(m.b, VK_COMPONENT_SWIZZLE_B) &&
+         same(m.a, VK_COMPONENT_SWIZZLE_A);
 }
 
 // What fastFilterLevel reads of the view and the sampler, resolved once per call (once per quad for
@@ -550,12 +565,7 @@ const FastView* fastView(const View& v, const VkSamplerCreateInfo& s, FastView* 
   out->bgr = v.format->bgr;
   out->repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
   out->repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  const VkComponentMapping& m = v.view->components;
-  auto same = [](VkComponentSwizzle c, VkComponentSwizzle own) {
-    return c == VK_COMPONENT_SWIZZLE_IDENTITY || c == own;
-  };
-  out->identity = same(m.r, VK_COMPONENT_SWIZZLE_R) && same(m.g, VK_COMPONENT_SWIZZLE_G) &&
-                  same(m.b, VK_COMPONENT_SWIZZLE_B) && same(m.a, VK_COMPONENT_SWIZZLE_A);
+  out->identity = identityMapping(v.view->components);
   return out;
 }
 
@@ -739,6 +749,50 @@ void filterTexels(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter fil
   std::memcpy(out, f, 16);
 }
 
+QuadView describeQuadView(const ImageView& view) {
+  QuadView q;
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(&view);
+  View v;
+  if (!resolveView(&rec, &v) || !fastSamplingView(v) || v.levelCount > kQuadMaxLevels) return q;
+  q.srgb = v.format->type == N::SRGB;
+  q.bgr = v.format->bgr;
+  q.identity = identityMapping(view.components);
+  q.arrayed = v.arrayed;
+  q.levelCount = v.levelCount;
+  q.layerCount = v.layerCount;
+  const VkExtent3D e = levelExtent(v, 0);
+  q.size[0] = float(e.width);
+  q.size[1] = float(e.height);
+  q.srgbTable = kUnorm8.srgb;
+  q.unormTable = kUnorm8.unorm;
+  for (uint32_t l = 0; l < v.levelCount; ++l) {
+    const MipLayout& m = v.image->mips[v.baseMip + l];
+    q.levels[l].layer0 = v.image->data() + m.offset + uint64_t(v.baseLayer) * m.arrayPitch;
+    q.levels[l].arrayPitch = m.arrayPitch;
+    q.levels[l].rowPitch = m.rowPitch;
+    q.levels[l].width = int32_t(m.extent.width);
+    q.levels[l].height = int32_t(m.extent.height);
+  }
+  q.fast = true;
+  return q;
+}
+
+QuadSampler describeQuadSampler(const VkSamplerCreateInfo& s) {
+  QuadSampler q;
+  if (!fastSamplingSampler(s) || s.anisotropyEnable) return q;
+  q.repeatU = s.addressModeU == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  q.repeatV = s.addressModeV == VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  q.magLinear = s.magFilter == VK_FILTER_LINEAR;
+  q.minLinear = s.minFilter == VK_FILTER_LINEAR;
+  q.mipLinear = s.mipmapMode == VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  q.mipLodBias = s.mipLodBias;
+  q.minLod = s.minLod;
+  q.maxLod = std::max(s.minLod, s.maxLod);
+  q.fast = true;
+  return q;
+}
+
 }  // namespace vkrt
 
 using namespace vkrt;
@@ -872,27 +926,6 @@ static void sampleLod(const abi::DescriptorRecord* img, const abi::DescriptorRec
   FastView fv;
   sampleAtLod(v, s, fastView(v, s, &fv), coord, std::isnan(lod) ? 0.0f : lod + s.mipLodBias, offset,
               dref ? &cmp : nullptr, out);
-}
-
-// log2 of four values for the level of detail, in plain float vector arithmetic (the same result on every x86-64 CPU,
-// unlike the C library's log2f, which picks an FMA form where the CPU has one): x = 2^e m with m in [sqrt(1/2),
-// sqrt(2)), ln(m) = 2 atanh(s), s = (m - 1) / (m + 1), |s| < 0.172, by its odd series to s^9 (the rest is below
-// 1e-9 in log2): within a few ulp of log2, far finer than the 2^-mipmapPrecisionBits (2^-8) the level's weight needs.
-// 0: -inf; infinity and NaN as themselves (negative values do not occur: sums of squares).
-static Float4 lodLog2(Float4 x) {
-  const Int4 subnormal = (Int4)x < 0x00800000;  // scaled into the normal range first
-  const Float4 xs = subnormal ? x * 0x1p32f : x;
-  const Int4 bits = (Int4)xs;
-  Int4 e = ((bits >> 23) & 0xff) - 127 + (subnormal & -32);
-  Float4 m = (Float4)((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
-  const Int4 big = m > 1.41421356f;
-  m = big ? m * 0.5f : m;
-  e -= big;  // true is -1
-  const Float4 t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
-  const Float4 ln = 2.0f * t * (1.0f + t2 * (1.0f / 3 + t2 * (1.0f / 5 + t2 * (1.0f / 7 + t2 * (1.0f / 9)))));
-  const Float4 r = __builtin_convertvector(e, Float4) + ln * 1.44269504f;  // 1 / ln 2
-  const Float4 inf = {INFINITY, INFINITY, INFINITY, INFINITY};
-  return x == 0.0f ? -inf : x < inf ? r : x;
 }
 
 // "Scale Factor Operation": the derivatives scaled by the view's base level size give rho_x and rho_y (squared
@@ -1041,7 +1074,34 @@ void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::Descrip
 void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
                                  const float coord[16], const float ddx[16], const float ddy[16], const float bias[4],
                                  uint32_t lanes, uint32_t out[16]) {
-  // The view, the sampler and the fast path's decision once for the quad; each lane then as vkrt_image_sample_grad.
+  // The vector path where both records say so (quad_sampling.hpp), with the lanes it leaves and the view's component
+  // mapping done here as vkrt_image_sample_grad does them.
+  if (img && img->object && smp && smp->sampler &&
+      static_cast<const Object*>(img->object)->objectType == VK_OBJECT_TYPE_IMAGE_VIEW) {
+    const ImageView* iv = recordObject<ImageView>(img->object);
+    const Sampler* sp = recordObject<Sampler>(smp->sampler);
+    if (iv->quad.fast && sp->quad.fast) {
+      float lod[4];
+      const uint32_t rest = sampleQuadFast(iv->quad, sp->quad, coord, ddx, ddy, bias, lanes, out, lod);
+      if (!rest && iv->quad.identity) return;
+      View v;
+      resolveView(img, &v);  // succeeds: the view's record is fast
+      for (unsigned l = 0; l < 4; ++l) {
+        if (!(lanes >> l & 1)) continue;
+        uint32_t r[4] = {out[l], out[4 + l], out[8 + l], out[12 + l]};
+        if (rest >> l & 1) {
+          const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
+          sampleAtLod(v, sp->info, nullptr, c, lod[l], nullptr, nullptr, r);
+        } else {
+          applySwizzle(v, r);
+        }
+        for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
+      }
+      return;
+    }
+  }
+  // Otherwise the view, the sampler and the per-lane fast path's decision once for the quad; each lane then as
+  // vkrt_image_sample_grad.
   std::memset(out, 0, 64);
   View v;
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;

@@ -36,7 +36,8 @@ ImageView::ImageView(Device* dev, const VkImageViewCreateInfo& info, Image* img)
       format(info.format),
       components(info.components),
       range(resolve(info.subresourceRange, *img)),
-      usage(viewUsage(info, *img)) {}
+      usage(viewUsage(info, *img)),
+      quad(describeQuadView(*this)) {}
 
 }  // namespace vkrt
 

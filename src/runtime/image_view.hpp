@@ -2,6 +2,7 @@
 #pragma once
 
 #include "runtime/object.hpp"
+#include "runtime/quad_sampling.hpp"
 
 namespace vkrt {
 
@@ -22,6 +23,8 @@ class ImageView : public Object {
   // The view's usage ("Image Views", inherited usage): VkImageViewUsageCreateInfo::usage, else the image's usage of
   // the view's aspects (stencilUsage for a stencil-only view, the intersection for depth + stencil).
   const VkImageUsageFlags usage;
+  // What the quad sampler's vector path reads (quad_sampling.hpp), resolved at creation.
+  QuadView quad;
 };
 
 }  // namespace vkrt

@@ -11,6 +11,7 @@ namespace vkrt {
 
 Sampler::Sampler(Device* dev, const VkSamplerCreateInfo& ci) : Object(kType, dev->instance, dev), info(ci) {
   info.pNext = nullptr;
+  quad = describeQuadSampler(info);
 }
 
 }  // namespace vkrt

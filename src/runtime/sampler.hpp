@@ -2,6 +2,7 @@
 #pragma once
 
 #include "runtime/object.hpp"
+#include "runtime/quad_sampling.hpp"
 
 namespace vkrt {
 
@@ -13,6 +14,7 @@ class Sampler : public Object {
   Sampler(Device* dev, const VkSamplerCreateInfo& info);
 
   VkSamplerCreateInfo info;  // pNext cleared; kept for the shader compiler's sampling code
+  QuadSampler quad;          // what the quad sampler's vector path reads (quad_sampling.hpp)
 };
 
 }  // namespace vkrt

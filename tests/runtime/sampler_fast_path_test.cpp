@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "runtime/alloc.hpp"
+#include "runtime/descriptor_set_layout.hpp"
 #include "runtime/device.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_functions.hpp"
@@ -186,6 +187,7 @@ class SamplerFastPath : public ::testing::Test {
   }
 
   void compareQuad(VkFormat format, float maxAnisotropy = 0.0f);
+  void compareQuadLanes(VkFormat format);
   void compareLod(VkFormat format);
 
   VkInstance instance = VK_NULL_HANDLE;
@@ -251,6 +253,153 @@ TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingOffTheFastPath) { comp
 // With anisotropyEnable each lane takes its own footprint's filter (sampleAnisotropic where the ratio exceeds 1), as
 // vkrt_image_sample_grad does: the quad call of fragment shaders must not sample such a sampler isotropically.
 TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingAnisotropic) { compareQuad(VK_FORMAT_R8G8B8A8_UNORM, 16.0f); }
+
+// The quad call's vector path (runtime/quad_sampling.cpp, taken where the view's and the sampler's records say so:
+// asserted) against four vkrt_image_sample_grad calls, bit for bit, where its lanes differ from each other: each
+// lane at its own level (derivatives from 1/64 to 64 texels, the sampler's minLod / maxLod clamps and bias), with
+// its own filter (magFilter and minFilter differ), in its own layer of a 2D array view (the layer coordinate
+// rounded and clamped), with and without a component mapping, beside lanes the vector path leaves to the generic
+// path (NaN and huge coordinates, NaN derivatives), on a 37x23 image of 6 levels and 3 layers in the four 8-bit
+// formats.
+void SamplerFastPath::compareQuadLanes(VkFormat format) {
+  VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ci.imageType = VK_IMAGE_TYPE_2D;
+  ci.format = format;
+  ci.extent = {37, 23, 1};
+  ci.mipLevels = 6;
+  ci.arrayLayers = 3;
+  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+  ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
+  VkMemoryRequirements req;
+  vkrt_GetImageMemoryRequirements(device, image, &req);
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  ASSERT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &memory), VK_SUCCESS);
+  ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
+  Image* img = fromHandle<Image>(image);
+  uint32_t seed = 777;
+  for (uint32_t m = 0; m < ci.mipLevels; ++m)
+    for (uint32_t layer = 0; layer < ci.arrayLayers; ++layer)
+      for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
+        for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
+          for (int c = 0; c < 4; ++c) {
+            seed = seed * 1664525u + 1013904223u;
+            img->texel(m, layer, x, y, 0)[c] = uint8_t(seed >> 24);
+          }
+  // Views of levels 1-5 and layers 1-2 (the records' base level and layer), one with a component mapping.
+  VkImageView views[2] = {};
+  for (int k = 0; k < 2; ++k) {
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+    vi.format = format;
+    if (k)
+      vi.components = {VK_COMPONENT_SWIZZLE_B, VK_COMPONENT_SWIZZLE_ONE, VK_COMPONENT_SWIZZLE_R,
+                       VK_COMPONENT_SWIZZLE_G};
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 1, 5, 1, 2};
+    ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &views[k]), VK_SUCCESS);
+    ASSERT_TRUE(fromHandle<ImageView>(views[k])->quad.fast);
+  }
+  const float coords[][3] = {{0.5f, 0.5f, 0.0f},   {0.13f, 0.77f, 1.0f},   {-0.31f, 1.42f, 0.4f},
+                             {2.6f, -3.9f, 1.6f},  {0.2f, 1.0f / 3, -2.f}, {1.0f, 1.0f, 7.0f},
+                             {NAN, 0.5f, 0.0f},    {0.5f, 3e7f, 1.0f},     {-1e-30f, 0.6f, 0.5f},
+                             {0.37f, 0.41f, 1.5f}, {0.9f, 0.1f, 2.5f},     {0.031f, 0.97f, 1.0f}};
+  const float derivs[][2] = {{1.0f / 64, 0.0f}, {0.02f, 0.3f}, {0.0f, 0.0f},  {0.7f, -0.3f},
+                             {NAN, 0.1f},       {4.0f, 0.5f},  {0.05f, 0.05f}};
+  const size_t nc = sizeof(coords) / sizeof(coords[0]), nd = sizeof(derivs) / sizeof(derivs[0]);
+  size_t compared = 0;
+  for (VkFilter mag : {VK_FILTER_NEAREST, VK_FILTER_LINEAR})
+    for (VkFilter min : {VK_FILTER_NEAREST, VK_FILTER_LINEAR})
+      for (VkSamplerMipmapMode mip : {VK_SAMPLER_MIPMAP_MODE_NEAREST, VK_SAMPLER_MIPMAP_MODE_LINEAR})
+        for (VkSamplerAddressMode modeU : {VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE})
+          for (int clampLods = 0; clampLods < 2; ++clampLods) {
+            VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+            si.magFilter = mag;
+            si.minFilter = min;
+            si.mipmapMode = mip;
+            si.addressModeU = modeU;
+            si.addressModeV = modeU == VK_SAMPLER_ADDRESS_MODE_REPEAT ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+                                                                      : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+            si.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+            si.mipLodBias = clampLods ? -0.35f : 0.0f;
+            si.minLod = clampLods ? 0.5f : 0.0f;
+            si.maxLod = clampLods ? 3.25f : 16.0f;
+            VkSampler sampler = VK_NULL_HANDLE;
+            ASSERT_EQ(vkrt_CreateSampler(device, &si, nullptr, &sampler), VK_SUCCESS);
+            samplers.push_back(sampler);
+            ASSERT_TRUE(fromHandle<Sampler>(sampler)->quad.fast);
+            abi::DescriptorRecord smp{};
+            smp.sampler = static_cast<const Object*>(fromHandle<Sampler>(sampler));
+            for (VkImageView view : views) {
+              abi::DescriptorRecord rec{};
+              rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+              for (size_t first = 0; first < nc * nd; ++first)
+                for (uint32_t lanes : {0xfu, 0xbu, 0x4u}) {
+                  float coord[16] = {}, ddx[16] = {}, ddy[16] = {}, biases[4];
+                  for (unsigned l = 0; l < 4; ++l) {
+                    const size_t k = (first + l * 11) % (nc * nd);
+                    const float* c = coords[k % nc];
+                    const float* d = derivs[(k / nc + l) % nd];
+                    coord[l] = c[0], coord[4 + l] = c[1], coord[8 + l] = c[2];
+                    ddx[l] = d[0], ddx[4 + l] = d[1] * 0.5f, ddy[l] = -d[1], ddy[4 + l] = d[0] * (0.5f + l);
+                    biases[l] = l == 1 ? NAN : 0.25f * float(l) - 0.6f;
+                  }
+                  uint32_t quad[16];
+                  std::memset(quad, 0xcd, sizeof(quad));
+                  vkrt_image_sample_grad_quad(&rec, &smp, coord, ddx, ddy, biases, lanes, quad);
+                  for (unsigned l = 0; l < 4; ++l) {
+                    const float c[4] = {coord[l], coord[4 + l], coord[8 + l], 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
+                                dy[4] = {ddy[l], ddy[4 + l], 0, 0};
+                    uint32_t one[4] = {0, 0, 0, 0};
+                    if (lanes >> l & 1) vkrt_image_sample_grad(&rec, &smp, c, dx, dy, biases[l], one);
+                    for (unsigned k = 0; k < 4; ++k)
+                      EXPECT_EQ(quad[4 * k + l], one[k])
+                          << "format " << format << " mag " << mag << " min " << min << " mip " << mip << " modeU "
+                          << modeU << " clampLods " << clampLods << " swizzled " << (view == views[1]) << " lane " << l
+                          << " lanes " << lanes << " component " << k << " coord " << c[0] << "," << c[1] << "," << c[2]
+                          << " ddx " << dx[0] << "," << dx[1] << " ddy " << dy[0] << "," << dy[1];
+                    ++compared;
+                  }
+                }
+            }
+          }
+  EXPECT_EQ(compared, size_t(2 * 2 * 2 * 2 * 2 * 2) * nc * nd * 3 * 4);
+  for (VkImageView v : views) vkrt_DestroyImageView(device, v, nullptr);
+}
+
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Unorm) { compareQuadLanes(VK_FORMAT_R8G8B8A8_UNORM); }
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Unorm) { compareQuadLanes(VK_FORMAT_B8G8R8A8_UNORM); }
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Srgb) { compareQuadLanes(VK_FORMAT_R8G8B8A8_SRGB); }
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Srgb) { compareQuadLanes(VK_FORMAT_B8G8R8A8_SRGB); }
+
+// The records hold fastSampling's decision: the vector path for the 8-bit RGBA / BGRA views and the isotropic
+// samplers of its filters and address modes, the generic path for the rest.
+TEST_F(SamplerFastPath, QuadRecordsTakeOnlyTheFastPathsCase) {
+  makeImage(VK_FORMAT_R8G8B8A8_SNORM);
+  EXPECT_FALSE(fromHandle<ImageView>(view)->quad.fast);
+  vkrt_DestroyImageView(device, view, nullptr);
+  vkrt_DestroyImage(device, image, nullptr);
+  vkrt_FreeMemory(device, memory, nullptr);
+  view = VK_NULL_HANDLE, image = VK_NULL_HANDLE, memory = VK_NULL_HANDLE;
+  makeImage(VK_FORMAT_B8G8R8A8_SRGB);
+  const QuadView& q = fromHandle<ImageView>(view)->quad;
+  EXPECT_TRUE(q.fast);
+  EXPECT_TRUE(q.srgb && q.bgr && q.identity && !q.arrayed);
+  EXPECT_EQ(q.levelCount, 3u);
+  EXPECT_EQ(q.levels[1].width, 2);
+  EXPECT_EQ(q.levels[1].height, 1);
+  auto quadSampler = [&](const abi::DescriptorRecord& r) { return recordObject<Sampler>(r.sampler)->quad; };
+  EXPECT_TRUE(
+      quadSampler(makeSampler(VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT)).fast);
+  EXPECT_FALSE(
+      quadSampler(makeSampler(VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER))
+          .fast);
+  EXPECT_FALSE(quadSampler(makeSampler(VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT,
+                                       0.0f, 4.0f))
+                   .fast);  // anisotropyEnable
+}
 
 // The level of detail of the gradient forms (lodLog2 rather than the C library's log2): levels alternately 0 and 1
 // everywhere, so a LINEAR mipmap returns the fraction of lambda = log2(rho) ("Level-of-Detail Operation") or one
