@@ -38,6 +38,7 @@ struct alignas(64) WorkerScratch {
   // The primitive and sample the invocations' per-primitive fields were last set for (shadeQuad), null: none yet.
   const void* primitive = nullptr;
   uint32_t sampleIndex = 0;
+  const raster::FragmentQuad* quad = nullptr;  // the quad the in-place pointers were set for
 };
 
 }  // namespace
@@ -67,6 +68,7 @@ struct DrawContext {
   // in place (no copies per quad): the slots are its input locations in order (slot s = location s), and every output
   // location is a colour attachment's.
   bool quadInputs = false, quadOutputs = false;
+  bool writesDepth = false, writesSampleMask = false;  // FragDepth, SampleMask: else their fields are not copied
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -158,6 +160,7 @@ void runTileTask(void* arg) {
     inv.outputs1 = w.outputs1[l];
   }
   w.primitive = nullptr;
+  w.quad = nullptr;
   t.body(t.arg);
 }
 
@@ -189,16 +192,18 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
     if (c.spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
-  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex) {
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) {
     // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
-    // now may run in the next quad).
-    w.primitive = q.primitive, w.sampleIndex = q.sampleIndex;
+    // now may run in the next quad): the per-primitive built-ins, and the in-place input and output pointers (the
+    // rasterizer hands every quad of a tile in the same FragmentQuad).
+    w.primitive = q.primitive, w.sampleIndex = q.sampleIndex, w.quad = &q;
     float samplePosition[2] = {0.5f, 0.5f};
     if (c.samples == 4) {
       samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
       samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
     }
-    for (GraphicsInvocation& inv : w.inv) {
+    for (uint32_t l = 0; l < 4; ++l) {
+      GraphicsInvocation& inv = w.inv[l];
       inv.frontFacing = q.frontFacing ? 1 : 0;
       inv.primitiveId = int32_t(q.primitiveId);
       inv.viewIndex = q.viewIndex;
@@ -207,28 +212,29 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       inv.samplePosition[0] = samplePosition[0];
       inv.samplePosition[1] = samplePosition[1];
       inv.quad = &q;
+      if (c.quadInputs) inv.inputs = q.inputs[l];
+      if (c.quadOutputs) {
+        inv.outputs = q.color[l][0];
+        inv.outputs1 = q.color1[l];
+      }
+      // Preset once: only a shader that writes SampleMask or FragDepth changes these, and only then are they read.
+      inv.sampleMaskOut = ~0u;
     }
   }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
-    if (c.quadInputs) {
-      inv.inputs = q.inputs[l];
-    } else {
+    if (!c.quadInputs) {
       // The quad's slots back at the shader's locations.
       for (uint32_t s = 0; s < c.varyingCount; ++s)
         std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
-    }
-    if (c.quadOutputs) {
-      inv.outputs = q.color[l][0];
-      inv.outputs1 = q.color1[l];
     }
     std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
     inv.sampleMaskIn = q.coverage[l];
-    inv.sampleMaskOut = ~0u;
-    inv.fragDepth = q.fragCoord[l][2];
+    if (c.writesSampleMask) inv.sampleMaskOut = ~0u;
+    if (c.writesDepth) inv.fragDepth = q.fragCoord[l][2];
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;
@@ -264,8 +270,9 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       }
       std::memcpy(q.color1[l], w.outputs1[l], 16);
     }
-    q.depth[l] = inv.fragDepth;
-    q.sampleMaskOut[l] = inv.sampleMaskOut;
+    // Read by the rasterizer only when the shader writes them (FragmentStage::writesDepth, writesSampleMask).
+    if (c.writesDepth) q.depth[l] = inv.fragDepth;
+    if (c.writesSampleMask) q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
 }
 
@@ -414,6 +421,8 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
     c.quadInputs = fi.inputs.size() == p.varyingCount && raster::kMaxLocations * 4 >= kGraphicsLocations * 4;
     for (uint32_t s = 0; s < fi.inputs.size(); ++s)
       c.quadInputs = c.quadInputs && fi.inputs[s].location == s && !fi.inputs[s].wide && c.varyingLocation[s] == s;
+    c.writesDepth = fi.writesDepth;
+    c.writesSampleMask = fi.writesSampleMask;
     c.quadOutputs = true;
     for (const auto& out : fi.outputs)
       c.quadOutputs = c.quadOutputs && out.location < raster::kMaxColorAttachments && !out.wide;

@@ -746,20 +746,29 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
   uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
   Quad4 s = transpose(q.color[0][i], q.color[1][i], q.color[2][i], q.color[3][i]);
-  for (Float4& v : s.c) v = clamp01(v);
+  // The clamps to [0, 1] of the source and of the blend result (clampToFormat) are left to the encode's saturate
+  // where nothing else reads the value: saturate(clamp01(v)) is saturate(v) (a NaN that clamp01 keeps, saturate makes
+  // 0), so the bytes are the same.
+  if (kBlend)
+    for (Float4& v : s.c) v = clamp01(v);
   using UInt4 = uint32_t __attribute__((vector_size(16)));
   Quad4 d{};
   const bool full = cov[0] && cov[1] && cov[2] && cov[3];  // most quads: two 8-byte rows
   UInt4 words = {0, 0, 0, 0};
+  using UInt2 = uint32_t __attribute__((vector_size(8)));
   if (kReadDst) {
-    uint32_t w[4] = {0, 0, 0, 0};
     if (full) {
-      std::memcpy(w, lane[0], 8), std::memcpy(w + 2, lane[2], 8);
+      // The two rows straight into the vector (two 8-byte loads): through a 16-byte array in memory, the load of the
+      // whole after the two smaller stores could not be forwarded from them and stalled.
+      UInt2 top, bottom;
+      std::memcpy(&top, lane[0], 8), std::memcpy(&bottom, lane[2], 8);
+      words = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
     } else {
+      uint32_t w[4] = {0, 0, 0, 0};
       for (uint32_t l = 0; l < 4; ++l)
         if (cov[l]) std::memcpy(&w[l], lane[l], 4);
+      std::memcpy(&words, w, 16);
     }
-    std::memcpy(&words, w, 16);
     for (int c = 0; c < 4; ++c) {
       const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
       d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
@@ -779,7 +788,7 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
       const bool alpha = c == 3;
       const Float4 sf = factorQuad(alpha ? b.srcAlpha : b.srcColor, c, s, s1, d, k);
       const Float4 df = factorQuad(alpha ? b.dstAlpha : b.dstColor, c, s, s1, d, k);
-      r.c[c] = clamp01(blendOp4(alpha ? b.alphaOp : b.colorOp, s.c[c], sf, d.c[c], df));
+      r.c[c] = blendOp4(alpha ? b.alphaOp : b.colorOp, s.c[c], sf, d.c[c], df);  // clamped by the encode
     }
   }
   const uint32_t mask = ba.writeMask & ctx.target->colorFormat[i].componentMask;
@@ -789,11 +798,12 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
     const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
     out |= UInt4(unorm8Bytes(saturate(v))) << shift;
   }
-  uint32_t w[4];
-  std::memcpy(w, &out, 16);
   if (full) {
-    std::memcpy(lane[0], w, 8), std::memcpy(lane[2], w + 2, 8);
+    const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
+    std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
   } else {
+    uint32_t w[4];
+    std::memcpy(w, &out, 16);
     for (uint32_t l = 0; l < 4; ++l)
       if (cov[l]) std::memcpy(lane[l], &w[l], 4);
   }

@@ -255,14 +255,8 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
       for (uint32_t l = 0; l < 4; ++l) scratch.samplesPassed += uint32_t(std::popcount(cov[l]));
     if (!fs.shade) return;  // no fragment shader: the early tests are all there is
   }
-  FragmentQuad& q = scratch.quad;
+  FragmentQuad& q = scratch.quad;  // the per-primitive fields set by rasterizeTriangle
   q.x = qx, q.y = qy;
-  q.frontFacing = t.front;
-  q.primitiveId = t.primitiveId;
-  q.viewIndex = ctx.viewIndex;
-  q.layer = ctx.layer;
-  q.primitive = &t;  // for interpolateAt
-  q.drawContext = &ctx;
   const uint32_t lanes =
       fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
   if (ctx.perSample) {
@@ -416,6 +410,14 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
   setupEdges(ctx, t, es);
   QuadInterp qi;  // one-sample quads' interpolation (shadeQuad)
   if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi);
+  // What is the same for every quad of the triangle (shadeQuad sets the rest).
+  FragmentQuad& q = scratch.quad;
+  q.frontFacing = t.front;
+  q.primitiveId = t.primitiveId;
+  q.viewIndex = ctx.viewIndex;
+  q.layer = ctx.layer;
+  q.primitive = &t;  // for interpolateAt
+  q.drawContext = &ctx;
   const int32_t bx0 = x0 & ~(kBlock - 1), by0 = y0 & ~(kBlock - 1);
   for (int32_t by = by0; by <= y1; by += kBlock) {
     for (int32_t bx = bx0; bx <= x1; bx += kBlock) {

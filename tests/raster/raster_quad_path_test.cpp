@@ -23,6 +23,28 @@ struct Scene {
   DepthFormat depthFormat = DepthFormat::D32SFloat;
   uint32_t depthTexelBytes = 4;  // D32: 8 is a D32_SFLOAT_S8_UINT-like texel (stencil unused); D16: 2
   uint32_t samples = 1;
+  uint32_t seed = 0;  // nonzero: random stored bytes, vertex colours and blend constants from this seed
+};
+
+// Small, seeded, the same on every machine.
+struct Rng {
+  uint64_t s;
+  uint32_t next() {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return uint32_t(s >> 33);
+  }
+  // Mostly in [-0.25, 1.25], sometimes exactly 0, 1, -0, 0.5 or a NaN (the clamps' and the encode's edge cases).
+  float value() {
+    const uint32_t r = next();
+    switch (r % 16) {
+      case 0: return 0.0f;
+      case 1: return 1.0f;
+      case 2: return -0.0f;
+      case 3: return 0.5f;
+      case 4: return r % 64 == 4 ? std::nanf("") : 1.0f / 255;
+      default: return -0.25f + 1.5f * float(next() % 1000000) / 1e6f;
+    }
+  }
 };
 
 struct Result {
@@ -36,7 +58,9 @@ Result render(const Scene& sc, bool quadPaths) {
   detail::setQuadPaths(quadPaths);
   Harness h(W, H, sc.samples);
   h.color = Image(W, H, 4, sc.samples);
-  for (size_t i = 0; i < h.color.data.size(); ++i) h.color.data[i] = uint8_t(i * 7 + i / 4);
+  Rng rng{sc.seed};
+  for (size_t i = 0; i < h.color.data.size(); ++i)
+    h.color.data[i] = sc.seed ? uint8_t(rng.next()) : uint8_t(i * 7 + i / 4);
   ColorFormat& f = h.target.colorFormat[0];
   f.kind = ColorFormat::Kind::UNorm;
   f.texelBytes = 4;
@@ -79,10 +103,18 @@ Result render(const Scene& sc, bool quadPaths) {
   const float k[4] = {0.25f, 0.5f, 0.125f, 0.7f};
   std::memcpy(h.state.blendConstants, k, 16);
   h.constant1 = {0.1f, 0.9f, 1.5f, 0.3f};
+  if (sc.seed) {
+    for (float& c : h.state.blendConstants) c = rng.value();
+    for (float& c : h.constant1) c = rng.value();
+  }
   h.mode = FragMode::Input0;
   std::vector<Vec4> colors;
   auto tri = [&](float x0, float y0, float z0, float x1, float y1, float z1, float x2, float y2, float z2) {
     h.vertex(x0, y0, z0), h.vertex(x1, y1, z1), h.vertex(x2, y2, z2);
+    if (sc.seed) {
+      for (int v = 0; v < 3; ++v) colors.push_back({rng.value(), rng.value(), rng.value(), rng.value()});
+      return;
+    }
     colors.push_back({0.8f, -0.2f, 0.45f, 0.6f});
     colors.push_back({0.1f, 0.7f, 1.3f, 0.2f});
     colors.push_back({0.55f, 0.3f, 0.0f, 0.95f});
@@ -202,6 +234,37 @@ TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
       ASSERT_EQ(planned(sc), 2u);  // no depth test: nothing specialised to do there
       expectSame(sc, ("mask " + std::to_string(mask)).c_str());
     }
+  }
+}
+
+// Random stored bytes, vertex colours (NaN, -0, exact 0, 0.5 and 1, values outside [0, 1]), blend constants and
+// dual-source values, under random blend states (every factor and op in each slot) and each equation with code of its
+// own: the quad path writes the general path's bytes.
+TEST(RasterQuadPath, Unorm8RandomInputsAsTheGeneralPath) {
+  constexpr uint32_t kFactors = uint32_t(BlendFactor::OneMinusSrc1Alpha) + 1;
+  using F = BlendFactor;
+  const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                   {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
+                                   {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                   {F::One, F::One, F::One, F::One}};
+  Rng pick{12345};
+  for (uint32_t seed = 1; seed <= 400; ++seed) {
+    Scene sc;
+    sc.seed = seed;
+    sc.layout = seed % 2 ? ColorFormat::Layout::RGBA8UNorm : ColorFormat::Layout::BGRA8UNorm;
+    BlendAttachment& b = sc.blend;
+    b.enable = seed % 8 != 0;  // and some without blending
+    if (seed % 5 == 0) {
+      const auto& shape = shapes[seed / 5 % 4];
+      b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
+    } else {
+      b.srcColor = BlendFactor(pick.next() % kFactors), b.dstColor = BlendFactor(pick.next() % kFactors);
+      b.srcAlpha = BlendFactor(pick.next() % kFactors), b.dstAlpha = BlendFactor(pick.next() % kFactors);
+      b.colorOp = BlendOp(pick.next() % 5), b.alphaOp = BlendOp(pick.next() % 5);
+    }
+    b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
+    ASSERT_EQ(planned(sc), 2u);
+    expectSame(sc, ("seed " + std::to_string(seed)).c_str());
   }
 }
 
