@@ -96,6 +96,9 @@ struct TraceContext {
   // Embree's interval is the ray's [tMin, tMax], ends included (boxes in reach, and ray queries): the filter drops
   // the triangles at the ends. Otherwise it is one float inside each end, and the filter keeps a triangle's t there.
   bool closedInterval = false;
+  // Over the interval one float inside: the nearest floats inside (tMin, tMax), where insideOpen puts a t the
+  // kernel's rounding moved onto or past an end (set once per ray, not per candidate).
+  float openLo = 0, openHi = 0;
   bool terminated = false;        // a commit ended the traversal
   QueryCollect* query = nullptr;  // a ray query's proceed(): candidates needing the shader are collected, not run
   Committed last{};               // the latest commit made by a callback
@@ -204,10 +207,8 @@ inline bool strictlyInside(float t, const Ray& ray) { return t > ray.tMin && t <
 // but its kernels compute that t through different reciprocal estimates (SSE/AVX: 12 bits and a Newton step;
 // AVX-512: 14 bits), so the t it then reports may differ from the one it tested by its last bits. Where that puts
 // it on or past an end, it is the nearest float inside: the same crossing, never a t the rule excludes.
-inline float insideOpen(float t, float tMin, float tMax) {
-  const float lo = nextUp(tMin), hi = nextDown(tMax);
-  return lo <= hi ? std::min(std::max(t, lo), hi) : t;
-}
+// `lo` and `hi` are nextUp(tMin) and nextDown(tMax) (TraceContext::openLo, openHi).
+inline float insideOpen(float t, float lo, float hi) { return lo <= hi ? std::min(std::max(t, lo), hi) : t; }
 
 // The built-ins every hit has but the object-space ray: the instance's and the primitive's indices.
 void fillIds(HitInfo& h, const Tlas::Impl& t, uint32_t instance, uint32_t geometry, uint32_t primitive) {
@@ -282,7 +283,7 @@ void triangleFilter(const RTCFilterFunctionNArguments* args) {
   // Over [tMin, tMax] with both ends (boxes need them), triangles need tMin < t < tMax. Over the interval one float
   // inside, a t the kernel's rounding put on an end is the nearest float inside (insideOpen).
   if (!ctx.closedInterval) {
-    ray.tfar = insideOpen(ray.tfar, ctx.ray->tMin, ctx.ray->tMax);
+    ray.tfar = insideOpen(ray.tfar, ctx.openLo, ctx.openHi);
   } else if (!strictlyInside(ray.tfar, *ctx.ray)) {
     args->valid[0] = 0;
     return;
@@ -472,7 +473,10 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
   if (t.root == kEmptyRef) return;
   const float org[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
   const float dir[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
-  const float inv[3] = {1.0f / dir[0], 1.0f / dir[1], 1.0f / dir[2]};
+  // The reciprocal direction for the hierarchy's box tests, computed at the first interior node (a top level of
+  // one instance, a leaf at the root, needs none).
+  float inv[3] = {0, 0, 0};
+  bool invSet = false;
   const uint32_t cull = ctx.ray->cullMask & 0xFF;
   // Pbrt's robust slab test: the far distances grow by 2 gamma(3), so that rounding never drops a box the ray
   // meets (the bounds are rounded outward already).
@@ -528,6 +532,10 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
       continue;
     }
     const BvhNode& node = t.nodes[ref];
+    if (!invSet) {
+      for (int a = 0; a < 3; ++a) inv[a] = 1.0f / dir[a];
+      invSet = true;
+    }
     float near0, near1;
     const bool hit0 = enter(node.lower[0], node.upper[0], &near0);
     const bool hit1 = enter(node.lower[1], node.upper[1], &near1);
@@ -641,8 +649,10 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
   rh.ray.dir_z = ray.direction[2];
   // Embree's watertight test accepts tnear <= t <= tfar: without boxes each end moves one float inward (FLT_MIN
   // at least: Embree flushes denormals).
-  rh.ray.tnear = ctx.closedInterval ? ray.tMin : std::max(nextUp(ray.tMin), std::numeric_limits<float>::min());
-  rh.ray.tfar = ctx.closedInterval ? ray.tMax : nextDown(ray.tMax);
+  ctx.openLo = nextUp(ray.tMin);
+  ctx.openHi = nextDown(ray.tMax);
+  rh.ray.tnear = ctx.closedInterval ? ray.tMin : std::max(ctx.openLo, std::numeric_limits<float>::min());
+  rh.ray.tfar = ctx.closedInterval ? ray.tMax : ctx.openHi;
   rh.ray.time = 0;
   rh.ray.mask = embreeRayMask(ray);
   rh.ray.id = 0;
@@ -680,7 +690,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
   // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
   c.triangle = geom.kind == Geometry::Triangles;
   c.hitKind = c.triangle ? 0 : ctx.last.hitKind;
-  if (c.triangle) c.t = insideOpen(c.t, ray.tMin, ray.tMax);
+  if (c.triangle) c.t = insideOpen(c.t, ctx.openLo, ctx.openHi);
   return true;
 }
 

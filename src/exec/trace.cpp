@@ -141,6 +141,13 @@ struct TaskState {
   uint64_t tlasAddress = 0;
   const accel::Tlas* tlas = nullptr;
   bool tlasResolved = false;
+  // The hit record resolved last (TraceFrame::hitGroup) and its group, for a triangle or a box: a task's
+  // candidates mostly select one record, whose resolution (the region's bounds, the cache slot, the group's kind)
+  // does not change during a launch. Only a record that resolved to a group to run is kept (the others report).
+  uint64_t hitIndex = ~uint64_t(0);
+  bool hitTriangle = false;
+  const RayGroup* hitGroup = nullptr;
+  const uint8_t* hitRecord = nullptr;
 
   const accel::Tlas* topLevel(LaunchState& state, uint64_t address);
 };
@@ -178,6 +185,10 @@ struct Invocation : abi::RayInvocation {
 // The invocation's shader record: record `index` of `region` at `record`, its data bytes up to the stride where
 // they can be read (RecordCache::dataBytes), and the bytes "Indexing Rules" lets it read.
 void setRecord(Invocation& inv, RecordCache& cache, SbtRegion region, uint64_t index, const uint8_t* record) {
+  // A task's reused invocation keeps its record from call to call: set again only when the record changes.
+  if (inv.recordDataOutside && inv.recordRegion == region && inv.recordIndex == index &&
+      inv.shaderRecord == record + kHandleBytes)
+    return;
   inv.shaderRecord = const_cast<uint8_t*>(record + kHandleBytes);
   inv.shaderRecordBytes = cache.dataBytes(index);
   inv.shaderRecordRegionBytes = cache.regionBytes(index);
@@ -358,6 +369,11 @@ struct TraceFrame final : accel::HitHandler {
   const RayGroup* hitGroup(uint32_t instanceOffset, uint32_t geometry, bool triangle, const uint8_t** record,
                            uint64_t* index) {
     *index = uint64_t(instanceOffset) + sbtOffset + uint64_t(sbtStride) * geometry;
+    TaskState& task = *caller.task;
+    if (*index == task.hitIndex && triangle == task.hitTriangle) {
+      *record = task.hitRecord;
+      return task.hitGroup;
+    }
     const RayGroup* g = state.hit.get(SbtRegion::Hit, *index, *state.launch->resolver, record);
     if (!g || g->type == RayGroup::Empty) return nullptr;
     bool triangles = g->type == RayGroup::Triangles;
@@ -365,6 +381,10 @@ struct TraceFrame final : accel::HitHandler {
       state.launch->resolver->hitGroupMismatch(*index, *g, triangle);
       return nullptr;
     }
+    task.hitIndex = *index;
+    task.hitTriangle = triangle;
+    task.hitGroup = g;
+    task.hitRecord = *record;
     return g;
   }
   const RayGroup* hitGroup(const accel::HitInfo& h, const uint8_t** record, uint64_t* index) {

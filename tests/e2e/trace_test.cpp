@@ -222,6 +222,42 @@ TEST_F(TraceFlags, AnyHitAcceptIgnoreTerminateAndOpacity) {
   }
 }
 
+TEST_F(TraceFlags, EachAnyHitRunsWithTheRecordItsCandidateSelects) {
+  // The executor keeps the hit record a task resolved last, and its reused any-hit invocation keeps that record's
+  // data (exec/trace.cpp, TaskState::hitIndex, setRecord): candidates that select different records, in one trace
+  // and from launch index to launch index of one tile, must each run with their own record. Two non-opaque quads
+  // of one hit group, geometry 0 at z = 3 and geometry 1 at z = 5, with records that differ only in their data:
+  // one any-hit ignores, the other accepts; which quad is hit is decided by the record each candidate read.
+  std::vector<float> q5 = kQuad;
+  for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
+  std::vector<float> q3 = kQuad;
+  for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
+  VkAccelerationStructureKHR b = blas({triangles(q3, kQuadIndices, 0), triangles(q5, kQuadIndices, 0)});
+  VkAccelerationStructureKHR top = tlas({instance(b)});
+  VkPipeline p = pipeline(true);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  for (uint32_t nearMode : {1u, 0u}) {
+    const uint32_t farMode = 1 - nearMode;  // 0 accept, 1 ignore (trace_ahit.rahit)
+    SCOPED_TRACE("near quad's any-hit mode " + std::to_string(nearMode));
+    Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100, nearMode}}, {2, {101, farMode}}});
+    const std::vector<TracePayload> r = trace(p, s, top, 4, 4, {});
+    for (uint32_t y = 0; y < 4; ++y)
+      for (uint32_t x = 0; x < 4; ++x) {
+        SCOPED_TRACE("launch index " + std::to_string(x) + "," + std::to_string(y));
+        const TracePayload& h = r[y * 4 + x];
+        if (x == 0 || x == 3 || y == 0 || y == 3) {  // outside both quads
+          EXPECT_EQ(h.hit[0], -2.0f);
+          continue;
+        }
+        const uint32_t accepted = nearMode == 0 ? 0 : 1;  // the geometry whose record accepts
+        EXPECT_NEAR(h.hit[0], accepted == 0 ? 13.0f : 15.0f, 1e-4f);
+        EXPECT_EQ(h.ids[3], accepted) << "gl_GeometryIndexEXT";
+        EXPECT_EQ(h.extra[0], 100u + accepted) << "the accepted geometry's closest-hit record";
+        if (accepted == 1) EXPECT_EQ(h.extra[1], 2u) << "an any-hit for each quad";
+      }
+  }
+}
+
 TEST_F(TraceFlags, IntersectionShadersReportSpheresInBoxes) {
   // Two spheres (radius 0.5) in their boxes: primitive 0 centred at (-1, -1, 4), primitive 1 at (1, 1, 6); in an
   // instance moved by +1 along z.
