@@ -2,6 +2,7 @@
 // pipeline stack, instances referring to structures that do not exist. Each is reported with its VUID, naming
 // what it is about, and the launch goes on without running the bad record (no crash). The validation layer is off:
 // it would report (or not see) the same misuse.
+#include <cmath>
 #include <cstdlib>
 
 #include "e2e/trace_fixture.hpp"
@@ -278,8 +279,11 @@ TEST_F(TraceMisuseTest, TensOfThousandsOfInstancesResolveEachRunOfReferencesAndR
   uint32_t wrong = 0;
   for (uint32_t k = 0; k < kSide * kSide; ++k) {
     const int level = k < kInstances ? levelOf[k] : 3;
+    // (t within 1e-5 of the depth: Embree's kernels for each instruction set round the object-space t differently,
+    // and the levels are 1 apart.)
     const bool ok = level == 3 ? r[k].hit[0] == -2.0f
-                               : r[k].hit[0] == 10.0f + float(level + 1) && r[k].ids[0] == k && r[k].ids[1] == k;
+                               : std::fabs(r[k].hit[0] - (10.0f + float(level + 1))) < 1e-5f && r[k].ids[0] == k &&
+                                     r[k].ids[1] == k;
     if (!ok && wrong++ < 5)
       ADD_FAILURE() << "ray " << k << " (level " << level << "): t " << r[k].hit[0] << ", custom index " << r[k].ids[0];
   }
