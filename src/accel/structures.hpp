@@ -206,17 +206,9 @@ inline unsigned embreeRayMask(const Ray& ray) {
 
 }  // namespace detail
 
-namespace detail {
-
-// A build's large arrays, filled in parallel (accel.hpp, FillArrayAllocator).
-template <class T>
-using BuildArray = FillArray<T>;
-
-}  // namespace detail
-
 struct Tlas::Impl {
   // (What every ray reads first, together.)
-  detail::BuildArray<detail::InstanceRecord> records;  // constructed by makeRecords (tlas.cpp)
+  FillArray<detail::InstanceRecord> records;  // constructed by makeRecords (tlas.cpp)
   detail::TlasSummary summary;
   bool built = false;  // false: a failed build (never traced)
   // The instance level (detail::BvhNode): the root reference, its nodes, the instance indices its leaves hold.
@@ -224,7 +216,7 @@ struct Tlas::Impl {
   // Flattened triangles: an Embree scene of world-space triangles (null when there are none), traced before the
   // hierarchy. Its geometry g holds flat[g] (one geometry per instance mask), its primitive p being flat[g][p].
   RTCScene flatScene = nullptr;
-  detail::BuildArray<detail::BvhNode> nodes;
+  FillArray<detail::BvhNode> nodes;
   std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
   InstanceArray instances;

@@ -73,6 +73,22 @@ bool embreeInvertible(const float m[3][4]) {
   return true;
 }
 
+// The distinct values a build's chunks collect (Blases, their scenes to make): each chunk keeps one of each run of
+// equal values in `used` (runs are the usual case), adds them to `all` under `m` made distinct, and sortDistinct
+// finishes `all` after the chunks.
+template <class T>
+void sortDistinct(std::vector<T>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+template <class T>
+void mergeDistinct(std::vector<T>& used, std::vector<T>& all, std::mutex& m) {
+  if (used.empty()) return;
+  sortDistinct(used);
+  std::lock_guard lock(m);
+  all.insert(all.end(), used.begin(), used.end());
+}
+
 // Fills the per-instance records and the Tlas summary. An instance is inactive (never hit, index kept) when its
 // Blas is null (Vulkan: reference 0) or its transform has no inverse (Vulkan requires an invertible one; a
 // zero scale is sometimes used to hide an instance, and hiding it is what such an instance gets), in double or in
@@ -118,10 +134,8 @@ bool makeRecords(Tlas::Impl& impl, std::string* error) {
       s.opaqueTriangles |= forcedOpaque || (!forcedNoOpaque && b.opaqueTriangles);
       s.noOpaqueTriangles |= forcedNoOpaque || (!forcedOpaque && b.noOpaqueTriangles);
     }
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
+    mergeDistinct(used, distinct, merge);
     std::lock_guard lock(merge);
-    distinct.insert(distinct.end(), used.begin(), used.end());
     TlasSummary& all = impl.summary;
     all.triangles |= s.triangles;
     all.aabbs |= s.aabbs;
@@ -130,8 +144,7 @@ bool makeRecords(Tlas::Impl& impl, std::string* error) {
     all.facingCullable |= s.facingCullable;
     all.small |= s.small;
   });
-  std::sort(distinct.begin(), distinct.end());
-  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  sortDistinct(distinct);
   impl.blases.reserve(distinct.size());
   for (const Blas* b : distinct) {
     std::shared_ptr<const Blas> owner = b->weak_from_this().lock();
@@ -489,7 +502,7 @@ uint32_t copyTree(const void* root, Tlas::Impl& impl) {
 
 // The instance level over `prims` (one per instance in the hierarchy, primID = instance index; reordered by the
 // builder). SAH (binned, MEDIUM) or Morton (LOW, PREFER_FAST_BUILD) on Embree's build threads.
-bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, BuildArray<RTCBuildPrimitive>& prims, std::string* error) {
+bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, FillArray<RTCBuildPrimitive>& prims, std::string* error) {
   impl.nodes.clear();
   impl.leafItems.clear();
   impl.root = kEmptyRef;
@@ -530,7 +543,7 @@ bool buildHierarchy(RTCDevice device, Tlas::Impl& impl, BuildArray<RTCBuildPrimi
 
 // The bounds of a child reference of the hierarchy, from the instances' bounds (`bounds`, indexed by instance) and
 // the nodes below it (already refit).
-void refBounds(const Tlas::Impl& impl, const BuildArray<RTCBuildPrimitive>& bounds, uint32_t ref, float lower[3],
+void refBounds(const Tlas::Impl& impl, const FillArray<RTCBuildPrimitive>& bounds, uint32_t ref, float lower[3],
                float upper[3]) {
   for (int k = 0; k < 3; ++k) lower[k] = HUGE_VALF, upper[k] = -HUGE_VALF;
   auto unite = [&](const float* lo, const float* hi) {
@@ -554,7 +567,7 @@ void refBounds(const Tlas::Impl& impl, const BuildArray<RTCBuildPrimitive>& boun
 // An update's refit: `source`'s hierarchy with the instances' new bounds, when the same instances are in it (every
 // instance in its leaves still in the hierarchy, and no other). False otherwise (the caller builds).
 bool refitHierarchy(const Tlas::Impl& source, Tlas::Impl& impl, const std::vector<uint8_t>& inHierarchy, size_t count,
-                    const BuildArray<RTCBuildPrimitive>& bounds) {
+                    const FillArray<RTCBuildPrimitive>& bounds) {
   if (source.leafItems.size() != count || source.instances.size() != impl.instances.size()) return false;
   for (uint32_t i : source.leafItems)
     if (!inHierarchy[i]) return false;
@@ -591,16 +604,13 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
             (used.empty() || used.back() != r.blas))
           used.push_back(r.blas);
       }
-      if (used.empty()) return;
-      std::lock_guard lock(merge);
-      small.insert(small.end(), used.begin(), used.end());
+      mergeDistinct(used, small, merge);
     });
-    std::sort(small.begin(), small.end());
-    small.erase(std::unique(small.begin(), small.end()), small.end());
+    sortDistinct(small);
     for (const Blas::Impl* b : small) b->sceneFor();
   }
   // Per instance: its scene and world bounds (in parallel: a transform of 8 corners each).
-  BuildArray<RTCBuildPrimitive> bounds(n);  // set for the instances in the hierarchy, the only ones read
+  FillArray<RTCBuildPrimitive> bounds(n);  // set for the instances in the hierarchy, the only ones read
   std::vector<uint8_t> inHierarchy(n, 0);
   std::atomic<bool> outOfMemory{false};
   parallelChunks(n, 4096, 16384, [&](size_t begin, size_t end) {

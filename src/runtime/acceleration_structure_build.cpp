@@ -262,14 +262,12 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
   };
   // One resolution per run of equal references (instances of one bottom level usually come together).
   struct Run {
-    uint64_t first;  // the run's first instance
     const accel::Blas* blas;
     uint64_t address;
   };
   auto resolveRun = [&](uint64_t i, Run* run) {
     std::shared_ptr<const accel::Blas> b = resolveBlas(dev, (*refs)[i], host, uint32_t(i), e, &run->address);
     if (!b && (*refs)[i]) return false;
-    run->first = i;
     run->blas = b.get();
     if (b && (keep->empty() || keep->back() != b)) keep->push_back(std::move(b));
     return true;
@@ -309,10 +307,10 @@ bool readInstances(Device* dev, const Source& src, const VkAccelerationStructure
   for (size_t k = 0; k < firsts.size(); ++k)
     if (!resolveRun(firsts[k], &runs[k])) return false;
   forChunks(n, [&](uint64_t begin, uint64_t end) {
-    // The run holding `begin`: the last one starting at or before it (runs[0] starts at 0).
+    // The run holding `begin`: the last one starting at or before it (firsts[0] is 0).
     size_t k = size_t(std::upper_bound(firsts.begin(), firsts.end(), begin) - firsts.begin()) - 1;
     for (uint64_t i = begin; i < end; ++i) {
-      if (k + 1 < runs.size() && runs[k + 1].first == i) ++k;
+      if (k + 1 < firsts.size() && firsts[k + 1] == i) ++k;
       (*out)[i].blas = runs[k].blas;
       (*addresses)[i] = runs[k].address;
     }

@@ -570,10 +570,10 @@ const FastView* fastView(const View& v, const VkSamplerCreateInfo& s, FastView* 
 }
 
 // The fast path's texel addressing, in fixed point: a texel coordinate (minus 0.5 for LINEAR) plus 2 texels, in units
-// of 2^-kSubTexelBits texel, truncated. Its integer part is the first texel (floor(u - 0.5) + 2, as filterLevel's
-// floor in double: the fixed-point value comes from exact double arithmetic), its fraction the LINEAR weight,
-// quantized to 2^-15: finer than the 2^-subTexelPrecisionBits (2^-8, physical_device.cpp) "Texel Filtering" allows.
-constexpr int kSubTexelBits = 15;
+// of 2^-kSubTexelBits texel (quad_sampling.hpp), truncated. Its integer part is the first texel (floor(u - 0.5) + 2,
+// as filterLevel's floor in double: the fixed-point value comes from exact double arithmetic), its fraction the
+// LINEAR weight, quantized to 2^-15: finer than the 2^-subTexelPrecisionBits (2^-8, physical_device.cpp) "Texel
+// Filtering" allows.
 constexpr double kSubTexel = double(1 << kSubTexelBits);
 
 // floor(x) as an integer for |x| < 2^63 (std::floor is a library call on the baseline x86-64 target: no SSE4.1).

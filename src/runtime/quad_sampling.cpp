@@ -27,9 +27,6 @@ using Int4 = LodInt4;
 using Double4 = double __attribute__((vector_size(32)));  // two SSE2 registers on the baseline target
 using Long4 = int64_t __attribute__((vector_size(32)));
 
-// image_functions.cpp's kSubTexelBits: the fixed-point texel coordinates' fraction bits.
-constexpr int kSubTexelBits = 15;
-
 // The lanes of a mask (elements 0 or -1) as bits.
 inline uint32_t maskBits(Int4 m) { return uint32_t((m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8)); }
 
@@ -84,7 +81,8 @@ __attribute__((always_inline)) inline Axis quadAxis(const Double4& c, Int4 size,
     u = u < lo ? lo : u > hi ? hi : u;
   }
   const Double4 linearOffset = {1.5, 1.5, 1.5, 1.5}, nearestOffset = {2.0, 2.0, 2.0, 2.0};  // 2 - half
-  const Double4 scale = {0x1p15, 0x1p15, 0x1p15, 0x1p15};
+  constexpr double kScale = double(1 << kSubTexelBits);
+  const Double4 scale = {kScale, kScale, kScale, kScale};
   Double4 offset;
   if constexpr (filter == kLinear)
     offset = linearOffset;

@@ -27,6 +27,10 @@ struct QuadLevel {
   int32_t width = 0, height = 0;
 };
 
+// The fraction bits of the fast paths' fixed-point texel coordinates (image_functions.cpp, "texel addressing"), the
+// per-lane one's and this one's alike.
+inline constexpr int kSubTexelBits = 15;
+
 // maxImageDimension2D is 16384 (physical_device.cpp): at most 15 levels. The fixed-point coordinates of a level of
 // at most 2^14 texels (at most (2^14 + 3) 2^15) fit 32-bit integers.
 inline constexpr uint32_t kQuadMaxLevels = 15;

@@ -52,12 +52,26 @@ class SamplerFastPath : public ::testing::Test {
   // width x height with `levels` levels, `fill` giving each level's bytes.
   void makeImage(VkFormat format, uint32_t width = 5, uint32_t height = 3, uint32_t levels = 3,
                  int (*fill)(uint32_t level) = nullptr) {
+    createImage(format, width, height, levels, 1, 12345, fill);
+    if (HasFatalFailure()) return;
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, levels, 0, 1};
+    ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
+    imageRecord.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+  }
+  // `image`: width x height, `levels` levels and `layers` layers of `format` in memory of its own, every byte
+  // pseudo-random from `seed` (level by level, layer by layer), or `fill`'s value for its level.
+  void createImage(VkFormat format, uint32_t width, uint32_t height, uint32_t levels, uint32_t layers, uint32_t seed,
+                   int (*fill)(uint32_t level) = nullptr) {
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = format;
     ci.extent = {width, height, 1};
     ci.mipLevels = levels;
-    ci.arrayLayers = 1;
+    ci.arrayLayers = layers;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
     ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
@@ -69,21 +83,14 @@ class SamplerFastPath : public ::testing::Test {
     ASSERT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &memory), VK_SUCCESS);
     ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
     Image* img = fromHandle<Image>(image);
-    uint32_t seed = 12345;
     for (uint32_t m = 0; m < levels; ++m)
-      for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
-        for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
-          for (int c = 0; c < 4; ++c) {
-            seed = seed * 1664525u + 1013904223u;
-            img->texel(m, 0, x, y, 0)[c] = uint8_t(fill ? fill(m) : int(seed >> 24));
-          }
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, levels, 0, 1};
-    ASSERT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &view), VK_SUCCESS);
-    imageRecord.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+      for (uint32_t layer = 0; layer < layers; ++layer)
+        for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
+          for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
+            for (int c = 0; c < 4; ++c) {
+              seed = seed * 1664525u + 1013904223u;
+              img->texel(m, layer, x, y, 0)[c] = uint8_t(fill ? fill(m) : int(seed >> 24));
+            }
   }
 
   abi::DescriptorRecord makeSampler(VkFilter filter, VkSamplerMipmapMode mip, VkSamplerAddressMode mode,
@@ -262,32 +269,8 @@ TEST_F(SamplerFastPath, QuadSamplingMatchesPerLaneSamplingAnisotropic) { compare
 // path (NaN and huge coordinates, NaN derivatives), on a 37x23 image of 6 levels and 3 layers in the four 8-bit
 // formats.
 void SamplerFastPath::compareQuadLanes(VkFormat format) {
-  VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  ci.imageType = VK_IMAGE_TYPE_2D;
-  ci.format = format;
-  ci.extent = {37, 23, 1};
-  ci.mipLevels = 6;
-  ci.arrayLayers = 3;
-  ci.samples = VK_SAMPLE_COUNT_1_BIT;
-  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
-  ASSERT_EQ(vkrt_CreateImage(device, &ci, nullptr, &image), VK_SUCCESS);
-  VkMemoryRequirements req;
-  vkrt_GetImageMemoryRequirements(device, image, &req);
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.allocationSize = req.size;
-  ASSERT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &memory), VK_SUCCESS);
-  ASSERT_EQ(vkrt_BindImageMemory(device, image, memory, 0), VK_SUCCESS);
-  Image* img = fromHandle<Image>(image);
-  uint32_t seed = 777;
-  for (uint32_t m = 0; m < ci.mipLevels; ++m)
-    for (uint32_t layer = 0; layer < ci.arrayLayers; ++layer)
-      for (uint32_t y = 0; y < img->mips[m].extent.height; ++y)
-        for (uint32_t x = 0; x < img->mips[m].extent.width; ++x)
-          for (int c = 0; c < 4; ++c) {
-            seed = seed * 1664525u + 1013904223u;
-            img->texel(m, layer, x, y, 0)[c] = uint8_t(seed >> 24);
-          }
+  createImage(format, 37, 23, 6, 3, 777);
+  if (HasFatalFailure()) return;
   // Views of levels 1-5 and layers 1-2 (the records' base level and layer), one with a component mapping.
   VkImageView views[2] = {};
   for (int k = 0; k < 2; ++k) {
