@@ -182,7 +182,6 @@ class Tlas {
                                      std::string* error) {
     return build(InstanceArray(instances), options, error);
   }
-  ~Tlas();
   // A new Tlas with the same options; this one is unchanged. (Embree 3 rebuilds the hierarchy over its instances
   // on every commit, refit or not, so an update is a build.)
   std::shared_ptr<Tlas> update(InstanceArray instances, std::string* error) const;
@@ -195,7 +194,13 @@ class Tlas {
   uint64_t nativeBytes() const;
 
   struct Impl;
-  std::unique_ptr<Impl> impl;
+  // The structure (structures.hpp). A Tlas has no data of its own: every Tlas is made by build or update as the
+  // base of a TlasBlock, whose Impl starts at the Tlas's own address, so a ray reaches it without a load.
+  const Impl& impl() const;
+
+ protected:
+  Tlas() = default;
+  ~Tlas();
 };
 
 // ------------------------------------------------------------------------------------------------ traversal

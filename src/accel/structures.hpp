@@ -206,9 +206,46 @@ inline unsigned embreeRayMask(const Ray& ray) {
 
 }  // namespace detail
 
+namespace detail {
+
+// A Tlas's instance records (indexed by instance index): in the Tlas's own allocation when they are few
+// (kInlineRecords), else an array of their own. Room only: makeRecords constructs each record.
+inline constexpr size_t kInlineRecords = 2;
+class RecordArray {
+ public:
+  RecordArray() = default;
+  RecordArray(const RecordArray&) = delete;
+  RecordArray& operator=(const RecordArray&) = delete;
+  ~RecordArray() { release(); }
+  // Room for `n` records: `inlineRoom` (room for kInlineRecords) when they fit.
+  void resize(size_t n, InstanceRecord* inlineRoom) {
+    release();
+    data_ = n > kInlineRecords ? static_cast<InstanceRecord*>(::operator new(n * sizeof(InstanceRecord),
+                                                                             std::align_val_t(alignof(InstanceRecord))))
+                               : inlineRoom;
+    size_ = n;
+  }
+  InstanceRecord& operator[](size_t i) { return data_[i]; }
+  const InstanceRecord& operator[](size_t i) const { return data_[i]; }
+  size_t size() const { return size_; }
+
+ private:
+  static_assert(std::is_trivially_destructible_v<InstanceRecord>);  // (never destroyed one by one)
+  void release() {
+    if (size_ > kInlineRecords) ::operator delete(data_, std::align_val_t(alignof(InstanceRecord)));
+    data_ = nullptr;
+    size_ = 0;
+  }
+  InstanceRecord* data_ = nullptr;
+  size_t size_ = 0;  // (more than kInlineRecords: data_ is this array's own)
+};
+
+}  // namespace detail
+
 struct Tlas::Impl {
-  // (What every ray reads first, together.)
-  FillArray<detail::InstanceRecord> records;  // constructed by makeRecords (tlas.cpp)
+  // What every ray reads first, together, in the structure's first cache line (TlasBlock): where the records are,
+  // the summary, the hierarchy's root, the flattened triangles' scene, the nodes.
+  detail::RecordArray records;  // constructed by makeRecords (tlas.cpp)
   detail::TlasSummary summary;
   bool built = false;  // false: a failed build (never traced)
   // The instance level (detail::BvhNode): the root reference, its nodes, the instance indices its leaves hold.
@@ -217,6 +254,10 @@ struct Tlas::Impl {
   // hierarchy. Its geometry g holds flat[g] (one geometry per instance mask), its primitive p being flat[g][p].
   RTCScene flatScene = nullptr;
   FillArray<detail::BvhNode> nodes;
+  // The records of a top level of at most kInlineRecords instances, from the next cache line on (the first record's
+  // traversal half shares the first line's 128-byte pair, which the hardware fetches together): a ray through one
+  // of many small top levels reaches its instance without waiting for another line.
+  detail::InstanceRecord inlineRecords[detail::kInlineRecords];
   std::vector<uint32_t> leafItems;
   std::vector<std::vector<detail::FlatTriangle>> flat;
   InstanceArray instances;
@@ -225,6 +266,18 @@ struct Tlas::Impl {
 
   ~Impl();
 };
+
+namespace detail {
+
+// A Tlas and its Impl in one allocation: the Tlas (no data) is an empty base, so the Impl starts at the Tlas's
+// address, on a cache line of its own (InstanceRecord's alignment), and Tlas::impl() is no load.
+struct TlasBlock final : Tlas {
+  Tlas::Impl body;
+};
+
+}  // namespace detail
+
+inline const Tlas::Impl& Tlas::impl() const { return static_cast<const detail::TlasBlock&>(*this).body; }
 
 namespace detail {
 

@@ -97,7 +97,7 @@ void mergeDistinct(std::vector<T>& used, std::vector<T>& all, std::mutex& m) {
 // an instance's Blas is not owned by a shared_ptr (Instance::blas's precondition).
 bool makeRecords(Tlas::Impl& impl, std::string* error) {
   const size_t n = impl.instances.size();
-  impl.records.resize(n);
+  impl.records.resize(n, impl.inlineRecords);
   // In chunks on the build threads (an inverse in double per instance); each chunk's summary and Blases are merged
   // after it.
   std::mutex merge;
@@ -665,15 +665,14 @@ std::shared_ptr<Tlas> buildTlas(InstanceArray instances, const BuildOptions& opt
     if (error) *error = "Tlas build: too many instances";
     return nullptr;
   }
-  auto impl = std::make_unique<Tlas::Impl>();
-  impl->instances = std::move(instances);
-  impl->options = options;
-  if (!detail::makeRecords(*impl, error)) return nullptr;
-  if (!detail::buildLevels(*impl, source, error)) return nullptr;
-  impl->built = true;
-  auto tlas = std::make_shared<Tlas>();
-  tlas->impl = std::move(impl);
-  return tlas;
+  auto block = std::make_shared<detail::TlasBlock>();
+  Tlas::Impl& impl = block->body;
+  impl.instances = std::move(instances);
+  impl.options = options;
+  if (!detail::makeRecords(impl, error)) return nullptr;
+  if (!detail::buildLevels(impl, source, error)) return nullptr;
+  impl.built = true;
+  return std::shared_ptr<Tlas>(block, block.get());
 }
 
 }  // namespace
@@ -700,19 +699,19 @@ std::shared_ptr<Tlas> Tlas::build(InstanceArray instances, const BuildOptions& o
 // transforms when the same instances are in it (the usual case: instances move), and builds it otherwise; the
 // flattened triangles are transformed again either way. This Tlas is untouched (it may be traversed meanwhile).
 std::shared_ptr<Tlas> Tlas::update(InstanceArray instances, std::string* error) const {
-  return buildTlas(std::move(instances), impl->options, impl.get(), error);
+  return buildTlas(std::move(instances), impl().options, &impl(), error);
 }
 
-std::span<const Instance> Tlas::instances() const { return {impl->instances.data(), impl->instances.size()}; }
-const BuildOptions& Tlas::options() const { return impl->options; }
+std::span<const Instance> Tlas::instances() const { return {impl().instances.data(), impl().instances.size()}; }
+const BuildOptions& Tlas::options() const { return impl().options; }
 
 uint64_t Tlas::nativeBytes() const {
   // The instances, their records, the hierarchy, and the flattened triangles (Embree's copy of their world-space
   // vertices and indices, about 48 bytes, and its hierarchy, about 32 bytes a triangle, plus vkrt's map back).
   uint64_t flat = 0;
-  for (const auto& g : impl->flat) flat += g.size() * (80 + sizeof(detail::FlatTriangle));
-  return sizeof(Impl) + impl->instances.size() * (sizeof(Instance) + sizeof(detail::InstanceRecord)) +
-         impl->nodes.size() * sizeof(detail::BvhNode) + impl->leafItems.size() * sizeof(uint32_t) + flat;
+  for (const auto& g : impl().flat) flat += g.size() * (80 + sizeof(detail::FlatTriangle));
+  return sizeof(Impl) + impl().instances.size() * (sizeof(Instance) + sizeof(detail::InstanceRecord)) +
+         impl().nodes.size() * sizeof(detail::BvhNode) + impl().leafItems.size() * sizeof(uint32_t) + flat;
 }
 
 }  // namespace vkrt::accel

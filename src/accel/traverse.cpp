@@ -609,7 +609,7 @@ void boxOccluded(const RTCOccludedFunctionNArguments* args) {
 
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit) {
   using namespace detail;
-  const Tlas::Impl& t = *tlas.impl;
+  const Tlas::Impl& t = tlas.impl();
   const uint32_t cull = ray.cullMask & 0xFF;
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses (as does a ray beyond
   // what Embree can trace).
@@ -695,7 +695,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
 }
 
 void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out) {
-  detail::report(*tlas.impl, ray, hit, out);
+  detail::report(tlas.impl(), ray, hit, out);
 }
 
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit) {
@@ -806,7 +806,7 @@ void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
   // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
   const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
                      ray.tMin >= 0 && ray.tMin <= ray.tMax;
-  q.tlas = valid && tlas && tlas->impl->built && detail::rayInEmbreeRange(ray.origin, ray.direction) ? tlas : nullptr;
+  q.tlas = valid && tlas && tlas->impl().built && detail::rayInEmbreeRange(ray.origin, ray.direction) ? tlas : nullptr;
 }
 
 bool queryProceed(RayQuery& q) {
@@ -817,7 +817,7 @@ bool queryProceed(RayQuery& q) {
     q.phase = 0;
     return false;
   }
-  const Tlas::Impl& t = *q.tlas->impl;
+  const Tlas::Impl& t = q.tlas->impl();
   Ray ray = q.ray;
   ray.tMax = queryTMax(q);
 
@@ -918,7 +918,7 @@ HitInfo queryHitInfo(const RayQuery& q, bool committed) {
   HitInfo h;
   const QueryHit& s = committed ? q.committed : q.candidate;
   if (!s.type || !q.tlas) return h;
-  const detail::InstanceRecord& r = q.tlas->impl->records[s.instance];
+  const detail::InstanceRecord& r = q.tlas->impl().records[s.instance];
   h.t = s.t;
   h.instanceIndex = s.instance;
   h.customIndex = r.customIndex;

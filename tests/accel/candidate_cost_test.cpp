@@ -40,7 +40,7 @@ Geometry square(bool copies, bool small) {
 }
 
 // Whether traversal entered the instance's own scene (not the flattened one).
-bool flattened(const Tlas& tlas) { return tlas.impl->flatScene != nullptr; }
+bool flattened(const Tlas& tlas) { return tlas.impl().flatScene != nullptr; }
 
 // A ray along +z through the diagonal's point (0.25, 0.25), on the edge both triangles share.
 Ray throughTheDiagonal() { return rayFrom(0.25f, 0.25f, 0, 0, 0, 1); }
@@ -163,7 +163,7 @@ TEST(AccelLazyHit, TheFacingOfAHitCommittedWithoutTheFilterMatchesTheFiltersAnsw
         opaque.triangles.flags = kGeometryOpaque;
         const Ray ray = rayFrom(0.3f, -0.4f, dz > 0 ? 0.0f : 8.0f, 0, 0, dz);
         auto plain = sceneOf({opaque}, instanceFlags);
-        ASSERT_FALSE(detail::needsTriangleFilter(plain->impl->summary, 0));
+        ASSERT_FALSE(detail::needsTriangleFilter(plain->impl().summary, 0));
         Recorder rec;
         CommittedHit c;
         ASSERT_TRUE(trace(*plain, ray, rec, &c));

@@ -6,7 +6,9 @@
 namespace vkrt::accel::test {
 namespace {
 
-bool filtered(const Tlas& tlas, uint32_t rayFlags) { return detail::needsTriangleFilter(tlas.impl->summary, rayFlags); }
+bool filtered(const Tlas& tlas, uint32_t rayFlags) {
+  return detail::needsTriangleFilter(tlas.impl().summary, rayFlags);
+}
 
 TEST(AccelFastPath, OpaqueTrianglesNeedNoFilterUnlessAFlagAsks) {
   auto opaque = makeBlas({quad(5), boxes({{0, 0, 0, 1, 1, 1}}, 0)});

@@ -174,8 +174,8 @@ TEST(AccelInstanceHierarchy, ThousandsOfOverlappingInstancesGiveTheClosestHit) {
     auto tlas = buildPlaced(placements, blases, options);
     ASSERT_TRUE(tlas);
     // Both levels are there: a hierarchy over the big tiles, the small ones flattened.
-    EXPECT_GT(tlas->impl->nodes.size(), 100u);
-    EXPECT_TRUE(tlas->impl->flatScene);
+    EXPECT_GT(tlas->impl().nodes.size(), 100u);
+    EXPECT_TRUE(tlas->impl().flatScene);
     int checked = 0;
     EXPECT_EQ(countWrong(*tlas, placements, 2, 3000, &checked), 0u);
     EXPECT_GT(checked, 2500);
@@ -191,7 +191,7 @@ TEST(AccelInstanceHierarchy, TensOfThousandsOfInstancesAreLaidOutDepthFirst) {
   const auto placements = randomPlacements(40000, 11);
   auto tlas = buildPlaced(placements, blases);
   ASSERT_TRUE(tlas);
-  const Tlas::Impl& impl = *tlas->impl;
+  const Tlas::Impl& impl = tlas->impl();
   ASSERT_GT(impl.nodes.size(), 4096u);  // deeper than the split into subtrees
   uint32_t nextNode = 0, nextItem = 0;
   std::vector<int> seen(placements.size(), 0);
@@ -261,12 +261,12 @@ TEST(AccelInstanceHierarchy, UpdateRefitsTheHierarchyToNewTransforms) {
   auto moved = tlas->update(instances, &error);
   ASSERT_TRUE(moved) << error;
   // A refit: the same tree, new bounds.
-  ASSERT_EQ(moved->impl->nodes.size(), tlas->impl->nodes.size());
-  EXPECT_EQ(moved->impl->leafItems, tlas->impl->leafItems);
-  EXPECT_EQ(moved->impl->root, tlas->impl->root);
+  ASSERT_EQ(moved->impl().nodes.size(), tlas->impl().nodes.size());
+  EXPECT_EQ(moved->impl().leafItems, tlas->impl().leafItems);
+  EXPECT_EQ(moved->impl().root, tlas->impl().root);
   bool sameChildren = true, boundsMoved = false;
-  for (size_t n = 0; n < tlas->impl->nodes.size(); ++n) {
-    const auto &a = tlas->impl->nodes[n], &b = moved->impl->nodes[n];
+  for (size_t n = 0; n < tlas->impl().nodes.size(); ++n) {
+    const auto &a = tlas->impl().nodes[n], &b = moved->impl().nodes[n];
     sameChildren &= a.child[0] == b.child[0] && a.child[1] == b.child[1];
     boundsMoved |= std::memcmp(a.lower, b.lower, sizeof a.lower) != 0;
   }
@@ -286,7 +286,7 @@ TEST(AccelInstanceHierarchy, UpdateRefitsTheHierarchyToNewTransforms) {
   for (const Placement& p : fewer) instances.push_back(placed(p, blases));
   auto rebuilt = moved->update(instances, &error);
   ASSERT_TRUE(rebuilt) << error;
-  EXPECT_EQ(rebuilt->impl->leafItems.size() + 1, moved->impl->leafItems.size());
+  EXPECT_EQ(rebuilt->impl().leafItems.size() + 1, moved->impl().leafItems.size());
   EXPECT_EQ(countWrong(*rebuilt, fewer, 7, 2000), 0u);
 }
 
@@ -360,14 +360,14 @@ TEST(AccelInstanceHierarchy, OneInstanceIsALeafAndNoneIsEmpty) {
   const std::shared_ptr<const Blas> big = makeBlas({tile(5, 4)});
   auto one = makeTlas({instanceOf(big)});
   ASSERT_TRUE(one);
-  EXPECT_TRUE(one->impl->nodes.empty());
-  EXPECT_TRUE(one->impl->root & detail::kLeafRef);
+  EXPECT_TRUE(one->impl().nodes.empty());
+  EXPECT_TRUE(one->impl().root & detail::kLeafRef);
   const Traced t = traceOnce(*one, rayFrom(2.3f, 1.6f, -1, 0, 0, 1));
   EXPECT_TRUE(t.hit);
   EXPECT_EQ(t.info.primitiveIndex, 2u * (1 * 5 + 2) + 1);
   auto none = makeTlas({instanceOf(nullptr), instanceOf(big, 0, 0)});
   ASSERT_TRUE(none);
-  EXPECT_EQ(none->impl->root, detail::kEmptyRef);
+  EXPECT_EQ(none->impl().root, detail::kEmptyRef);
   EXPECT_FALSE(traceOnce(*none, rayFrom(2.3f, 1.6f, -1, 0, 0, 1)).hit);
 }
 
@@ -389,9 +389,9 @@ TEST(AccelInstanceHierarchy, InstancesPastTheBuildersRangeAreClampedAndStillHit)
     instances.push_back(placed({.tile = 0, .z = 4e18f}, blases));
     auto tlas = makeTlas(std::move(instances), options);
     ASSERT_TRUE(tlas);
-    ASSERT_FALSE(tlas->impl->nodes.empty());
+    ASSERT_FALSE(tlas->impl().nodes.empty());
     bool unbounded = false;
-    for (const detail::BvhNode& n : tlas->impl->nodes)
+    for (const detail::BvhNode& n : tlas->impl().nodes)
       for (int k = 0; k < 2; ++k) {
         unbounded |= n.upper[k][0] == HUGE_VALF;
         for (int d = 0; d < 3; ++d) EXPECT_FALSE(std::isnan(n.lower[k][d]) || std::isnan(n.upper[k][d]));
