@@ -111,4 +111,51 @@ const abi::RayQueryRuntime& rayQueryRuntime() { return kRuntime; }
 
 RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) { runtime = &kRuntime; }
 
+unsigned TopLevelResolver::rangeIndex(const Entry* entries, size_t count, uint32_t* firstOf, uint64_t* ranges) {
+  uint64_t n = 1;
+  while (n < count) n *= 2;
+  const uint64_t lo = entries[0].address, span = entries[count - 1].address - lo;
+  unsigned shift = 0;
+  while ((span >> shift) >= n) ++shift;  // (ends by 63 when n >= 2; a single address has span 0)
+  uint64_t r = 0;
+  for (size_t i = 0; i < count; ++i)
+    for (const uint64_t ri = (entries[i].address - lo) >> shift; r <= ri;) firstOf[r++] = uint32_t(i);
+  while (r <= n) firstOf[r++] = uint32_t(count);
+  *ranges = n;
+  return shift;
+}
+
+void TopLevelResolver::takeSnapshot() {
+  std::lock_guard lock(mutex_);
+  if (ready_.load(std::memory_order_relaxed)) return;
+  Snapshot s;
+  snapshot(&s);
+  if (const size_t n = s.structures.size()) {
+    entries_ = std::make_unique<Entry[]>(n);
+    firstOf_ = std::make_unique<uint32_t[]>(2 * n + 1);
+    kept_.reserve(n);
+    for (auto& [address, tlas] : s.structures) {
+      Entry& e = entries_[count_++];
+      e.address = address;
+      if (!tlas) continue;
+      e.tlas.store(tlas.get(), std::memory_order_relaxed);  // (published by ready_)
+      kept_.push_back(std::move(tlas));
+    }
+    shift_ = rangeIndex(entries_.get(), count_, firstOf_.get(), &ranges_);
+  }
+  ready_.store(true, std::memory_order_release);
+}
+
+const accel::Tlas* TopLevelResolver::resolveEntry(Entry& entry) {
+  std::lock_guard lock(mutex_);
+  const accel::Tlas* t = entry.tlas.load(std::memory_order_relaxed);
+  if (!t) {
+    std::shared_ptr<const accel::Tlas> kept = resolve(entry.address);
+    t = kept ? kept.get() : unresolvable();
+    if (kept) kept_.push_back(std::move(kept));
+    entry.tlas.store(t, std::memory_order_release);
+  }
+  return t;
+}
+
 }  // namespace vkrt::exec

@@ -4,23 +4,114 @@
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 #include "abi/abi.hpp"
 #include "accel/accel.hpp"
 
 namespace vkrt::exec {
 
-// What resolves an acceleration structure address for a dispatch or launch (the device's registry).
+// What resolves the acceleration structure addresses of one dispatch or launch (traceRayEXT and ray queries alike),
+// each once: its caller (src/runtime, src/rt) supplies the device's structures (snapshot, resolve) and the reports
+// (missed). On first use it takes the addresses of the structures that may hold a top level in one array of entries
+// sorted by address, and a range index over it: the address span cut into as many equal ranges as there are entries
+// (a power of two), each range holding the index of its first entry. Every resolution reads the address's range
+// and the one after it and, when the range holds an entry, bisects the few entries in it, without a lock and
+// without a virtual call: about two loads of small arrays whatever the number of structures (the addresses come
+// from allocations, so they spread over the span; however they cluster, the bisection of one range is never longer
+// than a bisection of the whole array). An entry holds its address and what it resolved to side by side, so the
+// search's last load brings the structure too. The snapshot resolves what it can at once (the caller's one pass
+// over the device's structures); any other address is resolved through resolve() the first time an invocation meets
+// it (under the table's lock), and an address that denotes no built top level resolves to null, also once, the
+// work's first such miss reported through missed(). So no invocation takes a lock, looks up a hash table or
+// allocates per ray, however many structures the work reaches (at most one resolution per structure and per work).
 class TopLevelResolver {
  public:
   virtual ~TopLevelResolver() = default;
-  // The top-level structure at `address`, kept alive until the dispatch or launch ends, or null after reporting
-  // (no structure there, a destroyed or a bottom-level one): the query finds nothing. Called per ray and per ray
-  // query from any worker: it must take no lock, make no hash lookup and allocate nothing once an address has been
-  // resolved (runtime's TopLevelTable resolves each address once per dispatch or launch).
-  virtual const accel::Tlas* topLevel(uint64_t address) = 0;
+
+  // The top-level structure at `address`, alive until the work ends, or null (no structure there, a destroyed or a
+  // bottom-level one: the ray misses, the query finds nothing). Called per ray and per ray query from any worker.
+  const accel::Tlas* topLevel(uint64_t address) {
+    if (!ready_.load(std::memory_order_acquire)) [[unlikely]]
+      takeSnapshot();
+    const ptrdiff_t i = count_ ? locate(entries_.get(), firstOf_.get(), shift_, ranges_, address) : -1;
+    if (i < 0) [[unlikely]]
+      return miss(address);
+    const accel::Tlas* t = entries_[size_t(i)].tlas.load(std::memory_order_acquire);
+    if (!t) [[unlikely]]
+      t = resolveEntry(entries_[size_t(i)]);
+    return t != unresolvable() ? t : miss(address);
+  }
+
+  // One structure's address and, once resolved, the structure (null before; unresolvable() for an address that
+  // denotes no built top level).
+  struct Entry {
+    uint64_t address = 0;
+    std::atomic<const accel::Tlas*> tlas{nullptr};
+  };
+  // The entry holding `address` among entries sorted by address with the range index `firstOf` (rangeIndex's), or
+  // -1: the search topLevel does, for the tests.
+  static ptrdiff_t locate(const Entry* entries, const uint32_t* firstOf, unsigned shift, uint64_t ranges,
+                          uint64_t address) {
+    if (address < entries[0].address) return -1;
+    const uint64_t r = (address - entries[0].address) >> shift;
+    if (r >= ranges) return -1;
+    size_t p = firstOf[r];
+    const size_t end = firstOf[r + 1];
+    // Bisection without branches on the data (the addresses rays pick are as unpredictable as the application makes
+    // them): `p` ends on the range's last entry whose address is <= `address`.
+    for (size_t n = end - p; n > 1;) {
+      const size_t half = n / 2;
+      p = entries[p + half].address <= address ? p + half : p;
+      n -= half;
+    }
+    return p < end && entries[p].address == address ? ptrdiff_t(p) : -1;
+  }
+  // The range index of `count` (> 0) entries sorted by address: the shift that cuts their span into `*ranges`
+  // ranges (the power of two at or above count), and firstOf[r] (r in 0..*ranges) the index of the first entry at
+  // or past range r. `firstOf` has room for count * 2 + 1 entries.
+  static unsigned rangeIndex(const Entry* entries, size_t count, uint32_t* firstOf, uint64_t* ranges);
+
+  // What snapshot() fills: every structure the work may reach as a top level, by address.
+  struct Snapshot {
+    // Each structure's address, in increasing order, and with it the structure where it is known already (the rest
+    // go through resolve()).
+    std::vector<std::pair<uint64_t, std::shared_ptr<const accel::Tlas>>> structures;
+  };
+
+ protected:
+  // Called once per work, on first use, under the table's lock.
+  virtual void snapshot(Snapshot* out) = 0;
+  // The built top level at `address` (one of the snapshot's, not known then), or null; once per address, under the
+  // table's lock.
+  virtual std::shared_ptr<const accel::Tlas> resolve(uint64_t address) = 0;
+  // The work's first address that resolved to no top level (once per work).
+  virtual void missed(uint64_t address) = 0;
+
+ private:
+  static const accel::Tlas* unresolvable() { return reinterpret_cast<const accel::Tlas*>(uintptr_t(1)); }
+  void takeSnapshot();
+  const accel::Tlas* resolveEntry(Entry& entry);
+  const accel::Tlas* miss(uint64_t address) {
+    // A load first: rays that miss after the first write nothing, so they do not contend for the flag's cache line.
+    if (!missed_.load(std::memory_order_relaxed) && !missed_.exchange(true, std::memory_order_relaxed)) missed(address);
+    return nullptr;
+  }
+
+  std::atomic<bool> ready_{false};  // the snapshot is taken (a load per resolution; std::call_once costs TLS writes)
+  size_t count_ = 0;
+  std::unique_ptr<Entry[]> entries_;     // sorted by address
+  std::unique_ptr<uint32_t[]> firstOf_;  // the range index (rangeIndex)
+  unsigned shift_ = 0;
+  uint64_t ranges_ = 0;
+  std::mutex mutex_;                                      // the snapshot, resolutions, kept_
+  std::vector<std::shared_ptr<const accel::Tlas>> kept_;  // one per resolved structure, alive until the work ends
+  std::atomic<bool> missed_{false};
 };
 
 // The scope of one dispatch or launch. Thread-safe: any worker may resolve.

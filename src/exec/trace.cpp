@@ -112,7 +112,7 @@ struct LaunchState {
   RayTreeRecorder* recorder = nullptr;  // null unless VKRT_RAY_TREE names launch ids
 
   // The top level at `address`: the resolver resolves each address once per launch and answers without a lock
-  // (runtime's TopLevelTable).
+  // (TopLevelResolver, inline).
   const accel::Tlas* topLevel(uint64_t address) { return launch->resolver->topLevel(address); }
 };
 

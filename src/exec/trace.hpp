@@ -7,10 +7,10 @@
 // into a RayLaunch, and answers, through a LaunchResolver, what needs the device: which group an SBT record's handle
 // denotes, which acceleration structure an address is, and the reports. Each record is resolved once per launch and
 // cached here (the first 2^20 records of each region; a record past them is resolved at each use, a hash lookup).
-// Acceleration structure addresses are resolved by the resolver, once per address and launch (runtime's
-// TopLevelTable: a range index over the launch's sorted addresses, without a lock). So while a launch's records are
-// cached, the per-ray path allocates nothing, takes no lock and makes no hash lookup, however many acceleration
-// structures it reaches.
+// Acceleration structure addresses are resolved by the resolver, once per address and launch (its
+// TopLevelResolver part: a range index over the launch's sorted addresses, without a lock or a virtual call). So while
+// a launch's records are cached, the per-ray path allocates nothing, takes no lock and makes no hash lookup, however
+// many acceleration structures it reaches.
 //
 // SBT record index of a hit (the specification's formula): instance SBT offset + the trace's sbtRecordOffset +
 // sbtRecordStride x geometry index. A record whose handle is all zeros is a group with no shaders (a miss or

@@ -189,18 +189,23 @@ std::string describe(const GroupRecord& g) {
 class Launch final : public exec::LaunchResolver {
  public:
   Launch(const CommandBuffer* cb, const char* fn, RayTracingPipeline* pipeline)
-      : cb_(cb), fn_(fn), pipeline_(pipeline), dev_(cb->device), structures_(cb->device) {}
+      : cb_(cb), fn_(fn), pipeline_(pipeline), dev_(cb->device) {}
 
   void run(const ExecState& st, const SbtRegions& sbt, const uint32_t size[3]);
 
   const exec::RayGroup* group(exec::SbtRegion region, uint64_t index, const uint8_t* record) override;
-  const accel::Tlas* topLevel(uint64_t address) override;
   void recordOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t stride, uint64_t size) override;
   void recordDataOutsideRegion(exec::SbtRegion region, uint64_t index, uint64_t offset, uint64_t bytes,
                                uint64_t regionBytes, uint64_t readableBytes, const exec::RayShader& reader) override;
   void hitGroupMismatch(uint64_t index, const exec::RayGroup& group, bool triangles) override;
   void recursionTooDeep(uint32_t depth, uint32_t maxDepth, const exec::RayShader& caller) override;
   void stackExceeded(const exec::RayShader* const* chain, uint32_t n, uint64_t needed, uint64_t stackSize) override;
+
+ protected:
+  // The acceleration structures the launch reaches (exec::TopLevelResolver, which resolves each once).
+  void snapshot(Snapshot* out) override { snapshotTopLevels(dev_, out); }
+  std::shared_ptr<const accel::Tlas> resolve(uint64_t address) override { return topLevelAt(dev_, address); }
+  void missed(uint64_t address) override;
 
  private:
   enum Rule {
@@ -228,7 +233,6 @@ class Launch final : public exec::LaunchResolver {
   std::unordered_map<const GroupRecord*, uint32_t> index_;  // group record -> pipeline group index
   std::unordered_map<const spirv::CompiledShader*, BoundResources> resources_;
   std::deque<std::string> names_;  // RayShader::name storage
-  TopLevelTable structures_;       // the acceleration structures the launch reaches, resolved once each
   std::atomic<bool> reported_[kRuleCount] = {};
 };
 
@@ -438,16 +442,12 @@ const exec::RayGroup* Launch::group(exec::SbtRegion region, uint64_t index, cons
   return checkKind(region, index, record, it->second);
 }
 
-const accel::Tlas* Launch::topLevel(uint64_t address) {
-  bool firstMiss = false;
-  const accel::Tlas* t = structures_.find(address, &firstMiss);
-  if (firstMiss)
-    report(cb_, Severity::Error, nullptr,
-           "%s: traceRayEXT or rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is "
-           "not the address of a built top-level acceleration structure of this device; those rays miss (those ray "
-           "queries find no intersection)",
-           fn_, (ull)address);
-  return t;
+void Launch::missed(uint64_t address) {
+  report(cb_, Severity::Error, nullptr,
+         "%s: traceRayEXT or rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is "
+         "not the address of a built top-level acceleration structure of this device; those rays miss (those ray "
+         "queries find no intersection)",
+         fn_, (ull)address);
 }
 
 // The record's extent is not a VUID: "Shader Binding Table" > "Indexing Rules" states, for each region, that "all

@@ -125,97 +125,27 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
   return fresh->tlas;
 }
 
-unsigned TopLevelTable::rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf, uint64_t* ranges) {
-  uint64_t n = 1;
-  while (n < count) n *= 2;
-  const uint64_t lo = addresses[0], span = addresses[count - 1] - lo;
-  unsigned shift = 0;
-  while ((span >> shift) >= n) ++shift;  // (ends by 63 when n >= 2; a single address has span 0)
-  uint64_t r = 0;
-  for (size_t i = 0; i < count; ++i)
-    for (const uint64_t ri = (addresses[i] - lo) >> shift; r <= ri;) firstOf[r++] = uint32_t(i);
-  while (r <= n) firstOf[r++] = uint32_t(count);
-  *ranges = n;
-  return shift;
-}
-
-ptrdiff_t TopLevelTable::locate(const uint64_t* addresses, const uint32_t* firstOf, unsigned shift, uint64_t ranges,
-                                uint64_t address) {
-  if (address < addresses[0]) return -1;
-  const uint64_t r = (address - addresses[0]) >> shift;
-  if (r >= ranges) return -1;
-  size_t p = firstOf[r];
-  // Bisection without branches on the data (the addresses rays pick are as unpredictable as the application makes
-  // them): `p` ends on the range's last entry whose address is <= `address`.
-  for (size_t n = firstOf[r + 1] - p; n > 1;) {
-    const size_t half = n / 2;
-    p = addresses[p + half] <= address ? p + half : p;
-    n -= half;
-  }
-  return p < firstOf[r + 1] && addresses[p] == address ? ptrdiff_t(p) : -1;
-}
-
-void TopLevelTable::snapshot() {
-  std::lock_guard lock(dev_->accelerationStructuresMutex);
+void snapshotTopLevels(Device* dev, exec::TopLevelResolver::Snapshot* out) {
+  const uint64_t generation = dev->blasGeneration.load();
+  std::lock_guard lock(dev->accelerationStructuresMutex);
   size_t n = 0;
-  for (const auto& entry : dev_->accelerationStructures)
+  for (const auto& entry : dev->accelerationStructures)
     n += entry.second->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-  if (!n) return;
-  addresses_ = std::make_unique<uint64_t[]>(n);
-  resolved_ = std::make_unique<std::atomic<const accel::Tlas*>[]>(n);
-  firstOf_ = std::make_unique<uint32_t[]>(2 * n + 1);
-  for (const auto& [address, as] : dev_->accelerationStructures)  // (a std::map: the addresses come sorted)
-    if (as->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) addresses_[count_++] = address;
-  shift_ = rangeIndex(addresses_.get(), count_, firstOf_.get(), &ranges_);
-}
-
-const accel::Tlas* TopLevelTable::miss(bool* firstMiss) {
-  // A load first: rays that miss after the first write nothing, so they do not contend for the flag's cache line.
-  *firstMiss = !missed_.load(std::memory_order_relaxed) && !missed_.exchange(true, std::memory_order_relaxed);
-  return nullptr;
-}
-
-namespace {
-// What an entry holds once its address turned out to be no built top level (kept, so it is resolved once).
-const accel::Tlas* const kUnresolvable = reinterpret_cast<const accel::Tlas*>(uintptr_t(1));
-}  // namespace
-
-const accel::Tlas* TopLevelTable::find(uint64_t address, bool* firstMiss) {
-  *firstMiss = false;
-  if (!ready_.load(std::memory_order_acquire)) {
-    std::lock_guard lock(mutex_);
-    if (!ready_.load(std::memory_order_relaxed)) {
-      snapshot();
-      ready_.store(true, std::memory_order_release);
-    }
+  out->structures.reserve(n);
+  for (const auto& [address, as] : dev->accelerationStructures) {  // (a std::map: the addresses come sorted)
+    if (as->type == VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) continue;
+    std::shared_ptr<const AccelerationStructure::Content> c = as->content();
+    const bool current =
+        c && c->tlas && (c->blasGeneration == generation || as->checkedGeneration.load() == generation);
+    out->structures.emplace_back(address, current ? c->tlas : nullptr);
   }
-  if (!count_) return miss(firstMiss);
-  const ptrdiff_t i = locate(addresses_.get(), firstOf_.get(), shift_, ranges_, address);
-  if (i < 0) return miss(firstMiss);
-  std::atomic<const accel::Tlas*>& entry = resolved_[size_t(i)];
-  const accel::Tlas* t = entry.load(std::memory_order_acquire);
-  if (!t) {
-    std::lock_guard lock(mutex_);
-    t = entry.load(std::memory_order_relaxed);
-    if (!t) {
-      std::shared_ptr<const accel::Tlas> kept = topLevelAt(dev_, address);
-      t = kept ? kept.get() : kUnresolvable;
-      if (kept) kept_.push_back(std::move(kept));
-      entry.store(t, std::memory_order_release);
-    }
-  }
-  return t != kUnresolvable ? t : miss(firstMiss);
 }
 
-const accel::Tlas* DispatchStructures::topLevel(uint64_t address) {
-  bool firstMiss = false;
-  const accel::Tlas* t = table_.find(address, &firstMiss);
-  if (firstMiss)
-    report(about_, Severity::Error, nullptr,
-           "%s: rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is not the address "
-           "of a built top-level acceleration structure of this device; those ray queries find no intersection",
-           fn_, (ull)address);
-  return t;
+void DispatchStructures::missed(uint64_t address) {
+  report(about_, Severity::Error, nullptr,
+         "%s: rayQueryInitializeEXT was given the acceleration structure address 0x%llx, which is not the address "
+         "of a built top-level acceleration structure of this device; those ray queries find no intersection",
+         fn_, (ull)address);
 }
 
 VkDeviceSize requiredSize(uint64_t primitives) {

@@ -102,61 +102,29 @@ AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address);
 // once, and kept (a launch resolves each top level once).
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address);
 
-// The top-level structures one dispatch or launch reaches through addresses (traceRayEXT and ray queries alike),
-// each resolved once. On first use it takes the addresses of the device's structures that may hold a top level (any
-// not created as bottom-level) in one sorted array, and a range index over it: the address span cut into as many
-// equal ranges as there are entries (a power of two), each range holding the index of its first entry. Every later
-// resolution reads the address's range and the one after it and, when the range holds an entry, bisects the few
-// entries in it, without a lock: about two loads of a small array whatever the number of structures (the
-// addresses come from allocations, so they spread over the span; however they cluster, the bisection of one range
-// is never longer than a bisection of the whole array). An address's structure is resolved through topLevelAt the
-// first time any invocation meets it (under the table's lock) and kept alive until the work ends, and an address
-// that denotes no built top level resolves to null, also once. So no invocation takes a lock, looks up a hash table
-// or allocates per ray, however many structures the work reaches (at most one resolution per structure and per
-// work).
-class TopLevelTable {
- public:
-  explicit TopLevelTable(Device* dev) : dev_(dev) {}
-  // The built top level at `address`, or null; `*firstMiss` is set when this null is the work's first.
-  const accel::Tlas* find(uint64_t address, bool* firstMiss);
+// What a dispatch's or launch's TopLevelResolver (exec/ray_query.hpp) takes on first use: the address of each of
+// the device's structures that may hold a top level (any not created as bottom-level), in increasing order, each
+// built top level whose bottom levels are current (topLevelAt's test, which holds for nearly every one) with its
+// structure, under the one lock the snapshot takes anyway: a launch through many top levels makes no resolution
+// of its own for them, and its threads do not queue for the resolver's and the device's locks to make one each
+// (1,000 top levels cost a launch about 1.5 ms that way). The others (stale, not built, not there) are left to
+// the resolver's resolve(), topLevelAt.
+void snapshotTopLevels(Device* dev, exec::TopLevelResolver::Snapshot* out);
 
-  // The entry holding `address` among `count` sorted addresses with the range index `firstOf` (rangeIndex's), or
-  // -1: the search find does, for the tests.
-  static ptrdiff_t locate(const uint64_t* addresses, const uint32_t* firstOf, unsigned shift, uint64_t ranges,
-                          uint64_t address);
-  // The range index of `count` (> 0) sorted addresses: the shift that cuts their span into `*ranges` ranges (the
-  // power of two at or above count), and firstOf[r] (r in 0..*ranges) the index of the first address at or past
-  // range r. `firstOf` has room for count * 2 + 1 entries.
-  static unsigned rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf, uint64_t* ranges);
-
- private:
-  void snapshot();
-  const accel::Tlas* miss(bool* firstMiss);
-
-  Device* dev_;
-  std::atomic<bool> ready_{false};  // snapshot() has run (a load per resolution; std::call_once costs TLS writes)
-  size_t count_ = 0;
-  std::unique_ptr<uint64_t[]> addresses_;  // sorted
-  // What addresses_[i] resolved to: null until resolved, then the structure or kUnresolvable.
-  std::unique_ptr<std::atomic<const accel::Tlas*>[]> resolved_;
-  std::unique_ptr<uint32_t[]> firstOf_;  // the range index (rangeIndex)
-  unsigned shift_ = 0;
-  uint64_t ranges_ = 0;
-  std::mutex mutex_;                                      // the snapshot, resolutions, kept_
-  std::vector<std::shared_ptr<const accel::Tlas>> kept_;  // one per resolved structure, alive until the work ends
-  std::atomic<bool> missed_{false};
-};
-
-// Resolves the acceleration structure addresses of one dispatch's ray queries (exec/ray_query.hpp) through a
-// TopLevelTable; an address that is no built top-level structure is reported once per dispatch (naming `about`
-// and `fn`), and those queries find nothing.
+// Resolves the acceleration structure addresses of one dispatch's ray queries (exec/ray_query.hpp) on the device's
+// structures; an address that is no built top-level structure is reported once per dispatch (naming `about` and
+// `fn`), and those queries find nothing.
 class DispatchStructures final : public exec::TopLevelResolver {
  public:
-  DispatchStructures(Device* dev, const Object* about, const char* fn) : table_(dev), about_(about), fn_(fn) {}
-  const accel::Tlas* topLevel(uint64_t address) override;
+  DispatchStructures(Device* dev, const Object* about, const char* fn) : dev_(dev), about_(about), fn_(fn) {}
+
+ protected:
+  void snapshot(Snapshot* out) override { snapshotTopLevels(dev_, out); }
+  std::shared_ptr<const accel::Tlas> resolve(uint64_t address) override { return topLevelAt(dev_, address); }
+  void missed(uint64_t address) override;
 
  private:
-  TopLevelTable table_;
+  Device* dev_;
   const Object* about_;
   const char* fn_;
 };

@@ -576,7 +576,7 @@ class RayQueryMisuseTest : public RayQueryTest {
 };
 
 // Hundreds of top levels reached in one dispatch, each invocation choosing one by address: each resolves once per
-// dispatch (runtime's TopLevelTable), rays take no lock, make no hash lookup and allocate nothing however many
+// dispatch (exec's TopLevelResolver), rays take no lock, make no hash lookup and allocate nothing however many
 // structures there are. Before, a dispatch's first 16 addresses were cached and every ray on a later one took two
 // locks, a hash lookup and kept another reference in a list that grew with every ray (about 10 bytes a ray, without
 // bound): the resident memory is checked over three dispatches of 2^18 queries. A bottom-level address and a wild

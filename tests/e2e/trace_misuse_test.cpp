@@ -306,7 +306,7 @@ TEST_F(TraceMisuseTest, TensOfThousandsOfInstancesResolveEachRunOfReferencesAndR
 }
 
 // traceRayEXT through hundreds of top levels in one launch, each launch index choosing one by address: the launch
-// resolves each address once (runtime's TopLevelTable), and rays take no lock, make no hash lookup and allocate
+// resolves each address once (exec's TopLevelResolver), and rays take no lock, make no hash lookup and allocate
 // nothing however many structures there are (before, past the 16th address of a launch every ray took two locks, a
 // hash lookup and appended a reference to a list that grew with every ray). Every pixel is checked against the
 // structure its index chose; a bottom-level address and a wild one among them miss, reported once per launch; the

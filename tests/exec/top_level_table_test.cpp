@@ -1,4 +1,4 @@
-// The range index over a launch's sorted top-level addresses (runtime/acceleration_structure.hpp, TopLevelTable):
+// The range index over a launch's sorted top-level addresses (exec/ray_query.hpp, TopLevelResolver):
 // every address is found at its own entry, and no other address is found, whatever the spread of the addresses
 // (evenly spaced as allocations give them, clustered, one, two, spanning all of uint64_t).
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "runtime/acceleration_structure.hpp"
+#include "exec/ray_query.hpp"
 
 namespace vkrt {
 namespace {
@@ -18,9 +18,11 @@ void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 
   std::sort(addresses.begin(), addresses.end());
   addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
   const size_t n = addresses.size();
+  std::vector<exec::TopLevelResolver::Entry> entries(n);
+  for (size_t i = 0; i < n; ++i) entries[i].address = addresses[i];
   std::vector<uint32_t> firstOf(2 * n + 1, 0xFFFFFFFFu);
   uint64_t ranges = 0;
-  const unsigned shift = TopLevelTable::rangeIndex(addresses.data(), n, firstOf.data(), &ranges);
+  const unsigned shift = exec::TopLevelResolver::rangeIndex(entries.data(), n, firstOf.data(), &ranges);
   ASSERT_GE(ranges, n);
   ASSERT_LT(ranges, 2 * n);
   ASSERT_EQ(ranges & (ranges - 1), 0u) << "a power of two";
@@ -33,7 +35,7 @@ void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 
     return it != addresses.end() && *it == a ? it - addresses.begin() : -1;
   };
   auto check = [&](uint64_t a) {
-    ASSERT_EQ(TopLevelTable::locate(addresses.data(), firstOf.data(), shift, ranges, a), expected(a))
+    ASSERT_EQ(exec::TopLevelResolver::locate(entries.data(), firstOf.data(), shift, ranges, a), expected(a))
         << "address 0x" << std::hex << a << " among " << std::dec << n;
   };
   for (uint64_t a : addresses) {
