@@ -83,6 +83,14 @@ AccelerationStructure* accelerationStructureAt(Device* dev, uint64_t address) {
   return it == dev->accelerationStructures.end() ? nullptr : it->second;
 }
 
+namespace {
+// Whether a top level's content `c` at `as` is known to be over its bottom levels' current contents at the device's
+// bottom-level `generation`: built at it, or found current at it since (topLevelAt). (A null tlas is not.)
+bool currentTopLevel(const AccelerationStructure& as, const AccelerationStructure::Content* c, uint64_t generation) {
+  return c && c->tlas && (c->blasGeneration == generation || as.checkedGeneration.load() == generation);
+}
+}  // namespace
+
 std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
   AccelerationStructure* as = nullptr;
   std::shared_ptr<const AccelerationStructure::Content> c;
@@ -97,7 +105,7 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
     as = it->second;
     c = as->content();
     if (!c || !c->tlas) return nullptr;
-    if (c->blasGeneration == generation || as->checkedGeneration.load() == generation) return c->tlas;
+    if (currentTopLevel(*as, c.get(), generation)) return c->tlas;
     // Some bottom level was built since: compare each instance's with the current content at its address.
     instances.assign(c->tlas->instances().begin(), c->tlas->instances().end());
     for (size_t i = 0; i < instances.size() && i < c->blasAt.size(); ++i) {
@@ -128,16 +136,10 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
 void snapshotTopLevels(Device* dev, exec::TopLevelResolver::Snapshot* out) {
   const uint64_t generation = dev->blasGeneration.load();
   std::lock_guard lock(dev->accelerationStructuresMutex);
-  size_t n = 0;
-  for (const auto& entry : dev->accelerationStructures)
-    n += entry.second->type != VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-  out->structures.reserve(n);
   for (const auto& [address, as] : dev->accelerationStructures) {  // (a std::map: the addresses come sorted)
     if (as->type == VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) continue;
     std::shared_ptr<const AccelerationStructure::Content> c = as->content();
-    const bool current =
-        c && c->tlas && (c->blasGeneration == generation || as->checkedGeneration.load() == generation);
-    out->structures.emplace_back(address, current ? c->tlas : nullptr);
+    out->structures.emplace_back(address, currentTopLevel(*as, c.get(), generation) ? c->tlas : nullptr);
   }
 }
 
