@@ -78,15 +78,8 @@ namespace {
 // it hits changes.
 void boxBounds(const RTCBoundsFunctionArguments* args) {
   const auto* info = static_cast<const GeometryInfo*>(args->geometryUserPtr);
-  const float* b = info->boxes + 6 * size_t(args->primID);
-  float lower[3] = {b[0], b[1], b[2]}, upper[3] = {b[3], b[4], b[5]};
-  if (lower[0] <= upper[0] && lower[1] <= upper[1] && lower[2] <= upper[2] && !hasExtent(lower, upper)) {
-    for (int k = 0; k < 3; ++k) {
-      const float pad = std::max(std::fabs(lower[k]) * 0x1p-20f, std::numeric_limits<float>::min());
-      lower[k] = flushDenormal(lower[k]) - pad;
-      upper[k] = flushDenormal(upper[k]) + pad;
-    }
-  }
+  float lower[3], upper[3];
+  embreeBoxBounds(info->boxes + 6 * size_t(args->primID), lower, upper);
   RTCBounds* out = args->bounds_o;
   out->lower_x = lower[0];
   out->lower_y = lower[1];
@@ -165,6 +158,25 @@ std::unique_ptr<Blas::Impl> makeImpl(std::vector<Geometry> geometries, const Bui
     impl->primitives += info.primitiveCount;
   }
   return impl;
+}
+
+// A direct Blas (small, boxes only): the boxes Embree would keep, in geometry and primitive order, and the union of
+// their bounds as Embree would compute the scene's (empty: lower above upper).
+void makeDirect(Blas::Impl& impl) {
+  impl.direct = true;
+  float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+  for (uint32_t g = 0; g < impl.info.size(); ++g) {
+    const GeometryInfo& info = impl.info[g];
+    if (info.kind != Geometry::Aabbs) continue;
+    for (uint32_t p = 0; p < info.primitiveCount; ++p) {
+      float lower[3], upper[3];
+      embreeBoxBounds(info.boxes + 6 * size_t(p), lower, upper);
+      if (!embreeKeepsBounds(lower, upper)) continue;
+      impl.directBoxes[impl.directCount++] = {g, p};
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], lower[k]), hi[k] = std::max(hi[k], upper[k]);
+    }
+  }
+  impl.directBounds = RTCBounds{lo[0], lo[1], lo[2], 0, hi[0], hi[1], hi[2], 0};
 }
 
 bool hasNoDuplicateAnyHit(const Blas::Impl& impl) {
@@ -361,6 +373,7 @@ std::shared_ptr<Blas> Blas::build(std::vector<Geometry> geometries, const BuildO
   if (!detail::validate(geometries, error)) return nullptr;
   auto impl = detail::makeImpl(std::move(geometries), options);
   impl->small = impl->primitives <= kSmallBlasPrimitives;
+  if (impl->small && impl->summary.aabbs && !impl->summary.triangles) detail::makeDirect(*impl);
   if (!impl->small) {
     impl->scene = detail::newScene(*impl, error);
     if (!impl->scene) return nullptr;

@@ -3,6 +3,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -74,8 +75,16 @@ namespace vkrt::accel {
 // A bottom level of at most this many primitives is small: its build makes no Embree scene (an Embree scene and its
 // commit cost about 5 KB and 5-15 us whatever their size, which dominated builds of thousands of one-triangle
 // structures). A top level puts the triangles of the small ones it instances into its own scene, in world space
-// (tlas.cpp: "flattened"), and gives the others an Embree scene made on first use (sceneFor()).
+// (tlas.cpp: "flattened"); a small one of boxes only never gets a scene: traversal offers its boxes one by one
+// (direct); the others (triangles and boxes) get an Embree scene made on first use (sceneFor()).
 inline constexpr uint64_t kSmallBlasPrimitives = 16;
+
+namespace detail {
+// A box of a direct Blas that Embree would keep (embreeKeepsBounds): the ones traversal offers.
+struct DirectBox {
+  uint32_t geometry, primitive;
+};
+}  // namespace detail
 
 struct Blas::Impl {
   std::vector<Geometry> geometries;
@@ -86,6 +95,12 @@ struct Blas::Impl {
   bool small = false;                       // primitives <= kSmallBlasPrimitives: no scene until sceneFor()
   RTCScene scene = nullptr;                 // committed, read-only after build (small: made by sceneFor())
   std::shared_ptr<detail::RefitPool> pool;  // allowUpdate, not small
+  // Small and of boxes only: no Embree scene ever; its boxes Embree would keep, and their bounds (Embree's, empty
+  // when there is none).
+  bool direct = false;
+  uint32_t directCount = 0;
+  detail::DirectBox directBoxes[kSmallBlasPrimitives];
+  RTCBounds directBounds{};
 
   // The committed Embree scene (a small one's is built on the first call, once, thread-safely); null when Embree
   // cannot build it (out of memory).
@@ -105,7 +120,7 @@ namespace detail {
 // What traversal reads to enter an instance (worldToObject, scene, mask) is in the record's first cache line.
 struct alignas(64) InstanceRecord {
   float worldToObject[3][4];
-  RTCScene scene = nullptr;  // the Blas's Embree scene, where the instance is in the Tlas's hierarchy
+  RTCScene scene = nullptr;  // the Blas's Embree scene, where the instance is in the Tlas's hierarchy (null: direct)
   uint32_t mask = 0;         // the 8-bit instance mask
   uint32_t flags = 0;
   float objectToWorld[3][4];
@@ -158,6 +173,28 @@ inline bool hasExtent(const float lower[3], const float upper[3]) {
     if (double(flushDenormal(upper[k])) - double(flushDenormal(lower[k])) >= std::numeric_limits<float>::min())
       return true;
   return false;
+}
+
+// The bounds Embree is given for box `b` (6 floats; blas.cpp, boxBounds): the box itself, or, where it is ordered
+// but has no extent (hasExtent), the box widened on every axis by a normal float's worth relative to its
+// coordinates. The bounds only cull: the intersection callback tests the box as given.
+inline void embreeBoxBounds(const float* b, float lower[3], float upper[3]) {
+  for (int k = 0; k < 3; ++k) lower[k] = b[k], upper[k] = b[k + 3];
+  if (!(lower[0] <= upper[0] && lower[1] <= upper[1] && lower[2] <= upper[2]) || hasExtent(lower, upper)) return;
+  for (int k = 0; k < 3; ++k) {
+    const float pad = std::max(std::fabs(lower[k]) * 0x1p-20f, std::numeric_limits<float>::min());
+    lower[k] = flushDenormal(lower[k]) - pad;
+    upper[k] = flushDenormal(upper[k]) + pad;
+  }
+}
+
+// Embree leaves out of its hierarchy (never hit) a user primitive whose bounds are not ordered on some axis (NaN
+// included: an inactive box) or reach its FLT_LARGE, 1.844e18.
+inline constexpr float kEmbreeLarge = 1.844e18f;
+inline bool embreeKeepsBounds(const float lower[3], const float upper[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!(lower[k] <= upper[k]) || !(lower[k] > -kEmbreeLarge) || !(upper[k] < kEmbreeLarge)) return false;
+  return true;
 }
 
 // Embree 3 traces only rays whose origin and direction components lie within +-1.844e18 (its FLT_LARGE), in world

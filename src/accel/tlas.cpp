@@ -589,9 +589,9 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
   const size_t n = impl.instances.size();
   std::vector<uint8_t> flat;
   if (!buildFlatScene(device, impl, flat, error)) return false;
-  // The scenes of the small structures instanced here (not flattened) are made first, on this thread: made inside
-  // the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop that needs
-  // the same scene, re-entering its std::call_once.
+  // The scenes of the small structures instanced here (not flattened, not direct) are made first, on this thread:
+  // made inside the parallel loop below, a thread waiting for one Embree commit could run another chunk of the loop
+  // that needs the same scene, re-entering its std::call_once.
   // (Which ones is found in chunks: each distinct one, then their scenes made one after the other.)
   if (impl.summary.small) {
     std::mutex merge;
@@ -600,7 +600,7 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
       std::vector<const Blas::Impl*> used;
       for (size_t i = begin; i < end; ++i) {
         const InstanceRecord& r = impl.records[i];
-        if (!flat[i] && r.blas && r.blas->small && r.blas->primitives && r.mask &&
+        if (!flat[i] && r.blas && r.blas->small && !r.blas->direct && r.blas->primitives && r.mask &&
             (used.empty() || used.back() != r.blas))
           used.push_back(r.blas);
       }
@@ -617,14 +617,20 @@ bool buildLevels(Tlas::Impl& impl, const Tlas::Impl* source, std::string* error)
     for (size_t i = begin; i < end; ++i) {
       InstanceRecord& r = impl.records[i];
       if (flat[i] || !r.blas || !r.blas->primitives || !r.mask) continue;  // never hit (or flattened); the index stays
-      RTCScene inner = r.blas->sceneFor();
-      if (!inner) {
-        outOfMemory.store(true, std::memory_order_relaxed);
-        continue;
+      RTCScene inner = nullptr;  // (a direct Blas has none: traversal offers its boxes)
+      RTCBounds b;
+      if (r.blas->direct) {
+        if (!r.blas->directCount) continue;  // no box Embree would keep: never hit
+        b = r.blas->directBounds;
+      } else {
+        inner = r.blas->sceneFor();
+        if (!inner) {
+          outOfMemory.store(true, std::memory_order_relaxed);
+          continue;
+        }
+        rtcGetSceneBounds(inner, &b);
       }
       // An instance without extent in world space (as Embree transforms it) is left out: never hit.
-      RTCBounds b;
-      rtcGetSceneBounds(inner, &b);
       if (!worldBounds(b, r.objectToWorld, bounds[i]) && !worldBoundsHaveExtent(b, r.objectToWorld)) continue;
       r.scene = inner;
       bounds[i].geomID = 0;

@@ -451,6 +451,19 @@ void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, 
   ctx.handler->intersect(candidate);
 }
 
+// A direct Blas (small, boxes only: no Embree scene) inside its instance: each box Embree would keep goes to runBox,
+// which tests it exactly as Embree's callback does, unless the ray skips boxes (its Embree mask), until the
+// traversal ends. (Embree would call it only for boxes its hierarchy's conservative tests admit; runBox's own test
+// decides either way.)
+void offerDirectBoxes(const Blas::Impl& blas, TraceContext& ctx, RTCRay& ray, RTCHit* hit) {
+  if (!(ray.mask & kAabbMaskBit)) return;
+  for (uint32_t k = 0; k < blas.directCount; ++k) {
+    const DirectBox& d = blas.directBoxes[k];
+    runBox(&ctx.embree, const_cast<GeometryInfo*>(&blas.info[d.geometry]), d.geometry, d.primitive, ray, hit);
+    if (!(ray.tfar >= ray.tnear) || ctx.terminated) return;
+  }
+}
+
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 // The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
@@ -518,7 +531,9 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
                     d[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
         if (!rayInEmbreeRange(o, d)) continue;
         ctx.embree.instID[0] = i;
-        if constexpr (kOccluded)
+        if (!r.scene)
+          offerDirectBoxes(*r.blas, ctx, rh.ray, kOccluded ? nullptr : &rh.hit);
+        else if constexpr (kOccluded)
           rtcOccluded1(r.scene, &ctx.embree, &rh.ray);
         else
           rtcIntersect1(r.scene, &ctx.embree, &rh);
