@@ -428,7 +428,7 @@ class BoxCandidate final : public ProceduralCandidate {
   HitInfo info_;
 };
 
-void runBox(const RTCIntersectContext* context, void* userPtr, unsigned geomID, unsigned primID, RTCRay& ray,
+void runBox(const RTCIntersectContext* context, const void* userPtr, unsigned geomID, unsigned primID, RTCRay& ray,
             RTCHit* hit) {
   TraceContext& ctx = contextOf(context);
   if (ctx.terminated) return;
@@ -459,7 +459,7 @@ void offerDirectBoxes(const Blas::Impl& blas, TraceContext& ctx, RTCRay& ray, RT
   if (!(ray.mask & kAabbMaskBit)) return;
   for (uint32_t k = 0; k < blas.directCount; ++k) {
     const DirectBox& d = blas.directBoxes[k];
-    runBox(&ctx.embree, const_cast<GeometryInfo*>(&blas.info[d.geometry]), d.geometry, d.primitive, ray, hit);
+    runBox(&ctx.embree, &blas.info[d.geometry], d.geometry, d.primitive, ray, hit);
     if (!(ray.tfar >= ray.tnear) || ctx.terminated) return;
   }
 }
