@@ -21,6 +21,24 @@ using ull = unsigned long long;
 constexpr uint8_t kCompatibilityUuid[VK_UUID_SIZE] = {'v', 'k', 'r', 't', '-', 'a', 's', '-',
                                                       's', 'e', 'r', 0,   0,   0,   0,   1};
 
+// The registry's entry at `at` becomes `as`, in both of its maps. Under the registry mutex.
+void place(Device* dev, uint64_t at, AccelerationStructure* as) {
+  dev->accelerationStructures[at] = as;
+  if (as->type == VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) {
+    dev->topLevelStructures.erase(at);
+  } else {
+    dev->topLevelStructures[at] = as;
+  }
+}
+
+// Removes the registry's entry at `at` if it is `as`. Under the registry mutex.
+void unplace(Device* dev, uint64_t at, const AccelerationStructure* as) {
+  auto it = dev->accelerationStructures.find(at);
+  if (it == dev->accelerationStructures.end() || it->second != as) return;
+  dev->accelerationStructures.erase(it);
+  dev->topLevelStructures.erase(at);
+}
+
 }  // namespace
 
 AccelerationStructure::AccelerationStructure(Device* dev, const VkAccelerationStructureCreateInfoKHR& info, Buffer* buf)
@@ -34,9 +52,7 @@ AccelerationStructure::AccelerationStructure(VkObjectType objectType, Device* de
 
 AccelerationStructure::~AccelerationStructure() {
   std::lock_guard lock(device->accelerationStructuresMutex);
-  if (!registeredAt_) return;
-  auto it = device->accelerationStructures.find(registeredAt_);
-  if (it != device->accelerationStructures.end() && it->second == this) device->accelerationStructures.erase(it);
+  if (registeredAt_) unplace(device, registeredAt_, this);
 }
 
 uint64_t AccelerationStructure::address() const {
@@ -51,15 +67,8 @@ void AccelerationStructure::registerAddress(bool built) {
   const uint64_t at = address();
   if (!at) return;
   std::lock_guard lock(device->accelerationStructuresMutex);
-  if (registeredAt_ && registeredAt_ != at) {  // (the buffer cannot be bound twice; kept exact anyway)
-    auto it = device->accelerationStructures.find(registeredAt_);
-    if (it != device->accelerationStructures.end() && it->second == this) device->accelerationStructures.erase(it);
-  }
-  if (built) {
-    device->accelerationStructures[at] = this;
-  } else {
-    device->accelerationStructures.try_emplace(at, this);
-  }
+  if (registeredAt_ && registeredAt_ != at) unplace(device, registeredAt_, this);  // (a buffer is bound once; kept exact)
+  if (built || !device->accelerationStructures.count(at)) place(device, at, this);
   registeredAt_ = at;
 }
 
@@ -136,8 +145,8 @@ std::shared_ptr<const accel::Tlas> topLevelAt(Device* dev, uint64_t address) {
 void snapshotTopLevels(Device* dev, exec::TopLevelResolver::Snapshot* out) {
   const uint64_t generation = dev->blasGeneration.load();
   std::lock_guard lock(dev->accelerationStructuresMutex);
-  for (const auto& [address, as] : dev->accelerationStructures) {  // (a std::map: the addresses come sorted)
-    if (as->type == VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR) continue;
+  out->structures.reserve(dev->topLevelStructures.size());
+  for (const auto& [address, as] : dev->topLevelStructures) {  // (a std::map: the addresses come sorted)
     std::shared_ptr<const AccelerationStructure::Content> c = as->content();
     out->structures.emplace_back(address, currentTopLevel(*as, c.get(), generation) ? c->tlas : nullptr);
   }

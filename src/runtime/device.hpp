@@ -45,6 +45,9 @@ class Device : public Object {
   // created or built one at each address.
   std::mutex accelerationStructuresMutex;
   std::map<uint64_t, AccelerationStructure*> accelerationStructures;
+  // The entries of accelerationStructures whose structure is not of bottom-level type, kept in step with it (under
+  // the same mutex): what a launch's table of top levels is made from, without walking every bottom level.
+  std::map<uint64_t, AccelerationStructure*> topLevelStructures;
   // Counts the builds (and copies) of bottom-level contents: a top level built at the current count refers to the
   // current contents of its bottom levels (topLevelAt).
   std::atomic<uint64_t> blasGeneration{0};

@@ -6,6 +6,7 @@
 #   <dev>/vkrt.tar.xz         libvkrt.so (and bench/vkrt_rasterbench) of a Release build
 #   <dev>/deqp.tar.xz.*       deqp-vk and its data folder (split in 15 MiB parts), or else
 #   <dev>/cts-graphics-src.tar.xz  the sources from tools/cts/build-graphics.sh --tarball, built here (about 4.5 min)
+# (neither is needed on a warm machine that built or unpacked deqp-vk in an earlier call: that one is run).
 # (LAVAPIPE=1: lavapipe's <dev>/lvp.tar.xz instead of vkrt.) Then runs api.smoke.* in one process (the sanity check) and tools/cts/run_parallel.sh (16 processes, VKRT_THREADS=1) over the patterns, <budget_s> seconds, into $OUT.
 # Usage: device.sh <dev> <budget_s> <pattern>...     (STRIDE / EXCLUDE pass through to run_parallel.sh)
 set -u
@@ -27,7 +28,9 @@ if [ -n "${LAVAPIPE:-}" ]; then
 fi
 cts=/tmp/cts/build/external/vulkancts/modules/vulkan
 mkdir -p "$cts"
-if ls "$dev"/deqp.tar.xz.* > /dev/null 2>&1; then
+if [ -x "$cts/deqp-vk" ]; then
+  echo "deqp-vk: the one a warm machine kept"
+elif ls "$dev"/deqp.tar.xz.* > /dev/null 2>&1; then
   cat "$dev"/deqp.tar.xz.* | tar -xJ -C "$cts"
 else
   tar -xJf "$dev/cts-graphics-src.tar.xz" -C /tmp/cts
