@@ -288,6 +288,14 @@ struct CommittedHit {
 // Determination" says). A ray Vulkan does not allow (non-finite origin or direction, tMin < 0, tMin > tMax)
 // misses.
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit);
+// Asks for the cache lines a trace through `tlas` reads first (the 128-byte pair at the structure's own address:
+// the fields every ray reads and a small top level's first instance record, structures.hpp), for a caller that
+// knows the structure some work before it traces: a ray through one of many top levels then waits less for them.
+inline void prefetchForTrace(const Tlas& tlas) {
+  const char* p = reinterpret_cast<const char*>(&tlas);
+  __builtin_prefetch(p);
+  __builtin_prefetch(p + 64);
+}
 // The built-ins of `hit`, committed by trace() for `ray` through `tlas`.
 void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out);
 // trace() and hitInfo() together.

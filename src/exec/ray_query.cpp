@@ -1,5 +1,6 @@
 #include "exec/ray_query.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
 
@@ -111,18 +112,21 @@ const abi::RayQueryRuntime& rayQueryRuntime() { return kRuntime; }
 
 RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) { runtime = &kRuntime; }
 
-unsigned TopLevelResolver::rangeIndex(const Entry* entries, size_t count, uint32_t* firstOf, uint64_t* ranges) {
+TopLevelResolver::RangeIndex TopLevelResolver::rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf) {
+  RangeIndex index;
   uint64_t n = 1;
   while (n < count) n *= 2;
-  const uint64_t lo = entries[0].address, span = entries[count - 1].address - lo;
-  unsigned shift = 0;
-  while ((span >> shift) >= n) ++shift;  // (ends by 63 when n >= 2; a single address has span 0)
+  const uint64_t lo = addresses[0], span = addresses[count - 1] - lo;
+  while ((span >> index.shift) >= n) ++index.shift;  // (ends by 63 when n >= 2; a single address has span 0)
   uint64_t r = 0;
   for (size_t i = 0; i < count; ++i)
-    for (const uint64_t ri = (entries[i].address - lo) >> shift; r <= ri;) firstOf[r++] = uint32_t(i);
+    for (const uint64_t ri = (addresses[i] - lo) >> index.shift; r <= ri;) firstOf[r++] = uint32_t(i);
   while (r <= n) firstOf[r++] = uint32_t(count);
-  *ranges = n;
-  return shift;
+  index.ranges = n;
+  uint32_t fullest = 0;
+  for (r = 0; r < n; ++r) fullest = std::max(fullest, firstOf[r + 1] - firstOf[r]);
+  while ((uint64_t(1) << index.steps) < fullest) ++index.steps;
+  return index;
 }
 
 void TopLevelResolver::takeSnapshot() {
@@ -131,8 +135,11 @@ void TopLevelResolver::takeSnapshot() {
   Snapshot s;
   snapshot(&s);
   if (const size_t n = s.structures.size()) {
-    entries_ = std::make_unique<Entry[]>(n);
+    std::vector<uint64_t> addresses(n);
+    for (size_t i = 0; i < n; ++i) addresses[i] = s.structures[i].first;
     firstOf_ = std::make_unique<uint32_t[]>(2 * n + 1);
+    index_ = rangeIndex(addresses.data(), n, firstOf_.get());
+    entries_ = std::make_unique<Entry[]>(n + index_.padding());
     kept_.reserve(n);
     for (auto& [address, tlas] : s.structures) {
       Entry& e = entries_[count_++];
@@ -141,7 +148,7 @@ void TopLevelResolver::takeSnapshot() {
       e.tlas.store(tlas.get(), std::memory_order_relaxed);  // (published by ready_)
       kept_.push_back(std::move(tlas));
     }
-    shift_ = rangeIndex(entries_.get(), count_, firstOf_.get(), &ranges_);
+    for (size_t i = n; i < n + index_.padding(); ++i) entries_[i].address = ~uint64_t(0);
   }
   ready_.store(true, std::memory_order_release);
 }

@@ -21,15 +21,18 @@ namespace vkrt::exec {
 // (missed). On first use it takes the addresses of the structures that may hold a top level in one array of entries
 // sorted by address, and a range index over it: the address span cut into as many equal ranges as there are entries
 // (a power of two), each range holding the index of its first entry. Every resolution reads the address's range
-// and the one after it and, when the range holds an entry, bisects the few entries in it, without a lock and
-// without a virtual call: about two loads of small arrays whatever the number of structures (the addresses come
-// from allocations, so they spread over the span; however they cluster, the bisection of one range is never longer
-// than a bisection of the whole array). An entry holds its address and what it resolved to side by side, so the
-// search's last load brings the structure too. The snapshot resolves what it can at once (the caller's one pass
-// over the device's structures); any other address is resolved through resolve() the first time an invocation meets
-// it (under the table's lock), and an address that denotes no built top level resolves to null, also once, the
-// work's first such miss reported through missed(). So no invocation takes a lock, looks up a hash table or
-// allocates per ray, however many structures the work reaches (at most one resolution per structure and per work).
+// and searches the entries from its first one in a fixed number of halving steps (conditional moves), the same
+// for every range of the work: enough for its fullest range, none when no range holds two entries. So it takes no
+// lock, makes no virtual call and has no loop whose length the address decides (a search as long as each range,
+// as before, mispredicted its end on rays that pick structures at random): about two loads of small arrays
+// whatever the number of structures (the addresses come from allocations, so they spread over the span; however
+// they cluster, the search is never longer than a bisection of the whole array). An entry holds its address and
+// what it resolved to side by side, so the search's last load brings the structure too. The snapshot resolves what
+// it can at once (the caller's one pass over the device's structures); any other address is resolved through
+// resolve() the first time an invocation meets it (under the table's lock), and an address that denotes no built
+// top level resolves to null, also once, the work's first such miss reported through missed(). So no invocation
+// takes a lock, looks up a hash table or allocates per ray, however many structures the work reaches (at most one
+// resolution per structure and per work).
 class TopLevelResolver {
  public:
   virtual ~TopLevelResolver() = default;
@@ -39,7 +42,7 @@ class TopLevelResolver {
   const accel::Tlas* topLevel(uint64_t address) {
     if (!ready_.load(std::memory_order_acquire)) [[unlikely]]
       takeSnapshot();
-    const ptrdiff_t i = count_ ? locate(entries_.get(), firstOf_.get(), shift_, ranges_, address) : -1;
+    const ptrdiff_t i = count_ ? locate(entries_.get(), count_, firstOf_.get(), index_, address) : -1;
     if (i < 0) [[unlikely]]
       return miss(address);
     const accel::Tlas* t = entries_[size_t(i)].tlas.load(std::memory_order_acquire);
@@ -54,28 +57,36 @@ class TopLevelResolver {
     uint64_t address = 0;
     std::atomic<const accel::Tlas*> tlas{nullptr};
   };
-  // The entry holding `address` among entries sorted by address with the range index `firstOf` (rangeIndex's), or
-  // -1: the search topLevel does, for the tests.
-  static ptrdiff_t locate(const Entry* entries, const uint32_t* firstOf, unsigned shift, uint64_t ranges,
+  // The range index over `count` (> 0) addresses sorted in increasing order: the shift that cuts their span into
+  // `ranges` ranges (the power of two at or above count), and the number of halving steps that search the fullest
+  // range (ceil(log2) of its entries). firstOf[r] (r in 0..ranges) is the index of the first entry at or past
+  // range r.
+  struct RangeIndex {
+    unsigned shift = 0;
+    unsigned steps = 0;
+    uint64_t ranges = 0;
+    // The entries a search may read past the last one: sentinels (an address above every other, no structure).
+    size_t padding() const { return (size_t(1) << steps) + 1; }
+  };
+  // Fills `firstOf` (room for count * 2 + 1 entries) for the sorted `addresses`.
+  static RangeIndex rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf);
+  // The entry holding `address` among `count` entries sorted by address (followed by index.padding() sentinels of
+  // address ~0) with the range index `firstOf`, or -1: the search topLevel does, for the tests.
+  static ptrdiff_t locate(const Entry* entries, size_t count, const uint32_t* firstOf, const RangeIndex& index,
                           uint64_t address) {
     if (address < entries[0].address) return -1;
-    const uint64_t r = (address - entries[0].address) >> shift;
-    if (r >= ranges) return -1;
+    const uint64_t r = (address - entries[0].address) >> index.shift;
+    if (r >= index.ranges) return -1;
+    // The first entry at or above `address` among the 2^steps entries from the range's first, the range's whole
+    // (entries past it have higher addresses, the sentinels the highest): each step moves past a half that lies
+    // below, as a conditional move.
     size_t p = firstOf[r];
-    const size_t end = firstOf[r + 1];
-    // Bisection without branches on the data (the addresses rays pick are as unpredictable as the application makes
-    // them): `p` ends on the range's last entry whose address is <= `address`.
-    for (size_t n = end - p; n > 1;) {
-      const size_t half = n / 2;
-      p = entries[p + half].address <= address ? p + half : p;
-      n -= half;
+    for (unsigned s = index.steps; s-- > 0;) {
+      const size_t half = size_t(1) << s;
+      p = entries[p + half - 1].address < address ? p + half : p;
     }
-    return p < end && entries[p].address == address ? ptrdiff_t(p) : -1;
+    return p < count && entries[p].address == address ? ptrdiff_t(p) : -1;
   }
-  // The range index of `count` (> 0) entries sorted by address: the shift that cuts their span into `*ranges`
-  // ranges (the power of two at or above count), and firstOf[r] (r in 0..*ranges) the index of the first entry at
-  // or past range r. `firstOf` has room for count * 2 + 1 entries.
-  static unsigned rangeIndex(const Entry* entries, size_t count, uint32_t* firstOf, uint64_t* ranges);
 
   // What snapshot() fills: every structure the work may reach as a top level, by address.
   struct Snapshot {
@@ -105,10 +116,9 @@ class TopLevelResolver {
 
   std::atomic<bool> ready_{false};  // the snapshot is taken (a load per resolution; std::call_once costs TLS writes)
   size_t count_ = 0;
-  std::unique_ptr<Entry[]> entries_;     // sorted by address
+  std::unique_ptr<Entry[]> entries_;     // sorted by address, then index_.padding() sentinels
   std::unique_ptr<uint32_t[]> firstOf_;  // the range index (rangeIndex)
-  unsigned shift_ = 0;
-  uint64_t ranges_ = 0;
+  RangeIndex index_;
   std::mutex mutex_;                                      // the snapshot, resolutions, kept_
   std::vector<std::shared_ptr<const accel::Tlas>> kept_;  // one per resolved structure, alive until the work ends
   std::atomic<bool> missed_{false};

@@ -584,10 +584,12 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
                      std::to_string(launch.maxRecursionDepth) + ": not run (reported)";
     return;
   }
+  // The structure first, so that its first lines load while the frame is set up.
+  const accel::Tlas* tlas = caller.task->topLevel(state, args->accelerationStructure);
+  if (tlas) accel::prefetchForTrace(*tlas);
   TraceFrame frame(caller, *args);
   if (caller.tree) frame.node = traceNode(*caller.tree, frame);
   RayTreeInvocation::Enter enter(caller.tree, frame.node);
-  const accel::Tlas* tlas = caller.task->topLevel(state, args->accelerationStructure);
   accel::CommittedHit hit;
   accel::Ray ray;
   bool found = false;

@@ -14,28 +14,41 @@ namespace vkrt {
 namespace {
 
 // Checks locate() against std::lower_bound for each address, its neighbours and `probes` random values.
-void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000) {
+// `expectedSteps`, where not -1: the search's steps the spread of the addresses calls for.
+void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000, int expectedSteps = -1) {
   std::sort(addresses.begin(), addresses.end());
   addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
   const size_t n = addresses.size();
-  std::vector<exec::TopLevelResolver::Entry> entries(n);
-  for (size_t i = 0; i < n; ++i) entries[i].address = addresses[i];
   std::vector<uint32_t> firstOf(2 * n + 1, 0xFFFFFFFFu);
-  uint64_t ranges = 0;
-  const unsigned shift = exec::TopLevelResolver::rangeIndex(entries.data(), n, firstOf.data(), &ranges);
+  const exec::TopLevelResolver::RangeIndex index =
+      exec::TopLevelResolver::rangeIndex(addresses.data(), n, firstOf.data());
+  std::vector<exec::TopLevelResolver::Entry> entries(n + index.padding());
+  for (size_t i = 0; i < n; ++i) entries[i].address = addresses[i];
+  for (size_t i = n; i < entries.size(); ++i) entries[i].address = ~uint64_t(0);
+  const uint64_t ranges = index.ranges;
   ASSERT_GE(ranges, n);
   ASSERT_LT(ranges, 2 * n);
   ASSERT_EQ(ranges & (ranges - 1), 0u) << "a power of two";
-  ASSERT_LT((addresses.back() - addresses.front()) >> shift, ranges) << "the last address falls in a range";
-  for (uint64_t r = 0; r < ranges; ++r) ASSERT_LE(firstOf[r], firstOf[r + 1]) << "range " << r;
+  ASSERT_LT((addresses.back() - addresses.front()) >> index.shift, ranges) << "the last address falls in a range";
+  uint32_t fullest = 0;
+  for (uint64_t r = 0; r < ranges; ++r) {
+    ASSERT_LE(firstOf[r], firstOf[r + 1]) << "range " << r;
+    fullest = std::max(fullest, firstOf[r + 1] - firstOf[r]);
+  }
   ASSERT_EQ(firstOf[ranges], n);
+  // The steps search the fullest range, and take no more halvings than it needs.
+  ASSERT_GE(uint64_t(1) << index.steps, fullest);
+  ASSERT_TRUE(index.steps == 0 || (uint64_t(1) << (index.steps - 1)) < fullest) << index.steps << " steps";
+  if (expectedSteps >= 0) {
+    ASSERT_EQ(index.steps, unsigned(expectedSteps));
+  }
 
   auto expected = [&](uint64_t a) -> ptrdiff_t {
     auto it = std::lower_bound(addresses.begin(), addresses.end(), a);
     return it != addresses.end() && *it == a ? it - addresses.begin() : -1;
   };
   auto check = [&](uint64_t a) {
-    ASSERT_EQ(exec::TopLevelResolver::locate(entries.data(), firstOf.data(), shift, ranges, a), expected(a))
+    ASSERT_EQ(exec::TopLevelResolver::locate(entries.data(), n, firstOf.data(), index, a), expected(a))
         << "address 0x" << std::hex << a << " among " << std::dec << n;
   };
   for (uint64_t a : addresses) {
@@ -56,7 +69,10 @@ void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 
 TEST(TopLevelTableIndex, EvenlySpacedAddressesAreEachFoundAndNothingElse) {
   std::vector<uint64_t> a;
   for (uint64_t i = 0; i < 1000; ++i) a.push_back(0x567000000000ull + i * 4096);
-  checkIndex(a, 1);
+  checkIndex(a, 1, 2000, 0);  // one address per range: no step
+  // Pairs 256 bytes apart, 8 KiB between pairs: 1,000 addresses in 1,024 ranges of 4 KiB, some holding a pair.
+  for (uint64_t i = 0; i < 1000; ++i) a[i] = 0x567000000000ull + (i / 2) * 8192 + (i % 2) * 256;
+  checkIndex(a, 7, 2000, 1);
 }
 
 TEST(TopLevelTableIndex, ClusteredAddressesAreEachFoundAndNothingElse) {
@@ -65,7 +81,7 @@ TEST(TopLevelTableIndex, ClusteredAddressesAreEachFoundAndNothingElse) {
   for (uint64_t i = 0; i < 500; ++i) a.push_back(0x1000 + i * 256);
   a.push_back(0x567000000000ull);
   a.push_back(0x7fff00000000ull);
-  checkIndex(a, 2);
+  checkIndex(a, 2, 2000, 9);  // 500 entries in the first range
 }
 
 TEST(TopLevelTableIndex, RandomAddressesOfEverySpanAreEachFoundAndNothingElse) {
