@@ -39,7 +39,8 @@ extract() { mkdir -p "$src/external/$1/src"; git --git-dir="$2" archive "$3" | t
 extract spirv-tools "$SPVT_GIT" bfc94f63a7adbcf8ae166f5f108ac9f69079efc0
 extract glslang "$GLSLANG_GIT" c5117b328afc86e16edff6ed6afe0fe7872a7cf3
 extract spirv-headers "$SPVH_GIT" b8b9eb8640c8c0107ba580fbcb10f969022ca32c
-for p in "$shared/rt-only.patch" "$shared/fixes.patch" "$shared/compute.patch" "$here/sbt-sizes.patch" "$here/graphics.patch" "$here/texture.patch"; do
+for p in "$shared/rt-only.patch" "$shared/fixes.patch" "$shared/compute.patch" "$here/sbt-sizes.patch" "$here/graphics.patch" "$here/texture.patch" \
+  "$here/draw-rendering-info.patch"; do
   patch -s -d "$src" -p1 < "$p"
 done
 if [ $tarball = 1 ]; then

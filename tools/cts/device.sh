@@ -8,6 +8,7 @@
 #   <dev>/cts-graphics-src.tar.xz  the sources from tools/cts/build-graphics.sh --tarball, built here (about 4.5 min)
 # (neither is needed on a warm machine that built or unpacked deqp-vk in an earlier call: that one is run).
 # (LAVAPIPE=1: lavapipe's <dev>/lvp.tar.xz instead of vkrt.) Then runs api.smoke.* in one process (the sanity check) and tools/cts/run_parallel.sh (16 processes, VKRT_THREADS=1) over the patterns, <budget_s> seconds, into $OUT.
+# SHARDS=n: n processes instead of 16; PIN=k: each pinned to k cores of its own with VKRT_THREADS=k (run_parallel.sh).
 # Usage: device.sh <dev> <budget_s> <pattern>...     (STRIDE / EXCLUDE pass through to run_parallel.sh)
 set -u
 dev=$(realpath "$1"); budget=$2; shift 2
@@ -46,7 +47,7 @@ export VKRT_THREADS=1 LP_NUM_THREADS=1
    --deqp-log-filename=/tmp/smoke.qpa --deqp-log-images=disable --deqp-log-shader-sources=disable | tail -12)
 # DEADLINE (seconds since the epoch) caps the budget so that the results are packed before the command's time is up
 [ -n "${DEADLINE:-}" ] && budget=$(( DEADLINE - $(date +%s) < budget ? DEADLINE - $(date +%s) : budget ))
-"$here/run_parallel.sh" "$cts/deqp-vk" "$icd" 16 "$budget" /tmp/r "$@"
+"$here/run_parallel.sh" "$cts/deqp-vk" "$icd" "${SHARDS:-16}" "$budget" /tmp/r "$@"
 xz -T0 -c /tmp/r/results.txt > "$out/results.txt.xz"
 xz -T0 -c /tmp/r/messages.txt > "$out/messages.txt.xz"
 xz -T0 -c /tmp/r/reports.txt > "$out/reports.txt.xz"

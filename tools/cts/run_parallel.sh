@@ -5,6 +5,8 @@
 # of the remaining cases (a sample spread over all groups). Prints counts per group; <outdir>/results.txt has one line
 # per case (name, status, microseconds), <outdir>/messages.txt the result message of every case that did not pass,
 # <outdir>/reports.txt the driver's reports on standard error (lines starting "vkrt: ") with the case they came in.
+# PIN=k pins shard i to the k CPUs i*k .. i*k+k-1 (taskset) and sets VKRT_THREADS=k: each case then runs on k cores
+# of its own, as on a k-core machine (PIN=2 with N=8 on the device machine's 16 cores: the 2-core VM's bound).
 # Usage: run_parallel.sh <deqp-vk> <ICD manifest> <N> <budget_s> <outdir> <pattern>...
 set -u
 bin=$(realpath "$1"); icd=$(realpath "$2"); n=$3; budget=$4; out=$(realpath -m "$5"); shift 5
@@ -23,10 +25,12 @@ echo "cases: $(wc -l < "$out/cases.txt")"
 awk -v n="$n" -v o="$out" '{print > (o "/shard" (NR % n) ".list")}' "$out/cases.txt"
 deadline=$(( $(date +%s) + budget ))
 shard() {
-  local list=$1 k=0
+  local list=$1 index=$2 k=0
+  local pin=()
+  [ -n "${PIN:-}" ] && pin=(taskset -c "$((index * PIN))-$((index * PIN + PIN - 1))" env VKRT_THREADS="$PIN")
   while [ -s "$list" ] && [ "$(date +%s)" -lt "$deadline" ]; do
     k=$((k+1)); local log="$list.$k.qpa"
-    timeout $(( deadline - $(date +%s) )) env VK_DRIVER_FILES="$icd" "$bin" --deqp-caselist-file="$list" --deqp-log-filename="$log" \
+    timeout $(( deadline - $(date +%s) )) "${pin[@]}" env VK_DRIVER_FILES="$icd" "$bin" --deqp-caselist-file="$list" --deqp-log-filename="$log" \
       --deqp-log-images=disable --deqp-log-shader-sources=disable > "$list.$k.out" 2>&1
     local rc=$?
     # the driver's reports on stderr ("vkrt: ..."), each with the case that was running (at most 5 per case)
@@ -46,7 +50,8 @@ shard() {
   [ -s "$list" ] && sed 's/$/ NotReached/' "$list" >> "$list.res"
   true
 }
-for f in "$out"/shard*.list; do shard "$f" & done; wait
+i=0
+for f in "$out"/shard*.list; do shard "$f" "$i" & i=$((i + 1)); done; wait
 cat "$out"/shard*.list.res > "$out/results.txt"
 cat "$out"/shard*.list.msg > "$out/messages.txt" 2>/dev/null
 cat "$out"/shard*.list.rep > "$out/reports.txt" 2>/dev/null
