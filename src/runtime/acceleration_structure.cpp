@@ -67,7 +67,8 @@ void AccelerationStructure::registerAddress(bool built) {
   const uint64_t at = address();
   if (!at) return;
   std::lock_guard lock(device->accelerationStructuresMutex);
-  if (registeredAt_ && registeredAt_ != at) unplace(device, registeredAt_, this);  // (a buffer is bound once; kept exact)
+  if (registeredAt_ && registeredAt_ != at)
+    unplace(device, registeredAt_, this);  // (a buffer is bound once; kept exact)
   if (built || !device->accelerationStructures.count(at)) place(device, at, this);
   registeredAt_ = at;
 }

@@ -70,7 +70,9 @@ class AccelerationStructureRegistry : public ::testing::Test {
     std::erase(structures, h);
     vkrt_DestroyAccelerationStructureKHR(device, h, nullptr);
   }
-  uint64_t at(uint32_t slot) const { return reinterpret_cast<uint64_t>(fromHandle<Buffer>(buffer)->data()) + slot * kSize; }
+  uint64_t at(uint32_t slot) const {
+    return reinterpret_cast<uint64_t>(fromHandle<Buffer>(buffer)->data()) + slot * kSize;
+  }
   // The addresses the snapshot lists, and whether it found each one built.
   std::vector<std::pair<uint64_t, bool>> snapshot() {
     exec::TopLevelResolver::Snapshot s;
