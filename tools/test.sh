@@ -53,7 +53,7 @@ for isa in $("$root/tools/isa_matrix.sh" embree); do
   matrix "VKRT_EMBREE_ISA=$isa" "$embreeUnit" "$embreeE2e" || status=1
 done
 for cpu in $("$root/tools/isa_matrix.sh" jit); do
-  matrix "VKRT_JIT_CPU=$cpu" 'Spirv*' || status=1
+  matrix "VKRT_JIT_CPU=$cpu" 'Spirv*:Spmd*' || status=1
 done
 # The scalar compute path (VKRT_SPMD=0), the reference the SPMD code is compared with: SPMD is the default, so
 # without this run the scalar form of barrier-free shaders the SPMD compiler supports would go untested; likewise

@@ -146,7 +146,8 @@ std::shared_ptr<CompiledShader> compile(const CompileRequest& request, std::stri
 // Applies to every later compilation in the process; part of cacheKey().
 void setSpmd(bool enabled);
 bool spmdEnabled();
-// The lanes of a batch for the target CPU (16 with AVX-512, 8 with AVX2, 4 below), 0 when SPMD is off.
+// The lanes of a batch for the target CPU (16 with AVX-512 and with AVX2, whose values take two registers, so that a
+// loop-carried chain runs as two independent halves; 8 below, likewise), 0 when SPMD is off.
 unsigned spmdLanes();
 
 // The CPU compiled code targets: "native" (or empty), the host CPU and every feature it has, the default; or an
