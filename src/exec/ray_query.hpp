@@ -66,7 +66,8 @@ class TopLevelResolver {
     unsigned steps = 0;
     uint64_t ranges = 0;
     // The entries a search may read past the last one: sentinels (an address above every other, no structure).
-    size_t padding() const { return (size_t(1) << steps) + 1; }
+    // From a range's first entry (at most the count) the steps move at most 2^steps - 1 entries on.
+    size_t padding() const { return size_t(1) << steps; }
   };
   // Fills `firstOf` (room for count * 2 + 1 entries) for the sorted `addresses`.
   static RangeIndex rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf);
@@ -78,8 +79,8 @@ class TopLevelResolver {
     const uint64_t r = (address - entries[0].address) >> index.shift;
     if (r >= index.ranges) return -1;
     // The first entry at or above `address` among the 2^steps entries from the range's first, the range's whole
-    // (entries past it have higher addresses, the sentinels the highest): each step moves past a half that lies
-    // below, as a conditional move.
+    // (entries past it have higher addresses, the sentinels the highest), or the last of them when all lie below
+    // (then no entry holds `address`): each step moves past a half that lies below, as a conditional move.
     size_t p = firstOf[r];
     for (unsigned s = index.steps; s-- > 0;) {
       const size_t half = size_t(1) << s;
