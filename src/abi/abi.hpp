@@ -155,6 +155,7 @@ static_assert(offsetof(RayQueryScope, runtime) == 0 && offsetof(RayQueryRuntime,
 // floats, column-major (the transpose of VkTransformMatrixKHR's rows).
 
 struct RayInvocation;
+struct PendingAdds;
 
 // OpTraceRayKHR's operands, as the shader passes them to RayRuntime::traceRay.
 struct TraceRayArgs {
@@ -224,7 +225,46 @@ struct RayInvocation {
   // 496  The bytes from `shaderRecord` to the end of the SBT region (what "Indexing Rules" lets a launch read; it
   // may be more or less than shaderRecordBytes). A read that ends past it calls shaderRecordOutsideRegion first.
   uint64_t shaderRecordRegionBytes;
+  // 504  The worker's pending adds (PendingAdds below; null: every atomic runs where the shader has it).
+  PendingAdds* pendingAdds;
 };
+
+// Combined counter adds (ray tracing stages). An OpAtomicIAdd / ISub / IIncrement / IDecrement on a buffer reached
+// through a descriptor (StorageBuffer, or Uniform with BufferBlock), with Relaxed semantics (no ordering, no
+// availability or visibility bits, not volatile) and a result the shader never uses, is added to the worker's
+// pending sum instead of memory when the invocation has `pendingAdds`: a counter every ray adds to (statistics,
+// the CTS's maxrtinvocations any-hit shaders) then costs one atomic per task, not one cache line moved between the
+// cores per ray. One word is pending at a time: an add to another word writes the pending sum first (`flush`).
+// The sum reaches memory, with one atomic add, before anything the worker runs could observe it or order it:
+//   - before any load, store or atomic of that worker's shaders on memory that may overlap the word (buffers,
+//     physical pointers, shader records: compared with [begin, end) inline);
+//   - before any other atomic, barrier (OpControlBarrier, OpMemoryBarrier) or image or texel buffer access (which
+//     may alias buffer memory), whatever its address;
+//   - at the end of each task of the launch, also one cut short by a fault or the watchdog.
+// Other workers may see the adds later than they ran, which relaxed atomics without a happens-before allow; an
+// invocation that synchronizes with the adding one (a release is one of the points above), and every later access
+// of the adding one, cannot miss them. Empty: begin = ~0, end = 0 (no access overlaps it).
+struct PendingAdds {
+  uint64_t begin;                    // 0   the pending word's address
+  uint64_t end;                      // 8   begin + its bytes (4 or 8); 0: nothing pending
+  uint64_t sum;                      // 16  the adds' sum, modulo 2^64 (a 32-bit word takes its low half)
+  void (*flush)(PendingAdds* adds);  // 24  writes the sum (one atomic add) and empties the table
+};
+
+// The flush every executor installs: the table emptied first (a fault in the add is not met again by the flush
+// at the task's end), then the sum added to the word, atomically.
+inline void flushPendingAdds(PendingAdds* adds) {
+  const uint64_t begin = adds->begin, end = adds->end, sum = adds->sum;
+  if (end == 0) return;
+  adds->begin = ~uint64_t(0);
+  adds->end = 0;
+  adds->sum = 0;
+  if (end - begin == 8) {
+    __atomic_fetch_add(reinterpret_cast<uint64_t*>(begin), sum, __ATOMIC_SEQ_CST);
+  } else {
+    __atomic_fetch_add(reinterpret_cast<uint32_t*>(begin), uint32_t(sum), __ATOMIC_SEQ_CST);
+  }
+}
 
 static_assert(sizeof(TraceRayArgs) == 72 && offsetof(TraceRayArgs, origin) == 32 &&
                   offsetof(TraceRayArgs, payload) == 64,
@@ -235,6 +275,8 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
                   offsetof(RayInvocation, shaderRecord) == 432 && offsetof(RayInvocation, runtime) == 448 &&
                   offsetof(RayInvocation, hitTriangleVertexPositions) == 456 &&
                   offsetof(RayInvocation, shaderRecordRegionBytes) == 496 &&
+                  offsetof(RayInvocation, pendingAdds) == 504 && offsetof(PendingAdds, end) == 8 &&
+                  offsetof(PendingAdds, sum) == 16 && offsetof(PendingAdds, flush) == 24 &&
                   offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16 &&
                   offsetof(RayRuntime, shaderRecordOutsideRegion) == 24,
               "the compiler bakes these offsets into shader code");

@@ -148,6 +148,8 @@ struct TaskState {
   bool hitTriangle = false;
   const RayGroup* hitGroup = nullptr;
   const uint8_t* hitRecord = nullptr;
+  // The task's combined counter adds (abi::PendingAdds), flushed by runRays after the task, however it ended.
+  abi::PendingAdds* pendingAdds = nullptr;
 
   const accel::Tlas* topLevel(LaunchState& state, uint64_t address);
 };
@@ -219,6 +221,7 @@ void beginShared(Invocation& inv, LaunchState* state, TaskState* task) {
   inv.runtime = &kRuntime;
   inv.base.cancel = reinterpret_cast<const uint32_t*>(&state->job->cancel);
   inv.base.cancelled = &cancelled;
+  inv.pendingAdds = task ? task->pendingAdds : nullptr;
   for (int i = 0; i < 3; ++i) inv.launchSize[i] = uint32_t(state->launch->size[i]);
 }
 
@@ -651,7 +654,7 @@ void shaderRecordOutsideRegion(abi::RayInvocation* callerBase, uint64_t offset, 
 }
 
 // The raygen invocations of one tile (a task of runRays', run under supervision).
-void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY) {
+void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY, abi::PendingAdds* pendingAdds) {
   const RayLaunch& launch = *state.launch;
   const uint64_t w = launch.size[0], h = launch.size[1];
   const RayShader& raygen = launch.raygenGroup->general;
@@ -665,9 +668,11 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
     // once per tile, not per launch index), and the any-hit invocation the task's candidates reuse.
     TaskState task;
     task.running = &runningRecord();
+    task.pendingAdds = pendingAdds;
     Invocation inv{};
     begin(inv, &state, nullptr);
     inv.task = &task;
+    inv.pendingAdds = pendingAdds;
     inv.launchId[2] = z;
     inv.shaderRecord = const_cast<uint8_t*>(launch.raygen.base + kHandleBytes);
     inv.shaderRecordBytes = inv.shaderRecordRegionBytes = raygenBytes;  // size == stride (VUID-...-size-04023)
@@ -723,9 +728,13 @@ void runRays(const RayLaunch& launch) {
   if (state.recorder) state.recorder->setQueryScope(&state.queries);
   const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
   ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
-    auto task = [&] { runTile(state, tile, tilesX, tilesY); };
+    // The tile's combined adds live here, outside the supervised task: a task cut short by a fault or the watchdog
+    // still writes what its shaders added.
+    abi::PendingAdds adds{~uint64_t(0), 0, 0, &abi::flushPendingAdds};
+    auto task = [&] { runTile(state, tile, tilesX, tilesY, &adds); };
     runSupervised(
         *state.job, [](void* t) { (*static_cast<decltype(task)*>(t))(); }, &task);
+    abi::flushPendingAdds(&adds);
   });
 }
 

@@ -139,6 +139,19 @@ class Codegen {
   // A load that reads zeros out of bounds, and a store that is dropped there (branches around the access).
   llvm::Value* guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align);
   void guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align);
+  // Combined counter adds (abi::PendingAdds; ray tracing stages only, no code elsewhere). Before an access of
+  // `bytes` at p (a class that may reach buffer memory): the pending sum written when its word overlaps the access.
+  void flushOverlappingAdds(const Ptr& p, uint64_t bytes);
+  // Before an access that may reach any memory (another atomic, a barrier, an image): the pending sum written.
+  void flushPendingAdds();
+  // Whether the atomic `in` on p may be combined: an add or subtract (IAdd, ISub, IIncrement, IDecrement) through
+  // a buffer descriptor, Relaxed (no ordering, availability, visibility or volatile bits), its result unused.
+  bool combinableAdd(const Instruction& in, const Ptr& p);
+  // Whether result `id` is used by no instruction of a function body (counted once per module: a word equal to it
+  // anywhere but its definition counts as a use).
+  bool resultUnused(uint32_t id);
+  std::unordered_map<uint32_t, uint32_t> bodyWords;  // word -> occurrences in function bodies (resultUnused)
+  bool bodyWordsCounted = false;
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);

@@ -338,6 +338,10 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
     }
     bool ok = true;
     currentInstruction = &in;
+    // An image or texel buffer access may alias buffer memory: combined adds (ray tracing stages) are written first.
+    if (opSupport(in.op).family == OpFamily::Image && in.op != spv::OpSampledImage && in.op != spv::OpImage &&
+        in.op != spv::OpImageTexelPointer)
+      flushPendingAdds();
     if (arithmetic(in, ok) || composite(in, ok) || controlFlow(in, ok) || memory(in, ok) || extInst(in, ok) ||
         image(in, ok) || rayTracing(in, ok) || graphics(in, ok)) {
       if (!ok) return false;

@@ -96,6 +96,7 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
     case spv::OpControlBarrier: {
       uint64_t scope = 0;
       if (!m.constantU64(in.word(1), &scope)) return (ok = fail(in, "barrier scope is not a constant")), true;
+      flushPendingAdds();  // combined adds (ray tracing stages) reach memory before any barrier
       b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent);
       if (scope == spv::ScopeWorkgroup) {
         // Every invocation of the workgroup stops here until all have arrived (the executor switches
@@ -111,7 +112,10 @@ bool Codegen::controlFlow(const Instruction& in, bool& ok) {
       }
       return true;
     }
-    case spv::OpMemoryBarrier: b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent); return true;
+    case spv::OpMemoryBarrier:
+      flushPendingAdds();
+      b.CreateFence(llvm::AtomicOrdering::SequentiallyConsistent);
+      return true;
     default: return false;
   }
 }

@@ -441,6 +441,7 @@ static llvm::BasicBlock* beginGuarded(Codegen& g, llvm::Value* ok, const Ptr& p,
 llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, llvm::Align align) {
   // Where the block is closed already (code placed before its terminator), the address is selected instead.
   bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
+  flushOverlappingAdds(p, bytes);
   // A shader record read is checked against the SBT region (not in a closed block: no branch can be placed there).
   if (p.storage == spv::StorageClassShaderRecordBufferKHR && !closed) checkShaderRecordRead(p, bytes);
   llvm::Value* ok = closed ? nullptr : inBounds(p, bytes);
@@ -463,6 +464,7 @@ llvm::Value* Codegen::guardedLoad(const Ptr& p, llvm::Type* ty, uint64_t bytes, 
 // A store that is dropped out of bounds (a branch around it, see guardedLoad).
 void Codegen::guardedStore(const Ptr& p, llvm::Value* v, uint64_t bytes, llvm::Align align) {
   bool closed = b.GetInsertBlock()->getTerminator() != nullptr;
+  flushOverlappingAdds(p, bytes);
   llvm::Value* ok = closed ? nullptr : inBounds(p, bytes, abi::kAccessStore);
   if (!ok) {
     b.CreateAlignedStore(
@@ -836,6 +838,185 @@ bool Codegen::accessChain(const Instruction& in, bool& ok) {
   return true;
 }
 
+// ---- combined counter adds (abi::PendingAdds)
+
+namespace {
+
+constexpr unsigned kPendingBegin = offsetof(abi::PendingAdds, begin), kPendingEnd = offsetof(abi::PendingAdds, end),
+                   kPendingSum = offsetof(abi::PendingAdds, sum), kPendingFlush = offsetof(abi::PendingAdds, flush);
+
+// The module's internal helper `name` (always inlined): made by `build` on first use, with its own builder, so
+// that the caller's insertion point (a closed block too) is left as it is.
+template <class Build>
+llvm::Function* helper(Codegen& g, const char* name, llvm::FunctionType* ft, Build build) {
+  if (llvm::Function* f = g.out.getFunction(name)) return f;
+  auto* f = llvm::Function::Create(ft, llvm::GlobalValue::InternalLinkage, name, g.out);
+  f->addFnAttr(llvm::Attribute::AlwaysInline);
+  f->addFnAttr(llvm::Attribute::NoUnwind);
+  llvm::IRBuilder<> h(llvm::BasicBlock::Create(g.c, "entry", f));
+  build(h, f);
+  return f;
+}
+
+llvm::Value* pendingField(llvm::IRBuilder<>& h, llvm::Value* adds, unsigned offset, llvm::Type* ty) {
+  return h.CreateAlignedLoad(ty, h.CreateConstGEP1_64(h.getInt8Ty(), adds, offset), llvm::Align(8));
+}
+void setPendingField(llvm::IRBuilder<>& h, llvm::Value* adds, unsigned offset, llvm::Value* v) {
+  h.CreateAlignedStore(v, h.CreateConstGEP1_64(h.getInt8Ty(), adds, offset), llvm::Align(8));
+}
+// adds->flush(adds), at h.
+void callFlush(llvm::IRBuilder<>& h, llvm::Value* adds) {
+  llvm::Value* fn = pendingField(h, adds, kPendingFlush, h.getPtrTy());
+  h.CreateCall(llvm::FunctionType::get(h.getVoidTy(), {h.getPtrTy()}, false), fn, {adds});
+}
+
+// Rarely taken: a flush.
+llvm::MDNode* unlikely(Codegen& g) { return llvm::MDBuilder(g.c).createBranchWeights(1, 1u << 20); }
+
+// vkrt.pending.overlap(adds, address, bytes): flushes when [address, address + bytes) overlaps the pending word.
+llvm::Function* overlapHelper(Codegen& g) {
+  auto* i64 = llvm::Type::getInt64Ty(g.c);
+  auto* ptr = llvm::PointerType::get(g.c, 0);
+  auto* ft = llvm::FunctionType::get(llvm::Type::getVoidTy(g.c), {ptr, i64, i64}, false);
+  return helper(g, "vkrt.pending.overlap", ft, [&](llvm::IRBuilder<>& h, llvm::Function* f) {
+    llvm::Value *adds = f->getArg(0), *at = f->getArg(1), *bytes = f->getArg(2);
+    auto* test = llvm::BasicBlock::Create(g.c, "test", f);
+    auto* flush = llvm::BasicBlock::Create(g.c, "flush", f);
+    auto* done = llvm::BasicBlock::Create(g.c, "done", f);
+    h.CreateCondBr(h.CreateIsNull(adds), done, test);
+    h.SetInsertPoint(test);
+    llvm::Value* begin = pendingField(h, adds, kPendingBegin, i64);
+    llvm::Value* end = pendingField(h, adds, kPendingEnd, i64);
+    llvm::Value* overlaps = h.CreateAnd(h.CreateICmpULT(at, end), h.CreateICmpULT(begin, h.CreateAdd(at, bytes)));
+    h.CreateCondBr(overlaps, flush, done, unlikely(g));
+    h.SetInsertPoint(flush);
+    callFlush(h, adds);
+    h.CreateBr(done);
+    h.SetInsertPoint(done);
+    h.CreateRetVoid();
+  });
+}
+
+// vkrt.pending.flush(adds): flushes whatever is pending.
+llvm::Function* flushHelper(Codegen& g) {
+  auto* ptr = llvm::PointerType::get(g.c, 0);
+  auto* ft = llvm::FunctionType::get(llvm::Type::getVoidTy(g.c), {ptr}, false);
+  return helper(g, "vkrt.pending.flush", ft, [&](llvm::IRBuilder<>& h, llvm::Function* f) {
+    llvm::Value* adds = f->getArg(0);
+    auto* test = llvm::BasicBlock::Create(g.c, "test", f);
+    auto* flush = llvm::BasicBlock::Create(g.c, "flush", f);
+    auto* done = llvm::BasicBlock::Create(g.c, "done", f);
+    h.CreateCondBr(h.CreateIsNull(adds), done, test);
+    h.SetInsertPoint(test);
+    llvm::Value* end = pendingField(h, adds, kPendingEnd, h.getInt64Ty());
+    h.CreateCondBr(h.CreateICmpNE(end, h.getInt64(0)), flush, done, unlikely(g));
+    h.SetInsertPoint(flush);
+    callFlush(h, adds);
+    h.CreateBr(done);
+    h.SetInsertPoint(done);
+    h.CreateRetVoid();
+  });
+}
+
+}  // namespace
+
+// vkrt.pending.add.iN(adds, address, value): value added to the pending sum of the word at address (the pending
+// word flushed first when it is another), or atomically where the invocation has no table.
+static llvm::Function* pendingAddHelper(Codegen& g, llvm::Type* ty) {
+  const uint64_t bytes = ty->getIntegerBitWidth() / 8;
+  auto* i64 = llvm::Type::getInt64Ty(g.c);
+  auto* ptr = llvm::PointerType::get(g.c, 0);
+  auto* ft = llvm::FunctionType::get(llvm::Type::getVoidTy(g.c), {ptr, ptr, ty}, false);
+  const char* name = bytes == 8 ? "vkrt.pending.add.i64" : "vkrt.pending.add.i32";
+  return helper(g, name, ft, [&](llvm::IRBuilder<>& h, llvm::Function* f) {
+    llvm::Value *adds = f->getArg(0), *addr = f->getArg(1), *v = f->getArg(2);
+    auto* atomic = llvm::BasicBlock::Create(g.c, "atomic", f);
+    auto* table = llvm::BasicBlock::Create(g.c, "table", f);
+    auto* same = llvm::BasicBlock::Create(g.c, "same", f);
+    auto* other = llvm::BasicBlock::Create(g.c, "other", f);
+    auto* flush = llvm::BasicBlock::Create(g.c, "flush", f);
+    auto* start = llvm::BasicBlock::Create(g.c, "start", f);
+    h.CreateCondBr(h.CreateIsNull(adds), atomic, table);
+    h.SetInsertPoint(atomic);
+    h.CreateAtomicRMW(llvm::AtomicRMWInst::Add, addr, v, llvm::MaybeAlign(bytes),
+                      llvm::AtomicOrdering::SequentiallyConsistent);
+    h.CreateRetVoid();
+    h.SetInsertPoint(table);
+    llvm::Value* at = h.CreatePtrToInt(addr, i64);
+    llvm::Value* begin = pendingField(h, adds, kPendingBegin, i64);
+    llvm::Value* end = pendingField(h, adds, kPendingEnd, i64);
+    llvm::Value* wide = h.CreateZExt(v, i64);
+    h.CreateCondBr(h.CreateAnd(h.CreateICmpEQ(begin, at), h.CreateICmpEQ(end, h.CreateAdd(at, h.getInt64(bytes)))),
+                   same, other);
+    h.SetInsertPoint(same);
+    setPendingField(h, adds, kPendingSum, h.CreateAdd(pendingField(h, adds, kPendingSum, i64), wide));
+    h.CreateRetVoid();
+    h.SetInsertPoint(other);  // another word (or none) is pending: it is written first
+    h.CreateCondBr(h.CreateICmpNE(end, h.getInt64(0)), flush, start);
+    h.SetInsertPoint(flush);
+    callFlush(h, adds);
+    h.CreateBr(start);
+    h.SetInsertPoint(start);
+    setPendingField(h, adds, kPendingBegin, at);
+    setPendingField(h, adds, kPendingEnd, h.CreateAdd(at, h.getInt64(bytes)));
+    setPendingField(h, adds, kPendingSum, wide);
+    h.CreateRetVoid();
+  });
+}
+
+void Codegen::flushOverlappingAdds(const Ptr& p, uint64_t bytes) {
+  if (!isRayTracing()) return;
+  switch (p.storage) {
+    case spv::StorageClassStorageBuffer:
+    case spv::StorageClassUniform:
+    case spv::StorageClassPhysicalStorageBuffer:
+    case spv::StorageClassShaderRecordBufferKHR: break;
+    default: return;  // the invocation's own memory (function, private, payloads, attributes) or push constants
+  }
+  llvm::Value* at = b.CreatePtrToInt(b.CreateGEP(b.getInt8Ty(), p.base, p.offset), b.getInt64Ty());
+  b.CreateCall(overlapHelper(*this), {ctxField(*this, offsetof(RayInvocation, pendingAdds)), at, i64(bytes)});
+}
+
+void Codegen::flushPendingAdds() {
+  if (!isRayTracing()) return;
+  b.CreateCall(flushHelper(*this), {ctxField(*this, offsetof(RayInvocation, pendingAdds))});
+}
+
+bool Codegen::resultUnused(uint32_t id) {
+  if (!bodyWordsCounted) {
+    bodyWordsCounted = true;
+    bool inBody = false;
+    for (const Instruction& in : m.instructions) {
+      if (in.op == spv::OpFunction) inBody = true;
+      if (!inBody) continue;
+      for (uint32_t w = 1; w < in.count; ++w) ++bodyWords[in.words[w]];
+    }
+  }
+  auto it = bodyWords.find(id);
+  return it != bodyWords.end() && it->second == 1;  // its definition's result word alone
+}
+
+bool Codegen::combinableAdd(const Instruction& in, const Ptr& p) {
+  if (!isRayTracing()) return false;
+  if (in.op != spv::OpAtomicIAdd && in.op != spv::OpAtomicISub && in.op != spv::OpAtomicIIncrement &&
+      in.op != spv::OpAtomicIDecrement)
+    return false;
+  // Through a buffer descriptor (an address a physical pointer computes is left to fault where the shader has it).
+  if (p.resource < 0 || (p.storage != spv::StorageClassStorageBuffer && p.storage != spv::StorageClassUniform))
+    return false;
+  const Type& t = spvType(p.type);
+  if (t.kind != Type::Int || (t.width != 32 && t.width != 64)) return false;
+  uint64_t semantics = 0;
+  if (!m.constantU64(in.word(5), &semantics)) return false;
+  // No ordering, availability, visibility or volatile bits (SPIR-V's Memory Semantics: 0x2..0x10, 0x2000..0x8000).
+  const uint64_t kOrdered = uint64_t(spv::MemorySemanticsAcquireMask) | spv::MemorySemanticsReleaseMask |
+                            spv::MemorySemanticsAcquireReleaseMask | spv::MemorySemanticsSequentiallyConsistentMask |
+                            spv::MemorySemanticsMakeAvailableMask | spv::MemorySemanticsMakeVisibleMask |
+                            spv::MemorySemanticsVolatileMask;
+  if (semantics & kOrdered) return false;
+  return resultUnused(in.word(2));
+}
+
 // The atomic instructions (Codegen::memory): sequentially consistent, on p's address or the sink out of bounds.
 bool Codegen::atomic(const Instruction& in, bool& ok) {
   bool isStore = in.op == spv::OpAtomicStore;
@@ -846,6 +1027,18 @@ bool Codegen::atomic(const Instruction& in, bool& ok) {
   uint64_t bytes = t.width / 8;
   llvm::Type* ty = type(p.type);
   auto order = llvm::AtomicOrdering::SequentiallyConsistent;
+  if (combinableAdd(in, p)) {
+    // Added to the worker's pending sum (abi::PendingAdds), or atomically where the invocation has none.
+    const bool sub = in.op == spv::OpAtomicISub || in.op == spv::OpAtomicIDecrement;
+    const bool one = in.op == spv::OpAtomicIIncrement || in.op == spv::OpAtomicIDecrement;
+    llvm::Value* operand = one ? llvm::ConstantInt::get(ty, 1) : value(in.word(6));
+    if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
+    if (sub) operand = b.CreateNeg(operand);
+    llvm::Value* addr = address(forWrite(p), bytes, true);
+    b.CreateCall(pendingAddHelper(*this, ty), {ctxField(*this, offsetof(RayInvocation, pendingAdds)), addr, operand});
+    return true;
+  }
+  flushPendingAdds();  // any other atomic: the pending sum first (its own word, or a release that orders it)
   if (in.op == spv::OpAtomicLoad) {
     auto* l = b.CreateAlignedLoad(ty, address(p, bytes, false), llvm::Align(bytes));
     l->setAtomic(order);

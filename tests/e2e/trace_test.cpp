@@ -2,6 +2,7 @@
 // the pipeline's handles, and every launch index's result compared with the hit computed here from the geometry.
 #include "e2e/trace_fixture.hpp"
 #include "hit_distance.hpp"
+#include "trace_ahit_count.rahit.spv.h"
 #include "trace_box_at_tmin.rint.spv.h"
 #include "trace_miss_cullmask.rmiss.spv.h"
 
@@ -104,15 +105,26 @@ namespace {
 // and (optionally) any-hit shaders, over one quad at z = 5 (an instance of `quadBlas` with `flags`, `mask`).
 class TraceFlags : public TraceTest {
  protected:
-  VkPipeline pipeline(bool anyHit) {
+  VkPipeline pipeline(bool anyHit) { return pipelineWith(anyHit ? tahit : VK_NULL_HANDLE); }
+  // raygen, miss, and a triangle hit group of trace_chit and the any-hit shader `anyHit` (none: VK_NULL_HANDLE).
+  VkPipeline pipelineWith(VkShaderModule anyHit) {
     Desc d;
     d.layout = traceLayout;
     d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     uint32_t c = d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
-    uint32_t a = anyHit ? d.stage(tahit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR) : VK_SHADER_UNUSED_KHR;
+    uint32_t a = anyHit ? d.stage(anyHit, VK_SHADER_STAGE_ANY_HIT_BIT_KHR) : VK_SHADER_UNUSED_KHR;
     d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR, c, a);
     return make(d);
+  }
+  // Two non-opaque quads over [-1, 1]^2 in one instance: geometry 0 at z = 3, geometry 1 (with `farFlags`) at z = 5.
+  VkAccelerationStructureKHR twoQuads(VkGeometryFlagsKHR farFlags = 0) {
+    std::vector<float> q5 = kQuad;
+    for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
+    std::vector<float> q3 = kQuad;
+    for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
+    VkAccelerationStructureKHR b = blas({triangles(q3, kQuadIndices, 0), triangles(q5, kQuadIndices, farFlags)});
+    return tlas({instance(b)});
   }
   // The centre pixel of a 4 x 4 launch: the ray at (-0.5, -0.5) hits triangle 0 of a quad at the origin.
   TracePayload centre(VkPipeline p, const Sbt& s, VkAccelerationStructureKHR top, const TraceParams& params) {
@@ -187,14 +199,7 @@ TEST_F(TraceFlags, RayFlagsInstanceFlagsMasksAndMissIndex) {
 
 TEST_F(TraceFlags, AnyHitAcceptIgnoreTerminateAndOpacity) {
   // Two non-opaque quads, geometry 0 at z = 3 and geometry 1 at z = 5, one record each (sbtStride 1).
-  std::vector<float> q5 = kQuad;
-  for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
-  std::vector<float> q3 = kQuad;
-  for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
-  VkAccelerationStructureKHR b =
-      blas({triangles(q3, kQuadIndices, 0),
-            triangles(q5, kQuadIndices, VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR)});
-  VkAccelerationStructureKHR top = tlas({instance(b)});
+  VkAccelerationStructureKHR top = twoQuads(VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR);
   VkPipeline p = pipeline(true);
   ASSERT_NE(p, VK_NULL_HANDLE);
   for (uint32_t mode : {0u, 1u, 2u}) {
@@ -222,18 +227,44 @@ TEST_F(TraceFlags, AnyHitAcceptIgnoreTerminateAndOpacity) {
   }
 }
 
+TEST_F(TraceFlags, AnyHitCountersEveryRayAddsToCountEveryInvocation) {
+  // trace_ahit_count.rahit adds 1 to one word per invocation (result unused: vkrt combines the adds of a task and
+  // writes their sum when the task ends, abi::PendingAdds). Two non-opaque quads at z = 3 and 5 over [-1, 1]^2 and
+  // a 64 x 64 launch over [-2, 2]^2 (64 tiles, spread over the workers): with every candidate ignored, each ray
+  // inside the quads runs the any-hit shader twice; the word must hold every one of them.
+  VkAccelerationStructureKHR top = twoQuads();
+  VkPipeline p = pipelineWith(module(kSpv_trace_ahit_count_rahit, sizeof kSpv_trace_ahit_count_rahit));
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  constexpr uint32_t n = 64;
+  for (uint32_t mode : {1u, 0u}) {
+    SCOPED_TRACE("any-hit mode " + std::to_string(mode));
+    Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100, mode}}, {2, {101, mode}}});
+    std::memset(spheres.data, 0, 4);
+    const std::vector<TracePayload> r = trace(p, s, top, n, n, {});
+    uint32_t inside = 0, invocations = 0;
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t x = 0; x < n; ++x) {
+        const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+        const bool in = wx >= -1 && wx <= 1 && wy >= -1 && wy <= 1;
+        inside += in;
+        invocations += r[y * n + x].extra[1];
+        if (mode == 1) EXPECT_EQ(r[y * n + x].extra[1], in ? 2u : 0u) << "launch index " << x << "," << y;
+      }
+    uint32_t total = 0;
+    std::memcpy(&total, spheres.data, 4);
+    EXPECT_EQ(inside, 32u * 32u);
+    EXPECT_EQ(total, invocations) << "the word every invocation added 1 to";
+    if (mode == 1) EXPECT_EQ(total, 2 * inside);
+  }
+}
+
 TEST_F(TraceFlags, EachAnyHitRunsWithTheRecordItsCandidateSelects) {
   // The executor keeps the hit record a task resolved last, and its reused any-hit invocation keeps that record's
   // data (exec/trace.cpp, TaskState::hitIndex, setRecord): candidates that select different records, in one trace
   // and from launch index to launch index of one tile, must each run with their own record. Two non-opaque quads
   // of one hit group, geometry 0 at z = 3 and geometry 1 at z = 5, with records that differ only in their data:
   // one any-hit ignores, the other accepts; which quad is hit is decided by the record each candidate read.
-  std::vector<float> q5 = kQuad;
-  for (size_t i = 2; i < q5.size(); i += 3) q5[i] = 5;
-  std::vector<float> q3 = kQuad;
-  for (size_t i = 2; i < q3.size(); i += 3) q3[i] = 3;
-  VkAccelerationStructureKHR b = blas({triangles(q3, kQuadIndices, 0), triangles(q5, kQuadIndices, 0)});
-  VkAccelerationStructureKHR top = tlas({instance(b)});
+  VkAccelerationStructureKHR top = twoQuads();
   VkPipeline p = pipeline(true);
   ASSERT_NE(p, VK_NULL_HANDLE);
   for (uint32_t nearMode : {1u, 0u}) {

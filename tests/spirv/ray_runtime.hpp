@@ -58,7 +58,8 @@ class RayTestRuntime {
   std::map<uint32_t, abi::DescriptorRecord> bindings;
   const uint8_t* pushConstants = nullptr;
 
-  uint32_t maxDepth = 0;            // deepest traceRay nesting seen
+  abi::PendingAdds* pendingAdds = nullptr;  // every invocation's combined adds (abi.hpp); null: none combined
+  uint32_t maxDepth = 0;                    // deepest traceRay nesting seen
   std::vector<std::string> errors;  // what the runtime found wrong (a bad AS address, an SBT index out of range)
 
   // Runs the raygen shader once per launch index.
@@ -120,6 +121,7 @@ class RayTestRuntime {
     Invocation inv{};
     inv.base.pushConstants = pushConstants;
     inv.base.sink = sink;
+    inv.pendingAdds = pendingAdds;
     inv.runtime = this;
     inv.depth = caller ? caller->depth : 0;
     static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection, &recordOutsideRegion};
