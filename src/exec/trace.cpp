@@ -731,7 +731,7 @@ void runRays(const RayLaunch& launch) {
     // The tile's combined adds live here, outside the supervised task: a task cut short by a fault or the watchdog
     // still writes what its shaders added.
     abi::PendingAdds adds{~uint64_t(0), 0, 0, &abi::flushPendingAdds};
-    auto task = [&] { runTile(state, tile, tilesX, tilesY, &adds); };
+    auto task = [&] { runTile(state, tile, tilesX, tilesY, launch.combineAdds ? &adds : nullptr); };
     runSupervised(
         *state.job, [](void* t) { (*static_cast<decltype(task)*>(t))(); }, &task);
     abi::flushPendingAdds(&adds);

@@ -104,6 +104,9 @@ struct RayLaunch {
   // The ray trees to record (exec/ray_tree.hpp), or null: the caller creates one only when the setting names launch
   // ids. Each raygen invocation is looked up in it once; the named ones record everything below them.
   RayTreeRecorder* rayTree = nullptr;
+  // Combined counter adds (abi::PendingAdds): each task gets a table only when every shader of the launch was compiled
+  // to check its accesses against it (spirv::CompileRequest::combineAdds); otherwise their adds are atomic.
+  bool combineAdds = false;
 };
 
 // Runs the launch to completion on the thread pool (the calling thread works too).

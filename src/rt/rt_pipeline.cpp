@@ -389,6 +389,17 @@ bool prepare(Device* dev, const VkRayTracingPipelineCreateInfoKHR& info, uint32_
     job.stages.push_back(std::move(d));
     job.prepared.push_back(std::move(ps));
   }
+  // Combined counter adds (abi::PendingAdds): where any stage has an add that may be combined, every stage is
+  // compiled to check its accesses against the pending word; a pipeline without one pays nothing for it.
+  const bool adds = std::any_of(job.prepared.begin(), job.prepared.end(), [](const PreparedStage& ps) {
+    return ps.code && spirv::hasCombinableAdds(ps.code->data(), ps.code->size());
+  });
+  if (adds) {
+    for (PreparedStage& ps : job.prepared) {
+      ps.request.combineAdds = true;
+      ps.key = shaderKey(ps.codeHash, ps.request);
+    }
+  }
   for (uint32_t g = 0; g < info.groupCount; ++g) {
     const VkRayTracingShaderGroupCreateInfoKHR& gr = info.pGroups[g];
     Job::Group jg{gr.type, {gr.generalShader, gr.closestHitShader, gr.anyHitShader, gr.intersectionShader}};

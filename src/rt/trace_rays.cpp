@@ -234,6 +234,7 @@ class Launch final : public exec::LaunchResolver {
   std::unordered_map<const spirv::CompiledShader*, BoundResources> resources_;
   std::deque<std::string> names_;  // RayShader::name storage
   std::atomic<bool> reported_[kRuleCount] = {};
+  bool allCheckAdds_ = true;  // every shader of the groups was compiled with combined adds (prepareGroups)
 };
 
 exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, const BindState& bs) {
@@ -243,6 +244,7 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   auto [it, fresh] = resources_.try_emplace(&code);
   if (fresh) it->second.resolve(code, bs, cb_, fn_, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-02697"));
   s.entry = code.rayEntry;
+  allCheckAdds_ = allCheckAdds_ && code.ray.checksPendingAdds;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();
   s.readsTransforms = d->readsTransforms;
@@ -254,6 +256,7 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
 
 void Launch::prepareGroups(const BindState& bs) {
   groups_.resize(pipeline_->groups.size());
+  allCheckAdds_ = true;
   for (uint32_t i = 0; i < pipeline_->groups.size(); ++i) {
     const GroupRecord* r = pipeline_->groups[i];
     index_.emplace(r, i);
@@ -275,6 +278,9 @@ void Launch::prepareGroups(const BindState& bs) {
 void Launch::run(const ExecState& st, const SbtRegions& sbt, const uint32_t size[3]) {
   prepareGroups(st.rayTracing);
   exec::RayLaunch l;
+  // Adds are combined where every shader the launch can run checks its accesses against the pending word (a
+  // pipeline with such adds compiles all its stages so; a library compiled without them turns it off).
+  l.combineAdds = allCheckAdds_;
   for (int k = 0; k < 3; ++k) l.size[k] = size[k];
   exec::SbtRange* ranges[4] = {&l.raygen, &l.miss, &l.hit, &l.callable};
   for (int i = 0; i < 4; ++i) {

@@ -16,7 +16,7 @@ namespace vkrt {
 std::string shaderKey(uint64_t codeHash, const spirv::CompileRequest& request) {
   std::string key = std::to_string(codeHash) + ":" + std::to_string(request.wordCount) + ":" +
                     std::to_string(uint32_t(request.model)) + ":" + std::to_string(request.entryName.size()) + ":" +
-                    request.entryName + ":";
+                    request.entryName + ":" + (request.combineAdds ? "adds:" : "");
   for (const spirv::SpecValue& v : request.specialization) {
     key += std::to_string(v.specId) + "=";
     for (uint8_t b : v.bytes) key += char('a' + (b >> 4)), key += char('a' + (b & 15));

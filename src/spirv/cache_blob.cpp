@@ -21,7 +21,8 @@ namespace vkrt::spirv {
 //
 //   char magic[8] "VKRTSHD6"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry | spmdLanes << 8, pushConstantBytes, model;
-//   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1;
+//   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1 |
+//   checksPendingAdds << 2;
 //   graphics: u32 flags (the GraphicsStageInfo booleans, bit by bit in declaration order), clipDistances,
 //   cullDistances; u32 n + n x 8 bytes (inputs), u32 n + n x 8 bytes (outputs): {location, componentMask,
 //   interpolation, centroid | sample << 1 | integer << 2 | wide << 3, 4 zero bytes};
@@ -114,7 +115,8 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   put32(payload, uint32_t(s.model));
   for (uint32_t v : {s.ray.payloadBytes, s.ray.callableDataBytes, s.ray.hitAttributeBytes, s.ray.frameBytes})
     put32(payload, v);
-  put32(payload, (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u));
+  put32(payload,
+        (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u) | (s.ray.checksPendingAdds ? 4u : 0u));
   const GraphicsStageInfo& g = s.graphics;
   uint32_t flags = 0, bit = 0;
   for (bool f : {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
@@ -170,6 +172,7 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   s.ray.frameBytes = r.u32();
   uint32_t rayFlags = r.u32();
   s.ray.callsOut = (rayFlags & 1) != 0;
+  s.ray.checksPendingAdds = (rayFlags & 4) != 0;
   s.ray.readsHitAttributes = (rayFlags & 2) != 0;
   GraphicsStageInfo& g = s.graphics;
   uint32_t flags = r.u32(), bit = 0;
@@ -230,9 +233,10 @@ std::string cacheKey(const CompileRequest& req) {
   addStr("checks " + std::to_string(shaderChecks()));  // VKRT_SHADER_CHECKS: compiled in or not
   add(req.words, req.wordCount * sizeof(uint32_t));
   addStr(req.entryName);
-  uint32_t model = req.model, inl = req.inlineFunctions;
+  uint32_t model = req.model, inl = req.inlineFunctions, adds = req.combineAdds;
   add(&model, 4);
   add(&inl, 4);
+  add(&adds, 4);
   for (const SpecValue& v : req.specialization) {
     add(&v.specId, sizeof v.specId);
     add(v.bytes.data(), v.bytes.size());

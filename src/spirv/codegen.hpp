@@ -152,6 +152,9 @@ class Codegen {
   bool resultUnused(uint32_t id);
   std::unordered_map<uint32_t, uint32_t> bodyWords;  // word -> occurrences in function bodies (resultUnused)
   bool bodyWordsCounted = false;
+  // CompileRequest::combineAdds, kept by run() for the ray tracing stages only (RayStageInfo::checksPendingAdds):
+  // without it none of the above emits anything.
+  bool combining = false;
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);

@@ -356,6 +356,8 @@ bool Codegen::emitFunction(size_t first, size_t* next) {
 
 bool Codegen::run(const EntryPoint& ep) {
   model = ep.model;
+  combining = combining && isRayTracing();
+  info.ray.checksPendingAdds = combining;
   checks = shaderChecks();  // VKRT_SHADER_CHECKS (part of the cache key)
   for (const auto& [id, name] : m.extInstImports) {
     if (name == "GLSL.std.450") glslSet = id;

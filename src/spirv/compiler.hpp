@@ -50,6 +50,7 @@ struct RayStageInfo {
                                     // included (outgoing payloads and callable data, locals, spills)
   bool callsOut = false;            // the code makes OpTraceRayKHR or OpExecuteCallableKHR calls
   bool readsHitAttributes = false;  // any-hit / closest-hit: HitAttributeKHR is the runtime's, read via the context
+  bool checksPendingAdds = false;   // compiled with CompileRequest::combineAdds
 
   // vkGetRayTracingShaderGroupStackSizeKHR's figure: 0 for a shader that calls nothing (none of it is live
   // while another shader runs); otherwise its frame, plus the hit attributes it reads (the runtime keeps the hit
@@ -134,6 +135,11 @@ struct CompileRequest {
   // The functions outside the shader its code may call (the image functions of abi/image_functions.hpp),
   // null-terminated; the runtime supplies its own. Code calling a function missing here fails to load.
   const abi::HostSymbol* hostSymbols = nullptr;
+  // Ray tracing stages: combine counter adds (abi::PendingAdds) and check every buffer access against the pending
+  // word. The pipeline asks for it in every stage when any of its stages has such an add (hasCombinableAdds): the
+  // checks cost pipelines without one nothing. A launch combines only when every shader it can run was compiled
+  // with it (RayStageInfo::checksPendingAdds).
+  bool combineAdds = false;
 };
 
 // Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported

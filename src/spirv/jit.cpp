@@ -346,6 +346,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   auto mod = std::make_unique<llvm::Module>("vkrt_shader", *context);
   {
     Codegen cg(m, *context, *mod, *shader);
+    cg.combining = req.combineAdds;
     if (!cg.run(*ep)) {
       *error = cg.error;
       return nullptr;

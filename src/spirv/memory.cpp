@@ -965,7 +965,7 @@ static llvm::Function* pendingAddHelper(Codegen& g, llvm::Type* ty) {
 }
 
 void Codegen::flushOverlappingAdds(const Ptr& p, uint64_t bytes) {
-  if (!isRayTracing()) return;
+  if (!combining) return;
   switch (p.storage) {
     case spv::StorageClassStorageBuffer:
     case spv::StorageClassUniform:
@@ -978,42 +978,29 @@ void Codegen::flushOverlappingAdds(const Ptr& p, uint64_t bytes) {
 }
 
 void Codegen::flushPendingAdds() {
-  if (!isRayTracing()) return;
+  if (!combining) return;
   b.CreateCall(flushHelper(*this), {ctxField(*this, offsetof(RayInvocation, pendingAdds))});
 }
 
 bool Codegen::resultUnused(uint32_t id) {
   if (!bodyWordsCounted) {
     bodyWordsCounted = true;
-    bool inBody = false;
-    for (const Instruction& in : m.instructions) {
-      if (in.op == spv::OpFunction) inBody = true;
-      if (!inBody) continue;
-      for (uint32_t w = 1; w < in.count; ++w) ++bodyWords[in.words[w]];
-    }
+    countBodyWords(m, bodyWords);
   }
   auto it = bodyWords.find(id);
   return it != bodyWords.end() && it->second == 1;  // its definition's result word alone
 }
 
 bool Codegen::combinableAdd(const Instruction& in, const Ptr& p) {
-  if (!isRayTracing()) return false;
-  if (in.op != spv::OpAtomicIAdd && in.op != spv::OpAtomicISub && in.op != spv::OpAtomicIIncrement &&
-      in.op != spv::OpAtomicIDecrement)
-    return false;
+  if (!combining) return false;
+  if (!combinableAddOp(in.op)) return false;
   // Through a buffer descriptor (an address a physical pointer computes is left to fault where the shader has it).
   if (p.resource < 0 || (p.storage != spv::StorageClassStorageBuffer && p.storage != spv::StorageClassUniform))
     return false;
   const Type& t = spvType(p.type);
   if (t.kind != Type::Int || (t.width != 32 && t.width != 64)) return false;
   uint64_t semantics = 0;
-  if (!m.constantU64(in.word(5), &semantics)) return false;
-  // No ordering, availability, visibility or volatile bits (SPIR-V's Memory Semantics: 0x2..0x10, 0x2000..0x8000).
-  const uint64_t kOrdered = uint64_t(spv::MemorySemanticsAcquireMask) | spv::MemorySemanticsReleaseMask |
-                            spv::MemorySemanticsAcquireReleaseMask | spv::MemorySemanticsSequentiallyConsistentMask |
-                            spv::MemorySemanticsMakeAvailableMask | spv::MemorySemanticsMakeVisibleMask |
-                            spv::MemorySemanticsVolatileMask;
-  if (semantics & kOrdered) return false;
+  if (!m.constantU64(in.word(5), &semantics) || !relaxedSemantics(semantics)) return false;
   return resultUnused(in.word(2));
 }
 

@@ -403,4 +403,41 @@ bool applySpecialization(std::vector<uint32_t>& words, const std::vector<SpecVal
   return true;
 }
 
+bool combinableAddOp(spv::Op op) {
+  return op == spv::OpAtomicIAdd || op == spv::OpAtomicISub || op == spv::OpAtomicIIncrement ||
+         op == spv::OpAtomicIDecrement;
+}
+
+bool relaxedSemantics(uint64_t semantics) {
+  const uint64_t ordered = uint64_t(spv::MemorySemanticsAcquireMask) | spv::MemorySemanticsReleaseMask |
+                           spv::MemorySemanticsAcquireReleaseMask | spv::MemorySemanticsSequentiallyConsistentMask |
+                           spv::MemorySemanticsMakeAvailableMask | spv::MemorySemanticsMakeVisibleMask |
+                           spv::MemorySemanticsVolatileMask;
+  return (semantics & ordered) == 0;
+}
+
+void countBodyWords(const Module& m, std::unordered_map<uint32_t, uint32_t>& counts) {
+  bool inBody = false;
+  for (const Instruction& in : m.instructions) {
+    if (in.op == spv::OpFunction) inBody = true;
+    if (!inBody) continue;
+    for (uint32_t w = 1; w < in.count; ++w) ++counts[in.words[w]];
+  }
+}
+
+bool hasCombinableAdds(const uint32_t* words, size_t wordCount) {
+  Module m;
+  std::string error;
+  if (!m.parse(words, wordCount, &error)) return false;
+  std::unordered_map<uint32_t, uint32_t> counts;
+  for (const Instruction& in : m.instructions) {
+    uint64_t semantics = 0;
+    if (!combinableAddOp(spv::Op(in.op)) || !m.constantU64(in.word(5), &semantics) || !relaxedSemantics(semantics))
+      continue;
+    if (counts.empty()) countBodyWords(m, counts);
+    if (counts[in.word(2)] == 1) return true;
+  }
+  return false;
+}
+
 }  // namespace vkrt::spirv

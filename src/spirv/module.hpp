@@ -128,4 +128,18 @@ bool applySpecialization(std::vector<uint32_t>& words, const std::vector<SpecVal
 // "OpIAdd" etc. (SPIRV-Tools' opcode table).
 std::string opName(spv::Op op);
 
+// Combined counter adds (abi::PendingAdds): the parts of the rule that Codegen::combinableAdd and
+// hasCombinableAdds (compiler.hpp) share.
+// OpAtomicIAdd, OpAtomicISub, OpAtomicIIncrement, OpAtomicIDecrement.
+bool combinableAddOp(spv::Op op);
+// Relaxed: no ordering, availability, visibility or volatile bits.
+bool relaxedSemantics(uint64_t semantics);
+// Every word of the module's function bodies (from the first OpFunction on, opcodes aside) by its occurrences: a
+// result id counted once is named by no instruction but its definition.
+void countBodyWords(const Module& m, std::unordered_map<uint32_t, uint32_t>& counts);
+// Whether the module has an add Codegen may combine: one of combinableAddOp's with constant relaxed semantics and a
+// result no instruction of a function body names (whatever its pointer: a superset of what is combined). What a
+// pipeline decides CompileRequest::combineAdds by; false for words that do not parse.
+bool hasCombinableAdds(const uint32_t* words, size_t wordCount);
+
 }  // namespace vkrt::spirv

@@ -8,11 +8,14 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <iterator>
 
 #include "combined_adds.rahit.spv.h"
 #include "combined_adds.rgen.spv.h"
 #include "combined_adds_sub.spv14.spvasm.spv.h"
+#include "compute_memory_model.comp.spv.h"
 #include "spirv/ray_runtime.hpp"
+#include "trace_raygen.rgen.spv.h"
 
 namespace vkrt::testing {
 namespace {
@@ -31,12 +34,15 @@ void countingFlush(abi::PendingAdds* adds) {
   abi::flushPendingAdds(adds);
 }
 
+// Compiled as a pipeline with such adds compiles its stages (CompileRequest::combineAdds), or without it.
 template <size_t N>
-std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model) {
+std::shared_ptr<spirv::CompiledShader> compileStage(const uint32_t (&words)[N], spv::ExecutionModel model,
+                                                    bool combineAdds = true) {
   spirv::CompileRequest r;
   r.words = words;
   r.wordCount = N;
   r.model = model;
+  r.combineAdds = combineAdds;
   std::string error;
   auto s = spirv::compile(r, &error);
   EXPECT_TRUE(s) << error;
@@ -182,6 +188,33 @@ TEST(SpirvCombinedAdds, SubtractionsArePendingAsNegativeSums) {
   plain.words.counter = 10;
   launch(sub, 0, false, plain);
   EXPECT_EQ(plain.words.counter, 4u) << "without a table";
+}
+
+TEST(SpirvCombinedAdds, WithoutTheRequestNothingIsCombinedOrChecked) {
+  const auto plain = compileStage(kSpv_combined_adds_rgen, spv::ExecutionModelRayGenerationKHR, false);
+  ASSERT_TRUE(plain && raygen());
+  EXPECT_FALSE(plain->ray.checksPendingAdds);
+  EXPECT_TRUE(raygen()->ray.checksPendingAdds);
+  Launch r;
+  launch(plain, 0, true, r);
+  EXPECT_EQ(r.words.counter, 2u) << "every add atomic, though the invocation has a table";
+  EXPECT_TRUE(empty(r.table));
+  // A compute shader never combines, whatever the request (its relaxed add with an unused result included).
+  const auto compute = compileStage(kSpv_compute_memory_model_comp, spv::ExecutionModelGLCompute, true);
+  ASSERT_TRUE(compute);
+  EXPECT_FALSE(compute->ray.checksPendingAdds);
+}
+
+TEST(SpirvCombinedAdds, PipelinesAskForItWhereAStageHasSuchAnAdd) {
+  EXPECT_TRUE(spirv::hasCombinableAdds(kSpv_combined_adds_rgen, std::size(kSpv_combined_adds_rgen)));
+  EXPECT_TRUE(spirv::hasCombinableAdds(kSpv_combined_adds_rahit, std::size(kSpv_combined_adds_rahit)));
+  EXPECT_TRUE(
+      spirv::hasCombinableAdds(kSpv_combined_adds_sub_spv14_spvasm, std::size(kSpv_combined_adds_sub_spv14_spvasm)));
+  EXPECT_FALSE(spirv::hasCombinableAdds(kSpv_trace_raygen_rgen, std::size(kSpv_trace_raygen_rgen))) << "no atomics";
+  EXPECT_TRUE(spirv::hasCombinableAdds(kSpv_compute_memory_model_comp, std::size(kSpv_compute_memory_model_comp)))
+      << "one relaxed add of unused result among ordered ones (the scan does not look at the stage)";
+  const uint32_t garbage[3] = {1, 2, 3};
+  EXPECT_FALSE(spirv::hasCombinableAdds(garbage, 3));
 }
 
 TEST(SpirvCombinedAdds, EveryModeLeavesTheMemoryItLeavesWithoutATable) {
