@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -97,6 +98,63 @@ TEST(TopLevelTableIndex, TheExtremesOfTheAddressSpaceAreFound) {
   checkIndex({0, ~uint64_t(0)}, 4);
   checkIndex({1, ~uint64_t(0) - 1, ~uint64_t(0)}, 5);
   checkIndex({0x567000001000ull}, 6);
+}
+
+// A resolver over `addresses` (sorted, distinct): every third is in the snapshot without its structure (resolved on
+// first use, to a structure or, every sixth, to none), the rest with theirs. Structures are stand-in pointers, never
+// dereferenced by the resolver.
+class StubResolver : public exec::TopLevelResolver {
+ public:
+  explicit StubResolver(std::vector<uint64_t> addresses) : addresses_(std::move(addresses)) {}
+  // What topLevel must answer for `a`.
+  const accel::Tlas* expected(uint64_t a) const {
+    auto it = std::lower_bound(addresses_.begin(), addresses_.end(), a);
+    if (it == addresses_.end() || *it != a) return nullptr;
+    const size_t i = size_t(it - addresses_.begin());
+    return i % 6 == 3 ? nullptr : structure(i);
+  }
+  size_t resolves = 0, misses = 0;
+
+ protected:
+  void snapshot(Snapshot* out) override {
+    for (size_t i = 0; i < addresses_.size(); ++i)
+      out->structures.emplace_back(addresses_[i], i % 3 == 0 ? nullptr : stub(i));
+  }
+  std::shared_ptr<const accel::Tlas> resolve(uint64_t address) override {
+    ++resolves;
+    const size_t i = size_t(std::lower_bound(addresses_.begin(), addresses_.end(), address) - addresses_.begin());
+    return i % 6 == 3 ? nullptr : stub(i);
+  }
+  void missed(uint64_t) override { ++misses; }
+
+ private:
+  static const accel::Tlas* structure(size_t i) { return reinterpret_cast<const accel::Tlas*>(0x10000 + 16 * i); }
+  static std::shared_ptr<const accel::Tlas> stub(size_t i) {
+    return std::shared_ptr<const accel::Tlas>(structure(i), [](const accel::Tlas*) {});
+  }
+  std::vector<uint64_t> addresses_;
+};
+
+TEST(TopLevelTableIndex, TheResolverAnswersEveryAddressAndResolvesEachOnce) {
+  // Ranges of one entry, of two and of many, and empty ones, with structures the snapshot knew and ones resolved on
+  // first use (to a structure or to none): the right answer for every address and its neighbours, twice over; each
+  // address the snapshot left unresolved resolved once; the first miss reported once.
+  std::vector<uint64_t> a;
+  for (uint64_t i = 0; i < 300; ++i) a.push_back(0x567000000000ull + (i << 20));
+  for (uint64_t i = 0; i < 100; ++i) a.push_back(0x567019000000ull + (i / 2) * 8192 + (i % 2) * 256);
+  for (uint64_t i = 0; i < 50; ++i) a.push_back(0x567019200000ull + i * 16);
+  StubResolver r(a);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (uint64_t x : a) {
+      ASSERT_EQ(r.topLevel(x), r.expected(x)) << "address 0x" << std::hex << x << " pass " << pass;
+      ASSERT_EQ(r.topLevel(x + 8), r.expected(x + 8)) << "address 0x" << std::hex << x + 8;
+      ASSERT_EQ(r.topLevel(x - 8), r.expected(x - 8)) << "address 0x" << std::hex << x - 8;
+    }
+  }
+  EXPECT_EQ(r.topLevel(0), nullptr);
+  EXPECT_EQ(r.topLevel(~uint64_t(0)), nullptr);
+  EXPECT_EQ(r.resolves, a.size() / 3);
+  EXPECT_EQ(r.misses, 1u);
 }
 
 }  // namespace
