@@ -270,7 +270,7 @@ std::shared_ptr<Tlas> deserializeTlas(const uint8_t* data, size_t size,
     Instance& in = instances[i];
     for (auto& row : in.transform)
       for (float& v : row) r.get(&v);
-    uint32_t ref, zero;
+    uint32_t ref = kNoBlas, zero = 0;  // (read below: the size check above leaves no get short)
     r.get(&in.customIndex), r.get(&in.mask), r.get(&in.sbtOffset), r.get(&in.flags), r.get(&ref), r.get(&zero);
     if (ref == kNoBlas) continue;
     if (ref >= blasRefs.size())

@@ -267,12 +267,16 @@ TEST(AccelProcedural, BoxesMeetBothEndsAndTrianglesNeitherInAMixedScene) {
     Ray ray = rayUp();
     ray.tMax = 5.0f;
     r = traceOnce(*tlas, ray, rec);
-    if (r.hit) EXPECT_LT(r.info.t, 5.0f);
+    if (r.hit) {
+      EXPECT_LT(r.info.t, 5.0f);
+    }
     // tMin at the quad at 5: a hit must lie above it.
     ray = rayUp();
     ray.tMin = 5.0f;
     r = traceOnce(*tlas, ray, rec);
-    if (r.hit) EXPECT_GT(r.info.t, 5.0f);
+    if (r.hit) {
+      EXPECT_GT(r.info.t, 5.0f);
+    }
     // tMin == tMax == 0 at the quad through the origin: nothing.
     EXPECT_FALSE(traceOnce(*tlas, rayFrom(0.3f, -0.4f, 0, 0, 0, 1, 0, 0, 0), rec).hit);
   }

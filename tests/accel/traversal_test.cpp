@@ -121,7 +121,9 @@ TEST(AccelTraversal, ReportedTLiesInsideTheIntervalAndCandidatesComeOnceOnEveryK
       }
       if (!ambiguous) {
         EXPECT_EQ(t.hit, !inside.empty());
-        if (t.hit) EXPECT_TRUE(nearHit(t.info.t, inside.front())) << t.info.t;
+        if (t.hit) {
+          EXPECT_TRUE(nearHit(t.info.t, inside.front())) << t.info.t;
+        }
       }
       Recorder ignore;
       ignore.onAnyHit = [](const HitInfo&) { return AnyHitResult::Ignore; };
@@ -133,17 +135,23 @@ TEST(AccelTraversal, ReportedTLiesInsideTheIntervalAndCandidatesComeOnceOnEveryK
         seen.push_back(h.t);
       }
       std::sort(seen.begin(), seen.end());
-      if (!ambiguous) EXPECT_TRUE(nearHits(seen, inside)) << "each crossing once";
+      if (!ambiguous) {
+        EXPECT_TRUE(nearHits(seen, inside)) << "each crossing once";
+      }
       RayQuery q;
       queryInitialize(q, anyHit.get(), r);
       std::vector<float> returned;
       while (queryProceed(q)) {
         EXPECT_GT(q.candidate.t, r.tMin) << "ray query candidate";
         EXPECT_LT(q.candidate.t, r.tMax) << "ray query candidate";
-        if (!returned.empty()) EXPECT_GT(q.candidate.t, returned.back()) << "nearest first";
+        if (!returned.empty()) {
+          EXPECT_GT(q.candidate.t, returned.back()) << "nearest first";
+        }
         returned.push_back(q.candidate.t);
       }
-      if (!ambiguous) EXPECT_TRUE(nearHits(returned, inside)) << "ray query candidates";
+      if (!ambiguous) {
+        EXPECT_TRUE(nearHits(returned, inside)) << "ray query candidates";
+      }
     }
   }
   EXPECT_GT(hits, 1000u) << "the rays meet quads";
