@@ -71,4 +71,11 @@ QuadSampler describeQuadSampler(const VkSamplerCreateInfo& info);
 uint32_t sampleQuadFast(const QuadView& v, const QuadSampler& s, const float coord[16], const float ddx[16],
                         const float ddy[16], const float bias[4], uint32_t lanes, uint32_t out[16], float lod[4]);
 
+// The code sampleQuadFast runs: the baseline target's, or AVX2's where the CPU has it (the default there; the
+// environment's VKRT_QUAD_ISA=baseline keeps the baseline). Both give the same bits. setQuadSamplingIsa returns
+// false, changing nothing, for AVX2 on a CPU without it.
+enum class QuadIsa { Baseline, Avx2 };
+QuadIsa quadSamplingIsa();
+bool setQuadSamplingIsa(QuadIsa isa);
+
 }  // namespace vkrt

@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "runtime/alloc.hpp"
@@ -18,6 +21,7 @@
 #include "runtime/image_view.hpp"
 #include "runtime/instance.hpp"
 #include "runtime/physical_device.hpp"
+#include "runtime/quad_sampling.hpp"
 #include "runtime/sampler.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -352,10 +356,39 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
   for (VkImageView v : views) vkrt_DestroyImageView(device, v, nullptr);
 }
 
-TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Unorm) { compareQuadLanes(VK_FORMAT_R8G8B8A8_UNORM); }
-TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Unorm) { compareQuadLanes(VK_FORMAT_B8G8R8A8_UNORM); }
-TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Srgb) { compareQuadLanes(VK_FORMAT_R8G8B8A8_SRGB); }
-TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Srgb) { compareQuadLanes(VK_FORMAT_B8G8R8A8_SRGB); }
+// The quad path's two copies (quad_sampling.cpp: the baseline target's and AVX2's), each against the per-lane path
+// (baseline code): the same bits whatever the CPU runs. The AVX2 copy only where the CPU has it.
+void eachQuadIsa(const std::function<void()>& compare) {
+  const QuadIsa before = quadSamplingIsa();
+  for (QuadIsa isa : {QuadIsa::Baseline, QuadIsa::Avx2}) {
+    if (!setQuadSamplingIsa(isa)) {
+      EXPECT_FALSE(__builtin_cpu_supports("avx2")) << "AVX2 refused on a CPU that has it";
+      continue;
+    }
+    SCOPED_TRACE(isa == QuadIsa::Avx2 ? "the AVX2 copy" : "the baseline copy");
+    compare();
+  }
+  setQuadSamplingIsa(before);
+}
+
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Unorm) {
+  eachQuadIsa([&] { compareQuadLanes(VK_FORMAT_R8G8B8A8_UNORM); });
+}
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Unorm) {
+  eachQuadIsa([&] { compareQuadLanes(VK_FORMAT_B8G8R8A8_UNORM); });
+}
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingRgba8Srgb) {
+  eachQuadIsa([&] { compareQuadLanes(VK_FORMAT_R8G8B8A8_SRGB); });
+}
+TEST_F(SamplerFastPath, QuadVectorPathMatchesPerLaneSamplingBgra8Srgb) {
+  eachQuadIsa([&] { compareQuadLanes(VK_FORMAT_B8G8R8A8_SRGB); });
+}
+TEST_F(SamplerFastPath, TheQuadPathRunsTheAvx2CopyWhereTheCpuHasIt) {
+  // VKRT_QUAD_ISA=baseline (tools/test.sh's instruction-set matrix) keeps the baseline copy.
+  const char* isa = std::getenv("VKRT_QUAD_ISA");
+  const bool baseline = isa && std::string(isa) == "baseline";
+  EXPECT_EQ(quadSamplingIsa(), __builtin_cpu_supports("avx2") && !baseline ? QuadIsa::Avx2 : QuadIsa::Baseline);
+}
 
 // The records hold fastSampling's decision: the vector path for the 8-bit RGBA / BGRA views and the isotropic
 // samplers of its filters and address modes, the generic path for the rest.
