@@ -151,7 +151,6 @@ class Codegen {
   // anywhere but its definition counts as a use).
   bool resultUnused(uint32_t id);
   std::unordered_map<uint32_t, uint32_t> bodyWords;  // word -> occurrences in function bodies (resultUnused)
-  bool bodyWordsCounted = false;
   // CompileRequest::combineAdds, kept by run() for the ray tracing stages only (RayStageInfo::checksPendingAdds):
   // without it none of the above emits anything.
   bool combining = false;

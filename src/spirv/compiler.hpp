@@ -136,9 +136,9 @@ struct CompileRequest {
   // null-terminated; the runtime supplies its own. Code calling a function missing here fails to load.
   const abi::HostSymbol* hostSymbols = nullptr;
   // Ray tracing stages: combine counter adds (abi::PendingAdds) and check every buffer access against the pending
-  // word. The pipeline asks for it in every stage when any of its stages has such an add (hasCombinableAdds): the
-  // checks cost pipelines without one nothing. A launch combines only when every shader it can run was compiled
-  // with it (RayStageInfo::checksPendingAdds).
+  // word. The pipeline asks for it in every stage when any of its stages has such an add (spirv/module.hpp's
+  // hasCombinableAdds): the checks cost pipelines without one nothing. A launch combines only when every shader it can
+  // run was compiled with it (RayStageInfo::checksPendingAdds).
   bool combineAdds = false;
 };
 

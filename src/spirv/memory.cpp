@@ -897,32 +897,9 @@ llvm::Function* overlapHelper(Codegen& g) {
   });
 }
 
-// vkrt.pending.flush(adds): flushes whatever is pending.
-llvm::Function* flushHelper(Codegen& g) {
-  auto* ptr = llvm::PointerType::get(g.c, 0);
-  auto* ft = llvm::FunctionType::get(llvm::Type::getVoidTy(g.c), {ptr}, false);
-  return helper(g, "vkrt.pending.flush", ft, [&](llvm::IRBuilder<>& h, llvm::Function* f) {
-    llvm::Value* adds = f->getArg(0);
-    auto* test = llvm::BasicBlock::Create(g.c, "test", f);
-    auto* flush = llvm::BasicBlock::Create(g.c, "flush", f);
-    auto* done = llvm::BasicBlock::Create(g.c, "done", f);
-    h.CreateCondBr(h.CreateIsNull(adds), done, test);
-    h.SetInsertPoint(test);
-    llvm::Value* end = pendingField(h, adds, kPendingEnd, h.getInt64Ty());
-    h.CreateCondBr(h.CreateICmpNE(end, h.getInt64(0)), flush, done, unlikely(g));
-    h.SetInsertPoint(flush);
-    callFlush(h, adds);
-    h.CreateBr(done);
-    h.SetInsertPoint(done);
-    h.CreateRetVoid();
-  });
-}
-
-}  // namespace
-
 // vkrt.pending.add.iN(adds, address, value): value added to the pending sum of the word at address (the pending
 // word flushed first when it is another), or atomically where the invocation has no table.
-static llvm::Function* pendingAddHelper(Codegen& g, llvm::Type* ty) {
+llvm::Function* pendingAddHelper(Codegen& g, llvm::Type* ty) {
   const uint64_t bytes = ty->getIntegerBitWidth() / 8;
   auto* i64 = llvm::Type::getInt64Ty(g.c);
   auto* ptr = llvm::PointerType::get(g.c, 0);
@@ -964,6 +941,8 @@ static llvm::Function* pendingAddHelper(Codegen& g, llvm::Type* ty) {
   });
 }
 
+}  // namespace
+
 void Codegen::flushOverlappingAdds(const Ptr& p, uint64_t bytes) {
   if (!combining) return;
   switch (p.storage) {
@@ -979,14 +958,14 @@ void Codegen::flushOverlappingAdds(const Ptr& p, uint64_t bytes) {
 
 void Codegen::flushPendingAdds() {
   if (!combining) return;
-  b.CreateCall(flushHelper(*this), {ctxField(*this, offsetof(RayInvocation, pendingAdds))});
+  // An access that may reach any address overlaps every word: [0, 2^64 - 1) holds every begin a table can have, and
+  // an empty table's end, 0, lies below it.
+  b.CreateCall(overlapHelper(*this),
+               {ctxField(*this, offsetof(RayInvocation, pendingAdds)), i64(0), i64(~uint64_t(0))});
 }
 
 bool Codegen::resultUnused(uint32_t id) {
-  if (!bodyWordsCounted) {
-    bodyWordsCounted = true;
-    countBodyWords(m, bodyWords);
-  }
+  if (bodyWords.empty()) countBodyWords(m, bodyWords);  // once: a module with a function has its words
   auto it = bodyWords.find(id);
   return it != bodyWords.end() && it->second == 1;  // its definition's result word alone
 }
@@ -1014,18 +993,10 @@ bool Codegen::atomic(const Instruction& in, bool& ok) {
   uint64_t bytes = t.width / 8;
   llvm::Type* ty = type(p.type);
   auto order = llvm::AtomicOrdering::SequentiallyConsistent;
-  if (combinableAdd(in, p)) {
-    // Added to the worker's pending sum (abi::PendingAdds), or atomically where the invocation has none.
-    const bool sub = in.op == spv::OpAtomicISub || in.op == spv::OpAtomicIDecrement;
-    const bool one = in.op == spv::OpAtomicIIncrement || in.op == spv::OpAtomicIDecrement;
-    llvm::Value* operand = one ? llvm::ConstantInt::get(ty, 1) : value(in.word(6));
-    if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
-    if (sub) operand = b.CreateNeg(operand);
-    llvm::Value* addr = address(forWrite(p), bytes, true);
-    b.CreateCall(pendingAddHelper(*this, ty), {ctxField(*this, offsetof(RayInvocation, pendingAdds)), addr, operand});
-    return true;
-  }
-  flushPendingAdds();  // any other atomic: the pending sum first (its own word, or a release that orders it)
+  // An add whose result is unused may go to the worker's pending sum (abi::PendingAdds); any other atomic writes the
+  // pending sum first (its own word, or a release that orders it).
+  const bool combined = combinableAdd(in, p);
+  if (!combined) flushPendingAdds();
   if (in.op == spv::OpAtomicLoad) {
     auto* l = b.CreateAlignedLoad(ty, address(p, bytes, false), llvm::Align(bytes));
     l->setAtomic(order);
@@ -1064,6 +1035,11 @@ bool Codegen::atomic(const Instruction& in, bool& ok) {
   }
   if (!operand) operand = value(in.word(6));
   if (!operand) return (ok = fail(in, "atomic operand has no value")), true;
+  if (combined) {  // the sum of a subtraction's negations; atomic where the invocation has no table
+    if (op == llvm::AtomicRMWInst::Sub) operand = b.CreateNeg(operand);
+    b.CreateCall(pendingAddHelper(*this, ty), {ctxField(*this, offsetof(RayInvocation, pendingAdds)), addr, operand});
+    return true;
+  }
   set(in.word(2), b.CreateAtomicRMW(op, addr, operand, llvm::MaybeAlign(bytes), order));
   return true;
 }

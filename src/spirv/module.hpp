@@ -129,7 +129,7 @@ bool applySpecialization(std::vector<uint32_t>& words, const std::vector<SpecVal
 std::string opName(spv::Op op);
 
 // Combined counter adds (abi::PendingAdds): the parts of the rule that Codegen::combinableAdd and
-// hasCombinableAdds (compiler.hpp) share.
+// hasCombinableAdds (below) share.
 // OpAtomicIAdd, OpAtomicISub, OpAtomicIIncrement, OpAtomicIDecrement.
 bool combinableAddOp(spv::Op op);
 // Relaxed: no ordering, availability, visibility or volatile bits.
