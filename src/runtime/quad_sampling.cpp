@@ -53,14 +53,19 @@ namespace {
 
 namespace {
 
+bool hostHasAvx2() {
+#if defined(__x86_64__)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
 // Which copy sampleQuadFast runs: AVX2 where the CPU has it, unless VKRT_QUAD_ISA=baseline; setQuadSamplingIsa
 // (the tests) changes it.
 std::atomic<QuadIsa> gQuadIsa = [] {
-#if defined(__x86_64__)
   const char* isa = std::getenv("VKRT_QUAD_ISA");
-  if (__builtin_cpu_supports("avx2") && !(isa && std::strcmp(isa, "baseline") == 0)) return QuadIsa::Avx2;
-#endif
-  return QuadIsa::Baseline;
+  return hostHasAvx2() && !(isa && std::strcmp(isa, "baseline") == 0) ? QuadIsa::Avx2 : QuadIsa::Baseline;
 }();
 
 }  // namespace
@@ -68,11 +73,7 @@ std::atomic<QuadIsa> gQuadIsa = [] {
 QuadIsa quadSamplingIsa() { return gQuadIsa.load(std::memory_order_relaxed); }
 
 bool setQuadSamplingIsa(QuadIsa isa) {
-#if defined(__x86_64__)
-  if (isa == QuadIsa::Avx2 && !__builtin_cpu_supports("avx2")) return false;
-#else
-  if (isa == QuadIsa::Avx2) return false;
-#endif
+  if (isa == QuadIsa::Avx2 && !hostHasAvx2()) return false;
   gQuadIsa.store(isa, std::memory_order_relaxed);
   return true;
 }
@@ -80,7 +81,9 @@ bool setQuadSamplingIsa(QuadIsa isa) {
 // The variant of the view's decoding, the sampler's address modes and filters.
 uint32_t sampleQuadFast(const QuadView& v, const QuadSampler& s, const float coord[16], const float ddx[16],
                         const float ddy[16], const float bias[4], uint32_t lanes, uint32_t out[16], float lod[4]) {
-  const unsigned filter = s.magLinear != s.minLinear ? 2 : s.magLinear ? 1 : 0;  // kMixed, kLinear, kNearest
+  const unsigned filter = s.magLinear != s.minLinear ? baseline::kMixed
+                          : s.magLinear              ? baseline::kLinear
+                                                     : baseline::kNearest;
   const unsigned index = unsigned(v.srgb) * 12 + unsigned(s.repeatU) * 6 + unsigned(s.repeatV) * 3 + filter;
 #if defined(__x86_64__)
   if (quadSamplingIsa() == QuadIsa::Avx2) return avx2::kVariants[index](v, s, coord, ddx, ddy, bias, lanes, out, lod);
