@@ -7,9 +7,12 @@
 //   - NEAREST is LINEAR with both texels of each axis the nearest one and weights 0: t + 0 (t - t) is t.
 //   - one level (mipmap NEAREST, or a whole level of detail) is two levels, the same twice, at weight 0: a (1 - 0) +
 //     b 0 is a, for the texels' values are never negative (no -0 either).
-// Lanes may select different levels and filters; only the texel loads are per lane (SSE2 has no gather). The sRGB
-// decoding, the address modes and the filters (both NEAREST, both LINEAR, or by lane) are template parameters,
-// chosen once per call (sampleQuadFast).
+// Lanes may select different levels and filters; only the texel loads are per lane (SSE2 has no gather). Where any
+// lane blends two levels, both levels are filtered in one pass of eight elements (the four lanes at the first level,
+// then at the second: the same operations on each element, so the same bits as two passes). A LINEAR pair whose
+// second texel follows the first in the row (every lane's, away from a REPEAT seam or a CLAMP edge) comes from one
+// 8-byte load; NEAREST loads its one texel once. The sRGB decoding, the address modes and the filters (both NEAREST,
+// both LINEAR, or by lane) are template parameters, chosen once per call (sampleQuadFast).
 #include "runtime/quad_sampling.hpp"
 
 #include <algorithm>
