@@ -21,8 +21,9 @@ class InstructionSetSettings : public ::testing::Environment {
       ASSERT_TRUE(vkrt::accel::setIsa(isa, &error)) << "VKRT_EMBREE_ISA=" << isa << ": " << error;
       ASSERT_EQ(std::string(vkrt::accel::isaInUse()), isa) << "this CPU cannot run Embree's " << isa << " kernels";
     }
-    if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu)
+    if (const char* cpu = std::getenv("VKRT_JIT_CPU"); cpu && *cpu) {
       ASSERT_TRUE(vkrt::spirv::setTargetCpu(cpu, &error)) << "VKRT_JIT_CPU=" << cpu << ": " << error;
+    }
     if (const char* spmd = std::getenv("VKRT_SPMD"); spmd && *spmd) vkrt::spirv::setSpmd(std::string(spmd) != "0");
   }
 };

@@ -60,7 +60,9 @@ WorkerState::~WorkerState() {
 
 void installHandlers();
 
-WorkerState& worker() {
+// (Not inlined: inside runSupervised its locals would live across sigsetjmp, which GCC's -Wclobbered flags although
+// nothing reads them after the jump.)
+__attribute__((noinline)) WorkerState& worker() {
   if (WorkerState* w = tlsWorker) return *w;
   WorkerState& w = tlsState;
   // An alternate signal stack, so that a fault on an exhausted stack (a fiber's guard page) can be handled. A

@@ -205,7 +205,7 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
   // Shaders: prepared (the stage rules), then compiled or found in the device's or the application's cache.
   const bool mayCompile = !(ci.flags & VK_PIPELINE_CREATE_FAIL_ON_PIPELINE_COMPILE_REQUIRED_BIT);
   PreparedStage vsPrep, fsPrep;
-  char vsWhat[80], fsWhat[80];
+  char vsWhat[96], fsWhat[96];  // what (63 characters at most) and the index
   std::snprintf(vsWhat, sizeof vsWhat, "%s.pStages[%u]", what, vsIndex);
   std::snprintf(fsWhat, sizeof fsWhat, "%s.pStages[%u]", what, fsIndex);
   if (!prepareStage(dev, *vsInfo, spv::ExecutionModelVertex, vsWhat, &vsPrep)) return VK_ERROR_VALIDATION_FAILED_EXT;

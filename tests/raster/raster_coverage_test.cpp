@@ -334,7 +334,9 @@ TEST(RasterDepth, EarlyFragmentTestsWriteDepthEvenWhenDiscarded) {
     for (uint32_t y = 0; y < 8; ++y)
       for (uint32_t x = 0; x < 8; ++x) written += depth.f(x, y) == 0.25f;
     EXPECT_EQ(samplesPassed.load(), early ? written : 0u) << "early " << early;
-    if (early) EXPECT_GT(written, 20u);
+    if (early) {
+      EXPECT_GT(written, 20u);
+    }
   }
 }
 

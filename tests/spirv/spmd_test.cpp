@@ -92,8 +92,12 @@ TEST(Spmd, LanesFollowTheTarget) {
   EXPECT_TRUE(lanes == 8 || lanes == 16) << lanes;
   // The baselines the instruction-set matrix runs: AVX2 takes 16 lanes in two registers, SSE4.2 8.
   const char* cpu = std::getenv("VKRT_JIT_CPU");
-  if (cpu && std::string(cpu) == "x86-64-v3") EXPECT_EQ(lanes, 16u);
-  if (cpu && std::string(cpu) == "x86-64-v2") EXPECT_EQ(lanes, 8u);
+  if (cpu && std::string(cpu) == "x86-64-v3") {
+    EXPECT_EQ(lanes, 16u);
+  }
+  if (cpu && std::string(cpu) == "x86-64-v2") {
+    EXPECT_EQ(lanes, 8u);
+  }
   SpmdSetting off(false);
   EXPECT_EQ(spirv::spmdLanes(), 0u);
 }
