@@ -305,6 +305,10 @@ using RayEntry = void (*)(RayInvocation*);
 // exchange, so a lane that runs ahead to the next exchange writes the other half while the others still read.
 // A lane that ended (returned or was killed) no longer takes part: the others pass the barrier without it (its last
 // values stay). Helper lanes (`helper` = 1) run the shader but its stores and atomics to memory have no effect.
+// A fragment shader's SPMD entry (vkrt_group, spirv/spmd.hpp) takes the quad's N = 4 invocations as an array and
+// reads its user inputs and writes its user outputs (locations and the dual-source output) as structures of arrays
+// through invocation 0's `inputs`, `outputs` and `outputs1`: word w (byte 4 w of a lane's slots) of lane l at
+// byte 4 (w N + l); the other invocations' slot pointers are not read.
 inline constexpr uint32_t kGraphicsLocations = 32;
 inline constexpr uint32_t kQuadExchangeBytes = 2 * 4 * 16;
 

@@ -33,6 +33,10 @@ struct alignas(64) WorkerScratch {
   alignas(16) uint32_t inputs[4][kGraphicsLocations * 4];
   alignas(16) uint32_t outputs[4][kGraphicsLocations * 4];
   alignas(16) uint32_t outputs1[4][4];
+  // The SPMD entry's outputs as structures of arrays (word w of lane l at [w][l]) where they are not written into
+  // the quad's colours in place (quadOutputs).
+  alignas(16) uint32_t outputsSoa[kGraphicsLocations * 4][4];
+  alignas(16) uint32_t inputsSoa[kGraphicsLocations * 4][4];  // likewise the inputs, where not read in place
   alignas(16) uint8_t exchange[abi::kQuadExchangeBytes];
   alignas(16) uint8_t sink[abi::kSinkBytes];
   // The primitive and sample the invocations' per-primitive fields were last set for (shadeQuad), null: none yet.
@@ -64,9 +68,9 @@ struct DrawContext {
   abi::GraphicsEntry vertexEntry = nullptr, fragmentEntry = nullptr;
   bool quads = false;  // the fragment shader runs its four lanes together
   bool spmd = false;   // ... in one call of its SPMD entry (spirv/spmd.hpp), else as four fibers
-  // The fragment shader reads its inputs from the quad's slots and writes its colour outputs into the quad's colours
-  // in place (no copies per quad): the slots are its input locations in order (slot s = location s), and every output
-  // location is a colour attachment's.
+  // The fragment shader's SPMD entry reads its inputs from the quad's slots in place (no copies per quad): the slots
+  // are its input locations in order (slot s = location s); and writes its colour outputs into the quad's colours in
+  // place: every output location is a colour attachment's. (Both sides are structures of arrays.)
   bool quadInputs = false, quadOutputs = false;
   bool writesDepth = false, writesSampleMask = false;  // FragDepth, SampleMask: else their fields are not copied
   uint32_t samples = 1;
@@ -202,6 +206,13 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
       samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
     }
+    if (c.spmd) {
+      // The SPMD entry writes the four lanes' outputs as structures of arrays through lane 0's pointers
+      // (spirv/spmd.hpp): the quad's colours themselves where every output is a colour attachment's.
+      w.inv[0].outputs = c.quadOutputs ? &q.color[0][0][0] : &w.outputsSoa[0][0];
+      w.inv[0].outputs1 = &q.color1[0][0];
+      w.inv[0].inputs = c.quadInputs ? &q.inputs[0][0] : &w.inputsSoa[0][0];
+    }
     for (uint32_t l = 0; l < 4; ++l) {
       GraphicsInvocation& inv = w.inv[l];
       inv.frontFacing = q.frontFacing ? 1 : 0;
@@ -212,22 +223,21 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       inv.samplePosition[0] = samplePosition[0];
       inv.samplePosition[1] = samplePosition[1];
       inv.quad = &q;
-      if (c.quadInputs) inv.inputs = q.inputs[l];
-      if (c.quadOutputs) {
-        inv.outputs = q.color[l][0];
-        inv.outputs1 = q.color1[l];
-      }
       // Preset once: only a shader that writes SampleMask or FragDepth changes these, and only then are they read.
       inv.sampleMaskOut = ~0u;
     }
   }
+  if (c.spmd && !c.quadInputs) {
+    // The quad's slots at the shader's locations, the four lanes' words together.
+    for (uint32_t s = 0; s < c.varyingCount; ++s)
+      std::memcpy(w.inputsSoa[4 * c.varyingLocation[s]], q.inputs[4 * s], 4 * 16);
+  }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
-    if (!c.quadInputs) {
-      // The quad's slots back at the shader's locations.
-      for (uint32_t s = 0; s < c.varyingCount; ++s)
-        std::memcpy(w.inputs[l] + 4 * c.varyingLocation[s], q.inputs[l] + 4 * s, 16);
+    if (!c.spmd) {
+      // The fibers' and the scalar path's inputs: the lane's words of each slot at the shader's locations.
+      for (uint32_t s = 0; s < c.varyingCount; ++s) raster::laneInput(q, s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
     }
     std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
     inv.pointCoord[0] = q.pointCoord[l][0];
@@ -263,12 +273,18 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       q.killed |= 1u << l;
       continue;
     }
-    if (!c.quadOutputs) {
+    if (c.spmd && !c.quadOutputs) {
       for (uint32_t m = outputMask; m; m &= m - 1) {
         const uint32_t loc = uint32_t(__builtin_ctz(m));
-        std::memcpy(q.color[l][loc], w.outputs[l] + 4 * loc, 16);
+        for (uint32_t k = 0; k < 4; ++k) q.color[loc][k][l] = w.outputsSoa[4 * loc + k][l];
       }
-      std::memcpy(q.color1[l], w.outputs1[l], 16);
+    } else if (!c.spmd) {
+      // The fibers' and the scalar path's outputs, a lane's words together, into the quad's per-component arrays.
+      for (uint32_t m = outputMask; m; m &= m - 1) {
+        const uint32_t loc = uint32_t(__builtin_ctz(m));
+        raster::setLaneColor(q, loc, l, w.outputs[l] + 4 * loc);
+      }
+      raster::setLaneColor1(q, l, w.outputs1[l]);
     }
     // Read by the rasterizer only when the shader writes them (FragmentStage::writesDepth, writesSampleMask).
     if (c.writesDepth) q.depth[l] = inv.fragDepth;

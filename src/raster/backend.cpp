@@ -355,8 +355,11 @@ void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQu
   const BlendAttachment& ba = *t.ba;
   const Float4 k = t.k;
   Float4 s, s1;
-  std::memcpy(&s, q.color[lane][i], 16);
-  std::memcpy(&s1, q.color1[lane], 16);
+  uint32_t words[4], words1[4];
+  laneColor(q, i, lane, words);
+  laneColor1(q, lane, words1);
+  std::memcpy(&s, words, 16);
+  std::memcpy(&s1, words1, 16);
   s = clamp01(s), s1 = clamp01(s1);
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(*t.surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
@@ -394,7 +397,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const bool blend = ba.enable && !integer && !st.logicOpEnable;
   const bool fullMask = mask == (fmt.componentMask & 0xF);
   uint32_t src[4];
-  std::memcpy(src, q.color[lane][i], 16);
+  laneColor(q, i, lane, src);
   if (!integer) {
     float f[4];
     loadFloats(src, f);
@@ -416,7 +419,9 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   bool sfPerSample = false, dfPerSample = false;
   if (blend) {
     loadFloats(src, s0);
-    loadFloats(q.color1[lane], s1);
+    uint32_t words1[4];
+    laneColor1(q, lane, words1);
+    loadFloats(words1, s1);
     for (int c = 0; c < 4; ++c) k[c] = st.blendConstants[c];
     if (normalized) clampToFormat(fmt.kind, s1), clampToFormat(fmt.kind, k);
     sfPerSample = readsDestination(ba.srcColor) || readsDestination(ba.srcAlpha);
@@ -662,14 +667,11 @@ struct Quad4 {
   Float4 c[4];  // per component, per lane
 };
 
-// Four lanes' 4-word colours (lane-major) to component vectors.
-inline Quad4 transpose(const uint32_t* l0, const uint32_t* l1, const uint32_t* l2, const uint32_t* l3) {
-  Float4 a, b, c, d;
-  std::memcpy(&a, l0, 16), std::memcpy(&b, l1, 16), std::memcpy(&c, l2, 16), std::memcpy(&d, l3, 16);
-  const Float4 t0 = __builtin_shufflevector(a, b, 0, 4, 1, 5), t1 = __builtin_shufflevector(c, d, 0, 4, 1, 5);
-  const Float4 t2 = __builtin_shufflevector(a, b, 2, 6, 3, 7), t3 = __builtin_shufflevector(c, d, 2, 6, 3, 7);
-  return Quad4{{__builtin_shufflevector(t0, t1, 0, 1, 4, 5), __builtin_shufflevector(t0, t1, 2, 3, 6, 7),
-                __builtin_shufflevector(t2, t3, 0, 1, 4, 5), __builtin_shufflevector(t2, t3, 2, 3, 6, 7)}};
+// A quad's colour output as FragmentQuad holds it (per component, the four lanes) to component vectors.
+inline Quad4 components(const uint32_t (&c)[4][4]) {
+  Quad4 q;
+  std::memcpy(q.c, c, sizeof q.c);
+  return q;
 }
 
 // Component c of blend factor f for the four lanes (blendFactor's cases; k holds the constants splatted).
@@ -745,7 +747,7 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   const BlendAttachment& ba = ctx.state->blend[i];
   uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
   uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
-  Quad4 s = transpose(q.color[0][i], q.color[1][i], q.color[2][i], q.color[3][i]);
+  Quad4 s = components(q.color[i]);
   // The clamps to [0, 1] of the source and of the blend result (clampToFormat) are left to the encode's saturate
   // where nothing else reads the value: saturate(clamp01(v)) is saturate(v) (a NaN that clamp01 keeps, saturate makes
   // 0), so the bytes are the same.
@@ -780,7 +782,7 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
                                                                          ba.dstAlpha, ba.colorOp,  ba.alphaOp};
     Quad4 s1{}, k{};
     if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
-      s1 = transpose(q.color1[0], q.color1[1], q.color1[2], q.color1[3]);
+      s1 = components(q.color1);
       for (Float4& v : s1.c) v = clamp01(v);
     }
     for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));

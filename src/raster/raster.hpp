@@ -264,7 +264,9 @@ struct FragmentQuad {
   uint32_t primitiveId = 0;
   uint32_t viewIndex = 0;
   uint32_t layer = 0;
-  alignas(16) uint32_t inputs[4][kMaxLocations * 4];  // slot order of FragmentStage::inputs, 4 words each
+  // Inputs as structures of arrays, in the slot order of FragmentStage::inputs: word 4 s + c (slot s, component c)
+  // of the four lanes side by side at inputs[4 s + c] (laneInput gathers one lane's).
+  alignas(16) uint32_t inputs[kMaxLocations * 4][4];
   // The primitive and draw being shaded, for interpolateAt (the rasterizer's own records).
   const void* primitive = nullptr;
   const void* drawContext = nullptr;
@@ -272,10 +274,32 @@ struct FragmentQuad {
   // Written by the shader:
   uint32_t killed = 0;  // lanes that discarded (bit i = lane i)
   uint32_t sampleMaskOut[4] = {~0u, ~0u, ~0u, ~0u};
-  float depth[4];                                          // FragDepth, read when FragmentStage::writesDepth
-  alignas(16) uint32_t color[4][kMaxColorAttachments][4];  // per lane, per output location, 4 words
-  alignas(16) uint32_t color1[4][4];                       // Index 1 output of location 0 (dual-source blending)
+  float depth[4];  // FragDepth, read when FragmentStage::writesDepth
+  // Colours as structures of arrays: per output location, per component, the four lanes' words side by side (the
+  // back end's vector paths read a component of the quad as one vector; laneColor gathers one lane's).
+  alignas(16) uint32_t color[kMaxColorAttachments][4][4];
+  alignas(16) uint32_t color1[4][4];  // Index 1 output of location 0 (dual-source blending): per component, per lane
 };
+
+// Lane `lane`'s four words of input slot `slot`.
+inline void laneInput(const FragmentQuad& q, uint32_t slot, uint32_t lane, uint32_t out[4]) {
+  for (uint32_t c = 0; c < 4; ++c) out[c] = q.inputs[4 * slot + c][lane];
+}
+
+// Lane `lane`'s four words of colour output `location` (out[c] = component c), and the same for the dual-source
+// output; setLaneColor writes them.
+inline void laneColor(const FragmentQuad& q, uint32_t location, uint32_t lane, uint32_t out[4]) {
+  for (uint32_t c = 0; c < 4; ++c) out[c] = q.color[location][c][lane];
+}
+inline void laneColor1(const FragmentQuad& q, uint32_t lane, uint32_t out[4]) {
+  for (uint32_t c = 0; c < 4; ++c) out[c] = q.color1[c][lane];
+}
+inline void setLaneColor(FragmentQuad& q, uint32_t location, uint32_t lane, const uint32_t in[4]) {
+  for (uint32_t c = 0; c < 4; ++c) q.color[location][c][lane] = in[c];
+}
+inline void setLaneColor1(FragmentQuad& q, uint32_t lane, const uint32_t in[4]) {
+  for (uint32_t c = 0; c < 4; ++c) q.color1[c][lane] = in[c];
+}
 
 struct FragmentStage {
   void* user = nullptr;

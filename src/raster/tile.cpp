@@ -93,12 +93,11 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     perspective(b, p);
     if (centroid) perspective(bc, pc);
   }
-  uint32_t* dst = q.inputs[lane];
   for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
     const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
     if (in.interpolation == Interpolation::Flat) {
-      std::memcpy(dst + k, t.flat + k, 16);
+      for (uint32_t c = 0; c < 4; ++c) q.inputs[k + c][lane] = t.flat[k + c];
       continue;
     }
     const bool useCentroid = centroid && in.centroid;
@@ -107,7 +106,9 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     // four components at once (the same operations, in the same order, per component).
     const Float4 f0 = load4(t.var[0] + k);
     const Float4 v = f0 + w[1] * (load4(t.var[1] + k) - f0) + w[2] * (load4(t.var[2] + k) - f0);
-    std::memcpy(dst + k, &v, 16);
+    uint32_t words[4];
+    std::memcpy(words, &v, 16);
+    for (uint32_t c = 0; c < 4; ++c) q.inputs[k + c][lane] = words[c];
   }
 }
 
@@ -180,15 +181,20 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
     const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
     if (in.interpolation == Interpolation::Flat) {
-      for (uint32_t l = 0; l < 4; ++l) std::memcpy(q.inputs[l] + k, t.flat + k, 16);
+      for (uint32_t c = 0; c < 4; ++c) {
+        const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
+        std::memcpy(q.inputs[k + c], v, 16);
+      }
       continue;
     }
     const bool smooth = in.interpolation == Interpolation::Smooth;
     const Float4 f0 = qi.f0[slot], d1 = qi.d1[slot], d2 = qi.d2[slot];
     const Float4 u1 = smooth ? p1 : b[1], u2 = smooth ? p2 : b[2];
-    for (uint32_t l = 0; l < 4; ++l) {
-      const Float4 v = f0 + u1[l] * d1 + u2[l] * d2;
-      std::memcpy(q.inputs[l] + k, &v, 16);
+    // Component by component, the four lanes at once: lane l's component c is f0[c] + u1[l] d1[c] + u2[l] d2[c],
+    // the per-lane sum's operations in its order.
+    for (uint32_t c = 0; c < 4; ++c) {
+      const Float4 v = f0[c] + u1 * d1[c] + u2 * d2[c];
+      std::memcpy(q.inputs[k + c], &v, 16);
     }
   }
 }
@@ -208,7 +214,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     uint32_t c = q.coverage[l];
     if (!c || (q.killed >> l & 1)) continue;
     if (fs.writesSampleMask) c &= q.sampleMaskOut[l];
-    if (st.alphaToCoverage && (fs.outputMask & 1)) c &= alphaCoverage(asFloat(q.color[l][0][3]), ctx.samples);
+    if (st.alphaToCoverage && (fs.outputMask & 1)) c &= alphaCoverage(asFloat(q.color[0][3][l]), ctx.samples);
     if (!ctx.earlyTests && c && fs.writesDepth) {
       float d = q.depth[l];
       if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
@@ -223,7 +229,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     if (!passed[l]) continue;
     if (ctx.draw->samplesPassed && !ctx.earlyTests)                 // counted before the shader with early tests
       scratch.samplesPassed += uint32_t(std::popcount(passed[l]));  // (shadeQuad); a library call without POPCNT
-    if (st.alphaToOne && (fs.outputMask & 1)) q.color[l][0][3] = asWord(1.0f);
+    if (st.alphaToOne && (fs.outputMask & 1)) q.color[0][3][l] = asWord(1.0f);
   }
   writeQuadColors(ctx, q, passed);
 }

@@ -1470,7 +1470,25 @@ bool Spmd::sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Va
 // Copies between the lane block (the interface and Private variables, interleaved: lane l's word at byte o is at
 // o * N + 4 l) and the quad's GraphicsInvocations: inputs (and the built-in outputs' preset values) in, outputs out.
 void Spmd::copyLanes(bool inputs, llvm::Value* block) {
+  // The user locations (inputs, outputs and the dual-source output) come in and go out as structures of arrays
+  // through lane 0's pointers: word w of lane l at 4 (w N + l), one vector load or store per word.
+  auto soa = [&](int slotsField) {
+    return slotsField == int(offsetof(GraphicsInvocation, inputs)) ||
+           slotsField == int(offsetof(GraphicsInvocation, outputs)) ||
+           slotsField == int(offsetof(GraphicsInvocation, outputs1));
+  };
   auto word = [&](uint64_t blockOffset, int slotsField, uint64_t at) {
+    if (soa(slotsField)) {
+      llvm::Value* base = b.CreateAlignedLoad(b.getPtrTy(), invField(0, unsigned(slotsField)), llvm::Align(8));
+      llvm::Value* there = b.CreateConstGEP1_64(b.getInt8Ty(), base, at * N);
+      llvm::Value* here = b.CreateConstGEP1_64(b.getInt8Ty(), block, blockOffset * N);
+      llvm::Type* vt = laneTy(b.getInt32Ty());
+      if (inputs)
+        b.CreateAlignedStore(b.CreateAlignedLoad(vt, there, llvm::Align(4)), here, llvm::Align(16));
+      else
+        b.CreateAlignedStore(b.CreateAlignedLoad(vt, here, llvm::Align(16)), there, llvm::Align(4));
+      return;
+    }
     llvm::Value* there[4];
     for (unsigned l = 0; l < N; ++l) {
       llvm::Value* base = invField(l, 0);

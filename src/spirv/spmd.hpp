@@ -23,7 +23,8 @@ std::string spmdKey();
 bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main);
 
 // Emits vkrt_group(GraphicsInvocation quad[4]) for a fragment entry point: the quad's four lanes in one pass
-// (derivatives as differences between the lanes, helper lanes masked out of buffer stores), where the SPMD path
+// (derivatives as differences between the lanes, helper lanes masked out of buffer stores; the user inputs and
+// outputs as structures of arrays through invocation 0's slot pointers: abi.hpp), where the SPMD path
 // supports every instruction; otherwise returns false, the module as it was (the executor runs vkrt_main on four
 // fibers). Sets g.info.spmdLanes to 4.
 bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main);

@@ -160,20 +160,27 @@ struct Harness {
         if (h.fs.needsHelpers) {
           h.helperRuns.push_back(y * h.width + x);
           float v = 0;
-          if (h.fs.inputCount) std::memcpy(&v, q.inputs[l], 4);
+          if (h.fs.inputCount) std::memcpy(&v, &q.inputs[0][l], 4);
           h.helperValues.push_back(v);
         }
         continue;
       }
       if (x < h.width && y < h.height) h.primIds[y * h.width + x] = q.primitiveId;
       Vec4 c = h.constant;
-      if (h.mode == FragMode::Input0) std::memcpy(c.data(), q.inputs[l], 16);
+      if (h.mode == FragMode::Input0) {
+        uint32_t words[4];
+        laneInput(q, 0, l, words);
+        std::memcpy(c.data(), words, 16);
+      }
       if (h.mode == FragMode::PointCoord) c = {q.pointCoord[l][0], q.pointCoord[l][1], 0, 1};
       if (h.mode == FragMode::Facing) c = {q.frontFacing ? 1.0f : 2.0f, float(q.viewIndex), float(q.layer), 1};
       if (h.alpha0 >= 0) c[3] = h.alpha0;
-      std::memcpy(q.color[l][0], c.data(), 16);
-      std::memcpy(q.color1[l], h.constant1.data(), 16);
-      if (h.fragDepthFromInput) std::memcpy(&q.depth[l], q.inputs[l], 4);
+      uint32_t words[4], words1[4];
+      std::memcpy(words, c.data(), 16);
+      std::memcpy(words1, h.constant1.data(), 16);
+      setLaneColor(q, 0, l, words);
+      setLaneColor1(q, l, words1);
+      if (h.fragDepthFromInput) std::memcpy(&q.depth[l], &q.inputs[0][l], 4);
     }
     if (h.killAll) q.killed = 0xF;
   }

@@ -111,11 +111,28 @@ struct Quad {
   }
   bool run(const spirv::CompiledShader& s) {
     if (s.spmdLanes == 4) {
-      // The SPMD entry takes the four invocations as an array.
+      // The SPMD entry takes the four invocations as an array and reads the inputs and writes the outputs as
+      // structures of arrays through lane 0's pointers (word w of lane l at [w][l]): the lanes' slots gathered before
+      // (the output words it leaves keep their values), the outputs scattered back after.
       GraphicsInvocation inv[4];
       for (int l = 0; l < 4; ++l) inv[l] = lanes[l].inv;
+      alignas(16) uint32_t in[kGraphicsLocations * 4][4], out[kGraphicsLocations * 4][4], out1[4][4];
+      for (uint32_t l = 0; l < 4; ++l) {
+        for (uint32_t w = 0; w < kGraphicsLocations * 4; ++w) in[w][l] = lanes[l].in[w], out[w][l] = lanes[l].out[w];
+        for (uint32_t w = 0; w < 4; ++w) out1[w][l] = lanes[l].out1[w];
+      }
+      inv[0].inputs = &in[0][0];
+      inv[0].outputs = &out[0][0];
+      inv[0].outputs1 = &out1[0][0];
       s.graphicsEntry(inv);
-      for (int l = 0; l < 4; ++l) lanes[l].inv = inv[l];
+      for (uint32_t l = 0; l < 4; ++l) {
+        for (uint32_t w = 0; w < kGraphicsLocations * 4; ++w) lanes[l].out[w] = out[w][l];
+        for (uint32_t w = 0; w < 4; ++w) lanes[l].out1[w] = out1[w][l];
+        inv[l].inputs = lanes[l].in;
+        inv[l].outputs = lanes[l].out;
+        inv[l].outputs1 = lanes[l].out1;
+        lanes[l].inv = inv[l];
+      }
       return true;
     }
     abi::InvocationContext* ctx[4];
