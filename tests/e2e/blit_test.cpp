@@ -224,8 +224,12 @@ TEST_F(BlitTest, FormatFeaturesAdvertiseBlitsAndLinearFiltering) {
     VkFormatProperties p;
     vkGetPhysicalDeviceFormatProperties(physicalDevice, r.format, &p);
     EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_SRC_BIT);
-    if (r.blitDst) EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
-    if (r.linear) EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
+    if (r.blitDst) {
+      EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_BLIT_DST_BIT);
+    }
+    if (r.linear) {
+      EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
+    }
   }
   // The two queries agree on every core format, and on vkrt every color format that makes images blits both ways
   // (depth/stencil formats: BLIT_SRC for D16 and D32 only, as required, never BLIT_DST; FormatsTest checks them),
@@ -247,10 +251,11 @@ TEST_F(BlitTest, FormatFeaturesAdvertiseBlitsAndLinearFiltering) {
     EXPECT_EQ(p3.bufferFeatures & kLegacyBits, p.bufferFeatures);
     const bool compressed = f >= VK_FORMAT_BC1_RGB_UNORM_BLOCK && f <= VK_FORMAT_ASTC_12x12_SRGB_BLOCK;
     if (onVkrt() && (p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) &&
-        !(p.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
+        !(p.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)) {
       EXPECT_EQ(p.optimalTilingFeatures & (VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT),
                 compressed ? VkFormatFeatureFlags(VK_FORMAT_FEATURE_BLIT_SRC_BIT)
                            : VkFormatFeatureFlags(VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT));
+    }
   }
 }
 

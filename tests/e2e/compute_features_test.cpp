@@ -341,7 +341,9 @@ TEST_F(ComputeAtomicInt64Test, BufferAndWorkgroupAtomicsPast32Bits) {
   }
   EXPECT_EQ(winners, 1);
   for (uint64_t x = 0; x < 128; ++x) {
-    if (blk->returned[x] != 0) EXPECT_EQ(blk->returned[x], blk->cas) << "invocation " << x;
+    if (blk->returned[x] != 0) {
+      EXPECT_EQ(blk->returned[x], blk->cas) << "invocation " << x;
+    }
   }
   destroy(b);
   destroyComputePipeline(device, p);

@@ -190,7 +190,11 @@ class ComputeImageTest : public VulkanTest {
 constexpr VkDescriptorType kStorageImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kStorageBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
-float halfToFloat(uint16_t h) { return float(*reinterpret_cast<const _Float16*>(&h)); }
+float halfToFloat(uint16_t h) {
+  _Float16 f;
+  std::memcpy(&f, &h, sizeof f);
+  return float(f);
+}
 uint16_t floatToHalf(float f) {
   _Float16 h = _Float16(f);
   uint16_t u;
@@ -882,7 +886,9 @@ TEST_F(ComputeAnisotropyTest, GradSamplingAveragesAlongTheMajorAxis) {
     }
   }
   // The stripes across the long axis average out: the anisotropic R is far from the single sample's.
-  if (onVkrt()) EXPECT_GT(std::fabs(r[0] - r[4]), 0.1f);
+  if (onVkrt()) {
+    EXPECT_GT(std::fabs(r[0] - r[4]), 0.1f);
+  }
   for (VkSampler s : samplers) vkDestroySampler(device, s, nullptr);
   destroy(in);
   destroy(out);

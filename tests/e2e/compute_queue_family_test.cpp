@@ -474,7 +474,9 @@ TEST_F(QueueFamilyStagesLayerTest, TheLayerReportsTheSameStagesWithTheSameVuids)
       EXPECT_EQ(m.idName, vuid) << m.text;
       ours += m.idName == vuid;
     }
-    if (c.layerId) EXPECT_EQ(takeLayerMessages(*c.layerId ? c.layerId : c.vuid), ours) << "vkrt and the layer disagree";
+    if (c.layerId) {
+      EXPECT_EQ(takeLayerMessages(*c.layerId ? c.layerId : c.vuid), ours) << "vkrt and the layer disagree";
+    }
     for (const Message& m : layerMessages()) ADD_FAILURE() << "validation layer: " << m.text;
     clearMessages();
     return ours;

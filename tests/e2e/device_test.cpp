@@ -66,7 +66,9 @@ TEST_F(DeviceTest, Properties2WalksTheWholeChainAndLeavesUnknownStructsAlone) {
   }
   EXPECT_GT(p11.maxMemoryAllocationSize, 0u);
   EXPECT_GT(p13.maxBufferSize, 0u);
-  if (onVkrt()) EXPECT_EQ(std::memcmp(p11.deviceUUID, p2.properties.pipelineCacheUUID, VK_UUID_SIZE), 0);
+  if (onVkrt()) {
+    EXPECT_EQ(std::memcmp(p11.deviceUUID, p2.properties.pipelineCacheUUID, VK_UUID_SIZE), 0);
+  }
 }
 
 TEST_F(DeviceTest, Features2ReportsWhatTheDeviceEnables) {

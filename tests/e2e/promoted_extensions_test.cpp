@@ -147,7 +147,9 @@ TEST_F(PromotedQueriesTest, DriverProperties) {
   EXPECT_STREQ(driver.driverName, p12.driverName);
   EXPECT_STREQ(driver.driverInfo, p12.driverInfo);
   EXPECT_EQ(driver.driverID, p12.driverID);
-  if (onVkrt()) EXPECT_STREQ(driver.driverName, "vkrt");
+  if (onVkrt()) {
+    EXPECT_STREQ(driver.driverName, "vkrt");
+  }
 }
 
 TEST_F(PromotedQueriesTest, ToolPropertiesThroughTheExtensionsCommand) {
@@ -162,7 +164,9 @@ TEST_F(PromotedQueriesTest, ToolPropertiesThroughTheExtensionsCommand) {
   EXPECT_GE(n, 1u) << "the validation layer";
   for (const VkPhysicalDeviceToolProperties& t : tools) {
     EXPECT_GT(std::strlen(t.name), 0u);
-    if (onVkrt()) EXPECT_TRUE(t.purposes & VK_TOOL_PURPOSE_VALIDATION_BIT) << t.name;
+    if (onVkrt()) {
+      EXPECT_TRUE(t.purposes & VK_TOOL_PURPOSE_VALIDATION_BIT) << t.name;
+    }
   }
 }
 
@@ -188,11 +192,13 @@ TEST_F(PromotedQueriesTest, FormatProperties3AgreesWithFormatProperties) {
           VK_FORMAT_FEATURE_2_STORAGE_READ_WITHOUT_FORMAT_BIT | VK_FORMAT_FEATURE_2_STORAGE_WRITE_WITHOUT_FORMAT_BIT;
       const VkFormatFeatureFlags2 depthCompare = VK_FORMAT_FEATURE_2_SAMPLED_IMAGE_DEPTH_COMPARISON_BIT;
       EXPECT_EQ(p3.optimalTilingFeatures & ~kLegacyBits & ~withoutFormat & ~depthCompare, 0u);
-      if (p3.optimalTilingFeatures & withoutFormat)
+      if (p3.optimalTilingFeatures & withoutFormat) {
         EXPECT_TRUE(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
-      if (p3.optimalTilingFeatures & depthCompare)
+      }
+      if (p3.optimalTilingFeatures & depthCompare) {
         EXPECT_TRUE((p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) &&
                     (p.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT));
+      }
       EXPECT_EQ(p3.bufferFeatures & ~kLegacyBits, 0u);
     }
     supported += p.optimalTilingFeatures != 0;
@@ -510,7 +516,9 @@ TEST_F(SubgroupSizeControlTest, RequiredVaryingAndFullSubgroups) {
   const VkPhysicalDeviceVulkan13Properties p13 = properties();
   ASSERT_TRUE(p13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT);
   ASSERT_GE(p13.maxSubgroupSize, p13.minSubgroupSize);
-  if (onVkrt()) EXPECT_EQ(p13.maxSubgroupSize, 1u);
+  if (onVkrt()) {
+    EXPECT_EQ(p13.maxSubgroupSize, 1u);
+  }
   // A varying size.
   ComputePipeline varying = make(VK_PIPELINE_SHADER_STAGE_CREATE_ALLOW_VARYING_SUBGROUP_SIZE_BIT, 0);
   ASSERT_EQ(varying.result, VK_SUCCESS);
@@ -936,7 +944,9 @@ TEST(PromotedExtensionsAudit, TheTableHasEveryExtensionTheRegistryPromoted) {
     EXPECT_EQ(it->second.promotedTo, "VK_VERSION_1_" + std::to_string(p.minor));
     EXPECT_EQ(it->second.type, p.kind == kDevice ? "device" : "instance");
     EXPECT_GT(std::strlen(p.why), 0u) << "every row says why";
-    if (!p.listed) EXPECT_GT(it->second.specVersion, 0u);
+    if (!p.listed) {
+      EXPECT_GT(it->second.specVersion, 0u);
+    }
   }
   for (const auto& [name, e] : registry)
     EXPECT_TRUE(inTable.count(name)) << name << " is promoted but not in the table";
@@ -989,8 +999,9 @@ TEST_F(PromotedAuditTest, EachIsListedOrAbsentAsTheTableSaysWithTheRegistrysVers
     const auto& have = p.kind == kDevice ? device : instance;
     auto it = have.find(p.name);
     EXPECT_EQ(it != have.end(), p.listed) << (p.listed ? "the table says listed" : p.why);
-    if (it != have.end() && registry.count(p.name))
+    if (it != have.end() && registry.count(p.name)) {
       EXPECT_EQ(it->second, registry.at(p.name).specVersion) << "the spec version of the registry vkrt is built from";
+    }
     listed += p.listed;
   }
   EXPECT_GE(listed, 40);

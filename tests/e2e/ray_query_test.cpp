@@ -358,7 +358,9 @@ TEST_F(RayQueryTest, EveryValueOfTrianglesBoxesInstancesAndFlags) {
     committedQuad(r[14], 15, 10, 0, 3, m0, i0, false);
     EXPECT_GE(r[14].more[2], 1u);
     EXPECT_LE(r[14].more[2], 2u);
-    if (onVkrt()) EXPECT_EQ(r[14].more[2], 1u) << "vkrt returns candidates nearest first";
+    if (onVkrt()) {
+      EXPECT_EQ(r[14].more[2], 1u) << "vkrt returns candidates nearest first";
+    }
   }
   {
     SCOPED_TRACE("ray 15");
@@ -447,7 +449,9 @@ TEST_F(RayQueryTest, InARaygenShaderTheSameHitsAsTraceRay) {
       ++hits;
       for (int c = 1; c < 4; ++c) EXPECT_EQ(b[i].hit[c], a[i].hit[c]) << "barycentrics, hit kind";
       for (int c = 0; c < 4; ++c) EXPECT_EQ(b[i].ids[c], a[i].ids[c]) << "custom index, instance, primitive, geometry";
-      if (k == 0) EXPECT_EQ(b[i].extra[1], 0u) << "opaque quads: no candidate";
+      if (k == 0) {
+        EXPECT_EQ(b[i].extra[1], 0u) << "opaque quads: no candidate";
+      }
     }
     EXPECT_GT(hits, 10);
   }

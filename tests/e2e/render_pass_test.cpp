@@ -30,7 +30,9 @@ TEST_F(RenderPassTest, QueueFamilyHasGraphics) {
   VkExtent2D g{};
   VkRenderPass rp = renderPass({desc(VK_FORMAT_R8G8B8A8_UNORM, VK_ATTACHMENT_LOAD_OP_LOAD)}, {VkSubpassDescription{}});
   vkGetRenderAreaGranularity(device, rp, &g);
-  if (onVkrt()) EXPECT_TRUE(g.width == 1 && g.height == 1);
+  if (onVkrt()) {
+    EXPECT_TRUE(g.width == 1 && g.height == 1);
+  }
   vkDestroyRenderPass(device, rp, nullptr);
 }
 

@@ -20,7 +20,9 @@ TEST_F(RtTest, PropertiesAndFeaturesMatchTheIssue) {
   EXPECT_EQ(p.shaderGroupHandleSize, 32u);
   EXPECT_EQ(p.shaderGroupBaseAlignment, 64u);
   // vkrt: 1 (a CPU needs no record alignment; the CTS's handle_alignment cases need it); NVIDIA: 32.
-  if (vkrt) EXPECT_EQ(p.shaderGroupHandleAlignment, 1u);
+  if (vkrt) {
+    EXPECT_EQ(p.shaderGroupHandleAlignment, 1u);
+  }
   EXPECT_EQ(p.maxRayRecursionDepth, 31u);
   EXPECT_GE(p.maxShaderGroupStride, 4096u);
   EXPECT_EQ(p.maxRayHitAttributeSize, 32u);

@@ -151,7 +151,9 @@ class SwapchainTest : public VulkanTest {
     VkResult each = VK_RESULT_MAX_ENUM;
     pi.pResults = &each;
     VkResult r = vkQueuePresentKHR(queue, &pi);
-    if (r == VK_SUCCESS) EXPECT_EQ(each, VK_SUCCESS);
+    if (r == VK_SUCCESS) {
+      EXPECT_EQ(each, VK_SUCCESS);
+    }
     return r;
   }
   // A fresh folder for VKRT_PRESENT_DIR (removed with its files by TearDown).

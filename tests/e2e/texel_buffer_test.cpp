@@ -304,7 +304,9 @@ TEST_F(TexelBufferAlignmentTest, ViewsAtTexelAlignedOffsetsReadTheirTexels) {
   const VkDeviceSize unorm = a.uniformTexelBufferOffsetSingleTexelAlignment
                                  ? std::min<VkDeviceSize>(a.uniformTexelBufferOffsetAlignmentBytes, 4)
                                  : a.uniformTexelBufferOffsetAlignmentBytes;
-  if (onVkrt()) EXPECT_EQ(unorm, 4u) << "vkrt aligns texel buffer views to a texel";
+  if (onVkrt()) {
+    EXPECT_EQ(unorm, 4u) << "vkrt aligns texel buffer views to a texel";
+  }
   fetchLoadStoreAtomicsAndSizes(unorm);
   if (onVkrt()) {
     // A three-component format aligns to one component; a one-byte format to a byte.

@@ -130,7 +130,9 @@ TEST_F(TraceAsTest, MandatoryVertexFormatsHaveTheAccelerationStructureFormatFeat
   }
   VkFormatProperties none{};
   vkGetPhysicalDeviceFormatProperties(physicalDevice, VK_FORMAT_R8_UINT, &none);
-  if (onVkrt()) EXPECT_FALSE(none.bufferFeatures & VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR);
+  if (onVkrt()) {
+    EXPECT_FALSE(none.bufferFeatures & VK_FORMAT_FEATURE_ACCELERATION_STRUCTURE_VERTEX_BUFFER_BIT_KHR);
+  }
 }
 
 TEST_F(TraceAsTest, ACompactedCopyTracesTheSame) {
@@ -591,7 +593,9 @@ TEST_F(TraceAsMemoryTest, ThousandsOfSmallStructuresReturnTheirMemoryWhenDestroy
     EXPECT_LT(after, before + (built - before) / 20) << "built: " << built - before << " bytes over the start";
     // (Measured: 4 MB while built, 20 KB left after the first round and 4 KB more after the second.)
     if (n == 1) afterFirst = after;
-    if (n == 2) EXPECT_LT(after, afterFirst + (built - before) / 50) << "the second round kept more than the first";
+    if (n == 2) {
+      EXPECT_LT(after, afterFirst + (built - before) / 50) << "the second round kept more than the first";
+    }
   }
   EXPECT_TRUE(vkrtMessages().empty());
 }

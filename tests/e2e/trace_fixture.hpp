@@ -90,7 +90,9 @@ inline void expectSpheresInBoxes(const std::vector<TracePayload>& r, uint32_t n,
       ++hits;
       EXPECT_NEAR(q.hit[0], t, 1e-3f);
       EXPECT_EQ(q.hit[1], float(prim)) << "hit attribute x";
-      if (attributeY) EXPECT_EQ(q.hit[2], 0.5f);
+      if (attributeY) {
+        EXPECT_EQ(q.hit[2], 0.5f);
+      }
       EXPECT_EQ(q.hit[3], 5.0f) << "the hit kind the intersection shader reported";
       EXPECT_EQ(q.ids[2], uint32_t(prim));
       EXPECT_EQ(q.ids[0], 9u);

@@ -248,13 +248,17 @@ TEST_F(TraceFlags, AnyHitCountersEveryRayAddsToCountEveryInvocation) {
         const bool in = wx >= -1 && wx <= 1 && wy >= -1 && wy <= 1;
         inside += in;
         invocations += r[y * n + x].extra[1];
-        if (mode == 1) EXPECT_EQ(r[y * n + x].extra[1], in ? 2u : 0u) << "launch index " << x << "," << y;
+        if (mode == 1) {
+          EXPECT_EQ(r[y * n + x].extra[1], in ? 2u : 0u) << "launch index " << x << "," << y;
+        }
       }
     uint32_t total = 0;
     std::memcpy(&total, spheres.data, 4);
     EXPECT_EQ(inside, 32u * 32u);
     EXPECT_EQ(total, invocations) << "the word every invocation added 1 to";
-    if (mode == 1) EXPECT_EQ(total, 2 * inside);
+    if (mode == 1) {
+      EXPECT_EQ(total, 2 * inside);
+    }
   }
 }
 
@@ -284,7 +288,9 @@ TEST_F(TraceFlags, EachAnyHitRunsWithTheRecordItsCandidateSelects) {
         EXPECT_NEAR(h.hit[0], accepted == 0 ? 13.0f : 15.0f, 1e-4f);
         EXPECT_EQ(h.ids[3], accepted) << "gl_GeometryIndexEXT";
         EXPECT_EQ(h.extra[0], 100u + accepted) << "the accepted geometry's closest-hit record";
-        if (accepted == 1) EXPECT_EQ(h.extra[1], 2u) << "an any-hit for each quad";
+        if (accepted == 1) {
+          EXPECT_EQ(h.extra[1], 2u) << "an any-hit for each quad";
+        }
       }
   }
 }

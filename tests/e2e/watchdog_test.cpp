@@ -145,7 +145,9 @@ class ShaderWatchdogTest : public VulkanTest {
 
   // What stays valid after the loss: the submission's fence reports the loss, submits and waits return it.
   void expectLostDevice(VkFence f) {
-    if (f) EXPECT_EQ(vkGetFenceStatus(device, f), VK_ERROR_DEVICE_LOST);
+    if (f) {
+      EXPECT_EQ(vkGetFenceStatus(device, f), VK_ERROR_DEVICE_LOST);
+    }
     EXPECT_EQ(vkQueueWaitIdle(queue), VK_ERROR_DEVICE_LOST);
     EXPECT_EQ(vkDeviceWaitIdle(device), VK_ERROR_DEVICE_LOST);
     VkCommandBuffer empty = beginOneTime();

@@ -207,14 +207,19 @@ TEST_F(FeatureTables, ListedExtensionsHaveTheFeaturesTheSpecificationRequires) {
     for (Feature f : r.features) {
       bool on = pd->supported[size_t(f)];
       have += on;
-      if (!r.any) EXPECT_TRUE(on) << featureName(f);
+      if (!r.any) {
+        EXPECT_TRUE(on) << featureName(f);
+      }
     }
-    if (r.any) EXPECT_GT(have, 0);
+    if (r.any) {
+      EXPECT_GT(have, 0);
+    }
   }
   EXPECT_GE(listed, 15);
   // With VK_KHR_ray_tracing_pipeline, rayTraversalPrimitiveCulling too where rayQuery is supported.
-  if (pd->supportsExtension(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME) && pd->supported[size_t(Feature::rayQuery)])
+  if (pd->supportsExtension(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME) && pd->supported[size_t(Feature::rayQuery)]) {
     EXPECT_TRUE(pd->supported[size_t(Feature::rayTraversalPrimitiveCulling)]);
+  }
 }
 
 TEST_F(FeatureTables, DeviceCreationNamesTheFirstUnsupportedFeatureOfAnyStructure) {

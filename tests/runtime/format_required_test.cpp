@@ -98,9 +98,10 @@ TEST(FormatRequired, EveryMarkOfTheMandatoryFormatTablesIsSupported) {
     EXPECT_EQ(formatFeatures(r.format) & r.optimal, r.optimal);
     EXPECT_EQ(bufferFormatFeatures(r.format) & r.buffer, r.buffer);
     // Each sampled format can also be copied (Vulkan 1.1's TRANSFER_SRC / TRANSFER_DST with SAMPLED_IMAGE).
-    if (r.optimal & S)
+    if (r.optimal & S) {
       EXPECT_TRUE(formatFeatures(r.format) & VK_FORMAT_FEATURE_TRANSFER_SRC_BIT &&
                   formatFeatures(r.format) & VK_FORMAT_FEATURE_TRANSFER_DST_BIT);
+    }
   }
   // "At least one of" X8_D24_UNORM_PACK32 / D32_SFLOAT and of D24_UNORM_S8_UINT / D32_SFLOAT_S8_UINT is a
   // depth/stencil attachment; depth/stencil formats have no buffer features.

@@ -56,8 +56,12 @@ TEST(OpcodeSupport, FamiliesAndDispatchPredicatesAgree) {
   for (uint32_t op = 0; op < kOpcodeLimit; ++op) {
     auto o = spv::Op(op);
     OpSupport s = opSupport(o);
-    if (s.family == OpFamily::Unsupported) EXPECT_EQ(s.spmd, SpmdForm::None) << opName(o);
-    if (rayQueryOp(o)) EXPECT_TRUE(rayTracingOp(o)) << opName(o);
+    if (s.family == OpFamily::Unsupported) {
+      EXPECT_EQ(s.spmd, SpmdForm::None) << opName(o);
+    }
+    if (rayQueryOp(o)) {
+      EXPECT_TRUE(rayTracingOp(o)) << opName(o);
+    }
     EXPECT_EQ(rayTracingOp(o), s.family == OpFamily::RayTracing || s.family == OpFamily::RayQuery) << opName(o);
   }
   // A few of each family, and instructions the compiler refuses.

@@ -112,7 +112,9 @@ void expectFaultRecovered(const uint32_t* words, size_t count, exec::Abort::IdKi
   EXPECT_EQ(a.idKind, kind);
   EXPECT_EQ(a.id[0], id);
   for (uint32_t i = 0; i < 128; ++i)
-    if (good[i]) EXPECT_EQ(good[i], i + 1) << i;
+    if (good[i]) {
+      EXPECT_EQ(good[i], i + 1) << i;
+    }
 
   // The thread pool and the handler are still fine: the same dispatch without a faulting invocation runs.
   push.faulter = 1000;
