@@ -5,6 +5,8 @@
 #include <string>
 
 #include "draw_derivatives.frag.spv.h"
+#include "draw_sparse_locations.frag.spv.h"
+#include "draw_sparse_locations.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
 
 namespace vkrt::test {
@@ -60,6 +62,47 @@ TEST_P(DrawQuadShadingTest, DerivativesDiscardAndDemotionInThePixels) {
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(discarded, 100);
   EXPECT_GT(demoted, 100);
+}
+
+// Inputs at locations that are not the slots in order (1.z, 2, 5; location 3 written by the vertex stage and not
+// read): the executor places each slot at its location (on the SPMD path a word of the quad's four lanes at a time).
+// The expected colour at each pixel centre from the NDC position: 0.5 (color + (0.25 ndc + 0.5, 0.25, 1)).
+TEST_P(DrawQuadShadingTest, InputsAtSparseLocationsReachTheirVariables) {
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  PipelineDesc d;
+  d.vs = kSpv_draw_sparse_locations_vert;
+  d.vsBytes = sizeof kSpv_draw_sparse_locations_vert;
+  d.fs = kSpv_draw_sparse_locations_frag;
+  d.fsBytes = sizeof kSpv_draw_sparse_locations_frag;
+  d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+  VkPipeline pipeline;
+  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+  const float r = 0.2f, g = 0.4f, b = 0.6f, a = 0.5f;
+  const Vertex tri[3] = {{-1, -1, r, g, b, a}, {3, -1, r, g, b, a}, {-1, 3, r, g, b, a}};
+  HostBuffer vb = vertexBuffer(tri, sizeof tri);
+  std::vector<uint32_t> pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkDeviceSize off = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+    vkCmdDraw(cb, 3, 1, 0, 0);
+  });
+  destroy(vb);
+  vkDestroyPipeline(device, pipeline, nullptr);
+  destroy(color);
+  ASSERT_EQ(pixels.size(), size_t(kW) * kH);
+  int mismatches = 0;
+  for (int py = 0; py < int(kH); ++py)
+    for (int px = 0; px < int(kW); ++px) {
+      const double nx = (px + 0.5) / kW * 2 - 1, ny = (py + 0.5) / kH * 2 - 1;
+      const uint32_t want =
+          rgba8(0.5 * (r + 0.25 * nx + 0.5), 0.5 * (g + 0.25 * ny + 0.5), 0.5 * (b + 0.25), 0.5 * (a + 1.0));
+      const uint32_t got = pixels[size_t(py) * kW + px];
+      if (!near(got, want) && ++mismatches <= 5)
+        ADD_FAILURE() << "pixel (" << px << ", " << py << "): " << std::hex << got << " want " << want;
+    }
+  EXPECT_EQ(mismatches, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothPaths, DrawQuadShadingTest, ::testing::Values(true, false),
