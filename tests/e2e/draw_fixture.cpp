@@ -289,13 +289,13 @@ void DrawTest::TearDown() {
   VulkanTest::TearDown();
 }
 
-std::vector<uint32_t> DrawTest::drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4],
-                                               uint32_t clear) {
+std::vector<uint32_t> DrawTest::drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4], uint32_t clear,
+                                               const uint32_t* vs, size_t vsBytes) {
   Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT);
   PipelineDesc d;
-  d.vs = kSpv_draw_color_vert;
-  d.vsBytes = sizeof kSpv_draw_color_vert;
+  d.vs = vs ? vs : kSpv_draw_color_vert;
+  d.vsBytes = vs ? vsBytes : sizeof kSpv_draw_color_vert;
   d.fs = fs;
   d.fsBytes = fsBytes;
   d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};

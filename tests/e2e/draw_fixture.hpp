@@ -100,9 +100,11 @@ class DrawTest : public VulkanTest {
   std::vector<uint32_t> render(const Target& color, const Target* depth,
                                const std::function<void(VkCommandBuffer)>& draw, uint32_t clear = 0);
 
-  // One triangle over the whole target in the color `rgba`, drawn by draw_color.vert and the fragment shader `fs` into
-  // an RGBA8 target cleared to `clear`: render()'s pixels (empty after a failure).
-  std::vector<uint32_t> drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4], uint32_t clear);
+  // One triangle over the whole target in the color `rgba`, drawn by draw_color.vert (or the vertex shader `vs`, which
+  // takes draw_color.vert's attributes) and the fragment shader `fs` into an RGBA8 target cleared to `clear`:
+  // render()'s pixels (empty after a failure).
+  std::vector<uint32_t> drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4], uint32_t clear,
+                                       const uint32_t* vs = nullptr, size_t vsBytes = 0);
 
   HostBuffer vertexBuffer(const void* data, size_t bytes,
                           VkBufferUsageFlags usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT) {

@@ -68,29 +68,11 @@ TEST_P(DrawQuadShadingTest, DerivativesDiscardAndDemotionInThePixels) {
 // read): the executor places each slot at its location (on the SPMD path a word of the quad's four lanes at a time).
 // The expected colour at each pixel centre from the NDC position: 0.5 (color + (0.25 ndc + 0.5, 0.25, 1)).
 TEST_P(DrawQuadShadingTest, InputsAtSparseLocationsReachTheirVariables) {
-  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                              VK_IMAGE_ASPECT_COLOR_BIT);
-  PipelineDesc d;
-  d.vs = kSpv_draw_sparse_locations_vert;
-  d.vsBytes = sizeof kSpv_draw_sparse_locations_vert;
-  d.fs = kSpv_draw_sparse_locations_frag;
-  d.fsBytes = sizeof kSpv_draw_sparse_locations_frag;
-  d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
-  VkPipeline pipeline;
-  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
   const float r = 0.2f, g = 0.4f, b = 0.6f, a = 0.5f;
-  const Vertex tri[3] = {{-1, -1, r, g, b, a}, {3, -1, r, g, b, a}, {-1, 3, r, g, b, a}};
-  HostBuffer vb = vertexBuffer(tri, sizeof tri);
-  std::vector<uint32_t> pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    VkDeviceSize off = 0;
-    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
-    vkCmdDraw(cb, 3, 1, 0, 0);
-  });
-  destroy(vb);
-  vkDestroyPipeline(device, pipeline, nullptr);
-  destroy(color);
+  const float rgba[4] = {r, g, b, a};
+  const std::vector<uint32_t> pixels =
+      drawFullScreen(kSpv_draw_sparse_locations_frag, sizeof kSpv_draw_sparse_locations_frag, rgba, 0,
+                     kSpv_draw_sparse_locations_vert, sizeof kSpv_draw_sparse_locations_vert);
   ASSERT_EQ(pixels.size(), size_t(kW) * kH);
   int mismatches = 0;
   for (int py = 0; py < int(kH); ++py)
