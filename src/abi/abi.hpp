@@ -326,7 +326,9 @@ struct GraphicsInvocation {
   uint32_t* inputs;        // 160  kGraphicsLocations x 16 bytes (read)
   uint32_t* outputs;       // 168  kGraphicsLocations x 16 bytes (written)
   uint32_t* outputs1;      // 176  fragment: Index 1 outputs (16 bytes, location 0)
-  uint64_t pad0;           // 184
+  // Fragment, the SPMD entry's quads (set in every invocation of the quad; null on the other paths): the quad's
+  // FragCoord as a structure of arrays, component c of lane l at [4 c + l]. A report names the fragment from it.
+  const float* fragCoordSoa;  // 184
   // vertex
   float position[4];      // 192  Position (out)
   float pointSize;        // 208  PointSize (out)

@@ -212,6 +212,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       w.inv[0].outputs = c.quadOutputs ? &q.color[0][0][0] : &w.outputsSoa[0][0];
       w.inv[0].outputs1 = &q.color1[0][0];
       w.inv[0].inputs = c.quadInputs ? &q.inputs[0][0] : &w.inputsSoa[0][0];
+      for (uint32_t l = 0; l < 4; ++l) w.inv[l].fragCoordSoa = &q.fragCoord[0][0];
     }
     for (uint32_t l = 0; l < 4; ++l) {
       GraphicsInvocation& inv = w.inv[l];
@@ -239,12 +240,13 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       // The fibers' and the scalar path's inputs: the lane's words of each slot at the shader's locations.
       for (uint32_t s = 0; s < c.varyingCount; ++s) raster::laneInput(q, s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
     }
-    std::memcpy(inv.fragCoord, q.fragCoord[l], sizeof inv.fragCoord);
+    if (!c.spmd)  // (the SPMD entry reads the quad's FragCoord, fragCoordSoa)
+      for (uint32_t k = 0; k < 4; ++k) inv.fragCoord[k] = q.fragCoord[k][l];
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
     inv.sampleMaskIn = q.coverage[l];
     if (c.writesSampleMask) inv.sampleMaskOut = ~0u;
-    if (c.writesDepth) inv.fragDepth = q.fragCoord[l][2];
+    if (c.writesDepth) inv.fragDepth = q.fragCoord[2][l];
     inv.helper = q.coverage[l] ? 0 : 1;
     inv.status = 0;
     inv.quadParity = 0;

@@ -258,7 +258,8 @@ struct FragmentQuad {
   int32_t x = 0, y = 0;
   uint32_t coverage[4] = {};  // per lane, the covered samples (bit s = sample s); 0: a helper lane
   uint32_t sampleIndex = 0;   // with per-sample shading: the sample this invocation shades
-  float fragCoord[4][4];      // x, y (pixel centre or sample position), z (framebuffer depth), 1 / w_c
+  // x, y (pixel centre or sample position), z (framebuffer depth), 1 / w_c: per component, the four lanes side by side.
+  float fragCoord[4][4];
   float pointCoord[4][2];
   bool frontFacing = true;
   uint32_t primitiveId = 0;

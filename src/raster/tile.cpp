@@ -60,14 +60,14 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
   double b[3], bc[3];
   barycentrics(t, px, py, b);
   const double invW = b[0] * t.invW[0] + b[1] * t.invW[1] + b[2] * t.invW[2];
-  q.fragCoord[lane][0] = float(px) / kSubPixel;
-  q.fragCoord[lane][1] = float(py) / kSubPixel;
-  q.fragCoord[lane][2] = depthAt(ctx, t, px, py);
-  q.fragCoord[lane][3] = float(invW);
+  q.fragCoord[0][lane] = float(px) / kSubPixel;
+  q.fragCoord[1][lane] = float(py) / kSubPixel;
+  q.fragCoord[2][lane] = depthAt(ctx, t, px, py);
+  q.fragCoord[3][lane] = float(invW);
   if (t.isPoint) {
     // PointCoord ("Basic Point Rasterization"): s to the right, t downwards, 0.5 at the centre.
-    q.pointCoord[lane][0] = 0.5f + (q.fragCoord[lane][0] - t.pointX) / t.pointSize;
-    q.pointCoord[lane][1] = 0.5f + (q.fragCoord[lane][1] - t.pointY) / t.pointSize;
+    q.pointCoord[lane][0] = 0.5f + (q.fragCoord[0][lane] - t.pointX) / t.pointSize;
+    q.pointCoord[lane][1] = 0.5f + (q.fragCoord[1][lane] - t.pointY) / t.pointSize;
   } else {
     q.pointCoord[lane][0] = q.pointCoord[lane][1] = 0;
   }
@@ -157,21 +157,15 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
   const Float4 r = 1.0f / invW;
   const auto zero = invW == 0.0f;
   const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
-  // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w
-  // transposed into the lanes' rows.
+  // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w.
   const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
   const Float4 fz = {z[0][0], z[1][0], z[2][0], z[3][0]};
-  const Float4 xy01 = __builtin_shufflevector(fx, fy, 0, 4, 1, 5), xy23 = __builtin_shufflevector(fx, fy, 2, 6, 3, 7);
-  const Float4 zw01 = __builtin_shufflevector(fz, invW, 0, 4, 1, 5),
-               zw23 = __builtin_shufflevector(fz, invW, 2, 6, 3, 7);
-  const Float4 rows[4] = {
-      __builtin_shufflevector(xy01, zw01, 0, 1, 4, 5), __builtin_shufflevector(xy01, zw01, 2, 3, 6, 7),
-      __builtin_shufflevector(xy23, zw23, 0, 1, 4, 5), __builtin_shufflevector(xy23, zw23, 2, 3, 6, 7)};
+  const Float4 rows[4] = {fx, fy, fz, invW};
   std::memcpy(q.fragCoord, rows, sizeof rows);
   if (t.isPoint) {
     for (uint32_t l = 0; l < 4; ++l) {
-      q.pointCoord[l][0] = 0.5f + (q.fragCoord[l][0] - t.pointX) / t.pointSize;
-      q.pointCoord[l][1] = 0.5f + (q.fragCoord[l][1] - t.pointY) / t.pointSize;
+      q.pointCoord[l][0] = 0.5f + (q.fragCoord[0][l] - t.pointX) / t.pointSize;
+      q.pointCoord[l][1] = 0.5f + (q.fragCoord[1][l] - t.pointY) / t.pointSize;
     }
   } else {
     std::memset(q.pointCoord, 0, sizeof q.pointCoord);

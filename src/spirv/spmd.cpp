@@ -1514,6 +1514,16 @@ void Spmd::copyLanes(bool inputs, llvm::Value* block) {
   for (auto [id, offset] : builtInBlock) {
     const Codegen::Global& gl = g.globals.at(id);
     if (!inputs && gl.storage != spv::StorageClassOutput) continue;
+    if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, fragCoord))) {
+      // FragCoord from the quad's structure of arrays (fragCoordSoa): a component of the lanes per load.
+      llvm::Value* soa =
+          b.CreateAlignedLoad(b.getPtrTy(), invField(0, offsetof(GraphicsInvocation, fragCoordSoa)), llvm::Align(8));
+      for (uint32_t j = 0; j < gl.size; j += 4)
+        b.CreateAlignedStore(b.CreateAlignedLoad(laneTy(b.getInt32Ty()),
+                                                 b.CreateConstGEP1_64(b.getInt8Ty(), soa, j * N), llvm::Align(4)),
+                             b.CreateConstGEP1_64(b.getInt8Ty(), block, (offset + j) * N), llvm::Align(16));
+      continue;
+    }
     for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, -1, uint64_t(gl.graphicsField) + j);
   }
 }

@@ -124,10 +124,16 @@ struct Quad {
       inv[0].inputs = &in[0][0];
       inv[0].outputs = &out[0][0];
       inv[0].outputs1 = &out1[0][0];
+      // FragCoord too (fragCoordSoa, every invocation's).
+      alignas(16) float fragCoord[4][4];
+      for (uint32_t l = 0; l < 4; ++l)
+        for (uint32_t k = 0; k < 4; ++k) fragCoord[k][l] = lanes[l].inv.fragCoord[k];
+      for (uint32_t l = 0; l < 4; ++l) inv[l].fragCoordSoa = &fragCoord[0][0];
       s.graphicsEntry(inv);
       for (uint32_t l = 0; l < 4; ++l) {
         for (uint32_t w = 0; w < kGraphicsLocations * 4; ++w) lanes[l].out[w] = out[w][l];
         for (uint32_t w = 0; w < 4; ++w) lanes[l].out1[w] = out1[w][l];
+        inv[l].fragCoordSoa = nullptr;
         inv[l].inputs = lanes[l].in;
         inv[l].outputs = lanes[l].out;
         inv[l].outputs1 = lanes[l].out1;
