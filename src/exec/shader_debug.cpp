@@ -43,10 +43,11 @@ InvocationId invocationId(const abi::InvocationContext* ctx, uint32_t model) {
   } else if (model == kModelFragment) {
     const auto* g = reinterpret_cast<const abi::GraphicsInvocation*>(ctx);
     // The SPMD entry's lanes have their FragCoord in the quad's structure of arrays (lane = localIndex).
-    const float* x = g->fragCoordSoa ? g->fragCoordSoa + (ctx->localIndex & 3) : &g->fragCoord[0];
-    const float* y = g->fragCoordSoa ? g->fragCoordSoa + 4 + (ctx->localIndex & 3) : &g->fragCoord[1];
-    std::memcpy(&id.v[0], x, 4);
-    std::memcpy(&id.v[1], y, 4);
+    const uint32_t lane = ctx->localIndex & 3;
+    const float x = g->fragCoordSoa ? g->fragCoordSoa[lane] : g->fragCoord[0];
+    const float y = g->fragCoordSoa ? g->fragCoordSoa[4 + lane] : g->fragCoord[1];
+    std::memcpy(&id.v[0], &x, 4);
+    std::memcpy(&id.v[1], &y, 4);
   } else {
     const auto* r = reinterpret_cast<const abi::RayInvocation*>(ctx);
     for (int i = 0; i < 3; ++i) id.v[i] = r->launchId[i];

@@ -237,11 +237,11 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     if (!(lanes & (1u << l))) continue;
     GraphicsInvocation& inv = w.inv[l];
     if (!c.spmd) {
-      // The fibers' and the scalar path's inputs: the lane's words of each slot at the shader's locations.
+      // The fibers' and the scalar path's inputs (the lane's words of each slot at the shader's locations) and
+      // FragCoord; the SPMD entry reads the quad's own (inputs, fragCoordSoa).
       for (uint32_t s = 0; s < c.varyingCount; ++s) raster::laneInput(q, s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
-    }
-    if (!c.spmd)  // (the SPMD entry reads the quad's FragCoord, fragCoordSoa)
       for (uint32_t k = 0; k < 4; ++k) inv.fragCoord[k] = q.fragCoord[k][l];
+    }
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
     inv.sampleMaskIn = q.coverage[l];

@@ -282,9 +282,12 @@ struct FragmentQuad {
   alignas(16) uint32_t color1[4][4];  // Index 1 output of location 0 (dual-source blending): per component, per lane
 };
 
-// Lane `lane`'s four words of input slot `slot`.
+// Lane `lane`'s four words of input slot `slot`; setLaneInput writes them.
 inline void laneInput(const FragmentQuad& q, uint32_t slot, uint32_t lane, uint32_t out[4]) {
   for (uint32_t c = 0; c < 4; ++c) out[c] = q.inputs[4 * slot + c][lane];
+}
+inline void setLaneInput(FragmentQuad& q, uint32_t slot, uint32_t lane, const uint32_t in[4]) {
+  for (uint32_t c = 0; c < 4; ++c) q.inputs[4 * slot + c][lane] = in[c];
 }
 
 // Lane `lane`'s four words of colour output `location` (out[c] = component c), and the same for the dual-source

@@ -97,7 +97,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
     if (in.interpolation == Interpolation::Flat) {
-      for (uint32_t c = 0; c < 4; ++c) q.inputs[k + c][lane] = t.flat[k + c];
+      setLaneInput(q, slot, lane, t.flat + k);
       continue;
     }
     const bool useCentroid = centroid && in.centroid;
@@ -108,7 +108,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const Float4 v = f0 + w[1] * (load4(t.var[1] + k) - f0) + w[2] * (load4(t.var[2] + k) - f0);
     uint32_t words[4];
     std::memcpy(words, &v, 16);
-    for (uint32_t c = 0; c < 4; ++c) q.inputs[k + c][lane] = words[c];
+    setLaneInput(q, slot, lane, words);
   }
 }
 

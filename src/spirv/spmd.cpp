@@ -1470,12 +1470,14 @@ bool Spmd::sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Va
 // Copies between the lane block (the interface and Private variables, interleaved: lane l's word at byte o is at
 // o * N + 4 l) and the quad's GraphicsInvocations: inputs (and the built-in outputs' preset values) in, outputs out.
 void Spmd::copyLanes(bool inputs, llvm::Value* block) {
-  // The user locations (inputs, outputs and the dual-source output) come in and go out as structures of arrays
-  // through lane 0's pointers: word w of lane l at 4 (w N + l), one vector load or store per word.
+  // The user locations (inputs, outputs and the dual-source output) and FragCoord (fragCoordSoa) come in and go out
+  // as structures of arrays through lane 0's pointers: word w of lane l at 4 (w N + l), one vector load or store per
+  // word.
   auto soa = [&](int slotsField) {
     return slotsField == int(offsetof(GraphicsInvocation, inputs)) ||
            slotsField == int(offsetof(GraphicsInvocation, outputs)) ||
-           slotsField == int(offsetof(GraphicsInvocation, outputs1));
+           slotsField == int(offsetof(GraphicsInvocation, outputs1)) ||
+           slotsField == int(offsetof(GraphicsInvocation, fragCoordSoa));
   };
   auto word = [&](uint64_t blockOffset, int slotsField, uint64_t at) {
     if (soa(slotsField)) {
@@ -1515,13 +1517,7 @@ void Spmd::copyLanes(bool inputs, llvm::Value* block) {
     const Codegen::Global& gl = g.globals.at(id);
     if (!inputs && gl.storage != spv::StorageClassOutput) continue;
     if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, fragCoord))) {
-      // FragCoord from the quad's structure of arrays (fragCoordSoa): a component of the lanes per load.
-      llvm::Value* soa =
-          b.CreateAlignedLoad(b.getPtrTy(), invField(0, offsetof(GraphicsInvocation, fragCoordSoa)), llvm::Align(8));
-      for (uint32_t j = 0; j < gl.size; j += 4)
-        b.CreateAlignedStore(b.CreateAlignedLoad(laneTy(b.getInt32Ty()),
-                                                 b.CreateConstGEP1_64(b.getInt8Ty(), soa, j * N), llvm::Align(4)),
-                             b.CreateConstGEP1_64(b.getInt8Ty(), block, (offset + j) * N), llvm::Align(16));
+      for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, int(offsetof(GraphicsInvocation, fragCoordSoa)), j);
       continue;
     }
     for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, -1, uint64_t(gl.graphicsField) + j);
