@@ -193,9 +193,13 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     return;
   }
   q.killed = 0;
+  // The context's flags as locals: the stores into the invocations below could alias the context, which would
+  // otherwise be read again for every lane.
+  const bool spmd = c.spmd, quadInputs = c.quadInputs, quadOutputs = c.quadOutputs;
+  const bool writesDepth = c.writesDepth, writesSampleMask = c.writesSampleMask;
   uint32_t lanes = 0;
   for (uint32_t l = 0; l < 4; ++l)
-    if (c.spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
+    if (spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
   if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) {
     // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
     // now may run in the next quad): the per-primitive built-ins, and the in-place input and output pointers (the
@@ -228,30 +232,38 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       inv.sampleMaskOut = ~0u;
     }
   }
-  if (c.spmd && !c.quadInputs) {
+  if (spmd && !quadInputs) {
     // The quad's slots at the shader's locations, the four lanes' words together.
     for (uint32_t s = 0; s < c.varyingCount; ++s)
       std::memcpy(w.inputsSoa[4 * c.varyingLocation[s]], q.inputs[4 * s], 4 * 16);
   }
-  for (uint32_t l = 0; l < 4; ++l) {
-    if (!(lanes & (1u << l))) continue;
+  // The per-lane built-ins the entry reads from lane l's invocation.
+  auto setLane = [&](uint32_t l) {
     GraphicsInvocation& inv = w.inv[l];
-    if (!c.spmd) {
+    const uint32_t coverage = q.coverage[l];
+    inv.pointCoord[0] = q.pointCoord[l][0];
+    inv.pointCoord[1] = q.pointCoord[l][1];
+    inv.sampleMaskIn = coverage;
+    if (writesSampleMask) inv.sampleMaskOut = ~0u;
+    if (writesDepth) inv.fragDepth = q.fragCoord[2][l];
+    inv.helper = coverage == 0;
+    inv.status = 0;
+    inv.quadParity = 0;
+  };
+  if (spmd) {
+    // Every lane: the uncovered ones are helpers (the entry runs them only where the shader takes derivatives).
+    for (uint32_t l = 0; l < 4; ++l) setLane(l);
+  } else {
+    for (uint32_t l = 0; l < 4; ++l) {
+      if (!(lanes & (1u << l))) continue;
       // The fibers' and the scalar path's inputs (the lane's words of each slot at the shader's locations) and
       // FragCoord; the SPMD entry reads the quad's own (inputs, fragCoordSoa).
       for (uint32_t s = 0; s < c.varyingCount; ++s) raster::laneInput(q, s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
-      for (uint32_t k = 0; k < 4; ++k) inv.fragCoord[k] = q.fragCoord[k][l];
+      for (uint32_t k = 0; k < 4; ++k) w.inv[l].fragCoord[k] = q.fragCoord[k][l];
+      setLane(l);
     }
-    inv.pointCoord[0] = q.pointCoord[l][0];
-    inv.pointCoord[1] = q.pointCoord[l][1];
-    inv.sampleMaskIn = q.coverage[l];
-    if (c.writesSampleMask) inv.sampleMaskOut = ~0u;
-    if (c.writesDepth) inv.fragDepth = q.fragCoord[2][l];
-    inv.helper = q.coverage[l] ? 0 : 1;
-    inv.status = 0;
-    inv.quadParity = 0;
   }
-  if (c.spmd) {
+  if (spmd) {
     // The SPMD entry takes the quad's four invocations (the uncovered lanes are helpers: it runs them only where the
     // shader takes derivatives).
     c.fragmentEntry(w.inv);
@@ -268,6 +280,14 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       if (lanes & (1u << l)) c.fragmentEntry(&w.inv[l]);
   }
   const uint32_t outputMask = c.pipeline->fragmentStage.outputMask;
+  if (spmd && quadOutputs && !writesDepth && !writesSampleMask) {
+    // The outputs are in the quad already: only discard is left to read.
+    uint32_t killed = 0;
+    for (uint32_t l = 0; l < 4; ++l)
+      killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
+    q.killed = killed;
+    return;
+  }
   for (uint32_t l = 0; l < 4; ++l) {
     if (!q.coverage[l]) continue;
     const GraphicsInvocation& inv = w.inv[l];
@@ -275,12 +295,12 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       q.killed |= 1u << l;
       continue;
     }
-    if (c.spmd && !c.quadOutputs) {
+    if (spmd && !quadOutputs) {
       for (uint32_t m = outputMask; m; m &= m - 1) {
         const uint32_t loc = uint32_t(__builtin_ctz(m));
         for (uint32_t k = 0; k < 4; ++k) q.color[loc][k][l] = w.outputsSoa[4 * loc + k][l];
       }
-    } else if (!c.spmd) {
+    } else if (!spmd) {
       // The fibers' and the scalar path's outputs, a lane's words together, into the quad's per-component arrays.
       for (uint32_t m = outputMask; m; m &= m - 1) {
         const uint32_t loc = uint32_t(__builtin_ctz(m));
@@ -289,8 +309,8 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       raster::setLaneColor1(q, l, w.outputs1[l]);
     }
     // Read by the rasterizer only when the shader writes them (FragmentStage::writesDepth, writesSampleMask).
-    if (c.writesDepth) q.depth[l] = inv.fragDepth;
-    if (c.writesSampleMask) q.sampleMaskOut[l] = inv.sampleMaskOut;
+    if (writesDepth) q.depth[l] = inv.fragDepth;
+    if (writesSampleMask) q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
 }
 

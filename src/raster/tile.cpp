@@ -28,9 +28,10 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 using Float4 = float __attribute__((vector_size(16)));
 using Float2 = float __attribute__((vector_size(8)));
 using Double2 = double __attribute__((vector_size(16)));
-// depthAt at the four pixel centres of a one-sample quad, into z[l][0]: the same double operations per lane (the
-// centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per vector, the clamp on all four.
-inline void depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
+// depthAt at the four pixel centres of a one-sample quad, into z[l][0] and returned (lane l in element l): the same
+// double operations per lane (the centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per
+// vector, the clamp on all four.
+inline Float4 depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
   const Double2 ax = t.zA * (double(qx) + Double2{0.5, 1.5});
   const double y = double(qy) + 0.5;
   const Double2 top = ax + t.zB * y + t.zC, bottom = ax + t.zB * (y + 1) + t.zC;
@@ -40,6 +41,7 @@ inline void depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int
   f = f < lo ? Float4{lo, lo, lo, lo} : f;  // std::clamp (NaN stays NaN)
   f = hi < f ? Float4{hi, hi, hi, hi} : f;
   z[0][0] = f[0], z[1][0] = f[1], z[2][0] = f[2], z[3][0] = f[3];
+  return f;
 }
 
 inline Float4 load4(const uint32_t* p) {
@@ -116,18 +118,23 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 // quad's pixels and each input's vertex value and differences. Computed once per triangle and tile.
 struct QuadInterp {
   double dx[3], dy[3];  // a * 256, b * 256, exact
-  Float4 f0[kMaxLocations], d1[kMaxLocations], d2[kMaxLocations];
+  // Per slot: its interpolation, and (unless Flat) each component's vertex-0 value and differences, in all four
+  // elements (so that a quad's interpolation broadcasts nothing).
+  Interpolation interpolation[kMaxLocations];
+  struct Component {
+    Float4 f0, d1, d2;
+  } component[kMaxLocations][4];
 };
 
 void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi) {
   for (int i = 0; i < 3; ++i) qi.dx[i] = double(t.a[i] * kSubPixel), qi.dy[i] = double(t.b[i] * kSubPixel);
   const FragmentStage& fs = *ctx.fragment;
   for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
+    qi.interpolation[slot] = fs.inputs[slot].interpolation;
     if (fs.inputs[slot].interpolation == Interpolation::Flat) continue;
     const uint32_t k = slot * 4;
-    qi.f0[slot] = load4(t.var[0] + k);
-    qi.d1[slot] = load4(t.var[1] + k) - qi.f0[slot];
-    qi.d2[slot] = load4(t.var[2] + k) - qi.f0[slot];
+    const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
+    for (uint32_t c = 0; c < 4; ++c) qi.component[slot][c] = {f0[c] + Float4{}, d1[c] + Float4{}, d2[c] + Float4{}};
   }
 }
 
@@ -137,7 +144,7 @@ void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi) 
 // a few ulp apart), and each input's vertex differences once per triangle. All four lanes are written (a lane the
 // shader does not run ignores its values), so there is no test per lane.
 void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx,
-                     int32_t qy, const float z[4][4]) {
+                     int32_t qy, Float4 fz) {
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
@@ -159,7 +166,6 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
   const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
   // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w.
   const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
-  const Float4 fz = {z[0][0], z[1][0], z[2][0], z[3][0]};
   const Float4 rows[4] = {fx, fy, fz, invW};
   std::memcpy(q.fragCoord, rows, sizeof rows);
   if (t.isPoint) {
@@ -170,24 +176,24 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
   } else {
     std::memset(q.pointCoord, 0, sizeof q.pointCoord);
   }
-  const FragmentStage& fs = *ctx.fragment;
-  for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
-    const FragmentInput& in = fs.inputs[slot];
+  const uint32_t inputCount = ctx.fragment->inputCount;
+  for (uint32_t slot = 0; slot < inputCount; ++slot) {
     const uint32_t k = slot * 4;
-    if (in.interpolation == Interpolation::Flat) {
+    const Interpolation interpolation = qi.interpolation[slot];
+    if (interpolation == Interpolation::Flat) {
       for (uint32_t c = 0; c < 4; ++c) {
         const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
         std::memcpy(q.inputs[k + c], v, 16);
       }
       continue;
     }
-    const bool smooth = in.interpolation == Interpolation::Smooth;
-    const Float4 f0 = qi.f0[slot], d1 = qi.d1[slot], d2 = qi.d2[slot];
+    const bool smooth = interpolation == Interpolation::Smooth;
     const Float4 u1 = smooth ? p1 : b[1], u2 = smooth ? p2 : b[2];
     // Component by component, the four lanes at once: lane l's component c is f0[c] + u1[l] d1[c] + u2[l] d2[c],
     // the per-lane sum's operations in its order.
     for (uint32_t c = 0; c < 4; ++c) {
-      const Float4 v = f0[c] + u1 * d1[c] + u2 * d2[c];
+      const QuadInterp::Component& f = qi.component[slot][c];
+      const Float4 v = f.f0 + u1 * f.d1 + u2 * f.d2;
       std::memcpy(q.inputs[k + c], &v, 16);
     }
   }
@@ -200,6 +206,10 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   if (ctx.plainFinish) {
     // Nothing between the shader and the colour writes but discard (the tests ran before the shader).
+    if (!q.killed) {
+      writeQuadColors(ctx, q, q.coverage);  // (a quad reaches the shader with some coverage)
+      return;
+    }
     for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
     if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
     return;
@@ -237,8 +247,9 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= st.sampleMask;
   if (!any) return;
   float z[4][4];
+  Float4 fz{};
   if (ctx.samples == 1 && !ctx.perSample) {
-    depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
+    fz = depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
   } else {
     for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
       if (!cov[l]) continue;
@@ -257,8 +268,6 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   }
   FragmentQuad& q = scratch.quad;  // the per-primitive fields set by rasterizeTriangle
   q.x = qx, q.y = qy;
-  const uint32_t lanes =
-      fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
   if (ctx.perSample) {
     // Sample shading: once per sample any lane covers, at that sample's position.
     for (uint32_t s = 0; s < ctx.samples; ++s) {
@@ -286,8 +295,10 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   q.sampleIndex = 0;
   for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
   if (ctx.samples == 1) {
-    interpolateQuad(ctx, t, qi, q, qx, qy, z);
+    interpolateQuad(ctx, t, qi, q, qx, qy, fz);
   } else {
+    const uint32_t lanes =
+        fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
     for (uint32_t l = 0; l < 4; ++l) {
       if (!(lanes >> l & 1)) continue;
       const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel + kCentre;
