@@ -197,9 +197,11 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   // otherwise be read again for every lane.
   const bool spmd = c.spmd, quadInputs = c.quadInputs, quadOutputs = c.quadOutputs;
   const bool writesDepth = c.writesDepth, writesSampleMask = c.writesSampleMask;
-  uint32_t lanes = 0;
-  for (uint32_t l = 0; l < 4; ++l)
-    if (spmd || c.quads || q.coverage[l]) lanes |= 1u << l;
+  // The lanes the fibers and the scalar path run: all four where they run together, else the covered ones (the SPMD
+  // entry takes all four and masks the helpers itself).
+  uint32_t lanes = 0xF;
+  if (!spmd && !c.quads)
+    lanes = (q.coverage[0] ? 1 : 0) | (q.coverage[1] ? 2 : 0) | (q.coverage[2] ? 4 : 0) | (q.coverage[3] ? 8 : 0);
   if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) {
     // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
     // now may run in the next quad): the per-primitive built-ins, and the in-place input and output pointers (the
@@ -258,7 +260,8 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       if (!(lanes & (1u << l))) continue;
       // The fibers' and the scalar path's inputs (the lane's words of each slot at the shader's locations) and
       // FragCoord; the SPMD entry reads the quad's own (inputs, fragCoordSoa).
-      for (uint32_t s = 0; s < c.varyingCount; ++s) raster::laneInput(q, s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
+      for (uint32_t s = 0; s < c.varyingCount; ++s)
+        raster::laneWords(q.inputs + 4 * s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
       for (uint32_t k = 0; k < 4; ++k) w.inv[l].fragCoord[k] = q.fragCoord[k][l];
       setLane(l);
     }
@@ -304,9 +307,9 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       // The fibers' and the scalar path's outputs, a lane's words together, into the quad's per-component arrays.
       for (uint32_t m = outputMask; m; m &= m - 1) {
         const uint32_t loc = uint32_t(__builtin_ctz(m));
-        raster::setLaneColor(q, loc, l, w.outputs[l] + 4 * loc);
+        raster::setLaneWords(q.color[loc], l, w.outputs[l] + 4 * loc);
       }
-      raster::setLaneColor1(q, l, w.outputs1[l]);
+      raster::setLaneWords(q.color1, l, w.outputs1[l]);
     }
     // Read by the rasterizer only when the shader writes them (FragmentStage::writesDepth, writesSampleMask).
     if (writesDepth) q.depth[l] = inv.fragDepth;

@@ -356,8 +356,8 @@ void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQu
   const Float4 k = t.k;
   Float4 s, s1;
   uint32_t words[4], words1[4];
-  laneColor(q, i, lane, words);
-  laneColor1(q, lane, words1);
+  laneWords(q.color[i], lane, words);
+  laneWords(q.color1, lane, words1);
   std::memcpy(&s, words, 16);
   std::memcpy(&s1, words1, 16);
   s = clamp01(s), s1 = clamp01(s1);
@@ -397,7 +397,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   const bool blend = ba.enable && !integer && !st.logicOpEnable;
   const bool fullMask = mask == (fmt.componentMask & 0xF);
   uint32_t src[4];
-  laneColor(q, i, lane, src);
+  laneWords(q.color[i], lane, src);
   if (!integer) {
     float f[4];
     loadFloats(src, f);
@@ -420,7 +420,7 @@ void writeAttachment(const DrawContext& ctx, const FragmentQuad& q, uint32_t lan
   if (blend) {
     loadFloats(src, s0);
     uint32_t words1[4];
-    laneColor1(q, lane, words1);
+    laneWords(q.color1, lane, words1);
     loadFloats(words1, s1);
     for (int c = 0; c < 4; ++c) k[c] = st.blendConstants[c];
     if (normalized) clampToFormat(fmt.kind, s1), clampToFormat(fmt.kind, k);

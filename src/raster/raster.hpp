@@ -266,7 +266,7 @@ struct FragmentQuad {
   uint32_t viewIndex = 0;
   uint32_t layer = 0;
   // Inputs as structures of arrays, in the slot order of FragmentStage::inputs: word 4 s + c (slot s, component c)
-  // of the four lanes side by side at inputs[4 s + c] (laneInput gathers one lane's).
+  // of the four lanes side by side at inputs[4 s + c] (laneWords gathers one lane's).
   alignas(16) uint32_t inputs[kMaxLocations * 4][4];
   // The primitive and draw being shaded, for interpolateAt (the rasterizer's own records).
   const void* primitive = nullptr;
@@ -277,32 +277,18 @@ struct FragmentQuad {
   uint32_t sampleMaskOut[4] = {~0u, ~0u, ~0u, ~0u};
   float depth[4];  // FragDepth, read when FragmentStage::writesDepth
   // Colours as structures of arrays: per output location, per component, the four lanes' words side by side (the
-  // back end's vector paths read a component of the quad as one vector; laneColor gathers one lane's).
+  // back end's vector paths read a component of the quad as one vector; laneWords gathers one lane's).
   alignas(16) uint32_t color[kMaxColorAttachments][4][4];
   alignas(16) uint32_t color1[4][4];  // Index 1 output of location 0 (dual-source blending): per component, per lane
 };
 
-// Lane `lane`'s four words of input slot `slot`; setLaneInput writes them.
-inline void laneInput(const FragmentQuad& q, uint32_t slot, uint32_t lane, uint32_t out[4]) {
-  for (uint32_t c = 0; c < 4; ++c) out[c] = q.inputs[4 * slot + c][lane];
+// Lane `lane`'s four words out of four rows of a structure of arrays (an input slot, q.inputs + 4 s; a colour output,
+// q.color[location]; the dual-source output, q.color1): out[c] = rows[c][lane]. setLaneWords writes them.
+inline void laneWords(const uint32_t (*rows)[4], uint32_t lane, uint32_t out[4]) {
+  for (uint32_t c = 0; c < 4; ++c) out[c] = rows[c][lane];
 }
-inline void setLaneInput(FragmentQuad& q, uint32_t slot, uint32_t lane, const uint32_t in[4]) {
-  for (uint32_t c = 0; c < 4; ++c) q.inputs[4 * slot + c][lane] = in[c];
-}
-
-// Lane `lane`'s four words of colour output `location` (out[c] = component c), and the same for the dual-source
-// output; setLaneColor writes them.
-inline void laneColor(const FragmentQuad& q, uint32_t location, uint32_t lane, uint32_t out[4]) {
-  for (uint32_t c = 0; c < 4; ++c) out[c] = q.color[location][c][lane];
-}
-inline void laneColor1(const FragmentQuad& q, uint32_t lane, uint32_t out[4]) {
-  for (uint32_t c = 0; c < 4; ++c) out[c] = q.color1[c][lane];
-}
-inline void setLaneColor(FragmentQuad& q, uint32_t location, uint32_t lane, const uint32_t in[4]) {
-  for (uint32_t c = 0; c < 4; ++c) q.color[location][c][lane] = in[c];
-}
-inline void setLaneColor1(FragmentQuad& q, uint32_t lane, const uint32_t in[4]) {
-  for (uint32_t c = 0; c < 4; ++c) q.color1[c][lane] = in[c];
+inline void setLaneWords(uint32_t (*rows)[4], uint32_t lane, const uint32_t in[4]) {
+  for (uint32_t c = 0; c < 4; ++c) rows[c][lane] = in[c];
 }
 
 struct FragmentStage {

@@ -99,7 +99,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
     if (in.interpolation == Interpolation::Flat) {
-      setLaneInput(q, slot, lane, t.flat + k);
+      setLaneWords(q.inputs + 4 * slot, lane, t.flat + k);
       continue;
     }
     const bool useCentroid = centroid && in.centroid;
@@ -110,7 +110,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
     const Float4 v = f0 + w[1] * (load4(t.var[1] + k) - f0) + w[2] * (load4(t.var[2] + k) - f0);
     uint32_t words[4];
     std::memcpy(words, &v, 16);
-    setLaneInput(q, slot, lane, words);
+    setLaneWords(q.inputs + 4 * slot, lane, words);
   }
 }
 
@@ -118,8 +118,9 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 // quad's pixels and each input's vertex value and differences. Computed once per triangle and tile.
 struct QuadInterp {
   double dx[3], dy[3];  // a * 256, b * 256, exact
-  // Per slot: its interpolation, and (unless Flat) each component's vertex-0 value and differences, in all four
-  // elements (so that a quad's interpolation broadcasts nothing).
+  // Per slot: its interpolation (FragmentInput's, copied here: read through ctx.fragment it would be loaded again
+  // after every store into the quad, which may alias it), and (unless Flat) each component's vertex-0 value and
+  // differences, in all four elements (so that a quad's interpolation broadcasts nothing).
   Interpolation interpolation[kMaxLocations];
   struct Component {
     Float4 f0, d1, d2;

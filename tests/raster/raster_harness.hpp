@@ -169,7 +169,7 @@ struct Harness {
       Vec4 c = h.constant;
       if (h.mode == FragMode::Input0) {
         uint32_t words[4];
-        laneInput(q, 0, l, words);
+        laneWords(q.inputs, l, words);
         std::memcpy(c.data(), words, 16);
       }
       if (h.mode == FragMode::PointCoord) c = {q.pointCoord[l][0], q.pointCoord[l][1], 0, 1};
@@ -178,8 +178,8 @@ struct Harness {
       uint32_t words[4], words1[4];
       std::memcpy(words, c.data(), 16);
       std::memcpy(words1, h.constant1.data(), 16);
-      setLaneColor(q, 0, l, words);
-      setLaneColor1(q, l, words1);
+      setLaneWords(q.color[0], l, words);
+      setLaneWords(q.color1, l, words1);
       if (h.fragDepthFromInput) std::memcpy(&q.depth[l], &q.inputs[0][l], 4);
     }
     if (h.killAll) q.killed = 0xF;

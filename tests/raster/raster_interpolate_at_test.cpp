@@ -34,7 +34,7 @@ struct Shader {
       uint32_t out[32 * 4];
       std::memset(out, 0xFF, sizeof out);
       interpolateAt(q, l, s.query.where, s.query.sample, s.query.dx, s.query.dy, out);
-      for (uint32_t k = 0; k < 3; ++k) setLaneColor(q, k, l, out + 4 * kLoc[k]);
+      for (uint32_t k = 0; k < 3; ++k) setLaneWords(q.color[k], l, out + 4 * kLoc[k]);
     }
   }
 };
