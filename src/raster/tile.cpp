@@ -115,37 +115,62 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 }
 
 // What interpolateQuad needs of a triangle that is the same for all its quads: the edges' steps between the
-// quad's pixels and each input's vertex value and differences. Computed once per triangle and tile.
+// quad's pixels, and the input components that vary over the triangle, each with its vertex-0 value and differences
+// in all four elements (so that a quad's interpolation broadcasts nothing), the Smooth ones first. The others are
+// written into the quad once per triangle (setupQuadInterp): Flat slots, and components equal at the three vertices
+// (f0 + u1 (f1 - f0) + u2 (f2 - f0) is then f0 itself for any finite weights, a negative zero aside, which stays
+// varying); components the shader does not declare (FragmentInput::componentMask) are never written.
 struct QuadInterp {
   double dx[3], dy[3];  // a * 256, b * 256, exact
-  // Per slot: its interpolation (FragmentInput's, copied here: read through ctx.fragment it would be loaded again
-  // after every store into the quad, which may alias it), and (unless Flat) each component's vertex-0 value and
-  // differences, in all four elements (so that a quad's interpolation broadcasts nothing).
-  Interpolation interpolation[kMaxLocations];
+  uint32_t smoothCount = 0, count = 0;
   struct Component {
     Float4 f0, d1, d2;
-  } component[kMaxLocations][4];
+    uint32_t row;  // FragmentQuad::inputs row: 4 slot + component
+  } component[kMaxLocations * 4];
 };
 
-void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi) {
+void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, FragmentQuad& q) {
   for (int i = 0; i < 3; ++i) qi.dx[i] = double(t.a[i] * kSubPixel), qi.dy[i] = double(t.b[i] * kSubPixel);
   const FragmentStage& fs = *ctx.fragment;
+  uint32_t smooth = 0, linear = 0;  // components of each kind, the NoPerspective ones gathered after the Smooth
+  for (uint32_t slot = 0; slot < fs.inputCount; ++slot)
+    if (fs.inputs[slot].interpolation == Interpolation::Smooth)
+      smooth += uint32_t(std::popcount(uint32_t(fs.inputs[slot].componentMask & 0xF)));
   for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
-    qi.interpolation[slot] = fs.inputs[slot].interpolation;
-    if (fs.inputs[slot].interpolation == Interpolation::Flat) continue;
+    const FragmentInput& in = fs.inputs[slot];
     const uint32_t k = slot * 4;
+    if (in.interpolation == Interpolation::Flat) {
+      for (uint32_t c = 0; c < 4; ++c) {
+        const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
+        std::memcpy(q.inputs[k + c], v, 16);
+      }
+      continue;
+    }
     const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
-    for (uint32_t c = 0; c < 4; ++c) qi.component[slot][c] = {f0[c] + Float4{}, d1[c] + Float4{}, d2[c] + Float4{}};
+    for (uint32_t c = 0; c < 4; ++c) {
+      if (!(in.componentMask >> c & 1)) continue;
+      if (d1[c] == 0 && d2[c] == 0 && !(f0[c] == 0 && std::signbit(f0[c]))) {
+        const Float4 v = f0[c] + Float4{};
+        std::memcpy(q.inputs[k + c], &v, 16);
+        continue;
+      }
+      QuadInterp::Component& f =
+          qi.component[in.interpolation == Interpolation::Smooth ? qi.smoothCount++ : smooth + linear++];
+      f = {f0[c] + Float4{}, d1[c] + Float4{}, d2[c] + Float4{}, k + c};
+    }
   }
+  // Close the gap the Smooth components that turned out constant left.
+  if (qi.smoothCount < smooth)
+    for (uint32_t i = 0; i < linear; ++i) qi.component[qi.smoothCount + i] = qi.component[smooth + i];
+  qi.count = qi.smoothCount + linear;
 }
 
 // interpolateLane for the four lanes of a single-sampled quad at once (pixel centres; with one sample a pixel is
 // covered whole, so centroid inputs interpolate at the centre too): the barycentrics from the exact edge values as
 // there, the perspective weights in float across the lanes (one division for four lanes instead of four in double;
-// a few ulp apart), and each input's vertex differences once per triangle. All four lanes are written (a lane the
-// shader does not run ignores its values), so there is no test per lane.
-void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx,
-                     int32_t qy, Float4 fz) {
+// a few ulp apart), and the varying components only (QuadInterp: the rest is in the quad already). All four lanes
+// are written (a lane the shader does not run ignores its values), so there is no test per lane.
+void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx, int32_t qy, Float4 fz) {
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
@@ -160,11 +185,6 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
   }
   const Float4 w0 = b[0] * t.invW[0], w1 = b[1] * t.invW[1], w2 = b[2] * t.invW[2];
   const Float4 invW = w0 + w1 + w2;
-  // Perspective-correct weights b_i / w_i normalized ("Polygon Interpolation"); the screen-space ones where the sum
-  // is 0 (as interpolateLane).
-  const Float4 r = 1.0f / invW;
-  const auto zero = invW == 0.0f;
-  const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
   // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w.
   const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
   const Float4 rows[4] = {fx, fy, fz, invW};
@@ -177,26 +197,24 @@ void interpolateQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp
   } else {
     std::memset(q.pointCoord, 0, sizeof q.pointCoord);
   }
-  const uint32_t inputCount = ctx.fragment->inputCount;
-  for (uint32_t slot = 0; slot < inputCount; ++slot) {
-    const uint32_t k = slot * 4;
-    const Interpolation interpolation = qi.interpolation[slot];
-    if (interpolation == Interpolation::Flat) {
-      for (uint32_t c = 0; c < 4; ++c) {
-        const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
-        std::memcpy(q.inputs[k + c], v, 16);
-      }
-      continue;
+  // Lane l's component is f0 + u1[l] d1 + u2[l] d2, the per-lane sum's operations in its order: Smooth components
+  // with the perspective-correct weights b_i / w_i normalized ("Polygon Interpolation"; the screen-space ones where
+  // the sum is 0, as interpolateLane), NoPerspective ones with the screen-space weights.
+  uint32_t i = 0;
+  if (qi.smoothCount) {
+    const Float4 r = 1.0f / invW;
+    const auto zero = invW == 0.0f;
+    const Float4 p1 = zero ? b[1] : w1 * r, p2 = zero ? b[2] : w2 * r;
+    for (; i < qi.smoothCount; ++i) {
+      const QuadInterp::Component& f = qi.component[i];
+      const Float4 v = f.f0 + p1 * f.d1 + p2 * f.d2;
+      std::memcpy(q.inputs[f.row], &v, 16);
     }
-    const bool smooth = interpolation == Interpolation::Smooth;
-    const Float4 u1 = smooth ? p1 : b[1], u2 = smooth ? p2 : b[2];
-    // Component by component, the four lanes at once: lane l's component c is f0[c] + u1[l] d1[c] + u2[l] d2[c],
-    // the per-lane sum's operations in its order.
-    for (uint32_t c = 0; c < 4; ++c) {
-      const QuadInterp::Component& f = qi.component[slot][c];
-      const Float4 v = f.f0 + u1 * f.d1 + u2 * f.d2;
-      std::memcpy(q.inputs[k + c], &v, 16);
-    }
+  }
+  for (; i < qi.count; ++i) {
+    const QuadInterp::Component& f = qi.component[i];
+    const Float4 v = f.f0 + b[1] * f.d1 + b[2] * f.d2;
+    std::memcpy(q.inputs[f.row], &v, 16);
   }
 }
 
@@ -296,7 +314,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   q.sampleIndex = 0;
   for (uint32_t l = 0; l < 4; ++l) q.coverage[l] = cov[l];
   if (ctx.samples == 1) {
-    interpolateQuad(ctx, t, qi, q, qx, qy, fz);
+    interpolateQuad(t, qi, q, qx, qy, fz);
   } else {
     const uint32_t lanes =
         fs.needsHelpers ? 0xF : ((cov[0] ? 1 : 0) | (cov[1] ? 2 : 0) | (cov[2] ? 4 : 0) | (cov[3] ? 8 : 0));
@@ -420,10 +438,10 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
   const uint32_t S = ctx.samples, all = ctx.allSamples, pairMask = (1u << (2 * S)) - 1;
   EdgeSetup es;
   setupEdges(ctx, t, es);
-  QuadInterp qi;  // one-sample quads' interpolation (shadeQuad)
-  if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi);
   // What is the same for every quad of the triangle (shadeQuad sets the rest).
   FragmentQuad& q = scratch.quad;
+  QuadInterp qi;  // one-sample quads' interpolation (shadeQuad), and the inputs that are the same for all of them
+  if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi, q);
   q.frontFacing = t.front;
   q.primitiveId = t.primitiveId;
   q.viewIndex = ctx.viewIndex;

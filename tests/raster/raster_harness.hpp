@@ -90,6 +90,7 @@ struct Harness {
   std::vector<float> pointSize;
   std::vector<std::vector<float>> clipDist;  // clipDist[i][vertex]
   FragMode mode = FragMode::Constant;
+  uint32_t inputSlot = 0;  // the slot FragMode::Input0 writes out
   Vec4 constant = {1, 1, 1, 1};
   Vec4 constant1 = {0, 0, 0, 0};  // the dual-source output
   uint32_t samples;
@@ -169,7 +170,7 @@ struct Harness {
       Vec4 c = h.constant;
       if (h.mode == FragMode::Input0) {
         uint32_t words[4];
-        laneWords(q.inputs, l, words);
+        laneWords(q.inputs + 4 * h.inputSlot, l, words);
         std::memcpy(c.data(), words, 16);
       }
       if (h.mode == FragMode::PointCoord) c = {q.pointCoord[l][0], q.pointCoord[l][1], 0, 1};

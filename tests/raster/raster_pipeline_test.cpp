@@ -79,6 +79,71 @@ TEST(RasterInterpolation, QuadAtOnceMatchesLaneByLane) {
   }
 }
 
+// The quad path writes the components equal at a triangle's three vertices once per triangle and interpolates only
+// the others (tile.cpp setupQuadInterp): two triangles of one tile with different constants each show their own,
+// exactly, and a mix of varying, constant and undeclared components in Smooth and NoPerspective slots gives what
+// the 4-sample path, which interpolates every lane and component, gives at fully covered pixels.
+TEST(RasterInterpolation, ConstantComponentsAreEachTrianglesOwn) {
+  // Two triangles splitting the square, with perspective; slot 0: x varies, y constant per triangle, z a negative
+  // zero everywhere (kept on the varying path), w undeclared; slot 1 (NoPerspective): x constant, y varies; slot 2
+  // (Smooth): all four constant, the same for both triangles.
+  const float X[6] = {0, 64, 0, 64, 64, 0}, Y[6] = {0, 0, 64, 0, 64, 64}, W[6] = {1, 3, 2, 3, 1.5f, 2};
+  const float kConst[2] = {0.375f, 0.625f};
+  // The one-sample draws first: a worker's quad keeps what the draw before wrote, so a component the quad path
+  // failed to write would otherwise still hold a 4-sample draw's value of the same geometry.
+  std::vector<float> out[2][3];  // [4 samples][slot]
+  for (uint32_t samples : {1u, 4u}) {
+    for (uint32_t slot = 0; slot < 3; ++slot) {
+      Harness h(64, 64, samples);
+      h.mode = FragMode::Input0;
+      h.inputSlot = slot;
+      std::vector<Vec4> s0, s1, s2;
+      for (int i = 0; i < 6; ++i) {
+        h.vertex(X[i], Y[i], 0.5f, W[i]);
+        s0.push_back(Vec4{float(i) * 3 - 1, kConst[i / 3], -0.0f, float(i)});
+        s1.push_back(Vec4{-2.5f, float(i) * 0.5f, 0, 0});
+        s2.push_back(Vec4{1, 2, 3, 4});
+      }
+      h.addInput(Interpolation::Smooth, s0);
+      h.fs.inputs[0].componentMask = 0x7;
+      h.addInput(Interpolation::NoPerspective, s1);
+      h.fs.inputs[1].componentMask = 0x3;
+      h.addInput(Interpolation::Smooth, s2);
+      h.run();
+      for (uint32_t y = 0; y < 64; ++y)
+        for (uint32_t x = 0; x < 64; ++x) {
+          const uint32_t prim = h.primIds[y * 64 + x];
+          if (prim == ~0u) continue;
+          if (samples == 1 && slot == 0) {
+            ASSERT_EQ(h.color.f(x, y, 1), kConst[prim]) << x << "," << y;
+            ASSERT_EQ(h.color.f(x, y, 2), 0.0f) << x << "," << y;
+          }
+          if (samples == 1 && slot == 1) {
+            ASSERT_EQ(h.color.f(x, y, 0), -2.5f) << x << "," << y;
+          }
+          if (samples == 1 && slot == 2) {
+            for (uint32_t c = 0; c < 4; ++c) ASSERT_EQ(h.color.f(x, y, c), float(c + 1)) << x << "," << y;
+          }
+          // Away from the diagonal every sample of the pixel is one triangle's.
+          const bool whole = std::fabs(float(x + y + 1) - 64) > 1.5f;
+          const uint32_t declared = slot == 0 ? 3 : slot == 1 ? 2 : 4;
+          for (uint32_t c = 0; c < declared; ++c) out[samples == 4][slot].push_back(whole ? h.color.f(x, y, c) : NAN);
+        }
+    }
+  }
+  int compared = 0;
+  for (uint32_t slot = 0; slot < 3; ++slot) {
+    const std::vector<float>&one = out[0][slot], &four = out[1][slot];
+    ASSERT_EQ(one.size(), four.size());
+    for (size_t i = 0; i < one.size(); ++i) {
+      if (std::isnan(one[i]) || std::isnan(four[i])) continue;
+      ASSERT_NEAR(one[i], four[i], 2e-5 * (1 + std::fabs(four[i]))) << "slot " << slot << " at " << i;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 3 * 3000);
+}
+
 TEST(RasterClip, NearPlaneCutsTheTriangle) {
   // Orthographic (w = 1): z from -0.5 to 1 across the triangle; z_c < 0 is clipped, so a pixel is drawn when its
   // interpolated z is >= 0.
