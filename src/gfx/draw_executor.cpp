@@ -73,6 +73,7 @@ struct DrawContext {
   // place: every output location is a colour attachment's. (Both sides are structures of arrays.)
   bool quadInputs = false, quadOutputs = false;
   bool writesDepth = false, writesSampleMask = false;  // FragDepth, SampleMask: else their fields are not copied
+  bool canDiscard = false;  // else no lane's status ever leaves 0 (runTileTask's): not reset, not read per quad
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -240,6 +241,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       std::memcpy(w.inputsSoa[4 * c.varyingLocation[s]], q.inputs[4 * s], 4 * 16);
   }
   // The per-lane built-ins the entry reads from lane l's invocation.
+  const bool canDiscard = c.canDiscard;
   auto setLane = [&](uint32_t l) {
     GraphicsInvocation& inv = w.inv[l];
     const uint32_t coverage = q.coverage[l];
@@ -249,12 +251,14 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     if (writesSampleMask) inv.sampleMaskOut = ~0u;
     if (writesDepth) inv.fragDepth = q.fragCoord[2][l];
     inv.helper = coverage == 0;
-    inv.status = 0;
-    inv.quadParity = 0;
   };
   if (spmd) {
-    // Every lane: the uncovered ones are helpers (the entry runs them only where the shader takes derivatives).
-    for (uint32_t l = 0; l < 4; ++l) setLane(l);
+    // Every lane: the uncovered ones are helpers (the entry runs them only where the shader takes derivatives). The
+    // SPMD entry keeps no quadParity (its derivatives are shuffles) and writes a status only where it discards.
+    for (uint32_t l = 0; l < 4; ++l) {
+      setLane(l);
+      if (canDiscard) w.inv[l].status = 0;
+    }
   } else {
     for (uint32_t l = 0; l < 4; ++l) {
       if (!(lanes & (1u << l))) continue;
@@ -264,6 +268,8 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
         raster::laneWords(q.inputs + 4 * s, l, w.inputs[l] + 4 * c.varyingLocation[s]);
       for (uint32_t k = 0; k < 4; ++k) w.inv[l].fragCoord[k] = q.fragCoord[k][l];
       setLane(l);
+      w.inv[l].status = 0;
+      w.inv[l].quadParity = 0;
     }
   }
   if (spmd) {
@@ -285,6 +291,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const uint32_t outputMask = c.pipeline->fragmentStage.outputMask;
   if (spmd && quadOutputs && !writesDepth && !writesSampleMask) {
     // The outputs are in the quad already: only discard is left to read.
+    if (!canDiscard) return;
     uint32_t killed = 0;
     for (uint32_t l = 0; l < 4; ++l)
       killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
@@ -463,6 +470,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
     for (uint32_t s = 0; s < fi.inputs.size(); ++s)
       c.quadInputs = c.quadInputs && fi.inputs[s].location == s && !fi.inputs[s].wide && c.varyingLocation[s] == s;
     c.writesDepth = fi.writesDepth;
+    c.canDiscard = fi.canDiscard;
     c.writesSampleMask = fi.writesSampleMask;
     c.quadOutputs = true;
     for (const auto& out : fi.outputs)
