@@ -774,6 +774,9 @@ QuadView describeQuadView(const ImageView& view) {
     q.levels[l].width = int32_t(m.extent.width);
     q.levels[l].height = int32_t(m.extent.height);
   }
+  q.offsets32 = true;
+  for (uint32_t l = 0; l < v.levelCount; ++l)
+    q.offsets32 = q.offsets32 && q.levels[l].rowPitch * uint64_t(q.levels[l].height) + 8 < (uint64_t(1) << 31);
   q.fast = true;
   return q;
 }

@@ -42,6 +42,9 @@ struct QuadView {
   bool srgb = false, bgr = false;
   bool identity = false;  // the component mapping changes nothing
   bool arrayed = false;   // a 2D array view: the layer is coordinate 2
+  // Every level's texel offsets within a layer (row pitch times the last row, plus the last texel's bytes) are below
+  // 2^31: a group of lanes at one level and layer addresses its texels with 32-bit vector arithmetic.
+  bool offsets32 = false;
   uint32_t levelCount = 0, layerCount = 0;
   float size[2] = {0, 0};             // the base level's width and height, for the level of detail
   const float* srgbTable = nullptr;   // decodeTexel's 8-bit sRGB table (RGB of sRGB formats)

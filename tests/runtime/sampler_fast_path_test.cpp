@@ -350,9 +350,44 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
                     ++compared;
                   }
                 }
+              // Quads as a fragment shader's are: neighbouring coordinates and one derivative, so that the lanes
+              // share their level(s) (the vector path then reads each level's record once, quad_sampling_kernels.inc
+              // `grouped`), in one layer or with lane 3 in another (not grouped), and with lanes left out or refused
+              // (their levels do not count).
+              for (size_t k = 0; k < nc * nd; ++k)
+                for (int variant = 0; variant < 3; ++variant) {
+                  const float* c = coords[k % nc];
+                  const float* d = derivs[k / nc];
+                  float coord[16] = {}, ddx[16] = {}, ddy[16] = {}, biases[4];
+                  for (unsigned l = 0; l < 4; ++l) {
+                    coord[l] = c[0] + float(l & 1) * d[0];
+                    coord[4 + l] = c[1] + float(l >> 1) * d[1];
+                    coord[8 + l] = variant == 1 && l == 3 ? c[2] + 1 : c[2];
+                    ddx[l] = d[0], ddx[4 + l] = 0.25f * d[1], ddy[l] = -0.5f * d[0], ddy[4 + l] = d[1];
+                    biases[l] = 0.1f;
+                  }
+                  if (variant == 2) coord[1] = NAN;  // lane 1 refused
+                  const uint32_t lanes = variant == 2 ? 0xdu : 0xfu;
+                  uint32_t quad[16];
+                  std::memset(quad, 0xcd, sizeof(quad));
+                  vkrt_image_sample_grad_quad(&rec, &smp, coord, ddx, ddy, biases, lanes, quad);
+                  for (unsigned l = 0; l < 4; ++l) {
+                    const float cl[4] = {coord[l], coord[4 + l], coord[8 + l], 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
+                                dy[4] = {ddy[l], ddy[4 + l], 0, 0};
+                    uint32_t one[4] = {0, 0, 0, 0};
+                    if (lanes >> l & 1) vkrt_image_sample_grad(&rec, &smp, cl, dx, dy, biases[l], one);
+                    for (unsigned comp = 0; comp < 4; ++comp)
+                      EXPECT_EQ(quad[4 * comp + l], one[comp])
+                          << "format " << format << " mag " << mag << " min " << min << " mip " << mip << " modeU "
+                          << modeU << " clampLods " << clampLods << " swizzled " << (view == views[1])
+                          << " neighbours, variant " << variant << " lane " << l << " component " << comp << " coord "
+                          << cl[0] << "," << cl[1] << "," << cl[2] << " ddx " << dx[0] << "," << dx[1];
+                    ++compared;
+                  }
+                }
             }
           }
-  EXPECT_EQ(compared, size_t(2 * 2 * 2 * 2 * 2 * 2) * nc * nd * 3 * 4);
+  EXPECT_EQ(compared, size_t(2 * 2 * 2 * 2 * 2 * 2) * nc * nd * (3 + 3) * 4);
   for (VkImageView v : views) vkrt_DestroyImageView(device, v, nullptr);
 }
 
