@@ -123,6 +123,7 @@ void interpolateLane(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q,
 struct QuadInterp {
   double dx[3], dy[3];  // a * 256, b * 256, exact
   uint32_t smoothCount = 0, count = 0;
+  bool barycentrics = true;  // some component varies or the shader reads FragCoord (whose w is their sum)
   struct Component {
     Float4 f0, d1, d2;
     uint32_t row;  // FragmentQuad::inputs row: 4 slot + component
@@ -163,6 +164,7 @@ void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, 
   if (qi.smoothCount < smooth)
     for (uint32_t i = 0; i < linear; ++i) qi.component[qi.smoothCount + i] = qi.component[smooth + i];
   qi.count = qi.smoothCount + linear;
+  qi.barycentrics = qi.count || fs.readsFragCoord;
 }
 
 // interpolateLane for the four lanes of a single-sampled quad at once (pixel centres; with one sample a pixel is
@@ -171,6 +173,20 @@ void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, 
 // a few ulp apart), and the varying components only (QuadInterp: the rest is in the quad already). All four lanes
 // are written (a lane the shader does not run ignores its values), so there is no test per lane.
 void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx, int32_t qy, Float4 fz) {
+  // FragCoord's x, y and z (for every shader: a report of a fault names the fragment by them): float(px) / 256 is
+  // the pixel index plus 0.5, exactly (|px| < 2^24).
+  const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
+  const Float4 xyz[3] = {fx, fy, fz};
+  std::memcpy(q.fragCoord, xyz, sizeof xyz);
+  if (t.isPoint) {
+    for (uint32_t l = 0; l < 4; ++l) {
+      q.pointCoord[l][0] = 0.5f + (q.fragCoord[0][l] - t.pointX) / t.pointSize;
+      q.pointCoord[l][1] = 0.5f + (q.fragCoord[1][l] - t.pointY) / t.pointSize;
+    }
+  } else {
+    std::memset(q.pointCoord, 0, sizeof q.pointCoord);
+  }
+  if (!qi.barycentrics) return;  // nothing varies and FragCoord is not read: its w is left as it is
   const int64_t px0 = int64_t(qx) * kSubPixel + kCentre, py0 = int64_t(qy) * kSubPixel + kCentre;
   Float4 b[3];  // per vertex, per lane
   for (int i = 0; i < 3; ++i) {
@@ -184,19 +200,8 @@ void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, i
                                    2, 3);
   }
   const Float4 w0 = b[0] * t.invW[0], w1 = b[1] * t.invW[1], w2 = b[2] * t.invW[2];
-  const Float4 invW = w0 + w1 + w2;
-  // FragCoord: float(px) / 256 is the pixel index plus 0.5, exactly (|px| < 2^24); the four lanes' x, y, z, 1/w.
-  const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
-  const Float4 rows[4] = {fx, fy, fz, invW};
-  std::memcpy(q.fragCoord, rows, sizeof rows);
-  if (t.isPoint) {
-    for (uint32_t l = 0; l < 4; ++l) {
-      q.pointCoord[l][0] = 0.5f + (q.fragCoord[0][l] - t.pointX) / t.pointSize;
-      q.pointCoord[l][1] = 0.5f + (q.fragCoord[1][l] - t.pointY) / t.pointSize;
-    }
-  } else {
-    std::memset(q.pointCoord, 0, sizeof q.pointCoord);
-  }
+  const Float4 invW = w0 + w1 + w2;  // FragCoord's w, 1 / w_c
+  std::memcpy(q.fragCoord[3], &invW, 16);
   // Lane l's component is f0 + u1[l] d1 + u2[l] d2, the per-lane sum's operations in its order: Smooth components
   // with the perspective-correct weights b_i / w_i normalized ("Polygon Interpolation"; the screen-space ones where
   // the sum is 0, as interpolateLane), NoPerspective ones with the screen-space weights.

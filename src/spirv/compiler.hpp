@@ -84,7 +84,8 @@ struct GraphicsStageInfo {
   bool sideEffects = false;  // stores or atomics to buffers or images
   bool dualSource = false;   // an output with Index 1
   bool writesPointSize = false;
-  uint32_t clipDistances = 0;  // ClipDistance array size
+  bool readsFragCoord = false;  // FragCoord (else the rasterizer need not compute its w for one-sample quads)
+  uint32_t clipDistances = 0;   // ClipDistance array size
   uint32_t cullDistances = 0;
 };
 

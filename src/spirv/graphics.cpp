@@ -211,6 +211,9 @@ bool Codegen::declareInterface(const Instruction& var, Global& g) {
         break;
       case spv::BuiltInSampleId:
       case spv::BuiltInSamplePosition: gi.readsSampleId = true; break;
+      case spv::BuiltInFragCoord:
+        if (input) gi.readsFragCoord = true;
+        break;
       default: break;
     }
   };

@@ -5,6 +5,8 @@
 #include <string>
 
 #include "draw_derivatives.frag.spv.h"
+#include "draw_fragcoord_w.frag.spv.h"
+#include "draw_fragcoord_w.vert.spv.h"
 #include "draw_sparse_locations.frag.spv.h"
 #include "draw_sparse_locations.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
@@ -80,6 +82,28 @@ TEST_P(DrawQuadShadingTest, InputsAtSparseLocationsReachTheirVariables) {
       const double nx = (px + 0.5) / kW * 2 - 1, ny = (py + 0.5) / kH * 2 - 1;
       const uint32_t want =
           rgba8(0.5 * (r + 0.25 * nx + 0.5), 0.5 * (g + 0.25 * ny + 0.5), 0.5 * (b + 0.25), 0.5 * (a + 1.0));
+      const uint32_t got = pixels[size_t(py) * kW + px];
+      if (!near(got, want) && ++mismatches <= 5)
+        ADD_FAILURE() << "pixel (" << px << ", " << py << "): " << std::hex << got << " want " << want;
+    }
+  EXPECT_EQ(mismatches, 0);
+}
+
+// A shader that reads FragCoord and whose one input is the same at every vertex: the rasterizer writes that input
+// once per triangle and computes FragCoord's w (1 / w_c, linear in screen space) for this shader's quads all the
+// same (tile.cpp interpolateQuad). The full-screen triangle's vertices (-1, -1), (3, -1), (-1, 3) have w_c 1, 3, 1:
+// at NDC x, 1 / w_c = 1 - t + t / 3 with t = (x + 1) / 4; z is 0.25 everywhere.
+TEST_P(DrawQuadShadingTest, FragCoordWWhereNothingVaries) {
+  const float rgba[4] = {0.1f, 0.2f, 0.3f, 0.8f};
+  const std::vector<uint32_t> pixels =
+      drawFullScreen(kSpv_draw_fragcoord_w_frag, sizeof kSpv_draw_fragcoord_w_frag, rgba, 0, kSpv_draw_fragcoord_w_vert,
+                     sizeof kSpv_draw_fragcoord_w_vert);
+  ASSERT_EQ(pixels.size(), size_t(kW) * kH);
+  int mismatches = 0;
+  for (int py = 0; py < int(kH); ++py)
+    for (int px = 0; px < int(kW); ++px) {
+      const double nx = (px + 0.5) / kW * 2 - 1, t = (nx + 1) / 4;
+      const uint32_t want = rgba8(1 - t + t / 3, 0.25, 0.3, 0.8);
       const uint32_t got = pixels[size_t(py) * kW + px];
       if (!near(got, want) && ++mismatches <= 5)
         ADD_FAILURE() << "pixel (" << px << ", " << py << "): " << std::hex << got << " want " << want;
