@@ -265,10 +265,8 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
 // One quad with its per-lane coverage (already limited to the clip rectangle).
 void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, int32_t qx, int32_t qy, uint32_t cov[4],
                WorkerScratch& scratch, unsigned worker) {
-  const State& st = *ctx.state;
   const FragmentStage& fs = *ctx.fragment;
-  uint32_t any = 0;
-  for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= st.sampleMask;
+  const uint32_t any = cov[0] | cov[1] | cov[2] | cov[3];  // (the sample mask is in rasterizeTriangle's `all`)
   if (!any) return;
   float z[4][4];
   Float4 fz{};
@@ -440,7 +438,8 @@ inline void blockMasksWide(const DrawContext& ctx, const SetupTri& t, const int*
 
 void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
                        WorkerScratch& scratch, unsigned worker) {
-  const uint32_t S = ctx.samples, all = ctx.allSamples, pairMask = (1u << (2 * S)) - 1;
+  // A quad's lanes' samples: the covered ones the sample mask keeps ("Sample Mask": applied before the tests).
+  const uint32_t S = ctx.samples, all = ctx.allSamples & ctx.state->sampleMask, pairMask = (1u << (2 * S)) - 1;
   EdgeSetup es;
   setupEdges(ctx, t, es);
   // What is the same for every quad of the triangle (shadeQuad sets the rest).
