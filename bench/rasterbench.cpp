@@ -284,8 +284,8 @@ Options parse(int argc, char** argv) {
       o.frames = number();
     else if (a == "--warmup")
       o.warmup = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
-    else if (a == "--grid")
-      o.grid = number();
+    else if (a == "--grid")  // 0: no model (with --quads 0 a frame is the pass's clears and the copy out)
+      o.grid = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
     else if (a == "--quads")
       o.quads = uint32_t(std::strtoul(next().c_str(), nullptr, 10));
     else if (a == "--model")
