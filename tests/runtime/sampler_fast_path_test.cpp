@@ -322,6 +322,27 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
             for (VkImageView view : views) {
               abi::DescriptorRecord rec{};
               rec.object = static_cast<const Object*>(fromHandle<ImageView>(view));
+              SCOPED_TRACE(::testing::Message()
+                           << "format " << format << " mag " << mag << " min " << min << " mip " << mip << " modeU "
+                           << modeU << " clampLods " << clampLods << " swizzled " << (view == views[1]));
+              // One quad call against each of its lanes' own calls.
+              auto compareQuad = [&](const float* coord, const float* ddx, const float* ddy, const float* biases,
+                                     uint32_t lanes) {
+                uint32_t quad[16];
+                std::memset(quad, 0xcd, sizeof(quad));
+                vkrt_image_sample_grad_quad(&rec, &smp, coord, ddx, ddy, biases, lanes, quad);
+                for (unsigned l = 0; l < 4; ++l) {
+                  const float c[4] = {coord[l], coord[4 + l], coord[8 + l], 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
+                              dy[4] = {ddy[l], ddy[4 + l], 0, 0};
+                  uint32_t one[4] = {0, 0, 0, 0};
+                  if (lanes >> l & 1) vkrt_image_sample_grad(&rec, &smp, c, dx, dy, biases[l], one);
+                  for (unsigned k = 0; k < 4; ++k)
+                    EXPECT_EQ(quad[4 * k + l], one[k])
+                        << "lane " << l << " lanes " << lanes << " component " << k << " coord " << c[0] << "," << c[1]
+                        << "," << c[2] << " ddx " << dx[0] << "," << dx[1] << " ddy " << dy[0] << "," << dy[1];
+                  ++compared;
+                }
+              };
               for (size_t first = 0; first < nc * nd; ++first)
                 for (uint32_t lanes : {0xfu, 0xbu, 0x4u}) {
                   float coord[16] = {}, ddx[16] = {}, ddy[16] = {}, biases[4];
@@ -333,22 +354,7 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
                     ddx[l] = d[0], ddx[4 + l] = d[1] * 0.5f, ddy[l] = -d[1], ddy[4 + l] = d[0] * (0.5f + l);
                     biases[l] = l == 1 ? NAN : 0.25f * float(l) - 0.6f;
                   }
-                  uint32_t quad[16];
-                  std::memset(quad, 0xcd, sizeof(quad));
-                  vkrt_image_sample_grad_quad(&rec, &smp, coord, ddx, ddy, biases, lanes, quad);
-                  for (unsigned l = 0; l < 4; ++l) {
-                    const float c[4] = {coord[l], coord[4 + l], coord[8 + l], 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
-                                dy[4] = {ddy[l], ddy[4 + l], 0, 0};
-                    uint32_t one[4] = {0, 0, 0, 0};
-                    if (lanes >> l & 1) vkrt_image_sample_grad(&rec, &smp, c, dx, dy, biases[l], one);
-                    for (unsigned k = 0; k < 4; ++k)
-                      EXPECT_EQ(quad[4 * k + l], one[k])
-                          << "format " << format << " mag " << mag << " min " << min << " mip " << mip << " modeU "
-                          << modeU << " clampLods " << clampLods << " swizzled " << (view == views[1]) << " lane " << l
-                          << " lanes " << lanes << " component " << k << " coord " << c[0] << "," << c[1] << "," << c[2]
-                          << " ddx " << dx[0] << "," << dx[1] << " ddy " << dy[0] << "," << dy[1];
-                    ++compared;
-                  }
+                  compareQuad(coord, ddx, ddy, biases, lanes);
                 }
               // Quads as a fragment shader's are: neighbouring coordinates and one derivative, so that the lanes
               // share their level(s) (the vector path then reads each level's record once, quad_sampling_kernels.inc
@@ -367,23 +373,7 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
                     biases[l] = 0.1f;
                   }
                   if (variant == 2) coord[1] = NAN;  // lane 1 refused
-                  const uint32_t lanes = variant == 2 ? 0xdu : 0xfu;
-                  uint32_t quad[16];
-                  std::memset(quad, 0xcd, sizeof(quad));
-                  vkrt_image_sample_grad_quad(&rec, &smp, coord, ddx, ddy, biases, lanes, quad);
-                  for (unsigned l = 0; l < 4; ++l) {
-                    const float cl[4] = {coord[l], coord[4 + l], coord[8 + l], 0}, dx[4] = {ddx[l], ddx[4 + l], 0, 0},
-                                dy[4] = {ddy[l], ddy[4 + l], 0, 0};
-                    uint32_t one[4] = {0, 0, 0, 0};
-                    if (lanes >> l & 1) vkrt_image_sample_grad(&rec, &smp, cl, dx, dy, biases[l], one);
-                    for (unsigned comp = 0; comp < 4; ++comp)
-                      EXPECT_EQ(quad[4 * comp + l], one[comp])
-                          << "format " << format << " mag " << mag << " min " << min << " mip " << mip << " modeU "
-                          << modeU << " clampLods " << clampLods << " swizzled " << (view == views[1])
-                          << " neighbours, variant " << variant << " lane " << l << " component " << comp << " coord "
-                          << cl[0] << "," << cl[1] << "," << cl[2] << " ddx " << dx[0] << "," << dx[1];
-                    ++compared;
-                  }
+                  compareQuad(coord, ddx, ddy, biases, variant == 2 ? 0xdu : 0xfu);
                 }
             }
           }
