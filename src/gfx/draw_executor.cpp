@@ -74,6 +74,7 @@ struct DrawContext {
   bool quadInputs = false, quadOutputs = false;
   bool writesDepth = false, writesSampleMask = false;  // FragDepth, SampleMask: else their fields are not copied
   bool canDiscard = false;  // else no lane's status ever leaves 0 (runTileTask's): not reset, not read per quad
+  bool readsPointCoord = false, readsSampleMask = false;  // PointCoord, SampleMask in: else not set per lane and quad
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -241,13 +242,15 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
       std::memcpy(w.inputsSoa[4 * c.varyingLocation[s]], q.inputs[4 * s], 4 * 16);
   }
   // The per-lane built-ins the entry reads from lane l's invocation.
-  const bool canDiscard = c.canDiscard;
+  const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
   auto setLane = [&](uint32_t l) {
     GraphicsInvocation& inv = w.inv[l];
     const uint32_t coverage = q.coverage[l];
-    inv.pointCoord[0] = q.pointCoord[l][0];
-    inv.pointCoord[1] = q.pointCoord[l][1];
-    inv.sampleMaskIn = coverage;
+    if (readsPointCoord) {
+      inv.pointCoord[0] = q.pointCoord[l][0];
+      inv.pointCoord[1] = q.pointCoord[l][1];
+    }
+    if (readsSampleMask) inv.sampleMaskIn = coverage;
     if (writesSampleMask) inv.sampleMaskOut = ~0u;
     if (writesDepth) inv.fragDepth = q.fragCoord[2][l];
     inv.helper = coverage == 0;
@@ -471,6 +474,8 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
       c.quadInputs = c.quadInputs && fi.inputs[s].location == s && !fi.inputs[s].wide && c.varyingLocation[s] == s;
     c.writesDepth = fi.writesDepth;
     c.canDiscard = fi.canDiscard;
+    c.readsPointCoord = fi.readsPointCoord;
+    c.readsSampleMask = fi.readsSampleMask;
     c.writesSampleMask = fi.writesSampleMask;
     c.quadOutputs = true;
     for (const auto& out : fi.outputs)

@@ -109,6 +109,7 @@ void linkInterfaces(GraphicsPipelineDesc* p, const std::vector<GraphicsPipelineD
   f.earlyFragmentTests = fs.earlyFragmentTests;
   f.hasSideEffects = fs.sideEffects;
   f.readsFragCoord = fs.readsFragCoord;
+  f.readsPointCoord = fs.readsPointCoord;
   // A shader that reads input attachments may read the depth/stencil attachment this draw writes (a feedback loop,
   // ordered by the application's barriers between draws, as CTS rasterization_order_attachment_access.*
   // .multi_draw_barriers does): the tests and writes must then follow the shader, as late tests do, or the shader

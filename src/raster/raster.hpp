@@ -308,6 +308,7 @@ struct FragmentStage {
   bool earlyFragmentTests = false;  // the EarlyFragmentTests execution mode
   bool hasSideEffects = false;      // stores or atomics to memory: the tests may not skip it early unless early tests
   bool readsFragCoord = true;       // else a one-sample quad's FragCoord.w (FragmentQuad::fragCoord[3]) is left as is
+  bool readsPointCoord = true;      // else a one-sample quad's pointCoord is left as is
   uint32_t inputCount = 0;
   FragmentInput inputs[kMaxLocations];
   uint32_t outputMask = 0;  // color locations written

@@ -124,6 +124,7 @@ struct QuadInterp {
   double dx[3], dy[3];  // a * 256, b * 256, exact
   uint32_t smoothCount = 0, count = 0;
   bool barycentrics = true;  // some component varies or the shader reads FragCoord (whose w is their sum)
+  bool pointCoord = true;    // the shader reads PointCoord
   struct Component {
     Float4 f0, d1, d2;
     uint32_t row;  // FragmentQuad::inputs row: 4 slot + component
@@ -165,6 +166,7 @@ void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, 
     for (uint32_t i = 0; i < linear; ++i) qi.component[qi.smoothCount + i] = qi.component[smooth + i];
   qi.count = qi.smoothCount + linear;
   qi.barycentrics = qi.count || fs.readsFragCoord;
+  qi.pointCoord = fs.readsPointCoord;
 }
 
 // interpolateLane for the four lanes of a single-sampled quad at once (pixel centres; with one sample a pixel is
@@ -178,7 +180,9 @@ void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, i
   const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
   const Float4 xyz[3] = {fx, fy, fz};
   std::memcpy(q.fragCoord, xyz, sizeof xyz);
-  if (t.isPoint) {
+  if (!qi.pointCoord) {
+    // (not read: left as it is)
+  } else if (t.isPoint) {
     for (uint32_t l = 0; l < 4; ++l) {
       q.pointCoord[l][0] = 0.5f + (q.fragCoord[0][l] - t.pointX) / t.pointSize;
       q.pointCoord[l][1] = 0.5f + (q.fragCoord[1][l] - t.pointY) / t.pointSize;

@@ -19,7 +19,7 @@ namespace vkrt::spirv {
 
 // The blob:
 //
-//   char magic[8] "VKRTSHD7"; uint8 sha256[32] of the payload; payload:
+//   char magic[8] "VKRTSHD8"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry | spmdLanes << 8, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1 |
 //   checksPendingAdds << 2;
@@ -33,7 +33,7 @@ static_assert(sizeof(CompiledShader) == 256,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
 // 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide.
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '7'};
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '8'};
 
 namespace {
 
@@ -119,8 +119,9 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
         (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u) | (s.ray.checksPendingAdds ? 4u : 0u));
   const GraphicsStageInfo& g = s.graphics;
   uint32_t flags = 0, bit = 0;
-  for (bool f : {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
-                 g.sideEffects, g.dualSource, g.writesPointSize, g.readsFragCoord})
+  for (bool f :
+       {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
+        g.sideEffects, g.dualSource, g.writesPointSize, g.readsFragCoord, g.readsPointCoord, g.readsSampleMask})
     flags |= uint32_t(f) << bit++;
   put32(payload, flags);
   put32(payload, g.clipDistances);
@@ -176,8 +177,9 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   s.ray.readsHitAttributes = (rayFlags & 2) != 0;
   GraphicsStageInfo& g = s.graphics;
   uint32_t flags = r.u32(), bit = 0;
-  for (bool* f : {&g.needsQuad, &g.writesDepth, &g.writesSampleMask, &g.readsSampleId, &g.canDiscard,
-                  &g.earlyFragmentTests, &g.sideEffects, &g.dualSource, &g.writesPointSize, &g.readsFragCoord})
+  for (bool* f :
+       {&g.needsQuad, &g.writesDepth, &g.writesSampleMask, &g.readsSampleId, &g.canDiscard, &g.earlyFragmentTests,
+        &g.sideEffects, &g.dualSource, &g.writesPointSize, &g.readsFragCoord, &g.readsPointCoord, &g.readsSampleMask})
     *f = (flags >> bit++ & 1) != 0;
   g.clipDistances = r.u32();
   g.cullDistances = r.u32();

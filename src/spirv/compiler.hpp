@@ -84,8 +84,10 @@ struct GraphicsStageInfo {
   bool sideEffects = false;  // stores or atomics to buffers or images
   bool dualSource = false;   // an output with Index 1
   bool writesPointSize = false;
-  bool readsFragCoord = false;  // FragCoord (else the rasterizer need not compute its w for one-sample quads)
-  uint32_t clipDistances = 0;   // ClipDistance array size
+  bool readsFragCoord = false;   // FragCoord (else the rasterizer need not compute its w for one-sample quads)
+  bool readsPointCoord = false;  // PointCoord (else it is neither computed nor handed to the invocations)
+  bool readsSampleMask = false;  // SampleMask as an input (else the invocations' sampleMaskIn is not set per quad)
+  uint32_t clipDistances = 0;    // ClipDistance array size
   uint32_t cullDistances = 0;
 };
 

@@ -208,6 +208,10 @@ bool Codegen::declareInterface(const Instruction& var, Global& g) {
       case spv::BuiltInFragDepth: gi.writesDepth = true; break;
       case spv::BuiltInSampleMask:
         if (!input) gi.writesSampleMask = true;
+        if (input) gi.readsSampleMask = true;
+        break;
+      case spv::BuiltInPointCoord:
+        if (input) gi.readsPointCoord = true;
         break;
       case spv::BuiltInSampleId:
       case spv::BuiltInSamplePosition: gi.readsSampleId = true; break;

@@ -7,6 +7,8 @@
 #include "draw_derivatives.frag.spv.h"
 #include "draw_fragcoord_w.frag.spv.h"
 #include "draw_fragcoord_w.vert.spv.h"
+#include "draw_point.vert.spv.h"
+#include "draw_point_builtins.frag.spv.h"
 #include "draw_sparse_locations.frag.spv.h"
 #include "draw_sparse_locations.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
@@ -109,6 +111,45 @@ TEST_P(DrawQuadShadingTest, FragCoordWWhereNothingVaries) {
         ADD_FAILURE() << "pixel (" << px << ", " << py << "): " << std::hex << got << " want " << want;
     }
   EXPECT_EQ(mismatches, 0);
+}
+
+// The per-lane built-ins the executor hands a shader that declares them (gfx/draw_executor.cpp sets them only then):
+// points (size 1: largePoints is not advertised) whose fragment reads PointCoord, (0.5, 0.5) at the one pixel, and
+// SampleMask, 1 on a one-sample target.
+TEST_P(DrawQuadShadingTest, PointCoordAndSampleMaskIn) {
+  PipelineDesc d;
+  d.vs = kSpv_draw_point_vert;
+  d.vsBytes = sizeof kSpv_draw_point_vert;
+  d.fs = kSpv_draw_point_builtins_frag;
+  d.fsBytes = sizeof kSpv_draw_point_builtins_frag;
+  d.bindings = {{0, 8, VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}};
+  d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  ASSERT_EQ(createPipeline(d, &pipeline), VK_SUCCESS);
+  Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  // Pixel centres (10.5, 5.5) and (21.5, 17.5): NDC x_f / 16 - 1.
+  const float points[4] = {10.5f / 16 - 1, 5.5f / 16 - 1, 21.5f / 16 - 1, 17.5f / 16 - 1};
+  HostBuffer vb = vertexBuffer(points, sizeof points);
+  const std::vector<uint32_t> pixels = render(color, nullptr, [&](VkCommandBuffer cb) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    VkDeviceSize off = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vb.buffer, &off);
+    vkCmdDraw(cb, 2, 1, 0, 0);
+  });
+  ASSERT_EQ(pixels.size(), size_t(kW) * kH);
+  const uint32_t want = rgba8(0.5, 0.5, 0.25, 1);
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x) {
+      const bool point = (x == 10 && y == 5) || (x == 21 && y == 17);
+      const uint32_t got = pixels[y * kW + x];
+      EXPECT_TRUE(point ? near(got, want) : got == 0)
+          << "pixel (" << x << ", " << y << "): " << std::hex << got << " want " << (point ? want : 0);
+    }
+  destroy(vb);
+  destroy(color);
+  vkDestroyPipeline(device, pipeline, nullptr);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothPaths, DrawQuadShadingTest, ::testing::Values(true, false),

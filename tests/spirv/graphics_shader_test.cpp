@@ -364,7 +364,9 @@ void runDiscardCases(bool inlineFunctions) {
   EXPECT_TRUE(s->graphics.canDiscard);
   EXPECT_TRUE(s->graphics.sideEffects);
   EXPECT_FALSE(s->graphics.needsQuad);
-  EXPECT_FALSE(s->graphics.readsFragCoord);  // gfx_discard.frag declares no FragCoord
+  EXPECT_FALSE(s->graphics.readsFragCoord);  // gfx_discard.frag declares no FragCoord, PointCoord or SampleMask
+  EXPECT_FALSE(s->graphics.readsPointCoord);
+  EXPECT_FALSE(s->graphics.readsSampleMask);
   ASSERT_EQ(s->resources.size(), 1u);
   std::vector<uint32_t> buf(16, 0);
   abi::DescriptorRecord rec{};
@@ -726,8 +728,12 @@ TEST(GraphicsShader, CacheBlobRoundTripOfAFragmentShader) {
   EXPECT_EQ(a.writesDepth, b.writesDepth);
   EXPECT_EQ(a.writesSampleMask, b.writesSampleMask);
   EXPECT_EQ(a.readsSampleId, b.readsSampleId);
-  EXPECT_TRUE(a.readsFragCoord);  // gfx_builtins.frag reads FragCoord
+  EXPECT_TRUE(a.readsFragCoord);  // gfx_builtins.frag reads FragCoord, PointCoord and SampleMask
   EXPECT_EQ(a.readsFragCoord, b.readsFragCoord);
+  EXPECT_TRUE(a.readsPointCoord);
+  EXPECT_EQ(a.readsPointCoord, b.readsPointCoord);
+  EXPECT_TRUE(a.readsSampleMask);
+  EXPECT_EQ(a.readsSampleMask, b.readsSampleMask);
   ASSERT_EQ(a.inputs.size(), b.inputs.size());
   for (size_t i = 0; i < a.inputs.size(); ++i) {
     EXPECT_EQ(a.inputs[i].location, b.inputs[i].location);
