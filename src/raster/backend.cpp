@@ -549,8 +549,12 @@ std::atomic<bool> quadPaths{true};
 uint32_t depthStencilLanes(const DrawContext& ctx, bool front, int32_t qx, int32_t qy, uint32_t cov[4],
                            const float (*z)[4]) {
   uint32_t any = 0;
-  for (uint32_t l = 0; l < 4; ++l)
-    if (cov[l]) any |= cov[l] = depthStencilTests(ctx, front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], z[l]);
+  for (uint32_t l = 0; l < 4; ++l) {
+    if (!cov[l]) continue;
+    float lane[4];  // the lane's depth at each sample
+    for (uint32_t s = 0; s < ctx.samples; ++s) lane[s] = z[s][l];
+    any |= cov[l] = depthStencilTests(ctx, front, qx + int32_t(l & 1), qy + int32_t(l >> 1), cov[l], lane);
+  }
   return any;
 }
 
@@ -583,7 +587,8 @@ uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_
   if (kFmt == DepthFormat::D32SFloat && (bytes == 4 || bytes == 8) && cov[0] && cov[1] && cov[2] && cov[3]) {
     // A row's two texels: two floats (D32_SFLOAT), or depth, stencil word, depth, stencil word (D32_SFLOAT_S8_UINT).
     using Float2 = float __attribute__((vector_size(8)));
-    const Float4 zq = {z[0][0], z[1][0], z[2][0], z[3][0]};
+    Float4 zq;
+    std::memcpy(&zq, z[0], 16);
     Float4 old;
     Float4 rows[2];  // the 8-byte texels' rows as read
     if (bytes == 4) {
@@ -624,10 +629,10 @@ uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_
     if constexpr (kFmt == DepthFormat::D32SFloat) {
       float old;
       std::memcpy(&old, p, 4);
-      pass = compare(kOp, z[l][0], old);
-      if (pass && kWrite) std::memcpy(p, &z[l][0], 4);
+      pass = compare(kOp, z[0][l], old);
+      if (pass && kWrite) std::memcpy(p, &z[0][l], 4);
     } else {
-      const DepthValue v = toStored(kFmt, z[l][0]);
+      const DepthValue v = toStored(kFmt, z[0][l]);
       pass = compare(kOp, v.u, readDepth(kFmt, p).u);
       if (pass && kWrite) writeDepth(kFmt, p, v);
     }

@@ -73,7 +73,8 @@ struct DrawContext;
 // sample, D32 depth alone, 8-bit UNorm colour), the per-lane general path otherwise. Both give the same bytes.
 struct BackEndPlan {
   // Depth bounds, stencil and depth tests: clears the samples of cov[l] that fail, updates the attachment, returns
-  // the union of what passed. z[l][s] is lane l's depth at sample s.
+  // the union of what passed. z[s][l] is lane l's depth at sample s (sample-major: a one-sample quad's four depths are
+  // one row).
   uint32_t (*depthStencil)(const DrawContext& ctx, bool front, int32_t qx, int32_t qy, uint32_t cov[4],
                            const float (*z)[4]) = nullptr;
   // Colour attachment i's writes (blend, logic op, write mask) of each lane's samples in cov; null: nothing to write.

@@ -28,7 +28,7 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 using Float4 = float __attribute__((vector_size(16)));
 using Float2 = float __attribute__((vector_size(8)));
 using Double2 = double __attribute__((vector_size(16)));
-// depthAt at the four pixel centres of a one-sample quad, into z[l][0] and returned (lane l in element l): the same
+// depthAt at the four pixel centres of a one-sample quad, into z[0] and returned (lane l in element l): the same
 // double operations per lane (the centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per
 // vector, the clamp on all four.
 inline Float4 depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
@@ -40,7 +40,7 @@ inline Float4 depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, i
   const float lo = ctx.depthMin, hi = ctx.depthMax;
   f = f < lo ? Float4{lo, lo, lo, lo} : f;  // std::clamp (NaN stays NaN)
   f = hi < f ? Float4{hi, hi, hi, hi} : f;
-  z[0][0] = f[0], z[1][0] = f[1], z[2][0] = f[2], z[3][0] = f[3];
+  std::memcpy(z[0], &f, 16);
   return f;
 }
 
@@ -250,7 +250,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     if (!ctx.earlyTests && c && fs.writesDepth) {
       float d = q.depth[l];
       if (st.depthClamp) d = std::clamp(d, ctx.depthMin, ctx.depthMax);
-      for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = d;
+      for (uint32_t s = 0; s < ctx.samples; ++s) z[s][l] = d;
     }
     passed[l] = c;
   }
@@ -272,7 +272,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   const FragmentStage& fs = *ctx.fragment;
   const uint32_t any = cov[0] | cov[1] | cov[2] | cov[3];  // (the sample mask is in rasterizeTriangle's `all`)
   if (!any) return;
-  float z[4][4];
+  alignas(16) float z[4][4];  // z[s][l]: lane l's depth at sample s
   Float4 fz{};
   if (ctx.samples == 1 && !ctx.perSample) {
     fz = depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
@@ -280,7 +280,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
     for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
       if (!cov[l]) continue;
       const int64_t px = int64_t(qx + int32_t(l & 1)) * kSubPixel, py = int64_t(qy + int32_t(l >> 1)) * kSubPixel;
-      for (uint32_t s = 0; s < ctx.samples; ++s) z[l][s] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
+      for (uint32_t s = 0; s < ctx.samples; ++s) z[s][l] = depthAt(ctx, t, px + sampleX(ctx, s), py + sampleY(ctx, s));
     }
   }
   if (ctx.earlyTests) {
