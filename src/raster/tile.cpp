@@ -233,11 +233,8 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   const FragmentStage& fs = *ctx.fragment;
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   if (ctx.plainFinish) {
-    // Nothing between the shader and the colour writes but discard (the tests ran before the shader).
-    if (!q.killed) {
-      writeQuadColors(ctx, q, q.coverage);  // (a quad reaches the shader with some coverage)
-      return;
-    }
+    // Nothing between the shader and the colour writes but discard (the tests ran before the shader); a quad with
+    // nothing discarded went to its colour writes already (finishQuadInline).
     for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
     if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
     return;
@@ -264,6 +261,16 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
     if (st.alphaToOne && (fs.outputMask & 1)) q.color[0][3][l] = asWord(1.0f);
   }
   writeQuadColors(ctx, q, passed);
+}
+
+// finishQuad's commonest case without its call (whose frame the other cases need): early tests and nothing
+// discarded, so the quad goes to its colour writes with its coverage as it is (it reached the shader with some).
+inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4],
+                             WorkerScratch& scratch) {
+  if (ctx.plainFinish && !q.killed)
+    writeQuadColors(ctx, q, q.coverage);
+  else
+    finishQuad(ctx, t, q, z, scratch);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
@@ -314,7 +321,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
       q.killed = 0;
       for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
       fs.shade(fs.user, q, worker);
-      finishQuad(ctx, t, q, z, scratch);
+      finishQuadInline(ctx, t, q, z, scratch);
     }
     return;
   }
@@ -344,7 +351,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   q.killed = 0;
   for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
   fs.shade(fs.user, q, worker);
-  finishQuad(ctx, t, q, z, scratch);
+  finishQuadInline(ctx, t, q, z, scratch);
 }
 
 // Largest and smallest value of edge i over the pixel rectangle [x0, x1) x [y0, y1) (pixels), bias included.
