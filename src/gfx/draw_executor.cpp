@@ -75,6 +75,7 @@ struct DrawContext {
   bool writesDepth = false, writesSampleMask = false;  // FragDepth, SampleMask: else their fields are not copied
   bool canDiscard = false;  // else no lane's status ever leaves 0 (runTileTask's): not reset, not read per quad
   bool readsPointCoord = false, readsSampleMask = false;  // PointCoord, SampleMask in: else not set per lane and quad
+  bool leanSpmd = false;  // spmd, quadInputs, quadOutputs, no FragDepth or SampleMask output: shadeQuadSpmd
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -185,6 +186,39 @@ void interpolateAt(const GraphicsInvocation* inv, uint32_t where, int32_t sample
                         out);
 }
 
+// What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run now
+// may run in the next quad): the per-primitive built-ins, and the in-place input and output pointers (the rasterizer
+// hands every quad of a tile in the same FragmentQuad). Once per primitive: out of line.
+[[gnu::noinline]] void setPrimitive(const DrawContext& c, WorkerScratch& w, raster::FragmentQuad& q) {
+  w.primitive = q.primitive, w.sampleIndex = q.sampleIndex, w.quad = &q;
+  float samplePosition[2] = {0.5f, 0.5f};
+  if (c.samples == 4) {
+    samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
+    samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
+  }
+  if (c.spmd) {
+    // The SPMD entry writes the four lanes' outputs as structures of arrays through lane 0's pointers
+    // (spirv/spmd.hpp): the quad's colours themselves where every output is a colour attachment's.
+    w.inv[0].outputs = c.quadOutputs ? &q.color[0][0][0] : &w.outputsSoa[0][0];
+    w.inv[0].outputs1 = &q.color1[0][0];
+    w.inv[0].inputs = c.quadInputs ? &q.inputs[0][0] : &w.inputsSoa[0][0];
+    for (uint32_t l = 0; l < 4; ++l) w.inv[l].fragCoordSoa = &q.fragCoord[0][0];
+  }
+  for (uint32_t l = 0; l < 4; ++l) {
+    GraphicsInvocation& inv = w.inv[l];
+    inv.frontFacing = q.frontFacing ? 1 : 0;
+    inv.primitiveId = int32_t(q.primitiveId);
+    inv.viewIndex = q.viewIndex;
+    inv.layer = q.layer;
+    inv.sampleId = int32_t(q.sampleIndex);
+    inv.samplePosition[0] = samplePosition[0];
+    inv.samplePosition[1] = samplePosition[1];
+    inv.quad = &q;
+    // Preset once: only a shader that writes SampleMask or FragDepth changes these, and only then are they read.
+    inv.sampleMaskOut = ~0u;
+  }
+}
+
 // One quad, inside runTile's supervision (the fields runTileTask set stay as they are: no shader writes them).
 void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const DrawContext& c = *static_cast<DrawContext*>(user);
@@ -204,38 +238,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   uint32_t lanes = 0xF;
   if (!spmd && !c.quads)
     lanes = (q.coverage[0] ? 1 : 0) | (q.coverage[1] ? 2 : 0) | (q.coverage[2] ? 4 : 0) | (q.coverage[3] ? 8 : 0);
-  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) {
-    // What is the same for every quad of a primitive (and sample), in all four invocations (a lane that does not run
-    // now may run in the next quad): the per-primitive built-ins, and the in-place input and output pointers (the
-    // rasterizer hands every quad of a tile in the same FragmentQuad).
-    w.primitive = q.primitive, w.sampleIndex = q.sampleIndex, w.quad = &q;
-    float samplePosition[2] = {0.5f, 0.5f};
-    if (c.samples == 4) {
-      samplePosition[0] = kSamplePositions4[q.sampleIndex & 3][0];
-      samplePosition[1] = kSamplePositions4[q.sampleIndex & 3][1];
-    }
-    if (c.spmd) {
-      // The SPMD entry writes the four lanes' outputs as structures of arrays through lane 0's pointers
-      // (spirv/spmd.hpp): the quad's colours themselves where every output is a colour attachment's.
-      w.inv[0].outputs = c.quadOutputs ? &q.color[0][0][0] : &w.outputsSoa[0][0];
-      w.inv[0].outputs1 = &q.color1[0][0];
-      w.inv[0].inputs = c.quadInputs ? &q.inputs[0][0] : &w.inputsSoa[0][0];
-      for (uint32_t l = 0; l < 4; ++l) w.inv[l].fragCoordSoa = &q.fragCoord[0][0];
-    }
-    for (uint32_t l = 0; l < 4; ++l) {
-      GraphicsInvocation& inv = w.inv[l];
-      inv.frontFacing = q.frontFacing ? 1 : 0;
-      inv.primitiveId = int32_t(q.primitiveId);
-      inv.viewIndex = q.viewIndex;
-      inv.layer = q.layer;
-      inv.sampleId = int32_t(q.sampleIndex);
-      inv.samplePosition[0] = samplePosition[0];
-      inv.samplePosition[1] = samplePosition[1];
-      inv.quad = &q;
-      // Preset once: only a shader that writes SampleMask or FragDepth changes these, and only then are they read.
-      inv.sampleMaskOut = ~0u;
-    }
-  }
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
   if (spmd && !quadInputs) {
     // The quad's slots at the shader's locations, the four lanes' words together.
     for (uint32_t s = 0; s < c.varyingCount; ++s)
@@ -325,6 +328,38 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
     if (writesDepth) q.depth[l] = inv.fragDepth;
     if (writesSampleMask) q.sampleMaskOut[l] = inv.sampleMaskOut;
   }
+}
+
+// shadeQuad's commonest case on its own (DrawContext::leanSpmd: the SPMD entry reading its inputs from the quad and
+// writing its colours there, no FragDepth or SampleMask output), with the small frame the case needs: per lane only
+// the helper flag, and PointCoord, SampleMask and the status where the shader has them.
+void shadeQuadSpmd(void* user, raster::FragmentQuad& q, unsigned worker) {
+  const DrawContext& c = *static_cast<DrawContext*>(user);
+  WorkerScratch& w = c.scratch[worker];
+  if (c.job->cancel.load(std::memory_order_relaxed)) {  // as shadeQuad
+    q.killed = 0xF;
+    return;
+  }
+  q.killed = 0;
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
+  const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
+  for (uint32_t l = 0; l < 4; ++l) {
+    GraphicsInvocation& inv = w.inv[l];
+    const uint32_t coverage = q.coverage[l];
+    if (readsPointCoord) {
+      inv.pointCoord[0] = q.pointCoord[l][0];
+      inv.pointCoord[1] = q.pointCoord[l][1];
+    }
+    if (readsSampleMask) inv.sampleMaskIn = coverage;
+    if (canDiscard) inv.status = 0;
+    inv.helper = coverage == 0;
+  }
+  c.fragmentEntry(w.inv);
+  if (!canDiscard) return;
+  uint32_t killed = 0;
+  for (uint32_t l = 0; l < 4; ++l)
+    killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
+  q.killed = killed;
 }
 
 // VUID-<command>-<suffix>.
@@ -480,6 +515,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
     c.quadOutputs = true;
     for (const auto& out : fi.outputs)
       c.quadOutputs = c.quadOutputs && out.location < raster::kMaxColorAttachments && !out.wide;
+    c.leanSpmd = c.spmd && c.quadInputs && c.quadOutputs && !c.writesDepth && !c.writesSampleMask;
   }
 
   // Descriptor sets, as compute dispatches resolve them (runtime/bound_resources.hpp).
@@ -524,7 +560,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   vertex.cullDistanceCount = c.cullCount;
   raster::FragmentStage fragment = p.fragmentStage;
   fragment.user = &c;
-  fragment.shade = p.fragment ? shadeQuad : nullptr;
+  fragment.shade = !p.fragment ? nullptr : c.leanSpmd ? shadeQuadSpmd : shadeQuad;
   fragment.runTile = p.fragment ? runTile : nullptr;
 
   raster::Draw draw;
