@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <type_traits>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -174,7 +175,8 @@ void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, 
 // there, the perspective weights in float across the lanes (one division for four lanes instead of four in double;
 // a few ulp apart), and the varying components only (QuadInterp: the rest is in the quad already). All four lanes
 // are written (a lane the shader does not run ignores its values), so there is no test per lane.
-void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q, int32_t qx, int32_t qy, Float4 fz) {
+__attribute__((always_inline)) inline void interpolateQuad(const SetupTri& t, const QuadInterp& qi, FragmentQuad& q,
+                                                           int32_t qx, int32_t qy, Float4 fz) {
   // FragCoord's x, y and z (for every shader: a report of a fault names the fragment by them): float(px) / 256 is
   // the pixel index plus 0.5, exactly (|px| < 2^24).
   const Float4 fx = float(qx) + Float4{0.5f, 1.5f, 0.5f, 1.5f}, fy = float(qy) + Float4{0.5f, 0.5f, 1.5f, 1.5f};
@@ -274,12 +276,55 @@ inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, Fragment
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
-void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, int32_t qx, int32_t qy, uint32_t cov[4],
-               WorkerScratch& scratch, unsigned worker) {
+// What shadeQuad's commonest case reads of the draw, copied once per triangle: read through the context, each would
+// be loaded again after every call the quad makes (the calls are opaque, the context could have changed). `fast`:
+// one sample, no sample shading, early tests and nothing between the shader and the colour writes but discard
+// (plainFinish), a fragment shader, no occlusion count; then a quad is its depths, the early tests, the
+// interpolation, the shader and the colour writes.
+struct QuadPath {
+  bool fast = false;
+  decltype(BackEndPlan::depthStencil) depthStencil = nullptr;
+  void (*shade)(void* user, FragmentQuad& quad, unsigned worker) = nullptr;
+  void* user = nullptr;
+  std::remove_reference_t<decltype(BackEndPlan::color[0])> color0 =
+      nullptr;  // the one colour attachment's writes, null: writeQuadColors
+};
+
+QuadPath quadPath(const DrawContext& ctx) {
+  QuadPath p;
+  const FragmentStage& fs = *ctx.fragment;
+  p.fast =
+      ctx.samples == 1 && !ctx.perSample && ctx.earlyTests && ctx.plainFinish && fs.shade && !ctx.draw->samplesPassed;
+  p.depthStencil = ctx.backEnd.depthStencil;
+  p.shade = fs.shade;
+  p.user = fs.user;
+  if (ctx.target->colorCount == 1) p.color0 = ctx.backEnd.color[0];
+  p.fast = p.fast && (ctx.target->colorCount != 1 || p.color0);
+  return p;
+}
+
+void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, const QuadPath& path, int32_t qx,
+               int32_t qy, uint32_t cov[4], WorkerScratch& scratch, unsigned worker) {
   const FragmentStage& fs = *ctx.fragment;
   const uint32_t any = cov[0] | cov[1] | cov[2] | cov[3];  // (the sample mask is in rasterizeTriangle's `all`)
   if (!any) return;
   alignas(16) float z[4][4];  // z[s][l]: lane l's depth at sample s
+  if (path.fast) {
+    const Float4 fz = depthQuad(ctx, t, qx, qy, z);
+    if (!path.depthStencil(ctx, t.front, qx, qy, cov, z)) return;
+    FragmentQuad& q = scratch.quad;
+    q.x = qx, q.y = qy;
+    q.sampleIndex = 0;
+    std::memcpy(q.coverage, cov, sizeof q.coverage);
+    interpolateQuad(t, qi, q, qx, qy, fz);
+    q.killed = 0;  // (no SampleMask output to preset: plainFinish)
+    path.shade(path.user, q, worker);
+    if (q.killed || !path.color0)
+      finishQuad(ctx, t, q, z, scratch);
+    else
+      path.color0(ctx, 0, q, q.coverage);
+    return;
+  }
   Float4 fz{};
   if (ctx.samples == 1 && !ctx.perSample) {
     fz = depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
@@ -457,6 +502,7 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
   FragmentQuad& q = scratch.quad;
   QuadInterp qi;  // one-sample quads' interpolation (shadeQuad), and the inputs that are the same for all of them
   if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi, q);
+  const QuadPath path = quadPath(ctx);
   q.frontFacing = t.front;
   q.primitiveId = t.primitiveId;
   q.viewIndex = ctx.viewIndex;
@@ -500,7 +546,7 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
           if (!((any >> shift) & pairMask)) continue;
           uint32_t cov[4] = {(m0 >> shift) & all, (m0 >> (shift + S)) & all, (m1 >> shift) & all,
                              (m1 >> (shift + S)) & all};
-          shadeQuad(ctx, t, qi, bx + int32_t(2 * c), by + r, cov, scratch, worker);
+          shadeQuad(ctx, t, qi, path, bx + int32_t(2 * c), by + r, cov, scratch, worker);
         }
       }
     }
