@@ -24,6 +24,9 @@
 #if defined(__SSE2__)
 #include <xmmintrin.h>
 #endif
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "runtime/lod_log2.hpp"
 
@@ -48,7 +51,9 @@ namespace {
 #endif
 namespace avx2 {
 namespace {
+#define VKRT_QUAD_AVX2 1  // the kernels may use AVX2 intrinsics
 #include "runtime/quad_sampling_kernels.inc"
+#undef VKRT_QUAD_AVX2
 }  // namespace
 }  // namespace avx2
 #if defined(__clang__)
