@@ -236,7 +236,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   if (ctx.plainFinish) {
     // Nothing between the shader and the colour writes but discard (the tests ran before the shader); a quad with
-    // nothing discarded went to its colour writes already (finishQuadInline).
+    // nothing discarded mostly goes straight to its colour writes (finishQuadInline, shadeQuad's fast path).
     for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
     if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
     return;
@@ -275,7 +275,6 @@ inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, Fragment
     finishQuad(ctx, t, q, z, scratch);
 }
 
-// One quad with its per-lane coverage (already limited to the clip rectangle).
 // What shadeQuad's commonest case reads of the draw, copied once per triangle: read through the context, each would
 // be loaded again after every call the quad makes (the calls are opaque, the context could have changed). `fast`:
 // one sample, no sample shading, early tests and nothing between the shader and the colour writes but discard
@@ -286,8 +285,8 @@ struct QuadPath {
   decltype(BackEndPlan::depthStencil) depthStencil = nullptr;
   void (*shade)(void* user, FragmentQuad& quad, unsigned worker) = nullptr;
   void* user = nullptr;
-  std::remove_reference_t<decltype(BackEndPlan::color[0])> color0 =
-      nullptr;  // the one colour attachment's writes, null: writeQuadColors
+  // The one colour attachment's writes; null: writeQuadColors (through finishQuad).
+  std::remove_reference_t<decltype(BackEndPlan::color[0])> color0 = nullptr;
 };
 
 QuadPath quadPath(const DrawContext& ctx) {
@@ -303,6 +302,7 @@ QuadPath quadPath(const DrawContext& ctx) {
   return p;
 }
 
+// One quad with its per-lane coverage (already limited to the clip rectangle).
 void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, const QuadPath& path, int32_t qx,
                int32_t qy, uint32_t cov[4], WorkerScratch& scratch, unsigned worker) {
   const FragmentStage& fs = *ctx.fragment;
