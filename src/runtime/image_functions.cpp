@@ -1074,37 +1074,32 @@ void vkrt_image_sample_grad(const abi::DescriptorRecord* img, const abi::Descrip
   sampleGrad(img, smp, coord, ddx, ddy, bias, nullptr, nullptr, out);
 }
 
-void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
-                                 const float coord[16], const float ddx[16], const float ddy[16], const float bias[4],
-                                 uint32_t lanes, uint32_t out[16]) {
-  // The vector path where both records say so (quad_sampling.hpp), with the lanes it leaves and the view's component
-  // mapping done here as vkrt_image_sample_grad does them.
-  if (img && img->object && smp && smp->sampler &&
-      static_cast<const Object*>(img->object)->objectType == VK_OBJECT_TYPE_IMAGE_VIEW) {
-    const ImageView* iv = recordObject<ImageView>(img->object);
-    const Sampler* sp = recordObject<Sampler>(smp->sampler);
-    if (iv->quad.fast && sp->quad.fast) {
-      float lod[4];
-      const uint32_t rest = sampleQuadFast(iv->quad, sp->quad, coord, ddx, ddy, bias, lanes, out, lod);
-      if (!rest && iv->quad.identity) return;
-      View v;
-      resolveView(img, &v);  // succeeds: the view's record is fast
-      for (unsigned l = 0; l < 4; ++l) {
-        if (!(lanes >> l & 1)) continue;
-        uint32_t r[4] = {out[l], out[4 + l], out[8 + l], out[12 + l]};
-        if (rest >> l & 1) {
-          const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
-          sampleAtLod(v, sp->info, nullptr, c, lod[l], nullptr, nullptr, r);
-        } else {
-          applySwizzle(v, r);
-        }
-        for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
-      }
-      return;
+namespace {
+
+// vkrt_image_sample_grad_quad's lanes the vector path left, and its view's component mapping (`lod`: their levels of
+// detail); out of line, so that the vector path's call keeps a small frame.
+[[gnu::noinline]] void quadSampleRest(const abi::DescriptorRecord* img, const Sampler* sp, const float coord[16],
+                                      uint32_t lanes, uint32_t rest, const float lod[4], uint32_t out[16]) {
+  View v;
+  resolveView(img, &v);  // succeeds: the view's record is fast
+  for (unsigned l = 0; l < 4; ++l) {
+    if (!(lanes >> l & 1)) continue;
+    uint32_t r[4] = {out[l], out[4 + l], out[8 + l], out[12 + l]};
+    if (rest >> l & 1) {
+      const float c[4] = {coord[l], coord[4 + l], coord[8 + l], coord[12 + l]};
+      sampleAtLod(v, sp->info, nullptr, c, lod[l], nullptr, nullptr, r);
+    } else {
+      applySwizzle(v, r);
     }
+    for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
   }
-  // Otherwise the view, the sampler and the per-lane fast path's decision once for the quad; each lane then as
-  // vkrt_image_sample_grad.
+}
+
+// The per-lane path of vkrt_image_sample_grad_quad: the view, the sampler and the per-lane fast path's decision once
+// for the quad; each lane then as vkrt_image_sample_grad.
+[[gnu::noinline]] void sampleGradQuadLanes(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
+                                           const float coord[16], const float ddx[16], const float ddy[16],
+                                           const float bias[4], uint32_t lanes, uint32_t out[16]) {
   std::memset(out, 0, 64);
   View v;
   if (!resolveView(img, &v) || !smp || !smp->sampler) return;
@@ -1124,6 +1119,27 @@ void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::De
     }
     for (unsigned k = 0; k < 4; ++k) out[4 * k + l] = r[k];
   }
+}
+
+}  // namespace
+
+void vkrt_image_sample_grad_quad(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
+                                 const float coord[16], const float ddx[16], const float ddy[16], const float bias[4],
+                                 uint32_t lanes, uint32_t out[16]) {
+  // The vector path where both records say so (quad_sampling.hpp), with the lanes it leaves and the view's component
+  // mapping done as vkrt_image_sample_grad does them; otherwise the per-lane path.
+  if (img && img->object && smp && smp->sampler &&
+      static_cast<const Object*>(img->object)->objectType == VK_OBJECT_TYPE_IMAGE_VIEW) {
+    const ImageView* iv = recordObject<ImageView>(img->object);
+    const Sampler* sp = recordObject<Sampler>(smp->sampler);
+    if (iv->quad.fast && sp->quad.fast) {
+      float lod[4];
+      const uint32_t rest = sampleQuadFast(iv->quad, sp->quad, coord, ddx, ddy, bias, lanes, out, lod);
+      if (rest || !iv->quad.identity) quadSampleRest(img, sp, coord, lanes, rest, lod, out);
+      return;
+    }
+  }
+  sampleGradQuadLanes(img, smp, coord, ddx, ddy, bias, lanes, out);
 }
 
 void vkrt_image_sample_grad_offset(const abi::DescriptorRecord* img, const abi::DescriptorRecord* smp,
