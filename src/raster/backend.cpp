@@ -617,9 +617,14 @@ uint32_t depthQuad(const DrawContext& ctx, bool, int32_t qx, int32_t qy, uint32_
         std::memcpy(p0 + pitch, &bottom, 16);
       }
     }
-    uint32_t any = 0;
-    for (uint32_t l = 0; l < 4; ++l) any |= cov[l] &= uint32_t(pass[l]);
-    return any;
+    // The passing lanes' coverage kept, the union of the four by two folds.
+    Int4 c;
+    std::memcpy(&c, cov, 16);
+    c &= pass;
+    std::memcpy(cov, &c, 16);
+    c |= __builtin_shufflevector(c, c, 2, 3, 0, 1);
+    c |= __builtin_shufflevector(c, c, 1, 0, 3, 2);
+    return uint32_t(c[0]);
   }
   uint32_t any = 0;
   for (uint32_t l = 0; l < 4; ++l) {
