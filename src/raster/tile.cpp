@@ -32,15 +32,25 @@ using Double2 = double __attribute__((vector_size(16)));
 // depthAt at the four pixel centres of a one-sample quad, into z[0] and returned (lane l in element l): the same
 // double operations per lane (the centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per
 // vector, the clamp on all four.
-inline Float4 depthQuad(const DrawContext& ctx, const SetupTri& t, int32_t qx, int32_t qy, float z[4][4]) {
-  const Double2 ax = t.zA * (double(qx) + Double2{0.5, 1.5});
+// The plane and the clamp range in vectors, once per triangle (shadeQuad's calls are opaque: read through the
+// triangle and the context they would be loaded again for every quad).
+struct DepthPlane {
+  Double2 zA, zB, zC;
+  Float4 lo, hi;
+};
+
+inline DepthPlane depthPlane(const DrawContext& ctx, const SetupTri& t) {
+  return {t.zA + Double2{}, t.zB + Double2{}, t.zC + Double2{}, ctx.depthMin + Float4{}, ctx.depthMax + Float4{}};
+}
+
+inline Float4 depthQuad(const DepthPlane& p, int32_t qx, int32_t qy, float z[4][4]) {
+  const Double2 ax = p.zA * (double(qx) + Double2{0.5, 1.5});
   const double y = double(qy) + 0.5;
-  const Double2 top = ax + t.zB * y + t.zC, bottom = ax + t.zB * (y + 1) + t.zC;
+  const Double2 top = ax + p.zB * y + p.zC, bottom = ax + p.zB * (y + 1) + p.zC;
   Float4 f = __builtin_shufflevector(__builtin_convertvector(top, Float2), __builtin_convertvector(bottom, Float2), 0,
                                      1, 2, 3);
-  const float lo = ctx.depthMin, hi = ctx.depthMax;
-  f = f < lo ? Float4{lo, lo, lo, lo} : f;  // std::clamp (NaN stays NaN)
-  f = hi < f ? Float4{hi, hi, hi, hi} : f;
+  f = f < p.lo ? p.lo : f;  // std::clamp (NaN stays NaN)
+  f = p.hi < f ? p.hi : f;
   std::memcpy(z[0], &f, 16);
   return f;
 }
@@ -287,10 +297,12 @@ struct QuadPath {
   void* user = nullptr;
   // The one colour attachment's writes; null: writeQuadColors (through finishQuad).
   std::remove_reference_t<decltype(BackEndPlan::color[0])> color0 = nullptr;
+  DepthPlane depth;  // one-sample quads' depths (depthQuad)
 };
 
-QuadPath quadPath(const DrawContext& ctx) {
+QuadPath quadPath(const DrawContext& ctx, const SetupTri& t) {
   QuadPath p;
+  p.depth = depthPlane(ctx, t);
   const FragmentStage& fs = *ctx.fragment;
   p.fast =
       ctx.samples == 1 && !ctx.perSample && ctx.earlyTests && ctx.plainFinish && fs.shade && !ctx.draw->samplesPassed;
@@ -310,7 +322,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   if (!any) return;
   alignas(16) float z[4][4];  // z[s][l]: lane l's depth at sample s
   if (path.fast) {
-    const Float4 fz = depthQuad(ctx, t, qx, qy, z);
+    const Float4 fz = depthQuad(path.depth, qx, qy, z);
     if (!path.depthStencil(ctx, t.front, qx, qy, cov, z)) return;
     FragmentQuad& q = scratch.quad;
     q.x = qx, q.y = qy;
@@ -327,7 +339,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   }
   Float4 fz{};
   if (ctx.samples == 1 && !ctx.perSample) {
-    fz = depthQuad(ctx, t, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
+    fz = depthQuad(path.depth, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
   } else {
     for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
       if (!cov[l]) continue;
@@ -502,7 +514,7 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
   FragmentQuad& q = scratch.quad;
   QuadInterp qi;  // one-sample quads' interpolation (shadeQuad), and the inputs that are the same for all of them
   if (S == 1 && !ctx.perSample && ctx.fragment->shade) setupQuadInterp(ctx, t, qi, q);
-  const QuadPath path = quadPath(ctx);
+  const QuadPath path = quadPath(ctx, t);
   q.frontFacing = t.front;
   q.primitiveId = t.primitiveId;
   q.viewIndex = ctx.viewIndex;
