@@ -219,6 +219,27 @@ void interpolateAt(const GraphicsInvocation* inv, uint32_t where, int32_t sample
   }
 }
 
+// The per-lane built-ins a quad's shader reads from lane l's invocation: the helper flag, and PointCoord and SampleMask
+// where it declares them (the flags are the caller's copies of DrawContext's).
+inline void setLaneBuiltIns(GraphicsInvocation& inv, const raster::FragmentQuad& q, uint32_t l, bool readsPointCoord,
+                            bool readsSampleMask) {
+  const uint32_t coverage = q.coverage[l];
+  if (readsPointCoord) {
+    inv.pointCoord[0] = q.pointCoord[l][0];
+    inv.pointCoord[1] = q.pointCoord[l][1];
+  }
+  if (readsSampleMask) inv.sampleMaskIn = coverage;
+  inv.helper = coverage == 0;
+}
+
+// The covered lanes the SPMD entry killed or demoted (their status), as a lane mask.
+inline uint32_t discardedLanes(const WorkerScratch& w, const raster::FragmentQuad& q) {
+  uint32_t killed = 0;
+  for (uint32_t l = 0; l < 4; ++l)
+    killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
+  return killed;
+}
+
 // One quad, inside runTile's supervision (the fields runTileTask set stay as they are: no shader writes them).
 void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const DrawContext& c = *static_cast<DrawContext*>(user);
@@ -248,15 +269,9 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
   auto setLane = [&](uint32_t l) {
     GraphicsInvocation& inv = w.inv[l];
-    const uint32_t coverage = q.coverage[l];
-    if (readsPointCoord) {
-      inv.pointCoord[0] = q.pointCoord[l][0];
-      inv.pointCoord[1] = q.pointCoord[l][1];
-    }
-    if (readsSampleMask) inv.sampleMaskIn = coverage;
+    setLaneBuiltIns(inv, q, l, readsPointCoord, readsSampleMask);
     if (writesSampleMask) inv.sampleMaskOut = ~0u;
     if (writesDepth) inv.fragDepth = q.fragCoord[2][l];
-    inv.helper = coverage == 0;
   };
   if (spmd) {
     // Every lane: the uncovered ones are helpers (the entry runs them only where the shader takes derivatives). The
@@ -297,11 +312,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const uint32_t outputMask = c.pipeline->fragmentStage.outputMask;
   if (spmd && quadOutputs && !writesDepth && !writesSampleMask) {
     // The outputs are in the quad already: only discard is left to read.
-    if (!canDiscard) return;
-    uint32_t killed = 0;
-    for (uint32_t l = 0; l < 4; ++l)
-      killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
-    q.killed = killed;
+    if (canDiscard) q.killed = discardedLanes(w, q);
     return;
   }
   for (uint32_t l = 0; l < 4; ++l) {
@@ -344,22 +355,11 @@ void shadeQuadSpmd(void* user, raster::FragmentQuad& q, unsigned worker) {
   if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
   const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
   for (uint32_t l = 0; l < 4; ++l) {
-    GraphicsInvocation& inv = w.inv[l];
-    const uint32_t coverage = q.coverage[l];
-    if (readsPointCoord) {
-      inv.pointCoord[0] = q.pointCoord[l][0];
-      inv.pointCoord[1] = q.pointCoord[l][1];
-    }
-    if (readsSampleMask) inv.sampleMaskIn = coverage;
-    if (canDiscard) inv.status = 0;
-    inv.helper = coverage == 0;
+    setLaneBuiltIns(w.inv[l], q, l, readsPointCoord, readsSampleMask);
+    if (canDiscard) w.inv[l].status = 0;
   }
   c.fragmentEntry(w.inv);
-  if (!canDiscard) return;
-  uint32_t killed = 0;
-  for (uint32_t l = 0; l < 4; ++l)
-    killed |= uint32_t(q.coverage[l] != 0 && (w.inv[l].status & (abi::kFragmentKilled | abi::kFragmentDemoted))) << l;
-  q.killed = killed;
+  if (canDiscard) q.killed = discardedLanes(w, q);
 }
 
 // VUID-<command>-<suffix>.
