@@ -240,16 +240,24 @@ inline uint32_t discardedLanes(const WorkerScratch& w, const raster::FragmentQua
   return killed;
 }
 
+// What every quad starts with: false when the job is ending (a fault or the watchdog on another worker: the rest of
+// the tile writes nothing), else the quad's discards cleared and the per-primitive fields set where the primitive
+// changed.
+inline bool startQuad(const DrawContext& c, WorkerScratch& w, raster::FragmentQuad& q) {
+  if (c.job->cancel.load(std::memory_order_relaxed)) {
+    q.killed = 0xF;
+    return false;
+  }
+  q.killed = 0;
+  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
+  return true;
+}
+
 // One quad, inside runTile's supervision (the fields runTileTask set stay as they are: no shader writes them).
 void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   const DrawContext& c = *static_cast<DrawContext*>(user);
   WorkerScratch& w = c.scratch[worker];
-  // The job is ending (a fault or the watchdog on another worker): the rest of the tile writes nothing.
-  if (c.job->cancel.load(std::memory_order_relaxed)) {
-    q.killed = 0xF;
-    return;
-  }
-  q.killed = 0;
+  if (!startQuad(c, w, q)) return;
   // The context's flags as locals: the stores into the invocations below could alias the context, which would
   // otherwise be read again for every lane.
   const bool spmd = c.spmd, quadInputs = c.quadInputs, quadOutputs = c.quadOutputs;
@@ -259,7 +267,6 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   uint32_t lanes = 0xF;
   if (!spmd && !c.quads)
     lanes = (q.coverage[0] ? 1 : 0) | (q.coverage[1] ? 2 : 0) | (q.coverage[2] ? 4 : 0) | (q.coverage[3] ? 8 : 0);
-  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
   if (spmd && !quadInputs) {
     // The quad's slots at the shader's locations, the four lanes' words together.
     for (uint32_t s = 0; s < c.varyingCount; ++s)
@@ -347,12 +354,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
 void shadeQuadSpmd(void* user, raster::FragmentQuad& q, unsigned worker) {
   const DrawContext& c = *static_cast<DrawContext*>(user);
   WorkerScratch& w = c.scratch[worker];
-  if (c.job->cancel.load(std::memory_order_relaxed)) {  // as shadeQuad
-    q.killed = 0xF;
-    return;
-  }
-  q.killed = 0;
-  if (q.primitive != w.primitive || q.sampleIndex != w.sampleIndex || &q != w.quad) setPrimitive(c, w, q);
+  if (!startQuad(c, w, q)) return;
   const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
   for (uint32_t l = 0; l < 4; ++l) {
     setLaneBuiltIns(w.inv[l], q, l, readsPointCoord, readsSampleMask);

@@ -145,37 +145,33 @@ struct QuadInterp {
 void setupQuadInterp(const DrawContext& ctx, const SetupTri& t, QuadInterp& qi, FragmentQuad& q) {
   for (int i = 0; i < 3; ++i) qi.dx[i] = double(t.a[i] * kSubPixel), qi.dy[i] = double(t.b[i] * kSubPixel);
   const FragmentStage& fs = *ctx.fragment;
-  uint32_t smooth = 0, linear = 0;  // components of each kind, the NoPerspective ones gathered after the Smooth
-  for (uint32_t slot = 0; slot < fs.inputCount; ++slot)
-    if (fs.inputs[slot].interpolation == Interpolation::Smooth)
-      smooth += uint32_t(std::popcount(uint32_t(fs.inputs[slot].componentMask & 0xF)));
-  for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
-    const FragmentInput& in = fs.inputs[slot];
-    const uint32_t k = slot * 4;
-    if (in.interpolation == Interpolation::Flat) {
-      for (uint32_t c = 0; c < 4; ++c) {
-        const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
-        std::memcpy(q.inputs[k + c], v, 16);
-      }
-      continue;
-    }
-    const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
-    for (uint32_t c = 0; c < 4; ++c) {
-      if (!(in.componentMask >> c & 1)) continue;
-      if (d1[c] == 0 && d2[c] == 0 && !(f0[c] == 0 && std::signbit(f0[c]))) {
-        const Float4 v = f0[c] + Float4{};
-        std::memcpy(q.inputs[k + c], &v, 16);
+  // Two passes over the slots: Flat and Smooth ones, then NoPerspective ones, so that the varying Smooth components
+  // come first.
+  for (const bool smoothPass : {true, false}) {
+    for (uint32_t slot = 0; slot < fs.inputCount; ++slot) {
+      const FragmentInput& in = fs.inputs[slot];
+      if ((in.interpolation == Interpolation::NoPerspective) == smoothPass) continue;
+      const uint32_t k = slot * 4;
+      if (in.interpolation == Interpolation::Flat) {
+        for (uint32_t c = 0; c < 4; ++c) {
+          const uint32_t v[4] = {t.flat[k + c], t.flat[k + c], t.flat[k + c], t.flat[k + c]};
+          std::memcpy(q.inputs[k + c], v, 16);
+        }
         continue;
       }
-      QuadInterp::Component& f =
-          qi.component[in.interpolation == Interpolation::Smooth ? qi.smoothCount++ : smooth + linear++];
-      f = {f0[c] + Float4{}, d1[c] + Float4{}, d2[c] + Float4{}, k + c};
+      const Float4 f0 = load4(t.var[0] + k), d1 = load4(t.var[1] + k) - f0, d2 = load4(t.var[2] + k) - f0;
+      for (uint32_t c = 0; c < 4; ++c) {
+        if (!(in.componentMask >> c & 1)) continue;
+        if (d1[c] == 0 && d2[c] == 0 && !(f0[c] == 0 && std::signbit(f0[c]))) {
+          const Float4 v = f0[c] + Float4{};
+          std::memcpy(q.inputs[k + c], &v, 16);
+          continue;
+        }
+        qi.component[qi.count++] = {f0[c] + Float4{}, d1[c] + Float4{}, d2[c] + Float4{}, k + c};
+      }
     }
+    if (smoothPass) qi.smoothCount = qi.count;
   }
-  // Close the gap the Smooth components that turned out constant left.
-  if (qi.smoothCount < smooth)
-    for (uint32_t i = 0; i < linear; ++i) qi.component[qi.smoothCount + i] = qi.component[smooth + i];
-  qi.count = qi.smoothCount + linear;
   qi.barycentrics = qi.count || fs.readsFragCoord;
   qi.pointCoord = fs.readsPointCoord;
 }
@@ -246,7 +242,7 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   uint32_t passed[4] = {0, 0, 0, 0};  // the samples each lane writes (lanes are distinct pixels: tests first)
   if (ctx.plainFinish) {
     // Nothing between the shader and the colour writes but discard (the tests ran before the shader); a quad with
-    // nothing discarded mostly goes straight to its colour writes (finishQuadInline, shadeQuad's fast path).
+    // nothing discarded went to its colour writes already (finishQuadInline).
     for (uint32_t l = 0; l < 4; ++l) passed[l] = (q.killed >> l & 1) ? 0 : q.coverage[l];
     if (passed[0] | passed[1] | passed[2] | passed[3]) writeQuadColors(ctx, q, passed);
     return;
@@ -275,16 +271,6 @@ void finishQuad(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, floa
   writeQuadColors(ctx, q, passed);
 }
 
-// finishQuad's commonest case without its call (whose frame the other cases need): early tests and nothing
-// discarded, so the quad goes to its colour writes with its coverage as it is (it reached the shader with some).
-inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, FragmentQuad& q, float z[4][4],
-                             WorkerScratch& scratch) {
-  if (ctx.plainFinish && !q.killed)
-    writeQuadColors(ctx, q, q.coverage);
-  else
-    finishQuad(ctx, t, q, z, scratch);
-}
-
 // What shadeQuad's commonest case reads of the draw, copied once per triangle: read through the context, each would
 // be loaded again after every call the quad makes (the calls are opaque, the context could have changed). `fast`:
 // one sample, no sample shading, early tests and nothing between the shader and the colour writes but discard
@@ -297,7 +283,8 @@ struct QuadPath {
   void* user = nullptr;
   // The one colour attachment's writes; null: writeQuadColors (through finishQuad).
   std::remove_reference_t<decltype(BackEndPlan::color[0])> color0 = nullptr;
-  DepthPlane depth;  // one-sample quads' depths (depthQuad)
+  DepthPlane depth;          // one-sample quads' depths (depthQuad)
+  bool plainFinish = false;  // DrawContext's
 };
 
 QuadPath quadPath(const DrawContext& ctx, const SetupTri& t) {
@@ -311,7 +298,20 @@ QuadPath quadPath(const DrawContext& ctx, const SetupTri& t) {
   p.user = fs.user;
   if (ctx.target->colorCount == 1) p.color0 = ctx.backEnd.color[0];
   p.fast = p.fast && (ctx.target->colorCount != 1 || p.color0);
+  p.plainFinish = ctx.plainFinish;
   return p;
+}
+
+// finishQuad's commonest case without its call (whose frame the other cases need): early tests and nothing
+// discarded, so the quad goes to its colour writes with its coverage as it is (it reached the shader with some).
+inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, const QuadPath& path, FragmentQuad& q,
+                             float z[4][4], WorkerScratch& scratch) {
+  if (!path.plainFinish || q.killed)
+    finishQuad(ctx, t, q, z, scratch);
+  else if (path.color0)
+    path.color0(ctx, 0, q, q.coverage);
+  else
+    writeQuadColors(ctx, q, q.coverage);
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
@@ -331,6 +331,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
     interpolateQuad(t, qi, q, qx, qy, fz);
     q.killed = 0;  // (no SampleMask output to preset: plainFinish)
     path.shade(path.user, q, worker);
+    // finishQuadInline with plainFinish known (calling it here costs 11 instructions a quad more: callgrind).
     if (q.killed || !path.color0)
       finishQuad(ctx, t, q, z, scratch);
     else
@@ -378,7 +379,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
       q.killed = 0;
       for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
       fs.shade(fs.user, q, worker);
-      finishQuadInline(ctx, t, q, z, scratch);
+      finishQuadInline(ctx, t, path, q, z, scratch);
     }
     return;
   }
@@ -408,7 +409,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   q.killed = 0;
   for (uint32_t l = 0; l < 4; ++l) q.sampleMaskOut[l] = ~0u;
   fs.shade(fs.user, q, worker);
-  finishQuadInline(ctx, t, q, z, scratch);
+  finishQuadInline(ctx, t, path, q, z, scratch);
 }
 
 // Largest and smallest value of edge i over the pixel rectangle [x0, x1) x [y0, y1) (pixels), bias included.

@@ -22,10 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #if defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
-#if defined(__x86_64__)
-#include <immintrin.h>
+#include <immintrin.h>  // SSE's MOVMSKPS (laneBits) and, in the AVX2 copy, AVX2's shuffles (quadTexelPairs)
 #endif
 
 #include "runtime/lod_log2.hpp"

@@ -32,7 +32,9 @@ namespace vkrt::spirv {
 static_assert(sizeof(CompiledShader) == 256,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
-// 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide.
+// 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide. 8: the
+// graphics flags readsFragCoord, readsPointCoord and readsSampleMask (7 had the first alone), which an older blob
+// lacks: read as false, they would leave those built-ins unset.
 constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '8'};
 
 namespace {

@@ -206,10 +206,7 @@ bool Codegen::declareInterface(const Instruction& var, Global& g) {
       case spv::BuiltInCullDistance: gi.cullDistances = count; break;
       case spv::BuiltInPointSize: gi.writesPointSize = true; break;
       case spv::BuiltInFragDepth: gi.writesDepth = true; break;
-      case spv::BuiltInSampleMask:
-        if (!input) gi.writesSampleMask = true;
-        if (input) gi.readsSampleMask = true;
-        break;
+      case spv::BuiltInSampleMask: (input ? gi.readsSampleMask : gi.writesSampleMask) = true; break;
       case spv::BuiltInPointCoord:
         if (input) gi.readsPointCoord = true;
         break;
