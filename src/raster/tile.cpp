@@ -29,9 +29,6 @@ inline float depthAt(const DrawContext& ctx, const SetupTri& t, int64_t px, int6
 using Float4 = float __attribute__((vector_size(16)));
 using Float2 = float __attribute__((vector_size(8)));
 using Double2 = double __attribute__((vector_size(16)));
-// depthAt at the four pixel centres of a one-sample quad, into z[0] and returned (lane l in element l): the same
-// double operations per lane (the centres' coordinates in pixels are the pixel index plus 0.5, exactly), two lanes per
-// vector, the clamp on all four.
 // The plane and the clamp range in vectors, once per triangle (shadeQuad's calls are opaque: read through the
 // triangle and the context they would be loaded again for every quad).
 struct DepthPlane {
@@ -43,10 +40,23 @@ inline DepthPlane depthPlane(const DrawContext& ctx, const SetupTri& t) {
   return {t.zA + Double2{}, t.zB + Double2{}, t.zC + Double2{}, ctx.depthMin + Float4{}, ctx.depthMax + Float4{}};
 }
 
-inline Float4 depthQuad(const DepthPlane& p, int32_t qx, int32_t qy, float z[4][4]) {
-  const Double2 ax = p.zA * (double(qx) + Double2{0.5, 1.5});
+// A row of quads' terms of the plane: zB times the centres' y of its two pixel rows (the same products for every
+// quad of the row, so made once per row).
+struct DepthRow {
+  Double2 top, bottom;
+};
+
+inline DepthRow depthRow(const DepthPlane& p, int32_t qy) {
   const double y = double(qy) + 0.5;
-  const Double2 top = ax + p.zB * y + p.zC, bottom = ax + p.zB * (y + 1) + p.zC;
+  return {p.zB * y, p.zB * (y + 1)};
+}
+
+// depthAt at the four pixel centres of a one-sample quad of `row`, into z[0] and returned (lane l in element l): the
+// same double operations per lane (the centres' coordinates in pixels are the pixel index plus 0.5, exactly), two
+// lanes per vector, the clamp on all four.
+inline Float4 depthQuad(const DepthPlane& p, const DepthRow& row, int32_t qx, float z[4][4]) {
+  const Double2 ax = p.zA * (double(qx) + Double2{0.5, 1.5});
+  const Double2 top = ax + row.top + p.zC, bottom = ax + row.bottom + p.zC;
   Float4 f = __builtin_shufflevector(__builtin_convertvector(top, Float2), __builtin_convertvector(bottom, Float2), 0,
                                      1, 2, 3);
   f = f < p.lo ? p.lo : f;  // std::clamp (NaN stays NaN)
@@ -315,14 +325,15 @@ inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, const Qu
 }
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
-void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, const QuadPath& path, int32_t qx,
-               int32_t qy, uint32_t cov[4], WorkerScratch& scratch, unsigned worker) {
+void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, const QuadPath& path,
+               const DepthRow& zRow, int32_t qx, int32_t qy, uint32_t cov[4], WorkerScratch& scratch,
+               unsigned worker) {
   const FragmentStage& fs = *ctx.fragment;
   const uint32_t any = cov[0] | cov[1] | cov[2] | cov[3];  // (the sample mask is in rasterizeTriangle's `all`)
   if (!any) return;
   alignas(16) float z[4][4];  // z[s][l]: lane l's depth at sample s
   if (path.fast) {
-    const Float4 fz = depthQuad(path.depth, qx, qy, z);
+    const Float4 fz = depthQuad(path.depth, zRow, qx, z);
     if (!path.depthStencil(ctx, t.front, qx, qy, cov, z)) return;
     FragmentQuad& q = scratch.quad;
     q.x = qx, q.y = qy;
@@ -340,7 +351,7 @@ void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, 
   }
   Float4 fz{};
   if (ctx.samples == 1 && !ctx.perSample) {
-    fz = depthQuad(path.depth, qx, qy, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
+    fz = depthQuad(path.depth, zRow, qx, z);  // all four lanes: the tests' depths and FragCoord.z (interpolateQuad)
   } else {
     for (uint32_t l = 0; l < 4 && ctx.needsDepth; ++l) {
       if (!cov[l]) continue;
@@ -522,6 +533,7 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
   q.layer = ctx.layer;
   q.primitive = &t;  // for interpolateAt
   q.drawContext = &ctx;
+  const uint32_t fullRow = uint32_t((uint64_t(1) << (kBlock * S)) - 1);  // a block row's mask, every sample
   const int32_t bx0 = x0 & ~(kBlock - 1), by0 = y0 & ~(kBlock - 1);
   for (int32_t by = by0; by <= y1; by += kBlock) {
     for (int32_t bx = bx0; bx <= x1; bx += kBlock) {
@@ -550,16 +562,23 @@ void rasterizeTriangle(const DrawContext& ctx, const SetupTri& t, int32_t x0, in
       }
       // The quads in row order, as the per-fragment operations need (primitive order per pixel is kept anyway;
       // the same order keeps images identical to the per-quad loop this replaced).
+      // A block inside the triangle and the clip rectangle (most of a large triangle's): every lane of every quad
+      // covers the samples `all` keeps, with no masks to take apart.
+      const bool whole = !activeCount && r0 == 0 && r1 == kBlock - 1 && colMask == fullRow;
       for (int32_t r = r0 & ~1; r <= r1; r += 2) {
         const uint32_t m0 = row[r], m1 = row[r + 1];
         const uint32_t any = m0 | m1;
         if (!any) continue;  // an empty row of quads at once
+        const DepthRow zRow = depthRow(path.depth, by + r);
         for (uint32_t c = 0; c < kBlock / 2; ++c) {
           const uint32_t shift = 2 * c * S;
-          if (!((any >> shift) & pairMask)) continue;
-          uint32_t cov[4] = {(m0 >> shift) & all, (m0 >> (shift + S)) & all, (m1 >> shift) & all,
-                             (m1 >> (shift + S)) & all};
-          shadeQuad(ctx, t, qi, path, bx + int32_t(2 * c), by + r, cov, scratch, worker);
+          uint32_t cov[4] = {all, all, all, all};
+          if (!whole) {
+            if (!((any >> shift) & pairMask)) continue;
+            cov[0] = (m0 >> shift) & all, cov[1] = (m0 >> (shift + S)) & all;
+            cov[2] = (m1 >> shift) & all, cov[3] = (m1 >> (shift + S)) & all;
+          }
+          shadeQuad(ctx, t, qi, path, zRow, bx + int32_t(2 * c), by + r, cov, scratch, worker);
         }
       }
     }

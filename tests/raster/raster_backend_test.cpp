@@ -153,6 +153,32 @@ TEST(RasterDepth, BiasConstantSlopeAndClamp) {
   }
 }
 
+// A plane sloped in x and in y, written with one sample: each pixel's depth is the plane at its centre (both rows of
+// each quad, quads of blocks inside the triangle and of blocks its edge crosses), within the plane's float rounding.
+TEST(RasterDepth, SlopedPlaneAtEveryPixelCentre) {
+  for (float extent : {40.0f, 20.0f}) {  // all of the 16x16 target, then a triangle whose edge crosses it
+    Harness h(16, 16);
+    DepthSetup d;
+    d.attach(h, DepthFormat::D32SFloat);
+    for (uint32_t i = 0; i < 256; ++i) {
+      const float far = 2.0f;  // marks the pixels not written
+      std::memcpy(d.depth.data.data() + 4 * i, &far, 4);
+    }
+    h.state.depthTest = h.state.depthWrite = true;
+    h.state.depthCompare = CompareOp::Always;
+    const double dzdx = 0.25 / 32, dzdy = 0.5 / 32;  // (every vertex inside the depth range: no clipping)
+    h.vertex(0, 0, 0.125f), h.vertex(extent, 0, float(0.125 + extent * dzdx)),
+        h.vertex(0, extent, float(0.125 + extent * dzdy));
+    h.run();
+    for (uint32_t y = 0; y < 16; ++y)
+      for (uint32_t x = 0; x < 16; ++x) {
+        const bool inside = x + 0.5 + y + 0.5 < extent;  // (no centre lies on the edge)
+        const double z = inside ? 0.125 + (x + 0.5) * dzdx + (y + 0.5) * dzdy : 2.0;
+        EXPECT_NEAR(d.depth.f(x, y), z, 1e-6) << "extent " << extent << " pixel " << x << "," << y;
+      }
+  }
+}
+
 TEST(RasterStencil, OpsMasksAndFaces) {
   const StencilOp ops[] = {StencilOp::Keep,
                            StencilOp::Zero,
