@@ -139,6 +139,11 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
 void planBackEnd(DrawContext& ctx);
 // Whether planBackEnd may choose the specialised quad paths (tests turn them off to compare with the general path).
 void setQuadPaths(bool enabled);
+// Whether planBackEnd chooses the AVX2 copy of the 8-bit UNorm colour quad path (the same bytes as the baseline copy;
+// by default where the CPU has AVX2, unless VKRT_QUAD_ISA=baseline). False, changing nothing, when asked for AVX2 on
+// a CPU without it (the tests).
+bool setQuadWritesAvx2(bool enabled);
+bool quadWritesAvx2();
 // Writes the quad's color outputs to each lane's samples in `coverage` (blend, logic op, write masks); lane l is
 // pixel (quad.x + (l & 1), quad.y + (l >> 1)).
 inline void writeQuadColors(const DrawContext& ctx, const FragmentQuad& quad, const uint32_t coverage[4]) {

@@ -130,10 +130,19 @@ Result render(const Scene& sc, bool quadPaths) {
   return {h.color.data, depth.data};
 }
 
+// The general path's bytes against the quad paths', with each copy of the 8-bit UNorm colour writes (baseline and,
+// where the CPU has AVX2, the AVX2 one).
 void expectSame(const Scene& sc, const char* what) {
-  const Result general = render(sc, false), quad = render(sc, true);
-  ASSERT_EQ(general.color, quad.color) << what;
-  ASSERT_EQ(general.depth, quad.depth) << what;
+  const Result general = render(sc, false);
+  const bool before = detail::quadWritesAvx2();
+  for (bool avx2 : {false, true}) {
+    if (!detail::setQuadWritesAvx2(avx2)) continue;  // no AVX2 on this CPU: the baseline copy is all there is
+    const Result quad = render(sc, true);
+    const char* copy = avx2 ? " (AVX2 copy)" : " (baseline copy)";
+    ASSERT_EQ(general.color, quad.color) << what << copy;
+    ASSERT_EQ(general.depth, quad.depth) << what << copy;
+  }
+  detail::setQuadWritesAvx2(before);
 }
 
 // Which paths planBackEnd takes for a state (bit 0 depth/stencil, bit 1 colour attachment 0).
@@ -165,6 +174,49 @@ uint32_t planned(const Scene& sc, bool stencilTest = false, bool logicOp = false
   ctx.target = &tg, ctx.state = &st, ctx.fragment = &fs, ctx.samples = sc.samples;
   detail::planBackEnd(ctx);
   return ctx.backEnd.quadPaths;
+}
+
+// The colour writes planBackEnd chooses for attachment 0 of a draw in `sc`'s state.
+auto plannedColor(const Scene& sc) {
+  uint8_t storage[64] = {};
+  Target tg;
+  tg.colorCount = 1;
+  tg.color[0].base = storage;
+  tg.color[0].samples = 1;
+  tg.colorFormat[0].layout = sc.layout;
+  tg.colorFormat[0].encode = encodeRuntime;
+  tg.colorFormat[0].decode = decodeRuntime;
+  tg.samples = 1;
+  State st;
+  st.blend[0] = sc.blend;
+  FragmentStage fs;
+  fs.outputMask = 1;
+  detail::DrawContext ctx{};
+  ctx.target = &tg, ctx.state = &st, ctx.fragment = &fs, ctx.samples = 1;
+  detail::planBackEnd(ctx);
+  return ctx.backEnd.color[0];
+}
+
+// Where the CPU has AVX2 the two copies are different code (so expectSame compares both with the general path), and
+// the setting cannot choose AVX2 where it has none.
+TEST(RasterQuadPath, EachCopyOfTheColourWritesIsItsOwn) {
+  const bool before = detail::quadWritesAvx2();
+  Scene sc;
+  sc.blend.enable = true;
+  sc.blend.srcColor = BlendFactor::SrcAlpha, sc.blend.dstColor = BlendFactor::OneMinusSrcAlpha;
+  ASSERT_TRUE(detail::setQuadWritesAvx2(false));
+  const auto baseline = plannedColor(sc);
+  ASSERT_NE(baseline, nullptr);
+  if (!__builtin_cpu_supports("avx2")) {
+    EXPECT_FALSE(detail::setQuadWritesAvx2(true));
+    EXPECT_FALSE(detail::quadWritesAvx2());
+    GTEST_SKIP() << "no AVX2 on this CPU: only the baseline copy runs here";
+  }
+  ASSERT_TRUE(detail::setQuadWritesAvx2(true));
+  const auto avx2 = plannedColor(sc);
+  detail::setQuadWritesAvx2(before);
+  EXPECT_NE(avx2, nullptr);
+  EXPECT_NE(avx2, baseline);
 }
 
 TEST(RasterQuadPath, DepthEveryFormatCompareOpAndWriteAsTheGeneralPath) {
