@@ -753,6 +753,39 @@ inline int blendShapeOf(const BlendAttachment& b) {
   return -1;
 }
 
+using UInt4 = uint32_t __attribute__((vector_size(16)));
+using UInt2 = uint32_t __attribute__((vector_size(8)));
+
+// The quad's four 32-bit texels (lane l's at lane[l]; pixel rows lane[0..1] and lane[2..3]), the uncovered ones 0.
+inline UInt4 readQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool full) {
+  if (full) {
+    // The two rows straight into the vector (two 8-byte loads): through a 16-byte array in memory, the load of the
+    // whole after the two smaller stores could not be forwarded from them and stalled.
+    UInt2 top, bottom;
+    std::memcpy(&top, lane[0], 8), std::memcpy(&bottom, lane[2], 8);
+    return __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
+  }
+  uint32_t w[4] = {0, 0, 0, 0};
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) std::memcpy(&w[l], lane[l], 4);
+  UInt4 words;
+  std::memcpy(&words, w, 16);
+  return words;
+}
+
+// Lane l's texel of `out` to lane[l] where cov[l] (all four: `full`).
+inline void writeQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool full, UInt4 out) {
+  if (full) {
+    const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
+    std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
+    return;
+  }
+  uint32_t w[4];
+  std::memcpy(w, &out, 16);
+  for (uint32_t l = 0; l < 4; ++l)
+    if (cov[l]) std::memcpy(lane[l], &w[l], 4);
+}
+
 template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
 void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
   const Surface& surf = ctx.target->color[i];
@@ -765,24 +798,10 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   // 0), so the bytes are the same.
   if (kBlend)
     for (Float4& v : s.c) v = clamp01(v);
-  using UInt4 = uint32_t __attribute__((vector_size(16)));
   Quad4 d{};
   const bool full = cov[0] && cov[1] && cov[2] && cov[3];  // most quads: two 8-byte rows
-  UInt4 words = {0, 0, 0, 0};
-  using UInt2 = uint32_t __attribute__((vector_size(8)));
   if (kReadDst) {
-    if (full) {
-      // The two rows straight into the vector (two 8-byte loads): through a 16-byte array in memory, the load of the
-      // whole after the two smaller stores could not be forwarded from them and stalled.
-      UInt2 top, bottom;
-      std::memcpy(&top, lane[0], 8), std::memcpy(&bottom, lane[2], 8);
-      words = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
-    } else {
-      uint32_t w[4] = {0, 0, 0, 0};
-      for (uint32_t l = 0; l < 4; ++l)
-        if (cov[l]) std::memcpy(&w[l], lane[l], 4);
-      std::memcpy(&words, w, 16);
-    }
+    const UInt4 words = readQuadTexels(lane, cov, full);
     for (int c = 0; c < 4; ++c) {
       const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
       d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
@@ -812,15 +831,7 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
     const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
     out |= UInt4(unorm8Bytes(saturate(v))) << shift;
   }
-  if (full) {
-    const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
-    std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
-  } else {
-    uint32_t w[4];
-    std::memcpy(w, &out, 16);
-    for (uint32_t l = 0; l < 4; ++l)
-      if (cov[l]) std::memcpy(lane[l], &w[l], 4);
-  }
+  writeQuadTexels(lane, cov, full, out);
 }
 
 #if defined(__x86_64__)
@@ -872,22 +883,10 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
                  Float8(_mm256_loadu_ps(reinterpret_cast<const float*>(q.color[i][2])))};
   if (kBlend)
     for (Float8& v : s) v = clamp01x8(v);
-  using UInt4 = uint32_t __attribute__((vector_size(16)));
-  using UInt2 = uint32_t __attribute__((vector_size(8)));
   const bool full = cov[0] && cov[1] && cov[2] && cov[3];
   Float8 d[2] = {};
   if (kReadDst) {
-    UInt4 words = {0, 0, 0, 0};
-    if (full) {
-      UInt2 top, bottom;
-      std::memcpy(&top, lane[0], 8), std::memcpy(&bottom, lane[2], 8);
-      words = __builtin_shufflevector(top, bottom, 0, 1, 2, 3);
-    } else {
-      uint32_t w[4] = {0, 0, 0, 0};
-      for (uint32_t l = 0; l < 4; ++l)
-        if (cov[l]) std::memcpy(&w[l], lane[l], 4);
-      std::memcpy(&words, w, 16);
-    }
+    const UInt4 words = readQuadTexels(lane, cov, full);
     const UInt8 both = __builtin_shufflevector(words, words, 0, 1, 2, 3, 0, 1, 2, 3);
     for (int h = 0; h < 2; ++h) d[h] = __builtin_convertvector(Int8((both >> shift[h]) & 0xFF), Float8) / 255.0f;
   }
@@ -931,16 +930,8 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
     }
     out8 |= UInt8(unorm8Bytes8(saturate8(v))) << shift[h];
   }
-  const UInt4 out = __builtin_shufflevector(out8, out8, 0, 1, 2, 3) | __builtin_shufflevector(out8, out8, 4, 5, 6, 7);
-  if (full) {
-    const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
-    std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
-  } else {
-    uint32_t w[4];
-    std::memcpy(w, &out, 16);
-    for (uint32_t l = 0; l < 4; ++l)
-      if (cov[l]) std::memcpy(lane[l], &w[l], 4);
-  }
+  writeQuadTexels(lane, cov, full,
+                  __builtin_shufflevector(out8, out8, 0, 1, 2, 3) | __builtin_shufflevector(out8, out8, 4, 5, 6, 7));
 }
 #if defined(__clang__)
 #pragma clang attribute pop
