@@ -781,6 +781,36 @@ QuadView describeQuadView(const ImageView& view) {
   return q;
 }
 
+StoreView describeStoreView(const ImageView& view) {
+  StoreView s;
+  abi::DescriptorRecord rec{};
+  rec.object = static_cast<const Object*>(&view);
+  View v;
+  if (!resolveView(&rec, &v) || view.viewType != VK_IMAGE_VIEW_TYPE_2D || v.image->type != VK_IMAGE_TYPE_2D ||
+      v.image->samples != 1 || v.levelCount == 0)
+    return s;
+  const FormatInfo& f = *v.format;
+  if (f.packed || f.block != 1 || f.offset != 0) return s;
+  bool all8 = true, all32 = true;
+  for (unsigned i = 0; i < f.components; ++i) all8 = all8 && f.bits[i] == 8, all32 = all32 && f.bits[i] == 32;
+  if (f.type == N::UNorm && f.components == 4 && all8) {
+    s.kind = f.bgr ? StoreView::Kind::Unorm8Bgra : StoreView::Kind::Unorm8;
+  } else if ((f.type == N::SFloat || f.type == N::UInt || f.type == N::SInt) && all32) {
+    s.kind = StoreView::Kind::Words;
+    s.words = f.components;
+    s.integer = f.type != N::SFloat;
+  } else {
+    return s;
+  }
+  const VkExtent3D e = levelExtent(v, 0);
+  s.texelBytes = f.texelSize;
+  s.width = e.width;
+  s.height = e.height;
+  s.rowPitch = v.image->mips[v.baseMip].rowPitch;
+  s.base = v.image->texel(v.baseMip, v.baseLayer, 0, 0, 0);
+  return s;
+}
+
 QuadSampler describeQuadSampler(const VkSamplerCreateInfo& s) {
   QuadSampler q;
   if (!fastSamplingSampler(s) || s.anisotropyEnable) return q;
@@ -802,7 +832,41 @@ using namespace vkrt;
 
 extern "C" {
 
+// The storage image fast path (StoreView): the texel at (x, y) of a view whose record is not None, or null outside
+// it (a write does nothing, a read gives zeros, as texelAt's null).
+static uint8_t* storeTexel(const StoreView& s, const int32_t coord[4]) {
+  const uint32_t x = uint32_t(coord[0]), y = uint32_t(coord[1]);  // (negative ones wrap past the extent)
+  if (x >= s.width || y >= s.height) return nullptr;
+  return s.base + y * s.rowPitch + uint64_t(x) * s.texelBytes;
+}
+
+// The view's StoreView where the record holds an image view that has one, else null.
+static const StoreView* storeView(const abi::DescriptorRecord* img) {
+  if (!img || !img->object || static_cast<const Object*>(img->object)->objectType != VK_OBJECT_TYPE_IMAGE_VIEW)
+    return nullptr;
+  const StoreView& s = recordObject<ImageView>(img->object)->store;
+  return s.kind != StoreView::Kind::None ? &s : nullptr;
+}
+
 void vkrt_image_read(const abi::DescriptorRecord* img, const int32_t coord[4], uint32_t out[4]) {
+  if (const StoreView* s = storeView(img)) {
+    const uint8_t* t = storeTexel(*s, coord);
+    if (!t) {
+      std::memset(out, 0, 16);
+    } else if (s->kind == StoreView::Kind::Words) {
+      // decodeTexel's: the format's words, then 0 and, for alpha, 1 (1.0 in a float format).
+      uint32_t c[4] = {0, 0, 0, s->integer ? 1u : fbits(1.0f)};
+      std::memcpy(c, t, size_t(s->words) * 4);
+      std::memcpy(out, c, 16);
+    } else {
+      // decodeTexel's table.
+      using Words = float __attribute__((vector_size(16)));
+      const unsigned r = s->kind == StoreView::Kind::Unorm8Bgra ? 2 : 0;
+      const Words v = {kUnorm8.unorm[t[r]], kUnorm8.unorm[t[1]], kUnorm8.unorm[t[2 - r]], kUnorm8.unorm[t[3]]};
+      std::memcpy(out, &v, 16);
+    }
+    return;
+  }
   View v;
   std::memset(out, 0, 16);
   if (!resolveView(img, &v)) return;
@@ -822,6 +886,38 @@ void vkrt_image_read_subpass(const abi::DescriptorRecord* img, int32_t x, int32_
 }
 
 void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], const uint32_t in[4]) {
+  if (const StoreView* s = storeView(img)) {
+    uint8_t* t = storeTexel(*s, coord);
+    if (!t) return;
+    if (s->kind == StoreView::Kind::Words) {
+      std::memcpy(t, in, size_t(s->words) * 4);  // encodeComponent keeps 32-bit words as they are
+      return;
+    }
+    // encodeComponent's UNorm: NaN to 0, clamped to [0, 1], times 255 in double (exact), rounded in the current
+    // rounding mode (nearbyint's, and CVTPD2DQ's).
+    uint8_t b[4];
+#if defined(__SSE2__)
+    // maxps gives its second operand, 0, for a NaN (and +0 for -0, which encodes alike), then minps clamps to 1.
+    const __m128 f = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(reinterpret_cast<const float*>(in)), _mm_setzero_ps()),
+                                _mm_set1_ps(1.0f));
+    const __m128d k = _mm_set1_pd(255.0);
+    const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
+    const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
+    const __m128i words = _mm_unpacklo_epi64(lo, hi);  // 0..255 each
+    const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(words, words), _mm_setzero_si128());
+    const uint32_t packed = uint32_t(_mm_cvtsi128_si32(bytes));
+    std::memcpy(b, &packed, 4);
+#else
+    for (int c = 0; c < 4; ++c) {
+      float f = bitsf(in[c]);
+      f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+      b[c] = uint8_t(std::nearbyint(double(f) * 255.0));
+    }
+#endif
+    if (s->kind == StoreView::Kind::Unorm8Bgra) std::swap(b[0], b[2]);
+    std::memcpy(t, b, 4);
+    return;
+  }
   View v;
   // Compressed views are never storage views (no STORAGE_IMAGE feature): nothing encodes a block.
   if (!resolveView(img, &v) || v.format->block > 1) return;

@@ -37,7 +37,8 @@ ImageView::ImageView(Device* dev, const VkImageViewCreateInfo& info, Image* img)
       components(info.components),
       range(resolve(info.subresourceRange, *img)),
       usage(viewUsage(info, *img)),
-      quad(describeQuadView(*this)) {}
+      quad(describeQuadView(*this)),
+      store(describeStoreView(*this)) {}
 
 }  // namespace vkrt
 

@@ -8,6 +8,26 @@ namespace vkrt {
 
 class Image;
 
+// A view as the storage image fast path reads it (vkrt_image_write and vkrt_image_read, image_functions.cpp): a 2D
+// view of a one-sample 2D image, its base level and layer, in one of the commonest storage formats; `kind` None for
+// every other view (and where the image has no memory when the view is created): the generic path then decides on
+// every call. The fast path's bytes and words are the generic path's (encodeTexel, decodeTexel).
+struct StoreView {
+  enum class Kind : uint8_t {
+    None,
+    Unorm8,      // R8G8B8A8_UNORM
+    Unorm8Bgra,  // B8G8R8A8_UNORM
+    Words,       // `words` 32-bit components (SFLOAT, UINT or SINT), stored as given
+  };
+  Kind kind = Kind::None;
+  uint8_t words = 0;     // Words: 1 to 4
+  bool integer = false;  // Words: UINT or SINT (a read's missing alpha is 1, else 1.0)
+  uint32_t texelBytes = 0;
+  uint32_t width = 0, height = 0;
+  uint64_t rowPitch = 0;
+  uint8_t* base = nullptr;  // texel (0, 0) of the view's base level and layer
+};
+
 class ImageView : public Object {
  public:
   using Handle = VkImageView;
@@ -25,6 +45,10 @@ class ImageView : public Object {
   const VkImageUsageFlags usage;
   // What the quad sampler's vector path reads (quad_sampling.hpp), resolved at creation.
   QuadView quad;
+  // What the storage image fast path reads, resolved at creation (describeStoreView, image_functions.cpp).
+  StoreView store;
 };
+
+StoreView describeStoreView(const ImageView& view);
 
 }  // namespace vkrt

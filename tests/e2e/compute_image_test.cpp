@@ -20,6 +20,7 @@
 #include "compute_sample.comp.spv.h"
 #include "compute_small_types.comp.spv.h"
 #include "compute_storage_image.comp.spv.h"
+#include "compute_storage_view_level.comp.spv.h"
 #include "dxc_compute.spvasm.spv.h"
 #include "e2e/compute_pipeline_helpers.hpp"
 #include "e2e/fixture.hpp"
@@ -275,6 +276,123 @@ TEST_F(ComputeImageTest, StorageImagesOfSeveralFormatsAndDimensions) {
     for (int k = 0; k < 12; ++k) EXPECT_EQ(oob[k], 0u) << "out-of-bounds read " << k;
   }
   for (Tex* t : all) destroy(*t);
+  destroy(out);
+  destroy(p);
+}
+
+// Storage image views of mip 1 and layer 2 of 8x8 images with 3 levels and 4 layers (R8G8B8A8_UNORM and R32_UINT):
+// each invocation of an 8x8 workgroup reads its texel at (x - 2, y - 2), then writes it. Inside the 4x4 level the
+// reads are that level's and layer's texels and the writes land there (colours with the encode's edge cases: NaN,
+// -0, values outside [0, 1], halves between two codes); outside it reads give zeros on vkrt (undefined without
+// robustImageAccess) and writes are dropped; no other level or layer changes.
+TEST_F(ComputeImageTest, StorageImageViewOfOneLevelAndLayer) {
+  const bool vkrt = onVkrt();
+  Pipeline p = makePipeline(kSpv_compute_storage_view_level_comp, sizeof kSpv_compute_storage_view_level_comp,
+                            {kStorageImage, kStorageImage, kStorageBuffer}, 8 * 16);
+  ASSERT_EQ(p.result, VK_SUCCESS);
+  const VkImageUsageFlags st = VK_IMAGE_USAGE_STORAGE_BIT;
+  Tex color = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D_ARRAY, VK_FORMAT_R8G8B8A8_UNORM, {8, 8, 1}, 3, 4, 4, st);
+  Tex ids = makeTex(VK_IMAGE_TYPE_2D, VK_IMAGE_VIEW_TYPE_2D_ARRAY, VK_FORMAT_R32_UINT, {8, 8, 1}, 3, 4, 4, st);
+  VkImageView views[2];
+  const Tex* texs[2] = {&color, &ids};
+  for (int v = 0; v < 2; ++v) {
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = texs[v]->image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = texs[v]->ci.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 1, 1, 2, 1};
+    ASSERT_EQ(vkCreateImageView(device, &vi, nullptr, &views[v]), VK_SUCCESS);
+  }
+  HostBuffer out = createHostBuffer(64 * 16 + 64 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  std::memset(out.data, 0x7F, 64 * 16 + 64 * 4);
+  const size_t bytes = color.staging.size;
+  auto* c8 = static_cast<uint8_t*>(color.staging.data);
+  auto* u32 = static_cast<uint32_t*>(ids.staging.data);
+  for (size_t i = 0; i < bytes; ++i) c8[i] = uint8_t(i * 37 + 11);
+  for (size_t i = 0; i < bytes / 4; ++i) u32[i] = uint32_t(i) * 2654435761u;
+  const std::vector<uint8_t> colorBefore(c8, c8 + bytes);
+  const std::vector<uint32_t> idsBefore(u32, u32 + bytes / 4);
+  // The colours: NaN, -0, values below 0 and above 1, the tie 127.5 (0.5: to even, 128), (k + 0.5) / 255 in float
+  // (a hair above or below the tie), the floats beside 254.5 / 255, and plain values.
+  const float nan = std::nanf("");
+  const float tieHigh = 254.5f / 255;
+  const float values[8][4] = {{nan, -0.0f, -1.0f, 2.0f},
+                              {0.5f, 0.5f / 255, 1.0f / 255, 1.0f},
+                              {std::nextafter(tieHigh, 0.0f), tieHigh, std::nextafter(tieHigh, 1.0f), 0.0f},
+                              {3.5f / 255, 4.5f / 255, 5.5f / 255, 6.5f / 255},
+                              {1e-30f, -1e-30f, 0.999f, 1.001f},
+                              {-nan, 0.3f, 0.7f, 0.05f},
+                              {0.123f, 0.456f, 0.789f, 0.321f},
+                              {0.25f, 0.75f, 0.1f, 0.9f}};
+  writeImage(p, 0, kStorageImage, views[0], VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeImage(p, 1, kStorageImage, views[1], VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+  writeBuffer(p, 2, out);
+  VkCommandBuffer cb = beginOneTime();
+  upload(cb, color, VK_IMAGE_LAYOUT_GENERAL);
+  upload(cb, ids, VK_IMAGE_LAYOUT_GENERAL);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
+  vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof values, values);
+  vkCmdDispatch(cb, 1, 1, 1);
+  download(cb, color);
+  download(cb, ids);
+  hostBarrier(cb);
+  submitAndWait(cb);
+
+  // Texel (x, y) of mip m, layer l in the staging order (per mip, per layer, rows).
+  auto at = [&](uint32_t m, uint32_t l, uint32_t x, uint32_t y) {
+    const uint32_t w = 8 >> m, h = 8 >> m;
+    return size_t(color.mipOffsets[m] / 4) + (size_t(l) * h + y) * w + x;
+  };
+  const auto* loaded = static_cast<const float*>(out.data);
+  const auto* loadedIds = reinterpret_cast<const uint32_t*>(loaded + 64 * 4);
+  for (int32_t y = -2; y < 6; ++y)
+    for (int32_t x = -2; x < 6; ++x) {
+      const uint32_t i = uint32_t(y + 2) * 8 + uint32_t(x + 2);
+      const bool inside = x >= 0 && y >= 0 && x < 4 && y < 4;
+      SCOPED_TRACE(std::to_string(x) + "," + std::to_string(y));
+      if (!inside) {
+        if (vkrt) {
+          for (int k = 0; k < 4; ++k) EXPECT_EQ(loaded[i * 4 + k], 0.0f);
+          EXPECT_EQ(loadedIds[i], 0u);
+        }
+        continue;
+      }
+      const size_t t = at(1, 2, uint32_t(x), uint32_t(y));
+      for (int k = 0; k < 4; ++k) {
+        const float want = float(colorBefore[t * 4 + k]) / 255.0f;  // vkrt: the correctly rounded quotient
+        if (vkrt)
+          EXPECT_EQ(loaded[i * 4 + k], want) << k;
+        else
+          EXPECT_NEAR(loaded[i * 4 + k], want, 1e-6) << k;
+      }
+      EXPECT_EQ(loadedIds[i], idsBefore[t]);
+      const float* v = values[(y * 4 + x) % 8];
+      for (int k = 0; k < 4; ++k) {
+        // "Conversion from Floating-Point to Normalized Fixed-Point": clamped to [0, 1] (NaN: 0), times 255,
+        // rounded to nearest (vkrt: ties to even; the spec lets the rounding of a tie go either way).
+        const double f = std::isnan(v[k]) ? 0.0 : std::clamp(double(v[k]), 0.0, 1.0);
+        const double want = std::nearbyint(f * 255.0);
+        if (vkrt)
+          EXPECT_EQ(c8[t * 4 + k], uint8_t(want)) << "component " << k << " of " << v[k];
+        else
+          EXPECT_LE(std::abs(int(c8[t * 4 + k]) - int(want)), 1) << "component " << k << " of " << v[k];
+      }
+      EXPECT_EQ(u32[t], 1000u + i);
+    }
+  // Nothing outside mip 1, layer 2's 4x4 texels changed.
+  for (uint32_t m = 0; m < 3; ++m)
+    for (uint32_t l = 0; l < 4; ++l)
+      for (uint32_t y = 0; y < (8u >> m); ++y)
+        for (uint32_t x = 0; x < (8u >> m); ++x) {
+          if (m == 1 && l == 2) continue;
+          const size_t t = at(m, l, x, y);
+          ASSERT_EQ(std::memcmp(c8 + t * 4, colorBefore.data() + t * 4, 4), 0) << m << " " << l << " " << x << "," << y;
+          ASSERT_EQ(u32[t], idsBefore[t]) << m << " " << l << " " << x << "," << y;
+        }
+  for (VkImageView v : views) vkDestroyImageView(device, v, nullptr);
+  destroy(color);
+  destroy(ids);
   destroy(out);
   destroy(p);
 }
