@@ -105,17 +105,21 @@ llvm::Value* scratch(Codegen& g) {
 // components are zero.
 llvm::Value* toWords(Codegen& g, llvm::Value* v, bool isFloatValue) {
   llvm::Value* buf = scratch(g);
-  g.b.CreateStore(llvm::Constant::getNullValue(llvm::ArrayType::get(g.b.getInt32Ty(), 4)), buf);
   auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(v->getType());
   unsigned n = vt ? std::min(4u, unsigned(vt->getNumElements())) : 1;
+  // The four words (those past the value's components 0) in one 16-byte store: the runtime function may read them
+  // in one wide load, which a store of each word (after a store of zeros) could not forward to (it would wait for
+  // the stores to reach the cache: every imageStore paid it).
+  llvm::Value* words = llvm::Constant::getNullValue(llvm::FixedVectorType::get(g.b.getInt32Ty(), 4));
   for (unsigned i = 0; i < n; ++i) {
     llvm::Value* e = vt ? g.b.CreateExtractElement(v, uint64_t(i)) : v;
     if (isFloatValue)
       e = g.b.CreateBitCast(g.b.CreateFPCast(e, g.b.getFloatTy()), g.b.getInt32Ty());
     else
       e = g.b.CreateSExtOrTrunc(e, g.b.getInt32Ty());
-    g.b.CreateStore(e, g.b.CreateConstGEP1_64(g.b.getInt32Ty(), buf, i));
+    words = g.b.CreateInsertElement(words, e, uint64_t(i));
   }
+  g.b.CreateAlignedStore(words, buf, llvm::Align(16));
   return buf;
 }
 
