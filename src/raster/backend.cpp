@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <iterator>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #if defined(__SSE2__)
 #include <immintrin.h>  // SSE2's min/max and conversions; AVX2's in the AVX2 copy of the quad writes
 #endif
@@ -877,8 +877,9 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
   uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
   // Component c's byte in a word.
   constexpr auto shiftOf = [](int c) { return 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c); };
-  const UInt8 shift[2] = {UInt8{} + uint32_t(shiftOf(0)) + UInt8{0, 0, 0, 0, 1, 1, 1, 1} * uint32_t(shiftOf(1) - shiftOf(0)),
-                          UInt8{} + uint32_t(shiftOf(2)) + UInt8{0, 0, 0, 0, 1, 1, 1, 1} * uint32_t(shiftOf(3) - shiftOf(2))};
+  const UInt8 shift[2] = {
+      UInt8{} + uint32_t(shiftOf(0)) + UInt8{0, 0, 0, 0, 1, 1, 1, 1} * uint32_t(shiftOf(1) - shiftOf(0)),
+      UInt8{} + uint32_t(shiftOf(2)) + UInt8{0, 0, 0, 0, 1, 1, 1, 1} * uint32_t(shiftOf(3) - shiftOf(2))};
   Float8 s[2] = {Float8(_mm256_loadu_ps(reinterpret_cast<const float*>(q.color[i][0]))),
                  Float8(_mm256_loadu_ps(reinterpret_cast<const float*>(q.color[i][2])))};
   if (kBlend)

@@ -326,8 +326,7 @@ inline void finishQuadInline(const DrawContext& ctx, const SetupTri& t, const Qu
 
 // One quad with its per-lane coverage (already limited to the clip rectangle).
 void shadeQuad(const DrawContext& ctx, const SetupTri& t, const QuadInterp& qi, const QuadPath& path,
-               const DepthRow& zRow, int32_t qx, int32_t qy, uint32_t cov[4], WorkerScratch& scratch,
-               unsigned worker) {
+               const DepthRow& zRow, int32_t qx, int32_t qy, uint32_t cov[4], WorkerScratch& scratch, unsigned worker) {
   const FragmentStage& fs = *ctx.fragment;
   const uint32_t any = cov[0] | cov[1] | cov[2] | cov[3];  // (the sample mask is in rasterizeTriangle's `all`)
   if (!any) return;

@@ -898,8 +898,8 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
     uint8_t b[4];
 #if defined(__SSE2__)
     // maxps gives its second operand, 0, for a NaN (and +0 for -0, which encodes alike), then minps clamps to 1.
-    const __m128 f = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(reinterpret_cast<const float*>(in)), _mm_setzero_ps()),
-                                _mm_set1_ps(1.0f));
+    const __m128 f =
+        _mm_min_ps(_mm_max_ps(_mm_loadu_ps(reinterpret_cast<const float*>(in)), _mm_setzero_ps()), _mm_set1_ps(1.0f));
     const __m128d k = _mm_set1_pd(255.0);
     const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
     const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
