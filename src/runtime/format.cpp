@@ -1,6 +1,7 @@
 #include "runtime/format.hpp"
 
 #include <algorithm>
+#include <array>
 
 #include "runtime/acceleration_structure_build.hpp"
 #include "runtime/alloc.hpp"
@@ -125,13 +126,30 @@ bool colorAttachment(const FormatInfo& f) {
   return f.texelSize != 12 && f.format != VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 && f.block == 1;
 }
 
+// formatInfo's index of kFormats by the format's value, for the core formats (values below kIndexed; -1: none): the
+// image functions resolve a view's format on every call, and a search of the table took up to 78 comparisons.
+constexpr uint32_t kIndexed = 256;
+constexpr std::array<int16_t, kIndexed> kIndexByFormat = [] {
+  std::array<int16_t, kIndexed> t{};
+  for (int16_t& i : t) i = -1;
+  for (size_t i = 0; i < std::size(kFormats); ++i)
+    if (uint32_t(kFormats[i].format) < kIndexed) t[uint32_t(kFormats[i].format)] = int16_t(i);
+  return t;
+}();
+
 }  // namespace
 
 const FormatInfo* formatInfo(VkFormat format) {
-  for (const FormatInfo& f : kFormats)
+  if (uint32_t(format) < kIndexed) {
+    const int16_t i = kIndexByFormat[uint32_t(format)];
+    return i >= 0 ? &kFormats[i] : nullptr;
+  }
+  for (const FormatInfo& f : kFormats)  // formats of extensions (values from 1000000000 on)
     if (f.format == format) return &f;
   return nullptr;
 }
+
+std::span<const FormatInfo> allFormats() { return kFormats; }
 
 bool isCompressedFormat(VkFormat format) {
   const FormatInfo* f = formatInfo(format);

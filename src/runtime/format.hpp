@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "runtime/vk.hpp"
 
@@ -50,6 +51,8 @@ bool isColorAttachmentFormat(VkFormat format);
 
 // nullptr when vkrt does not support the format.
 const FormatInfo* formatInfo(VkFormat format);
+// Every format formatInfo knows, each once (the tests).
+std::span<const FormatInfo> allFormats();
 
 // A block-compressed format vkrt knows (the sixteen BC formats).
 bool isCompressedFormat(VkFormat format);

@@ -3,6 +3,8 @@
 // the depth "at least one of" rows aside), against runtime/format.cpp's formatFeatures / bufferFormatFeatures.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "runtime/format.hpp"
 #include "runtime/supported_features.hpp"
 
@@ -166,6 +168,31 @@ TEST(FormatRequired, SharedExponentIsNeitherAnAttachmentNorAStorageFormat) {
   for (VkFormat p : {VK_FORMAT_R5G6B5_UNORM_PACK16, VK_FORMAT_A1R5G5B5_UNORM_PACK16, VK_FORMAT_B4G4R4A4_UNORM_PACK16}) {
     EXPECT_TRUE(isColorAttachmentFormat(p)) << p;
     EXPECT_EQ(formatInfo(p)->texelSize, 2u) << p;
+  }
+}
+
+}  // namespace
+}  // namespace vkrt
+
+namespace vkrt {
+namespace {
+
+// formatInfo finds each known format's own entry (an index by value for the core formats, a search above them), and
+// nothing for every other value: the core range, values past it and some extensions' formats vkrt does not know.
+TEST(FormatLookup, EachFormatFindsItsOwnEntryAndNoOtherValueFindsOne) {
+  std::set<uint32_t> known;
+  for (const FormatInfo& f : allFormats()) {
+    EXPECT_TRUE(known.insert(uint32_t(f.format)).second) << "format " << f.format << " listed twice";
+    EXPECT_EQ(formatInfo(f.format), &f) << "format " << f.format;
+  }
+  EXPECT_GE(known.size(), 70u);  // the formats of format.cpp's table
+  for (uint32_t v = 0; v < 2048; ++v) {
+    if (known.count(v)) continue;
+    EXPECT_EQ(formatInfo(VkFormat(v)), nullptr) << "format " << v;
+  }
+  for (uint32_t v : {1000054000u, 1000066000u, 1000156000u, 1000330000u, 1000340000u, 1000470000u, 0x7FFFFFFFu}) {
+    if (known.count(v)) continue;
+    EXPECT_EQ(formatInfo(VkFormat(v)), nullptr) << "format " << v;
   }
 }
 
