@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <iterator>
 #if defined(__SSE2__)
 #include <immintrin.h>  // SSE2's min/max and conversions; AVX2's in the AVX2 copy of the quad writes
 #endif
 
+#include "exec/quad_isa.hpp"
 #include "raster/internal.hpp"
 
 namespace vkrt::raster::detail {
@@ -840,16 +840,10 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
 // order (no FMA: the target has none, so nothing is contracted), the same clamps (vmaxps/vminps take their second
 // operand when unordered, as maxps/minps) and the same encode (times 255 in double, rounded in the current mode by
 // vcvtpd2dq): the same bytes as the baseline copy (RasterQuadPath compares them).
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+VKRT_AVX2_BEGIN
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = int32_t __attribute__((vector_size(32)));
 using UInt8 = uint32_t __attribute__((vector_size(32)));
-using Double4 = double __attribute__((vector_size(32)));
 
 inline Float8 join(Float4 lo, Float4 hi) { return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7); }
 inline Float4 half(Float8 v, int h) {
@@ -934,63 +928,42 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
   writeQuadTexels(lane, cov, full,
                   __builtin_shufflevector(out8, out8, 0, 1, 2, 3) | __builtin_shufflevector(out8, out8, 4, 5, 6, 7));
 }
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+VKRT_AVX2_END
 #endif
 
-template <bool kBgra>
-auto unorm8QuadFor(const BlendAttachment& ba, bool readDst, bool avx2)
-    -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
+// The 8-bit UNorm quad writes of one kind: kAvx2's copy.
+template <bool kAvx2, bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
+constexpr auto unorm8Quad() -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
 #if defined(__x86_64__)
-  if (avx2) {
-    if (ba.enable) {
-      switch (blendShapeOf(ba)) {
-        case 0: return colorUnorm8QuadAvx2<kBgra, true, true, 0>;
-        case 1: return colorUnorm8QuadAvx2<kBgra, true, true, 1>;
-        case 2: return colorUnorm8QuadAvx2<kBgra, true, true, 2>;
-        case 3: return colorUnorm8QuadAvx2<kBgra, true, true, 3>;
-        default: return colorUnorm8QuadAvx2<kBgra, true, true>;
-      }
-    }
-    return readDst ? colorUnorm8QuadAvx2<kBgra, false, true> : colorUnorm8QuadAvx2<kBgra, false, false>;
-  }
+  if constexpr (kAvx2) return colorUnorm8QuadAvx2<kBgra, kBlend, kReadDst, kShape>;
 #endif
-  if (ba.enable) {
-    switch (blendShapeOf(ba)) {
-      case 0: return colorUnorm8Quad<kBgra, true, true, 0>;
-      case 1: return colorUnorm8Quad<kBgra, true, true, 1>;
-      case 2: return colorUnorm8Quad<kBgra, true, true, 2>;
-      case 3: return colorUnorm8Quad<kBgra, true, true, 3>;
-      default: return colorUnorm8Quad<kBgra, true, true>;
-    }
-  }
-  return readDst ? colorUnorm8Quad<kBgra, false, true> : colorUnorm8Quad<kBgra, false, false>;
+  return colorUnorm8Quad<kBgra, kBlend, kReadDst, kShape>;
 }
 
-bool hostHasAvx2() {
-#if defined(__x86_64__)
-  return __builtin_cpu_supports("avx2");
-#else
-  return false;
-#endif
+template <bool kAvx2, bool kBgra>
+auto unorm8QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
+  if (ba.enable) {
+    switch (blendShapeOf(ba)) {
+      case 0: return unorm8Quad<kAvx2, kBgra, true, true, 0>();
+      case 1: return unorm8Quad<kAvx2, kBgra, true, true, 1>();
+      case 2: return unorm8Quad<kAvx2, kBgra, true, true, 2>();
+      case 3: return unorm8Quad<kAvx2, kBgra, true, true, 3>();
+      default: return unorm8Quad<kAvx2, kBgra, true, true>();
+    }
+  }
+  return readDst ? unorm8Quad<kAvx2, kBgra, false, true>() : unorm8Quad<kAvx2, kBgra, false, false>();
 }
 
 // Whether planBackEnd takes the AVX2 copy of the 8-bit UNorm quad writes: where the CPU has AVX2, unless
 // VKRT_QUAD_ISA=baseline (which selects the quad sampler's baseline copy too); setQuadWritesAvx2 (the tests).
-std::atomic<bool> gQuadWritesAvx2{[] {
-  const char* isa = std::getenv("VKRT_QUAD_ISA");
-  return hostHasAvx2() && !(isa && std::strcmp(isa, "baseline") == 0);
-}()};
+std::atomic<bool> gQuadWritesAvx2{exec::quadAvx2ByDefault()};
 
 }  // namespace
 
 void setQuadPaths(bool enabled) { quadPaths.store(enabled, std::memory_order_relaxed); }
 
 bool setQuadWritesAvx2(bool enabled) {
-  if (enabled && !hostHasAvx2()) return false;
+  if (enabled && !exec::hostHasAvx2()) return false;
   gQuadWritesAvx2.store(enabled, std::memory_order_relaxed);
   return true;
 }
@@ -1037,9 +1010,13 @@ void planBackEnd(DrawContext& ctx) {
       plan.color[i] = colorLanes;
     } else if (quads && tg.color[i].samples == 1) {
       const bool blend = st.blend[i].enable, readDst = blend || mask != 0xF;
-      const bool avx2 = quadWritesAvx2();
-      plan.color[i] = fmt.layout == ColorFormat::Layout::BGRA8UNorm ? unorm8QuadFor<true>(st.blend[i], readDst, avx2)
-                                                                    : unorm8QuadFor<false>(st.blend[i], readDst, avx2);
+      const BlendAttachment& ba = st.blend[i];
+      if (fmt.layout == ColorFormat::Layout::BGRA8UNorm)
+        plan.color[i] =
+            quadWritesAvx2() ? unorm8QuadFor<true, true>(ba, readDst) : unorm8QuadFor<false, true>(ba, readDst);
+      else
+        plan.color[i] =
+            quadWritesAvx2() ? unorm8QuadFor<true, false>(ba, readDst) : unorm8QuadFor<false, false>(ba, readDst);
       plan.quadPaths |= 2u << i;
     } else {
       plan.color[i] = colorUnorm8Lanes;

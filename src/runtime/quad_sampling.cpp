@@ -19,12 +19,12 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #if defined(__SSE2__)
 #include <immintrin.h>  // SSE's MOVMSKPS (laneBits) and, in the AVX2 copy, AVX2's shuffles (quadTexelPairs)
 #endif
 
+#include "exec/quad_isa.hpp"
 #include "runtime/lod_log2.hpp"
 
 namespace vkrt {
@@ -40,12 +40,7 @@ namespace {
 }  // namespace baseline
 
 #if defined(__x86_64__)
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+VKRT_AVX2_BEGIN
 namespace avx2 {
 namespace {
 #define VKRT_QUAD_AVX2 1  // the kernels may use AVX2 intrinsics
@@ -53,36 +48,21 @@ namespace {
 #undef VKRT_QUAD_AVX2
 }  // namespace
 }  // namespace avx2
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+VKRT_AVX2_END
 #endif
 
 namespace {
 
-bool hostHasAvx2() {
-#if defined(__x86_64__)
-  return __builtin_cpu_supports("avx2");
-#else
-  return false;
-#endif
-}
-
 // Which copy sampleQuadFast runs: AVX2 where the CPU has it, unless VKRT_QUAD_ISA=baseline; setQuadSamplingIsa
 // (the tests) changes it.
-std::atomic<QuadIsa> gQuadIsa = [] {
-  const char* isa = std::getenv("VKRT_QUAD_ISA");
-  return hostHasAvx2() && !(isa && std::strcmp(isa, "baseline") == 0) ? QuadIsa::Avx2 : QuadIsa::Baseline;
-}();
+std::atomic<QuadIsa> gQuadIsa = exec::quadAvx2ByDefault() ? QuadIsa::Avx2 : QuadIsa::Baseline;
 
 }  // namespace
 
 QuadIsa quadSamplingIsa() { return gQuadIsa.load(std::memory_order_relaxed); }
 
 bool setQuadSamplingIsa(QuadIsa isa) {
-  if (isa == QuadIsa::Avx2 && !hostHasAvx2()) return false;
+  if (isa == QuadIsa::Avx2 && !exec::hostHasAvx2()) return false;
   gQuadIsa.store(isa, std::memory_order_relaxed);
   return true;
 }
