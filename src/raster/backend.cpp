@@ -753,11 +753,45 @@ inline int blendShapeOf(const BlendAttachment& b) {
   return -1;
 }
 
+// What a blend of attachment i reads beside the quad's colour and the destination: its equation (kShape's, or the
+// attachment's when kShape is -1), the dual-source colour and the blend constants, each clamped to [0, 1].
+struct BlendOperands {
+  BlendShape shape;
+  Quad4 s1, k;
+};
+
+template <int kShape>
+BlendOperands blendOperands(const DrawContext& ctx, uint32_t i, const FragmentQuad& q) {
+  const BlendAttachment& ba = ctx.state->blend[i];
+  BlendOperands o{kShape >= 0 ? kBlendShapes[kShape]
+                              : BlendShape{ba.srcColor, ba.dstColor, ba.srcAlpha, ba.dstAlpha, ba.colorOp, ba.alphaOp},
+                  {},
+                  {}};
+  const BlendShape& b = o.shape;
+  if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
+    o.s1 = components(q.color1);
+    for (Float4& v : o.s1.c) v = clamp01(v);
+  }
+  for (int c = 0; c < 4; ++c) o.k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
+  return o;
+}
+
 using UInt4 = uint32_t __attribute__((vector_size(16)));
 using UInt2 = uint32_t __attribute__((vector_size(8)));
 
-// The quad's four 32-bit texels (lane l's at lane[l]; pixel rows lane[0..1] and lane[2..3]), the uncovered ones 0.
-inline UInt4 readQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool full) {
+// The addresses of a quad's four 32-bit texels in `surf` (lane l's at lane[l]; pixel rows lane[0..1], lane[2..3]).
+struct QuadTexels {
+  uint8_t* lane[4];
+  uint8_t* operator[](uint32_t l) const { return lane[l]; }
+};
+
+inline QuadTexels quadTexels(const Surface& surf, uint32_t layer, const FragmentQuad& q) {
+  uint8_t* const p0 = texel(surf, 4, layer, q.x, q.y, 0);
+  return {{p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4}};
+}
+
+// The quad's four texels, the uncovered ones 0.
+inline UInt4 readQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full) {
   if (full) {
     // The two rows straight into the vector (two 8-byte loads): through a 16-byte array in memory, the load of the
     // whole after the two smaller stores could not be forwarded from them and stalled.
@@ -774,7 +808,7 @@ inline UInt4 readQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool 
 }
 
 // Lane l's texel of `out` to lane[l] where cov[l] (all four: `full`).
-inline void writeQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool full, UInt4 out) {
+inline void writeQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full, UInt4 out) {
   if (full) {
     const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
     std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
@@ -788,10 +822,8 @@ inline void writeQuadTexels(uint8_t* const lane[4], const uint32_t cov[4], bool 
 
 template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
 void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
-  const Surface& surf = ctx.target->color[i];
   const BlendAttachment& ba = ctx.state->blend[i];
-  uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
-  uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
+  const QuadTexels lane = quadTexels(ctx.target->color[i], ctx.layer, q);
   Quad4 s = components(q.color[i]);
   // The clamps to [0, 1] of the source and of the blend result (clampToFormat) are left to the encode's saturate
   // where nothing else reads the value: saturate(clamp01(v)) is saturate(v) (a NaN that clamp01 keeps, saturate makes
@@ -809,14 +841,9 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   }
   Quad4 r = s;
   if (kBlend) {
-    const BlendShape b = kShape >= 0 ? kBlendShapes[kShape] : BlendShape{ba.srcColor, ba.dstColor, ba.srcAlpha,
-                                                                         ba.dstAlpha, ba.colorOp,  ba.alphaOp};
-    Quad4 s1{}, k{};
-    if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
-      s1 = components(q.color1);
-      for (Float4& v : s1.c) v = clamp01(v);
-    }
-    for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
+    const BlendOperands o = blendOperands<kShape>(ctx, i, q);
+    const BlendShape& b = o.shape;
+    const Quad4 &s1 = o.s1, &k = o.k;
     for (int c = 0; c < 4; ++c) {
       const bool alpha = c == 3;
       const Float4 sf = factorQuad(alpha ? b.srcAlpha : b.srcColor, c, s, s1, d, k);
@@ -865,10 +892,8 @@ inline Int8 unorm8Bytes8(Float8 v) {
 
 template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
 void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
-  const Surface& surf = ctx.target->color[i];
   const BlendAttachment& ba = ctx.state->blend[i];
-  uint8_t* const p0 = texel(surf, 4, ctx.layer, q.x, q.y, 0);
-  uint8_t* const lane[4] = {p0, p0 + 4, p0 + surf.rowPitch, p0 + surf.rowPitch + 4};
+  const QuadTexels lane = quadTexels(ctx.target->color[i], ctx.layer, q);
   // Component c's byte in a word.
   constexpr auto shiftOf = [](int c) { return 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c); };
   const UInt8 shift[2] = {
@@ -887,17 +912,12 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
   }
   Float8 r[2] = {s[0], s[1]};
   if (kBlend) {
-    const BlendShape b = kShape >= 0 ? kBlendShapes[kShape] : BlendShape{ba.srcColor, ba.dstColor, ba.srcAlpha,
-                                                                         ba.dstAlpha, ba.colorOp,  ba.alphaOp};
+    const BlendOperands o = blendOperands<kShape>(ctx, i, q);
+    const BlendShape& b = o.shape;
+    const Quad4 &s1 = o.s1, &k = o.k;
     // The factors per component, as the baseline copy computes them (factorQuad on the components' vectors).
     const Quad4 sq{{half(s[0], 0), half(s[0], 1), half(s[1], 0), half(s[1], 1)}};
     const Quad4 dq{{half(d[0], 0), half(d[0], 1), half(d[1], 0), half(d[1], 1)}};
-    Quad4 s1{}, k{};
-    if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
-      s1 = components(q.color1);
-      for (Float4& v : s1.c) v = clamp01(v);
-    }
-    for (int c = 0; c < 4; ++c) k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
     for (int h = 0; h < 2; ++h) {
       const int c0 = 2 * h, c1 = 2 * h + 1;
       const bool alpha1 = c1 == 3;  // the second component of the second pair is A
