@@ -803,6 +803,7 @@ StoreView describeStoreView(const ImageView& view) {
     return s;
   }
   const VkExtent3D e = levelExtent(v, 0);
+  s.format = &f;
   s.texelBytes = f.texelSize;
   s.width = e.width;
   s.height = e.height;
@@ -859,11 +860,7 @@ void vkrt_image_read(const abi::DescriptorRecord* img, const int32_t coord[4], u
       std::memcpy(c, t, size_t(s->words) * 4);
       std::memcpy(out, c, 16);
     } else {
-      // decodeTexel's table.
-      using Words = float __attribute__((vector_size(16)));
-      const unsigned r = s->kind == StoreView::Kind::Unorm8Bgra ? 2 : 0;
-      const Words v = {kUnorm8.unorm[t[r]], kUnorm8.unorm[t[1]], kUnorm8.unorm[t[2 - r]], kUnorm8.unorm[t[3]]};
-      std::memcpy(out, &v, 16);
+      decodeTexel(*s->format, t, out);  // (its first case: the 8-bit UNorm table)
     }
     return;
   }
@@ -893,10 +890,10 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
       std::memcpy(t, in, size_t(s->words) * 4);  // encodeComponent keeps 32-bit words as they are
       return;
     }
+#if defined(__SSE2__)
     // encodeComponent's UNorm: NaN to 0, clamped to [0, 1], times 255 in double (exact), rounded in the current
     // rounding mode (nearbyint's, and CVTPD2DQ's).
     uint8_t b[4];
-#if defined(__SSE2__)
     // maxps gives its second operand, 0, for a NaN (and +0 for -0, which encodes alike), then minps clamps to 1.
     const __m128 f =
         _mm_min_ps(_mm_max_ps(_mm_loadu_ps(reinterpret_cast<const float*>(in)), _mm_setzero_ps()), _mm_set1_ps(1.0f));
@@ -907,15 +904,11 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
     const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(words, words), _mm_setzero_si128());
     const uint32_t packed = uint32_t(_mm_cvtsi128_si32(bytes));
     std::memcpy(b, &packed, 4);
-#else
-    for (int c = 0; c < 4; ++c) {
-      float f = bitsf(in[c]);
-      f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
-      b[c] = uint8_t(std::nearbyint(double(f) * 255.0));
-    }
-#endif
     if (s->kind == StoreView::Kind::Unorm8Bgra) std::swap(b[0], b[2]);
     std::memcpy(t, b, 4);
+#else
+    encodeTexel(*s->format, in, t);
+#endif
     return;
   }
   View v;

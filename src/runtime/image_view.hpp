@@ -7,6 +7,7 @@
 namespace vkrt {
 
 class Image;
+struct FormatInfo;
 
 // A view as the storage image fast path reads it (vkrt_image_write and vkrt_image_read, image_functions.cpp): a 2D
 // view of a one-sample 2D image, its base level and layer, in one of the commonest storage formats; `kind` None for
@@ -20,8 +21,9 @@ struct StoreView {
     Words,       // `words` 32-bit components (SFLOAT, UINT or SINT), stored as given
   };
   Kind kind = Kind::None;
-  uint8_t words = 0;     // Words: 1 to 4
-  bool integer = false;  // Words: UINT or SINT (a read's missing alpha is 1, else 1.0)
+  const FormatInfo* format = nullptr;  // the view's (decodeTexel and encodeTexel where the fast path has no code)
+  uint8_t words = 0;                   // Words: 1 to 4
+  bool integer = false;                // Words: UINT or SINT (a read's missing alpha is 1, else 1.0)
   uint32_t texelBytes = 0;
   uint32_t width = 0, height = 0;
   uint64_t rowPitch = 0;
