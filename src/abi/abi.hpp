@@ -36,8 +36,12 @@ namespace vkrt::abi {
 //   SAMPLER                                 sampler = the sampler
 //   ACCELERATION_STRUCTURE_KHR              address = the acceleration structure's device address
 //                                           (vkGetAccelerationStructureDeviceAddressKHR), object = the object
+// and, for the four types whose object is an image view (SAMPLED_IMAGE, STORAGE_IMAGE, COMBINED_IMAGE_SAMPLER,
+// INPUT_ATTACHMENT), address = the view's ImageTexels (below), range = 0 (so a buffer access through a record of
+// one of them, a type mismatch the application should not make, is out of bounds).
 // A record of all zeros is an unwritten descriptor. `object` and `sampler` are opaque to compiled code: they
-// point at the runtime's objects, which only the runtime's functions (image_functions.hpp) look into.
+// point at the runtime's objects, which only the runtime's functions (image_functions.hpp) look into, except for
+// one word: every runtime object holds its VkObjectType as a 32-bit value at kObjectTypeOffset.
 struct alignas(32) DescriptorRecord {
   uint64_t address;     // byte 0
   uint64_t range;       // byte 8
@@ -48,6 +52,37 @@ static_assert(sizeof(DescriptorRecord) == 32 && offsetof(DescriptorRecord, addre
                   offsetof(DescriptorRecord, range) == 8 && offsetof(DescriptorRecord, object) == 16 &&
                   offsetof(DescriptorRecord, sampler) == 24,
               "the compiler bakes the descriptor record layout into shader code");
+
+inline constexpr uint64_t kObjectTypeOffset = 8;
+inline constexpr uint32_t kObjectTypeImageView = 14;  // VK_OBJECT_TYPE_IMAGE_VIEW
+
+// An image view's texels as compiled code may address them itself (SPMD storage image loads and stores,
+// src/spirv/spmd.cpp): a 2D view of a one-sample 2D image, its base level and layer, in one of the formats `kind`
+// names; kind 0 for every other view (and for a view created before its image had memory), which compiled code then
+// leaves to the runtime's functions. Compiled code reads a record's `address` as an ImageTexels only after it found
+// the record's object to be an image view (its type word), so that no other record's address is ever read as one.
+// The texel at (x, y) is at base + y * rowPitch + x * texelBytes for x < width and y < height; its bytes are
+// what the runtime's functions read and write (vkrt_image_read/vkrt_image_write).
+struct ImageTexels {
+  uint8_t* base;        // 0
+  uint64_t rowPitch;    // 8
+  uint32_t width;       // 16
+  uint32_t height;      // 20
+  uint32_t kind;        // 24: kTexels* bits
+  uint32_t texelBytes;  // 28
+};
+static_assert(offsetof(ImageTexels, base) == 0 && offsetof(ImageTexels, rowPitch) == 8 &&
+                  offsetof(ImageTexels, width) == 16 && offsetof(ImageTexels, height) == 20 &&
+                  offsetof(ImageTexels, kind) == 24 && offsetof(ImageTexels, texelBytes) == 28 &&
+                  sizeof(ImageTexels) == 32,
+              "the compiler bakes the image texel record into shader code");
+// ImageTexels::kind: 32-bit components stored as given (1, 2 or 4 words: SFLOAT, and with kTexelsInteger UINT or
+// SINT, whose missing alpha a read gives as 1 rather than 1.0), or R8G8B8A8_UNORM (kTexelsUnorm8), B8G8R8A8_UNORM
+// (with kTexelsBgra too).
+inline constexpr uint32_t kTexelsWordsMask = 0x7;
+inline constexpr uint32_t kTexelsInteger = 0x10;
+inline constexpr uint32_t kTexelsUnorm8 = 0x20;
+inline constexpr uint32_t kTexelsBgra = 0x40;
 
 // One resource the shader uses (a buffer binding, possibly an array of descriptors): the executor resolves it
 // per dispatch to the bound set's records for that binding.

@@ -316,6 +316,7 @@ bool resolve(DescriptorSet* set, const DescriptorBinding& b, VkDescriptorType ty
                                            ? VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT
                                            : VK_IMAGE_USAGE_SAMPLED_BIT;
         const auto* view = static_cast<const ImageView*>(out.object);
+        out.address = reinterpret_cast<uint64_t>(&view->store.texels);  // (abi.hpp: range stays 0)
         if (!(view->usage & need)) {
           report(set->reportObject(), Severity::Error,
                  need == VK_IMAGE_USAGE_STORAGE_BIT            ? "VUID-VkWriteDescriptorSet-descriptorType-00339"

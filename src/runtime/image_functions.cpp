@@ -804,11 +804,15 @@ StoreView describeStoreView(const ImageView& view) {
   }
   const VkExtent3D e = levelExtent(v, 0);
   s.format = &f;
-  s.texelBytes = f.texelSize;
-  s.width = e.width;
-  s.height = e.height;
-  s.rowPitch = v.image->mips[v.baseMip].rowPitch;
-  s.base = v.image->texel(v.baseMip, v.baseLayer, 0, 0, 0);
+  abi::ImageTexels& t = s.texels;
+  t.texelBytes = f.texelSize;
+  t.width = e.width;
+  t.height = e.height;
+  t.rowPitch = v.image->mips[v.baseMip].rowPitch;
+  t.base = v.image->texel(v.baseMip, v.baseLayer, 0, 0, 0);
+  t.kind = s.kind == StoreView::Kind::Words        ? s.words | (s.integer ? abi::kTexelsInteger : 0)
+           : s.kind == StoreView::Kind::Unorm8Bgra ? abi::kTexelsUnorm8 | abi::kTexelsBgra
+                                                   : abi::kTexelsUnorm8;
   return s;
 }
 
@@ -837,8 +841,9 @@ extern "C" {
 // it (a write does nothing, a read gives zeros, as texelAt's null).
 static uint8_t* storeTexel(const StoreView& s, const int32_t coord[4]) {
   const uint32_t x = uint32_t(coord[0]), y = uint32_t(coord[1]);  // (negative ones wrap past the extent)
-  if (x >= s.width || y >= s.height) return nullptr;
-  return s.base + y * s.rowPitch + uint64_t(x) * s.texelBytes;
+  const abi::ImageTexels& t = s.texels;
+  if (x >= t.width || y >= t.height) return nullptr;
+  return t.base + y * t.rowPitch + uint64_t(x) * t.texelBytes;
 }
 
 // The view's StoreView where the record holds an image view that has one, else null.

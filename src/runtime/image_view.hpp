@@ -1,6 +1,7 @@
 // VkImageView: an image's subresource range, format and swizzle, kept for image descriptors.
 #pragma once
 
+#include "abi/abi.hpp"
 #include "runtime/object.hpp"
 #include "runtime/quad_sampling.hpp"
 
@@ -24,10 +25,9 @@ struct StoreView {
   const FormatInfo* format = nullptr;  // the view's (decodeTexel and encodeTexel where the fast path has no code)
   uint8_t words = 0;                   // Words: 1 to 4
   bool integer = false;                // Words: UINT or SINT (a read's missing alpha is 1, else 1.0)
-  uint32_t texelBytes = 0;
-  uint32_t width = 0, height = 0;
-  uint64_t rowPitch = 0;
-  uint8_t* base = nullptr;  // texel (0, 0) of the view's base level and layer
+  // Where the texels are: base (texel (0, 0) of the view's base level and layer), pitch and extent, and the kind
+  // again as compiled code reads it (abi.hpp: every image view descriptor's record points here; kind 0 for None).
+  abi::ImageTexels texels{};
 };
 
 class ImageView : public Object {

@@ -1,10 +1,23 @@
 #include "runtime/object.hpp"
 
 #include <atomic>
+#include <cstddef>
 #include <shared_mutex>
 #include <unordered_map>
 
+#include "abi/abi.hpp"
+
 namespace vkrt {
+
+// Compiled code reads the type word of an image view descriptor's object (abi.hpp: kObjectTypeOffset) before it
+// takes the record's address for the view's texels. (Object is not standard-layout; GCC and Clang give its offsets.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+static_assert(offsetof(Object, objectType) == abi::kObjectTypeOffset && sizeof(VkObjectType) == 4 &&
+                  VK_OBJECT_TYPE_IMAGE_VIEW == abi::kObjectTypeImageView,
+              "compiled code reads an object's type word");
+#pragma GCC diagnostic pop
+
 namespace {
 
 struct Registry {

@@ -19,7 +19,7 @@ namespace vkrt::spirv {
 
 // The blob:
 //
-//   char magic[8] "VKRTSHD8"; uint8 sha256[32] of the payload; payload:
+//   char magic[8] "VKRTSHD9"; uint8 sha256[32] of the payload; payload:
 //   u32 localSize[3], workgroupMemorySize, usesBarrier, hasGroupEntry | spmdLanes << 8, pushConstantBytes, model;
 //   u32 ray.payloadBytes, callableDataBytes, hitAttributeBytes, frameBytes, callsOut | readsHitAttributes << 1 |
 //   checksPendingAdds << 2;
@@ -34,8 +34,9 @@ static_assert(sizeof(CompiledShader) == 256,
 
 // 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide. 8: the
 // graphics flags readsFragCoord, readsPointCoord and readsSampleMask (7 had the first alone), which an older blob
-// lacks: read as false, they would leave those built-ins unset.
-constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '8'};
+// lacks: read as false, they would leave those built-ins unset. 9: SPMD storage image accesses read an image view
+// record's address as its abi::ImageTexels, which an older vkrt's records do not hold.
+constexpr char kBlobMagic[8] = {'V', 'K', 'R', 'T', 'S', 'H', 'D', '9'};
 
 namespace {
 

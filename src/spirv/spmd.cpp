@@ -51,6 +51,13 @@ std::atomic<bool> spmdOn{true};
 // practice, and ids are < 2^32 - 1).
 constexpr uint32_t kFakeId = 0xfff00000u;
 
+// A storage image type the SPMD path reads and writes (imageAccess): not a texel buffer, subpass input or
+// multisampled image.
+bool storageImageType(const Instruction& t) {
+  return t.op == spv::OpTypeImage && t.word(7) == 2 && t.word(3) != spv::DimBuffer &&
+         t.word(3) != spv::DimSubpassData && t.word(6) == 0;
+}
+
 // The instructions that act component by component on scalars and vectors (opcode_support.cpp's table).
 bool elementwiseOp(spv::Op op) { return opSupport(op).spmd == SpmdForm::Elementwise; }
 
@@ -158,6 +165,14 @@ class Spmd {
   bool fragmentInstruction(const Instruction& in);
   bool derivative(const Instruction& in);
   bool sampleLanes(const Instruction& in);
+  // The scalar code's `in` once per lane of `lanes`, in lane order, with that lane's values of the varying operands
+  // `ids` (`perLane(l)` first, where given); the result's components (`rt`: its type, 0 for none) into `comps`, the
+  // lanes not run undefined.
+  bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
+                std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane = {});
+  bool imageAccess(const Instruction& in);
+  uint32_t inlineTexels(const Instruction& in);
+  void texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps);
   bool sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx, std::vector<llvm::Value*> dy);
   bool quadOperation(const Instruction& in);
   bool prepareSlots();
@@ -371,6 +386,13 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         case spv::OpExtInst:
           ok = in.word(3) == g.glslSet && g.glslSet && (elementwiseExt(in.word(4)) || vectorExt(in.word(4)));
           break;
+        case spv::OpImageRead:
+        case spv::OpImageWrite: {
+          // Storage images of compute shaders (imageAccess), without VKRT_SHADER_CHECKS=image's per-access reports.
+          const Instruction* it = m.def(m.typeOf(in.word(in.op == spv::OpImageWrite ? 1 : 3)));
+          ok = !fragment() && !(g.checks & abi::kCheckImage) && it && storageImageType(*it);
+          break;
+        }
         default: break;
       }
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
@@ -398,9 +420,16 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       }
       continue;
     }
-    if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate ||
-        gl.storage == spv::StorageClassUniformConstant)
-      return (*whyNot = "workgroup, private or image variables"), false;
+    if (gl.storage == spv::StorageClassUniformConstant) {
+      // Storage images (and arrays of them, indexed uniformly); no samplers or texel buffers.
+      const Type& pt = g.spvType(m.def(id)->word(1));
+      const Instruction* it = m.def(pt.element);
+      while (it && (it->op == spv::OpTypeArray || it->op == spv::OpTypeRuntimeArray)) it = m.def(it->word(2));
+      if (!it || !storageImageType(*it)) return (*whyNot = "a sampler, sampled image or texel buffer"), false;
+      continue;
+    }
+    if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate)
+      return (*whyNot = "workgroup or private variables"), false;
     if (gl.storage == spv::StorageClassInput) switch (gl.builtIn) {
         case spv::BuiltInGlobalInvocationId:
         case spv::BuiltInLocalInvocationId:
@@ -567,6 +596,8 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpInBoundsAccessChain: return accessChain(in);
     case spv::OpLoad: return loadInst(in);
     case spv::OpStore: return storeInst(in);
+    case spv::OpImageRead:
+    case spv::OpImageWrite: return imageAccess(in);
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
@@ -1341,44 +1372,57 @@ bool Spmd::sampleLanes(const Instruction& in) {
       quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), false, &dxv[k], &dyv[k]);
     }
   if (!dref && sampleQuad(in, implicit, dxv, dyv)) return true;
-  uint32_t nr = count(rt);
-  llvm::Type* st = g.type(g.scalarType(rt));
-  std::vector<llvm::Value*> comps(nr, llvm::UndefValue::get(laneTy(st)));
   auto laneVector = [&](const std::vector<llvm::Value*>& v, unsigned l) -> llvm::Value* {
     if (v.size() == 1) return b.CreateExtractElement(v[0], uint64_t(l));
     llvm::Value* r = llvm::UndefValue::get(llvm::FixedVectorType::get(v[0]->getType()->getScalarType(), v.size()));
     for (size_t k = 0; k < v.size(); ++k) r = b.CreateInsertElement(r, b.CreateExtractElement(v[k], uint64_t(l)), k);
     return r;
   };
+  std::vector<llvm::Value*> comps;
+  bool done = eachLane(in, ids, rt, mask, &comps, [&](unsigned l) {
+    sc.spmdDx = implicit ? laneVector(dxv, l) : nullptr;
+    sc.spmdDy = implicit ? laneVector(dyv, l) : nullptr;
+  });
+  sc.spmdDx = sc.spmdDy = nullptr;
+  if (!done) return false;
+  return define(id, rt, comps);
+}
+
+bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
+                    std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane) {
+  const uint32_t id = rt ? in.word(2) : 0, nr = rt ? count(rt) : 0;
+  llvm::Type* st = rt ? g.type(g.scalarType(rt)) : nullptr;
+  if (comps) comps->assign(nr, rt ? llvm::UndefValue::get(laneTy(st)) : nullptr);
   for (unsigned l = 0; l < N; ++l) {
     llvm::BasicBlock* before = b.GetInsertBlock();
     auto* then = llvm::BasicBlock::Create(c, "spmd.lane", fn);
     auto* join = llvm::BasicBlock::Create(c, "spmd.lane.join", fn);
-    b.CreateCondBr(b.CreateExtractElement(mask, uint64_t(l)), then, join);
+    b.CreateCondBr(b.CreateExtractElement(lanes, uint64_t(l)), then, join);
     b.SetInsertPoint(then);
     std::vector<uint32_t> lent;
     for (uint32_t x : ids) {
       if (!u.bits(x) || sc.values.count(x)) continue;
       std::vector<llvm::Value*> v;
       for (uint32_t k = 0; k < count(m.typeOf(x)); ++k) v.push_back(laneComp(x, k));
-      if (std::count(v.begin(), v.end(), nullptr)) return fail("a sampling operand without a value");
+      if (std::count(v.begin(), v.end(), nullptr)) return fail("an operand without a value");
       std::vector<llvm::Value*> one;
       for (llvm::Value* e : v) one.push_back(b.CreateExtractElement(e, uint64_t(l)));
       sc.set(x, assemble(m.typeOf(x), one));
       lent.push_back(x);
     }
-    sc.spmdDx = implicit ? laneVector(dxv, l) : nullptr;
-    sc.spmdDy = implicit ? laneVector(dyv, l) : nullptr;
+    if (perLane) perLane(l);
+    bool ok = true;
     bool done = sc.image(in, ok) && ok;
     for (uint32_t x : lent) sc.values.erase(x);
-    sc.spmdDx = sc.spmdDy = nullptr;
-    auto r = sc.values.find(id);
-    if (!done || r == sc.values.end())
-      return fail(sc.error.empty() ? "a sampling the scalar code refused" : sc.error.c_str());
-    llvm::Value* result = r->second;
-    sc.values.erase(r);
+    auto r = rt ? sc.values.find(id) : sc.values.end();
+    if (!done || (rt && r == sc.values.end()))
+      return fail(sc.error.empty() ? "an image instruction the scalar code refused" : sc.error.c_str());
     std::vector<llvm::Value*> parts;
-    for (uint32_t k = 0; k < nr; ++k) parts.push_back(nr > 1 ? b.CreateExtractElement(result, uint64_t(k)) : result);
+    if (rt) {
+      llvm::Value* result = r->second;
+      sc.values.erase(r);
+      for (uint32_t k = 0; k < nr; ++k) parts.push_back(nr > 1 ? b.CreateExtractElement(result, uint64_t(k)) : result);
+    }
     llvm::BasicBlock* end = b.GetInsertBlock();
     b.CreateBr(join);
     b.SetInsertPoint(join);
@@ -1388,9 +1432,247 @@ bool Spmd::sampleLanes(const Instruction& in) {
       phis[k]->addIncoming(llvm::UndefValue::get(st), before);
       phis[k]->addIncoming(parts[k], end);
     }
-    for (uint32_t k = 0; k < nr; ++k) comps[k] = b.CreateInsertElement(comps[k], phis[k], uint64_t(l));
+    for (uint32_t k = 0; k < nr; ++k) (*comps)[k] = b.CreateInsertElement((*comps)[k], phis[k], uint64_t(l));
   }
-  return define(id, rt, comps);
+  return true;
+}
+
+// The kind of view (abi::ImageTexels::kind) whose texels an OpImageRead or OpImageWrite addresses itself, from the
+// format the shader declares; 0 where the lanes call the runtime (another dimensionality, an array, a declared format
+// without such a kind or none, coordinates or values other than 32-bit, image operands that matter).
+uint32_t Spmd::inlineTexels(const Instruction& in) {
+  const bool write = in.op == spv::OpImageWrite;
+  const Instruction* it = m.def(m.typeOf(in.word(write ? 1 : 3)));
+  if (!it || it->word(3) != spv::Dim2D || it->word(5) != 0) return 0;
+  uint32_t kind = 0;
+  switch (it->word(8)) {
+    case spv::ImageFormatR32f: kind = 1; break;
+    case spv::ImageFormatRg32f: kind = 2; break;
+    case spv::ImageFormatRgba32f: kind = 4; break;
+    case spv::ImageFormatR32i:
+    case spv::ImageFormatR32ui: kind = 1 | abi::kTexelsInteger; break;
+    case spv::ImageFormatRg32i:
+    case spv::ImageFormatRg32ui: kind = 2 | abi::kTexelsInteger; break;
+    case spv::ImageFormatRgba32i:
+    case spv::ImageFormatRgba32ui: kind = 4 | abi::kTexelsInteger; break;
+    case spv::ImageFormatRgba8: kind = abi::kTexelsUnorm8; break;
+    default: return 0;
+  }
+  const uint32_t coordType = m.typeOf(in.word(write ? 2 : 4));
+  const uint32_t valueType = write ? m.typeOf(in.word(3)) : in.word(1);
+  const Type* cs = m.type(g.scalarType(coordType));
+  const Type* vs = m.type(g.scalarType(valueType));
+  if (!cs || cs->kind != Type::Int || cs->width != 32 || count(coordType) < 2) return 0;
+  if (!vs || (vs->kind != Type::Int && vs->kind != Type::Float) || vs->width != 32) return 0;
+  const bool unorm = kind & abi::kTexelsUnorm8;
+  if (unorm && vs->kind != Type::Float) return 0;
+  // A write stores the format's components: the texel has them all.
+  if (write && count(valueType) < (unorm ? 4 : (kind & abi::kTexelsWordsMask))) return 0;
+  const uint32_t operandsAt = write ? 4 : 5;
+  const uint32_t ignorable = spv::ImageOperandsNontemporalMask | spv::ImageOperandsNonPrivateTexelMask |
+                             spv::ImageOperandsMakeTexelAvailableMask | spv::ImageOperandsMakeTexelVisibleMask;
+  if (in.count > operandsAt && (in.word(operandsAt) & ~ignorable)) return 0;
+  return kind;
+}
+
+// The texels of an inline access (inlineTexels' kind; `texels` the view's abi::ImageTexels): each active lane's
+// texel inside the view read (into `comps`, as the runtime's vkrt_image_read gives it: zeros outside) or written
+// (nothing outside), with one masked vector load or store where the lanes' texels are consecutive, else a gather or
+// scatter per word (lanes writing one texel: the highest lane's value stays, as when the invocations run in order).
+void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps) {
+  const bool write = in.op == spv::OpImageWrite;
+  const bool unorm = kind & abi::kTexelsUnorm8;
+  const uint32_t words = unorm ? 1 : kind & abi::kTexelsWordsMask;  // 32-bit words a texel
+  const uint32_t coordId = in.word(write ? 2 : 4);
+  llvm::Type* i32 = b.getInt32Ty();
+  llvm::Type* i64 = b.getInt64Ty();
+  auto field = [&](llvm::Type* t, uint64_t at) {
+    return b.CreateAlignedLoad(t, b.CreateConstGEP1_64(b.getInt8Ty(), texels, at), llvm::Align(t == i64 ? 8 : 4));
+  };
+  llvm::Value* base = field(b.getPtrTy(), offsetof(abi::ImageTexels, base));
+  llvm::Value* pitch = field(i64, offsetof(abi::ImageTexels, rowPitch));
+  llvm::Value* width = field(i32, offsetof(abi::ImageTexels, width));
+  llvm::Value* height = field(i32, offsetof(abi::ImageTexels, height));
+  llvm::Value* x = laneComp(coordId, 0);
+  llvm::Value* y = laneComp(coordId, 1);
+  // (Negative coordinates wrap past the extent, as the runtime's unsigned comparison.)
+  llvm::Value* inside =
+      b.CreateAnd(mask, b.CreateAnd(b.CreateICmpULT(x, splat(width)), b.CreateICmpULT(y, splat(height))));
+  llvm::Value* offs = b.CreateAdd(b.CreateMul(b.CreateZExt(y, laneTy(i64)), splat(pitch)),
+                                  b.CreateMul(b.CreateZExt(x, laneTy(i64)), splat(b.getInt64(4 * words))));
+  llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
+  std::vector<llvm::Constant*> steps;
+  for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(uint64_t(l) * 4 * words));
+  llvm::Value* consecutive =
+      b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+  // The lanes' words side by side (word j of lane l at l * words + j) and back.
+  std::vector<int> spread;
+  for (unsigned l = 0; l < N; ++l)
+    for (uint32_t j = 0; j < words; ++j) spread.push_back(int(l));
+  llvm::Type* wideTy = llvm::FixedVectorType::get(i32, N * words);
+  llvm::Value* wideMask = words == 1 ? inside : b.CreateShuffleVector(inside, spread);
+  auto wordOf = [&](llvm::Value* wide, uint32_t j) -> llvm::Value* {
+    if (words == 1) return wide;
+    std::vector<int> pick;
+    for (unsigned l = 0; l < N; ++l) pick.push_back(int(l * words + j));
+    return b.CreateShuffleVector(wide, pick);
+  };
+  const llvm::Align align(4);
+  llvm::Value* zero = llvm::Constant::getNullValue(laneTy(i32));
+  std::vector<llvm::Value*> raw;
+  if (write) {
+    // A write: the texel's words (8-bit UNorm: encodeComponent's conversion, NaN to 0, clamped to [0, 1], times 255
+    // in double, rounded to nearest even).
+    const uint32_t texelId = in.word(3);
+    if (unorm) {
+      llvm::Value* packed = zero;
+      llvm::Type* ft = laneTy(b.getFloatTy());
+      for (uint32_t k = 0; k < 4; ++k) {
+        llvm::Value* f = laneComp(texelId, k);
+        llvm::Value* zf = llvm::Constant::getNullValue(ft);
+        llvm::Value* onef = splat(llvm::ConstantFP::get(b.getFloatTy(), 1.0));
+        f = b.CreateSelect(b.CreateFCmpOGT(f, zf), f, zf);
+        f = b.CreateSelect(b.CreateFCmpOLT(f, onef), f, onef);
+        llvm::Value* d = b.CreateFMul(b.CreateFPExt(f, laneTy(b.getDoubleTy())),
+                                      splat(llvm::ConstantFP::get(b.getDoubleTy(), 255.0)));
+        d = b.CreateUnaryIntrinsic(llvm::Intrinsic::roundeven, d);
+        llvm::Value* byte = b.CreateFPToUI(d, laneTy(i32));
+        packed = b.CreateOr(packed, b.CreateShl(byte, splat(b.getInt32(8 * k))));
+      }
+      raw.push_back(packed);
+    } else {
+      for (uint32_t j = 0; j < words; ++j) raw.push_back(b.CreateBitCast(laneComp(texelId, j), laneTy(i32)));
+    }
+  }
+  auto* contiguous = llvm::BasicBlock::Create(c, "spmd.texels", fn);
+  auto* scattered = llvm::BasicBlock::Create(c, "spmd.texels.scattered", fn);
+  auto* join = llvm::BasicBlock::Create(c, "spmd.texels.done", fn);
+  b.CreateCondBr(consecutive, contiguous, scattered);
+  if (!write) {
+    b.SetInsertPoint(contiguous);
+    llvm::Value* wide = b.CreateMaskedLoad(wideTy, b.CreateGEP(b.getInt8Ty(), base, first), align, wideMask,
+                                           llvm::Constant::getNullValue(wideTy));
+    std::vector<llvm::Value*> fromLoad;
+    for (uint32_t j = 0; j < words; ++j) fromLoad.push_back(wordOf(wide, j));
+    b.CreateBr(join);
+    b.SetInsertPoint(scattered);
+    std::vector<llvm::Value*> fromGather;
+    for (uint32_t j = 0; j < words; ++j)
+      fromGather.push_back(b.CreateMaskedGather(
+          laneTy(i32), b.CreateGEP(b.getInt8Ty(), base, b.CreateAdd(offs, splat(b.getInt64(4 * j)))), align, inside,
+          zero));
+    b.CreateBr(join);
+    b.SetInsertPoint(join);
+    for (uint32_t j = 0; j < words; ++j) {
+      auto* phi = b.CreatePHI(laneTy(i32), 2);
+      phi->addIncoming(fromLoad[j], contiguous);
+      phi->addIncoming(fromGather[j], scattered);
+      raw.push_back(phi);
+    }
+    // The words as the runtime gives them: 8-bit UNorm components as the correctly rounded quotients i / 255 (its
+    // table's values); a 32-bit format's words, then 0 and an alpha of 1 (1.0 for SFLOAT) inside the view; zeros
+    // outside.
+    const uint32_t rt = in.word(1);
+    llvm::Type* et = g.type(g.scalarType(rt));
+    comps->clear();
+    for (uint32_t k = 0; k < count(rt) && k < 4; ++k) {
+      llvm::Value* w;
+      if (unorm) {
+        llvm::Value* byte = b.CreateAnd(b.CreateLShr(raw[0], splat(b.getInt32(8 * k))), splat(b.getInt32(255)));
+        w = b.CreateBitCast(b.CreateFDiv(b.CreateUIToFP(byte, laneTy(b.getFloatTy())),
+                                         splat(llvm::ConstantFP::get(b.getFloatTy(), 255.0))),
+                            laneTy(i32));
+      } else if (k < words) {
+        w = raw[k];
+      } else if (k == 3) {
+        const uint32_t one = (kind & abi::kTexelsInteger) ? 1u : 0x3f800000u;
+        w = b.CreateSelect(inside, splat(b.getInt32(one)), zero);
+      } else {
+        w = zero;
+      }
+      comps->push_back(b.CreateBitCast(w, laneTy(et)));
+    }
+    return;
+  }
+  b.SetInsertPoint(contiguous);
+  llvm::Value* wide = raw[0];
+  if (words > 1) {
+    wide = llvm::UndefValue::get(wideTy);
+    for (unsigned l = 0; l < N; ++l)
+      for (uint32_t j = 0; j < words; ++j)
+        wide = b.CreateInsertElement(wide, b.CreateExtractElement(raw[j], uint64_t(l)), uint64_t(l * words + j));
+  }
+  b.CreateMaskedStore(wide, b.CreateGEP(b.getInt8Ty(), base, first), align, wideMask);
+  b.CreateBr(join);
+  b.SetInsertPoint(scattered);
+  for (uint32_t j = 0; j < words; ++j)
+    b.CreateMaskedScatter(raw[j], b.CreateGEP(b.getInt8Ty(), base, b.CreateAdd(offs, splat(b.getInt64(4 * j)))), align,
+                          inside);
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+}
+
+// OpImageRead and OpImageWrite of a storage image (compute shaders; the image uniform). Where inlineTexels names a
+// kind and the bound view is of that kind (its record's object an image view whose ImageTexels say so: abi.hpp), the
+// lanes address the texels themselves (texelsInline); otherwise each active lane makes the scalar code's runtime
+// call. A read whose operands are all uniform is the scalar code's one call.
+bool Spmd::imageAccess(const Instruction& in) {
+  const bool write = in.op == spv::OpImageWrite;
+  const uint32_t imageId = in.word(write ? 1 : 3);
+  if (u.bits(imageId)) return fail("a varying image");
+  if (!write && !u.bits(in.word(2))) {
+    bool ok = true;
+    return sc.image(in, ok) && ok ? true
+                                  : fail(sc.error.empty() ? "an image read the scalar code refused" : sc.error.c_str());
+  }
+  std::vector<uint32_t> ids = {in.word(write ? 2 : 4)};
+  if (write) ids.push_back(in.word(3));
+  const uint32_t rt = write ? 0 : in.word(1);
+  const uint32_t kind = inlineTexels(in);
+  std::vector<llvm::Value*> comps;
+  if (!kind) {
+    if (!eachLane(in, ids, rt, mask, &comps)) return false;
+    return write || define(in.word(2), rt, comps);
+  }
+  // Which path: the record's object an image view whose texels are of `kind` (abi.hpp). A record of another type has
+  // no ImageTexels at its address: its type word decides before the address is read; no object reads the zeros.
+  llvm::Value* img = sc.value(imageId);
+  if (!img) return fail("an image without a value");
+  llvm::Value* rec = b.CreateExtractValue(img, {0});
+  llvm::Value* object = b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 16), llvm::Align(8));
+  llvm::Value* hasObject = b.CreateIsNotNull(object);
+  llvm::Value* typeAt =
+      b.CreateConstGEP1_64(b.getInt8Ty(), b.CreateSelect(hasObject, object, g.zeros), abi::kObjectTypeOffset);
+  llvm::Value* isView =
+      b.CreateAnd(hasObject, b.CreateICmpEQ(b.CreateAlignedLoad(b.getInt32Ty(), typeAt, llvm::Align(4)),
+                                            b.getInt32(abi::kObjectTypeImageView)));
+  llvm::Value* address = b.CreateAlignedLoad(b.getPtrTy(), rec, llvm::Align(8));
+  llvm::Value* texels = b.CreateSelect(isView, address, g.zeros);
+  llvm::Value* viewKind = b.CreateAlignedLoad(
+      b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), texels, offsetof(abi::ImageTexels, kind)), llvm::Align(4));
+  auto* inlined = llvm::BasicBlock::Create(c, "spmd.image.inline", fn);
+  auto* calls = llvm::BasicBlock::Create(c, "spmd.image.calls", fn);
+  auto* join = llvm::BasicBlock::Create(c, "spmd.image.done", fn);
+  b.CreateCondBr(b.CreateICmpEQ(viewKind, b.getInt32(kind)), inlined, calls,
+                 llvm::MDBuilder(c).createBranchWeights(1u << 10, 1));
+  b.SetInsertPoint(inlined);
+  std::vector<llvm::Value*> fast;
+  texelsInline(in, kind, texels, &fast);
+  llvm::BasicBlock* fastEnd = b.GetInsertBlock();
+  b.CreateBr(join);
+  b.SetInsertPoint(calls);
+  if (!eachLane(in, ids, rt, mask, &comps)) return false;
+  llvm::BasicBlock* callsEnd = b.GetInsertBlock();
+  b.CreateBr(join);
+  b.SetInsertPoint(join);
+  if (write) return true;
+  for (size_t k = 0; k < comps.size(); ++k) {
+    auto* phi = b.CreatePHI(comps[k]->getType(), 2);
+    phi->addIncoming(fast[k], fastEnd);
+    phi->addIncoming(comps[k], callsEnd);
+    comps[k] = phi;
+  }
+  return define(in.word(2), rt, comps);
 }
 
 // Gradient sampling of the quad's lanes in one call (vkrt_image_sample_grad_quad) where the scalar code would call

@@ -271,6 +271,13 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             set(in.word(2), b & full(n), changed);
             break;
           }
+          case spv::OpImageRead: {
+            // A texel varies with any of its operands, whatever their widths (word 5: the image operands' mask).
+            uint32_t b = 0;
+            for (uint32_t w = 3; w < in.count; ++w) b |= w == 5 ? 0 : bits(in.word(w));
+            set(in.word(2), b ? full(n) : 0, changed);
+            break;
+          }
           case spv::OpVectorShuffle: {
             uint32_t n1 = count(m.typeOf(in.word(3)));
             uint32_t b1 = bits(in.word(3)), b2 = bits(in.word(4)), b = 0;

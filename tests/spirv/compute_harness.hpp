@@ -12,9 +12,20 @@
 
 #include "runtime/compute_pipeline.hpp"
 #include "runtime/image_functions.hpp"
+#include "runtime/image_view.hpp"
 #include "spirv/compiler.hpp"
 
 namespace vkrt::testing {
+
+// Sets the SPMD setting (VKRT_SPMD; spirv::setSpmd) for a scope.
+class SpmdSetting {
+ public:
+  explicit SpmdSetting(bool on) : was_(spirv::spmdEnabled()) { spirv::setSpmd(on); }
+  ~SpmdSetting() { spirv::setSpmd(was_); }
+
+ private:
+  bool was_;
+};
 
 struct ComputeHarness {
   std::map<uint32_t, std::vector<uint64_t>> buffers;  // binding -> storage (8-byte aligned)
@@ -24,10 +35,11 @@ struct ComputeHarness {
   std::shared_ptr<spirv::CompiledShader> shader;
   std::string error;
   alignas(16) uint8_t push[abi::kPushConstantBytes] = {};
-  std::map<uint32_t, uint64_t> structures;         // binding -> acceleration structure address
-  std::map<uint32_t, const void*> images;          // binding -> the image view (a vkrt Object) of its record
-  const abi::RayQueryScope* rayQueries = nullptr;  // the dispatch's ray query runtime
-  exec::Job* job = nullptr;                        // the supervision (exec/supervise.hpp); null: the executor's own
+  std::map<uint32_t, uint64_t> structures;                 // binding -> acceleration structure address
+  std::map<uint32_t, const void*> images;                  // binding -> the image view (a vkrt Object) of its record
+  std::map<uint32_t, abi::DescriptorRecord> givenRecords;  // binding -> a record as given (bindings above lack)
+  const abi::RayQueryScope* rayQueries = nullptr;          // the dispatch's ray query runtime
+  exec::Job* job = nullptr;  // the supervision (exec/supervise.hpp); null: the executor's own
 
   template <size_t N>
   bool compile(const uint32_t (&words)[N], std::vector<spirv::SpecValue> spec = {}) {
@@ -75,6 +87,12 @@ struct ComputeHarness {
           rec.range = sizes[key];
         } else if (rb.set == 0 && images.count(key)) {
           rec.object = images[key];
+          // As the runtime writes an image view's record (abi.hpp): its texels at `address`.
+          const auto* o = static_cast<const Object*>(rec.object);
+          if (o && o->objectType == VK_OBJECT_TYPE_IMAGE_VIEW)
+            rec.address = reinterpret_cast<uint64_t>(&static_cast<const ImageView*>(o)->store.texels);
+        } else if (rb.set == 0 && givenRecords.count(key)) {
+          rec = givenRecords[key];
         }
         records[i].push_back(rec);
       }

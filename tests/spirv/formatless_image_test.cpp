@@ -10,91 +10,26 @@
 #include <vector>
 
 #include "compute_formatless_image.comp.spv.h"
-#include "runtime/image.hpp"
-#include "runtime/image_view.hpp"
 #include "spirv/compute_harness.hpp"
 #include "spirv/formatless_reference.hpp"
-#include "vkrt_entrypoints.h"
+#include "spirv/runtime_images.hpp"
 
 namespace vkrt::testing {
 namespace {
 
 constexpr uint32_t kSize = 8;  // 8 x 8 texels: 2 x 2 workgroups of 4 x 4
 
-class SpirvFormatlessImages : public ::testing::Test {
+class SpirvFormatlessImages : public RuntimeImages {
  protected:
-  void SetUp() override {
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
-    uint32_t n = 1;
-    VkPhysicalDevice pd = VK_NULL_HANDLE;
-    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    q.queueCount = 1;
-    q.pQueuePriorities = &prio;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &q;
-    ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
-  }
-  void TearDown() override {
-    for (const Held& h : held) {
-      vkrt_DestroyImageView(device, h.view, nullptr);
-      vkrt_DestroyImage(device, h.image, nullptr);
-      vkrt_FreeMemory(device, h.memory, nullptr);
-    }
-    vkrt_DestroyDevice(device, nullptr);
-    vkrt_DestroyInstance(instance, nullptr);
-  }
-
   // A kSize x kSize 2D storage image of `f` holding `texels` (tightly packed rows), and its view.
   ImageView* makeImage(const StorageFormat& f, const std::vector<uint8_t>& texels) {
-    Held h;
-    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = f.format;
-    ci.extent = {kSize, kSize, 1};
-    ci.mipLevels = 1;
-    ci.arrayLayers = 1;
-    ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.usage = VK_IMAGE_USAGE_STORAGE_BIT;
-    EXPECT_EQ(vkrt_CreateImage(device, &ci, nullptr, &h.image), VK_SUCCESS);
-    VkMemoryRequirements req;
-    vkrt_GetImageMemoryRequirements(device, h.image, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    EXPECT_EQ(vkrt_AllocateMemory(device, &mai, nullptr, &h.memory), VK_SUCCESS);
-    EXPECT_EQ(vkrt_BindImageMemory(device, h.image, h.memory, 0), VK_SUCCESS);
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = h.image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = f.format;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    EXPECT_EQ(vkrt_CreateImageView(device, &vi, nullptr, &h.view), VK_SUCCESS);
-    held.push_back(h);
-    Image* image = fromHandle<Image>(h.image);
-    for (uint32_t y = 0; y < kSize; ++y)
-      std::memcpy(image->texel(0, 0, 0, y, 0), texels.data() + size_t(y) * kSize * f.texelSize(),
-                  size_t(kSize) * f.texelSize());
-    return fromHandle<ImageView>(h.view);
+    ImageView* v = RuntimeImages::makeImage(f.format, kSize, kSize);
+    setTexels(v, 0, texels, size_t(kSize) * f.texelSize());
+    return v;
   }
   static std::vector<uint8_t> texelsOf(const ImageView* v, const StorageFormat& f) {
-    std::vector<uint8_t> out(size_t(kSize) * kSize * f.texelSize());
-    for (uint32_t y = 0; y < kSize; ++y)
-      std::memcpy(out.data() + size_t(y) * kSize * f.texelSize(), v->image->texel(0, 0, 0, y, 0),
-                  size_t(kSize) * f.texelSize());
-    return out;
+    return RuntimeImages::texelsOf(v, 0, size_t(kSize) * f.texelSize());
   }
-
-  struct Held {
-    VkImage image = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
-  };
-  VkInstance instance = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  std::vector<Held> held;
 };
 
 TEST_F(SpirvFormatlessImages, OneCompiledShaderReadsAndWritesEveryFormatOfTheBoundViews) {

@@ -16,16 +16,6 @@
 namespace vkrt::testing {
 namespace {
 
-// Sets the SPMD setting for a scope.
-class SpmdSetting {
- public:
-  explicit SpmdSetting(bool on) : was_(spirv::spmdEnabled()) { spirv::setSpmd(on); }
-  ~SpmdSetting() { spirv::setSpmd(was_); }
-
- private:
-  bool was_;
-};
-
 spirv::SpecValue spec(uint32_t id, uint32_t v) {
   spirv::SpecValue s{id, std::vector<uint8_t>(4)};
   std::memcpy(s.bytes.data(), &v, 4);
