@@ -49,6 +49,18 @@ extern "C" void __truncdfhf2();
 
 namespace vkrt::spirv {
 
+namespace {
+// Whether the module's words hold an OpFunctionCall.
+bool hasFunctionCall(const std::vector<uint32_t>& words) {
+  for (size_t i = 5; i < words.size();) {
+    const uint32_t n = words[i] >> 16;
+    if ((words[i] & 0xffff) == spv::OpFunctionCall) return true;
+    i += n ? n : 1;
+  }
+  return false;
+}
+}  // namespace
+
 struct CompiledShader::Jit {
   std::unique_ptr<llvm::orc::LLJIT> lljit;
   // The code sections' slots in abi::JitCode (the fault handler's "is this shader code"), released before the
@@ -327,6 +339,32 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
     *error = "SPIRV-Tools optimizer failed: " + optError;
     return nullptr;
   }
+  // Further rounds on the result; one that fails leaves it as it was (what they buy is the SPMD path).
+  auto round = [&](const std::function<void(spvtools::Optimizer&)>& passes) {
+    spvtools::Optimizer more(SPV_ENV_VULKAN_1_3);
+    more.SetMessageConsumer([](spv_message_level_t, const char*, const spv_position_t&, const char*) {});
+    passes(more);
+    std::vector<uint32_t> out;
+    if (more.Run(optimized.data(), optimized.size(), &out, options)) optimized = std::move(out);
+  };
+  // The inliner leaves a function with a return inside a loop; with its returns merged into one it inlines it.
+  if (req.inlineFunctions && hasFunctionCall(optimized))
+    round([](spvtools::Optimizer& o) {
+      o.RegisterPass(spvtools::CreateMergeReturnPass())
+          .RegisterPass(spvtools::CreateInlineExhaustivePass())
+          .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
+    });
+  // Compute shaders' Function variables that only loads and stores use become SSA values (structs and arrays split
+  // first): the SPMD path's uniformity analysis then sees a loop counter as the phi it is, not as a variable stored
+  // under a divergent loop's control (which takes storage per lane).
+  if (req.model == spv::ExecutionModelGLCompute && req.inlineFunctions)
+    round([](spvtools::Optimizer& o) {
+      o.RegisterPass(spvtools::CreateScalarReplacementPass())
+          .RegisterPass(spvtools::CreateLocalSingleBlockLoadStoreElimPass())
+          .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
+          .RegisterPass(spvtools::CreateSSARewritePass())
+          .RegisterPass(spvtools::CreateDeadVariableEliminationPass());
+    });
   restoreNewerTokens(optimized, hidden);
 
   Module m;

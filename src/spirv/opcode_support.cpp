@@ -117,7 +117,7 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpCompositeInsert: return {F::Composite, S::Own};
     // ---- Arithmetic
     case spv::OpCopyObject: return {F::Arithmetic, S::Elementwise};
-    case spv::OpCopyLogical: return {F::Arithmetic, S::None};
+    case spv::OpCopyLogical: return {F::Arithmetic, S::Elementwise};  // (a composite: uniform ones only)
     case spv::OpTranspose: return {F::Arithmetic, S::None};
     case spv::OpConvertFToU: return {F::Arithmetic, S::Elementwise};
     case spv::OpConvertFToS: return {F::Arithmetic, S::Elementwise};
@@ -239,9 +239,9 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpImageSampleProjDrefExplicitLod: return {F::Image, S::None};
     case spv::OpImageGather: return {F::Image, S::None};
     case spv::OpImageDrefGather: return {F::Image, S::None};
-    case spv::OpImageQuerySize: return {F::Image, S::None};
-    case spv::OpImageQuerySizeLod: return {F::Image, S::None};
-    case spv::OpImageQueryLevels: return {F::Image, S::None};
+    case spv::OpImageQuerySize: return {F::Image, S::Checked};
+    case spv::OpImageQuerySizeLod: return {F::Image, S::Checked};
+    case spv::OpImageQueryLevels: return {F::Image, S::Checked};
     case spv::OpImageSampleImplicitLod: return {F::Image, S::Quad};
     // ---- RayTracing
     case spv::OpTypeAccelerationStructureKHR: return {F::RayTracing, S::None};

@@ -127,6 +127,7 @@ class Spmd {
   Cfg cfg;
   Uniformity u;
   size_t firstInstruction = 0;
+  std::vector<const Instruction*> composites;  // instructions with a matrix, struct or array result
 
   llvm::Function* fn = nullptr;
   llvm::BasicBlock* allocaBlock = nullptr;
@@ -303,6 +304,7 @@ class Spmd {
   bool variable(const Instruction& in);
   bool loadInst(const Instruction& in);
   bool storeInst(const Instruction& in);
+  bool storeComposite(const LanePtr& lp, uint64_t delta, uint32_t typeId, llvm::Value* value);
   LanePtr* lanePtr(uint32_t id);
   bool builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff);
   // A scalar at `delta` bytes from lp, for an access of `span` bytes at lp that is in or out of bounds as a whole
@@ -393,16 +395,23 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           ok = !fragment() && !(g.checks & abi::kCheckImage) && it && storageImageType(*it);
           break;
         }
+        case spv::OpImageQuerySize:
+        case spv::OpImageQuerySizeLod:
+        case spv::OpImageQueryLevels:
+          // A storage image's queries in compute shaders (the scalar code's, on a uniform image and level).
+          ok = !fragment();
+          break;
         default: break;
       }
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
-      // Values of composite types other than vectors (matrices, structs, arrays) are left to the scalar path.
+      // Values of composite types other than vectors (matrices, structs, arrays): uniform ones only (the scalar code
+      // holds them; checked below, after the analysis).
       if (in.count >= 3 && in.op != spv::OpVariable && in.op != spv::OpAccessChain &&
           in.op != spv::OpInBoundsAccessChain && in.op != spv::OpStore && m.type(in.word(1)) &&
           !g.isImageLike(in.word(1))) {
         const Type& t = g.spvType(in.word(1));
         if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
-          return (*whyNot = "a value of a composite type (" + opName(in.op) + ")"), false;
+          composites.push_back(&in);
       }
     }
   }
@@ -440,7 +449,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         default: return (*whyNot = "a built-in the SPMD path does not compute"), false;
       }
   }
-  return u.analyze(m, cfg, g.info.localSize, N, whyNot);
+  if (!u.analyze(m, cfg, g.info.localSize, N, whyNot)) return false;
+  for (const Instruction* in : composites)
+    if (u.bits(in->word(2))) return (*whyNot = "a varying value of a composite type (" + opName(in->op) + ")"), false;
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------- control flow
@@ -618,8 +630,10 @@ bool Spmd::instruction(const Instruction& in) {
   if (uniform) {
     // The scalar code generator's own emitters, on uniform values.
     bool ok = true;
+    const bool imageQuery =
+        in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels;
     if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) ||
-        (in.op == spv::OpSampledImage && sc.image(in, ok)))
+        ((in.op == spv::OpSampledImage || imageQuery) && sc.image(in, ok)))
       return ok ? true : fail(sc.error.c_str());
     return fail("an instruction the scalar emitters do not know");
   }
@@ -1205,8 +1219,14 @@ bool Spmd::storeInst(const Instruction& in) {
                      storage == spv::StorageClassPhysicalStorageBuffer))
     mask = b.CreateAnd(mask, b.CreateNot(b.CreateLoad(maskTy(), helperSlot)));
   const Type& t = g.spvType(ty);
-  if (t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector)
-    return fail("a store of a composite");
+  const bool composite = t.kind != Type::Bool && t.kind != Type::Int && t.kind != Type::Float && t.kind != Type::Vector;
+  if (composite && u.bits(v)) return fail("a store of a varying composite");
+  if (composite && lp) {
+    // A uniform matrix, struct or array into per-lane storage: leaf by leaf, the same value in every active lane.
+    if (!lp->interleaved || isLane(lp->p.offset)) return fail("a store of a composite through a varying pointer");
+    llvm::Value* value = sc.value(v);
+    return value ? storeComposite(*lp, 0, ty, value) : fail("a stored value without a value");
+  }
   if (!lp) {
     Ptr& p = sc.ptr(ptrId);
     if (!p.base || p.slot >= 0) return fail("a store through an untracked pointer");
@@ -1255,6 +1275,37 @@ bool Spmd::storeInst(const Instruction& in) {
     storeLeaf(at, delta, sid, x, span);
   }
   return true;
+}
+
+// A uniform value `value` (as the scalar code holds it) of type `typeId` stored at lp + delta, a per-lane variable
+// (uniform offset) in the natural layout: each 32-bit leaf as storeLeaf stores a vector of the lanes (the active
+// lanes take it); other leaves fail.
+bool Spmd::storeComposite(const LanePtr& lp, uint64_t delta, uint32_t typeId, llvm::Value* value) {
+  const Type& t = g.spvType(typeId);
+  switch (t.kind) {
+    case Type::Bool:
+    case Type::Int:
+    case Type::Float:
+      if (t.kind != Type::Bool && t.width != 32) return fail("a composite with a leaf other than 32 bits");
+      storeLeaf(lp, delta, typeId, splat(value), 4);
+      return true;
+    case Type::Vector:
+    case Type::Array:
+    case Type::Struct: {
+      const uint32_t n = t.kind == Type::Struct ? uint32_t(t.members.size()) : t.count;
+      for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t member = t.kind == Type::Struct ? t.members[i] : t.element;
+        const uint64_t at = t.kind == Type::Struct   ? g.memberOffset(typeId, i)
+                            : t.kind == Type::Vector ? uint64_t(i) * g.layoutSize(t.element, 0, false)
+                                                     : uint64_t(i) * g.arrayStride(typeId, 0, false);
+        llvm::Value* part =
+            t.kind == Type::Vector ? b.CreateExtractElement(value, uint64_t(i)) : b.CreateExtractValue(value, {i});
+        if (!storeComposite(lp, delta + at, member, part)) return false;
+      }
+      return true;
+    }
+    default: return fail("a store of a composite of another kind");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------- fragment quads

@@ -1,6 +1,8 @@
 // The structured control flow graph of a function and the uniformity analysis of the SPMD path (uniformity.hpp).
 #include "spirv/uniformity.hpp"
 
+#include "spirv/opcode_support.hpp"
+
 #include <algorithm>
 
 namespace vkrt::spirv {
@@ -111,21 +113,29 @@ std::vector<uint32_t> Cfg::loopsOf(uint32_t label) const {
 }
 
 std::vector<uint32_t> Uniformity::liveOuts(const Module& m, const Cfg& cfg, uint32_t loop) {
-  // Phis take theirs on the edge, per lane: not listed.
+  // A phi takes a value on an edge that leaves the loop per lane, as the edge is taken: that use is not listed; a
+  // phi's value coming by an edge from outside the loop (after it) is a use like any other.
   std::vector<uint32_t> out;
   std::unordered_set<uint32_t> seen;
   const auto& inLoop = cfg.loopBlocks.at(loop);
+  auto use = [&](uint32_t id) {
+    auto it = cfg.blockOf.find(id);
+    if (it != cfg.blockOf.end() && inLoop.count(it->second) && m.def(id)->op != spv::OpVariable &&
+        seen.insert(id).second)
+      out.push_back(id);
+  };
   for (const Cfg::Block& blk : cfg.blocks) {
     if (inLoop.count(blk.label)) continue;
     for (size_t i = blk.first + 1; i <= blk.last; ++i) {
       const Instruction& in = m.instructions[i];
-      if (in.op == spv::OpPhi) continue;
-      for (uint32_t w = 1; w < in.count; ++w) {
-        auto it = cfg.blockOf.find(in.words[w]);
-        if (it != cfg.blockOf.end() && inLoop.count(it->second) && m.def(in.words[w])->op != spv::OpVariable &&
-            seen.insert(in.words[w]).second)
-          out.push_back(in.words[w]);
+      // (OpLine's words are a file and literals: a line number is no use of the id it happens to equal.)
+      if (in.op == spv::OpLine) continue;
+      if (in.op == spv::OpPhi) {
+        for (uint32_t w = 3; w + 1 < in.count; w += 2)
+          if (!inLoop.count(in.word(w + 1))) use(in.word(w));
+        continue;
       }
+      for (uint32_t w = 1; w < in.count; ++w) use(in.words[w]);
     }
   }
   return out;
@@ -170,6 +180,27 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
       changed = true;
     }
   };
+  // Each selection construct's blocks (a selection or switch header's: reachable from it before its merge, and
+  // before the headers, merges and continue targets of the loops around it), and so the merges of the selection
+  // constructs around each block: where lanes that leave a construct early (a break out of a switch) meet again.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> enclosingMerges;  // block -> merges, any order
+  for (const Cfg::Block& h : cfg.blocks) {
+    if (h.loop || !h.merge) continue;
+    std::unordered_set<uint32_t> stops = {h.merge};
+    for (uint32_t l : cfg.loopsOf(h.label)) {
+      const Cfg::Block& lh = cfg.blocks[cfg.index.at(l)];
+      stops.insert({lh.label, lh.merge, lh.continueTarget});
+    }
+    std::vector<uint32_t> work(h.successors.begin(), h.successors.end());
+    std::unordered_set<uint32_t> seen;
+    while (!work.empty()) {
+      uint32_t l = work.back();
+      work.pop_back();
+      if (stops.count(l) || !seen.insert(l).second) continue;
+      enclosingMerges[l].push_back(h.merge);
+      for (uint32_t x : cfg.blocks[cfg.index.at(l)].successors) work.push_back(x);
+    }
+  }
   bool changed = true;
   while (changed) {
     changed = false;
@@ -291,15 +322,20 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
           }
           default: {
             // Component-wise where the operands are as wide as the result (a scalar operand counts for every
-            // component), else all or nothing.
-            if (in.count < 3) break;
+            // component), else all or nothing. (Instructions without a result, OpLine's literals or
+            // OpImageWrite's coordinate in word 2, mark nothing.)
+            bool result = false, type = false;
+            spv::HasResultAndType(in.op, &result, &type);
+            if (in.count < 3 || !result || !type) break;
             uint32_t firstOperand = in.op == spv::OpExtInst ? 5 : 3;
+            // GLSL.std.450's functions of whole vectors (normalize, cross, reflect, ...) mix the components.
+            const bool mixes = in.op == spv::OpExtInst && in.count > 4 && glslSupport(in.word(4)).spmd == SpmdForm::Own;
             uint32_t b = 0;
             for (uint32_t w = firstOperand; w < in.count; ++w) {
               uint32_t ob = bits(in.word(w));
               if (!ob) continue;
               uint32_t k = count(m.typeOf(in.word(w)));
-              b |= k == n ? ob : full(n);
+              b |= k == n && !mixes ? ob : full(n);
             }
             set(in.word(2), b, changed);
             break;
@@ -319,24 +355,76 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
       for (uint32_t l : loops) {
         const Cfg::Block& h = cfg.blocks[cfg.index.at(l)];
         stops.insert({h.label, h.merge, h.continueTarget});
-        if (divergentLoops.insert(l).second) changed = true;
-        if (divergentMerges.insert(h.merge).second) changed = true;
-        if (divergentMerges.insert(l).second) changed = true;
-        for (uint32_t b : cfg.loopBlocks.at(l))
-          if (divergentBlocks.insert(b).second) changed = true;
       }
+      // The loops the lanes may leave apart (from `leaves` on, innermost last: loops[leaves..]), which become
+      // divergent. A loop's own exit test (a header's or continue construct's conditional branch) leaves the innermost
+      // loop only (structured breaks leave only it). A selection construct leaves the loops whose merge a path of it
+      // reaches (the innermost of them and those inside it), and every loop where a path returns or kills; where
+      // every path stays in the loops, its divergence ends at its merge and the loops' header values stay uniform
+      // where their operands are. The blocks a path reaches before the merge run under divergent control, and lanes
+      // may come to them by different edges: their phis vary (also at a continue target that a `continue` reaches).
+      // A path that leaves the construct for an enclosing one's merge (a break out of a switch: the inliner's early
+      // returns) rejoins the lanes that took the merge further on: then what follows the merge in the loop iteration
+      // is divergent too.
+      size_t leaves = loops.size();
+      if ((blk.loop || !blk.merge) && !loops.empty()) leaves = loops.size() - 1;
       if (!blk.loop && blk.merge) {
         if (divergentMerges.insert(blk.merge).second) changed = true;
-        stops.insert(blk.merge);
-        std::vector<uint32_t> work(blk.successors.begin(), blk.successors.end());
-        std::unordered_set<uint32_t> seen;
-        while (!work.empty()) {
-          uint32_t l = work.back();
-          work.pop_back();
-          if (stops.count(l) || !seen.insert(l).second) continue;
-          if (divergentBlocks.insert(l).second) changed = true;
-          for (uint32_t s : cfg.blocks[cfg.index.at(l)].successors) work.push_back(s);
+        // A path that reaches the merge of a construct around this one (`outer`) ends there: the lanes meet there.
+        std::unordered_set<uint32_t> outer, reached;
+        if (auto e = enclosingMerges.find(blk.label); e != enclosingMerges.end())
+          outer.insert(e->second.begin(), e->second.end());
+        auto walk = [&](std::vector<uint32_t> work, std::unordered_set<uint32_t>& seen, bool mark) {
+          while (!work.empty()) {
+            uint32_t l = work.back();
+            work.pop_back();
+            if (l == blk.merge || !seen.insert(l).second) continue;
+            if (outer.count(l)) {
+              reached.insert(l);
+              if (mark && divergentMerges.insert(l).second) changed = true;
+              continue;
+            }
+            if (stops.count(l)) {
+              for (size_t k = 0; k < loops.size(); ++k) {
+                const Cfg::Block& h = cfg.blocks[cfg.index.at(loops[k])];
+                if (l == h.merge) leaves = std::min(leaves, k);
+                if (mark && (l == h.label || l == h.continueTarget) && divergentMerges.insert(l).second) changed = true;
+              }
+              continue;
+            }
+            const Cfg::Block& lb = cfg.blocks[cfg.index.at(l)];
+            if (mark) {
+              // (A loop's header inside the region is entered by the active lanes together: its phis vary as their
+              // operands do.)
+              if (divergentBlocks.insert(l).second) changed = true;
+              if (!lb.loop && divergentMerges.insert(l).second) changed = true;
+              const spv::Op end = m.instructions[lb.last].op;
+              if (end != spv::OpBranch && end != spv::OpBranchConditional && end != spv::OpSwitch) leaves = 0;
+            }
+            for (uint32_t s : lb.successors) work.push_back(s);
+          }
+        };
+        std::unordered_set<uint32_t> inside;
+        walk(std::vector<uint32_t>(blk.successors.begin(), blk.successors.end()), inside, true);
+        if (!reached.empty()) {
+          // Lanes left for an outer merge: those that took this merge run on alone until they meet them there.
+          outer = reached;
+          std::unordered_set<uint32_t> again;
+          if (divergentBlocks.insert(blk.merge).second) changed = true;
+          walk(std::vector<uint32_t>(cfg.blocks[cfg.index.at(blk.merge)].successors.begin(),
+                                     cfg.blocks[cfg.index.at(blk.merge)].successors.end()),
+               again, true);
         }
+      }
+      for (size_t k = leaves; k < loops.size(); ++k) {
+        const uint32_t l = loops[k];
+        const Cfg::Block& h = cfg.blocks[cfg.index.at(l)];
+        // (Its header's phis stay as their operands make them: the lanes that come back all come from the same
+        // iteration; those that left keep their values as live-outs.)
+        if (divergentLoops.insert(l).second) changed = true;
+        if (divergentMerges.insert(h.merge).second) changed = true;
+        for (uint32_t b : cfg.loopBlocks.at(l))
+          if (divergentBlocks.insert(b).second) changed = true;
       }
     }
   }

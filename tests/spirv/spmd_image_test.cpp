@@ -6,6 +6,7 @@
 // outside the images, under divergent control flow.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -14,6 +15,7 @@
 #include "runtime/buffer.hpp"
 #include "spirv/compute_harness.hpp"
 #include "spirv/runtime_images.hpp"
+#include "spmd_convergence.comp.spv.h"
 #include "spmd_storage_images.comp.spv.h"
 
 namespace vkrt::testing {
@@ -260,6 +262,96 @@ TEST_F(SpmdImages, ARecordOfAnotherTypeIsNeverReadAsTexels) {
         for (uint32_t k = 0; k < 4; ++k) ASSERT_EQ(got[(i * kOut + r) * 4 + k], 0u) << i << " " << r << " " << k;
   }
   vkrt_DestroyBuffer(device, buffer, nullptr);
+}
+
+// A compute ray tracer as the public samples write one (tests/shaders/spmd_convergence.comp): loops over a buffer of
+// spheres around divergent selections, uniform structs passed to inlined functions, a function returning from inside
+// its loop, constants returned under a varying condition, a normalize of varying and uniform components, an image
+// size query. It takes the SPMD path (it took the
+// scalar path before: the loop counters were taken as varying) and writes what the scalar path writes; the sum over
+// every sphere, the image size and, where no two candidates are close, the nearest sphere are checked against values
+// computed here.
+class SpmdConvergence : public RuntimeImages {};
+
+TEST_F(SpmdConvergence, ConvergentLoopsAndInlinedReturns) {
+  struct Sphere {
+    float sphere[4];
+    float color[3];
+    float shine;
+    int32_t id, kind, pad[2];
+  };
+  static_assert(sizeof(Sphere) == 48, "std430: vec4, vec3 + float, two ints, padded to 16");
+  std::vector<Sphere> spheres;
+  for (int k = 0; k < 6; ++k) {
+    Sphere s{};
+    s.sphere[0] = float(k % 3) * 1.5f - 1.5f;
+    s.sphere[1] = float(k / 3) * 1.2f - 0.6f;
+    s.sphere[2] = 2.0f + float(k) * 0.7f;
+    s.sphere[3] = 0.55f + 0.1f * float(k);
+    s.color[0] = 0.1f * float(k + 1), s.color[1] = 0.5f, s.color[2] = 1.0f - 0.1f * float(k);
+    s.shine = 0.25f * float(k + 1);
+    s.id = 10 + k;
+    s.kind = k + 1;
+    spheres.push_back(s);
+  }
+  constexpr uint32_t kW = 64, kH = 8;
+  std::array<std::vector<float>, 2> results;
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_spmd_convergence_comp)) << h.error;
+    EXPECT_EQ(h.shader->spmdLanes, spirv::spmdLanes());
+    if (spmd) ASSERT_NE(h.shader->spmdLanes, 0u) << "the shader did not take the SPMD path";
+    h.setBuffer(0, spheres);
+    h.setBuffer(1, std::vector<float>(kW * kH * 16, -7.0f));
+    h.images[2] = static_cast<const Object*>(makeImage(VK_FORMAT_R32_SFLOAT, kW, kH));
+    ASSERT_TRUE(h.run(kW / 16, kH / 4));
+    results[spmd] = h.get<float>(1);
+  }
+  ASSERT_EQ(std::memcmp(results[0].data(), results[1].data(), results[0].size() * 4), 0)
+      << "the SPMD path wrote other bytes than the scalar path";
+  const std::vector<float>& o = results[1];
+  size_t checked = 0, hits = 0, blocked = 0;
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x) {
+      const float* r = &o[(y * kW + x) * 16];
+      SCOPED_TRACE(std::to_string(x) + "," + std::to_string(y));
+      EXPECT_EQ(r[7], 21.0f) << "every sphere's kind, summed";
+      hits += r[8] >= 10.0f;
+      blocked += r[9] >= 10.0f;
+      EXPECT_EQ(r[10], float(kW));
+      EXPECT_EQ(r[11], float(kH));
+      EXPECT_EQ(r[12], x % 3 == 0 ? 1.0f : 2.0f);
+      EXPECT_EQ(r[13], y < 4 ? 1.0f : 2.0f);
+      // The nearest sphere, in double, where it is clear (no grazing ray, no two hits within 1e-3).
+      double d[3] = {(double(x) - 32.0) / 96.0, (double(y) - 4.0) / 24.0, 1.0};
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (double& c : d) c /= len;
+      double best = 1e30, second = 1e30;
+      int id = -1;
+      bool clear = true;
+      for (const Sphere& s : spheres) {
+        const double oc[3] = {-s.sphere[0], -s.sphere[1], -6.0 - s.sphere[2]};
+        const double b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+        const double h = b * b - (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - double(s.sphere[3]) * s.sphere[3]);
+        if (std::abs(h) < 1e-3) clear = false;
+        if (h < 0) continue;
+        const double t = -b - std::sqrt(h);
+        if (t > 0 && t < best)
+          second = best, best = t, id = s.id;
+        else if (t > 0 && t < second)
+          second = t;
+      }
+      if (!clear || (second < 1e30 && second - best < 1e-3)) continue;
+      EXPECT_EQ(r[8], float(id));
+      ++checked;
+    }
+  EXPECT_GT(checked, kW * kH / 2);
+  // Rays hit spheres and some hits' shadow rays meet another sphere (firstBlocker's return from its loop).
+  EXPECT_GT(hits, kW * kH / 8);
+  EXPECT_GT(blocked, 0u);
+  EXPECT_LT(blocked, hits);
 }
 
 }  // namespace
