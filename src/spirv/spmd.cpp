@@ -18,9 +18,12 @@
 //   code: out of bounds it reads zeros and writes nothing. Function variables that need storage per lane keep lane
 //   l's bytes o..o+3 at o * N + 4 * l (32-bit leaves only), so that a uniform offset is one vector access.
 //
-// The rest (barriers, atomics, images, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
-// matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first, and
-// removes what it emitted where the emission still fails.
+// - Storage images: the lanes address a bound view's texels themselves where its kind is the declared format's
+//   (abi::ImageTexels), else call the runtime lane by lane (imageAccess).
+//
+// The rest (barriers, atomics, samplers, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
+// varying matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first,
+// and removes what it emitted where the emission still fails.
 #include "spirv/spmd.hpp"
 
 #include <llvm/ADT/StringMap.h>
@@ -637,6 +640,8 @@ bool Spmd::instruction(const Instruction& in) {
       return ok ? true : fail(sc.error.c_str());
     return fail("an instruction the scalar emitters do not know");
   }
+  if (in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels)
+    return fail("an image query of a varying level");
   std::vector<llvm::Value*> comps;
   switch (in.op) {
     case spv::OpCompositeExtract: {
@@ -1690,14 +1695,16 @@ bool Spmd::imageAccess(const Instruction& in) {
   llvm::Value* img = sc.value(imageId);
   if (!img) return fail("an image without a value");
   llvm::Value* rec = b.CreateExtractValue(img, {0});
-  llvm::Value* object = b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, 16), llvm::Align(8));
+  llvm::Value* object = b.CreateAlignedLoad(
+      b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, offsetof(abi::DescriptorRecord, object)), llvm::Align(8));
   llvm::Value* hasObject = b.CreateIsNotNull(object);
   llvm::Value* typeAt =
       b.CreateConstGEP1_64(b.getInt8Ty(), b.CreateSelect(hasObject, object, g.zeros), abi::kObjectTypeOffset);
   llvm::Value* isView =
       b.CreateAnd(hasObject, b.CreateICmpEQ(b.CreateAlignedLoad(b.getInt32Ty(), typeAt, llvm::Align(4)),
                                             b.getInt32(abi::kObjectTypeImageView)));
-  llvm::Value* address = b.CreateAlignedLoad(b.getPtrTy(), rec, llvm::Align(8));
+  llvm::Value* address = b.CreateAlignedLoad(
+      b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rec, offsetof(abi::DescriptorRecord, address)), llvm::Align(8));
   llvm::Value* texels = b.CreateSelect(isView, address, g.zeros);
   llvm::Value* viewKind = b.CreateAlignedLoad(
       b.getInt32Ty(), b.CreateConstGEP1_64(b.getInt8Ty(), texels, offsetof(abi::ImageTexels, kind)), llvm::Align(4));
