@@ -225,11 +225,11 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpTypeSampler: return {F::Image, S::None};
     case spv::OpTypeSampledImage: return {F::Image, S::None};
     case spv::OpSampledImage: return {F::Image, S::Quad};
-    case spv::OpImage: return {F::Image, S::None};
+    case spv::OpImage: return {F::Image, S::Checked};
     case spv::OpImageRead: return {F::Image, S::Checked};
     case spv::OpImageWrite: return {F::Image, S::Checked};
     case spv::OpImageTexelPointer: return {F::Image, S::None};
-    case spv::OpImageFetch: return {F::Image, S::None};
+    case spv::OpImageFetch: return {F::Image, S::Checked};
     case spv::OpImageSampleExplicitLod: return {F::Image, S::Quad};
     case spv::OpImageSampleDrefImplicitLod: return {F::Image, S::Quad};
     case spv::OpImageSampleDrefExplicitLod: return {F::Image, S::Quad};

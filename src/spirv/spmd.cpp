@@ -54,11 +54,10 @@ std::atomic<bool> spmdOn{true};
 // practice, and ids are < 2^32 - 1).
 constexpr uint32_t kFakeId = 0xfff00000u;
 
-// A storage image type the SPMD path reads and writes (imageAccess): not a texel buffer, subpass input or
-// multisampled image.
+// A storage image type the SPMD path reads and writes (imageAccess; texel buffers lane by lane): not a subpass input
+// or multisampled image.
 bool storageImageType(const Instruction& t) {
-  return t.op == spv::OpTypeImage && t.word(7) == 2 && t.word(3) != spv::DimBuffer &&
-         t.word(3) != spv::DimSubpassData && t.word(6) == 0;
+  return t.op == spv::OpTypeImage && t.word(7) == 2 && t.word(3) != spv::DimSubpassData && t.word(6) == 0;
 }
 
 // The instructions that act component by component on scalars and vectors (opcode_support.cpp's table).
@@ -175,6 +174,7 @@ class Spmd {
   bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
                 std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane = {});
   bool imageAccess(const Instruction& in);
+  bool fetchLanes(const Instruction& in);
   uint32_t inlineTexels(const Instruction& in);
   void texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps);
   bool sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx, std::vector<llvm::Value*> dy);
@@ -382,6 +382,12 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       // ones only in fragment shaders.
       SpmdForm form = opSupport(in.op).spmd;
       bool ok = form == SpmdForm::Elementwise || form == SpmdForm::Own || (form == SpmdForm::Quad && fragment());
+      // Compute shaders sample with an explicit level of detail, lane by lane (sampleLanes), without
+      // VKRT_SHADER_CHECKS=image's per-access reports.
+      if (form == SpmdForm::Quad && !fragment())
+        ok = (in.op == spv::OpSampledImage || in.op == spv::OpImageSampleExplicitLod ||
+              in.op == spv::OpImageSampleDrefExplicitLod) &&
+             !(g.checks & abi::kCheckImage);
       switch (in.op) {
         case spv::OpVariable: {
           const Type& pt = g.spvType(in.word(1));
@@ -401,8 +407,13 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         case spv::OpImageQuerySize:
         case spv::OpImageQuerySizeLod:
         case spv::OpImageQueryLevels:
-          // A storage image's queries in compute shaders (the scalar code's, on a uniform image and level).
+          // An image's queries in compute shaders (the scalar code's, on a uniform image and level).
           ok = !fragment();
+          break;
+        case spv::OpImage:
+        case spv::OpImageFetch:
+          // Compute shaders: the image of a sampled image (uniform), texel fetches lane by lane (fetchLanes).
+          ok = !fragment() && !(g.checks & abi::kCheckImage);
           break;
         default: break;
       }
@@ -433,11 +444,15 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       continue;
     }
     if (gl.storage == spv::StorageClassUniformConstant) {
-      // Storage images (and arrays of them, indexed uniformly); no samplers or texel buffers.
+      // Images, samplers, combined image samplers and texel buffers (and arrays of them, indexed uniformly); no
+      // multisampled images (the scalar code has none either) or acceleration structures.
       const Type& pt = g.spvType(m.def(id)->word(1));
       const Instruction* it = m.def(pt.element);
       while (it && (it->op == spv::OpTypeArray || it->op == spv::OpTypeRuntimeArray)) it = m.def(it->word(2));
-      if (!it || !storageImageType(*it)) return (*whyNot = "a sampler, sampled image or texel buffer"), false;
+      if (it && it->op == spv::OpTypeSampledImage) it = m.def(it->word(2));
+      const bool image = it && it->op == spv::OpTypeImage && it->word(3) != spv::DimSubpassData && it->word(6) == 0;
+      if (!image && !(it && it->op == spv::OpTypeSampler))
+        return (*whyNot = "a module variable of another kind"), false;
       continue;
     }
     if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate)
@@ -598,7 +613,7 @@ bool Spmd::block(size_t bi) {
 // ---------------------------------------------------------------------------------------------- instructions
 
 bool Spmd::instruction(const Instruction& in) {
-  if (quadOp(in.op)) return fragmentInstruction(in);
+  if (quadOp(in.op)) return fragment() ? fragmentInstruction(in) : sampleLanes(in);
   switch (in.op) {
     case spv::OpLine: return sc.setLine(&in), true;  // where out-of-bounds reports say the access is
     case spv::OpNoLine: return sc.setLine(nullptr), true;
@@ -613,6 +628,7 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpStore: return storeInst(in);
     case spv::OpImageRead:
     case spv::OpImageWrite: return imageAccess(in);
+    case spv::OpImageFetch: return fetchLanes(in);
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
@@ -633,15 +649,15 @@ bool Spmd::instruction(const Instruction& in) {
   if (uniform) {
     // The scalar code generator's own emitters, on uniform values.
     bool ok = true;
-    const bool imageQuery =
-        in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels;
-    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) ||
-        ((in.op == spv::OpSampledImage || imageQuery) && sc.image(in, ok)))
+    const bool imageValue = in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod ||
+                            in.op == spv::OpImageQueryLevels || in.op == spv::OpSampledImage || in.op == spv::OpImage;
+    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) || (imageValue && sc.image(in, ok)))
       return ok ? true : fail(sc.error.c_str());
     return fail("an instruction the scalar emitters do not know");
   }
-  if (in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels)
-    return fail("an image query of a varying level");
+  if (in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels ||
+      in.op == spv::OpSampledImage || in.op == spv::OpImage)
+    return fail("a varying image or image query");
   std::vector<llvm::Value*> comps;
   switch (in.op) {
     case spv::OpCompositeExtract: {
@@ -1427,7 +1443,7 @@ bool Spmd::sampleLanes(const Instruction& in) {
       if (!v) return fail("coordinates without a value");
       quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), false, &dxv[k], &dyv[k]);
     }
-  if (!dref && sampleQuad(in, implicit, dxv, dyv)) return true;
+  if (fragment() && !dref && sampleQuad(in, implicit, dxv, dyv)) return true;
   auto laneVector = [&](const std::vector<llvm::Value*>& v, unsigned l) -> llvm::Value* {
     if (v.size() == 1) return b.CreateExtractElement(v[0], uint64_t(l));
     llvm::Value* r = llvm::UndefValue::get(llvm::FixedVectorType::get(v[0]->getType()->getScalarType(), v.size()));
@@ -1666,6 +1682,21 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texel
                           inside);
   b.CreateBr(join);
   b.SetInsertPoint(join);
+}
+
+// OpImageFetch (compute shaders; the image uniform): the scalar code's one call where every operand is uniform, else
+// its call lane by lane with each lane's coordinate and image operands.
+bool Spmd::fetchLanes(const Instruction& in) {
+  if (u.bits(in.word(3))) return fail("a fetch from a varying image");
+  if (!u.bits(in.word(2))) {
+    bool ok = true;
+    return sc.image(in, ok) && ok ? true
+                                  : fail(sc.error.empty() ? "a fetch the scalar code refused" : sc.error.c_str());
+  }
+  std::vector<uint32_t> ids = {in.word(4)};
+  for (uint32_t w = 6; w < in.count; ++w) ids.push_back(in.word(w));  // the image operands after their mask
+  std::vector<llvm::Value*> comps;
+  return eachLane(in, ids, in.word(1), mask, &comps) && define(in.word(2), in.word(1), comps);
 }
 
 // OpImageRead and OpImageWrite of a storage image (compute shaders; the image uniform). Where inlineTexels names a

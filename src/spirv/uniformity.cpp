@@ -302,10 +302,22 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             set(in.word(2), b & full(n), changed);
             break;
           }
-          case spv::OpImageRead: {
-            // A texel varies with any of its operands, whatever their widths (word 5: the image operands' mask).
+          case spv::OpImageRead:
+          case spv::OpImageFetch:
+          case spv::OpImageSampleImplicitLod:
+          case spv::OpImageSampleExplicitLod:
+          case spv::OpImageSampleDrefImplicitLod:
+          case spv::OpImageSampleDrefExplicitLod:
+          case spv::OpImageGather:
+          case spv::OpImageDrefGather: {
+            // A texel varies with any of its operands, whatever their widths (the image operands' mask, a literal,
+            // follows the coordinate and the Dref or component operand).
+            const bool extra = in.op == spv::OpImageSampleDrefImplicitLod ||
+                               in.op == spv::OpImageSampleDrefExplicitLod || in.op == spv::OpImageGather ||
+                               in.op == spv::OpImageDrefGather;
+            const uint32_t maskAt = extra ? 6 : 5;
             uint32_t b = 0;
-            for (uint32_t w = 3; w < in.count; ++w) b |= w == 5 ? 0 : bits(in.word(w));
+            for (uint32_t w = 3; w < in.count; ++w) b |= w == maskAt ? 0 : bits(in.word(w));
             set(in.word(2), b ? full(n) : 0, changed);
             break;
           }

@@ -43,15 +43,16 @@ TEST(OpcodeSupport, EveryGlslInstructionTheSpmdPathAcceptsIsSupported) {
   EXPECT_TRUE(glslSupport(GLSLstd450FMix).supported);
 }
 
-// Spmd::supported decides OpVariable (its storage class), OpExtInst (its set and instruction), OpImageRead and
-// OpImageWrite (the image type, the stage and the shader checks) and the image queries (the stage) itself; any other
-// instruction marked Checked would be refused there without a reason.
+// Spmd::supported decides OpVariable (its storage class), OpExtInst (its set and instruction), OpImageRead,
+// OpImageWrite, OpImageFetch and OpImage (the image type, the stage and the shader checks) and the image queries (the
+// stage) itself; any other instruction marked Checked would be refused there without a reason.
 TEST(OpcodeSupport, OnlyTheInstructionsSpmdPathDecidesAreChecked) {
   std::set<uint32_t> checked;
   for (uint32_t op = 0; op < kOpcodeLimit; ++op)
     if (opSupport(spv::Op(op)).spmd == SpmdForm::Checked) checked.insert(op);
   EXPECT_EQ(checked, (std::set<uint32_t>{spv::OpVariable, spv::OpExtInst, spv::OpImageRead, spv::OpImageWrite,
-                                         spv::OpImageQuerySize, spv::OpImageQuerySizeLod, spv::OpImageQueryLevels}));
+                                         spv::OpImageFetch, spv::OpImage, spv::OpImageQuerySize,
+                                         spv::OpImageQuerySizeLod, spv::OpImageQueryLevels}));
 }
 
 TEST(OpcodeSupport, FamiliesAndDispatchPredicatesAgree) {

@@ -12,6 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "compute_formatless_image.comp.spv.h"
+#include "compute_grad_aniso.comp.spv.h"
+#include "compute_image_robustness.comp.spv.h"
+#include "compute_sample.comp.spv.h"
+#include "compute_storage_image.comp.spv.h"
 #include "runtime/buffer.hpp"
 #include "spirv/compute_harness.hpp"
 #include "spirv/runtime_images.hpp"
@@ -352,6 +357,36 @@ TEST_F(SpmdConvergence, ConvergentLoopsAndInlinedReturns) {
   EXPECT_GT(hits, kW * kH / 8);
   EXPECT_GT(blocked, 0u);
   EXPECT_LT(blocked, hits);
+}
+
+// The compute shaders of the end-to-end image tests that sample with an explicit level of detail, fetch texels, read
+// and write storage images and texel buffers take the SPMD path (their images uniform): those tests then check the
+// SPMD path's results against values computed on the CPU (and with VKRT_SPMD=0, the scalar path's).
+TEST(SpmdCoverage, ComputeImageShadersTakeTheSpmdPath) {
+  SpmdSetting on(true);
+  struct Shader {
+    const char* name;
+    const uint32_t* words;
+    size_t count;
+  };
+#define VKRT_SHADER(n) \
+  { #n, kSpv_##n##_comp, sizeof kSpv_##n##_comp / 4 }
+  // (compute_cube gathers, compute_dref samples with Proj, compute_texel_buffers takes texel pointers for atomics:
+  // those stay on the scalar path.)
+  const Shader shaders[] = {VKRT_SHADER(compute_sample), VKRT_SHADER(compute_image_robustness),
+                            VKRT_SHADER(compute_storage_image), VKRT_SHADER(compute_formatless_image),
+                            VKRT_SHADER(compute_grad_aniso)};
+#undef VKRT_SHADER
+  for (const Shader& sh : shaders) {
+    spirv::CompileRequest r;
+    r.words = sh.words;
+    r.wordCount = sh.count;
+    r.hostSymbols = imageFunctionSymbols();
+    std::string error;
+    std::shared_ptr<spirv::CompiledShader> shader = spirv::compile(r, &error);
+    ASSERT_NE(shader, nullptr) << sh.name << ": " << error;
+    EXPECT_EQ(shader->spmdLanes, spirv::spmdLanes()) << sh.name;
+  }
 }
 
 }  // namespace
