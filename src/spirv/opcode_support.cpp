@@ -109,8 +109,8 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpConvertPtrToU: return {F::Memory, S::None};
     case spv::OpPtrAccessChain: return {F::Memory, S::None};
     // ---- Composite
-    case spv::OpVectorExtractDynamic: return {F::Composite, S::None};
-    case spv::OpVectorInsertDynamic: return {F::Composite, S::None};
+    case spv::OpVectorExtractDynamic: return {F::Composite, S::Own};
+    case spv::OpVectorInsertDynamic: return {F::Composite, S::Own};
     case spv::OpVectorShuffle: return {F::Composite, S::Own};
     case spv::OpCompositeConstruct: return {F::Composite, S::Own};
     case spv::OpCompositeExtract: return {F::Composite, S::Own};

@@ -686,6 +686,36 @@ bool Spmd::instruction(const Instruction& in) {
       }
       break;
     }
+    case spv::OpVectorExtractDynamic:
+    case spv::OpVectorInsertDynamic: {
+      // As the scalar code: the index as a 32-bit unsigned value, one past the end taken as 0.
+      // Values stay scalars where they are uniform (a uniform index into a vector with some varying components).
+      const bool insert = in.op == spv::OpVectorInsertDynamic;
+      const uint32_t vec = in.word(3), n1 = count(m.typeOf(vec));
+      llvm::Value* idx = comp(in.word(insert ? 5 : 4), 0);
+      llvm::Value* x = insert ? comp(in.word(4), 0) : nullptr;
+      if (!idx || (insert && !x)) return fail("an operand without a value");
+      auto blend = [&](llvm::Value* c, llvm::Value* t, llvm::Value* f) {
+        if (isLane(c) || isLane(t) || isLane(f)) {
+          c = isLane(c) ? c : splat(c), t = isLane(t) ? t : splat(t), f = isLane(f) ? f : splat(f);
+        }
+        return b.CreateSelect(c, t, f);
+      };
+      llvm::Type* i32 = isLane(idx) ? laneTy(b.getInt32Ty()) : b.getInt32Ty();
+      auto k32 = [&](uint32_t k) -> llvm::Value* { return isLane(idx) ? splat(b.getInt32(k)) : b.getInt32(k); };
+      idx = b.CreateZExtOrTrunc(idx, i32);
+      idx = b.CreateSelect(b.CreateICmpULT(idx, k32(n1)), idx, k32(0));
+      for (uint32_t k = 0; k < n1; ++k) {
+        llvm::Value* ck = comp(vec, k);
+        if (!ck) return fail("a component without a value");
+        llvm::Value* at = b.CreateICmpEQ(idx, k32(k));
+        if (insert)
+          comps.push_back(blend(at, x, ck));
+        else
+          comps = {k == 0 ? ck : blend(at, ck, comps[0])};
+      }
+      break;
+    }
     case spv::OpAny:
     case spv::OpAll: {
       llvm::Value* r = nullptr;

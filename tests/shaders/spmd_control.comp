@@ -1,7 +1,7 @@
 #version 460
 // SPMD against scalar (tests/spirv/spmd_test.cpp): divergent if/else and returns, loops with per-lane trip
 // counts, break and continue, a Mandelbrot loop, short-circuit operators (phis), a per-lane local array indexed
-// per lane, per-lane out-of-bounds loads and stores, consecutive and scattered accesses, vector arithmetic and
+// per lane, vectors indexed dynamically, per-lane out-of-bounds loads and stores, consecutive and scattered accesses, vector arithmetic and
 // GLSL.std.450 functions (component-wise and on whole vectors). Any workgroup shape (specialization constants 0, 1,
 // 2).
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -48,6 +48,7 @@ void main() {
   float d = dot(p, q) + clamp(x, 0.25, 0.75) + mix(x, g, 0.3) + floor(x * 10.0) + max(q.x, q.z);
   vec3 c = cross(p, q) + normalize(q + 0.5) + reflect(p, normalize(q + 1.0)) + faceforward(p, q, p.yzx);
   d += length(p) + distance(p, q) + c.x * 0.5 + c.y * 0.25 + c.z;
+  d += (p + q)[id % 3u] + vec3(x, 1.5, 2.5)[pc.bias % 3u];  // a vector indexed per lane and uniformly
   uint base = id * 8u;
   o[base + 0u] = r;
   o[base + 1u] = acc;
