@@ -118,7 +118,7 @@ OpSupport opSupport(spv::Op op) {
     // ---- Arithmetic
     case spv::OpCopyObject: return {F::Arithmetic, S::Elementwise};
     case spv::OpCopyLogical: return {F::Arithmetic, S::Elementwise};  // (a composite: uniform ones only)
-    case spv::OpTranspose: return {F::Arithmetic, S::None};
+    case spv::OpTranspose: return {F::Arithmetic, S::Elementwise};    // (a matrix: uniform ones only)
     case spv::OpConvertFToU: return {F::Arithmetic, S::Elementwise};
     case spv::OpConvertFToS: return {F::Arithmetic, S::Elementwise};
     case spv::OpConvertSToF: return {F::Arithmetic, S::Elementwise};
@@ -151,11 +151,11 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpFRem: return {F::Arithmetic, S::Elementwise};
     case spv::OpFMod: return {F::Arithmetic, S::Elementwise};
     case spv::OpVectorTimesScalar: return {F::Arithmetic, S::Own};
-    case spv::OpMatrixTimesScalar: return {F::Arithmetic, S::None};
-    case spv::OpVectorTimesMatrix: return {F::Arithmetic, S::None};
-    case spv::OpMatrixTimesVector: return {F::Arithmetic, S::None};
-    case spv::OpMatrixTimesMatrix: return {F::Arithmetic, S::None};
-    case spv::OpOuterProduct: return {F::Arithmetic, S::None};
+    case spv::OpMatrixTimesScalar: return {F::Arithmetic, S::Elementwise};  // (a matrix: uniform ones only)
+    case spv::OpVectorTimesMatrix: return {F::Arithmetic, S::Own};
+    case spv::OpMatrixTimesVector: return {F::Arithmetic, S::Own};
+    case spv::OpMatrixTimesMatrix: return {F::Arithmetic, S::Elementwise};  // (a matrix: uniform ones only)
+    case spv::OpOuterProduct: return {F::Arithmetic, S::Elementwise};       // (a matrix: uniform ones only)
     case spv::OpDot: return {F::Arithmetic, S::Own};
     case spv::OpIAddCarry: return {F::Arithmetic, S::None};
     case spv::OpISubBorrow: return {F::Arithmetic, S::None};

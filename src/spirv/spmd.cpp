@@ -686,6 +686,35 @@ bool Spmd::instruction(const Instruction& in) {
       }
       break;
     }
+    case spv::OpMatrixTimesVector:
+    case spv::OpVectorTimesMatrix: {
+      // A uniform matrix (the scalar code's: an array of column vectors) and a varying vector, in the scalar code's
+      // order of operations: M v is the columns times v's components summed in order, v M each column's ordered dot
+      // product with v, starting from 0.
+      const bool mv = in.op == spv::OpMatrixTimesVector;
+      const uint32_t matId = in.word(mv ? 3 : 4), vecId = in.word(mv ? 4 : 3);
+      llvm::Value* mat = u.bits(matId) ? nullptr : sc.value(matId);
+      if (!mat) return fail("a varying matrix");
+      const uint32_t cols = g.spvType(m.typeOf(matId)).count, rows = count(m.typeOf(vecId));
+      auto at = [&](uint32_t col, uint32_t row) {
+        return splat(b.CreateExtractElement(b.CreateExtractValue(mat, {col}), uint64_t(row)));
+      };
+      const uint32_t outs = mv ? n : cols;
+      for (uint32_t k = 0; k < outs; ++k) {
+        llvm::Value* r = nullptr;
+        if (mv) {
+          for (uint32_t i = 0; i < cols; ++i) {
+            llvm::Value* term = b.CreateFMul(at(i, k), laneComp(vecId, i));
+            r = r ? b.CreateFAdd(r, term) : term;
+          }
+        } else {
+          r = llvm::Constant::getNullValue(laneTy(g.type(g.scalarType(rt))));
+          for (uint32_t j = 0; j < rows; ++j) r = b.CreateFAdd(r, b.CreateFMul(laneComp(vecId, j), at(k, j)));
+        }
+        comps.push_back(r);
+      }
+      break;
+    }
     case spv::OpVectorExtractDynamic:
     case spv::OpVectorInsertDynamic: {
       // As the scalar code: the index as a 32-bit unsigned value, one past the end taken as 0.

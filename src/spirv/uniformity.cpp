@@ -340,8 +340,11 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             spv::HasResultAndType(in.op, &result, &type);
             if (in.count < 3 || !result || !type) break;
             uint32_t firstOperand = in.op == spv::OpExtInst ? 5 : 3;
-            // GLSL.std.450's functions of whole vectors (normalize, cross, reflect, ...) mix the components.
-            const bool mixes = in.op == spv::OpExtInst && in.count > 4 && glslSupport(in.word(4)).spmd == SpmdForm::Own;
+            // GLSL.std.450's functions of whole vectors (normalize, cross, reflect, ...) and products with a matrix mix
+            // the components.
+            const bool mixes =
+                (in.op == spv::OpExtInst && in.count > 4 && glslSupport(in.word(4)).spmd == SpmdForm::Own) ||
+                in.op == spv::OpMatrixTimesVector || in.op == spv::OpVectorTimesMatrix;
             uint32_t b = 0;
             for (uint32_t w = firstOperand; w < in.count; ++w) {
               uint32_t ob = bits(in.word(w));

@@ -1,7 +1,7 @@
 #version 460
 // SPMD against scalar (tests/spirv/spmd_test.cpp): divergent if/else and returns, loops with per-lane trip
 // counts, break and continue, a Mandelbrot loop, short-circuit operators (phis), a per-lane local array indexed
-// per lane, vectors indexed dynamically, per-lane out-of-bounds loads and stores, consecutive and scattered accesses, vector arithmetic and
+// per lane, vectors indexed dynamically, a uniform matrix times varying vectors, per-lane out-of-bounds loads and stores, consecutive and scattered accesses, vector arithmetic and
 // GLSL.std.450 functions (component-wise and on whole vectors). Any workgroup shape (specialization constants 0, 1,
 // 2).
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -49,6 +49,10 @@ void main() {
   vec3 c = cross(p, q) + normalize(q + 0.5) + reflect(p, normalize(q + 1.0)) + faceforward(p, q, p.yzx);
   d += length(p) + distance(p, q) + c.x * 0.5 + c.y * 0.25 + c.z;
   d += (p + q)[id % 3u] + vec3(x, 1.5, 2.5)[pc.bias % 3u];  // a vector indexed per lane and uniformly
+  // A uniform matrix times a varying vector, both ways.
+  mat3 m = mat3(vec3(pc.scale, 0.25, -1.0), vec3(0.5, pc.scale * 2.0, 0.125), vec3(float(pc.bias), 1.0, 0.75));
+  vec3 mq = m * q, qm = q * m;
+  d += mq.x + mq.y * 0.5 + mq.z + qm.x * 0.25 + qm.y + qm.z * 0.125;
   uint base = id * 8u;
   o[base + 0u] = r;
   o[base + 1u] = acc;
