@@ -172,7 +172,9 @@ class Spmd {
   // `ids` (`perLane(l)` first, where given); the result's components (`rt`: its type, 0 for none) into `comps`, the
   // lanes not run undefined.
   bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
-                std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane = {});
+                std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane = {},
+                bool (Codegen::*emitter)(const Instruction&, bool&) = &Codegen::image);
+  bool atomicLanes(const Instruction& in);
   bool imageAccess(const Instruction& in);
   bool fetchLanes(const Instruction& in);
   uint32_t inlineTexels(const Instruction& in);
@@ -415,6 +417,24 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           // Compute shaders: the image of a sampled image (uniform), texel fetches lane by lane (fetchLanes).
           ok = !fragment() && !(g.checks & abi::kCheckImage);
           break;
+        case spv::OpAtomicLoad:
+        case spv::OpAtomicStore:
+        case spv::OpAtomicExchange:
+        case spv::OpAtomicCompareExchange:
+        case spv::OpAtomicIIncrement:
+        case spv::OpAtomicIDecrement:
+        case spv::OpAtomicIAdd:
+        case spv::OpAtomicISub:
+        case spv::OpAtomicSMin:
+        case spv::OpAtomicUMin:
+        case spv::OpAtomicSMax:
+        case spv::OpAtomicUMax:
+        case spv::OpAtomicAnd:
+        case spv::OpAtomicOr:
+        case spv::OpAtomicXor:
+          // Compute shaders' atomics on buffers, lane by lane (atomicLanes); workgroup memory is not on the path.
+          ok = !fragment();
+          break;
         default: break;
       }
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
@@ -629,6 +649,21 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpImageRead:
     case spv::OpImageWrite: return imageAccess(in);
     case spv::OpImageFetch: return fetchLanes(in);
+    case spv::OpAtomicLoad:
+    case spv::OpAtomicStore:
+    case spv::OpAtomicExchange:
+    case spv::OpAtomicCompareExchange:
+    case spv::OpAtomicIIncrement:
+    case spv::OpAtomicIDecrement:
+    case spv::OpAtomicIAdd:
+    case spv::OpAtomicISub:
+    case spv::OpAtomicSMin:
+    case spv::OpAtomicUMin:
+    case spv::OpAtomicSMax:
+    case spv::OpAtomicUMax:
+    case spv::OpAtomicAnd:
+    case spv::OpAtomicOr:
+    case spv::OpAtomicXor: return atomicLanes(in);
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
@@ -1520,7 +1555,8 @@ bool Spmd::sampleLanes(const Instruction& in) {
 }
 
 bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
-                    std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane) {
+                    std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane,
+                    bool (Codegen::*emitter)(const Instruction&, bool&)) {
   const uint32_t id = rt ? in.word(2) : 0, nr = rt ? count(rt) : 0;
   llvm::Type* st = rt ? g.type(g.scalarType(rt)) : nullptr;
   if (comps) comps->assign(nr, rt ? llvm::UndefValue::get(laneTy(st)) : nullptr);
@@ -1543,11 +1579,11 @@ bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uin
     }
     if (perLane) perLane(l);
     bool ok = true;
-    bool done = sc.image(in, ok) && ok;
+    bool done = (sc.*emitter)(in, ok) && ok;
     for (uint32_t x : lent) sc.values.erase(x);
     auto r = rt ? sc.values.find(id) : sc.values.end();
     if (!done || (rt && r == sc.values.end()))
-      return fail(sc.error.empty() ? "an image instruction the scalar code refused" : sc.error.c_str());
+      return fail(sc.error.empty() ? "an instruction the scalar code refused lane by lane" : sc.error.c_str());
     std::vector<llvm::Value*> parts;
     if (rt) {
       llvm::Value* result = r->second;
@@ -1741,6 +1777,44 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texel
                           inside);
   b.CreateBr(join);
   b.SetInsertPoint(join);
+}
+
+// The atomics (compute shaders): each active lane's, in lane order (the invocations' order), through the scalar
+// code's atomic with that lane's pointer (its offset from a varying access chain) and operands; an out-of-bounds
+// lane is reported as that lane. A uniform pointer takes each lane's atomic too (each gets its own old value).
+bool Spmd::atomicLanes(const Instruction& in) {
+  const bool store = in.op == spv::OpAtomicStore;
+  const uint32_t ptrId = in.word(store ? 1 : 3);
+  const uint32_t rt = store ? 0 : in.word(1);
+  std::vector<uint32_t> ids;
+  for (uint32_t w = store ? 4 : 6; w < in.count; ++w) ids.push_back(in.word(w));  // values (not scope, semantics)
+  LanePtr* lp = lanePtr(ptrId);
+  if (lp && (lp->interleaved || lp->builtIn >= 0)) return fail("an atomic on a per-lane variable");
+  if (!lp && !sc.hasPtr(ptrId)) return fail("an atomic through an untracked pointer");
+  const Ptr uniform = lp ? Ptr{} : sc.ptr(ptrId);
+  llvm::Value* offsets = lp ? laneOffsets(*lp, 0) : nullptr;
+  Codegen::LaneReport report{nullptr, batchBase, wgBase};
+  std::vector<llvm::Value*> comps;
+  const bool done = eachLane(
+      in, ids, rt, mask, rt ? &comps : nullptr,
+      [&](unsigned l) {
+        Ptr p = lp ? lp->p : uniform;
+        if (lp) p.offset = b.CreateExtractElement(offsets, uint64_t(l));
+        sc.ptrs[ptrId] = p;
+        std::vector<llvm::Constant*> one(N, b.getFalse());
+        one[l] = b.getTrue();
+        report.mask = llvm::ConstantVector::get(one);
+        sc.laneReport = &report;
+        sc.reportIf = b.getTrue();
+      },
+      &Codegen::memory);
+  sc.laneReport = nullptr;
+  sc.reportIf = nullptr;
+  if (lp)
+    sc.ptrs.erase(ptrId);
+  else
+    sc.ptrs[ptrId] = uniform;
+  return done && (store || define(in.word(2), rt, comps));
 }
 
 // OpImageFetch (compute shaders; the image uniform): the scalar code's one call where every operand is uniform, else

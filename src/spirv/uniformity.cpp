@@ -302,6 +302,23 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             set(in.word(2), b & full(n), changed);
             break;
           }
+          case spv::OpAtomicLoad:
+          case spv::OpAtomicExchange:
+          case spv::OpAtomicCompareExchange:
+          case spv::OpAtomicIIncrement:
+          case spv::OpAtomicIDecrement:
+          case spv::OpAtomicIAdd:
+          case spv::OpAtomicISub:
+          case spv::OpAtomicSMin:
+          case spv::OpAtomicUMin:
+          case spv::OpAtomicSMax:
+          case spv::OpAtomicUMax:
+          case spv::OpAtomicAnd:
+          case spv::OpAtomicOr:
+          case spv::OpAtomicXor:
+            // Each lane's atomic runs after the lanes before it: its value varies whatever its operands.
+            set(in.word(2), full(n), changed);
+            break;
           case spv::OpImageRead:
           case spv::OpImageFetch:
           case spv::OpImageSampleImplicitLod:

@@ -44,15 +44,36 @@ TEST(OpcodeSupport, EveryGlslInstructionTheSpmdPathAcceptsIsSupported) {
 }
 
 // Spmd::supported decides OpVariable (its storage class), OpExtInst (its set and instruction), OpImageRead,
-// OpImageWrite, OpImageFetch and OpImage (the image type, the stage and the shader checks) and the image queries (the
-// stage) itself; any other instruction marked Checked would be refused there without a reason.
+// OpImageWrite, OpImageFetch and OpImage (the image type, the stage and the shader checks), the image queries and the
+// atomics (the stage) itself; any other instruction marked Checked would be refused there without a reason.
 TEST(OpcodeSupport, OnlyTheInstructionsSpmdPathDecidesAreChecked) {
   std::set<uint32_t> checked;
   for (uint32_t op = 0; op < kOpcodeLimit; ++op)
     if (opSupport(spv::Op(op)).spmd == SpmdForm::Checked) checked.insert(op);
-  EXPECT_EQ(checked, (std::set<uint32_t>{spv::OpVariable, spv::OpExtInst, spv::OpImageRead, spv::OpImageWrite,
-                                         spv::OpImageFetch, spv::OpImage, spv::OpImageQuerySize,
-                                         spv::OpImageQuerySizeLod, spv::OpImageQueryLevels}));
+  EXPECT_EQ(checked, (std::set<uint32_t>{spv::OpVariable,
+                                         spv::OpExtInst,
+                                         spv::OpImageRead,
+                                         spv::OpImageWrite,
+                                         spv::OpImageFetch,
+                                         spv::OpImage,
+                                         spv::OpImageQuerySize,
+                                         spv::OpImageQuerySizeLod,
+                                         spv::OpImageQueryLevels,
+                                         spv::OpAtomicLoad,
+                                         spv::OpAtomicStore,
+                                         spv::OpAtomicExchange,
+                                         spv::OpAtomicCompareExchange,
+                                         spv::OpAtomicIIncrement,
+                                         spv::OpAtomicIDecrement,
+                                         spv::OpAtomicIAdd,
+                                         spv::OpAtomicISub,
+                                         spv::OpAtomicSMin,
+                                         spv::OpAtomicUMin,
+                                         spv::OpAtomicSMax,
+                                         spv::OpAtomicUMax,
+                                         spv::OpAtomicAnd,
+                                         spv::OpAtomicOr,
+                                         spv::OpAtomicXor}));
 }
 
 TEST(OpcodeSupport, FamiliesAndDispatchPredicatesAgree) {
@@ -72,7 +93,8 @@ TEST(OpcodeSupport, FamiliesAndDispatchPredicatesAgree) {
   EXPECT_EQ(opSupport(spv::OpIAdd).spmd, SpmdForm::Elementwise);
   EXPECT_EQ(opSupport(spv::OpLoad).family, OpFamily::Memory);
   EXPECT_EQ(opSupport(spv::OpLoad).spmd, SpmdForm::Own);
-  EXPECT_EQ(opSupport(spv::OpAtomicIAdd).spmd, SpmdForm::None);
+  EXPECT_EQ(opSupport(spv::OpAtomicIAdd).spmd, SpmdForm::Checked);
+  EXPECT_EQ(opSupport(spv::OpControlBarrier).spmd, SpmdForm::None);
   EXPECT_EQ(opSupport(spv::OpControlBarrier).family, OpFamily::ControlFlow);
   EXPECT_EQ(opSupport(spv::OpImageFetch).family, OpFamily::Image);
   EXPECT_EQ(opSupport(spv::OpTraceRayKHR).family, OpFamily::RayTracing);

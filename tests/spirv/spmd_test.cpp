@@ -4,6 +4,8 @@
 // checks that the SPMD compile really took the SPMD path (CompiledShader::spmdLanes), so none passes vacuously.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <climits>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -11,6 +13,7 @@
 #include "compute_harness.hpp"
 #include "compute_shared.comp.spv.h"
 #include "group_bounds_saxpy.comp.spv.h"
+#include "spmd_atomics.comp.spv.h"
 #include "spmd_control.comp.spv.h"
 
 namespace vkrt::testing {
@@ -134,6 +137,58 @@ TEST(Spmd, ShadersWithBarriersStayScalar) {
   ASSERT_TRUE(h.compile(kSpv_compute_shared_comp)) << h.error;
   EXPECT_EQ(h.shader->spmdLanes, 0u);
   EXPECT_NE(h.shader->entry, nullptr);
+}
+
+// Atomics lane by lane (spmd.cpp, atomicLanes): one workgroup; each atomic instruction runs for the invocations in
+// their order on both paths. The SPMD path is taken and writes what the scalar path writes, and both what is computed
+// here.
+TEST(Spmd, AtomicsRunLaneByLaneInOrder) {
+  std::vector<uint32_t> results[2];
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_spmd_atomics_comp)) << h.error;
+    if (spmd) ASSERT_NE(h.shader->spmdLanes, 0u) << "the shader did not take the SPMD path";
+    h.setBuffer(0, std::vector<uint32_t>{0, ~0u, 0, 0, ~0u, 0, 0x7fffffff, uint32_t(INT32_MIN), 0, 1000, 7, 0});
+    h.setBuffer(1, std::vector<uint32_t>(16, 0));
+    h.setBuffer(2, std::vector<uint32_t>(64 * 4, 0xdeadbeefu));
+    h.setBuffer(3, std::vector<uint32_t>(64, 0xdeadbeefu));
+    ASSERT_TRUE(h.run(1));
+    for (uint32_t b = 0; b < 4; ++b) {
+      std::vector<uint32_t> words = h.get<uint32_t>(b);
+      results[spmd].insert(results[spmd].end(), words.begin(), words.end());
+    }
+  }
+  EXPECT_EQ(results[1], results[0]);
+  // What the invocations in order give.
+  std::vector<uint32_t> c = {0, ~0u, 0, 0, ~0u, 0, 0x7fffffff, uint32_t(INT32_MIN), 0, 1000, 7, 0}, bins(16, 0);
+  std::vector<uint32_t> o(64 * 4, 0xdeadbeefu), items(64, 0xdeadbeefu);
+  for (uint32_t i = 0; i < 64; ++i) {
+    const uint32_t v = (i * 2654435761u) >> 7;
+    ++bins[v % 16];
+    const uint32_t s = c[0]++;
+    items[s] = v;
+    c[1] = std::min(c[1], v), c[2] = std::max(c[2], v), c[3] |= 1u << (i % 32), c[4] &= ~(1u << (i % 29)), c[5] ^= v;
+    c[6] = uint32_t(std::min(int32_t(c[6]), int32_t(v % 1000003u) - 500000));
+    c[7] = uint32_t(std::max(int32_t(c[7]), int32_t(v % 977u) - 500));
+    const uint32_t old = c[8];
+    if (c[8] == i) c[8] = i + 1;
+    const uint32_t e = c[9];
+    c[9] = i;
+    if (i % 4 != 3) {
+      o[i * 4] = s;
+      o[i * 4 + 3] += 5;
+    } else {
+      c[10] = i;
+    }
+    o[i * 4 + 1] = old, o[i * 4 + 2] = e;
+  }
+  std::vector<uint32_t> want = c;
+  want.insert(want.end(), bins.begin(), bins.end());
+  want.insert(want.end(), o.begin(), o.end());
+  want.insert(want.end(), items.begin(), items.end());
+  EXPECT_EQ(results[1], want);
 }
 
 }  // namespace
