@@ -371,6 +371,11 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   // path.)
   if (!g.privateInits.empty() || (!fragment() && g.privateSize > 0))
     return (*whyNot = "Private variables or initializers"), false;
+  // VKRT_SHADER_CHECKS=bda checks each device address access against the live buffers, on the scalar path.
+  if (g.checks & abi::kCheckDeviceAddress)
+    for (const auto& [id, t] : m.types)
+      if (t.kind == Type::Pointer && t.storage == spv::StorageClassPhysicalStorageBuffer)
+        return (*whyNot = "device addresses checked (VKRT_SHADER_CHECKS=bda)"), false;
   for (size_t i = 0; i < m.instructions.size(); ++i) {
     const Instruction& in = m.instructions[i];
     if (in.op == spv::OpFunction && in.word(2) == ep.function) firstInstruction = i;
