@@ -726,22 +726,7 @@ bool Codegen::memory(const Instruction& in, bool& ok) {
       set(in.word(2), b.CreateTrunc(b.CreateUDiv(bytes, stride), b.getInt32Ty()));
       return true;
     }
-    case spv::OpAtomicLoad:
-    case spv::OpAtomicStore:
-    case spv::OpAtomicExchange:
-    case spv::OpAtomicCompareExchange:
-    case spv::OpAtomicIIncrement:
-    case spv::OpAtomicIDecrement:
-    case spv::OpAtomicIAdd:
-    case spv::OpAtomicISub:
-    case spv::OpAtomicSMin:
-    case spv::OpAtomicUMin:
-    case spv::OpAtomicSMax:
-    case spv::OpAtomicUMax:
-    case spv::OpAtomicAnd:
-    case spv::OpAtomicOr:
-    case spv::OpAtomicXor: return atomic(in, ok);
-    default: return false;
+    default: return atomicOp(in.op) ? atomic(in, ok) : false;
   }
 }
 

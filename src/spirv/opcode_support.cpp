@@ -422,4 +422,25 @@ bool checkSupport(const Module& m, std::string* error) {
   return true;
 }
 
+bool atomicOp(spv::Op op) {
+  switch (op) {
+    case spv::OpAtomicLoad:
+    case spv::OpAtomicStore:
+    case spv::OpAtomicExchange:
+    case spv::OpAtomicCompareExchange:
+    case spv::OpAtomicIIncrement:
+    case spv::OpAtomicIDecrement:
+    case spv::OpAtomicIAdd:
+    case spv::OpAtomicISub:
+    case spv::OpAtomicSMin:
+    case spv::OpAtomicUMin:
+    case spv::OpAtomicSMax:
+    case spv::OpAtomicUMax:
+    case spv::OpAtomicAnd:
+    case spv::OpAtomicOr:
+    case spv::OpAtomicXor: return true;
+    default: return false;
+  }
+}
+
 }  // namespace vkrt::spirv

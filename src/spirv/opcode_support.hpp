@@ -50,6 +50,9 @@ inline bool rayTracingOp(spv::Op op) {
   return f == OpFamily::RayTracing || f == OpFamily::RayQuery;
 }
 inline bool rayQueryOp(spv::Op op) { return opSupport(op).family == OpFamily::RayQuery; }
+// The atomic instructions on memory (load, store, exchange, compare-exchange, the arithmetic and bitwise ones:
+// Codegen::atomic; the SPMD path's atomicLanes). Not the texel pointer that image atomics go through.
+bool atomicOp(spv::Op op);
 
 // A GLSL.std.450 instruction: supported or not, and its SPMD form (Elementwise: component by component; Own: on
 // whole vectors, computed by spmd.cpp from the components).

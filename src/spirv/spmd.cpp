@@ -422,26 +422,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           // Compute shaders: the image of a sampled image (uniform), texel fetches lane by lane (fetchLanes).
           ok = !fragment() && !(g.checks & abi::kCheckImage);
           break;
-        case spv::OpAtomicLoad:
-        case spv::OpAtomicStore:
-        case spv::OpAtomicExchange:
-        case spv::OpAtomicCompareExchange:
-        case spv::OpAtomicIIncrement:
-        case spv::OpAtomicIDecrement:
-        case spv::OpAtomicIAdd:
-        case spv::OpAtomicISub:
-        case spv::OpAtomicSMin:
-        case spv::OpAtomicUMin:
-        case spv::OpAtomicSMax:
-        case spv::OpAtomicUMax:
-        case spv::OpAtomicAnd:
-        case spv::OpAtomicOr:
-        case spv::OpAtomicXor:
-          // Compute shaders' atomics on buffers, lane by lane (atomicLanes); workgroup memory is not on the path.
-          ok = !fragment();
-          break;
         default: break;
       }
+      // Compute shaders' atomics on buffers, lane by lane (atomicLanes); workgroup memory is not on the path.
+      if (atomicOp(in.op)) ok = !fragment();
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
       // Values of composite types other than vectors (matrices, structs, arrays): uniform ones only (the scalar code
       // holds them; checked below, after the analysis).
@@ -639,6 +623,7 @@ bool Spmd::block(size_t bi) {
 
 bool Spmd::instruction(const Instruction& in) {
   if (quadOp(in.op)) return fragment() ? fragmentInstruction(in) : sampleLanes(in);
+  if (atomicOp(in.op)) return atomicLanes(in);
   switch (in.op) {
     case spv::OpLine: return sc.setLine(&in), true;  // where out-of-bounds reports say the access is
     case spv::OpNoLine: return sc.setLine(nullptr), true;
@@ -654,21 +639,6 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpImageRead:
     case spv::OpImageWrite: return imageAccess(in);
     case spv::OpImageFetch: return fetchLanes(in);
-    case spv::OpAtomicLoad:
-    case spv::OpAtomicStore:
-    case spv::OpAtomicExchange:
-    case spv::OpAtomicCompareExchange:
-    case spv::OpAtomicIIncrement:
-    case spv::OpAtomicIDecrement:
-    case spv::OpAtomicIAdd:
-    case spv::OpAtomicISub:
-    case spv::OpAtomicSMin:
-    case spv::OpAtomicUMin:
-    case spv::OpAtomicSMax:
-    case spv::OpAtomicUMax:
-    case spv::OpAtomicAnd:
-    case spv::OpAtomicOr:
-    case spv::OpAtomicXor: return atomicLanes(in);
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;

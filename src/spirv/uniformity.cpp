@@ -302,23 +302,6 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             set(in.word(2), b & full(n), changed);
             break;
           }
-          case spv::OpAtomicLoad:
-          case spv::OpAtomicExchange:
-          case spv::OpAtomicCompareExchange:
-          case spv::OpAtomicIIncrement:
-          case spv::OpAtomicIDecrement:
-          case spv::OpAtomicIAdd:
-          case spv::OpAtomicISub:
-          case spv::OpAtomicSMin:
-          case spv::OpAtomicUMin:
-          case spv::OpAtomicSMax:
-          case spv::OpAtomicUMax:
-          case spv::OpAtomicAnd:
-          case spv::OpAtomicOr:
-          case spv::OpAtomicXor:
-            // Each lane's atomic runs after the lanes before it: its value varies whatever its operands.
-            set(in.word(2), full(n), changed);
-            break;
           case spv::OpImageRead:
           case spv::OpImageFetch:
           case spv::OpImageSampleImplicitLod:
@@ -350,6 +333,11 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
             break;
           }
           default: {
+            // An atomic's value varies whatever its operands: each lane's runs after the lanes before it.
+            if (atomicOp(in.op)) {
+              if (in.op != spv::OpAtomicStore) set(in.word(2), full(n), changed);
+              break;
+            }
             // Component-wise where the operands are as wide as the result (a scalar operand counts for every
             // component), else all or nothing. (Instructions without a result, OpLine's literals or
             // OpImageWrite's coordinate in word 2, mark nothing.)
