@@ -386,10 +386,16 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
       // A path that leaves the construct for an enclosing one's merge (a break out of a switch: the inliner's early
       // returns) rejoins the lanes that took the merge further on: then what follows the merge in the loop iteration
       // is divergent too.
+      // (A conditional branch without a merge of its own whose target is an enclosing construct's merge, a break out
+      // of it, is walked the same way; one to a loop's merge, header or continue target is that loop's exit test.)
+      bool breaksOut = false;
+      if (auto e = enclosingMerges.find(blk.label); e != enclosingMerges.end() && !blk.merge)
+        for (uint32_t t : blk.successors)
+          breaksOut = breaksOut || std::find(e->second.begin(), e->second.end(), t) != e->second.end();
       size_t leaves = loops.size();
-      if ((blk.loop || !blk.merge) && !loops.empty()) leaves = loops.size() - 1;
-      if (!blk.loop && blk.merge) {
-        if (divergentMerges.insert(blk.merge).second) changed = true;
+      if ((blk.loop || (!blk.merge && !breaksOut)) && !loops.empty()) leaves = loops.size() - 1;
+      if (!blk.loop && (blk.merge || breaksOut)) {
+        if (blk.merge && divergentMerges.insert(blk.merge).second) changed = true;
         // A path that reaches the merge of a construct around this one (`outer`) ends there: the lanes meet there.
         std::unordered_set<uint32_t> outer, reached;
         if (auto e = enclosingMerges.find(blk.label); e != enclosingMerges.end())
@@ -426,7 +432,7 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
         };
         std::unordered_set<uint32_t> inside;
         walk(std::vector<uint32_t>(blk.successors.begin(), blk.successors.end()), inside, true);
-        if (!reached.empty()) {
+        if (blk.merge && !reached.empty()) {
           // Lanes left for an outer merge: those that took this merge run on alone until they meet them there.
           outer = reached;
           std::unordered_set<uint32_t> again;

@@ -15,6 +15,7 @@
 #include "group_bounds_saxpy.comp.spv.h"
 #include "spmd_atomics.comp.spv.h"
 #include "spmd_control.comp.spv.h"
+#include "spmd_switch_break.spvasm.spv.h"
 
 namespace vkrt::testing {
 namespace {
@@ -189,6 +190,22 @@ TEST(Spmd, AtomicsRunLaneByLaneInOrder) {
   want.insert(want.end(), o.begin(), o.end());
   want.insert(want.end(), items.begin(), items.end());
   EXPECT_EQ(results[1], want);
+}
+
+// A conditional branch without a merge of its own that breaks out of a switch (tests/shaders/spmd_switch_break.spvasm):
+// the lanes meet at the switch's merge by different edges, so its phi of two constants varies.
+TEST(Spmd, ABreakOutOfASwitchMeetsTheOtherLanesAtItsMerge) {
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_spmd_switch_break_spvasm)) << h.error;
+    if (spmd) ASSERT_NE(h.shader->spmdLanes, 0u) << "the shader did not take the SPMD path";
+    h.setBuffer(0, std::vector<uint32_t>(64, 0));
+    ASSERT_TRUE(h.run(4));
+    const std::vector<uint32_t> out = h.get<uint32_t>(0);
+    for (uint32_t i = 0; i < 64; ++i) EXPECT_EQ(out[i], (i & 1) ? 11u : 12u) << i;
+  }
 }
 
 }  // namespace
