@@ -127,12 +127,12 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpSConvert: return {F::Arithmetic, S::Elementwise};
     case spv::OpFConvert: return {F::Arithmetic, S::Elementwise};
     case spv::OpQuantizeToF16: return {F::Arithmetic, S::None};
-    case spv::OpSDot: return {F::Arithmetic, S::None};
-    case spv::OpUDot: return {F::Arithmetic, S::None};
-    case spv::OpSUDot: return {F::Arithmetic, S::None};
-    case spv::OpSDotAccSat: return {F::Arithmetic, S::None};
-    case spv::OpUDotAccSat: return {F::Arithmetic, S::None};
-    case spv::OpSUDotAccSat: return {F::Arithmetic, S::None};
+    case spv::OpSDot: return {F::Arithmetic, S::Own};
+    case spv::OpUDot: return {F::Arithmetic, S::Own};
+    case spv::OpSUDot: return {F::Arithmetic, S::Own};
+    case spv::OpSDotAccSat: return {F::Arithmetic, S::Own};
+    case spv::OpUDotAccSat: return {F::Arithmetic, S::Own};
+    case spv::OpSUDotAccSat: return {F::Arithmetic, S::Own};
     case spv::OpBitcast: return {F::Arithmetic, S::Elementwise};
     case spv::OpSNegate: return {F::Arithmetic, S::Elementwise};
     case spv::OpFNegate: return {F::Arithmetic, S::Elementwise};

@@ -725,6 +725,18 @@ bool Spmd::instruction(const Instruction& in) {
       }
       break;
     }
+    case spv::OpSDot:
+    case spv::OpUDot:
+    case spv::OpSUDot:
+    case spv::OpSDotAccSat:
+    case spv::OpUDotAccSat:
+    case spv::OpSUDotAccSat: {
+      // The scalar code's integer dot product lane by lane (128-bit sums, saturation: rare, and exact so).
+      const bool acc = in.op == spv::OpSDotAccSat || in.op == spv::OpUDotAccSat || in.op == spv::OpSUDotAccSat;
+      std::vector<uint32_t> ids = {in.word(3), in.word(4)};
+      if (acc) ids.push_back(in.word(5));
+      return eachLane(in, ids, rt, mask, &comps, {}, &Codegen::arithmetic) && define(id, rt, comps);
+    }
     case spv::OpVectorExtractDynamic:
     case spv::OpVectorInsertDynamic: {
       // As the scalar code: the index as a 32-bit unsigned value, one past the end taken as 0.
