@@ -54,10 +54,18 @@ std::atomic<bool> spmdOn{true};
 // practice, and ids are < 2^32 - 1).
 constexpr uint32_t kFakeId = 0xfff00000u;
 
-// A storage image type the SPMD path reads and writes (imageAccess; texel buffers lane by lane): not a subpass input
-// or multisampled image.
-bool storageImageType(const Instruction& t) {
-  return t.op == spv::OpTypeImage && t.word(7) == 2 && t.word(3) != spv::DimSubpassData && t.word(6) == 0;
+// An image type compute shaders' SPMD code takes (texel buffers included): not a subpass input or multisampled image.
+bool imageTypeOnPath(const Instruction& t) {
+  return t.op == spv::OpTypeImage && t.word(3) != spv::DimSubpassData && t.word(6) == 0;
+}
+// Such a storage image, which the SPMD code reads and writes (imageAccess).
+bool storageImageType(const Instruction& t) { return imageTypeOnPath(t) && t.word(7) == 2; }
+
+// The image instructions whose value the scalar code makes where it is uniform (the image queries, and pairing or
+// splitting a sampled image).
+bool imageValueOp(spv::Op op) {
+  return op == spv::OpImageQuerySize || op == spv::OpImageQuerySizeLod || op == spv::OpImageQueryLevels ||
+         op == spv::OpSampledImage || op == spv::OpImage;
 }
 
 // The instructions that act component by component on scalars and vectors (opcode_support.cpp's table).
@@ -168,14 +176,19 @@ class Spmd {
   bool fragmentInstruction(const Instruction& in);
   bool derivative(const Instruction& in);
   bool sampleLanes(const Instruction& in);
-  // The scalar code's `in` once per lane of `lanes`, in lane order, with that lane's values of the varying operands
+  // The scalar code's `in` once per active lane, in lane order, with that lane's values of the varying operands
   // `ids` (`perLane(l)` first, where given); the result's components (`rt`: its type, 0 for none) into `comps`, the
   // lanes not run undefined.
-  bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
-                std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane = {},
+  bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, std::vector<llvm::Value*>* comps,
+                const std::function<void(unsigned)>& perLane = {},
                 bool (Codegen::*emitter)(const Instruction&, bool&) = &Codegen::image);
   bool atomicLanes(const Instruction& in);
   bool imageAccess(const Instruction& in);
+  // The scalar code's image instruction `in` once, on uniform operands (`what` names it where the code refuses it).
+  bool imageOnce(const Instruction& in, const char* what) {
+    bool ok = true;
+    return sc.image(in, ok) && ok ? true : fail(sc.error.empty() ? what : sc.error.c_str());
+  }
   bool fetchLanes(const Instruction& in);
   uint32_t inlineTexels(const Instruction& in);
   void texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps);
@@ -338,12 +351,16 @@ class Spmd {
                 return b.CreateICmpULT(llvm::ConstantVector::get(steps), splat(room));
               }};
     }
-    llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
+    llvm::Value* first = nullptr;
+    llvm::Value* consecutive = consecutiveOffsets(offs, bytes, &first);
+    return {consecutive, first, [this, &lp, span] { return inBoundsLanes(lp, span); }};
+  }
+  // Whether the lanes' offsets (<N x i64>) are `bytes` apart from lane 0's (`*first`), compared when the code runs.
+  llvm::Value* consecutiveOffsets(llvm::Value* offs, uint64_t bytes, llvm::Value** first) {
+    *first = b.CreateExtractElement(offs, uint64_t(0));
     std::vector<llvm::Constant*> steps;
     for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(l * bytes));
-    llvm::Value* consecutive =
-        b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
-    return {consecutive, first, [this, &lp, span] { return inBoundsLanes(lp, span); }};
+    return b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(*first), llvm::ConstantVector::get(steps))));
   }
   // An offset (uniform or per lane) plus `bytes`.
   llvm::Value* addBytes(llvm::Value* offset, uint64_t bytes) {
@@ -459,8 +476,7 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       const Instruction* it = m.def(pt.element);
       while (it && (it->op == spv::OpTypeArray || it->op == spv::OpTypeRuntimeArray)) it = m.def(it->word(2));
       if (it && it->op == spv::OpTypeSampledImage) it = m.def(it->word(2));
-      const bool image = it && it->op == spv::OpTypeImage && it->word(3) != spv::DimSubpassData && it->word(6) == 0;
-      if (!image && !(it && it->op == spv::OpTypeSampler))
+      if (!it || (!imageTypeOnPath(*it) && it->op != spv::OpTypeSampler))
         return (*whyNot = "a module variable of another kind"), false;
       continue;
     }
@@ -659,15 +675,12 @@ bool Spmd::instruction(const Instruction& in) {
   if (uniform) {
     // The scalar code generator's own emitters, on uniform values.
     bool ok = true;
-    const bool imageValue = in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod ||
-                            in.op == spv::OpImageQueryLevels || in.op == spv::OpSampledImage || in.op == spv::OpImage;
-    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) || (imageValue && sc.image(in, ok)))
+    if (sc.arithmetic(in, ok) || sc.composite(in, ok) || sc.extInst(in, ok) ||
+        (imageValueOp(in.op) && sc.image(in, ok)))
       return ok ? true : fail(sc.error.c_str());
     return fail("an instruction the scalar emitters do not know");
   }
-  if (in.op == spv::OpImageQuerySize || in.op == spv::OpImageQuerySizeLod || in.op == spv::OpImageQueryLevels ||
-      in.op == spv::OpSampledImage || in.op == spv::OpImage)
-    return fail("a varying image or image query");
+  if (imageValueOp(in.op)) return fail("a varying image or image query");
   std::vector<llvm::Value*> comps;
   switch (in.op) {
     case spv::OpCompositeExtract: {
@@ -735,7 +748,7 @@ bool Spmd::instruction(const Instruction& in) {
       const bool acc = in.op == spv::OpSDotAccSat || in.op == spv::OpUDotAccSat || in.op == spv::OpSUDotAccSat;
       std::vector<uint32_t> ids = {in.word(3), in.word(4)};
       if (acc) ids.push_back(in.word(5));
-      return eachLane(in, ids, rt, mask, &comps, {}, &Codegen::arithmetic) && define(id, rt, comps);
+      return eachLane(in, ids, rt, &comps, {}, &Codegen::arithmetic) && define(id, rt, comps);
     }
     case spv::OpVectorExtractDynamic:
     case spv::OpVectorInsertDynamic: {
@@ -1510,11 +1523,9 @@ bool Spmd::sampleLanes(const Instruction& in) {
   if (dref) ids.push_back(in.word(5));
   for (uint32_t w = dref ? 7 : 6; w < in.count; ++w) ids.push_back(in.word(w));  // after the operands mask
   if (u.bits(in.word(3))) return fail("sampling a varying image");
-  bool ok = true;
   if (!u.bits(id)) {
     sc.spmdDx = sc.spmdDy = nullptr;  // uniform coordinates: derivatives 0
-    return sc.image(in, ok) && ok ? true
-                                  : fail(sc.error.empty() ? "a sampling the scalar code refused" : sc.error.c_str());
+    return imageOnce(in, "a sampling the scalar code refused");
   }
   uint32_t nc = count(m.typeOf(coord));
   std::vector<llvm::Value*> dxv(nc), dyv(nc);
@@ -1532,7 +1543,7 @@ bool Spmd::sampleLanes(const Instruction& in) {
     return r;
   };
   std::vector<llvm::Value*> comps;
-  bool done = eachLane(in, ids, rt, mask, &comps, [&](unsigned l) {
+  bool done = eachLane(in, ids, rt, &comps, [&](unsigned l) {
     sc.spmdDx = implicit ? laneVector(dxv, l) : nullptr;
     sc.spmdDy = implicit ? laneVector(dyv, l) : nullptr;
   });
@@ -1541,7 +1552,7 @@ bool Spmd::sampleLanes(const Instruction& in) {
   return define(id, rt, comps);
 }
 
-bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, llvm::Value* lanes,
+bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt,
                     std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane,
                     bool (Codegen::*emitter)(const Instruction&, bool&)) {
   const uint32_t id = rt ? in.word(2) : 0, nr = rt ? count(rt) : 0;
@@ -1551,7 +1562,7 @@ bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uin
     llvm::BasicBlock* before = b.GetInsertBlock();
     auto* then = llvm::BasicBlock::Create(c, "spmd.lane", fn);
     auto* join = llvm::BasicBlock::Create(c, "spmd.lane.join", fn);
-    b.CreateCondBr(b.CreateExtractElement(lanes, uint64_t(l)), then, join);
+    b.CreateCondBr(b.CreateExtractElement(mask, uint64_t(l)), then, join);
     b.SetInsertPoint(then);
     std::vector<uint32_t> lent;
     for (uint32_t x : ids) {
@@ -1654,11 +1665,8 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texel
       b.CreateAnd(mask, b.CreateAnd(b.CreateICmpULT(x, splat(width)), b.CreateICmpULT(y, splat(height))));
   llvm::Value* offs = b.CreateAdd(b.CreateMul(b.CreateZExt(y, laneTy(i64)), splat(pitch)),
                                   b.CreateMul(b.CreateZExt(x, laneTy(i64)), splat(b.getInt64(4 * words))));
-  llvm::Value* first = b.CreateExtractElement(offs, uint64_t(0));
-  std::vector<llvm::Constant*> steps;
-  for (unsigned l = 0; l < N; ++l) steps.push_back(b.getInt64(uint64_t(l) * 4 * words));
-  llvm::Value* consecutive =
-      b.CreateAndReduce(b.CreateICmpEQ(offs, b.CreateAdd(splat(first), llvm::ConstantVector::get(steps))));
+  llvm::Value* first = nullptr;
+  llvm::Value* consecutive = consecutiveOffsets(offs, 4 * words, &first);
   // The lanes' words side by side (word j of lane l at l * words + j) and back.
   std::vector<int> spread;
   for (unsigned l = 0; l < N; ++l)
@@ -1783,7 +1791,7 @@ bool Spmd::atomicLanes(const Instruction& in) {
   Codegen::LaneReport report{nullptr, batchBase, wgBase};
   std::vector<llvm::Value*> comps;
   const bool done = eachLane(
-      in, ids, rt, mask, rt ? &comps : nullptr,
+      in, ids, rt, rt ? &comps : nullptr,
       [&](unsigned l) {
         Ptr p = lp ? lp->p : uniform;
         if (lp) p.offset = b.CreateExtractElement(offsets, uint64_t(l));
@@ -1808,15 +1816,11 @@ bool Spmd::atomicLanes(const Instruction& in) {
 // its call lane by lane with each lane's coordinate and image operands.
 bool Spmd::fetchLanes(const Instruction& in) {
   if (u.bits(in.word(3))) return fail("a fetch from a varying image");
-  if (!u.bits(in.word(2))) {
-    bool ok = true;
-    return sc.image(in, ok) && ok ? true
-                                  : fail(sc.error.empty() ? "a fetch the scalar code refused" : sc.error.c_str());
-  }
+  if (!u.bits(in.word(2))) return imageOnce(in, "a fetch the scalar code refused");
   std::vector<uint32_t> ids = {in.word(4)};
   for (uint32_t w = 6; w < in.count; ++w) ids.push_back(in.word(w));  // the image operands after their mask
   std::vector<llvm::Value*> comps;
-  return eachLane(in, ids, in.word(1), mask, &comps) && define(in.word(2), in.word(1), comps);
+  return eachLane(in, ids, in.word(1), &comps) && define(in.word(2), in.word(1), comps);
 }
 
 // OpImageRead and OpImageWrite of a storage image (compute shaders; the image uniform). Where inlineTexels names a
@@ -1827,18 +1831,14 @@ bool Spmd::imageAccess(const Instruction& in) {
   const bool write = in.op == spv::OpImageWrite;
   const uint32_t imageId = in.word(write ? 1 : 3);
   if (u.bits(imageId)) return fail("a varying image");
-  if (!write && !u.bits(in.word(2))) {
-    bool ok = true;
-    return sc.image(in, ok) && ok ? true
-                                  : fail(sc.error.empty() ? "an image read the scalar code refused" : sc.error.c_str());
-  }
+  if (!write && !u.bits(in.word(2))) return imageOnce(in, "an image read the scalar code refused");
   std::vector<uint32_t> ids = {in.word(write ? 2 : 4)};
   if (write) ids.push_back(in.word(3));
   const uint32_t rt = write ? 0 : in.word(1);
   const uint32_t kind = inlineTexels(in);
   std::vector<llvm::Value*> comps;
   if (!kind) {
-    if (!eachLane(in, ids, rt, mask, &comps)) return false;
+    if (!eachLane(in, ids, rt, &comps)) return false;
     return write || define(in.word(2), rt, comps);
   }
   // Which path: the record's object an image view whose texels are of `kind` (abi.hpp). A record of another type has
@@ -1870,7 +1870,7 @@ bool Spmd::imageAccess(const Instruction& in) {
   llvm::BasicBlock* fastEnd = b.GetInsertBlock();
   b.CreateBr(join);
   b.SetInsertPoint(calls);
-  if (!eachLane(in, ids, rt, mask, &comps)) return false;
+  if (!eachLane(in, ids, rt, &comps)) return false;
   llvm::BasicBlock* callsEnd = b.GetInsertBlock();
   b.CreateBr(join);
   b.SetInsertPoint(join);

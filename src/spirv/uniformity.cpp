@@ -180,17 +180,23 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
       changed = true;
     }
   };
+  // Where a walk from a block stops in the loops around it: their headers, merges and continue targets.
+  auto loopStops = [&](const std::vector<uint32_t>& loops) {
+    std::unordered_set<uint32_t> stops;
+    for (uint32_t l : loops) {
+      const Cfg::Block& h = cfg.blocks[cfg.index.at(l)];
+      stops.insert({h.label, h.merge, h.continueTarget});
+    }
+    return stops;
+  };
   // Each selection construct's blocks (a selection or switch header's: reachable from it before its merge, and
   // before the headers, merges and continue targets of the loops around it), and so the merges of the selection
   // constructs around each block: where lanes that leave a construct early (a break out of a switch) meet again.
   std::unordered_map<uint32_t, std::vector<uint32_t>> enclosingMerges;  // block -> merges, any order
   for (const Cfg::Block& h : cfg.blocks) {
     if (h.loop || !h.merge) continue;
-    std::unordered_set<uint32_t> stops = {h.merge};
-    for (uint32_t l : cfg.loopsOf(h.label)) {
-      const Cfg::Block& lh = cfg.blocks[cfg.index.at(l)];
-      stops.insert({lh.label, lh.merge, lh.continueTarget});
-    }
+    std::unordered_set<uint32_t> stops = loopStops(cfg.loopsOf(h.label));
+    stops.insert(h.merge);
     std::vector<uint32_t> work(h.successors.begin(), h.successors.end());
     std::unordered_set<uint32_t> seen;
     while (!work.empty()) {
@@ -371,11 +377,7 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
       const Instruction& term = m.instructions[blk.last];
       if ((term.op != spv::OpBranchConditional && term.op != spv::OpSwitch) || !bits(term.word(1))) continue;
       std::vector<uint32_t> loops = cfg.loopsOf(blk.label);
-      std::unordered_set<uint32_t> stops;
-      for (uint32_t l : loops) {
-        const Cfg::Block& h = cfg.blocks[cfg.index.at(l)];
-        stops.insert({h.label, h.merge, h.continueTarget});
-      }
+      const std::unordered_set<uint32_t> stops = loopStops(loops);
       // The loops the lanes may leave apart (from `leaves` on, innermost last: loops[leaves..]), which become
       // divergent. A loop's own exit test (a header's or continue construct's conditional branch) leaves the innermost
       // loop only (structured breaks leave only it). A selection construct leaves the loops whose merge a path of it
