@@ -10,6 +10,7 @@
 #include "runtime/format.hpp"
 #include "runtime/image.hpp"
 #include "runtime/image_copy.hpp"
+#include "spirv/runtime_images.hpp"
 #include "vkrt_entrypoints.h"
 
 namespace vkrt {
@@ -17,21 +18,7 @@ namespace {
 
 class ImageCopy : public ::testing::Test {
  protected:
-  void SetUp() override {
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
-    uint32_t n = 1;
-    VkPhysicalDevice pd = VK_NULL_HANDLE;
-    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    q.queueCount = 1;
-    q.pQueuePriorities = &prio;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &q;
-    ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
-  }
+  void SetUp() override { ASSERT_NO_FATAL_FAILURE(vkrt::testing::createPlainDevice(&instance, &device)); }
   void TearDown() override {
     for (auto& i : images) {
       vkrt_DestroyImage(device, i.first, nullptr);

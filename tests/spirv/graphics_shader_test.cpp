@@ -33,6 +33,7 @@
 #include "runtime/image_view.hpp"
 #include "runtime/sampler.hpp"
 #include "spirv/compiler.hpp"
+#include "spirv/runtime_images.hpp"
 #include "spirv/shader_debug.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -764,19 +765,7 @@ class GraphicsShaderSampling : public ::testing::Test {
   // The value texels of level m read as: m, or 10 m / 255 for BC7 (a mode 6 block of endpoints 10 m).
   float levelValue(float m) const { return bc7() ? float(10 * int(m)) / 255.0f : m; }
   void SetUp() override {
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
-    uint32_t n = 1;
-    VkPhysicalDevice pd = VK_NULL_HANDLE;
-    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    q.queueCount = 1;
-    q.pQueuePriorities = &prio;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &q;
-    ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
+    ASSERT_NO_FATAL_FAILURE(vkrt::testing::createPlainDevice(&instance, &device));
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = bc7() ? VK_FORMAT_BC7_UNORM_BLOCK : VK_FORMAT_R32_SFLOAT;

@@ -1,5 +1,6 @@
 // vkrt image views for compiled shaders run below the Vulkan API (ComputeHarness::images): a device of the ICD's
-// own entry points, 2D storage images bound to memory, their views, and their texels read and written in place.
+// own entry points (createPlainDevice, which other tests below the API use too), 2D storage images bound to memory,
+// their views, and their texels read and written in place.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -13,23 +14,26 @@
 
 namespace vkrt::testing {
 
+// An instance and a device of the ICD's own entry points (below the loader): one queue, nothing enabled.
+inline void createPlainDevice(VkInstance* instance, VkDevice* device) {
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, instance), VK_SUCCESS);
+  uint32_t n = 1;
+  VkPhysicalDevice pd = VK_NULL_HANDLE;
+  ASSERT_EQ(vkrt_EnumeratePhysicalDevices(*instance, &n, &pd), VK_SUCCESS);
+  float prio = 1.0f;
+  VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  q.queueCount = 1;
+  q.pQueuePriorities = &prio;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &q;
+  ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, device), VK_SUCCESS);
+}
+
 class RuntimeImages : public ::testing::Test {
  protected:
-  void SetUp() override {
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ASSERT_EQ(vkrt_CreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
-    uint32_t n = 1;
-    VkPhysicalDevice pd = VK_NULL_HANDLE;
-    ASSERT_EQ(vkrt_EnumeratePhysicalDevices(instance, &n, &pd), VK_SUCCESS);
-    float prio = 1.0f;
-    VkDeviceQueueCreateInfo q{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    q.queueCount = 1;
-    q.pQueuePriorities = &prio;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &q;
-    ASSERT_EQ(vkrt_CreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
-  }
+  void SetUp() override { ASSERT_NO_FATAL_FAILURE(createPlainDevice(&instance, &device)); }
   void TearDown() override {
     for (const Held& h : held) {
       vkrt_DestroyImageView(device, h.view, nullptr);
