@@ -281,7 +281,7 @@ bool Codegen::arithmetic(const Instruction& in, bool& ok) {
     case spv::OpSDotAccSat:
     case spv::OpUDotAccSat:
     case spv::OpSUDotAccSat: {
-      bool acc = in.op == spv::OpSDotAccSat || in.op == spv::OpUDotAccSat || in.op == spv::OpSUDotAccSat;
+      bool acc = dotAccSatOp(in.op);
       if (!need(acc ? std::initializer_list<uint32_t>{3, 4, 5} : std::initializer_list<uint32_t>{3, 4}))
         return (ok = fail(in, "operand has no value")), true;
       set(result,

@@ -53,6 +53,10 @@ inline bool rayQueryOp(spv::Op op) { return opSupport(op).family == OpFamily::Ra
 // The atomic instructions on memory (load, store, exchange, compare-exchange, the arithmetic and bitwise ones:
 // Codegen::atomic; the SPMD path's atomicLanes). Not the texel pointer that image atomics go through.
 bool atomicOp(spv::Op op);
+// The integer dot products that add an accumulator and saturate (their operand 5 the accumulator).
+inline bool dotAccSatOp(spv::Op op) {
+  return op == spv::OpSDotAccSat || op == spv::OpUDotAccSat || op == spv::OpSUDotAccSat;
+}
 
 // A GLSL.std.450 instruction: supported or not, and its SPMD form (Elementwise: component by component; Own: on
 // whole vectors, computed by spmd.cpp from the components).

@@ -745,7 +745,7 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpUDotAccSat:
     case spv::OpSUDotAccSat: {
       // The scalar code's integer dot product lane by lane (128-bit sums, saturation: rare, and exact so).
-      const bool acc = in.op == spv::OpSDotAccSat || in.op == spv::OpUDotAccSat || in.op == spv::OpSUDotAccSat;
+      const bool acc = dotAccSatOp(in.op);
       std::vector<uint32_t> ids = {in.word(3), in.word(4)};
       if (acc) ids.push_back(in.word(5));
       return eachLane(in, ids, rt, &comps, {}, &Codegen::arithmetic) && define(id, rt, comps);
