@@ -317,6 +317,13 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
               "the compiler bakes these offsets into shader code");
 
 using RayEntry = void (*)(RayInvocation*);
+// A ray generation shader compiled SPMD (src/spirv/spmd.cpp) has a second entry point besides vkrt_main, vkrt_group:
+// it runs the shader for `lanes` launch ids in one call (1 <= lanes <= CompiledShader::spmdLanes), those of
+// (launchId[0] + l, launchId[1], launchId[2]) for l < lanes, each instruction on all of them at once. Its traces and
+// callables are made lane by lane in lane order through the same RayRuntime with the same invocation, whose
+// launchId[0] holds the calling lane's x for the call (and for a report of an out-of-bounds access); launchId[0] is
+// as it was when the call returns. The RayInvocation is the one a scalar invocation would get otherwise.
+using RayBatchEntry = void (*)(RayInvocation*, uint32_t lanes);
 
 // ---------------------------------------------------------------------------------------------- graphics
 //

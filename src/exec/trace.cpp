@@ -20,6 +20,7 @@ namespace {
 constexpr uint64_t kHandleBytes = 32;             // shaderGroupHandleSize: the record's bytes before its shader data
 constexpr uint64_t kMaxCachedRecords = 1u << 20;  // per region; records past it are resolved at each use
 constexpr uint32_t kTile = 8;                     // launch indices per tile side
+constexpr uint32_t kTileIndices = kTile * kTile;  // launch indices per tile (a batch raygen's: lanes x 64 / lanes)
 constexpr uint32_t kMaxAttributeBytes = 32;       // maxRayHitAttributeSize
 constexpr uint32_t kMaxChain = 64;                // shaders named in a stack report
 
@@ -110,6 +111,10 @@ struct LaunchState {
   std::atomic<bool> raygenDataOutside{false};  // the raygen record's RecordCache::dataOutsideReported
   RayQueryScope queries;                // the shaders' ray queries (they resolve through the launch's resolver too)
   RayTreeRecorder* recorder = nullptr;  // null unless VKRT_RAY_TREE names launch ids
+  // The raygen shader's batch (RayShader::batch) in use: 0 where each launch index is a call of its own (no batch
+  // entry, or ray trees recorded). Tiles are then `batchLanes` wide, a batch one tile row.
+  uint32_t batchLanes = 0;
+  uint32_t tileW = kTile, tileH = kTile;
 
   // The top level at `address`: the resolver resolves each address once per launch and answers without a lock
   // (TopLevelResolver, inline).
@@ -260,8 +265,9 @@ Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t dept
   return *slot;
 }
 
-// Runs `shader` for `inv` unless it would take the chain's stack past the pipeline stack size (reported).
-bool run(Invocation& inv, const RayShader& shader) {
+// Runs `shader` for `inv` unless it would take the chain's stack past the pipeline stack size (reported); with
+// `lanes`, the raygen shader's batch of that many launch ids from inv's (RayShader::batch).
+bool run(Invocation& inv, const RayShader& shader, uint32_t lanes = 0) {
   if (!shader.entry) return false;
   const RayLaunch& launch = *inv.state->launch;
   uint64_t needed = inv.stackUsed + shader.stackSize;
@@ -282,7 +288,11 @@ bool run(Invocation& inv, const RayShader& shader) {
   Running& running = *inv.task->running;
   const Running caller = running;
   running = Running{shader.name, inv.launchId, Abort::LaunchId};
-  shader.entry(&inv);
+  if (lanes) {
+    shader.batch(&inv, lanes);
+  } else {
+    shader.entry(&inv);
+  }
   running = caller;
   return true;
 }
@@ -662,8 +672,9 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
   {
     const uint32_t z = uint32_t(tile / (tilesX * tilesY));
     const uint64_t inLayer = tile % (tilesX * tilesY);
-    const uint32_t x0 = uint32_t(inLayer % tilesX) * kTile, y0 = uint32_t(inLayer / tilesX) * kTile;
-    const uint32_t x1 = uint32_t(std::min<uint64_t>(x0 + kTile, w)), y1 = uint32_t(std::min<uint64_t>(y0 + kTile, h));
+    const uint32_t x0 = uint32_t(inLayer % tilesX) * state.tileW, y0 = uint32_t(inLayer / tilesX) * state.tileH;
+    const uint32_t x1 = uint32_t(std::min<uint64_t>(x0 + state.tileW, w));
+    const uint32_t y1 = uint32_t(std::min<uint64_t>(y0 + state.tileH, h));
     // One raygen invocation for the tile's launch indices: what they share is set once (the invocation is zeroed
     // once per tile, not per launch index), and the any-hit invocation the task's candidates reuse.
     TaskState task;
@@ -684,6 +695,17 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
     task.intersection = &intersection;
     alignas(Invocation) unsigned char shadingStorage[TaskState::kShadingDepths * sizeof(Invocation)];
     task.shadingStorage = shadingStorage;
+    if (const uint32_t lanes = state.batchLanes) {
+      // A batch raygen: each row of the tile in one call (a tile is `lanes` wide).
+      for (uint32_t y = y0; y < y1; ++y) {
+        inv.launchId[0] = x0;
+        inv.launchId[1] = y;
+        inv.stackUsed = 0;
+        inv.status = 0;
+        run(inv, raygen, std::min(lanes, x1 - x0));
+      }
+      return;
+    }
     for (uint32_t y = y0; y < y1; ++y) {
       for (uint32_t x = x0; x < x1; ++x) {
         // What a raygen invocation changes in `inv` (run(), and OpTerminateRayKHR's status) is reset for the next.
@@ -726,7 +748,13 @@ void runRays(const RayLaunch& launch) {
   state.callable.init(launch.callable);
   state.recorder = launch.rayTree;
   if (state.recorder) state.recorder->setQueryScope(&state.queries);
-  const uint64_t tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
+  const RayShader& raygen = launch.raygenGroup->general;
+  if (raygen.batch && raygen.batchLanes && !state.recorder) {
+    state.batchLanes = raygen.batchLanes;
+    state.tileW = raygen.batchLanes;
+    state.tileH = std::max<uint32_t>(1, kTileIndices / raygen.batchLanes);
+  }
+  const uint64_t tilesX = (w + state.tileW - 1) / state.tileW, tilesY = (h + state.tileH - 1) / state.tileH;
   ThreadPool::instance().parallelFor(tilesX * tilesY * d, [&](uint64_t tile, unsigned) {
     // The tile's combined adds live here, outside the supervised task: a task cut short by a fault or the watchdog
     // still writes what its shaders added.

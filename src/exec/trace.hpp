@@ -32,7 +32,10 @@ namespace vkrt::exec {
 
 // A compiled ray tracing shader as a launch runs it.
 struct RayShader {
-  abi::RayEntry entry = nullptr;                 // null: no shader
+  abi::RayEntry entry = nullptr;  // null: no shader
+  // A ray generation shader compiled SPMD: `batchLanes` launch ids along x in one call (abi::RayBatchEntry), or null.
+  abi::RayBatchEntry batch = nullptr;
+  uint32_t batchLanes = 0;
   const abi::ResourceSlot* resources = nullptr;  // resolved for this launch, in the shader's resource order
   uint32_t stackSize = 0;                        // vkGetRayTracingShaderGroupStackSizeKHR's figure
   const char* name = "";                         // for reports: entry point and stage

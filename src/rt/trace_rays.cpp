@@ -244,6 +244,10 @@ exec::RayShader Launch::shaderOf(const std::shared_ptr<const ShaderDesc>& d, con
   auto [it, fresh] = resources_.try_emplace(&code);
   if (fresh) it->second.resolve(code, bs, cb_, fn_, launchVuid(fn_, "VUID-vkCmdTraceRaysKHR-None-02697"));
   s.entry = code.rayEntry;
+  if (code.rayBatchEntry && code.spmdLanes) {
+    s.batch = code.rayBatchEntry;
+    s.batchLanes = code.spmdLanes;
+  }
   allCheckAdds_ = allCheckAdds_ && code.ray.checksPendingAdds;
   s.resources = it->second.slots();
   s.stackSize = d->stackSize();

@@ -29,7 +29,7 @@ namespace vkrt::spirv {
 //   u32 n + entry name; u32 n + n x {u32 set, binding, arraySize, uniform | kind << 1}; the rest: the object file.
 // Every field of CompiledShader that describes the code must be here: a new one needs a line in
 // serialize() and deserialize() (the size check below is the reminder).
-static_assert(sizeof(CompiledShader) == 256,
+static_assert(sizeof(CompiledShader) == 264,
               "serialize the new CompiledShader field for VkPipelineCache, then update this size");
 
 // 6: shader record reads call RayRuntime::shaderRecordOutsideRegion, which an older vkrt does not provide. 8: the
@@ -112,7 +112,8 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
   for (uint32_t v : s.localSize) put32(payload, v);
   put32(payload, s.workgroupMemorySize);
   put32(payload, s.usesBarrier ? 1 : 0);
-  // hasGroupEntry (a fragment shader's vkrt_group is its graphicsEntry, spmdLanes 4), SPMD lanes
+  // hasGroupEntry (a fragment shader's vkrt_group is its graphicsEntry, spmdLanes 4; a ray generation shader's its
+  // rayBatchEntry beside vkrt_main), SPMD lanes
   put32(payload, s.groupEntry || s.spmdLanes ? 1u | uint32_t(s.spmdLanes) << 8 : 0);
   put32(payload, s.pushConstantBytes);
   put32(payload, uint32_t(s.model));

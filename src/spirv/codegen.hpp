@@ -205,6 +205,8 @@ class Codegen {
     llvm::Value* mask;
     llvm::Value* batchBase;
     llvm::Value* const* wgBase;
+    // Ray generation batches: the first lane's LaunchIdKHR.x (i32); a report stores its lane's x in the invocation.
+    llvm::Value* launchX0 = nullptr;
   };
   const LaneReport* laneReport = nullptr;
   // The SPMD path's per-lane check: where a lane of `failing` (<N x i1>) is set, a cold branch reports the first

@@ -423,6 +423,7 @@ bool Codegen::run(const EntryPoint& ep) {
   // (The SPMD form reports out-of-bounds accesses lane by lane: Codegen::reportFailingLanes.)
   if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
   if (isFragment()) emitSpmdQuad(*this, ep, main);  // the quad in one call where the SPMD path supports the shader
+  if (model == spv::ExecutionModelRayGenerationKHR) emitSpmdRaygen(*this, ep, main);  // launch ids in batches
   if (groupLog && info.usesBarrier) {
     error = "internal compiler error: the out-of-bounds log assumed vkrt_group";
     return false;

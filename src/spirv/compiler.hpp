@@ -105,6 +105,8 @@ class CompiledShader {
   abi::ComputeEntry entry = nullptr;
   abi::ComputeEntry groupEntry = nullptr;
   abi::RayEntry rayEntry = nullptr;
+  // Ray generation shaders compiled SPMD (spmdLanes > 0) also get this: spmdLanes launch ids in one call (abi.hpp).
+  abi::RayBatchEntry rayBatchEntry = nullptr;
   abi::GraphicsEntry graphicsEntry = nullptr;  // Vertex and Fragment: vkrt_main taking a GraphicsInvocation
   GraphicsStageInfo graphics;                  // Vertex and Fragment only
   spv::ExecutionModel model = spv::ExecutionModelGLCompute;
@@ -114,7 +116,8 @@ class CompiledShader {
   bool usesBarrier = false;
   // Invocations groupEntry runs per pass (SPMD, spirv/spmd.hpp): 4, 8 or 16; 0 where it runs them one by one.
   // Fragment shaders: 4 where graphicsEntry takes a quad's four GraphicsInvocations (an array) in one call, 0 where
-  // it is the scalar vkrt_main, run once per lane (as fibers where the shader takes derivatives).
+  // it is the scalar vkrt_main, run once per lane (as fibers where the shader takes derivatives). Ray generation
+  // shaders: the lanes of rayBatchEntry, 0 where it has none.
   uint8_t spmdLanes = 0;
   std::vector<ResourceBinding> resources;  // abi::ResourceSlot order
   uint32_t pushConstantBytes = 0;          // bytes of push constants the shader may read

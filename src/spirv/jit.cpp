@@ -11,6 +11,7 @@
 #include <llvm/ExecutionEngine/SectionMemoryManager.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/IR/Verifier.h>
+#include <llvm/Object/ELFObjectFile.h>
 #include <llvm/Object/ObjectFile.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/ErrorHandling.h>
@@ -183,13 +184,59 @@ using detail::errText;
 
 // The native stack the object's code uses: the sum of every function's frame (its .stack_sizes entry: an
 // address, then the size as ULEB128) plus its return address. A sum, not the deepest path: an upper bound, and
-// exact when everything is inlined into vkrt_main (pipelines inline every call).
+// exact when everything is inlined into vkrt_main (pipelines inline every call). A ray generation shader's SPMD
+// entry (vkrt_group) is not counted: it runs the invocations vkrt_main would, and the shader's stack size
+// (vkGetRayTracingShaderGroupStackSizeKHR) is one invocation's.
 uint32_t frameBytesOf(std::string_view object) {
   auto file = llvm::object::ObjectFile::createObjectFile(
       llvm::MemoryBufferRef(llvm::StringRef(object.data(), object.size()), "shader"));
   if (!file) {
     llvm::consumeError(file.takeError());
     return 0;
+  }
+  // vkrt_group's entry: the one whose address is relocated to vkrt_group's (a section symbol plus the function's
+  // offset, or the function's own symbol).
+  std::optional<llvm::object::SectionRef> groupSection;
+  uint64_t groupOffset = 0;
+  for (const llvm::object::SymbolRef& symbol : (*file)->symbols()) {
+    auto name = symbol.getName();
+    auto section = symbol.getSection();
+    auto value = symbol.getValue();
+    if (name && section && value && *name == "vkrt_group" && *section != (*file)->section_end()) {
+      groupSection = **section;
+      groupOffset = *value;
+    }
+    if (!name) llvm::consumeError(name.takeError());
+    if (!section) llvm::consumeError(section.takeError());
+    if (!value) llvm::consumeError(value.takeError());
+  }
+  std::vector<uint64_t> skipped;  // offsets in .stack_sizes of the entries not counted
+  for (const llvm::object::SectionRef& rel : (*file)->sections()) {
+    if (!groupSection || !llvm::isa<llvm::object::ELFObjectFileBase>(**file)) break;
+    auto target = rel.getRelocatedSection();
+    if (!target) {
+      llvm::consumeError(target.takeError());
+      continue;
+    }
+    if (*target == (*file)->section_end()) continue;
+    auto targetName = (*target)->getName();
+    if (!targetName || *targetName != ".stack_sizes") {
+      if (!targetName) llvm::consumeError(targetName.takeError());
+      continue;
+    }
+    for (const llvm::object::RelocationRef& r : rel.relocations()) {
+      auto symbol = r.getSymbol();
+      if (symbol == (*file)->symbol_end()) continue;
+      auto section = symbol->getSection();
+      auto value = symbol->getValue();
+      auto addend = llvm::object::ELFRelocationRef(r).getAddend();
+      if (section && value && addend && *section != (*file)->section_end() && **section == *groupSection &&
+          *value + uint64_t(*addend) == groupOffset)
+        skipped.push_back(r.getOffset());
+      if (!section) llvm::consumeError(section.takeError());
+      if (!value) llvm::consumeError(value.takeError());
+      if (!addend) llvm::consumeError(addend.takeError());
+    }
   }
   uint64_t total = 0;
   for (const llvm::object::SectionRef& section : (*file)->sections()) {
@@ -205,13 +252,16 @@ uint32_t frameBytesOf(std::string_view object) {
     }
     const uint8_t* p = reinterpret_cast<const uint8_t*>(contents->data());
     const uint8_t* end = p + contents->size();
+    const uint8_t* start = p;
     while (end - p > 8) {
+      const uint64_t at = uint64_t(p - start);
       p += 8;  // the function's address (relocated)
       unsigned n = 0;
       const char* err = nullptr;
       uint64_t size = llvm::decodeULEB128(p, &n, end, &err);
       if (err) break;
       p += n;
+      if (std::find(skipped.begin(), skipped.end(), at) != skipped.end()) continue;
       total += size + 8;
     }
   }
@@ -272,6 +322,15 @@ bool loadObject(CompiledShader& shader, std::string_view object, bool hasGroupEn
   if (shader.model == spv::ExecutionModelVertex || shader.model == spv::ExecutionModelFragment) {
     shader.graphicsEntry = sym->toPtr<abi::GraphicsEntry>();
   } else if (shader.model != spv::ExecutionModelGLCompute) {
+    // Ray tracing stages: vkrt_main, and a ray generation shader's SPMD batch entry (vkrt_group) beside it.
+    if (hasGroupEntry) {
+      shader.rayBatchEntry = sym->toPtr<abi::RayBatchEntry>();
+      sym = (*lljit)->lookup("vkrt_main");
+      if (!sym) {
+        *error = "LLVM: " + errText(sym.takeError());
+        return false;
+      }
+    }
     shader.rayEntry = sym->toPtr<abi::RayEntry>();
   } else {
     (hasGroupEntry ? shader.groupEntry : shader.entry) = sym->toPtr<abi::ComputeEntry>();

@@ -245,9 +245,9 @@ OpSupport opSupport(spv::Op op) {
     case spv::OpImageSampleImplicitLod: return {F::Image, S::Quad};
     // ---- RayTracing
     case spv::OpTypeAccelerationStructureKHR: return {F::RayTracing, S::None};
-    case spv::OpConvertUToAccelerationStructureKHR: return {F::RayTracing, S::None};
-    case spv::OpTraceRayKHR: return {F::RayTracing, S::None};
-    case spv::OpExecuteCallableKHR: return {F::RayTracing, S::None};
+    case spv::OpConvertUToAccelerationStructureKHR: return {F::RayTracing, S::Checked};
+    case spv::OpTraceRayKHR: return {F::RayTracing, S::Checked};
+    case spv::OpExecuteCallableKHR: return {F::RayTracing, S::Checked};
     case spv::OpReportIntersectionKHR: return {F::RayTracing, S::None};
     case spv::OpIgnoreIntersectionKHR: return {F::RayTracing, S::None};
     case spv::OpTerminateRayKHR: return {F::RayTracing, S::None};

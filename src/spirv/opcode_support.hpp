@@ -32,7 +32,8 @@ enum class SpmdForm : uint8_t {
   None,         // left to the scalar vkrt_group
   Elementwise,  // component by component on scalars and vectors: the scalar emitters, N lanes wide
   Own,          // spmd.cpp's own emitter (control flow, memory, composites, reductions)
-  Checked,      // spmd.cpp decides from the operands (OpVariable's storage class, OpExtInst's instruction)
+  Checked,      // spmd.cpp decides from the operands or the stage (OpVariable's storage class, OpExtInst's
+                // instruction, traces and callables: ray generation shaders)
   Quad,         // fragment shaders only (a 2x2 quad per call): spmd.cpp's fragmentInstruction (demotion, helper
                 // tests, derivatives, quad operations, sampling per lane), OpKill/OpTerminateInvocation as block ends
 };

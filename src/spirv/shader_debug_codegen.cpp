@@ -128,6 +128,12 @@ void Codegen::callOutOfBounds(llvm::Value* site, llvm::Value* offset, llvm::Valu
 }
 
 llvm::Value* Codegen::laneContext(const LaneReport& lanes, llvm::Value* lane) {
+  if (lanes.launchX0) {
+    b.CreateAlignedStore(b.CreateAdd(lanes.launchX0, b.CreateZExtOrTrunc(lane, b.getInt32Ty())),
+                         b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(RayInvocation, launchId)),
+                         llvm::Align(4));
+    return ctxArg;
+  }
   if (!lanes.batchBase)
     return b.CreateGEP(b.getInt8Ty(), ctxArg,
                        b.CreateMul(b.CreateZExt(lane, b.getInt64Ty()), i64(sizeof(GraphicsInvocation))));

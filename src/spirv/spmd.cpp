@@ -1,5 +1,5 @@
-// SPMD compilation of compute shaders (spmd.hpp). The entry function's blocks are emitted once, in the module's
-// order, for a batch of N lanes:
+// SPMD compilation of compute shaders, fragment quads and ray generation shaders (spmd.hpp). The entry function's
+// blocks are emitted once, in the module's order, for a batch of N lanes:
 //
 // - Values. A uniform value (uniformity.hpp) is what the scalar code generator makes of it, and the scalar code
 //   generator (a second Codegen, `sc`, emitting into vkrt_group) emits it: arithmetic, uniform loads, descriptors.
@@ -20,6 +20,9 @@
 //
 // - Storage images: the lanes address a bound view's texels themselves where its kind is the declared format's
 //   (abi::ImageTexels), else call the runtime lane by lane (imageAccess).
+// - Ray generation: a batch is N launch ids along x in one row; the payloads, callable data and Private variables
+//   are per-lane storage, and each trace or callable is the runtime's call lane by lane, the lane's payload copied
+//   into a block of its own for the call (traceLanes).
 //
 // The rest (barriers, atomics, samplers, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
 // varying matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first,
@@ -53,6 +56,10 @@ std::atomic<bool> spmdOn{true};
 // Ids the per-component emitters see for operands (above any id a module may have: the bound is < 2^22 in
 // practice, and ids are < 2^32 - 1).
 constexpr uint32_t kFakeId = 0xfff00000u;
+
+// The most bytes of payloads, callable data and Private variables a ray generation batch keeps for its lanes (on the
+// worker's stack); a shader that needs more runs one launch id at a time.
+constexpr uint64_t kMaxRaygenLaneBytes = 64 * 1024;
 
 // An image type compute shaders' SPMD code takes (texel buffers included): not a subpass input or multisampled image.
 bool imageTypeOnPath(const Instruction& t) {
@@ -123,8 +130,9 @@ class Spmd {
   }
 
   bool supported(const EntryPoint& ep, std::string* why);
-  bool emit(const EntryPoint& ep, llvm::Function* main);
+  bool emitCompute();
   bool emitQuad();
+  bool emitRaygen();
   std::string why;
 
  private:
@@ -162,6 +170,11 @@ class Spmd {
     return true;
   }
   void affineResult(const Instruction& in, uint32_t k, uint32_t kk);
+  // ---- ray generation shaders (a batch: N launch ids along x, from launchX0, in one row)
+  bool raygen() const { return g.model == spv::ExecutionModelRayGenerationKHR; }
+  llvm::Value* launchX0 = nullptr;  // i32: the first lane's LaunchIdKHR.x (the invocation's launchId[0] at entry)
+  llvm::Value* launchYZ[2] = {};    // i32: LaunchIdKHR.y and .z, uniform
+  bool traceLanes(const Instruction& in);
   // ---- fragment shaders (N = 4: the quad's lanes, lane i at pixel (x + (i & 1), y + (i >> 1)))
   bool fragment() const { return g.isFragment(); }
   llvm::Value* invArg = nullptr;                            // GraphicsInvocation[4]
@@ -181,7 +194,8 @@ class Spmd {
   // lanes not run undefined.
   bool eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt, std::vector<llvm::Value*>* comps,
                 const std::function<void(unsigned)>& perLane = {},
-                bool (Codegen::*emitter)(const Instruction&, bool&) = &Codegen::image);
+                bool (Codegen::*emitter)(const Instruction&, bool&) = &Codegen::image,
+                const std::function<void(unsigned)>& afterLane = {});
   bool atomicLanes(const Instruction& in);
   bool imageAccess(const Instruction& in);
   // The scalar code's image instruction `in` once, on uniform operands (`what` names it where the code refuses it).
@@ -205,7 +219,35 @@ class Spmd {
     why = what;
     return false;
   }
+  // The report of an access the lanes of `mk` make (Codegen::LaneReport): compute shaders' ids from the batch, ray
+  // generation shaders' launch id from launchX0.
+  Codegen::LaneReport lanesReport(llvm::Value* mk) const { return {mk, batchBase, wgBase, launchX0}; }
   llvm::Type* laneTy(llvm::Type* s) { return llvm::FixedVectorType::get(s, N); }
+  // <N x i32> 0, 1, ..., N - 1.
+  llvm::Constant* iota() {
+    std::vector<llvm::Constant*> lanes;
+    for (unsigned l = 0; l < N; ++l) lanes.push_back(b.getInt32(l));
+    return llvm::ConstantVector::get(lanes);
+  }
+  // Creates the entry vkrt_group(`params`) (its first parameter the context) and its alloca block, the builder there.
+  void beginEntry(llvm::ArrayRef<llvm::Type*> params) {
+    fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), params, false), llvm::Function::ExternalLinkage,
+                                "vkrt_group", g.out);
+    fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
+    if (N == 16) fn->addFnAttr("prefer-vector-width", "512");
+    allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
+    b.SetInsertPoint(allocaBlock);
+  }
+  // The scalar and lane emitters emit into the entry, with `ctx` as their context (no private block: the SPMD code's
+  // per-lane variables are its own).
+  void bindEmitters(llvm::Value* ctx) {
+    for (Codegen* x : {&sc, &lc}) {
+      x->fn = fn;
+      x->ctxArg = ctx;
+      x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
+      x->allocaBlock = allocaBlock;
+    }
+  }
   llvm::Type* maskTy() { return laneTy(b.getInt1Ty()); }
   llvm::Value* splat(llvm::Value* s) { return b.CreateVectorSplat(N, s); }
   llvm::Value* any(llvm::Value* mk) { return b.CreateOrReduce(mk); }
@@ -214,7 +256,7 @@ class Spmd {
   // The report names the first active lane (Codegen::laneReport).
   bool scalarMemory(const Instruction& in, bool& ok) {
     sc.reportIf = any(mask);
-    Codegen::LaneReport lanes{mask, batchBase, wgBase};
+    Codegen::LaneReport lanes = lanesReport(mask);
     sc.laneReport = &lanes;
     bool done = sc.memory(in, ok);
     sc.laneReport = nullptr;
@@ -238,7 +280,7 @@ class Spmd {
       b.SetInsertPoint(check);
     }
     llvm::Value* failing = b.CreateAnd(mask, b.CreateNot(inBoundsLanes(lp, span)));
-    sc.reportFailingLanes(lp.p, kind, span, failing, laneOffsets(lp, 0), {mask, batchBase, wgBase});
+    sc.reportFailingLanes(lp.p, kind, span, failing, laneOffsets(lp, 0), lanesReport(mask));
     if (done) {
       b.CreateBr(done);
       b.SetInsertPoint(done);
@@ -386,8 +428,11 @@ class Spmd {
 bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   // (A fragment shader's interface and Private variables are per-lane storage; initializers are left to the scalar
   // path.)
-  if (!g.privateInits.empty() || (!fragment() && g.privateSize > 0))
+  if (!g.privateInits.empty() || (!fragment() && !raygen() && g.privateSize > 0))
     return (*whyNot = "Private variables or initializers"), false;
+  // A ray generation batch keeps every lane's payloads and Private variables in its frame.
+  if (raygen() && uint64_t(g.privateSize) * N > kMaxRaygenLaneBytes)
+    return (*whyNot = "payloads too large for a batch's frame"), false;
   // VKRT_SHADER_CHECKS=bda checks each device address access against the live buffers, on the scalar path.
   if (g.checks & abi::kCheckDeviceAddress)
     for (const auto& [id, t] : m.types)
@@ -439,6 +484,12 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           // Compute shaders: the image of a sampled image (uniform), texel fetches lane by lane (fetchLanes).
           ok = !fragment() && !(g.checks & abi::kCheckImage);
           break;
+        case spv::OpTraceRayKHR:
+        case spv::OpExecuteCallableKHR:
+        case spv::OpConvertUToAccelerationStructureKHR:
+          // Ray generation shaders: traces and callables lane by lane (traceLanes), a uniform structure address.
+          ok = raygen();
+          break;
         default: break;
       }
       // Compute shaders' atomics on buffers, lane by lane (atomicLanes); workgroup memory is not on the path.
@@ -457,6 +508,23 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   }
   // Module-scope variables the function reads: buffers, push constants and the compute built-ins only.
   for (const auto& [id, gl] : g.globals) {
+    if (raygen()) {
+      // The payloads, callable data and Private variables: per-lane storage (32-bit leaves), handed to the runtime a
+      // lane at a time; the shader record (uniform: the launch's one raygen record), LaunchIdKHR (x varies) and
+      // LaunchSizeKHR.
+      if (gl.storage == spv::StorageClassRayPayloadKHR || gl.storage == spv::StorageClassCallableDataKHR ||
+          gl.storage == spv::StorageClassPrivate) {
+        if (!laneLeaves(g.spvType(m.def(id)->word(1)).element))
+          return (*whyNot = "a payload, callable data or Private variable of 8-, 16- or 64-bit values"), false;
+        u.laneVariables.insert(id);
+        continue;
+      }
+      if (gl.storage == spv::StorageClassShaderRecordBufferKHR) continue;
+      if (gl.storage == spv::StorageClassInput) {
+        if (gl.builtIn == spv::BuiltInLaunchIdKHR || gl.builtIn == spv::BuiltInLaunchSizeKHR) continue;
+        return (*whyNot = "a built-in the SPMD path does not compute"), false;
+      }
+    }
     if (fragment()) {
       // Images, buffers, push constants; the interface and Private variables as per-lane storage (32-bit leaves).
       if (gl.storage == spv::StorageClassWorkgroup) return (*whyNot = "workgroup variables"), false;
@@ -476,7 +544,8 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
       const Instruction* it = m.def(pt.element);
       while (it && (it->op == spv::OpTypeArray || it->op == spv::OpTypeRuntimeArray)) it = m.def(it->word(2));
       if (it && it->op == spv::OpTypeSampledImage) it = m.def(it->word(2));
-      if (!it || (!imageTypeOnPath(*it) && it->op != spv::OpTypeSampler))
+      const bool structure = it && it->op == spv::OpTypeAccelerationStructureKHR && raygen();
+      if (!it || (!imageTypeOnPath(*it) && it->op != spv::OpTypeSampler && !structure))
         return (*whyNot = "a module variable of another kind"), false;
       continue;
     }
@@ -492,7 +561,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         default: return (*whyNot = "a built-in the SPMD path does not compute"), false;
       }
   }
-  if (!u.analyze(m, cfg, g.info.localSize, N, whyNot)) return false;
+  // A ray generation batch is N launch ids of one row: LaunchIdKHR.x varies, .y and .z do not, as a workgroup's ids
+  // in a workgroup N wide.
+  const uint32_t row[3] = {N, 1, 1};
+  if (!u.analyze(m, cfg, raygen() ? row : g.info.localSize, N, whyNot)) return false;
   for (const Instruction* in : composites)
     if (u.bits(in->word(2))) return (*whyNot = "a varying value of a composite type (" + opName(in->op) + ")"), false;
   return true;
@@ -655,6 +727,13 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpImageRead:
     case spv::OpImageWrite: return imageAccess(in);
     case spv::OpImageFetch: return fetchLanes(in);
+    case spv::OpTraceRayKHR:
+    case spv::OpExecuteCallableKHR: return traceLanes(in);
+    case spv::OpConvertUToAccelerationStructureKHR: {
+      if (u.bits(in.word(2))) return fail("a varying acceleration structure address");
+      bool ok = true;
+      return sc.rayTracing(in, ok) && ok ? true : fail(sc.error.c_str());
+    }
     case spv::OpArrayLength: {
       if (lptrs.count(in.word(3))) return fail("OpArrayLength of a varying pointer");
       bool ok = true;
@@ -951,7 +1030,8 @@ LanePtr* Spmd::lanePtr(uint32_t id) {
   auto gl = g.globals.find(id);
   if (gl != g.globals.end() && gl->second.storage == spv::StorageClassInput &&
       (gl->second.builtIn == spv::BuiltInGlobalInvocationId || gl->second.builtIn == spv::BuiltInLocalInvocationId ||
-       gl->second.builtIn == spv::BuiltInLocalInvocationIndex)) {
+       gl->second.builtIn == spv::BuiltInLocalInvocationIndex ||
+       (raygen() && gl->second.builtIn == spv::BuiltInLaunchIdKHR))) {
     LanePtr lp;
     lp.builtIn = gl->second.builtIn;
     return &(lptrs[id] = lp);
@@ -960,6 +1040,12 @@ LanePtr* Spmd::lanePtr(uint32_t id) {
 }
 
 bool Spmd::builtInComps(int builtIn, std::vector<llvm::Value*>& out, std::vector<Affine>& aff) {
+  if (builtIn == spv::BuiltInLaunchIdKHR) {
+    // Ray generation: lane l at x = launchX0 + l of the batch's row.
+    out = {b.CreateAdd(splat(launchX0), iota()), launchYZ[0], launchYZ[1]};
+    aff = {{launchX0, 1}, {nullptr, 0}, {nullptr, 0}};
+    return true;
+  }
   const uint32_t* size = g.info.localSize;
   if (builtIn == spv::BuiltInLocalInvocationIndex) {
     out = {laneIndex};
@@ -1362,7 +1448,7 @@ bool Spmd::storeInst(const Instruction& in) {
     if (!value) return fail("a stored value without a value");
     ifAny(mask, [&] {
       sc.b.SetInsertPoint(b.GetInsertBlock());
-      Codegen::LaneReport lanes{mask, batchBase, wgBase};
+      Codegen::LaneReport lanes = lanesReport(mask);
       sc.laneReport = &lanes;
       sc.store(target, value);
       sc.laneReport = nullptr;
@@ -1554,7 +1640,8 @@ bool Spmd::sampleLanes(const Instruction& in) {
 
 bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uint32_t rt,
                     std::vector<llvm::Value*>* comps, const std::function<void(unsigned)>& perLane,
-                    bool (Codegen::*emitter)(const Instruction&, bool&)) {
+                    bool (Codegen::*emitter)(const Instruction&, bool&),
+                    const std::function<void(unsigned)>& afterLane) {
   const uint32_t id = rt ? in.word(2) : 0, nr = rt ? count(rt) : 0;
   llvm::Type* st = rt ? g.type(g.scalarType(rt)) : nullptr;
   if (comps) comps->assign(nr, rt ? llvm::UndefValue::get(laneTy(st)) : nullptr);
@@ -1578,6 +1665,7 @@ bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uin
     if (perLane) perLane(l);
     bool ok = true;
     bool done = (sc.*emitter)(in, ok) && ok;
+    if (done && afterLane) afterLane(l);
     for (uint32_t x : lent) sc.values.erase(x);
     auto r = rt ? sc.values.find(id) : sc.values.end();
     if (!done || (rt && r == sc.values.end()))
@@ -1788,7 +1876,7 @@ bool Spmd::atomicLanes(const Instruction& in) {
   if (!lp && !sc.hasPtr(ptrId)) return fail("an atomic through an untracked pointer");
   const Ptr uniform = lp ? Ptr{} : sc.ptr(ptrId);
   llvm::Value* offsets = lp ? laneOffsets(*lp, 0) : nullptr;
-  Codegen::LaneReport report{nullptr, batchBase, wgBase};
+  Codegen::LaneReport report = lanesReport(nullptr);
   std::vector<llvm::Value*> comps;
   const bool done = eachLane(
       in, ids, rt, rt ? &comps : nullptr,
@@ -1810,6 +1898,54 @@ bool Spmd::atomicLanes(const Instruction& in) {
   else
     sc.ptrs[ptrId] = uniform;
   return done && (store || define(in.word(2), rt, comps));
+}
+
+// OpTraceRayKHR and OpExecuteCallableKHR (ray generation shaders): the scalar code's call once per active lane, in
+// lane order, with that lane's operands and its launch id in the invocation (launchId[0]: what the runtime's reports
+// and the callee's LaunchIdKHR read), and the lane's payload or callable data (per-lane storage, its words interleaved)
+// copied into a block of the variable's natural layout for the call and back after it: the callee reads and writes
+// the caller's variable through that block, as on the scalar path.
+bool Spmd::traceLanes(const Instruction& in) {
+  const bool trace = in.op == spv::OpTraceRayKHR;
+  const uint32_t var = in.word(trace ? 11 : 2);
+  LanePtr* lp = lanePtr(var);
+  auto* limit = lp ? llvm::dyn_cast<llvm::ConstantInt>(lp->p.limit) : nullptr;
+  auto* offset = lp ? llvm::dyn_cast<llvm::ConstantInt>(lp->p.offset) : nullptr;
+  if (!lp || !lp->interleaved || !limit || !offset || !offset->isZero())
+    return fail("a payload or callable data operand that is not a per-lane variable");
+  const uint64_t words = (limit->getZExtValue() + 3) / 4;
+  llvm::AllocaInst* block;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock->getTerminator());
+    block = b.CreateAlloca(b.getInt8Ty(), b.getInt64(std::max<uint64_t>(words, 1) * 4));
+    block->setAlignment(llvm::Align(16));
+  }
+  // Word w of lane l: at 4 (w N + l) in the lanes' storage, at 4 w in the block.
+  auto move = [&](unsigned l, bool in) {
+    for (uint64_t w = 0; w < words; ++w) {
+      llvm::Value* lane = b.CreateConstGEP1_64(b.getInt8Ty(), lp->p.base, 4 * (w * N + l));
+      llvm::Value* own = b.CreateConstGEP1_64(b.getInt8Ty(), block, 4 * w);
+      llvm::Value* from = in ? lane : own;
+      b.CreateAlignedStore(b.CreateAlignedLoad(b.getInt32Ty(), from, llvm::Align(4)), in ? own : lane, llvm::Align(4));
+    }
+  };
+  std::vector<uint32_t> ids;
+  for (uint32_t w = 1; w < (trace ? 11u : 2u); ++w) ids.push_back(in.word(w));
+  const bool done = eachLane(
+      in, ids, 0, nullptr,
+      [&](unsigned l) {
+        b.CreateAlignedStore(b.CreateAdd(launchX0, b.getInt32(l)),
+                             b.CreateConstGEP1_64(b.getInt8Ty(), sc.ctxArg, offsetof(RayInvocation, launchId)),
+                             llvm::Align(4));
+        move(l, true);
+        Ptr p = lp->p;
+        p.base = block;
+        sc.ptrs[var] = p;
+      },
+      &Codegen::rayTracing, [&](unsigned l) { move(l, false); });
+  sc.ptrs.erase(var);
+  return done;
 }
 
 // OpImageFetch (compute shaders; the image uniform): the scalar code's one call where every operand is uniform, else
@@ -2018,21 +2154,12 @@ void Spmd::copyLanes(bool inputs, llvm::Value* block) {
 // vkrt_group(GraphicsInvocation quad[4]): the fragment shader for the quad's four lanes in one pass. The executor
 // fills the four invocations as for the scalar vkrt_main and reads their outputs and status after.
 bool Spmd::emitQuad() {
-  fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
-                              llvm::Function::ExternalLinkage, "vkrt_group", g.out);
-  fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
+  beginEntry({b.getPtrTy()});
   invArg = fn->getArg(0);
-  allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
-  b.SetInsertPoint(allocaBlock);
   auto* body = llvm::BasicBlock::Create(c, "spmd.quad", fn);
   b.CreateBr(body);
-  for (Codegen* x : {&sc, &lc}) {
-    x->fn = fn;
-    x->ctxArg = invArg;  // lane 0's: the context fields the code reads (resources, push constants) are the quad's
-    x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
-    x->allocaBlock = allocaBlock;
-    x->spmdDerivatives = true;
-  }
+  bindEmitters(invArg);  // lane 0's: the context fields the code reads (resources, push constants) are the quad's
+  for (Codegen* x : {&sc, &lc}) x->spmdDerivatives = true;
   if (!prepareSlots()) return false;
   // The lane block: the private block's layout (user interface and Private variables), then the built-ins.
   uint64_t size = (g.privateSize + 15) / 16 * 16;
@@ -2091,6 +2218,51 @@ bool Spmd::emitQuad() {
   return true;
 }
 
+// vkrt_group(RayInvocation* inv, uint32_t lanes) of a ray generation shader (abi::RayBatchEntry): the launch ids
+// (inv->launchId[0] + l, inv->launchId[1], inv->launchId[2]) for l < lanes in one pass; the payloads, callable data and
+// Private variables per lane (the private block's layout, interleaved), zeroed per batch.
+bool Spmd::emitRaygen() {
+  beginEntry({b.getPtrTy(), b.getInt32Ty()});
+  llvm::Value* inv = fn->getArg(0);
+  auto* body = llvm::BasicBlock::Create(c, "spmd.raygen", fn);
+  b.CreateBr(body);
+  bindEmitters(inv);
+  if (!prepareSlots()) return false;
+  const uint64_t size = std::max<uint64_t>((g.privateSize + 15) / 16 * 16, 16);
+  llvm::AllocaInst* lanes;
+  {
+    llvm::IRBuilderBase::InsertPointGuard guard(b);
+    b.SetInsertPoint(allocaBlock->getTerminator());
+    lanes = b.CreateAlloca(b.getInt8Ty(), b.getInt64(size * N));
+    lanes->setAlignment(llvm::Align(64));
+  }
+  b.SetInsertPoint(body);
+  b.CreateMemSet(lanes, b.getInt8(0), b.getInt64(size * N), llvm::MaybeAlign(64));
+  for (const auto& [id, gl] : g.globals) {
+    if (!u.laneVariables.count(id)) continue;
+    LanePtr lp;
+    lp.p.base = b.CreateConstGEP1_64(b.getInt8Ty(), lanes, gl.offset * N);
+    lp.p.offset = b.getInt64(0);
+    lp.p.limit = b.getInt64(gl.size);
+    lp.p.type = g.spvType(m.def(id)->word(1)).element;
+    lp.p.storage = gl.storage;
+    lp.interleaved = true;
+    lptrs[id] = lp;
+  }
+  auto launchId = [&](int i) {
+    return b.CreateConstGEP1_64(b.getInt8Ty(), inv, offsetof(RayInvocation, launchId) + 4 * i);
+  };
+  launchX0 = b.CreateAlignedLoad(b.getInt32Ty(), launchId(0), llvm::Align(4));
+  for (int i = 0; i < 2; ++i) launchYZ[i] = b.CreateAlignedLoad(b.getInt32Ty(), launchId(i + 1), llvm::Align(4));
+  mask = b.CreateICmpULT(iota(), splat(fn->getArg(1)));
+  for (size_t bi = 0; bi < cfg.blocks.size(); ++bi)
+    if (!block(bi)) return false;
+  if (!loopHeads.empty()) return fail("a loop without a back edge");
+  b.CreateAlignedStore(launchX0, launchId(0), llvm::Align(4));
+  b.CreateRetVoid();
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------- the entry
 
 // The per-block masks and the phis' and loops' live-out slots, zeroed in the alloca block (every block consumes its
@@ -2125,16 +2297,10 @@ bool Spmd::prepareSlots() {
   return true;
 }
 
-bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
-  (void)main;
+bool Spmd::emitCompute() {
   const uint32_t* size = g.info.localSize;
   uint32_t total = size[0] * size[1] * size[2];
-  fn = llvm::Function::Create(llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy()}, false),
-                              llvm::Function::ExternalLinkage, "vkrt_group", g.out);
-  fn->getArg(0)->addAttr(llvm::Attribute::get(c, "vkrt-ctx"));
-  if (N == 16) fn->addFnAttr("prefer-vector-width", "512");
-  allocaBlock = llvm::BasicBlock::Create(c, "entry", fn);
-  b.SetInsertPoint(allocaBlock);
+  beginEntry({b.getPtrTy()});
   llvm::Value* local = sc.groupContext(fn->getArg(0));
   for (int i = 0; i < 3; ++i) {
     llvm::Value* wg = b.CreateAlignedLoad(
@@ -2144,20 +2310,13 @@ bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
   }
   auto* batch = llvm::BasicBlock::Create(c, "spmd.batch", fn);
   b.CreateBr(batch);
-  for (Codegen* x : {&sc, &lc}) {
-    x->fn = fn;
-    x->ctxArg = local;
-    x->privArg = llvm::ConstantPointerNull::get(b.getPtrTy());
-    x->allocaBlock = allocaBlock;
-  }
+  bindEmitters(local);
   if (!prepareSlots()) return false;
   b.SetInsertPoint(batch);
   auto* base = b.CreatePHI(b.getInt32Ty(), 2);
   base->addIncoming(b.getInt32(0), allocaBlock);
   batchBase = base;
-  std::vector<llvm::Constant*> iota;
-  for (unsigned l = 0; l < N; ++l) iota.push_back(b.getInt32(l));
-  laneIndex = b.CreateAdd(splat(base), llvm::ConstantVector::get(iota));
+  laneIndex = b.CreateAdd(splat(base), iota());
   mask = b.CreateICmpULT(laneIndex, splat(b.getInt32(total)));  // the tail of the last batch is off
   for (size_t bi = 0; bi < cfg.blocks.size(); ++bi)
     if (!block(bi)) return false;
@@ -2168,7 +2327,6 @@ bool Spmd::emit(const EntryPoint& ep, llvm::Function* main) {
   b.CreateCondBr(b.CreateICmpULT(next, b.getInt32(total)), batch, done);
   b.SetInsertPoint(done);
   b.CreateRetVoid();
-  (void)ep;
   return true;
 }
 
@@ -2204,38 +2362,41 @@ unsigned spmdLanes() {
 
 std::string spmdKey() { return "spmd " + std::to_string(spmdLanes()); }
 
-bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
-  if (!spmdLanes() || !g.isFragment()) return false;  // VKRT_SPMD=0: the fibers' path
-  Spmd s(g, 4);
-  std::string whyNot;
-  if (!s.supported(ep, &whyNot)) return false;
-  if (!s.emitQuad()) {
-    if (llvm::Function* f = g.out.getFunction("vkrt_group")) {
-      f->dropAllReferences();
-      f->eraseFromParent();
-    }
-    return false;
-  }
-  main->setLinkage(llvm::Function::InternalLinkage);
-  g.info.spmdLanes = 4;
-  return true;
-}
+namespace {
 
-bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
-  unsigned lanes = spmdLanes();
-  if (!lanes) return false;
+// Emits an SPMD entry with `emit` where the path supports the shader; else removes what it emitted (false).
+bool emitEntry(Codegen& g, const EntryPoint& ep, unsigned lanes, bool (Spmd::*emit)()) {
+  if (!lanes) return false;  // VKRT_SPMD=0
   Spmd s(g, lanes);
   std::string whyNot;
   if (!s.supported(ep, &whyNot)) return false;
-  if (!s.emit(ep, main)) {
+  if (!(s.*emit)()) {
     if (llvm::Function* f = g.out.getFunction("vkrt_group")) {
       f->dropAllReferences();
       f->eraseFromParent();
     }
     return false;
   }
-  main->setLinkage(llvm::Function::InternalLinkage);
   g.info.spmdLanes = uint8_t(lanes);
+  return true;
+}
+
+}  // namespace
+
+bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
+  if (!g.isFragment() || !emitEntry(g, ep, spmdLanes() ? 4 : 0, &Spmd::emitQuad)) return false;
+  main->setLinkage(llvm::Function::InternalLinkage);
+  return true;
+}
+
+bool emitSpmdRaygen(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
+  (void)main;  // vkrt_main stays: the executor runs it where it records ray trees
+  return g.model == spv::ExecutionModelRayGenerationKHR && emitEntry(g, ep, spmdLanes(), &Spmd::emitRaygen);
+}
+
+bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main) {
+  if (!emitEntry(g, ep, spmdLanes(), &Spmd::emitCompute)) return false;
+  main->setLinkage(llvm::Function::InternalLinkage);
   return true;
 }
 

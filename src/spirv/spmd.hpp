@@ -29,4 +29,10 @@ bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main);
 // fibers). Sets g.info.spmdLanes to 4.
 bool emitSpmdQuad(Codegen& g, const EntryPoint& ep, llvm::Function* main);
 
+// Emits vkrt_group(RayInvocation*, uint32_t lanes) for a ray generation entry point (abi::RayBatchEntry): a batch of
+// launch ids along x in one pass, their traces and callables lane by lane, where the SPMD path supports every
+// instruction; otherwise returns false, the module as it was. vkrt_main stays (the executor runs it where it records
+// ray trees). Sets g.info.spmdLanes.
+bool emitSpmdRaygen(Codegen& g, const EntryPoint& ep, llvm::Function* main);
+
 }  // namespace vkrt::spirv

@@ -167,6 +167,7 @@ bool Uniformity::analyze(const Module& m, const Cfg& cfg, const uint32_t localSi
     switch (builtIn) {
       case spv::BuiltInGlobalInvocationId:
       case spv::BuiltInLocalInvocationId:
+      case spv::BuiltInLaunchIdKHR:  // ray generation: localSize is the batch's row (spmd.cpp)
         return 1u | (localSize[0] % lanes ? 2u : 0u) | ((localSize[0] * localSize[1]) % lanes ? 4u : 0u);
       case spv::BuiltInLocalInvocationIndex: return 1u;
       default: return 0u;

@@ -27,6 +27,7 @@
 #include "oob_debug_info.spvasm.spv.h"
 #include "oob_draw.frag.spv.h"
 #include "oob_raygen.g.rgen.spv.h"
+#include "oob_raygen_lane.g.rgen.spv.h"
 #include "oob_read.comp.spv.h"
 #include "oob_write.g.comp.spv.h"
 #include "oob_write.gv.comp.spv.h"
@@ -387,6 +388,28 @@ TEST_F(ShaderDebugTraceTest, RayGenerationAndClosestHitPrint) {
   }
   EXPECT_GT(hits, 0);
   EXPECT_LT(hits, 16);
+}
+
+// An 8 x 4 launch in which launch id (5, 2) alone stores past the 32 payloads the buffer holds: the report names that
+// launch id, also where a batch of launch ids runs in one call (the SPMD raygen entry: lane 5 of row 2's batch).
+TEST_F(ShaderDebugTraceTest, RayGenerationStoreOutOfBoundsNamesTheLanesLaunchId) {
+  if (!vkrt) GTEST_SKIP() << "vkrt's own report";
+  Desc d;
+  d.layout = traceLayout;
+  d.general(module(kSpv_oob_raygen_lane_g_rgen, sizeof kSpv_oob_raygen_lane_g_rgen), VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  VkPipeline p = make(d);
+  ASSERT_NE(p, VK_NULL_HANDLE);
+  Sbt s = sbt(p, 2, {0}, {{1, {}}}, {});
+  std::vector<TracePayload> r = trace(p, s, basicScene(), 8, 4);
+  for (uint32_t i = 0; i < 32; ++i) EXPECT_EQ(r[i].ids[0], i) << i;
+  std::vector<ShaderMessage> m = log.take(kOutOfBoundsId);
+  ASSERT_EQ(m.size(), 1u);
+  const std::string& t = m[0].text;
+  EXPECT_TRUE(contains(t, "oob_raygen_lane.g.rgen at line 12, launch id (5, 2, 0): store of ")) << t;
+  // Payload 32 + 21's ids, 16 bytes into the 48-byte payload: past the 1536 bytes of 32 payloads.
+  EXPECT_TRUE(contains(t, " bytes at offset 2560 is outside the 1536 bytes in range")) << t;
+  clearMessages();
 }
 
 // A 4 x 4 launch whose ray generation shader stores one payload past the 16 the buffer holds: one report for the

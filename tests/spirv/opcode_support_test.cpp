@@ -44,8 +44,9 @@ TEST(OpcodeSupport, EveryGlslInstructionTheSpmdPathAcceptsIsSupported) {
 }
 
 // Spmd::supported decides OpVariable (its storage class), OpExtInst (its set and instruction), OpImageRead,
-// OpImageWrite, OpImageFetch and OpImage (the image type, the stage and the shader checks), the image queries and the
-// atomics (the stage) itself; any other instruction marked Checked would be refused there without a reason.
+// OpImageWrite, OpImageFetch and OpImage (the image type, the stage and the shader checks), the image queries, the
+// atomics, traces, callables and acceleration structure addresses (the stage) itself; any other instruction marked
+// Checked would be refused there without a reason.
 TEST(OpcodeSupport, OnlyTheInstructionsSpmdPathDecidesAreChecked) {
   std::set<uint32_t> checked;
   for (uint32_t op = 0; op < kOpcodeLimit; ++op)
@@ -73,7 +74,10 @@ TEST(OpcodeSupport, OnlyTheInstructionsSpmdPathDecidesAreChecked) {
                                          spv::OpAtomicUMax,
                                          spv::OpAtomicAnd,
                                          spv::OpAtomicOr,
-                                         spv::OpAtomicXor}));
+                                         spv::OpAtomicXor,
+                                         spv::OpTraceRayKHR,
+                                         spv::OpExecuteCallableKHR,
+                                         spv::OpConvertUToAccelerationStructureKHR}));
 }
 
 TEST(OpcodeSupport, FamiliesAndDispatchPredicatesAgree) {

@@ -62,11 +62,14 @@ class RayTestRuntime {
   uint32_t maxDepth = 0;                    // deepest traceRay nesting seen
   std::vector<std::string> errors;  // what the runtime found wrong (a bad AS address, an SBT index out of range)
 
-  // Runs the raygen shader once per launch index.
+  // Runs the raygen shader once per launch index, or, with `batches`, through its SPMD entry (abi::RayBatchEntry):
+  // each row in batches of its lanes from x = 0, the last one partial.
   void launch(const std::shared_ptr<spirv::CompiledShader>& raygen, std::vector<uint8_t> raygenRecord, uint32_t width,
-              uint32_t height) {
+              uint32_t height, bool batches = false) {
+    if (batches) ASSERT_TRUE(raygen->rayBatchEntry && raygen->spmdLanes) << "the raygen shader has no batch entry";
+    const uint32_t step = batches ? raygen->spmdLanes : 1;
     for (uint32_t y = 0; y < height; ++y) {
-      for (uint32_t x = 0; x < width; ++x) {
+      for (uint32_t x = 0; x < width; x += step) {
         Invocation inv = fresh(nullptr);
         inv.launchId[0] = x;
         inv.launchId[1] = y;
@@ -75,7 +78,8 @@ class RayTestRuntime {
         inv.launchSize[2] = 1;
         inv.shaderRecord = raygenRecord.data();
         inv.shaderRecordBytes = raygenRecord.size();
-        run(*raygen, inv);
+        run(*raygen, inv, batches ? std::min(step, width - x) : 0);
+        if (batches) EXPECT_EQ(inv.launchId[0], x) << "the batch entry left launchId[0] changed";
       }
     }
   }
@@ -102,8 +106,9 @@ class RayTestRuntime {
     Hit candidate;  // the primitive an intersection shader runs for
   };
 
-  // Calls a shader with its own resource table (one slot per ResourceBinding, in its order).
-  void run(const spirv::CompiledShader& shader, Invocation& inv) {
+  // Calls a shader with its own resource table (one slot per ResourceBinding, in its order); with `lanes`, the raygen
+  // shader's batch entry for that many launch ids from inv's.
+  void run(const spirv::CompiledShader& shader, Invocation& inv, uint32_t lanes = 0) {
     std::vector<abi::ResourceSlot>& slots = tables[&shader];
     if (slots.size() != shader.resources.size()) {
       slots.clear();
@@ -114,7 +119,11 @@ class RayTestRuntime {
     }
     inv.base.resources = slots.data();
     ASSERT_NE(shader.rayEntry, nullptr);
-    shader.rayEntry(&inv);
+    if (lanes) {
+      shader.rayBatchEntry(&inv, lanes);
+    } else {
+      shader.rayEntry(&inv);
+    }
   }
 
   Invocation fresh(const Invocation* caller) {

@@ -28,6 +28,7 @@
 #include "rt_nv_raygen.rgen.spv.h"
 #include "rt_nv_rint.rint.spv.h"
 #include "rt_raygen.rgen.spv.h"
+#include "rt_raygen_spmd.rgen.spv.h"
 #include "rt_rint.rint.spv.h"
 #include "spirv/ray_runtime.hpp"
 
@@ -150,17 +151,27 @@ Expected expect(uint32_t x, uint32_t y) {
   return e;
 }
 
-void traceScene(bool inlineCalls, bool nv = false) {
-  Stages s = compileAll(inlineCalls, nv);
-  ASSERT_TRUE(s.raygen && s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
+constexpr uint32_t kFactor = 3;  // the callable's shader record
+
+// The scene's shader binding table: hit groups 0 and 1 for the triangle geometries (tints 0.5, 0.75; an any-hit
+// shader on geometry 0), 2 for the sphere; two miss shaders; the callable.
+RaySbt sceneSbt(const Stages& s) {
   RaySbt sbt;
   float tint0[4] = {0, 0, 0, 0.5f}, tint1[4] = {0, 0, 0, 0.75f}, sphere[4] = {0, 0, 0, 1.5f};
-  uint32_t factor = 3;
   sbt.hitGroups = {{nullptr, s.chit, s.ahit, nullptr, bytesOf(tint0)},
                    {nullptr, s.chit, nullptr, nullptr, bytesOf(tint1)},
                    {nullptr, s.chit, nullptr, s.rint, bytesOf(sphere)}};
   sbt.miss = {{s.miss, nullptr, nullptr, nullptr, {}}, {s.missSecondary, nullptr, nullptr, nullptr, {}}};
-  sbt.callable = {{s.call, nullptr, nullptr, nullptr, bytesOf(factor)}};
+  sbt.callable = {{s.call, nullptr, nullptr, nullptr, bytesOf(kFactor)}};
+  return sbt;
+}
+
+// `batches`: the raygen shader runs through its SPMD batch entry (RayTestRuntime::launch).
+void traceScene(bool inlineCalls, bool nv = false, bool batches = false) {
+  Stages s = compileAll(inlineCalls, nv);
+  ASSERT_TRUE(s.raygen && s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
+  RaySbt sbt = sceneSbt(s);
+  const uint32_t factor = kFactor;
   RayScene sc = scene();
   RayTestRuntime rt(sc, sbt, kAccel);
   std::vector<Payload> results(kWidth * kHeight);
@@ -170,7 +181,7 @@ void traceScene(bool inlineCalls, bool nv = false) {
                                          nullptr, nullptr};
   rt.bindings[2] =
       abi::DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), answers.size() * 4, nullptr, nullptr};
-  rt.launch(s.raygen, {}, kWidth, kHeight);
+  rt.launch(s.raygen, {}, kWidth, kHeight, batches);
   EXPECT_TRUE(rt.errors.empty()) << rt.errors.front();
   EXPECT_EQ(rt.maxDepth, 2u);  // the sphere's closest-hit shader traced a secondary ray
 
@@ -237,6 +248,60 @@ void traceScene(bool inlineCalls, bool nv = false) {
 }
 
 TEST(SpirvRayTracing, AllSixStagesTraceASceneThroughTheRuntime) { traceScene(true); }
+
+// The same launch through the raygen shader's SPMD batch entry (a batch of the launch's 8 columns, the rest of the
+// lanes off), against the same expectations.
+TEST(SpirvRayTracing, TheRaygenBatchEntryTracesTheSameScene) {
+  if (!spirv::spmdLanes()) GTEST_SKIP() << "SPMD off (VKRT_SPMD=0)";
+  traceScene(true, false, true);
+}
+
+// The SPMD batch entry of a raygen shader with traces and a callable under divergent control (in a loop each lane
+// leaves at its own iteration), a Private array and payload reads after each trace, against its scalar entry
+// (vkrt_main): every byte of both outputs, at widths below, at and above a batch, a partial batch last.
+TEST(SpirvRayTracing, RaygenBatchesWriteWhatTheScalarEntryWrites) {
+  if (!spirv::spmdLanes()) GTEST_SKIP() << "SPMD off (VKRT_SPMD=0)";
+  Stages s = compileAll(true);
+  ASSERT_TRUE(s.miss && s.missSecondary && s.chit && s.ahit && s.rint && s.call);
+  std::string e;
+  s.raygen = compileStage(kSpv_rt_raygen_spmd_rgen, spv::ExecutionModelRayGenerationKHR, true, &e);
+  ASSERT_TRUE(s.raygen) << e;
+  ASSERT_TRUE(s.raygen->rayBatchEntry) << "the shader was not compiled SPMD";
+  EXPECT_EQ(s.raygen->spmdLanes, spirv::spmdLanes());
+  RaySbt sbt = sceneSbt(s);
+  RayScene sc = scene();
+  for (uint32_t width : {1u, 7u, 16u, 37u}) {
+    SCOPED_TRACE("width " + std::to_string(width));
+    const uint32_t height = 3, n = width * height;
+    std::vector<Payload> results[2];
+    std::vector<std::array<uint32_t, 4>> extra[2];
+    for (int batched = 0; batched < 2; ++batched) {
+      RayTestRuntime rt(sc, sbt, kAccel);
+      results[batched].assign(n, Payload{});
+      extra[batched].assign(n, {0xdeadbeef, 0, 0, 0});
+      std::vector<uint32_t> answers(n * 2);
+      rt.bindings[0] = abi::DescriptorRecord{kAccel, 0, nullptr, nullptr};
+      rt.bindings[1] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(results[batched].data()), n * sizeof(Payload),
+                                             nullptr, nullptr};
+      rt.bindings[2] = abi::DescriptorRecord{reinterpret_cast<uint64_t>(answers.data()), n * 8, nullptr, nullptr};
+      rt.bindings[3] =
+          abi::DescriptorRecord{reinterpret_cast<uint64_t>(extra[batched].data()), n * 16, nullptr, nullptr};
+      rt.launch(s.raygen, {}, width, height, batched != 0);
+      EXPECT_TRUE(rt.errors.empty()) << rt.errors.front();
+    }
+    ASSERT_EQ(std::memcmp(results[0].data(), results[1].data(), n * sizeof(Payload)), 0);
+    for (uint32_t i = 0; i < n; ++i) {
+      SCOPED_TRACE("launch index " + std::to_string(i));
+      EXPECT_EQ(extra[0][i], extra[1][i]);
+      // Every lane ran: its traces (1 to 3 rays, a lane of the second row all of them) and its callable.
+      const uint32_t x = i % width, y = i / width;
+      uint32_t traces = 0;
+      for (uint32_t k = 0; k <= x % 3; ++k) traces += ((x + k) & 1) == 0 || y == 1;
+      EXPECT_EQ(extra[1][i][1], traces);
+      EXPECT_EQ(extra[1][i][2], x % 4 == 1 ? x * kFactor + 1 : 0u);
+    }
+  }
+}
 
 // Without inlining, ignoreIntersectionEXT runs in a function the any-hit shader calls: the status it sets must
 // make the caller return too.
