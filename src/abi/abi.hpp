@@ -219,6 +219,10 @@ struct RayRuntime {
   // A read of `bytes` at `offset` of the shader record that ends past shaderRecordRegionBytes (the compiled code
   // calls it before the read, which then goes on as bounded by shaderRecordBytes).
   void (*shaderRecordOutsideRegion)(RayInvocation* caller, uint64_t offset, uint64_t bytes);
+  // A ray generation batch's OpTraceRayKHR (RayBatchEntry): the traces of the lanes in `mask` (bit l: args[l], whose
+  // launch id is (launchX0 + l, launchId[1], launchId[2])), with what traceRay would do for each, in lane order; the
+  // runtime may traverse their rays together. caller->launchId[0] is launchX0 again when it returns.
+  void (*traceRays)(RayInvocation* caller, const TraceRayArgs* args, uint32_t mask, uint32_t launchX0);
 };
 
 // RayInvocation::status: what ended the shader. 0: it ran to its end (any-hit: the hit is accepted).
@@ -313,16 +317,17 @@ static_assert(offsetof(RayInvocation, launchId) == 160 && offsetof(RayInvocation
                   offsetof(RayInvocation, pendingAdds) == 504 && offsetof(PendingAdds, end) == 8 &&
                   offsetof(PendingAdds, sum) == 16 && offsetof(PendingAdds, flush) == 24 &&
                   offsetof(RayRuntime, executeCallable) == 8 && offsetof(RayRuntime, reportIntersection) == 16 &&
-                  offsetof(RayRuntime, shaderRecordOutsideRegion) == 24,
+                  offsetof(RayRuntime, shaderRecordOutsideRegion) == 24 && offsetof(RayRuntime, traceRays) == 32,
               "the compiler bakes these offsets into shader code");
 
 using RayEntry = void (*)(RayInvocation*);
 // A ray generation shader compiled SPMD (src/spirv/spmd.cpp) has a second entry point besides vkrt_main, vkrt_group:
 // it runs the shader for `lanes` launch ids in one call (1 <= lanes <= CompiledShader::spmdLanes), those of
-// (launchId[0] + l, launchId[1], launchId[2]) for l < lanes, each instruction on all of them at once. Its traces and
-// callables are made lane by lane in lane order through the same RayRuntime with the same invocation, whose
-// launchId[0] holds the calling lane's x for the call (and for a report of an out-of-bounds access); launchId[0] is
-// as it was when the call returns. The RayInvocation is the one a scalar invocation would get otherwise.
+// (launchId[0] + l, launchId[1], launchId[2]) for l < lanes, each instruction on all of them at once. Its traces are
+// one RayRuntime::traceRays call for the active lanes, its callables one executeCallable per lane in lane order,
+// with the same invocation, whose launchId[0] holds the calling lane's x for such a call (and for a report of an
+// out-of-bounds access); launchId[0] is as it was when the call returns. The RayInvocation is the one a scalar
+// invocation would get otherwise.
 using RayBatchEntry = void (*)(RayInvocation*, uint32_t lanes);
 
 // ---------------------------------------------------------------------------------------------- graphics

@@ -296,6 +296,16 @@ inline void prefetchForTrace(const Tlas& tlas) {
   __builtin_prefetch(p);
   __builtin_prefetch(p + 64);
 }
+// Rays traced together (tracePacket): at most kPacketRays, each one trace() would trace through `tlas` without a
+// callback, where packetTraceable() says so: the top level's triangles are all in its flattened scene (a small top
+// level), no box is in reach, and the ray needs no filter (no any-hit shader or culling can apply: the opaque
+// triangles of needsTriangleFilter's test). Such a ray meets nothing that calls back, so the packet's rays are
+// independent: each gets what trace() would commit for it.
+inline constexpr uint32_t kPacketRays = 16;
+bool packetTraceable(const Tlas& tlas, const Ray& ray);
+// Traces the rays of `mask` (bit i: rays[i], each packetTraceable) with one Embree packet query; returns the mask of
+// those that hit, with their committed hits in `hits` (the rest untouched).
+uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, CommittedHit* hits);
 // The built-ins of `hit`, committed by trace() for `ray` through `tlas`.
 void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out);
 // trace() and hitInfo() together.

@@ -16,6 +16,7 @@
 //   AcceptAndTerminate (and a box commit with terminate) accepts the candidate and sets tfar to -inf, which ends
 //   the traversal at every level.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -570,6 +571,30 @@ void traverseTlas(const Tlas::Impl& t, TraceContext& ctx, RTCRayHit& rh) {
   ctx.embree.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+// The hit Embree committed (its instance, geometry and primitive IDs, t, barycentrics, geometric normal) as a
+// CommittedHit: a box's hit kind is `boxHitKind` (the latest commit by a box callback is the one Embree kept if it is
+// a box), a triangle's t inside the open interval (openLo, openHi).
+void committedOf(const Tlas::Impl& t, unsigned instID, unsigned geomID, unsigned primID, float tfar, float u, float v,
+                 std::array<float, 3> ng, uint32_t boxHitKind, float openLo, float openHi, CommittedHit* hit) {
+  const HitIds ids = hitIds(t, instID, geomID, primID);
+  const InstanceRecord& r = t.records[ids.instance];
+  const GeometryInfo& geom = r.blas->info[ids.geometry];
+  CommittedHit& c = *hit;
+  c.t = tfar;
+  c.instance = ids.instance;
+  c.geometry = ids.geometry;
+  c.primitive = ids.primitive;
+  c.sbtOffset = r.sbtOffset;
+  c.u = u;
+  c.v = v;
+  c.ng[0] = ng[0], c.ng[1] = ng[1], c.ng[2] = ng[2];
+  float vs[3][3];
+  if (ids.flat && objectTriangle(geom, c.primitive, vs)) objectNormal(vs, c.ng);
+  c.triangle = geom.kind == Geometry::Triangles;
+  c.hitKind = c.triangle ? 0 : boxHitKind;
+  if (c.triangle) c.t = insideOpen(c.t, openLo, openHi);
+}
+
 // The rest of a committed hit's built-ins (hitInfo).
 void report(const Tlas::Impl& t, const Ray& ray, const Committed& c, HitInfo* hit) {
   // (Every field is assigned: no zeroing first, which compilers make a `rep stos` per hit.)
@@ -688,25 +713,101 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
     finishCommitted(t, ctx.last, hit);  // tfar is -inf now; the callbacks kept the commit
     return true;
   }
-  const HitIds ids = hitIds(t, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID);
-  const InstanceRecord& r = t.records[ids.instance];
-  const GeometryInfo& geom = r.blas->info[ids.geometry];
-  CommittedHit& c = *hit;
-  c.t = rh.ray.tfar;
-  c.instance = ids.instance;
-  c.geometry = ids.geometry;
-  c.primitive = ids.primitive;
-  c.sbtOffset = r.sbtOffset;
-  c.u = rh.hit.u;
-  c.v = rh.hit.v;
-  c.ng[0] = rh.hit.Ng_x, c.ng[1] = rh.hit.Ng_y, c.ng[2] = rh.hit.Ng_z;
-  float v[3][3];
-  if (ids.flat && objectTriangle(geom, c.primitive, v)) objectNormal(v, c.ng);
-  // A box's hit kind is the shader's; the latest commit by a box callback is the one Embree kept if it is a box.
-  c.triangle = geom.kind == Geometry::Triangles;
-  c.hitKind = c.triangle ? 0 : ctx.last.hitKind;
-  if (c.triangle) c.t = insideOpen(c.t, ctx.openLo, ctx.openHi);
+  committedOf(t, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.ray.tfar, rh.hit.u, rh.hit.v,
+              {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}, ctx.last.hitKind, ctx.openLo, ctx.openHi, hit);
   return true;
+}
+
+namespace detail {
+namespace {
+
+// The one instance whose Embree scene a packet goes through, where the top level is a single leaf of one instance with
+// a scene and nothing flattened; -1 otherwise.
+int64_t packetInstance(const Tlas::Impl& t) {
+  if (t.flatScene || t.root == kEmptyRef || !(t.root & kLeafRef) || (t.root & 7) != 0) return -1;
+  uint32_t count, one;
+  const uint32_t* items = leafInstances(t.leafItems, t.root, &count, &one);
+  return count == 1 && t.records[items[0]].scene ? int64_t(items[0]) : -1;
+}
+
+}  // namespace
+}  // namespace detail
+
+bool packetTraceable(const Tlas& tlas, const Ray& ray) {
+  using namespace detail;
+  const Tlas::Impl& t = tlas.impl();
+  const bool shape = (t.flatScene && t.root == kEmptyRef) || packetInstance(t) >= 0;
+  return shape && !(t.summary.aabbs && !(ray.flags & kRaySkipAabbs)) && !needsTriangleFilter(t.summary, ray.flags) &&
+         !(ray.flags & kRayTerminateOnFirstHit);
+}
+
+uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, CommittedHit* hits) {
+  using namespace detail;
+  const Tlas::Impl& t = tlas.impl();
+  // Each ray as trace() sets it up: one float inside each end of [tMin, tMax] (no box in reach); a ray Vulkan does
+  // not allow, or one beyond Embree's range, is left out (a miss).
+  // A flattened top level's one scene, or its one instance's scene (the rays in the instance's object space, Embree
+  // told the instance's index, as traverseTlas does).
+  const int64_t instance = t.flatScene ? -1 : packetInstance(t);
+  const InstanceRecord* record = instance >= 0 ? &t.records[size_t(instance)] : nullptr;
+  alignas(64) int valid[kPacketRays];
+  alignas(64) RTCRayHit16 rh;
+  float openLo[kPacketRays], openHi[kPacketRays];
+  bool any = false;
+  for (uint32_t i = 0; i < kPacketRays; ++i) {
+    const Ray& ray = rays[i];
+    valid[i] = 0;
+    rh.ray.tnear[i] = 0;
+    rh.ray.tfar[i] = -kInf;
+    rh.ray.org_x[i] = rh.ray.org_y[i] = rh.ray.org_z[i] = 0;
+    rh.ray.dir_x[i] = rh.ray.dir_y[i] = rh.ray.dir_z[i] = 1;
+    rh.ray.time[i] = 0;
+    rh.ray.mask[i] = 0;
+    rh.ray.id[i] = i;
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    if (!((mask >> i) & 1) || !(ray.cullMask & 0xFF) || !t.built || !finite3(ray.origin) || !finite3(ray.direction) ||
+        !(ray.tMin >= 0) || !(ray.tMin <= ray.tMax) || !rayInEmbreeRange(ray.origin, ray.direction))
+      continue;
+    float o[3] = {ray.origin[0], ray.origin[1], ray.origin[2]};
+    float d[3] = {ray.direction[0], ray.direction[1], ray.direction[2]};
+    if (record) {
+      if (!(record->mask & ray.cullMask & 0xFF)) continue;
+      const float(*m)[4] = record->worldToObject;
+      for (int a = 0; a < 3; ++a) {
+        o[a] = m[a][0] * ray.origin[0] + m[a][1] * ray.origin[1] + m[a][2] * ray.origin[2] + m[a][3];
+        d[a] = m[a][0] * ray.direction[0] + m[a][1] * ray.direction[1] + m[a][2] * ray.direction[2];
+      }
+      if (!rayInEmbreeRange(o, d)) continue;
+    }
+    valid[i] = -1;
+    any = true;
+    rh.ray.org_x[i] = o[0];
+    rh.ray.org_y[i] = o[1];
+    rh.ray.org_z[i] = o[2];
+    rh.ray.dir_x[i] = d[0];
+    rh.ray.dir_y[i] = d[1];
+    rh.ray.dir_z[i] = d[2];
+    openLo[i] = nextUp(ray.tMin);
+    openHi[i] = nextDown(ray.tMax);
+    rh.ray.tnear[i] = std::max(openLo[i], std::numeric_limits<float>::min());
+    rh.ray.tfar[i] = openHi[i];
+    rh.ray.mask[i] = embreeRayMask(ray);
+  }
+  if (!any) return 0;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  if (record) context.instID[0] = uint32_t(instance);
+  rtcIntersect16(valid, record ? record->scene : t.flatScene, &context, &rh);
+  uint32_t found = 0;
+  for (uint32_t i = 0; i < kPacketRays; ++i) {
+    if (!valid[i] || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    committedOf(t, rh.hit.instID[0][i], rh.hit.geomID[i], rh.hit.primID[i], rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i],
+                {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]}, 0, openLo[i], openHi[i], &hits[i]);
+    found |= 1u << i;
+  }
+  return found;
 }
 
 void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -213,8 +214,10 @@ void executeCallable(abi::RayInvocation* caller, uint32_t index, void* data, uin
 uint32_t reportIntersection(abi::RayInvocation* caller, float t, uint32_t hitKind, const void* attributes,
                             uint64_t bytes);
 void shaderRecordOutsideRegion(abi::RayInvocation* caller, uint64_t offset, uint64_t bytes);
+void traceRays(abi::RayInvocation* caller, const abi::TraceRayArgs* args, uint32_t mask, uint32_t launchX0);
 
-const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection, &shaderRecordOutsideRegion};
+const abi::RayRuntime kRuntime = {&traceRay, &executeCallable, &reportIntersection, &shaderRecordOutsideRegion,
+                                  &traceRays};
 
 // What every invocation of a task has in common (push constants, runtime, launch size): set once per record,
 // and the records a task reuses (TaskState) keep it from call to call.
@@ -631,6 +634,58 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
     frame.miss();
   }
   if (frame.node) copyPayload(*args, &frame.node->payloadAfter);
+}
+
+// A ray generation batch's traces (abi::RayRuntime::traceRays). Where the lanes trace through one top level and each
+// ray meets nothing that calls back (accel::packetTraceable: a small top level's opaque triangles), their rays go
+// through Embree as one packet, then each lane's closest-hit or miss shader runs as traceRay runs it, in lane order;
+// otherwise each lane is a traceRay. The same hits either way: a packet's rays are independent.
+void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, uint32_t mask, uint32_t launchX0) {
+  Invocation& caller = *static_cast<Invocation*>(callerBase);
+  LaunchState& state = *caller.state;
+  const RayLaunch& launch = *state.launch;
+  const accel::Tlas* tlas = nullptr;
+  bool packet = !caller.tree && caller.depth + 1 <= launch.maxRecursionDepth && (mask & (mask - 1)) &&
+                mask < (uint64_t(1) << accel::kPacketRays);
+  accel::Ray rays[accel::kPacketRays];
+  for (uint32_t m = mask; packet && m; m &= m - 1) {
+    const uint32_t l = uint32_t(std::countr_zero(m));
+    const abi::TraceRayArgs& a = args[l];
+    const accel::Tlas* t = caller.task->topLevel(state, a.accelerationStructure);
+    if (!tlas) tlas = t;
+    accel::Ray& ray = rays[l];
+    for (int i = 0; i < 3; ++i) {
+      ray.origin[i] = a.origin[i];
+      ray.direction[i] = a.direction[i];
+    }
+    ray.tMin = a.tMin;
+    ray.tMax = a.tMax;
+    ray.flags = a.rayFlags | launch.pipelineRayFlags;
+    ray.cullMask = a.cullMask & 0xFF;
+    packet = t && t == tlas && accel::packetTraceable(*t, ray);
+  }
+  if (!packet) {
+    for (uint32_t m = mask; m; m &= m - 1) {
+      const uint32_t l = uint32_t(std::countr_zero(m));
+      caller.launchId[0] = launchX0 + l;
+      traceRay(callerBase, &args[l]);
+    }
+    caller.launchId[0] = launchX0;
+    return;
+  }
+  accel::CommittedHit hits[accel::kPacketRays];
+  const uint32_t found = accel::tracePacket(*tlas, rays, mask, hits);
+  for (uint32_t m = mask; m; m &= m - 1) {
+    const uint32_t l = uint32_t(std::countr_zero(m));
+    caller.launchId[0] = launchX0 + l;
+    TraceFrame frame(caller, args[l]);
+    if ((found >> l) & 1) {
+      frame.closestHit(*tlas, rays[l], hits[l]);
+    } else {
+      frame.miss();
+    }
+  }
+  caller.launchId[0] = launchX0;
 }
 
 void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data, uint64_t bytes) {

@@ -260,6 +260,8 @@ class Codegen {
   void returnFromFunction();
   // Before a read of `bytes` at shader record pointer p: tells the runtime when the read ends past the SBT
   // region (RayInvocation::shaderRecordRegionBytes; "Indexing Rules"), on a cold branch. Called by guardedLoad.
+  // The RayRuntime function (abi.hpp) at `offset`, from the invocation's `runtime`.
+  llvm::Value* rayRuntimeFunction(size_t offset);
   void checkShaderRecordRead(const Ptr& p, uint64_t bytes);
 
   // ---- vertex and fragment shaders (graphics.cpp)

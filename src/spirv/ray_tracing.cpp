@@ -29,6 +29,12 @@ bool rayTracingCapability(uint32_t cap) {
          cap == kCapabilityRayQueryPositionFetchKHR;
 }
 
+llvm::Value* Codegen::rayRuntimeFunction(size_t offset) {
+  llvm::Value* rt = b.CreateAlignedLoad(
+      b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), ctxArg, offsetof(RayInvocation, runtime)), llvm::Align(8));
+  return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rt, offset), llvm::Align(8));
+}
+
 bool Codegen::isRayTracing() const {
   switch (model) {
     case spv::ExecutionModelRayGenerationKHR:
@@ -58,12 +64,6 @@ void Codegen::returnFromFunction() {
 namespace {
 
 llvm::Value* ctxAt(Codegen& g, size_t offset) { return g.b.CreateConstGEP1_64(g.b.getInt8Ty(), g.ctxArg, offset); }
-
-// The RayRuntime function at `offset`.
-llvm::Value* runtimeFunction(Codegen& g, size_t offset) {
-  llvm::Value* rt = g.b.CreateAlignedLoad(g.b.getPtrTy(), ctxAt(g, offsetof(RayInvocation, runtime)), llvm::Align(8));
-  return g.b.CreateAlignedLoad(g.b.getPtrTy(), g.b.CreateConstGEP1_64(g.b.getInt8Ty(), rt, offset), llvm::Align(8));
-}
 
 // A payload or callable data operand: the variable's address and its bytes.
 bool blockOperand(Codegen& g, const Instruction& in, uint32_t id, llvm::Value** address, llvm::Value** bytes) {
@@ -110,8 +110,7 @@ void Codegen::checkShaderRecordRead(const Ptr& p, uint64_t bytes) {
   b.SetInsertPoint(outside);
   llvm::FunctionType* ty =
       llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt64Ty(), b.getInt64Ty()}, false);
-  b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, shaderRecordOutsideRegion)),
-               {ctxArg, p.offset, i64(bytes)});
+  b.CreateCall(ty, rayRuntimeFunction(offsetof(RayRuntime, shaderRecordOutsideRegion)), {ctxArg, p.offset, i64(bytes)});
   b.CreateBr(join);
   b.SetInsertPoint(join);
 }
@@ -198,7 +197,7 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
                            llvm::Align(4));
       b.CreateAlignedStore(payload, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
       auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy()}, false);
-      b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, traceRay)), {ctxArg, args});
+      b.CreateCall(ty, rayRuntimeFunction(offsetof(RayRuntime, traceRay)), {ctxArg, args});
       info.ray.callsOut = true;
       return true;
     }
@@ -215,7 +214,7 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       if (!blockOperand(*this, in, dataVar, &data, &bytes)) return (ok = false), true;
       auto* ty =
           llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
-      b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, executeCallable)), {ctxArg, index, data, bytes});
+      b.CreateCall(ty, rayRuntimeFunction(offsetof(RayRuntime, executeCallable)), {ctxArg, index, data, bytes});
       info.ray.callsOut = true;
       return true;
     }
@@ -228,7 +227,7 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
       if (hitAttributeVar && !blockOperand(*this, in, hitAttributeVar, &attrs, &attrBytes)) return (ok = false), true;
       auto* ty = llvm::FunctionType::get(
           b.getInt32Ty(), {b.getPtrTy(), b.getFloatTy(), b.getInt32Ty(), b.getPtrTy(), b.getInt64Ty()}, false);
-      llvm::Value* committed = b.CreateCall(ty, runtimeFunction(*this, offsetof(RayRuntime, reportIntersection)),
+      llvm::Value* committed = b.CreateCall(ty, rayRuntimeFunction(offsetof(RayRuntime, reportIntersection)),
                                             {ctxArg, hitT, hitKind, attrs, attrBytes});
       set(in.word(2), b.CreateICmpNE(committed, i32(0)));
       returnIfStopped();  // the any-hit shader terminated the ray

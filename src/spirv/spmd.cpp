@@ -1900,11 +1900,12 @@ bool Spmd::atomicLanes(const Instruction& in) {
   return done && (store || define(in.word(2), rt, comps));
 }
 
-// OpTraceRayKHR and OpExecuteCallableKHR (ray generation shaders): the scalar code's call once per active lane, in
-// lane order, with that lane's operands and its launch id in the invocation (launchId[0]: what the runtime's reports
-// and the callee's LaunchIdKHR read), and the lane's payload or callable data (per-lane storage, its words interleaved)
-// copied into a block of the variable's natural layout for the call and back after it: the callee reads and writes
-// the caller's variable through that block, as on the scalar path.
+// OpTraceRayKHR and OpExecuteCallableKHR (ray generation shaders). The lanes' payloads or callable data (per-lane
+// storage, their words interleaved) are copied into blocks of the variable's natural layout, one per lane, which the
+// callees read and write as the caller's variable, and back after the call. A trace is one RayRuntime::traceRays
+// call for the active lanes (each lane's TraceRayArgs side by side; the runtime may trace their rays as a packet); a
+// callable is the scalar code's call once per active lane in lane order, the lane's x stored in the invocation's
+// launchId[0] (the callee's LaunchIdKHR, the runtime's reports) first.
 bool Spmd::traceLanes(const Instruction& in) {
   const bool trace = in.op == spv::OpTraceRayKHR;
   const uint32_t var = in.word(trace ? 11 : 2);
@@ -1914,15 +1915,18 @@ bool Spmd::traceLanes(const Instruction& in) {
   if (!lp || !lp->interleaved || !limit || !offset || !offset->isZero())
     return fail("a payload or callable data operand that is not a per-lane variable");
   const uint64_t words = (limit->getZExtValue() + 3) / 4;
-  llvm::AllocaInst* block;
-  {
+  const uint64_t stride = (std::max<uint64_t>(words, 1) * 4 + 15) / 16 * 16;  // a lane's block
+  auto frameBytes = [&](uint64_t bytes) {
     llvm::IRBuilderBase::InsertPointGuard guard(b);
     b.SetInsertPoint(allocaBlock->getTerminator());
-    block = b.CreateAlloca(b.getInt8Ty(), b.getInt64(std::max<uint64_t>(words, 1) * 4));
-    block->setAlignment(llvm::Align(16));
-  }
-  // Word w of lane l: at 4 (w N + l) in the lanes' storage, at 4 w in the block.
+    llvm::AllocaInst* a = b.CreateAlloca(b.getInt8Ty(), b.getInt64(bytes));
+    a->setAlignment(llvm::Align(16));
+    return a;
+  };
+  llvm::AllocaInst* blocks = frameBytes(stride * (trace ? N : 1));
+  // Word w of lane l: at 4 (w N + l) in the lanes' storage, at 4 w in the lane's block.
   auto move = [&](unsigned l, bool in) {
+    llvm::Value* block = b.CreateConstGEP1_64(b.getInt8Ty(), blocks, trace ? l * stride : 0);
     for (uint64_t w = 0; w < words; ++w) {
       llvm::Value* lane = b.CreateConstGEP1_64(b.getInt8Ty(), lp->p.base, 4 * (w * N + l));
       llvm::Value* own = b.CreateConstGEP1_64(b.getInt8Ty(), block, 4 * w);
@@ -1930,22 +1934,60 @@ bool Spmd::traceLanes(const Instruction& in) {
       b.CreateAlignedStore(b.CreateAlignedLoad(b.getInt32Ty(), from, llvm::Align(4)), in ? own : lane, llvm::Align(4));
     }
   };
-  std::vector<uint32_t> ids;
-  for (uint32_t w = 1; w < (trace ? 11u : 2u); ++w) ids.push_back(in.word(w));
-  const bool done = eachLane(
-      in, ids, 0, nullptr,
-      [&](unsigned l) {
-        b.CreateAlignedStore(b.CreateAdd(launchX0, b.getInt32(l)),
-                             b.CreateConstGEP1_64(b.getInt8Ty(), sc.ctxArg, offsetof(RayInvocation, launchId)),
-                             llvm::Align(4));
-        move(l, true);
-        Ptr p = lp->p;
-        p.base = block;
-        sc.ptrs[var] = p;
-      },
-      &Codegen::rayTracing, [&](unsigned l) { move(l, false); });
-  sc.ptrs.erase(var);
-  return done;
+  if (!trace) {
+    const bool done = eachLane(
+        in, {in.word(1)}, 0, nullptr,
+        [&](unsigned l) {
+          b.CreateAlignedStore(b.CreateAdd(launchX0, b.getInt32(l)),
+                               b.CreateConstGEP1_64(b.getInt8Ty(), sc.ctxArg, offsetof(RayInvocation, launchId)),
+                               llvm::Align(4));
+          move(l, true);
+          Ptr p = lp->p;
+          p.base = blocks;
+          sc.ptrs[var] = p;
+        },
+        &Codegen::rayTracing, [&](unsigned l) { move(l, false); });
+    sc.ptrs.erase(var);
+    return done;
+  }
+  if (u.bits(in.word(1))) return fail("a trace through a varying acceleration structure");
+  // Operand w (1..10) of lane l: its component k.
+  auto operand = [&](uint32_t w, uint32_t k, unsigned l) -> llvm::Value* {
+    llvm::Value* v = comp(in.word(w), k);
+    return v && isLane(v) ? b.CreateExtractElement(v, uint64_t(l)) : v;
+  };
+  for (uint32_t w = 1; w <= 10; ++w)
+    if (!operand(w, 0, 0)) return fail("a trace operand without a value");
+  llvm::AllocaInst* args = frameBytes(N * sizeof(TraceRayArgs));
+  ifAny(mask, [&] {
+    const size_t ints[5] = {offsetof(TraceRayArgs, rayFlags), offsetof(TraceRayArgs, cullMask),
+                            offsetof(TraceRayArgs, sbtOffset), offsetof(TraceRayArgs, sbtStride),
+                            offsetof(TraceRayArgs, missIndex)};
+    for (unsigned l = 0; l < N; ++l) {
+      auto at = [&](size_t field) {
+        return b.CreateConstGEP1_64(b.getInt8Ty(), args, l * sizeof(TraceRayArgs) + field);
+      };
+      b.CreateAlignedStore(operand(1, 0, l), at(offsetof(TraceRayArgs, accelerationStructure)), llvm::Align(8));
+      for (uint32_t i = 0; i < 5; ++i) b.CreateAlignedStore(operand(2 + i, 0, l), at(ints[i]), llvm::Align(4));
+      b.CreateAlignedStore(operand(8, 0, l), at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
+      b.CreateAlignedStore(operand(10, 0, l), at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
+      for (uint32_t k = 0; k < 3; ++k) {
+        b.CreateAlignedStore(operand(7, k, l), at(offsetof(TraceRayArgs, origin) + 4 * k), llvm::Align(4));
+        b.CreateAlignedStore(operand(9, k, l), at(offsetof(TraceRayArgs, direction) + 4 * k), llvm::Align(4));
+      }
+      b.CreateAlignedStore(b.getInt32(uint32_t(limit->getZExtValue())), at(offsetof(TraceRayArgs, payloadBytes)),
+                           llvm::Align(4));
+      b.CreateAlignedStore(b.CreateConstGEP1_64(b.getInt8Ty(), blocks, l * stride), at(offsetof(TraceRayArgs, payload)),
+                           llvm::Align(8));
+      move(l, true);
+    }
+    llvm::Value* bits = b.CreateZExt(b.CreateBitCast(mask, b.getIntNTy(N)), b.getInt32Ty());
+    auto* ty =
+        llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy(), b.getInt32Ty(), b.getInt32Ty()}, false);
+    b.CreateCall(ty, sc.rayRuntimeFunction(offsetof(RayRuntime, traceRays)), {sc.ctxArg, args, bits, launchX0});
+    for (unsigned l = 0; l < N; ++l) move(l, false);
+  });
+  return true;
 }
 
 // OpImageFetch (compute shaders; the image uniform): the scalar code's one call where every operand is uniform, else

@@ -133,7 +133,8 @@ class RayTestRuntime {
     inv.pendingAdds = pendingAdds;
     inv.runtime = this;
     inv.depth = caller ? caller->depth : 0;
-    static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection, &recordOutsideRegion};
+    static const abi::RayRuntime table = {&traceRay, &executeCallable, &reportIntersection, &recordOutsideRegion,
+                                          &traceRays};
     inv.abi::RayInvocation::runtime = &table;
     inv.shaderRecordRegionBytes = UINT64_MAX;  // records here are not in SBT regions: no read is past one
     if (caller) {
@@ -309,6 +310,17 @@ class RayTestRuntime {
   }
 
   // Never called here (shaderRecordRegionBytes is the largest value): an error if it is.
+  // A raygen batch's traces: each lane's traceRay in lane order with its launch id (RayRuntime::traceRays).
+  static void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, uint32_t mask,
+                        uint32_t launchX0) {
+    for (uint32_t l = 0; l < 32; ++l) {
+      if (!((mask >> l) & 1)) continue;
+      callerBase->launchId[0] = launchX0 + l;
+      traceRay(callerBase, &args[l]);
+    }
+    callerBase->launchId[0] = launchX0;
+  }
+
   static void recordOutsideRegion(abi::RayInvocation* callerBase, uint64_t, uint64_t) {
     static_cast<Invocation*>(callerBase)->runtime->errors.push_back("a shader record read past its region");
   }
