@@ -300,7 +300,8 @@ inline void prefetchForTrace(const Tlas& tlas) {
 // callback, where packetTraceable() says so: the top level's triangles are all in its flattened scene (a small top
 // level), no box is in reach, and the ray needs no filter (no any-hit shader or culling can apply: the opaque
 // triangles of needsTriangleFilter's test). Such a ray meets nothing that calls back, so the packet's rays are
-// independent: each gets what trace() would commit for it.
+// independent: each gets what trace() would commit for it. packetTraceable() depends on the structure and the ray's
+// flags alone.
 inline constexpr uint32_t kPacketRays = 16;
 bool packetTraceable(const Tlas& tlas, const Ray& ray);
 // Traces the rays of `mask` (bit i: rays[i], each packetTraceable) with one Embree packet query; returns the mask of

@@ -647,7 +647,13 @@ void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, ui
   const accel::Tlas* tlas = nullptr;
   bool packet = !caller.tree && caller.depth + 1 <= launch.maxRecursionDepth && (mask & (mask - 1)) &&
                 mask < (uint64_t(1) << accel::kPacketRays);
-  accel::Ray rays[accel::kPacketRays];
+  // (Storage without the rays' default member initializers: every lane of the mask is assigned in full.)
+  union Rays {
+    Rays() {}
+    accel::Ray at[accel::kPacketRays];
+  } store;
+  accel::Ray* rays = store.at;
+  uint32_t traceableFlags = ~0u;  // the ray flags packetTraceable() last accepted (a batch's rays mostly share them)
   for (uint32_t m = mask; packet && m; m &= m - 1) {
     const uint32_t l = uint32_t(std::countr_zero(m));
     const abi::TraceRayArgs& a = args[l];
@@ -662,7 +668,8 @@ void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, ui
     ray.tMax = a.tMax;
     ray.flags = a.rayFlags | launch.pipelineRayFlags;
     ray.cullMask = a.cullMask & 0xFF;
-    packet = t && t == tlas && accel::packetTraceable(*t, ray);
+    packet = t && t == tlas && (ray.flags == traceableFlags || accel::packetTraceable(*t, ray));
+    traceableFlags = ray.flags;
   }
   if (!packet) {
     for (uint32_t m = mask; m; m &= m - 1) {

@@ -205,7 +205,8 @@ class Spmd {
   }
   bool fetchLanes(const Instruction& in);
   uint32_t inlineTexels(const Instruction& in);
-  void texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps);
+  void texelsInline(const Instruction& in, uint32_t kind, llvm::Value* bgra, llvm::Value* texels,
+                    std::vector<llvm::Value*>* comps);
   bool sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx, std::vector<llvm::Value*> dy);
   bool quadOperation(const Instruction& in);
   bool prepareSlots();
@@ -1691,8 +1692,9 @@ bool Spmd::eachLane(const Instruction& in, const std::vector<uint32_t>& ids, uin
 }
 
 // The kind of view (abi::ImageTexels::kind) whose texels an OpImageRead or OpImageWrite addresses itself, from the
-// format the shader declares; 0 where the lanes call the runtime (another dimensionality, an array, a declared format
-// without such a kind or none, coordinates or values other than 32-bit, image operands that matter).
+// format the shader declares (none: 8-bit UNorm for four floats); 0 where the lanes call the runtime (another
+// dimensionality, an array, a declared format without such a kind, coordinates or values other than 32-bit, image
+// operands that matter). An 8-bit UNorm kind takes RGBA and BGRA views (imageAccess).
 uint32_t Spmd::inlineTexels(const Instruction& in) {
   const bool write = in.op == spv::OpImageWrite;
   const Instruction* it = m.def(m.typeOf(in.word(write ? 1 : 3)));
@@ -1708,7 +1710,10 @@ uint32_t Spmd::inlineTexels(const Instruction& in) {
     case spv::ImageFormatRg32ui: kind = 2 | abi::kTexelsInteger; break;
     case spv::ImageFormatRgba32i:
     case spv::ImageFormatRgba32ui: kind = 4 | abi::kTexelsInteger; break;
-    case spv::ImageFormatRgba8: kind = abi::kTexelsUnorm8; break;
+    case spv::ImageFormatRgba8:
+    case spv::ImageFormatUnknown:  // (a format-less access of four floats: an 8-bit UNorm view's texels inline too)
+      kind = abi::kTexelsUnorm8;
+      break;
     default: return 0;
   }
   const uint32_t coordType = m.typeOf(in.word(write ? 2 : 4));
@@ -1728,11 +1733,13 @@ uint32_t Spmd::inlineTexels(const Instruction& in) {
   return kind;
 }
 
-// The texels of an inline access (inlineTexels' kind; `texels` the view's abi::ImageTexels): each active lane's
+// The texels of an inline access (inlineTexels' kind; `texels` the view's abi::ImageTexels; for 8-bit UNorm, `bgra`
+// (i1) says whether the view is B8G8R8A8, whose first and third bytes hold blue and red): each active lane's
 // texel inside the view read (into `comps`, as the runtime's vkrt_image_read gives it: zeros outside) or written
 // (nothing outside), with one masked vector load or store where the lanes' texels are consecutive, else a gather or
 // scatter per word (lanes writing one texel: the highest lane's value stays, as when the invocations run in order).
-void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texels, std::vector<llvm::Value*>* comps) {
+void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* bgra, llvm::Value* texels,
+                        std::vector<llvm::Value*>* comps) {
   const bool write = in.op == spv::OpImageWrite;
   const bool unorm = kind & abi::kTexelsUnorm8;
   const uint32_t words = unorm ? 1 : kind & abi::kTexelsWordsMask;  // 32-bit words a texel
@@ -1778,7 +1785,9 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texel
       llvm::Value* packed = zero;
       llvm::Type* ft = laneTy(b.getFloatTy());
       for (uint32_t k = 0; k < 4; ++k) {
+        // Byte k holds component k, or in a BGRA view component 2 - k of the first three.
         llvm::Value* f = laneComp(texelId, k);
+        if (k != 1 && k != 3) f = b.CreateSelect(bgra, laneComp(texelId, 2 - k), f);
         llvm::Value* zf = llvm::Constant::getNullValue(ft);
         llvm::Value* onef = splat(llvm::ConstantFP::get(b.getFloatTy(), 1.0));
         f = b.CreateSelect(b.CreateFCmpOGT(f, zf), f, zf);
@@ -1828,7 +1837,9 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* texel
     for (uint32_t k = 0; k < count(rt) && k < 4; ++k) {
       llvm::Value* w;
       if (unorm) {
-        llvm::Value* byte = b.CreateAnd(b.CreateLShr(raw[0], splat(b.getInt32(8 * k))), splat(b.getInt32(255)));
+        llvm::Value* shift = b.getInt32(8 * k);
+        if (k != 1 && k != 3) shift = b.CreateSelect(bgra, b.getInt32(8 * (2 - k)), shift);
+        llvm::Value* byte = b.CreateAnd(b.CreateLShr(raw[0], splat(shift)), splat(b.getInt32(255)));
         w = b.CreateBitCast(b.CreateFDiv(b.CreateUIToFP(byte, laneTy(b.getFloatTy())),
                                          splat(llvm::ConstantFP::get(b.getFloatTy(), 255.0))),
                             laneTy(i32));
@@ -2040,11 +2051,16 @@ bool Spmd::imageAccess(const Instruction& in) {
   auto* inlined = llvm::BasicBlock::Create(c, "spmd.image.inline", fn);
   auto* calls = llvm::BasicBlock::Create(c, "spmd.image.calls", fn);
   auto* join = llvm::BasicBlock::Create(c, "spmd.image.done", fn);
-  b.CreateCondBr(b.CreateICmpEQ(viewKind, b.getInt32(kind)), inlined, calls,
+  // An 8-bit UNorm access takes R8G8B8A8 and B8G8R8A8 views alike (the runtime converts to the view's order too).
+  const bool unorm = kind & abi::kTexelsUnorm8;
+  llvm::Value* ofKind = unorm ? b.CreateAnd(viewKind, b.getInt32(~abi::kTexelsBgra)) : viewKind;
+  llvm::Value* bgra =
+      unorm ? b.CreateICmpNE(b.CreateAnd(viewKind, b.getInt32(abi::kTexelsBgra)), b.getInt32(0)) : b.getFalse();
+  b.CreateCondBr(b.CreateICmpEQ(ofKind, b.getInt32(kind)), inlined, calls,
                  llvm::MDBuilder(c).createBranchWeights(1u << 10, 1));
   b.SetInsertPoint(inlined);
   std::vector<llvm::Value*> fast;
-  texelsInline(in, kind, texels, &fast);
+  texelsInline(in, kind, bgra, texels, &fast);
   llvm::BasicBlock* fastEnd = b.GetInsertBlock();
   b.CreateBr(join);
   b.SetInsertPoint(calls);

@@ -213,8 +213,9 @@ TEST_F(SpmdImages, LoadsAndStoresMatchTheScalarPathAndTheFormats) {
   for (bool spmd : {true, false}) runRound(spmd, false, false);
 }
 
-// Views of formats other than the declared ones: the SPMD code finds the view's kind different and calls the runtime
-// lane by lane, which converts as the view's format says (the source's B8G8R8A8 bytes read as R, G, B, A).
+// Views of formats other than the declared ones: a B8G8R8A8 view where the shader declares rgba8 is read inline in its
+// byte order (its bytes as B, G, R, A, as the runtime converts them); for the R32G32B32A32_UINT view where it declares
+// rgba32f the SPMD code finds the view's kind different and calls the runtime lane by lane.
 TEST_F(SpmdImages, AViewOfAnotherFormatTakesTheRuntimesCalls) {
   for (bool spmd : {true, false}) runRound(spmd, true, true);
 }
