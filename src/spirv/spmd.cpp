@@ -133,6 +133,19 @@ class Spmd {
   bool emitCompute();
   bool emitQuad();
   bool emitRaygen();
+  // The module variable `id` as per-lane storage (interleaved) at `offset` of the lanes' block `lanes`, whose layout
+  // is the private block's N times over.
+  void bindLaneVariable(uint32_t id, llvm::Value* lanes, uint64_t offset) {
+    const Codegen::Global& gl = g.globals.at(id);
+    LanePtr lp;
+    lp.p.base = b.CreateConstGEP1_64(b.getInt8Ty(), lanes, offset * N);
+    lp.p.offset = b.getInt64(0);
+    lp.p.limit = b.getInt64(gl.size);
+    lp.p.type = g.spvType(m.def(id)->word(1)).element;
+    lp.p.storage = gl.storage;
+    lp.interleaved = true;
+    lptrs[id] = lp;
+  }
   std::string why;
 
  private:
@@ -2247,14 +2260,7 @@ bool Spmd::emitQuad() {
     uint64_t offset = gl.offset;
     for (auto [bid, o] : builtInBlock)
       if (bid == id) offset = o;
-    LanePtr lp;
-    lp.p.base = b.CreateConstGEP1_64(b.getInt8Ty(), lanes, offset * N);
-    lp.p.offset = b.getInt64(0);
-    lp.p.limit = b.getInt64(gl.size);
-    lp.p.type = g.spvType(m.def(id)->word(1)).element;
-    lp.p.storage = gl.storage;
-    lp.interleaved = true;
-    lptrs[id] = lp;
+    bindLaneVariable(id, lanes, offset);
     if (gl.storage == spv::StorageClassInput && gl.builtIn == spv::BuiltInHelperInvocation) helperVar = id;
   }
   copyLanes(true, lanes);
@@ -2296,17 +2302,8 @@ bool Spmd::emitRaygen() {
   }
   b.SetInsertPoint(body);
   b.CreateMemSet(lanes, b.getInt8(0), b.getInt64(size * N), llvm::MaybeAlign(64));
-  for (const auto& [id, gl] : g.globals) {
-    if (!u.laneVariables.count(id)) continue;
-    LanePtr lp;
-    lp.p.base = b.CreateConstGEP1_64(b.getInt8Ty(), lanes, gl.offset * N);
-    lp.p.offset = b.getInt64(0);
-    lp.p.limit = b.getInt64(gl.size);
-    lp.p.type = g.spvType(m.def(id)->word(1)).element;
-    lp.p.storage = gl.storage;
-    lp.interleaved = true;
-    lptrs[id] = lp;
-  }
+  for (const auto& [id, gl] : g.globals)
+    if (u.laneVariables.count(id)) bindLaneVariable(id, lanes, gl.offset);
   auto launchId = [&](int i) {
     return b.CreateConstGEP1_64(b.getInt8Ty(), inv, offsetof(RayInvocation, launchId) + 4 * i);
   };
