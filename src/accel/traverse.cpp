@@ -467,6 +467,14 @@ void offerDirectBoxes(const Blas::Impl& blas, TraceContext& ctx, RTCRay& ray, RT
 
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
+// Whether `ray` is traced through `t` at all: Vulkan requires finite origin and direction and 0 <= tMin <= tMax;
+// anything else misses, as does a ray with an empty cull mask, an unbuilt structure, or a ray beyond what Embree can
+// trace.
+bool traced(const Tlas::Impl& t, const Ray& ray) {
+  return (ray.cullMask & 0xFF) && t.built && finite3(ray.origin) && finite3(ray.direction) && ray.tMin >= 0 &&
+         ray.tMin <= ray.tMax && rayInEmbreeRange(ray.origin, ray.direction);
+}
+
 // The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
 // then the hierarchy, front to back, entering each instance the ray's cull mask admits: the ray goes into the
 // instance's object space (Embree's own instances do the same) and Embree traces it through the Blas scene with the
@@ -650,12 +658,7 @@ void boxOccluded(const RTCOccludedFunctionNArguments* args) {
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit) {
   using namespace detail;
   const Tlas::Impl& t = tlas.impl();
-  const uint32_t cull = ray.cullMask & 0xFF;
-  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else misses (as does a ray beyond
-  // what Embree can trace).
-  if (!cull || !t.built || !finite3(ray.origin) || !finite3(ray.direction) || !(ray.tMin >= 0) ||
-      !(ray.tMin <= ray.tMax) || !rayInEmbreeRange(ray.origin, ray.direction))
-    return false;
+  if (!traced(t, ray)) return false;
 
   TraceContext ctx;
   rtcInitIntersectContext(&ctx.embree);
@@ -744,8 +747,6 @@ bool packetTraceable(const Tlas& tlas, const Ray& ray) {
 uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, CommittedHit* hits) {
   using namespace detail;
   const Tlas::Impl& t = tlas.impl();
-  // Each ray as trace() sets it up: one float inside each end of [tMin, tMax] (no box in reach); a ray Vulkan does
-  // not allow, or one beyond Embree's range, is left out (a miss).
   // A flattened top level's one scene, or its one instance's scene (the rays in the instance's object space, Embree
   // told the instance's index, as traverseTlas does).
   const int64_t instance = t.flatScene ? -1 : packetInstance(t);
@@ -754,6 +755,8 @@ uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, Committed
   alignas(64) RTCRayHit16 rh;
   float openLo[kPacketRays], openHi[kPacketRays];
   bool any = false;
+  // Each ray as trace() sets it up: one float inside each end of [tMin, tMax] (no box in reach); a ray trace() would
+  // not trace (traced()), or one beyond Embree's range in the instance's space, is left out (a miss).
   for (uint32_t i = 0; i < kPacketRays; ++i) {
     const Ray& ray = rays[i];
     valid[i] = 0;
@@ -767,18 +770,12 @@ uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, Committed
     rh.ray.flags[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    if (!((mask >> i) & 1) || !(ray.cullMask & 0xFF) || !t.built || !finite3(ray.origin) || !finite3(ray.direction) ||
-        !(ray.tMin >= 0) || !(ray.tMin <= ray.tMax) || !rayInEmbreeRange(ray.origin, ray.direction))
-      continue;
+    if (!((mask >> i) & 1) || !traced(t, ray)) continue;
     float o[3] = {ray.origin[0], ray.origin[1], ray.origin[2]};
     float d[3] = {ray.direction[0], ray.direction[1], ray.direction[2]};
     if (record) {
       if (!(record->mask & ray.cullMask & 0xFF)) continue;
-      const float(*m)[4] = record->worldToObject;
-      for (int a = 0; a < 3; ++a) {
-        o[a] = m[a][0] * ray.origin[0] + m[a][1] * ray.origin[1] + m[a][2] * ray.origin[2] + m[a][3];
-        d[a] = m[a][0] * ray.direction[0] + m[a][1] * ray.direction[1] + m[a][2] * ray.direction[2];
-      }
+      objectRay(*record, ray, o, d);
       if (!rayInEmbreeRange(o, d)) continue;
     }
     valid[i] = -1;
@@ -919,10 +916,8 @@ void queryInitialize(RayQuery& q, const Tlas* tlas, const Ray& ray) {
   q = RayQuery{};
   q.ray = ray;
   q.phase = 1;
-  // Vulkan requires finite origin and direction and 0 <= tMin <= tMax; anything else finds nothing.
-  const bool valid = (ray.cullMask & 0xFF) && detail::finite3(ray.origin) && detail::finite3(ray.direction) &&
-                     ray.tMin >= 0 && ray.tMin <= ray.tMax;
-  q.tlas = valid && tlas && tlas->impl().built && detail::rayInEmbreeRange(ray.origin, ray.direction) ? tlas : nullptr;
+  // A ray trace() would not trace finds nothing.
+  q.tlas = tlas && detail::traced(tlas->impl(), ray) ? tlas : nullptr;
 }
 
 bool queryProceed(RayQuery& q) {

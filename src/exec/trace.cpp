@@ -585,6 +585,21 @@ inline float loadAlone(const float& field) {
   return v;
 }
 
+// The ray of a trace's arguments, as accel traces it (the pipeline's skip flags or-ed in, 8 bits of cull mask), its
+// floats read one at a time (loadAlone).
+accel::Ray rayOf(const abi::TraceRayArgs& a, uint32_t pipelineRayFlags) {
+  accel::Ray ray;
+  for (int i = 0; i < 3; ++i) {
+    ray.origin[i] = loadAlone(a.origin[i]);
+    ray.direction[i] = loadAlone(a.direction[i]);
+  }
+  ray.tMin = loadAlone(a.tMin);
+  ray.tMax = loadAlone(a.tMax);
+  ray.flags = a.rayFlags | pipelineRayFlags;
+  ray.cullMask = a.cullMask & 0xFF;
+  return ray;
+}
+
 void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   // The shader has just stored *args field by field: the fields are read one by one (TraceFrame masks what
   // OpTraceRayKHR masks), as a copy of the whole struct in wide loads would wait for those stores to retire
@@ -610,14 +625,7 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   accel::Ray ray;
   bool found = false;
   if (tlas) {
-    for (int i = 0; i < 3; ++i) {
-      ray.origin[i] = loadAlone(args->origin[i]);
-      ray.direction[i] = loadAlone(args->direction[i]);
-    }
-    ray.tMin = loadAlone(args->tMin);
-    ray.tMax = loadAlone(args->tMax);
-    ray.flags = args->rayFlags | launch.pipelineRayFlags;
-    ray.cullMask = args->cullMask & 0xFF;
+    ray = rayOf(*args, launch.pipelineRayFlags);
     found = accel::trace(*tlas, ray, frame, &hit);
   }
   if (frame.node) {
@@ -660,14 +668,7 @@ void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, ui
     const accel::Tlas* t = caller.task->topLevel(state, a.accelerationStructure);
     if (!tlas) tlas = t;
     accel::Ray& ray = rays[l];
-    for (int i = 0; i < 3; ++i) {
-      ray.origin[i] = a.origin[i];
-      ray.direction[i] = a.direction[i];
-    }
-    ray.tMin = a.tMin;
-    ray.tMax = a.tMax;
-    ray.flags = a.rayFlags | launch.pipelineRayFlags;
-    ray.cullMask = a.cullMask & 0xFF;
+    ray = rayOf(a, launch.pipelineRayFlags);
     packet = t && t == tlas && (ray.flags == traceableFlags || accel::packetTraceable(*t, ray));
     traceableFlags = ray.flags;
   }

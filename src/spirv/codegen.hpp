@@ -15,6 +15,7 @@
 #include <llvm/IR/LLVMContext.h>
 #include <llvm/IR/Module.h>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -258,10 +259,15 @@ class Codegen {
   void returnIfStopped();
   // Returns from the current function (a zero value for a non-void one).
   void returnFromFunction();
-  // Before a read of `bytes` at shader record pointer p: tells the runtime when the read ends past the SBT
-  // region (RayInvocation::shaderRecordRegionBytes; "Indexing Rules"), on a cold branch. Called by guardedLoad.
   // The RayRuntime function (abi.hpp) at `offset`, from the invocation's `runtime`.
   llvm::Value* rayRuntimeFunction(size_t offset);
+  // Stores an OpTraceRayKHR's abi::TraceRayArgs at `args`: `operand(w, k)` is component k (of a vector: origin,
+  // direction; else 0) of the value of the instruction's word w (1..10: structure, flags, cull mask, SBT offset and
+  // stride, miss index, origin, tMin, direction, tMax); the payload variable at `payload`, `payloadBytes` (i32) long.
+  void storeTraceRayArgs(llvm::Value* args, const std::function<llvm::Value*(uint32_t w, uint32_t k)>& operand,
+                         llvm::Value* payloadBytes, llvm::Value* payload);
+  // Before a read of `bytes` at shader record pointer p: tells the runtime when the read ends past the SBT
+  // region (RayInvocation::shaderRecordRegionBytes; "Indexing Rules"), on a cold branch. Called by guardedLoad.
   void checkShaderRecordRead(const Ptr& p, uint64_t bytes);
 
   // ---- vertex and fragment shaders (graphics.cpp)

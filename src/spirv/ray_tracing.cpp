@@ -35,6 +35,24 @@ llvm::Value* Codegen::rayRuntimeFunction(size_t offset) {
   return b.CreateAlignedLoad(b.getPtrTy(), b.CreateConstGEP1_64(b.getInt8Ty(), rt, offset), llvm::Align(8));
 }
 
+void Codegen::storeTraceRayArgs(llvm::Value* args, const std::function<llvm::Value*(uint32_t w, uint32_t k)>& operand,
+                                llvm::Value* payloadBytes, llvm::Value* payload) {
+  auto at = [&](size_t offset) { return b.CreateConstGEP1_64(b.getInt8Ty(), args, offset); };
+  b.CreateAlignedStore(operand(1, 0), at(offsetof(TraceRayArgs, accelerationStructure)), llvm::Align(8));
+  const size_t intFields[5] = {offsetof(TraceRayArgs, rayFlags), offsetof(TraceRayArgs, cullMask),
+                               offsetof(TraceRayArgs, sbtOffset), offsetof(TraceRayArgs, sbtStride),
+                               offsetof(TraceRayArgs, missIndex)};
+  for (uint32_t i = 0; i < 5; ++i) b.CreateAlignedStore(operand(2 + i, 0), at(intFields[i]), llvm::Align(4));
+  b.CreateAlignedStore(operand(8, 0), at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
+  b.CreateAlignedStore(operand(10, 0), at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
+  for (uint32_t k = 0; k < 3; ++k) {
+    b.CreateAlignedStore(operand(7, k), at(offsetof(TraceRayArgs, origin) + 4 * k), llvm::Align(4));
+    b.CreateAlignedStore(operand(9, k), at(offsetof(TraceRayArgs, direction) + 4 * k), llvm::Align(4));
+  }
+  b.CreateAlignedStore(payloadBytes, at(offsetof(TraceRayArgs, payloadBytes)), llvm::Align(4));
+  b.CreateAlignedStore(payload, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
+}
+
 bool Codegen::isRayTracing() const {
   switch (model) {
     case spv::ExecutionModelRayGenerationKHR:
@@ -179,23 +197,14 @@ bool Codegen::rayTracing(const Instruction& in, bool& ok) {
         args = b.CreateAlloca(b.getInt8Ty(), i64(sizeof(TraceRayArgs)));
         args->setAlignment(llvm::Align(16));
       }
-      auto at = [&](size_t offset) { return b.CreateConstGEP1_64(b.getInt8Ty(), args, offset); };
-      b.CreateAlignedStore(accel, at(offsetof(TraceRayArgs, accelerationStructure)), llvm::Align(8));
-      const size_t intFields[5] = {offsetof(TraceRayArgs, rayFlags), offsetof(TraceRayArgs, cullMask),
-                                   offsetof(TraceRayArgs, sbtOffset), offsetof(TraceRayArgs, sbtStride),
-                                   offsetof(TraceRayArgs, missIndex)};
-      for (int i = 0; i < 5; ++i) b.CreateAlignedStore(ints[i], at(intFields[i]), llvm::Align(4));
-      b.CreateAlignedStore(tMin, at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
-      b.CreateAlignedStore(tMax, at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
-      for (unsigned i = 0; i < 3; ++i) {
-        b.CreateAlignedStore(b.CreateExtractElement(origin, uint64_t(i)), at(offsetof(TraceRayArgs, origin) + 4 * i),
-                             llvm::Align(4));
-        b.CreateAlignedStore(b.CreateExtractElement(direction, uint64_t(i)),
-                             at(offsetof(TraceRayArgs, direction) + 4 * i), llvm::Align(4));
-      }
-      b.CreateAlignedStore(b.CreateTrunc(payloadBytes, b.getInt32Ty()), at(offsetof(TraceRayArgs, payloadBytes)),
-                           llvm::Align(4));
-      b.CreateAlignedStore(payload, at(offsetof(TraceRayArgs, payload)), llvm::Align(8));
+      llvm::Value* const operands[11] = {nullptr, accel,  ints[0], ints[1],   ints[2], ints[3],
+                                         ints[4], origin, tMin,    direction, tMax};
+      storeTraceRayArgs(
+          args,
+          [&](uint32_t w, uint32_t k) {
+            return w == 7 || w == 9 ? b.CreateExtractElement(operands[w], uint64_t(k)) : operands[w];
+          },
+          b.CreateTrunc(payloadBytes, b.getInt32Ty()), payload);
       auto* ty = llvm::FunctionType::get(b.getVoidTy(), {b.getPtrTy(), b.getPtrTy()}, false);
       b.CreateCall(ty, rayRuntimeFunction(offsetof(RayRuntime, traceRay)), {ctxArg, args});
       info.ray.callsOut = true;

@@ -1984,25 +1984,11 @@ bool Spmd::traceLanes(const Instruction& in) {
     if (!operand(w, 0, 0)) return fail("a trace operand without a value");
   llvm::AllocaInst* args = frameBytes(N * sizeof(TraceRayArgs));
   ifAny(mask, [&] {
-    const size_t ints[5] = {offsetof(TraceRayArgs, rayFlags), offsetof(TraceRayArgs, cullMask),
-                            offsetof(TraceRayArgs, sbtOffset), offsetof(TraceRayArgs, sbtStride),
-                            offsetof(TraceRayArgs, missIndex)};
     for (unsigned l = 0; l < N; ++l) {
-      auto at = [&](size_t field) {
-        return b.CreateConstGEP1_64(b.getInt8Ty(), args, l * sizeof(TraceRayArgs) + field);
-      };
-      b.CreateAlignedStore(operand(1, 0, l), at(offsetof(TraceRayArgs, accelerationStructure)), llvm::Align(8));
-      for (uint32_t i = 0; i < 5; ++i) b.CreateAlignedStore(operand(2 + i, 0, l), at(ints[i]), llvm::Align(4));
-      b.CreateAlignedStore(operand(8, 0, l), at(offsetof(TraceRayArgs, tMin)), llvm::Align(4));
-      b.CreateAlignedStore(operand(10, 0, l), at(offsetof(TraceRayArgs, tMax)), llvm::Align(4));
-      for (uint32_t k = 0; k < 3; ++k) {
-        b.CreateAlignedStore(operand(7, k, l), at(offsetof(TraceRayArgs, origin) + 4 * k), llvm::Align(4));
-        b.CreateAlignedStore(operand(9, k, l), at(offsetof(TraceRayArgs, direction) + 4 * k), llvm::Align(4));
-      }
-      b.CreateAlignedStore(b.getInt32(uint32_t(limit->getZExtValue())), at(offsetof(TraceRayArgs, payloadBytes)),
-                           llvm::Align(4));
-      b.CreateAlignedStore(b.CreateConstGEP1_64(b.getInt8Ty(), blocks, l * stride), at(offsetof(TraceRayArgs, payload)),
-                           llvm::Align(8));
+      sc.storeTraceRayArgs(
+          b.CreateConstGEP1_64(b.getInt8Ty(), args, l * sizeof(TraceRayArgs)),
+          [&](uint32_t w, uint32_t k) { return operand(w, k, l); }, b.getInt32(uint32_t(limit->getZExtValue())),
+          b.CreateConstGEP1_64(b.getInt8Ty(), blocks, l * stride));
       move(l, true);
     }
     llvm::Value* bits = b.CreateZExt(b.CreateBitCast(mask, b.getIntNTy(N)), b.getInt32Ty());
