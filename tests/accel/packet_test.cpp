@@ -2,6 +2,7 @@
 // back (accel::packetTraceable). Each lane must commit exactly what trace() commits for its ray alone: the same hit
 // (instance, geometry, primitive, t, barycentrics, normal, SBT offset) or the same miss, on a small top level whose
 // triangles are flattened into one scene and on a top level of one instance of a larger, transformed bottom level.
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -48,18 +49,27 @@ Geometry terrain(uint32_t n) {
   return g;
 }
 
-// Packets of `rays` (random origins above the scene aimed down at it, some not allowed by Vulkan, some culled by
-// their mask) under several lane masks, each lane against trace() of its ray alone.
-void comparePackets(const Tlas& tlas, uint32_t seed) {
+// Packets of `rays` under several lane masks, each lane against trace() of its ray alone: scattered rays (random
+// origins above the scene aimed down at it), or with `camera` a camera's (one origin per packet, the directions of a
+// row of 16 pixels half a degree apart, as a ray generation batch traces them: Embree's coherent traversal); some
+// not allowed by Vulkan, some culled by their mask.
+void comparePackets(const Tlas& tlas, uint32_t seed, bool camera = false) {
   Lcg r{seed};
   NoCallbacks none;
-  int hits = 0, misses = 0;
+  int hits = 0, misses = 0, coherent = 0;
   for (int packet = 0; packet < 64; ++packet) {
     Ray rays[kPacketRays];
+    const float ox = -1 + 2 * r.next(), oy = -1 + 2 * r.next(), oz = 3 + r.next();
+    const float ax = 0.6f * (r.next() - 0.5f), ay = 0.6f * (r.next() - 0.5f);
     for (uint32_t i = 0; i < kPacketRays; ++i) {
       Ray& ray = rays[i];
-      ray = rayFrom(-3 + 6 * r.next(), -3 + 6 * r.next(), 4 + r.next(), r.next() - 0.5f, r.next() - 0.5f, -1 - r.next(),
-                    packet % 2 ? kRayOpaque : 0, 100.0f, 0.001f);
+      if (camera) {
+        ray = rayFrom(ox, oy, oz, ax + 0.008f * float(i), ay + 0.001f * float(i), -1.0f, packet % 2 ? kRayOpaque : 0,
+                      100.0f, 0.001f);
+      } else {
+        ray = rayFrom(-3 + 6 * r.next(), -3 + 6 * r.next(), 4 + r.next(), r.next() - 0.5f, r.next() - 0.5f,
+                      -1 - r.next(), packet % 2 ? kRayOpaque : 0, 100.0f, 0.001f);
+      }
       const uint32_t odd = uint32_t(packet * kPacketRays + i) % 23;
       if (odd == 3) ray.direction[1] = std::numeric_limits<float>::quiet_NaN();  // not allowed: a miss
       if (odd == 5) ray.tMin = ray.tMax + 1;                                     // likewise
@@ -68,6 +78,13 @@ void comparePackets(const Tlas& tlas, uint32_t seed) {
       ASSERT_TRUE(packetTraceable(tlas, ray)) << "packet " << packet << " ray " << i;
     }
     const uint32_t mask = packet % 3 == 0 ? 0xFFFFu : packet % 3 == 1 ? 0x5A5Au : 0x8001u;
+    float dx[kPacketRays], dy[kPacketRays], dz[kPacketRays];
+    int valid[kPacketRays];
+    for (uint32_t i = 0; i < kPacketRays; ++i) {
+      dx[i] = rays[i].direction[0], dy[i] = rays[i].direction[1], dz[i] = rays[i].direction[2];
+      valid[i] = (mask >> i & 1) && !std::isnan(dy[i]) ? -1 : 0;
+    }
+    if (std::popcount(mask) >= 8) coherent += coherentDirections(dx, dy, dz, valid);
     CommittedHit hits16[kPacketRays];
     const uint32_t found = tracePacket(tlas, rays, mask, hits16);
     EXPECT_EQ(found & ~mask, 0u);
@@ -96,7 +113,9 @@ void comparePackets(const Tlas& tlas, uint32_t seed) {
     }
   }
   EXPECT_GT(hits, 100);  // both outcomes are exercised
-  EXPECT_GT(misses, 50);
+  EXPECT_GT(misses, camera ? 20 : 50);
+  // The camera's packets go through the coherent traversal, the scattered ones (of 8 or 16 lanes) through the other.
+  EXPECT_EQ(coherent, camera ? 43 : 0);
 }
 
 TEST(AccelPacket, FlattenedTopLevelCommitsWhatTraceCommits) {
@@ -109,6 +128,7 @@ TEST(AccelPacket, FlattenedTopLevelCommitsWhatTraceCommits) {
   auto tlas = makeTlas({i0, i1, i2});
   ASSERT_TRUE(tlas->impl().flatScene) << "the small top level was not flattened";
   comparePackets(*tlas, 1);
+  comparePackets(*tlas, 3, true);
 }
 
 TEST(AccelPacket, OneTransformedInstanceCommitsWhatTraceCommits) {
@@ -123,6 +143,32 @@ TEST(AccelPacket, OneTransformedInstanceCommitsWhatTraceCommits) {
   auto tlas = makeTlas({in});
   ASSERT_FALSE(tlas->impl().flatScene);
   comparePackets(*tlas, 2);
+  comparePackets(*tlas, 4, true);
+}
+
+// Which packets are coherent: directions within about 8 degrees of the first valid lane's, whatever their lengths;
+// invalid lanes do not count.
+TEST(AccelPacket, CoherentDirectionsAreThoseWithinEightDegrees) {
+  float dx[kPacketRays], dy[kPacketRays], dz[kPacketRays];
+  int valid[kPacketRays];
+  auto set = [&](float tanAngle) {  // lane i at angle atan(tanAngle * i / 15) from -z, about x, of length 1 + i
+    for (uint32_t i = 0; i < kPacketRays; ++i) {
+      const float len = 1.0f + float(i);
+      dx[i] = 0, dy[i] = len * tanAngle * float(i) / 15.0f, dz[i] = -len;
+      valid[i] = -1;
+    }
+  };
+  set(std::tan(7.0f * 3.14159265f / 180.0f));
+  EXPECT_TRUE(coherentDirections(dx, dy, dz, valid));
+  set(std::tan(10.0f * 3.14159265f / 180.0f));
+  EXPECT_FALSE(coherentDirections(dx, dy, dz, valid));
+  valid[15] = valid[14] = valid[13] = 0;  // the widest lanes left out: the rest within 8 degrees
+  EXPECT_TRUE(coherentDirections(dx, dy, dz, valid));
+  set(0);
+  dz[6] = 1;  // one lane the other way
+  EXPECT_FALSE(coherentDirections(dx, dy, dz, valid));
+  for (int& v : valid) v = 0;
+  EXPECT_FALSE(coherentDirections(dx, dy, dz, valid));
 }
 
 // What needs a callback, or another shape of top level, is not traced as a packet (the caller traces it ray by ray).
