@@ -1,7 +1,11 @@
 #include "exec/thread_pool.hpp"
 
+#include <immintrin.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 
 namespace vkrt::exec {
@@ -17,19 +21,27 @@ struct ThreadPool::Job {
 };
 
 ThreadPool& ThreadPool::instance() {
-  static ThreadPool pool([] {
-    unsigned n = std::thread::hardware_concurrency();
-    if (const char* env = std::getenv("VKRT_THREADS")) {
-      long v = std::strtol(env, nullptr, 10);
-      if (v >= 1 && v <= 256) n = unsigned(v);
-    }
-    // The calling thread works too: N threads in all means N - 1 in the pool.
-    return n > 1 ? n - 1 : 0;
-  }());
+  static ThreadPool pool(
+      [] {
+        unsigned n = std::thread::hardware_concurrency();
+        if (const char* env = std::getenv("VKRT_THREADS")) {
+          long v = std::strtol(env, nullptr, 10);
+          if (v >= 1 && v <= 256) n = unsigned(v);
+        }
+        // The calling thread works too: N threads in all means N - 1 in the pool.
+        return n > 1 ? n - 1 : 0;
+      }(),
+      [] {
+        if (const char* env = std::getenv("VKRT_POOL_SPIN_US")) {
+          const long v = std::strtol(env, nullptr, 10);
+          if (v >= 0 && v <= 10000) return unsigned(v);
+        }
+        return kSpinMicroseconds;
+      }());
   return pool;
 }
 
-ThreadPool::ThreadPool(unsigned threads) {
+ThreadPool::ThreadPool(unsigned threads, unsigned spinMicroseconds) : spinMicros_(spinMicroseconds) {
   for (unsigned i = 0; i < threads; ++i) threads_.emplace_back([this, i] { workerMain(i); });
 }
 
@@ -37,6 +49,7 @@ ThreadPool::~ThreadPool() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
+    stopping_.store(true, std::memory_order_relaxed);
   }
   wake_.notify_all();
   for (std::thread& t : threads_) t.join();
@@ -55,16 +68,41 @@ void ThreadPool::runJob(Job& job, unsigned worker) {
   }
 }
 
+template <typename Ready>
+bool ThreadPool::spinUntil(const Ready& ready) const {
+  if (spinMicros_ == 0) return ready();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(spinMicros_);
+  for (;;) {
+    for (int i = 0; i < 32; ++i) {
+      if (ready()) return true;
+      _mm_pause();
+    }
+    if (std::chrono::steady_clock::now() >= until) return ready();
+    sched_yield();  // a runnable thread waiting for this core runs first
+  }
+}
+
 void ThreadPool::workerMain(unsigned index) {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    wake_.wait(lock, [&] { return stop_ || !jobs_.empty(); });
     if (stop_) return;
-    std::shared_ptr<Job> job = jobs_.front();
-    if (job->next.load(std::memory_order_relaxed) >= job->count) {
+    while (!jobs_.empty() && jobs_.front()->next.load(std::memory_order_relaxed) >= jobs_.front()->count)
       jobs_.pop_front();  // every index is taken: the job needs no more workers
+    if (jobs_.empty()) {
+      const uint64_t seen = posted_.load(std::memory_order_relaxed);
+      lock.unlock();
+      spinUntil(
+          [&] { return posted_.load(std::memory_order_relaxed) != seen || stopping_.load(std::memory_order_relaxed); });
+      lock.lock();
+      if (posted_.load(std::memory_order_relaxed) == seen && !stop_) {
+        ++sleeping_;
+        sleeps_.fetch_add(1, std::memory_order_relaxed);
+        wake_.wait(lock, [&] { return stop_ || posted_.load(std::memory_order_relaxed) != seen; });
+        --sleeping_;
+      }
       continue;
     }
+    std::shared_ptr<Job> job = jobs_.front();
     lock.unlock();
     runJob(*job, index);
     lock.lock();
@@ -72,14 +110,19 @@ void ThreadPool::workerMain(unsigned index) {
 }
 
 void ThreadPool::runWithWorkers(const std::shared_ptr<Job>& job) {
+  bool sleepers;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     jobs_.push_back(job);
+    posted_.fetch_add(1, std::memory_order_relaxed);
+    sleepers = sleeping_ > 0;
   }
-  wake_.notify_all();
+  if (sleepers) wake_.notify_all();
   runJob(*job, threadCount());
+  auto finished = [&] { return job->finished.load(std::memory_order_acquire) == job->count; };
+  if (spinUntil(finished)) return;
   std::unique_lock<std::mutex> lock(job->doneMutex);
-  job->done.wait(lock, [&] { return job->finished.load(std::memory_order_acquire) == job->count; });
+  job->done.wait(lock, finished);
 }
 
 void ThreadPool::parallelFor(uint64_t count, const std::function<void(uint64_t, unsigned)>& fn) {

@@ -79,6 +79,43 @@ TEST(ThreadPool, RunConcurrentlyIsNotSerializedBehindParallelFor) {
   busy.join();
 }
 
+// Idle workers watch for the next job before they sleep: back-to-back jobs are taken without a wake-up, every index
+// still once; with no spin time they sleep at once; and a pool whose workers are watching is destroyed without
+// waiting out their spin time.
+TEST(ThreadPool, WatchingWorkersTakeBackToBackJobsWithoutSleeping) {
+  constexpr unsigned kLongSpin = 5'000'000;  // 5 s: longer than the jobs below take even under a sanitizer
+  auto jobs = [](exec::ThreadPool& pool) {
+    for (int j = 0; j < 50; ++j) {
+      std::vector<std::atomic<int>> hits(64);
+      pool.parallelFor(hits.size(), [&](uint64_t i, unsigned w) {
+        hits[i].fetch_add(1);
+        EXPECT_LT(w, pool.workerSlots());
+      });
+      for (size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "job " << j << " index " << i;
+    }
+  };
+  const auto start = std::chrono::steady_clock::now();
+  {
+    exec::ThreadPool pool(3, kLongSpin);
+    jobs(pool);
+    std::atomic<uint64_t> ran{0};
+    std::vector<std::thread> callers;
+    for (int c = 0; c < 3; ++c)
+      callers.emplace_back([&] { pool.runConcurrently(20, [&](uint64_t) { ran.fetch_add(1); }); });
+    for (auto& t : callers) t.join();
+    EXPECT_EQ(ran.load(), 60u);
+    EXPECT_EQ(pool.sleeps(), 0u) << "a worker slept although it was watching";
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::microseconds(kLongSpin))
+      << "the destructor waited for the watching workers' spin time";
+
+  exec::ThreadPool sleepy(3, 0);
+  jobs(sleepy);
+  // With no spin time every worker that finds no job sleeps (at least once, at its start).
+  for (int i = 0; i < 1000 && sleepy.sleeps() < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_GE(sleepy.sleeps(), 3u);
+}
+
 class ComputePipelineSharing : public ::testing::Test {
  protected:
   void SetUp() override {
