@@ -286,7 +286,9 @@ struct CommittedHit {
 // Embree's speed (no filter callback at all where no ray flag or instance flag asks for one). Triangles are hit
 // for tMin < t < tMax, boxes are candidates for tMin <= t <= tMax (both as "Ray Intersection Candidate
 // Determination" says). A ray Vulkan does not allow (non-finite origin or direction, tMin < 0, tMin > tMax)
-// misses.
+// misses. A TerminateOnFirstHit ray whose committed hit the caller does not read (`hit` null: a shadow ray that
+// skips its closest-hit shader) is Embree's occlusion query without the filter callback that records which triangle
+// ended it (where its opaque triangles need no filter for another reason).
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* hit);
 // Asks for the cache lines a trace through `tlas` reads first (the 128-byte pair at the structure's own address:
 // the fields every ray reads and a small top level's first instance record, structures.hpp), for a caller that

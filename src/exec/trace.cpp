@@ -626,7 +626,9 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   bool found = false;
   if (tlas) {
     ray = rayOf(*args, launch.pipelineRayFlags);
-    found = accel::trace(*tlas, ray, frame, &hit);
+    // Without a closest-hit shader to run or a ray tree to record it, the committed hit is not read.
+    const bool readsHit = frame.node || !(ray.flags & accel::kRaySkipClosestHitShader);
+    found = accel::trace(*tlas, ray, frame, readsHit ? &hit : nullptr);
   }
   if (frame.node) {
     frame.node->hasCommitted = found;

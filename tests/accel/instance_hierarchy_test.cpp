@@ -150,6 +150,10 @@ size_t countWrong(const Tlas& tlas, const std::vector<Placement>& placements, ui
     Ray shadow = ray;
     shadow.flags = kRayTerminateOnFirstHit;
     ok &= traceOnce(tlas, shadow).hit == e.hit;
+    // ... and where nobody reads which hit ended it (a shadow ray without a closest-hit shader): Embree's occlusion
+    // query alone, no filter.
+    Recorder unread;
+    ok &= trace(tlas, shadow, unread, static_cast<CommittedHit*>(nullptr)) == e.hit && unread.anyHits.empty();
     // A ray query over opaque triangles: no candidate for the shader, the closest committed.
     RayQuery q;
     queryInitialize(q, &tlas, ray);
