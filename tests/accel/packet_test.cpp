@@ -1,7 +1,10 @@
 // Packets (accel::tracePacket): up to 16 rays through one Embree packet query where each ray meets nothing that calls
-// back (accel::packetTraceable). Each lane must commit exactly what trace() commits for its ray alone: the same hit
-// (instance, geometry, primitive, t, barycentrics, normal, SBT offset) or the same miss, on a small top level whose
-// triangles are flattened into one scene and on a top level of one instance of a larger, transformed bottom level.
+// back (accel::packetTraceable). Away from ties, each lane must commit exactly what trace() commits for its ray alone:
+// the same hit (instance, geometry, primitive, t, barycentrics, normal, SBT offset) or the same miss, on a small top
+// level whose triangles are flattened into one scene and on a top level of one instance of a larger, transformed
+// bottom level. Where a ray meets a shared edge or vertex, Embree's coherent traversal (a camera's packets) may keep
+// the other triangle, or one whose t is a float above the other's: hit or miss stays the same (watertight), t within
+// one float (TiesAtSharedEdgesHitTheSameWithinOneFloat).
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -187,6 +190,69 @@ TEST(AccelPacket, NotForRaysThatNeedCallbacksOrOtherTopLevels) {
   EXPECT_TRUE(packetTraceable(*nonOpaque, rayFrom(0.1f, 0.2f, 5, 0, 0, -1, kRayOpaque)));  // forced opaque
   EXPECT_FALSE(packetTraceable(*makeTlas({instanceOf(withBoxes)}), down));                 // boxes in reach
   EXPECT_FALSE(packetTraceable(*makeTlas({instanceOf(opaque), translated(opaque, 5, 0, 0)}), down));  // a hierarchy
+}
+
+// A camera's packets aimed exactly at the vertices of a flat grid (one instance) and at the middles of its edges
+// (every ray on a shared edge or corner): the coherent traversal hits wherever trace() hits (no ray falls through a
+// crack) at a t within one float of trace()'s; which of the triangles at the point it keeps may differ (a tie; the
+// specification leaves the choice to the implementation), and rays away from the grid miss both ways.
+TEST(AccelPacket, TiesAtSharedEdgesHitTheSameWithinOneFloat) {
+  Geometry g;
+  g.kind = Geometry::Triangles;
+  g.triangles.flags = kGeometryOpaque;
+  constexpr uint32_t n = 32;
+  for (uint32_t y = 0; y <= n; ++y)
+    for (uint32_t x = 0; x <= n; ++x)
+      g.triangles.vertices.insert(g.triangles.vertices.end(), {-2 + 4.0f * float(x) / n, -2 + 4.0f * float(y) / n, 0});
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      const uint32_t a = y * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
+      g.triangles.indices.insert(g.triangles.indices.end(), {a, b, d, a, d, c});
+    }
+  auto blas = makeBlas({g});
+  NoCallbacks none;
+  for (bool moved : {false, true}) {
+    // The grid as it is, and moved by (0.5, 0.25, -1) (the rays aim at the moved points).
+    const float tx = moved ? 0.5f : 0.0f, ty = moved ? 0.25f : 0.0f, tz = moved ? -1.0f : 0.0f;
+    auto tlas = makeTlas({translated(blas, tx, ty, tz)});
+    int hits = 0, misses = 0, coherent = 0;
+    for (uint32_t row = 0; row <= n + 2; ++row)
+      for (uint32_t x0 = 0; x0 + kPacketRays <= n + 1; x0 += 8)
+        for (int middle = 0; middle < 2; ++middle) {
+          Ray rays[kPacketRays];
+          float dx[kPacketRays], dy[kPacketRays], dz[kPacketRays];
+          int valid[kPacketRays];
+          for (uint32_t i = 0; i < kPacketRays; ++i) {
+            // Rows past the grid's last aim beside it (misses); `middle`: the middle of the horizontal edge.
+            const float vx = -2 + 4.0f * float(x0 + i) / n + (middle ? 2.0f / n : 0.0f);
+            const float vy = -2 + 4.0f * float(row) / n;
+            rays[i] = rayFrom(0.1f, 0.05f, 30.0f, vx + tx - 0.1f, vy + ty - 0.05f, tz - 30.0f, 0, 100.0f, 0.0f);
+            dx[i] = rays[i].direction[0], dy[i] = rays[i].direction[1], dz[i] = rays[i].direction[2];
+            valid[i] = -1;
+          }
+          coherent += coherentDirections(dx, dy, dz, valid);
+          CommittedHit packet[kPacketRays];
+          const uint32_t found = tracePacket(*tlas, rays, 0xFFFFu, packet);
+          for (uint32_t i = 0; i < kPacketRays; ++i) {
+            SCOPED_TRACE("row " + std::to_string(row) + " x " + std::to_string(x0 + i) + " middle " +
+                         std::to_string(middle) + (moved ? " moved" : ""));
+            CommittedHit one;
+            const bool hit = trace(*tlas, rays[i], none, &one);
+            ASSERT_EQ(((found >> i) & 1) != 0, hit);
+            if (!hit) {
+              ++misses;
+              continue;
+            }
+            ++hits;
+            EXPECT_LE(std::fabs(packet[i].t - one.t), std::nextafter(one.t, 2.0f) - one.t);
+            EXPECT_EQ(packet[i].instance, one.instance);
+            EXPECT_EQ(packet[i].geometry, one.geometry);
+          }
+        }
+    EXPECT_GT(coherent, 100);
+    EXPECT_GT(hits, 2000);
+    EXPECT_GT(misses, 50);
+  }
 }
 
 }  // namespace
