@@ -586,9 +586,10 @@ inline float loadAlone(const float& field) {
 }
 
 // The ray of a trace's arguments, as accel traces it (the pipeline's skip flags or-ed in, 8 bits of cull mask), its
-// floats read one at a time (loadAlone).
-accel::Ray rayOf(const abi::TraceRayArgs& a, uint32_t pipelineRayFlags) {
-  accel::Ray ray;
+// floats read one at a time (loadAlone), written into the caller's ray in place: returned and then copied, the ray's
+// flags and cull mask (two 4-byte stores) were read back by the copy as one 8-byte load, which could not be forwarded
+// from them (a sixth of a trace's time in traceRay, on every ray).
+void rayOf(const abi::TraceRayArgs& a, uint32_t pipelineRayFlags, accel::Ray& ray) {
   for (int i = 0; i < 3; ++i) {
     ray.origin[i] = loadAlone(a.origin[i]);
     ray.direction[i] = loadAlone(a.direction[i]);
@@ -597,7 +598,6 @@ accel::Ray rayOf(const abi::TraceRayArgs& a, uint32_t pipelineRayFlags) {
   ray.tMax = loadAlone(a.tMax);
   ray.flags = a.rayFlags | pipelineRayFlags;
   ray.cullMask = a.cullMask & 0xFF;
-  return ray;
 }
 
 void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
@@ -625,7 +625,7 @@ void traceRay(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args) {
   accel::Ray ray;
   bool found = false;
   if (tlas) {
-    ray = rayOf(*args, launch.pipelineRayFlags);
+    rayOf(*args, launch.pipelineRayFlags, ray);
     // Without a closest-hit shader to run or a ray tree to record it, the committed hit is not read.
     const bool readsHit = frame.node || !(ray.flags & accel::kRaySkipClosestHitShader);
     found = accel::trace(*tlas, ray, frame, readsHit ? &hit : nullptr);
@@ -670,7 +670,7 @@ void traceRays(abi::RayInvocation* callerBase, const abi::TraceRayArgs* args, ui
     const accel::Tlas* t = caller.task->topLevel(state, a.accelerationStructure);
     if (!tlas) tlas = t;
     accel::Ray& ray = rays[l];
-    ray = rayOf(a, launch.pipelineRayFlags);
+    rayOf(a, launch.pipelineRayFlags, ray);
     packet = t && t == tlas && (ray.flags == traceableFlags || accel::packetTraceable(*t, ray));
     traceableFlags = ray.flags;
   }
