@@ -317,7 +317,7 @@ uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, Committed
 // rough surface do not. Embree's coherent packet traversal takes twice as many camera rays per second as its
 // incoherent one and a third fewer scattered bounces. False for no valid lane.
 bool coherentDirections(const float* dx, const float* dy, const float* dz, const int* valid);
-// The built-ins of `hit`, committed by trace() for `ray` through `tlas`.
+// The built-ins of `hit`, committed by trace() for `ray` through `tlas`: every field of `out` is assigned.
 void hitInfo(const Tlas& tlas, const Ray& ray, const CommittedHit& hit, HitInfo* out);
 // trace() and hitInfo() together.
 bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, HitInfo* hit);
