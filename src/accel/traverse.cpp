@@ -465,14 +465,12 @@ void offerDirectBoxes(const Blas::Impl& blas, TraceContext& ctx, RTCRay& ray, RT
   }
 }
 
-bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-
 // Whether `ray` is traced through `t` at all: Vulkan requires finite origin and direction and 0 <= tMin <= tMax;
 // anything else misses, as does a ray with an empty cull mask, an unbuilt structure, or a ray beyond what Embree can
-// trace.
-bool traced(const Tlas::Impl& t, const Ray& ray) {
-  return (ray.cullMask & 0xFF) && t.built && finite3(ray.origin) && finite3(ray.direction) && ray.tMin >= 0 &&
-         ray.tMin <= ray.tMax && rayInEmbreeRange(ray.origin, ray.direction);
+// trace. (rayInEmbreeRange is false for an infinite or NaN component: it is the finiteness test too.)
+inline bool traced(const Tlas::Impl& t, const Ray& ray) {
+  return (ray.cullMask & 0xFF) && t.built && ray.tMin >= 0 && ray.tMin <= ray.tMax &&
+         rayInEmbreeRange(ray.origin, ray.direction);
 }
 
 // The ray against vkrt's instance level (structures.hpp, BvhNode): the flattened triangles' scene in world space,
@@ -750,19 +748,26 @@ bool packetTraceable(const Tlas& tlas, const Ray& ray) {
 
 bool coherentDirections(const float* dx, const float* dy, const float* dz, const int* valid) {
   constexpr float kCoherentCos2 = 0.98f;  // cos^2 of about 8 degrees
-  int first = -1;
-  for (uint32_t i = 0; i < kPacketRays; ++i) {
-    if (!valid[i]) continue;
-    if (first < 0) {
-      first = int(i);
-      continue;
-    }
-    const float dot = dx[first] * dx[i] + dy[first] * dy[i] + dz[first] * dz[i];
-    const float aa = dx[first] * dx[first] + dy[first] * dy[first] + dz[first] * dz[first];
-    const float bb = dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i];
-    if (!(dot > 0 && dot * dot >= kCoherentCos2 * aa * bb)) return false;
+  uint32_t first = 0;
+  while (first < kPacketRays && !valid[first]) ++first;
+  if (first == kPacketRays) return false;
+  // Every lane tested, four at a time (the first lane passes its own test unless its direction is zero: then no
+  // packet is coherent).
+  using F4 = float __attribute__((vector_size(16)));
+  using I4 = int32_t __attribute__((vector_size(16)));
+  const float ax = dx[first], ay = dy[first], az = dz[first];
+  const float aa = ax * ax + ay * ay + az * az;
+  I4 all = I4{} - 1;
+  for (uint32_t i = 0; i < kPacketRays; i += 4) {
+    F4 x, y, z;
+    I4 v;
+    std::memcpy(&x, dx + i, 16), std::memcpy(&y, dy + i, 16), std::memcpy(&z, dz + i, 16),
+        std::memcpy(&v, valid + i, 16);
+    const F4 dot = ax * x + ay * y + az * z;
+    const F4 bb = x * x + y * y + z * z;
+    all &= ((dot > 0) & (dot * dot >= kCoherentCos2 * aa * bb)) | (v == 0);
   }
-  return first >= 0;
+  return (all[0] & all[1] & all[2] & all[3]) != 0;
 }
 
 uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, CommittedHit* hits) {
