@@ -288,15 +288,23 @@ bool run(Invocation& inv, const RayShader& shader, uint32_t lanes = 0) {
   inv.shader = &shader;
   inv.base.resources = shader.resources;
   // For the report of a fault or a timeout: the shader running, and its launch index (the caller's again after it).
+  // (Field by field: copied whole, the record's 1-byte kind, just stored by the previous call's restore, was read back
+  // in an 8-byte load with its padding, which cannot be forwarded from that store.)
   Running& running = *inv.task->running;
-  const Running caller = running;
-  running = Running{shader.name, inv.launchId, Abort::LaunchId};
+  const char* const callerShader = running.shader;
+  const uint32_t* const callerId = running.id;
+  const Abort::IdKind callerKind = running.idKind;
+  running.shader = shader.name;
+  running.id = inv.launchId;
+  running.idKind = Abort::LaunchId;
   if (lanes) {
     shader.batch(&inv, lanes);
   } else {
     shader.entry(&inv);
   }
-  running = caller;
+  running.shader = callerShader;
+  running.id = callerId;
+  running.idKind = callerKind;
   return true;
 }
 
