@@ -310,7 +310,7 @@ bool packetTraceable(const Tlas& tlas, const Ray& ray);
 // those that hit, with their committed hits in `hits` (the rest untouched). Where coherentDirections() says the rays
 // run side by side, Embree traverses them coherently (one frustum for the packet): each lane hits or misses as
 // trace() would, and commits what trace() commits except at a tie (a ray through a shared edge or vertex), where it
-// may keep the other triangle, at a t up to one float away.
+// may keep the other triangle, at a t a float or two away.
 uint32_t tracePacket(const Tlas& tlas, const Ray* rays, uint32_t mask, CommittedHit* hits);
 // Whether the kPacketRays directions (dx[i], dy[i], dz[i]) of the lanes where valid[i] != 0 lie within about 8 degrees
 // of the first such lane's: rays of a camera or toward a light, or reflected off one flat surface, do; bounces off a
