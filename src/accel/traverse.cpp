@@ -665,7 +665,6 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
   ctx.handler = &handler;
   ctx.flags = ray.flags;
   ctx.firstHit = (ray.flags & kRayTerminateOnFirstHit) != 0;
-  const bool boxesInReach = t.summary.aabbs && !(ray.flags & kRaySkipAabbs);
   // The filter records an occlusion query's commit (needsTriangleFilter); where nobody reads it, Embree's answer
   // (tfar -inf where it accepted a triangle) or a box's commit is all the caller needs.
   const uint32_t filterFlags = hit ? ray.flags : ray.flags & ~kRayTerminateOnFirstHit;
@@ -678,6 +677,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
   // such rays pay. Otherwise (only triangles in reach) each end moves one float inward, and opaque triangles need
   // no callback at all. (One float inside would not do for boxes: the interval is empty when tMin == tMax, and
   // Embree's hierarchy drops a box the ray leaves exactly at tMin = 0 or enters exactly at tMax.)
+  const bool boxesInReach = t.summary.aabbs && !(ray.flags & kRaySkipAabbs);
   if (boxesInReach) {
     ctx.closedInterval = true;
     if (!ctx.embree.filter && t.summary.triangles && !(ray.flags & kRaySkipTriangles))
@@ -708,7 +708,7 @@ bool trace(const Tlas& tlas, const Ray& ray, HitHandler& handler, CommittedHit* 
     traverseTlas<true>(t, ctx, rh);
     if (!hit) return ctx.terminated || rh.ray.tfar == -kInf;
     if (!ctx.terminated) return false;
-    if (hit) finishCommitted(t, ctx.last, hit);
+    finishCommitted(t, ctx.last, hit);
     return true;
   }
   traverseTlas<false>(t, ctx, rh);

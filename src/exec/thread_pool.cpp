@@ -48,8 +48,7 @@ ThreadPool::ThreadPool(unsigned threads, unsigned spinMicroseconds) : spinMicros
 ThreadPool::~ThreadPool() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-    stopping_.store(true, std::memory_order_relaxed);
+    stop_.store(true, std::memory_order_relaxed);
   }
   wake_.notify_all();
   for (std::thread& t : threads_) t.join();
@@ -85,19 +84,21 @@ bool ThreadPool::spinUntil(const Ready& ready) const {
 void ThreadPool::workerMain(unsigned index) {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    if (stop_) return;
+    if (stop_.load(std::memory_order_relaxed)) return;
     while (!jobs_.empty() && jobs_.front()->next.load(std::memory_order_relaxed) >= jobs_.front()->count)
       jobs_.pop_front();  // every index is taken: the job needs no more workers
     if (jobs_.empty()) {
       const uint64_t seen = posted_.load(std::memory_order_relaxed);
       lock.unlock();
       spinUntil(
-          [&] { return posted_.load(std::memory_order_relaxed) != seen || stopping_.load(std::memory_order_relaxed); });
+          [&] { return posted_.load(std::memory_order_relaxed) != seen || stop_.load(std::memory_order_relaxed); });
       lock.lock();
-      if (posted_.load(std::memory_order_relaxed) == seen && !stop_) {
+      if (posted_.load(std::memory_order_relaxed) == seen && !stop_.load(std::memory_order_relaxed)) {
         ++sleeping_;
         sleeps_.fetch_add(1, std::memory_order_relaxed);
-        wake_.wait(lock, [&] { return stop_ || posted_.load(std::memory_order_relaxed) != seen; });
+        wake_.wait(lock, [&] {
+          return stop_.load(std::memory_order_relaxed) || posted_.load(std::memory_order_relaxed) != seen;
+        });
         --sleeping_;
       }
       continue;

@@ -28,8 +28,8 @@
 
 namespace vkrt::exec {
 
-inline constexpr unsigned kSpinMicroseconds =
-    100;  // how long an idle worker or a waiting caller watches before sleeping
+// How long an idle worker or a waiting caller watches before sleeping.
+inline constexpr unsigned kSpinMicroseconds = 100;
 
 class ThreadPool {
  public:
@@ -71,10 +71,9 @@ class ThreadPool {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::shared_ptr<Job>> jobs_;
-  bool stop_ = false;
+  std::atomic<bool> stop_{false};    // written under mutex_; watching workers read it without
   std::atomic<uint64_t> posted_{0};  // jobs queued so far (written under mutex_)
-  std::atomic<bool> stopping_{false};
-  unsigned sleeping_ = 0;  // workers waiting on wake_ (under mutex_)
+  unsigned sleeping_ = 0;            // workers waiting on wake_ (under mutex_)
   std::atomic<uint64_t> sleeps_{0};
   unsigned spinMicros_;
   std::vector<std::thread> threads_;
