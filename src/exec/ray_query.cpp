@@ -114,19 +114,50 @@ RayQueryScope::RayQueryScope(TopLevelResolver* resolver) : resolver_(resolver) {
 
 TopLevelResolver::RangeIndex TopLevelResolver::rangeIndex(const uint64_t* addresses, size_t count, uint32_t* firstOf) {
   RangeIndex index;
+  index.lo = addresses[0];
+  const uint64_t span = addresses[count - 1] - index.lo;
+  // The shift that cuts the span into `ranges` (>= 2) ranges (ends by 63; a single address has span 0).
+  auto shiftFor = [span](uint64_t ranges) {
+    unsigned shift = 0;
+    while ((span >> shift) >= ranges) ++shift;
+    return shift;
+  };
   uint64_t n = 1;
   while (n < count) n *= 2;
-  const uint64_t lo = addresses[0], span = addresses[count - 1] - lo;
-  while ((span >> index.shift) >= n) ++index.shift;  // (ends by 63 when n >= 2; a single address has span 0)
+  // Direct where ranges of twice or four times the power of two hold an address each at most.
+  for (const uint64_t ranges : {2 * n, 4 * n}) {
+    const unsigned shift = shiftFor(ranges);
+    size_t i = 1;
+    while (i < count && ((addresses[i] - index.lo) >> shift) != ((addresses[i - 1] - index.lo) >> shift)) ++i;
+    if (i == count) {
+      index.shift = shift;
+      index.ranges = ranges;
+      index.direct = true;
+      return index;
+    }
+  }
+  index.shift = shiftFor(n);
   uint64_t r = 0;
   for (size_t i = 0; i < count; ++i)
-    for (const uint64_t ri = (addresses[i] - lo) >> index.shift; r <= ri;) firstOf[r++] = uint32_t(i);
+    for (const uint64_t ri = (addresses[i] - index.lo) >> index.shift; r <= ri;) firstOf[r++] = uint32_t(i);
   while (r <= n) firstOf[r++] = uint32_t(count);
   index.ranges = n;
   uint32_t fullest = 0;
   for (r = 0; r < n; ++r) fullest = std::max(fullest, firstOf[r + 1] - firstOf[r]);
   while ((uint64_t(1) << index.steps) < fullest) ++index.steps;
   return index;
+}
+
+void TopLevelResolver::layOut(const RangeIndex& index, const uint64_t* addresses, size_t count, Entry* entries) {
+  if (index.direct) {
+    // A range without an address holds one of the range below it (range 0 holds the lowest address), which locate
+    // never looks for there. Where r << shift passes 2^64, the filler's range (taken modulo 2^64) is below r too.
+    for (uint64_t r = 0; r < index.ranges; ++r) entries[r].address = index.lo + (r << index.shift) - 1;
+    for (size_t i = 0; i < count; ++i) entries[slot(index, i, addresses[i])].address = addresses[i];
+    return;
+  }
+  for (size_t i = 0; i < count; ++i) entries[i].address = addresses[i];
+  for (size_t i = count; i < count + index.padding(); ++i) entries[i].address = ~uint64_t(0);
 }
 
 void TopLevelResolver::takeSnapshot() {
@@ -139,16 +170,17 @@ void TopLevelResolver::takeSnapshot() {
     for (size_t i = 0; i < n; ++i) addresses[i] = s.structures[i].first;
     firstOf_ = std::make_unique<uint32_t[]>(2 * n + 1);
     index_ = rangeIndex(addresses.data(), n, firstOf_.get());
-    entries_ = std::make_unique<Entry[]>(n + index_.padding());
+    if (index_.direct) firstOf_.reset();
+    entries_ = std::make_unique<Entry[]>(index_.entries(n));
+    layOut(index_, addresses.data(), n, entries_.get());
+    count_ = n;
     kept_.reserve(n);
-    for (auto& [address, tlas] : s.structures) {
-      Entry& e = entries_[count_++];
-      e.address = address;
+    for (size_t i = 0; i < n; ++i) {
+      auto& [address, tlas] = s.structures[i];
       if (!tlas) continue;
-      e.tlas.store(tlas.get(), std::memory_order_relaxed);  // (published by ready_)
+      entries_[slot(index_, i, address)].tlas.store(tlas.get(), std::memory_order_relaxed);  // (published by ready_)
       kept_.push_back(std::move(tlas));
     }
-    for (size_t i = n; i < n + index_.padding(); ++i) entries_[i].address = ~uint64_t(0);
   }
   ready_.store(true, std::memory_order_release);
 }

@@ -14,39 +14,64 @@
 namespace vkrt {
 namespace {
 
-// Checks locate() against std::lower_bound for each address, its neighbours and `probes` random values.
+// Checks locate() against std::lower_bound (and the layout's slot) for each address, its neighbours and `probes` random values.
 // `expectedSteps`, where not -1: the search's steps the spread of the addresses calls for.
-void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000, int expectedSteps = -1) {
+void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000, int expectedSteps = -1,
+                int expectedDirect = -1) {
   std::sort(addresses.begin(), addresses.end());
   addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
   const size_t n = addresses.size();
   std::vector<uint32_t> firstOf(2 * n + 1, 0xFFFFFFFFu);
   const exec::TopLevelResolver::RangeIndex index =
       exec::TopLevelResolver::rangeIndex(addresses.data(), n, firstOf.data());
-  std::vector<exec::TopLevelResolver::Entry> entries(n + index.padding());
-  for (size_t i = 0; i < n; ++i) entries[i].address = addresses[i];
-  for (size_t i = n; i < entries.size(); ++i) entries[i].address = ~uint64_t(0);
+  std::vector<exec::TopLevelResolver::Entry> entries(index.entries(n));
+  exec::TopLevelResolver::layOut(index, addresses.data(), n, entries.data());
   const uint64_t ranges = index.ranges;
-  ASSERT_GE(ranges, n);
-  ASSERT_LT(ranges, 2 * n);
   ASSERT_EQ(ranges & (ranges - 1), 0u) << "a power of two";
+  ASSERT_EQ(index.lo, addresses.front());
   ASSERT_LT((addresses.back() - addresses.front()) >> index.shift, ranges) << "the last address falls in a range";
-  uint32_t fullest = 0;
-  for (uint64_t r = 0; r < ranges; ++r) {
-    ASSERT_LE(firstOf[r], firstOf[r + 1]) << "range " << r;
-    fullest = std::max(fullest, firstOf[r + 1] - firstOf[r]);
+  // The ranges of each address.
+  std::vector<uint64_t> rangeOf(n);
+  for (size_t i = 0; i < n; ++i) rangeOf[i] = (addresses[i] - index.lo) >> index.shift;
+  const bool alone = std::adjacent_find(rangeOf.begin(), rangeOf.end()) == rangeOf.end();
+  if (index.direct) {
+    // Twice or four times the power of two at or above n, each address alone in its range.
+    ASSERT_GE(ranges, 2 * n);
+    ASSERT_LT(ranges, 8 * n);
+    ASSERT_TRUE(alone);
+    ASSERT_EQ(index.entries(n), ranges);
+  } else {
+    ASSERT_GE(ranges, n);
+    ASSERT_LT(ranges, 2 * n);
+    // Direct layouts were possible neither at twice nor at four times as many ranges.
+    for (unsigned finer : {1u, 2u}) {
+      bool shared = false;
+      for (size_t i = 1; i < n; ++i)
+        shared |= (addresses[i] - index.lo) >> (index.shift - std::min(finer, index.shift)) ==
+                  (addresses[i - 1] - index.lo) >> (index.shift - std::min(finer, index.shift));
+      ASSERT_TRUE(shared || index.shift < finer) << "a direct layout at " << (1u << finer) << " times the ranges";
+    }
+    uint32_t fullest = 0;
+    for (uint64_t r = 0; r < ranges; ++r) {
+      ASSERT_LE(firstOf[r], firstOf[r + 1]) << "range " << r;
+      fullest = std::max(fullest, firstOf[r + 1] - firstOf[r]);
+    }
+    ASSERT_EQ(firstOf[ranges], n);
+    // The steps search the fullest range, and take no more halvings than it needs.
+    ASSERT_GE(uint64_t(1) << index.steps, fullest);
+    ASSERT_TRUE(index.steps == 0 || (uint64_t(1) << (index.steps - 1)) < fullest) << index.steps << " steps";
   }
-  ASSERT_EQ(firstOf[ranges], n);
-  // The steps search the fullest range, and take no more halvings than it needs.
-  ASSERT_GE(uint64_t(1) << index.steps, fullest);
-  ASSERT_TRUE(index.steps == 0 || (uint64_t(1) << (index.steps - 1)) < fullest) << index.steps << " steps";
+  if (expectedDirect >= 0) {
+    ASSERT_EQ(index.direct, expectedDirect == 1);
+  }
   if (expectedSteps >= 0) {
     ASSERT_EQ(index.steps, unsigned(expectedSteps));
   }
 
   auto expected = [&](uint64_t a) -> ptrdiff_t {
     auto it = std::lower_bound(addresses.begin(), addresses.end(), a);
-    return it != addresses.end() && *it == a ? it - addresses.begin() : -1;
+    if (it == addresses.end() || *it != a) return -1;
+    return ptrdiff_t(exec::TopLevelResolver::slot(index, size_t(it - addresses.begin()), a));
   };
   auto check = [&](uint64_t a) {
     ASSERT_EQ(exec::TopLevelResolver::locate(entries.data(), n, firstOf.data(), index, a), expected(a))
@@ -59,6 +84,11 @@ void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 
   }
   check(0);
   check(~uint64_t(0));
+  // Each range's first address and the one below it (the direct layout's filler of an empty range).
+  for (uint64_t r = 0; r < std::min<uint64_t>(ranges, 1 << 14); ++r) {
+    check(index.lo + (r << index.shift));
+    check(index.lo + (r << index.shift) - 1);
+  }
   std::mt19937_64 rng(seed);
   const uint64_t lo = addresses.front(), span = addresses.back() - lo;
   for (size_t k = 0; k < probes; ++k) {
@@ -70,10 +100,23 @@ void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 
 TEST(TopLevelTableIndex, EvenlySpacedAddressesAreEachFoundAndNothingElse) {
   std::vector<uint64_t> a;
   for (uint64_t i = 0; i < 1000; ++i) a.push_back(0x567000000000ull + i * 4096);
-  checkIndex(a, 1, 2000, 0);  // one address per range: no step
+  checkIndex(a, 1, 2000, 0, 1);  // one address per range: direct
   // Pairs 256 bytes apart, 8 KiB between pairs: 1,000 addresses in 1,024 ranges of 4 KiB, some holding a pair.
   for (uint64_t i = 0; i < 1000; ++i) a[i] = 0x567000000000ull + (i / 2) * 8192 + (i % 2) * 256;
-  checkIndex(a, 7, 2000, 1);
+  checkIndex(a, 7, 2000, 1, 0);
+}
+
+TEST(TopLevelTableIndex, AddressesAloneOnlyInFinerRangesAreLaidOutDirectly) {
+  // 1,024 addresses, pairs 700 bytes apart, 4 KiB between pairs: twice as many ranges as the power of two (1 KiB
+  // each) hold a pair in one, four times as many (512 bytes) one address each.
+  std::vector<uint64_t> a;
+  for (uint64_t i = 0; i < 1024; ++i) a.push_back(0x7f0000000000ull + (i / 2) * 4096 + (i % 2) * 700);
+  checkIndex(a, 8, 2000, 0, 1);
+  std::vector<uint32_t> firstOf(2 * a.size() + 1);
+  EXPECT_EQ(exec::TopLevelResolver::rangeIndex(a.data(), a.size(), firstOf.data()).ranges, 4096u);
+  // 400 bytes apart: no direct layout; the searched one, 1,024 ranges of 2 KiB, every other one holding a pair.
+  for (uint64_t i = 0; i < 1024; ++i) a[i] = 0x7f0000000000ull + (i / 2) * 4096 + (i % 2) * 400;
+  checkIndex(a, 9, 2000, 1, 0);
 }
 
 TEST(TopLevelTableIndex, ClusteredAddressesAreEachFoundAndNothingElse) {
@@ -82,7 +125,7 @@ TEST(TopLevelTableIndex, ClusteredAddressesAreEachFoundAndNothingElse) {
   for (uint64_t i = 0; i < 500; ++i) a.push_back(0x1000 + i * 256);
   a.push_back(0x567000000000ull);
   a.push_back(0x7fff00000000ull);
-  checkIndex(a, 2, 2000, 9);  // 500 entries in the first range
+  checkIndex(a, 2, 2000, 9, 0);  // 500 entries in the first range
 }
 
 TEST(TopLevelTableIndex, RandomAddressesOfEverySpanAreEachFoundAndNothingElse) {
@@ -139,22 +182,29 @@ TEST(TopLevelTableIndex, TheResolverAnswersEveryAddressAndResolvesEachOnce) {
   // Ranges of one entry, of two and of many, and empty ones, with structures the snapshot knew and ones resolved on
   // first use (to a structure or to none): the right answer for every address and its neighbours, twice over; each
   // address the snapshot left unresolved resolved once; the first miss reported once.
-  std::vector<uint64_t> a;
-  for (uint64_t i = 0; i < 300; ++i) a.push_back(0x567000000000ull + (i << 20));
-  for (uint64_t i = 0; i < 100; ++i) a.push_back(0x567019000000ull + (i / 2) * 8192 + (i % 2) * 256);
-  for (uint64_t i = 0; i < 50; ++i) a.push_back(0x567019200000ull + i * 16);
-  StubResolver r(a);
-  for (int pass = 0; pass < 2; ++pass) {
-    for (uint64_t x : a) {
-      ASSERT_EQ(r.topLevel(x), r.expected(x)) << "address 0x" << std::hex << x << " pass " << pass;
-      ASSERT_EQ(r.topLevel(x + 8), r.expected(x + 8)) << "address 0x" << std::hex << x + 8;
-      ASSERT_EQ(r.topLevel(x - 8), r.expected(x - 8)) << "address 0x" << std::hex << x - 8;
+  std::vector<uint64_t> mixed;
+  for (uint64_t i = 0; i < 300; ++i) mixed.push_back(0x567000000000ull + (i << 20));
+  for (uint64_t i = 0; i < 100; ++i) mixed.push_back(0x567019000000ull + (i / 2) * 8192 + (i % 2) * 256);
+  for (uint64_t i = 0; i < 50; ++i) mixed.push_back(0x567019200000ull + i * 16);
+  // And addresses that allocations space evenly, laid out directly.
+  std::vector<uint64_t> even;
+  for (uint64_t i = 0; i < 450; ++i) even.push_back(0x567000000000ull + i * 12288);
+  for (const std::vector<uint64_t>* a : {&mixed, &even}) {
+    std::vector<uint32_t> firstOf(2 * a->size() + 1);
+    ASSERT_EQ(exec::TopLevelResolver::rangeIndex(a->data(), a->size(), firstOf.data()).direct, a == &even);
+    StubResolver r(*a);
+    for (int pass = 0; pass < 2; ++pass) {
+      for (uint64_t x : *a) {
+        ASSERT_EQ(r.topLevel(x), r.expected(x)) << "address 0x" << std::hex << x << " pass " << pass;
+        ASSERT_EQ(r.topLevel(x + 8), r.expected(x + 8)) << "address 0x" << std::hex << x + 8;
+        ASSERT_EQ(r.topLevel(x - 8), r.expected(x - 8)) << "address 0x" << std::hex << x - 8;
+      }
     }
+    EXPECT_EQ(r.topLevel(0), nullptr);
+    EXPECT_EQ(r.topLevel(~uint64_t(0)), nullptr);
+    EXPECT_EQ(r.resolves, a->size() / 3);
+    EXPECT_EQ(r.misses, 1u);
   }
-  EXPECT_EQ(r.topLevel(0), nullptr);
-  EXPECT_EQ(r.topLevel(~uint64_t(0)), nullptr);
-  EXPECT_EQ(r.resolves, a.size() / 3);
-  EXPECT_EQ(r.misses, 1u);
 }
 
 }  // namespace
