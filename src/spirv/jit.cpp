@@ -413,6 +413,9 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
           .RegisterPass(spvtools::CreateInlineExhaustivePass())
           .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
     });
+  // A DebugPrintf a specialization constant turns off (`if (kDebug) debugPrintfEXT(...)`) goes with its branch,
+  // which the frozen constant decides: the SPMD path, which has no printf, then takes the shader.
+  if (printf) round([](spvtools::Optimizer& o) { o.RegisterPass(spvtools::CreateDeadBranchElimPass()); });
   // Compute shaders' Function variables that only loads and stores use become SSA values (structs and arrays split
   // first): the SPMD path's uniformity analysis then sees a loop counter as the phi it is, not as a variable stored
   // under a divergent loop's control (which takes storage per lane).

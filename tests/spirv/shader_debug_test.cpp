@@ -18,6 +18,7 @@
 #include "oob_read.comp.spv.h"
 #include "oob_uniform_lane.comp.spv.h"
 #include "printf_compute.comp.spv.h"
+#include "printf_switched.comp.spv.h"
 #include "shader_debug_scan.hpp"
 #include "spirv/compiler.hpp"
 #include "spirv/compute_harness.hpp"
@@ -163,6 +164,33 @@ TEST(DebugPrintfCompiled, EveryInvocationPrintsInOrder) {
   }
   EXPECT_EQ(job.messages.droppedPrintfs(), 0u);
   EXPECT_TRUE(job.messages.outOfBoundsSites().empty());
+}
+
+// A debugPrintfEXT under a specialization constant: switched off, the call goes with its branch and the SPMD path
+// takes the shader (a printf anywhere in it kept it scalar before); switched on, the scalar path prints every line.
+TEST(DebugPrintfCompiled, APrintfASpecializationConstantSwitchesOffLeavesTheShaderSpmd) {
+  const bool was = spirv::spmdEnabled();
+  spirv::setSpmd(true);
+  for (uint32_t on : {0u, 1u}) {
+    SCOPED_TRACE(on ? "printf on" : "printf off");
+    spirv::SpecValue kPrint{0, std::vector<uint8_t>(4)};
+    std::memcpy(kPrint.bytes.data(), &on, 4);
+    testing::ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_printf_switched_comp, {kPrint})) << h.error;
+    EXPECT_EQ(h.shader->spmdLanes, on ? 0u : spirv::spmdLanes());
+    h.zeroBuffer<uint32_t>(0, 16);
+    exec::Job job(nullptr, 0);
+    h.job = &job;
+    ASSERT_TRUE(h.run(2));
+    const std::vector<uint32_t> out = h.get<uint32_t>(0);
+    std::vector<std::string> lines = printed(job.messages);
+    ASSERT_EQ(lines.size(), on ? 16u : 0u);
+    for (uint32_t i = 0; i < 16; ++i) {
+      EXPECT_EQ(out[i], 3 * i + 1) << i;
+      if (on) EXPECT_EQ(lines[i], "i=" + std::to_string(i));
+    }
+  }
+  spirv::setSpmd(was);
 }
 
 // A command keeps at most printfLimit() messages (kDefaultPrintfLimit unless VKRT_PRINTF_LIMIT says otherwise) and
