@@ -14,8 +14,8 @@
 namespace vkrt {
 namespace {
 
-// Checks locate() against std::lower_bound (and the layout's slot) for each address, its neighbours and `probes` random values.
-// `expectedSteps`, where not -1: the search's steps the spread of the addresses calls for.
+// Checks locate() against std::lower_bound (and the layout's slot) for each address, its neighbours and `probes` random
+// values. `expectedSteps`, where not -1: the search's steps the spread of the addresses calls for.
 void checkIndex(std::vector<uint64_t> addresses, uint32_t seed, size_t probes = 2000, int expectedSteps = -1,
                 int expectedDirect = -1) {
   std::sort(addresses.begin(), addresses.end());
