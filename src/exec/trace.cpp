@@ -144,6 +144,14 @@ struct TaskState {
   static constexpr uint32_t kShadingDepths = 4;
   Invocation* shading[kShadingDepths] = {};
   void* shadingStorage = nullptr;  // room for kShadingDepths invocations, constructed on first use
+  // The callable invocations of nesting levels 0..kCallableDepths - 1 (a callable that a callable calls is one level
+  // deeper), reused from call to call as the shading ones are (zeroing one per call was a `rep stos` that held half of
+  // executeCallable's samples): calls nest strictly, so the level is the task's count of callables running, and each
+  // call sets every field a callable's built-ins read. Deeper ones are made per call.
+  static constexpr uint32_t kCallableDepths = 4;
+  Invocation* callables[kCallableDepths] = {};
+  void* callableStorage = nullptr;  // room for kCallableDepths invocations, constructed on first use
+  uint32_t callableLevel = 0;
   uint64_t tlasAddress = 0;
   const accel::Tlas* tlas = nullptr;
   bool tlasResolved = false;
@@ -263,6 +271,22 @@ Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t dept
   Invocation*& slot = task.shading[depth - 1];
   if (!slot) {
     slot = new (static_cast<Invocation*>(task.shadingStorage) + (depth - 1)) Invocation{};
+    beginShared(*slot, &state, &task);
+  }
+  return *slot;
+}
+
+// The callable invocation of the task's current nesting level: the task's reused one, or `fresh` (zeroed).
+Invocation& callableInvocation(LaunchState& state, TaskState& task, Invocation& fresh) {
+  const uint32_t level = task.callableLevel;
+  if (level >= TaskState::kCallableDepths || !task.callableStorage) {
+    fresh = Invocation{};
+    beginShared(fresh, &state, &task);
+    return fresh;
+  }
+  Invocation*& slot = task.callables[level];
+  if (!slot) {
+    slot = new (static_cast<Invocation*>(task.callableStorage) + level) Invocation{};
     beginShared(*slot, &state, &task);
   }
   return *slot;
@@ -718,12 +742,16 @@ void executeCallable(abi::RayInvocation* callerBase, uint32_t index, void* data,
   const uint8_t* record;
   const RayGroup* g = state.callable.get(SbtRegion::Callable, index, *state.launch->resolver, &record);
   if (!g || !g->general.entry) return;
-  Invocation inv{};
-  begin(inv, &state, &caller);
+  TaskState& task = *caller.task;
+  Invocation fresh;
+  Invocation& inv = callableInvocation(state, task, fresh);
+  beginCall(inv, caller);
   inv.incoming = data;
   inv.incomingBytes = bytes;
   setRecord(inv, state.callable, SbtRegion::Callable, index, record);
+  ++task.callableLevel;
   runShader(inv, g->general, "callable", *g, index, record);
+  --task.callableLevel;
 }
 
 uint32_t reportIntersection(abi::RayInvocation* callerBase, float t, uint32_t hitKind, const void* attributes,
@@ -774,6 +802,8 @@ void runTile(LaunchState& state, uint64_t tile, uint64_t tilesX, uint64_t tilesY
     task.intersection = &intersection;
     alignas(Invocation) unsigned char shadingStorage[TaskState::kShadingDepths * sizeof(Invocation)];
     task.shadingStorage = shadingStorage;
+    alignas(Invocation) unsigned char callableStorage[TaskState::kCallableDepths * sizeof(Invocation)];
+    task.callableStorage = callableStorage;
     if (const uint32_t lanes = state.batchLanes) {
       // A batch raygen: each row of the tile in one call (a tile is `lanes` wide).
       for (uint32_t y = y0; y < y1; ++y) {

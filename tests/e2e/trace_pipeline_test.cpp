@@ -5,6 +5,7 @@
 
 #include "e2e/trace_fixture.hpp"
 #include "trace_callable.rcall.spv.h"
+#include "trace_callable_chain.rcall.spv.h"
 #include "trace_chit_calls.rchit.spv.h"
 
 namespace vkrt::test {
@@ -156,6 +157,63 @@ TEST_F(TraceCallsTest, CallablesWithShaderRecordsAndARecursiveTrace) {
 // the closest-hit and miss invocations of depths 1-4 per task and makes deeper ones per call (exec/trace.cpp,
 // TaskState::shading); both kinds run here, in tiles where rays hit and miss.
 TEST_F(TraceCallsTest, AChainOfClosestHitsDeeperThanTheReusedInvocations) { traceStackedQuads(7); }
+
+// A chain of 7 callables, each calling the next (trace_callable_chain.rcall) from the closest-hit shader: the
+// executor reuses the callable invocations of nesting levels 0-3 per task and makes deeper ones per call
+// (exec/trace.cpp, TaskState::callables); every link's answer reaches its caller, on every hit of the launch.
+TEST_F(TraceCallsTest, AChainOfCallablesDeeperThanTheReusedInvocations) {
+  constexpr uint32_t kChain = 7;
+  VkDynamicState dyn = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
+  VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  ds.dynamicStateCount = 1;
+  ds.pDynamicStates = &dyn;
+  Desc d;
+  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
+  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
+  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
+          d.stage(module(kSpv_trace_chit_calls_rchit, sizeof kSpv_trace_chit_calls_rchit),
+                  VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
+  d.general(module(kSpv_trace_callable_chain_rcall, sizeof kSpv_trace_callable_chain_rcall),
+            VK_SHADER_STAGE_CALLABLE_BIT_KHR);
+  // (The dynamic stack size: the default one holds two callable levels.)
+  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+  ci.stageCount = uint32_t(d.stages.size());
+  ci.pStages = d.stages.data();
+  ci.groupCount = uint32_t(d.groups.size());
+  ci.pGroups = d.groups.data();
+  ci.maxPipelineRayRecursionDepth = 1;
+  ci.pDynamicState = &ds;
+  ci.layout = traceLayout;
+  ci.basePipelineIndex = -1;
+  VkPipeline p = VK_NULL_HANDLE;
+  ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
+  pipelines.push_back(p);
+  VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
+  VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 3, 0, 0)});
+  std::vector<SbtRecord> links;
+  for (uint32_t k = 0; k < kChain; ++k) links.push_back({3, {1000 + k, k + 1 < kChain ? k + 1 : 0u}});
+  Sbt s = sbt(p, 4, {0}, {{1, {7}}}, {{2, {100, 0}}}, links);
+  const uint32_t n = 8;
+  std::vector<TracePayload> r = trace(p, s, top, n, n, {}, 1 << 16);
+  int hits = 0;
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+      const TracePayload& q = r[y * n + x];
+      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+      if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
+        EXPECT_EQ(q.hit[0], -2.0f);
+        continue;
+      }
+      ++hits;
+      // Link k gets d * 2^k and answers (link k + 1's answer, or its d) * 3 + 1000 + k.
+      const uint32_t d = quadHit(wx - 0.1f, wy).primitive;
+      uint32_t v = d << (kChain - 1);
+      for (uint32_t k = kChain; k-- > 0;) v = v * 3 + 1000 + k;
+      EXPECT_EQ(q.extra[2], v) << "the chain's answer";
+    }
+  EXPECT_GT(hits, 10);
+}
 
 class TraceCallsMisuseTest : public TraceCallsTest {
  protected:
