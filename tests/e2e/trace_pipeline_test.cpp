@@ -213,6 +213,21 @@ TEST_F(TraceCallsTest, AChainOfCallablesDeeperThanTheReusedInvocations) {
       EXPECT_EQ(q.extra[2], v) << "the chain's answer";
     }
   EXPECT_GT(hits, 10);
+  // With stack for five links only, the sixth is not run, and the report names the whole chain that reached it:
+  // raygen, closest-hit and six callables, each invocation's caller its own (one level's invocation serving the next
+  // would make its own caller, a chain of the one callable as long as the report allows).
+  if (!onVkrt()) return;
+  const VkDeviceSize raygenStack = getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
+  const VkDeviceSize hitStack = getStackSize(device, p, 2, VK_SHADER_GROUP_SHADER_CLOSEST_HIT_KHR);
+  const VkDeviceSize linkStack = getStackSize(device, p, 3, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
+  ASSERT_GT(linkStack, 0u) << "a link calls a callable: its stack size is not 0";
+  clearMessages();
+  r = trace(p, s, top, n, n, {}, int64_t(raygenStack + hitStack + 5 * linkStack));
+  auto msgs = vkrtMessages();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_NE(msgs[0].text.find("(depth 8)"), std::string::npos) << msgs[0].text;
+  EXPECT_EQ(msgs[0].text.find("raygen shader"), msgs[0].text.find("the call chain ") + 15) << msgs[0].text;
+  clearMessages();
 }
 
 class TraceCallsMisuseTest : public TraceCallsTest {
