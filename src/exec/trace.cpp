@@ -262,34 +262,32 @@ void begin(Invocation& inv, LaunchState* state, const Invocation* caller) {
   }
 }
 
-Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t depth, Invocation& fresh) {
-  if (depth == 0 || depth > TaskState::kShadingDepths) {
+// Invocation `i` of a task's reused ones (`slots`, `n` of them, constructed in `storage` on first use with
+// beginShared's part), or `fresh`, zeroed, where `i` lies past them.
+Invocation& reusedInvocation(LaunchState& state, TaskState& task, Invocation** slots, void* storage, uint32_t n,
+                             uint32_t i, Invocation& fresh) {
+  if (i >= n) {
     fresh = Invocation{};
     beginShared(fresh, &state, &task);
     return fresh;
   }
-  Invocation*& slot = task.shading[depth - 1];
+  Invocation*& slot = slots[i];
   if (!slot) {
-    slot = new (static_cast<Invocation*>(task.shadingStorage) + (depth - 1)) Invocation{};
+    slot = new (static_cast<Invocation*>(storage) + i) Invocation{};
     beginShared(*slot, &state, &task);
   }
   return *slot;
 }
 
+Invocation& shadingInvocation(LaunchState& state, TaskState& task, uint32_t depth, Invocation& fresh) {
+  // (Depth 0 wraps past the slots: a fresh one.)
+  return reusedInvocation(state, task, task.shading, task.shadingStorage, TaskState::kShadingDepths, depth - 1, fresh);
+}
+
 // The callable invocation of the task's current nesting level: the task's reused one, or `fresh` (zeroed).
 Invocation& callableInvocation(LaunchState& state, TaskState& task, Invocation& fresh) {
-  const uint32_t level = task.callableLevel;
-  if (level >= TaskState::kCallableDepths || !task.callableStorage) {
-    fresh = Invocation{};
-    beginShared(fresh, &state, &task);
-    return fresh;
-  }
-  Invocation*& slot = task.callables[level];
-  if (!slot) {
-    slot = new (static_cast<Invocation*>(task.callableStorage) + level) Invocation{};
-    beginShared(*slot, &state, &task);
-  }
-  return *slot;
+  return reusedInvocation(state, task, task.callables, task.callableStorage, TaskState::kCallableDepths,
+                          task.callableLevel, fresh);
 }
 
 // Runs `shader` for `inv` unless it would take the chain's stack past the pipeline stack size (reported); with
