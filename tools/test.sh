@@ -93,8 +93,9 @@ echo "ThreadSanitizer build (build-tsan/): $((SECONDS - start)) s"
 # VM, 2026-12-07, there while the test runs, after it has started threads: a shadow of hundreds of terabytes asked
 # for, not understood), so a run whose every failure is that failure runs those tests again. It is the same every
 # time for the same command line and environment: it depends on their size (one test failed with every run of its
-# command line, with or without setarch, and passed with the environment a byte or three longer). So each rerun pads the environment (VKRT_TSAN_PAD, read by nothing) by another length, up to
-# three times; a rerun with any other failure keeps its verdict.
+# command line, with or without setarch, and passed with the environment a byte or three longer). So each rerun pads
+# the environment (VKRT_TSAN_PAD, read by nothing) by another length, up to three times; a rerun with any other
+# failure keeps its verdict.
 norandom=()
 if setarch "$(uname -m)" -R true 2> /dev/null; then norandom=(setarch "$(uname -m)" -R); fi
 tsanStatus=0
