@@ -215,6 +215,7 @@ class RtTest : public VulkanTest {
     bool omitInterface = false;
     VkPipelineLayout layout = VK_NULL_HANDLE;  // the fixture's when null
     const void* pNext = nullptr;               // the create info's chain
+    bool dynamicStackSize = false;             // VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR
 
     uint32_t stage(VkShaderModule m, VkShaderStageFlagBits s, const VkSpecializationInfo* spec = nullptr) {
       VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -266,6 +267,11 @@ class RtTest : public VulkanTest {
     ci.pLibraryInterface = (usesLibraries || d.maxPayload >= 0) && !d.omitInterface ? &iface : nullptr;
     ci.layout = d.layout ? d.layout : layout;
     ci.basePipelineIndex = -1;
+    const VkDynamicState stackSize = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 1;
+    dynamic.pDynamicStates = &stackSize;
+    ci.pDynamicState = d.dynamicStackSize ? &dynamic : nullptr;
     *out = VK_NULL_HANDLE;
     VkResult r = createPipelines(device, op, cache, 1, &ci, nullptr, out);
     if (op == VK_NULL_HANDLE && *out) pipelines.push_back(*out);

@@ -438,22 +438,9 @@ TEST_F(RtTest, DeferredCreationRunsOnJoiningThreads) {
 
 TEST_F(RtTest, StackSizeCommandAndDynamicStateAreAccepted) {
   Desc d = sixGroups();
-  VkDynamicState ds = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
-  VkPipelineDynamicStateCreateInfo dsi{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dsi.dynamicStateCount = 1;
-  dsi.pDynamicStates = &ds;
-  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-  ci.stageCount = static_cast<uint32_t>(d.stages.size());
-  ci.pStages = d.stages.data();
-  ci.groupCount = static_cast<uint32_t>(d.groups.size());
-  ci.pGroups = d.groups.data();
-  ci.maxPipelineRayRecursionDepth = 1;
-  ci.pDynamicState = &dsi;
-  ci.layout = layout;
-  ci.basePipelineIndex = -1;
+  d.dynamicStackSize = true;
   VkPipeline p = VK_NULL_HANDLE;
-  ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
-  pipelines.push_back(p);
+  ASSERT_EQ(create(d, &p), VK_SUCCESS);
   auto setStack = reinterpret_cast<PFN_vkCmdSetRayTracingPipelineStackSizeKHR>(
       vkGetDeviceProcAddr(device, "vkCmdSetRayTracingPipelineStackSizeKHR"));
   ASSERT_NE(setStack, nullptr);

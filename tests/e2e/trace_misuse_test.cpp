@@ -182,34 +182,15 @@ TEST_F(TraceMisuseTest, HitGroupTypesInASceneOfTrianglesAndBoxes) {
 }
 
 TEST_F(TraceMisuseTest, AnUndersizedDynamicStackIsReportedWithTheShaderChain) {
-  VkDynamicState dyn = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
-  VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  ds.dynamicStateCount = 1;
-  ds.pDynamicStates = &dyn;
   Desc d;
   d.layout = traceLayout;
+  d.dynamicStackSize = true;
   d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
   d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
   d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
           d.stage(tchit, VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
-  VkRayTracingPipelineCreateInfoKHR* unused = nullptr;
-  (void)unused;
-  d.pNext = nullptr;
-  // The dynamic state goes in pDynamicState; Desc has no member for it, so it is created here.
   VkPipeline p = VK_NULL_HANDLE;
-  {
-    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    ci.stageCount = uint32_t(d.stages.size());
-    ci.pStages = d.stages.data();
-    ci.groupCount = uint32_t(d.groups.size());
-    ci.pGroups = d.groups.data();
-    ci.maxPipelineRayRecursionDepth = 1;
-    ci.pDynamicState = &ds;
-    ci.layout = traceLayout;
-    ci.basePipelineIndex = -1;
-    ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
-    pipelines.push_back(p);
-  }
+  ASSERT_EQ(create(d, &p), VK_SUCCESS);
   const VkDeviceSize raygenStack = getStackSize(device, p, 0, VK_SHADER_GROUP_SHADER_GENERAL_KHR);
   ASSERT_GT(raygenStack, 0u) << "trace_raygen calls traceRayEXT: its stack size is not 0";
   Sbt s = sbt(p, 3, {0}, {{1, {7}}}, {{2, {100}}});

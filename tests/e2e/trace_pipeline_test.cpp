@@ -96,18 +96,41 @@ TEST_F(TraceReplayTest, AReplayedPipelineTracesWithHandlesFromTheCaptureProcess)
 
 class TraceCallsTest : public TraceTest {
  protected:
-  // raygen, miss, a triangle hit group whose closest-hit shader calls (trace_chit_calls), a callable.
-  VkPipeline calls(uint32_t depth) {
+  // raygen, miss, a triangle hit group whose closest-hit shader calls (trace_chit_calls), a callable (trace_callable
+  // unless `callable` is given); with `dynamicStackSize`, the stack size is the command buffer's.
+  VkPipeline calls(uint32_t depth, VkShaderModule callable = VK_NULL_HANDLE, bool dynamicStackSize = false) {
     Desc d;
     d.layout = traceLayout;
     d.depth = depth;
+    d.dynamicStackSize = dynamicStackSize;
     d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
     d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
     d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
             d.stage(module(kSpv_trace_chit_calls_rchit, sizeof kSpv_trace_chit_calls_rchit),
                     VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
-    d.general(module(kSpv_trace_callable_rcall, sizeof kSpv_trace_callable_rcall), VK_SHADER_STAGE_CALLABLE_BIT_KHR);
+    d.general(callable ? callable : module(kSpv_trace_callable_rcall, sizeof kSpv_trace_callable_rcall),
+              VK_SHADER_STAGE_CALLABLE_BIT_KHR);
     return make(d);
+  }
+
+  // The pixels of an n x n launch of rays at quads shifted 0.1 in x (TraceTest's camera): a pixel off the quad keeps
+  // the miss shader's -2, and `check(payload, primitive)` checks each on it. Returns how many are on it.
+  template <class Check>
+  int forEachQuadPixel(const std::vector<TracePayload>& r, uint32_t n, Check check) {
+    int hits = 0;
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t x = 0; x < n; ++x) {
+        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+        const TracePayload& q = r[y * n + x];
+        const float wx = cellCentre(x, n), wy = cellCentre(y, n);
+        if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
+          EXPECT_EQ(q.hit[0], -2.0f);
+          continue;
+        }
+        ++hits;
+        check(q, quadHit(wx - 0.1f, wy).primitive);
+      }
+    return hits;
   }
 
   // `levels` quads stacked 2 apart from z = 3 (instance k: record k, tag 100 + k), each closest-hit tracing on to
@@ -126,24 +149,13 @@ class TraceCallsTest : public TraceTest {
     Sbt s = sbt(p, 4, {0}, {{1, {7}}}, hitRecords, {{3, {1000}}});
     const uint32_t n = 8;
     std::vector<TracePayload> r = trace(p, s, top, n, n);
-    int hits = 0;
-    for (uint32_t y = 0; y < n; ++y)
-      for (uint32_t x = 0; x < n; ++x) {
-        SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
-        const TracePayload& q = r[y * n + x];
-        const float wx = cellCentre(x, n), wy = cellCentre(y, n);
-        if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
-          EXPECT_EQ(q.hit[0], -2.0f);
-          continue;
-        }
-        ++hits;
-        const QuadHit h = quadHit(wx - 0.1f, wy);
-        EXPECT_NEAR(q.hit[0], 13.0f, 1e-4f);
-        EXPECT_EQ(q.extra[0], 100u);
-        EXPECT_EQ(q.extra[2], h.primitive * 2 + 1000) << "the callable's answer, with its record's number";
-        EXPECT_EQ(q.extra[3], 101u) << "the onward ray met the second quad's record";
-        EXPECT_EQ(q.extra[1], 2000u) << "2 units on, from the closest-hit shader at depth 2";
-      }
+    const int hits = forEachQuadPixel(r, n, [](const TracePayload& q, uint32_t primitive) {
+      EXPECT_NEAR(q.hit[0], 13.0f, 1e-4f);
+      EXPECT_EQ(q.extra[0], 100u);
+      EXPECT_EQ(q.extra[2], primitive * 2 + 1000) << "the callable's answer, with its record's number";
+      EXPECT_EQ(q.extra[3], 101u) << "the onward ray met the second quad's record";
+      EXPECT_EQ(q.extra[1], 2000u) << "2 units on, from the closest-hit shader at depth 2";
+    });
     EXPECT_GT(hits, 10);
   }
 };
@@ -163,31 +175,9 @@ TEST_F(TraceCallsTest, AChainOfClosestHitsDeeperThanTheReusedInvocations) { trac
 // (exec/trace.cpp, TaskState::callables); every link's answer reaches its caller, on every hit of the launch.
 TEST_F(TraceCallsTest, AChainOfCallablesDeeperThanTheReusedInvocations) {
   constexpr uint32_t kChain = 7;
-  VkDynamicState dyn = VK_DYNAMIC_STATE_RAY_TRACING_PIPELINE_STACK_SIZE_KHR;
-  VkPipelineDynamicStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  ds.dynamicStateCount = 1;
-  ds.pDynamicStates = &dyn;
-  Desc d;
-  d.general(rgen, VK_SHADER_STAGE_RAYGEN_BIT_KHR);
-  d.general(tmiss, VK_SHADER_STAGE_MISS_BIT_KHR);
-  d.group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR, VK_SHADER_UNUSED_KHR,
-          d.stage(module(kSpv_trace_chit_calls_rchit, sizeof kSpv_trace_chit_calls_rchit),
-                  VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR));
-  d.general(module(kSpv_trace_callable_chain_rcall, sizeof kSpv_trace_callable_chain_rcall),
-            VK_SHADER_STAGE_CALLABLE_BIT_KHR);
-  // (The dynamic stack size: the default one holds two callable levels.)
-  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-  ci.stageCount = uint32_t(d.stages.size());
-  ci.pStages = d.stages.data();
-  ci.groupCount = uint32_t(d.groups.size());
-  ci.pGroups = d.groups.data();
-  ci.maxPipelineRayRecursionDepth = 1;
-  ci.pDynamicState = &ds;
-  ci.layout = traceLayout;
-  ci.basePipelineIndex = -1;
-  VkPipeline p = VK_NULL_HANDLE;
-  ASSERT_EQ(createPipelines(device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr, &p), VK_SUCCESS);
-  pipelines.push_back(p);
+  // (The stack size set per trace: the default holds two callable levels.)
+  VkPipeline p = calls(1, module(kSpv_trace_callable_chain_rcall, sizeof kSpv_trace_callable_chain_rcall), true);
+  ASSERT_NE(p, VK_NULL_HANDLE);
   VkAccelerationStructureKHR quad = blas({triangles(kQuad, kQuadIndices, VK_GEOMETRY_OPAQUE_BIT_KHR)});
   VkAccelerationStructureKHR top = tlas({instance(quad, 0.1f, 0, 3, 0, 0)});
   std::vector<SbtRecord> links;
@@ -195,23 +185,12 @@ TEST_F(TraceCallsTest, AChainOfCallablesDeeperThanTheReusedInvocations) {
   Sbt s = sbt(p, 4, {0}, {{1, {7}}}, {{2, {100, 0}}}, links);
   const uint32_t n = 8;
   std::vector<TracePayload> r = trace(p, s, top, n, n, {}, 1 << 16);
-  int hits = 0;
-  for (uint32_t y = 0; y < n; ++y)
-    for (uint32_t x = 0; x < n; ++x) {
-      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
-      const TracePayload& q = r[y * n + x];
-      const float wx = cellCentre(x, n), wy = cellCentre(y, n);
-      if (!(wx - 0.1f >= -1 && wx - 0.1f <= 1 && wy >= -1 && wy <= 1)) {
-        EXPECT_EQ(q.hit[0], -2.0f);
-        continue;
-      }
-      ++hits;
-      // Link k gets d * 2^k and answers (link k + 1's answer, or its d) * 3 + 1000 + k.
-      const uint32_t d = quadHit(wx - 0.1f, wy).primitive;
-      uint32_t v = d << (kChain - 1);
-      for (uint32_t k = kChain; k-- > 0;) v = v * 3 + 1000 + k;
-      EXPECT_EQ(q.extra[2], v) << "the chain's answer";
-    }
+  const int hits = forEachQuadPixel(r, n, [&](const TracePayload& q, uint32_t primitive) {
+    // Link k gets primitive * 2^k and answers (link k + 1's answer, or what it got) * 3 + 1000 + k.
+    uint32_t v = primitive << (kChain - 1);
+    for (uint32_t k = kChain; k-- > 0;) v = v * 3 + 1000 + k;
+    EXPECT_EQ(q.extra[2], v) << "the chain's answer";
+  });
   EXPECT_GT(hits, 10);
   // With stack for five links only, the sixth is not run, and the report names the whole chain that reached it:
   // raygen, closest-hit and six callables, each invocation's caller its own (one level's invocation serving the next
