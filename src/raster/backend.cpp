@@ -198,10 +198,9 @@ const Unorm8Table kUnorm8;
 inline uint32_t encodeUnorm8(uint32_t word) {
   float f = asFloat(word);
   f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
-  // Round to nearest even (the default rounding mode, as nearbyint): adding and subtracting 2^52 leaves no fraction
-  // bits for values in [0, 255].
-  const double d = double(f) * 255.0;
-  return uint32_t((d + 0x1p52) - 0x1p52);
+  // Times 255 in float, rounded to nearest even (the default rounding mode): adding and subtracting 2^23 leaves no
+  // fraction bits for values in [0, 255].
+  return uint32_t((f * 255.0f + 0x1p23f) - 0x1p23f);
 }
 
 // A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
@@ -304,23 +303,13 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
   return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
-// Four values in [0, 1] times 255 in double (exact), rounded to integers as encodeUnorm8 rounds them (its adding and
-// subtracting of 2^52 rounds in the current rounding mode, as cvtpd2dq does: the same integers in every mode).
+// Four values in [0, 1] times 255 in float, rounded to integers as encodeUnorm8 rounds them (its adding and
+// subtracting of 2^23 rounds in the current rounding mode, as cvtps2dq does: the same integers in every mode).
 inline Int4 unorm8Bytes(Float4 v) {
 #if defined(__SSE2__)
-  const __m128 f = __m128(v);
-  const __m128d k = _mm_set1_pd(255.0);
-  const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
-  const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
-  return Int4(_mm_unpacklo_epi64(lo, hi));
+  return Int4(_mm_cvtps_epi32(_mm_mul_ps(__m128(v), _mm_set1_ps(255.0f))));
 #else
-  using Double2 = double __attribute__((vector_size(16)));
-  using Int2 = int32_t __attribute__((vector_size(8)));
-  const Double2 lo = __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), Double2) * 255.0;
-  const Double2 hi = __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), Double2) * 255.0;
-  const Int2 nlo = __builtin_convertvector((lo + 0x1p52) - 0x1p52, Int2);
-  const Int2 nhi = __builtin_convertvector((hi + 0x1p52) - 0x1p52, Int2);
-  return __builtin_shufflevector(nlo, nhi, 0, 1, 2, 3);
+  return __builtin_convertvector((v * 255.0f + 0x1p23f) - 0x1p23f, Int4);
 #endif
 }
 
@@ -865,8 +854,8 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
 // colorUnorm8Quad for AVX2: two components in each 256-bit vector (R and G of the four lanes, then B and A), so the
 // decode, the blend and the encode take half the instructions. The same float operations per element in the same
 // order (no FMA: the target has none, so nothing is contracted), the same clamps (vmaxps/vminps take their second
-// operand when unordered, as maxps/minps) and the same encode (times 255 in double, rounded in the current mode by
-// vcvtpd2dq): the same bytes as the baseline copy (RasterQuadPath compares them).
+// operand when unordered, as maxps/minps) and the same encode (times 255 in float, rounded in the current mode by
+// vcvtps2dq): the same bytes as the baseline copy (RasterQuadPath compares them).
 VKRT_AVX2_BEGIN
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = int32_t __attribute__((vector_size(32)));
@@ -882,12 +871,9 @@ inline Float8 clamp01x8(Float8 v) {
 inline Float8 saturate8(Float8 v) {
   return Float8(_mm256_min_ps(_mm256_max_ps(__m256(v), _mm256_setzero_ps()), _mm256_set1_ps(1.0f)));
 }
-// unorm8Bytes of each half.
+// unorm8Bytes of all eight.
 inline Int8 unorm8Bytes8(Float8 v) {
-  const __m256d k = _mm256_set1_pd(255.0);
-  const __m128i lo = _mm256_cvtpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(__m128(half(v, 0))), k));
-  const __m128i hi = _mm256_cvtpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(__m128(half(v, 1))), k));
-  return Int8(_mm256_set_m128i(hi, lo));
+  return Int8(_mm256_cvtps_epi32(_mm256_mul_ps(__m256(v), _mm256_set1_ps(255.0f))));
 }
 
 template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>

@@ -144,6 +144,12 @@ uint64_t encodeComponent(N type, uint32_t word, unsigned bits, bool alpha) {
     case N::SRGB: {
       if (type == N::SRGB && !alpha) f = linearToSrgb(f);
       f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
+      // 8-bit UNorm, the attachments' and storage images' commonest: times 255 in float, rounded to nearest even
+      // (adding and subtracting 2^23 leaves no fraction bits below 256; the current rounding mode, as CVTPS2DQ's):
+      // one of the two integers nearest to f x 255, as "Conversion from Floating-Point to Normalized Fixed-Point"
+      // allows, in one float multiplication where every inline copy (the raster's quad writes, image writes, the
+      // compiler's) would otherwise widen to double. Other widths (and sRGB) times 2^b - 1 in double, exact.
+      if (type == N::UNorm && bits == 8) return uint64_t((f * 255.0f + 0x1p23f) - 0x1p23f);
       return uint64_t(std::nearbyint(double(f) * double(maxU)));
     }
     case N::SNorm: {
@@ -896,16 +902,13 @@ void vkrt_image_write(const abi::DescriptorRecord* img, const int32_t coord[4], 
       return;
     }
 #if defined(__SSE2__)
-    // encodeComponent's UNorm: NaN to 0, clamped to [0, 1], times 255 in double (exact), rounded in the current
-    // rounding mode (nearbyint's, and CVTPD2DQ's).
+    // encodeComponent's 8-bit UNorm: NaN to 0, clamped to [0, 1], times 255 in float, rounded in the current
+    // rounding mode (CVTPS2DQ's).
     uint8_t b[4];
     // maxps gives its second operand, 0, for a NaN (and +0 for -0, which encodes alike), then minps clamps to 1.
     const __m128 f =
         _mm_min_ps(_mm_max_ps(_mm_loadu_ps(reinterpret_cast<const float*>(in)), _mm_setzero_ps()), _mm_set1_ps(1.0f));
-    const __m128d k = _mm_set1_pd(255.0);
-    const __m128i lo = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), k));
-    const __m128i hi = _mm_cvtpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), k));
-    const __m128i words = _mm_unpacklo_epi64(lo, hi);  // 0..255 each
+    const __m128i words = _mm_cvtps_epi32(_mm_mul_ps(f, _mm_set1_ps(255.0f)));  // 0..255 each
     const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(words, words), _mm_setzero_si128());
     const uint32_t packed = uint32_t(_mm_cvtsi128_si32(bytes));
     std::memcpy(b, &packed, 4);

@@ -1792,7 +1792,7 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* bgra,
   std::vector<llvm::Value*> raw;
   if (write) {
     // A write: the texel's words (8-bit UNorm: encodeComponent's conversion, NaN to 0, clamped to [0, 1], times 255
-    // in double, rounded to nearest even).
+    // in float, rounded to nearest even).
     const uint32_t texelId = in.word(3);
     if (unorm) {
       llvm::Value* packed = zero;
@@ -1805,8 +1805,7 @@ void Spmd::texelsInline(const Instruction& in, uint32_t kind, llvm::Value* bgra,
         llvm::Value* onef = splat(llvm::ConstantFP::get(b.getFloatTy(), 1.0));
         f = b.CreateSelect(b.CreateFCmpOGT(f, zf), f, zf);
         f = b.CreateSelect(b.CreateFCmpOLT(f, onef), f, onef);
-        llvm::Value* d = b.CreateFMul(b.CreateFPExt(f, laneTy(b.getDoubleTy())),
-                                      splat(llvm::ConstantFP::get(b.getDoubleTy(), 255.0)));
+        llvm::Value* d = b.CreateFMul(f, splat(llvm::ConstantFP::get(b.getFloatTy(), 255.0)));
         d = b.CreateUnaryIntrinsic(llvm::Intrinsic::roundeven, d);
         llvm::Value* byte = b.CreateFPToUI(d, laneTy(i32));
         packed = b.CreateOr(packed, b.CreateShl(byte, splat(b.getInt32(8 * k))));

@@ -369,14 +369,14 @@ TEST_F(ComputeImageTest, StorageImageViewOfOneLevelAndLayer) {
       EXPECT_EQ(loadedIds[i], idsBefore[t]);
       const float* v = values[(y * 4 + x) % 8];
       for (int k = 0; k < 4; ++k) {
-        // "Conversion from Floating-Point to Normalized Fixed-Point": clamped to [0, 1] (NaN: 0), times 255,
-        // rounded to nearest (vkrt: ties to even; the spec lets the rounding of a tie go either way).
-        const double f = std::isnan(v[k]) ? 0.0 : std::clamp(double(v[k]), 0.0, 1.0);
-        const double want = std::nearbyint(f * 255.0);
-        if (vkrt)
-          EXPECT_EQ(c8[t * 4 + k], uint8_t(want)) << "component " << k << " of " << v[k];
-        else
-          EXPECT_LE(std::abs(int(c8[t * 4 + k]) - int(want)), 1) << "component " << k << " of " << v[k];
+        // "Conversion from Floating-Point to Normalized Fixed-Point": clamped to [0, 1] (NaN: 0), times 255, one of
+        // the two integers nearest to that (the integer itself where it is one). vkrt: the product in float, rounded
+        // to nearest even (a value a hair off a tie may round to the tie's other side).
+        const float f = std::isnan(v[k]) ? 0.0f : std::clamp(v[k], 0.0f, 1.0f);
+        const double exact = double(f) * 255.0;  // exact: 24 + 8 bits
+        const int got = c8[t * 4 + k];
+        EXPECT_TRUE(got == std::floor(exact) || got == std::ceil(exact)) << "component " << k << " of " << v[k];
+        if (vkrt) EXPECT_EQ(got, int(std::nearbyint(f * 255.0f))) << "component " << k << " of " << v[k];
       }
       EXPECT_EQ(u32[t], 1000u + i);
     }

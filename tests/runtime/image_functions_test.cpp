@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "runtime/format.hpp"
 #include "runtime/image_functions.hpp"
@@ -61,6 +62,48 @@ TEST(ImageFunctions, DecodeNormalizedIntegerAndFloatFormats) {
   EXPECT_EQ(asFloat(w[0]), 1.0f);
   EXPECT_FLOAT_EQ(asFloat(w[1]), 512.0f / 1023.0f);
   EXPECT_EQ(asFloat(w[3]), 1.0f);
+}
+
+// 8-bit UNorm encodes f x 255 in float, rounded to nearest even: always one of the two integers nearest to the exact
+// product ("Conversion from Floating-Point to Normalized Fixed-Point"), that integer itself where the exact product is
+// one (0 and 1.0 included), and the exact product's nearest wherever the float product rounds to the same side. Over
+// the floats nearest to each k / 255 and to each halfway (k + 0.5) / 255 with their neighbours, and a million random
+// ones.
+TEST(ImageFunctions, Unorm8EncodeIsOneOfTheTwoNearestIntegers) {
+  auto encode = [](float f) {
+    const uint32_t in[4] = {asWord(f), asWord(f), asWord(f), asWord(f)};
+    uint8_t t[4];
+    encodeTexel(*formatInfo(VK_FORMAT_R8G8B8A8_UNORM), in, t);
+    return t[0];
+  };
+  auto check = [&](float f) {
+    if (!(f >= 0.0f && f <= 1.0f)) return;
+    const double exact = double(f) * 255.0;  // exact: 24 + 8 bits
+    const uint8_t got = encode(f);
+    ASSERT_TRUE(got == std::floor(exact) || got == std::ceil(exact)) << f << " " << exact << " " << int(got);
+    ASSERT_EQ(got, uint8_t(std::nearbyint(f * 255.0f))) << f;  // the float product, nearest even
+  };
+  size_t differs = 0;  // from the exact product's nearest: only next to a halfway value
+  for (int k = 0; k <= 255; ++k) {
+    for (double at : {double(k), k + 0.5}) {
+      float f = float(at / 255.0);
+      for (int i = 0; i < 4; ++i) f = std::nextafter(f, 0.0f);
+      for (int i = 0; i < 9; ++i, f = std::nextafter(f, 2.0f)) {
+        check(f);
+        if (f >= 0.0f && f <= 1.0f && encode(f) != uint8_t(std::nearbyint(double(f) * 255.0))) {
+          ++differs;
+          EXPECT_LT(std::fabs(double(f) * 255.0 - std::floor(double(f) * 255.0) - 0.5), 1e-4) << f;
+        }
+      }
+    }
+    EXPECT_EQ(encode(float(double(k) / 255.0)), k);  // the float nearest to k / 255 encodes as k
+  }
+  EXPECT_EQ(encode(0.0f), 0);
+  EXPECT_EQ(encode(1.0f), 255);
+  EXPECT_GT(differs, 0u);  // the float product does round some near-halfway values the other way
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < 1000000; ++i) check(u(rng));
 }
 
 TEST(ImageFunctions, EncodeRoundsClampsAndRoundTrips) {

@@ -87,13 +87,14 @@ inline Uint4 decodeUint(const StorageFormat& f, const uint8_t* t) {
   return c;
 }
 
-// A texel as the shader's write stores it: only the format's components; UNORM clamps to [0, 1] and rounds
-// f x 255 to the nearest integer (the tests' values are never halfway), 16-bit floats round to nearest even.
+// A texel as the shader's write stores it: only the format's components; UNORM clamps to [0, 1] and rounds f x 255
+// (vkrt: the product in float) to the nearest integer (the tests' values are never halfway), 16-bit floats round to
+// nearest even.
 inline void encodeFloat(const StorageFormat& f, const Float4& c, uint8_t* t) {
   for (uint32_t i = 0; i < f.components; ++i) {
     float v = c[rgbaIndex(f, i)];
     if (f.encoding == Encoding::UNorm8) {
-      t[i] = uint8_t(std::nearbyint(double(std::clamp(v, 0.0f, 1.0f)) * 255.0));
+      t[i] = uint8_t(std::nearbyint(std::clamp(v, 0.0f, 1.0f) * 255.0f));
     } else if (f.encoding == Encoding::Float16) {
       _Float16 h = _Float16(v);
       std::memcpy(t + 2 * i, &h, 2);

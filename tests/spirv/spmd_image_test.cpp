@@ -59,11 +59,9 @@ Values edgeValues() {
            {0.25f, 0.75f, 0.1f, 0.9f}}};
 }
 
-// "Conversion from Floating-Point to Normalized Fixed-Point": NaN 0, clamped to [0, 1], times 255, nearest (vkrt:
-// ties to even).
-uint8_t unorm8(float f) {
-  return uint8_t(std::nearbyint((std::isnan(f) ? 0.0 : std::clamp(double(f), 0.0, 1.0)) * 255.0));
-}
+// "Conversion from Floating-Point to Normalized Fixed-Point": NaN 0, clamped to [0, 1], times 255 (vkrt: in float),
+// one of the two nearest integers (vkrt: the nearest, ties to even).
+uint8_t unorm8(float f) { return uint8_t(std::nearbyint((std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f)) * 255.0f)); }
 
 struct Images {
   std::vector<uint8_t> src8, dst8, ids, wide, pairs, layers;  // tightly packed rows (layers: both layers)
