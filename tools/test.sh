@@ -87,28 +87,11 @@ cmake --build "$tsan" -j "$(nproc)" --target vkrt_unit_tests vkrt_e2e_tests
 echo "ThreadSanitizer build (build-tsan/): $((SECONDS - start)) s"
 # (Its time is ctest's "Total Test time"; ctest's summary stays the last lines the command prints.)
 # Address-space randomization off where the machine allows it: GCC 12's ThreadSanitizer maps its shadow at fixed
-# addresses and, when a randomly placed mapping is in the way, fails to start the test ("ThreadSanitizer failed to
-# allocate ... (errno: 12)", seen once in a few hundred processes).
-# It still happens now and then (twice in about 4,500 processes, 2026-12-06; one to three of 924 per run on a later
-# VM, 2026-12-07, there while the test runs, after it has started threads: a shadow of hundreds of terabytes asked
-# for, not understood), so a run whose every failure is that failure runs those tests again. It is the same every
-# time for the same command line and environment: it depends on their size (one test failed with every run of its
-# command line, with or without setarch, and passed with the environment a byte or three longer). So each rerun pads
-# the environment (VKRT_TSAN_PAD, read by nothing) by another length, up to three times; a rerun with any other
-# failure keeps its verdict.
+# addresses and, when a randomly placed mapping is in the way, fails to start the test. (Its "failed to allocate ...
+# (errno: 12)" in the middle of a test was another thing: tests/sanitizer_options.cpp, intercept_tls_get_addr.)
 norandom=()
 if setarch "$(uname -m)" -R true 2> /dev/null; then norandom=(setarch "$(uname -m)" -R); fi
 tsanStatus=0
-if ! (cd "$tsan" && "${norandom[@]}" ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@"); then
-  tsanStatus=1
-  for pad in x xxx xxxxxxx; do
-    "$root/tools/tsan_startup_only.sh" "$tsan/Testing/Temporary/LastTest.log" || break
-    echo "ThreadSanitizer could not map its shadow in every failed test: running them again (environment ${#pad} longer)"
-    if (cd "$tsan" && VKRT_TSAN_PAD=$pad "${norandom[@]}" ctest --rerun-failed --output-on-failure --timeout 600); then
-      tsanStatus=0
-      break
-    fi
-  done
-fi
+(cd "$tsan" && "${norandom[@]}" ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || tsanStatus=1
 [ "$tsanStatus" = 0 ] || status=1
 exit $status
