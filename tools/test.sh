@@ -91,7 +91,5 @@ echo "ThreadSanitizer build (build-tsan/): $((SECONDS - start)) s"
 # (errno: 12)" in the middle of a test was another thing: tests/sanitizer_options.cpp, intercept_tls_get_addr.)
 norandom=()
 if setarch "$(uname -m)" -R true 2> /dev/null; then norandom=(setarch "$(uname -m)" -R); fi
-tsanStatus=0
-(cd "$tsan" && "${norandom[@]}" ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || tsanStatus=1
-[ "$tsanStatus" = 0 ] || status=1
+(cd "$tsan" && "${norandom[@]}" ctest -j "$(nproc)" --output-on-failure --timeout 600 "$@") || status=1
 exit $status
