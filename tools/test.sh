@@ -58,8 +58,9 @@ done
 # The scalar compute path (VKRT_SPMD=0), the reference the SPMD code is compared with: SPMD is the default, so
 # without this run the scalar form of barrier-free shaders the SPMD compiler supports would go untested; likewise
 # the fragment quads' fibers (the draw tests).
-matrix VKRT_SPMD=0 'Spirv*:Spmd*:OutOfBounds*:DebugPrintf*' \
-  'Compute*:ShaderDebug*:Draw*:RenderPass*:Multiview*:InputAttachment*:DepthCompare*:Blit*:Resolve*' || status=1
+scalarE2e='Compute*:ShaderDebug*:Draw*:RenderPass*:Multiview*:InputAttachment*:DepthCompare*:Blit*:Resolve*'
+scalarE2e="$scalarE2e:ShaderWatchdogTest.*Barriers*:ShaderFaultTest.*Barriers*"  # one fiber per invocation
+matrix VKRT_SPMD=0 'Spirv*:Spmd*:OutOfBounds*:DebugPrintf*' "$scalarE2e" || status=1
 echo "instruction-set matrix: $((SECONDS - matrixStart)) s"
 # The Debian package: a Release build of the driver in build-pkg/ (tools/package.sh), its contents and fields, and
 # the loader finding it installed, without VK_DRIVER_FILES (tests/check_package.sh, with build-test/'s path tracer).

@@ -72,22 +72,31 @@ void runWorkgroup(const ComputeDispatch& d, const InvocationContext& proto, uint
       return;
     }
 
-    if (scratch.contexts.size() < invocations) {
-      scratch.contexts.resize(invocations);
-      scratch.pointers.resize(invocations);
+    // A fiber per invocation, or per batch of sh.batchLanes invocations (SPMD): the batch's context holds its first
+    // invocation's ids (the compiled code takes the lanes from localIndex on).
+    const bool batches = sh.batchLanes && sh.groupEntry;
+    const uint64_t step = batches ? sh.batchLanes : 1;
+    const uint64_t fibers = (invocations + step - 1) / step;
+    if (scratch.contexts.size() < fibers) {
+      scratch.contexts.resize(fibers);
+      scratch.pointers.resize(fibers);
     }
-    for (uint64_t i = 0; i < invocations; ++i) {
-      InvocationContext& inv = scratch.contexts[i];
+    for (uint64_t f = 0; f < fibers; ++f) {
+      InvocationContext& inv = scratch.contexts[f];
       inv = proto;
       inv.workgroupMemory = wgMem;
       inv.sink = scratch.sink;
+      const uint64_t i = f * step;
       uint32_t local[3] = {uint32_t(i % size[0]), uint32_t(i / size[0] % size[1]),
                            uint32_t(i / (uint64_t(size[0]) * size[1]))};
       setIds(inv, wg, local, size);
-      scratch.pointers[i] = &inv;
+      scratch.pointers[f] = &inv;
     }
-    // A fault or a cancellation in one invocation ends the workgroup there (runFiberGroup calls abortTask()).
-    if (!runFiberGroup(sh.entry, scratch.pointers.data(), uint32_t(invocations))) failed = true;
+    // A fault or a cancellation in one invocation ends the workgroup there (runFiberGroup calls abortTask()); a
+    // batch's report names the workgroup, as vkrt_group's does.
+    if (!runFiberGroup(batches ? sh.groupEntry : sh.entry, scratch.pointers.data(), uint32_t(fibers),
+                       batches ? Abort::Workgroup : Abort::GlobalInvocation))
+      failed = true;
   }
 }
 

@@ -1,7 +1,7 @@
 // Running a compute dispatch: workgroups spread over the thread pool; within a workgroup, invocations run one
 // after the other on the worker, or, when the shader has workgroup barriers, as fibers (one stack per
-// invocation) that the worker switches between at each barrier, so that every invocation reaches a barrier
-// before any passes it.
+// invocation, or per batch of invocations where the shader was compiled SPMD) that the worker switches between at
+// each barrier, so that every invocation reaches a barrier before any passes it.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +18,9 @@ struct ComputeKernel {
   uint32_t localSize[3] = {1, 1, 1};
   uint32_t workgroupMemorySize = 0;  // bytes
   bool usesBarrier = false;
+  // A shader with barriers compiled SPMD: groupEntry runs one batch of batchLanes invocations, those from the
+  // context's localIndex on (the last batch's tail lanes off), and the workgroup's batches run as fibers.
+  uint32_t batchLanes = 0;
 };
 
 struct ComputeDispatch {

@@ -90,6 +90,10 @@ struct Fiber {
 struct Scheduler {
   void* mainSp = nullptr;  // the worker's stack pointer while a fiber runs
   abi::ComputeEntry entry = nullptr;
+  Abort::IdKind idKind = Abort::GlobalInvocation;  // what a report names: the fiber's invocation or its workgroup
+  // The worker's records, taken once per group (exec/supervise.hpp): what runs, and where a fault jumps.
+  Running* running = nullptr;
+  sigjmp_buf** target = nullptr;
   const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
   size_t mainSize = 0;
 #if VKRT_TSAN_FIBERS
@@ -193,8 +197,9 @@ void resume(Scheduler& s, Fiber& f) {
     tlsStarting = &f;
     f.started = true;
   }
-  sigjmp_buf* outer = swapRecoveryPoint(&f.recovery);
-  setRunning(nullptr, f.inv->globalId, Abort::GlobalInvocation);
+  sigjmp_buf* outer = *s.target;
+  *s.target = &f.recovery;
+  if (s.idKind == Abort::GlobalInvocation) s.running->id = f.inv->globalId;  // (a workgroup's is set once)
 #if VKRT_TSAN_FIBERS
   if (!f.tsanFiber) f.tsanFiber = __tsan_create_fiber(0);
   s.tsanMain = __tsan_get_current_fiber();
@@ -204,17 +209,23 @@ void resume(Scheduler& s, Fiber& f) {
 #if VKRT_ASAN_FIBERS
   __sanitizer_finish_switch_fiber(fake, nullptr, nullptr);
 #endif
-  swapRecoveryPoint(outer);
+  *s.target = outer;
 }
 
 }  // namespace
 
-bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocations, uint32_t count) {
+bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocations, uint32_t count,
+                   Abort::IdKind idKind) {
   thread_local FiberStacks scratch;
   if (count == 0) return true;
   if (!scratch.ensure(count)) return false;
   Scheduler s;
   s.entry = entry;
+  s.idKind = idKind;
+  s.running = &runningRecord();
+  s.target = &recoveryTarget();
+  *s.running =
+      Running{nullptr, idKind == Abort::Workgroup ? invocations[0]->workgroupId : invocations[0]->globalId, idKind};
   for (uint32_t i = 0; i < count; ++i) {
     Fiber& f = scratch.fibers[i];
     f.done = false;

@@ -333,6 +333,8 @@ sigjmp_buf* swapRecoveryPoint(sigjmp_buf* point) {
   return previous;
 }
 
+sigjmp_buf*& recoveryTarget() { return worker().target; }
+
 void abortTask() { siglongjmp(*tlsWorker->target, 1); }
 
 }  // namespace vkrt::exec

@@ -118,6 +118,9 @@ Running& runningRecord();
 // the fiber's entry sets it with sigsetjmp. After a fiber was ended, the scheduler calls abortTask, which ends
 // the task with what the fiber recorded.
 sigjmp_buf* swapRecoveryPoint(sigjmp_buf* point);
+// This thread's recovery target itself (valid on this thread while it lives): the fiber scheduler takes it once per
+// group and stores each fiber's point into it at every resume, instead of two thread-local lookups per resume.
+sigjmp_buf*& recoveryTarget();
 [[noreturn]] void abortTask();
 
 }  // namespace vkrt::exec

@@ -30,6 +30,7 @@ inline exec::ComputeKernel computeKernel(const spirv::CompiledShader& shader) {
   for (int i = 0; i < 3; ++i) k.localSize[i] = shader.localSize[i];
   k.workgroupMemorySize = shader.workgroupMemorySize;
   k.usesBarrier = shader.usesBarrier;
+  k.batchLanes = shader.usesBarrier && shader.groupEntry ? shader.spmdLanes : 0;
   return k;
 }
 

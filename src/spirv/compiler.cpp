@@ -419,9 +419,11 @@ bool Codegen::run(const EntryPoint& ep) {
   b.CreateCall(it->second, {ctxArg, privArg});
   if (isGraphics()) copyInterface(false);
   b.CreateRetVoid();
-  // Shaders without barriers: the SPMD form of vkrt_group where it supports the shader (spmd.cpp), else the loop.
-  // (The SPMD form reports out-of-bounds accesses lane by lane: Codegen::reportFailingLanes.)
-  if (!isRayTracing() && !isGraphics() && !info.usesBarrier && !emitSpmdGroup(*this, ep, main)) emitGroupEntry(main);
+  // Compute shaders: the SPMD form of vkrt_group where it supports the shader (spmd.cpp; with barriers, one batch of
+  // the workgroup per call, the batches run as fibers), else, without barriers, the loop; with barriers and no SPMD
+  // form, vkrt_main per invocation (as fibers). (The SPMD form reports out-of-bounds accesses lane by lane:
+  // Codegen::reportFailingLanes.)
+  if (!isRayTracing() && !isGraphics() && !emitSpmdGroup(*this, ep, main) && !info.usesBarrier) emitGroupEntry(main);
   if (isFragment()) emitSpmdQuad(*this, ep, main);  // the quad in one call where the SPMD path supports the shader
   if (model == spv::ExecutionModelRayGenerationKHR) emitSpmdRaygen(*this, ep, main);  // launch ids in batches
   if (groupLog && info.usesBarrier) {

@@ -98,10 +98,11 @@ class CompiledShader {
   CompiledShader(const CompiledShader&) = delete;
   CompiledShader& operator=(const CompiledShader&) = delete;
 
-  // Exactly one of these is set. Shaders with OpControlBarrier get `entry` (vkrt_main), run once per invocation;
-  // the others `groupEntry` (vkrt_group), which runs a whole workgroup in one call: it loops over the local
-  // invocation ids, setting the invocation built-ins in the context (ctx->workgroupId must be set).
-  // Ray tracing stages get `rayEntry` (vkrt_main taking a RayInvocation) instead.
+  // Exactly one of these is set. Shaders with OpControlBarrier get `entry` (vkrt_main), run once per invocation, or,
+  // compiled SPMD (spmdLanes > 0), `groupEntry` running one batch of spmdLanes invocations from ctx->localIndex on
+  // (both as fibers that switch at each barrier); the others `groupEntry` (vkrt_group), which runs a whole workgroup
+  // in one call: it loops over the local invocation ids, setting the invocation built-ins in the context
+  // (ctx->workgroupId must be set). Ray tracing stages get `rayEntry` (vkrt_main taking a RayInvocation) instead.
   abi::ComputeEntry entry = nullptr;
   abi::ComputeEntry groupEntry = nullptr;
   abi::RayEntry rayEntry = nullptr;

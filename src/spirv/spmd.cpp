@@ -24,9 +24,13 @@
 //   are per-lane storage, and each trace or callable is the runtime's call lane by lane, the lane's payload copied
 //   into a block of its own for the call (traceLanes).
 //
-// The rest (barriers, atomics, samplers, subgroup operations, 64-bit or 16-bit locals, calls, Private variables,
-// varying matrix and struct values) is left to the scalar vkrt_group: emitSpmdGroup() checks the instructions first,
-// and removes what it emitted where the emission still fails.
+// - Barriers (compute): a shader with workgroup barriers gets a vkrt_group that runs one batch, whose barrier calls
+//   switch to the workgroup's next batch (the executor runs the batches as fibers); workgroup variables are memory
+//   at a uniform address, accessed as buffers are; atomics go lane by lane.
+//
+// The rest (subgroup operations, 64-bit or 16-bit locals, calls, Private variables, varying matrix and struct
+// values, ...) is left to the scalar vkrt_group (or vkrt_main, with barriers): emitSpmdGroup() checks the
+// instructions first, and removes what it emitted where the emission still fails.
 #include "spirv/spmd.hpp"
 
 #include <llvm/ADT/StringMap.h>
@@ -210,6 +214,7 @@ class Spmd {
                 bool (Codegen::*emitter)(const Instruction&, bool&) = &Codegen::image,
                 const std::function<void(unsigned)>& afterLane = {});
   bool atomicLanes(const Instruction& in);
+  bool barrier(const Instruction& in);
   bool imageAccess(const Instruction& in);
   // The scalar code's image instruction `in` once, on uniform operands (`what` names it where the code refuses it).
   bool imageOnce(const Instruction& in, const char* what) {
@@ -504,9 +509,14 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
           // Ray generation shaders: traces and callables lane by lane (traceLanes), a uniform structure address.
           ok = raygen();
           break;
+        case spv::OpControlBarrier:
+        case spv::OpMemoryBarrier:
+          // Compute shaders: a workgroup barrier is the executor's switch to the workgroup's next batch (barrier()).
+          ok = g.model == spv::ExecutionModelGLCompute;
+          break;
         default: break;
       }
-      // Compute shaders' atomics on buffers, lane by lane (atomicLanes); workgroup memory is not on the path.
+      // Compute shaders' atomics on buffers and workgroup memory, lane by lane (atomicLanes).
       if (atomicOp(in.op)) ok = !fragment();
       if (!ok) return (*whyNot = "unsupported instruction " + opName(in.op)), false;
       // Values of composite types other than vectors (matrices, structs, arrays): uniform ones only (the scalar code
@@ -563,6 +573,8 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         return (*whyNot = "a module variable of another kind"), false;
       continue;
     }
+    // Workgroup variables: memory every batch of the workgroup shares, at a uniform address (the scalar code's).
+    if (gl.storage == spv::StorageClassWorkgroup && g.model == spv::ExecutionModelGLCompute) continue;
     if (gl.storage == spv::StorageClassWorkgroup || gl.storage == spv::StorageClassPrivate)
       return (*whyNot = "workgroup or private variables"), false;
     if (gl.storage == spv::StorageClassInput) switch (gl.builtIn) {
@@ -743,6 +755,8 @@ bool Spmd::instruction(const Instruction& in) {
     case spv::OpImageFetch: return fetchLanes(in);
     case spv::OpTraceRayKHR:
     case spv::OpExecuteCallableKHR: return traceLanes(in);
+    case spv::OpControlBarrier:
+    case spv::OpMemoryBarrier: return barrier(in);
     case spv::OpConvertUToAccelerationStructureKHR: {
       if (u.bits(in.word(2))) return fail("a varying acceleration structure address");
       bool ok = true;
@@ -1923,6 +1937,17 @@ bool Spmd::atomicLanes(const Instruction& in) {
   return done && (store || define(in.word(2), rt, comps));
 }
 
+// OpControlBarrier and OpMemoryBarrier (compute shaders): the scalar code's, with the batch's context. A workgroup
+// barrier calls the context's `barrier`, which switches to the workgroup's next batch (each batch runs as a fiber,
+// exec/compute.cpp), so that every batch reaches it before any passes it. It is called whatever the mask: the blocks
+// run in order for every batch (a branch's both sides, with their masks), so each batch calls it as often as the
+// others where the shader keeps its barriers in dynamically uniform control flow, as it must; the lanes of a batch
+// are in step already.
+bool Spmd::barrier(const Instruction& in) {
+  bool ok = true;
+  return sc.controlFlow(in, ok) && ok ? true : fail(sc.error.empty() ? "a barrier" : sc.error.c_str());
+}
+
 // OpTraceRayKHR and OpExecuteCallableKHR (ray generation shaders). The lanes' payloads or callable data (per-lane
 // storage, their words interleaved) are copied into blocks of the variable's natural layout, one per lane, which the
 // callees read and write as the caller's variable, and back after the call. A trace is one RayRuntime::traceRays
@@ -2353,6 +2378,20 @@ bool Spmd::emitCompute() {
   bindEmitters(local);
   if (!prepareSlots()) return false;
   b.SetInsertPoint(batch);
+  if (g.info.usesBarrier) {
+    // A shader with workgroup barriers: one batch per call, the one whose first LocalInvocationIndex the context
+    // holds; the executor runs the workgroup's batches as fibers, switching at each barrier.
+    batchBase = b.CreateAlignedLoad(b.getInt32Ty(),
+                                    b.CreateConstGEP1_64(b.getInt8Ty(), local, offsetof(InvocationContext, localIndex)),
+                                    llvm::Align(4));
+    laneIndex = b.CreateAdd(splat(batchBase), iota());
+    mask = b.CreateICmpULT(laneIndex, splat(b.getInt32(total)));  // the tail of the last batch is off
+    for (size_t bi = 0; bi < cfg.blocks.size(); ++bi)
+      if (!block(bi)) return false;
+    if (!loopHeads.empty()) return fail("a loop without a back edge");
+    b.CreateRetVoid();
+    return true;
+  }
   auto* base = b.CreatePHI(b.getInt32Ty(), 2);
   base->addIncoming(b.getInt32(0), allocaBlock);
   batchBase = base;

@@ -19,7 +19,9 @@ std::string spmdKey();
 
 // Emits vkrt_group in SPMD form for the entry point `ep` of `g` (vkrt_main, `main`, made internal then), when every
 // instruction of the entry function is one the SPMD path supports; otherwise returns false and leaves the module as
-// it was (the caller emits the scalar vkrt_group). Sets g.info.spmdLanes.
+// it was (the caller emits the scalar vkrt_group, or keeps vkrt_main for a shader with barriers). Sets
+// g.info.spmdLanes. With workgroup barriers (g.info.usesBarrier) vkrt_group runs one batch of the workgroup, the
+// lanes from the context's localIndex on, and calls the context's barrier at each (exec::ComputeKernel::batchLanes).
 bool emitSpmdGroup(Codegen& g, const EntryPoint& ep, llvm::Function* main);
 
 // Emits vkrt_group(GraphicsInvocation quad[4]) for a fragment entry point: the quad's four lanes in one pass

@@ -35,6 +35,13 @@ constexpr VkDeviceAddress kWildAddress = 0x1000;
 const char* const kInUseAfterLoss[] = {"VUID-vkFreeCommandBuffers-pCommandBuffers-00047",
                                        "VUID-vkDestroyFence-fence-01120", "VUID-vkDestroySemaphore-semaphore-01137"};
 
+// VKRT_SPMD=0 (tools/test.sh runs the barrier tests so too): compute shaders on the scalar path, a workgroup with
+// barriers as one fiber per invocation.
+bool scalarPath() {
+  const char* spmd = std::getenv("VKRT_SPMD");
+  return spmd && std::string(spmd) == "0";
+}
+
 std::string hex(uint64_t v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "0x%" PRIx64, v);
@@ -189,9 +196,10 @@ TEST_F(ShaderWatchdogTest, ARunawayComputeShaderLosesTheDeviceAfterTheTimeLimit)
   acceptInUseAfterLoss(*this);
 }
 
-// The same with a workgroup barrier (the invocations run as fibers): the report names the invocation; a timeline
-// semaphore the submission signals still reaches its value, and a host wait for a value nothing will signal returns
-// instead of waiting forever; both report the loss.
+// The same with a workgroup barrier (the workgroup's batches run as fibers; with VKRT_SPMD=0 its invocations, one
+// fiber each): the report names the workgroup (the batch's lanes run together) or, on the scalar path, the
+// invocation; a timeline semaphore the submission signals still reaches its value, and a host wait for a value nothing
+// will signal returns instead of waiting forever; both report the loss.
 TEST_F(ShaderWatchdogTest, ARunawayShaderWithBarriersNamesItsInvocationAndSemaphoreWaitsReturn) {
   constexpr uint32_t kGroups = 2, kSpinner = 70;
   HostBuffer data = createHostBuffer(4 * (1 + 64 * kGroups), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -216,7 +224,7 @@ TEST_F(ShaderWatchdogTest, ARunawayShaderWithBarriersNamesItsInvocationAndSemaph
   wi.pValues = &two;
   EXPECT_EQ(vkWaitSemaphores(device, &wi, UINT64_MAX), VK_ERROR_DEVICE_LOST);
   expectLossReport(*this, {"compute shader \"main\"", "VkPipeline 0x", "'runaway'", "of pipeline 0x",
-                           "GlobalInvocationId (70, 0, 0)"});
+                           scalarPath() ? "GlobalInvocationId (70, 0, 0)" : "WorkgroupId (1, 0, 0)"});
   expectLostDevice(VK_NULL_HANDLE);
   vkFreeCommandBuffers(device, commandPool, 1, &cb);
   vkDestroySemaphore(device, sem, nullptr);
@@ -226,7 +234,8 @@ TEST_F(ShaderWatchdogTest, ARunawayShaderWithBarriersNamesItsInvocationAndSemaph
 }
 
 // A store through a device address where nothing is mapped: the fault is caught, the device lost, the report names
-// the shader, the address and the workgroup (fibers: the invocation), and the application goes on.
+// the shader, the address and the workgroup (the scalar path's fibers, with barriers and VKRT_SPMD=0: the
+// invocation), and the application goes on.
 class ShaderFaultTest : public ShaderWatchdogTest {
  protected:
   void run(const uint32_t* words, size_t bytes, const std::string& who) {
@@ -271,7 +280,8 @@ TEST_F(ShaderFaultTest, AFaultInAFiberOfAWorkgroupWithBarriersNamesTheInvocation
   // AddressSanitizer and release builds run the test.
   GTEST_SKIP() << "a fault in a fiber under ThreadSanitizer (see the comment)";
 #endif
-  run(kSpv_watchdog_fault_barrier_comp, sizeof kSpv_watchdog_fault_barrier_comp, "GlobalInvocationId (5, 0, 0)");
+  run(kSpv_watchdog_fault_barrier_comp, sizeof kSpv_watchdog_fault_barrier_comp,
+      scalarPath() ? "GlobalInvocationId (5, 0, 0)" : "WorkgroupId (0, 0, 0)");
 }
 
 // Ray tracing: a raygen shader that loops, a miss shader that loops under traceRayEXT, a raygen shader that loops

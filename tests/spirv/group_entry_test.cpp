@@ -67,17 +67,26 @@ TEST(SpirvGroupEntry, BuiltInsAndPrivateVariablesPerInvocation) {
   runAndCheck(h);
 }
 
-TEST(SpirvGroupEntry, ShadersWithBarriersHaveNone) {
-  ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_compute_shared_comp)) << h.error;
-  EXPECT_TRUE(h.shader->usesBarrier);
-  EXPECT_EQ(h.shader->groupEntry, nullptr);
-  EXPECT_NE(h.shader->entry, nullptr);
-  std::string error;
-  auto cached = spirv::loadCached(h.shader->cacheBlob, nullptr, &error);
-  ASSERT_NE(cached, nullptr) << error;
-  EXPECT_EQ(cached->groupEntry, nullptr);
-  EXPECT_NE(cached->entry, nullptr);
+// A shader with barriers keeps vkrt_main (one fiber per invocation) where it is not compiled SPMD; compiled SPMD, its
+// vkrt_group runs one batch of the workgroup (spmd_test.cpp runs both).
+TEST(SpirvGroupEntry, ShadersWithBarriersHaveNoneOffTheSpmdPath) {
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_compute_shared_comp)) << h.error;
+    EXPECT_TRUE(h.shader->usesBarrier);
+    EXPECT_EQ(h.shader->groupEntry != nullptr, spmd);
+    EXPECT_EQ(h.shader->entry != nullptr, !spmd);
+    EXPECT_EQ(h.shader->spmdLanes, spirv::spmdLanes());
+    std::string error;
+    auto cached = spirv::loadCached(h.shader->cacheBlob, nullptr, &error);
+    ASSERT_NE(cached, nullptr) << error;
+    EXPECT_EQ(cached->groupEntry != nullptr, spmd);
+    EXPECT_EQ(cached->entry != nullptr, !spmd);
+    EXPECT_EQ(cached->spmdLanes, h.shader->spmdLanes);
+    EXPECT_TRUE(cached->usesBarrier);
+  }
 }
 
 TEST(SpirvGroupEntry, SurvivesThePipelineCache) {

@@ -1,6 +1,7 @@
 // SPMD compilation of compute shaders (src/spirv/spmd.cpp) against the scalar path, its reference: the same
 // shader compiled both ways (spirv::setSpmd) and dispatched on the same inputs writes the same bytes, for
-// workgroups of 1, 7, 64 and 100 invocations, 3D ones, and ones whose rows a batch spans or not. Each test also
+// workgroups of 1, 7, 64 and 100 invocations, 3D ones, and ones whose rows a batch spans or not; shaders with workgroup
+// barriers and workgroup memory too (their batches run as fibers). Each test also
 // checks that the SPMD compile really took the SPMD path (CompiledShader::spmdLanes), so none passes vacuously.
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 #include "compute_shared.comp.spv.h"
 #include "group_bounds_saxpy.comp.spv.h"
 #include "spmd_atomics.comp.spv.h"
+#include "spmd_barriers.comp.spv.h"
 #include "spmd_control.comp.spv.h"
 #include "spmd_integer_dot.spv14.spvasm.spv.h"
 #include "spmd_switch_break.spvasm.spv.h"
@@ -133,12 +135,89 @@ TEST(Spmd, CacheKeyHoldsTheSetting) {
   EXPECT_NE(on, off);
 }
 
-TEST(Spmd, ShadersWithBarriersStayScalar) {
-  SpmdSetting on(true);
-  ComputeHarness h;
-  ASSERT_TRUE(h.compile(kSpv_compute_shared_comp)) << h.error;
-  EXPECT_EQ(h.shader->spmdLanes, 0u);
-  EXPECT_NE(h.shader->entry, nullptr);
+// Workgroup barriers and workgroup memory (tests/shaders/spmd_barriers.comp): the SPMD path runs a workgroup's
+// batches as fibers that switch at each barrier. Both paths against what the invocations compute (here, from the
+// inputs), for workgroups of one batch, of a batch and a tail, of several, and of every lane count up to 256; with
+// the branch of barriers taken and not. Workgroup memory is bounds-checked as buffers are: a store past an array is
+// dropped, a load past it reads 0.
+void expectBarriers(uint32_t sx, uint32_t sy, uint32_t rounds, uint32_t flag) {
+  const uint32_t n = sx * sy, groups = 3;
+  std::vector<uint32_t> in(size_t(n) * groups);
+  for (size_t i = 0; i < in.size(); ++i) in[i] = uint32_t(i * 2654435761u) >> 3;
+  // The workgroups as the shader computes them, invocation by invocation.
+  std::vector<uint32_t> want(size_t(n) * groups * 5);
+  for (uint32_t wg = 0; wg < groups; ++wg) {
+    std::vector<uint32_t> a(in.begin() + size_t(wg) * n, in.begin() + size_t(wg + 1) * n), b(n);
+    uint32_t maxv = 0;
+    for (uint32_t x : a) maxv = std::max(maxv, x ^ 0x5a5a5a5au);
+    for (uint32_t r = 0; r < rounds; ++r) {
+      std::vector<uint32_t> next(n);
+      for (uint32_t l = 0; l < n; ++l) next[l] = a[(l + n - 1) % n] * 3u + a[(l + 1) % n] + r;
+      a = next;
+    }
+    if (flag) {
+      for (uint32_t l = 0; l < n; ++l) b[l] = a[n - 1 - l];
+      for (uint32_t l = 0; l < n; ++l) a[l] = b[l] + 1u;
+    }
+    uint32_t sum = 0;
+    for (uint32_t x : a) sum += x;
+    for (uint32_t l = 0; l < n; ++l) {
+      const size_t g = size_t(wg) * n + l;
+      want[5 * g] = a[l], want[5 * g + 1] = sum, want[5 * g + 2] = n, want[5 * g + 3] = maxv;
+      want[5 * g + 4] = (l & 1) == 0 ? a[(l * 7) % n] : 0u;  // odd lanes read past the array
+    }
+  }
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_spmd_barriers_comp, {spec(0, sx), spec(1, sy)})) << h.error;
+    ASSERT_TRUE(h.shader->usesBarrier);
+    EXPECT_EQ(h.shader->spmdLanes, spmd ? spirv::spmdLanes() : 0u) << "the path the shader took";
+    EXPECT_EQ(h.shader->groupEntry != nullptr, spmd);
+    h.setBuffer(0, in);
+    h.setBuffer(1, std::vector<uint32_t>(want.size(), 0xdeadbeefu));
+    const uint32_t push[2] = {rounds, flag};
+    std::memcpy(h.push, push, sizeof push);
+    ASSERT_TRUE(h.run(groups));
+    const std::vector<uint32_t> out = h.get<uint32_t>(1);
+    ASSERT_EQ(out.size(), want.size());
+    for (size_t i = 0; i < want.size(); ++i) ASSERT_EQ(out[i], want[i]) << "invocation " << i / 5 << " word " << i % 5;
+  }
+}
+
+TEST(Spmd, BarriersWorkgroupOfOne) { expectBarriers(1, 1, 3, 1); }
+TEST(Spmd, BarriersWorkgroupOfTwenty) { expectBarriers(20, 1, 3, 1); }
+TEST(Spmd, BarriersWorkgroupOf64) { expectBarriers(64, 1, 5, 0); }
+TEST(Spmd, BarriersWorkgroupOf100) { expectBarriers(100, 1, 2, 1); }
+TEST(Spmd, BarriersWorkgroup16By16) { expectBarriers(16, 16, 4, 1); }
+TEST(Spmd, BarriersWorkgroup7By3NoRounds) { expectBarriers(7, 3, 0, 0); }
+
+// compute_shared.comp (a reversal, a tree reduction and a workgroup atomic) on both paths: the same bytes.
+TEST(Spmd, SharedMemoryShaderWritesWhatTheScalarPathWrites) {
+  std::vector<uint32_t> results[2];
+  for (bool spmd : {false, true}) {
+    SCOPED_TRACE(spmd ? "SPMD" : "scalar");
+    SpmdSetting setting(spmd);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_compute_shared_comp)) << h.error;
+    EXPECT_EQ(h.shader->spmdLanes, spmd ? spirv::spmdLanes() : 0u);
+    std::vector<uint32_t> data(64 * 4);
+    for (uint32_t i = 0; i < data.size(); ++i) data[i] = i * 7u + 3u;
+    h.setBuffer(0, data);
+    h.setBuffer(1, std::vector<uint32_t>(8, 0xdeadbeefu));
+    ASSERT_TRUE(h.run(4));
+    results[spmd] = h.get<uint32_t>(0);
+    const std::vector<uint32_t> sums = h.get<uint32_t>(1);
+    results[spmd].insert(results[spmd].end(), sums.begin(), sums.end());
+    for (uint32_t wg = 0; wg < 4; ++wg) {
+      uint32_t sum = 0;
+      for (uint32_t l = 0; l < 64; ++l) sum += data[wg * 64 + l];
+      EXPECT_EQ(sums[2 * wg], sum) << wg;
+      EXPECT_EQ(sums[2 * wg + 1], 64u) << wg;
+    }
+  }
+  EXPECT_EQ(results[1], results[0]);
 }
 
 // Atomics lane by lane (spmd.cpp, atomicLanes): one workgroup; each atomic instruction runs for the invocations in

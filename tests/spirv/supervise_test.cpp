@@ -61,9 +61,11 @@ TEST(SpirvSupervision, TheWatchdogLimitsTimeWithoutProgressNotTheJobsLength) {
   EXPECT_FALSE(exec::runSupervised(job, sleep20, nullptr)) << "an ended job starts no task";
 }
 
-// The same with a barrier (fibers): the invocation is named; a job ended from another thread (as vkDestroyDevice
-// does) stops as well.
-TEST(SpirvSupervision, AnEndedJobStopsTheLoopsOfItsFibers) {
+// The same with a barrier (fibers): a job ended from another thread (as vkDestroyDevice does) stops as well. The
+// report names the invocation where each runs as a fiber of its own (the scalar path), the workgroup where a fiber
+// runs a batch of them (SPMD).
+void expectEndedFibersStop(bool spmd) {
+  SpmdSetting setting(spmd);
   ComputeHarness h;
   ASSERT_TRUE(h.compile(kSpv_watchdog_spin_barrier_comp)) << h.error;
   h.zeroBuffer<uint32_t>(0, 1 + 64 * 2);
@@ -79,14 +81,20 @@ TEST(SpirvSupervision, AnEndedJobStopsTheLoopsOfItsFibers) {
   EXPECT_TRUE(h.run(2));
   canceller.join();
   ASSERT_TRUE(job.aborted());
+  EXPECT_EQ(h.shader->spmdLanes != 0, spmd);
   EXPECT_EQ(job.abort().kind, exec::Abort::Cancelled);
-  EXPECT_EQ(job.abort().idKind, exec::Abort::GlobalInvocation);
-  EXPECT_EQ(job.abort().id[0], 70u);
+  EXPECT_EQ(job.abort().idKind, spmd ? exec::Abort::Workgroup : exec::Abort::GlobalInvocation);
+  EXPECT_EQ(job.abort().id[0], spmd ? 1u : 70u);
 }
+
+TEST(SpirvSupervision, AnEndedJobStopsTheLoopsOfItsFibers) { expectEndedFibersStop(false); }
+TEST(SpirvSupervision, AnEndedJobStopsTheLoopsOfItsBatchFibers) { expectEndedFibersStop(true); }
 
 // watchdog_fault*.comp: invocation 5 stores through address 0x1000 (nothing is mapped there); the other invocations
 // of other workgroups may or may not have run, but those that ran before the fault wrote their index + 1.
-void expectFaultRecovered(const uint32_t* words, size_t count, exec::Abort::IdKind kind, uint32_t id) {
+void expectFaultRecovered(const uint32_t* words, size_t count, exec::Abort::IdKind kind, uint32_t id,
+                          bool spmd = true) {
+  SpmdSetting setting(spmd);
   ComputeHarness h;
   spirv::CompileRequest r;
   r.words = words;
@@ -94,6 +102,9 @@ void expectFaultRecovered(const uint32_t* words, size_t count, exec::Abort::IdKi
   r.hostSymbols = imageFunctionSymbols();
   h.shader = spirv::compile(r, &h.error);
   ASSERT_TRUE(h.shader) << h.error;
+  if (h.shader->usesBarrier) {
+    EXPECT_EQ(h.shader->spmdLanes != 0, spmd) << "fibers of batches (SPMD) or invocations";
+  }
   std::vector<uint32_t> good(128, 0);
   struct {
     uint64_t good, wild;
@@ -132,7 +143,12 @@ TEST(SpirvSupervision, AFaultInCompiledCodeEndsTheJobWithItsAddress) {
 
 TEST(SpirvSupervision, AFaultInAFiberEndsTheJobWithItsInvocation) {
   expectFaultRecovered(kSpv_watchdog_fault_barrier_comp, sizeof kSpv_watchdog_fault_barrier_comp / 4,
-                       exec::Abort::GlobalInvocation, 5);
+                       exec::Abort::GlobalInvocation, 5, false);
+}
+
+TEST(SpirvSupervision, AFaultInABatchFiberEndsTheJobWithItsWorkgroup) {
+  expectFaultRecovered(kSpv_watchdog_fault_barrier_comp, sizeof kSpv_watchdog_fault_barrier_comp / 4,
+                       exec::Abort::Workgroup, 0);
 }
 
 // A fault outside compiled shader code, even in a supervised task, is not vkrt's to recover: the process dies as
