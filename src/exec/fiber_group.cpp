@@ -78,6 +78,7 @@ struct Fiber {
   InvocationContext* inv = nullptr;
   bool done = false;
   bool started = false;  // resumed at least once (fiberMain read tlsStarting)
+  uint32_t index = 0;    // in the group
   Scheduler* scheduler = nullptr;
 #if VKRT_TSAN_FIBERS
   void* tsanFiber = nullptr;  // created on first use
@@ -94,6 +95,10 @@ struct Scheduler {
   // The worker's records, taken once per group (exec/supervise.hpp): what runs, and where a fault jumps.
   Running* running = nullptr;
   sigjmp_buf** target = nullptr;
+  Fiber* fibers = nullptr;  // the group's
+  uint32_t count = 0;
+  uint32_t current = 0;   // the fiber running, or the last that ran before the worker's stack got control back
+  bool fromMain = false;  // the switch into the fiber now starting or resuming came from the worker's stack
   const void* mainBottom = nullptr;  // for ASan's fiber bookkeeping
   size_t mainSize = 0;
 #if VKRT_TSAN_FIBERS
@@ -129,6 +134,34 @@ struct FiberStacks {
 
 thread_local Fiber* tlsStarting = nullptr;
 
+#if VKRT_ASAN_FIBERS
+// AddressSanitizer's end of a switch into a fiber: the stack it came from is the worker's when the scheduler
+// switched (recorded for the switches back), another fiber's otherwise.
+void finishSwitch(Scheduler& s, void* fake) {
+  const void* bottom = nullptr;
+  size_t size = 0;
+  __sanitizer_finish_switch_fiber(fake, &bottom, &size);
+  if (s.fromMain) s.mainBottom = bottom, s.mainSize = size;
+}
+#endif
+
+// Makes `to` the fiber that runs (the recovery target, the report's invocation) before a switch to it; `fromMain`: the
+// switch comes from the worker's stack. (ThreadSanitizer's switch is the caller's, just before its own: made in a
+// function that returns before the switch, it would pop that function's frame from the new fiber's shadow stack.)
+void enter(Scheduler& s, Fiber& to, bool fromMain) {
+  if (!to.started) {
+    tlsStarting = &to;
+    to.started = true;
+  }
+  s.current = to.index;
+  s.fromMain = fromMain;
+  *s.target = &to.recovery;
+  if (s.idKind == Abort::GlobalInvocation) s.running->id = to.inv->globalId;  // (a workgroup's is set once)
+#if VKRT_TSAN_FIBERS
+  if (!to.tsanFiber) to.tsanFiber = __tsan_create_fiber(0);
+#endif
+}
+
 // A fiber's first function (its stack is laid out by makeFiber so that the first switch to it returns here). It
 // never returns: it ends by switching to the scheduler for good. Not instrumented by ThreadSanitizer: it switches
 // ThreadSanitizer to the scheduler's fiber before it leaves, where an instrumented function's exit would pop the
@@ -140,7 +173,7 @@ __attribute__((no_sanitize_thread))
 fiberMain() {
   Fiber* f = tlsStarting;
 #if VKRT_ASAN_FIBERS
-  __sanitizer_finish_switch_fiber(nullptr, &f->scheduler->mainBottom, &f->scheduler->mainSize);
+  finishSwitch(*f->scheduler, nullptr);
 #endif
   // A fault or a cancellation comes back here, on the fiber's own stack; the fiber then ends as usual.
   if (sigsetjmp(f->recovery, 0) == 0) {
@@ -171,38 +204,53 @@ void makeFiber(Fiber& f) {
   f.sp = &sp[-6];
 }
 
-// The group's barrier: back to the scheduler, which runs the other invocations up to the barrier.
+// The group's barrier: on to the round's next fiber that has not ended (one switch, not two through the scheduler),
+// or, from the round's last, back to the scheduler, which starts the next round.
 void fiberBarrier(InvocationContext* inv) {
   Fiber* f = static_cast<Fiber*>(inv->executor);
   Scheduler* s = f->scheduler;
+  uint32_t next = f->index + 1;
+  while (next < s->count && s->fibers[next].done) ++next;
 #if VKRT_ASAN_FIBERS
   void* fake = nullptr;
-  __sanitizer_start_switch_fiber(&fake, s->mainBottom, s->mainSize);
+#endif
+  if (next < s->count) {
+    Fiber& to = s->fibers[next];
+#if VKRT_ASAN_FIBERS
+    __sanitizer_start_switch_fiber(&fake, to.stack, kFiberStackBytes);
+#endif
+    enter(*s, to, false);
+#if VKRT_TSAN_FIBERS
+    __tsan_switch_to_fiber(to.tsanFiber, 0);
+#endif
+    vkrt_fiber_switch(&f->sp, to.sp);
+  } else {
+#if VKRT_ASAN_FIBERS
+    __sanitizer_start_switch_fiber(&fake, s->mainBottom, s->mainSize);
 #endif
 #if VKRT_TSAN_FIBERS
-  __tsan_switch_to_fiber(s->tsanMain, 0);
+    __tsan_switch_to_fiber(s->tsanMain, 0);
 #endif
-  vkrt_fiber_switch(&f->sp, s->mainSp);
+    vkrt_fiber_switch(&f->sp, s->mainSp);
+  }
 #if VKRT_ASAN_FIBERS
-  __sanitizer_finish_switch_fiber(fake, &s->mainBottom, &s->mainSize);
+  finishSwitch(*s, fake);
 #endif
 }
 
+// Runs `f` and, where it reaches a barrier, the round's next fibers (fiberBarrier), until one switches back here:
+// s.current says which.
 void resume(Scheduler& s, Fiber& f) {
 #if VKRT_ASAN_FIBERS
   void* fake = nullptr;
   __sanitizer_start_switch_fiber(&fake, f.stack, kFiberStackBytes);
 #endif
-  if (!f.started) {
-    tlsStarting = &f;
-    f.started = true;
-  }
   sigjmp_buf* outer = *s.target;
-  *s.target = &f.recovery;
-  if (s.idKind == Abort::GlobalInvocation) s.running->id = f.inv->globalId;  // (a workgroup's is set once)
 #if VKRT_TSAN_FIBERS
-  if (!f.tsanFiber) f.tsanFiber = __tsan_create_fiber(0);
   s.tsanMain = __tsan_get_current_fiber();
+#endif
+  enter(s, f, true);
+#if VKRT_TSAN_FIBERS
   __tsan_switch_to_fiber(f.tsanFiber, 0);
 #endif
   vkrt_fiber_switch(&s.mainSp, f.sp);
@@ -224,6 +272,8 @@ bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocation
   s.idKind = idKind;
   s.running = &runningRecord();
   s.target = &recoveryTarget();
+  s.fibers = scratch.fibers.get();
+  s.count = count;
   *s.running =
       Running{nullptr, idKind == Abort::Workgroup ? invocations[0]->workgroupId : invocations[0]->globalId, idKind};
   for (uint32_t i = 0; i < count; ++i) {
@@ -232,6 +282,7 @@ bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocation
     f.started = false;
     f.aborted = false;
     f.scheduler = &s;
+    f.index = i;
     f.stack = scratch.stacks[i] + kGuardBytes;
     f.inv = invocations[i];
     f.inv->barrier = fiberBarrier;
@@ -239,13 +290,16 @@ bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocation
     makeFiber(f);
   }
   // Round-robin: each round takes every unfinished invocation to its next barrier (or its end); one that ended
-  // is skipped.
+  // is skipped. A fiber at a barrier switches to the next itself; the scheduler gets control back from the round's
+  // last or from one that ended, and goes on after it.
   for (bool again = true; again;) {
     again = false;
     for (uint32_t i = 0; i < count; ++i) {
+      if (scratch.fibers[i].done) continue;
+      resume(s, scratch.fibers[i]);
+      for (uint32_t k = i; k <= s.current; ++k) again |= !scratch.fibers[k].done;
+      i = s.current;
       Fiber& f = scratch.fibers[i];
-      if (f.done) continue;
-      resume(s, f);
       if (f.aborted) {
         // The group ends here: the fibers still waiting at a barrier are abandoned (each group makes its fibers
         // afresh).
@@ -263,7 +317,6 @@ bool runFiberGroup(abi::ComputeEntry entry, InvocationContext* const* invocation
 #endif
         abortTask();
       }
-      again |= !f.done;
     }
   }
   return true;

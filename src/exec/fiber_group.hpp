@@ -1,8 +1,8 @@
 // Invocations that wait for each other: a compute workgroup with OpControlBarrier, a fragment quad taking
-// derivatives. Each runs as a fiber (a stack of its own) on the calling worker; its context's `barrier` switches back
-// to the group's scheduler, which resumes every unfinished fiber in turn (round-robin), so that every invocation
-// reaches a barrier before any passes it. A fiber that returned no longer takes part: the others pass barriers
-// without it.
+// derivatives. Each runs as a fiber (a stack of its own) on the calling worker; its context's `barrier` switches to
+// the next unfinished fiber of the round (the round's last back to the group's scheduler, which starts the next
+// round), so that every invocation reaches a barrier before any passes it. A fiber that returned no longer takes
+// part: the others pass barriers without it.
 #pragma once
 
 #include <cstdint>
