@@ -65,6 +65,11 @@ constexpr uint32_t kFakeId = 0xfff00000u;
 // worker's stack); a shader that needs more runs one launch id at a time.
 constexpr uint64_t kMaxRaygenLaneBytes = 64 * 1024;
 
+// The most bytes of Function variables a batch of a compute shader with barriers keeps for its lanes: the batch runs
+// on a fiber's stack (exec/fiber_group.cpp: 256 KiB), where the scalar path's fiber holds one invocation's. A shader
+// that needs more stays on the scalar path.
+constexpr uint64_t kMaxBatchFiberLaneBytes = 64 * 1024;
+
 // An image type compute shaders' SPMD code takes (texel buffers included): not a subpass input or multisampled image.
 bool imageTypeOnPath(const Instruction& t) {
   return t.op == spv::OpTypeImage && t.word(3) != spv::DimSubpassData && t.word(6) == 0;
@@ -162,6 +167,7 @@ class Spmd {
   Cfg cfg;
   Uniformity u;
   size_t firstInstruction = 0;
+  uint64_t functionBytes = 0;                  // the entry function's Function variables, one invocation's
   std::vector<const Instruction*> composites;  // instructions with a matrix, struct or array result
 
   llvm::Function* fn = nullptr;
@@ -480,6 +486,7 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         case spv::OpVariable: {
           const Type& pt = g.spvType(in.word(1));
           ok = pt.storage == spv::StorageClassFunction && !g.isRayQuery(pt.element);
+          if (ok) functionBytes += g.layoutSize(pt.element, 0, false);
           break;
         }
         case spv::OpExtInst:
@@ -589,6 +596,8 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
   }
   // A ray generation batch is N launch ids of one row: LaunchIdKHR.x varies, .y and .z do not, as a workgroup's ids
   // in a workgroup N wide.
+  if (g.info.usesBarrier && functionBytes * N > kMaxBatchFiberLaneBytes)
+    return (*whyNot = "Function variables too large for a batch's fiber stack"), false;
   const uint32_t row[3] = {N, 1, 1};
   if (!u.analyze(m, cfg, raygen() ? row : g.info.localSize, N, whyNot)) return false;
   for (const Instruction* in : composites)

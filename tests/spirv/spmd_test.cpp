@@ -15,6 +15,7 @@
 #include "compute_shared.comp.spv.h"
 #include "group_bounds_saxpy.comp.spv.h"
 #include "spmd_atomics.comp.spv.h"
+#include "spmd_barrier_locals.comp.spv.h"
 #include "spmd_barriers.comp.spv.h"
 #include "spmd_control.comp.spv.h"
 #include "spmd_integer_dot.spv14.spvasm.spv.h"
@@ -192,6 +193,27 @@ TEST(Spmd, BarriersWorkgroupOf64) { expectBarriers(64, 1, 5, 0); }
 TEST(Spmd, BarriersWorkgroupOf100) { expectBarriers(100, 1, 2, 1); }
 TEST(Spmd, BarriersWorkgroup16By16) { expectBarriers(16, 16, 4, 1); }
 TEST(Spmd, BarriersWorkgroup7By3NoRounds) { expectBarriers(7, 3, 0, 0); }
+
+// A batch of a shader with barriers runs on a fiber's stack: Function variables of N lanes that would not fit
+// (spmd.cpp, kMaxBatchFiberLaneBytes) keep the shader on the scalar path, whose fibers hold one invocation's; both
+// compute what the invocations compute.
+TEST(Spmd, BarrierShadersWithLargeLocalsStayScalar) {
+  SpmdSetting on(true);
+  for (uint32_t len : {16u, 4096u}) {
+    SCOPED_TRACE(len);
+    ComputeHarness h;
+    ASSERT_TRUE(h.compile(kSpv_spmd_barrier_locals_comp, {spec(0, len)})) << h.error;
+    EXPECT_EQ(h.shader->spmdLanes, len == 16 ? spirv::spmdLanes() : 0u) << "16 words SPMD, 4,096 scalar";
+    h.setBuffer(0, std::vector<uint32_t>(64, 0xdeadbeefu));
+    ASSERT_TRUE(h.run(2));
+    const std::vector<uint32_t> out = h.get<uint32_t>(0);
+    for (uint32_t wg = 0; wg < 2; ++wg)
+      for (uint32_t l = 0; l < 32; ++l) {
+        const uint32_t other = 31 - l;
+        EXPECT_EQ(out[wg * 32 + l], other * ((other * 7) % len) + wg + l * (len - 1) + wg) << wg << " " << l;
+      }
+  }
+}
 
 // compute_shared.comp (a reversal, a tree reduction and a workgroup atomic) on both paths: the same bytes.
 TEST(Spmd, SharedMemoryShaderWritesWhatTheScalarPathWrites) {
