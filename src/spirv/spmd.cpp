@@ -594,10 +594,10 @@ bool Spmd::supported(const EntryPoint& ep, std::string* whyNot) {
         default: return (*whyNot = "a built-in the SPMD path does not compute"), false;
       }
   }
-  // A ray generation batch is N launch ids of one row: LaunchIdKHR.x varies, .y and .z do not, as a workgroup's ids
-  // in a workgroup N wide.
   if (g.info.usesBarrier && functionBytes * N > kMaxBatchFiberLaneBytes)
     return (*whyNot = "Function variables too large for a batch's fiber stack"), false;
+  // A ray generation batch is N launch ids of one row: LaunchIdKHR.x varies, .y and .z do not, as a workgroup's ids
+  // in a workgroup N wide.
   const uint32_t row[3] = {N, 1, 1};
   if (!u.analyze(m, cfg, raygen() ? row : g.info.localSize, N, whyNot)) return false;
   for (const Instruction* in : composites)
