@@ -326,13 +326,6 @@ void getRunning(const char** shader, const uint32_t** id, Abort::IdKind* kind) {
 
 Running& runningRecord() { return worker().running; }
 
-sigjmp_buf* swapRecoveryPoint(sigjmp_buf* point) {
-  WorkerState& w = worker();
-  sigjmp_buf* previous = w.target;
-  w.target = point;
-  return previous;
-}
-
 sigjmp_buf*& recoveryTarget() { return worker().target; }
 
 void abortTask() { siglongjmp(*tlsWorker->target, 1); }

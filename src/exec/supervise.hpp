@@ -114,12 +114,10 @@ void getRunning(const char** shader, const uint32_t** id, Abort::IdKind* kind);
 Running& runningRecord();
 
 // Fibers (compute shaders with barriers): each fiber has its own recovery point on its own stack. The scheduler
-// makes the fiber's point the thread's target while the fiber runs (swapRecoveryPoint returns the previous one);
-// the fiber's entry sets it with sigsetjmp. After a fiber was ended, the scheduler calls abortTask, which ends
-// the task with what the fiber recorded.
-sigjmp_buf* swapRecoveryPoint(sigjmp_buf* point);
-// This thread's recovery target itself (valid on this thread while it lives): the fiber scheduler takes it once per
-// group and stores each fiber's point into it at every resume, instead of two thread-local lookups per resume.
+// makes the fiber's point the thread's target while the fiber runs, storing it into recoveryTarget() (this thread's
+// target itself, valid on this thread while it lives: taken once per group, not looked up at every switch); the
+// fiber's entry sets it with sigsetjmp. After a fiber was ended, the scheduler calls abortTask, which ends the task
+// with what the fiber recorded.
 sigjmp_buf*& recoveryTarget();
 [[noreturn]] void abortTask();
 
