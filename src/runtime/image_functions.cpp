@@ -518,9 +518,9 @@ void filterLevel(const TexelView& v, const VkSamplerCreateInfo& s, VkFilter filt
 // The fast path of the most common sampling: a 2D (array) view of an 8-bit RGBA / BGRA UNorm or sRGB image, NEAREST
 // or LINEAR filters, REPEAT or CLAMP_TO_EDGE in u and v, normalized coordinates, no depth comparison, no offset,
 // identity or any swizzle (applied after, as on the generic path). The texel indices come from exact double
-// arithmetic as filterLevel's, so the same texels are read; the LINEAR weights are quantized to 2^-15 (fixedCoord);
+// arithmetic as filterLevel's, so the same texels are read; the LINEAR weights are quantized to 2^-8 (fixedCoord);
 // the texels are decoded four components at once and weighed in float (UNorm: in byte units, scaled by 1/255 once).
-// The difference to the generic path: at most 2^-15 per axis of the texels' difference, plus float rounding (a few
+// The difference to the generic path: less than 2^-8 per axis of the texels' difference, plus float rounding (a few
 // ulp of 1.0). No FMA: the runtime is built for baseline x86-64, so the same on every CPU.
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = int32_t __attribute__((vector_size(16)));
@@ -578,8 +578,9 @@ const FastView* fastView(const View& v, const VkSamplerCreateInfo& s, FastView* 
 // The fast path's texel addressing, in fixed point: a texel coordinate (minus 0.5 for LINEAR) plus 2 texels, in units
 // of 2^-kSubTexelBits texel (quad_sampling.hpp), truncated. Its integer part is the first texel (floor(u - 0.5) + 2,
 // as filterLevel's floor in double: the fixed-point value comes from exact double arithmetic), its fraction the
-// LINEAR weight, quantized to 2^-15: finer than the 2^-subTexelPrecisionBits (2^-8, physical_device.cpp) "Texel
-// Filtering" allows.
+// LINEAR weight, quantized to 2^-8: the 2^-subTexelPrecisionBits (physical_device.cpp) "Texel Filtering" allows.
+// (8-bit weights make every lerp of 8-bit UNorm texels exact in float, fastFilterLevel, so that the quad sampler's
+// integer filter, quad_sampling_kernels.inc, gives the same bits.)
 constexpr double kSubTexel = double(1 << kSubTexelBits);
 
 // floor(x) as an integer for |x| < 2^63 (std::floor is a library call on the baseline x86-64 target: no SSE4.1).
@@ -651,8 +652,8 @@ inline Float4 srgbTexel(const uint8_t* p, bool bgr) {
 }
 
 // Filters level `level` at fastCoord's (cu, cv) (fastSampling's case): UNorm in byte units (0..255), sRGB in 0..1.
-// LINEAR weighs with the fixed-point fractions: the top and bottom rows' lerps are exact in float (8-bit texels,
-// 15-bit weights), the vertical one rounds once.
+// LINEAR weighs with the fixed-point fractions: every lerp is exact in float for UNorm (8-bit texels, 8-bit weights:
+// the rows' sums have 16 significant bits, the column's 24), which the quad sampler's integer filter relies on.
 __attribute__((always_inline)) inline Float4 fastFilterLevel(const FastView& v, VkFilter filter, uint32_t level,
                                                              double cu, double cv, int64_t layer) {
   const MipLayout& m = v.mips[level];

@@ -28,11 +28,11 @@ struct QuadLevel {
 };
 
 // The fraction bits of the fast paths' fixed-point texel coordinates (image_functions.cpp, "texel addressing"), the
-// per-lane one's and this one's alike.
-inline constexpr int kSubTexelBits = 15;
+// per-lane one's and this one's alike: the LINEAR weights' 2^-8, subTexelPrecisionBits (physical_device.cpp).
+inline constexpr int kSubTexelBits = 8;
 
 // maxImageDimension2D is 16384 (physical_device.cpp): at most 15 levels. The fixed-point coordinates of a level of
-// at most 2^14 texels (at most (2^14 + 3) 2^15) fit 32-bit integers.
+// at most 2^14 texels (at most (2^14 + 3) 2^8) fit 32-bit integers.
 inline constexpr uint32_t kQuadMaxLevels = 15;
 
 // An image view as the quad fast path reads it; `fast` false where the view is not fastSampling's case (or its

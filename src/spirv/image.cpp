@@ -224,7 +224,7 @@ bool sampleCube(Codegen& g, const Instruction& in, const SampleKind& kind, llvm:
     if (implicitHere) {
       // The direction's derivatives (not the array layer's).
       llvm::Value* dir = g.b.CreateShuffleVector(c, {0, 1, 2});
-      g.derivatives(dir, false, &dx, &dy);
+      g.derivatives(dir, true, &dx, &dy);
     }
     if (!dx || !dy) return g.fail(in, "Grad operands have no value");
     ddx = toWords(g, dx, true);
@@ -302,7 +302,7 @@ bool sample(Codegen& g, const Instruction& in, const SampleKind& kind, const Ins
   if (gradX || implicitHere) {
     // With gradients: the Grad operand's, or the coordinates' quad derivatives in fragment shaders.
     llvm::Value *dx = gradX, *dy = gradY;
-    if (implicitHere) g.derivatives(c, false, &dx, &dy);
+    if (implicitHere) g.derivatives(c, true, &dx, &dy);
     llvm::Value* biasValue = bias ? g.b.CreateFPCast(bias, f32) : llvm::ConstantFP::getNaN(f32);
     llvm::Value* ddx = toWords(g, dx, true);
     llvm::Value* ddy = toWords(g, dy, true);

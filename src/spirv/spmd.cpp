@@ -1637,7 +1637,8 @@ bool Spmd::quadOperation(const Instruction& in) {
 
 // Sampling: a uniform one once in the scalar code; one with a varying operand lane by lane (each active lane's
 // operands handed to the scalar code, which calls the runtime's function), the implicit-LOD forms with the
-// coordinates' fine derivatives taken from the quad's lanes.
+// coordinates' coarse derivatives taken from the quad's lanes (the quad's one level of detail, as image.cpp's scalar
+// code takes them).
 bool Spmd::sampleLanes(const Instruction& in) {
   uint32_t rt = in.word(1), id = in.word(2), coord = in.word(4);
   bool dref = in.op == spv::OpImageSampleDrefImplicitLod || in.op == spv::OpImageSampleDrefExplicitLod;
@@ -1656,7 +1657,7 @@ bool Spmd::sampleLanes(const Instruction& in) {
     for (uint32_t k = 0; k < nc; ++k) {
       llvm::Value* v = laneComp(coord, k);
       if (!v) return fail("coordinates without a value");
-      quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), false, &dxv[k], &dyv[k]);
+      quadDifferences(b, b.CreateFPCast(v, laneTy(b.getFloatTy())), true, &dxv[k], &dyv[k]);
     }
   if (fragment() && !dref && sampleQuad(in, implicit, dxv, dyv)) return true;
   auto laneVector = [&](const std::vector<llvm::Value*>& v, unsigned l) -> llvm::Value* {
@@ -2111,7 +2112,7 @@ bool Spmd::imageAccess(const Instruction& in) {
 }
 
 // Gradient sampling of the quad's lanes in one call (vkrt_image_sample_grad_quad) where the scalar code would call
-// vkrt_image_sample_grad once per active lane: OpImageSampleImplicitLod (the coordinates' fine derivatives `dx`,
+// vkrt_image_sample_grad once per active lane: OpImageSampleImplicitLod (the coordinates' coarse derivatives `dx`,
 // `dy`, with or without Bias) and OpImageSampleExplicitLod with Grad, of a 1D, 2D or 3D (array) image, 32-bit
 // result components. False, with nothing emitted, for the rest (the lane by lane calls).
 bool Spmd::sampleQuad(const Instruction& in, bool implicit, std::vector<llvm::Value*> dx,

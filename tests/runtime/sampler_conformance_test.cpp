@@ -238,10 +238,10 @@ class SamplerAnisotropy : public SamplerConformance {
   abi::DescriptorRecord view{};
 };
 
-// One isotropic sample of an RGBA8 UNORM view takes the fast path, whose LINEAR weights are quantized to 2^-15
-// (docs/graphics-shaders.md; "Texel Filtering" allows 2^-subTexelPrecisionBits = 2^-8): within 2 x 2^-15 of the
-// exact bilinear value, plus float rounding. The anisotropic samples take the general path, in float.
-constexpr double kFixedPointLinear = 2 * 0x1p-15 + 4e-6;
+// One isotropic sample of an RGBA8 UNORM view takes the fast path, whose LINEAR weights are quantized to 2^-8
+// (docs/graphics-shaders.md; the 2^-subTexelPrecisionBits "Texel Filtering" allows): within 2 x 2^-8 of the exact
+// bilinear value, plus float rounding. The anisotropic samples take the general path, in float.
+constexpr double kFixedPointLinear = 2 * 0x1p-8 + 4e-6;
 
 // dEQP-VK.texture.filtering_anisotropy.*: a footprint 4 texels long in x and 1 in y. Isotropic (anisotropyEnable off,
 // or maxAnisotropy 1): one bilinear sample at lambda = log2(4), level 0 of a single-level image. Anisotropic: eta =

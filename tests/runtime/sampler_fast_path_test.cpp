@@ -185,11 +185,12 @@ class SamplerFastPath : public ::testing::Test {
                                           " mip " + std::to_string(mip) + " mode " + std::to_string(mode) + " coord " +
                                           std::to_string(xy[0]) + "," + std::to_string(xy[1]) + " lod " +
                                           std::to_string(lod) + " c " + std::to_string(c);
-                // The fast path's LINEAR weights are quantized to 2^-15 (kSubTexelBits; "Texel Filtering" allows
-                // 2^-subTexelPrecisionBits = 2^-8): at most 2^-15 of the largest texel difference (1) per axis from
-                // the exact weights, plus a few ulp of 1 of float sums (the sRGB reference uses the EOTF in double,
-                // the image functions their float table: 1e-6 more). NEAREST reads the same texel: ulps only.
-                const double tolerance = filter == VK_FILTER_LINEAR ? 2 * 0x1p-15 + 4e-6 : 4e-6;
+                // The fast path's LINEAR weights are quantized to 2^-8 (kSubTexelBits: the 2^-subTexelPrecisionBits
+                // "Texel Filtering" allows, physical_device.cpp): less than 2^-8 of the largest texel difference (1)
+                // per axis from the exact weights, plus a few ulp of 1 of float sums (the sRGB reference uses the
+                // EOTF in double, the image functions their float table: 1e-6 more). NEAREST reads the same texel:
+                // ulps only.
+                const double tolerance = filter == VK_FILTER_LINEAR ? 2 * 0x1p-8 + 4e-6 : 4e-6;
                 EXPECT_NEAR(f, e, tolerance) << where;
                 EXPECT_NEAR(f, g, tolerance) << where;
               }
@@ -358,8 +359,8 @@ void SamplerFastPath::compareQuadLanes(VkFormat format) {
                 }
               // Quads as a fragment shader's are: neighbouring coordinates and one derivative, so that the lanes
               // share their level(s) (the vector path then reads each level's record once, quad_sampling_kernels.inc
-              // `grouped`), in one layer or with lane 3 in another (not grouped), and with lanes left out or refused
-              // (their levels do not count).
+              // `grouped`; UNorm views take sampleQuadUniform's integer filter), in one layer or with lane 3 in
+              // another (not grouped), and with lanes left out or refused (their levels do not count).
               for (size_t k = 0; k < nc * nd; ++k)
                 for (int variant = 0; variant < 3; ++variant) {
                   const float* c = coords[k % nc];

@@ -833,6 +833,7 @@ class GraphicsShaderSampling : public ::testing::Test {
   abi::DescriptorRecord sampledRecord{};
   abi::ResourceSlot sampledSlot{&sampledRecord, 1};
   void implicitLod(bool spmd);
+  void coarseLod(bool spmd);
   void samplingByTheLanesLeft(bool spmd);
 };
 
@@ -867,6 +868,35 @@ void GraphicsShaderSampling::implicitLod(bool spmd) {
     }
   }
 }
+
+// Implicit LOD takes the quad's coarse derivatives (the top row's and the left column's differences, the same in
+// the four lanes), on both paths: here they ask for level 0 (one texel a pixel along u in the top row, nothing along
+// v), while the bottom row's fine ones would ask for level 3 (eight texels a pixel) in lanes 2 and 3 and the right
+// column's for level 3 in lane 1 (seven).
+void GraphicsShaderSampling::coarseLod(bool spmd) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_sample_frag, spv::ExecutionModelFragment, &error, true, spmd);
+  ASSERT_TRUE(s) << error;
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
+  const double u[4] = {0.25, 0.25 + 1.0 / kSize, 0.25, 0.25 + 8.0 / kSize};
+  Quad q(8, 12);
+  for (uint32_t l = 0; l < 4; ++l) {
+    q.lanes[l].inv.base.resources = &sampledSlot;
+    q.lanes[l].setF(0, 0, float(u[l]));
+    q.lanes[l].setF(0, 1, 0.5f);
+  }
+  ASSERT_TRUE(q.run(*s));
+  // The coarse scale factors in double: rho_x from lanes 1 - 0, rho_y from lanes 2 - 0.
+  const double rho = std::max(std::fabs(u[1] - u[0]), std::fabs(u[2] - u[0])) * kSize;
+  const double lambda = std::log2(rho);
+  for (uint32_t l = 0; l < 4; ++l) {
+    EXPECT_EQ(q.lanes[l].outF(0, 0), levelValue(expectedLevel(lambda))) << "lane " << l;
+    EXPECT_EQ(q.lanes[l].outF(1, 0), levelValue(expectedLevel(lambda + 1.0))) << "lane " << l;  // Bias 1
+  }
+}
+
+TEST_F(GraphicsShaderSampling, ImplicitLodTakesTheQuadsCoarseDerivatives) { coarseLod(false); }
+TEST_F(GraphicsShaderSampling, SpmdImplicitLodTakesTheQuadsCoarseDerivatives) { coarseLod(true); }
 
 // The same on a BC7 image: the quad's implicit-LOD and gradient sampling (SPMD and fiber paths) reads compressed
 // views through the general path (the sampler's fast path refuses them) and decodes the level's blocks.
