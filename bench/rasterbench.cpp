@@ -6,7 +6,7 @@
 // time of the frames after the warm-up as frames per second.
 //
 //   VK_DRIVER_FILES=<build>/vkrt_icd.json ./vkrt_rasterbench [--width 1920] [--height 1080] [--frames 30]
-//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--out image.png]
+//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--srgb] [--out image.png]
 //
 // Plain Vulkan 1.3 through the loader: it runs unchanged on vkrt, lavapipe or a GPU driver. vkrt's thread count is
 // VKRT_THREADS; lavapipe's is LP_NUM_THREADS.
@@ -43,6 +43,7 @@ constexpr const char* kDefaultModel = "/usr/share/assimp/models/glTF2/BoxTexture
 struct Options {
   uint32_t width = 1920, height = 1080, frames = 30, warmup = 3, grid = 4, quads = 8;
   std::string model = kDefaultModel, out;
+  bool srgb = false;
 };
 
 struct Vertex {
@@ -292,6 +293,8 @@ Options parse(int argc, char** argv) {
       o.model = next();
     else if (a == "--out")
       o.out = next();
+    else if (a == "--srgb")  // the base colour texture as R8G8B8A8_SRGB, as glTF specifies it (default UNORM)
+      o.srgb = true;
     else
       fail("unknown option " + a);
   }
@@ -334,7 +337,8 @@ int main(int argc, char** argv) {
   uint32_t levels = 1;
   while ((std::max(model.texWidth, model.texHeight) >> levels) > 0) ++levels;
   const Image tex = example::createImage(
-      g.device, g.physical, VK_FORMAT_R8G8B8A8_UNORM, model.texWidth, model.texHeight, levels,
+      g.device, g.physical, opt.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM, model.texWidth,
+      model.texHeight, levels,
       VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
       VK_IMAGE_ASPECT_COLOR_BIT);
   const Image color = example::createImage(g.device, g.physical, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,

@@ -14,12 +14,13 @@
 // 8-byte load; NEAREST loads its one texel once. The sRGB decoding, the address modes and the filters (both NEAREST,
 // both LINEAR, or by lane) are template parameters, chosen once per call (sampleQuadFast).
 //
-// One case has a path of its own (sampleQuadUniform): an 8-bit UNorm view whose lanes all have the same level of
-// detail and layer, which is every quad of a fragment shader's implicit-LOD sampling (coarse derivatives: the quad's
-// level of detail). There the clamps and the level selection are scalars, and each level is filtered in integers: the
-// texel pairs of two lanes interleaved by component in one register, one multiply-add of 16-bit pairs per row for the
-// horizontal weights, the vertical ones in float (exact: at most 24 significant bits), so the same bits as the float
-// lerps elsewhere, which are exact with 8-bit weights (kSubTexelBits). A raster frame's sampling takes this path.
+// One case has a path of its own (sampleQuadUniform): a view whose lanes all have the same level of detail and layer,
+// which is every quad of a fragment shader's implicit-LOD sampling (coarse derivatives: the quad's level of detail).
+// There the clamps and the level selection are scalars. UNorm levels are filtered in integers: the texel pairs of two
+// lanes interleaved by component in one register, one multiply-add of 16-bit pairs per row for the horizontal
+// weights, the vertical ones in float (exact: at most 24 significant bits), so the same bits as the float lerps
+// elsewhere, which are exact with 8-bit weights (kSubTexelBits). sRGB levels take the tables' floats and the per-lane
+// path's lerps, two lanes to a vector of eight. A raster frame's sampling takes this path.
 #include "runtime/quad_sampling.hpp"
 
 #include <algorithm>
