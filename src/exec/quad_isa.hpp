@@ -1,7 +1,8 @@
 // The hand-vectorized kernels compiled twice, for the baseline x86-64 target and for AVX2 (the quad sampler,
-// runtime/quad_sampling.cpp; the raster's 8-bit UNorm colour writes, raster/backend.cpp): whether the CPU runs the
-// AVX2 copies, whether they run by default, and the markers around an AVX2 copy's code. Each AVX2 copy performs the
-// same operations as its baseline one without FMA (the target has none, so nothing is contracted): the same bits.
+// runtime/quad_sampling.cpp; the raster's tile loop, raster/tile.cpp, and its 8-bit UNorm colour writes,
+// raster/backend.cpp): whether the CPU runs the AVX2 copies, whether they run by default, and the markers around an
+// AVX2 copy's code. Each AVX2 copy performs the same operations as its baseline one without FMA (the target has none,
+// so nothing is contracted): the same bits.
 #pragma once
 
 namespace vkrt::exec {

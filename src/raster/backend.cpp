@@ -963,8 +963,9 @@ auto unorm8QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorUn
   return readDst ? unorm8Quad<kAvx2, kBgra, false, true>() : unorm8Quad<kAvx2, kBgra, false, false>();
 }
 
-// Whether planBackEnd takes the AVX2 copy of the 8-bit UNorm quad writes: where the CPU has AVX2, unless
-// VKRT_QUAD_ISA=baseline (which selects the quad sampler's baseline copy too); setQuadWritesAvx2 (the tests).
+// Whether planBackEnd takes the AVX2 copy of the 8-bit UNorm quad writes (and rasterizeTile that of the tile loop):
+// where the CPU has AVX2, unless VKRT_QUAD_ISA=baseline (which selects the quad sampler's baseline copy too);
+// setQuadWritesAvx2 (the tests).
 std::atomic<bool> gQuadWritesAvx2{exec::quadAvx2ByDefault()};
 
 }  // namespace

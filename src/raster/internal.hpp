@@ -1,7 +1,7 @@
 // The rasterizer's internal stages and the records they pass on (see raster.hpp for the contract of draw()):
 //   draw.cpp      vertex shading, primitive assembly, binning, the per-tile dispatch
 //   setup.cpp     clipping, the viewport transform, culling, triangle/line/point setup into SetupTri records
-//   tile.cpp      coverage of one tile, 2x2 quads, interpolation, the fragment shader call
+//   tile.cpp      coverage of one tile, 2x2 quads, interpolation, the fragment shader call (tile_kernels.inc, twice)
 //   backend.cpp   the per-fragment operations (depth bounds, stencil, depth, blending, logic op, write masks)
 #pragma once
 
@@ -139,9 +139,9 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
 void planBackEnd(DrawContext& ctx);
 // Whether planBackEnd may choose the specialised quad paths (tests turn them off to compare with the general path).
 void setQuadPaths(bool enabled);
-// Whether planBackEnd chooses the AVX2 copy of the 8-bit UNorm colour quad path (the same bytes as the baseline copy;
-// by default where the CPU has AVX2, unless VKRT_QUAD_ISA=baseline). False, changing nothing, when asked for AVX2 on
-// a CPU without it (the tests).
+// Whether planBackEnd chooses the AVX2 copy of the 8-bit UNorm colour quad path, and rasterizeTile the AVX2 copy of
+// the tile loop (each the same bytes as its baseline copy; by default where the CPU has AVX2, unless
+// VKRT_QUAD_ISA=baseline). False, changing nothing, when asked for AVX2 on a CPU without it (the tests).
 bool setQuadWritesAvx2(bool enabled);
 bool quadWritesAvx2();
 // Writes the quad's color outputs to each lane's samples in `coverage` (blend, logic op, write masks); lane l is

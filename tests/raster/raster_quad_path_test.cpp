@@ -364,6 +364,55 @@ TEST(RasterQuadPath, WritesTheFormulasValues) {
     }
 }
 
+// The tile loop's two copies (raster/tile_kernels.inc, compiled for the baseline target and for AVX2): triangles at
+// varied depths and clip w, inputs of each interpolation (Smooth, NoPerspective, Flat, centroid), one and four
+// samples, a depth test that writes: the AVX2 copy writes the baseline copy's colour and depth bytes.
+TEST(RasterQuadPath, TheTileLoopsAvx2CopyWritesTheBaselineCopysBytes) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 on this CPU: only the baseline copy runs here";
+  const bool before = detail::quadWritesAvx2();
+  for (uint32_t samples : {1u, 4u}) {
+    for (uint32_t slot = 0; slot < 4; ++slot) {
+      Result result[2];
+      for (bool avx2 : {false, true}) {
+        ASSERT_TRUE(detail::setQuadWritesAvx2(avx2));
+        constexpr uint32_t W = 37, H = 29;
+        Harness h(W, H, samples);
+        Image depth(W, H, 4, samples);
+        const float far = 1.0f;
+        for (size_t i = 0; i < depth.data.size(); i += 4) std::memcpy(&depth.data[i], &far, 4);
+        auto& ds = h.target.depthStencil;
+        ds.depthFormat = DepthFormat::D32SFloat;
+        ds.depth = depth.surface();
+        ds.depthTexelBytes = 4;
+        h.state.depthTest = h.state.depthWrite = true;
+        h.state.depthCompare = CompareOp::Less;
+        h.mode = FragMode::Input0;
+        h.inputSlot = slot;
+        Rng rng{77 + slot};
+        std::vector<Vec4> in[4];
+        for (int t = 0; t < 12; ++t) {
+          for (int v = 0; v < 3; ++v) {
+            const float x = -4.0f + 45.0f * float(rng.next() % 1000) / 1000,
+                        y = -4.0f + 37.0f * float(rng.next() % 1000) / 1000;
+            const float z = float(rng.next() % 1000) / 1000, w = 0.25f + 3.0f * float(rng.next() % 1000) / 1000;
+            h.vertex(x, y, z, w);
+            for (auto& values : in) values.push_back({rng.value(), rng.value(), rng.value(), rng.value()});
+          }
+        }
+        h.addInput(Interpolation::Smooth, in[0]);
+        h.addInput(Interpolation::NoPerspective, in[1]);
+        h.addInput(Interpolation::Flat, in[2]);
+        h.addInput(Interpolation::Smooth, in[3], true);  // centroid
+        h.run();
+        result[avx2] = {h.color.data, depth.data};
+      }
+      EXPECT_EQ(result[0].color, result[1].color) << "samples " << samples << " input " << slot;
+      EXPECT_EQ(result[0].depth, result[1].depth) << "samples " << samples << " input " << slot;
+    }
+  }
+  detail::setQuadWritesAvx2(before);
+}
+
 TEST(RasterQuadPath, StatesThatMustTakeTheGeneralPath) {
   Scene sc;
   sc.depthTest = true;
