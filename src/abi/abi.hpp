@@ -408,6 +408,10 @@ struct GraphicsInvocation {
   void (*interpolateAt)(const GraphicsInvocation* inv, uint32_t where, int32_t sample, float dx, float dy,
                         uint32_t* out);  // 376
   const void* quad;                      // 384
+  // Fragment, the SPMD entry's quads (set with fragCoordSoa): the quad's coverage, lane l's samples at [l] (0: a
+  // helper lane). The entry's helper lanes and HelperInvocation come from it; `helper` is then set only for shaders
+  // with side effects, whose scalar pieces read it.
+  const uint32_t* coverageSoa;  // 392
 };
 
 static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsInvocation, outputs1) == 176 &&
@@ -419,7 +423,8 @@ static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsIn
                   offsetof(GraphicsInvocation, sampleMaskOut) == 352 &&
                   offsetof(GraphicsInvocation, fragDepth) == 356 && offsetof(GraphicsInvocation, helper) == 360 &&
                   offsetof(GraphicsInvocation, status) == 364 && offsetof(GraphicsInvocation, quadParity) == 372 &&
-                  offsetof(GraphicsInvocation, interpolateAt) == 376 && sizeof(GraphicsInvocation) == 392,
+                  offsetof(GraphicsInvocation, interpolateAt) == 376 &&
+                  offsetof(GraphicsInvocation, coverageSoa) == 392 && sizeof(GraphicsInvocation) == 400,
               "the compiler bakes these offsets into shader code");
 
 using GraphicsEntry = void (*)(GraphicsInvocation*);

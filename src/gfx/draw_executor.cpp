@@ -76,6 +76,9 @@ struct DrawContext {
   bool canDiscard = false;  // else no lane's status ever leaves 0 (runTileTask's): not reset, not read per quad
   bool readsPointCoord = false, readsSampleMask = false;  // PointCoord, SampleMask in: else not set per lane and quad
   bool leanSpmd = false;  // spmd, quadInputs, quadOutputs, no FragDepth or SampleMask output: shadeQuadSpmd
+  // Each lane's `helper` flag is set per quad: the scalar path and fibers read it, the SPMD entry (which takes its
+  // helper lanes from the coverage, GraphicsInvocation::coverageSoa) only in a shader with side effects.
+  bool helperFlags = true;
   uint32_t samples = 1;
   WorkerScratch* scratch = nullptr;  // per worker slot
 };
@@ -202,7 +205,7 @@ void interpolateAt(const GraphicsInvocation* inv, uint32_t where, int32_t sample
     w.inv[0].outputs = c.quadOutputs ? &q.color[0][0][0] : &w.outputsSoa[0][0];
     w.inv[0].outputs1 = &q.color1[0][0];
     w.inv[0].inputs = c.quadInputs ? &q.inputs[0][0] : &w.inputsSoa[0][0];
-    for (uint32_t l = 0; l < 4; ++l) w.inv[l].fragCoordSoa = &q.fragCoord[0][0];
+    for (uint32_t l = 0; l < 4; ++l) w.inv[l].fragCoordSoa = &q.fragCoord[0][0], w.inv[l].coverageSoa = q.coverage;
   }
   for (uint32_t l = 0; l < 4; ++l) {
     GraphicsInvocation& inv = w.inv[l];
@@ -222,14 +225,14 @@ void interpolateAt(const GraphicsInvocation* inv, uint32_t where, int32_t sample
 // The per-lane built-ins a quad's shader reads from lane l's invocation: the helper flag, and PointCoord and SampleMask
 // where it declares them (the flags are the caller's copies of DrawContext's).
 inline void setLaneBuiltIns(GraphicsInvocation& inv, const raster::FragmentQuad& q, uint32_t l, bool readsPointCoord,
-                            bool readsSampleMask) {
+                            bool readsSampleMask, bool helperFlags) {
   const uint32_t coverage = q.coverage[l];
   if (readsPointCoord) {
     inv.pointCoord[0] = q.pointCoord[l][0];
     inv.pointCoord[1] = q.pointCoord[l][1];
   }
   if (readsSampleMask) inv.sampleMaskIn = coverage;
-  inv.helper = coverage == 0;
+  if (helperFlags) inv.helper = coverage == 0;
 }
 
 // The covered lanes the SPMD entry killed or demoted (their status), as a lane mask.
@@ -274,9 +277,10 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   }
   // The per-lane built-ins the entry reads from lane l's invocation.
   const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
+  const bool helperFlags = c.helperFlags;
   auto setLane = [&](uint32_t l) {
     GraphicsInvocation& inv = w.inv[l];
-    setLaneBuiltIns(inv, q, l, readsPointCoord, readsSampleMask);
+    setLaneBuiltIns(inv, q, l, readsPointCoord, readsSampleMask, helperFlags);
     if (writesSampleMask) inv.sampleMaskOut = ~0u;
     if (writesDepth) inv.fragDepth = q.fragCoord[2][l];
   };
@@ -356,9 +360,12 @@ void shadeQuadSpmd(void* user, raster::FragmentQuad& q, unsigned worker) {
   WorkerScratch& w = c.scratch[worker];
   if (!startQuad(c, w, q)) return;
   const bool canDiscard = c.canDiscard, readsPointCoord = c.readsPointCoord, readsSampleMask = c.readsSampleMask;
-  for (uint32_t l = 0; l < 4; ++l) {
-    setLaneBuiltIns(w.inv[l], q, l, readsPointCoord, readsSampleMask);
-    if (canDiscard) w.inv[l].status = 0;
+  if (canDiscard || readsPointCoord || readsSampleMask || c.helperFlags) {
+    const bool helperFlags = c.helperFlags;
+    for (uint32_t l = 0; l < 4; ++l) {
+      setLaneBuiltIns(w.inv[l], q, l, readsPointCoord, readsSampleMask, helperFlags);
+      if (canDiscard) w.inv[l].status = 0;
+    }
   }
   c.fragmentEntry(w.inv);
   if (canDiscard) q.killed = discardedLanes(w, q);
@@ -518,6 +525,7 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
     for (const auto& out : fi.outputs)
       c.quadOutputs = c.quadOutputs && out.location < raster::kMaxColorAttachments && !out.wide;
     c.leanSpmd = c.spmd && c.quadInputs && c.quadOutputs && !c.writesDepth && !c.writesSampleMask;
+    c.helperFlags = !c.spmd || fi.sideEffects;
   }
 
   // Descriptor sets, as compute dispatches resolve them (runtime/bound_resources.hpp).

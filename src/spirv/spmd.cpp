@@ -2234,6 +2234,7 @@ void Spmd::copyLanes(bool inputs, llvm::Value* block) {
   for (auto [id, offset] : builtInBlock) {
     const Codegen::Global& gl = g.globals.at(id);
     if (!inputs && gl.storage != spv::StorageClassOutput) continue;
+    if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, helper))) continue;  // emitQuad's: coverage
     if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, fragCoord))) {
       for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, int(offsetof(GraphicsInvocation, fragCoordSoa)), j);
       continue;
@@ -2281,16 +2282,20 @@ bool Spmd::emitQuad() {
     for (auto [bid, o] : builtInBlock)
       if (bid == id) offset = o;
     bindLaneVariable(id, lanes, offset);
-    if (gl.storage == spv::StorageClassInput && gl.builtIn == spv::BuiltInHelperInvocation) helperVar = id;
+    if (gl.storage == spv::StorageClassInput && gl.graphicsField == int(offsetof(GraphicsInvocation, helper)))
+      helperVar = id;
   }
   copyLanes(true, lanes);
-  llvm::Value* helper = llvm::UndefValue::get(maskTy());
-  for (unsigned l = 0; l < N; ++l) {
-    llvm::Value* h =
-        b.CreateAlignedLoad(b.getInt32Ty(), invField(l, offsetof(GraphicsInvocation, helper)), llvm::Align(4));
-    helper = b.CreateInsertElement(helper, b.CreateICmpNE(h, b.getInt32(0)), uint64_t(l));
-  }
+  // The helper lanes: those the quad's coverage leaves out (one vector load: the executor sets the invocations'
+  // `helper` flags only for shaders with side effects), and HelperInvocation from them where the shader declares it.
+  llvm::Value* coverage = b.CreateAlignedLoad(
+      laneTy(b.getInt32Ty()),
+      b.CreateAlignedLoad(b.getPtrTy(), invField(0, offsetof(GraphicsInvocation, coverageSoa)), llvm::Align(8)),
+      llvm::Align(4));
+  llvm::Value* helper = b.CreateICmpEQ(coverage, splat(b.getInt32(0)));
   b.CreateStore(helper, helperSlot);
+  if (helperVar)
+    b.CreateAlignedStore(b.CreateZExt(helper, laneTy(b.getInt32Ty())), lptrs[helperVar].p.base, llvm::Align(4));
   // Helper lanes run where the shader takes derivatives (needsQuad, from the scalar compilation); else only the
   // covered lanes, as the scalar path runs them.
   mask = g.info.graphics.needsQuad ? llvm::Constant::getAllOnesValue(maskTy()) : b.CreateNot(helper);

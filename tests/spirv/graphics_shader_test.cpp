@@ -20,6 +20,7 @@
 #include "gfx_derivs.frag.spv.h"
 #include "gfx_discard.frag.spv.h"
 #include "gfx_grad.vert.spv.h"
+#include "gfx_helper_builtin.g.frag.spv.h"
 #include "gfx_helper_image.frag.spv.h"
 #include "gfx_io.vert.spv.h"
 #include "gfx_sample.frag.spv.h"
@@ -130,14 +131,23 @@ struct Quad {
       for (uint32_t l = 0; l < 4; ++l)
         for (uint32_t k = 0; k < 4; ++k) fragCoord[k][l] = lanes[l].inv.fragCoord[k];
       for (uint32_t l = 0; l < 4; ++l) inv[l].fragCoordSoa = &fragCoord[0][0];
+      // The coverage, from which the entry takes its helper lanes (coverageSoa): a helper lane's is 0. As the
+      // executor, the `helper` flags only for a shader with side effects (GraphicsInvocation::coverageSoa).
+      alignas(16) uint32_t coverage[4];
+      for (uint32_t l = 0; l < 4; ++l) {
+        coverage[l] = lanes[l].inv.helper ? 0 : 1, inv[l].coverageSoa = coverage;
+        if (!s.graphics.sideEffects) inv[l].helper = 0;
+      }
       s.graphicsEntry(inv);
       for (uint32_t l = 0; l < 4; ++l) {
         for (uint32_t w = 0; w < kGraphicsLocations * 4; ++w) lanes[l].out[w] = out[w][l];
         for (uint32_t w = 0; w < 4; ++w) lanes[l].out1[w] = out1[w][l];
         inv[l].fragCoordSoa = nullptr;
+        inv[l].coverageSoa = nullptr;
         inv[l].inputs = lanes[l].in;
         inv[l].outputs = lanes[l].out;
         inv[l].outputs1 = lanes[l].out1;
+        if (!s.graphics.sideEffects) inv[l].helper = coverage[l] ? 0 : 1;  // as the test set it
         lanes[l].inv = inv[l];
       }
       return true;
@@ -527,6 +537,31 @@ void runQuadDiscardCases(bool spmd) {
     }
   }
 }
+
+// HelperInvocation (the built-in variable, not helperInvocationEXT()) in a quad whose lane 1 is a helper from the
+// start and whose lane 2 demotes itself: the covered lanes 0 and 3 see it through fine derivatives (before the
+// demotion 0, 1, 0, 0 by lane; after it 0, 1, 1, 0). The same expectations on the fiber path and the SPMD path (whose
+// helper lanes come from the quad's coverage, GraphicsInvocation::coverageSoa).
+void runHelperBuiltIn(bool spmd) {
+  std::string error;
+  auto s = compileStage(kSpv_gfx_helper_builtin_g_frag, spv::ExecutionModelFragment, &error, true, spmd);
+  ASSERT_TRUE(s) << error;
+  EXPECT_EQ(s->spmdLanes, spmd ? 4u : 0u);
+  Quad q(6, 2);
+  q.lanes[1].inv.helper = 1;
+  q.lanes[2].setI(0, 0, 1);
+  ASSERT_TRUE(q.run(*s));
+  EXPECT_EQ(q.lanes[2].inv.status, abi::kFragmentDemoted);
+  const float expected[4][4] = {{1, 0, 1, 1}, {}, {}, {0, -1, -1, -1}};  // lanes 0 and 3
+  for (uint32_t l : {0u, 3u}) {
+    SCOPED_TRACE("lane " + std::to_string(l));
+    EXPECT_EQ(q.lanes[l].inv.status, 0u);
+    for (uint32_t c = 0; c < 4; ++c) EXPECT_EQ(q.lanes[l].outF(0, c), expected[l][c]) << c;
+  }
+}
+
+TEST(GraphicsShader, HelperInvocationBuiltIn) { runHelperBuiltIn(false); }
+TEST(GraphicsShader, SpmdHelperInvocationBuiltIn) { runHelperBuiltIn(true); }
 
 TEST(GraphicsShader, QuadDiscardDemoteAndHelpers) { runQuadDiscardCases(false); }
 TEST(GraphicsShader, SpmdQuadDiscardDemoteAndHelpers) { runQuadDiscardCases(true); }
