@@ -2234,7 +2234,7 @@ void Spmd::copyLanes(bool inputs, llvm::Value* block) {
   for (auto [id, offset] : builtInBlock) {
     const Codegen::Global& gl = g.globals.at(id);
     if (!inputs && gl.storage != spv::StorageClassOutput) continue;
-    if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, helper))) continue;  // emitQuad's: coverage
+    if (inputs && id == helperVar) continue;  // emitQuad's, from the coverage
     if (inputs && gl.graphicsField == int(offsetof(GraphicsInvocation, fragCoord))) {
       for (uint32_t j = 0; j < gl.size; j += 4) word(offset + j, int(offsetof(GraphicsInvocation, fragCoordSoa)), j);
       continue;
