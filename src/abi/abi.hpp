@@ -363,6 +363,21 @@ inline constexpr uint32_t kQuadExchangeBytes = 2 * 4 * 16;
 inline constexpr uint32_t kFragmentKilled = 1;   // OpKill / OpTerminateInvocation: outputs discarded, the lane ended
 inline constexpr uint32_t kFragmentDemoted = 2;  // OpDemoteToHelperInvocation: outputs discarded, the lane goes on
 
+// A fragment shader's SPMD entry that also writes colour attachment 0 (spirv::CompileRequest::colorMerge): the
+// attachment's format and blend, as the back end's quad paths write it (raster/backend.cpp colorUnorm8Quad: the same
+// float operations in the same order, so the same bytes). The entry writes a quad only where the executor gives it
+// the quad's address (GraphicsInvocation::colorQuad): a fully covered quad that nothing after the shader changes.
+struct ColorMerge {
+  enum Format : uint8_t { kNone, kRgba8Unorm, kBgra8Unorm };
+  // Off, or one of the back end's four blend equations of their own (raster/backend.cpp kBlendShapes, in order):
+  // source alpha "over" with alpha as coverage, "over" on all four components, premultiplied "over", additive.
+  enum Blend : uint8_t { kOff, kOver, kOverAll, kPremultiplied, kAdditive };
+  Format format = kNone;
+  Blend blend = kOff;
+  uint8_t writeMask = 0xF;  // bit c: component c (R, G, B, A) is written; the others keep the attachment's
+  bool operator==(const ColorMerge&) const = default;
+};
+
 // GraphicsInvocation::interpolateAt's `where`.
 inline constexpr uint32_t kInterpolateAtCentroid = 0;
 inline constexpr uint32_t kInterpolateAtSample = 1;
@@ -412,6 +427,11 @@ struct GraphicsInvocation {
   // helper lane). The entry's helper lanes and HelperInvocation come from it; `helper` is then set only for shaders
   // with side effects, whose scalar pieces read it.
   const uint32_t* coverageSoa;  // 392
+  // Fragment, an SPMD entry compiled with a ColorMerge (invocation 0's, set per quad): the quad's top-left texel in
+  // colour attachment 0, whose four texels the entry writes after the shader; null: it writes none (the back end
+  // does). colorPitch: the attachment's row pitch in bytes.
+  uint8_t* colorQuad;  // 400
+  int64_t colorPitch;  // 408
 };
 
 static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsInvocation, outputs1) == 176 &&
@@ -424,7 +444,8 @@ static_assert(offsetof(GraphicsInvocation, inputs) == 160 && offsetof(GraphicsIn
                   offsetof(GraphicsInvocation, fragDepth) == 356 && offsetof(GraphicsInvocation, helper) == 360 &&
                   offsetof(GraphicsInvocation, status) == 364 && offsetof(GraphicsInvocation, quadParity) == 372 &&
                   offsetof(GraphicsInvocation, interpolateAt) == 376 &&
-                  offsetof(GraphicsInvocation, coverageSoa) == 392 && sizeof(GraphicsInvocation) == 400,
+                  offsetof(GraphicsInvocation, coverageSoa) == 392 && offsetof(GraphicsInvocation, colorQuad) == 400 &&
+                  sizeof(GraphicsInvocation) == 416,
               "the compiler bakes these offsets into shader code");
 
 using GraphicsEntry = void (*)(GraphicsInvocation*);

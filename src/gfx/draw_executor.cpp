@@ -307,6 +307,7 @@ void shadeQuad(void* user, raster::FragmentQuad& q, unsigned worker) {
   if (spmd) {
     // The SPMD entry takes the quad's four invocations (the uncovered lanes are helpers: it runs them only where the
     // shader takes derivatives).
+    w.inv[0].colorQuad = q.colorOut;
     c.fragmentEntry(w.inv);
   } else if (c.quads) {
     abi::InvocationContext* group[4] = {&w.inv[0].base, &w.inv[1].base, &w.inv[2].base, &w.inv[3].base};
@@ -367,6 +368,7 @@ void shadeQuadSpmd(void* user, raster::FragmentQuad& q, unsigned worker) {
       if (canDiscard) w.inv[l].status = 0;
     }
   }
+  w.inv[0].colorQuad = q.colorOut;
   c.fragmentEntry(w.inv);
   if (canDiscard) q.killed = discardedLanes(w, q);
 }
@@ -572,6 +574,17 @@ void executeDraw(const CommandBuffer* cb, ExecState& st, const DrawParams& param
   fragment.user = &c;
   fragment.shade = !p.fragment ? nullptr : c.leanSpmd ? shadeQuadSpmd : shadeQuad;
   fragment.runTile = p.fragment ? runTile : nullptr;
+  // The SPMD entry writes colour attachment 0 of the quads the rasterizer gives it an address for, where it was
+  // compiled for this attachment's format (the pipeline's render pass or rendering formats; a compatible render pass
+  // has the same) and the attachment is the draw's only one.
+  const raster::Target& tg = gs.pass.target;
+  if (c.spmd && p.fragment->graphics.mergesColor && tg.colorCount == 1 && tg.color[0].base) {
+    const raster::ColorFormat::Layout layout = tg.colorFormat[0].layout;
+    fragment.mergesColor0 =
+        (p.colorMerge.format == abi::ColorMerge::kRgba8Unorm && layout == raster::ColorFormat::Layout::RGBA8UNorm) ||
+        (p.colorMerge.format == abi::ColorMerge::kBgra8Unorm && layout == raster::ColorFormat::Layout::BGRA8UNorm);
+    c.fragmentProto.colorPitch = int64_t(tg.color[0].rowPitch);
+  }
 
   raster::Draw draw;
   draw.count = params.count;

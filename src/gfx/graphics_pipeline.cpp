@@ -7,12 +7,14 @@
 #include <cstdio>
 
 #include "gfx/graphics_pipeline_internal.hpp"
+#include "gfx/render_pass.hpp"
 #include "runtime/alloc.hpp"
 #include "runtime/device.hpp"
 #include "runtime/physical_device.hpp"
 #include "runtime/pipeline_cache.hpp"
 #include "runtime/pipeline_layout.hpp"
 #include "runtime/report.hpp"
+#include "runtime/shader_cache.hpp"
 #include "runtime/shader_stage.hpp"
 #include "vkrt_entrypoints.h"
 
@@ -123,6 +125,53 @@ void linkInterfaces(GraphicsPipelineDesc* p, const std::vector<GraphicsPipelineD
   if (perSample) p->state.sampleShading = true;
 }
 
+// What the fragment shader's SPMD entry may write of colour attachment 0 itself (abi::ColorMerge): a pipeline with
+// one colour attachment of an 8-bit UNorm RGBA or BGRA format, one sample, no logic op, alpha to coverage or to one,
+// and blending off or one of the back end's four equations of their own (none of them reads the blend constants).
+// The draw still decides per quad (the executor's DrawContext::mergesColor, the rasterizer's fast path).
+abi::ColorMerge colorMergeFor(const VkGraphicsPipelineCreateInfo& ci, const GraphicsPipelineDesc& p) {
+  abi::ColorMerge m;
+  if (p.colorCount != 1 || !p.fragmentOutput) return m;
+  VkFormat format = p.colorFormats[0];
+  if (!p.dynamicRendering) {
+    const RenderPass* rp = fromHandle<RenderPass>(ci.renderPass);
+    if (!rp || ci.subpass >= rp->subpasses.size()) return m;
+    const SubpassDesc& sd = rp->subpasses[ci.subpass];
+    format = sd.color.size() == 1 && sd.color[0] != VK_ATTACHMENT_UNUSED ? rp->attachments[sd.color[0]].format
+                                                                         : VK_FORMAT_UNDEFINED;
+  }
+  const raster::State& s = p.state;
+  if (s.samples != 1 || s.sampleShading || s.alphaToCoverage || s.alphaToOne || s.logicOpEnable) return m;
+  const raster::BlendAttachment& b = s.blend[0];
+  using F = raster::BlendFactor;
+  abi::ColorMerge::Blend blend = abi::ColorMerge::kOff;
+  if (b.enable) {
+    if (b.colorOp != raster::BlendOp::Add || b.alphaOp != raster::BlendOp::Add) return m;
+    if (b.srcColor == F::SrcAlpha && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::One &&
+        b.dstAlpha == F::OneMinusSrcAlpha)
+      blend = abi::ColorMerge::kOver;
+    else if (b.srcColor == F::SrcAlpha && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::SrcAlpha &&
+             b.dstAlpha == F::OneMinusSrcAlpha)
+      blend = abi::ColorMerge::kOverAll;
+    else if (b.srcColor == F::One && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::One &&
+             b.dstAlpha == F::OneMinusSrcAlpha)
+      blend = abi::ColorMerge::kPremultiplied;
+    else if (b.srcColor == F::One && b.dstColor == F::One && b.srcAlpha == F::One && b.dstAlpha == F::One)
+      blend = abi::ColorMerge::kAdditive;
+    else
+      return m;
+  }
+  if (format == VK_FORMAT_R8G8B8A8_UNORM)
+    m.format = abi::ColorMerge::kRgba8Unorm;
+  else if (format == VK_FORMAT_B8G8R8A8_UNORM)
+    m.format = abi::ColorMerge::kBgra8Unorm;
+  else
+    return m;
+  m.blend = blend;
+  m.writeMask = b.writeMask;
+  return m;
+}
+
 VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCreateInfo& ci, uint32_t i,
                    const VkAllocationCallbacks* alloc, const VkPipeline* created, VkPipeline* out) {
   const char* fn = "vkCreateGraphicsPipelines";
@@ -213,6 +262,10 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
   if (!prepareStage(dev, *vsInfo, spv::ExecutionModelVertex, vsWhat, &vsPrep)) return VK_ERROR_VALIDATION_FAILED_EXT;
   if (fsInfo && !prepareStage(dev, *fsInfo, spv::ExecutionModelFragment, fsWhat, &fsPrep))
     return VK_ERROR_VALIDATION_FAILED_EXT;
+  if (fsInfo && dev->colorMerge) {
+    fsPrep.request.colorMerge = colorMergeFor(ci, *p);
+    fsPrep.key = shaderKey(fsPrep.codeHash, fsPrep.request);
+  }
   CompiledStage vsc = compileStage(dev, vsPrep, mayCompile, cache, fn, vsWhat);
   if (vsc.result != VK_SUCCESS) return vsc.result;
   CompiledStage fsc;
@@ -222,6 +275,7 @@ VkResult createOne(Device* dev, PipelineCache* cache, const VkGraphicsPipelineCr
   }
   p->vertex = vsc.shader;
   p->fragment = fsc.shader;
+  if (fsInfo) p->colorMerge = fsPrep.request.colorMerge;
   p->vertexName = "vertex shader \"" + p->vertex->entryName + "\"";
   if (p->fragment) p->fragmentName = "fragment shader \"" + p->fragment->entryName + "\"";
   for (const auto& [shader, stage, where] : {std::tuple{p->vertex.get(), VK_SHADER_STAGE_VERTEX_BIT, vsWhat},

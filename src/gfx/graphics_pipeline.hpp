@@ -61,6 +61,9 @@ struct GraphicsPipelineDesc {
   uint32_t viewMask = 0;
   VkFormat colorFormats[raster::kMaxColorAttachments] = {};
   VkFormat depthFormat = VK_FORMAT_UNDEFINED, stencilFormat = VK_FORMAT_UNDEFINED;
+  // The colour attachment writes the fragment shader was compiled with (its SPMD entry makes them where
+  // fragment->graphics.mergesColor; the draw checks the attachment against them).
+  abi::ColorMerge colorMerge;
 };
 
 class GraphicsPipeline : public Pipeline, public GraphicsPipelineDesc {

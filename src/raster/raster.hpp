@@ -271,6 +271,9 @@ struct FragmentQuad {
   // The primitive and draw being shaded, for interpolateAt (the rasterizer's own records).
   const void* primitive = nullptr;
   const void* drawContext = nullptr;
+  // Where FragmentStage::mergesColor0: the quad's top-left texel in colour attachment 0 when `shade` is to write the
+  // quad's four texels itself (a fully covered one-sample quad that nothing after the shader changes), else null.
+  uint8_t* colorOut = nullptr;
 
   // Written by the shader:
   uint32_t killed = 0;  // lanes that discarded (bit i = lane i)
@@ -309,6 +312,9 @@ struct FragmentStage {
   bool hasSideEffects = false;      // stores or atomics to memory: the tests may not skip it early unless early tests
   bool readsFragCoord = true;       // else a one-sample quad's FragCoord.w (FragmentQuad::fragCoord[3]) is left as is
   bool readsPointCoord = true;      // else a one-sample quad's pointCoord is left as is
+  // `shade` writes colour attachment 0 of a quad given FragmentQuad::colorOut, as the back end's quad path would (the
+  // same bytes: the shader compiled with the attachment's format and blend); the shader cannot discard.
+  bool mergesColor0 = false;
   uint32_t inputCount = 0;
   FragmentInput inputs[kMaxLocations];
   uint32_t outputMask = 0;  // color locations written

@@ -62,6 +62,9 @@ Device::Device(PhysicalDevice* physical, const VkDeviceCreateInfo& info)
   // Builds run on as many threads as launches and dispatches (VKRT_THREADS).
   accel::setBuildThreads(exec::ThreadPool::instance().workerSlots());
   applyInstructionSetSettings(physical);
+  // VKRT_COLOR_MERGE=0: no fragment shader writes its colour attachment itself (the back end writes every quad: the
+  // reference the merged writes are tested against).
+  if (const char* merge = std::getenv("VKRT_COLOR_MERGE"); merge && *merge) colorMerge = std::string_view(merge) != "0";
   if (const char* env = std::getenv("VKRT_SHADER_TIMEOUT_MS")) {
     char* end = nullptr;
     unsigned long v = std::strtoul(env, &end, 10);

@@ -34,6 +34,9 @@ class Device : public Object {
 
   PhysicalDevice* const physicalDevice;
   std::set<std::string> enabledExtensions;
+  // Graphics pipelines compile colour attachment 0's writes into the fragment shader where they can
+  // (abi::ColorMerge); VKRT_COLOR_MERGE=0 at creation turns it off.
+  bool colorMerge = true;
 
   // The features enabled at creation (pEnabledFeatures and every feature structure of the create info's chain,
   // through the tables generated from vk.xml).

@@ -17,6 +17,9 @@ std::string shaderKey(uint64_t codeHash, const spirv::CompileRequest& request) {
   std::string key = std::to_string(codeHash) + ":" + std::to_string(request.wordCount) + ":" +
                     std::to_string(uint32_t(request.model)) + ":" + std::to_string(request.entryName.size()) + ":" +
                     request.entryName + ":" + (request.combineAdds ? "adds:" : "");
+  if (request.colorMerge.format != abi::ColorMerge::kNone)
+    key += "merge" + std::to_string(request.colorMerge.format) + "," + std::to_string(request.colorMerge.blend) + "," +
+           std::to_string(request.colorMerge.writeMask) + ":";
   for (const spirv::SpecValue& v : request.specialization) {
     key += std::to_string(v.specId) + "=";
     for (uint8_t b : v.bytes) key += char('a' + (b >> 4)), key += char('a' + (b & 15));

@@ -123,9 +123,9 @@ std::string serialize(const CompiledShader& s, std::string_view object) {
         (s.ray.callsOut ? 1u : 0u) | (s.ray.readsHitAttributes ? 2u : 0u) | (s.ray.checksPendingAdds ? 4u : 0u));
   const GraphicsStageInfo& g = s.graphics;
   uint32_t flags = 0, bit = 0;
-  for (bool f :
-       {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
-        g.sideEffects, g.dualSource, g.writesPointSize, g.readsFragCoord, g.readsPointCoord, g.readsSampleMask})
+  for (bool f : {g.needsQuad, g.writesDepth, g.writesSampleMask, g.readsSampleId, g.canDiscard, g.earlyFragmentTests,
+                 g.sideEffects, g.dualSource, g.writesPointSize, g.readsFragCoord, g.readsPointCoord, g.readsSampleMask,
+                 g.mergesColor})
     flags |= uint32_t(f) << bit++;
   put32(payload, flags);
   put32(payload, g.clipDistances);
@@ -181,9 +181,9 @@ std::optional<std::string_view> deserialize(std::string_view blob, CompiledShade
   s.ray.readsHitAttributes = (rayFlags & 2) != 0;
   GraphicsStageInfo& g = s.graphics;
   uint32_t flags = r.u32(), bit = 0;
-  for (bool* f :
-       {&g.needsQuad, &g.writesDepth, &g.writesSampleMask, &g.readsSampleId, &g.canDiscard, &g.earlyFragmentTests,
-        &g.sideEffects, &g.dualSource, &g.writesPointSize, &g.readsFragCoord, &g.readsPointCoord, &g.readsSampleMask})
+  for (bool* f : {&g.needsQuad, &g.writesDepth, &g.writesSampleMask, &g.readsSampleId, &g.canDiscard,
+                  &g.earlyFragmentTests, &g.sideEffects, &g.dualSource, &g.writesPointSize, &g.readsFragCoord,
+                  &g.readsPointCoord, &g.readsSampleMask, &g.mergesColor})
     *f = (flags >> bit++ & 1) != 0;
   g.clipDistances = r.u32();
   g.cullDistances = r.u32();
@@ -243,6 +243,10 @@ std::string cacheKey(const CompileRequest& req) {
   add(&model, 4);
   add(&inl, 4);
   add(&adds, 4);
+  if (req.colorMerge.format != abi::ColorMerge::kNone) {  // (absent: the key of a shader compiled before it existed)
+    const uint8_t merge[3] = {uint8_t(req.colorMerge.format), uint8_t(req.colorMerge.blend), req.colorMerge.writeMask};
+    add(merge, sizeof merge);
+  }
   for (const SpecValue& v : req.specialization) {
     add(&v.specId, sizeof v.specId);
     add(v.bytes.data(), v.bytes.size());

@@ -155,6 +155,7 @@ class Codegen {
   // CompileRequest::combineAdds, kept by run() for the ray tracing stages only (RayStageInfo::checksPendingAdds):
   // without it none of the above emits anything.
   bool combining = false;
+  abi::ColorMerge colorMerge;  // CompileRequest::colorMerge (fragment shaders' SPMD entry: spmd.cpp)
   llvm::Value* load(const Ptr& p);
   void store(const Ptr& p, llvm::Value* v);
   bool resolveDescriptor(Ptr& p, llvm::Value* index);

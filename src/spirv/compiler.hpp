@@ -87,7 +87,10 @@ struct GraphicsStageInfo {
   bool readsFragCoord = false;   // FragCoord (else the rasterizer need not compute its w for one-sample quads)
   bool readsPointCoord = false;  // PointCoord (else it is neither computed nor handed to the invocations)
   bool readsSampleMask = false;  // SampleMask as an input (else the invocations' sampleMaskIn is not set per quad)
-  uint32_t clipDistances = 0;    // ClipDistance array size
+  // The SPMD entry writes colour attachment 0 where the executor gives it a quad's address (CompileRequest::colorMerge,
+  // abi::GraphicsInvocation::colorQuad).
+  bool mergesColor = false;
+  uint32_t clipDistances = 0;  // ClipDistance array size
   uint32_t cullDistances = 0;
 };
 
@@ -147,6 +150,10 @@ struct CompileRequest {
   // hasCombinableAdds): the checks cost pipelines without one nothing. A launch combines only when every shader it can
   // run was compiled with it (RayStageInfo::checksPendingAdds).
   bool combineAdds = false;
+  // Fragment shaders: colour attachment 0's format and blend, for the SPMD entry to write the attachment itself after
+  // the shader (abi::ColorMerge; GraphicsStageInfo::mergesColor says whether it does: not where the shader can
+  // discard or writes FragDepth or SampleMask, or has no float output at location 0). kNone: it writes no attachment.
+  abi::ColorMerge colorMerge;
 };
 
 // Returns the compiled shader, or nullptr with `error` set to a message naming the reason (for unsupported

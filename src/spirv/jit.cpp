@@ -447,6 +447,7 @@ std::shared_ptr<CompiledShader> compileImpl(const CompileRequest& req, std::stri
   {
     Codegen cg(m, *context, *mod, *shader);
     cg.combining = req.combineAdds;
+    cg.colorMerge = req.colorMerge;
     if (!cg.run(*ep)) {
       *error = cg.error;
       return nullptr;

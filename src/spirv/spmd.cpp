@@ -37,6 +37,7 @@
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/IntrinsicsX86.h>
 #include <llvm/IR/MDBuilder.h>
 #include <llvm/Support/Host.h>
 #include <llvm/Support/X86TargetParser.h>
@@ -141,6 +142,7 @@ class Spmd {
   bool supported(const EntryPoint& ep, std::string* why);
   bool emitCompute();
   bool emitQuad();
+  void emitColorMerge();
   bool emitRaygen();
   // The module variable `id` as per-lane storage (interleaved) at `offset` of the lanes' block `lanes`, whose layout
   // is the private block's N times over.
@@ -2303,8 +2305,97 @@ bool Spmd::emitQuad() {
     if (!block(bi)) return false;
   if (!loopHeads.empty()) return fail("a loop without a back edge");
   copyLanes(false, lanes);
+  emitColorMerge();
   b.CreateRetVoid();
   return true;
+}
+
+// After a fragment shader compiled with a ColorMerge (CodeGen::colorMerge), the writes of colour attachment 0 for the
+// quad invocation 0's colorQuad points at (null: none), as the back end's quad paths make them
+// (raster/backend.cpp colorUnorm8Quad, whose order of float operations this keeps, so the same bytes): the source
+// clamped to [0, 1] where it blends, the destination decoded as byte / 255, the blend, the write mask, the encode
+// (clamped to [0, 1], times 255, rounded to nearest even as cvtps2dq does). The colours are the four words the entry
+// has just stored through invocation 0's `outputs` (location 0), read back (LLVM forwards the stores). Not where the
+// shader can discard or writes FragDepth or SampleMask (the back end's tests and masks come between), or has no float
+// output at location 0: GraphicsStageInfo::mergesColor stays false.
+void Spmd::emitColorMerge() {
+  const abi::ColorMerge mc = g.colorMerge;
+  const GraphicsStageInfo& gi = g.info.graphics;
+  if (mc.format == abi::ColorMerge::kNone || gi.canDiscard || gi.writesDepth || gi.writesSampleMask) return;
+  bool location0 = false;
+  for (const GraphicsStageInfo::Location& o : gi.outputs) location0 |= o.location == 0 && !o.integer && !o.wide;
+  if (!location0) return;
+  llvm::Value* dst =
+      b.CreateAlignedLoad(b.getPtrTy(), invField(0, offsetof(GraphicsInvocation, colorQuad)), llvm::Align(8));
+  auto* write = llvm::BasicBlock::Create(c, "merge.write", fn);
+  auto* done = llvm::BasicBlock::Create(c, "merge.done", fn);
+  b.CreateCondBr(b.CreateIsNotNull(dst), write, done);
+  b.SetInsertPoint(write);
+  llvm::Type* f4 = llvm::FixedVectorType::get(b.getFloatTy(), 4);
+  llvm::Type* i2 = llvm::FixedVectorType::get(b.getInt32Ty(), 2);
+  auto fsplat = [&](float v) {
+    return llvm::ConstantVector::getSplat(llvm::ElementCount::getFixed(4), llvm::ConstantFP::get(b.getFloatTy(), v));
+  };
+  auto isplat = [&](uint32_t v) {
+    return llvm::ConstantVector::getSplat(llvm::ElementCount::getFixed(4), b.getInt32(v));
+  };
+  // x86's maxps(a, b) and minps(a, b): a > b ? a : b and a < b ? a : b (the second operand when unordered).
+  auto maxps = [&](llvm::Value* x, llvm::Value* y) { return b.CreateSelect(b.CreateFCmpOGT(x, y), x, y); };
+  auto minps = [&](llvm::Value* x, llvm::Value* y) { return b.CreateSelect(b.CreateFCmpOLT(x, y), x, y); };
+  const bool blend = mc.blend != abi::ColorMerge::kOff;
+  const uint32_t mask = mc.writeMask & 0xF;
+  const bool readDst = blend || mask != 0xF;
+  // Component c's byte in a texel.
+  auto shiftOf = [&](int k) {
+    return uint32_t(8 * (mc.format == abi::ColorMerge::kBgra8Unorm && k != 1 && k != 3 ? 2 - k : k));
+  };
+  llvm::Value* outs =
+      b.CreateAlignedLoad(b.getPtrTy(), invField(0, offsetof(GraphicsInvocation, outputs)), llvm::Align(8));
+  llvm::Value* s[4];
+  for (int k = 0; k < 4; ++k) {
+    s[k] = b.CreateAlignedLoad(f4, b.CreateConstGEP1_64(b.getInt8Ty(), outs, 16 * k), llvm::Align(4));
+    if (blend) s[k] = minps(fsplat(1), maxps(fsplat(0), s[k]));  // clamp01: a NaN stays (the encode makes it 0)
+  }
+  llvm::Value* pitch =
+      b.CreateAlignedLoad(b.getInt64Ty(), invField(0, offsetof(GraphicsInvocation, colorPitch)), llvm::Align(8));
+  llvm::Value* dst1 = b.CreateGEP(b.getInt8Ty(), dst, pitch);  // the quad's second row
+  llvm::Value* d[4] = {};
+  if (readDst) {
+    llvm::Value* words =
+        b.CreateShuffleVector(b.CreateAlignedLoad(i2, dst, llvm::Align(4)),
+                              b.CreateAlignedLoad(i2, dst1, llvm::Align(4)), llvm::ArrayRef<int>{0, 1, 2, 3});
+    for (int k = 0; k < 4; ++k)
+      d[k] = b.CreateFDiv(b.CreateSIToFP(b.CreateAnd(b.CreateLShr(words, isplat(shiftOf(k))), isplat(0xFF)), f4),
+                          fsplat(255));
+  }
+  llvm::Value* r[4] = {s[0], s[1], s[2], s[3]};
+  if (blend) {
+    // The factors of the four equations (kBlendShapes): source times sf plus destination times df, per component.
+    llvm::Value* oneMinusSa = b.CreateFSub(fsplat(1), s[3]);
+    for (int k = 0; k < 4; ++k) {
+      llvm::Value *sf = fsplat(1), *df = fsplat(1);
+      switch (mc.blend) {
+        case abi::ColorMerge::kOver: sf = k == 3 ? fsplat(1) : s[3], df = oneMinusSa; break;
+        case abi::ColorMerge::kOverAll: sf = s[3], df = oneMinusSa; break;
+        case abi::ColorMerge::kPremultiplied: df = oneMinusSa; break;
+        default: break;  // kAdditive
+      }
+      r[k] = b.CreateFAdd(b.CreateFMul(s[k], sf), b.CreateFMul(d[k], df));
+    }
+  }
+  llvm::Function* cvt = llvm::Intrinsic::getDeclaration(fn->getParent(), llvm::Intrinsic::x86_sse2_cvtps2dq);
+  llvm::Value* out = isplat(0);
+  for (int k = 0; k < 4; ++k) {
+    llvm::Value* v = mask >> k & 1 ? r[k] : d[k];
+    v = minps(maxps(v, fsplat(0)), fsplat(1));  // saturate: a NaN becomes 0
+    llvm::Value* bytes = b.CreateCall(cvt, {b.CreateFMul(v, fsplat(255))});
+    out = b.CreateOr(out, b.CreateShl(bytes, isplat(shiftOf(k))));
+  }
+  b.CreateAlignedStore(b.CreateShuffleVector(out, llvm::ArrayRef<int>{0, 1}), dst, llvm::Align(4));
+  b.CreateAlignedStore(b.CreateShuffleVector(out, llvm::ArrayRef<int>{2, 3}), dst1, llvm::Align(4));
+  b.CreateBr(done);
+  b.SetInsertPoint(done);
+  g.info.graphics.mergesColor = true;
 }
 
 // vkrt_group(RayInvocation* inv, uint32_t lanes) of a ray generation shader (abi::RayBatchEntry): the launch ids

@@ -116,7 +116,7 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
   dyn.dynamicStateCount = uint32_t(d.dynamic.size());
   dyn.pDynamicStates = d.dynamic.data();
   const VkFormat dsFormat = d.withDepthStencil ? depthStencilFormat() : VK_FORMAT_UNDEFINED;
-  std::vector<VkFormat> colorFormats(d.colorCount, kColorFormat);
+  std::vector<VkFormat> colorFormats(d.colorCount, d.colorFormat);
   VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   ri.colorAttachmentCount = d.colorCount;
   ri.pColorAttachmentFormats = colorFormats.data();

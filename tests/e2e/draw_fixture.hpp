@@ -79,9 +79,10 @@ class DrawTest : public VulkanTest {
     VkBool32 logicOpEnable = VK_FALSE;  // pColorBlendState's logic op (the logicOp feature)
     VkLogicOp logicOp = VK_LOGIC_OP_COPY;
     std::vector<VkDynamicState> dynamic;
-    bool withDepthStencil = false;  // the rendering info names the depth/stencil format
-    uint32_t colorCount = 1;        // VkPipelineRenderingCreateInfo::colorAttachmentCount
-    uint32_t blendCount = 1;        // pColorBlendState->attachmentCount
+    bool withDepthStencil = false;        // the rendering info names the depth/stencil format
+    uint32_t colorCount = 1;              // VkPipelineRenderingCreateInfo::colorAttachmentCount
+    VkFormat colorFormat = kColorFormat;  // ... and the format of each
+    uint32_t blendCount = 1;              // pColorBlendState->attachmentCount
     VkViewport viewport{0, 0, float(kW), float(kH), 0, 1};
     VkRect2D scissor{{0, 0}, {kW, kH}};
     VkPipelineCreateFlags flags = 0;
