@@ -6,7 +6,7 @@
 // time of the frames after the warm-up as frames per second.
 //
 //   VK_DRIVER_FILES=<build>/vkrt_icd.json ./vkrt_rasterbench [--width 1920] [--height 1080] [--frames 30]
-//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--srgb] [--out image.png]
+//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--srgb] [--target-srgb] [--out image.png]
 //
 // Plain Vulkan 1.3 through the loader: it runs unchanged on vkrt, lavapipe or a GPU driver. vkrt's thread count is
 // VKRT_THREADS; lavapipe's is LP_NUM_THREADS.
@@ -44,6 +44,7 @@ struct Options {
   uint32_t width = 1920, height = 1080, frames = 30, warmup = 3, grid = 4, quads = 8;
   std::string model = kDefaultModel, out;
   bool srgb = false;
+  bool targetSrgb = false;
 };
 
 struct Vertex {
@@ -295,6 +296,8 @@ Options parse(int argc, char** argv) {
       o.out = next();
     else if (a == "--srgb")  // the base colour texture as R8G8B8A8_SRGB, as glTF specifies it (default UNORM)
       o.srgb = true;
+    else if (a == "--target-srgb")  // the colour attachment as R8G8B8A8_SRGB (a swapchain's usual kind), default UNORM
+      o.targetSrgb = true;
     else
       fail("unknown option " + a);
   }
@@ -341,7 +344,8 @@ int main(int argc, char** argv) {
       model.texHeight, levels,
       VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
       VK_IMAGE_ASPECT_COLOR_BIT);
-  const Image color = example::createImage(g.device, g.physical, VK_FORMAT_R8G8B8A8_UNORM, opt.width, opt.height, 1,
+  const VkFormat colorFormat = opt.targetSrgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
+  const Image color = example::createImage(g.device, g.physical, colorFormat, opt.width, opt.height, 1,
                                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                            VK_IMAGE_ASPECT_COLOR_BIT);
   const Image depth = example::createImage(g.device, g.physical, VK_FORMAT_D32_SFLOAT, opt.width, opt.height, 1,
@@ -365,8 +369,7 @@ int main(int argc, char** argv) {
 
   // Render pass: colour and depth cleared; colour ends ready for the copy to the read-back buffer; the next frame's
   // clear waits for the previous copy.
-  const VkRenderPass renderPass =
-      example::createColorDepthRenderPass(g.device, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT);
+  const VkRenderPass renderPass = example::createColorDepthRenderPass(g.device, colorFormat, VK_FORMAT_D32_SFLOAT);
   const VkFramebuffer framebuffer =
       example::createFramebuffer(g.device, renderPass, color.view, depth.view, opt.width, opt.height);
 

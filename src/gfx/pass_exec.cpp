@@ -52,6 +52,8 @@ raster::ColorFormat colorFormatOf(const FormatInfo& f) {
   c.encode = encodeColor;
   if (f.format == VK_FORMAT_R8G8B8A8_UNORM) c.layout = raster::ColorFormat::Layout::RGBA8UNorm;
   if (f.format == VK_FORMAT_B8G8R8A8_UNORM) c.layout = raster::ColorFormat::Layout::BGRA8UNorm;
+  if (f.format == VK_FORMAT_R8G8B8A8_SRGB) c.layout = raster::ColorFormat::Layout::RGBA8Srgb;
+  if (f.format == VK_FORMAT_B8G8R8A8_SRGB) c.layout = raster::ColorFormat::Layout::BGRA8Srgb;
   return c;
 }
 

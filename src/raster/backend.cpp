@@ -9,6 +9,7 @@
 #include <immintrin.h>  // SSE2's min/max and conversions; AVX2's in the AVX2 copy of the quad writes
 #endif
 
+#include "abi/srgb8.hpp"
 #include "exec/quad_isa.hpp"
 #include "raster/internal.hpp"
 
@@ -206,17 +207,25 @@ inline uint32_t encodeUnorm8(uint32_t word) {
 // A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
 inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
   if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
-  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
+  const bool bgra = fmt.bgra();
+  const float* rgb = fmt.srgb() ? abi::srgb8Tables().decode : kUnorm8.v;
   // One 16-byte store: the words are read back as one vector, which four small stores would stall.
   using Words = float __attribute__((vector_size(16)));
-  const Words v = {kUnorm8.v[p[bgra ? 2 : 0]], kUnorm8.v[p[1]], kUnorm8.v[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
+  const Words v = {rgb[p[bgra ? 2 : 0]], rgb[p[1]], rgb[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
   std::memcpy(out, &v, 16);
 }
 
 inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
   if (fmt.layout == ColorFormat::Layout::Generic) return fmt.encode(fmt.format, in, p);
-  const bool bgra = fmt.layout == ColorFormat::Layout::BGRA8UNorm;
-  const uint32_t r = encodeUnorm8(in[0]), g = encodeUnorm8(in[1]), b = encodeUnorm8(in[2]), a = encodeUnorm8(in[3]);
+  const bool bgra = fmt.bgra();
+  uint32_t r, g, b;
+  if (fmt.srgb()) {
+    const abi::Srgb8Tables& t = abi::srgb8Tables();
+    r = t.encode(asFloat(in[0])), g = t.encode(asFloat(in[1])), b = t.encode(asFloat(in[2]));
+  } else {
+    r = encodeUnorm8(in[0]), g = encodeUnorm8(in[1]), b = encodeUnorm8(in[2]);
+  }
+  const uint32_t a = encodeUnorm8(in[3]);
   const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
   std::memcpy(p, &w, 4);
 }
@@ -303,6 +312,12 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
   return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
+// The same for an sRGB layout: the colour components by the decode table, alpha as UNorm.
+inline Float4 loadSrgb8(const uint8_t* p, bool bgra) {
+  const float* t = abi::srgb8Tables().decode;
+  return Float4{t[p[bgra ? 2 : 0]], t[p[1]], t[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
+}
+
 // Four values in [0, 1] times 255 in float, rounded to integers as encodeUnorm8 rounds them (its adding and
 // subtracting of 2^23 rounds in the current rounding mode, as cvtps2dq does: the same integers in every mode).
 inline Int4 unorm8Bytes(Float4 v) {
@@ -320,18 +335,28 @@ inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
   std::memcpy(p, &b, 4);
 }
 
+// The same for an sRGB layout: the colour components by abi/srgb8.hpp's encode (NaN 0, clamped), alpha as UNorm.
+inline void storeSrgb8(Float4 v, uint8_t* p, bool bgra) {
+  const abi::Srgb8Tables& t = abi::srgb8Tables();
+  const uint32_t r = t.encode(v[0]), g = t.encode(v[1]), b = t.encode(v[2]);
+  const uint32_t a = uint32_t(unorm8Bytes(saturate(v))[3]);
+  const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
+  std::memcpy(p, &w, 4);
+}
+
 // What writeUnorm8 needs of attachment i, once per quad.
 struct Unorm8Target {
   const Surface* surf;
   const BlendAttachment* ba;
-  bool bgra, blend, readsDst;
+  bool bgra, srgb, blend, readsDst;
   Float4 k;
   Int4 keep;  // all ones where the write mask leaves the component
   Unorm8Target(const DrawContext& ctx, uint32_t i, uint32_t mask) {
     const State& st = *ctx.state;
     surf = &ctx.target->color[i];
     ba = &st.blend[i];
-    bgra = ctx.target->colorFormat[i].layout == ColorFormat::Layout::BGRA8UNorm;
+    bgra = ctx.target->colorFormat[i].bgra();
+    srgb = ctx.target->colorFormat[i].srgb();
     blend = ba->enable;
     readsDst = blend || mask != 0xF;  // else the texel is replaced whole
     std::memcpy(&k, st.blendConstants, 16);
@@ -354,7 +379,7 @@ void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQu
   s = clamp01(s), s1 = clamp01(s1);
   for (uint32_t sm = coverage; sm; sm &= sm - 1) {
     uint8_t* p = texel(*t.surf, 4, ctx.layer, x, y, uint32_t(std::countr_zero(sm)));
-    const Float4 d = t.readsDst ? loadUnorm8(p, t.bgra) : splat(0);
+    const Float4 d = !t.readsDst ? splat(0) : t.srgb ? loadSrgb8(p, t.bgra) : loadUnorm8(p, t.bgra);
     Float4 r = s;
     if (t.blend) {
       const Float4 sf = colorAlpha(blendFactor4(ba.srcColor, s, s1, d, k), blendFactor4(ba.srcAlpha, s, s1, d, k));
@@ -362,7 +387,10 @@ void writeUnorm8(const DrawContext& ctx, const Unorm8Target& t, const FragmentQu
       r = clamp01(colorAlpha(blendOp4(ba.colorOp, s, sf, d, df), blendOp4(ba.alphaOp, s, sf, d, df)));
     }
     r = t.keep ? d : r;
-    storeUnorm8(r, p, t.bgra);
+    if (t.srgb)
+      storeSrgb8(r, p, t.bgra);
+    else
+      storeUnorm8(r, p, t.bgra);
   }
 }
 
@@ -676,7 +704,8 @@ inline Quad4 components(const uint32_t (&c)[4][4]) {
 }
 
 // Component c of blend factor f for the four lanes (blendFactor's cases; k holds the constants splatted).
-inline Float4 factorQuad(BlendFactor f, int c, const Quad4& s, const Quad4& s1, const Quad4& d, const Quad4& k) {
+__attribute__((always_inline)) inline Float4 factorQuad(BlendFactor f, int c, const Quad4& s, const Quad4& s1,
+                                                        const Quad4& d, const Quad4& k) {
   switch (f) {
     case BlendFactor::Zero: return splat(0);
     case BlendFactor::One: return splat(1);
@@ -780,7 +809,7 @@ inline QuadTexels quadTexels(const Surface& surf, uint32_t layer, const Fragment
 }
 
 // The quad's four texels, the uncovered ones 0.
-inline UInt4 readQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full) {
+__attribute__((always_inline)) inline UInt4 readQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full) {
   if (full) {
     // The two rows straight into the vector (two 8-byte loads): through a 16-byte array in memory, the load of the
     // whole after the two smaller stores could not be forwarded from them and stalled.
@@ -797,7 +826,8 @@ inline UInt4 readQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool 
 }
 
 // Lane l's texel of `out` to lane[l] where cov[l] (all four: `full`).
-inline void writeQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full, UInt4 out) {
+__attribute__((always_inline)) inline void writeQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool full,
+                                                           UInt4 out) {
   if (full) {
     const UInt2 top = __builtin_shufflevector(out, out, 0, 1), bottom = __builtin_shufflevector(out, out, 2, 3);
     std::memcpy(lane[0], &top, 8), std::memcpy(lane[2], &bottom, 8);
@@ -809,7 +839,18 @@ inline void writeQuadTexels(const QuadTexels& lane, const uint32_t cov[4], bool 
     if (cov[l]) std::memcpy(lane[l], &w[l], 4);
 }
 
-template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
+// An sRGB layout's colour component at `shift` of the four texels `words`, decoded by abi/srgb8.hpp's table (the
+// runtime's decode), and four linear values encoded by its encode (NaN 0, clamped): decodeColor's and encodeColor's.
+__attribute__((always_inline)) inline Float4 srgbDecode4(const abi::Srgb8Tables& t, UInt4 words, int shift) {
+  return Float4{t.decode[words[0] >> shift & 0xFF], t.decode[words[1] >> shift & 0xFF],
+                t.decode[words[2] >> shift & 0xFF], t.decode[words[3] >> shift & 0xFF]};
+}
+__attribute__((always_inline)) inline UInt4 srgbEncode4(const abi::Srgb8Tables& t, Float4 v) {
+  return UInt4{t.encode(v[0]), t.encode(v[1]), t.encode(v[2]), t.encode(v[3])};
+}
+
+// kSrgb: an sRGB layout (the colour components decoded and encoded as sRGB, alpha as UNorm).
+template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1, bool kSrgb = false>
 void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
   const BlendAttachment& ba = ctx.state->blend[i];
   const QuadTexels lane = quadTexels(ctx.target->color[i], ctx.layer, q);
@@ -825,7 +866,10 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
     const UInt4 words = readQuadTexels(lane, cov, full);
     for (int c = 0; c < 4; ++c) {
       const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
-      d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: a signed conversion
+      if (kSrgb && c < 3)
+        d.c[c] = srgbDecode4(abi::srgb8Tables(), words, shift);
+      else
+        d.c[c] = __builtin_convertvector(Int4((words >> shift) & 0xFF), Float4) / 255.0f;  // 0..255: signed
     }
   }
   Quad4 r = s;
@@ -845,7 +889,7 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   for (int c = 0; c < 4; ++c) {
     Float4 v = kReadDst && !(mask >> c & 1) ? d.c[c] : r.c[c];
     const int shift = 8 * (kBgra && c != 1 && c != 3 ? 2 - c : c);
-    out |= UInt4(unorm8Bytes(saturate(v))) << shift;
+    out |= (kSrgb && c < 3 ? srgbEncode4(abi::srgb8Tables(), v) : UInt4(unorm8Bytes(saturate(v)))) << shift;
   }
   writeQuadTexels(lane, cov, full, out);
 }
@@ -876,7 +920,7 @@ inline Int8 unorm8Bytes8(Float8 v) {
   return Int8(_mm256_cvtps_epi32(_mm256_mul_ps(__m256(v), _mm256_set1_ps(255.0f))));
 }
 
-template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
+template <bool kBgra, bool kBlend, bool kReadDst, int kShape = -1, bool kSrgb = false>
 void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
   const BlendAttachment& ba = ctx.state->blend[i];
   const QuadTexels lane = quadTexels(ctx.target->color[i], ctx.layer, q);
@@ -898,6 +942,11 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
     const UInt4 words = readQuadTexels(lane, cov, full);
     const UInt8 both = __builtin_shufflevector(words, words, 0, 1, 2, 3, 0, 1, 2, 3);
     for (int h = 0; h < 2; ++h) d[h] = __builtin_convertvector(Int8((both >> shift[h]) & 0xFF), Float8) / 255.0f;
+    if (kSrgb) {  // R, G and B by the table (the baseline copy's srgbDecode4)
+      const abi::Srgb8Tables& t = abi::srgb8Tables();
+      d[0] = join(srgbDecode4(t, words, shiftOf(0)), srgbDecode4(t, words, shiftOf(1)));
+      d[1] = join(srgbDecode4(t, words, shiftOf(2)), half(d[1], 1));
+    }
   }
   Float8 r[2] = {s[0], s[1]};
   if (kBlend) {
@@ -932,7 +981,14 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
                         Int8{1, 1, 1, 1, 0, 0, 0, 0} * int32_t(!(mask >> (2 * h) & 1));
       v = keep != 0 ? d[h] : v;
     }
-    out8 |= UInt8(unorm8Bytes8(saturate8(v))) << shift[h];
+    UInt8 bytes = UInt8(unorm8Bytes8(saturate8(v)));
+    if (kSrgb) {  // R, G and B by abi/srgb8.hpp's encode (the baseline copy's srgbEncode4), A as UNorm
+      const abi::Srgb8Tables& t = abi::srgb8Tables();
+      const UInt4 lo = srgbEncode4(t, half(v, 0));
+      const UInt4 hi = h ? __builtin_shufflevector(bytes, bytes, 4, 5, 6, 7) : srgbEncode4(t, half(v, 1));
+      bytes = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+    }
+    out8 |= bytes << shift[h];
   }
   writeQuadTexels(lane, cov, full,
                   __builtin_shufflevector(out8, out8, 0, 1, 2, 3) | __builtin_shufflevector(out8, out8, 4, 5, 6, 7));
@@ -940,27 +996,37 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
 VKRT_AVX2_END
 #endif
 
-// The 8-bit UNorm quad writes of one kind: kAvx2's copy.
-template <bool kAvx2, bool kBgra, bool kBlend, bool kReadDst, int kShape = -1>
+// The 8-bit UNorm (kSrgb: sRGB) quad writes of one kind: kAvx2's copy.
+template <bool kAvx2, bool kBgra, bool kBlend, bool kReadDst, int kShape = -1, bool kSrgb = false>
 constexpr auto unorm8Quad() -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
 #if defined(__x86_64__)
-  if constexpr (kAvx2) return colorUnorm8QuadAvx2<kBgra, kBlend, kReadDst, kShape>;
+  if constexpr (kAvx2) return colorUnorm8QuadAvx2<kBgra, kBlend, kReadDst, kShape, kSrgb>;
 #endif
-  return colorUnorm8Quad<kBgra, kBlend, kReadDst, kShape>;
+  return colorUnorm8Quad<kBgra, kBlend, kReadDst, kShape, kSrgb>;
 }
 
-template <bool kAvx2, bool kBgra>
+template <bool kAvx2, bool kBgra, bool kSrgb>
 auto unorm8QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
   if (ba.enable) {
     switch (blendShapeOf(ba)) {
-      case 0: return unorm8Quad<kAvx2, kBgra, true, true, 0>();
-      case 1: return unorm8Quad<kAvx2, kBgra, true, true, 1>();
-      case 2: return unorm8Quad<kAvx2, kBgra, true, true, 2>();
-      case 3: return unorm8Quad<kAvx2, kBgra, true, true, 3>();
-      default: return unorm8Quad<kAvx2, kBgra, true, true>();
+      case 0: return unorm8Quad<kAvx2, kBgra, true, true, 0, kSrgb>();
+      case 1: return unorm8Quad<kAvx2, kBgra, true, true, 1, kSrgb>();
+      case 2: return unorm8Quad<kAvx2, kBgra, true, true, 2, kSrgb>();
+      case 3: return unorm8Quad<kAvx2, kBgra, true, true, 3, kSrgb>();
+      default: return unorm8Quad<kAvx2, kBgra, true, true, -1, kSrgb>();
     }
   }
-  return readDst ? unorm8Quad<kAvx2, kBgra, false, true>() : unorm8Quad<kAvx2, kBgra, false, false>();
+  return readDst ? unorm8Quad<kAvx2, kBgra, false, true, -1, kSrgb>()
+                 : unorm8Quad<kAvx2, kBgra, false, false, -1, kSrgb>();
+}
+
+// unorm8QuadFor of the attachment's layout and the CPU's copy.
+template <bool kAvx2>
+auto unorm8QuadOf(const ColorFormat& fmt, const BlendAttachment& ba, bool readDst)
+    -> decltype(&colorUnorm8Quad<false, false, false>) {
+  if (fmt.srgb())
+    return fmt.bgra() ? unorm8QuadFor<kAvx2, true, true>(ba, readDst) : unorm8QuadFor<kAvx2, false, true>(ba, readDst);
+  return fmt.bgra() ? unorm8QuadFor<kAvx2, true, false>(ba, readDst) : unorm8QuadFor<kAvx2, false, false>(ba, readDst);
 }
 
 // Whether planBackEnd takes the AVX2 copy of the 8-bit UNorm quad writes (and rasterizeTile that of the tile loop):
@@ -1021,12 +1087,7 @@ void planBackEnd(DrawContext& ctx) {
     } else if (quads && tg.color[i].samples == 1) {
       const bool blend = st.blend[i].enable, readDst = blend || mask != 0xF;
       const BlendAttachment& ba = st.blend[i];
-      if (fmt.layout == ColorFormat::Layout::BGRA8UNorm)
-        plan.color[i] =
-            quadWritesAvx2() ? unorm8QuadFor<true, true>(ba, readDst) : unorm8QuadFor<false, true>(ba, readDst);
-      else
-        plan.color[i] =
-            quadWritesAvx2() ? unorm8QuadFor<true, false>(ba, readDst) : unorm8QuadFor<false, false>(ba, readDst);
+      plan.color[i] = quadWritesAvx2() ? unorm8QuadOf<true>(fmt, ba, readDst) : unorm8QuadOf<false>(fmt, ba, readDst);
       plan.quadPaths |= 2u << i;
     } else {
       plan.color[i] = colorUnorm8Lanes;

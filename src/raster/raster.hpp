@@ -112,11 +112,14 @@ struct ColorFormat {
   // Texel -> four 32-bit words (floats for UNorm/SNorm/Float/sRGB, integers for UInt/SInt); A = 1 where absent.
   void (*decode)(const void* format, const uint8_t* texel, uint32_t out[4]) = nullptr;
   void (*encode)(const void* format, const uint32_t in[4], uint8_t* texel) = nullptr;
-  // Set by the graphics layer for the common formats whose texels are four linear 8-bit unsigned normalized
-  // components in memory order R, G, B, A (R8G8B8A8_UNORM) or B, G, R, A (B8G8R8A8_UNORM):
-  // the back end then converts inline instead of through decode/encode, with the same results (decode: the byte
-  // / 255 rounded to float; encode: NaN to 0, clamped to [0, 1], times 255 rounded to nearest even).
-  enum class Layout : uint8_t { Generic, RGBA8UNorm, BGRA8UNorm } layout = Layout::Generic;
+  // Set by the graphics layer for the common formats whose texels are four 8-bit unsigned normalized components in
+  // memory order R, G, B, A (R8G8B8A8_UNORM, _SRGB) or B, G, R, A (B8G8R8A8_UNORM, _SRGB): the back end then converts
+  // inline instead of through decode/encode, with the same results (decode: the byte / 255 rounded to float, sRGB
+  // colour components by abi/srgb8.hpp's table; encode: NaN to 0, clamped to [0, 1], times 255 rounded to nearest
+  // even, sRGB colour components by abi/srgb8.hpp's encode).
+  enum class Layout : uint8_t { Generic, RGBA8UNorm, BGRA8UNorm, RGBA8Srgb, BGRA8Srgb } layout = Layout::Generic;
+  bool bgra() const { return layout == Layout::BGRA8UNorm || layout == Layout::BGRA8Srgb; }
+  bool srgb() const { return layout == Layout::RGBA8Srgb || layout == Layout::BGRA8Srgb; }
 };
 
 // A 2D view of an image's level: pixel (x, y) of layer `l` sample `s` is at

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "abi/srgb8.hpp"
 #include "exec/thread_pool.hpp"
 #include "runtime/image_functions.hpp"
 
@@ -192,7 +193,12 @@ bool encodeClearColor(const FormatInfo& fi, const VkClearColorValue& color, uint
     switch (fi.type) {
       case NumericType::UNorm: v = unorm(color.float32[ch], bits); break;
       case NumericType::SNorm: v = snorm(color.float32[ch], bits); break;
-      case NumericType::SRGB: v = unorm(ch == 3 ? color.float32[ch] : linearToSrgb(color.float32[ch]), bits); break;
+      case NumericType::SRGB:
+        // 8-bit components as every other 8-bit sRGB encode (abi/srgb8.hpp: the nearest byte, on every CPU).
+        v = ch == 3     ? unorm(color.float32[ch], bits)
+            : bits == 8 ? abi::srgb8Tables().encode(color.float32[ch])
+                        : unorm(linearToSrgb(color.float32[ch]), bits);
+        break;
       case NumericType::UInt: v = color.uint32[ch] & uint32_t((1ull << bits) - 1); break;
       case NumericType::SInt: v = uint32_t(color.int32[ch]) & uint32_t((1ull << bits) - 1); break;
       case NumericType::SFloat:

@@ -3,6 +3,7 @@
 #include "runtime/image_functions.hpp"
 
 #include "abi/shader_debug.hpp"
+#include "abi/srgb8.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -101,13 +102,15 @@ void writeBits(uint8_t* p, uint64_t v, unsigned bytes) {
   }
 }
 
-// 8-bit UNorm and sRGB components, the most sampled, by table: the values decodeComponent computes below.
+// 8-bit UNorm and sRGB components, the most sampled, by table: the values decodeComponent computes below (the sRGB
+// one is abi/srgb8.hpp's, which the raster's quad writes read too).
 struct Unorm8Tables {
   float unorm[256], srgb[256];
   Unorm8Tables() {
+    const abi::Srgb8Tables& s = abi::srgb8Tables();
     for (uint32_t i = 0; i < 256; ++i) {
       unorm[i] = float(double(i) / 255.0);
-      srgb[i] = srgbToLinear(unorm[i]);
+      srgb[i] = s.decode[i];  // srgbToLinear(unorm[i])
     }
   }
 };
@@ -142,14 +145,17 @@ uint64_t encodeComponent(N type, uint32_t word, unsigned bits, bool alpha) {
   switch (type) {
     case N::UNorm:
     case N::SRGB: {
+      // 8-bit sRGB: the nearest byte to the exact encoding, by table (abi/srgb8.hpp; NaN 0, clamped to [0, 1]).
+      if (type == N::SRGB && !alpha && bits == 8) return abi::srgb8Tables().encode(f);
       if (type == N::SRGB && !alpha) f = linearToSrgb(f);
       f = std::isnan(f) ? 0.0f : std::clamp(f, 0.0f, 1.0f);
       // 8-bit UNorm, the attachments' and storage images' commonest: times 255 in float, rounded to nearest even
       // (adding and subtracting 2^23 leaves no fraction bits below 256; the current rounding mode, as CVTPS2DQ's):
       // one of the two integers nearest to f x 255, as "Conversion from Floating-Point to Normalized Fixed-Point"
       // allows, in one float multiplication where every inline copy (the raster's quad writes, image writes, the
-      // compiler's) would otherwise widen to double. Other widths (and sRGB) times 2^b - 1 in double, exact.
-      if (type == N::UNorm && bits == 8) return uint64_t((f * 255.0f + 0x1p23f) - 0x1p23f);
+      // compiler's) would otherwise widen to double; an 8-bit sRGB format's alpha, a UNorm component, alike. Other
+      // widths times 2^b - 1 in double, exact.
+      if (bits == 8) return uint64_t((f * 255.0f + 0x1p23f) - 0x1p23f);
       return uint64_t(std::nearbyint(double(f) * double(maxU)));
     }
     case N::SNorm: {

@@ -16,6 +16,7 @@ namespace {
 
 struct Scene {
   ColorFormat::Layout layout = ColorFormat::Layout::RGBA8UNorm;
+  VkFormat genericFormat = VK_FORMAT_R8G8B8A8_UNORM;  // with layout Generic: the format the runtime's codecs convert
   BlendAttachment blend;
   bool depthTest = false, depthWrite = false;
   CompareOp compare = CompareOp::Less;
@@ -25,6 +26,19 @@ struct Scene {
   uint32_t samples = 1;
   uint32_t seed = 0;  // nonzero: random stored bytes, vertex colours and blend constants from this seed
 };
+
+// The Vulkan format of a layout.
+VkFormat vkFormatOf(ColorFormat::Layout layout) {
+  switch (layout) {
+    case ColorFormat::Layout::BGRA8UNorm: return VK_FORMAT_B8G8R8A8_UNORM;
+    case ColorFormat::Layout::RGBA8Srgb: return VK_FORMAT_R8G8B8A8_SRGB;
+    case ColorFormat::Layout::BGRA8Srgb: return VK_FORMAT_B8G8R8A8_SRGB;
+    default: return VK_FORMAT_R8G8B8A8_UNORM;
+  }
+}
+
+constexpr ColorFormat::Layout kLayouts[] = {ColorFormat::Layout::RGBA8UNorm, ColorFormat::Layout::BGRA8UNorm,
+                                            ColorFormat::Layout::RGBA8Srgb, ColorFormat::Layout::BGRA8Srgb};
 
 // Small, seeded, the same on every machine.
 struct Rng {
@@ -64,8 +78,7 @@ Result render(const Scene& sc, bool quadPaths) {
   ColorFormat& f = h.target.colorFormat[0];
   f.kind = ColorFormat::Kind::UNorm;
   f.texelBytes = 4;
-  f.format =
-      formatInfo(sc.layout == ColorFormat::Layout::BGRA8UNorm ? VK_FORMAT_B8G8R8A8_UNORM : VK_FORMAT_R8G8B8A8_UNORM);
+  f.format = formatInfo(sc.layout == ColorFormat::Layout::Generic ? sc.genericFormat : vkFormatOf(sc.layout));
   f.decode = decodeRuntime;
   f.encode = encodeRuntime;
   f.layout = sc.layout;
@@ -131,9 +144,17 @@ Result render(const Scene& sc, bool quadPaths) {
 }
 
 // The general path's bytes against the quad paths', with each copy of the 8-bit UNorm colour writes (baseline and,
-// where the CPU has AVX2, the AVX2 one).
+// where the CPU has AVX2, the AVX2 one); and the layout's inline codecs against the runtime's (the same draws with
+// layout Generic: the format's decode and encode, as for any other format).
 void expectSame(const Scene& sc, const char* what) {
   const Result general = render(sc, false);
+  if (sc.layout != ColorFormat::Layout::Generic) {
+    Scene g = sc;
+    g.layout = ColorFormat::Layout::Generic;
+    g.genericFormat = vkFormatOf(sc.layout);
+    const Result runtime = render(g, false);
+    ASSERT_EQ(general.color, runtime.color) << what << " (the runtime's codecs)";
+  }
   const bool before = detail::quadWritesAvx2();
   for (bool avx2 : {false, true}) {
     if (!detail::setQuadWritesAvx2(avx2)) continue;  // no AVX2 on this CPU: the baseline copy is all there is
@@ -241,7 +262,7 @@ TEST(RasterQuadPath, DepthEveryFormatCompareOpAndWriteAsTheGeneralPath) {
 
 TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
   constexpr int kFactors = int(BlendFactor::OneMinusSrc1Alpha) + 1;
-  for (ColorFormat::Layout layout : {ColorFormat::Layout::RGBA8UNorm, ColorFormat::Layout::BGRA8UNorm}) {
+  for (ColorFormat::Layout layout : kLayouts) {
     for (int f = 0; f < kFactors; ++f) {
       for (int op = 0; op < 5; ++op) {
         Scene sc;
@@ -303,7 +324,7 @@ TEST(RasterQuadPath, Unorm8RandomInputsAsTheGeneralPath) {
   for (uint32_t seed = 1; seed <= 400; ++seed) {
     Scene sc;
     sc.seed = seed;
-    sc.layout = seed % 2 ? ColorFormat::Layout::RGBA8UNorm : ColorFormat::Layout::BGRA8UNorm;
+    sc.layout = kLayouts[seed % 4];
     BlendAttachment& b = sc.blend;
     b.enable = seed % 8 != 0;  // and some without blending
     if (seed % 5 == 0) {
