@@ -139,6 +139,10 @@ uint32_t depthStencilTests(const DrawContext& ctx, bool front, int32_t x, int32_
 void planBackEnd(DrawContext& ctx);
 // Whether planBackEnd may choose the specialised quad paths (tests turn them off to compare with the general path).
 void setQuadPaths(bool enabled);
+// The quad writes' 8-bit sRGB encode (backend.cpp srgbEncode4) of in[0..n), n a multiple of 4 (the tests).
+void encodeSrgb8Quads(const float* in, uint32_t* out, size_t n);
+// ... and the AVX2 copy's (srgbEncode8) of in[0..n), n a multiple of 8; false where the CPU has no AVX2.
+bool encodeSrgb8Octets(const float* in, uint32_t* out, size_t n);
 // Whether planBackEnd chooses the AVX2 copy of the 8-bit UNorm colour quad path, and rasterizeTile the AVX2 copy of
 // the tile loop (each the same bytes as its baseline copy; by default where the CPU has AVX2, unless
 // VKRT_QUAD_ISA=baseline). False, changing nothing, when asked for AVX2 on a CPU without it (the tests).
