@@ -6,7 +6,8 @@
 // time of the frames after the warm-up as frames per second.
 //
 //   VK_DRIVER_FILES=<build>/vkrt_icd.json ./vkrt_rasterbench [--width 1920] [--height 1080] [--frames 30]
-//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--srgb] [--target-srgb] [--out image.png]
+//       [--warmup 3] [--grid 4] [--quads 8] [--model file.glb] [--srgb] [--target-srgb | --target-float16] [--out
+//       image.png]
 //
 // Plain Vulkan 1.3 through the loader: it runs unchanged on vkrt, lavapipe or a GPU driver. vkrt's thread count is
 // VKRT_THREADS; lavapipe's is LP_NUM_THREADS.
@@ -45,6 +46,7 @@ struct Options {
   std::string model = kDefaultModel, out;
   bool srgb = false;
   bool targetSrgb = false;
+  bool targetFloat16 = false;
 };
 
 struct Vertex {
@@ -298,6 +300,8 @@ Options parse(int argc, char** argv) {
       o.srgb = true;
     else if (a == "--target-srgb")  // the colour attachment as R8G8B8A8_SRGB (a swapchain's usual kind), default UNORM
       o.targetSrgb = true;
+    else if (a == "--target-float16")  // the colour attachment as R16G16B16A16_SFLOAT (an HDR target), default UNORM
+      o.targetFloat16 = true;
     else
       fail("unknown option " + a);
   }
@@ -334,7 +338,8 @@ int main(int argc, char** argv) {
   std::memcpy(indices.data, model.indices.data(), model.indices.size() * 4);
   const HostBuffer staging = hostBuffer(g, model.rgba.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
   std::memcpy(staging.data, model.rgba.data(), model.rgba.size());
-  const VkDeviceSize imageBytes = VkDeviceSize(opt.width) * opt.height * 4;
+  const uint32_t texelBytes = opt.targetFloat16 ? 8 : 4;
+  const VkDeviceSize imageBytes = VkDeviceSize(opt.width) * opt.height * texelBytes;
   const HostBuffer readBack = hostBuffer(g, imageBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
 
   uint32_t levels = 1;
@@ -344,7 +349,9 @@ int main(int argc, char** argv) {
       model.texHeight, levels,
       VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
       VK_IMAGE_ASPECT_COLOR_BIT);
-  const VkFormat colorFormat = opt.targetSrgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
+  const VkFormat colorFormat = opt.targetFloat16 ? VK_FORMAT_R16G16B16A16_SFLOAT
+                               : opt.targetSrgb  ? VK_FORMAT_R8G8B8A8_SRGB
+                                                 : VK_FORMAT_R8G8B8A8_UNORM;
   const Image color = example::createImage(g.device, g.physical, colorFormat, opt.width, opt.height, 1,
                                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                            VK_IMAGE_ASPECT_COLOR_BIT);
@@ -555,9 +562,23 @@ int main(int argc, char** argv) {
       opt.width, opt.height, opt.frames, opt.warmup, threads ? threads : "(unset)", median * 1e3, seconds.front() * 1e3,
       1.0 / median, cpu[cpu.size() / 2] * 1e3);
 
-  if (!opt.out.empty() &&
-      !stbi_write_png(opt.out.c_str(), int(opt.width), int(opt.height), 4, readBack.data, int(opt.width * 4)))
-    fail("cannot write " + opt.out);
+  if (!opt.out.empty()) {
+    // A float16 target's components clamped to [0, 1] and scaled to bytes for the PNG.
+    std::vector<uint8_t> rgba8;
+    const uint8_t* pixels = static_cast<const uint8_t*>(readBack.data);
+    if (opt.targetFloat16) {
+      rgba8.resize(size_t(opt.width) * opt.height * 4);
+      const uint16_t* half = static_cast<const uint16_t*>(readBack.data);
+      for (size_t i = 0; i < rgba8.size(); ++i) {
+        const uint32_t h = half[i], e = h >> 10 & 31, m = h & 1023;
+        const float f = e == 0 ? std::ldexp(float(m), -24) : e == 31 ? 1.0f : std::ldexp(float(m | 1024), int(e) - 25);
+        rgba8[i] = uint8_t(std::lround(std::clamp(h >> 15 ? 0.0f : f, 0.0f, 1.0f) * 255.0f));
+      }
+      pixels = rgba8.data();
+    }
+    if (!stbi_write_png(opt.out.c_str(), int(opt.width), int(opt.height), 4, pixels, int(opt.width * 4)))
+      fail("cannot write " + opt.out);
+  }
 
   vkDestroyPipeline(g.device, overlayPipeline, nullptr);
   vkDestroyPipeline(g.device, modelPipeline, nullptr);

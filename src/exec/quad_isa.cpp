@@ -13,6 +13,14 @@ bool hostHasAvx2() {
 #endif
 }
 
+bool hostHasF16c() {
+#if defined(__x86_64__)
+  return __builtin_cpu_supports("f16c");
+#else
+  return false;
+#endif
+}
+
 bool quadAvx2ByDefault() {
   const char* isa = std::getenv("VKRT_QUAD_ISA");
   return hostHasAvx2() && !(isa && std::strcmp(isa, "baseline") == 0);

@@ -7,8 +7,10 @@
 
 namespace vkrt::exec {
 
-// Whether the CPU has AVX2.
+// Whether the CPU has AVX2; F16C (the half-float conversions, which the raster's float16 colour writes' AVX2 copy
+// also takes).
 bool hostHasAvx2();
+bool hostHasF16c();
 // Whether the AVX2 copies run unless a test chooses: where the CPU has AVX2 and the environment's VKRT_QUAD_ISA is
 // not "baseline".
 bool quadAvx2ByDefault();

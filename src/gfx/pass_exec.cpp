@@ -54,6 +54,7 @@ raster::ColorFormat colorFormatOf(const FormatInfo& f) {
   if (f.format == VK_FORMAT_B8G8R8A8_UNORM) c.layout = raster::ColorFormat::Layout::BGRA8UNorm;
   if (f.format == VK_FORMAT_R8G8B8A8_SRGB) c.layout = raster::ColorFormat::Layout::RGBA8Srgb;
   if (f.format == VK_FORMAT_B8G8R8A8_SRGB) c.layout = raster::ColorFormat::Layout::BGRA8Srgb;
+  c.rgba16Float = f.format == VK_FORMAT_R16G16B16A16_SFLOAT;
   return c;
 }
 

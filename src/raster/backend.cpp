@@ -778,7 +778,8 @@ struct BlendOperands {
   Quad4 s1, k;
 };
 
-template <int kShape>
+// kClamp: a normalized format's (the dual-source colour and the constants clamped); a float format's are as given.
+template <int kShape, bool kClamp = true>
 BlendOperands blendOperands(const DrawContext& ctx, uint32_t i, const FragmentQuad& q) {
   const BlendAttachment& ba = ctx.state->blend[i];
   BlendOperands o{kShape >= 0 ? kBlendShapes[kShape]
@@ -788,9 +789,11 @@ BlendOperands blendOperands(const DrawContext& ctx, uint32_t i, const FragmentQu
   const BlendShape& b = o.shape;
   if (readsSource1(b.srcColor) || readsSource1(b.dstColor) || readsSource1(b.srcAlpha) || readsSource1(b.dstAlpha)) {
     o.s1 = components(q.color1);
-    for (Float4& v : o.s1.c) v = clamp01(v);
+    if (kClamp)
+      for (Float4& v : o.s1.c) v = clamp01(v);
   }
-  for (int c = 0; c < 4; ++c) o.k.c[c] = clamp01(splat(ctx.state->blendConstants[c]));
+  for (int c = 0; c < 4; ++c)
+    o.k.c[c] = kClamp ? clamp01(splat(ctx.state->blendConstants[c])) : splat(ctx.state->blendConstants[c]);
   return o;
 }
 
@@ -935,6 +938,64 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
   writeQuadTexels(lane, cov, full, out);
 }
 
+// R16G16B16A16_SFLOAT with one sample (ColorFormat::rgba16Float), a whole quad: the destination decoded and the
+// result encoded through `texels` (the format's codecs, lane by lane, in the baseline copy; F16C conversions in the
+// AVX2 copy below), the source, the blend and the write mask as the general path computes them for a float format
+// (no clamps: writeAttachment's clampToFormat leaves float formats as they are), per component in the same order.
+// `Codec` decodes a texel to four floats (decode(p, out)) and encodes four floats (encode(in, p)).
+template <bool kBlend, bool kReadDst, int kShape, class Codec>
+__attribute__((always_inline)) inline void half4Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
+                                                     const uint32_t cov[4], const Codec& codec) {
+  const BlendAttachment& ba = ctx.state->blend[i];
+  const Surface& surf = ctx.target->color[i];
+  uint8_t* const p0 = texel(surf, 8, ctx.layer, q.x, q.y, 0);
+  uint8_t* const lane[4] = {p0, p0 + 8, p0 + surf.rowPitch, p0 + surf.rowPitch + 8};
+  const Quad4 s = components(q.color[i]);
+  Quad4 d{};
+  if (kReadDst) codec.decode(lane, cov, d);
+  Quad4 r = s;
+  if (kBlend) {
+    const BlendOperands o = blendOperands<kShape, false>(ctx, i, q);
+    const BlendShape& b = o.shape;
+    for (int c = 0; c < 4; ++c) {
+      const bool alpha = c == 3;
+      const Float4 sf = factorQuad(alpha ? b.srcAlpha : b.srcColor, c, s, o.s1, d, o.k);
+      const Float4 df = factorQuad(alpha ? b.dstAlpha : b.dstColor, c, s, o.s1, d, o.k);
+      r.c[c] = blendOp4(alpha ? b.alphaOp : b.colorOp, s.c[c], sf, d.c[c], df);
+    }
+  }
+  const uint32_t mask = ba.writeMask & ctx.target->colorFormat[i].componentMask;
+  if (kReadDst)
+    for (int c = 0; c < 4; ++c)
+      if (!(mask >> c & 1)) r.c[c] = d.c[c];
+  codec.encode(r, lane, cov);
+}
+
+// The baseline copy's codec: the format's own, a texel at a time.
+struct Half4Codec {
+  const ColorFormat* fmt;
+  void decode(uint8_t* const lane[4], const uint32_t cov[4], Quad4& d) const {
+    for (int l = 0; l < 4; ++l) {
+      if (!cov[l]) continue;
+      uint32_t w[4];
+      fmt->decode(fmt->format, lane[l], w);
+      for (int c = 0; c < 4; ++c) d.c[c][l] = asFloat(w[c]);
+    }
+  }
+  void encode(const Quad4& r, uint8_t* const lane[4], const uint32_t cov[4]) const {
+    for (int l = 0; l < 4; ++l) {
+      if (!cov[l]) continue;
+      const uint32_t w[4] = {asWord(r.c[0][l]), asWord(r.c[1][l]), asWord(r.c[2][l]), asWord(r.c[3][l])};
+      fmt->encode(fmt->format, w, lane[l]);
+    }
+  }
+};
+
+template <bool kBlend, bool kReadDst, int kShape = -1>
+void colorHalf4Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, const uint32_t cov[4]) {
+  half4Quad<kBlend, kReadDst, kShape>(ctx, i, q, cov, Half4Codec{&ctx.target->colorFormat[i]});
+}
+
 #if defined(__x86_64__)
 // colorUnorm8Quad for AVX2: two components in each 256-bit vector (R and G of the four lanes, then B and A), so the
 // decode, the blend and the encode take half the instructions. The same float operations per element in the same
@@ -1074,6 +1135,101 @@ void colorUnorm8QuadAvx2(const DrawContext& ctx, uint32_t i, const FragmentQuad&
 VKRT_AVX2_END
 #endif
 
+#if defined(__x86_64__)
+// The AVX2 copy's codec for half4Quad: F16C's conversions of the two rows (two texels, eight halves, each), the same
+// values as the format's codecs: exact widening; narrowing rounded to nearest even, overflow to infinity (the codec's
+// 65520 and up); a NaN made the codec's 0x7E00 (F16C keeps its sign and payload; those of a decoded NaN reach nothing
+// but the encode, which replaces them).
+struct Half4CodecF16c {
+  __attribute__((target("avx2,f16c"))) void decode(uint8_t* const lane[4], const uint32_t cov[4], Quad4& d) const {
+    __m128i row[2];
+    for (int h = 0; h < 2; ++h) {
+      if (cov[2 * h] && cov[2 * h + 1]) {
+        row[h] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lane[2 * h]));
+      } else {
+        const __m128i a = cov[2 * h] ? _mm_loadl_epi64(reinterpret_cast<const __m128i*>(lane[2 * h])) : __m128i{};
+        const __m128i b =
+            cov[2 * h + 1] ? _mm_loadl_epi64(reinterpret_cast<const __m128i*>(lane[2 * h + 1])) : __m128i{};
+        row[h] = _mm_unpacklo_epi64(a, b);
+      }
+    }
+    const __m256 a = _mm256_cvtph_ps(row[0]), b = _mm256_cvtph_ps(row[1]);  // lanes 0, 1 and 2, 3: r g b a r g b a
+    // To components: c of lane l.
+    const __m256 lo = _mm256_permute2f128_ps(a, b, 0x20), hi = _mm256_permute2f128_ps(a, b, 0x31);  // l0 l2 | l1 l3
+    const __m256 t0 = _mm256_unpacklo_ps(lo, hi), t1 = _mm256_unpackhi_ps(lo, hi);  // r0 r1 g0 g1 | r2 r3 g2 g3 ...
+    const Float8 u0 = Float8(t0), u1 = Float8(t1);
+    d.c[0] = Float4{u0[0], u0[1], u0[4], u0[5]};
+    d.c[1] = Float4{u0[2], u0[3], u0[6], u0[7]};
+    d.c[2] = Float4{u1[0], u1[1], u1[4], u1[5]};
+    d.c[3] = Float4{u1[2], u1[3], u1[6], u1[7]};
+  }
+  __attribute__((target("avx2,f16c"))) void encode(const Quad4& r, uint8_t* const lane[4],
+                                                   const uint32_t cov[4]) const {
+    // Lanes to texels: (r g b a) of lanes 0, 1 and of lanes 2, 3.
+    const Float4 rg01 = __builtin_shufflevector(r.c[0], r.c[1], 0, 4, 1, 5);  // r0 g0 r1 g1
+    const Float4 ba01 = __builtin_shufflevector(r.c[2], r.c[3], 0, 4, 1, 5);
+    const Float4 rg23 = __builtin_shufflevector(r.c[0], r.c[1], 2, 6, 3, 7);
+    const Float4 ba23 = __builtin_shufflevector(r.c[2], r.c[3], 2, 6, 3, 7);
+    const Float8 t01 = {rg01[0], rg01[1], ba01[0], ba01[1], rg01[2], rg01[3], ba01[2], ba01[3]};
+    const Float8 t23 = {rg23[0], rg23[1], ba23[0], ba23[1], rg23[2], rg23[3], ba23[2], ba23[3]};
+    __m128i row[2] = {_mm256_cvtps_ph(__m256(t01), _MM_FROUND_TO_NEAREST_INT),
+                      _mm256_cvtps_ph(__m256(t23), _MM_FROUND_TO_NEAREST_INT)};
+    for (__m128i& v : row) {
+      const __m128i exp = _mm_set1_epi16(0x7C00), man = _mm_set1_epi16(0x03FF);
+      const __m128i nan = _mm_andnot_si128(_mm_cmpeq_epi16(_mm_and_si128(v, man), _mm_setzero_si128()),
+                                           _mm_cmpeq_epi16(_mm_and_si128(v, exp), exp));
+      v = _mm_or_si128(_mm_andnot_si128(nan, v), _mm_and_si128(nan, _mm_set1_epi16(0x7E00)));
+    }
+    for (int h = 0; h < 2; ++h) {
+      if (cov[2 * h] && cov[2 * h + 1]) {
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(lane[2 * h]), row[h]);
+        continue;
+      }
+      if (cov[2 * h]) _mm_storel_epi64(reinterpret_cast<__m128i*>(lane[2 * h]), row[h]);
+      if (cov[2 * h + 1])
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(lane[2 * h + 1]), _mm_unpackhi_epi64(row[h], row[h]));
+    }
+  }
+};
+
+template <bool kBlend, bool kReadDst, int kShape = -1>
+__attribute__((target("avx2,f16c"))) void colorHalf4QuadF16c(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
+                                                             const uint32_t cov[4]) {
+  half4Quad<kBlend, kReadDst, kShape>(ctx, i, q, cov, Half4CodecF16c{});
+}
+#endif
+
+// half4Quad's writes for an attachment's blend and write mask: the F16C copy where the quad writes take AVX2 and
+// the CPU has F16C.
+auto half4QuadFor(const BlendAttachment& ba, bool readDst, bool f16c) -> decltype(&colorHalf4Quad<false, false>) {
+#if defined(__x86_64__)
+  if (f16c) {
+    if (ba.enable) {
+      switch (blendShapeOf(ba)) {
+        case 0: return colorHalf4QuadF16c<true, true, 0>;
+        case 1: return colorHalf4QuadF16c<true, true, 1>;
+        case 2: return colorHalf4QuadF16c<true, true, 2>;
+        case 3: return colorHalf4QuadF16c<true, true, 3>;
+        default: return colorHalf4QuadF16c<true, true>;
+      }
+    }
+    return readDst ? colorHalf4QuadF16c<false, true> : colorHalf4QuadF16c<false, false>;
+  }
+#else
+  (void)f16c;
+#endif
+  if (ba.enable) {
+    switch (blendShapeOf(ba)) {
+      case 0: return colorHalf4Quad<true, true, 0>;
+      case 1: return colorHalf4Quad<true, true, 1>;
+      case 2: return colorHalf4Quad<true, true, 2>;
+      case 3: return colorHalf4Quad<true, true, 3>;
+      default: return colorHalf4Quad<true, true>;
+    }
+  }
+  return readDst ? colorHalf4Quad<false, true> : colorHalf4Quad<false, false>;
+}
+
 // The 8-bit UNorm (kSrgb: sRGB) quad writes of one kind: kAvx2's copy.
 template <bool kAvx2, bool kBgra, bool kBlend, bool kReadDst, int kShape = -1, bool kSrgb = false>
 constexpr auto unorm8Quad() -> decltype(&colorUnorm8Quad<kBgra, false, false>) {
@@ -1178,6 +1334,14 @@ void planBackEnd(DrawContext& ctx) {
   for (uint32_t i = 0; i < tg.colorCount; ++i) {
     const ColorFormat& fmt = tg.colorFormat[i];
     if (!tg.color[i].base || !(ctx.fragment->outputMask >> i & 1) || !fmt.encode) continue;
+    if (fmt.rgba16Float && quads && tg.color[i].samples == 1 && !st.logicOpEnable) {
+      const BlendAttachment& ba = st.blend[i];
+      const uint32_t mask = ba.writeMask & fmt.componentMask;
+      if (!mask) continue;
+      plan.color[i] = half4QuadFor(ba, ba.enable || mask != 0xF, quadWritesAvx2() && exec::hostHasF16c());
+      plan.quadPaths |= 2u << i;
+      continue;
+    }
     uint32_t mask;
     const bool unorm8 = unorm8Path(ctx, i, &mask);
     if (!mask) continue;

@@ -118,6 +118,9 @@ struct ColorFormat {
   // colour components by abi/srgb8.hpp's table; encode: NaN to 0, clamped to [0, 1], times 255 rounded to nearest
   // even, sRGB colour components by abi/srgb8.hpp's encode).
   enum class Layout : uint8_t { Generic, RGBA8UNorm, BGRA8UNorm, RGBA8Srgb, BGRA8Srgb } layout = Layout::Generic;
+  // R16G16B16A16_SFLOAT (set by the graphics layer): the back end's quad path for it (half4Quad), with the codecs'
+  // results.
+  bool rgba16Float = false;
   bool bgra() const { return layout == Layout::BGRA8UNorm || layout == Layout::BGRA8Srgb; }
   bool srgb() const { return layout == Layout::RGBA8Srgb || layout == Layout::BGRA8Srgb; }
 };

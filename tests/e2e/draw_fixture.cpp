@@ -147,7 +147,8 @@ VkResult DrawTest::createPipeline(const PipelineDesc& d, VkPipeline* out) {
 
 std::vector<uint32_t> DrawTest::render(const Target& color, const Target* depth,
                                        const std::function<void(VkCommandBuffer)>& draw, uint32_t clear) {
-  HostBuffer out = createHostBuffer(kW * kH * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  const uint32_t texelBytes = color.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8 : 4;
+  HostBuffer out = createHostBuffer(kW * kH * texelBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   VkCommandBuffer cb = beginOneTime();
   VkImageMemoryBarrier barriers[2]{};
   for (int k = 0; k < 2; ++k) {
@@ -212,7 +213,7 @@ std::vector<uint32_t> DrawTest::render(const Target& color, const Target* depth,
   vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hb, 0,
                        nullptr);
   submitAndWait(cb);
-  std::vector<uint32_t> pixels(kW * kH);
+  std::vector<uint32_t> pixels(kW * kH * texelBytes / 4);
   std::memcpy(pixels.data(), out.data, pixels.size() * 4);
   destroy(out);
   return pixels;

@@ -97,7 +97,8 @@ class DrawTest : public VulkanTest {
 
   // Records: barriers to attachment layouts, vkCmdBeginRendering (color cleared to `clear`, depth to 1, stencil to
   // 0), `draw`, vkCmdEndRendering, and a copy of the color target to a host buffer; submits, waits and returns the
-  // pixels (RGBA8 as uint32_t, row-major). `depth` may be null.
+  // pixels (RGBA8 as uint32_t, row-major; an R16G16B16A16_SFLOAT target's as two words a pixel). `depth` may be
+  // null.
   std::vector<uint32_t> render(const Target& color, const Target* depth,
                                const std::function<void(VkCommandBuffer)>& draw, uint32_t clear = 0);
 

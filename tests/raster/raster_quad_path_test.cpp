@@ -17,6 +17,7 @@ namespace {
 struct Scene {
   ColorFormat::Layout layout = ColorFormat::Layout::RGBA8UNorm;
   VkFormat genericFormat = VK_FORMAT_R8G8B8A8_UNORM;  // with layout Generic: the format the runtime's codecs convert
+  bool float16 = false;  // an R16G16B16A16_SFLOAT target instead (8-byte texels, the float16 quad path)
   BlendAttachment blend;
   bool depthTest = false, depthWrite = false;
   CompareOp compare = CompareOp::Less;
@@ -71,17 +72,20 @@ Result render(const Scene& sc, bool quadPaths) {
   constexpr uint32_t W = 15, H = 13;
   detail::setQuadPaths(quadPaths);
   Harness h(W, H, sc.samples);
-  h.color = Image(W, H, 4, sc.samples);
+  h.color = Image(W, H, sc.float16 ? 8 : 4, sc.samples);
   Rng rng{sc.seed};
   for (size_t i = 0; i < h.color.data.size(); ++i)
     h.color.data[i] = sc.seed ? uint8_t(rng.next()) : uint8_t(i * 7 + i / 4);
   ColorFormat& f = h.target.colorFormat[0];
-  f.kind = ColorFormat::Kind::UNorm;
-  f.texelBytes = 4;
-  f.format = formatInfo(sc.layout == ColorFormat::Layout::Generic ? sc.genericFormat : vkFormatOf(sc.layout));
+  f.kind = sc.float16 ? ColorFormat::Kind::Float : ColorFormat::Kind::UNorm;
+  f.texelBytes = sc.float16 ? 8 : 4;
+  f.format = formatInfo(sc.float16                                  ? VK_FORMAT_R16G16B16A16_SFLOAT
+                        : sc.layout == ColorFormat::Layout::Generic ? sc.genericFormat
+                                                                    : vkFormatOf(sc.layout));
+  f.rgba16Float = sc.float16;
   f.decode = decodeRuntime;
   f.encode = encodeRuntime;
-  f.layout = sc.layout;
+  f.layout = sc.float16 ? ColorFormat::Layout::Generic : sc.layout;
   Image depth(W, H, sc.depthTexelBytes, sc.samples);
   for (size_t i = 0; i < depth.data.size() / sc.depthTexelBytes; ++i) {
     const uint32_t step = (i * 37) % 101;  // 0..100: stored depths from 0 to 1
@@ -148,7 +152,7 @@ Result render(const Scene& sc, bool quadPaths) {
 // layout Generic: the format's decode and encode, as for any other format).
 void expectSame(const Scene& sc, const char* what) {
   const Result general = render(sc, false);
-  if (sc.layout != ColorFormat::Layout::Generic) {
+  if (sc.layout != ColorFormat::Layout::Generic && !sc.float16) {
     Scene g = sc;
     g.layout = ColorFormat::Layout::Generic;
     g.genericFormat = vkFormatOf(sc.layout);
@@ -173,7 +177,8 @@ uint32_t planned(const Scene& sc, bool stencilTest = false, bool logicOp = false
   tg.colorCount = 1;
   tg.color[0].base = storage;
   tg.color[0].samples = sc.samples;
-  tg.colorFormat[0].layout = sc.layout;
+  tg.colorFormat[0].layout = sc.float16 ? ColorFormat::Layout::Generic : sc.layout;
+  tg.colorFormat[0].rgba16Float = sc.float16;
   tg.colorFormat[0].encode = encodeRuntime;
   tg.colorFormat[0].decode = decodeRuntime;
   tg.samples = sc.samples;
@@ -338,6 +343,52 @@ TEST(RasterQuadPath, Unorm8RandomInputsAsTheGeneralPath) {
     b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
     ASSERT_EQ(planned(sc), 2u);
     expectSame(sc, ("seed " + std::to_string(seed)).c_str());
+  }
+}
+
+// R16G16B16A16_SFLOAT (backend.cpp half4Quad, both copies): every blend factor and op in each slot, the equations
+// with code of their own, write masks, then random stored halves (NaN, infinities, subnormals), colours, constants
+// and blend states: the general path's bytes, which go through the format's codecs.
+TEST(RasterQuadPath, Float16EveryBlendAndRandomInputsAsTheGeneralPath) {
+  constexpr uint32_t kFactors = uint32_t(BlendFactor::OneMinusSrc1Alpha) + 1;
+  for (uint32_t f = 0; f < kFactors; ++f) {
+    for (int op = 0; op < 5; ++op) {
+      Scene sc;
+      sc.float16 = true;
+      sc.depthTest = true, sc.depthWrite = (f & 1) != 0;
+      BlendAttachment& b = sc.blend;
+      b.enable = true;
+      b.srcColor = BlendFactor(f), b.dstColor = BlendFactor((f + 5) % kFactors);
+      b.srcAlpha = BlendFactor((f + 3) % kFactors), b.dstAlpha = BlendFactor((f + 11) % kFactors);
+      b.colorOp = BlendOp(op), b.alphaOp = BlendOp((op + 2) % 5);
+      b.writeMask = f % 3 == 0 ? 0xF : uint8_t(1 + (f + op) % 15);
+      ASSERT_EQ(planned(sc), 3u);
+      expectSame(sc, ("float16 factor " + std::to_string(f) + " op " + std::to_string(op)).c_str());
+    }
+  }
+  using F = BlendFactor;
+  const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                   {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
+                                   {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                   {F::One, F::One, F::One, F::One}};
+  Rng pick{777};
+  for (uint32_t seed = 1; seed <= 200; ++seed) {
+    Scene sc;
+    sc.float16 = true;
+    sc.seed = seed;
+    BlendAttachment& b = sc.blend;
+    b.enable = seed % 8 != 0;
+    if (seed % 5 == 0) {
+      const auto& shape = shapes[seed / 5 % 4];
+      b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
+    } else {
+      b.srcColor = BlendFactor(pick.next() % kFactors), b.dstColor = BlendFactor(pick.next() % kFactors);
+      b.srcAlpha = BlendFactor(pick.next() % kFactors), b.dstAlpha = BlendFactor(pick.next() % kFactors);
+      b.colorOp = BlendOp(pick.next() % 5), b.alphaOp = BlendOp(pick.next() % 5);
+    }
+    b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
+    ASSERT_EQ(planned(sc), 2u);
+    expectSame(sc, ("float16 seed " + std::to_string(seed)).c_str());
   }
 }
 
