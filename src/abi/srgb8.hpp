@@ -42,9 +42,9 @@ struct Srgb8Tables {
       while (scaled(x) < k - 0.5) x = std::nextafter(x, 2.0f);
       threshold[k] = x;
     }
+    int k = 0;  // the buckets' first floats increase: each bucket's byte starts from the previous one's
     for (uint32_t b = 0; b < kBuckets; ++b) {
       const float first = std::ldexp(1.0f + float(b % 128) / 128.0f, int(b / 128) + kMinExponent);
-      int k = 0;
       while (k < 255 && threshold[k + 1] <= first) ++k;
       bucket[b] = uint8_t(k);
     }

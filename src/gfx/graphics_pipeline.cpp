@@ -126,8 +126,9 @@ void linkInterfaces(GraphicsPipelineDesc* p, const std::vector<GraphicsPipelineD
 }
 
 // What the fragment shader's SPMD entry may write of colour attachment 0 itself (abi::ColorMerge): a pipeline with
-// one colour attachment of an 8-bit UNorm RGBA or BGRA format, one sample, no logic op, alpha to coverage or to one,
-// and blending off or one of the back end's four equations of their own (none of them reads the blend constants).
+// one colour attachment of an 8-bit UNorm RGBA or BGRA format, one sample, no logic op, no alpha to coverage or to
+// one, and blending off or one of the back end's four equations of their own (raster::blendShape; none of them reads
+// the blend constants).
 // The draw still decides per quad (the executor's DrawContext::mergesColor, the rasterizer's fast path).
 abi::ColorMerge colorMergeFor(const VkGraphicsPipelineCreateInfo& ci, const GraphicsPipelineDesc& p) {
   abi::ColorMerge m;
@@ -143,24 +144,9 @@ abi::ColorMerge colorMergeFor(const VkGraphicsPipelineCreateInfo& ci, const Grap
   const raster::State& s = p.state;
   if (s.samples != 1 || s.sampleShading || s.alphaToCoverage || s.alphaToOne || s.logicOpEnable) return m;
   const raster::BlendAttachment& b = s.blend[0];
-  using F = raster::BlendFactor;
-  abi::ColorMerge::Blend blend = abi::ColorMerge::kOff;
-  if (b.enable) {
-    if (b.colorOp != raster::BlendOp::Add || b.alphaOp != raster::BlendOp::Add) return m;
-    if (b.srcColor == F::SrcAlpha && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::One &&
-        b.dstAlpha == F::OneMinusSrcAlpha)
-      blend = abi::ColorMerge::kOver;
-    else if (b.srcColor == F::SrcAlpha && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::SrcAlpha &&
-             b.dstAlpha == F::OneMinusSrcAlpha)
-      blend = abi::ColorMerge::kOverAll;
-    else if (b.srcColor == F::One && b.dstColor == F::OneMinusSrcAlpha && b.srcAlpha == F::One &&
-             b.dstAlpha == F::OneMinusSrcAlpha)
-      blend = abi::ColorMerge::kPremultiplied;
-    else if (b.srcColor == F::One && b.dstColor == F::One && b.srcAlpha == F::One && b.dstAlpha == F::One)
-      blend = abi::ColorMerge::kAdditive;
-    else
-      return m;
-  }
+  const int shape = b.enable ? raster::blendShape(b) : -1;
+  if (b.enable && shape < 0) return m;
+  const abi::ColorMerge::Blend blend = abi::ColorMerge::Blend(shape + 1);  // kOff, or the shape's in the same order
   if (format == VK_FORMAT_R8G8B8A8_UNORM)
     m.format = abi::ColorMerge::kRgba8Unorm;
   else if (format == VK_FORMAT_B8G8R8A8_UNORM)

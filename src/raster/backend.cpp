@@ -204,29 +204,38 @@ inline uint32_t encodeUnorm8(uint32_t word) {
   return uint32_t((f * 255.0f + 0x1p23f) - 0x1p23f);
 }
 
-// A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
-inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
-  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
-  const bool bgra = fmt.bgra();
-  const float* rgb = fmt.srgb() ? abi::srgb8Tables().decode : kUnorm8.v;
-  // One 16-byte store: the words are read back as one vector, which four small stores would stall.
-  using Words = float __attribute__((vector_size(16)));
-  const Words v = {rgb[p[bgra ? 2 : 0]], rgb[p[1]], rgb[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
-  std::memcpy(out, &v, 16);
+using Words4 = float __attribute__((vector_size(16)));
+
+// An 8-bit layout's texel (ColorFormat::Layout) to four floats: the colour components by `rgb` (kUnorm8's table, or
+// abi/srgb8.hpp's for an sRGB layout), alpha by kUnorm8's.
+inline Words4 decodeRgba8(const uint8_t* p, bool bgra, const float* rgb) {
+  return Words4{rgb[p[bgra ? 2 : 0]], rgb[p[1]], rgb[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
 }
 
-inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
-  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.encode(fmt.format, in, p);
-  const bool bgra = fmt.bgra();
+// Four floats (as words) to an 8-bit layout's texel: the colour components by encodeUnorm8, or by abi/srgb8.hpp's
+// encode (NaN 0, clamped) for an sRGB layout; alpha by encodeUnorm8.
+inline uint32_t encodeRgba8(const uint32_t in[4], bool bgra, bool srgb) {
   uint32_t r, g, b;
-  if (fmt.srgb()) {
+  if (srgb) {
     const abi::Srgb8Tables& t = abi::srgb8Tables();
     r = t.encode(asFloat(in[0])), g = t.encode(asFloat(in[1])), b = t.encode(asFloat(in[2]));
   } else {
     r = encodeUnorm8(in[0]), g = encodeUnorm8(in[1]), b = encodeUnorm8(in[2]);
   }
-  const uint32_t a = encodeUnorm8(in[3]);
-  const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
+  return (bgra ? b | r << 16 : r | b << 16) | g << 8 | encodeUnorm8(in[3]) << 24;
+}
+
+// A texel's four components to words (floats), through the format's decode unless its layout is a fast one.
+inline void decodeColor(const ColorFormat& fmt, const uint8_t* p, uint32_t out[4]) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.decode(fmt.format, p, out);
+  // One 16-byte store: the words are read back as one vector, which four small stores would stall.
+  const Words4 v = decodeRgba8(p, fmt.bgra(), fmt.srgb() ? abi::srgb8Tables().decode : kUnorm8.v);
+  std::memcpy(out, &v, 16);
+}
+
+inline void encodeColor(const ColorFormat& fmt, const uint32_t in[4], uint8_t* p) {
+  if (fmt.layout == ColorFormat::Layout::Generic) return fmt.encode(fmt.format, in, p);
+  const uint32_t w = encodeRgba8(in, fmt.bgra(), fmt.srgb());
   std::memcpy(p, &w, 4);
 }
 
@@ -312,11 +321,8 @@ inline Float4 loadUnorm8(const uint8_t* p, bool bgra) {
   return bgra ? __builtin_shufflevector(f, f, 2, 1, 0, 3) : f;
 }
 
-// The same for an sRGB layout: the colour components by the decode table, alpha as UNorm.
-inline Float4 loadSrgb8(const uint8_t* p, bool bgra) {
-  const float* t = abi::srgb8Tables().decode;
-  return Float4{t[p[bgra ? 2 : 0]], t[p[1]], t[p[bgra ? 0 : 2]], kUnorm8.v[p[3]]};
-}
+// The same for an sRGB layout (decodeColor's): the colour components by the decode table, alpha as UNorm.
+inline Float4 loadSrgb8(const uint8_t* p, bool bgra) { return decodeRgba8(p, bgra, abi::srgb8Tables().decode); }
 
 // Four values in [0, 1] times 255 in float, rounded to integers as encodeUnorm8 rounds them (its adding and
 // subtracting of 2^23 rounds in the current rounding mode, as cvtps2dq does: the same integers in every mode).
@@ -335,12 +341,11 @@ inline void storeUnorm8(Float4 v, uint8_t* p, bool bgra) {
   std::memcpy(p, &b, 4);
 }
 
-// The same for an sRGB layout: the colour components by abi/srgb8.hpp's encode (NaN 0, clamped), alpha as UNorm.
+// The same for an sRGB layout (encodeColor's): the colour components by abi/srgb8.hpp's encode, alpha as UNorm.
 inline void storeSrgb8(Float4 v, uint8_t* p, bool bgra) {
-  const abi::Srgb8Tables& t = abi::srgb8Tables();
-  const uint32_t r = t.encode(v[0]), g = t.encode(v[1]), b = t.encode(v[2]);
-  const uint32_t a = uint32_t(unorm8Bytes(saturate(v))[3]);
-  const uint32_t w = (bgra ? b | r << 16 : r | b << 16) | g << 8 | a << 24;
+  uint32_t in[4];
+  std::memcpy(in, &v, 16);
+  const uint32_t w = encodeRgba8(in, bgra, true);
   std::memcpy(p, &w, 4);
 }
 
@@ -939,10 +944,11 @@ void colorUnorm8Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q, 
 }
 
 // R16G16B16A16_SFLOAT with one sample (ColorFormat::rgba16Float), a whole quad: the destination decoded and the
-// result encoded through `texels` (the format's codecs, lane by lane, in the baseline copy; F16C conversions in the
-// AVX2 copy below), the source, the blend and the write mask as the general path computes them for a float format
-// (no clamps: writeAttachment's clampToFormat leaves float formats as they are), per component in the same order.
-// `Codec` decodes a texel to four floats (decode(p, out)) and encodes four floats (encode(in, p)).
+// result encoded by `codec` (the format's codecs, lane by lane, in the baseline copy; F16C conversions in the AVX2
+// copy below), the source, the blend and the write mask as the general path computes them for a float format (no
+// clamps: writeAttachment's clampToFormat leaves float formats as they are), per component in the same order.
+// `Codec` decodes the covered lanes' texels into components (decode(lane, cov, d)) and encodes them back
+// (encode(r, lane, cov)).
 template <bool kBlend, bool kReadDst, int kShape, class Codec>
 __attribute__((always_inline)) inline void half4Quad(const DrawContext& ctx, uint32_t i, const FragmentQuad& q,
                                                      const uint32_t cov[4], const Codec& codec) {
@@ -1199,35 +1205,29 @@ __attribute__((target("avx2,f16c"))) void colorHalf4QuadF16c(const DrawContext& 
 }
 #endif
 
-// half4Quad's writes for an attachment's blend and write mask: the F16C copy where the quad writes take AVX2 and
-// the CPU has F16C.
-auto half4QuadFor(const BlendAttachment& ba, bool readDst, bool f16c) -> decltype(&colorHalf4Quad<false, false>) {
+// The float16 quad writes of one kind: the F16C copy (kF16c) or the baseline one.
+template <bool kF16c, bool kBlend, bool kReadDst, int kShape = -1>
+constexpr auto half4QuadOf() -> decltype(&colorHalf4Quad<false, false>) {
 #if defined(__x86_64__)
-  if (f16c) {
-    if (ba.enable) {
-      switch (blendShapeOf(ba)) {
-        case 0: return colorHalf4QuadF16c<true, true, 0>;
-        case 1: return colorHalf4QuadF16c<true, true, 1>;
-        case 2: return colorHalf4QuadF16c<true, true, 2>;
-        case 3: return colorHalf4QuadF16c<true, true, 3>;
-        default: return colorHalf4QuadF16c<true, true>;
-      }
-    }
-    return readDst ? colorHalf4QuadF16c<false, true> : colorHalf4QuadF16c<false, false>;
-  }
-#else
-  (void)f16c;
+  if constexpr (kF16c) return colorHalf4QuadF16c<kBlend, kReadDst, kShape>;
 #endif
+  return colorHalf4Quad<kBlend, kReadDst, kShape>;
+}
+
+// half4Quad's writes for an attachment's blend and write mask (kF16c: where the quad writes take AVX2 and the CPU has
+// F16C).
+template <bool kF16c>
+auto half4QuadFor(const BlendAttachment& ba, bool readDst) -> decltype(&colorHalf4Quad<false, false>) {
   if (ba.enable) {
     switch (blendShapeOf(ba)) {
-      case 0: return colorHalf4Quad<true, true, 0>;
-      case 1: return colorHalf4Quad<true, true, 1>;
-      case 2: return colorHalf4Quad<true, true, 2>;
-      case 3: return colorHalf4Quad<true, true, 3>;
-      default: return colorHalf4Quad<true, true>;
+      case 0: return half4QuadOf<kF16c, true, true, 0>();
+      case 1: return half4QuadOf<kF16c, true, true, 1>();
+      case 2: return half4QuadOf<kF16c, true, true, 2>();
+      case 3: return half4QuadOf<kF16c, true, true, 3>();
+      default: return half4QuadOf<kF16c, true, true>();
     }
   }
-  return readDst ? colorHalf4Quad<false, true> : colorHalf4Quad<false, false>;
+  return readDst ? half4QuadOf<kF16c, false, true>() : half4QuadOf<kF16c, false, false>();
 }
 
 // The 8-bit UNorm (kSrgb: sRGB) quad writes of one kind: kAvx2's copy.
@@ -1338,7 +1338,9 @@ void planBackEnd(DrawContext& ctx) {
       const BlendAttachment& ba = st.blend[i];
       const uint32_t mask = ba.writeMask & fmt.componentMask;
       if (!mask) continue;
-      plan.color[i] = half4QuadFor(ba, ba.enable || mask != 0xF, quadWritesAvx2() && exec::hostHasF16c());
+      const bool readDst = ba.enable || mask != 0xF;
+      plan.color[i] =
+          quadWritesAvx2() && exec::hostHasF16c() ? half4QuadFor<true>(ba, readDst) : half4QuadFor<false>(ba, readDst);
       plan.quadPaths |= 2u << i;
       continue;
     }
@@ -1359,3 +1361,9 @@ void planBackEnd(DrawContext& ctx) {
 }
 
 }  // namespace vkrt::raster::detail
+
+namespace vkrt::raster {
+
+int blendShape(const BlendAttachment& b) { return detail::blendShapeOf(b); }
+
+}  // namespace vkrt::raster

@@ -357,6 +357,11 @@ struct Draw {
   std::atomic<uint64_t>* samplesPassed = nullptr;
 };
 
+// Which of the back end's blend equations with code of their own `b`'s factors and ops are (kBlendShapes, in order:
+// source alpha "over" with alpha as coverage, "over" on all four components, premultiplied "over", additive; the
+// order abi::ColorMerge::Blend follows), or -1 for any other; `enable` is not looked at.
+int blendShape(const BlendAttachment& b);
+
 // Runs one draw to completion (on the thread pool; returns when every fragment is written). The attachments are read
 // and written in place.
 void draw(const Target& target, const State& state, const Draw& draw, const VertexStage& vertex,

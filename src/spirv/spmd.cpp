@@ -2331,14 +2331,11 @@ void Spmd::emitColorMerge() {
   auto* done = llvm::BasicBlock::Create(c, "merge.done", fn);
   b.CreateCondBr(b.CreateIsNotNull(dst), write, done);
   b.SetInsertPoint(write);
-  llvm::Type* f4 = llvm::FixedVectorType::get(b.getFloatTy(), 4);
+  // The quad's four lanes (N): a component of them as one vector, a row of the quad's texels as two words.
+  llvm::Type* f4 = laneTy(b.getFloatTy());
   llvm::Type* i2 = llvm::FixedVectorType::get(b.getInt32Ty(), 2);
-  auto fsplat = [&](float v) {
-    return llvm::ConstantVector::getSplat(llvm::ElementCount::getFixed(4), llvm::ConstantFP::get(b.getFloatTy(), v));
-  };
-  auto isplat = [&](uint32_t v) {
-    return llvm::ConstantVector::getSplat(llvm::ElementCount::getFixed(4), b.getInt32(v));
-  };
+  auto fsplat = [&](float v) { return splat(llvm::ConstantFP::get(b.getFloatTy(), v)); };
+  auto isplat = [&](uint32_t v) { return splat(b.getInt32(v)); };
   // x86's maxps(a, b) and minps(a, b): a > b ? a : b and a < b ? a : b (the second operand when unordered).
   auto maxps = [&](llvm::Value* x, llvm::Value* y) { return b.CreateSelect(b.CreateFCmpOGT(x, y), x, y); };
   auto minps = [&](llvm::Value* x, llvm::Value* y) { return b.CreateSelect(b.CreateFCmpOLT(x, y), x, y); };
