@@ -9,8 +9,6 @@
 #include <cstdlib>
 #include <string>
 
-#include "draw_color.frag.spv.h"
-#include "draw_color.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
 
 namespace vkrt::test {
@@ -34,13 +32,7 @@ class DrawColorMergeTest : public DrawTest, public ::testing::WithParamInterface
   }
 
   VkPipeline pipeline(VkFormat format, const VkPipelineColorBlendAttachmentState& blend, float constantAlpha = 0) {
-    PipelineDesc d;
-    d.vs = kSpv_draw_color_vert;
-    d.vsBytes = sizeof kSpv_draw_color_vert;
-    d.fs = kSpv_draw_color_frag;
-    d.fsBytes = sizeof kSpv_draw_color_frag;
-    d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+    PipelineDesc d = colorPipeline();
     d.colorFormat = format;
     d.blend = blend;
     d.blendConstants[3] = constantAlpha;

@@ -1,5 +1,6 @@
 #include "e2e/draw_fixture.hpp"
 
+#include "draw_color.frag.spv.h"
 #include "draw_color.vert.spv.h"
 #include "draw_flat.frag.spv.h"
 
@@ -290,17 +291,25 @@ void DrawTest::TearDown() {
   VulkanTest::TearDown();
 }
 
+DrawTest::PipelineDesc DrawTest::colorPipeline() {
+  PipelineDesc d;
+  d.vs = kSpv_draw_color_vert;
+  d.vsBytes = sizeof kSpv_draw_color_vert;
+  d.fs = kSpv_draw_color_frag;
+  d.fsBytes = sizeof kSpv_draw_color_frag;
+  d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+  return d;
+}
+
 std::vector<uint32_t> DrawTest::drawFullScreen(const uint32_t* fs, size_t fsBytes, const float rgba[4], uint32_t clear,
                                                const uint32_t* vs, size_t vsBytes) {
   Target color = createTarget(kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                               VK_IMAGE_ASPECT_COLOR_BIT);
-  PipelineDesc d;
-  d.vs = vs ? vs : kSpv_draw_color_vert;
-  d.vsBytes = vs ? vsBytes : sizeof kSpv_draw_color_vert;
+  PipelineDesc d = colorPipeline();
+  if (vs) d.vs = vs, d.vsBytes = vsBytes;
   d.fs = fs;
   d.fsBytes = fsBytes;
-  d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-  d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
   VkPipeline pipeline;
   if (createPipeline(d, &pipeline) != VK_SUCCESS) {
     ADD_FAILURE() << "vkCreateGraphicsPipelines failed";

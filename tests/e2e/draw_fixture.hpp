@@ -92,6 +92,9 @@ class DrawTest : public VulkanTest {
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;  // set 0 of the layout, when not null
     VkRenderPass renderPass = VK_NULL_HANDLE;          // subpass 0 of it instead of dynamic rendering, when not null
   };
+  // draw_color.vert and draw_color.frag, reading Vertex's position and colour (binding 0, locations 0 and 1); the
+  // rest of the state PipelineDesc's defaults.
+  static PipelineDesc colorPipeline();
   // Creates the pipeline (and its layout, kept in `layout`); returns vkCreateGraphicsPipelines' result.
   VkResult createPipeline(const PipelineDesc& d, VkPipeline* out);
 

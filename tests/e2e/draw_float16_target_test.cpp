@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "draw_color.frag.spv.h"
-#include "draw_color.vert.spv.h"
 #include "e2e/draw_fixture.hpp"
 
 namespace vkrt::test {
@@ -29,13 +27,7 @@ float halfValue(uint16_t h) {
 TEST_F(DrawFloat16TargetTest, BlendedColoursStayOutsideZeroToOneAndRoundToHalf) {
   for (VkColorComponentFlags mask : {0xFu, 0x9u}) {
     SCOPED_TRACE("write mask " + std::to_string(mask));
-    PipelineDesc d;
-    d.vs = kSpv_draw_color_vert;
-    d.vsBytes = sizeof kSpv_draw_color_vert;
-    d.fs = kSpv_draw_color_frag;
-    d.fsBytes = sizeof kSpv_draw_color_frag;
-    d.bindings = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{0, 0, VK_FORMAT_R32G32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8}};
+    PipelineDesc d = colorPipeline();
     d.colorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
     d.blend = {VK_TRUE,
                VK_BLEND_FACTOR_SRC_ALPHA,

@@ -265,32 +265,58 @@ TEST(RasterQuadPath, DepthEveryFormatCompareOpAndWriteAsTheGeneralPath) {
   }
 }
 
-TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
-  constexpr int kFactors = int(BlendFactor::OneMinusSrc1Alpha) + 1;
-  for (ColorFormat::Layout layout : kLayouts) {
-    for (int f = 0; f < kFactors; ++f) {
-      for (int op = 0; op < 5; ++op) {
-        Scene sc;
-        sc.layout = layout;
-        sc.depthTest = true, sc.depthWrite = (f & 1) != 0;
-        BlendAttachment& b = sc.blend;
-        b.enable = true;
-        b.srcColor = BlendFactor(f), b.dstColor = BlendFactor((f + 5) % kFactors);
-        b.srcAlpha = BlendFactor((f + 3) % kFactors), b.dstAlpha = BlendFactor((f + 11) % kFactors);
-        b.colorOp = BlendOp(op), b.alphaOp = BlendOp((op + 2) % 5);
-        b.writeMask = f % 3 == 0 ? 0xF : uint8_t(1 + (f + op) % 15);
-        ASSERT_EQ(planned(sc), 3u);
-        expectSame(sc, ("factor " + std::to_string(f) + " op " + std::to_string(op)).c_str());
-      }
+constexpr uint32_t kFactors = uint32_t(BlendFactor::OneMinusSrc1Alpha) + 1;
+
+// The blend equations with code of their own (backend.cpp kBlendShapes).
+using F = BlendFactor;
+constexpr BlendFactor kShapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                      {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
+                                      {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
+                                      {F::One, F::One, F::One, F::One}};
+
+// Every factor in each slot and every op (with a depth test, written for odd factors, and varied write masks) into
+// `base`'s colour target: the quad paths write the general path's bytes.
+void expectEveryFactorAndOp(const Scene& base, const std::string& what) {
+  for (uint32_t f = 0; f < kFactors; ++f) {
+    for (int op = 0; op < 5; ++op) {
+      Scene sc = base;
+      sc.depthTest = true, sc.depthWrite = (f & 1) != 0;
+      BlendAttachment& b = sc.blend;
+      b.enable = true;
+      b.srcColor = BlendFactor(f), b.dstColor = BlendFactor((f + 5) % kFactors);
+      b.srcAlpha = BlendFactor((f + 3) % kFactors), b.dstAlpha = BlendFactor((f + 11) % kFactors);
+      b.colorOp = BlendOp(op), b.alphaOp = BlendOp((op + 2) % 5);
+      b.writeMask = f % 3 == 0 ? 0xF : uint8_t(1 + (f + op) % 15);
+      ASSERT_EQ(planned(sc), 3u);
+      expectSame(sc, (what + "factor " + std::to_string(f) + " op " + std::to_string(op)).c_str());
     }
-    // The blend equations with code of their own (backend.cpp kBlendShapes), and near misses of them.
-    using F = BlendFactor;
-    const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                     {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
-                                     {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                     {F::One, F::One, F::One, F::One},
-                                     {F::One, F::One, F::One, F::Zero}};
-    for (const auto& shape : shapes) {
+  }
+}
+
+// The blend state of random draw `seed` (`pick` draws the factors and ops): blending off for every eighth, an
+// equation with code of its own for every fifth, else every factor and op in each slot at random; a random write
+// mask for every third.
+void randomBlend(uint32_t seed, Rng& pick, BlendAttachment& b) {
+  b.enable = seed % 8 != 0;
+  if (seed % 5 == 0) {
+    const auto& shape = kShapes[seed / 5 % 4];
+    b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
+  } else {
+    b.srcColor = BlendFactor(pick.next() % kFactors), b.dstColor = BlendFactor(pick.next() % kFactors);
+    b.srcAlpha = BlendFactor(pick.next() % kFactors), b.dstAlpha = BlendFactor(pick.next() % kFactors);
+    b.colorOp = BlendOp(pick.next() % 5), b.alphaOp = BlendOp(pick.next() % 5);
+  }
+  b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
+}
+
+TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
+  for (ColorFormat::Layout layout : kLayouts) {
+    Scene base;
+    base.layout = layout;
+    ASSERT_NO_FATAL_FAILURE(expectEveryFactorAndOp(base, ""));
+    // The blend equations with code of their own, and a near miss of them.
+    const BlendFactor nearMiss[4] = {F::One, F::One, F::One, F::Zero};
+    for (const BlendFactor* shape : {kShapes[0], kShapes[1], kShapes[2], kShapes[3], nearMiss}) {
       for (int op : {0, 1}) {
         for (uint8_t mask : {0xF, 0x7}) {
           Scene sc;
@@ -319,28 +345,12 @@ TEST(RasterQuadPath, Unorm8EveryBlendFactorOpAndWriteMaskAsTheGeneralPath) {
 // dual-source values, under random blend states (every factor and op in each slot) and each equation with code of its
 // own: the quad path writes the general path's bytes.
 TEST(RasterQuadPath, Unorm8RandomInputsAsTheGeneralPath) {
-  constexpr uint32_t kFactors = uint32_t(BlendFactor::OneMinusSrc1Alpha) + 1;
-  using F = BlendFactor;
-  const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                   {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
-                                   {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                   {F::One, F::One, F::One, F::One}};
   Rng pick{12345};
   for (uint32_t seed = 1; seed <= 400; ++seed) {
     Scene sc;
     sc.seed = seed;
     sc.layout = kLayouts[seed % 4];
-    BlendAttachment& b = sc.blend;
-    b.enable = seed % 8 != 0;  // and some without blending
-    if (seed % 5 == 0) {
-      const auto& shape = shapes[seed / 5 % 4];
-      b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
-    } else {
-      b.srcColor = BlendFactor(pick.next() % kFactors), b.dstColor = BlendFactor(pick.next() % kFactors);
-      b.srcAlpha = BlendFactor(pick.next() % kFactors), b.dstAlpha = BlendFactor(pick.next() % kFactors);
-      b.colorOp = BlendOp(pick.next() % 5), b.alphaOp = BlendOp(pick.next() % 5);
-    }
-    b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
+    randomBlend(seed, pick, sc.blend);
     ASSERT_EQ(planned(sc), 2u);
     expectSame(sc, ("seed " + std::to_string(seed)).c_str());
   }
@@ -350,43 +360,15 @@ TEST(RasterQuadPath, Unorm8RandomInputsAsTheGeneralPath) {
 // with code of their own, write masks, then random stored halves (NaN, infinities, subnormals), colours, constants
 // and blend states: the general path's bytes, which go through the format's codecs.
 TEST(RasterQuadPath, Float16EveryBlendAndRandomInputsAsTheGeneralPath) {
-  constexpr uint32_t kFactors = uint32_t(BlendFactor::OneMinusSrc1Alpha) + 1;
-  for (uint32_t f = 0; f < kFactors; ++f) {
-    for (int op = 0; op < 5; ++op) {
-      Scene sc;
-      sc.float16 = true;
-      sc.depthTest = true, sc.depthWrite = (f & 1) != 0;
-      BlendAttachment& b = sc.blend;
-      b.enable = true;
-      b.srcColor = BlendFactor(f), b.dstColor = BlendFactor((f + 5) % kFactors);
-      b.srcAlpha = BlendFactor((f + 3) % kFactors), b.dstAlpha = BlendFactor((f + 11) % kFactors);
-      b.colorOp = BlendOp(op), b.alphaOp = BlendOp((op + 2) % 5);
-      b.writeMask = f % 3 == 0 ? 0xF : uint8_t(1 + (f + op) % 15);
-      ASSERT_EQ(planned(sc), 3u);
-      expectSame(sc, ("float16 factor " + std::to_string(f) + " op " + std::to_string(op)).c_str());
-    }
-  }
-  using F = BlendFactor;
-  const BlendFactor shapes[][4] = {{F::SrcAlpha, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                   {F::SrcAlpha, F::OneMinusSrcAlpha, F::SrcAlpha, F::OneMinusSrcAlpha},
-                                   {F::One, F::OneMinusSrcAlpha, F::One, F::OneMinusSrcAlpha},
-                                   {F::One, F::One, F::One, F::One}};
+  Scene base;
+  base.float16 = true;
+  ASSERT_NO_FATAL_FAILURE(expectEveryFactorAndOp(base, "float16 "));
   Rng pick{777};
   for (uint32_t seed = 1; seed <= 200; ++seed) {
     Scene sc;
     sc.float16 = true;
     sc.seed = seed;
-    BlendAttachment& b = sc.blend;
-    b.enable = seed % 8 != 0;
-    if (seed % 5 == 0) {
-      const auto& shape = shapes[seed / 5 % 4];
-      b.srcColor = shape[0], b.dstColor = shape[1], b.srcAlpha = shape[2], b.dstAlpha = shape[3];
-    } else {
-      b.srcColor = BlendFactor(pick.next() % kFactors), b.dstColor = BlendFactor(pick.next() % kFactors);
-      b.srcAlpha = BlendFactor(pick.next() % kFactors), b.dstAlpha = BlendFactor(pick.next() % kFactors);
-      b.colorOp = BlendOp(pick.next() % 5), b.alphaOp = BlendOp(pick.next() % 5);
-    }
-    b.writeMask = seed % 3 == 0 ? uint8_t(1 + pick.next() % 15) : 0xF;
+    randomBlend(seed, pick, sc.blend);
     ASSERT_EQ(planned(sc), 2u);
     expectSame(sc, ("float16 seed " + std::to_string(seed)).c_str());
   }
